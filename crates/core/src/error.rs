@@ -1,0 +1,16 @@
+//! Errors of the numerical core.
+
+/// What the core refuses.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum CoreError {
+    /// A model or integration parameter is out of range.
+    #[error("invalid {name} = {value}: expected {expected}")]
+    InvalidParameter { name: &'static str, value: f64, expected: &'static str },
+    /// A friction-law name that is not one of ours.
+    #[error("unknown friction law '{0}' (expected mcmillan, mcmillan-nonhysteretic or coulomb)")]
+    UnknownLaw(String),
+    /// A solver name that is not one of ours.
+    #[error("unknown solver '{0}' (expected robust or paper)")]
+    UnknownSolver(String),
+}

@@ -1,0 +1,280 @@
+//! Friction laws of McMillan (1997), nondimensional, with their partial derivatives.
+//!
+//! With slip velocity `v = x' - lambda`, acceleration `a = x''`, `s = sgn(a)`, `b = |a| tau`:
+//!
+//! ```text
+//! F1 = -(2/pi) arctan(v / b)
+//! F2 = -b / (v - a tau)                              if s v < 0 or s v > 2 b   (slip branch)
+//! F2 = (s / sin Phi) sin((pi - Phi) v / (a tau) + Phi)   if 0 <= s v <= 2 b  (quasi-static)
+//! F  = F1 + F2                                                               (eq. 4.1)
+//!
+//! non-hysteretic (eq. 5.1):  F = F1 + ( -b / v                          if |v| > b
+//!                                     ( sin((Phi - pi) v / b) / sin Phi  otherwise
+//! ```
+//!
+//! **Convention where the formula is undefined.** At `a = 0` the laws take their limit as
+//! `a -> 0` with `v != 0`: `F = -sgn(v)` (Coulomb). At `v = 0` and `a = 0` every value in
+//! `[-1, 1]` is a limit point; squeal takes `F = 0` there (the middle of Coulomb's set).
+//! Coulomb's own law is `-sgn(v)` with the same `F(0) = 0`; its implicit solve treats `v = 0`
+//! as the set `[-1, 1]` (sticking), see [`crate::solver`].
+
+use std::f64::consts::{FRAC_2_PI, PI};
+
+use crate::params::{FrictionLaw, Params};
+
+/// Which piece of the law was used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Branch {
+    /// `a = 0` (Coulomb limit) or the Coulomb law itself.
+    Coulomb,
+    /// Slip branch of F2.
+    Slip,
+    /// Quasi-static branch of F2 (`0 <= s v <= 2|a| tau`; `|v| <= |a| tau` non-hysteretic).
+    QuasiStatic,
+}
+
+/// A value of the friction law and its partial derivatives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForceEval {
+    /// `F(v, a)`.
+    pub force: f64,
+    /// `dF/dv` (slip velocity).
+    pub dv: f64,
+    /// `dF/da` (acceleration).
+    pub da: f64,
+    /// The branch used.
+    pub branch: Branch,
+}
+
+/// `sgn` with `sgn(0) = 0`.
+fn sgn0(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The nondimensional friction force at slip velocity `v` and acceleration `a`.
+#[inline]
+pub fn force(p: &Params, v: f64, a: f64) -> ForceEval {
+    match p.law {
+        FrictionLaw::McMillan => mcmillan(v, a, p.tau, p.phi),
+        FrictionLaw::McMillanNonHysteretic => nonhysteretic(v, a, p.tau, p.phi),
+        FrictionLaw::Coulomb => coulomb(v),
+    }
+}
+
+/// Plain Coulomb friction `-sgn(v)`, with `F(0) = 0`.
+#[inline]
+pub fn coulomb(v: f64) -> ForceEval {
+    ForceEval { force: -sgn0(v), dv: 0.0, da: 0.0, branch: Branch::Coulomb }
+}
+
+/// McMillan's hysteretic law, eq. (4.1) corrected.
+#[inline]
+pub fn mcmillan(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
+    if a == 0.0 {
+        return coulomb(v);
+    }
+    let s = if a > 0.0 { 1.0 } else { -1.0 };
+    let b = a.abs() * tau;
+    let den1 = b * b + v * v;
+    let f1 = -FRAC_2_PI * (v / b).atan();
+    let f1_dv = -FRAC_2_PI * b / den1;
+    let f1_da = FRAC_2_PI * v * s * tau / den1;
+    let sv = s * v;
+    if sv < 0.0 || sv > 2.0 * b {
+        let d = v - a * tau;
+        let f2 = -b / d;
+        ForceEval {
+            force: f1 + f2,
+            dv: f1_dv + b / (d * d),
+            da: f1_da - s * tau / d - b * tau / (d * d),
+            branch: Branch::Slip,
+        }
+    } else {
+        let k = (PI - phi) / (a * tau);
+        let theta = k * v + phi;
+        let (sn, cs) = theta.sin_cos();
+        let amp = s / phi.sin();
+        ForceEval {
+            force: f1 + amp * sn,
+            dv: f1_dv + amp * cs * k,
+            da: f1_da - amp * cs * k * v / a,
+            branch: Branch::QuasiStatic,
+        }
+    }
+}
+
+/// The non-hysteretic law, eq. (5.1) corrected (`|x''|` in the sine argument).
+#[inline]
+pub fn nonhysteretic(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
+    if a == 0.0 {
+        return coulomb(v);
+    }
+    let s = if a > 0.0 { 1.0 } else { -1.0 };
+    let b = a.abs() * tau;
+    let den1 = b * b + v * v;
+    let f1 = -FRAC_2_PI * (v / b).atan();
+    let f1_dv = -FRAC_2_PI * b / den1;
+    let f1_da = FRAC_2_PI * v * s * tau / den1;
+    if v.abs() > b {
+        ForceEval {
+            force: f1 - b / v,
+            dv: f1_dv + b / (v * v),
+            da: f1_da - s * tau / v,
+            branch: Branch::Slip,
+        }
+    } else {
+        let k = (phi - PI) / b;
+        let psi = k * v;
+        let (sn, cs) = psi.sin_cos();
+        let inv = 1.0 / phi.sin();
+        ForceEval {
+            force: f1 + sn * inv,
+            dv: f1_dv + cs * inv * k,
+            da: f1_da - cs * inv * psi * s * tau / b,
+            branch: Branch::QuasiStatic,
+        }
+    }
+}
+
+/// The dimensional law of the paper (eqs. 3.2-3.4) as `F / (m g)`.
+///
+/// `v_r` is the slip velocity in m/s, `acc` the acceleration in m/s^2, `tau` the surfaces'
+/// characteristic time in s, `mu_k` the kinetic coefficient and `phi = arcsin(mu_k / mu_s)`.
+/// It is `mu_k` times the nondimensional law with `tau / mu_k` in place of `tau`.
+pub fn dimensional(v_r: f64, acc: f64, mu_k: f64, tau: f64, phi: f64) -> f64 {
+    mu_k * mcmillan(v_r, acc, tau / mu_k, phi).force
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const TAU: f64 = 0.316_227_766_016_837_94;
+
+    #[test]
+    fn value_at_fixed_point_is_one() {
+        for law in FrictionLaw::ALL {
+            let p = Params::paper(law, 1e-3);
+            assert_eq!(force(&p, -p.lambda, 0.0).force, 1.0, "{law}");
+            let fp = p.fixed_point();
+            assert_eq!((fp.x, fp.v), (1.0, 0.0));
+        }
+    }
+
+    #[test]
+    fn branch_values_at_boundaries() {
+        // F2 = s at v = 0 and F2 = -s at s v = 2|a| tau (MODEL.md's check).
+        for a in [2.0, -2.0, 0.3, -7.0] {
+            let s = f64::signum(a);
+            let b = a.abs() * TAU;
+            let f = mcmillan(0.0, a, TAU, 1.0).force;
+            assert!((f - s).abs() < 1e-15, "a={a} f={f}");
+            let v = 2.0 * b * s;
+            let f1 = -FRAC_2_PI * (v / b).atan();
+            let q = mcmillan(v, a, TAU, 1.0).force - f1;
+            let slip = mcmillan(v * (1.0 + 1e-12), a, TAU, 1.0).force - f1;
+            assert!((q + s).abs() < 1e-12 && (slip + s).abs() < 1e-9, "a={a} {q} {slip}");
+        }
+    }
+
+    /// Continuity across each branch boundary: approach the boundary from both sides.
+    fn check_continuity(law: fn(f64, f64, f64, f64) -> ForceEval, v_edge: f64, a: f64) {
+        let eps = 1e-12 * (1.0 + v_edge.abs());
+        let lo = law(v_edge - eps, a, TAU, 1.0).force;
+        let hi = law(v_edge + eps, a, TAU, 1.0).force;
+        assert!((lo - hi).abs() < 1e-6, "jump at v={v_edge} a={a}: {lo} vs {hi}");
+    }
+
+    #[test]
+    fn continuity_across_branch_boundaries() {
+        for a in [1.5, -1.5, 1e-3, -40.0] {
+            let b = f64::abs(a) * TAU;
+            let s = f64::signum(a);
+            check_continuity(mcmillan, 0.0, a);
+            check_continuity(mcmillan, 2.0 * b * s, a);
+            check_continuity(nonhysteretic, b, a);
+            check_continuity(nonhysteretic, -b, a);
+            check_continuity(nonhysteretic, 0.0, a);
+        }
+        // Across a = 0 with v != 0 (both laws tend to -sgn v).
+        for v in [-3.0, -0.2, 0.5] {
+            for law in [mcmillan, nonhysteretic] {
+                let l = law(v, -1e-9, TAU, 1.0).force;
+                let r = law(v, 1e-9, TAU, 1.0).force;
+                let z = law(v, 0.0, TAU, 1.0).force;
+                assert!((l - z).abs() < 1e-6 && (r - z).abs() < 1e-6, "v={v}: {l} {z} {r}");
+            }
+        }
+    }
+
+    #[test]
+    fn coulomb_limit_as_acceleration_vanishes() {
+        for v in [-3.0, -1.0, 0.01, 2.0] {
+            for law in [mcmillan, nonhysteretic] {
+                let f = law(v, 1e-10, TAU, 1.0).force;
+                assert!((f + v.signum()).abs() < 1e-6, "v={v} f={f}");
+            }
+        }
+        assert_eq!(mcmillan(0.0, 0.0, TAU, 1.0).force, 0.0);
+        assert_eq!(coulomb(0.0).force, 0.0);
+    }
+
+    #[test]
+    fn dimensional_matches_nondimensional_for_unit_mu() {
+        // With mu_k = 1 the dimensional law is the nondimensional one (eq. 3.2-3.4 vs 4.1).
+        for (v, a) in [(1e-3, 2.0), (-1e-3, 2.0), (5e-3, 2.0), (1e-4, -2.0)] {
+            assert_eq!(dimensional(v, a, 1.0, 1e-3, 1.0), mcmillan(v, a, 1e-3, 1.0).force);
+        }
+        // mu_k scales the force and the quasi-static window 2|a|tau/mu_k.
+        let f = dimensional(0.0, 2.0, 0.5, 1e-3, 1.0);
+        assert!((f - 0.5).abs() < 1e-15);
+    }
+
+    fn fd_check(law: fn(f64, f64, f64, f64) -> ForceEval, v: f64, a: f64) {
+        let e = law(v, a, TAU, 1.0);
+        let h = 1e-7 * (1.0 + v.abs());
+        let (p, m) = (law(v + h, a, TAU, 1.0), law(v - h, a, TAU, 1.0));
+        if p.branch == e.branch && m.branch == e.branch {
+            let fd = (p.force - m.force) / (2.0 * h);
+            assert!((fd - e.dv).abs() < 1e-4 * (1.0 + fd.abs()), "dv v={v} a={a}: {fd} {}", e.dv);
+        }
+        let h = 1e-7 * (1.0 + a.abs());
+        let (p, m) = (law(v, a + h, TAU, 1.0), law(v, a - h, TAU, 1.0));
+        if p.branch == e.branch && m.branch == e.branch && (a - h) * (a + h) > 0.0 {
+            let fd = (p.force - m.force) / (2.0 * h);
+            assert!((fd - e.da).abs() < 1e-4 * (1.0 + fd.abs()), "da v={v} a={a}: {fd} {}", e.da);
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn derivatives_match_finite_differences(v in -5.0f64..5.0, a in -10.0f64..10.0) {
+            prop_assume!(a.abs() > 1e-3 && v.abs() > 1e-6);
+            fd_check(mcmillan, v, a);
+            fd_check(nonhysteretic, v, a);
+        }
+
+        #[test]
+        fn force_is_bounded(v in -50.0f64..50.0, a in -50.0f64..50.0) {
+            let bound = 1.0 + 1.0 / 1f64.sin();
+            for law in [mcmillan, nonhysteretic] {
+                let f = law(v, a, TAU, 1.0).force;
+                prop_assert!(f.is_finite() && f.abs() <= bound, "F({v},{a}) = {f}");
+            }
+        }
+
+        #[test]
+        fn nonhysteretic_is_even_in_acceleration(v in -5.0f64..5.0, a in 1e-3f64..10.0) {
+            let l = nonhysteretic(v, a, TAU, 1.0).force;
+            let r = nonhysteretic(v, -a, TAU, 1.0).force;
+            prop_assert!((l - r).abs() < 1e-14);
+        }
+    }
+}
