@@ -6,7 +6,11 @@
 pub enum CoreError {
     /// A model or integration parameter is out of range.
     #[error("invalid {name} = {value}: expected {expected}")]
-    InvalidParameter { name: &'static str, value: f64, expected: &'static str },
+    InvalidParameter {
+        name: &'static str,
+        value: f64,
+        expected: &'static str,
+    },
     /// A friction-law name that is not one of ours.
     #[error("unknown friction law '{0}' (expected mcmillan, mcmillan-nonhysteretic or coulomb)")]
     UnknownLaw(String),

@@ -67,10 +67,26 @@ pub fn force(p: &Params, v: f64, a: f64) -> ForceEval {
     }
 }
 
+/// Whether `(v, a)` lies on the quasi-static branch of the law (cheap; no evaluation).
+#[inline]
+pub fn on_quasi_static_branch(p: &Params, v: f64, a: f64) -> bool {
+    let b = a.abs() * p.tau;
+    match p.law {
+        FrictionLaw::McMillan => a != 0.0 && (0.0..=2.0 * b).contains(&(v * a.signum())),
+        FrictionLaw::McMillanNonHysteretic => a != 0.0 && v.abs() <= b,
+        FrictionLaw::Coulomb => false,
+    }
+}
+
 /// Plain Coulomb friction `-sgn(v)`, with `F(0) = 0`.
 #[inline]
 pub fn coulomb(v: f64) -> ForceEval {
-    ForceEval { force: -sgn0(v), dv: 0.0, da: 0.0, branch: Branch::Coulomb }
+    ForceEval {
+        force: -sgn0(v),
+        dv: 0.0,
+        da: 0.0,
+        branch: Branch::Coulomb,
+    }
 }
 
 /// McMillan's hysteretic law, eq. (4.1) corrected.
@@ -180,7 +196,10 @@ mod tests {
             let f1 = -FRAC_2_PI * (v / b).atan();
             let q = mcmillan(v, a, TAU, 1.0).force - f1;
             let slip = mcmillan(v * (1.0 + 1e-12), a, TAU, 1.0).force - f1;
-            assert!((q + s).abs() < 1e-12 && (slip + s).abs() < 1e-9, "a={a} {q} {slip}");
+            assert!(
+                (q + s).abs() < 1e-12 && (slip + s).abs() < 1e-9,
+                "a={a} {q} {slip}"
+            );
         }
     }
 
@@ -189,7 +208,10 @@ mod tests {
         let eps = 1e-12 * (1.0 + v_edge.abs());
         let lo = law(v_edge - eps, a, TAU, 1.0).force;
         let hi = law(v_edge + eps, a, TAU, 1.0).force;
-        assert!((lo - hi).abs() < 1e-6, "jump at v={v_edge} a={a}: {lo} vs {hi}");
+        assert!(
+            (lo - hi).abs() < 1e-6,
+            "jump at v={v_edge} a={a}: {lo} vs {hi}"
+        );
     }
 
     #[test]
@@ -209,7 +231,10 @@ mod tests {
                 let l = law(v, -1e-9, TAU, 1.0).force;
                 let r = law(v, 1e-9, TAU, 1.0).force;
                 let z = law(v, 0.0, TAU, 1.0).force;
-                assert!((l - z).abs() < 1e-6 && (r - z).abs() < 1e-6, "v={v}: {l} {z} {r}");
+                assert!(
+                    (l - z).abs() < 1e-6 && (r - z).abs() < 1e-6,
+                    "v={v}: {l} {z} {r}"
+                );
             }
         }
     }
@@ -230,7 +255,10 @@ mod tests {
     fn dimensional_matches_nondimensional_for_unit_mu() {
         // With mu_k = 1 the dimensional law is the nondimensional one (eq. 3.2-3.4 vs 4.1).
         for (v, a) in [(1e-3, 2.0), (-1e-3, 2.0), (5e-3, 2.0), (1e-4, -2.0)] {
-            assert_eq!(dimensional(v, a, 1.0, 1e-3, 1.0), mcmillan(v, a, 1e-3, 1.0).force);
+            assert_eq!(
+                dimensional(v, a, 1.0, 1e-3, 1.0),
+                mcmillan(v, a, 1e-3, 1.0).force
+            );
         }
         // mu_k scales the force and the quasi-static window 2|a|tau/mu_k.
         let f = dimensional(0.0, 2.0, 0.5, 1e-3, 1.0);
@@ -243,13 +271,21 @@ mod tests {
         let (p, m) = (law(v + h, a, TAU, 1.0), law(v - h, a, TAU, 1.0));
         if p.branch == e.branch && m.branch == e.branch {
             let fd = (p.force - m.force) / (2.0 * h);
-            assert!((fd - e.dv).abs() < 1e-4 * (1.0 + fd.abs()), "dv v={v} a={a}: {fd} {}", e.dv);
+            assert!(
+                (fd - e.dv).abs() < 1e-4 * (1.0 + fd.abs()),
+                "dv v={v} a={a}: {fd} {}",
+                e.dv
+            );
         }
         let h = 1e-7 * (1.0 + a.abs());
         let (p, m) = (law(v, a + h, TAU, 1.0), law(v, a - h, TAU, 1.0));
         if p.branch == e.branch && m.branch == e.branch && (a - h) * (a + h) > 0.0 {
             let fd = (p.force - m.force) / (2.0 * h);
-            assert!((fd - e.da).abs() < 1e-4 * (1.0 + fd.abs()), "da v={v} a={a}: {fd} {}", e.da);
+            assert!(
+                (fd - e.da).abs() < 1e-4 * (1.0 + fd.abs()),
+                "da v={v} a={a}: {fd} {}",
+                e.da
+            );
         }
     }
 

@@ -33,7 +33,7 @@ pub mod propagator;
 pub mod solver;
 pub mod stepper;
 
-
+pub use classify::{Classifier, Outcome, Reason, Regime, Trap};
 pub use error::CoreError;
 pub use params::{FrictionLaw, Params};
 pub use propagator::Propagator;

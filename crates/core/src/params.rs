@@ -71,13 +71,23 @@ pub struct Params {
 impl Params {
     /// Table 1 of the paper: lambda = 3, tau = 0.1 sqrt(10), Phi = 1, with the given nu.
     pub fn paper(law: FrictionLaw, nu: f64) -> Params {
-        Params { law, nu, lambda: 3.0, tau: 0.1 * 10f64.sqrt(), phi: 1.0 }
+        Params {
+            law,
+            nu,
+            lambda: 3.0,
+            tau: 0.1 * 10f64.sqrt(),
+            phi: 1.0,
+        }
     }
 
     /// Checks every value; the error names the parameter and the value.
     pub fn validate(&self) -> Result<(), CoreError> {
         let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(CoreError::InvalidParameter { name, value, expected })
+            Err(CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
         };
         if !self.nu.is_finite() || self.nu < 0.0 {
             return bad("nu", self.nu, "a finite damping ratio >= 0");
@@ -86,13 +96,21 @@ impl Params {
             return bad("nu", self.nu, "a damping ratio <= 1e6");
         }
         if !self.lambda.is_finite() || self.lambda.abs() > 1e6 {
-            return bad("lambda", self.lambda, "a finite belt speed with |lambda| <= 1e6");
+            return bad(
+                "lambda",
+                self.lambda,
+                "a finite belt speed with |lambda| <= 1e6",
+            );
         }
         if !self.tau.is_finite() || self.tau <= 0.0 {
             return bad("tau", self.tau, "a finite time > 0");
         }
         if !self.phi.is_finite() || self.phi <= 0.0 || self.phi > std::f64::consts::FRAC_PI_2 {
-            return bad("phi", self.phi, "an angle in (0, pi/2] (Phi = arcsin(mu_k/mu_s))");
+            return bad(
+                "phi",
+                self.phi,
+                "an angle in (0, pi/2] (Phi = arcsin(mu_k/mu_s))",
+            );
         }
         Ok(())
     }

@@ -85,7 +85,10 @@ impl Propagator {
     #[inline]
     pub fn advance(&self, x0: f64, v0: f64, f: f64) -> (f64, f64) {
         let y0 = x0 - f;
-        (f + self.c11 * y0 + self.c12 * v0, self.c21 * y0 + self.c22 * v0)
+        (
+            f + self.c11 * y0 + self.c12 * v0,
+            self.c21 * y0 + self.c22 * v0,
+        )
     }
 }
 
@@ -157,8 +160,18 @@ mod tests {
             let e = Propagator::new(0.1, h).unwrap_err();
             assert!(e.to_string().contains("dt"), "{e}");
         }
-        assert!(Propagator::new(-1.0, 0.1).unwrap_err().to_string().contains("nu"));
-        assert!(Propagator::new(f64::NAN, 0.1).unwrap_err().to_string().contains("nu"));
+        assert!(
+            Propagator::new(-1.0, 0.1)
+                .unwrap_err()
+                .to_string()
+                .contains("nu")
+        );
+        assert!(
+            Propagator::new(f64::NAN, 0.1)
+                .unwrap_err()
+                .to_string()
+                .contains("nu")
+        );
         // Huge damping does not overflow.
         let p = Propagator::new(1e6, 1.0).unwrap();
         assert!(p.c11.is_finite() && p.c12.is_finite() && p.c22.is_finite());

@@ -77,7 +77,11 @@ pub struct SolverConfig {
 
 impl Default for SolverConfig {
     fn default() -> Self {
-        SolverConfig { kind: SolverKind::Robust, max_iter: 100, paper_tol: 1e-12 }
+        SolverConfig {
+            kind: SolverKind::Robust,
+            max_iter: 100,
+            paper_tol: 1e-12,
+        }
     }
 }
 
@@ -197,12 +201,20 @@ fn solve_paper(
         f = next;
         if done {
             let residual = eq.eval(p, f).0.abs();
-            return Solution { force: f, residual, converged: true };
+            return Solution {
+                force: f,
+                residual,
+                converged: true,
+            };
         }
     }
     stats.unconverged += 1;
     let residual = eq.eval(p, f).0.abs();
-    Solution { force: f, residual, converged: false }
+    Solution {
+        force: f,
+        residual,
+        converged: false,
+    }
 }
 
 fn solve_coulomb(eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> Solution {
@@ -226,7 +238,11 @@ fn solve_coulomb(eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> So
         }
     } else if eq.pv == 0.0 {
         // Initial force at zero slip: the force in [-1, 1] that makes a = 0 if it can.
-        let f = if eq.qa != 0.0 { (-eq.pa / eq.qa).clamp(-1.0, 1.0) } else { 0.0 };
+        let f = if eq.qa != 0.0 {
+            (-eq.pa / eq.qa).clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
         consider(f, true);
     }
     match best {
@@ -234,11 +250,19 @@ fn solve_coulomb(eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> So
             if stick {
                 stats.sticks += 1;
             }
-            Solution { force: f, residual: 0.0, converged: true }
+            Solution {
+                force: f,
+                residual: 0.0,
+                converged: true,
+            }
         }
         None => {
             stats.failures += 1;
-            Solution { force: f_prev, residual: f64::INFINITY, converged: false }
+            Solution {
+                force: f_prev,
+                residual: f64::INFINITY,
+                converged: false,
+            }
         }
     }
 }
@@ -250,15 +274,27 @@ fn same_sign(a: f64, b: f64) -> bool {
 
 fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> Solution {
     let bound = p.force_bound() * (1.0 + 1e-12);
-    let f0 = if f_prev.is_finite() { f_prev.clamp(-bound, bound) } else { 0.0 };
+    let f0 = if f_prev.is_finite() {
+        f_prev.clamp(-bound, bound)
+    } else {
+        0.0
+    };
     let (g0, d0) = eq.eval(p, f0);
     stats.evaluations += 1;
     if g0.abs() <= RESIDUAL_TOL * (1.0 + f0.abs()) {
-        return Solution { force: f0, residual: g0.abs(), converged: true };
+        return Solution {
+            force: f0,
+            residual: g0.abs(),
+            converged: true,
+        };
     }
     if !g0.is_finite() {
         stats.failures += 1;
-        return Solution { force: f0, residual: f64::INFINITY, converged: false };
+        return Solution {
+            force: f0,
+            residual: f64::INFINITY,
+            converged: false,
+        };
     }
     let newton = -g0 / d0;
     let mut delta = if newton.is_finite() && newton != 0.0 {
@@ -300,7 +336,11 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
                 stats.multi_root += 1;
                 let a = polish(p, eq, r, start, stats);
                 let b = polish(p, eq, l, start, stats);
-                return if (a.force - f0).abs() <= (b.force - f0).abs() { a } else { b };
+                return if (a.force - f0).abs() <= (b.force - f0).abs() {
+                    a
+                } else {
+                    b
+                };
             }
             (Some(r), None) => return polish(p, eq, r, start, stats),
             (None, Some(l)) => return polish(p, eq, l, start, stats),
@@ -308,7 +348,11 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
         }
         if r_in >= bound && l_in <= -bound {
             stats.failures += 1;
-            return Solution { force: f0, residual: g0.abs(), converged: false };
+            return Solution {
+                force: f0,
+                residual: g0.abs(),
+                converged: false,
+            };
         }
         first = false;
         delta *= 4.0;
@@ -324,10 +368,18 @@ fn polish(
     stats: &mut SolverStats,
 ) -> Solution {
     if glo == 0.0 {
-        return Solution { force: lo, residual: 0.0, converged: true };
+        return Solution {
+            force: lo,
+            residual: 0.0,
+            converged: true,
+        };
     }
     if ghi == 0.0 {
-        return Solution { force: hi, residual: 0.0, converged: true };
+        return Solution {
+            force: hi,
+            residual: 0.0,
+            converged: true,
+        };
     }
     // First iterate: Newton from the previous force when it is an endpoint, else the middle.
     let mut x = match start {
@@ -347,7 +399,11 @@ fn polish(
         let (g, d) = eq.eval(p, x);
         stats.evaluations += 1;
         if g.abs() <= RESIDUAL_TOL * (1.0 + x.abs()) {
-            return Solution { force: x, residual: g.abs(), converged: true };
+            return Solution {
+                force: x,
+                residual: g.abs(),
+                converged: true,
+            };
         }
         if same_sign(g, glo) {
             (lo, glo) = (x, g);
@@ -367,9 +423,17 @@ fn polish(
         };
     }
     // The bracket has shrunk to adjacent floats: a root to rounding, or a jump of G.
-    let (x, g) = if glo.abs() <= ghi.abs() { (lo, glo) } else { (hi, ghi) };
+    let (x, g) = if glo.abs() <= ghi.abs() {
+        (lo, glo)
+    } else {
+        (hi, ghi)
+    };
     if g.abs() > 1e-9 {
         stats.discontinuities += 1;
     }
-    Solution { force: x, residual: g.abs(), converged: true }
+    Solution {
+        force: x,
+        residual: g.abs(),
+        converged: true,
+    }
 }

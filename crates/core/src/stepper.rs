@@ -3,10 +3,10 @@
 use serde::Serialize;
 
 use crate::error::CoreError;
+use crate::friction;
 use crate::params::Params;
 use crate::propagator::Propagator;
 use crate::solver::{self, ForceEquation, Solution, SolverConfig, SolverStats};
-use crate::friction;
 
 /// A point of the phase plane: displacement `x` and velocity `x'` (nondimensional).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -35,7 +35,10 @@ pub struct Sample {
 impl Sample {
     /// The phase-plane point.
     pub fn state(&self) -> State {
-        State { x: self.x, v: self.v }
+        State {
+            x: self.x,
+            v: self.v,
+        }
     }
 }
 
@@ -65,7 +68,11 @@ impl Stepper {
                 expected: "an iteration cap >= 1",
             });
         }
-        Ok(Stepper { params, prop: Propagator::new(params.nu, dt)?, solver })
+        Ok(Stepper {
+            params,
+            prop: Propagator::new(params.nu, dt)?,
+            solver,
+        })
     }
 
     /// The model parameters.
@@ -87,11 +94,25 @@ impl Stepper {
     /// solved from the first guess `x''(0) = 0` as in the paper.
     pub fn initial(&self, s: State, stats: &mut SolverStats) -> (Sample, Solution) {
         let p = &self.params;
-        let eq = ForceEquation { pv: s.v - p.lambda, qv: 0.0, pa: -2.0 * p.nu * s.v - s.x, qa: 1.0 };
+        let eq = ForceEquation {
+            pv: s.v - p.lambda,
+            qv: 0.0,
+            pa: -2.0 * p.nu * s.v - s.x,
+            qa: 1.0,
+        };
         let guess = friction::force(p, s.v - p.lambda, 0.0).force;
         let sol = solver::solve(p, &self.solver, &eq, guess, stats);
         let a = eq.pa + eq.qa * sol.force;
-        (Sample { t: 0.0, x: s.x, v: s.v, a, force: sol.force }, sol)
+        (
+            Sample {
+                t: 0.0,
+                x: s.x,
+                v: s.v,
+                a,
+                force: sol.force,
+            },
+            sol,
+        )
     }
 
     /// One step of length `dt`: the force held constant over the step is the force at its end.
@@ -112,7 +133,16 @@ impl Stepper {
         let x = x_free + (1.0 - c.c11) * f;
         let v = v_free - c.c21 * f;
         let a = f - 2.0 * p.nu * v - x;
-        (Sample { t: s.t + c.h, x, v, a, force: f }, sol)
+        (
+            Sample {
+                t: s.t + c.h,
+                x,
+                v,
+                a,
+                force: f,
+            },
+            sol,
+        )
     }
 }
 
@@ -125,14 +155,20 @@ mod tests {
     fn fixed_point_stays_put() {
         for law in FrictionLaw::ALL {
             for kind in [solver::SolverKind::Robust, solver::SolverKind::Paper] {
-                let cfg = SolverConfig { kind, ..Default::default() };
+                let cfg = SolverConfig {
+                    kind,
+                    ..Default::default()
+                };
                 let st = Stepper::new(Params::paper(law, 1e-3), 0.01, cfg).unwrap();
                 let mut stats = SolverStats::default();
                 let (mut s, _) = st.initial(State { x: 1.0, v: 0.0 }, &mut stats);
                 for _ in 0..10_000 {
                     s = st.step(&s, &mut stats).0;
                 }
-                assert!((s.x - 1.0).abs() < 1e-12 && s.v.abs() < 1e-12, "{law} {kind}: {s:?}");
+                assert!(
+                    (s.x - 1.0).abs() < 1e-12 && s.v.abs() < 1e-12,
+                    "{law} {kind}: {s:?}"
+                );
             }
         }
     }
