@@ -1,0 +1,672 @@
+//! Scan specs: the TOML file (a serde mirror, unknown keys rejected) and the checked
+//! [`Plan`] the scanner accepts. Validation happens once, here, and names the key.
+//!
+//! ```toml
+//! version = 1                      # required; this is spec version 1
+//! [model]
+//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb
+//! nu = 1e-3                        # a number, a list [1e-3, 2e-3], or
+//!                                  # { from = 1e-3, to = 5e-2, count = 8, spacing = "log" }
+//! lambda = 3.0                     # default 3; a list or range sweeps lambda instead of nu
+//! tau = 0.31622776601683794        # default 0.1 sqrt(10)
+//! phi = 1.0                        # default 1
+//! [grid]
+//! x0 = { min = -3.0, max = 5.0, count = 64 }
+//! v0 = { min = -4.0, max = 4.0, count = 64 }
+//! block_rows = 8                   # rows of v0 per stored block (default 8)
+//! [integration]
+//! dt = 0.01
+//! solver = "robust"                # robust | paper
+//! max_iter = 100                   # paper iteration cap
+//! [classifier]
+//! t_max = 5000.0
+//! fp_radius = 1e-3
+//! settle_cycles = 20
+//! settle_rtol = 0.05
+//! early_stop = "cycle"             # cycle (stop once inside/outside the located cycle) | none
+//! trap_margin = 1e-3               # relative band around the cycle left to run on
+//! [cycle]
+//! locate = true                    # locate the unstable cycle, store and draw it
+//! [output]
+//! path = "fig9.h5"                 # relative to the working directory
+//! ```
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+use squeal_core::{Classifier, FrictionLaw, Params, SolverConfig, SolverKind};
+
+use crate::error::ScanError;
+use crate::grid::{Axis, Grid};
+
+/// The spec version this build reads.
+pub const SPEC_VERSION: u32 = 1;
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct SpecFile {
+    version: u32,
+    #[serde(default)]
+    name: Option<String>,
+    model: ModelSpec,
+    grid: GridSpec,
+    #[serde(default)]
+    integration: IntegrationSpec,
+    #[serde(default)]
+    classifier: ClassifierSpec,
+    #[serde(default)]
+    cycle: CycleSpec,
+    output: OutputSpec,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+enum Value {
+    One(f64),
+    List(Vec<f64>),
+    Range(RangeSpec),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+struct RangeSpec {
+    from: f64,
+    to: f64,
+    count: i64,
+    #[serde(default)]
+    spacing: Spacing,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq)]
+#[serde(rename_all = "lowercase")]
+enum Spacing {
+    #[default]
+    Linear,
+    Log,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ModelSpec {
+    law: FrictionLaw,
+    nu: Value,
+    #[serde(default)]
+    lambda: Option<Value>,
+    #[serde(default)]
+    tau: Option<f64>,
+    #[serde(default)]
+    phi: Option<f64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct AxisSpec {
+    min: f64,
+    max: f64,
+    count: i64,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct GridSpec {
+    x0: AxisSpec,
+    v0: AxisSpec,
+    #[serde(default)]
+    block_rows: Option<i64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct IntegrationSpec {
+    #[serde(default = "default_dt")]
+    dt: f64,
+    #[serde(default)]
+    solver: SolverKind,
+    #[serde(default = "default_max_iter")]
+    max_iter: i64,
+}
+
+fn default_dt() -> f64 {
+    0.01
+}
+fn default_max_iter() -> i64 {
+    100
+}
+
+impl Default for IntegrationSpec {
+    fn default() -> Self {
+        IntegrationSpec {
+            dt: default_dt(),
+            solver: SolverKind::Robust,
+            max_iter: default_max_iter(),
+        }
+    }
+}
+
+/// Early stopping of the classifier.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum EarlyStop {
+    /// Locate the unstable cycle's crossing of the section first, then stop each run at its
+    /// first crossing clearly inside or outside it.
+    #[default]
+    Cycle,
+    /// Run every cell to settlement (fixed point reached or stick-slip band settled).
+    None,
+}
+
+impl EarlyStop {
+    /// The name used in specs and files.
+    pub fn name(self) -> &'static str {
+        match self {
+            EarlyStop::Cycle => "cycle",
+            EarlyStop::None => "none",
+        }
+    }
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct ClassifierSpec {
+    t_max: Option<f64>,
+    fp_radius: Option<f64>,
+    settle_cycles: Option<i64>,
+    settle_rtol: Option<f64>,
+    #[serde(default)]
+    early_stop: EarlyStop,
+    trap_margin: Option<f64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct CycleSpec {
+    #[serde(default = "yes")]
+    locate: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for CycleSpec {
+    fn default() -> Self {
+        CycleSpec { locate: true }
+    }
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct OutputSpec {
+    path: PathBuf,
+}
+
+/// A swept parameter: one basin map per value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sweep {
+    /// `nu` or `lambda`.
+    pub name: &'static str,
+    /// The values, strictly monotone.
+    pub values: Vec<f64>,
+}
+
+/// A checked scan: what the scanner and the store accept.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Plan {
+    /// The spec's text, verbatim (stored in every output).
+    pub spec_text: String,
+    /// Where the spec came from (for messages).
+    pub spec_path: String,
+    /// A short name (spec `name`, else the file stem).
+    pub name: String,
+    /// Parameters of each map (one unless swept).
+    pub maps: Vec<Params>,
+    /// The swept parameter, if any.
+    pub sweep: Option<Sweep>,
+    /// The grid of initial conditions.
+    pub grid: Grid,
+    /// Time step.
+    pub dt: f64,
+    /// Solver settings.
+    pub solver: SolverConfig,
+    /// Classifier settings (the trap is filled in per map from the located cycle).
+    pub classifier: Classifier,
+    /// Early-stopping rule.
+    pub early_stop: EarlyStop,
+    /// Relative half-width of the band around the cycle where runs go on.
+    pub trap_margin: f64,
+    /// Whether to locate, store and draw the unstable cycle.
+    pub locate_cycle: bool,
+    /// The output file.
+    pub output: PathBuf,
+}
+
+/// Largest count along one grid axis.
+pub const MAX_AXIS: i64 = 1 << 16;
+/// Largest number of cells in one map.
+pub const MAX_CELLS: i64 = 1 << 26;
+/// Largest number of maps in a sweep.
+pub const MAX_MAPS: i64 = 10_000;
+
+impl Plan {
+    /// Reads and checks a spec file.
+    pub fn from_file(path: &std::path::Path) -> Result<Plan, ScanError> {
+        let shown = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScanError::Parse {
+            path: shown.clone(),
+            message: format!("cannot read the spec: {e}"),
+        })?;
+        Plan::from_toml(&text, &shown)
+    }
+
+    /// Parses and checks spec text; `path` is used in messages and for the default name.
+    pub fn from_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
+        let spec: SpecFile = toml::from_str(text).map_err(|e| ScanError::Parse {
+            path: path.to_string(),
+            message: e.to_string(),
+        })?;
+        let invalid = |key: &str, value: String, expected: &str| ScanError::Invalid {
+            path: path.to_string(),
+            key: key.to_string(),
+            value,
+            expected: expected.to_string(),
+        };
+        if spec.version != SPEC_VERSION {
+            return Err(invalid(
+                "version",
+                spec.version.to_string(),
+                "this squeal reads spec version 1",
+            ));
+        }
+        let m = &spec.model;
+        let nus = expand(&m.nu, "model.nu", &invalid)?;
+        let lambdas = match &m.lambda {
+            Some(v) => expand(v, "model.lambda", &invalid)?,
+            None => vec![3.0],
+        };
+        if nus.len() > 1 && lambdas.len() > 1 {
+            return Err(invalid(
+                "model.lambda",
+                format!("{} values", lambdas.len()),
+                "only one of model.nu and model.lambda may be swept in one spec",
+            ));
+        }
+        let sweep = if nus.len() > 1 || matches!(m.nu, Value::List(_) | Value::Range(_)) {
+            Some(Sweep {
+                name: "nu",
+                values: nus.clone(),
+            })
+        } else if lambdas.len() > 1 || matches!(m.lambda, Some(Value::List(_) | Value::Range(_))) {
+            Some(Sweep {
+                name: "lambda",
+                values: lambdas.clone(),
+            })
+        } else {
+            None
+        };
+        let tau = m.tau.unwrap_or(0.1 * 10f64.sqrt());
+        let phi = m.phi.unwrap_or(1.0);
+        let mut maps = Vec::new();
+        for &nu in &nus {
+            for &lambda in &lambdas {
+                let p = Params {
+                    law: m.law,
+                    nu,
+                    lambda,
+                    tau,
+                    phi,
+                };
+                p.validate().map_err(|e| match e {
+                    squeal_core::CoreError::InvalidParameter {
+                        name,
+                        value,
+                        expected,
+                    } => invalid(&format!("model.{name}"), value.to_string(), expected),
+                    other => invalid("model", String::new(), &other.to_string()),
+                })?;
+                maps.push(p);
+            }
+        }
+        let axis = |a: &AxisSpec, key: &str| -> Result<Axis, ScanError> {
+            if !a.min.is_finite() || !a.max.is_finite() {
+                return Err(invalid(
+                    &format!("{key}.min/max"),
+                    format!("[{}, {}]", a.min, a.max),
+                    "finite bounds",
+                ));
+            }
+            if a.count < 1 || a.count > MAX_AXIS {
+                return Err(invalid(
+                    &format!("{key}.count"),
+                    a.count.to_string(),
+                    "a count in 1..=65536",
+                ));
+            }
+            if a.min > a.max {
+                return Err(invalid(
+                    key,
+                    format!("[{}, {}]", a.min, a.max),
+                    "min <= max (the range is inverted)",
+                ));
+            }
+            if a.min == a.max && a.count > 1 {
+                return Err(invalid(
+                    key,
+                    format!("[{}, {}]", a.min, a.max),
+                    "an empty range holds one value: use count = 1 or widen it",
+                ));
+            }
+            Ok(Axis {
+                min: a.min,
+                max: a.max,
+                count: a.count as usize,
+            })
+        };
+        let x0 = axis(&spec.grid.x0, "grid.x0")?;
+        let v0 = axis(&spec.grid.v0, "grid.v0")?;
+        if (x0.count as i64) * (v0.count as i64) > MAX_CELLS {
+            return Err(invalid(
+                "grid",
+                format!("{} x {} cells", x0.count, v0.count),
+                "at most 2^26 cells per map",
+            ));
+        }
+        let block_rows = spec.grid.block_rows.unwrap_or(8);
+        if block_rows < 1 || block_rows > MAX_AXIS {
+            return Err(invalid(
+                "grid.block_rows",
+                block_rows.to_string(),
+                "a row count in 1..=65536",
+            ));
+        }
+        let it = &spec.integration;
+        if !it.dt.is_finite() || it.dt <= 0.0 || it.dt > 1.0 {
+            return Err(invalid(
+                "integration.dt",
+                it.dt.to_string(),
+                "a finite step in (0, 1]",
+            ));
+        }
+        if it.max_iter < 1 || it.max_iter > 100_000 {
+            return Err(invalid(
+                "integration.max_iter",
+                it.max_iter.to_string(),
+                "an iteration cap in 1..=100000",
+            ));
+        }
+        let c = &spec.classifier;
+        let d = Classifier::default();
+        let settle_cycles = c.settle_cycles.unwrap_or(d.settle_cycles as i64);
+        if !(4..=100_000).contains(&settle_cycles) {
+            return Err(invalid(
+                "classifier.settle_cycles",
+                settle_cycles.to_string(),
+                "a crossing count in 4..=100000",
+            ));
+        }
+        let classifier = Classifier {
+            t_max: c.t_max.unwrap_or(d.t_max),
+            fp_radius: c.fp_radius.unwrap_or(d.fp_radius),
+            settle_cycles: settle_cycles as u32,
+            settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
+            max_radius: d.max_radius,
+            trap: None,
+        };
+        classifier.validate().map_err(|e| match e {
+            squeal_core::CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => invalid(&format!("classifier.{name}"), value.to_string(), expected),
+            other => invalid("classifier", String::new(), &other.to_string()),
+        })?;
+        if classifier.t_max / it.dt > 1e10 {
+            return Err(invalid(
+                "classifier.t_max",
+                classifier.t_max.to_string(),
+                "at most 1e10 steps per run (t_max / dt)",
+            ));
+        }
+        let trap_margin = c.trap_margin.unwrap_or(1e-3);
+        if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
+            return Err(invalid(
+                "classifier.trap_margin",
+                trap_margin.to_string(),
+                "a relative margin in (0, 0.5)",
+            ));
+        }
+        if spec.output.path.as_os_str().is_empty() {
+            return Err(invalid(
+                "output.path",
+                "\"\"".into(),
+                "a file name ending in .h5",
+            ));
+        }
+        let name = spec.name.clone().unwrap_or_else(|| {
+            std::path::Path::new(path)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        });
+        Ok(Plan {
+            spec_text: text.to_string(),
+            spec_path: path.to_string(),
+            name,
+            maps,
+            sweep,
+            grid: Grid {
+                x0,
+                v0,
+                block_rows: block_rows as usize,
+            },
+            dt: it.dt,
+            solver: SolverConfig {
+                kind: it.solver,
+                max_iter: it.max_iter as u32,
+                ..Default::default()
+            },
+            classifier,
+            early_stop: c.early_stop,
+            trap_margin,
+            locate_cycle: spec.cycle.locate,
+            output: spec.output.path.clone(),
+        })
+    }
+
+    /// Blocks in the whole scan (all maps).
+    pub fn total_blocks(&self) -> usize {
+        self.maps.len() * self.grid.blocks()
+    }
+
+    /// Cells in the whole scan.
+    pub fn total_cells(&self) -> usize {
+        self.maps.len() * self.grid.cells()
+    }
+
+    /// The law (the same for every map).
+    pub fn law(&self) -> FrictionLaw {
+        self.maps[0].law
+    }
+}
+
+fn expand(
+    v: &Value,
+    key: &str,
+    invalid: &dyn Fn(&str, String, &str) -> ScanError,
+) -> Result<Vec<f64>, ScanError> {
+    let values = match v {
+        Value::One(x) => vec![*x],
+        Value::List(xs) => {
+            if xs.is_empty() {
+                return Err(invalid(key, "[]".into(), "a non-empty list"));
+            }
+            xs.clone()
+        }
+        Value::Range(r) => {
+            if r.count < 1 || r.count > MAX_MAPS {
+                return Err(invalid(
+                    &format!("{key}.count"),
+                    r.count.to_string(),
+                    "a count in 1..=10000",
+                ));
+            }
+            if !r.from.is_finite() || !r.to.is_finite() {
+                return Err(invalid(
+                    key,
+                    format!("from {} to {}", r.from, r.to),
+                    "finite bounds",
+                ));
+            }
+            if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
+                return Err(invalid(
+                    key,
+                    format!("from {} to {}", r.from, r.to),
+                    "positive bounds for log spacing",
+                ));
+            }
+            let a = Axis {
+                min: 0.0,
+                max: 1.0,
+                count: r.count as usize,
+            };
+            (0..a.count)
+                .map(|i| {
+                    let t = a.value(i);
+                    match r.spacing {
+                        Spacing::Linear => r.from + t * (r.to - r.from),
+                        Spacing::Log => (r.from.ln() + t * (r.to.ln() - r.from.ln())).exp(),
+                    }
+                })
+                .collect()
+        }
+    };
+    if values.len() as i64 > MAX_MAPS {
+        return Err(invalid(
+            key,
+            format!("{} values", values.len()),
+            "at most 10000 values",
+        ));
+    }
+    if let Some(bad) = values.iter().find(|x| !x.is_finite()) {
+        return Err(invalid(key, bad.to_string(), "finite values"));
+    }
+    let increasing = values.windows(2).all(|w| w[1] > w[0]);
+    let decreasing = values.windows(2).all(|w| w[1] < w[0]);
+    if values.len() > 1 && !increasing && !decreasing {
+        return Err(invalid(
+            key,
+            format!("{values:?}"),
+            "strictly monotone values (no repeats, one direction)",
+        ));
+    }
+    Ok(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) const GOOD: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 4 }
+v0 = { min = -4.0, max = 4.0, count = 3 }
+[output]
+path = "x.h5"
+"#;
+
+    fn err(text: &str) -> String {
+        Plan::from_toml(text, "t.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn good_spec_gives_defaults() {
+        let p = Plan::from_toml(GOOD, "scans/t.toml").unwrap();
+        assert_eq!(p.maps.len(), 1);
+        assert_eq!(p.maps[0].lambda, 3.0);
+        assert_eq!(p.name, "t");
+        assert_eq!(p.grid.cells(), 12);
+        assert!(p.sweep.is_none());
+        assert_eq!(p.early_stop, EarlyStop::Cycle);
+    }
+
+    #[test]
+    fn bad_specs_name_the_problem() {
+        let cases: Vec<(String, &str)> = vec![
+            (GOOD.replace("version = 1", "version = 2"), "version"),
+            (
+                GOOD.replace("nu = 1e-3", "nu = 1e-3\nmu = 2"),
+                "unknown field `mu`",
+            ),
+            (GOOD.replace("nu = 1e-3\n", ""), "missing field `nu`"),
+            (
+                GOOD.replace("min = -3.0, max = 5.0", "min = 5.0, max = -3.0"),
+                "inverted",
+            ),
+            (
+                GOOD.replace("min = -3.0, max = 5.0", "min = 1.0, max = 1.0"),
+                "empty range",
+            ),
+            (GOOD.replace("count = 4", "count = 0"), "grid.x0.count"),
+            (
+                GOOD.replace("count = 4", "count = 100000000"),
+                "grid.x0.count",
+            ),
+            (GOOD.replace("nu = 1e-3", "nu = -1.0"), "model.nu"),
+            (GOOD.replace("nu = 1e-3", "nu = []"), "non-empty"),
+            (
+                GOOD.replace("nu = 1e-3", "nu = [1e-3, 3e-3, 2e-3]"),
+                "monotone",
+            ),
+            (GOOD.replace("nu = 1e-3", "nu = nan"), "model.nu"),
+            (
+                GOOD.replace("law = \"mcmillan\"", "law = \"stribeck\""),
+                "stribeck",
+            ),
+            (
+                GOOD.replace("[output]", "[integration]\ndt = 0.0\n[output]"),
+                "integration.dt",
+            ),
+            (
+                GOOD.replace("nu = 1e-3", "nu = 1e-3\nlambda = [1.0, 2.0]")
+                    .replace("nu = 1e-3\n", "nu = [1e-3, 2e-3]\n"),
+                "only one",
+            ),
+            (GOOD.replace("[model]", "[model\n"), "line"),
+        ];
+        for (text, want) in cases {
+            let e = err(&text);
+            assert!(e.contains(want), "expected '{want}' in: {e}");
+        }
+    }
+
+    #[test]
+    fn sweeps_expand() {
+        let p = Plan::from_toml(
+            &GOOD.replace(
+                "nu = 1e-3",
+                "nu = { from = 1e-3, to = 1e-1, count = 3, spacing = \"log\" }",
+            ),
+            "t.toml",
+        )
+        .unwrap();
+        let s = p.sweep.unwrap();
+        assert_eq!(s.name, "nu");
+        assert!((s.values[1] - 1e-2).abs() < 1e-15);
+        assert_eq!(p.maps.len(), 3);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn validation_never_panics(text in "\\PC{0,200}") {
+            let _ = Plan::from_toml(&text, "fuzz.toml");
+        }
+        #[test]
+        fn mutated_numbers_never_panic(a in proptest::num::f64::ANY, n in proptest::num::i64::ANY) {
+            let t = GOOD.replace("-3.0", &format!("{a:?}")).replace("count = 4", &format!("count = {n}"));
+            let _ = Plan::from_toml(&t, "fuzz.toml");
+        }
+    }
+}

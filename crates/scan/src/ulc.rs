@@ -1,0 +1,494 @@
+//! The unstable limit cycle: the boundary between the steady-slip and stick-slip basins.
+//!
+//! Method. Every revolution crosses the section `S = { x = x*, x' > 0 }` once, going right.
+//! Let `P(r)` be the return map on `S` (one revolution from `(x*, r)`) and `D(r) = P(r) - r`.
+//! Near the stable fixed point `D < 0`; just outside the unstable cycle `D > 0`. So:
+//!
+//! 1. sample `D` on log-spaced `r` in `[r_min, r_max]` and take the first sign change from
+//!    `-` to `+`: a bracket of the cycle's crossing `r_u` of `S`;
+//! 2. bisect `D` in that bracket to `rtol` (each evaluation is one revolution);
+//! 3. integrate one revolution from `(x*, r_u)`: the closed curve, its period, extent, area
+//!    (shoelace), distance from the fixed point along `+x`, whether it encloses a point;
+//! 4. the Floquet multiplier is `P'(r_u)` (central difference): above 1, unstable;
+//! 5. repeat 1-2 with `dt / 2` to show how the result moves with the step.
+//!
+//! This is the "periodic orbit" refinement: an unstable cycle of a planar flow is a stable
+//! one in reversed time; on the section it is a root of `D`, found by bisection without ever
+//! running to settlement. [`verify_rays`] checks it independently: on rays from the fixed
+//! point, a start just inside the curve settles on steady slip, one just outside on stick-slip.
+
+use rayon::prelude::*;
+use serde::Serialize;
+use squeal_core::classify::section_return;
+use squeal_core::{Classifier, Params, Regime, SolverConfig, SolverStats, State, Stepper};
+
+use crate::error::ScanError;
+
+/// Settings of the cycle search.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CycleSettings {
+    /// Smallest section amplitude sampled.
+    pub r_min: f64,
+    /// Largest section amplitude sampled.
+    pub r_max: f64,
+    /// Log-spaced samples of `D` on `[r_min, r_max]`.
+    pub samples: usize,
+    /// Relative bracket width at which bisection stops.
+    pub rtol: f64,
+    /// Longest time allowed for one return to the section.
+    pub t_return: f64,
+    /// Also locate the cycle with `dt / 2` and report the shift.
+    pub check_half_dt: bool,
+}
+
+impl Default for CycleSettings {
+    fn default() -> Self {
+        CycleSettings {
+            r_min: 1e-2,
+            r_max: 6.0,
+            samples: 96,
+            rtol: 1e-10,
+            t_return: 200.0,
+            check_half_dt: true,
+        }
+    }
+}
+
+/// Where the return map changes sign.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum SectionCycles {
+    /// An unstable cycle crosses `S` in `[lo, hi]`; `next_unstable` is the next unstable
+    /// crossing further out, if the sampled range shows one.
+    Unstable {
+        r: f64,
+        lo: f64,
+        hi: f64,
+        stable_above: Option<f64>,
+        next_unstable: Option<f64>,
+    },
+    /// `D < 0` at every sample: no unstable cycle below `r_max` was seen.
+    NoneBelow { r_max: f64 },
+    /// `D > 0` already at `r_min`: the fixed point repels.
+    FixedPointUnstable { r_min: f64 },
+}
+
+/// `D(r) = P(r) - r`; a run that does not come back within `t_return` counts as decaying.
+fn d_of(st: &Stepper, r: f64, t_return: f64, stats: &mut SolverStats, returns: &mut u64) -> f64 {
+    *returns += 1;
+    match section_return(st, r, t_return, stats, |_| {}) {
+        Some(c) => c.r - r,
+        None => -r,
+    }
+}
+
+/// Finds the sign changes of `D` on the section and bisects the first unstable one.
+pub fn section_cycles(
+    st: &Stepper,
+    cs: &CycleSettings,
+    stats: &mut SolverStats,
+    returns: &mut u64,
+) -> SectionCycles {
+    let n = cs.samples.max(2);
+    let rs: Vec<f64> = (0..n)
+        .map(|i| {
+            (cs.r_min.ln() + (cs.r_max.ln() - cs.r_min.ln()) * i as f64 / (n - 1) as f64).exp()
+        })
+        .collect();
+    let ds: Vec<f64> = rs
+        .iter()
+        .map(|&r| d_of(st, r, cs.t_return, stats, returns))
+        .collect();
+    if ds[0] > 0.0 {
+        return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
+    }
+    let up: Vec<usize> = (0..n - 1)
+        .filter(|&i| ds[i] <= 0.0 && ds[i + 1] > 0.0)
+        .collect();
+    let Some(&i) = up.first() else {
+        return SectionCycles::NoneBelow { r_max: cs.r_max };
+    };
+    let stable_above = (i + 1..n - 1)
+        .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)
+        .map(|j| rs[j + 1]);
+    let (mut lo, mut hi) = (rs[i], rs[i + 1]);
+    for _ in 0..200 {
+        if hi - lo <= cs.rtol * hi {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if d_of(st, mid, cs.t_return, stats, returns) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    SectionCycles::Unstable {
+        r: 0.5 * (lo + hi),
+        lo,
+        hi,
+        stable_above,
+        next_unstable,
+    }
+}
+
+/// How the located cycle moves when `dt` is halved.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct HalfStepCheck {
+    /// Section crossing with `dt / 2`.
+    pub r_section: f64,
+    /// `r(dt/2) - r(dt)`.
+    pub shift: f64,
+}
+
+/// The located unstable limit cycle.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CycleReport {
+    /// Model parameters.
+    pub params: Params,
+    /// Time step.
+    pub dt: f64,
+    /// Crossing of the section `x = x*, x' > 0` (the cycle's `x'` there).
+    pub r_section: f64,
+    /// Final bisection bracket on `r_section`.
+    pub bracket: [f64; 2],
+    /// Period of one revolution.
+    pub period: f64,
+    /// Angular frequency `2 pi / period`.
+    pub omega: f64,
+    /// Extent in `x`.
+    pub x_range: [f64; 2],
+    /// Extent in `x'`.
+    pub v_range: [f64; 2],
+    /// Distance from the fixed point to the cycle along `+x` (at `x' = 0`).
+    pub distance_plus_x: f64,
+    /// Enclosed area (shoelace formula).
+    pub area: f64,
+    /// Floquet multiplier `P'(r_u)`: growth of a small deviation per revolution (> 1: unstable).
+    pub multiplier: f64,
+    /// Whether the cycle encloses the state at rest `(0, 0)`.
+    pub encloses_origin: bool,
+    /// The same search with `dt / 2`, if asked for.
+    pub half_dt: Option<HalfStepCheck>,
+    /// Section returns computed (each one revolution).
+    pub returns: u64,
+    /// Solver counters over all those runs.
+    pub solver: SolverStats,
+    /// The stable stick-slip crossing seen above the cycle, if sampled.
+    pub stable_above: Option<f64>,
+    /// The closed curve: `x` of each step over one revolution.
+    pub curve_x: Vec<f64>,
+    /// The closed curve: `x'`.
+    pub curve_v: Vec<f64>,
+}
+
+impl CycleReport {
+    /// Whether `(x, v)` lies inside the closed curve (even-odd rule).
+    pub fn encloses(&self, x: f64, v: f64) -> bool {
+        polygon_contains(&self.curve_x, &self.curve_v, x, v)
+    }
+
+    /// Distance from `(x, v)` to the curve (nearest vertex or segment).
+    pub fn distance_to(&self, x: f64, v: f64) -> f64 {
+        let n = self.curve_x.len();
+        let mut best = f64::INFINITY;
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let (ax, av, bx, bv) = (
+                self.curve_x[i],
+                self.curve_v[i],
+                self.curve_x[j],
+                self.curve_v[j],
+            );
+            let (dx, dv) = (bx - ax, bv - av);
+            let l2 = dx * dx + dv * dv;
+            let t = if l2 > 0.0 {
+                (((x - ax) * dx + (v - av) * dv) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            best = best.min((x - ax - t * dx).hypot(v - av - t * dv));
+        }
+        best
+    }
+}
+
+/// Even-odd point-in-polygon test.
+pub fn polygon_contains(xs: &[f64], vs: &[f64], x: f64, v: f64) -> bool {
+    let n = xs.len();
+    let mut inside = false;
+    let mut j = n.wrapping_sub(1);
+    for i in 0..n {
+        let (xi, vi, xj, vj) = (xs[i], vs[i], xs[j], vs[j]);
+        if (vi > v) != (vj > v) && x < (xj - xi) * (v - vi) / (vj - vi) + xi {
+            inside = !inside;
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Locates the unstable cycle for one parameter set.
+pub fn locate(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    cs: &CycleSettings,
+) -> Result<CycleReport, ScanError> {
+    let st = Stepper::new(params, dt, solver).map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let mut stats = SolverStats::default();
+    let mut returns = 0u64;
+    let found = section_cycles(&st, cs, &mut stats, &mut returns);
+    let (r, lo, hi, stable_above) = match found {
+        SectionCycles::Unstable {
+            r,
+            lo,
+            hi,
+            stable_above,
+            ..
+        } => (r, lo, hi, stable_above),
+        SectionCycles::NoneBelow { r_max } => {
+            return Err(ScanError::NoCycle(format!(
+                "the return map decays at every sampled amplitude up to r = {r_max} (nu = {}): no squeal below it",
+                params.nu
+            )));
+        }
+        SectionCycles::FixedPointUnstable { r_min } => {
+            return Err(ScanError::NoCycle(format!(
+                "the return map grows already at r = {r_min} (nu = {}): the fixed point repels",
+                params.nu
+            )));
+        }
+    };
+    let (mut xs, mut vs) = (Vec::new(), Vec::new());
+    returns += 1;
+    let c = section_return(&st, r, cs.t_return, &mut stats, |s| {
+        xs.push(s.x);
+        vs.push(s.v);
+    })
+    .ok_or_else(|| ScanError::NoCycle(format!("no return from r = {r}")))?;
+    let period = c.t;
+    // The last sample lies past the section: drop it so the curve closes on the first one.
+    xs.pop();
+    vs.pop();
+    let fp = params.fixed_point();
+    let h = 1e-4 * r;
+    let p_plus = d_of(&st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
+    let p_minus = d_of(&st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
+    let multiplier = (p_plus - p_minus) / (2.0 * h);
+    let minmax = |a: &[f64]| {
+        a.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |m, &x| {
+            [m[0].min(x), m[1].max(x)]
+        })
+    };
+    let area = 0.5
+        * (0..xs.len())
+            .map(|i| {
+                let j = (i + 1) % xs.len();
+                xs[i] * vs[j] - xs[j] * vs[i]
+            })
+            .sum::<f64>()
+            .abs();
+    // Crossing of v = 0 with x > x* (going down, on the right of the fixed point).
+    let mut distance_plus_x = f64::NAN;
+    for i in 0..xs.len() {
+        let j = (i + 1) % xs.len();
+        if vs[i] > 0.0 && vs[j] <= 0.0 && xs[i] > fp.x {
+            let t = vs[i] / (vs[i] - vs[j]);
+            distance_plus_x = xs[i] + t * (xs[j] - xs[i]) - fp.x;
+            break;
+        }
+    }
+    let half_dt = if cs.check_half_dt {
+        let st2 = Stepper::new(params, dt / 2.0, solver)
+            .map_err(|e| ScanError::NoCycle(e.to_string()))?;
+        match section_cycles(&st2, cs, &mut stats, &mut returns) {
+            SectionCycles::Unstable { r: r2, .. } => Some(HalfStepCheck {
+                r_section: r2,
+                shift: r2 - r,
+            }),
+            _ => None,
+        }
+    } else {
+        None
+    };
+    let mut report = CycleReport {
+        params,
+        dt,
+        r_section: r,
+        bracket: [lo, hi],
+        period,
+        omega: std::f64::consts::TAU / period,
+        x_range: minmax(&xs),
+        v_range: minmax(&vs),
+        distance_plus_x,
+        area,
+        multiplier,
+        encloses_origin: false,
+        half_dt,
+        returns,
+        solver: stats,
+        stable_above,
+        curve_x: xs,
+        curve_v: vs,
+    };
+    report.encloses_origin = report.encloses(0.0, 0.0);
+    Ok(report)
+}
+
+/// One ray of [`verify_rays`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RayCheck {
+    /// Angle of the ray from the fixed point (radians, from `+x`).
+    pub angle: f64,
+    /// Distance from the fixed point to the cycle along the ray.
+    pub radius: f64,
+    /// Label of the start at `radius (1 - eps)`, run to settlement.
+    pub inner: Regime,
+    /// Label of the start at `radius (1 + eps)`, run to settlement.
+    pub outer: Regime,
+}
+
+/// Checks the cycle against runs taken to settlement (no early stopping) on `rays` rays.
+pub fn verify_rays(
+    report: &CycleReport,
+    rays: usize,
+    eps: f64,
+    classifier: &Classifier,
+    solver: SolverConfig,
+) -> Result<Vec<RayCheck>, ScanError> {
+    let st = Stepper::new(report.params, report.dt, solver)
+        .map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let fp = report.params.fixed_point();
+    let cl = Classifier {
+        trap: None,
+        ..*classifier
+    };
+    (0..rays)
+        .into_par_iter()
+        .map(|k| {
+            let angle = std::f64::consts::TAU * k as f64 / rays as f64;
+            let (c, s) = (angle.cos(), angle.sin());
+            // Largest radius along the ray at which a curve segment crosses it.
+            let n = report.curve_x.len();
+            let mut radius = f64::NAN;
+            for i in 0..n {
+                let j = (i + 1) % n;
+                let (ax, av) = (report.curve_x[i] - fp.x, report.curve_v[i] - fp.v);
+                let (bx, bv) = (report.curve_x[j] - fp.x, report.curve_v[j] - fp.v);
+                // Solve a + t (b - a) = rho (c, s).
+                let (dx, dv) = (bx - ax, bv - av);
+                let den = dx * s - dv * c;
+                if den.abs() < 1e-300 {
+                    continue;
+                }
+                let t = (av * c - ax * s) / den;
+                if (0.0..=1.0).contains(&t) {
+                    let rho = (ax + t * dx) * c + (av + t * dv) * s;
+                    if rho > 0.0 && !(rho <= radius) {
+                        radius = rho;
+                    }
+                }
+            }
+            if !radius.is_finite() {
+                return Err(ScanError::NoCycle(format!(
+                    "the curve does not cross the ray at angle {angle}"
+                )));
+            }
+            let at = |f: f64| State {
+                x: fp.x + f * radius * c,
+                v: fp.v + f * radius * s,
+            };
+            let inner = cl.classify(&st, at(1.0 - eps)).regime;
+            let outer = cl.classify(&st, at(1.0 + eps)).regime;
+            Ok(RayCheck {
+                angle,
+                radius,
+                inner,
+                outer,
+            })
+        })
+        .collect()
+}
+
+/// The damping at which the unstable cycle first encloses `point`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CriticalReport {
+    /// The state that must be enclosed.
+    pub point: State,
+    /// Best estimate (geometric middle of the bracket).
+    pub nu: f64,
+    /// `[nu_lo, nu_hi]`: not enclosed at `nu_lo`, enclosed at `nu_hi`.
+    pub bracket: [f64; 2],
+    /// Cycle locations made.
+    pub evaluations: u32,
+}
+
+/// Whether the system at `point` is inside the unstable cycle for these parameters (it then
+/// does not squeal). No unstable cycle below `r_max` (the return map decays everywhere)
+/// counts as enclosed; a repelling fixed point as not enclosed.
+pub fn point_enclosed(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    cs: &CycleSettings,
+    point: State,
+) -> Result<bool, ScanError> {
+    let cs1 = CycleSettings {
+        check_half_dt: false,
+        ..*cs
+    };
+    match locate(params, dt, solver, &cs1) {
+        Ok(rep) => Ok(rep.encloses(point.x, point.v)),
+        Err(ScanError::NoCycle(msg)) if msg.contains("decays at every") => Ok(true),
+        Err(ScanError::NoCycle(msg)) if msg.contains("repels") => Ok(false),
+        Err(e) => Err(e),
+    }
+}
+
+/// Bisection in `nu` (geometric) for the damping at which the cycle first encloses `point`.
+pub fn critical_nu(
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    cs: &CycleSettings,
+    point: State,
+    nu_lo: f64,
+    nu_hi: f64,
+    rtol: f64,
+) -> Result<CriticalReport, ScanError> {
+    let at = |nu: f64| point_enclosed(Params { nu, ..base }, dt, solver, cs, point);
+    if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite()) {
+        return Err(ScanError::NoCycle(format!(
+            "--nu-lo {nu_lo} / --nu-hi {nu_hi}: need 0 < nu_lo < nu_hi"
+        )));
+    }
+    if at(nu_lo)? {
+        return Err(ScanError::NoCycle(format!(
+            "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
+            point.x, point.v
+        )));
+    }
+    if !at(nu_hi)? {
+        return Err(ScanError::NoCycle(format!(
+            "--nu-hi {nu_hi}: the cycle does not enclose ({}, {}) yet; raise --nu-hi",
+            point.x, point.v
+        )));
+    }
+    let (mut lo, mut hi, mut evaluations) = (nu_lo, nu_hi, 2u32);
+    while hi / lo - 1.0 > rtol && evaluations < 200 {
+        let mid = (lo * hi).sqrt();
+        evaluations += 1;
+        if at(mid)? {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(CriticalReport {
+        point,
+        nu: (lo * hi).sqrt(),
+        bracket: [lo, hi],
+        evaluations,
+    })
+}
