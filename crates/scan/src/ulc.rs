@@ -128,7 +128,6 @@ pub fn section_cycles(
         lo,
         hi,
         stable_above,
-        next_unstable,
     }
 }
 
