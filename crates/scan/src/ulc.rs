@@ -58,14 +58,13 @@ impl Default for CycleSettings {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum SectionCycles {
-    /// An unstable cycle crosses `S` in `[lo, hi]`; `next_unstable` is the next unstable
+    /// An unstable cycle crosses `S` in `[lo, hi]`; `stable_above` is the first sampled
     /// crossing further out, if the sampled range shows one.
     Unstable {
         r: f64,
         lo: f64,
         hi: f64,
         stable_above: Option<f64>,
-        next_unstable: Option<f64>,
     },
     /// `D < 0` at every sample: no unstable cycle below `r_max` was seen.
     NoneBelow { r_max: f64 },
