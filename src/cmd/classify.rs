@@ -1,10 +1,128 @@
-//! Not yet implemented.
+//! `squeal classify --ics FILE.csv --out FILE.csv`: labels for arbitrary initial conditions.
 
-/// Flags.
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use rayon::prelude::*;
+use squeal_core::{Reason, Regime, State};
+use squeal_scan::scanner::MapContext;
+
+use super::{common, model::SetupArgs};
+
+/// Flags of `squeal classify`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    #[command(flatten)]
+    pub setup: SetupArgs,
+    /// Initial conditions: CSV with a header holding columns x0 and v0.
+    #[arg(long)]
+    pub ics: PathBuf,
+    /// Labels: CSV with columns x0,v0,label and the diagnostics.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Overwrite an existing output.
+    #[arg(long)]
+    pub force: bool,
+}
 
-/// Runs the subcommand.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("not implemented yet")
+fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<State>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = lines
+        .next()
+        .with_context(|| format!("{}: empty file", path.display()))?;
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |name: &str| {
+        cols.iter().position(|c| *c == name).with_context(|| {
+            format!(
+                "{}: no column `{name}` in the header `{header}`",
+                path.display()
+            )
+        })
+    };
+    let (ix, iv) = (find("x0")?, find("v0")?);
+    let mut out = Vec::new();
+    for (n, line) in lines {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let get = |i: usize, name: &str| -> anyhow::Result<f64> {
+            let s = f
+                .get(i)
+                .with_context(|| format!("{}:{}: missing `{name}`", path.display(), n + 1))?;
+            let v: f64 = s.parse().with_context(|| {
+                format!(
+                    "{}:{}: `{name}` = `{s}` is not a number",
+                    path.display(),
+                    n + 1
+                )
+            })?;
+            if !v.is_finite() {
+                bail!("{}:{}: `{name}` = {v} is not finite", path.display(), n + 1);
+            }
+            Ok(v)
+        };
+        out.push(State {
+            x: get(ix, "x0")?,
+            v: get(iv, "v0")?,
+        });
+    }
+    Ok(out)
+}
+
+/// Labels the initial conditions.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let setup = args.setup.setup()?;
+    let ics = read_ics(&args.ics)?;
+    common::check_new(&args.out, args.force, "labels")?;
+    let ctx = MapContext::prepare(&setup.plan, setup.map)?;
+    let outcomes: Vec<_> = ics
+        .par_iter()
+        .map(|&ic| ctx.classifier.classify(&ctx.stepper, ic))
+        .collect();
+    let mut w = std::io::BufWriter::new(
+        std::fs::File::create(&args.out)
+            .with_context(|| format!("creating {}", args.out.display()))?,
+    );
+    writeln!(
+        w,
+        "x0,v0,label,reason,t_decision,amplitude,omega,quasi_static,evaluations,fallbacks,multi_root,unconverged,max_residual"
+    )?;
+    let mut counts = [0usize; 3];
+    for (ic, o) in ics.iter().zip(&outcomes) {
+        counts[o.regime as usize] += 1;
+        let s = &o.stats;
+        writeln!(
+            w,
+            "{:?},{:?},{},{},{},{},{},{},{},{},{},{},{:e}",
+            ic.x,
+            ic.v,
+            o.regime.name(),
+            o.reason.name(),
+            o.t_decision,
+            o.amplitude,
+            o.omega,
+            o.quasi_static as u8,
+            s.evaluations,
+            s.bisections + s.expansions,
+            s.multi_root,
+            s.unconverged + s.failures + s.discontinuities,
+            o.max_residual
+        )?;
+    }
+    w.flush()?;
+    let _ = (Reason::TimeLimit, Regime::Undecided);
+    eprintln!(
+        "{} initial conditions: steady_slip {}, stick_slip {}, undecided {} -> {}",
+        ics.len(),
+        counts[1],
+        counts[2],
+        counts[0],
+        args.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,10 +1,88 @@
-//! Not yet implemented.
+//! `squeal info OUT.h5`: parameters and label counts of a scan file.
 
-/// Flags.
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Flags of `squeal info`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// A scan file.
+    pub file: PathBuf,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
 
-/// Runs the subcommand.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("not implemented yet")
+/// Prints the file's description.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let info = squeal_store::read_info(&args.file)?;
+    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    if args.json {
+        let attrs: serde_json::Map<String, serde_json::Value> = info
+            .attrs
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone().into()))
+            .collect();
+        let counts: Vec<serde_json::Value> = info
+            .counts
+            .iter()
+            .map(|c| {
+                names
+                    .iter()
+                    .zip(c)
+                    .map(|(k, n)| ((*k).to_string(), (*n).into()))
+                    .collect::<serde_json::Map<_, _>>()
+                    .into()
+            })
+            .collect();
+        let v = serde_json::json!({
+            "path": info.path,
+            "schema": info.schema,
+            "squeal_version": info.version,
+            "git_revision": info.git_revision,
+            "attributes": attrs,
+            "sweep": info.sweep.as_ref().map(|(n, v)| serde_json::json!({"name": n, "values": v})),
+            "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
+            "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
+            "counts": counts,
+            "shard": info.shard,
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "{} ({}, squeal {} at {})",
+        info.path.display(),
+        info.schema,
+        info.version,
+        info.git_revision
+    );
+    for (k, v) in &info.attrs {
+        if k != "spec" {
+            println!("  {k} = {v}");
+        }
+    }
+    println!(
+        "  grid: x0 {} values in [{:?}, {:?}], v0 {} values in [{:?}, {:?}]",
+        info.x0.len(),
+        info.x0.first(),
+        info.x0.last(),
+        info.v0.len(),
+        info.v0.first(),
+        info.v0.last()
+    );
+    for (i, c) in info.counts.iter().enumerate() {
+        let label = info
+            .sweep
+            .as_ref()
+            .map_or(String::new(), |(n, v)| format!("{n} = {:.4e}: ", v[i]));
+        println!(
+            "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
+            c[0], c[1], c[2], c[3]
+        );
+    }
+    if let Some(s) = &info.shard {
+        println!("  shard {s} (join the shards with squeal merge)");
+    }
+    Ok(ExitCode::SUCCESS)
 }

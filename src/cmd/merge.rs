@@ -1,10 +1,39 @@
-//! Not yet implemented.
+//! `squeal merge SHARD.h5... -o OUT.h5`: join shard files into one scan file.
 
-/// Flags.
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use super::common;
+
+/// Flags of `squeal merge`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// The shard files (all N shards of one spec).
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// The joined file.
+    #[arg(short = 'o', long)]
+    pub out: PathBuf,
+    /// Overwrite an existing output.
+    #[arg(long)]
+    pub force: bool,
+    /// Do not draw the picture.
+    #[arg(long)]
+    pub no_render: bool,
+}
 
-/// Runs the subcommand.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("not implemented yet")
+/// Joins the shards.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let png = common::sibling(&args.out, "", "png");
+    if !args.no_render {
+        common::check_new(&png, args.force, "picture")?;
+    }
+    squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
+    println!("{}", args.out.display());
+    if !args.no_render {
+        for p in common::render_file(&args.out, &png, true)? {
+            println!("{}", p.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand; `model` holds the flags shared by several.
 
 pub mod classify;
+pub mod common;
 pub mod critical;
 pub mod friction;
 pub mod info;

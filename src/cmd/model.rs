@@ -75,3 +75,60 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
         _ => anyhow::anyhow!(e),
     }
 }
+
+/// A model from flags or from a scan spec (`--spec FILE`, map `--map`).
+pub struct Setup {
+    /// The scan plan (from `--spec`, or built from the flags).
+    pub plan: squeal_scan::Plan,
+    /// Which map of the plan.
+    pub map: usize,
+}
+
+/// Flags that pick the model: the model flags, or a spec.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SetupArgs {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Take the model, integration and classifier settings from a scan spec instead.
+    #[arg(long)]
+    pub spec: Option<std::path::PathBuf>,
+    /// With --spec of a sweep: which map (0-based).
+    #[arg(long, default_value_t = 0)]
+    pub map: usize,
+    /// Give up (undecided) at this time (ignored with --spec).
+    #[arg(long, default_value_t = 5000.0, allow_negative_numbers = true)]
+    pub t_max: f64,
+}
+
+impl SetupArgs {
+    /// The plan and map.
+    pub fn setup(&self) -> anyhow::Result<Setup> {
+        let plan = match &self.spec {
+            Some(path) => squeal_scan::Plan::from_file(path)?,
+            None => {
+                let m = &self.model;
+                m.stepper()?;
+                let text = format!(
+                    "version = 1\n[model]\nlaw = \"{}\"\nnu = {:?}\nlambda = {:?}\ntau = {:?}\nphi = {:?}\n\
+                     [grid]\nx0 = {{ min = 0.0, max = 0.0, count = 1 }}\nv0 = {{ min = 0.0, max = 0.0, count = 1 }}\n\
+                     [integration]\ndt = {:?}\nsolver = \"{}\"\n[classifier]\nt_max = {:?}\n[output]\npath = \"unused.h5\"\n",
+                    m.law, m.nu, m.lambda, m.tau, m.phi, m.dt, m.solver, self.t_max
+                );
+                squeal_scan::Plan::from_toml(&text, "command line").map_err(|e| {
+                    anyhow::anyhow!("{}", e.to_string().replace("classifier.t_max", "--t-max"))
+                })?
+            }
+        };
+        if self.map >= plan.maps.len() {
+            anyhow::bail!(
+                "--map {}: the spec has {} map(s)",
+                self.map,
+                plan.maps.len()
+            );
+        }
+        Ok(Setup {
+            plan,
+            map: self.map,
+        })
+    }
+}

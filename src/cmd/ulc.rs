@@ -1,10 +1,192 @@
-//! Not yet implemented.
+//! `squeal ulc`: locate the unstable limit cycle as a periodic orbit and report it.
 
-/// Flags.
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use squeal_plot::{Curve, Marker};
+use squeal_scan::ulc::{self, CycleSettings};
+
+use super::{common, model::SetupArgs};
+
+/// Flags of `squeal ulc`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    #[command(flatten)]
+    pub setup: SetupArgs,
+    /// Largest section amplitude searched.
+    #[arg(long, default_value_t = 6.0)]
+    pub r_max: f64,
+    /// Relative bracket width at which the bisection stops.
+    #[arg(long, default_value_t = 1e-10)]
+    pub rtol: f64,
+    /// Check against runs to settlement on this many rays from the fixed point (0: skip).
+    #[arg(long, default_value_t = 0)]
+    pub verify_rays: usize,
+    /// Relative offset inside/outside the cycle of the ray checks.
+    #[arg(long, default_value_t = 0.05)]
+    pub verify_eps: f64,
+    /// Skip the dt/2 accuracy check.
+    #[arg(long)]
+    pub no_half_dt: bool,
+    /// Phase-plane picture of the cycle.
+    #[arg(long)]
+    pub plot: Option<std::path::PathBuf>,
+    /// Overwrite an existing picture.
+    #[arg(long)]
+    pub force: bool,
+    /// Print the report (curve included) as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
 
-/// Runs the subcommand.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("not implemented yet")
+/// Locates and reports the cycle.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let setup = args.setup.setup()?;
+    let plan = &setup.plan;
+    let params = plan.maps[setup.map];
+    if !(args.r_max.is_finite() && args.r_max > 0.02) {
+        bail!("--r-max {}: expected a finite amplitude > 0.02", args.r_max);
+    }
+    if !(args.rtol.is_finite() && args.rtol > 0.0 && args.rtol < 0.1) {
+        bail!(
+            "--rtol {}: expected a relative width in (0, 0.1)",
+            args.rtol
+        );
+    }
+    if !(args.verify_eps > 0.0 && args.verify_eps < 0.5) {
+        bail!(
+            "--verify-eps {}: expected a value in (0, 0.5)",
+            args.verify_eps
+        );
+    }
+    if let Some(p) = &args.plot {
+        common::check_new(p, args.force, "picture")?;
+    }
+    let cs = CycleSettings {
+        r_max: args.r_max,
+        rtol: args.rtol,
+        check_half_dt: !args.no_half_dt,
+        ..Default::default()
+    };
+    let t0 = std::time::Instant::now();
+    let rep = ulc::locate(params, plan.dt, plan.solver, &cs)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let rays = if args.verify_rays > 0 {
+        Some(ulc::verify_rays(
+            &rep,
+            args.verify_rays,
+            args.verify_eps,
+            &plan.classifier,
+            plan.solver,
+        )?)
+    } else {
+        None
+    };
+    if let Some(p) = &args.plot {
+        let fp = params.fixed_point();
+        let mut xs = rep.curve_x.clone();
+        let mut vs = rep.curve_v.clone();
+        xs.push(xs[0]);
+        vs.push(vs[0]);
+        let curve = Curve {
+            label: "unstable limit cycle".into(),
+            xs,
+            ys: vs,
+            color: squeal_plot::CYCLE,
+            points_only: false,
+        };
+        let marks = [
+            Marker {
+                label: "fixed point".into(),
+                x: fp.x,
+                y: fp.v,
+                color: squeal_plot::FIXED_POINT,
+            },
+            Marker {
+                label: "rest (0, 0)".into(),
+                x: 0.0,
+                y: 0.0,
+                color: squeal_plot::STICK,
+            },
+        ];
+        let title = format!("{} nu = {}: unstable limit cycle", params.law, params.nu);
+        squeal_plot::line_plot(p, &title, "x", "x'", &[curve], &marks, false)
+            .with_context(|| format!("drawing {}", p.display()))?;
+    }
+    if args.json {
+        let mut v = serde_json::to_value(&rep)?;
+        v["seconds"] = seconds.into();
+        v["bracket_width"] = (rep.bracket[1] - rep.bracket[0]).into();
+        v["rays"] = serde_json::to_value(&rays)?;
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "unstable limit cycle: {} nu = {} lambda = {} (dt = {}, {} solver)",
+        params.law, params.nu, params.lambda, plan.dt, plan.solver.kind
+    );
+    println!(
+        "  section x = {:.6}, x' = {:.10} (bracket width {:.2e})",
+        params.fixed_point().x,
+        rep.r_section,
+        rep.bracket[1] - rep.bracket[0]
+    );
+    println!(
+        "  period {:.6}, angular frequency {:.6}",
+        rep.period, rep.omega
+    );
+    println!(
+        "  extent x in [{:.6}, {:.6}], x' in [{:.6}, {:.6}]",
+        rep.x_range[0], rep.x_range[1], rep.v_range[0], rep.v_range[1]
+    );
+    println!(
+        "  distance from the fixed point along +x {:.6}, enclosed area {:.6}",
+        rep.distance_plus_x, rep.area
+    );
+    println!(
+        "  Floquet multiplier (growth per revolution) {:.6}",
+        rep.multiplier
+    );
+    println!(
+        "  encloses the state at rest (0, 0): {}",
+        if rep.encloses_origin {
+            "yes: from rest, steady slip"
+        } else {
+            "no: from rest, squeal"
+        }
+    );
+    if let Some(h) = rep.half_dt {
+        println!(
+            "  with dt/2: x' at the section {:.8} (shift {:+.2e})",
+            h.r_section, h.shift
+        );
+    }
+    println!(
+        "  {} section returns, {} friction evaluations, {:.3} s",
+        rep.returns, rep.solver.evaluations, seconds
+    );
+    if let Some(rays) = rays {
+        let ok = rays
+            .iter()
+            .filter(|r| {
+                r.inner == squeal_core::Regime::SteadySlip
+                    && r.outer == squeal_core::Regime::StickSlip
+            })
+            .count();
+        println!(
+            "  rays: {ok} of {} have steady slip just inside and stick-slip just outside (eps {})",
+            rays.len(),
+            args.verify_eps
+        );
+        for r in &rays {
+            println!(
+                "    angle {:6.3} radius {:.5}: inside {}, outside {}",
+                r.angle,
+                r.radius,
+                r.inner.name(),
+                r.outer.name()
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }

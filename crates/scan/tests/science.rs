@@ -1,0 +1,188 @@
+//! Scientific checks: the early-stopping rule against runs taken to settlement, the located
+//! cycle against rays and a fine scan, and the paper's findings on the shipped scans.
+
+use squeal_core::{Classifier, FrictionLaw, Params, Regime, SolverConfig, State, Stepper};
+use squeal_scan::Plan;
+use squeal_scan::grid::Axis;
+use squeal_scan::scanner::{MapContext, NoObserver, run_block};
+use squeal_scan::ulc::{self, CycleSettings};
+
+fn shipped(name: &str) -> Plan {
+    let path = format!("{}/../../scans/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    Plan::from_file(std::path::Path::new(&path)).unwrap()
+}
+
+/// Labels of every cell of map 0 of a plan, row-major (v0, x0).
+fn labels(plan: &Plan) -> (MapContext, Vec<u8>) {
+    let ctx = MapContext::prepare(plan, 0).unwrap();
+    let cells = (0..plan.grid.blocks())
+        .flat_map(|b| run_block(plan, &ctx, b, &NoObserver, None).unwrap().cells)
+        .map(|c| c.regime)
+        .collect();
+    (ctx, cells)
+}
+
+fn coarse(mut plan: Plan, n: usize) -> Plan {
+    plan.grid.x0.count = n;
+    plan.grid.v0.count = n;
+    plan
+}
+
+#[test]
+fn every_shipped_scan_validates() {
+    let dir = format!("{}/../../scans", env!("CARGO_MANIFEST_DIR"));
+    let mut n = 0;
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            Plan::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            n += 1;
+        }
+    }
+    assert!(n >= 7);
+}
+
+/// The early-stopping rule (stop at the first section crossing clearly inside or outside
+/// the located cycle) gives the label of the same run taken to settlement, on a grid that
+/// straddles the boundary (the cycle crosses the section at x' = 0.365 for nu = 1e-3).
+#[test]
+fn early_stopping_matches_runs_to_settlement() {
+    let p = Params::paper(FrictionLaw::McMillan, 1e-3);
+    let plan = shipped("fig9-zoom");
+    let ctx = MapContext::prepare(&plan, 0).unwrap();
+    assert!(ctx.classifier.trap.is_some());
+    let long = Classifier {
+        t_max: 40_000.0,
+        trap: None,
+        ..ctx.classifier
+    };
+    let st = Stepper::new(p, 0.01, SolverConfig::default()).unwrap();
+    let ax = Axis {
+        min: 0.55,
+        max: 1.45,
+        count: 7,
+    };
+    let ics: Vec<State> = (0..7)
+        .flat_map(|j| {
+            (0..7).map(move |i| State {
+                x: ax.value(i),
+                v: ax.value(j) - 1.0,
+            })
+        })
+        .collect();
+    let results: Vec<(Regime, Regime)> = std::thread::scope(|s| {
+        let chunks: Vec<_> = ics
+            .chunks(ics.len().div_ceil(2))
+            .map(|c| {
+                s.spawn(|| {
+                    c.iter()
+                        .map(|&ic| {
+                            (
+                                ctx.classifier.classify(&ctx.stepper, ic).regime,
+                                long.classify(&st, ic).regime,
+                            )
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        chunks.into_iter().flat_map(|h| h.join().unwrap()).collect()
+    });
+    let (mut steady, mut stick) = (0, 0);
+    for (ic, (fast, slow)) in ics.iter().zip(&results) {
+        assert_ne!(*slow, Regime::Undecided, "long run undecided at {ic:?}");
+        assert_eq!(fast, slow, "early stop disagrees at {ic:?}");
+        match slow {
+            Regime::SteadySlip => steady += 1,
+            _ => stick += 1,
+        }
+    }
+    assert!(
+        steady >= 5 && stick >= 5,
+        "grid must straddle the boundary: {steady} / {stick}"
+    );
+}
+
+#[test]
+fn cycle_lies_between_steady_and_stick_slip_on_every_ray() {
+    let p = Params::paper(FrictionLaw::McMillan, 1e-3);
+    let rep = ulc::locate(
+        p,
+        0.01,
+        SolverConfig::default(),
+        &CycleSettings {
+            check_half_dt: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let cl = Classifier {
+        t_max: 40_000.0,
+        ..Classifier::default()
+    };
+    let rays = ulc::verify_rays(&rep, 8, 0.05, &cl, SolverConfig::default()).unwrap();
+    for r in &rays {
+        assert_eq!(
+            (r.inner, r.outer),
+            (Regime::SteadySlip, Regime::StickSlip),
+            "ray {r:?}"
+        );
+    }
+}
+
+#[test]
+fn cycle_matches_the_label_boundary_of_a_fine_scan() {
+    let plan = shipped("fig9-zoom");
+    let plan = coarse(plan, 96);
+    let (ctx, l) = labels(&plan);
+    let rep = ctx.cycle.as_ref().unwrap();
+    let g = plan.grid;
+    let pixel = g.x0.spacing().hypot(g.v0.spacing());
+    let mut wrong_beyond = 0;
+    for j in 0..g.v0.count {
+        for i in 0..g.x0.count {
+            let (x, v) = (g.x0.value(i), g.v0.value(j));
+            let want = if rep.encloses(x, v) { 1 } else { 2 };
+            let got = l[j * g.x0.count + i];
+            if got != want && rep.distance_to(x, v) > pixel {
+                wrong_beyond += 1;
+            }
+        }
+    }
+    assert_eq!(wrong_beyond, 0);
+}
+
+#[test]
+fn paper_findings_on_the_shipped_scans() {
+    let (_, l9) = labels(&coarse(shipped("fig9"), 41));
+    let (_, l10) = labels(&coarse(shipped("fig10"), 41));
+    let (_, l11) = labels(&coarse(shipped("fig11"), 41));
+    // 41 points on [-3, 5] x [-4, 4]: spacing 0.2, so (0, 0) is (row 20, col 15) and (1, 0) col 20.
+    let at = |l: &[u8], i: usize, j: usize| l[j * 41 + i];
+    assert_eq!(at(&l9, 15, 20), 2, "nu = 1e-3: from rest, stick-slip");
+    assert_eq!(at(&l10, 15, 20), 1, "nu = 1e-2: from rest, steady slip");
+    assert_eq!(at(&l9, 20, 20), 1, "the fixed point itself");
+    // The steady-slip basin of nu = 1e-3 is a small region around (1, 0).
+    for j in 0..41 {
+        for i in 0..41 {
+            if at(&l9, i, j) == 1 {
+                let (x, v) = (-3.0 + 0.2 * i as f64, -4.0 + 0.2 * j as f64);
+                assert!(
+                    (x - 1.0).hypot(v) < 0.45,
+                    "steady slip far from (1, 0) at ({x}, {v})"
+                );
+            }
+        }
+    }
+    let steady = |l: &[u8]| l.iter().filter(|&&c| c == 1).count() as f64;
+    let (s9, s11) = (steady(&l9), steady(&l11));
+    assert!(
+        s9 > 0.0 && (s9 - s11).abs() <= 0.25 * s9,
+        "hysteretic {s9} vs non-hysteretic {s11}"
+    );
+    assert!(steady(&l10) > 10.0 * s9);
+    assert!(
+        l9.iter().chain(&l10).chain(&l11).all(|&c| c != 0),
+        "no undecided cells"
+    );
+}

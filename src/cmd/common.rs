@@ -1,0 +1,151 @@
+//! Pieces shared by the subcommands: provenance, output checks, progress, pictures.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, bail};
+use squeal_plot::{BasinPanel, Curve, Marker, Rgb};
+
+/// Version and git revision recorded in every output.
+pub fn provenance() -> squeal_store::Provenance {
+    squeal_store::Provenance {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        git_revision: env!("SQUEAL_GIT_REV").to_string(),
+    }
+}
+
+/// Refuses to overwrite `path` unless `force`.
+pub fn check_new(path: &Path, force: bool, what: &str) -> anyhow::Result<()> {
+    if path.exists() && !force {
+        bail!(
+            "refusing to overwrite {} ({what}): use --force",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// `out` with its extension replaced and an optional suffix on the stem.
+pub fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    out.with_file_name(format!("{stem}{suffix}.{ext}"))
+}
+
+/// Whether progress bars should be drawn.
+pub fn show_progress(quiet: bool) -> bool {
+    !quiet && std::io::stderr().is_terminal()
+}
+
+/// The label classes in the pictures, in the order of the HDF5 enum.
+pub fn classes() -> Vec<(u8, &'static str, Rgb)> {
+    vec![
+        (1, "steady slip", squeal_plot::STEADY),
+        (2, "stick-slip", squeal_plot::STICK),
+        (0, "undecided", squeal_plot::UNDECIDED),
+        (255, "not computed", squeal_plot::NOT_COMPUTED),
+    ]
+}
+
+/// A basin panel for one map of a file.
+pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
+    let mut overlays = Vec::new();
+    if let Some((x, v)) = &m.cycle {
+        let mut xs = x.clone();
+        let mut vs = v.clone();
+        if let (Some(&x0), Some(&v0)) = (x.first(), v.first()) {
+            xs.push(x0);
+            vs.push(v0);
+        }
+        overlays.push(Curve {
+            label: "unstable limit cycle".into(),
+            xs,
+            ys: vs,
+            color: squeal_plot::CYCLE,
+            points_only: false,
+        });
+    }
+    BasinPanel {
+        title: m.title.clone(),
+        x0: &m.x0,
+        v0: &m.v0,
+        labels: &m.labels,
+        overlays,
+        markers: vec![Marker {
+            label: "fixed point".into(),
+            x: m.fixed_point.0,
+            y: m.fixed_point.1,
+            color: squeal_plot::FIXED_POINT,
+        }],
+    }
+}
+
+/// Draws the pictures of a finished scan file: the basin map (one map), or a sheet of the
+/// maps and the cycle size against the swept parameter (sweeps). Returns the files written.
+pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
+    let n = squeal_store::map_count(h5)?;
+    let classes = classes();
+    if n == 1 {
+        check_new(png, force, "picture")?;
+        let m = squeal_store::read_map(h5, 0)?;
+        squeal_plot::basin_map(png, &panel(&m), &classes)
+            .with_context(|| format!("drawing {}", png.display()))?;
+        return Ok(vec![png.to_path_buf()]);
+    }
+    let size = sibling(png, "-cycle", "png");
+    check_new(png, force, "picture")?;
+    check_new(&size, force, "picture")?;
+    let maps: Vec<_> = (0..n)
+        .map(|i| squeal_store::read_map(h5, i))
+        .collect::<Result<_, _>>()?;
+    let panels: Vec<_> = maps.iter().map(panel).collect();
+    let info = squeal_store::read_info(h5)?;
+    let title = format!("{}: basin maps", attr(&info, "name").unwrap_or("squeal"));
+    let ncols = (n as f64).sqrt().ceil() as usize;
+    squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols)
+        .with_context(|| format!("drawing {}", png.display()))?;
+    let summary = squeal_store::read_cycle_summary(h5)?;
+    let param = info
+        .sweep
+        .as_ref()
+        .map(|s| s.0.clone())
+        .unwrap_or_else(|| "nu".into());
+    let xs: Vec<f64> = summary.iter().map(|s| s.0).collect();
+    let curves = vec![
+        Curve {
+            label: "distance along +x".into(),
+            xs: xs.clone(),
+            ys: summary.iter().map(|s| s.2).collect(),
+            color: Rgb(200, 60, 20),
+            points_only: false,
+        },
+        Curve {
+            label: "x' at the section x = x*".into(),
+            xs,
+            ys: summary.iter().map(|s| s.1).collect(),
+            color: Rgb(30, 90, 200),
+            points_only: false,
+        },
+    ];
+    squeal_plot::line_plot(
+        &size,
+        "Unstable limit cycle size",
+        &param,
+        "cycle size",
+        &curves,
+        &[],
+        param == "nu",
+    )
+    .with_context(|| format!("drawing {}", size.display()))?;
+    Ok(vec![png.to_path_buf(), size])
+}
+
+/// A root attribute of a file, as text.
+pub fn attr<'a>(info: &'a squeal_store::FileInfo, key: &str) -> Option<&'a str> {
+    info.attrs
+        .iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+}

@@ -1,0 +1,371 @@
+//! End-to-end tests of `squeal scan`, `info`, `render`, `classify`, `ulc`, `critical` and
+//! `merge`: run the real binary in a fresh temporary folder and reopen the files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn squeal(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("run squeal")
+}
+
+fn ok(o: &Output) -> String {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "squeal failed: {err}");
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn fails(o: &Output, want: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "expected failure containing '{want}'");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(err.contains(want), "expected '{want}' in: {err}");
+}
+
+const TINY: &str = r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 9 }
+v0 = { min = -4.0, max = 4.0, count = 7 }
+block_rows = 2
+[classifier]
+t_max = 3000.0
+[output]
+path = "tiny.h5"
+"#;
+
+fn spec(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn digest(p: &Path) -> String {
+    squeal_store_digest(p)
+}
+
+fn squeal_store_digest(p: &Path) -> String {
+    // The store's own content digest: every dataset's values and every attribute.
+    squeal_store::content_digest(p).expect("digest")
+}
+
+#[test]
+fn tiny_scan_writes_a_self_describing_file() {
+    let d = tempfile::tempdir().unwrap();
+    spec(d.path(), "tiny.toml", TINY);
+    let out = ok(&squeal(
+        d.path(),
+        &["scan", "tiny.toml", "--quiet", "--json"],
+    ));
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        v["maps"][0]["stick_slip"].as_u64().unwrap()
+            + v["maps"][0]["steady_slip"].as_u64().unwrap()
+            + v["maps"][0]["undecided"].as_u64().unwrap(),
+        63
+    );
+    assert!(d.path().join("tiny.png").exists());
+    let f = hdf5::File::open(d.path().join("tiny.h5")).unwrap();
+    let labels = f.dataset("labels").unwrap();
+    assert_eq!(labels.shape(), vec![7, 9]);
+    let x0: Vec<f64> = f.dataset("x0").unwrap().read_raw().unwrap();
+    assert_eq!(x0.first(), Some(&-3.0));
+    assert_eq!(x0.last(), Some(&5.0));
+    let dt = labels.dtype().unwrap().to_descriptor().unwrap();
+    let txt = format!("{dt:?}");
+    assert!(
+        txt.contains("steady_slip") && txt.contains("stick_slip") && txt.contains("undecided"),
+        "{txt}"
+    );
+    let spec_attr: hdf5::types::VarLenUnicode = f.attr("spec").unwrap().read_scalar().unwrap();
+    assert!(spec_attr.as_str().contains("nu = 1e-3"));
+    assert!(
+        f.attr("squeal_version").is_ok() && f.attr("git_revision").is_ok() && f.attr("nu").is_ok()
+    );
+    assert!(f.group("cycle").is_ok());
+    // The state at rest squeals at nu = 1e-3 (paper Fig. 9): x0 = 0 is column 3, v0 = 0 row 3.
+    let l: Vec<u8> = labels.read_raw().unwrap();
+    assert_eq!(l[3 * 9 + 3], 2);
+    // Output is never overwritten silently.
+    fails(
+        &squeal(d.path(), &["scan", "tiny.toml", "--quiet"]),
+        "--force",
+    );
+    // info and render
+    let info = ok(&squeal(d.path(), &["info", "tiny.h5", "--json"]));
+    let iv: serde_json::Value = serde_json::from_str(&info).unwrap();
+    assert_eq!(iv["counts"][0]["stick_slip"], v["maps"][0]["stick_slip"]);
+    ok(&squeal(d.path(), &["render", "tiny.h5", "-o", "again.png"]));
+    assert!(d.path().join("again.png").exists());
+}
+
+#[test]
+fn one_and_many_threads_give_identical_files() {
+    let d = tempfile::tempdir().unwrap();
+    spec(d.path(), "tiny.toml", TINY);
+    ok(&squeal(
+        d.path(),
+        &[
+            "scan",
+            "tiny.toml",
+            "-o",
+            "one.h5",
+            "--threads",
+            "1",
+            "--quiet",
+        ],
+    ));
+    ok(&squeal(
+        d.path(),
+        &[
+            "scan",
+            "tiny.toml",
+            "-o",
+            "two.h5",
+            "--threads",
+            "2",
+            "--quiet",
+        ],
+    ));
+    assert_eq!(
+        digest(&d.path().join("one.h5")),
+        digest(&d.path().join("two.h5"))
+    );
+}
+
+#[test]
+fn killed_scan_resumes_to_the_same_file() {
+    let d = tempfile::tempdir().unwrap();
+    // Long enough to be killed midway: no early stopping, a few hundred cells.
+    let text = TINY
+        .replace("count = 9", "count = 24")
+        .replace("count = 7", "count = 16")
+        .replace("t_max = 3000.0", "t_max = 400.0\nearly_stop = \"none\"");
+    spec(d.path(), "slow.toml", &text);
+    ok(&squeal(
+        d.path(),
+        &["scan", "slow.toml", "-o", "full.h5", "--quiet"],
+    ));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .current_dir(d.path())
+        .args([
+            "scan",
+            "slow.toml",
+            "-o",
+            "cut.h5",
+            "--quiet",
+            "--threads",
+            "1",
+        ])
+        .spawn()
+        .unwrap();
+    // Wait until some blocks are in the journal, then kill hard.
+    let journal = d.path().join("cut.h5.journal");
+    for _ in 0..400 {
+        if journal.metadata().map(|m| m.len() > 4096).unwrap_or(false) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !d.path().join("cut.h5").exists(),
+        "an interrupted scan must not look complete"
+    );
+    fails(
+        &squeal(d.path(), &["scan", "slow.toml", "-o", "cut.h5", "--quiet"]),
+        "--resume",
+    );
+    ok(&squeal(
+        d.path(),
+        &["scan", "slow.toml", "-o", "cut.h5", "--quiet", "--resume"],
+    ));
+    assert_eq!(
+        digest(&d.path().join("full.h5")),
+        digest(&d.path().join("cut.h5"))
+    );
+}
+
+#[test]
+fn shards_merge_into_the_single_run_file() {
+    let d = tempfile::tempdir().unwrap();
+    let sweep = TINY.replace("nu = 1e-3", "nu = [1e-3, 1e-2]");
+    spec(d.path(), "sw.toml", &sweep);
+    ok(&squeal(
+        d.path(),
+        &["scan", "sw.toml", "-o", "single.h5", "--quiet"],
+    ));
+    assert!(d.path().join("single.png").exists() && d.path().join("single-cycle.png").exists());
+    for k in ["1/3", "2/3", "3/3"] {
+        let name = format!("s{}.h5", &k[..1]);
+        ok(&squeal(
+            d.path(),
+            &["scan", "sw.toml", "-o", &name, "--shard", k, "--quiet"],
+        ));
+    }
+    fails(
+        &squeal(d.path(), &["merge", "s1.h5", "s2.h5", "-o", "m.h5"]),
+        "missing shard 3/3",
+    );
+    fails(
+        &squeal(
+            d.path(),
+            &["merge", "s1.h5", "s1.h5", "s2.h5", "-o", "m.h5"],
+        ),
+        "s1.h5",
+    );
+    ok(&squeal(
+        d.path(),
+        &["merge", "s1.h5", "s2.h5", "s3.h5", "-o", "m.h5"],
+    ));
+    assert_eq!(
+        digest(&d.path().join("single.h5")),
+        digest(&d.path().join("m.h5"))
+    );
+    let f = hdf5::File::open(d.path().join("single.h5")).unwrap();
+    assert_eq!(f.dataset("labels").unwrap().shape(), vec![2, 7, 9]);
+    let nu: Vec<f64> = f.dataset("nu").unwrap().read_raw().unwrap();
+    assert_eq!(nu, vec![1e-3, 1e-2]);
+}
+
+#[test]
+fn bad_input_gives_clear_errors() {
+    let d = tempfile::tempdir().unwrap();
+    spec(d.path(), "bad.toml", &TINY.replace("[model]", "[model\n"));
+    fails(&squeal(d.path(), &["scan", "bad.toml"]), "line");
+    spec(
+        d.path(),
+        "unknown.toml",
+        &TINY.replace("nu = 1e-3", "nu = 1e-3\nzeta = 1"),
+    );
+    fails(&squeal(d.path(), &["scan", "unknown.toml"]), "zeta");
+    spec(
+        d.path(),
+        "inv.toml",
+        &TINY.replace("min = -3.0, max = 5.0", "min = 5.0, max = -3.0"),
+    );
+    fails(&squeal(d.path(), &["scan", "inv.toml"]), "grid.x0");
+    spec(
+        d.path(),
+        "zero.toml",
+        &TINY.replace("count = 9", "count = 0"),
+    );
+    fails(&squeal(d.path(), &["scan", "zero.toml"]), "grid.x0.count");
+    spec(
+        d.path(),
+        "nonmono.toml",
+        &TINY.replace("nu = 1e-3", "nu = [1e-3, 1e-3]"),
+    );
+    fails(&squeal(d.path(), &["scan", "nonmono.toml"]), "monotone");
+    spec(
+        d.path(),
+        "empty.toml",
+        &TINY.replace("nu = 1e-3", "nu = []"),
+    );
+    fails(&squeal(d.path(), &["scan", "empty.toml"]), "non-empty");
+    spec(d.path(), "tiny.toml", TINY);
+    fails(
+        &squeal(d.path(), &["scan", "tiny.toml", "-o", "/proc/nope/x.h5"]),
+        "/proc/nope",
+    );
+    fails(&squeal(d.path(), &["scan", "missing.toml"]), "missing.toml");
+    fails(
+        &squeal(d.path(), &["scan", "tiny.toml", "--shard", "4/3"]),
+        "--shard",
+    );
+    std::fs::write(d.path().join("foreign.h5"), b"not an hdf5 file at all").unwrap();
+    fails(&squeal(d.path(), &["info", "foreign.h5"]), "foreign.h5");
+    fails(&squeal(d.path(), &["render", "foreign.h5"]), "foreign.h5");
+    fails(&squeal(d.path(), &["info", "absent.h5"]), "absent.h5");
+    fails(
+        &squeal(
+            d.path(),
+            &["scan", "tiny.toml", "-o", "foreign.h5", "--resume"],
+        ),
+        "foreign.h5",
+    );
+    // A truncated scan file.
+    ok(&squeal(
+        d.path(),
+        &["scan", "tiny.toml", "-o", "t.h5", "--quiet"],
+    ));
+    let bytes = std::fs::read(d.path().join("t.h5")).unwrap();
+    std::fs::write(d.path().join("trunc.h5"), &bytes[..bytes.len() / 2]).unwrap();
+    fails(&squeal(d.path(), &["info", "trunc.h5"]), "trunc.h5");
+    // The foreign file is still there, untouched.
+    assert_eq!(
+        std::fs::read(d.path().join("foreign.h5")).unwrap(),
+        b"not an hdf5 file at all"
+    );
+}
+
+#[test]
+fn classify_labels_a_csv_of_initial_conditions() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0,0\n1.1,0\n-2.5,0\n").unwrap();
+    ok(&squeal(
+        d.path(),
+        &[
+            "classify", "--ics", "ics.csv", "--out", "l.csv", "--nu", "1e-3",
+        ],
+    ));
+    let text = std::fs::read_to_string(d.path().join("l.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert!(rows[0].starts_with("x0,v0,label,"));
+    assert!(rows[1].contains(",stick_slip,"), "{}", rows[1]);
+    assert!(rows[2].contains(",steady_slip,"), "{}", rows[2]);
+    assert!(rows[3].contains(",stick_slip,"), "{}", rows[3]);
+    std::fs::write(d.path().join("bad.csv"), "x0,v0\n0,zz\n").unwrap();
+    fails(
+        &squeal(
+            d.path(),
+            &["classify", "--ics", "bad.csv", "--out", "l2.csv"],
+        ),
+        "bad.csv:2",
+    );
+}
+
+#[test]
+fn ulc_and_critical_report_the_paper_findings() {
+    let d = tempfile::tempdir().unwrap();
+    let get = |nu: &str, law: &str| -> serde_json::Value {
+        let o = ok(&squeal(
+            d.path(),
+            &["ulc", "--nu", nu, "--law", law, "--json"],
+        ));
+        serde_json::from_str(&o).unwrap()
+    };
+    let a = get("1e-3", "mcmillan");
+    let b = get("1e-2", "mcmillan");
+    let c = get("1e-3", "mcmillan-nonhysteretic");
+    assert_eq!(a["encloses_origin"], false);
+    assert_eq!(b["encloses_origin"], true);
+    let (ra, rb, rc) = (
+        a["r_section"].as_f64().unwrap(),
+        b["r_section"].as_f64().unwrap(),
+        c["r_section"].as_f64().unwrap(),
+    );
+    assert!(rb > 3.0 * ra, "the cycle grows with damping: {ra} -> {rb}");
+    // Hysteretic and non-hysteretic cycles nearly the same size (measured: 0.3649 vs 0.3661).
+    assert!((ra - rc).abs() < 0.02 * ra, "{ra} vs {rc}");
+    assert!(a["multiplier"].as_f64().unwrap() > 1.0);
+    assert!(a["bracket_width"].as_f64().unwrap() < 1e-8);
+    assert!(a["half_dt"]["shift"].as_f64().unwrap().abs() < 5e-3);
+    let crit = ok(&squeal(d.path(), &["critical", "--json", "--rtol", "1e-3"]));
+    let cv: serde_json::Value = serde_json::from_str(&crit).unwrap();
+    let nu = cv["nu"].as_f64().unwrap();
+    assert!(nu > 1e-3 && nu < 1e-2, "critical nu {nu}");
+    fails(
+        &squeal(
+            d.path(),
+            &["critical", "--nu-lo", "2e-2", "--nu-hi", "5e-2"],
+        ),
+        "--nu-lo",
+    );
+}
