@@ -168,14 +168,14 @@ fn fixed_acceleration(m: &Material) -> Figure {
         rows,
         curves: vec![
             Curve {
-                label: format!("x'' = +{ACCEL} m/s^2"),
+                label: format!("x'' = +{ACCEL} m/s^2 ({})", material_text(m)),
                 xs: vs.clone(),
                 ys: pos,
                 color: Rgb(49, 110, 198),
                 points_only: false,
             },
             Curve {
-                label: format!("x'' = -{ACCEL} m/s^2"),
+                label: format!("x'' = -{ACCEL} m/s^2 ({})", material_text(m)),
                 xs: vs,
                 ys: neg,
                 color: Rgb(238, 118, 22),
@@ -203,14 +203,11 @@ fn imposed_motion(m: &Material, stem: &'static str, fig: u32, amp: f64, w: f64) 
     }
     Figure {
         stem,
-        title: format!(
-            "Fig {fig}: friction along x = {amp:e} sin({w} t) m ({})",
-            material_text(m)
-        ),
+        title: format!("Fig {fig}: friction along x = {amp:e} sin({w} t) m"),
         header: "t_s,x_m,v_m_per_s,a_m_per_s2,f_over_mg",
         rows,
         curves: vec![Curve {
-            label: format!("one period, A = {amp:e} m, w = {w} rad/s"),
+            label: format!("one period ({})", material_text(m)),
             xs: vs,
             ys: fs,
             color: Rgb(49, 110, 198),

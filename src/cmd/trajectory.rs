@@ -50,7 +50,12 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
     /// Write every N-th sample to --out and --plot (the first sample is always written).
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 1,
+        allow_negative_numbers = true
+    )]
     every: u64,
     /// Draw the phase plane (x against x') with the fixed point marked to FILE.png.
     #[arg(long, value_name = "FILE")]
@@ -534,7 +539,7 @@ fn print_summary(s: &Summary, kind: SolverKind) {
         let times: Vec<String> = s
             .first_unconverged_times
             .iter()
-            .map(|t| format!("{t}"))
+            .map(|t| format!("{}", (t * 1e9).round() / 1e9))
             .collect();
         println!(
             "unconverged steps: {} of {} ({:.2}%){}",

@@ -1,1 +1,89 @@
-fn main() {}
+//! Cost of one step, for each friction law and solver, in two situations:
+//!
+//! * `step/decay`: the common case of a scan, a decaying oscillation near the fixed point
+//!   (nu = 1e-3 from (1.2, 0), inside the unstable cycle, after 100 time units);
+//! * `step/stick_slip`: the settled stick-slip cycle (nu = 1e-3 from rest, after 1000 time
+//!   units), where the hysteretic law sits on its quasi-static branch and the paper's
+//!   iteration often fails to converge.
+//!
+//! Each benchmark steps from every sample of one revolution (between two crossings of the
+//! section `x = 1, x' > 0`), recorded with the robust solver on the hysteretic law (the
+//! non-hysteretic law on its own runs), so the time per element is the mean time of one step
+//! along that revolution. Coulomb's solve is closed form whatever the solver setting.
+//!
+//! `cargo bench -p squeal-core --bench step -- --warm-up-time 1 --measurement-time 3`
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use squeal_core::classify::crossing;
+use squeal_core::{
+    FrictionLaw, Params, Sample, SolverConfig, SolverKind, SolverStats, State, Stepper,
+};
+
+const NU: f64 = 1e-3;
+const DT: f64 = 0.01;
+
+fn stepper(law: FrictionLaw, kind: SolverKind) -> Stepper {
+    let cfg = SolverConfig {
+        kind,
+        ..Default::default()
+    };
+    Stepper::new(Params::paper(law, NU), DT, cfg).expect("valid parameters")
+}
+
+/// The samples of one revolution after `settle` time units from `ic` (robust solver).
+fn revolution(law: FrictionLaw, ic: State, settle: f64) -> Vec<Sample> {
+    let st = stepper(law, SolverKind::Robust);
+    let mut stats = SolverStats::default();
+    let (mut s, _) = st.initial(ic, &mut stats);
+    for _ in 0..(settle / DT).round() as u64 {
+        s = st.step(&s, &mut stats).0;
+    }
+    let mut out = Vec::new();
+    let mut crossings = 0;
+    while crossings < 2 {
+        let n = st.step(&s, &mut stats).0;
+        if crossing(1.0, &s, &n).is_some() {
+            crossings += 1;
+        }
+        if crossings == 1 {
+            out.push(n);
+        }
+        s = n;
+    }
+    out
+}
+
+fn bench_case(c: &mut Criterion, name: &str, ic: State, settle: f64) {
+    let hysteretic = revolution(FrictionLaw::McMillan, ic, settle);
+    let nonhysteretic = revolution(FrictionLaw::McMillanNonHysteretic, ic, settle);
+    let mut group = c.benchmark_group(format!("step/{name}"));
+    for law in FrictionLaw::ALL {
+        let samples = match law {
+            FrictionLaw::McMillanNonHysteretic => &nonhysteretic,
+            _ => &hysteretic,
+        };
+        group.throughput(Throughput::Elements(samples.len() as u64));
+        for kind in [SolverKind::Robust, SolverKind::Paper] {
+            let st = stepper(law, kind);
+            group.bench_function(BenchmarkId::new(law.name(), kind.name()), |b| {
+                let mut stats = SolverStats::default();
+                b.iter(|| {
+                    for s in samples {
+                        black_box(st.step(black_box(s), &mut stats));
+                    }
+                });
+            });
+        }
+    }
+    group.finish();
+}
+
+fn steps(c: &mut Criterion) {
+    bench_case(c, "decay", State { x: 1.2, v: 0.0 }, 100.0);
+    bench_case(c, "stick_slip", State { x: 0.0, v: 0.0 }, 1000.0);
+}
+
+criterion_group!(benches, steps);
+criterion_main!(benches);

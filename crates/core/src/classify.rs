@@ -395,7 +395,7 @@ impl Classifier {
                 (l.min(r), h.max(r))
             });
         let mean = ring.iter().sum::<f64>() / ring.len() as f64;
-        if !(lo > 10.0 * self.fp_radius) || hi - lo > self.settle_rtol * mean {
+        if lo.is_nan() || lo <= 10.0 * self.fp_radius || hi - lo > self.settle_rtol * mean {
             return false;
         }
         let half = ring.len() / 2;

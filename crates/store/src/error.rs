@@ -1,0 +1,119 @@
+//! The store's errors: each names the file and what is wrong with it.
+
+use std::path::PathBuf;
+
+/// What went wrong reading or writing a squeal file, its journal or its shards.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum StoreError {
+    /// The output exists and `--force` was not given.
+    #[error("refusing to overwrite {}: use --force", path.display())]
+    Exists {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A journal of an interrupted scan is next to the output.
+    #[error("an interrupted scan is there ({}): use --resume, or --force to start over", path.display())]
+    Interrupted {
+        /// The journal.
+        path: PathBuf,
+    },
+    /// Resume found a complete file and no journal.
+    #[error("{} is already complete: nothing to resume", path.display())]
+    AlreadyComplete {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Resume found neither journal nor output.
+    #[error("nothing to resume: neither {} nor its journal exists", path.display())]
+    NothingToResume {
+        /// The output.
+        path: PathBuf,
+    },
+    /// The file is not a squeal file (not HDF5, foreign schema, bad journal...).
+    #[error("{} is not a squeal file: {why}", path.display())]
+    NotSquealFile {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        why: String,
+    },
+    /// The journal or file belongs to another spec or shard.
+    #[error("{} belongs to a different scan: {why}", path.display())]
+    SpecMismatch {
+        /// The file.
+        path: PathBuf,
+        /// What differs.
+        why: String,
+    },
+    /// An HDF5 call failed.
+    #[error("HDF5 error on {}: {msg}", path.display())]
+    Hdf5 {
+        /// The file.
+        path: PathBuf,
+        /// The library's message.
+        msg: String,
+    },
+    /// A file-system call failed.
+    #[error("{what} {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What was being done ("cannot create", ...).
+        what: &'static str,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// `finish` was called before every owned block was written, or a shard is incomplete.
+    #[error("{} is incomplete: {missing} of {total} blocks missing", path.display())]
+    Incomplete {
+        /// The file.
+        path: PathBuf,
+        /// Blocks missing.
+        missing: usize,
+        /// Blocks expected.
+        total: usize,
+    },
+    /// Shard files that cannot be merged, or a bad `K/N` shard.
+    #[error("{0}")]
+    Shards(String),
+    /// A map index beyond the file's maps.
+    #[error("{} holds {count} maps: there is no map {map}", path.display())]
+    NoSuchMap {
+        /// The file.
+        path: PathBuf,
+        /// Requested map.
+        map: usize,
+        /// Maps in the file.
+        count: usize,
+    },
+    /// A block of the wrong shape or index was handed to the writer.
+    #[error("bad block for {}: {why}", path.display())]
+    BadBlock {
+        /// The output.
+        path: PathBuf,
+        /// What is wrong.
+        why: String,
+    },
+}
+
+pub(crate) trait H5Ctx<T> {
+    fn h5(self, path: &std::path::Path) -> Result<T, StoreError>;
+}
+
+impl<T> H5Ctx<T> for Result<T, hdf5::Error> {
+    fn h5(self, path: &std::path::Path) -> Result<T, StoreError> {
+        self.map_err(|e| StoreError::Hdf5 {
+            path: path.to_path_buf(),
+            msg: e.to_string(),
+        })
+    }
+}
+
+pub(crate) fn io(
+    path: &std::path::Path,
+    what: &'static str,
+) -> impl FnOnce(std::io::Error) -> StoreError {
+    let path = path.to_path_buf();
+    move |source| StoreError::Io { path, what, source }
+}

@@ -1,0 +1,502 @@
+//! The journal `<out>.journal`: an append-only log of finished blocks and located cycles,
+//! fsynced after each record, so an interrupted scan loses at most the block in flight.
+//!
+//! ```text
+//! record  = "SQJR" kind:u8 len:u32 payload[len] fnv1a64(kind, payload):u64   (little endian)
+//! header  = kind 'H': format:u32 spec:str shard:str             (str = len:u64 bytes)
+//! block   = kind 'B': map:u64 block:u64 n:u64 n x cell (55 bytes, fields in Cell order)
+//! cycle   = kind 'C': map:u64 has_report:u8 [report] has_error:u8 [error:str]
+//! ```
+//! Reading stops at the first short or corrupt record (a write torn by a kill) and the
+//! file is truncated there.
+
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+use squeal_scan::scanner::Cell;
+
+use crate::StoreError;
+use crate::error::io;
+
+const MAGIC: &[u8; 4] = b"SQJR";
+const FORMAT: u32 = 1;
+pub(crate) const KIND_HEADER: u8 = b'H';
+pub(crate) const KIND_BLOCK: u8 = b'B';
+pub(crate) const KIND_CYCLE: u8 = b'C';
+const CELL_BYTES: usize = 55;
+const FRAME: usize = 4 + 1 + 4;
+
+/// FNV-1a, 64 bits.
+pub(crate) fn fnv64(parts: &[&[u8]]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for p in parts {
+        for &b in *p {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// The located cycle as stored: every scalar of `CycleReport` plus the curve.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct CycleData {
+    pub r_section: f64,
+    pub bracket_lo: f64,
+    pub bracket_hi: f64,
+    pub period: f64,
+    pub omega: f64,
+    pub x_min: f64,
+    pub x_max: f64,
+    pub v_min: f64,
+    pub v_max: f64,
+    pub distance_plus_x: f64,
+    pub area: f64,
+    pub multiplier: f64,
+    pub encloses_origin: bool,
+    pub half_dt_r_section: Option<f64>,
+    pub half_dt_shift: Option<f64>,
+    pub returns: u64,
+    pub stable_above: Option<f64>,
+    pub x: Vec<f64>,
+    pub v: Vec<f64>,
+}
+
+impl CycleData {
+    pub(crate) fn from_report(c: &squeal_scan::ulc::CycleReport) -> CycleData {
+        CycleData {
+            r_section: c.r_section,
+            bracket_lo: c.bracket[0],
+            bracket_hi: c.bracket[1],
+            period: c.period,
+            omega: c.omega,
+            x_min: c.x_range[0],
+            x_max: c.x_range[1],
+            v_min: c.v_range[0],
+            v_max: c.v_range[1],
+            distance_plus_x: c.distance_plus_x,
+            area: c.area,
+            multiplier: c.multiplier,
+            encloses_origin: c.encloses_origin,
+            half_dt_r_section: c.half_dt.map(|h| h.r_section),
+            half_dt_shift: c.half_dt.map(|h| h.shift),
+            returns: c.returns,
+            stable_above: c.stable_above,
+            x: c.curve_x.clone(),
+            v: c.curve_v.clone(),
+        }
+    }
+
+    /// The f64 scalars by attribute name, in a fixed order.
+    pub(crate) fn scalars(&self) -> [(&'static str, f64); 12] {
+        [
+            ("r_section", self.r_section),
+            ("bracket_lo", self.bracket_lo),
+            ("bracket_hi", self.bracket_hi),
+            ("period", self.period),
+            ("omega", self.omega),
+            ("x_min", self.x_min),
+            ("x_max", self.x_max),
+            ("v_min", self.v_min),
+            ("v_max", self.v_max),
+            ("distance_plus_x", self.distance_plus_x),
+            ("area", self.area),
+            ("multiplier", self.multiplier),
+        ]
+    }
+
+    /// Whether `(x, v)` lies inside the curve.
+    pub(crate) fn encloses(&self, x: f64, v: f64) -> bool {
+        squeal_scan::ulc::polygon_contains(&self.x, &self.v, x, v)
+    }
+
+    /// Distance from `(x, v)` to the curve.
+    pub(crate) fn distance_to(&self, x: f64, v: f64) -> f64 {
+        let n = self.x.len();
+        let mut best = f64::INFINITY;
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let (ax, av, bx, bv) = (self.x[i], self.v[i], self.x[j], self.v[j]);
+            let (dx, dv) = (bx - ax, bv - av);
+            let l2 = dx * dx + dv * dv;
+            let t = if l2 > 0.0 {
+                (((x - ax) * dx + (v - av) * dv) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            best = best.min((x - ax - t * dx).hypot(v - av - t * dv));
+        }
+        best
+    }
+}
+
+/// A recorded cycle: the report, or why there is none (both absent if not asked for).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub(crate) struct CycleRecord {
+    pub report: Option<CycleData>,
+    pub error: Option<String>,
+}
+
+#[derive(Default)]
+pub(crate) struct Enc(pub Vec<u8>);
+
+impl Enc {
+    pub fn u8(&mut self, v: u8) {
+        self.0.push(v);
+    }
+    pub fn u32(&mut self, v: u32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn u64(&mut self, v: u64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn f64(&mut self, v: f64) {
+        self.0.extend_from_slice(&v.to_bits().to_le_bytes());
+    }
+    pub fn str(&mut self, s: &str) {
+        self.u64(s.len() as u64);
+        self.0.extend_from_slice(s.as_bytes());
+    }
+    pub fn opt(&mut self, v: Option<f64>) {
+        self.u8(v.is_some() as u8);
+        self.f64(v.unwrap_or(f64::NAN));
+    }
+    pub fn f64s(&mut self, v: &[f64]) {
+        self.u64(v.len() as u64);
+        for &x in v {
+            self.f64(x);
+        }
+    }
+}
+
+pub(crate) struct Dec<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Dec<'a> {
+    pub fn new(b: &'a [u8]) -> Self {
+        Dec { b, at: 0 }
+    }
+    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
+        let end = self.at.checked_add(n)?;
+        let s = self.b.get(self.at..end)?;
+        self.at = end;
+        Some(s)
+    }
+    pub fn u8(&mut self) -> Option<u8> {
+        self.take(1).map(|s| s[0])
+    }
+    pub fn u32(&mut self) -> Option<u32> {
+        self.take(4)
+            .map(|s| u32::from_le_bytes(s.try_into().unwrap_or_default()))
+    }
+    pub fn u64(&mut self) -> Option<u64> {
+        self.take(8)
+            .map(|s| u64::from_le_bytes(s.try_into().unwrap_or_default()))
+    }
+    pub fn f64(&mut self) -> Option<f64> {
+        self.u64().map(f64::from_bits)
+    }
+    pub fn str(&mut self) -> Option<String> {
+        let n = usize::try_from(self.u64()?).ok()?;
+        String::from_utf8(self.take(n)?.to_vec()).ok()
+    }
+    pub fn opt(&mut self) -> Option<Option<f64>> {
+        let has = self.u8()?;
+        let v = self.f64()?;
+        Some((has != 0).then_some(v))
+    }
+    pub fn f64s(&mut self) -> Option<Vec<f64>> {
+        let n = usize::try_from(self.u64()?).ok()?;
+        if n > self.b.len() / 8 {
+            return None;
+        }
+        (0..n).map(|_| self.f64()).collect()
+    }
+    pub fn done(&self) -> bool {
+        self.at == self.b.len()
+    }
+}
+
+pub(crate) fn encode_cell(e: &mut Enc, c: &Cell) {
+    e.u8(c.regime);
+    e.u8(c.reason);
+    e.f64(c.t_decision);
+    e.f64(c.amplitude);
+    e.f64(c.omega);
+    e.u8(c.quasi_static);
+    e.u64(c.evaluations);
+    e.u32(c.fallbacks);
+    e.u32(c.multi_root);
+    e.u32(c.unconverged);
+    e.f64(c.max_residual);
+}
+
+fn decode_cell(d: &mut Dec) -> Option<Cell> {
+    Some(Cell {
+        regime: d.u8()?,
+        reason: d.u8()?,
+        t_decision: d.f64()?,
+        amplitude: d.f64()?,
+        omega: d.f64()?,
+        quasi_static: d.u8()?,
+        evaluations: d.u64()?,
+        fallbacks: d.u32()?,
+        multi_root: d.u32()?,
+        unconverged: d.u32()?,
+        max_residual: d.f64()?,
+    })
+}
+
+pub(crate) fn encode_block(map: usize, block: usize, cells: &[Cell]) -> Vec<u8> {
+    let mut e = Enc(Vec::with_capacity(24 + cells.len() * CELL_BYTES));
+    e.u64(map as u64);
+    e.u64(block as u64);
+    e.u64(cells.len() as u64);
+    for c in cells {
+        encode_cell(&mut e, c);
+    }
+    e.0
+}
+
+/// `(map, block, cells)` of a block payload.
+pub(crate) fn decode_block(p: &[u8]) -> Option<(usize, usize, Vec<Cell>)> {
+    let mut d = Dec::new(p);
+    let map = usize::try_from(d.u64()?).ok()?;
+    let block = usize::try_from(d.u64()?).ok()?;
+    let n = usize::try_from(d.u64()?).ok()?;
+    if n.checked_mul(CELL_BYTES)? != p.len() - 24 {
+        return None;
+    }
+    let cells = (0..n)
+        .map(|_| decode_cell(&mut d))
+        .collect::<Option<Vec<_>>>()?;
+    Some((map, block, cells))
+}
+
+pub(crate) fn encode_cycle(map: usize, rec: &CycleRecord) -> Vec<u8> {
+    let mut e = Enc::default();
+    e.u64(map as u64);
+    match &rec.report {
+        Some(c) => {
+            e.u8(1);
+            for (_, v) in c.scalars() {
+                e.f64(v);
+            }
+            e.u8(c.encloses_origin as u8);
+            e.opt(c.half_dt_r_section);
+            e.opt(c.half_dt_shift);
+            e.u64(c.returns);
+            e.opt(c.stable_above);
+            e.f64s(&c.x);
+            e.f64s(&c.v);
+        }
+        None => e.u8(0),
+    }
+    match &rec.error {
+        Some(s) => {
+            e.u8(1);
+            e.str(s);
+        }
+        None => e.u8(0),
+    }
+    e.0
+}
+
+pub(crate) fn decode_cycle(p: &[u8]) -> Option<(usize, CycleRecord)> {
+    let mut d = Dec::new(p);
+    let map = usize::try_from(d.u64()?).ok()?;
+    let report = if d.u8()? != 0 {
+        let mut s = [0.0; 12];
+        for x in s.iter_mut() {
+            *x = d.f64()?;
+        }
+        Some(CycleData {
+            r_section: s[0],
+            bracket_lo: s[1],
+            bracket_hi: s[2],
+            period: s[3],
+            omega: s[4],
+            x_min: s[5],
+            x_max: s[6],
+            v_min: s[7],
+            v_max: s[8],
+            distance_plus_x: s[9],
+            area: s[10],
+            multiplier: s[11],
+            encloses_origin: d.u8()? != 0,
+            half_dt_r_section: d.opt()?,
+            half_dt_shift: d.opt()?,
+            returns: d.u64()?,
+            stable_above: d.opt()?,
+            x: d.f64s()?,
+            v: d.f64s()?,
+        })
+    } else {
+        None
+    };
+    let error = if d.u8()? != 0 { Some(d.str()?) } else { None };
+    d.done().then_some((map, CycleRecord { report, error }))
+}
+
+/// The journal's header.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Header {
+    pub spec: String,
+    pub shard: String,
+}
+
+fn encode_header(h: &Header) -> Vec<u8> {
+    let mut e = Enc::default();
+    e.u32(FORMAT);
+    e.str(&h.spec);
+    e.str(&h.shard);
+    e.0
+}
+
+/// One record's place in the journal.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Rec {
+    pub kind: u8,
+    /// Offset of the payload.
+    pub offset: u64,
+    pub len: u32,
+}
+
+/// An open journal, positioned at its end for appending.
+pub(crate) struct Journal {
+    pub path: PathBuf,
+    file: File,
+    end: u64,
+}
+
+impl Journal {
+    /// Creates a new journal (fails if it exists) and writes the header.
+    pub fn create(path: &Path, h: &Header) -> Result<Journal, StoreError> {
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map_err(io(path, "cannot create the journal"))?;
+        let mut j = Journal {
+            path: path.to_path_buf(),
+            file,
+            end: 0,
+        };
+        j.append(KIND_HEADER, &encode_header(h))?;
+        Ok(j)
+    }
+
+    /// Opens a journal, checks the header, drops a torn tail; returns the records after the header.
+    pub fn open(path: &Path) -> Result<(Journal, Header, Vec<Rec>), StoreError> {
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(io(path, "cannot open the journal"))?;
+        let mut bytes = Vec::new();
+        file.read_to_end(&mut bytes)
+            .map_err(io(path, "cannot read the journal"))?;
+        let not = |why: &str| StoreError::NotSquealFile {
+            path: path.to_path_buf(),
+            why: why.to_string(),
+        };
+        let mut recs = Vec::new();
+        let mut at = 0usize;
+        while let Some(r) = frame_at(&bytes, at) {
+            recs.push(r);
+            at = r.offset as usize + r.len as usize + 8;
+        }
+        let Some(first) = recs.first().copied() else {
+            return Err(not("the journal has no valid header record"));
+        };
+        if first.kind != KIND_HEADER {
+            return Err(not("the journal does not start with a header record"));
+        }
+        let mut d = Dec::new(&bytes[first.offset as usize..][..first.len as usize]);
+        if d.u32() != Some(FORMAT) {
+            return Err(not("unknown journal format"));
+        }
+        let (Some(spec), Some(shard)) = (d.str(), d.str()) else {
+            return Err(not("the journal header is malformed"));
+        };
+        if (at as u64) < bytes.len() as u64 {
+            // A torn last record: drop it so appends continue from a clean end.
+            file.set_len(at as u64)
+                .and_then(|_| file.sync_data())
+                .map_err(io(path, "cannot truncate the journal"))?;
+        }
+        file.seek(SeekFrom::Start(at as u64))
+            .map_err(io(path, "cannot seek in the journal"))?;
+        recs.remove(0);
+        Ok((
+            Journal {
+                path: path.to_path_buf(),
+                file,
+                end: at as u64,
+            },
+            Header { spec, shard },
+            recs,
+        ))
+    }
+
+    /// Appends one record and syncs it to disk; returns where its payload is.
+    pub fn append(&mut self, kind: u8, payload: &[u8]) -> Result<Rec, StoreError> {
+        let len = u32::try_from(payload.len()).map_err(|_| StoreError::BadBlock {
+            path: self.path.clone(),
+            why: "a record above 4 GiB".into(),
+        })?;
+        let mut buf = Vec::with_capacity(FRAME + payload.len() + 8);
+        buf.extend_from_slice(MAGIC);
+        buf.push(kind);
+        buf.extend_from_slice(&len.to_le_bytes());
+        buf.extend_from_slice(payload);
+        buf.extend_from_slice(&fnv64(&[&[kind], payload]).to_le_bytes());
+        self.file
+            .seek(SeekFrom::Start(self.end))
+            .and_then(|_| self.file.write_all(&buf))
+            .and_then(|_| self.file.sync_data())
+            .map_err(io(&self.path, "cannot write to the journal"))?;
+        let rec = Rec {
+            kind,
+            offset: self.end + FRAME as u64,
+            len,
+        };
+        self.end += buf.len() as u64;
+        Ok(rec)
+    }
+
+    /// Reads a record's payload.
+    pub fn read(&mut self, r: &Rec) -> Result<Vec<u8>, StoreError> {
+        let mut buf = vec![0u8; r.len as usize];
+        self.file
+            .seek(SeekFrom::Start(r.offset))
+            .and_then(|_| self.file.read_exact(&mut buf))
+            .map_err(io(&self.path, "cannot read the journal"))?;
+        Ok(buf)
+    }
+}
+
+fn frame_at(bytes: &[u8], at: usize) -> Option<Rec> {
+    let head = bytes.get(at..at + FRAME)?;
+    if &head[..4] != MAGIC {
+        return None;
+    }
+    let kind = head[4];
+    let len = u32::from_le_bytes(head[5..9].try_into().ok()?);
+    let start = at + FRAME;
+    let end = start.checked_add(len as usize)?;
+    let payload = bytes.get(start..end)?;
+    let sum = u64::from_le_bytes(bytes.get(end..end + 8)?.try_into().ok()?);
+    if sum != fnv64(&[&[kind], payload]) {
+        return None;
+    }
+    Some(Rec {
+        kind,
+        offset: start as u64,
+        len,
+    })
+}

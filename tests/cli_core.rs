@@ -1,0 +1,388 @@
+//! End-to-end tests of `squeal trajectory` and `squeal friction`: the real binary in a fresh
+//! temporary folder, its files reopened, and bad input refused with a message naming the flag.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs `squeal args...` in `dir`.
+fn squeal(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the squeal binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Asserts success and returns stdout.
+fn ok(o: Output) -> String {
+    assert!(
+        o.status.success(),
+        "failed: {}\nstdout: {}",
+        stderr(&o),
+        stdout(&o)
+    );
+    stdout(&o)
+}
+
+/// Asserts a clean refusal (non-zero exit, no panic) whose message contains `needle`.
+fn refused(o: Output, needle: &str) {
+    let err = stderr(&o);
+    assert!(!o.status.success(), "should fail: {}", stdout(&o));
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(err.contains(needle), "message should name {needle}: {err}");
+}
+
+fn tmp() -> tempfile::TempDir {
+    tempfile::tempdir().expect("a temporary folder")
+}
+
+#[test]
+fn trajectory_writes_csv_rows() {
+    let dir = tmp();
+    let out = ok(squeal(
+        dir.path(),
+        &["trajectory", "--t-end", "20", "--out", "traj.csv"],
+    ));
+    assert!(out.contains("traj.csv"), "{out}");
+    let text = std::fs::read_to_string(dir.path().join("traj.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,x,v,a,force"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 2001);
+    assert!(rows.iter().all(|r| r.len() == 5));
+    // From rest: t = 0, x = 0, x' = 0; the force is F(-lambda, a) = a, about 1.
+    assert_eq!(&rows[0][..3], &[0.0, 0.0, 0.0]);
+    assert!((rows[0][3] - rows[0][4]).abs() < 1e-12 && (rows[0][4] - 1.0).abs() < 0.1);
+    for (k, r) in rows.iter().enumerate() {
+        assert!((r[0] - k as f64 * 0.01).abs() < 1e-9, "row {k}: {r:?}");
+        // The equation of motion holds at every sample: a = F - 2 nu x' - x.
+        assert!(
+            (r[3] - (r[4] - 2e-3 * r[2] - r[1])).abs() < 1e-12,
+            "row {k}"
+        );
+    }
+    assert!((rows[2000][0] - 20.0).abs() < 1e-9);
+}
+
+#[test]
+fn trajectory_decimates_and_refuses_to_overwrite() {
+    let dir = tmp();
+    let args = [
+        "trajectory",
+        "--t-end",
+        "20",
+        "--every",
+        "10",
+        "--x0",
+        "-1.5",
+        "--v0",
+        "-0.5",
+        "--out",
+        "t.csv",
+    ];
+    ok(squeal(dir.path(), &args));
+    let text = std::fs::read_to_string(dir.path().join("t.csv")).unwrap();
+    assert_eq!(text.lines().count(), 1 + 201);
+    let first: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|f| f.parse().unwrap())
+        .collect();
+    assert_eq!(&first[..3], &[0.0, -1.5, -0.5]);
+    let second: Vec<f64> = text
+        .lines()
+        .nth(2)
+        .unwrap()
+        .split(',')
+        .map(|f| f.parse().unwrap())
+        .collect();
+    assert!((second[0] - 0.1).abs() < 1e-12);
+    refused(squeal(dir.path(), &args), "--force");
+    let mut forced = args.to_vec();
+    forced.push("--force");
+    ok(squeal(dir.path(), &forced));
+}
+
+#[test]
+fn trajectory_json_summary_has_the_fields() {
+    let dir = tmp();
+    let out = ok(squeal(
+        dir.path(),
+        &["trajectory", "--t-end", "500", "--json"],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
+    assert_eq!(j["params"]["law"], "mcmillan");
+    assert_eq!(j["params"]["solver"], "robust");
+    assert_eq!(j["params"]["nu"], 1e-3);
+    assert_eq!(j["steps"], 50_000);
+    // nu = 1e-3 from rest: stick-slip (paper Fig 9), decided well before t = 500.
+    assert_eq!(j["classification"]["regime"], "stick_slip");
+    assert_eq!(j["classification"]["reason"], "settled_stick_slip");
+    let omega = j["oscillation"]["omega"].as_f64().expect("omega");
+    assert!((omega - 0.96).abs() < 0.015, "{omega}");
+    assert!(j["oscillation"]["crossings"].as_u64().unwrap() > 50);
+    assert!(j["oscillation"]["amplitude"].as_f64().unwrap() > 2.0);
+    assert_eq!(j["stats"]["solves"], 50_001);
+    for key in [
+        "evaluations",
+        "newton_steps",
+        "bisections",
+        "expansions",
+        "multi_root",
+        "discontinuities",
+        "failures",
+        "iterations",
+        "unconverged",
+        "sticks",
+    ] {
+        assert!(j["stats"][key].is_u64(), "stats.{key}");
+    }
+    assert!(j["max_residual"].as_f64().unwrap() < 1e-12);
+    assert_eq!(j["unconverged_steps"], 0);
+    assert!((j["final_state"]["t"].as_f64().unwrap() - 500.0).abs() < 1e-9);
+    assert_eq!(j["fixed_point"]["x"], 1.0);
+    assert!(j["squeal_version"].is_string());
+}
+
+#[test]
+fn trajectory_reports_paper_iteration_failures() {
+    let dir = tmp();
+    let out = ok(squeal(
+        dir.path(),
+        &[
+            "trajectory",
+            "--solver",
+            "paper",
+            "--t-end",
+            "300",
+            "--json",
+        ],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let unconverged = j["unconverged_steps"].as_u64().unwrap();
+    assert!(unconverged > 100, "{unconverged}");
+    assert_eq!(j["stats"]["unconverged"].as_u64().unwrap(), unconverged);
+    let times = j["first_unconverged_times"].as_array().unwrap();
+    assert_eq!(times.len(), 5);
+    assert!(times.windows(2).all(|w| w[0].as_f64() < w[1].as_f64()));
+    // The text summary says it too.
+    let text = ok(squeal(
+        dir.path(),
+        &["trajectory", "--solver", "paper", "--t-end", "300"],
+    ));
+    assert!(text.contains("unconverged steps:"), "{text}");
+}
+
+#[test]
+fn steady_slip_and_no_oscillation() {
+    let dir = tmp();
+    // nu = 1e-2 from rest: steady slip (paper Fig 10).
+    let out = ok(squeal(
+        dir.path(),
+        &["trajectory", "--nu", "1e-2", "--t-end", "2000", "--json"],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["classification"]["regime"], "steady_slip");
+    // At the fixed point nothing moves: no crossing, no frequency.
+    let out = ok(squeal(
+        dir.path(),
+        &["trajectory", "--x0", "1", "--t-end", "10", "--json"],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(j["oscillation"]["omega"].is_null());
+    assert_eq!(j["oscillation"]["crossings"], 0);
+    let text = ok(squeal(
+        dir.path(),
+        &["trajectory", "--x0", "1", "--t-end", "10"],
+    ));
+    assert!(text.contains("final oscillation: none"), "{text}");
+    assert!(text.contains("ended: steady slip"), "{text}");
+}
+
+#[test]
+fn trajectory_draws_the_phase_plane() {
+    let dir = tmp();
+    ok(squeal(
+        dir.path(),
+        &["trajectory", "--t-end", "100", "--plot", "phase.png"],
+    ));
+    let png = std::fs::read(dir.path().join("phase.png")).unwrap();
+    assert!(png.len() > 1000 && png.starts_with(b"\x89PNG"));
+    refused(
+        squeal(dir.path(), &["trajectory", "--plot", "phase.png"]),
+        "--force",
+    );
+    refused(
+        squeal(dir.path(), &["trajectory", "--plot", "phase.jpg"]),
+        "--plot",
+    );
+}
+
+#[test]
+fn trajectory_writes_hdf5() {
+    let dir = tmp();
+    ok(squeal(
+        dir.path(),
+        &[
+            "trajectory",
+            "--law",
+            "mcmillan-nonhysteretic",
+            "--nu",
+            "0.002",
+            "--t-end",
+            "10",
+            "--every",
+            "2",
+            "--out",
+            "t.h5",
+        ],
+    ));
+    let f = hdf5::File::open(dir.path().join("t.h5")).unwrap();
+    for name in ["t", "x", "v", "a", "force"] {
+        let d: Vec<f64> = f.dataset(name).unwrap().read_raw().unwrap();
+        assert_eq!(d.len(), 501, "{name}");
+    }
+    let t: Vec<f64> = f.dataset("t").unwrap().read_raw().unwrap();
+    assert!((t[500] - 10.0).abs() < 1e-9 && (t[1] - 0.02).abs() < 1e-12);
+    let num = |name: &str| -> f64 { f.attr(name).unwrap().read_scalar().unwrap() };
+    assert_eq!(num("nu"), 0.002);
+    assert_eq!(num("lambda"), 3.0);
+    assert_eq!(num("dt"), 0.01);
+    assert_eq!(num("t_end"), 10.0);
+    let text = |name: &str| -> String {
+        let s: hdf5::types::VarLenUnicode = f.attr(name).unwrap().read_scalar().unwrap();
+        s.as_str().to_string()
+    };
+    assert_eq!(text("law"), "mcmillan-nonhysteretic");
+    assert_eq!(text("solver"), "robust");
+    assert_eq!(text("squeal_version"), env!("CARGO_PKG_VERSION"));
+    drop(f);
+    refused(
+        squeal(dir.path(), &["trajectory", "--t-end", "1", "--out", "t.h5"]),
+        "--force",
+    );
+}
+
+#[test]
+fn trajectory_refuses_bad_input() {
+    let dir = tmp();
+    for (args, flag) in [
+        (&["--nu", "-1"][..], "--nu"),
+        (&["--nu", "NaN"], "--nu"),
+        (&["--tau", "0"], "--tau"),
+        (&["--phi", "2"], "--phi"),
+        (&["--dt", "0"], "--dt"),
+        (&["--dt", "inf"], "--dt"),
+        (&["--law", "bogus"], "--law"),
+        (&["--solver", "magic"], "--solver"),
+        (&["--lambda", "NaN"], "--lambda"),
+        (&["--x0", "NaN"], "--x0"),
+        (&["--v0", "inf"], "--v0"),
+        (&["--t-end", "-5"], "--t-end"),
+        (&["--t-end", "0"], "--t-end"),
+        (&["--every", "0"], "--every"),
+        (&["--every", "-3"], "--every"),
+        (&["--out", "t.txt"], "--out"),
+        (&["--out", "noext"], "--out"),
+        (&["--out", "missing/dir/t.csv", "--t-end", "1"], "--out"),
+    ] {
+        let mut all = vec!["trajectory"];
+        all.extend_from_slice(args);
+        refused(squeal(dir.path(), &all), flag);
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn friction_writes_its_files() {
+    let dir = tmp();
+    let out = ok(squeal(dir.path(), &["friction", "--out-dir", "fr"]));
+    let stems = [
+        "fig4_5_fixed_acceleration",
+        "fig6_loop_w200",
+        "fig7_loop_w20",
+    ];
+    for stem in stems {
+        assert!(out.contains(stem), "{out}");
+        let png = std::fs::read(dir.path().join("fr").join(format!("{stem}.png"))).unwrap();
+        assert!(png.starts_with(b"\x89PNG"), "{stem}");
+        let csv =
+            std::fs::read_to_string(dir.path().join("fr").join(format!("{stem}.csv"))).unwrap();
+        assert!(csv.lines().count() > 1000, "{stem}");
+    }
+    // Figs 4-5: F/mg = mu_k F2(0) = +-1 at zero slip for x'' = +-2, and -sgn(v) mu_k far out.
+    let csv = std::fs::read_to_string(dir.path().join("fr/fig4_5_fixed_acceleration.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("v_m_per_s,f_over_mg_accel_plus2,f_over_mg_accel_minus2")
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    let mid = &rows[rows.len() / 2];
+    assert!(mid[0].abs() < 1e-15, "{mid:?}");
+    assert!(
+        (mid[1] - 1.0).abs() < 1e-9 && (mid[2] + 1.0).abs() < 1e-9,
+        "{mid:?}"
+    );
+    assert!((rows[0][0] + 0.01).abs() < 1e-15 && rows[0][1] > 0.5);
+    // The loops cover one period: the first and last rows are the same state.
+    let csv = std::fs::read_to_string(dir.path().join("fr/fig6_loop_w200.csv")).unwrap();
+    let first: Vec<f64> = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|f| f.parse().unwrap())
+        .collect();
+    let last: Vec<f64> = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|f| f.parse().unwrap())
+        .collect();
+    assert!((last[0] - std::f64::consts::TAU / 200.0).abs() < 1e-15);
+    assert!((first[2] - 1e-4).abs() < 1e-15 && (last[2] - 1e-4).abs() < 1e-12);
+
+    refused(
+        squeal(dir.path(), &["friction", "--out-dir", "fr"]),
+        "--force",
+    );
+    ok(squeal(
+        dir.path(),
+        &["friction", "--out-dir", "fr", "--force"],
+    ));
+}
+
+#[test]
+fn friction_refuses_bad_material() {
+    let dir = tmp();
+    for (args, flag) in [
+        (&["--mu-k", "0"][..], "--mu-k"),
+        (&["--mu-k", "NaN"], "--mu-k"),
+        (&["--tau", "-0.001"], "--tau"),
+        // clap takes "-1e-3" for a flag; the `=` form passes it as a value.
+        (&["--tau=-1e-3"], "--tau"),
+        (&["--phi", "2"], "--phi"),
+        (&["--phi", "0"], "--phi"),
+    ] {
+        let mut all = vec!["friction", "--out-dir", "fr"];
+        all.extend_from_slice(args);
+        refused(squeal(dir.path(), &all), flag);
+    }
+    assert!(!dir.path().join("fr").exists());
+}
