@@ -303,8 +303,10 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
         1e-3
     };
     // Outward search: consecutive intervals on the right [r_in, r_out] and on the left.
-    let (mut r_in, mut gr_in) = (f0, g0);
-    let (mut l_in, mut gl_in) = (f0, g0);
+    // An interval without a sign change can still hold a pair of roots: `hidden_pair` looks
+    // for it when the slopes at the ends say `|G|` has a minimum inside.
+    let (mut r_in, mut gr_in, mut dr_in) = (f0, g0, d0);
+    let (mut l_in, mut gl_in, mut dl_in) = (f0, g0, d0);
     let mut first = true;
     loop {
         let r_out = (f0 + delta).min(bound);
@@ -312,20 +314,26 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
         let mut right = None;
         let mut left = None;
         if r_in < bound {
-            let g = eq.eval(p, r_out).0;
+            let (g, d) = eq.eval(p, r_out);
             stats.evaluations += 1;
             if !same_sign(g, gr_in) {
                 right = Some((r_in, gr_in, r_out, g));
+            } else {
+                right = hidden_pair(p, eq, (r_in, gr_in, dr_in), (r_out, g, d), stats);
             }
-            (r_in, gr_in) = (r_out, g);
+            (r_in, gr_in, dr_in) = (r_out, g, d);
         }
         if l_in > -bound {
-            let g = eq.eval(p, l_out).0;
+            let (g, d) = eq.eval(p, l_out);
             stats.evaluations += 1;
             if !same_sign(g, gl_in) {
                 left = Some((l_out, g, l_in, gl_in));
+            } else if let Some((near, g_near, far, g_far)) =
+                hidden_pair(p, eq, (l_in, gl_in, dl_in), (l_out, g, d), stats)
+            {
+                left = Some((far, g_far, near, g_near));
             }
-            (l_in, gl_in) = (l_out, g);
+            (l_in, gl_in, dl_in) = (l_out, g, d);
         }
         if !first && (right.is_some() || left.is_some()) {
             stats.expansions += 1;
@@ -357,6 +365,44 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
         first = false;
         delta *= 4.0;
     }
+}
+
+/// Looks for a pair of roots between `inner` and `outer` (each `(F, G, G')`, `G` of the same
+/// sign at both): if `|G|` falls going outward at `inner` and rises at `outer`, it has a minimum
+/// in between, found by bisection on the slope. Returns the bracket `(near, g_near, far, g_far)`
+/// of the first sign change met on the way, the nearer of the pair to `inner`, or `None` if the
+/// minimum does not reach zero. Without this the outward search steps over two roots that fall
+/// in one interval and returns a farther root.
+fn hidden_pair(
+    p: &Params,
+    eq: &ForceEquation,
+    inner: (f64, f64, f64),
+    outer: (f64, f64, f64),
+    stats: &mut SolverStats,
+) -> Option<(f64, f64, f64, f64)> {
+    let dir = (outer.0 - inner.0).signum();
+    let falling = |g: f64, d: f64| g * d * dir < 0.0;
+    if !falling(inner.1, inner.2) || falling(outer.1, outer.2) {
+        return None;
+    }
+    let (mut a, mut ga, mut b) = (inner.0, inner.1, outer.0);
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if m == a || m == b {
+            break;
+        }
+        let (g, d) = eq.eval(p, m);
+        stats.evaluations += 1;
+        if !same_sign(g, ga) {
+            return Some((a, ga, m, g));
+        }
+        if falling(g, d) {
+            (a, ga) = (m, g);
+        } else {
+            b = m;
+        }
+    }
+    None
 }
 
 /// Safeguarded Newton inside a sign-change bracket `[lo, hi]`.

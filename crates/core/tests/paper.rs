@@ -477,33 +477,44 @@ fn dt_study() {
     }
 }
 
+
 #[test]
 #[ignore]
-fn probe_evals() {
-    for (name, ic, settle) in [
-        ("decay", State { x: 1.2, v: 0.0 }, 100.0),
-        ("ss", REST, 1000.0),
-    ] {
-        for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
-            let s = run_to(&robust(law, 1e-3), ic, settle);
-            for kind in [SolverKind::Robust, SolverKind::Paper] {
-                let st = stepper(law, 1e-3, 0.01, kind);
-                let mut stats = SolverStats::default();
-                let mut n = 0;
-                let r = robust(law, 1e-3);
-                let mut cur = s;
-                for _ in 0..650 {
-                    let (next, _) = r.step(&cur, &mut SolverStats::default());
-                    st.step(&cur, &mut stats);
-                    cur = next;
-                    n += 1;
-                }
-                println!(
-                    "{name} {law} {kind}: evals/step {:.2} unconv {:.3}",
-                    stats.evaluations as f64 / n as f64,
-                    stats.unconverged as f64 / n as f64
-                );
+fn probe_nearest() {
+    use squeal_core::solver::{ForceEquation, solve};
+    use squeal_core::Propagator;
+    for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
+        let st = robust(law, 1e-3);
+        let p = *st.params();
+        let c = Propagator::new(p.nu, 0.01).unwrap();
+        let mut s = run_to(&st, REST, 1000.0);
+        let (mut multi, mut bad, mut n) = (0, 0, 0);
+        for _ in 0..5000 {
+            let x_free = c.c11 * s.x + c.c12 * s.v;
+            let v_free = c.c21 * s.x + c.c22 * s.v;
+            let eq = ForceEquation { pv: v_free - p.lambda, qv: -c.c21, pa: -2.0 * p.nu * v_free - x_free, qa: c.c11 + 2.0 * p.nu * c.c21 };
+            let mut stats = SolverStats::default();
+            let sol = solve(&p, st.solver(), &eq, s.force, &mut stats);
+            // all roots on a fine grid
+            let b = p.force_bound() * (1.0 + 1e-9);
+            let m = 200_000;
+            let mut roots = vec![];
+            let mut prev = (-b, eq.eval(&p, -b).0);
+            for i in 1..=m {
+                let f = -b + 2.0 * b * i as f64 / m as f64;
+                let g = eq.eval(&p, f).0;
+                if (g > 0.0) != (prev.1 > 0.0) { roots.push(0.5 * (f + prev.0)); }
+                prev = (f, g);
             }
+            n += 1;
+            if roots.len() > 1 { multi += 1; }
+            let nearest = roots.iter().copied().min_by(|a, b| (a - s.force).abs().total_cmp(&(b - s.force).abs())).unwrap();
+            if (nearest - sol.force).abs() > 1e-4 {
+                bad += 1;
+                if bad < 5 { println!("{law} t={} f_prev={} got {} nearest {} roots {:?}", s.t, s.force, sol.force, nearest, roots); }
+            }
+            s = st.step(&s, &mut SolverStats::default()).0;
         }
+        println!("{law}: n={n} multi={multi} not-nearest={bad}");
     }
 }
