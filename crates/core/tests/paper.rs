@@ -477,12 +477,11 @@ fn dt_study() {
     }
 }
 
-
 #[test]
 #[ignore]
 fn probe_nearest() {
-    use squeal_core::solver::{ForceEquation, solve};
     use squeal_core::Propagator;
+    use squeal_core::solver::{ForceEquation, solve};
     for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
         let st = robust(law, 1e-3);
         let p = *st.params();
@@ -492,7 +491,12 @@ fn probe_nearest() {
         for _ in 0..5000 {
             let x_free = c.c11 * s.x + c.c12 * s.v;
             let v_free = c.c21 * s.x + c.c22 * s.v;
-            let eq = ForceEquation { pv: v_free - p.lambda, qv: -c.c21, pa: -2.0 * p.nu * v_free - x_free, qa: c.c11 + 2.0 * p.nu * c.c21 };
+            let eq = ForceEquation {
+                pv: v_free - p.lambda,
+                qv: -c.c21,
+                pa: -2.0 * p.nu * v_free - x_free,
+                qa: c.c11 + 2.0 * p.nu * c.c21,
+            };
             let mut stats = SolverStats::default();
             let sol = solve(&p, st.solver(), &eq, s.force, &mut stats);
             // all roots on a fine grid
@@ -503,15 +507,28 @@ fn probe_nearest() {
             for i in 1..=m {
                 let f = -b + 2.0 * b * i as f64 / m as f64;
                 let g = eq.eval(&p, f).0;
-                if (g > 0.0) != (prev.1 > 0.0) { roots.push(0.5 * (f + prev.0)); }
+                if (g > 0.0) != (prev.1 > 0.0) {
+                    roots.push(0.5 * (f + prev.0));
+                }
                 prev = (f, g);
             }
             n += 1;
-            if roots.len() > 1 { multi += 1; }
-            let nearest = roots.iter().copied().min_by(|a, b| (a - s.force).abs().total_cmp(&(b - s.force).abs())).unwrap();
+            if roots.len() > 1 {
+                multi += 1;
+            }
+            let nearest = roots
+                .iter()
+                .copied()
+                .min_by(|a, b| (a - s.force).abs().total_cmp(&(b - s.force).abs()))
+                .unwrap();
             if (nearest - sol.force).abs() > 1e-4 {
                 bad += 1;
-                if bad < 5 { println!("{law} t={} f_prev={} got {} nearest {} roots {:?}", s.t, s.force, sol.force, nearest, roots); }
+                if bad < 5 {
+                    println!(
+                        "{law} t={} f_prev={} got {} nearest {} roots {:?}",
+                        s.t, s.force, sol.force, nearest, roots
+                    );
+                }
             }
             s = st.step(&s, &mut SolverStats::default()).0;
         }

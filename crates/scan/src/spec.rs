@@ -371,7 +371,7 @@ impl Plan {
             ));
         }
         let block_rows = spec.grid.block_rows.unwrap_or(8);
-        if block_rows < 1 || block_rows > MAX_AXIS {
+        if !(1..=MAX_AXIS).contains(&block_rows) {
             return Err(invalid(
                 "grid.block_rows",
                 block_rows.to_string(),

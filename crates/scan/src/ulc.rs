@@ -383,7 +383,7 @@ pub fn verify_rays(
                 let t = (av * c - ax * s) / den;
                 if (0.0..=1.0).contains(&t) {
                     let rho = (ax + t * dx) * c + (av + t * dv) * s;
-                    if rho > 0.0 && !(rho <= radius) {
+                    if rho > 0.0 && (radius.is_nan() || rho > radius) {
                         radius = rho;
                     }
                 }
@@ -445,6 +445,7 @@ pub fn point_enclosed(
 }
 
 /// Bisection in `nu` (geometric) for the damping at which the cycle first encloses `point`.
+#[allow(clippy::too_many_arguments)] // the bracket, tolerance and model are all independent inputs
 pub fn critical_nu(
     base: Params,
     dt: f64,
