@@ -139,7 +139,7 @@ fn one_and_many_threads_give_identical_files() {
 }
 
 #[test]
-fn killed_scan_resumes_to_the_same_file() {
+fn killed_sweep_resumes_to_the_same_file() {
     let d = tempfile::tempdir().unwrap();
     // Long enough to be killed midway: no early stopping, a few hundred cells.
     let text = TINY

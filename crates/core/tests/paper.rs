@@ -16,9 +16,10 @@ use std::sync::OnceLock;
 use proptest::prelude::*;
 use squeal_core::classify::{crossing, section_return};
 use squeal_core::friction;
+use squeal_core::solver::ForceEquation;
 use squeal_core::{
-    Classifier, FrictionLaw, Params, Regime, Sample, SolverConfig, SolverKind, SolverStats, State,
-    Stepper,
+    Classifier, FrictionLaw, Params, Propagator, Regime, Sample, SolverConfig, SolverKind,
+    SolverStats, State, Stepper,
 };
 
 const LAMBDA: f64 = 3.0;
@@ -158,6 +159,83 @@ fn robust_solves_where_the_paper_iteration_diverges() {
         "the paper iteration should fail here: {diverged}"
     );
     assert_eq!((stats.failures, stats.discontinuities), (0, 0));
+}
+
+/// The samples of 20 time units of the settled nu = 1e-3 non-hysteretic stick-slip cycle.
+fn nonhysteretic_cycle() -> &'static [Sample] {
+    static CYCLE: OnceLock<Vec<Sample>> = OnceLock::new();
+    CYCLE.get_or_init(|| {
+        let st = robust(FrictionLaw::McMillanNonHysteretic, 1e-3);
+        let s = run_to(&st, REST, 1000.0);
+        let mut out = vec![s];
+        let mut stats = SolverStats::default();
+        advance(&st, s, 2000, &mut stats, |_, b, _| out.push(*b));
+        out
+    })
+}
+
+/// Steps from `samples` whose robust force is not the root of `G` nearest to the previous
+/// force, all roots located as sign changes on a grid of 20 001 points over `[-B, B]`.
+fn not_nearest(law: FrictionLaw, samples: &[Sample]) -> (usize, usize) {
+    let st = robust(law, 1e-3);
+    let p = *st.params();
+    let c = Propagator::new(p.nu, st.dt()).unwrap();
+    let b = p.force_bound();
+    let (mut wrong, mut several) = (0, 0);
+    for s in samples {
+        // The step's equation, as `Stepper::step` builds it.
+        let x_free = c.c11 * s.x + c.c12 * s.v;
+        let v_free = c.c21 * s.x + c.c22 * s.v;
+        let eq = ForceEquation {
+            pv: v_free - p.lambda,
+            qv: -c.c21,
+            pa: -2.0 * p.nu * v_free - x_free,
+            qa: c.c11 + 2.0 * p.nu * c.c21,
+        };
+        let got = st.step(s, &mut SolverStats::default()).0.force;
+        let n = 20_000;
+        let grid = |i: usize| -b + 2.0 * b * i as f64 / n as f64;
+        let mut roots = Vec::new();
+        let mut prev = eq.eval(&p, grid(0)).0;
+        for i in 1..=n {
+            let g = eq.eval(&p, grid(i)).0;
+            if (g > 0.0) != (prev > 0.0) {
+                roots.push(0.5 * (grid(i - 1) + grid(i)));
+            }
+            prev = g;
+        }
+        several += usize::from(roots.len() > 1);
+        let nearest = roots
+            .iter()
+            .copied()
+            .min_by(|x, y| (x - s.force).abs().total_cmp(&(y - s.force).abs()))
+            .expect("a root");
+        wrong += usize::from((nearest - got).abs() > 1e-3);
+    }
+    (wrong, several)
+}
+
+/// The robust solver keeps the force on its branch: of several roots it takes the one nearest
+/// to the previous force (MODEL.md; the model's hysteresis). Over these 2001 steps of each
+/// stick-slip cycle, 383-392 (hysteretic) and about 170 (non-hysteretic) have several roots.
+/// Hysteretic law: always the nearest. Non-hysteretic law: in its stick phase `G` can have four
+/// or more roots inside one interval of the outward search, and 8 of the 2001 steps took a
+/// farther root; the test allows 1%. Before `solver::hidden_pair` the outward search stepped
+/// over any pair of roots that fell in one interval: 1 hysteretic step here (1 of 5000 over a
+/// longer stretch) and 63 of 5000 non-hysteretic steps took a farther root.
+#[test]
+fn robust_solver_takes_the_nearest_root() {
+    let (wrong, several) = not_nearest(FrictionLaw::McMillan, stick_slip_cycle());
+    assert!(several > 100, "{several}");
+    assert_eq!(wrong, 0, "hysteretic: {wrong} steps not nearest");
+    let c = nonhysteretic_cycle();
+    let (wrong, several) = not_nearest(FrictionLaw::McMillanNonHysteretic, c);
+    assert!(several > 100, "{several}");
+    assert!(
+        wrong * 100 <= c.len(),
+        "non-hysteretic: {wrong} of {} steps not nearest",
+        c.len()
+    );
 }
 
 proptest! {
@@ -353,7 +431,8 @@ fn nonhysteretic_loop_is_flat_topped() {
 /// the counts cover the quasi-static branch, multiple roots and the paper iteration's failures.
 /// Recorded on x86-64 Linux. Any change of the solver, the stepper or the laws changes these
 /// numbers; if the change is intended, record the new ones here and say so in review. (The
-/// counts depend on libm's `atan` and `sin`, so another platform may differ slightly.)
+/// counts depend on libm's `atan` and `sin`, so another platform may differ slightly.) Last
+/// recorded when `solver::hidden_pair` was added (robust counts changed, paper counts not).
 #[test]
 fn solver_counters_snapshot() {
     let mut got = Vec::new();
@@ -370,10 +449,10 @@ fn solver_counters_snapshot() {
         // Hysteretic, robust.
         SolverStats {
             solves: 10_001,
-            evaluations: 54_685,
-            newton_steps: 24_511,
-            bisections: 5,
-            expansions: 39,
+            evaluations: 56_514,
+            newton_steps: 24_530,
+            bisections: 6,
+            expansions: 38,
             ..SolverStats::default()
         },
         // Hysteretic, paper.
@@ -387,11 +466,11 @@ fn solver_counters_snapshot() {
         // Non-hysteretic, robust.
         SolverStats {
             solves: 10_001,
-            evaluations: 59_469,
-            newton_steps: 27_698,
-            bisections: 764,
-            expansions: 275,
-            multi_root: 154,
+            evaluations: 62_648,
+            newton_steps: 27_132,
+            bisections: 1_485,
+            expansions: 90,
+            multi_root: 79,
             ..SolverStats::default()
         },
         // Non-hysteretic, paper.
@@ -474,64 +553,5 @@ fn dt_study() {
             "| {dt} | {w1:.4} | {r1:.4} | {w2:.4} | {ru1:.5} | {ru2:.5} | {ru3:.5} | {:.1}% |",
             100.0 * share
         );
-    }
-}
-
-#[test]
-#[ignore]
-fn probe_nearest() {
-    use squeal_core::Propagator;
-    use squeal_core::solver::{ForceEquation, solve};
-    for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
-        let st = robust(law, 1e-3);
-        let p = *st.params();
-        let c = Propagator::new(p.nu, 0.01).unwrap();
-        let mut s = run_to(&st, REST, 1000.0);
-        let (mut multi, mut bad, mut n) = (0, 0, 0);
-        for _ in 0..5000 {
-            let x_free = c.c11 * s.x + c.c12 * s.v;
-            let v_free = c.c21 * s.x + c.c22 * s.v;
-            let eq = ForceEquation {
-                pv: v_free - p.lambda,
-                qv: -c.c21,
-                pa: -2.0 * p.nu * v_free - x_free,
-                qa: c.c11 + 2.0 * p.nu * c.c21,
-            };
-            let mut stats = SolverStats::default();
-            let sol = solve(&p, st.solver(), &eq, s.force, &mut stats);
-            // all roots on a fine grid
-            let b = p.force_bound() * (1.0 + 1e-9);
-            let m = 200_000;
-            let mut roots = vec![];
-            let mut prev = (-b, eq.eval(&p, -b).0);
-            for i in 1..=m {
-                let f = -b + 2.0 * b * i as f64 / m as f64;
-                let g = eq.eval(&p, f).0;
-                if (g > 0.0) != (prev.1 > 0.0) {
-                    roots.push(0.5 * (f + prev.0));
-                }
-                prev = (f, g);
-            }
-            n += 1;
-            if roots.len() > 1 {
-                multi += 1;
-            }
-            let nearest = roots
-                .iter()
-                .copied()
-                .min_by(|a, b| (a - s.force).abs().total_cmp(&(b - s.force).abs()))
-                .unwrap();
-            if (nearest - sol.force).abs() > 1e-4 {
-                bad += 1;
-                if bad < 5 {
-                    println!(
-                        "{law} t={} f_prev={} got {} nearest {} roots {:?}",
-                        s.t, s.force, sol.force, nearest, roots
-                    );
-                }
-            }
-            s = st.step(&s, &mut SolverStats::default()).0;
-        }
-        println!("{law}: n={n} multi={multi} not-nearest={bad}");
     }
 }
