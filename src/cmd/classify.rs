@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use rayon::prelude::*;
-use squeal_core::{Reason, Regime, State};
+use squeal_core::State;
 use squeal_scan::scanner::MapContext;
 
 use super::{common, model::SetupArgs};
@@ -115,7 +115,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         )?;
     }
     w.flush()?;
-    let _ = (Reason::TimeLimit, Regime::Undecided);
     eprintln!(
         "{} initial conditions: steady_slip {}, stick_slip {}, undecided {} -> {}",
         ics.len(),
