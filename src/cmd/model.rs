@@ -10,19 +10,19 @@ pub struct ModelArgs {
     #[arg(long, default_value = "mcmillan")]
     pub law: String,
     /// Damping ratio nu >= 0.
-    #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal_core::defaults::NU, allow_negative_numbers = true)]
     pub nu: f64,
     /// Belt speed lambda.
-    #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal_core::defaults::LAMBDA, allow_negative_numbers = true)]
     pub lambda: f64,
     /// Characteristic time tau > 0 of the surfaces.
-    #[arg(long, default_value_t = 0.1 * 10f64.sqrt(), allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal_core::defaults::TAU, allow_negative_numbers = true)]
     pub tau: f64,
     /// Phi = arcsin(mu_k/mu_s), in (0, pi/2].
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal_core::defaults::PHI, allow_negative_numbers = true)]
     pub phi: f64,
     /// Time step (see BENCHMARKS.md for the convergence study behind the default).
-    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal_core::defaults::DT, allow_negative_numbers = true)]
     pub dt: f64,
     /// Implicit force solver: robust (true root nearest the previous force) or paper.
     #[arg(long, default_value = "robust")]
@@ -96,7 +96,7 @@ pub struct SetupArgs {
     #[arg(long, default_value_t = 0)]
     pub map: usize,
     /// Give up (undecided) at this time (ignored with --spec).
-    #[arg(long, default_value_t = 5000.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = squeal_core::defaults::T_MAX, allow_negative_numbers = true)]
     pub t_max: f64,
 }
 

@@ -134,7 +134,7 @@ pub struct Classifier {
 impl Default for Classifier {
     fn default() -> Self {
         Classifier {
-            t_max: 5000.0,
+            t_max: crate::defaults::T_MAX,
             fp_radius: 1e-3,
             settle_cycles: 20,
             settle_rtol: 0.05,

@@ -26,6 +26,7 @@
 //! ```
 
 pub mod classify;
+pub mod defaults;
 pub mod error;
 pub mod friction;
 pub mod params;

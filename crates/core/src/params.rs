@@ -74,9 +74,9 @@ impl Params {
         Params {
             law,
             nu,
-            lambda: 3.0,
-            tau: 0.1 * 10f64.sqrt(),
-            phi: 1.0,
+            lambda: crate::defaults::LAMBDA,
+            tau: crate::defaults::TAU,
+            phi: crate::defaults::PHI,
         }
     }
 

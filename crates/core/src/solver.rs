@@ -79,7 +79,7 @@ impl Default for SolverConfig {
     fn default() -> Self {
         SolverConfig {
             kind: SolverKind::Robust,
-            max_iter: 100,
+            max_iter: crate::defaults::MAX_ITER,
             paper_tol: 1e-12,
         }
     }

@@ -127,10 +127,10 @@ struct IntegrationSpec {
 }
 
 fn default_dt() -> f64 {
-    0.01
+    squeal_core::defaults::DT
 }
 fn default_max_iter() -> i64 {
-    100
+    squeal_core::defaults::MAX_ITER as i64
 }
 
 impl Default for IntegrationSpec {
@@ -281,7 +281,7 @@ impl Plan {
         let nus = expand(&m.nu, "model.nu", &invalid)?;
         let lambdas = match &m.lambda {
             Some(v) => expand(v, "model.lambda", &invalid)?,
-            None => vec![3.0],
+            None => vec![squeal_core::defaults::LAMBDA],
         };
         if nus.len() > 1 && lambdas.len() > 1 {
             return Err(invalid(
@@ -303,8 +303,8 @@ impl Plan {
         } else {
             None
         };
-        let tau = m.tau.unwrap_or(0.1 * 10f64.sqrt());
-        let phi = m.phi.unwrap_or(1.0);
+        let tau = m.tau.unwrap_or(squeal_core::defaults::TAU);
+        let phi = m.phi.unwrap_or(squeal_core::defaults::PHI);
         let mut maps = Vec::new();
         for &nu in &nus {
             for &lambda in &lambdas {

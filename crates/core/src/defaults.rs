@@ -1,0 +1,17 @@
+//! Defaults of the model and the integration, defined once (specs, flags and constructors
+//! all read them from here).
+
+/// Table 1 of the paper: belt speed `lambda = 3`.
+pub const LAMBDA: f64 = 3.0;
+/// Table 1 of the paper: `tau' = 0.1 sqrt(10)`.
+pub const TAU: f64 = 0.316_227_766_016_837_94;
+/// Table 1 of the paper: `Phi = 1`.
+pub const PHI: f64 = 1.0;
+/// Damping ratio used where none is given (the paper's Fig. 9).
+pub const NU: f64 = 1e-3;
+/// Time step (BENCHMARKS.md, "Step size", gives the study behind it).
+pub const DT: f64 = 0.01;
+/// Classifier time limit.
+pub const T_MAX: f64 = 5000.0;
+/// Iteration cap of the paper's fixed-point solver.
+pub const MAX_ITER: u32 = 100;
