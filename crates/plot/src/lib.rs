@@ -297,23 +297,33 @@ pub fn equal_aspect_ranges(
     (widen(x, upp * w), widen(y, upp * h))
 }
 
-/// The label of a tick on a logarithmic axis spanning `decades` decades: only powers of ten
-/// when the axis spans more than 2.5 decades, 1-2-5 values above one decade, every tick
-/// otherwise; other ticks get no label (so labels never crowd each other).
-pub fn log_tick_label(v: f64, decades: f64) -> String {
-    if v.is_nan() || v <= 0.0 || v.is_infinite() {
-        return String::new();
+/// The labelled ticks of a logarithmic axis over `lo..hi` (both > 0): powers of ten when the
+/// axis spans more than 2.5 decades, 1-2-5 values above one decade, 1..9 times a power of ten
+/// otherwise. Each value appears once, ascending, so labels never pile up.
+pub fn log_ticks(lo: f64, hi: f64) -> Vec<(f64, String)> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
     }
-    let mantissa = v / 10f64.powf(v.log10().floor());
-    let near = |m: f64| (mantissa - m).abs() < 1e-6 * m || (mantissa - 10.0 * m).abs() < 1e-5 * m;
-    let keep = if decades > 2.5 {
-        near(1.0)
+    let decades = (hi / lo).log10();
+    let mantissas: &[f64] = if decades > 2.5 {
+        &[1.0]
     } else if decades > 1.0 {
-        near(1.0) || near(2.0) || near(5.0)
+        &[1.0, 2.0, 5.0]
     } else {
-        true
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
     };
-    if keep { fmt_sig(v) } else { String::new() }
+    let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let mut out = Vec::new();
+    for k in k0..=k1 {
+        for &m in mantissas {
+            // m * 10^k written as text first and parsed back, so 0.001 is exactly 0.001.
+            let v: f64 = format!("{m}e{k}").parse().unwrap_or(f64::NAN);
+            if v >= lo && v <= hi {
+                out.push((v, fmt_sig(v)));
+            }
+        }
+    }
+    out
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -795,14 +805,10 @@ impl LinePlot<'_> {
         let x_span = x_range.end - x_range.start;
         let y_span = y_range.end - y_range.start;
         let log_x = o.log_x;
-        let decades = if log_x {
-            (x_range.end / x_range.start).log10()
-        } else {
-            0.0
-        };
+        // On a log axis plotters' own labels stay empty (see the ticks drawn below).
         let x_fmt = move |v: &f64| {
             if log_x {
-                log_tick_label(*v, decades)
+                String::new()
             } else {
                 fmt_linear(*v, x_span)
             }
@@ -814,7 +820,7 @@ impl LinePlot<'_> {
             .y_desc(o.y_label)
             .axis_desc_style(font(20))
             .label_style(font(16))
-            .x_labels(if log_x { 30 } else { 10 })
+            .x_labels(10)
             .y_labels(10)
             .x_label_formatter(&x_fmt)
             .y_label_formatter(&y_fmt)
@@ -822,6 +828,28 @@ impl LinePlot<'_> {
             .bold_line_style(RGBColor(215, 215, 215))
             .draw()?;
 
+        if log_x {
+            // plotters' log key points can repeat a value (0.01 twice from rounding): draw
+            // the ticks, grid lines and labels of `log_ticks` instead.
+            let ticks = log_ticks(x_range.start, x_range.end);
+            chart.draw_series(ticks.iter().map(|&(v, _)| {
+                PathElement::new(
+                    vec![(v, y_range.start), (v, y_range.end)],
+                    RGBColor(215, 215, 215),
+                )
+            }))?;
+            let (bx, by) = root.get_base_pixel();
+            let style = font(16).pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Top,
+            ));
+            for (v, text) in &ticks {
+                let (px, py) = chart.backend_coord(&(*v, y_range.start));
+                let (px, py) = (px - bx, py - by);
+                root.draw(&PathElement::new(vec![(px, py), (px, py + 6)], BLACK))?;
+                root.draw_text(text, &style, (px, py + 9))?;
+            }
+        }
         let mut any_label = false;
         let dots_on_lines = o.missing.is_some();
         for (curve, segs) in o.curves.iter().zip(self.segs) {
@@ -1639,25 +1667,23 @@ mod tests {
 
     #[test]
     fn log_ticks_do_not_crowd() {
-        // Over 3 decades only powers of ten are labelled; 1-2-5 over 1-2.5 decades.
-        let labels = |decades: f64| -> Vec<String> {
-            [1e-3, 2e-3, 3e-3, 5e-3, 7e-3, 1e-2, 2e-2, 0.1]
-                .iter()
-                .map(|&v| log_tick_label(v, decades))
-                .collect()
+        let values = |lo: f64, hi: f64| -> Vec<String> {
+            log_ticks(lo, hi).into_iter().map(|(_, t)| t).collect()
         };
+        // The nu sweep's axis (1e-3 to 5e-2, padded): 1.7 decades, 1-2-5 labels, each once.
         assert_eq!(
-            labels(3.0),
-            ["0.001", "", "", "", "", "0.01", "", "0.1"].map(String::from)
+            values(8.2e-4, 6.1e-2),
+            ["0.001", "0.002", "0.005", "0.01", "0.02", "0.05"]
         );
-        assert_eq!(
-            labels(2.0),
-            ["0.001", "0.002", "", "0.005", "", "0.01", "0.02", "0.1"].map(String::from)
-        );
-        assert_eq!(labels(0.5)[2], "0.003");
-        // A power of ten computed with rounding error still counts as one.
-        assert_eq!(log_tick_label(0.1 * 3.0 / 3.0 - 1e-17, 3.0), "0.1");
-        assert_eq!(log_tick_label(0.0, 3.0), "");
+        // Over 3 decades only powers of ten.
+        assert_eq!(values(1e-4, 0.5), ["1e-4", "0.001", "0.01", "0.1"]);
+        // Under one decade every integer multiple.
+        assert_eq!(values(2.5, 6.0), ["3", "4", "5", "6"]);
+        let ticks = log_ticks(9.9e-4, 1.01e-2);
+        assert_eq!(ticks.first().map(|t| t.0), Some(0.001));
+        assert_eq!(ticks.last().map(|t| t.0), Some(0.01));
+        assert!(ticks.windows(2).all(|w| w[0].0 < w[1].0));
+        assert!(log_ticks(0.0, 1.0).is_empty() && log_ticks(2.0, 1.0).is_empty());
     }
 
     fn table1(law: &str) -> ModelParams {
