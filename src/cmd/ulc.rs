@@ -109,8 +109,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 color: squeal_plot::STICK,
             },
         ];
-        let title = format!("{} nu = {}: unstable limit cycle", params.law, params.nu);
-        squeal_plot::line_plot(p, &title, "x", "x'", &[curve], &marks, false)
+        let title = squeal_plot::phase_title(
+            "Unstable limit cycle",
+            &squeal_plot::ModelParams {
+                law: params.law.name().into(),
+                nu: params.nu,
+                lambda: params.lambda,
+                tau: params.tau,
+                phi: params.phi,
+                dt: plan.dt,
+            },
+        );
+        squeal_plot::phase_plot(p, &title, &[curve], &marks)
             .with_context(|| format!("drawing {}", p.display()))?;
     }
     if args.json {
