@@ -186,7 +186,7 @@ mod tests {
 
     #[test]
     fn branch_values_at_boundaries() {
-        // F2 = s at v = 0 and F2 = -s at s v = 2|a| tau (MODEL.md's check).
+        // F2 = s at v = 0 and F2 = -s at s v = 2|a| tau (crates/core/MODEL.md, section 3).
         for a in [2.0, -2.0, 0.3, -7.0] {
             let s = f64::signum(a);
             let b = a.abs() * TAU;
