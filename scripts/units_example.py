@@ -73,7 +73,9 @@ def main():
     print(f"  Fig. 9 grid x0 in [-3, 5], x'0 in [-4, 4]: x0 in [{-3 * x_unit * 1e6:.4g}, {5 * x_unit * 1e6:.4g}] um,"
           f" x'0 in [{-4 * v_unit * 1e3:.4g}, {4 * v_unit * 1e3:.4g}] mm/s")
     r = 0.372  # the nu = 1e-3 unstable cycle's distance along +x: `squeal ulc --nu 1e-3` (dt = 0.01)
-    print(f"  an unstable cycle {r} from the fixed point: {r * x_unit * 1e6:.3g} um;"
+    r_v = 0.365  # its x' on the section x = x*: r_section of the same command
+    print(f"  the nu = 1e-3 unstable cycle reaches {r} beyond the fixed point ({r * x_unit * 1e6:.3g} um)"
+          f" and x' = {r_v} on the section ({r_v * v_unit * 1e3:.3g} mm/s):"
           f" a start inside it slides steadily, one outside squeals")
     print(f"  stick-slip angular frequency 0.96 (paper, Fig. 9): {0.96 * w / 2 / math.pi:.4g} Hz")
 

@@ -95,7 +95,7 @@ pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
         labels: &m.labels,
         overlays,
         markers: vec![Marker {
-            label: "fixed point".into(),
+            label: "steady-slip fixed point".into(),
             x: m.fixed_point.0,
             y: m.fixed_point.1,
             color: squeal_plot::FIXED_POINT,
