@@ -1,6 +1,9 @@
 //! Scan specs: the TOML file (a serde mirror, unknown keys rejected) and the checked
 //! [`Plan`] the scanner accepts. Validation happens once, here, and names the key.
 //!
+//! Users' reference: `docs/spec.md` lists every key with its default, range and meaning;
+//! `tests/spec_doc.rs` fails when a key is added here without a row there.
+//!
 //! ```toml
 //! version = 1                      # required; this is spec version 1
 //! [model]
