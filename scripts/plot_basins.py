@@ -51,12 +51,12 @@ def main():
             raise SystemExit(f"{a.file}: --map {a.map} is out of range; valid: {valid}")
         data = labels[a.map] if labels.ndim == 3 else labels[()]
         x0, v0 = f["x0"][()], f["v0"][()]
-        title = f"{f.attrs['law']}:"
+        title = f"{f.attrs['law']}"
         for p in ("nu", "lambda", "tau", "phi", "dt"):
             if p in f and f[p].ndim == 1 and labels.ndim == 3:
-                title += f" {p} = {f[p][a.map]:.4g}"
+                title += f", {p} = {f[p][a.map]:.4g}"
             elif p in f.attrs:
-                title += f" {p} = {f.attrs[p]:.4g}"
+                title += f", {p} = {f.attrs[p]:.4g}"
         cyc = None
         g = f.get("cycle") if labels.ndim == 2 else f.get(f"cycles/map_{a.map:04d}")
         if g is not None and "x" in g:
