@@ -1401,7 +1401,7 @@ fn overlay_items<'p>(panels: impl IntoIterator<Item = &'p BasinPanel<'p>>) -> Ve
     items
 }
 
-const LEGEND_WIDTH: u32 = 215;
+const LEGEND_WIDTH: u32 = 245;
 
 /// One basin map: a categorical image of `panel.labels` over the grid `(x0, v0)`.
 ///
