@@ -1205,7 +1205,8 @@ fn draw_basin_chart(
 
 /// Margins (left, right, top, bottom) and label areas (x, y) of a basin chart in an area of
 /// `dims` pixels, such that the plotting area has the grid's aspect ratio (equal scales) and
-/// sits centred, its labels next to it.
+/// sits centred, its labels next to it; grids more than four times longer than wide fill the
+/// area instead.
 fn basin_margins(
     dims: (u32, u32),
     layout: BasinLayout,
@@ -1215,7 +1216,12 @@ fn basin_margins(
         dims.0.saturating_sub(2 * layout.margin + layout.y_area),
         dims.1.saturating_sub(2 * layout.margin + layout.x_area),
     );
-    let (w, h) = equal_aspect_fit(avail, xr.end - xr.start, vr.end - vr.start);
+    let (mut w, mut h) = equal_aspect_fit(avail, xr.end - xr.start, vr.end - vr.start);
+    if w < avail.0 / 4 || h < avail.1 / 4 {
+        // A grid more than four times longer than wide (e.g. a single row) would become a
+        // sliver: use the whole area, unequal scales.
+        (w, h) = avail;
+    }
     let (ex, ey) = (avail.0 - w, avail.1 - h);
     (
         (
@@ -1408,10 +1414,11 @@ const LEGEND_WIDTH: u32 = 245;
 /// Each cell value is looked up in `classes` (value, name, colour); a value not in `classes` is
 /// drawn in the neutral grey [`OTHER`] and listed in the legend as "other". The legend (right of
 /// the map) shows each class name with its colour, cell count and percentage, then the labelled
-/// overlays and markers. Axes: `x0` horizontal ("x0"), `v0` vertical ("x'0"). The overlays (e.g.
+/// overlays and markers. Axes: `x0` horizontal ([`X0_LABEL`]), `v0` vertical ([`V0_LABEL`]), at
+/// equal scales (the plotting area takes the grid's aspect ratio). The overlays (e.g.
 /// the unstable limit cycle, clipped to the grid extent) and markers (fixed point) are drawn on
-/// top. Size 900x800; the image is resampled nearest-cell to the plotting area, so any grid size
-/// renders quickly.
+/// top. Build the title with [`map_title`]. Size 900x800; the image is resampled nearest-cell to
+/// the plotting area, so any grid size renders quickly.
 pub fn basin_map(
     path: &Path,
     panel: &BasinPanel<'_>,
@@ -1462,7 +1469,8 @@ fn count_text(n: usize, total: usize) -> String {
 /// Each panel gets its own small title (`panel.title`) and axes; one shared legend on the right
 /// lists the classes (and "other" if any panel has a value not in `classes`), then the labelled
 /// overlays and markers of all panels (deduplicated by label); `title` is the overall title.
-/// `ncols` is clamped to `1..=panels.len()`. Each panel is about 440x400 pixels.
+/// `ncols` is clamped to `1..=panels.len()`. Each panel is 440x420 pixels, its map drawn at
+/// equal scales. Build the titles with [`sheet_title`] and [`panel_title`].
 pub fn basin_sheet(
     path: &Path,
     title: &str,
