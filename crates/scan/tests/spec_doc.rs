@@ -6,6 +6,10 @@
 //! table fails with serde's "unknown field `x`, expected one of `a`, `b`, ..." message, which
 //! lists the table's fields. A key added to the parser without a row in docs/spec.md (or a
 //! row left behind after a key is removed) fails here.
+//!
+//! A new key: add a row to its table in docs/spec.md (key, default, range, example, meaning).
+//! A new table: add a `### \`[name]\`` section with its rows, and its place in a spec to
+//! [`location`] below.
 
 use std::collections::{BTreeMap, BTreeSet};
 
