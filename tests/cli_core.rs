@@ -386,3 +386,81 @@ fn friction_refuses_bad_material() {
     }
     assert!(!dir.path().join("fr").exists());
 }
+
+#[test]
+fn ulc_verifies_the_readme_example() {
+    let dir = tmp();
+    // README: `squeal ulc --nu 1e-3 --verify-rays 8`. Deviations grow 0.64% per revolution
+    // there, so each start needs hundreds of revolutions to show which way it goes.
+    let text = ok(squeal(
+        dir.path(),
+        &["ulc", "--nu", "1e-3", "--verify-rays", "8", "--no-half-dt"],
+    ));
+    assert!(text.contains("rays: 8 of 8"), "{text}");
+    let out = ok(squeal(
+        dir.path(),
+        &[
+            "ulc",
+            "--nu",
+            "1e-3",
+            "--verify-rays",
+            "8",
+            "--no-half-dt",
+            "--json",
+        ],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["verified"], true, "{j}");
+    let rays = j["rays"]["rays"].as_array().unwrap();
+    assert_eq!(rays.len(), 8);
+    for r in rays {
+        assert_eq!(r["inner"]["drift"], "inward", "{r}");
+        assert_eq!(r["outer"]["drift"], "outward", "{r}");
+    }
+}
+
+#[test]
+fn ulc_exits_nonzero_when_the_rays_disagree() {
+    let dir = tmp();
+    // With --rtol 0.09 no bisection step is taken: the cycle's crossing is the middle of
+    // the sampled bracket. The 96 samples are log-spaced on [0.01, 6] (ratio 600^(1/95)),
+    // and the one holding r_u = 0.364853 is [0.354745, 0.379454], whose middle is 0.6%
+    // too far out (computed in Python from those two formulas). Starts 0.2% inside that
+    // wrong curve lie outside the true cycle and move outward.
+    let o = squeal(
+        dir.path(),
+        &[
+            "ulc",
+            "--nu",
+            "1e-3",
+            "--rtol",
+            "0.09",
+            "--verify-eps",
+            "0.002",
+            "--verify-rays",
+            "4",
+            "--no-half-dt",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    assert!(stdout(&o).contains("rays: 0 of 4"), "{}", stdout(&o));
+    assert!(
+        stderr(&o).contains("verification failed: 4 of 4 rays disagree"),
+        "{}",
+        stderr(&o)
+    );
+    // The same flags without the coarse tolerance pass.
+    ok(squeal(
+        dir.path(),
+        &[
+            "ulc",
+            "--nu",
+            "1e-3",
+            "--verify-eps",
+            "0.002",
+            "--verify-rays",
+            "4",
+            "--no-half-dt",
+        ],
+    ));
+}
