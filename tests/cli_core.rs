@@ -464,3 +464,67 @@ fn ulc_exits_nonzero_when_the_rays_disagree() {
         ],
     ));
 }
+
+/// A small scan spec at nu = 1e-3 (paper Fig. 9's model).
+const SPEC: &str = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-3\n\
+    [grid]\nx0 = { min = -3.0, max = 5.0, count = 4 }\nv0 = { min = -4.0, max = 4.0, count = 3 }\n\
+    [output]\npath = \"x.h5\"\n";
+
+#[test]
+fn spec_and_explicit_model_flags_are_refused_together() {
+    // Before: `--spec` silently won and `--nu 1e-2` was ignored.
+    let dir = tmp();
+    std::fs::write(dir.path().join("s.toml"), SPEC).unwrap();
+    std::fs::write(dir.path().join("ics.csv"), "x0,v0\n0,0\n").unwrap();
+    let cases: [(&[&str], &str); 10] = [
+        (
+            &[
+                "classify", "--ics", "ics.csv", "--out", "o.csv", "--nu", "1e-2",
+            ],
+            "--nu",
+        ),
+        (
+            &[
+                "classify", "--ics", "ics.csv", "--out", "o.csv", "--law", "coulomb",
+            ],
+            "--law",
+        ),
+        (
+            &[
+                "classify", "--ics", "ics.csv", "--out", "o.csv", "--t-max", "50",
+            ],
+            "--t-max",
+        ),
+        (&["ulc", "--nu", "1e-2"], "--nu"),
+        (&["ulc", "--lambda", "2"], "--lambda"),
+        (&["ulc", "--tau", "0.5"], "--tau"),
+        (&["ulc", "--dt", "0.005"], "--dt"),
+        (&["critical", "--phi", "1.2"], "--phi"),
+        (&["critical", "--solver", "paper"], "--solver"),
+        // Even a value equal to the default: it was typed, so it must not be ignored.
+        (&["critical", "--nu", "1e-3"], "--nu"),
+    ];
+    for (args, flag) in cases {
+        let mut all = args.to_vec();
+        all.extend_from_slice(&["--spec", "s.toml"]);
+        let o = squeal(dir.path(), &all);
+        assert_eq!(o.status.code(), Some(2), "{all:?}: {}", stdout(&o));
+        refused(o, flag);
+        let o = squeal(dir.path(), &all);
+        assert!(stderr(&o).contains("--spec"), "{all:?}: {}", stderr(&o));
+    }
+    assert!(!dir.path().join("o.csv").exists());
+    // The spec alone, and the flags alone, still work.
+    ok(squeal(
+        dir.path(),
+        &[
+            "classify", "--spec", "s.toml", "--ics", "ics.csv", "--out", "o.csv",
+        ],
+    ));
+    let labels = std::fs::read_to_string(dir.path().join("o.csv")).unwrap();
+    // From rest at nu = 1e-3: stick-slip (paper Fig. 9).
+    assert!(
+        labels.lines().nth(1).unwrap().contains("stick_slip"),
+        "{labels}"
+    );
+}
