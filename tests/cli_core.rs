@@ -528,3 +528,71 @@ fn spec_and_explicit_model_flags_are_refused_together() {
         "{labels}"
     );
 }
+
+#[test]
+fn critical_at_the_fixed_point_says_so() {
+    let dir = tmp();
+    // (1, 0) is the fixed point x* = 1 (F(-lambda, 0) = 1 balances the spring): it stays there
+    // for every nu. Before: "the cycle already encloses (1, 0) there; lower --nu-lo".
+    let o = squeal(dir.path(), &["critical", "--x0", "1", "--v0", "0"]);
+    let err = stderr(&o);
+    refused(o, "is the fixed point");
+    assert!(err.contains("no damping is critical"), "{err}");
+    assert!(!err.contains("lower --nu-lo"), "{err}");
+    // A point next to it still gets the bracket advice (the cycle encloses it at nu_lo).
+    refused(
+        squeal(dir.path(), &["critical", "--x0", "1.01", "--v0", "0"]),
+        "lower --nu-lo",
+    );
+}
+
+#[test]
+fn critical_and_ulc_agree_that_coulomb_has_no_cycle() {
+    let dir = tmp();
+    // Coulomb friction (-sgn of the slip velocity) with nu > 0: every oscillation that does
+    // not reach the belt speed is a damped linear one about x* = 1, and one that sticks
+    // leaves the belt at x = 1 + 2 nu lambda with x' = lambda and then decays: no unstable
+    // cycle. Before: `critical` said "the cycle already encloses (0, 0)".
+    let o = squeal(dir.path(), &["ulc", "--law", "coulomb"]);
+    refused(o, "decays at every sampled amplitude");
+    let o = squeal(dir.path(), &["critical", "--law", "coulomb"]);
+    let err = stderr(&o);
+    refused(o, "coulomb has no unstable limit cycle");
+    assert!(err.contains("decays at"), "{err}");
+    assert!(!err.contains("encloses"), "{err}");
+    // What holds instead: from rest (distance 1 from x* = 1, below the belt speed 3) the
+    // motion is the damped linear oscillation x = 1 - e^(-nu t) cos(w t), w^2 = 1 - nu^2:
+    // amplitude e^(-3) at t = 3000 for nu = 1e-3, never sticking.
+    let out = ok(squeal(
+        dir.path(),
+        &[
+            "trajectory",
+            "--law",
+            "coulomb",
+            "--t-end",
+            "3000",
+            "--json",
+        ],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let amp = j["oscillation"]["amplitude"].as_f64().unwrap();
+    assert!((amp - (-3f64).exp()).abs() < 1e-3, "{amp}");
+    assert!((j["oscillation"]["omega"].as_f64().unwrap() - 1.0).abs() < 1e-4);
+    assert_eq!(j["stats"]["sticks"], 0);
+    // With nu = 1e-2 it has settled by t = 2000 (amplitude e^-20): steady slip.
+    let out = ok(squeal(
+        dir.path(),
+        &[
+            "trajectory",
+            "--law",
+            "coulomb",
+            "--nu",
+            "1e-2",
+            "--t-end",
+            "2000",
+            "--json",
+        ],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["classification"]["regime"], "steady_slip", "{j}");
+}

@@ -606,9 +606,49 @@ pub struct CriticalReport {
     pub evaluations: u32,
 }
 
-/// Whether the system at `point` is inside the unstable cycle for these parameters (it then
-/// does not squeal). No unstable cycle below `r_max` (the return map decays everywhere)
-/// counts as enclosed; a repelling fixed point as not enclosed.
+/// Where `point` lies relative to the unstable cycle for one parameter set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointSide {
+    /// Inside the cycle: that start ends in steady slip.
+    Inside,
+    /// Outside the cycle: that start squeals.
+    Outside,
+    /// No unstable cycle below `r_max`: the return map decays at every sampled amplitude.
+    NoCycle,
+    /// The return map grows already at `r_min`: the fixed point repels.
+    FixedPointRepels,
+}
+
+/// Where `point` lies relative to the unstable cycle for these parameters.
+pub fn point_side(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    cs: &CycleSettings,
+    point: State,
+) -> Result<PointSide, ScanError> {
+    let st = Stepper::new(params, dt, solver).map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let (mut stats, mut returns) = (SolverStats::default(), 0u64);
+    match section_cycles(&st, cs, &mut stats, &mut returns) {
+        SectionCycles::NoneBelow { .. } => return Ok(PointSide::NoCycle),
+        SectionCycles::FixedPointUnstable { .. } => return Ok(PointSide::FixedPointRepels),
+        SectionCycles::Unstable { .. } => {}
+    }
+    let cs1 = CycleSettings {
+        check_half_dt: false,
+        ..*cs
+    };
+    let rep = locate(params, dt, solver, &cs1)?;
+    Ok(if rep.encloses(point.x, point.v) {
+        PointSide::Inside
+    } else {
+        PointSide::Outside
+    })
+}
+
+/// Whether the system at `point` does not squeal for these parameters: inside the unstable
+/// cycle, or no unstable cycle below `r_max` at all (the return map decays everywhere); a
+/// repelling fixed point counts as squealing.
 pub fn point_enclosed(
     params: Params,
     dt: f64,
@@ -616,16 +656,10 @@ pub fn point_enclosed(
     cs: &CycleSettings,
     point: State,
 ) -> Result<bool, ScanError> {
-    let cs1 = CycleSettings {
-        check_half_dt: false,
-        ..*cs
-    };
-    match locate(params, dt, solver, &cs1) {
-        Ok(rep) => Ok(rep.encloses(point.x, point.v)),
-        Err(ScanError::NoCycle(msg)) if msg.contains("decays at every") => Ok(true),
-        Err(ScanError::NoCycle(msg)) if msg.contains("repels") => Ok(false),
-        Err(e) => Err(e),
-    }
+    Ok(matches!(
+        point_side(params, dt, solver, cs, point)?,
+        PointSide::Inside | PointSide::NoCycle
+    ))
 }
 
 /// Bisection in `nu` (geometric) for the damping at which the cycle first encloses `point`.
@@ -640,17 +674,40 @@ pub fn critical_nu(
     nu_hi: f64,
     rtol: f64,
 ) -> Result<CriticalReport, ScanError> {
-    let at = |nu: f64| point_enclosed(Params { nu, ..base }, dt, solver, cs, point);
+    let side = |nu: f64| point_side(Params { nu, ..base }, dt, solver, cs, point);
+    let at = |nu: f64| -> Result<bool, ScanError> {
+        Ok(matches!(side(nu)?, PointSide::Inside | PointSide::NoCycle))
+    };
     if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite()) {
         return Err(ScanError::NoCycle(format!(
             "--nu-lo {nu_lo} / --nu-hi {nu_hi}: need 0 < nu_lo < nu_hi"
         )));
     }
-    if at(nu_lo)? {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
+    let fp = base.fixed_point();
+    if point == fp {
+        return Err(ScanError::NoCriticalDamping(format!(
+            "({}, {}) is the fixed point: steady slip for every nu (a start there stays \
+             there), so it never squeals and no damping is critical for it",
             point.x, point.v
         )));
+    }
+    match side(nu_lo)? {
+        PointSide::Inside => {
+            return Err(ScanError::NoCriticalDamping(format!(
+                "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
+                point.x, point.v
+            )));
+        }
+        PointSide::NoCycle => {
+            return Err(ScanError::NoCriticalDamping(format!(
+                "--nu-lo {nu_lo}: {} has no unstable limit cycle there (the return map decays at \
+                 every amplitude sampled up to r = {}, as `squeal ulc` reports), so there is no \
+                 cycle to enclose ({}, {}): starts within that amplitude end in steady slip \
+                 already at nu = {nu_lo}",
+                base.law, cs.r_max, point.x, point.v
+            )));
+        }
+        PointSide::Outside | PointSide::FixedPointRepels => {}
     }
     if !at(nu_hi)? {
         return Err(ScanError::NoCycle(format!(
