@@ -25,11 +25,12 @@ started=$(date +%s)
 
 # --- packages ---------------------------------------------------------------------------
 if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null ||
-  ! command -v sbatch >/dev/null || ! command -v munged >/dev/null; then
-  say "installing slurm-wlm and munge"
+  ! command -v sbatch >/dev/null || ! command -v munged >/dev/null ||
+  ! command -v python3 >/dev/null; then
+  say "installing slurm-wlm, munge and python3 (reads the journal)"
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -q
-  apt-get install -y -q --no-install-recommends slurm-wlm munge
+  apt-get install -y -q --no-install-recommends slurm-wlm munge python3
 fi
 say "$(slurmctld -V), munge $(munged -V 2>&1 | awk '{print $2; exit}')"
 
@@ -224,7 +225,7 @@ job_state() { scontrol show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]
 # --- stop and requeue task $victim once its journal holds a block ---------------------------------------
 shard=out/ci.shard$victim.h5
 journal=$shard.journal
-read -r blocks cells < <(journal_blocks "$journal")
+blocks=0
 for _ in $(seq 600); do
   read -r blocks cells < <(journal_blocks "$journal")
   [ "$blocks" -ge 1 ] && break
