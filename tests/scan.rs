@@ -91,11 +91,25 @@ fn tiny_scan_writes_a_self_describing_file() {
     // The state at rest squeals at nu = 1e-3 (paper Fig. 9): x0 = 0 is column 3, v0 = 0 row 3.
     let l: Vec<u8> = labels.read_raw().unwrap();
     assert_eq!(l[3 * 9 + 3], 2);
-    // Output is never overwritten silently.
+    // Output is never overwritten silently: a different spec is refused...
+    spec(
+        d.path(),
+        "other.toml",
+        &TINY.replace("nu = 1e-3", "nu = 2e-3"),
+    );
     fails(
-        &squeal(d.path(), &["scan", "tiny.toml", "--quiet"]),
+        &squeal(
+            d.path(),
+            &["scan", "other.toml", "-o", "tiny.h5", "--quiet"],
+        ),
         "--force",
     );
+    // ...and rerunning the same spec (the README's job, run twice) is up to date, like make.
+    let before = digest(&d.path().join("tiny.h5"));
+    let again = squeal(d.path(), &["scan", "tiny.toml", "--quiet"]);
+    ok(&again);
+    assert!(String::from_utf8_lossy(&again.stderr).contains("up to date"));
+    assert_eq!(digest(&d.path().join("tiny.h5")), before);
     // info and render
     let info = ok(&squeal(d.path(), &["info", "tiny.h5", "--json"]));
     let iv: serde_json::Value = serde_json::from_str(&info).unwrap();
@@ -317,7 +331,7 @@ fn classify_labels_a_csv_of_initial_conditions() {
     ));
     let text = std::fs::read_to_string(d.path().join("l.csv")).unwrap();
     let rows: Vec<&str> = text.lines().collect();
-    assert!(rows[0].starts_with("x0,v0,label,"));
+    assert!(rows[0].starts_with("x0,v0,labels,reason,"));
     assert!(rows[1].contains(",stick_slip,"), "{}", rows[1]);
     assert!(rows[2].contains(",steady_slip,"), "{}", rows[2]);
     assert!(rows[3].contains(",stick_slip,"), "{}", rows[3]);

@@ -60,7 +60,10 @@ struct SpecFile {
 }
 
 #[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "a number (model.nu / model.lambda), a list of numbers such as [1e-3, 2e-3], or a range such as { from = 1e-3, to = 1e-2, count = 8, spacing = \"log\" }"
+)]
 enum Value {
     One(f64),
     List(Vec<f64>),
@@ -447,6 +450,15 @@ impl Plan {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default()
         });
+        // The name goes into file attributes and picture titles: printable text only (an
+        // HDF5 string cannot hold a NUL, and the scan would be lost at the final write).
+        if name.chars().any(char::is_control) || name.chars().count() > 200 {
+            return Err(invalid(
+                "name",
+                format!("{name:?}"),
+                "printable text of at most 200 characters (no control characters such as NUL)",
+            ));
+        }
         Ok(Plan {
             spec_text: text.to_string(),
             spec_path: path.to_string(),
@@ -470,6 +482,40 @@ impl Plan {
             locate_cycle: spec.cycle.locate,
             output: spec.output.path.clone(),
         })
+    }
+
+    /// The first setting (top-level field of the plan) in which `other` would compute
+    /// something different, or `None` if both plans give the same results. The spec text,
+    /// its path and the output path do not count (a comment edit or `-o` changes nothing).
+    pub fn differs_from(&self, other: &Plan) -> Option<String> {
+        let table = |p: &Plan| {
+            let mut t = toml::Table::try_from(p).unwrap_or_default();
+            for k in ["spec_text", "spec_path", "output"] {
+                t.remove(k);
+            }
+            t
+        };
+        let (a, b) = (table(self), table(other));
+        let mut keys: Vec<&String> = a.keys().chain(b.keys()).collect();
+        keys.sort();
+        keys.dedup();
+        keys.into_iter()
+            .find(|k| a.get(*k) != b.get(*k))
+            .map(|k| k.to_string())
+    }
+
+    /// A rough time for `cells` cells on `threads` threads, in seconds, from documented rates
+    /// (BENCHMARKS.md, "Basin scans": about 25 000 cells/s on 2 threads with
+    /// `early_stop = "cycle"` on the paper's grids; without early stopping a cell may run to
+    /// `t_max`, at up to about 250 ns per step with the robust solver, "Time per step").
+    /// An order of magnitude, not a promise: cells near the boundary and off-paper
+    /// parameters take longer.
+    pub fn estimate_seconds(&self, cells: usize, threads: usize) -> f64 {
+        let per_cell = match self.early_stop {
+            EarlyStop::Cycle => 2.0 / 25_000.0,
+            EarlyStop::None => (self.classifier.t_max / self.dt) * 250e-9,
+        };
+        cells as f64 * per_cell / threads.max(1) as f64
     }
 
     /// Blocks in the whole scan (all maps).
@@ -635,11 +681,29 @@ path = "x.h5"
                 "only one",
             ),
             (GOOD.replace("[model]", "[model\n"), "line"),
+            (
+                GOOD.replace("version = 1", "version = 1\nname = \"a\\u0000b\""),
+                "`name`",
+            ),
+            (
+                GOOD.replace("nu = 1e-3", "nu = \"small\""),
+                "a number (model.nu / model.lambda), a list of numbers",
+            ),
         ];
         for (text, want) in cases {
             let e = err(&text);
             assert!(e.contains(want), "expected '{want}' in: {e}");
         }
+    }
+
+    #[test]
+    fn comment_edits_do_not_change_the_plan() {
+        let a = Plan::from_toml(GOOD, "t.toml").unwrap();
+        let b = Plan::from_toml(&format!("# a note\n{GOOD}"), "t.toml").unwrap();
+        assert_ne!(a.spec_text, b.spec_text);
+        assert_eq!(a.differs_from(&b), None);
+        let c = Plan::from_toml(&GOOD.replace("nu = 1e-3", "nu = 2e-3"), "t.toml").unwrap();
+        assert_eq!(a.differs_from(&c).as_deref(), Some("maps"));
     }
 
     #[test]

@@ -18,11 +18,12 @@
 //! point, a start just inside the curve settles on steady slip, one just outside on stick-slip.
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use squeal_core::classify::section_return;
 use squeal_core::{Classifier, Params, Regime, SolverConfig, SolverStats, State, Stepper};
 
-use crate::error::ScanError;
+use crate::curve::ClosedCurve;
+use crate::error::{BracketProblem, NoCycle, ScanError};
 
 /// Settings of the cycle search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -131,7 +132,7 @@ pub fn section_cycles(
 }
 
 /// How the located cycle moves when `dt` is halved.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HalfStepCheck {
     /// Section crossing with `dt / 2`.
     pub r_section: f64,
@@ -139,8 +140,9 @@ pub struct HalfStepCheck {
     pub shift: f64,
 }
 
-/// The located unstable limit cycle.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// The located unstable limit cycle (one serialisable record: the store writes it field by
+/// field generically, never by hand).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CycleReport {
     /// Model parameters.
     pub params: Params,
@@ -174,57 +176,24 @@ pub struct CycleReport {
     pub solver: SolverStats,
     /// The stable stick-slip crossing seen above the cycle, if sampled.
     pub stable_above: Option<f64>,
-    /// The closed curve: `x` of each step over one revolution.
-    pub curve_x: Vec<f64>,
-    /// The closed curve: `x'`.
-    pub curve_v: Vec<f64>,
+    /// The closed curve: the states of one revolution.
+    pub curve: ClosedCurve,
 }
 
 impl CycleReport {
-    /// Whether `(x, v)` lies inside the closed curve (even-odd rule).
+    /// Whether `(x, v)` lies inside the closed curve.
     pub fn encloses(&self, x: f64, v: f64) -> bool {
-        polygon_contains(&self.curve_x, &self.curve_v, x, v)
+        self.curve.encloses(State { x, v })
     }
 
-    /// Distance from `(x, v)` to the curve (nearest vertex or segment).
+    /// Distance from `(x, v)` to the curve.
     pub fn distance_to(&self, x: f64, v: f64) -> f64 {
-        let n = self.curve_x.len();
-        let mut best = f64::INFINITY;
-        for i in 0..n {
-            let j = (i + 1) % n;
-            let (ax, av, bx, bv) = (
-                self.curve_x[i],
-                self.curve_v[i],
-                self.curve_x[j],
-                self.curve_v[j],
-            );
-            let (dx, dv) = (bx - ax, bv - av);
-            let l2 = dx * dx + dv * dv;
-            let t = if l2 > 0.0 {
-                (((x - ax) * dx + (v - av) * dv) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            best = best.min((x - ax - t * dx).hypot(v - av - t * dv));
-        }
-        best
+        self.curve.distance_to(State { x, v })
     }
 }
 
-/// Even-odd point-in-polygon test.
-pub fn polygon_contains(xs: &[f64], vs: &[f64], x: f64, v: f64) -> bool {
-    let n = xs.len();
-    let mut inside = false;
-    let mut j = n.wrapping_sub(1);
-    for i in 0..n {
-        let (xi, vi, xj, vj) = (xs[i], vs[i], xs[j], vs[j]);
-        if (vi > v) != (vj > v) && x < (xj - xi) * (v - vi) / (vj - vi) + xi {
-            inside = !inside;
-        }
-        j = i;
-    }
-    inside
-}
+/// A map's cycle search result: the cycle, or why there is none.
+pub type CycleOutcome = Result<CycleReport, NoCycle>;
 
 /// Locates the unstable cycle for one parameter set.
 pub fn locate(
@@ -233,10 +202,25 @@ pub fn locate(
     solver: SolverConfig,
     cs: &CycleSettings,
 ) -> Result<CycleReport, ScanError> {
-    let st = Stepper::new(params, dt, solver).map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let st = Stepper::new(params, dt, solver)?;
     let mut stats = SolverStats::default();
     let mut returns = 0u64;
     let found = section_cycles(&st, cs, &mut stats, &mut returns);
+    locate_from(&st, found, cs, stats, returns)
+}
+
+/// Finishes the cycle from an existing search of the section (so a scan searches once per
+/// map): the curve, period, size, multiplier and the half-step check. `stats` and `returns`
+/// are the counters of the search so far.
+pub fn locate_from(
+    st: &Stepper,
+    found: SectionCycles,
+    cs: &CycleSettings,
+    mut stats: SolverStats,
+    mut returns: u64,
+) -> Result<CycleReport, ScanError> {
+    let params = *st.params();
+    let (dt, solver) = (st.dt(), *st.solver());
     let (r, lo, hi, stable_above) = match found {
         SectionCycles::Unstable {
             r,
@@ -246,60 +230,46 @@ pub fn locate(
             ..
         } => (r, lo, hi, stable_above),
         SectionCycles::NoneBelow { r_max } => {
-            return Err(ScanError::NoCycle(format!(
-                "the return map decays at every sampled amplitude up to r = {r_max} (nu = {}): no squeal below it",
-                params.nu
-            )));
+            return Err(NoCycle::Decays {
+                r_max,
+                nu: params.nu,
+            }
+            .into());
         }
         SectionCycles::FixedPointUnstable { r_min } => {
-            return Err(ScanError::NoCycle(format!(
-                "the return map grows already at r = {r_min} (nu = {}): the fixed point repels",
-                params.nu
-            )));
+            return Err(NoCycle::FixedPointRepels {
+                r_min,
+                nu: params.nu,
+            }
+            .into());
         }
     };
     let (mut xs, mut vs) = (Vec::new(), Vec::new());
     returns += 1;
-    let c = section_return(&st, r, cs.t_return, &mut stats, |s| {
+    let c = section_return(st, r, cs.t_return, &mut stats, |s| {
         xs.push(s.x);
         vs.push(s.v);
     })
-    .ok_or_else(|| ScanError::NoCycle(format!("no return from r = {r}")))?;
+    .ok_or(NoCycle::NoReturn {
+        r,
+        t_return: cs.t_return,
+    })?;
     let period = c.t;
     // The last sample lies past the section: drop it so the curve closes on the first one.
     xs.pop();
     vs.pop();
     let fp = params.fixed_point();
     let h = 1e-4 * r;
-    let p_plus = d_of(&st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
-    let p_minus = d_of(&st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
+    let p_plus = d_of(st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
+    let p_minus = d_of(st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
     let multiplier = (p_plus - p_minus) / (2.0 * h);
-    let minmax = |a: &[f64]| {
-        a.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |m, &x| {
-            [m[0].min(x), m[1].max(x)]
-        })
-    };
-    let area = 0.5
-        * (0..xs.len())
-            .map(|i| {
-                let j = (i + 1) % xs.len();
-                xs[i] * vs[j] - xs[j] * vs[i]
-            })
-            .sum::<f64>()
-            .abs();
+    let curve = ClosedCurve::new(xs, vs);
     // Crossing of v = 0 with x > x* (going down, on the right of the fixed point).
-    let mut distance_plus_x = f64::NAN;
-    for i in 0..xs.len() {
-        let j = (i + 1) % xs.len();
-        if vs[i] > 0.0 && vs[j] <= 0.0 && xs[i] > fp.x {
-            let t = vs[i] / (vs[i] - vs[j]);
-            distance_plus_x = xs[i] + t * (xs[j] - xs[i]) - fp.x;
-            break;
-        }
-    }
+    let distance_plus_x = curve
+        .distance_along_ray(State { x: fp.x, v: 0.0 }, 0.0)
+        .unwrap_or(f64::NAN);
     let half_dt = if cs.check_half_dt {
-        let st2 = Stepper::new(params, dt / 2.0, solver)
-            .map_err(|e| ScanError::NoCycle(e.to_string()))?;
+        let st2 = Stepper::new(params, dt / 2.0, solver)?;
         match section_cycles(&st2, cs, &mut stats, &mut returns) {
             SectionCycles::Unstable { r: r2, .. } => Some(HalfStepCheck {
                 r_section: r2,
@@ -310,28 +280,25 @@ pub fn locate(
     } else {
         None
     };
-    let mut report = CycleReport {
+    Ok(CycleReport {
         params,
         dt,
         r_section: r,
         bracket: [lo, hi],
         period,
         omega: std::f64::consts::TAU / period,
-        x_range: minmax(&xs),
-        v_range: minmax(&vs),
+        x_range: curve.x_range(),
+        v_range: curve.v_range(),
         distance_plus_x,
-        area,
+        area: curve.area(),
         multiplier,
-        encloses_origin: false,
+        encloses_origin: curve.encloses(State { x: 0.0, v: 0.0 }),
         half_dt,
         returns,
         solver: stats,
         stable_above,
-        curve_x: xs,
-        curve_v: vs,
-    };
-    report.encloses_origin = report.encloses(0.0, 0.0);
-    Ok(report)
+        curve,
+    })
 }
 
 /// One ray of [`verify_rays`].
@@ -355,8 +322,7 @@ pub fn verify_rays(
     classifier: &Classifier,
     solver: SolverConfig,
 ) -> Result<Vec<RayCheck>, ScanError> {
-    let st = Stepper::new(report.params, report.dt, solver)
-        .map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let st = Stepper::new(report.params, report.dt, solver)?;
     let fp = report.params.fixed_point();
     let cl = Classifier {
         trap: None,
@@ -367,32 +333,10 @@ pub fn verify_rays(
         .map(|k| {
             let angle = std::f64::consts::TAU * k as f64 / rays as f64;
             let (c, s) = (angle.cos(), angle.sin());
-            // Largest radius along the ray at which a curve segment crosses it.
-            let n = report.curve_x.len();
-            let mut radius = f64::NAN;
-            for i in 0..n {
-                let j = (i + 1) % n;
-                let (ax, av) = (report.curve_x[i] - fp.x, report.curve_v[i] - fp.v);
-                let (bx, bv) = (report.curve_x[j] - fp.x, report.curve_v[j] - fp.v);
-                // Solve a + t (b - a) = rho (c, s).
-                let (dx, dv) = (bx - ax, bv - av);
-                let den = dx * s - dv * c;
-                if den.abs() < 1e-300 {
-                    continue;
-                }
-                let t = (av * c - ax * s) / den;
-                if (0.0..=1.0).contains(&t) {
-                    let rho = (ax + t * dx) * c + (av + t * dv) * s;
-                    if rho > 0.0 && (radius.is_nan() || rho > radius) {
-                        radius = rho;
-                    }
-                }
-            }
-            if !radius.is_finite() {
-                return Err(ScanError::NoCycle(format!(
-                    "the curve does not cross the ray at angle {angle}"
-                )));
-            }
+            let radius = report
+                .curve
+                .distance_along_ray(fp, angle)
+                .ok_or(ScanError::RayMissesCurve { angle })?;
             let at = |f: f64| State {
                 x: fp.x + f * radius * c,
                 v: fp.v + f * radius * s,
@@ -438,8 +382,8 @@ pub fn point_enclosed(
     };
     match locate(params, dt, solver, &cs1) {
         Ok(rep) => Ok(rep.encloses(point.x, point.v)),
-        Err(ScanError::NoCycle(msg)) if msg.contains("decays at every") => Ok(true),
-        Err(ScanError::NoCycle(msg)) if msg.contains("repels") => Ok(false),
+        Err(ScanError::NoCycle(NoCycle::Decays { .. })) => Ok(true),
+        Err(ScanError::NoCycle(NoCycle::FixedPointRepels { .. })) => Ok(false),
         Err(e) => Err(e),
     }
 }
@@ -457,22 +401,21 @@ pub fn critical_nu(
     rtol: f64,
 ) -> Result<CriticalReport, ScanError> {
     let at = |nu: f64| point_enclosed(Params { nu, ..base }, dt, solver, cs, point);
+    let bracket = |problem| ScanError::Bracket {
+        nu_lo,
+        nu_hi,
+        x: point.x,
+        v: point.v,
+        problem,
+    };
     if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite()) {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-lo {nu_lo} / --nu-hi {nu_hi}: need 0 < nu_lo < nu_hi"
-        )));
+        return Err(bracket(BracketProblem::Order));
     }
     if at(nu_lo)? {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
-            point.x, point.v
-        )));
+        return Err(bracket(BracketProblem::EnclosedAtLow));
     }
     if !at(nu_hi)? {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-hi {nu_hi}: the cycle does not enclose ({}, {}) yet; raise --nu-hi",
-            point.x, point.v
-        )));
+        return Err(bracket(BracketProblem::NotEnclosedAtHigh));
     }
     let (mut lo, mut hi, mut evaluations) = (nu_lo, nu_hi, 2u32);
     while hi / lo - 1.0 > rtol && evaluations < 200 {
