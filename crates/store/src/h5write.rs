@@ -328,6 +328,62 @@ fn write_rows<T: H5Type>(
     }
 }
 
+/// The root attributes: provenance, the spec and every setting of the plan.
+fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
+    let g = &plan.grid;
+    let p0 = plan.maps[0];
+    str_attr(file, "schema", SCHEMA)?;
+    str_attr(file, "squeal_version", meta.version)?;
+    str_attr(file, "git_revision", meta.git_revision)?;
+    str_attr(file, "spec", &plan.spec_text)?;
+    str_attr(file, "name", &plan.name)?;
+    str_attr(file, "law", p0.law.name())?;
+    num_attr(file, "tau", p0.tau)?;
+    num_attr(file, "phi", p0.phi)?;
+    let swept = plan.sweep.as_ref().map(|s| s.name);
+    if swept != Some("nu") {
+        num_attr(file, "nu", p0.nu)?;
+    }
+    if swept != Some("lambda") {
+        num_attr(file, "lambda", p0.lambda)?;
+    }
+    num_attr(file, "dt", plan.dt)?;
+    str_attr(file, "solver", plan.solver.kind.name())?;
+    num_attr(file, "max_iter", plan.solver.max_iter)?;
+    num_attr(file, "t_max", plan.classifier.t_max)?;
+    num_attr(file, "fp_radius", plan.classifier.fp_radius)?;
+    num_attr(file, "settle_cycles", plan.classifier.settle_cycles)?;
+    num_attr(file, "settle_rtol", plan.classifier.settle_rtol)?;
+    str_attr(file, "early_stop", plan.early_stop.name())?;
+    num_attr(file, "trap_margin", plan.trap_margin)?;
+    num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
+    num_attr(file, "block_rows", g.block_rows as u64)?;
+    if let Some(s) = &meta.shard {
+        str_attr(file, "shard", s)?;
+    }
+    Ok(())
+}
+
+/// Checks before any computing that the final write will succeed: writes the root
+/// attributes and coordinates into a scratch file beside `path` and removes it.
+pub(crate) fn preflight(path: &Path, plan: &Plan, meta: &Meta) -> Result<(), StoreError> {
+    let mut s = path.as_os_str().to_owned();
+    s.push(".preflight");
+    let scratch = std::path::PathBuf::from(s);
+    let _ = std::fs::remove_file(&scratch);
+    let res = (|| -> hdf5::Result<()> {
+        let f = File::create_excl(&scratch)?;
+        root_attrs(&f, plan, meta)?;
+        f.new_dataset_builder()
+            .with_data(&plan.grid.x0.values())
+            .create("x0")?;
+        f.close()
+    })()
+    .h5(path);
+    let _ = std::fs::remove_file(&scratch);
+    res
+}
+
 /// Writes the whole file at `path` (which must not exist). Memory: one block at a time.
 pub(crate) fn assemble(
     path: &Path,
@@ -358,41 +414,7 @@ fn write_all(
         class_type: class_type(path)?,
     };
 
-    // Root attributes.
-    let p0 = plan.maps[0];
-    (|| -> hdf5::Result<()> {
-        str_attr(file, "schema", SCHEMA)?;
-        str_attr(file, "squeal_version", meta.version)?;
-        str_attr(file, "git_revision", meta.git_revision)?;
-        str_attr(file, "spec", &plan.spec_text)?;
-        str_attr(file, "name", &plan.name)?;
-        str_attr(file, "law", p0.law.name())?;
-        num_attr(file, "tau", p0.tau)?;
-        num_attr(file, "phi", p0.phi)?;
-        let swept = plan.sweep.as_ref().map(|s| s.name);
-        if swept != Some("nu") {
-            num_attr(file, "nu", p0.nu)?;
-        }
-        if swept != Some("lambda") {
-            num_attr(file, "lambda", p0.lambda)?;
-        }
-        num_attr(file, "dt", plan.dt)?;
-        str_attr(file, "solver", plan.solver.kind.name())?;
-        num_attr(file, "max_iter", plan.solver.max_iter)?;
-        num_attr(file, "t_max", plan.classifier.t_max)?;
-        num_attr(file, "fp_radius", plan.classifier.fp_radius)?;
-        num_attr(file, "settle_cycles", plan.classifier.settle_cycles)?;
-        num_attr(file, "settle_rtol", plan.classifier.settle_rtol)?;
-        str_attr(file, "early_stop", plan.early_stop.name())?;
-        num_attr(file, "trap_margin", plan.trap_margin)?;
-        num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
-        num_attr(file, "block_rows", g.block_rows as u64)?;
-        if let Some(s) = &meta.shard {
-            str_attr(file, "shard", s)?;
-        }
-        Ok(())
-    })()
-    .h5(path)?;
+    root_attrs(file, plan, meta).h5(path)?;
 
     // Coordinates and variables.
     let x0 = coord(

@@ -201,6 +201,7 @@ impl ScanWriter {
             remove_if_exists(&jpath)?;
             remove_if_exists(&tmp_path(out))?;
         }
+        preflight(out, plan, shard, prov)?;
         let journal = Journal::create(
             &jpath,
             &Header {
@@ -273,6 +274,7 @@ impl ScanWriter {
             };
         }
         let plan = &plan;
+        preflight(out, plan, shard, prov)?;
         if header.shard != shard_text(shard) {
             let show = |s: &str| {
                 if s.is_empty() {
@@ -496,6 +498,21 @@ pub fn output_state(out: &Path, plan: &Plan) -> Result<OutputState, StoreError> 
         return Ok(OutputState::Interrupted);
     }
     Ok(OutputState::Absent)
+}
+
+/// Everything the final write needs from the plan, tried before any computing.
+fn preflight(
+    out: &Path,
+    plan: &Plan,
+    shard: Option<Shard>,
+    prov: &Provenance,
+) -> Result<(), StoreError> {
+    let meta = Meta {
+        version: &prov.version,
+        git_revision: &prov.git_revision,
+        shard: shard.map(|s| s.to_string()),
+    };
+    h5write::preflight(out, plan, &meta)
 }
 
 /// Moves the finished `tmp` to `out`, refusing if `out` appeared meanwhile.

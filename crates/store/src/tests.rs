@@ -606,3 +606,17 @@ fn variables_carry_cf_attributes_and_no_dimensions_string() {
     let wrong: Vec<i64> = f.dataset("wrong_side_cells").unwrap().read_raw().unwrap();
     assert_eq!(wrong.len(), 1);
 }
+
+#[test]
+fn a_plan_the_file_cannot_hold_is_refused_before_any_computing() {
+    // Validation refuses a NUL in `name`; a plan built in code can still carry one, and
+    // the writer must refuse it at create, not at finish (when the blocks are computed).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.h5");
+    let mut p = plan();
+    p.name = "a\0b".into();
+    let e = ScanWriter::create(&out, &p, None, &prov(), false).unwrap_err();
+    assert!(e.to_string().contains("a.h5"), "{e}");
+    assert!(!journal_of(&out).exists());
+    assert!(!lock_path(&out).exists());
+}
