@@ -563,3 +563,26 @@ fn files_and_messages_are_plain() {
     );
     assert!(!d.path().join("o.h5").exists());
 }
+
+#[test]
+fn trajectory_files_describe_themselves_and_info_reads_them() {
+    let d = tempfile::tempdir().unwrap();
+    ok(&squeal(
+        d.path(),
+        &["trajectory", "--t-end", "5", "--out", "traj.h5"],
+    ));
+    let f = hdf5::File::open(d.path().join("traj.h5")).unwrap();
+    let t = f.dataset("t").unwrap();
+    // t is a dimension scale (a coordinate) and x is attached to it.
+    assert!(t.attr("CLASS").is_ok() && t.attr("units").is_ok());
+    let x = f.dataset("x").unwrap();
+    assert!(x.attr("DIMENSION_LIST").is_ok() && x.attr("units").is_ok());
+    for a in ["schema", "squeal_version", "nu", "lambda", "dt", "law"] {
+        assert!(f.attr(a).is_ok(), "{a}");
+    }
+    let info = ok(&squeal(d.path(), &["info", "traj.h5"]));
+    assert!(
+        info.contains("trajectory") && info.contains("t in [0, "),
+        "{info}"
+    );
+}

@@ -15,6 +15,11 @@ pub struct Args {
 
 /// Prints the file's description.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    if squeal_store::file_schema(&args.file).ok().as_deref()
+        == Some(squeal_store::TRAJECTORY_SCHEMA)
+    {
+        return trajectory(&args);
+    }
     let info = squeal_store::read_info(&args.file)?;
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
     if args.json {
@@ -99,5 +104,36 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(s) = &info.shard {
         println!("  shard {s} (join the shards with squeal merge)");
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A trajectory file of `squeal trajectory --out X.h5`.
+fn trajectory(args: &Args) -> anyhow::Result<ExitCode> {
+    let t = squeal_store::read_trajectory_info(&args.file)?;
+    if args.json {
+        let attrs: serde_json::Map<String, serde_json::Value> = t
+            .attrs
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone().into()))
+            .collect();
+        let v = serde_json::json!({
+            "path": args.file,
+            "attributes": attrs,
+            "samples": t.samples,
+            "t": t.t_range.map(|(a, b)| [a, b]),
+            "variables": t.variables,
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("{} (trajectory)", args.file.display());
+    for (k, v) in &t.attrs {
+        println!("  {k} = {v}");
+    }
+    match t.t_range {
+        Some((a, b)) => println!("  {} samples, t in [{a}, {b}]", t.samples),
+        None => println!("  no samples"),
+    }
+    println!("  variables over t: {}", t.variables.join(", "));
     Ok(ExitCode::SUCCESS)
 }

@@ -31,7 +31,7 @@ pub(crate) struct Meta<'a> {
     pub shard: Option<String>,
 }
 
-fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+pub(crate) fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
     let v: VarLenUnicode = value
         .parse()
         .map_err(|e| hdf5::Error::from(format!("{e}")))?;
@@ -40,12 +40,12 @@ fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
         .write_scalar(&v)
 }
 
-fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
+pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
     loc.new_attr::<T>().create(name)?.write_scalar(&value)
 }
 
 /// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
-struct Dims {
+pub(crate) struct Dims {
     scales: Vec<(Dataset, Vec<RefEntry>)>,
     /// The type of `CLASS`: a 16-byte null-terminated ASCII string, as `H5DSis_scale` demands.
     class_type: hdf5::Datatype,
@@ -60,7 +60,7 @@ struct Dims {
 const CLASS_TEMPLATE: &[u8] = include_bytes!("dimension_scale_class.bin");
 
 /// Reads the `CLASS` type from the template, written beside `path` for the moment.
-fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
+pub(crate) fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
     let mut s = path.as_os_str().to_owned();
     s.push(".class");
     let tpl = std::path::PathBuf::from(s);
@@ -77,8 +77,16 @@ fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
 }
 
 impl Dims {
+    /// No scales yet; `class_type` from [`class_type`].
+    pub(crate) fn new(class_type: hdf5::Datatype) -> Dims {
+        Dims {
+            scales: Vec::new(),
+            class_type,
+        }
+    }
+
     /// Makes `ds` a dimension scale named `name` (netCDF-4 / HDF5 DS convention).
-    fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
+    pub(crate) fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
         let class: FixedAscii<16> = FixedAscii::from_ascii("DIMENSION_SCALE")
             .map_err(|e| hdf5::Error::from(format!("{e}")))?;
         ds.new_attr_builder()
@@ -95,7 +103,12 @@ impl Dims {
     }
 
     /// Attaches scales (by dataset name) to the dimensions of `var`, in order.
-    fn attach(&mut self, file: &File, var: &Dataset, scales: &[&Dataset]) -> hdf5::Result<()> {
+    pub(crate) fn attach(
+        &mut self,
+        file: &File,
+        var: &Dataset,
+        scales: &[&Dataset],
+    ) -> hdf5::Result<()> {
         let me: ObjectReference1 = file.reference(&var.name())?;
         let mut list = Vec::new();
         for (i, s) in scales.iter().enumerate() {
@@ -117,7 +130,7 @@ impl Dims {
             .write_raw(&list)
     }
 
-    fn finish(self) -> hdf5::Result<()> {
+    pub(crate) fn finish(self) -> hdf5::Result<()> {
         for (ds, refs) in self.scales {
             if !refs.is_empty() {
                 ds.new_attr::<RefEntry>()

@@ -99,6 +99,7 @@ mod h5write;
 mod journal;
 mod lock;
 mod read;
+mod trajectory;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -110,7 +111,11 @@ pub use squeal_scan::{Shard, WrongSide, shard_owns};
 pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use read::{
-    FileInfo, MapData, content_digest, map_count, read_cycle_summary, read_info, read_map,
+    FileInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary, read_info,
+    read_map,
+};
+pub use trajectory::{
+    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_trajectory,
 };
 
 use error::{H5Ctx, io};

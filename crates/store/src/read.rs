@@ -19,8 +19,32 @@ use crate::{SCHEMA, StoreError};
 
 const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
 
-/// Opens `path` and checks it is a squeal file (HDF5 with our `schema` attribute).
+/// Opens `path` and checks it is a squeal scan file (HDF5 with our `schema` attribute).
 pub(crate) fn open_squeal(path: &Path) -> Result<File, StoreError> {
+    open_with_schema(path, SCHEMA)
+}
+
+/// The `schema` attribute of a squeal file (scan or trajectory).
+pub fn file_schema(path: &Path) -> Result<String, StoreError> {
+    let file = open_hdf5(path)?;
+    str_attr(&file, "schema").map_err(|_| StoreError::NotSquealFile {
+        path: path.to_path_buf(),
+        why: "an HDF5 file without the `schema` attribute (not written by squeal)".into(),
+    })
+}
+
+/// Every root attribute as text, by name.
+pub(crate) fn root_attrs_text(file: &File) -> hdf5::Result<Vec<(String, String)>> {
+    let mut attrs = Vec::new();
+    for name in file.attr_names()? {
+        let text = attr_text(&file.attr(&name)?)?;
+        attrs.push((name, text));
+    }
+    Ok(attrs)
+}
+
+/// Opens `path` as HDF5 (with a clear error for other files).
+fn open_hdf5(path: &Path) -> Result<File, StoreError> {
     let not = |why: String| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why,
@@ -34,16 +58,23 @@ pub(crate) fn open_squeal(path: &Path) -> Result<File, StoreError> {
             return Err(not("not an HDF5 file".into()));
         }
     }
-    let file = File::open(path).map_err(|e| {
+    File::open(path).map_err(|e| {
         not(format!(
             "cannot open it as HDF5 (truncated or damaged?): {e}"
         ))
-    })?;
+    })
+}
+
+/// Opens `path` and checks its `schema` attribute is `schema`.
+pub(crate) fn open_with_schema(path: &Path, schema: &str) -> Result<File, StoreError> {
+    let not = |why: String| StoreError::NotSquealFile {
+        path: path.to_path_buf(),
+        why,
+    };
+    let file = open_hdf5(path)?;
     match str_attr(&file, "schema") {
-        Ok(s) if s == SCHEMA => Ok(file),
-        Ok(s) => Err(not(format!(
-            "schema is {s:?}, this squeal reads {SCHEMA:?}"
-        ))),
+        Ok(s) if s == schema => Ok(file),
+        Ok(s) => Err(not(format!("schema is {s:?}, expected {schema:?}"))),
         Err(_) => Err(not(
             "an HDF5 file without the `schema` attribute (not written by squeal)".into(),
         )),
@@ -133,11 +164,7 @@ fn join<T: std::fmt::Display>(v: Vec<T>) -> String {
 pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
     let file = open_squeal(path)?;
     (|| -> hdf5::Result<FileInfo> {
-        let mut attrs = Vec::new();
-        for name in file.attr_names()? {
-            let text = attr_text(&file.attr(&name)?)?;
-            attrs.push((name, text));
-        }
+        let attrs = root_attrs_text(&file)?;
         let sweep = sweep_of(&file)?;
         let is_sweep = sweep.is_some();
         let labels = file.dataset("labels")?;
