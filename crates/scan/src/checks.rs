@@ -3,7 +3,7 @@
 //! the file and the CLI prints them; nothing here is a guess about which one is right.
 
 use serde::{Deserialize, Serialize};
-use squeal_core::State;
+use squeal_core::{Regime, State};
 
 use crate::cell::{Audit, Cell};
 use crate::curve::ClosedCurve;
@@ -32,11 +32,12 @@ pub struct AuditCounts {
     pub undecided: u64,
 }
 
-/// The map's label at the grid cell nearest the state at rest `(0, 0)` against what the
-/// cycle says (inside: steady slip, outside: stick-slip).
+/// The map's label at the grid cell nearest the state at rest `(0, 0)` (the operating
+/// point of a machine started from rest) against what the cycle says there (inside: steady
+/// slip, outside: stick-slip).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct OriginCheck {
-    /// Whether the cycle encloses `(0, 0)`.
+    /// Whether the cycle encloses that cell's state.
     pub encloses: bool,
     /// The stored label value of the nearest cell.
     pub label: u8,
@@ -142,7 +143,12 @@ impl MapChecks {
                 v: g.v0.value(row),
             };
             let inside = c.encloses(p);
-            let wrong = (cell.regime == 1 && !inside) || (cell.regime == 2 && inside);
+            let regime = cell.regime();
+            let wrong = match regime {
+                Some(Regime::SteadySlip) => !inside,
+                Some(Regime::StickSlip) => inside,
+                _ => false,
+            };
             if let Some(w) = self.wrong_side.as_mut().filter(|_| wrong) {
                 w.cells += 1;
                 if c.distance_to(p) > diag {
@@ -150,11 +156,10 @@ impl MapChecks {
                 }
             }
             if origin == Some((col, row)) {
-                let encloses = c.encloses(State { x: 0.0, v: 0.0 });
                 self.origin = Some(OriginCheck {
-                    encloses,
+                    encloses: inside,
                     label: cell.regime,
-                    disagrees: (encloses && cell.regime == 2) || (!encloses && cell.regime == 1),
+                    disagrees: wrong,
                 });
             }
         }

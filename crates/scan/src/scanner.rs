@@ -68,15 +68,12 @@ pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
     }
 }
 
-/// About one cell in `2^AUDIT_BITS` (256), chosen by a hash of the cell index so the sample
-/// is spread over the grid and the same in every run, is also run to settlement when the
-/// scan stops early on the cycle.
-pub const AUDIT_BITS: u32 = 8;
-
-/// Whether cell `index` (row-major within its map) is in the audited sample.
-pub fn audited(index: u64) -> bool {
+/// Whether cell `index` (row-major within its map) is in the audited sample of about one
+/// cell in `every` (0: none): chosen by a hash of the index, so the sample is spread over
+/// the grid and the same in every run. Cell 0 is always in it.
+pub fn audited(index: u64, every: u64) -> bool {
     // Fibonacci hashing: the top bits of index * 2^64 / phi are spread evenly.
-    index.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - AUDIT_BITS) == 0
+    every > 0 && (index.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 24) % every == 0
 }
 
 impl MapContext {
@@ -137,7 +134,9 @@ impl MapContext {
         };
         let out = self.classifier.classify(&self.stepper, ic);
         let mut cell = Cell::from(&out);
-        if self.classifier.trap.is_some() && audited((row * g.x0.count + col) as u64) {
+        if self.classifier.trap.is_some()
+            && audited((row * g.x0.count + col) as u64, plan.audit_every)
+        {
             let settle = Classifier {
                 trap: None,
                 ..self.classifier

@@ -25,6 +25,9 @@
 //! settle_rtol = 0.05
 //! early_stop = "cycle"             # cycle (stop once inside/outside the located cycle) | none
 //! trap_margin = 1e-3               # relative band around the cycle left to run on
+//! audit_every = 1024               # with early_stop = "cycle": also run about 1 cell in
+//!                                  # this many to settlement and count (dis)agreements;
+//!                                  # 0 turns the audit off
 //! [cycle]
 //! locate = true                    # locate the unstable cycle, store and draw it
 //! [output]
@@ -178,6 +181,7 @@ struct ClassifierSpec {
     #[serde(default)]
     early_stop: EarlyStop,
     trap_margin: Option<f64>,
+    audit_every: Option<i64>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -237,11 +241,18 @@ pub struct Plan {
     pub early_stop: EarlyStop,
     /// Relative half-width of the band around the cycle where runs go on.
     pub trap_margin: f64,
+    /// With early stopping: about one cell in `audit_every` is also run to settlement
+    /// (classifier without the trap) and the agreement stored; 0: no audit.
+    pub audit_every: u64,
     /// Whether to locate, store and draw the unstable cycle.
     pub locate_cycle: bool,
     /// The output file.
     pub output: PathBuf,
 }
+
+/// Default of `classifier.audit_every`: the audit then costs a few percent of an
+/// early-stopped scan (a cell run to settlement near the cycle can take `t_max`).
+pub const DEFAULT_AUDIT_EVERY: u64 = 1024;
 
 /// Largest count along one grid axis.
 pub const MAX_AXIS: i64 = 1 << 16;
@@ -437,6 +448,14 @@ impl Plan {
                 "a relative margin in (0, 0.5)",
             ));
         }
+        let audit_every = c.audit_every.unwrap_or(DEFAULT_AUDIT_EVERY as i64);
+        if !(0..=1 << 40).contains(&audit_every) {
+            return Err(invalid(
+                "classifier.audit_every",
+                audit_every.to_string(),
+                "0 (no audit) or a sampling interval in 1..=2^40 cells",
+            ));
+        }
         if spec.output.path.as_os_str().is_empty() {
             return Err(invalid(
                 "output.path",
@@ -479,6 +498,7 @@ impl Plan {
             classifier,
             early_stop: c.early_stop,
             trap_margin,
+            audit_every: audit_every as u64,
             locate_cycle: spec.cycle.locate,
             output: spec.output.path.clone(),
         })

@@ -371,6 +371,7 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     num_attr(file, "trap_margin", plan.trap_margin)?;
     num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
     num_attr(file, "block_rows", g.block_rows as u64)?;
+    num_attr(file, "audit_every", plan.audit_every)?;
     if let Some(s) = &meta.shard {
         str_attr(file, "shard", s)?;
     }

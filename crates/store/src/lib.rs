@@ -53,7 +53,7 @@
 //!                        strings (variable-length UTF-8)
 //!   nu, lambda           f64 scalars, except the swept one (then a coordinate, below)
 //!   tau, phi, dt, t_max, fp_radius, settle_rtol, trap_margin      f64
-//!   max_iter, settle_cycles (u32), block_rows (u64), locate_cycle (u8 0/1)
+//!   max_iter, settle_cycles (u32), block_rows, audit_every (u64), locate_cycle (u8 0/1)
 //!   shard                "K/N", only in shard files
 //! coordinates (dimension scales; attrs long_name, units = "1"):
 //!   x0 (nx) f64, v0 (nv) f64, and for sweeps nu or lambda (nmaps) f64
@@ -70,8 +70,8 @@
 //!   t_decision, amplitude, omega, max_residual    f64, fill NaN, units "1"
 //!   quasi_static u8, evaluations u64, fallbacks, multi_root, unconverged u32, fill 0
 //!   audit        u8 enum {not_audited=0, agrees=1, disagrees=2, undecided=3}: the label of
-//!                the same run taken to settlement, on about 1 cell in 256 of early-stopped
-//!                scans
+//!                the same run taken to settlement, on about 1 cell in audit_every
+//!                (spec classifier.audit_every, default 1024) of early-stopped scans
 //! blocks_done    u8 (map|nu|lambda, block): 1 where the block is stored
 //! per map (map|nu|lambda), i64, -1 where not applicable (squeal_scan::checks::CHECK_FIELDS):
 //!   wrong_side_cells, wrong_side_beyond_pixel, audit_cells, audit_agrees,
