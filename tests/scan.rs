@@ -235,6 +235,25 @@ fn shards_merge_into_the_single_run_file() {
             &["scan", "sw.toml", "-o", &name, "--shard", k, "--quiet"],
         ));
     }
+    // A requeued shard that had finished is up to date (SLURM reruns whole tasks)...
+    let again = squeal(
+        d.path(),
+        &[
+            "scan", "sw.toml", "-o", "s1.h5", "--shard", "1/3", "--quiet",
+        ],
+    );
+    ok(&again);
+    assert!(String::from_utf8_lossy(&again.stderr).contains("up to date"));
+    // ...but not as another shard.
+    fails(
+        &squeal(
+            d.path(),
+            &[
+                "scan", "sw.toml", "-o", "s1.h5", "--shard", "2/3", "--quiet",
+            ],
+        ),
+        "--force",
+    );
     fails(
         &squeal(d.path(), &["merge", "s1.h5", "s2.h5", "-o", "m.h5"]),
         "missing shard 3/3",

@@ -131,11 +131,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     let pics = pictures(&out, plan.maps.len());
 
-    // Like make: a finished output of the same parsed spec is up to date.
-    if !args.force && shard.is_none() {
-        match squeal_store::output_state(&out, &plan)? {
+    // Like make: a finished output of the same parsed spec (and shard) is up to date, for
+    // a rerun and for a resume (a requeued job that had finished).
+    if !args.force {
+        match squeal_store::output_state(&out, &plan, shard)? {
             OutputState::Complete => {
-                let drawn = draw_missing(&out, plan.maps.len())?;
+                let drawn = if shard.is_none() {
+                    draw_missing(&out, plan.maps.len())?
+                } else {
+                    Vec::new()
+                };
                 eprintln!(
                     "squeal: {} is up to date (made from the same spec){}",
                     out.display(),
@@ -146,7 +151,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     }
                 );
                 let info = squeal_store::read_info(&out)?;
-                report(&args, &plan, &info, &info.checks, &pics, 0, 0.0)?;
+                let shown = if shard.is_none() { pics } else { Vec::new() };
+                report(&args, &plan, &info, &info.checks, &shown, 0, 0.0)?;
                 return Ok(ExitCode::SUCCESS);
             }
             OutputState::Different(key) if !args.resume => bail!(

@@ -479,14 +479,18 @@ pub enum OutputState {
     Different(String),
 }
 
-/// Looks at `out` for `plan` (without changing anything).
-pub fn output_state(out: &Path, plan: &Plan) -> Result<OutputState, StoreError> {
-    if out.exists() {
+/// Looks at `out` for `shard` of `plan` (without changing anything).
+pub fn output_state(
+    out: &Path,
+    plan: &Plan,
+    shard: Option<Shard>,
+) -> Result<OutputState, StoreError> {
+    if out.exists() && !journal_path(out).exists() {
         let f = read::open_squeal(out)?;
         let spec = read::str_attr(&f, "spec").h5(out)?;
         let name = read::str_attr(&f, "name").h5(out)?;
-        let shard = read::str_attr(&f, "shard").ok();
-        if shard.is_some() {
+        let stored_shard = read::str_attr(&f, "shard").unwrap_or_default();
+        if stored_shard != shard_text(shard) {
             return Ok(OutputState::Different("shard".into()));
         }
         let mut stored = match Plan::from_toml(&spec, &plan.spec_path) {
@@ -500,6 +504,8 @@ pub fn output_state(out: &Path, plan: &Plan) -> Result<OutputState, StoreError> 
         });
     }
     if journal_path(out).exists() {
+        // (A file beside a journal: killed between publishing and removing the journal;
+        // resume cleans that up.)
         return Ok(OutputState::Interrupted);
     }
     Ok(OutputState::Absent)

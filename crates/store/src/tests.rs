@@ -545,11 +545,18 @@ fn a_comment_edit_does_not_block_resume() {
         w.write_block(&block(&p, 0, b)).unwrap();
     }
     w.finish().unwrap();
-    assert_eq!(output_state(&out, &edited).unwrap(), OutputState::Complete);
+    assert_eq!(
+        output_state(&out, &edited, None).unwrap(),
+        OutputState::Complete
+    );
     let other = Plan::from_toml(&SPEC.replace("nu = 1e-3", "nu = 2e-3"), "t.toml").unwrap();
     assert_eq!(
-        output_state(&out, &other).unwrap(),
+        output_state(&out, &other, None).unwrap(),
         OutputState::Different("maps".into())
+    );
+    assert_eq!(
+        output_state(&out, &p, Some(Shard { k: 1, n: 2 })).unwrap(),
+        OutputState::Different("shard".into())
     );
 }
 
