@@ -485,7 +485,9 @@ pub fn output_state(
     plan: &Plan,
     shard: Option<Shard>,
 ) -> Result<OutputState, StoreError> {
-    if out.exists() && !journal_path(out).exists() {
+    // A file is published (renamed into place) only when complete; a journal beside it is
+    // left by a kill between the rename and the journal's removal.
+    if out.exists() {
         let f = read::open_squeal(out)?;
         let spec = read::str_attr(&f, "spec").h5(out)?;
         let name = read::str_attr(&f, "name").h5(out)?;
@@ -504,8 +506,6 @@ pub fn output_state(
         });
     }
     if journal_path(out).exists() {
-        // (A file beside a journal: killed between publishing and removing the journal;
-        // resume cleans that up.)
         return Ok(OutputState::Interrupted);
     }
     Ok(OutputState::Absent)
