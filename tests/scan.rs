@@ -91,11 +91,25 @@ fn tiny_scan_writes_a_self_describing_file() {
     // The state at rest squeals at nu = 1e-3 (paper Fig. 9): x0 = 0 is column 3, v0 = 0 row 3.
     let l: Vec<u8> = labels.read_raw().unwrap();
     assert_eq!(l[3 * 9 + 3], 2);
-    // Output is never overwritten silently.
+    // Output is never overwritten silently: a different spec is refused...
+    spec(
+        d.path(),
+        "other.toml",
+        &TINY.replace("nu = 1e-3", "nu = 2e-3"),
+    );
     fails(
-        &squeal(d.path(), &["scan", "tiny.toml", "--quiet"]),
+        &squeal(
+            d.path(),
+            &["scan", "other.toml", "-o", "tiny.h5", "--quiet"],
+        ),
         "--force",
     );
+    // ...and rerunning the same spec (the README's job, run twice) is up to date, like make.
+    let before = digest(&d.path().join("tiny.h5"));
+    let again = squeal(d.path(), &["scan", "tiny.toml", "--quiet"]);
+    ok(&again);
+    assert!(String::from_utf8_lossy(&again.stderr).contains("up to date"));
+    assert_eq!(digest(&d.path().join("tiny.h5")), before);
     // info and render
     let info = ok(&squeal(d.path(), &["info", "tiny.h5", "--json"]));
     let iv: serde_json::Value = serde_json::from_str(&info).unwrap();
@@ -172,12 +186,24 @@ fn killed_sweep_resumes_to_the_same_file() {
         }
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
+    // While it runs, a second scan or resume of the same output is refused, naming it.
+    let pid = child.id().to_string();
+    for extra in ["--force", "--resume"] {
+        let o = squeal(
+            d.path(),
+            &["scan", "slow.toml", "-o", "cut.h5", "--quiet", extra],
+        );
+        fails(&o, "being written by process");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(&pid));
+    }
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(
         !d.path().join("cut.h5").exists(),
         "an interrupted scan must not look complete"
     );
+    // SIGKILL leaves the lock behind; it is stale (no such process) and taken over below.
+    assert!(d.path().join("cut.h5.lock").exists());
     fails(
         &squeal(d.path(), &["scan", "slow.toml", "-o", "cut.h5", "--quiet"]),
         "--resume",
@@ -209,6 +235,25 @@ fn shards_merge_into_the_single_run_file() {
             &["scan", "sw.toml", "-o", &name, "--shard", k, "--quiet"],
         ));
     }
+    // A requeued shard that had finished is up to date (SLURM reruns whole tasks)...
+    let again = squeal(
+        d.path(),
+        &[
+            "scan", "sw.toml", "-o", "s1.h5", "--shard", "1/3", "--quiet",
+        ],
+    );
+    ok(&again);
+    assert!(String::from_utf8_lossy(&again.stderr).contains("up to date"));
+    // ...but not as another shard.
+    fails(
+        &squeal(
+            d.path(),
+            &[
+                "scan", "sw.toml", "-o", "s1.h5", "--shard", "2/3", "--quiet",
+            ],
+        ),
+        "--force",
+    );
     fails(
         &squeal(d.path(), &["merge", "s1.h5", "s2.h5", "-o", "m.h5"]),
         "missing shard 3/3",
@@ -220,6 +265,16 @@ fn shards_merge_into_the_single_run_file() {
         ),
         "s1.h5",
     );
+    // The output may not be one of the inputs, even with --force.
+    let s1 = std::fs::read(d.path().join("s1.h5")).unwrap();
+    fails(
+        &squeal(
+            d.path(),
+            &["merge", "s1.h5", "s2.h5", "s3.h5", "-o", "s1.h5", "--force"],
+        ),
+        "one of the inputs",
+    );
+    assert_eq!(std::fs::read(d.path().join("s1.h5")).unwrap(), s1);
     ok(&squeal(
         d.path(),
         &["merge", "s1.h5", "s2.h5", "s3.h5", "-o", "m.h5"],
@@ -317,7 +372,7 @@ fn classify_labels_a_csv_of_initial_conditions() {
     ));
     let text = std::fs::read_to_string(d.path().join("l.csv")).unwrap();
     let rows: Vec<&str> = text.lines().collect();
-    assert!(rows[0].starts_with("x0,v0,label,"));
+    assert!(rows[0].starts_with("x0,v0,labels,reason,"));
     assert!(rows[1].contains(",stick_slip,"), "{}", rows[1]);
     assert!(rows[2].contains(",steady_slip,"), "{}", rows[2]);
     assert!(rows[3].contains(",stick_slip,"), "{}", rows[3]);
@@ -367,5 +422,186 @@ fn ulc_and_critical_report_the_paper_findings() {
             &["critical", "--nu-lo", "2e-2", "--nu-hi", "5e-2"],
         ),
         "--nu-lo",
+    );
+}
+
+/// A scan slow enough to interrupt: no early stopping, one thread.
+fn start_slow(dir: &Path, out: &str) -> std::process::Child {
+    let text = TINY
+        .replace("count = 9", "count = 24")
+        .replace("count = 7", "count = 16")
+        .replace("t_max = 3000.0", "t_max = 2000.0\nearly_stop = \"none\"");
+    spec(dir, "slow.toml", &text);
+    let child = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .current_dir(dir)
+        .args(["scan", "slow.toml", "-o", out, "--quiet", "--threads", "1"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let journal = dir.join(format!("{out}.journal"));
+    for _ in 0..1000 {
+        if journal.metadata().map(|m| m.len() > 4096).unwrap_or(false) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    assert!(
+        journal.metadata().map(|m| m.len() > 4096).unwrap_or(false),
+        "no block stored in time"
+    );
+    child
+}
+
+#[test]
+fn sigint_and_sigterm_keep_finished_blocks_and_exit_130() {
+    let d = tempfile::tempdir().unwrap();
+    for (sig, out) in [("-INT", "int.h5"), ("-TERM", "term.h5")] {
+        let child = start_slow(d.path(), out);
+        let stored = std::fs::metadata(d.path().join(format!("{out}.journal")))
+            .unwrap()
+            .len();
+        let st = Command::new("kill")
+            .args([sig, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let o = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(130), "{sig}: {err}");
+        assert!(err.contains("--resume"), "{sig}: {err}");
+        assert!(!d.path().join(out).exists());
+        // The blocks stored before the signal are still in the journal, and the lock is gone.
+        let kept = std::fs::metadata(d.path().join(format!("{out}.journal")))
+            .unwrap()
+            .len();
+        assert!(kept >= stored, "{sig}: {kept} < {stored}");
+        assert!(!d.path().join(format!("{out}.lock")).exists(), "{sig}");
+    }
+}
+
+#[test]
+fn bad_specs_are_refused_before_any_computing() {
+    let d = tempfile::tempdir().unwrap();
+    // A NUL in the name used to pass, compute everything, and fail at the final write.
+    spec(
+        d.path(),
+        "nul.toml",
+        &TINY.replace("version = 1", "version = 1\nname = \"a\\u0000b\""),
+    );
+    fails(&squeal(d.path(), &["scan", "nul.toml"]), "`name`");
+    assert!(!d.path().join("tiny.h5.journal").exists());
+    // A word where a number belongs says which key and what is accepted.
+    spec(
+        d.path(),
+        "word.toml",
+        &TINY.replace("nu = 1e-3", "nu = \"small\""),
+    );
+    let o = squeal(d.path(), &["scan", "word.toml"]);
+    fails(&o, "a list of numbers");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("nu = \"small\""));
+    // A 6.7e11-cell sweep is refused with the estimate, before any file appears.
+    spec(
+        d.path(),
+        "huge.toml",
+        &TINY
+            .replace(
+                "nu = 1e-3",
+                "nu = { from = 1e-3, to = 1e-2, count = 10000 }",
+            )
+            .replace("count = 9", "count = 8192")
+            .replace("count = 7", "count = 8192"),
+    );
+    fails(&squeal(d.path(), &["scan", "huge.toml"]), "--allow-long");
+    assert!(!d.path().join("tiny.h5.journal").exists());
+}
+
+#[test]
+fn a_finished_scan_redraws_a_missing_picture() {
+    let d = tempfile::tempdir().unwrap();
+    spec(d.path(), "tiny.toml", TINY);
+    ok(&squeal(d.path(), &["scan", "tiny.toml", "--quiet"]));
+    let png = d.path().join("tiny.png");
+    // Killed after the file appeared, before the picture: resume draws it.
+    std::fs::remove_file(&png).unwrap();
+    ok(&squeal(
+        d.path(),
+        &["scan", "tiny.toml", "--quiet", "--resume"],
+    ));
+    assert!(png.exists());
+    // So does a plain rerun; and a comment-only edit of the spec is still up to date.
+    std::fs::remove_file(&png).unwrap();
+    spec(d.path(), "tiny.toml", &format!("# the same scan\n{TINY}"));
+    let o = squeal(d.path(), &["scan", "tiny.toml", "--quiet"]);
+    ok(&o);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("up to date"));
+    assert!(png.exists());
+}
+
+#[test]
+fn files_and_messages_are_plain() {
+    let d = tempfile::tempdir().unwrap();
+    spec(d.path(), "tiny.toml", TINY);
+    ok(&squeal(d.path(), &["scan", "tiny.toml", "--quiet"]));
+    let info = ok(&squeal(d.path(), &["info", "tiny.h5"]));
+    assert!(info.contains("x0 9 values in [-3, 5]"), "{info}");
+    assert!(!info.contains("Some("), "{info}");
+    // The audit of early stopping against runs to settlement is in the file and the summary.
+    let j: serde_json::Value =
+        serde_json::from_str(&ok(&squeal(d.path(), &["info", "tiny.h5", "--json"]))).unwrap();
+    let c = &j["checks"][0];
+    let n = c["audit_cells"].as_i64().unwrap();
+    assert!(n >= 1, "{c}");
+    assert_eq!(
+        c["audit_agrees"].as_i64().unwrap()
+            + c["audit_disagrees"].as_i64().unwrap()
+            + c["audit_undecided"].as_i64().unwrap(),
+        n
+    );
+    assert!(c["wrong_side_cells"].as_i64().unwrap() >= 0);
+    assert!(info.contains("audit (run to settlement)"), "{info}");
+    let f = hdf5::File::open(d.path().join("tiny.h5")).unwrap();
+    let reason = f.dataset("reason").unwrap();
+    assert!(reason.attr("flag_values").is_ok() && reason.attr("flag_meanings").is_ok());
+    for v in ["t_decision", "amplitude", "omega"] {
+        let ds = f.dataset(v).unwrap();
+        assert!(
+            ds.attr("units").is_ok() && ds.attr("long_name").is_ok(),
+            "{v}"
+        );
+        assert!(ds.attr("dimensions").is_err(), "{v}");
+    }
+    // An error's cause is printed once.
+    let o = squeal(d.path(), &["info", "absent.h5"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("os error 2").count(), 1, "{err}");
+    // classify does not write CSV into a .h5 name.
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0,0\n").unwrap();
+    fails(
+        &squeal(d.path(), &["classify", "--ics", "ics.csv", "--out", "o.h5"]),
+        ".csv",
+    );
+    assert!(!d.path().join("o.h5").exists());
+}
+
+#[test]
+fn trajectory_files_describe_themselves_and_info_reads_them() {
+    let d = tempfile::tempdir().unwrap();
+    ok(&squeal(
+        d.path(),
+        &["trajectory", "--t-end", "5", "--out", "traj.h5"],
+    ));
+    let f = hdf5::File::open(d.path().join("traj.h5")).unwrap();
+    let t = f.dataset("t").unwrap();
+    // t is a dimension scale (a coordinate) and x is attached to it.
+    assert!(t.attr("CLASS").is_ok() && t.attr("units").is_ok());
+    let x = f.dataset("x").unwrap();
+    assert!(x.attr("DIMENSION_LIST").is_ok() && x.attr("units").is_ok());
+    for a in ["schema", "squeal_version", "nu", "lambda", "dt", "law"] {
+        assert!(f.attr(a).is_ok(), "{a}");
+    }
+    let info = ok(&squeal(d.path(), &["info", "traj.h5"]));
+    assert!(
+        info.contains("trajectory") && info.contains("t in [0, "),
+        "{info}"
     );
 }

@@ -78,6 +78,12 @@ fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<State>> {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
     let ics = read_ics(&args.ics)?;
+    if args.out.extension().is_some_and(|e| e == "h5") {
+        bail!(
+            "--out {}: classify writes CSV text; use a name ending in .csv (an .h5 name would hold CSV)",
+            args.out.display()
+        );
+    }
     common::check_new(&args.out, args.force, "labels")?;
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
     let outcomes: Vec<_> = ics
@@ -88,31 +94,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         std::fs::File::create(&args.out)
             .with_context(|| format!("creating {}", args.out.display()))?,
     );
-    writeln!(
-        w,
-        "x0,v0,label,reason,t_decision,amplitude,omega,quasi_static,evaluations,fallbacks,multi_root,unconverged,max_residual"
-    )?;
+    // The columns are the scan file's (squeal_scan::cell::COLUMNS), in the same order.
+    let header: Vec<&str> = squeal_scan::COLUMNS.iter().map(|c| c.name).collect();
+    writeln!(w, "x0,v0,{}", header.join(","))?;
     let mut counts = [0usize; 3];
     for (ic, o) in ics.iter().zip(&outcomes) {
         counts[o.regime as usize] += 1;
-        let s = &o.stats;
-        writeln!(
-            w,
-            "{:?},{:?},{},{},{},{},{},{},{},{},{},{},{:e}",
-            ic.x,
-            ic.v,
-            o.regime.name(),
-            o.reason.name(),
-            o.t_decision,
-            o.amplitude,
-            o.omega,
-            o.quasi_static as u8,
-            s.evaluations,
-            s.bisections + s.expansions,
-            s.multi_root,
-            s.unconverged + s.failures + s.discontinuities,
-            o.max_residual
-        )?;
+        let cell = squeal_scan::Cell::from(o);
+        let cols: Vec<String> = squeal_scan::COLUMNS.iter().map(|c| c.text(&cell)).collect();
+        writeln!(w, "{:?},{:?},{}", ic.x, ic.v, cols.join(","))?;
     }
     w.flush()?;
     eprintln!(

@@ -58,7 +58,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         args.nu_lo,
         args.nu_hi,
         args.rtol,
-    )?;
+    )
+    .map_err(|e| {
+        let bracket = matches!(e, squeal_scan::ScanError::Bracket { .. });
+        let e = anyhow::Error::new(e);
+        if bracket {
+            e.context("--nu-lo / --nu-hi")
+        } else {
+            e
+        }
+    })?;
     let seconds = t0.elapsed().as_secs_f64();
     if args.json {
         let mut v = serde_json::to_value(&rep)?;

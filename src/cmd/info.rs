@@ -15,6 +15,11 @@ pub struct Args {
 
 /// Prints the file's description.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    if squeal_store::file_schema(&args.file).ok().as_deref()
+        == Some(squeal_store::TRAJECTORY_SCHEMA)
+    {
+        return trajectory(&args);
+    }
     let info = squeal_store::read_info(&args.file)?;
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
     if args.json {
@@ -45,6 +50,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
             "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
             "counts": counts,
+            "checks": info.checks.iter().map(|c| {
+                squeal_scan::checks::CHECK_FIELDS
+                    .iter()
+                    .zip(c)
+                    .map(|((n, _), v)| ((*n).to_string(), (*v).into()))
+                    .collect::<serde_json::Map<_, _>>()
+            }).collect::<Vec<_>>(),
+            "no_cycle": info.no_cycle,
             "shard": info.shard,
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -62,15 +75,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             println!("  {k} = {v}");
         }
     }
-    println!(
-        "  grid: x0 {} values in [{:?}, {:?}], v0 {} values in [{:?}, {:?}]",
-        info.x0.len(),
-        info.x0.first(),
-        info.x0.last(),
-        info.v0.len(),
-        info.v0.first(),
-        info.v0.last()
-    );
+    let range = |a: &[f64]| match (a.first(), a.last()) {
+        (Some(lo), Some(hi)) => format!("{} values in [{lo}, {hi}]", a.len()),
+        _ => "no values".to_string(),
+    };
+    println!("  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0));
     for (i, c) in info.counts.iter().enumerate() {
         let label = info
             .sweep
@@ -80,9 +89,51 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
             c[0], c[1], c[2], c[3]
         );
+        if let Some(Some(why)) = info.no_cycle.get(i) {
+            println!("    no unstable cycle: {why}");
+        }
+        for w in info
+            .checks
+            .get(i)
+            .map(|c| super::scan::check_words(c))
+            .unwrap_or_default()
+        {
+            println!("    {w}");
+        }
     }
     if let Some(s) = &info.shard {
         println!("  shard {s} (join the shards with squeal merge)");
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A trajectory file of `squeal trajectory --out X.h5`.
+fn trajectory(args: &Args) -> anyhow::Result<ExitCode> {
+    let t = squeal_store::read_trajectory_info(&args.file)?;
+    if args.json {
+        let attrs: serde_json::Map<String, serde_json::Value> = t
+            .attrs
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone().into()))
+            .collect();
+        let v = serde_json::json!({
+            "path": args.file,
+            "attributes": attrs,
+            "samples": t.samples,
+            "t": t.t_range.map(|(a, b)| [a, b]),
+            "variables": t.variables,
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("{} (trajectory)", args.file.display());
+    for (k, v) in &t.attrs {
+        println!("  {k} = {v}");
+    }
+    match t.t_range {
+        Some((a, b)) => println!("  {} samples, t in [{a}, {b}]", t.samples),
+        None => println!("  no samples"),
+    }
+    println!("  variables over t: {}", t.variables.join(", "));
     Ok(ExitCode::SUCCESS)
 }

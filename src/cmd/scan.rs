@@ -1,6 +1,15 @@
 //! `squeal scan SPEC.toml`: the basin map(s) of a spec into an HDF5 file and a PNG.
+//!
+//! Wiring only: the driver is [`squeal_scan::drive`], the sink the store's [`ScanWriter`];
+//! here are the flags, the progress bars, the signals and the report.
+//!
+//! Like make, a rerun of a finished scan from the same (parsed) spec does nothing but
+//! draw a missing picture and print the summary; a different spec is refused.
+//!
+//! Exit codes: 0 done (or already up to date), 2 error, 130 interrupted by SIGINT or
+//! SIGTERM (the finished blocks are kept; `--resume` finishes the scan).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -8,11 +17,16 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-use squeal_scan::Plan;
-use squeal_scan::scanner::{MapContext, Observer, run_block};
-use squeal_store::{ScanWriter, Shard, shard_owns};
+use squeal_scan::{Observer, Pending, Plan, Shard, drive};
+use squeal_store::{OutputState, ScanWriter};
 
 use super::common;
+
+/// Exit code of a scan stopped by SIGINT or SIGTERM: resumable with `--resume`.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Estimated run times above this (seconds) need `--allow-long`.
+const LONG_SCAN: f64 = 30.0 * 86_400.0;
 
 /// Flags of `squeal scan`.
 #[derive(clap::Args, Debug)]
@@ -31,7 +45,7 @@ pub struct Args {
     /// Overwrite an existing output (and discard an interrupted scan).
     #[arg(long)]
     pub force: bool,
-    /// No progress bar.
+    /// No progress bar and no work estimate.
     #[arg(long)]
     pub quiet: bool,
     /// Run only shard K of N (1-based): its own file, joined later by `squeal merge`.
@@ -40,20 +54,55 @@ pub struct Args {
     /// Print the summary as one JSON object.
     #[arg(long)]
     pub json: bool,
+    /// Start a scan estimated to take more than 30 days.
+    #[arg(long)]
+    pub allow_long: bool,
 }
 
 struct Bars {
     overall: ProgressBar,
-    map: Option<ProgressBar>,
+    maps: Vec<ProgressBar>,
 }
 
 impl Observer for Bars {
-    fn cell_done(&self) {
+    fn cell_done(&self, map: usize) {
         self.overall.inc(1);
-        if let Some(m) = &self.map {
+        if let Some(m) = self.maps.get(map) {
             m.inc(1);
         }
     }
+}
+
+/// The pictures a finished scan file has: the map (or sheet) and, for sweeps, the cycle chart.
+fn pictures(out: &Path, maps: usize) -> Vec<PathBuf> {
+    let png = common::sibling(out, "", "png");
+    let mut v = vec![png.clone()];
+    if maps > 1 {
+        v.push(common::sibling(&png, "-cycle", "png"));
+    }
+    v
+}
+
+/// Draws the pictures of a finished file if any is missing; returns those drawn.
+fn draw_missing(out: &Path, maps: usize) -> anyhow::Result<Vec<PathBuf>> {
+    let pics = pictures(out, maps);
+    if pics.iter().all(|p| p.exists()) {
+        return Ok(Vec::new());
+    }
+    common::render_file(out, &pics[0], true)
+}
+
+fn install_signals(stop: &Arc<AtomicBool>) -> anyhow::Result<()> {
+    let stop = stop.clone();
+    // The "termination" feature of ctrlc routes SIGTERM (SLURM's time limit and
+    // preemption) and SIGHUP here as well as SIGINT.
+    ctrlc::set_handler(move || {
+        if stop.swap(true, Ordering::SeqCst) {
+            std::process::exit(EXIT_INTERRUPTED.into());
+        }
+        eprintln!("\nsqueal: stopping after the blocks in flight (signal again to quit at once)");
+    })
+    .context("installing the SIGINT/SIGTERM handler")
 }
 
 /// Runs the scan.
@@ -80,13 +129,41 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .build_global()
             .context("--threads")?;
     }
-    let png = common::sibling(&out, "", "png");
-    let mut pictures = vec![png.clone()];
-    if plan.maps.len() > 1 {
-        pictures.push(common::sibling(&png, "-cycle", "png"));
+    let pics = pictures(&out, plan.maps.len());
+
+    // Like make: a finished output of the same parsed spec (and shard) is up to date, for
+    // a rerun and for a resume (a requeued job that had finished).
+    if !args.force {
+        match squeal_store::output_state(&out, &plan, shard)? {
+            OutputState::Complete => {
+                let drawn = if shard.is_none() {
+                    draw_missing(&out, plan.maps.len())?
+                } else {
+                    Vec::new()
+                };
+                eprintln!(
+                    "squeal: {} is up to date (made from the same spec){}",
+                    out.display(),
+                    if drawn.is_empty() {
+                        String::new()
+                    } else {
+                        "; drew the missing picture".into()
+                    }
+                );
+                let info = squeal_store::read_info(&out)?;
+                let shown = if shard.is_none() { pics } else { Vec::new() };
+                report(&args, &plan, &info, &info.checks, &shown, 0, 0.0)?;
+                return Ok(ExitCode::SUCCESS);
+            }
+            OutputState::Different(key) if !args.resume => bail!(
+                "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output",
+                out.display()
+            ),
+            _ => {}
+        }
     }
     if shard.is_none() && !args.resume {
-        for p in &pictures {
+        for p in &pics {
             common::check_new(p, args.force, "picture of the scan")?;
         }
     }
@@ -94,35 +171,40 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("creating the output folder {}", dir.display()))?;
     }
+    // The work, estimated before anything is created or computed.
+    let threads = rayon::current_num_threads();
+    let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default()).cells;
+    let estimate = plan.estimate_seconds(owned, threads);
+    if estimate > LONG_SCAN && !args.allow_long {
+        bail!(
+            "{owned} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            duration(estimate)
+        );
+    }
     let prov = common::provenance();
     let mut writer = if args.resume {
         ScanWriter::resume(&out, &plan, shard, &prov)?
     } else {
         ScanWriter::create(&out, &plan, shard, &prov, args.force)?
     };
+    let plan = writer.plan().clone();
 
     let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!(
-                "\nsqueal: stopping after the blocks in flight (Ctrl-C again to quit at once)"
-            );
-        })
-        .context("installing the Ctrl-C handler")?;
+    install_signals(&stop)?;
+
+    let pending = Pending::of(&plan, shard, &writer);
+    if !args.quiet {
+        eprintln!(
+            "squeal: {} cells to compute ({} map(s) of {} x {}{}) on {threads} thread(s): roughly {} at the documented rate (BENCHMARKS.md)",
+            pending.cells,
+            plan.maps.len(),
+            plan.grid.x0.count,
+            plan.grid.v0.count,
+            shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
+            duration(plan.estimate_seconds(pending.cells, threads))
+        );
     }
 
-    let g = plan.grid;
-    let nb = g.blocks();
-    let owned = |m: usize, b: usize| shard_owns(shard, &plan, m, b);
-    let todo_cells: usize = (0..plan.maps.len())
-        .flat_map(|m| (0..nb).map(move |b| (m, b)))
-        .filter(|&(m, b)| owned(m, b) && !writer.is_done(m, b))
-        .map(|(_, b)| g.block_rows(b).len() * g.x0.count)
-        .sum();
     let multi = MultiProgress::with_draw_target(if common::show_progress(args.quiet) {
         ProgressDrawTarget::stderr()
     } else {
@@ -134,72 +216,49 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     .expect("static template")
     .progress_chars("=> ");
     let overall = multi.add(
-        ProgressBar::new(todo_cells as u64)
+        ProgressBar::new(pending.cells as u64)
             .with_style(style.clone())
             .with_prefix("all"),
     );
-    let sweep = plan.maps.len() > 1;
+    let maps = if plan.maps.len() > 1 {
+        (0..plan.maps.len())
+            .map(|m| {
+                let label = plan
+                    .sweep
+                    .as_ref()
+                    .map_or(String::new(), |s| format!("{}={:.3e}", s.name, s.values[m]));
+                let n = pending.cells_of(&plan, m) as u64;
+                if n == 0 {
+                    ProgressBar::hidden()
+                } else {
+                    multi.add(
+                        ProgressBar::new(n)
+                            .with_style(style.clone())
+                            .with_prefix(label),
+                    )
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let bars = Bars { overall, maps };
 
     let started = Instant::now();
-    let mut computed = 0usize;
-    let mut interrupted = false;
-    'maps: for m in 0..plan.maps.len() {
-        let blocks: Vec<usize> = (0..nb)
-            .filter(|&b| owned(m, b) && !writer.is_done(m, b))
-            .collect();
-        if blocks.is_empty() && writer.has_cycle(m) {
-            continue;
-        }
-        let ctx = MapContext::prepare(&plan, m)?;
-        if !writer.has_cycle(m) {
-            writer.write_cycle(m, ctx.cycle.as_ref(), ctx.cycle_error.as_deref())?;
-        }
-        let map_bar = sweep.then(|| {
-            let n: usize = blocks
-                .iter()
-                .map(|&b| g.block_rows(b).len() * g.x0.count)
-                .sum();
-            let label = plan
-                .sweep
-                .as_ref()
-                .map_or(String::new(), |s| format!("{}={:.3e}", s.name, s.values[m]));
-            multi.add(
-                ProgressBar::new(n as u64)
-                    .with_style(style.clone())
-                    .with_prefix(label),
-            )
-        });
-        let bars = Bars {
-            overall: overall.clone(),
-            map: map_bar,
-        };
-        for &b in &blocks {
-            if stop.load(Ordering::SeqCst) {
-                interrupted = true;
-                break 'maps;
-            }
-            match run_block(&plan, &ctx, b, &bars, Some(&stop)) {
-                Some(r) => {
-                    computed += r.cells.len();
-                    writer.write_block(&r)?;
-                }
-                None => {
-                    interrupted = true;
-                    break 'maps;
-                }
-            }
-        }
-        if let Some(mb) = bars.map {
-            mb.finish_and_clear();
-        }
+    let done = drive(&plan, shard, &mut writer, &bars, &stop).map_err(|e| match e {
+        squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
+        squeal_scan::DriveError::Sink(e) => anyhow::Error::new(e),
+    })?;
+    for b in &bars.maps {
+        b.finish_and_clear();
     }
-    overall.finish_and_clear();
+    bars.overall.finish_and_clear();
     let secs = started.elapsed().as_secs_f64();
-    if interrupted {
+    if done.interrupted {
         eprintln!(
             "squeal: interrupted; {} of {} blocks are stored. Finish with: squeal scan {} -o {} --resume{}",
             writer.done_blocks(),
-            plan.total_blocks(),
+            writer.owned_blocks(),
             args.spec.display(),
             out.display(),
             args.shard
@@ -207,24 +266,81 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 .map(|s| format!(" --shard {s}"))
                 .unwrap_or_default()
         );
-        return Ok(ExitCode::from(130));
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
-    let wrong = writer.finish()?;
+    let checks: Vec<Vec<i64>> = writer
+        .finish()?
+        .iter()
+        .map(|c| c.values().to_vec())
+        .collect();
     let written = if shard.is_none() {
-        common::render_file(&out, &png, true)?
+        common::render_file(&out, &pics[0], true)?
     } else {
         Vec::new()
     };
     let info = squeal_store::read_info(&out)?;
-    report(&args, &plan, &info, &wrong, &written, computed, secs)?;
+    report(&args, &plan, &info, &checks, &written, done.cells, secs)?;
     Ok(ExitCode::SUCCESS)
+}
+
+fn duration(secs: f64) -> String {
+    if secs < 120.0 {
+        format!("{secs:.0} s")
+    } else if secs < 7200.0 {
+        format!("{:.0} min", secs / 60.0)
+    } else if secs < 2.0 * 86_400.0 {
+        format!("{:.1} h", secs / 3600.0)
+    } else {
+        format!("{:.0} days", secs / 86_400.0)
+    }
+}
+
+/// One line per check that found something, in words.
+pub fn check_words(values: &[i64]) -> Vec<String> {
+    let v = |name: &str| {
+        squeal_scan::checks::CHECK_FIELDS
+            .iter()
+            .position(|(n, _)| *n == name)
+            .and_then(|i| values.get(i).copied())
+            .unwrap_or(-1)
+    };
+    let mut out = Vec::new();
+    if v("wrong_side_cells") >= 0 {
+        out.push(format!(
+            "wrong side of cycle: {} ({} beyond a pixel)",
+            v("wrong_side_cells"),
+            v("wrong_side_beyond_pixel")
+        ));
+    }
+    if v("audit_cells") > 0 {
+        out.push(format!(
+            "audit (run to settlement) of {} cells: {} agree, {} disagree, {} undecided",
+            v("audit_cells"),
+            v("audit_agrees"),
+            v("audit_disagrees"),
+            v("audit_undecided")
+        ));
+    }
+    if v("origin_disagrees") == 1 {
+        out.push(
+            "DISAGREEMENT: the label at (0, 0) contradicts whether the cycle encloses (0, 0)"
+                .into(),
+        );
+    }
+    if v("audit_disagrees") > 0 {
+        out.push(
+            "DISAGREEMENT: the early-stopping rule and runs to settlement label some cells differently"
+                .into(),
+        );
+    }
+    out
 }
 
 fn report(
     args: &Args,
     plan: &Plan,
     info: &squeal_store::FileInfo,
-    wrong: &[Option<squeal_store::WrongSide>],
+    checks: &[Vec<i64>],
     pictures: &[PathBuf],
     computed: usize,
     secs: f64,
@@ -244,10 +360,18 @@ fn report(
                 for (k, n) in names.iter().zip(c) {
                     o.insert((*k).into(), (*n).into());
                 }
-                o.insert(
-                    "wrong_side".into(),
-                    serde_json::to_value(wrong.get(i).copied().flatten())?,
-                );
+                let vals = checks.get(i).cloned().unwrap_or_default();
+                let ws = (vals.first().copied().unwrap_or(-1) >= 0)
+                    .then(|| serde_json::json!({"cells": vals[0], "beyond_pixel": vals[1]}));
+                o.insert("wrong_side".into(), serde_json::to_value(ws)?);
+                let mut ck = serde_json::Map::new();
+                for ((name, _), v) in squeal_scan::checks::CHECK_FIELDS.iter().zip(&vals) {
+                    ck.insert((*name).into(), (*v).into());
+                }
+                o.insert("checks".into(), ck.into());
+                if let Some(Some(why)) = info.no_cycle.get(i) {
+                    o.insert("no_cycle".into(), why.clone().into());
+                }
                 Ok(serde_json::Value::Object(o))
             })
             .collect::<anyhow::Result<_>>()?;
@@ -282,15 +406,17 @@ fn report(
         if c[3] > 0 {
             line += &format!("  not_computed {}", c[3]);
         }
-        if let Some(Some(w)) = wrong.get(i) {
-            line += &format!(
-                "  wrong side of cycle: {} ({} beyond a pixel)",
-                w.cells, w.beyond_pixel
-            );
-        }
         println!("{line}");
+        if let Some(Some(why)) = info.no_cycle.get(i) {
+            println!("    no unstable cycle: {why}");
+        }
+        for w in checks.get(i).map(|c| check_words(c)).unwrap_or_default() {
+            println!("    {w}");
+        }
     }
-    println!("  {computed} cells in {secs:.2} s: {rate:.0} cells/s");
+    if computed > 0 {
+        println!("  {computed} cells in {secs:.2} s: {rate:.0} cells/s");
+    }
     for p in pictures {
         println!("  picture: {}", p.display());
     }

@@ -382,55 +382,36 @@ fn write_csv(path: &Path, cols: &Columns, force: bool) -> anyhow::Result<()> {
 }
 
 fn write_h5(path: &Path, cols: &Columns, rp: &RunParams, force: bool) -> anyhow::Result<()> {
-    use hdf5::types::VarLenUnicode;
-    let file = if force {
-        hdf5::File::create(path)?
-    } else {
-        hdf5::File::create_excl(path)?
+    // Self-describing: t is the coordinate, every variable has units and a long name,
+    // the run's settings and provenance are root attributes (squeal-store's trajectory
+    // schema), and `squeal info` reads it back.
+    let attrs = squeal_store::RunAttrs {
+        text: vec![("law", rp.law), ("solver", rp.solver)],
+        numbers: vec![
+            ("nu", rp.nu),
+            ("lambda", rp.lambda),
+            ("tau", rp.tau),
+            ("phi", rp.phi),
+            ("dt", rp.dt),
+            ("x0", rp.x0),
+            ("v0", rp.v0),
+            ("t_end", rp.t_end),
+        ],
+        counts: vec![("every", rp.every)],
     };
-    for (name, data) in [
-        ("t", &cols.t),
-        ("x", &cols.x),
-        ("v", &cols.v),
-        ("a", &cols.a),
-        ("force", &cols.force),
-    ] {
-        file.new_dataset_builder()
-            .with_data(data.as_slice())
-            .create(name)
-            .with_context(|| format!("dataset {name}"))?;
-    }
-    let text = |name: &str, value: &str| -> anyhow::Result<()> {
-        let value: VarLenUnicode = value.parse().with_context(|| format!("attribute {name}"))?;
-        file.new_attr::<VarLenUnicode>()
-            .shape(())
-            .create(name)?
-            .write_scalar(&value)?;
-        Ok(())
-    };
-    text("squeal_version", env!("CARGO_PKG_VERSION"))?;
-    text("law", rp.law)?;
-    text("solver", rp.solver)?;
-    for (name, value) in [
-        ("nu", rp.nu),
-        ("lambda", rp.lambda),
-        ("tau", rp.tau),
-        ("phi", rp.phi),
-        ("dt", rp.dt),
-        ("x0", rp.x0),
-        ("v0", rp.v0),
-        ("t_end", rp.t_end),
-    ] {
-        file.new_attr::<f64>()
-            .shape(())
-            .create(name)?
-            .write_scalar(&value)?;
-    }
-    file.new_attr::<u64>()
-        .shape(())
-        .create("every")?
-        .write_scalar(&rp.every)?;
-    file.close()?;
+    squeal_store::write_trajectory(
+        path,
+        force,
+        &super::common::provenance(),
+        &attrs,
+        &cols.t,
+        &[
+            ("x", "displacement x (nondimensional)", &cols.x),
+            ("v", "velocity x' (nondimensional)", &cols.v),
+            ("a", "acceleration x'' (nondimensional)", &cols.a),
+            ("force", "friction force F (nondimensional)", &cols.force),
+        ],
+    )?;
     Ok(())
 }
 

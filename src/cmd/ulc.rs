@@ -84,8 +84,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     if let Some(p) = &args.plot {
         let fp = params.fixed_point();
-        let mut xs = rep.curve_x.clone();
-        let mut vs = rep.curve_v.clone();
+        let mut xs = rep.curve.x.clone();
+        let mut vs = rep.curve.v.clone();
         xs.push(xs[0]);
         vs.push(vs[0]);
         let curve = Curve {

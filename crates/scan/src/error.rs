@@ -1,4 +1,43 @@
-//! Errors of spec handling, scanning and limit-cycle location.
+//! Errors of spec handling, scanning and limit-cycle location, in the model's terms.
+
+use serde::{Deserialize, Serialize};
+
+/// Why no unstable limit cycle was located (a result about the model, not a failure of the
+/// program: the scan stores it beside the map).
+#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum NoCycle {
+    /// `D(r) = P(r) - r < 0` at every sampled amplitude: no unstable cycle below `r_max`,
+    /// every start inside it decays to steady slip.
+    #[error(
+        "the return map decays at every sampled section amplitude up to r = {r_max} (nu = {nu}): no unstable cycle, no squeal below it"
+    )]
+    Decays {
+        /// Largest amplitude sampled.
+        r_max: f64,
+        /// Damping of the model.
+        nu: f64,
+    },
+    /// `D > 0` already at `r_min`: the steady-slip fixed point repels.
+    #[error(
+        "the return map grows already at r = {r_min} (nu = {nu}): the steady-slip fixed point repels"
+    )]
+    FixedPointRepels {
+        /// Smallest amplitude sampled.
+        r_min: f64,
+        /// Damping of the model.
+        nu: f64,
+    },
+    /// The run from the bisected crossing did not come back to the section.
+    #[error("the run from the section amplitude r = {r} did not return within t = {t_return}")]
+    NoReturn {
+        /// The crossing.
+        r: f64,
+        /// Time allowed.
+        t_return: f64,
+    },
+}
 
 /// What the scan crate refuses or could not do.
 #[derive(Debug, thiserror::Error)]
@@ -7,23 +46,82 @@ pub enum ScanError {
     /// The spec is not valid TOML or does not match the schema (the message has the line,
     /// column and key from the TOML parser).
     #[error("{path}: {message}")]
-    Parse { path: String, message: String },
+    Parse {
+        /// The spec file.
+        path: String,
+        /// What the parser said.
+        message: String,
+    },
     /// A key has a value out of range.
     #[error("{path}: `{key}` = {value}: {expected}")]
     Invalid {
+        /// The spec file.
         path: String,
+        /// The TOML key.
         key: String,
+        /// The value given.
         value: String,
+        /// What is accepted.
         expected: String,
     },
+    /// The model or step were refused by the core crate.
+    #[error(transparent)]
+    Model(#[from] squeal_core::CoreError),
     /// The limit cycle could not be located.
     #[error("unstable limit cycle not found: {0}")]
-    NoCycle(String),
+    NoCycle(NoCycle),
     /// `squeal critical` has nothing to bisect (the point is the fixed point, or there is
     /// no unstable cycle at the low end of the bracket).
     #[error("no critical damping: {0}")]
     NoCriticalDamping(String),
-    /// A bad `--shard K/N`.
-    #[error("--shard {0}: expected K/N with 1 <= K <= N")]
+    /// The ray check of a located cycle cannot be run as asked.
+    #[error("ray verification: {0}")]
+    RayCheck(String),
+    /// A shard that is not `K/N` with `1 <= K <= N`.
+    #[error("bad shard {0:?}: expected K/N with 1 <= K <= N, e.g. 2/4")]
     Shard(String),
+    /// The curve of the cycle does not meet a ray from the fixed point.
+    #[error("the cycle's curve does not cross the ray at angle {angle} rad from the fixed point")]
+    RayMissesCurve {
+        /// Angle from `+x`.
+        angle: f64,
+    },
+    /// A damping bracket that does not straddle the critical damping.
+    #[error(
+        "damping bracket [{nu_lo}, {nu_hi}] for ({x}, {v}): {}",
+        match problem {
+            BracketProblem::Order => "need 0 < lower bound < upper bound",
+            BracketProblem::EnclosedAtLow => "the cycle already encloses the point at the lower bound: lower it",
+            BracketProblem::NotEnclosedAtHigh => "the cycle does not enclose the point yet at the upper bound: raise it",
+        }
+    )]
+    Bracket {
+        /// Lower damping.
+        nu_lo: f64,
+        /// Upper damping.
+        nu_hi: f64,
+        /// The point to be enclosed, `x`.
+        x: f64,
+        /// The point to be enclosed, `x'`.
+        v: f64,
+        /// What is wrong with the bracket.
+        problem: BracketProblem,
+    },
+}
+
+/// What is wrong with a damping bracket of [`crate::ulc::critical_nu`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BracketProblem {
+    /// Not `0 < nu_lo < nu_hi < inf`.
+    Order,
+    /// Enclosed already at `nu_lo`.
+    EnclosedAtLow,
+    /// Not enclosed at `nu_hi`.
+    NotEnclosedAtHigh,
+}
+
+impl From<NoCycle> for ScanError {
+    fn from(e: NoCycle) -> ScanError {
+        ScanError::NoCycle(e)
+    }
 }

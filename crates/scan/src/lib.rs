@@ -2,13 +2,21 @@
 //!
 //! * [`spec`]: the TOML scan spec (versioned, unknown keys rejected) and its checked [`Plan`].
 //! * [`grid`]: the grid of initial conditions `(x0, v0)` and its blocks.
-//! * [`scanner`]: the rayon-parallel loop over cells, one [`squeal_core::Classifier`] run per
-//!   cell, collected by index so the result depends only on the plan and the cell.
+//! * [`cell`]: one classified [`Cell`] and [`cell::COLUMNS`], the one table of its stored
+//!   columns (name, long name, units, type, fill) that every writer and reader follows.
+//! * [`scanner`]: a map's preparation ([`scanner::MapContext`]: the section searched once,
+//!   the trap and the located cycle) and one block of cells, classified in parallel.
+//! * [`driver`]: [`drive`] runs every pending `(map, block)` pair of a plan on the rayon
+//!   pool and hands finished work to a [`Sink`] on one thread; an [`Observer`] sees progress.
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
-//!   on `x = x*, x' > 0`, its curve, period, Floquet multiplier, size; critical damping.
+//!   on `x = x*, x' > 0`, its [`ClosedCurve`], period, Floquet multiplier, size; critical
+//!   damping.
+//! * [`checks`]: where labels, cycle and the run-to-settlement audit disagree in a map.
 //!
 //! ```
-//! let plan = squeal_scan::Plan::from_toml(r#"
+//! use std::sync::atomic::AtomicBool;
+//! use squeal_scan::{MemorySink, NoObserver, Plan, drive};
+//! let plan = Plan::from_toml(r#"
 //! version = 1
 //! [model]
 //! law = "mcmillan"
@@ -23,17 +31,30 @@
 //! [output]
 //! path = "doc.h5"
 //! "#, "doc.toml").unwrap();
-//! let ctx = squeal_scan::scanner::MapContext::prepare(&plan, 0).unwrap();
-//! let block = squeal_scan::scanner::run_block(&plan, &ctx, 0, &squeal_scan::scanner::NoObserver, None).unwrap();
-//! assert_eq!(block.cells.len(), 2);
+//! let mut sink = MemorySink::default();
+//! let done = drive(&plan, None, &mut sink, &NoObserver, &AtomicBool::new(false)).unwrap();
+//! assert!(!done.interrupted);
+//! assert_eq!(sink.map_cells(&plan, 0).unwrap().len(), 2);
+//! // nu = 1e-2: the cycle encloses the state at rest (paper Fig. 10).
+//! assert!(sink.cycles[&0].as_ref().unwrap().as_ref().unwrap().encloses_origin);
 //! ```
 
+pub mod cell;
+pub mod checks;
+pub mod curve;
+pub mod driver;
 pub mod error;
 pub mod grid;
 pub mod scanner;
 pub mod spec;
 pub mod ulc;
 
-pub use error::ScanError;
+pub use cell::{COLUMNS, Cell, Column};
+pub use checks::{MapChecks, WrongSide};
+pub use curve::ClosedCurve;
+pub use driver::{DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns};
+pub use error::{NoCycle, ScanError};
 pub use grid::{Axis, Grid};
+pub use scanner::{BlockResult, MapContext, NoObserver, Observer};
 pub use spec::{EarlyStop, Plan, Sweep};
+pub use ulc::{CycleOutcome, CycleReport};

@@ -1,72 +1,30 @@
-//! The grid scan: one classifier run per cell, rayon-parallel inside a block, collected by
-//! index, so a block's result depends only on the plan, the map and the block.
+//! One map's preparation and one block of cells: the pieces the [`crate::driver`] runs in
+//! parallel. A block's result depends only on the plan, the map and the block.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
-use serde::Serialize;
-use squeal_core::{Classifier, Outcome, Params, State, Stepper, Trap};
+use squeal_core::{Classifier, Params, Regime, State, Stepper, Trap};
 
+use crate::cell::Audit;
+pub use crate::cell::Cell;
 use crate::error::ScanError;
 use crate::spec::{EarlyStop, Plan};
-use crate::ulc::{self, CycleReport, CycleSettings, SectionCycles};
+use crate::ulc::{self, CycleOutcome, CycleSettings, SectionCycles};
 
 /// Progress callbacks (no-op defaults); called from worker threads.
 pub trait Observer: Sync {
-    /// One cell finished.
-    fn cell_done(&self) {}
+    /// Map `map` is prepared (its cycle searched, if asked for).
+    fn map_prepared(&self, _map: usize) {}
+    /// One cell of map `map` finished.
+    fn cell_done(&self, _map: usize) {}
+    /// Block `block` of map `map` finished (it goes to the sink next).
+    fn block_done(&self, _map: usize, _block: usize) {}
 }
 
 /// An observer that does nothing.
 pub struct NoObserver;
 impl Observer for NoObserver {}
-
-/// One classified cell: the label and the diagnostics stored beside it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Cell {
-    /// [`squeal_core::Regime`] value.
-    pub regime: u8,
-    /// [`squeal_core::Reason`] value.
-    pub reason: u8,
-    /// Time at the decision.
-    pub t_decision: f64,
-    /// Last section amplitude (NaN if the run never crossed the section).
-    pub amplitude: f64,
-    /// Angular frequency of the last revolution (NaN if unknown).
-    pub omega: f64,
-    /// 1 if the quasi-static branch was entered.
-    pub quasi_static: u8,
-    /// Friction-law evaluations.
-    pub evaluations: u64,
-    /// Bisection fallbacks plus bracket expansions (robust solver).
-    pub fallbacks: u32,
-    /// Solves with several roots.
-    pub multi_root: u32,
-    /// Paper iterations that hit the cap, plus robust failures and discontinuities.
-    pub unconverged: u32,
-    /// Largest residual of any solve.
-    pub max_residual: f64,
-}
-
-impl From<&Outcome> for Cell {
-    fn from(o: &Outcome) -> Cell {
-        let s = &o.stats;
-        let sat = |x: u64| x.min(u32::MAX as u64) as u32;
-        Cell {
-            regime: o.regime as u8,
-            reason: o.reason as u8,
-            t_decision: o.t_decision,
-            amplitude: o.amplitude,
-            omega: o.omega,
-            quasi_static: o.quasi_static as u8,
-            evaluations: s.evaluations,
-            fallbacks: sat(s.bisections + s.expansions),
-            multi_root: sat(s.multi_root),
-            unconverged: sat(s.unconverged + s.failures + s.discontinuities),
-            max_residual: o.max_residual,
-        }
-    }
-}
 
 /// A finished block: `cells` row-major over the block's rows of `v0` and all `x0`.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,10 +50,8 @@ pub struct MapContext {
     pub classifier: Classifier,
     /// The section sign changes, if searched.
     pub section: Option<SectionCycles>,
-    /// The located cycle, if asked for and found.
-    pub cycle: Option<CycleReport>,
-    /// Why no cycle was found, if asked for.
-    pub cycle_error: Option<String>,
+    /// The located cycle or why there is none, if the plan asks to locate it.
+    pub cycle: Option<CycleOutcome>,
 }
 
 /// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
@@ -112,21 +68,26 @@ pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
     }
 }
 
+/// Whether cell `index` (row-major within its map) is in the audited sample of about one
+/// cell in `every` (0: none): chosen by a hash of the index, so the sample is spread over
+/// the grid and the same in every run. Cell 0 is always in it.
+pub fn audited(index: u64, every: u64) -> bool {
+    // Fibonacci hashing: the top bits of index * 2^64 / phi are spread evenly.
+    every > 0 && (index.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 24) % every == 0
+}
+
 impl MapContext {
-    /// Builds the stepper and, as the plan asks, locates the cycle and sets the trap.
+    /// Builds the stepper and, as the plan asks, searches the section once: the trap for
+    /// early stopping and the located cycle both come from that one search.
     pub fn prepare(plan: &Plan, map: usize) -> Result<MapContext, ScanError> {
         let params = plan.maps[map];
-        let stepper =
-            Stepper::new(params, plan.dt, plan.solver).map_err(|e| ScanError::Invalid {
-                path: plan.spec_path.clone(),
-                key: "integration".into(),
-                value: String::new(),
-                expected: e.to_string(),
-            })?;
+        let stepper = Stepper::new(params, plan.dt, plan.solver)?;
         let cs = cycle_settings(plan, &params);
         let mut classifier = plan.classifier;
+        let needs_search = plan.early_stop == EarlyStop::Cycle || plan.locate_cycle;
         let mut section = None;
-        if plan.early_stop == EarlyStop::Cycle {
+        let mut cycle = None;
+        if needs_search {
             let mut stats = Default::default();
             let mut returns = 0;
             let found = ulc::section_cycles(&stepper, &cs, &mut stats, &mut returns);
@@ -134,22 +95,25 @@ impl MapContext {
             // bounded friction and nu > 0 nothing escapes, and any attracting cycle out there
             // is stick-slip. (The sampled return map also changes sign inside the
             // quasi-periodic stick-slip band; those are not further unstable cycles.)
-            if let SectionCycles::Unstable { lo, hi, .. } = found {
-                classifier.trap = Some(Trap {
-                    r_inner: lo * (1.0 - plan.trap_margin),
-                    r_outer: hi * (1.0 + plan.trap_margin),
-                });
+            if plan.early_stop == EarlyStop::Cycle {
+                if let SectionCycles::Unstable { lo, hi, .. } = found {
+                    classifier.trap = Some(Trap {
+                        r_inner: lo * (1.0 - plan.trap_margin),
+                        r_outer: hi * (1.0 + plan.trap_margin),
+                    });
+                }
+            }
+            if plan.locate_cycle {
+                cycle = Some(
+                    match ulc::locate_from(&stepper, found, &cs, stats, returns) {
+                        Ok(c) => Ok(c),
+                        Err(ScanError::NoCycle(why)) => Err(why),
+                        Err(e) => return Err(e),
+                    },
+                );
             }
             section = Some(found);
         }
-        let (cycle, cycle_error) = if plan.locate_cycle {
-            match ulc::locate(params, plan.dt, plan.solver, &cs) {
-                Ok(c) => (Some(c), None),
-                Err(e) => (None, Some(e.to_string())),
-            }
-        } else {
-            (None, None)
-        };
         Ok(MapContext {
             map,
             params,
@@ -157,8 +121,34 @@ impl MapContext {
             classifier,
             section,
             cycle,
-            cycle_error,
         })
+    }
+
+    /// Classifies one cell (and audits it when it is in the sample and the run stopped
+    /// early on the cycle).
+    pub fn cell(&self, plan: &Plan, row: usize, col: usize) -> Cell {
+        let g = &plan.grid;
+        let ic = State {
+            x: g.x0.value(col),
+            v: g.v0.value(row),
+        };
+        let out = self.classifier.classify(&self.stepper, ic);
+        let mut cell = Cell::from(&out);
+        if self.classifier.trap.is_some()
+            && audited((row * g.x0.count + col) as u64, plan.audit_every)
+        {
+            let settle = Classifier {
+                trap: None,
+                ..self.classifier
+            };
+            let reference = settle.classify(&self.stepper, ic).regime;
+            cell.audit = match reference {
+                Regime::Undecided => Audit::Undecided,
+                r if r == out.regime => Audit::Agrees,
+                _ => Audit::Disagrees,
+            } as u8;
+        }
+        cell
     }
 }
 
@@ -181,14 +171,9 @@ pub fn run_block(
             if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
                 return None;
             }
-            let (row, col) = (rows.start + k / nx, k % nx);
-            let ic = State {
-                x: g.x0.value(col),
-                v: g.v0.value(row),
-            };
-            let out = ctx.classifier.classify(&ctx.stepper, ic);
-            observer.cell_done();
-            Some(Cell::from(&out))
+            let cell = ctx.cell(plan, rows.start + k / nx, k % nx);
+            observer.cell_done(ctx.map);
+            Some(cell)
         })
         .collect();
     Some(BlockResult {

@@ -28,6 +28,10 @@
 //! settle_rtol = 0.05
 //! early_stop = "cycle"             # cycle (stop once inside/outside the located cycle) | none
 //! trap_margin = 1e-3               # relative band around the cycle left to run on
+//! audit_every = 1024               # with early_stop = "cycle": also run about 1 cell in
+//!                                  # this many to settlement and count (dis)agreements;
+//!                                  # 0 turns the audit off. Default: 1024, or cells / 16
+//!                                  # on grids above 16384 cells (about 16 per map)
 //! [cycle]
 //! locate = true                    # locate the unstable cycle, store and draw it
 //! [output]
@@ -63,7 +67,10 @@ struct SpecFile {
 }
 
 #[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "a number (model.nu / model.lambda), a list of numbers such as [1e-3, 2e-3], or a range such as { from = 1e-3, to = 1e-2, count = 8, spacing = \"log\" }"
+)]
 enum Value {
     One(f64),
     List(Vec<f64>),
@@ -178,6 +185,7 @@ struct ClassifierSpec {
     #[serde(default)]
     early_stop: EarlyStop,
     trap_margin: Option<f64>,
+    audit_every: Option<i64>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -237,11 +245,18 @@ pub struct Plan {
     pub early_stop: EarlyStop,
     /// Relative half-width of the band around the cycle where runs go on.
     pub trap_margin: f64,
+    /// With early stopping: about one cell in `audit_every` is also run to settlement
+    /// (classifier without the trap) and the agreement stored; 0: no audit.
+    pub audit_every: u64,
     /// Whether to locate, store and draw the unstable cycle.
     pub locate_cycle: bool,
     /// The output file.
     pub output: PathBuf,
 }
+
+/// Default of `classifier.audit_every`: the audit then costs a few percent of an
+/// early-stopped scan (a cell run to settlement near the cycle can take `t_max`).
+pub const DEFAULT_AUDIT_EVERY: u64 = 1024;
 
 /// Largest count along one grid axis.
 pub const MAX_AXIS: i64 = 1 << 16;
@@ -437,6 +452,21 @@ impl Plan {
                 "a relative margin in (0, 0.5)",
             ));
         }
+        // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
+        // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
+        // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
+        // as its 16384 early-stopped cells.
+        let audit_every = c.audit_every.unwrap_or_else(|| {
+            let cells = (x0.count * v0.count) as i64;
+            (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
+        });
+        if !(0..=1 << 40).contains(&audit_every) {
+            return Err(invalid(
+                "classifier.audit_every",
+                audit_every.to_string(),
+                "0 (no audit) or a sampling interval in 1..=2^40 cells",
+            ));
+        }
         if spec.output.path.as_os_str().is_empty() {
             return Err(invalid(
                 "output.path",
@@ -450,6 +480,15 @@ impl Plan {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default()
         });
+        // The name goes into file attributes and picture titles: printable text only (an
+        // HDF5 string cannot hold a NUL, and the scan would be lost at the final write).
+        if name.chars().any(char::is_control) || name.chars().count() > 200 {
+            return Err(invalid(
+                "name",
+                format!("{name:?}"),
+                "printable text of at most 200 characters (no control characters such as NUL)",
+            ));
+        }
         Ok(Plan {
             spec_text: text.to_string(),
             spec_path: path.to_string(),
@@ -470,9 +509,44 @@ impl Plan {
             classifier,
             early_stop: c.early_stop,
             trap_margin,
+            audit_every: audit_every as u64,
             locate_cycle: spec.cycle.locate,
             output: spec.output.path.clone(),
         })
+    }
+
+    /// The first setting (top-level field of the plan) in which `other` would compute
+    /// something different, or `None` if both plans give the same results. The spec text,
+    /// its path and the output path do not count (a comment edit or `-o` changes nothing).
+    pub fn differs_from(&self, other: &Plan) -> Option<String> {
+        let table = |p: &Plan| {
+            let mut t = toml::Table::try_from(p).unwrap_or_default();
+            for k in ["spec_text", "spec_path", "output"] {
+                t.remove(k);
+            }
+            t
+        };
+        let (a, b) = (table(self), table(other));
+        let mut keys: Vec<&String> = a.keys().chain(b.keys()).collect();
+        keys.sort();
+        keys.dedup();
+        keys.into_iter()
+            .find(|k| a.get(*k) != b.get(*k))
+            .map(|k| k.to_string())
+    }
+
+    /// A rough time for `cells` cells on `threads` threads, in seconds, from documented rates
+    /// (BENCHMARKS.md, "Basin scans": about 25 000 cells/s on 2 threads with
+    /// `early_stop = "cycle"` on the paper's grids; without early stopping a cell may run to
+    /// `t_max`, at up to about 250 ns per step with the robust solver, "Time per step").
+    /// An order of magnitude, not a promise: cells near the boundary and off-paper
+    /// parameters take longer.
+    pub fn estimate_seconds(&self, cells: usize, threads: usize) -> f64 {
+        let per_cell = match self.early_stop {
+            EarlyStop::Cycle => 2.0 / 25_000.0,
+            EarlyStop::None => (self.classifier.t_max / self.dt) * 250e-9,
+        };
+        cells as f64 * per_cell / threads.max(1) as f64
     }
 
     /// Blocks in the whole scan (all maps).
@@ -638,11 +712,29 @@ path = "x.h5"
                 "only one",
             ),
             (GOOD.replace("[model]", "[model\n"), "line"),
+            (
+                GOOD.replace("version = 1", "version = 1\nname = \"a\\u0000b\""),
+                "`name`",
+            ),
+            (
+                GOOD.replace("nu = 1e-3", "nu = \"small\""),
+                "a number (model.nu / model.lambda), a list of numbers",
+            ),
         ];
         for (text, want) in cases {
             let e = err(&text);
             assert!(e.contains(want), "expected '{want}' in: {e}");
         }
+    }
+
+    #[test]
+    fn comment_edits_do_not_change_the_plan() {
+        let a = Plan::from_toml(GOOD, "t.toml").unwrap();
+        let b = Plan::from_toml(&format!("# a note\n{GOOD}"), "t.toml").unwrap();
+        assert_ne!(a.spec_text, b.spec_text);
+        assert_eq!(a.differs_from(&b), None);
+        let c = Plan::from_toml(&GOOD.replace("nu = 1e-3", "nu = 2e-3"), "t.toml").unwrap();
+        assert_eq!(a.differs_from(&c).as_deref(), Some("maps"));
     }
 
     #[test]

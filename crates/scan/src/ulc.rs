@@ -20,11 +20,12 @@
 //! multiplier says the deviation needs to grow.
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use squeal_core::classify::section_return;
 use squeal_core::{Params, SolverConfig, SolverStats, State, Stepper};
 
-use crate::error::ScanError;
+use crate::curve::ClosedCurve;
+use crate::error::{BracketProblem, NoCycle, ScanError};
 
 /// Settings of the cycle search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -133,7 +134,7 @@ pub fn section_cycles(
 }
 
 /// How the located cycle moves when `dt` is halved.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HalfStepCheck {
     /// Section crossing with `dt / 2`.
     pub r_section: f64,
@@ -141,8 +142,9 @@ pub struct HalfStepCheck {
     pub shift: f64,
 }
 
-/// The located unstable limit cycle.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// The located unstable limit cycle (one serialisable record: the store writes it field by
+/// field generically, never by hand).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CycleReport {
     /// Model parameters.
     pub params: Params,
@@ -176,57 +178,24 @@ pub struct CycleReport {
     pub solver: SolverStats,
     /// The stable stick-slip crossing seen above the cycle, if sampled.
     pub stable_above: Option<f64>,
-    /// The closed curve: `x` of each step over one revolution.
-    pub curve_x: Vec<f64>,
-    /// The closed curve: `x'`.
-    pub curve_v: Vec<f64>,
+    /// The closed curve: the states of one revolution.
+    pub curve: ClosedCurve,
 }
 
 impl CycleReport {
-    /// Whether `(x, v)` lies inside the closed curve (even-odd rule).
+    /// Whether `(x, v)` lies inside the closed curve.
     pub fn encloses(&self, x: f64, v: f64) -> bool {
-        polygon_contains(&self.curve_x, &self.curve_v, x, v)
+        self.curve.encloses(State { x, v })
     }
 
-    /// Distance from `(x, v)` to the curve (nearest vertex or segment).
+    /// Distance from `(x, v)` to the curve.
     pub fn distance_to(&self, x: f64, v: f64) -> f64 {
-        let n = self.curve_x.len();
-        let mut best = f64::INFINITY;
-        for i in 0..n {
-            let j = (i + 1) % n;
-            let (ax, av, bx, bv) = (
-                self.curve_x[i],
-                self.curve_v[i],
-                self.curve_x[j],
-                self.curve_v[j],
-            );
-            let (dx, dv) = (bx - ax, bv - av);
-            let l2 = dx * dx + dv * dv;
-            let t = if l2 > 0.0 {
-                (((x - ax) * dx + (v - av) * dv) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            best = best.min((x - ax - t * dx).hypot(v - av - t * dv));
-        }
-        best
+        self.curve.distance_to(State { x, v })
     }
 }
 
-/// Even-odd point-in-polygon test.
-pub fn polygon_contains(xs: &[f64], vs: &[f64], x: f64, v: f64) -> bool {
-    let n = xs.len();
-    let mut inside = false;
-    let mut j = n.wrapping_sub(1);
-    for i in 0..n {
-        let (xi, vi, xj, vj) = (xs[i], vs[i], xs[j], vs[j]);
-        if (vi > v) != (vj > v) && x < (xj - xi) * (v - vi) / (vj - vi) + xi {
-            inside = !inside;
-        }
-        j = i;
-    }
-    inside
-}
+/// A map's cycle search result: the cycle, or why there is none.
+pub type CycleOutcome = Result<CycleReport, NoCycle>;
 
 /// Locates the unstable cycle for one parameter set.
 pub fn locate(
@@ -235,10 +204,25 @@ pub fn locate(
     solver: SolverConfig,
     cs: &CycleSettings,
 ) -> Result<CycleReport, ScanError> {
-    let st = Stepper::new(params, dt, solver).map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let st = Stepper::new(params, dt, solver)?;
     let mut stats = SolverStats::default();
     let mut returns = 0u64;
     let found = section_cycles(&st, cs, &mut stats, &mut returns);
+    locate_from(&st, found, cs, stats, returns)
+}
+
+/// Finishes the cycle from an existing search of the section (so a scan searches once per
+/// map): the curve, period, size, multiplier and the half-step check. `stats` and `returns`
+/// are the counters of the search so far.
+pub fn locate_from(
+    st: &Stepper,
+    found: SectionCycles,
+    cs: &CycleSettings,
+    mut stats: SolverStats,
+    mut returns: u64,
+) -> Result<CycleReport, ScanError> {
+    let params = *st.params();
+    let (dt, solver) = (st.dt(), *st.solver());
     let (r, lo, hi, stable_above) = match found {
         SectionCycles::Unstable {
             r,
@@ -248,60 +232,46 @@ pub fn locate(
             ..
         } => (r, lo, hi, stable_above),
         SectionCycles::NoneBelow { r_max } => {
-            return Err(ScanError::NoCycle(format!(
-                "the return map decays at every sampled amplitude up to r = {r_max} (nu = {}): no squeal below it",
-                params.nu
-            )));
+            return Err(NoCycle::Decays {
+                r_max,
+                nu: params.nu,
+            }
+            .into());
         }
         SectionCycles::FixedPointUnstable { r_min } => {
-            return Err(ScanError::NoCycle(format!(
-                "the return map grows already at r = {r_min} (nu = {}): the fixed point repels",
-                params.nu
-            )));
+            return Err(NoCycle::FixedPointRepels {
+                r_min,
+                nu: params.nu,
+            }
+            .into());
         }
     };
     let (mut xs, mut vs) = (Vec::new(), Vec::new());
     returns += 1;
-    let c = section_return(&st, r, cs.t_return, &mut stats, |s| {
+    let c = section_return(st, r, cs.t_return, &mut stats, |s| {
         xs.push(s.x);
         vs.push(s.v);
     })
-    .ok_or_else(|| ScanError::NoCycle(format!("no return from r = {r}")))?;
+    .ok_or(NoCycle::NoReturn {
+        r,
+        t_return: cs.t_return,
+    })?;
     let period = c.t;
     // The last sample lies past the section: drop it so the curve closes on the first one.
     xs.pop();
     vs.pop();
     let fp = params.fixed_point();
     let h = 1e-4 * r;
-    let p_plus = d_of(&st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
-    let p_minus = d_of(&st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
+    let p_plus = d_of(st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
+    let p_minus = d_of(st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
     let multiplier = (p_plus - p_minus) / (2.0 * h);
-    let minmax = |a: &[f64]| {
-        a.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |m, &x| {
-            [m[0].min(x), m[1].max(x)]
-        })
-    };
-    let area = 0.5
-        * (0..xs.len())
-            .map(|i| {
-                let j = (i + 1) % xs.len();
-                xs[i] * vs[j] - xs[j] * vs[i]
-            })
-            .sum::<f64>()
-            .abs();
+    let curve = ClosedCurve::new(xs, vs);
     // Crossing of v = 0 with x > x* (going down, on the right of the fixed point).
-    let mut distance_plus_x = f64::NAN;
-    for i in 0..xs.len() {
-        let j = (i + 1) % xs.len();
-        if vs[i] > 0.0 && vs[j] <= 0.0 && xs[i] > fp.x {
-            let t = vs[i] / (vs[i] - vs[j]);
-            distance_plus_x = xs[i] + t * (xs[j] - xs[i]) - fp.x;
-            break;
-        }
-    }
+    let distance_plus_x = curve
+        .distance_along_ray(State { x: fp.x, v: 0.0 }, 0.0)
+        .unwrap_or(f64::NAN);
     let half_dt = if cs.check_half_dt {
-        let st2 = Stepper::new(params, dt / 2.0, solver)
-            .map_err(|e| ScanError::NoCycle(e.to_string()))?;
+        let st2 = Stepper::new(params, dt / 2.0, solver)?;
         match section_cycles(&st2, cs, &mut stats, &mut returns) {
             SectionCycles::Unstable { r: r2, .. } => Some(HalfStepCheck {
                 r_section: r2,
@@ -312,28 +282,25 @@ pub fn locate(
     } else {
         None
     };
-    let mut report = CycleReport {
+    Ok(CycleReport {
         params,
         dt,
         r_section: r,
         bracket: [lo, hi],
         period,
         omega: std::f64::consts::TAU / period,
-        x_range: minmax(&xs),
-        v_range: minmax(&vs),
+        x_range: curve.x_range(),
+        v_range: curve.v_range(),
         distance_plus_x,
-        area,
+        area: curve.area(),
         multiplier,
-        encloses_origin: false,
+        encloses_origin: curve.encloses(State { x: 0.0, v: 0.0 }),
         half_dt,
         returns,
         solver: stats,
         stable_above,
-        curve_x: xs,
-        curve_v: vs,
-    };
-    report.encloses_origin = report.encloses(0.0, 0.0);
-    Ok(report)
+        curve,
+    })
 }
 
 /// Which way a start near the cycle moved on the section `x = x*`, `x' > 0`.
@@ -418,14 +385,14 @@ pub const RAY_GROWTH: f64 = 3.0;
 /// Revolutions allowed per start for deviations growing by `multiplier` per revolution.
 pub fn ray_revolutions(multiplier: f64, growth: f64) -> Result<u32, ScanError> {
     if !(multiplier.is_finite() && multiplier > 1.0) {
-        return Err(ScanError::NoCycle(format!(
+        return Err(ScanError::RayCheck(format!(
             "Floquet multiplier {multiplier}: deviations from the cycle do not grow, so the ray \
              check cannot tell its sides apart"
         )));
     }
     let n = 3.0 * growth.ln() / multiplier.ln() + 10.0;
     if n > 1e6 {
-        return Err(ScanError::NoCycle(format!(
+        return Err(ScanError::RayCheck(format!(
             "Floquet multiplier {multiplier}: a deviation needs {n:.0} revolutions to grow \
              {growth}-fold; too slow to verify by simulation"
         )));
@@ -504,12 +471,11 @@ pub fn verify_rays(
     solver: SolverConfig,
 ) -> Result<RayVerification, ScanError> {
     if !(eps > 0.0 && eps < 0.5) {
-        return Err(ScanError::NoCycle(format!(
+        return Err(ScanError::RayCheck(format!(
             "ray offset eps = {eps}: expected a value in (0, 0.5)"
         )));
     }
-    let st = Stepper::new(report.params, report.dt, solver)
-        .map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let st = Stepper::new(report.params, report.dt, solver)?;
     let fp = report.params.fixed_point();
     // Longest wait for one return: ten periods of the cycle.
     let t_return = 10.0 * report.period;
@@ -536,32 +502,10 @@ pub fn verify_rays(
         .map(|k| {
             let angle = std::f64::consts::TAU * k as f64 / rays as f64;
             let (c, s) = (angle.cos(), angle.sin());
-            // Largest radius along the ray at which a curve segment crosses it.
-            let n = report.curve_x.len();
-            let mut radius = f64::NAN;
-            for i in 0..n {
-                let j = (i + 1) % n;
-                let (ax, av) = (report.curve_x[i] - fp.x, report.curve_v[i] - fp.v);
-                let (bx, bv) = (report.curve_x[j] - fp.x, report.curve_v[j] - fp.v);
-                // Solve a + t (b - a) = rho (c, s).
-                let (dx, dv) = (bx - ax, bv - av);
-                let den = dx * s - dv * c;
-                if den.abs() < 1e-300 {
-                    continue;
-                }
-                let t = (av * c - ax * s) / den;
-                if (0.0..=1.0).contains(&t) {
-                    let rho = (ax + t * dx) * c + (av + t * dv) * s;
-                    if rho > 0.0 && (radius.is_nan() || rho > radius) {
-                        radius = rho;
-                    }
-                }
-            }
-            if !radius.is_finite() {
-                return Err(ScanError::NoCycle(format!(
-                    "the curve does not cross the ray at angle {angle}"
-                )));
-            }
+            let radius = report
+                .curve
+                .distance_along_ray(fp, angle)
+                .ok_or(ScanError::RayMissesCurve { angle })?;
             let at = |f: f64| State {
                 x: fp.x + f * radius * c,
                 v: fp.v + f * radius * s,
@@ -583,7 +527,7 @@ pub fn verify_rays(
                 outer: run(1.0 + eps),
             })
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Result<Vec<_>, ScanError>>()?;
     Ok(RayVerification {
         eps,
         growth: RAY_GROWTH,
@@ -627,7 +571,7 @@ pub fn point_side(
     cs: &CycleSettings,
     point: State,
 ) -> Result<PointSide, ScanError> {
-    let st = Stepper::new(params, dt, solver).map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let st = Stepper::new(params, dt, solver)?;
     let (mut stats, mut returns) = (SolverStats::default(), 0u64);
     match section_cycles(&st, cs, &mut stats, &mut returns) {
         SectionCycles::NoneBelow { .. } => return Ok(PointSide::NoCycle),
@@ -678,10 +622,15 @@ pub fn critical_nu(
     let at = |nu: f64| -> Result<bool, ScanError> {
         Ok(matches!(side(nu)?, PointSide::Inside | PointSide::NoCycle))
     };
+    let bracket = |problem| ScanError::Bracket {
+        nu_lo,
+        nu_hi,
+        x: point.x,
+        v: point.v,
+        problem,
+    };
     if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite()) {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-lo {nu_lo} / --nu-hi {nu_hi}: need 0 < nu_lo < nu_hi"
-        )));
+        return Err(bracket(BracketProblem::Order));
     }
     let fp = base.fixed_point();
     if point == fp {
@@ -692,15 +641,10 @@ pub fn critical_nu(
         )));
     }
     match side(nu_lo)? {
-        PointSide::Inside => {
-            return Err(ScanError::NoCriticalDamping(format!(
-                "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
-                point.x, point.v
-            )));
-        }
+        PointSide::Inside => return Err(bracket(BracketProblem::EnclosedAtLow)),
         PointSide::NoCycle => {
             return Err(ScanError::NoCriticalDamping(format!(
-                "--nu-lo {nu_lo}: {} has no unstable limit cycle there (the return map decays at \
+                "at the lower bound nu = {nu_lo}: {} has no unstable limit cycle there (the return map decays at \
                  every amplitude sampled up to r = {}, as `squeal ulc` reports), so there is no \
                  cycle to enclose ({}, {}): starts within that amplitude end in steady slip \
                  already at nu = {nu_lo}",
@@ -710,10 +654,7 @@ pub fn critical_nu(
         PointSide::Outside | PointSide::FixedPointRepels => {}
     }
     if !at(nu_hi)? {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-hi {nu_hi}: the cycle does not enclose ({}, {}) yet; raise --nu-hi",
-            point.x, point.v
-        )));
+        return Err(bracket(BracketProblem::NotEnclosedAtHigh));
     }
     let (mut lo, mut hi, mut evaluations) = (nu_lo, nu_hi, 2u32);
     while hi / lo - 1.0 > rtol && evaluations < 200 {

@@ -4,22 +4,26 @@
 use squeal_core::{Classifier, FrictionLaw, Params, Regime, SolverConfig, State, Stepper};
 use squeal_scan::Plan;
 use squeal_scan::grid::Axis;
-use squeal_scan::scanner::{MapContext, NoObserver, run_block};
-use squeal_scan::ulc::{self, CycleSettings};
+use std::sync::atomic::AtomicBool;
+
+use squeal_scan::scanner::MapContext;
+use squeal_scan::ulc::{self, CycleReport, CycleSettings};
+use squeal_scan::{MemorySink, NoObserver, drive};
 
 fn shipped(name: &str) -> Plan {
     let path = format!("{}/../../scans/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     Plan::from_file(std::path::Path::new(&path)).unwrap()
 }
 
-/// Labels of every cell of map 0 of a plan, row-major (v0, x0).
-fn labels(plan: &Plan) -> (MapContext, Vec<u8>) {
-    let ctx = MapContext::prepare(plan, 0).unwrap();
-    let cells = (0..plan.grid.blocks())
-        .flat_map(|b| run_block(plan, &ctx, b, &NoObserver, None).unwrap().cells)
-        .map(|c| c.regime)
-        .collect();
-    (ctx, cells)
+/// The located cycle and the labels of every cell of map 0 of a plan, row-major (v0, x0),
+/// through the library's scan driver.
+fn labels(plan: &Plan) -> (Option<CycleReport>, Vec<u8>) {
+    let mut sink = MemorySink::default();
+    let done = drive(plan, None, &mut sink, &NoObserver, &AtomicBool::new(false)).unwrap();
+    assert!(!done.interrupted);
+    let cells = sink.map_cells(plan, 0).unwrap();
+    let cycle = sink.cycles[&0].clone().and_then(Result::ok);
+    (cycle, cells.iter().map(|c| c.regime).collect())
 }
 
 fn coarse(mut plan: Plan, n: usize) -> Plan {
@@ -151,7 +155,7 @@ fn a_wrong_cycle_fails_the_ray_check() {
     for (scale, bad_side) in [(1.2, "inner"), (0.8, "outer")] {
         let mut wrong = rep.clone();
         wrong.r_section *= scale;
-        for (x, v) in wrong.curve_x.iter_mut().zip(wrong.curve_v.iter_mut()) {
+        for (x, v) in wrong.curve.x.iter_mut().zip(wrong.curve.v.iter_mut()) {
             *x = fp.x + scale * (*x - fp.x);
             *v = fp.v + scale * (*v - fp.v);
         }
@@ -177,8 +181,8 @@ fn a_wrong_cycle_fails_the_ray_check() {
 fn cycle_matches_the_label_boundary_of_a_fine_scan() {
     let plan = shipped("fig9-zoom");
     let plan = coarse(plan, 96);
-    let (ctx, l) = labels(&plan);
-    let rep = ctx.cycle.as_ref().unwrap();
+    let (rep, l) = labels(&plan);
+    let rep = rep.unwrap();
     let g = plan.grid;
     let pixel = g.x0.spacing().hypot(g.v0.spacing());
     let mut wrong_beyond = 0;

@@ -18,8 +18,28 @@ pub enum StoreError {
         /// The journal.
         path: PathBuf,
     },
+    /// Another live process writes this output.
+    #[error(
+        "{} is being written by process {pid} on host {host} (lock {}): wait for it to finish; if that process is gone, remove the lock", path.display(), lock.display()
+    )]
+    Locked {
+        /// The output.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+        /// The owner's process id.
+        pid: u32,
+        /// The owner's host.
+        host: String,
+    },
+    /// The output is also one of the inputs.
+    #[error("{} is one of the inputs: choose another output", path.display())]
+    OutputIsInput {
+        /// The file.
+        path: PathBuf,
+    },
     /// Resume found a complete file and no journal.
-    #[error("{} is already complete: nothing to resume", path.display())]
+    #[error("{} is already complete: nothing to resume (draw its picture with: squeal render {})", path.display(), path.display())]
     AlreadyComplete {
         /// The file.
         path: PathBuf,
@@ -55,7 +75,8 @@ pub enum StoreError {
         msg: String,
     },
     /// A file-system call failed.
-    #[error("{what} {}: {source}", path.display())]
+    // The cause is the error's source: `{:#}` chains print it once.
+    #[error("{what} {}", path.display())]
     Io {
         /// The file.
         path: PathBuf,

@@ -67,6 +67,67 @@ impl ReasonH5 {
     }
 }
 
+/// The `audit` enum: [`squeal_scan::cell::Audit`] values.
+#[derive(H5Type, Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub(crate) enum AuditH5 {
+    #[hdf5(rename = "not_audited")]
+    NotAudited = 0,
+    #[hdf5(rename = "agrees")]
+    Agrees = 1,
+    #[hdf5(rename = "disagrees")]
+    Disagrees = 2,
+    #[hdf5(rename = "undecided")]
+    Undecided = 3,
+}
+
+impl AuditH5 {
+    pub(crate) fn from_u8(v: u8) -> Option<AuditH5> {
+        Some(match v {
+            0 => AuditH5::NotAudited,
+            1 => AuditH5::Agrees,
+            2 => AuditH5::Disagrees,
+            3 => AuditH5::Undecided,
+            _ => return None,
+        })
+    }
+}
+
+/// The HDF5 enum type of an enum column of [`squeal_scan::cell::COLUMNS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum EnumColumn {
+    Label,
+    Reason,
+    Audit,
+}
+
+impl EnumColumn {
+    /// The stored enum of a column with these flags (`None`: not an enum column).
+    pub(crate) fn of(col: &squeal_scan::Column) -> Option<EnumColumn> {
+        use squeal_scan::cell::{AUDIT_FLAGS, REASON_FLAGS, REGIME_FLAGS};
+        if col.kind != squeal_scan::cell::Kind::Enum {
+            None
+        } else if col.flags == REGIME_FLAGS {
+            Some(EnumColumn::Label)
+        } else if col.flags == REASON_FLAGS {
+            Some(EnumColumn::Reason)
+        } else if col.flags == AUDIT_FLAGS {
+            Some(EnumColumn::Audit)
+        } else {
+            None
+        }
+    }
+
+    #[cfg(test)]
+    pub(crate) fn descriptor(self) -> hdf5::types::TypeDescriptor {
+        match self {
+            EnumColumn::Label => Label::type_descriptor(),
+            EnumColumn::Reason => ReasonH5::type_descriptor(),
+            EnumColumn::Audit => AuditH5::type_descriptor(),
+        }
+    }
+}
+
 /// One entry of a dimension scale's `REFERENCE_LIST` (HDF5 dimension-scale spec).
 #[derive(H5Type, Clone, Copy, Debug)]
 #[repr(C)]
@@ -79,6 +140,29 @@ pub(crate) struct RefEntry {
 mod tests {
     use super::*;
     use hdf5::types::TypeDescriptor;
+
+    #[test]
+    fn every_enum_column_has_a_stored_type_with_its_flags() {
+        for col in squeal_scan::COLUMNS {
+            if col.kind != squeal_scan::cell::Kind::Enum {
+                continue;
+            }
+            let e = EnumColumn::of(col).unwrap_or_else(|| panic!("{}", col.name));
+            let TypeDescriptor::Enum(t) = e.descriptor() else {
+                panic!("not an enum")
+            };
+            assert_eq!(t.members.len(), col.flags.len(), "{}", col.name);
+            for (v, name) in col.flags {
+                assert!(
+                    t.members
+                        .iter()
+                        .any(|m| m.name == *name && m.value == *v as u64),
+                    "{}: {name}",
+                    col.name
+                );
+            }
+        }
+    }
 
     #[test]
     fn enum_members_match_core_names() {

@@ -5,13 +5,16 @@ use std::path::Path;
 use hdf5::types::{FixedAscii, VarLenArray, VarLenUnicode};
 use hdf5::{Dataset, File, Group, H5Type, Location, ObjectReference1};
 use ndarray::{Array1, Array2};
-use squeal_scan::Plan;
-use squeal_scan::scanner::Cell;
+use squeal_scan::cell::{COLUMNS, Cell, Column, Kind};
+use squeal_scan::checks::CHECK_FIELDS;
+use squeal_scan::ulc::CycleReport;
+use squeal_scan::{MapChecks, Plan};
 
+use crate::cycle::Flat;
 use crate::error::H5Ctx;
-use crate::h5types::{Label, ReasonH5, RefEntry};
-use crate::journal::{CycleData, CycleRecord};
-use crate::{SCHEMA, StoreError, WrongSide};
+use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5, RefEntry};
+use crate::journal::CycleRecord;
+use crate::{SCHEMA, StoreError};
 
 /// Where the writer gets its blocks and cycles from.
 pub(crate) trait Source {
@@ -28,7 +31,7 @@ pub(crate) struct Meta<'a> {
     pub shard: Option<String>,
 }
 
-fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+pub(crate) fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
     let v: VarLenUnicode = value
         .parse()
         .map_err(|e| hdf5::Error::from(format!("{e}")))?;
@@ -37,12 +40,12 @@ fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
         .write_scalar(&v)
 }
 
-fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
+pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
     loc.new_attr::<T>().create(name)?.write_scalar(&value)
 }
 
 /// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
-struct Dims {
+pub(crate) struct Dims {
     scales: Vec<(Dataset, Vec<RefEntry>)>,
     /// The type of `CLASS`: a 16-byte null-terminated ASCII string, as `H5DSis_scale` demands.
     class_type: hdf5::Datatype,
@@ -57,7 +60,7 @@ struct Dims {
 const CLASS_TEMPLATE: &[u8] = include_bytes!("dimension_scale_class.bin");
 
 /// Reads the `CLASS` type from the template, written beside `path` for the moment.
-fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
+pub(crate) fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
     let mut s = path.as_os_str().to_owned();
     s.push(".class");
     let tpl = std::path::PathBuf::from(s);
@@ -74,8 +77,16 @@ fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
 }
 
 impl Dims {
+    /// No scales yet; `class_type` from [`class_type`].
+    pub(crate) fn new(class_type: hdf5::Datatype) -> Dims {
+        Dims {
+            scales: Vec::new(),
+            class_type,
+        }
+    }
+
     /// Makes `ds` a dimension scale named `name` (netCDF-4 / HDF5 DS convention).
-    fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
+    pub(crate) fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
         let class: FixedAscii<16> = FixedAscii::from_ascii("DIMENSION_SCALE")
             .map_err(|e| hdf5::Error::from(format!("{e}")))?;
         ds.new_attr_builder()
@@ -92,7 +103,12 @@ impl Dims {
     }
 
     /// Attaches scales (by dataset name) to the dimensions of `var`, in order.
-    fn attach(&mut self, file: &File, var: &Dataset, scales: &[&Dataset]) -> hdf5::Result<()> {
+    pub(crate) fn attach(
+        &mut self,
+        file: &File,
+        var: &Dataset,
+        scales: &[&Dataset],
+    ) -> hdf5::Result<()> {
         let me: ObjectReference1 = file.reference(&var.name())?;
         let mut list = Vec::new();
         for (i, s) in scales.iter().enumerate() {
@@ -111,12 +127,10 @@ impl Dims {
         var.new_attr::<VarLenArray<ObjectReference1>>()
             .shape(list.len())
             .create("DIMENSION_LIST")?
-            .write_raw(&list)?;
-        let names: Vec<String> = scales.iter().map(|s| leaf(&s.name())).collect();
-        str_attr(var, "dimensions", &names.join(" "))
+            .write_raw(&list)
     }
 
-    fn finish(self) -> hdf5::Result<()> {
+    pub(crate) fn finish(self) -> hdf5::Result<()> {
         for (ds, refs) in self.scales {
             if !refs.is_empty() {
                 ds.new_attr::<RefEntry>()
@@ -130,11 +144,7 @@ impl Dims {
 }
 
 /// A per-map cycle series: dataset name, value, long name.
-type Series = (&'static str, fn(&CycleData) -> f64, &'static str);
-
-fn leaf(name: &str) -> String {
-    name.rsplit('/').next().unwrap_or(name).to_string()
-}
+type Series = (&'static str, fn(&CycleReport) -> f64, &'static str);
 
 fn coord(
     g: &Group,
@@ -172,56 +182,135 @@ fn index_coord(
     Ok(ds)
 }
 
-struct Vars {
-    labels: Dataset,
-    reason: Dataset,
-    t_decision: Dataset,
-    amplitude: Dataset,
-    omega: Dataset,
-    quasi_static: Dataset,
-    evaluations: Dataset,
-    fallbacks: Dataset,
-    multi_root: Dataset,
-    unconverged: Dataset,
-    max_residual: Dataset,
-}
-
-impl Vars {
-    fn all(&self) -> [&Dataset; 11] {
-        [
-            &self.labels,
-            &self.reason,
-            &self.t_decision,
-            &self.amplitude,
-            &self.omega,
-            &self.quasi_static,
-            &self.evaluations,
-            &self.fallbacks,
-            &self.multi_root,
-            &self.unconverged,
-            &self.max_residual,
-        ]
-    }
-}
-
-fn var<T: H5Type>(
+/// Creates the dataset of one column of [`COLUMNS`] with its CF attributes.
+fn column_dataset(
     file: &File,
-    name: &str,
+    col: &Column,
     shape: &[usize],
     chunk: &[usize],
-    fill: T,
-    long_name: &str,
 ) -> hdf5::Result<Dataset> {
-    let ds = file
-        .new_dataset::<T>()
-        .obj_track_times(false)
-        .shape(shape)
-        .chunk(chunk)
-        .deflate(4)
-        .fill_value(fill)
-        .create(name)?;
-    str_attr(&ds, "long_name", long_name)?;
+    fn make<T: H5Type>(
+        file: &File,
+        name: &str,
+        shape: &[usize],
+        chunk: &[usize],
+        fill: T,
+    ) -> hdf5::Result<Dataset> {
+        file.new_dataset_builder()
+            .obj_track_times(false)
+            .empty::<T>()
+            .shape(shape)
+            .chunk(chunk)
+            .deflate(4)
+            .fill_value(fill)
+            .create(name)
+    }
+    let (f, n) = (col.fill, col.name);
+    let bad = || hdf5::Error::from(format!("{n}: fill value is not a member"));
+    let ds = match (EnumColumn::of(col), col.kind) {
+        (Some(EnumColumn::Label), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            Label::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (Some(EnumColumn::Reason), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            ReasonH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (Some(EnumColumn::Audit), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            AuditH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (None, Kind::U8 | Kind::Enum) => make(file, n, shape, chunk, f.as_u64() as u8)?,
+        (None, Kind::U32) => make(file, n, shape, chunk, f.as_u64() as u32)?,
+        (None, Kind::U64) => make(file, n, shape, chunk, f.as_u64())?,
+        (None, Kind::F64) => make(file, n, shape, chunk, f.as_f64())?,
+    };
+    str_attr(&ds, "long_name", col.long_name)?;
+    if !col.units.is_empty() {
+        str_attr(&ds, "units", col.units)?;
+    }
+    if col.kind == Kind::Enum {
+        let values: Vec<u8> = col.flags.iter().map(|(v, _)| *v).collect();
+        ds.new_attr::<u8>()
+            .shape(values.len())
+            .create("flag_values")?
+            .write_raw(&values)?;
+        let names: Vec<&str> = col.flags.iter().map(|(_, n)| *n).collect();
+        str_attr(&ds, "flag_meanings", &names.join(" "))?;
+    }
     Ok(ds)
+}
+
+/// Writes one column of a block's cells.
+fn write_column(
+    ds: &Dataset,
+    col: &Column,
+    cells: &[Cell],
+    sweep: bool,
+    map: usize,
+    rows: std::ops::Range<usize>,
+    nx: usize,
+) -> hdf5::Result<()> {
+    let u = || cells.iter().map(|c| (col.get)(c).as_u64());
+    fn enum_of<T>(col: &Column, cells: &[Cell], f: fn(u8) -> Option<T>) -> hdf5::Result<Vec<T>> {
+        cells
+            .iter()
+            .map(|c| {
+                let v = (col.get)(c).as_u64();
+                f(v as u8)
+                    .filter(|_| v <= u8::MAX as u64)
+                    .ok_or_else(|| hdf5::Error::from(format!("{}: unknown value {v}", col.name)))
+            })
+            .collect()
+    }
+    match (EnumColumn::of(col), col.kind) {
+        (Some(EnumColumn::Label), _) => write_rows(
+            ds,
+            enum_of(col, cells, Label::from_u8)?,
+            sweep,
+            map,
+            rows,
+            nx,
+        ),
+        (Some(EnumColumn::Reason), _) => write_rows(
+            ds,
+            enum_of(col, cells, ReasonH5::from_u8)?,
+            sweep,
+            map,
+            rows,
+            nx,
+        ),
+        (Some(EnumColumn::Audit), _) => write_rows(
+            ds,
+            enum_of(col, cells, AuditH5::from_u8)?,
+            sweep,
+            map,
+            rows,
+            nx,
+        ),
+        (None, Kind::U8 | Kind::Enum) => {
+            write_rows(ds, u().map(|v| v as u8).collect(), sweep, map, rows, nx)
+        }
+        (None, Kind::U32) => write_rows(ds, u().map(|v| v as u32).collect(), sweep, map, rows, nx),
+        (None, Kind::U64) => write_rows(ds, u().collect(), sweep, map, rows, nx),
+        (None, Kind::F64) => write_rows(
+            ds,
+            cells.iter().map(|c| (col.get)(c).as_f64()).collect(),
+            sweep,
+            map,
+            rows,
+            nx,
+        ),
+    }
 }
 
 /// The rows `rows` of map `map` (sweep) or of the single map: a hyperslab over `(.., v0, x0)`.
@@ -252,13 +341,70 @@ fn write_rows<T: H5Type>(
     }
 }
 
+/// The root attributes: provenance, the spec and every setting of the plan.
+fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
+    let g = &plan.grid;
+    let p0 = plan.maps[0];
+    str_attr(file, "schema", SCHEMA)?;
+    str_attr(file, "squeal_version", meta.version)?;
+    str_attr(file, "git_revision", meta.git_revision)?;
+    str_attr(file, "spec", &plan.spec_text)?;
+    str_attr(file, "name", &plan.name)?;
+    str_attr(file, "law", p0.law.name())?;
+    num_attr(file, "tau", p0.tau)?;
+    num_attr(file, "phi", p0.phi)?;
+    let swept = plan.sweep.as_ref().map(|s| s.name);
+    if swept != Some("nu") {
+        num_attr(file, "nu", p0.nu)?;
+    }
+    if swept != Some("lambda") {
+        num_attr(file, "lambda", p0.lambda)?;
+    }
+    num_attr(file, "dt", plan.dt)?;
+    str_attr(file, "solver", plan.solver.kind.name())?;
+    num_attr(file, "max_iter", plan.solver.max_iter)?;
+    num_attr(file, "t_max", plan.classifier.t_max)?;
+    num_attr(file, "fp_radius", plan.classifier.fp_radius)?;
+    num_attr(file, "settle_cycles", plan.classifier.settle_cycles)?;
+    num_attr(file, "settle_rtol", plan.classifier.settle_rtol)?;
+    str_attr(file, "early_stop", plan.early_stop.name())?;
+    num_attr(file, "trap_margin", plan.trap_margin)?;
+    num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
+    num_attr(file, "block_rows", g.block_rows as u64)?;
+    num_attr(file, "audit_every", plan.audit_every)?;
+    if let Some(s) = &meta.shard {
+        str_attr(file, "shard", s)?;
+    }
+    Ok(())
+}
+
+/// Checks before any computing that the final write will succeed: writes the root
+/// attributes and coordinates into a scratch file beside `path` and removes it.
+pub(crate) fn preflight(path: &Path, plan: &Plan, meta: &Meta) -> Result<(), StoreError> {
+    let mut s = path.as_os_str().to_owned();
+    s.push(".preflight");
+    let scratch = std::path::PathBuf::from(s);
+    let _ = std::fs::remove_file(&scratch);
+    let res = (|| -> hdf5::Result<()> {
+        let f = File::create_excl(&scratch)?;
+        root_attrs(&f, plan, meta)?;
+        f.new_dataset_builder()
+            .with_data(&plan.grid.x0.values())
+            .create("x0")?;
+        f.close()
+    })()
+    .h5(path);
+    let _ = std::fs::remove_file(&scratch);
+    res
+}
+
 /// Writes the whole file at `path` (which must not exist). Memory: one block at a time.
 pub(crate) fn assemble(
     path: &Path,
     plan: &Plan,
     meta: &Meta,
     src: &mut dyn Source,
-) -> Result<Vec<Option<WrongSide>>, StoreError> {
+) -> Result<Vec<MapChecks>, StoreError> {
     let file = File::create_excl(path).h5(path)?;
     let out = write_all(&file, plan, meta, src, path);
     let closed = file.close().h5(path);
@@ -273,7 +419,7 @@ fn write_all(
     meta: &Meta,
     src: &mut dyn Source,
     path: &Path,
-) -> Result<Vec<Option<WrongSide>>, StoreError> {
+) -> Result<Vec<MapChecks>, StoreError> {
     let g = &plan.grid;
     let (nx, nv, nmaps, nblocks) = (g.x0.count, g.v0.count, plan.maps.len(), g.blocks());
     let sweep = plan.sweep.is_some();
@@ -282,41 +428,7 @@ fn write_all(
         class_type: class_type(path)?,
     };
 
-    // Root attributes.
-    let p0 = plan.maps[0];
-    (|| -> hdf5::Result<()> {
-        str_attr(file, "schema", SCHEMA)?;
-        str_attr(file, "squeal_version", meta.version)?;
-        str_attr(file, "git_revision", meta.git_revision)?;
-        str_attr(file, "spec", &plan.spec_text)?;
-        str_attr(file, "name", &plan.name)?;
-        str_attr(file, "law", p0.law.name())?;
-        num_attr(file, "tau", p0.tau)?;
-        num_attr(file, "phi", p0.phi)?;
-        let swept = plan.sweep.as_ref().map(|s| s.name);
-        if swept != Some("nu") {
-            num_attr(file, "nu", p0.nu)?;
-        }
-        if swept != Some("lambda") {
-            num_attr(file, "lambda", p0.lambda)?;
-        }
-        num_attr(file, "dt", plan.dt)?;
-        str_attr(file, "solver", plan.solver.kind.name())?;
-        num_attr(file, "max_iter", plan.solver.max_iter)?;
-        num_attr(file, "t_max", plan.classifier.t_max)?;
-        num_attr(file, "fp_radius", plan.classifier.fp_radius)?;
-        num_attr(file, "settle_cycles", plan.classifier.settle_cycles)?;
-        num_attr(file, "settle_rtol", plan.classifier.settle_rtol)?;
-        str_attr(file, "early_stop", plan.early_stop.name())?;
-        num_attr(file, "trap_margin", plan.trap_margin)?;
-        num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
-        num_attr(file, "block_rows", g.block_rows as u64)?;
-        if let Some(s) = &meta.shard {
-            str_attr(file, "shard", s)?;
-        }
-        Ok(())
-    })()
-    .h5(path)?;
+    root_attrs(file, plan, meta).h5(path)?;
 
     // Coordinates and variables.
     let x0 = coord(
@@ -359,112 +471,12 @@ fn write_all(
     } else {
         (vec![nv, nx], vec![rows_per_chunk, nx])
     };
-    let vars = (|| -> hdf5::Result<Vars> {
-        let labels = var(
-            file,
-            "labels",
-            &shape,
-            &chunk,
-            Label::NotComputed,
-            "attractor reached",
-        )?;
-        let names: Vec<&str> = squeal_core::Regime::ALL.iter().map(|r| r.name()).collect();
-        str_attr(
-            &labels,
-            "flag_meanings",
-            &format!("{} not_computed", names.join(" ")),
-        )?;
-        labels
-            .new_attr::<u8>()
-            .shape(4)
-            .create("flag_values")?
-            .write_raw(&[0u8, 1, 2, 255])?;
-        Ok(Vars {
-            labels,
-            reason: var(
-                file,
-                "reason",
-                &shape,
-                &chunk,
-                ReasonH5::NotComputed,
-                "why the run stopped",
-            )?,
-            t_decision: var(
-                file,
-                "t_decision",
-                &shape,
-                &chunk,
-                f64::NAN,
-                "time at the decision",
-            )?,
-            amplitude: var(
-                file,
-                "amplitude",
-                &shape,
-                &chunk,
-                f64::NAN,
-                "last section amplitude",
-            )?,
-            omega: var(
-                file,
-                "omega",
-                &shape,
-                &chunk,
-                f64::NAN,
-                "angular frequency of the last revolution",
-            )?,
-            quasi_static: var(
-                file,
-                "quasi_static",
-                &shape,
-                &chunk,
-                0u8,
-                "1 if the quasi-static branch was entered",
-            )?,
-            evaluations: var(
-                file,
-                "evaluations",
-                &shape,
-                &chunk,
-                0u64,
-                "friction-law evaluations",
-            )?,
-            fallbacks: var(
-                file,
-                "fallbacks",
-                &shape,
-                &chunk,
-                0u32,
-                "bisection fallbacks and bracket expansions",
-            )?,
-            multi_root: var(
-                file,
-                "multi_root",
-                &shape,
-                &chunk,
-                0u32,
-                "solves with several roots",
-            )?,
-            unconverged: var(
-                file,
-                "unconverged",
-                &shape,
-                &chunk,
-                0u32,
-                "unconverged or failed solves",
-            )?,
-            max_residual: var(
-                file,
-                "max_residual",
-                &shape,
-                &chunk,
-                f64::NAN,
-                "largest solver residual",
-            )?,
-        })
-    })()
-    .h5(path)?;
-    for v in vars.all() {
+    let vars: Vec<Dataset> = COLUMNS
+        .iter()
+        .map(|col| column_dataset(file, col, &shape, &chunk))
+        .collect::<hdf5::Result<_>>()
+        .h5(path)?;
+    for v in &vars {
         let d: Vec<&Dataset> = if sweep {
             vec![&map_dim, &v0, &x0]
         } else {
@@ -474,16 +486,12 @@ fn write_all(
     }
 
     let mut done = vec![0u8; nmaps * nblocks];
-    let mut wrong = Vec::with_capacity(nmaps);
+    let mut checks = Vec::with_capacity(nmaps);
     let mut cycles: Vec<Option<CycleRecord>> = Vec::with_capacity(nmaps);
-    let diag = g.x0.spacing().hypot(g.v0.spacing());
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
-        let curve = cyc.as_ref().and_then(|c| c.report.as_ref());
-        let mut ws = curve.map(|_| WrongSide {
-            cells: 0,
-            beyond_pixel: 0,
-        });
+        let curve = report_of(&cyc).map(|r| &r.curve);
+        let mut ck = MapChecks::new(curve);
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;
@@ -500,80 +508,17 @@ fn write_all(
                 });
             }
             done[m * nblocks + b] = 1;
-            if let (Some(c), Some(w)) = (curve, ws.as_mut()) {
-                for (k, cell) in cells.iter().enumerate() {
-                    let (x, v) = (g.x0.value(k % nx), g.v0.value(rows.start + k / nx));
-                    let inside = c.encloses(x, v);
-                    let bad = (cell.regime == 1 && !inside) || (cell.regime == 2 && inside);
-                    if bad {
-                        w.cells += 1;
-                        if c.distance_to(x, v) > diag {
-                            w.beyond_pixel += 1;
-                        }
+            ck.add_block(plan, curve, b, &cells);
+            for (ds, col) in vars.iter().zip(COLUMNS) {
+                write_column(ds, col, &cells, sweep, m, rows.clone(), nx).map_err(|e| {
+                    StoreError::BadBlock {
+                        path: path.to_path_buf(),
+                        why: format!("map {m} block {b}: {e}"),
                     }
-                }
+                })?;
             }
-            let bad = |what: &str, v: u8| StoreError::BadBlock {
-                path: path.to_path_buf(),
-                why: format!("map {m} block {b}: unknown {what} value {v}"),
-            };
-            let labels = cells
-                .iter()
-                .map(|c| Label::from_u8(c.regime).ok_or_else(|| bad("regime", c.regime)))
-                .collect::<Result<Vec<_>, _>>()?;
-            let reasons = cells
-                .iter()
-                .map(|c| ReasonH5::from_u8(c.reason).ok_or_else(|| bad("reason", c.reason)))
-                .collect::<Result<Vec<_>, _>>()?;
-            (|| -> hdf5::Result<()> {
-                let r = rows.clone();
-                write_rows(&vars.labels, labels, sweep, m, r.clone(), nx)?;
-                write_rows(&vars.reason, reasons, sweep, m, r.clone(), nx)?;
-                let f = |get: fn(&Cell) -> f64| cells.iter().map(get).collect::<Vec<f64>>();
-                write_rows(
-                    &vars.t_decision,
-                    f(|c| c.t_decision),
-                    sweep,
-                    m,
-                    r.clone(),
-                    nx,
-                )?;
-                write_rows(&vars.amplitude, f(|c| c.amplitude), sweep, m, r.clone(), nx)?;
-                write_rows(&vars.omega, f(|c| c.omega), sweep, m, r.clone(), nx)?;
-                write_rows(
-                    &vars.max_residual,
-                    f(|c| c.max_residual),
-                    sweep,
-                    m,
-                    r.clone(),
-                    nx,
-                )?;
-                let u = |get: fn(&Cell) -> u32| cells.iter().map(get).collect::<Vec<u32>>();
-                write_rows(&vars.fallbacks, u(|c| c.fallbacks), sweep, m, r.clone(), nx)?;
-                write_rows(
-                    &vars.multi_root,
-                    u(|c| c.multi_root),
-                    sweep,
-                    m,
-                    r.clone(),
-                    nx,
-                )?;
-                write_rows(
-                    &vars.unconverged,
-                    u(|c| c.unconverged),
-                    sweep,
-                    m,
-                    r.clone(),
-                    nx,
-                )?;
-                let qs: Vec<u8> = cells.iter().map(|c| c.quasi_static).collect();
-                write_rows(&vars.quasi_static, qs, sweep, m, r.clone(), nx)?;
-                let ev: Vec<u64> = cells.iter().map(|c| c.evaluations).collect();
-                write_rows(&vars.evaluations, ev, sweep, m, r, nx)
-            })()
-            .h5(path)?;
         }
-        wrong.push(ws);
+        checks.push(ck);
         cycles.push(cyc);
     }
 
@@ -588,81 +533,84 @@ fn write_all(
         str_attr(&ds, "long_name", "1 where the block of rows is stored")?;
         dims.attach(file, &ds, &[&map_dim, &block_dim])?;
 
+        // Per-map consistency checks.
+        for (i, (name, long)) in CHECK_FIELDS.iter().enumerate() {
+            let vals: Array1<i64> = checks.iter().map(|c| c.values()[i]).collect();
+            let ds = file
+                .new_dataset_builder()
+                .obj_track_times(false)
+                .with_data(&vals)
+                .create(*name)?;
+            str_attr(&ds, "long_name", long)?;
+            str_attr(&ds, "units", "1")?;
+            dims.attach(file, &ds, &[&map_dim])?;
+        }
+
         // Cycles.
-        let write_cycle = |grp: &Group,
-                           dims: &mut Dims,
-                           c: &CycleRecord,
-                           w: Option<WrongSide>|
-         -> hdf5::Result<()> {
-            if let Some(e) = &c.error {
-                str_attr(grp, "error", e)?;
+        let write_cycle = |grp: &Group, dims: &mut Dims, c: &CycleRecord| -> hdf5::Result<()> {
+            if let Some(Err(e)) = c {
+                str_attr(grp, "error", &e.to_string())?;
             }
-            if let Some(r) = &c.report {
-                for (name, v) in r.scalars() {
-                    num_attr(grp, name, v)?;
+            str_attr(grp, "record", &crate::cycle::to_text(c, false))?;
+            for (name, v) in crate::cycle::flatten(c) {
+                match v {
+                    Flat::F64(x) => num_attr(grp, &name, x)?,
+                    Flat::I64(x) => num_attr(grp, &name, x)?,
+                    Flat::Bool(x) => num_attr(grp, &name, x as u8)?,
+                    Flat::Text(x) => str_attr(grp, &name, &x)?,
+                    Flat::F64s(x) => grp
+                        .new_attr::<f64>()
+                        .shape(x.len())
+                        .create(name.as_str())?
+                        .write_raw(&x)?,
                 }
-                num_attr(grp, "encloses_origin", r.encloses_origin as u8)?;
-                if let Some(v) = r.half_dt_r_section {
-                    num_attr(grp, "half_dt_r_section", v)?;
+            }
+            if let Some(Ok(r)) = c {
+                let pt = index_coord(
+                    grp,
+                    dims,
+                    "point",
+                    r.curve.len(),
+                    "step along the closed curve",
+                )?;
+                for (name, data, long) in [
+                    ("x", &r.curve.x, "displacement x on the cycle"),
+                    ("v", &r.curve.v, "velocity x' on the cycle"),
+                ] {
+                    let ds = grp
+                        .new_dataset_builder()
+                        .obj_track_times(false)
+                        .with_data(data.as_slice())
+                        .create(name)?;
+                    str_attr(&ds, "long_name", long)?;
+                    str_attr(&ds, "units", "1")?;
+                    dims.attach(file, &ds, &[&pt])?;
                 }
-                if let Some(v) = r.half_dt_shift {
-                    num_attr(grp, "half_dt_shift", v)?;
-                }
-                num_attr(grp, "returns", r.returns)?;
-                if let Some(v) = r.stable_above {
-                    num_attr(grp, "stable_above", v)?;
-                }
-                if let Some(w) = w {
-                    num_attr(grp, "wrong_side_cells", w.cells)?;
-                    num_attr(grp, "wrong_side_beyond_pixel", w.beyond_pixel)?;
-                }
-                let pt = index_coord(grp, dims, "point", r.x.len(), "step along the closed curve")?;
-                let x = grp
-                    .new_dataset_builder()
-                    .obj_track_times(false)
-                    .with_data(&r.x)
-                    .create("x")?;
-                str_attr(&x, "long_name", "cycle x")?;
-                let v = grp
-                    .new_dataset_builder()
-                    .obj_track_times(false)
-                    .with_data(&r.v)
-                    .create("v")?;
-                str_attr(&v, "long_name", "cycle x'")?;
-                dims.attach(file, &x, &[&pt])?;
-                dims.attach(file, &v, &[&pt])?;
             }
             Ok(())
         };
-        let has = |c: &Option<CycleRecord>| {
-            c.as_ref()
-                .is_some_and(|c| c.report.is_some() || c.error.is_some())
-        };
+        let has = |c: &Option<CycleRecord>| matches!(c, Some(Some(_)));
         if sweep {
             if cycles.iter().any(has) {
                 let top = file.create_group("cycles")?;
                 for (m, c) in cycles.iter().enumerate() {
                     if let Some(c) = c.as_ref().filter(|_| has(&cycles[m])) {
                         let grp = top.create_group(&format!("map_{m:04}"))?;
-                        write_cycle(&grp, &mut dims, c, wrong[m])?;
+                        write_cycle(&grp, &mut dims, c)?;
                     }
                 }
             }
-            let pick = |f: fn(&CycleData) -> f64| -> Array1<f64> {
+            let pick = |f: fn(&CycleReport) -> f64| -> Array1<f64> {
                 cycles
                     .iter()
-                    .map(|c| {
-                        c.as_ref()
-                            .and_then(|c| c.report.as_ref())
-                            .map_or(f64::NAN, f)
-                    })
+                    .map(|c| report_of(c).map_or(f64::NAN, f))
                     .collect()
             };
             let series: [Series; 5] = [
                 (
                     "cycle_r_section",
                     |c| c.r_section,
-                    "cycle crossing of the section",
+                    "cycle crossing of the section x = x*: x' there",
                 ),
                 (
                     "cycle_distance_plus_x",
@@ -684,15 +632,12 @@ fn write_all(
                     .with_data(&pick(f))
                     .create(name)?;
                 str_attr(&ds, "long_name", long)?;
+                str_attr(&ds, "units", "1")?;
                 dims.attach(file, &ds, &[&map_dim])?;
             }
             let enc: Vec<u8> = cycles
                 .iter()
-                .map(|c| {
-                    c.as_ref()
-                        .and_then(|c| c.report.as_ref())
-                        .map_or(0, |r| r.encloses_origin as u8)
-                })
+                .map(|c| report_of(c).map_or(0, |r| r.encloses_origin as u8))
                 .collect();
             let ds = file
                 .new_dataset_builder()
@@ -707,10 +652,18 @@ fn write_all(
             dims.attach(file, &ds, &[&map_dim])?;
         } else if let Some(c) = cycles[0].as_ref().filter(|_| has(&cycles[0])) {
             let grp = file.create_group("cycle")?;
-            write_cycle(&grp, &mut dims, c, wrong[0])?;
+            write_cycle(&grp, &mut dims, c)?;
         }
         dims.finish()
     })()
     .h5(path)?;
-    Ok(wrong)
+    Ok(checks)
+}
+
+/// The located cycle in a stored record, if any.
+pub(crate) fn report_of(c: &Option<CycleRecord>) -> Option<&CycleReport> {
+    match c {
+        Some(Some(Ok(r))) => Some(r),
+        _ => None,
+    }
 }

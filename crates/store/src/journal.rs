@@ -4,8 +4,9 @@
 //! ```text
 //! record  = "SQJR" kind:u8 len:u32 payload[len] fnv1a64(kind, payload):u64   (little endian)
 //! header  = kind 'H': format:u32 spec:str shard:str             (str = len:u64 bytes)
-//! block   = kind 'B': map:u64 block:u64 n:u64 n x cell (55 bytes, fields in Cell order)
-//! cycle   = kind 'C': map:u64 has_report:u8 [report] has_error:u8 [error:str]
+//! block   = kind 'B': map:u64 block:u64 n:u64 n x cell (the columns of
+//!           squeal_scan::cell::COLUMNS in order, each at its storage width)
+//! cycle   = kind 'C': map:u64 record:str (the cycle search as TOML, see crate::cycle)
 //! ```
 //! Reading stops at the first short or corrupt record (a write torn by a kill) and the
 //! file is truncated there.
@@ -14,17 +15,17 @@ use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
-use squeal_scan::scanner::Cell;
+use squeal_scan::cell::{COLUMNS, Cell, Kind, Num, cell_bytes};
+use squeal_scan::ulc::CycleOutcome;
 
 use crate::StoreError;
 use crate::error::io;
 
 const MAGIC: &[u8; 4] = b"SQJR";
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 pub(crate) const KIND_HEADER: u8 = b'H';
 pub(crate) const KIND_BLOCK: u8 = b'B';
 pub(crate) const KIND_CYCLE: u8 = b'C';
-const CELL_BYTES: usize = 55;
 const FRAME: usize = 4 + 1 + 4;
 
 /// FNV-1a, 64 bits.
@@ -39,104 +40,8 @@ pub(crate) fn fnv64(parts: &[&[u8]]) -> u64 {
     h
 }
 
-/// The located cycle as stored: every scalar of `CycleReport` plus the curve.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct CycleData {
-    pub r_section: f64,
-    pub bracket_lo: f64,
-    pub bracket_hi: f64,
-    pub period: f64,
-    pub omega: f64,
-    pub x_min: f64,
-    pub x_max: f64,
-    pub v_min: f64,
-    pub v_max: f64,
-    pub distance_plus_x: f64,
-    pub area: f64,
-    pub multiplier: f64,
-    pub encloses_origin: bool,
-    pub half_dt_r_section: Option<f64>,
-    pub half_dt_shift: Option<f64>,
-    pub returns: u64,
-    pub stable_above: Option<f64>,
-    pub x: Vec<f64>,
-    pub v: Vec<f64>,
-}
-
-impl CycleData {
-    pub(crate) fn from_report(c: &squeal_scan::ulc::CycleReport) -> CycleData {
-        CycleData {
-            r_section: c.r_section,
-            bracket_lo: c.bracket[0],
-            bracket_hi: c.bracket[1],
-            period: c.period,
-            omega: c.omega,
-            x_min: c.x_range[0],
-            x_max: c.x_range[1],
-            v_min: c.v_range[0],
-            v_max: c.v_range[1],
-            distance_plus_x: c.distance_plus_x,
-            area: c.area,
-            multiplier: c.multiplier,
-            encloses_origin: c.encloses_origin,
-            half_dt_r_section: c.half_dt.map(|h| h.r_section),
-            half_dt_shift: c.half_dt.map(|h| h.shift),
-            returns: c.returns,
-            stable_above: c.stable_above,
-            x: c.curve_x.clone(),
-            v: c.curve_v.clone(),
-        }
-    }
-
-    /// The f64 scalars by attribute name, in a fixed order.
-    pub(crate) fn scalars(&self) -> [(&'static str, f64); 12] {
-        [
-            ("r_section", self.r_section),
-            ("bracket_lo", self.bracket_lo),
-            ("bracket_hi", self.bracket_hi),
-            ("period", self.period),
-            ("omega", self.omega),
-            ("x_min", self.x_min),
-            ("x_max", self.x_max),
-            ("v_min", self.v_min),
-            ("v_max", self.v_max),
-            ("distance_plus_x", self.distance_plus_x),
-            ("area", self.area),
-            ("multiplier", self.multiplier),
-        ]
-    }
-
-    /// Whether `(x, v)` lies inside the curve.
-    pub(crate) fn encloses(&self, x: f64, v: f64) -> bool {
-        squeal_scan::ulc::polygon_contains(&self.x, &self.v, x, v)
-    }
-
-    /// Distance from `(x, v)` to the curve.
-    pub(crate) fn distance_to(&self, x: f64, v: f64) -> f64 {
-        let n = self.x.len();
-        let mut best = f64::INFINITY;
-        for i in 0..n {
-            let j = (i + 1) % n;
-            let (ax, av, bx, bv) = (self.x[i], self.v[i], self.x[j], self.v[j]);
-            let (dx, dv) = (bx - ax, bv - av);
-            let l2 = dx * dx + dv * dv;
-            let t = if l2 > 0.0 {
-                (((x - ax) * dx + (v - av) * dv) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            best = best.min((x - ax - t * dx).hypot(v - av - t * dv));
-        }
-        best
-    }
-}
-
-/// A recorded cycle: the report, or why there is none (both absent if not asked for).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub(crate) struct CycleRecord {
-    pub report: Option<CycleData>,
-    pub error: Option<String>,
-}
+/// A map's recorded cycle search: `None` when the plan does not locate cycles.
+pub(crate) type CycleRecord = Option<CycleOutcome>;
 
 #[derive(Default)]
 pub(crate) struct Enc(pub Vec<u8>);
@@ -157,16 +62,6 @@ impl Enc {
     pub fn str(&mut self, s: &str) {
         self.u64(s.len() as u64);
         self.0.extend_from_slice(s.as_bytes());
-    }
-    pub fn opt(&mut self, v: Option<f64>) {
-        self.u8(v.is_some() as u8);
-        self.f64(v.unwrap_or(f64::NAN));
-    }
-    pub fn f64s(&mut self, v: &[f64]) {
-        self.u64(v.len() as u64);
-        for &x in v {
-            self.f64(x);
-        }
     }
 }
 
@@ -203,55 +98,40 @@ impl<'a> Dec<'a> {
         let n = usize::try_from(self.u64()?).ok()?;
         String::from_utf8(self.take(n)?.to_vec()).ok()
     }
-    pub fn opt(&mut self) -> Option<Option<f64>> {
-        let has = self.u8()?;
-        let v = self.f64()?;
-        Some((has != 0).then_some(v))
-    }
-    pub fn f64s(&mut self) -> Option<Vec<f64>> {
-        let n = usize::try_from(self.u64()?).ok()?;
-        if n > self.b.len() / 8 {
-            return None;
-        }
-        (0..n).map(|_| self.f64()).collect()
-    }
     pub fn done(&self) -> bool {
         self.at == self.b.len()
     }
 }
 
+/// One cell, column by column in [`COLUMNS`] order.
 pub(crate) fn encode_cell(e: &mut Enc, c: &Cell) {
-    e.u8(c.regime);
-    e.u8(c.reason);
-    e.f64(c.t_decision);
-    e.f64(c.amplitude);
-    e.f64(c.omega);
-    e.u8(c.quasi_static);
-    e.u64(c.evaluations);
-    e.u32(c.fallbacks);
-    e.u32(c.multi_root);
-    e.u32(c.unconverged);
-    e.f64(c.max_residual);
+    for col in COLUMNS {
+        let v = (col.get)(c);
+        match col.kind {
+            Kind::Enum | Kind::U8 => e.u8(v.as_u64() as u8),
+            Kind::U32 => e.u32(v.as_u64() as u32),
+            Kind::U64 => e.u64(v.as_u64()),
+            Kind::F64 => e.f64(v.as_f64()),
+        }
+    }
 }
 
 fn decode_cell(d: &mut Dec) -> Option<Cell> {
-    Some(Cell {
-        regime: d.u8()?,
-        reason: d.u8()?,
-        t_decision: d.f64()?,
-        amplitude: d.f64()?,
-        omega: d.f64()?,
-        quasi_static: d.u8()?,
-        evaluations: d.u64()?,
-        fallbacks: d.u32()?,
-        multi_root: d.u32()?,
-        unconverged: d.u32()?,
-        max_residual: d.f64()?,
-    })
+    let mut c = Cell::fill();
+    for col in COLUMNS {
+        let v = match col.kind {
+            Kind::Enum | Kind::U8 => Num::U(d.u8()? as u64),
+            Kind::U32 => Num::U(d.u32()? as u64),
+            Kind::U64 => Num::U(d.u64()?),
+            Kind::F64 => Num::F(d.f64()?),
+        };
+        (col.set)(&mut c, v);
+    }
+    Some(c)
 }
 
 pub(crate) fn encode_block(map: usize, block: usize, cells: &[Cell]) -> Vec<u8> {
-    let mut e = Enc(Vec::with_capacity(24 + cells.len() * CELL_BYTES));
+    let mut e = Enc(Vec::with_capacity(24 + cells.len() * cell_bytes()));
     e.u64(map as u64);
     e.u64(block as u64);
     e.u64(cells.len() as u64);
@@ -267,7 +147,7 @@ pub(crate) fn decode_block(p: &[u8]) -> Option<(usize, usize, Vec<Cell>)> {
     let map = usize::try_from(d.u64()?).ok()?;
     let block = usize::try_from(d.u64()?).ok()?;
     let n = usize::try_from(d.u64()?).ok()?;
-    if n.checked_mul(CELL_BYTES)? != p.len() - 24 {
+    if n.checked_mul(cell_bytes())? != p.len().checked_sub(24)? {
         return None;
     }
     let cells = (0..n)
@@ -279,66 +159,15 @@ pub(crate) fn decode_block(p: &[u8]) -> Option<(usize, usize, Vec<Cell>)> {
 pub(crate) fn encode_cycle(map: usize, rec: &CycleRecord) -> Vec<u8> {
     let mut e = Enc::default();
     e.u64(map as u64);
-    match &rec.report {
-        Some(c) => {
-            e.u8(1);
-            for (_, v) in c.scalars() {
-                e.f64(v);
-            }
-            e.u8(c.encloses_origin as u8);
-            e.opt(c.half_dt_r_section);
-            e.opt(c.half_dt_shift);
-            e.u64(c.returns);
-            e.opt(c.stable_above);
-            e.f64s(&c.x);
-            e.f64s(&c.v);
-        }
-        None => e.u8(0),
-    }
-    match &rec.error {
-        Some(s) => {
-            e.u8(1);
-            e.str(s);
-        }
-        None => e.u8(0),
-    }
+    e.str(&crate::cycle::to_text(rec, true));
     e.0
 }
 
 pub(crate) fn decode_cycle(p: &[u8]) -> Option<(usize, CycleRecord)> {
     let mut d = Dec::new(p);
     let map = usize::try_from(d.u64()?).ok()?;
-    let report = if d.u8()? != 0 {
-        let mut s = [0.0; 12];
-        for x in s.iter_mut() {
-            *x = d.f64()?;
-        }
-        Some(CycleData {
-            r_section: s[0],
-            bracket_lo: s[1],
-            bracket_hi: s[2],
-            period: s[3],
-            omega: s[4],
-            x_min: s[5],
-            x_max: s[6],
-            v_min: s[7],
-            v_max: s[8],
-            distance_plus_x: s[9],
-            area: s[10],
-            multiplier: s[11],
-            encloses_origin: d.u8()? != 0,
-            half_dt_r_section: d.opt()?,
-            half_dt_shift: d.opt()?,
-            returns: d.u64()?,
-            stable_above: d.opt()?,
-            x: d.f64s()?,
-            v: d.f64s()?,
-        })
-    } else {
-        None
-    };
-    let error = if d.u8()? != 0 { Some(d.str()?) } else { None };
-    d.done().then_some((map, CycleRecord { report, error }))
+    let rec = crate::cycle::from_text(&d.str()?, None).ok()?;
+    d.done().then_some((map, rec))
 }
 
 /// The journal's header.

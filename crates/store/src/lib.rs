@@ -1,19 +1,25 @@
 //! # squeal-store: basin maps in HDF5 (the only squeal crate that links HDF5)
 //!
-//! * [`ScanWriter`] takes finished blocks ([`squeal_scan::scanner::BlockResult`]) and located
-//!   cycles, appends each to a journal `<out>.journal` (fsynced, so an interrupted scan
-//!   resumes with [`ScanWriter::resume`] losing at most the block in flight), and at
-//!   [`ScanWriter::finish`] writes the HDF5 file `<out>.tmp`, renames it to `<out>` and
-//!   removes the journal.
+//! * [`ScanWriter`] is the scan's [`squeal_scan::Sink`]: it takes finished blocks and cycle
+//!   searches from [`squeal_scan::drive`], appends each to a journal `<out>.journal`
+//!   (fsynced, so an interrupted scan resumes with [`ScanWriter::resume`] losing at most the
+//!   blocks in flight), and at [`ScanWriter::finish`] writes the HDF5 file `<out>.tmp`,
+//!   renames it to `<out>` and removes the journal. While it lives it holds the
+//!   [`OutputLock`] `<out>.lock`, so two runs never write one output.
+//! * [`output_state`] says whether an output is absent, interrupted, complete for this plan
+//!   or made from another spec (compared as parsed plans, not text).
 //! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merge`] joins the shard
 //!   files into the file a single run writes.
 //! * [`read_info`], [`read_map`], [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!
+//! Every per-cell dataset follows [`squeal_scan::cell::COLUMNS`] (name, long name, units,
+//! type, fill); the cycle search is written generically from its serde form.
 //! The file is the same whatever the thread count, resumed or not, merged or not: nothing
 //! in it depends on wall-clock time or threads.
 //!
 //! ```
+//! use std::sync::atomic::AtomicBool;
 //! use squeal_store::{Provenance, ScanWriter, read_info};
 //! let plan = squeal_scan::Plan::from_toml(r#"
 //! version = 1
@@ -32,13 +38,8 @@
 //! let out = dir.path().join("doc.h5");
 //! let prov = Provenance { version: "0.1.0".into(), git_revision: "unknown".into() };
 //! let mut w = ScanWriter::create(&out, &plan, None, &prov, false).unwrap();
-//! let ctx = squeal_scan::scanner::MapContext::prepare(&plan, 0).unwrap();
-//! let nobody = squeal_scan::scanner::NoObserver;
-//! for b in 0..plan.grid.blocks() {
-//!     if !w.is_done(0, b) {
-//!         w.write_block(&squeal_scan::scanner::run_block(&plan, &ctx, b, &nobody, None).unwrap()).unwrap();
-//!     }
-//! }
+//! let stop = AtomicBool::new(false);
+//! squeal_scan::drive(&plan, None, &mut w, &squeal_scan::NoObserver, &stop).unwrap();
 //! w.finish().unwrap();
 //! assert_eq!(read_info(&out).unwrap().counts[0].iter().sum::<u64>(), 2);
 //! ```
@@ -52,28 +53,36 @@
 //!                        strings (variable-length UTF-8)
 //!   nu, lambda           f64 scalars, except the swept one (then a coordinate, below)
 //!   tau, phi, dt, t_max, fp_radius, settle_rtol, trap_margin      f64
-//!   max_iter, settle_cycles (u32), block_rows (u64), locate_cycle (u8 0/1)
+//!   max_iter, settle_cycles (u32), block_rows, audit_every (u64), locate_cycle (u8 0/1)
 //!   shard                "K/N", only in shard files
 //! coordinates (dimension scales; attrs long_name, units = "1"):
 //!   x0 (nx) f64, v0 (nv) f64, and for sweeps nu or lambda (nmaps) f64
 //!   map (nmaps) u64 index, only when not swept; block (nblocks) u64 index
 //! basin map, shape (v0, x0), or (nu|lambda, v0, x0) for a sweep; chunked one block of
 //! rows per chunk, deflate:
+//! the columns of squeal_scan::cell::COLUMNS, each with long_name, units (not on enums),
+//! and for enums CF flag_values / flag_meanings:
 //!   labels       u8 enum {undecided=0, steady_slip=1, stick_slip=2, not_computed=255},
-//!                fill 255; attrs flag_values, flag_meanings (CF)
+//!                fill 255
 //!   reason       u8 enum {time_limit=0, near_fixed_point=1, inside_cycle=2,
 //!                outside_cycle=3, settled_stick_slip=4, diverged=5, solver_failure=6,
 //!                not_computed=255}, fill 255
-//!   t_decision, amplitude, omega, max_residual    f64, fill NaN
+//!   t_decision, amplitude, omega, max_residual    f64, fill NaN, units "1"
 //!   quasi_static u8, evaluations u64, fallbacks, multi_root, unconverged u32, fill 0
+//!   audit        u8 enum {not_audited=0, agrees=1, disagrees=2, undecided=3}: the label of
+//!                the same run taken to settlement, on about 1 cell in audit_every
+//!                (spec classifier.audit_every, default 1024) of early-stopped scans
 //! blocks_done    u8 (map|nu|lambda, block): 1 where the block is stored
+//! per map (map|nu|lambda), i64, -1 where not applicable (squeal_scan::checks::CHECK_FIELDS):
+//!   wrong_side_cells, wrong_side_beyond_pixel, audit_cells, audit_agrees,
+//!   audit_disagrees, audit_undecided, origin_disagrees
 //! cycle          group /cycle (one map) or /cycles/map_0000, ... (sweep), present when the
-//!                scan recorded one: attrs r_section, bracket_lo, bracket_hi, period, omega,
-//!                x_min, x_max, v_min, v_max, distance_plus_x, area, multiplier (f64),
-//!                encloses_origin (u8), half_dt_r_section, half_dt_shift, stable_above
-//!                (f64, when known), returns (u64), wrong_side_cells,
-//!                wrong_side_beyond_pixel (u64); datasets x, v (f64, dim point) the closed
-//!                curve; or attr error (string) saying why there is none
+//!                scan searched: attr record (the search as TOML text, exact), every
+//!                scalar of it flattened into attrs (r_section, bracket[2], period, omega,
+//!                x_range[2], v_range[2], distance_plus_x, area, multiplier,
+//!                encloses_origin (u8), half_dt_r_section, half_dt_shift, returns,
+//!                stable_above, params_*, solver_*); datasets x, v (f64, dim point) the
+//!                closed curve; or attrs error (text) and no_cycle_* saying why there is none
 //! sweeps only:   cycle_r_section, cycle_distance_plus_x, cycle_area, cycle_period,
 //!                cycle_multiplier (f64, NaN where none), cycle_encloses_origin (u8)
 //! ```
@@ -81,30 +90,38 @@
 //! Dimensions follow the netCDF-4 / HDF5 dimension-scale convention, so xarray
 //! (`engine="h5netcdf"`) and h5py (`ds.dims`) see named dimensions: each coordinate has
 //! `CLASS = "DIMENSION_SCALE"`, `NAME` and `REFERENCE_LIST`; each variable has
-//! `DIMENSION_LIST` and, for readers without dimension-scale support, a plain
-//! `dimensions` string attribute such as `"v0 x0"`.
+//! `DIMENSION_LIST`.
 
+mod cycle;
 mod error;
 mod h5types;
 mod h5write;
 mod journal;
+mod lock;
 mod read;
+mod trajectory;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use squeal_scan::Plan;
 use squeal_scan::scanner::{BlockResult, Cell};
-use squeal_scan::ulc::CycleReport;
+use squeal_scan::{MapChecks, Plan};
+pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
 pub use error::StoreError;
+pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use read::{
-    FileInfo, MapData, content_digest, map_count, read_cycle_summary, read_info, read_map,
+    FileInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary, read_info,
+    read_map,
+};
+pub use trajectory::{
+    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_trajectory,
 };
 
 use error::{H5Ctx, io};
 use h5write::{Meta, Source};
-use journal::{CycleData, CycleRecord, Header, Journal, Rec};
+use journal::{CycleRecord, Header, Journal, Rec};
+use squeal_scan::ulc::CycleOutcome;
 
 /// The `schema` attribute of files this crate writes.
 pub const SCHEMA: &str = "squeal-basins/1";
@@ -116,57 +133,6 @@ pub struct Provenance {
     pub version: String,
     /// The git revision of the build.
     pub git_revision: String,
-}
-
-/// Shard `k` of `n` (1-based), written `K/N`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// Which shard, `1..=n`.
-    pub k: usize,
-    /// How many shards.
-    pub n: usize,
-}
-
-impl std::fmt::Display for Shard {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}/{}", self.k, self.n)
-    }
-}
-
-impl std::str::FromStr for Shard {
-    type Err = StoreError;
-    fn from_str(s: &str) -> Result<Shard, StoreError> {
-        let bad = || {
-            StoreError::Shards(format!(
-                "bad shard {s:?}: expected K/N with 1 <= K <= N, e.g. 2/4"
-            ))
-        };
-        let (k, n) = s.split_once('/').ok_or_else(bad)?;
-        let k: usize = k.trim().parse().map_err(|_| bad())?;
-        let n: usize = n.trim().parse().map_err(|_| bad())?;
-        if k == 0 || n == 0 || k > n {
-            return Err(bad());
-        }
-        Ok(Shard { k, n })
-    }
-}
-
-/// Global block id = map * plan.grid.blocks() + block; shard k owns ids with id % n == k - 1.
-pub fn shard_owns(shard: Option<Shard>, plan: &Plan, map: usize, block: usize) -> bool {
-    match shard {
-        None => true,
-        Some(s) => (map * plan.grid.blocks() + block) % s.n == s.k - 1,
-    }
-}
-
-/// Decided cells on the wrong side of the located cycle (steady slip outside it, stick-slip
-/// inside it), and those of them farther than one cell diagonal from the curve.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct WrongSide {
-    /// Cells on the wrong side.
-    pub cells: u64,
-    /// Of those, cells farther than one cell diagonal from the curve.
-    pub beyond_pixel: u64,
 }
 
 fn journal_path(out: &Path) -> PathBuf {
@@ -201,6 +167,7 @@ pub struct ScanWriter {
     journal: Journal,
     blocks: BTreeMap<(usize, usize), Rec>,
     cycles: BTreeMap<usize, Rec>,
+    _lock: OutputLock,
 }
 
 impl std::fmt::Debug for ScanWriter {
@@ -223,6 +190,7 @@ impl ScanWriter {
         prov: &Provenance,
         force: bool,
     ) -> Result<ScanWriter, StoreError> {
+        let lock = OutputLock::acquire(out)?;
         let jpath = journal_path(out);
         if !force {
             if out.exists() {
@@ -238,6 +206,7 @@ impl ScanWriter {
             remove_if_exists(&jpath)?;
             remove_if_exists(&tmp_path(out))?;
         }
+        preflight(out, plan, shard, prov)?;
         let journal = Journal::create(
             &jpath,
             &Header {
@@ -253,6 +222,7 @@ impl ScanWriter {
             journal,
             blocks: BTreeMap::new(),
             cycles: BTreeMap::new(),
+            _lock: lock,
         })
     }
 
@@ -264,6 +234,7 @@ impl ScanWriter {
         shard: Option<Shard>,
         prov: &Provenance,
     ) -> Result<ScanWriter, StoreError> {
+        let lock = OutputLock::acquire(out)?;
         let jpath = journal_path(out);
         if jpath.exists() && out.exists() && read::open_squeal(out).is_ok() {
             // Killed between publishing the file and removing the journal.
@@ -284,12 +255,31 @@ impl ScanWriter {
             });
         }
         let (mut journal, header, recs) = Journal::open(&jpath)?;
+        // Compare what the spec means, not its bytes: a comment edit does not block a
+        // resume. The file then records the spec text the scan started with.
+        let mut plan = plan.clone();
         if header.spec != plan.spec_text {
-            return Err(StoreError::SpecMismatch {
-                path: jpath,
-                why: "the journal was written for another spec text".into(),
-            });
+            let started = Plan::from_toml(&header.spec, &plan.spec_path).map_err(|e| {
+                StoreError::SpecMismatch {
+                    path: jpath.clone(),
+                    why: format!("the journal's spec no longer validates: {e}"),
+                }
+            })?;
+            if let Some(key) = started.differs_from(&plan) {
+                return Err(StoreError::SpecMismatch {
+                    path: jpath,
+                    why: format!(
+                        "the journal was written for another spec ({key} differs): use --force to start over"
+                    ),
+                });
+            }
+            plan = Plan {
+                output: plan.output.clone(),
+                ..started
+            };
         }
+        let plan = &plan;
+        preflight(out, plan, shard, prov)?;
         if header.shard != shard_text(shard) {
             let show = |s: &str| {
                 if s.is_empty() {
@@ -346,6 +336,7 @@ impl ScanWriter {
             journal,
             blocks,
             cycles,
+            _lock: lock,
         })
     }
 
@@ -392,12 +383,11 @@ impl ScanWriter {
         self.cycles.contains_key(&map)
     }
 
-    /// Records the located cycle of a map (or why there is none).
+    /// Records the cycle search of a map (`None` when the plan does not locate cycles).
     pub fn write_cycle(
         &mut self,
         map: usize,
-        cycle: Option<&CycleReport>,
-        error: Option<&str>,
+        cycle: Option<&CycleOutcome>,
     ) -> Result<(), StoreError> {
         if map >= self.plan.maps.len() {
             return Err(StoreError::BadBlock {
@@ -408,10 +398,7 @@ impl ScanWriter {
                 ),
             });
         }
-        let rec = CycleRecord {
-            report: cycle.map(CycleData::from_report),
-            error: error.map(str::to_string),
-        };
+        let rec: CycleRecord = cycle.cloned();
         let r = self
             .journal
             .append(journal::KIND_CYCLE, &journal::encode_cycle(map, &rec))?;
@@ -419,9 +406,14 @@ impl ScanWriter {
         Ok(())
     }
 
-    /// Writes the HDF5 file once every owned block is stored; returns per-map wrong-side
-    /// counts (None where no cycle was recorded).
-    pub fn finish(mut self) -> Result<Vec<Option<WrongSide>>, StoreError> {
+    /// The plan being written (after a resume: the one the scan started with).
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// Writes the HDF5 file once every owned block is stored; returns each map's
+    /// consistency checks.
+    pub fn finish(mut self) -> Result<Vec<MapChecks>, StoreError> {
         let total = self.owned_blocks();
         if self.blocks.len() < total {
             return Err(StoreError::Incomplete {
@@ -456,6 +448,82 @@ impl ScanWriter {
         remove_if_exists(&jpath)?;
         Ok(wrong)
     }
+}
+
+impl squeal_scan::Sink for ScanWriter {
+    type Error = StoreError;
+    fn is_done(&self, map: usize, block: usize) -> bool {
+        ScanWriter::is_done(self, map, block)
+    }
+    fn has_cycle(&self, map: usize) -> bool {
+        ScanWriter::has_cycle(self, map)
+    }
+    fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), StoreError> {
+        ScanWriter::write_cycle(self, map, cycle)
+    }
+    fn write_block(&mut self, block: &BlockResult) -> Result<(), StoreError> {
+        ScanWriter::write_block(self, block)
+    }
+}
+
+/// What is at an output path, judged against the plan that would write it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum OutputState {
+    /// Neither the file nor a journal.
+    Absent,
+    /// A journal of an interrupted scan (and no finished file).
+    Interrupted,
+    /// A finished squeal file made from the same parsed spec.
+    Complete,
+    /// A finished squeal file of another spec: the first key that differs.
+    Different(String),
+}
+
+/// Looks at `out` for `shard` of `plan` (without changing anything).
+pub fn output_state(
+    out: &Path,
+    plan: &Plan,
+    shard: Option<Shard>,
+) -> Result<OutputState, StoreError> {
+    // A file is published (renamed into place) only when complete; a journal beside it is
+    // left by a kill between the rename and the journal's removal.
+    if out.exists() {
+        let f = read::open_squeal(out)?;
+        let spec = read::str_attr(&f, "spec").h5(out)?;
+        let name = read::str_attr(&f, "name").h5(out)?;
+        let stored_shard = read::str_attr(&f, "shard").unwrap_or_default();
+        if stored_shard != shard_text(shard) {
+            return Ok(OutputState::Different("shard".into()));
+        }
+        let mut stored = match Plan::from_toml(&spec, &plan.spec_path) {
+            Ok(p) => p,
+            Err(_) => return Ok(OutputState::Different("spec".into())),
+        };
+        stored.name = name;
+        return Ok(match stored.differs_from(plan) {
+            None => OutputState::Complete,
+            Some(k) => OutputState::Different(k),
+        });
+    }
+    if journal_path(out).exists() {
+        return Ok(OutputState::Interrupted);
+    }
+    Ok(OutputState::Absent)
+}
+
+/// Everything the final write needs from the plan, tried before any computing.
+fn preflight(
+    out: &Path,
+    plan: &Plan,
+    shard: Option<Shard>,
+    prov: &Provenance,
+) -> Result<(), StoreError> {
+    let meta = Meta {
+        version: &prov.version,
+        git_revision: &prov.git_revision,
+        shard: shard.map(|s| s.to_string()),
+    };
+    h5write::preflight(out, plan, &meta)
 }
 
 /// Moves the finished `tmp` to `out`, refusing if `out` appeared meanwhile.
@@ -570,11 +638,28 @@ pub fn merge(
     if shards.is_empty() {
         return Err(StoreError::Shards("no shard files given".into()));
     }
+    let canon = |p: &Path| -> Option<PathBuf> {
+        // The output may not exist yet: canonicalise its folder and join the name.
+        std::fs::canonicalize(p).ok().or_else(|| {
+            let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+            let dir = std::fs::canonicalize(dir.unwrap_or(Path::new("."))).ok()?;
+            Some(dir.join(p.file_name()?))
+        })
+    };
+    let out_c = canon(out);
+    for p in shards {
+        if out_c.is_some() && canon(p) == out_c {
+            return Err(StoreError::OutputIsInput {
+                path: out.to_path_buf(),
+            });
+        }
+    }
     if out.exists() && !force {
         return Err(StoreError::Exists {
             path: out.to_path_buf(),
         });
     }
+    let _lock = OutputLock::acquire(out)?;
     let mut first: Option<(PathBuf, String, usize, String, String, String)> = None;
     let mut files: Vec<(PathBuf, hdf5::File, Shard, Vec<u8>)> = Vec::new();
     for p in shards {

@@ -8,17 +8,43 @@ use hdf5::types::{
 use hdf5::{
     Attribute, Container, Dataset, File, Group, Location, ObjectReference1, ReferencedObject,
 };
-use squeal_scan::scanner::Cell;
+use squeal_scan::ClosedCurve;
+use squeal_scan::cell::{COLUMNS, Cell, Kind, Num};
+use squeal_scan::checks::CHECK_FIELDS;
 
 use crate::error::{H5Ctx, io};
 use crate::h5types::RefEntry;
-use crate::journal::{CycleData, CycleRecord};
+use crate::journal::CycleRecord;
 use crate::{SCHEMA, StoreError};
 
 const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
 
-/// Opens `path` and checks it is a squeal file (HDF5 with our `schema` attribute).
+/// Opens `path` and checks it is a squeal scan file (HDF5 with our `schema` attribute).
 pub(crate) fn open_squeal(path: &Path) -> Result<File, StoreError> {
+    open_with_schema(path, SCHEMA)
+}
+
+/// The `schema` attribute of a squeal file (scan or trajectory).
+pub fn file_schema(path: &Path) -> Result<String, StoreError> {
+    let file = open_hdf5(path)?;
+    str_attr(&file, "schema").map_err(|_| StoreError::NotSquealFile {
+        path: path.to_path_buf(),
+        why: "an HDF5 file without the `schema` attribute (not written by squeal)".into(),
+    })
+}
+
+/// Every root attribute as text, by name.
+pub(crate) fn root_attrs_text(file: &File) -> hdf5::Result<Vec<(String, String)>> {
+    let mut attrs = Vec::new();
+    for name in file.attr_names()? {
+        let text = attr_text(&file.attr(&name)?)?;
+        attrs.push((name, text));
+    }
+    Ok(attrs)
+}
+
+/// Opens `path` as HDF5 (with a clear error for other files).
+fn open_hdf5(path: &Path) -> Result<File, StoreError> {
     let not = |why: String| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why,
@@ -32,16 +58,23 @@ pub(crate) fn open_squeal(path: &Path) -> Result<File, StoreError> {
             return Err(not("not an HDF5 file".into()));
         }
     }
-    let file = File::open(path).map_err(|e| {
+    File::open(path).map_err(|e| {
         not(format!(
             "cannot open it as HDF5 (truncated or damaged?): {e}"
         ))
-    })?;
+    })
+}
+
+/// Opens `path` and checks its `schema` attribute is `schema`.
+pub(crate) fn open_with_schema(path: &Path, schema: &str) -> Result<File, StoreError> {
+    let not = |why: String| StoreError::NotSquealFile {
+        path: path.to_path_buf(),
+        why,
+    };
+    let file = open_hdf5(path)?;
     match str_attr(&file, "schema") {
-        Ok(s) if s == SCHEMA => Ok(file),
-        Ok(s) => Err(not(format!(
-            "schema is {s:?}, this squeal reads {SCHEMA:?}"
-        ))),
+        Ok(s) if s == schema => Ok(file),
+        Ok(s) => Err(not(format!("schema is {s:?}, expected {schema:?}"))),
         Err(_) => Err(not(
             "an HDF5 file without the `schema` attribute (not written by squeal)".into(),
         )),
@@ -61,14 +94,6 @@ pub(crate) fn str_attr(loc: &Location, name: &str) -> hdf5::Result<String> {
 
 pub(crate) fn f64_attr(loc: &Location, name: &str) -> hdf5::Result<f64> {
     loc.attr(name)?.read_scalar::<f64>()
-}
-
-fn opt_f64_attr(loc: &Location, name: &str) -> hdf5::Result<Option<f64>> {
-    if loc.attr_names()?.iter().any(|n| n == name) {
-        Ok(Some(f64_attr(loc, name)?))
-    } else {
-        Ok(None)
-    }
 }
 
 /// The sweep axis (name, values), if the file holds a sweep.
@@ -109,6 +134,10 @@ pub struct FileInfo {
     pub counts: Vec<[u64; 4]>,
     /// `K/N` in shard files.
     pub shard: Option<String>,
+    /// Per map: the values of [`squeal_scan::checks::CHECK_FIELDS`] (-1: not applicable).
+    pub checks: Vec<Vec<i64>>,
+    /// Per map: why no cycle was located, where the search found none.
+    pub no_cycle: Vec<Option<String>>,
 }
 
 fn attr_text(a: &Attribute) -> hdf5::Result<String> {
@@ -135,12 +164,9 @@ fn join<T: std::fmt::Display>(v: Vec<T>) -> String {
 pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
     let file = open_squeal(path)?;
     (|| -> hdf5::Result<FileInfo> {
-        let mut attrs = Vec::new();
-        for name in file.attr_names()? {
-            let text = attr_text(&file.attr(&name)?)?;
-            attrs.push((name, text));
-        }
+        let attrs = root_attrs_text(&file)?;
         let sweep = sweep_of(&file)?;
+        let is_sweep = sweep.is_some();
         let labels = file.dataset("labels")?;
         let shape = labels.shape();
         let nmaps = if shape.len() == 3 { shape[0] } else { 1 };
@@ -168,6 +194,25 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
             sweep,
             x0: file.dataset("x0")?.read_raw()?,
             v0: file.dataset("v0")?.read_raw()?,
+            checks: (0..nmaps)
+                .map(|m| {
+                    CHECK_FIELDS
+                        .iter()
+                        .map(|(name, _)| {
+                            let v: Vec<i64> = file.dataset(name)?.read_raw()?;
+                            Ok(v.get(m).copied().unwrap_or(-1))
+                        })
+                        .collect::<hdf5::Result<Vec<i64>>>()
+                })
+                .collect::<hdf5::Result<_>>()?,
+            no_cycle: (0..nmaps)
+                .map(|m| {
+                    Ok(read_cycle(&file, is_sweep, m)?
+                        .flatten()
+                        .and_then(|r| r.err())
+                        .map(|e| e.to_string()))
+                })
+                .collect::<hdf5::Result<_>>()?,
             counts,
             shard: str_attr(&file, "shard").ok(),
         })
@@ -288,7 +333,7 @@ pub fn read_cycle_summary(path: &Path) -> Result<Vec<CycleSummary>, StoreError> 
                 None => f64_attr(&file, "nu")?,
             };
             let rec = read_cycle(&file, sweep.is_some(), m)?;
-            out.push(match rec.and_then(|r| r.report) {
+            out.push(match rec.flatten().and_then(Result::ok) {
                 Some(c) => (
                     value,
                     c.r_section,
@@ -304,7 +349,7 @@ pub fn read_cycle_summary(path: &Path) -> Result<Vec<CycleSummary>, StoreError> 
     .h5(path)
 }
 
-/// The stored cycle record of a map, if any.
+/// The stored cycle record of a map, if any (`None`: no group, nothing recorded).
 pub(crate) fn read_cycle(
     file: &File,
     sweep: bool,
@@ -313,37 +358,21 @@ pub(crate) fn read_cycle(
     let Some(g) = cycle_group(file, sweep, map) else {
         return Ok(None);
     };
-    let error = str_attr(&g, "error").ok();
-    let report = if g.link_exists("x") {
-        let f = |n: &str| f64_attr(&g, n);
-        Some(CycleData {
-            r_section: f("r_section")?,
-            bracket_lo: f("bracket_lo")?,
-            bracket_hi: f("bracket_hi")?,
-            period: f("period")?,
-            omega: f("omega")?,
-            x_min: f("x_min")?,
-            x_max: f("x_max")?,
-            v_min: f("v_min")?,
-            v_max: f("v_max")?,
-            distance_plus_x: f("distance_plus_x")?,
-            area: f("area")?,
-            multiplier: f("multiplier")?,
-            encloses_origin: g.attr("encloses_origin")?.read_scalar::<u8>()? != 0,
-            half_dt_r_section: opt_f64_attr(&g, "half_dt_r_section")?,
-            half_dt_shift: opt_f64_attr(&g, "half_dt_shift")?,
-            returns: g.attr("returns")?.read_scalar::<u64>()?,
-            stable_above: opt_f64_attr(&g, "stable_above")?,
-            x: g.dataset("x")?.read_raw()?,
-            v: g.dataset("v")?.read_raw()?,
-        })
+    let curve = if g.link_exists("x") {
+        Some(ClosedCurve::new(
+            g.dataset("x")?.read_raw()?,
+            g.dataset("v")?.read_raw()?,
+        ))
     } else {
         None
     };
-    Ok(Some(CycleRecord { report, error }))
+    let text = str_attr(&g, "record")?;
+    crate::cycle::from_text(&text, curve)
+        .map(Some)
+        .map_err(|e| hdf5::Error::from(format!("{}: attribute record: {e}", g.name())))
 }
 
-/// Reads the cells of one block back from a file.
+/// Reads the cells of one block back from a file, column by column.
 pub(crate) fn read_block(
     file: &File,
     sweep: bool,
@@ -365,32 +394,37 @@ pub(crate) fn read_block(
         };
         Ok(a.into_iter().collect())
     }
-    let labels: Vec<u8> = rd(file, "labels", sweep, map, &rows)?;
-    let reason: Vec<u8> = rd(file, "reason", sweep, map, &rows)?;
-    let t: Vec<f64> = rd(file, "t_decision", sweep, map, &rows)?;
-    let amp: Vec<f64> = rd(file, "amplitude", sweep, map, &rows)?;
-    let om: Vec<f64> = rd(file, "omega", sweep, map, &rows)?;
-    let qs: Vec<u8> = rd(file, "quasi_static", sweep, map, &rows)?;
-    let ev: Vec<u64> = rd(file, "evaluations", sweep, map, &rows)?;
-    let fb: Vec<u32> = rd(file, "fallbacks", sweep, map, &rows)?;
-    let mr: Vec<u32> = rd(file, "multi_root", sweep, map, &rows)?;
-    let un: Vec<u32> = rd(file, "unconverged", sweep, map, &rows)?;
-    let res: Vec<f64> = rd(file, "max_residual", sweep, map, &rows)?;
-    Ok((0..labels.len())
-        .map(|i| Cell {
-            regime: labels[i],
-            reason: reason[i],
-            t_decision: t[i],
-            amplitude: amp[i],
-            omega: om[i],
-            quasi_static: qs[i],
-            evaluations: ev[i],
-            fallbacks: fb[i],
-            multi_root: mr[i],
-            unconverged: un[i],
-            max_residual: res[i],
-        })
-        .collect())
+    let mut cells: Vec<Cell> = Vec::new();
+    for col in COLUMNS {
+        let vals: Vec<Num> = match col.kind {
+            Kind::Enum | Kind::U8 => rd::<u8>(file, col.name, sweep, map, &rows)?
+                .into_iter()
+                .map(|v| Num::U(v as u64))
+                .collect(),
+            Kind::U32 => rd::<u32>(file, col.name, sweep, map, &rows)?
+                .into_iter()
+                .map(|v| Num::U(v as u64))
+                .collect(),
+            Kind::U64 => rd::<u64>(file, col.name, sweep, map, &rows)?
+                .into_iter()
+                .map(Num::U)
+                .collect(),
+            Kind::F64 => rd::<f64>(file, col.name, sweep, map, &rows)?
+                .into_iter()
+                .map(Num::F)
+                .collect(),
+        };
+        if cells.is_empty() {
+            cells = vec![Cell::fill(); vals.len()];
+        }
+        if vals.len() != cells.len() {
+            return Err(hdf5::Error::from(format!("{}: wrong shape", col.name)));
+        }
+        for (c, v) in cells.iter_mut().zip(vals) {
+            (col.set)(c, v);
+        }
+    }
+    Ok(cells)
 }
 
 /// 128-bit FNV-1a.

@@ -2,6 +2,8 @@ use std::path::{Path, PathBuf};
 
 use squeal_scan::Plan;
 use squeal_scan::scanner::{BlockResult, Cell};
+use squeal_scan::ulc::CycleReport;
+use squeal_scan::{MapChecks, Sink};
 
 use super::*;
 
@@ -66,6 +68,7 @@ fn block(plan: &Plan, map: usize, block: usize) -> BlockResult {
                 multi_root: (i / 3) as u32,
                 unconverged: (i % 4) as u32,
                 max_residual: 1e-12 * i as f64,
+                audit: (i % 4) as u8,
             }
         })
         .collect();
@@ -100,8 +103,7 @@ fn cycle() -> CycleReport {
         returns: 120,
         solver: Default::default(),
         stable_above: None,
-        curve_x: xs,
-        curve_v: vs,
+        curve: squeal_scan::ClosedCurve::new(xs, vs),
     }
 }
 
@@ -112,14 +114,18 @@ fn write_cycles(w: &mut ScanWriter, plan: &Plan, shard: Option<Shard>) {
             continue;
         }
         if m == 1 {
-            w.write_cycle(m, None, Some("no cycle here")).unwrap();
+            let why = squeal_scan::NoCycle::Decays {
+                r_max: 4.0,
+                nu: 2e-3,
+            };
+            w.write_cycle(m, Some(&Err(why))).unwrap();
         } else {
-            w.write_cycle(m, Some(&cycle()), None).unwrap();
+            w.write_cycle(m, Some(&Ok(cycle()))).unwrap();
         }
     }
 }
 
-fn full_run(plan: &Plan, out: &Path, shard: Option<Shard>) -> Vec<Option<WrongSide>> {
+fn full_run(plan: &Plan, out: &Path, shard: Option<Shard>) -> Vec<MapChecks> {
     let mut w = ScanWriter::create(out, plan, shard, &prov(), false).unwrap();
     write_cycles(&mut w, plan, shard);
     for m in 0..plan.maps.len() {
@@ -144,7 +150,7 @@ fn round_trip_single_map() {
     let ws = full_run(&p, &out, None);
     assert!(!journal_of(&out).exists());
     assert!(!tmp_path(&out).exists());
-    let ws = ws[0].expect("a cycle was recorded");
+    let ws = ws[0].wrong_side.expect("a cycle was recorded");
     assert!(ws.cells > 0 && ws.beyond_pixel <= ws.cells);
 
     let info = read_info(&out).unwrap();
@@ -172,7 +178,7 @@ fn round_trip_single_map() {
         .collect();
     assert_eq!(map.labels, want);
     assert_eq!(map.title, "mcmillan nu = 0.001");
-    assert_eq!(map.cycle.as_ref().unwrap().0, cycle().curve_x);
+    assert_eq!(map.cycle.as_ref().unwrap().0, cycle().curve.x);
     assert!((map.fixed_point.0 - 1.0).abs() < 1e-12);
     assert_eq!(map_count(&out).unwrap(), 1);
     let s = read_cycle_summary(&out).unwrap();
@@ -197,7 +203,14 @@ fn round_trip_sweep() {
     let out = dir.path().join("s.h5");
     let p = sweep_plan();
     let ws = full_run(&p, &out, None);
-    assert!(ws[0].is_some() && ws[1].is_none());
+    assert!(ws[0].wrong_side.is_some() && ws[1].wrong_side.is_none());
+    // The reason for no cycle comes back typed and shown.
+    assert!(
+        info_no_cycle(&out)[1]
+            .as_deref()
+            .unwrap()
+            .contains("decays")
+    );
     let info = read_info(&out).unwrap();
     assert_eq!(info.sweep.as_ref().unwrap().0, "nu");
     assert_eq!(info.counts.len(), 3);
@@ -243,7 +256,7 @@ fn refuses_overwrite_without_force() {
     // A missing folder.
     let e =
         ScanWriter::create(&dir.path().join("no/such/x.h5"), &p, None, &prov(), false).unwrap_err();
-    assert!(e.to_string().contains("no/such/x.h5.journal"), "{e}");
+    assert!(e.to_string().contains("no/such/x.h5"), "{e}");
 }
 
 #[test]
@@ -255,7 +268,7 @@ fn resume_gives_the_same_file() {
 
     let out = dir.path().join("r.h5");
     let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
-    w.write_cycle(0, Some(&cycle()), None).unwrap();
+    w.write_cycle(0, Some(&Ok(cycle()))).unwrap();
     for b in 0..3 {
         w.write_block(&block(&p, 0, b)).unwrap();
     }
@@ -351,7 +364,7 @@ fn shards_merge_to_the_single_file() {
             content_digest(&merged).unwrap(),
             content_digest(&single).unwrap()
         );
-        assert!(ws_single[0].is_some());
+        assert!(ws_single[0].wrong_side.is_some());
 
         // Errors.
         let e = merge(&shards, &merged, false, &prov()).unwrap_err();
@@ -482,4 +495,135 @@ fn demo_files() {
         let _ = std::fs::remove_file(journal_path(&out));
         full_run(&p, &out, None);
     }
+}
+
+fn info_no_cycle(out: &Path) -> Vec<Option<String>> {
+    read_info(out).unwrap().no_cycle
+}
+
+#[test]
+fn a_second_writer_is_refused_while_the_first_holds_the_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.h5");
+    let p = plan();
+    let w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
+    for e in [
+        ScanWriter::create(&out, &p, None, &prov(), true).unwrap_err(),
+        ScanWriter::resume(&out, &p, None, &prov()).unwrap_err(),
+    ] {
+        assert!(matches!(e, StoreError::Locked { .. }), "{e}");
+        assert!(
+            e.to_string().contains(&std::process::id().to_string()),
+            "{e}"
+        );
+    }
+    // The first writer's journal is intact: it finishes.
+    let mut w = w;
+    write_cycles(&mut w, &p, None);
+    for b in 0..p.grid.blocks() {
+        Sink::write_block(&mut w, &block(&p, 0, b)).unwrap();
+    }
+    w.finish().unwrap();
+    assert!(!lock_path(&out).exists());
+}
+
+#[test]
+fn a_comment_edit_does_not_block_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.h5");
+    let p = plan();
+    let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
+    w.write_block(&block(&p, 0, 0)).unwrap();
+    drop(w);
+    let edited = Plan::from_toml(&format!("# rerun on the cluster\n{SPEC}"), "t.toml").unwrap();
+    let mut w = ScanWriter::resume(&out, &edited, None, &prov()).unwrap();
+    assert!(w.is_done(0, 0));
+    // The file records the spec the scan started with.
+    assert_eq!(w.plan().spec_text, SPEC);
+    write_cycles(&mut w, &p, None);
+    for b in 1..p.grid.blocks() {
+        w.write_block(&block(&p, 0, b)).unwrap();
+    }
+    w.finish().unwrap();
+    assert_eq!(
+        output_state(&out, &edited, None).unwrap(),
+        OutputState::Complete
+    );
+    let other = Plan::from_toml(&SPEC.replace("nu = 1e-3", "nu = 2e-3"), "t.toml").unwrap();
+    assert_eq!(
+        output_state(&out, &other, None).unwrap(),
+        OutputState::Different("maps".into())
+    );
+    assert_eq!(
+        output_state(&out, &p, Some(Shard { k: 1, n: 2 })).unwrap(),
+        OutputState::Different("shard".into())
+    );
+}
+
+#[test]
+fn merge_refuses_to_write_over_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let shards: Vec<PathBuf> = (1..=2)
+        .map(|k| {
+            let path = dir.path().join(format!("s{k}.h5"));
+            full_run(&p, &path, Some(Shard { k, n: 2 }));
+            path
+        })
+        .collect();
+    let before = std::fs::read(&shards[0]).unwrap();
+    // The same file by another spelling.
+    let alias = dir.path().join(".").join("s1.h5");
+    let e = merge(&shards, &alias, true, &prov()).unwrap_err();
+    assert!(matches!(e, StoreError::OutputIsInput { .. }), "{e}");
+    assert_eq!(std::fs::read(&shards[0]).unwrap(), before);
+}
+
+#[test]
+fn variables_carry_cf_attributes_and_no_dimensions_string() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.h5");
+    full_run(&plan(), &out, None);
+    let f = hdf5::File::open(&out).unwrap();
+    for col in squeal_scan::COLUMNS {
+        let ds = f.dataset(col.name).unwrap();
+        let names = ds.attr_names().unwrap();
+        assert!(names.iter().any(|n| n == "long_name"), "{}", col.name);
+        assert!(!names.iter().any(|n| n == "dimensions"), "{}", col.name);
+        if col.kind == squeal_scan::cell::Kind::Enum {
+            assert!(names.iter().any(|n| n == "flag_values"), "{}", col.name);
+            let m = read::str_attr(&ds, "flag_meanings").unwrap();
+            assert_eq!(m.split(' ').count(), col.flags.len(), "{}", col.name);
+        } else {
+            assert!(names.iter().any(|n| n == "units"), "{}", col.name);
+        }
+    }
+    let reason = f.dataset("reason").unwrap();
+    let m = read::str_attr(&reason, "flag_meanings").unwrap();
+    assert!(m.starts_with("time_limit near_fixed_point"), "{m}");
+    let t = f.dataset("t_decision").unwrap();
+    assert_eq!(read::str_attr(&t, "units").unwrap(), "1");
+    // The cycle group: scalars flattened, record kept.
+    let g = f.group("cycle").unwrap();
+    assert_eq!(
+        g.attr("params_nu").unwrap().read_scalar::<f64>().unwrap(),
+        1e-3
+    );
+    assert!(read::str_attr(&g, "record").unwrap().contains("r_section"));
+    let wrong: Vec<i64> = f.dataset("wrong_side_cells").unwrap().read_raw().unwrap();
+    assert_eq!(wrong.len(), 1);
+}
+
+#[test]
+fn a_plan_the_file_cannot_hold_is_refused_before_any_computing() {
+    // Validation refuses a NUL in `name`; a plan built in code can still carry one, and
+    // the writer must refuse it at create, not at finish (when the blocks are computed).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.h5");
+    let mut p = plan();
+    p.name = "a\0b".into();
+    let e = ScanWriter::create(&out, &p, None, &prov(), false).unwrap_err();
+    assert!(e.to_string().contains("a.h5"), "{e}");
+    assert!(!journal_of(&out).exists());
+    assert!(!lock_path(&out).exists());
 }

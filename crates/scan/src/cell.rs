@@ -1,0 +1,433 @@
+//! One classified cell and the table of its stored columns.
+//!
+//! [`COLUMNS`] is the one place where a per-cell quantity is declared: its name, long name,
+//! units, storage type, fill value (for cells not computed) and how to get and set it on a
+//! [`Cell`]. The journal, the HDF5 file (create, write, read), the CSV of `squeal classify`
+//! and `squeal info` all loop over it; adding a figure of merit is one entry here plus the
+//! field.
+
+use serde::Serialize;
+use squeal_core::{Outcome, Regime};
+
+/// One classified cell: the label and the diagnostics stored beside it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Cell {
+    /// [`squeal_core::Regime`] value.
+    pub regime: u8,
+    /// [`squeal_core::Reason`] value.
+    pub reason: u8,
+    /// Time at the decision.
+    pub t_decision: f64,
+    /// Last section amplitude (NaN if the run never crossed the section).
+    pub amplitude: f64,
+    /// Angular frequency of the last revolution (NaN if unknown).
+    pub omega: f64,
+    /// 1 if the quasi-static branch was entered.
+    pub quasi_static: u8,
+    /// Friction-law evaluations.
+    pub evaluations: u64,
+    /// Bisection fallbacks plus bracket expansions (robust solver).
+    pub fallbacks: u32,
+    /// Solves with several roots.
+    pub multi_root: u32,
+    /// Paper iterations that hit the cap, plus robust failures and discontinuities.
+    pub unconverged: u32,
+    /// Largest residual of any solve.
+    pub max_residual: f64,
+    /// [`Audit`] value: how the run-to-settlement rule labels this cell, if audited.
+    pub audit: u8,
+}
+
+impl Cell {
+    /// The label as an enum (`None` for a value no build writes).
+    pub fn regime(&self) -> Option<Regime> {
+        Regime::from_u8(self.regime)
+    }
+
+    /// The cell with every column at its fill value (what a file holds where nothing was
+    /// computed).
+    pub fn fill() -> Cell {
+        let mut c = Cell {
+            regime: 0,
+            reason: 0,
+            t_decision: 0.0,
+            amplitude: 0.0,
+            omega: 0.0,
+            quasi_static: 0,
+            evaluations: 0,
+            fallbacks: 0,
+            multi_root: 0,
+            unconverged: 0,
+            max_residual: 0.0,
+            audit: 0,
+        };
+        for col in COLUMNS {
+            (col.set)(&mut c, col.fill);
+        }
+        c
+    }
+}
+
+impl From<&Outcome> for Cell {
+    fn from(o: &Outcome) -> Cell {
+        let s = &o.stats;
+        let sat = |x: u64| x.min(u32::MAX as u64) as u32;
+        Cell {
+            regime: o.regime as u8,
+            reason: o.reason as u8,
+            t_decision: o.t_decision,
+            amplitude: o.amplitude,
+            omega: o.omega,
+            quasi_static: o.quasi_static as u8,
+            evaluations: s.evaluations,
+            fallbacks: sat(s.bisections + s.expansions),
+            multi_root: sat(s.multi_root),
+            unconverged: sat(s.unconverged + s.failures + s.discontinuities),
+            max_residual: o.max_residual,
+            audit: Audit::NotAudited as u8,
+        }
+    }
+}
+
+/// The run-to-settlement audit of an early-stopped cell (`early_stop = "cycle"`): a
+/// deterministic sample of cells is also run with the classifier without the trap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[repr(u8)]
+pub enum Audit {
+    /// Not in the audited sample.
+    NotAudited = 0,
+    /// The run to settlement gives the same label.
+    Agrees = 1,
+    /// The run to settlement gives the other decided label.
+    Disagrees = 2,
+    /// The run to settlement did not decide by `t_max`.
+    Undecided = 3,
+}
+
+impl Audit {
+    /// All values, in value order.
+    pub const ALL: [Audit; 4] = [
+        Audit::NotAudited,
+        Audit::Agrees,
+        Audit::Disagrees,
+        Audit::Undecided,
+    ];
+
+    /// The name in files and output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Audit::NotAudited => "not_audited",
+            Audit::Agrees => "agrees",
+            Audit::Disagrees => "disagrees",
+            Audit::Undecided => "undecided",
+        }
+    }
+
+    /// From the stored value.
+    pub fn from_u8(v: u8) -> Option<Audit> {
+        Audit::ALL.into_iter().find(|a| *a as u8 == v)
+    }
+}
+
+/// How a column is stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// An 8-bit enum with named values ([`Column::flags`]).
+    Enum,
+    /// Unsigned 8-bit.
+    U8,
+    /// Unsigned 32-bit.
+    U32,
+    /// Unsigned 64-bit.
+    U64,
+    /// 64-bit float.
+    F64,
+}
+
+impl Kind {
+    /// Bytes in the journal.
+    pub fn bytes(self) -> usize {
+        match self {
+            Kind::Enum | Kind::U8 => 1,
+            Kind::U32 => 4,
+            Kind::U64 | Kind::F64 => 8,
+        }
+    }
+}
+
+/// One column's value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Num {
+    /// An unsigned integer (enums, flags, counters).
+    U(u64),
+    /// A float.
+    F(f64),
+}
+
+impl Num {
+    /// As an unsigned integer (floats truncate).
+    pub fn as_u64(self) -> u64 {
+        match self {
+            Num::U(u) => u,
+            Num::F(f) => f as u64,
+        }
+    }
+
+    /// As a float.
+    pub fn as_f64(self) -> f64 {
+        match self {
+            Num::U(u) => u as f64,
+            Num::F(f) => f,
+        }
+    }
+}
+
+/// One stored per-cell quantity.
+#[derive(Clone, Copy, Debug)]
+pub struct Column {
+    /// Dataset / CSV column name.
+    pub name: &'static str,
+    /// CF `long_name`.
+    pub long_name: &'static str,
+    /// CF `units` (`"1"` for dimensionless numbers; `""` for enums and counters' flags).
+    pub units: &'static str,
+    /// Storage type.
+    pub kind: Kind,
+    /// For [`Kind::Enum`]: `(value, name)` of each member, including the fill.
+    pub flags: &'static [(u8, &'static str)],
+    /// The value where nothing was computed.
+    pub fill: Num,
+    /// Reads the column from a cell.
+    pub get: fn(&Cell) -> Num,
+    /// Writes the column into a cell.
+    pub set: fn(&mut Cell, Num),
+}
+
+impl Column {
+    /// The name of an enum value (`None` if not a member).
+    pub fn flag_name(&self, v: u64) -> Option<&'static str> {
+        self.flags
+            .iter()
+            .find(|(k, _)| *k as u64 == v)
+            .map(|(_, n)| *n)
+    }
+
+    /// The value as text (enum members by name; floats shortest round-trip).
+    pub fn text(&self, c: &Cell) -> String {
+        let v = (self.get)(c);
+        match (self.kind, v) {
+            (Kind::Enum, v) => self
+                .flag_name(v.as_u64())
+                .map_or_else(|| v.as_u64().to_string(), str::to_string),
+            (_, Num::U(u)) => u.to_string(),
+            (_, Num::F(f)) => f.to_string(),
+        }
+    }
+}
+
+/// Value of the `regime` (labels) fill: not computed.
+pub const NOT_COMPUTED: u8 = 255;
+
+/// Members of the stored `labels` enum: [`Regime`] plus `not_computed`.
+pub const REGIME_FLAGS: &[(u8, &str)] = &[
+    (0, "undecided"),
+    (1, "steady_slip"),
+    (2, "stick_slip"),
+    (NOT_COMPUTED, "not_computed"),
+];
+
+/// Members of the stored `reason` enum: [`Reason`] plus `not_computed`.
+pub const REASON_FLAGS: &[(u8, &str)] = &[
+    (0, "time_limit"),
+    (1, "near_fixed_point"),
+    (2, "inside_cycle"),
+    (3, "outside_cycle"),
+    (4, "settled_stick_slip"),
+    (5, "diverged"),
+    (6, "solver_failure"),
+    (NOT_COMPUTED, "not_computed"),
+];
+
+/// Members of the stored `audit` enum: [`Audit`] (its fill is `not_audited`).
+pub const AUDIT_FLAGS: &[(u8, &str)] = &[
+    (0, "not_audited"),
+    (1, "agrees"),
+    (2, "disagrees"),
+    (3, "undecided"),
+];
+
+macro_rules! col {
+    ($name:ident, $long:expr, $units:expr, $kind:ident, $flags:expr, $fill:expr, u) => {
+        Column {
+            name: stringify!($name),
+            long_name: $long,
+            units: $units,
+            kind: Kind::$kind,
+            flags: $flags,
+            fill: Num::U($fill),
+            get: |c| Num::U(c.$name as u64),
+            set: |c, v| c.$name = v.as_u64() as _,
+        }
+    };
+    ($name:ident, $long:expr, $units:expr, F64, f) => {
+        Column {
+            name: stringify!($name),
+            long_name: $long,
+            units: $units,
+            kind: Kind::F64,
+            flags: &[],
+            fill: Num::F(f64::NAN),
+            get: |c| Num::F(c.$name),
+            set: |c, v| c.$name = v.as_f64(),
+        }
+    };
+}
+
+/// The per-cell columns, in storage order. `labels` is the dataset of the `regime` field.
+pub const COLUMNS: &[Column] = &[
+    Column {
+        name: "labels",
+        long_name: "attractor reached",
+        units: "",
+        kind: Kind::Enum,
+        flags: REGIME_FLAGS,
+        fill: Num::U(NOT_COMPUTED as u64),
+        get: |c| Num::U(c.regime as u64),
+        set: |c, v| c.regime = v.as_u64() as u8,
+    },
+    col!(
+        reason,
+        "why the run stopped",
+        "",
+        Enum,
+        REASON_FLAGS,
+        NOT_COMPUTED as u64,
+        u
+    ),
+    col!(
+        t_decision,
+        "time at the decision (nondimensional time, natural period 2 pi)",
+        "1",
+        F64,
+        f
+    ),
+    col!(
+        amplitude,
+        "last section amplitude: x' at the last crossing of x = x*",
+        "1",
+        F64,
+        f
+    ),
+    col!(
+        omega,
+        "angular frequency of the last revolution (natural frequency 1)",
+        "1",
+        F64,
+        f
+    ),
+    col!(
+        quasi_static,
+        "1 if the quasi-static branch of the law was entered",
+        "1",
+        U8,
+        &[],
+        0,
+        u
+    ),
+    col!(evaluations, "friction-law evaluations", "1", U64, &[], 0, u),
+    col!(
+        fallbacks,
+        "bisection fallbacks and bracket expansions of the robust solver",
+        "1",
+        U32,
+        &[],
+        0,
+        u
+    ),
+    col!(
+        multi_root,
+        "force solves with several roots",
+        "1",
+        U32,
+        &[],
+        0,
+        u
+    ),
+    col!(
+        unconverged,
+        "unconverged or failed force solves",
+        "1",
+        U32,
+        &[],
+        0,
+        u
+    ),
+    col!(
+        max_residual,
+        "largest residual |G(F)| of any force solve",
+        "1",
+        F64,
+        f
+    ),
+    col!(
+        audit,
+        "label of the same run taken to settlement (sampled cells of early-stopped scans)",
+        "",
+        Enum,
+        AUDIT_FLAGS,
+        0,
+        u
+    ),
+];
+
+/// Bytes of one cell in the journal.
+pub fn cell_bytes() -> usize {
+    COLUMNS.iter().map(|c| c.kind.bytes()).sum()
+}
+
+/// The column called `name`.
+pub fn column(name: &str) -> Option<&'static Column> {
+    COLUMNS.iter().find(|c| c.name == name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use squeal_core::Reason;
+
+    #[test]
+    fn enum_tables_match_the_core_enums() {
+        for r in Regime::ALL {
+            assert!(REGIME_FLAGS.contains(&(r as u8, r.name())), "{r:?}");
+        }
+        for r in Reason::ALL {
+            assert!(REASON_FLAGS.contains(&(r as u8, r.name())), "{r:?}");
+        }
+        for a in Audit::ALL {
+            assert!(AUDIT_FLAGS.contains(&(a as u8, a.name())), "{a:?}");
+        }
+        assert_eq!(REGIME_FLAGS.len(), Regime::ALL.len() + 1);
+        assert_eq!(REASON_FLAGS.len(), Reason::ALL.len() + 1);
+        assert_eq!(AUDIT_FLAGS.len(), Audit::ALL.len());
+    }
+
+    #[test]
+    fn every_column_round_trips_through_get_and_set() {
+        let mut names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), COLUMNS.len(), "duplicate column names");
+        let mut a = Cell::fill();
+        assert_eq!(a.regime, NOT_COMPUTED);
+        assert!(a.t_decision.is_nan());
+        for (i, col) in COLUMNS.iter().enumerate() {
+            let v = match col.kind {
+                Kind::F64 => Num::F(i as f64 + 0.5),
+                _ => Num::U(i as u64 + 1),
+            };
+            (col.set)(&mut a, v);
+            assert_eq!((col.get)(&a), v, "{}", col.name);
+        }
+        assert_eq!(column("labels").unwrap().text(&a), "steady_slip");
+    }
+}

@@ -1,0 +1,237 @@
+//! Consistency checks of a finished map, computed from its cells: where the map's labels,
+//! the located cycle and the run-to-settlement audit disagree. The store writes them into
+//! the file and the CLI prints them; nothing here is a guess about which one is right.
+
+use serde::{Deserialize, Serialize};
+use squeal_core::{Regime, State};
+
+use crate::cell::{Audit, Cell};
+use crate::curve::ClosedCurve;
+use crate::spec::Plan;
+
+/// Decided cells on the wrong side of the located cycle (steady slip outside it, stick-slip
+/// inside it), and those of them farther than one cell diagonal from the curve.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WrongSide {
+    /// Cells on the wrong side.
+    pub cells: u64,
+    /// Of those, cells farther than one cell diagonal from the curve.
+    pub beyond_pixel: u64,
+}
+
+/// The audit's tally (see [`crate::cell::Audit`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AuditCounts {
+    /// Cells audited.
+    pub audited: u64,
+    /// Same label run to settlement.
+    pub agrees: u64,
+    /// The other decided label run to settlement.
+    pub disagrees: u64,
+    /// Undecided when run to settlement (by `t_max`).
+    pub undecided: u64,
+}
+
+/// The map's label at the grid cell nearest the state at rest `(0, 0)` (the operating
+/// point of a machine started from rest) against what the cycle says there (inside: steady
+/// slip, outside: stick-slip).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OriginCheck {
+    /// Whether the cycle encloses that cell's state.
+    pub encloses: bool,
+    /// The stored label value of the nearest cell.
+    pub label: u8,
+    /// Whether the label is decided and on the other side from the cycle's verdict.
+    pub disagrees: bool,
+}
+
+/// Every check of one map.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MapChecks {
+    /// Against the located cycle (None when no cycle).
+    pub wrong_side: Option<WrongSide>,
+    /// The run-to-settlement audit.
+    pub audit: AuditCounts,
+    /// The state at rest, when it lies in the grid and a cycle is known.
+    pub origin: Option<OriginCheck>,
+}
+
+/// The checks as stored per map (datasets over the map dimension): name, long name. The
+/// value -1 means "not applicable" (no cycle located, or `(0, 0)` outside the grid).
+pub const CHECK_FIELDS: &[(&str, &str)] = &[
+    (
+        "wrong_side_cells",
+        "decided cells on the wrong side of the located cycle (-1: no cycle)",
+    ),
+    (
+        "wrong_side_beyond_pixel",
+        "of those, cells farther than one cell diagonal from the cycle (-1: no cycle)",
+    ),
+    (
+        "audit_cells",
+        "cells also run to settlement without early stopping",
+    ),
+    (
+        "audit_agrees",
+        "audited cells given the same label by the run to settlement",
+    ),
+    (
+        "audit_disagrees",
+        "audited cells given the other decided label by the run to settlement",
+    ),
+    (
+        "audit_undecided",
+        "audited cells the run to settlement left undecided by t_max",
+    ),
+    (
+        "origin_disagrees",
+        "1 if the label of the cell nearest (0, 0) contradicts whether the cycle encloses (0, 0) (-1: not checked)",
+    ),
+];
+
+impl MapChecks {
+    /// The values of [`CHECK_FIELDS`], in order.
+    pub fn values(&self) -> [i64; 7] {
+        let w = |f: fn(&WrongSide) -> u64| self.wrong_side.as_ref().map_or(-1, |w| f(w) as i64);
+        [
+            w(|w| w.cells),
+            w(|w| w.beyond_pixel),
+            self.audit.audited as i64,
+            self.audit.agrees as i64,
+            self.audit.disagrees as i64,
+            self.audit.undecided as i64,
+            self.origin.map_or(-1, |o| o.disagrees as i64),
+        ]
+    }
+
+    /// Empty checks for a map whose cycle is `curve` (if any).
+    pub fn new(curve: Option<&ClosedCurve>) -> MapChecks {
+        MapChecks {
+            wrong_side: curve.map(|_| WrongSide::default()),
+            ..MapChecks::default()
+        }
+    }
+
+    /// Adds the cells of block `block` (row-major over its rows and all `x0`).
+    pub fn add_block(
+        &mut self,
+        plan: &Plan,
+        curve: Option<&ClosedCurve>,
+        block: usize,
+        cells: &[Cell],
+    ) {
+        let g = &plan.grid;
+        let nx = g.x0.count;
+        let rows = g.block_rows(block);
+        let diag = g.x0.spacing().hypot(g.v0.spacing());
+        let origin = nearest(g.x0, 0.0).zip(nearest(g.v0, 0.0));
+        for (k, cell) in cells.iter().enumerate() {
+            let (row, col) = (rows.start + k / nx, k % nx);
+            let tally = match Audit::from_u8(cell.audit) {
+                Some(Audit::Agrees) => Some(&mut self.audit.agrees),
+                Some(Audit::Disagrees) => Some(&mut self.audit.disagrees),
+                Some(Audit::Undecided) => Some(&mut self.audit.undecided),
+                _ => None,
+            };
+            if let Some(n) = tally {
+                *n += 1;
+                self.audit.audited += 1;
+            }
+            let Some(c) = curve else { continue };
+            let p = State {
+                x: g.x0.value(col),
+                v: g.v0.value(row),
+            };
+            let inside = c.encloses(p);
+            let regime = cell.regime();
+            let wrong = match regime {
+                Some(Regime::SteadySlip) => !inside,
+                Some(Regime::StickSlip) => inside,
+                _ => false,
+            };
+            if let Some(w) = self.wrong_side.as_mut().filter(|_| wrong) {
+                w.cells += 1;
+                if c.distance_to(p) > diag {
+                    w.beyond_pixel += 1;
+                }
+            }
+            if origin == Some((col, row)) {
+                self.origin = Some(OriginCheck {
+                    encloses: inside,
+                    label: cell.regime,
+                    disagrees: wrong,
+                });
+            }
+        }
+    }
+
+    /// Whether any check found a disagreement.
+    pub fn any_disagreement(&self) -> bool {
+        self.wrong_side.is_some_and(|w| w.cells > 0)
+            || self.audit.disagrees > 0
+            || self.origin.is_some_and(|o| o.disagrees)
+    }
+}
+
+/// Index of the axis value nearest `x`, if `x` lies within the axis range.
+fn nearest(a: crate::grid::Axis, x: f64) -> Option<usize> {
+    if x < a.min || x > a.max {
+        return None;
+    }
+    let s = a.spacing();
+    if s == 0.0 {
+        return Some(0);
+    }
+    Some((((x - a.min) / s).round() as usize).min(a.count - 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_cells_against_a_square_cycle() {
+        // A 3 x 3 grid on [-1, 1]^2 and a square of half-width 0.5 around (0, 0): only the
+        // centre cell is inside. Label everything stick-slip but the centre steady slip,
+        // then flip one corner to steady slip: one wrong-side cell, beyond a pixel? The
+        // corner (1, 1) is 0.707 from the square; the cell diagonal is 1.414: not beyond.
+        let mut plan = crate::Plan::from_toml(
+            r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[grid]
+x0 = { min = -1.0, max = 1.0, count = 3 }
+v0 = { min = -1.0, max = 1.0, count = 3 }
+block_rows = 3
+[output]
+path = "t.h5"
+"#,
+            "t.toml",
+        )
+        .unwrap();
+        plan.grid.block_rows = 3;
+        let sq = ClosedCurve::new(vec![-0.5, 0.5, 0.5, -0.5], vec![-0.5, -0.5, 0.5, 0.5]);
+        let mut cell = Cell::fill();
+        cell.regime = 2;
+        let mut cells = vec![cell; 9];
+        cells[4].regime = 1;
+        cells[8].regime = 1;
+        cells[0].audit = Audit::Disagrees as u8;
+        cells[1].audit = Audit::Agrees as u8;
+        let mut c = MapChecks::new(Some(&sq));
+        c.add_block(&plan, Some(&sq), 0, &cells);
+        assert_eq!(
+            c.wrong_side,
+            Some(WrongSide {
+                cells: 1,
+                beyond_pixel: 0
+            })
+        );
+        assert_eq!(c.audit.audited, 2);
+        assert_eq!(c.audit.disagrees, 1);
+        let o = c.origin.unwrap();
+        assert!(o.encloses && !o.disagrees);
+        assert!(c.any_disagreement());
+    }
+}

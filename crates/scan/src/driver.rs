@@ -1,0 +1,382 @@
+//! The scan driver: plan -> per-map preparation -> blocks -> a [`Sink`].
+//!
+//! Every pending `(map, block)` pair is one job on the rayon pool, with no barrier between
+//! blocks or maps: a map is prepared (its section searched once, the cycle located) by the
+//! first job that needs it, so the maps of a sweep are prepared in parallel. Finished blocks
+//! and located cycles go over a channel to the one thread that called [`drive`], which hands
+//! them to the sink (the store's journal and its fsync stay off the workers' path). A
+//! result depends only on the plan and the cell, never on the thread count or the order in
+//! which blocks finish.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::sync::{Arc, OnceLock};
+
+use rayon::prelude::*;
+
+use crate::error::ScanError;
+use crate::scanner::{BlockResult, MapContext, Observer, run_block};
+use crate::spec::Plan;
+use crate::ulc::CycleOutcome;
+
+/// Where finished work goes. One thread calls it (the one that called [`drive`]).
+pub trait Sink {
+    /// What the sink can fail with.
+    type Error;
+    /// Whether block `block` of map `map` is already stored (a resumed scan).
+    fn is_done(&self, map: usize, block: usize) -> bool;
+    /// Whether map `map` is already prepared and its cycle (or its absence) stored.
+    fn has_cycle(&self, map: usize) -> bool;
+    /// Stores the cycle search of a map: `None` when the plan does not locate cycles.
+    fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), Self::Error>;
+    /// Stores a finished block.
+    fn write_block(&mut self, block: &BlockResult) -> Result<(), Self::Error>;
+}
+
+/// A sink that keeps everything in memory (tests, small scans, examples).
+#[derive(Clone, Debug, Default)]
+pub struct MemorySink {
+    /// Cycle search per map, as written.
+    pub cycles: std::collections::BTreeMap<usize, Option<CycleOutcome>>,
+    /// Blocks by `(map, block)`.
+    pub blocks: std::collections::BTreeMap<(usize, usize), BlockResult>,
+}
+
+impl MemorySink {
+    /// The cells of map `map`, row-major `(v0, x0)`, if every block is there.
+    pub fn map_cells(&self, plan: &Plan, map: usize) -> Option<Vec<crate::Cell>> {
+        let mut out = Vec::with_capacity(plan.grid.cells());
+        for b in 0..plan.grid.blocks() {
+            out.extend_from_slice(&self.blocks.get(&(map, b))?.cells);
+        }
+        Some(out)
+    }
+}
+
+impl Sink for MemorySink {
+    type Error = std::convert::Infallible;
+    fn is_done(&self, map: usize, block: usize) -> bool {
+        self.blocks.contains_key(&(map, block))
+    }
+    fn has_cycle(&self, map: usize) -> bool {
+        self.cycles.contains_key(&map)
+    }
+    fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), Self::Error> {
+        self.cycles.insert(map, cycle.cloned());
+        Ok(())
+    }
+    fn write_block(&mut self, block: &BlockResult) -> Result<(), Self::Error> {
+        self.blocks.insert((block.map, block.block), block.clone());
+        Ok(())
+    }
+}
+
+/// Shard `k` of `n` (1-based), written `K/N`: the blocks whose global index
+/// `map * blocks_per_map + block` is `k - 1` modulo `n`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// Which shard, `1..=n`.
+    pub k: usize,
+    /// How many shards.
+    pub n: usize,
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.k, self.n)
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = ScanError;
+    fn from_str(s: &str) -> Result<Shard, ScanError> {
+        let bad = || ScanError::Shard(s.to_string());
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let k: usize = k.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        if k == 0 || n == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+/// Whether `shard` (None: the whole scan) owns block `block` of map `map`.
+pub fn shard_owns(shard: Option<Shard>, plan: &Plan, map: usize, block: usize) -> bool {
+    match shard {
+        None => true,
+        Some(s) => (map * plan.grid.blocks() + block) % s.n == s.k - 1,
+    }
+}
+
+/// The work left: owned blocks not yet in the sink.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Pending {
+    /// `(map, block)` pairs to compute.
+    pub blocks: Vec<(usize, usize)>,
+    /// Maps that need preparing although none of their blocks is pending (the cycle is
+    /// recorded by every shard that sees the map).
+    pub prepare_only: Vec<usize>,
+    /// Cells in the pending blocks.
+    pub cells: usize,
+}
+
+impl Pending {
+    /// The work left for `shard` of `plan`, given what `sink` holds.
+    pub fn of<S: Sink + ?Sized>(plan: &Plan, shard: Option<Shard>, sink: &S) -> Pending {
+        let g = &plan.grid;
+        let mut p = Pending::default();
+        for m in 0..plan.maps.len() {
+            let before = p.blocks.len();
+            for b in 0..g.blocks() {
+                if shard_owns(shard, plan, m, b) && !sink.is_done(m, b) {
+                    p.blocks.push((m, b));
+                    p.cells += g.block_rows(b).len() * g.x0.count;
+                }
+            }
+            if p.blocks.len() == before && !sink.has_cycle(m) {
+                p.prepare_only.push(m);
+            }
+        }
+        p
+    }
+
+    /// Pending cells of map `map`.
+    pub fn cells_of(&self, plan: &Plan, map: usize) -> usize {
+        let g = &plan.grid;
+        self.blocks
+            .iter()
+            .filter(|(m, _)| *m == map)
+            .map(|&(_, b)| g.block_rows(b).len() * g.x0.count)
+            .sum()
+    }
+}
+
+/// What a drive did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DriveReport {
+    /// Blocks computed and handed to the sink.
+    pub blocks: usize,
+    /// Cells in those blocks.
+    pub cells: usize,
+    /// Whether `stop` was raised before the work was done (the finished blocks are in the
+    /// sink; the rest is pending).
+    pub interrupted: bool,
+}
+
+/// Why a drive failed.
+#[derive(Debug, thiserror::Error)]
+pub enum DriveError<E> {
+    /// A map could not be prepared.
+    #[error(transparent)]
+    Scan(ScanError),
+    /// The sink refused a record.
+    #[error(transparent)]
+    Sink(E),
+}
+
+enum Msg {
+    Cycle(usize, Box<Option<CycleOutcome>>),
+    Block(BlockResult),
+    Failed(ScanError),
+}
+
+/// Runs the pending work of `shard` of `plan` into `sink` on the current rayon pool.
+/// Raising `stop` lets the blocks in flight be discarded and returns with `interrupted`.
+pub fn drive<S: Sink>(
+    plan: &Plan,
+    shard: Option<Shard>,
+    sink: &mut S,
+    observer: &dyn Observer,
+    stop: &AtomicBool,
+) -> Result<DriveReport, DriveError<S::Error>> {
+    let pending = Pending::of(plan, shard, &*sink);
+    let need_cycle: Vec<bool> = (0..plan.maps.len()).map(|m| !sink.has_cycle(m)).collect();
+    let ctxs: Vec<OnceLock<Option<Arc<MapContext>>>> =
+        (0..plan.maps.len()).map(|_| OnceLock::new()).collect();
+    // Maps to prepare only come first, then blocks in (map, block) order.
+    let jobs: Vec<(usize, Option<usize>)> = pending
+        .prepare_only
+        .iter()
+        .map(|&m| (m, None))
+        .chain(pending.blocks.iter().map(|&(m, b)| (m, Some(b))))
+        .collect();
+    let (tx, rx) = mpsc::channel::<Msg>();
+    let mut report = DriveReport::default();
+    let mut cycles_written = 0usize;
+    let cycles_wanted: std::collections::BTreeSet<usize> = jobs
+        .iter()
+        .map(|&(m, _)| m)
+        .filter(|&m| need_cycle[m])
+        .collect();
+    let mut failure: Option<DriveError<S::Error>> = None;
+    std::thread::scope(|scope| {
+        let ctxs = &ctxs;
+        let need_cycle = &need_cycle;
+        let workers = scope.spawn(move || {
+            jobs.into_par_iter().for_each_with(tx, |tx, (m, b)| {
+                if stop.load(Ordering::SeqCst) {
+                    return;
+                }
+                let ctx = ctxs[m].get_or_init(|| match MapContext::prepare(plan, m) {
+                    Ok(ctx) => {
+                        if need_cycle[m] {
+                            let _ = tx.send(Msg::Cycle(m, Box::new(ctx.cycle.clone())));
+                        }
+                        observer.map_prepared(m);
+                        Some(Arc::new(ctx))
+                    }
+                    Err(e) => {
+                        stop.store(true, Ordering::SeqCst);
+                        let _ = tx.send(Msg::Failed(e));
+                        None
+                    }
+                });
+                let (Some(ctx), Some(b)) = (ctx, b) else {
+                    return;
+                };
+                if let Some(r) = run_block(plan, ctx, b, observer, Some(stop)) {
+                    observer.block_done(m, b);
+                    let _ = tx.send(Msg::Block(r));
+                }
+            });
+        });
+        for msg in rx {
+            if failure.is_some() {
+                continue;
+            }
+            let res = match msg {
+                Msg::Cycle(m, c) => {
+                    cycles_written += 1;
+                    sink.write_cycle(m, (*c).as_ref()).map_err(DriveError::Sink)
+                }
+                Msg::Block(r) => {
+                    report.blocks += 1;
+                    report.cells += r.cells.len();
+                    sink.write_block(&r).map_err(DriveError::Sink)
+                }
+                Msg::Failed(e) => Err(DriveError::Scan(e)),
+            };
+            if let Err(e) = res {
+                stop.store(true, Ordering::SeqCst);
+                failure = Some(e);
+            }
+        }
+        if let Err(panic) = workers.join() {
+            std::panic::resume_unwind(panic);
+        }
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    report.interrupted =
+        report.blocks < pending.blocks.len() || cycles_written < cycles_wanted.len();
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tiny() -> Plan {
+        Plan::from_toml(
+            r#"version = 1
+[model]
+law = "mcmillan"
+nu = [1e-3, 1e-2]
+[grid]
+x0 = { min = -1.0, max = 2.0, count = 5 }
+v0 = { min = -1.0, max = 1.0, count = 5 }
+block_rows = 2
+[classifier]
+t_max = 2000.0
+[output]
+path = "t.h5"
+"#,
+            "t.toml",
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn results_do_not_depend_on_threads_and_shards_partition_the_work() {
+        let plan = tiny();
+        let run = |threads: usize, shard: Option<Shard>| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut sink = MemorySink::default();
+            let r = pool
+                .install(|| {
+                    drive(
+                        &plan,
+                        shard,
+                        &mut sink,
+                        &crate::NoObserver,
+                        &AtomicBool::new(false),
+                    )
+                })
+                .unwrap();
+            assert!(!r.interrupted);
+            sink
+        };
+        // Bit-identical, NaN included: compare the printed records.
+        let same = |a: &BlockResult, b: &BlockResult| format!("{a:?}") == format!("{b:?}");
+        let one = run(1, None);
+        let two = run(2, None);
+        assert!(
+            one.blocks
+                .values()
+                .zip(two.blocks.values())
+                .all(|(a, b)| same(a, b))
+        );
+        assert_eq!(one.blocks.len(), two.blocks.len());
+        assert_eq!(one.blocks.len(), plan.total_blocks());
+        let (a, b) = (
+            run(2, Some(Shard { k: 1, n: 2 })),
+            run(1, Some(Shard { k: 2, n: 2 })),
+        );
+        assert_eq!(a.blocks.len() + b.blocks.len(), plan.total_blocks());
+        for (k, v) in a.blocks.iter().chain(&b.blocks) {
+            assert!(same(&one.blocks[k], v), "{k:?}");
+        }
+        // A resumed drive computes only what is missing.
+        let mut part = one.clone();
+        part.blocks.remove(&(1, 2));
+        let r = drive(
+            &plan,
+            None,
+            &mut part,
+            &crate::NoObserver,
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        assert_eq!(r.blocks, 1);
+        assert!(same(&part.blocks[&(1, 2)], &one.blocks[&(1, 2)]));
+    }
+
+    #[test]
+    fn a_raised_stop_computes_nothing_and_says_interrupted() {
+        let plan = tiny();
+        let mut sink = MemorySink::default();
+        let r = drive(
+            &plan,
+            None,
+            &mut sink,
+            &crate::NoObserver,
+            &AtomicBool::new(true),
+        )
+        .unwrap();
+        assert!(r.interrupted);
+        assert!(sink.blocks.is_empty());
+    }
+
+    #[test]
+    fn shard_parsing() {
+        assert_eq!("2/4".parse::<Shard>().unwrap(), Shard { k: 2, n: 4 });
+        for bad in ["0/3", "4/3", "x", "1/0", ""] {
+            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+        }
+    }
+}

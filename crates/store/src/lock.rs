@@ -1,0 +1,175 @@
+//! The output lock `<out>.lock`: one scan (or merge) writes an output at a time.
+//!
+//! The lock file holds `pid host start` of its owner (`start`: the process start time from
+//! `/proc/PID/stat`, so a recycled PID is not mistaken for the owner). A lock whose owner
+//! is on this host and no longer alive is stale and taken over; a lock from another host
+//! cannot be checked and is refused with the command to remove it.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::StoreError;
+use crate::error::io;
+
+/// Held while a scan writes its output; removed on drop.
+#[derive(Debug)]
+pub struct OutputLock {
+    path: PathBuf,
+}
+
+/// Who holds a lock.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LockOwner {
+    /// Process id.
+    pub pid: u32,
+    /// Host name.
+    pub host: String,
+    /// Process start time (clock ticks after boot), if known.
+    pub start: Option<u64>,
+}
+
+/// This machine's host name.
+pub fn hostname() -> String {
+    ["/proc/sys/kernel/hostname", "/etc/hostname"]
+        .iter()
+        .find_map(|p| std::fs::read_to_string(p).ok())
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "unknown-host".into())
+}
+
+/// Start time of process `pid` (field 22 of `/proc/PID/stat`), if it runs.
+fn start_time(pid: u32) -> Option<u64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces: split after it.
+    let rest = &stat[stat.rfind(')')? + 1..];
+    rest.split_whitespace().nth(19)?.parse().ok()
+}
+
+fn me() -> LockOwner {
+    let pid = std::process::id();
+    LockOwner {
+        pid,
+        host: hostname(),
+        start: start_time(pid),
+    }
+}
+
+fn parse(text: &str) -> Option<LockOwner> {
+    let mut it = text.split_whitespace();
+    let pid = it.next()?.parse().ok()?;
+    let host = it.next()?.to_string();
+    let start = it.next().and_then(|s| s.parse().ok());
+    Some(LockOwner { pid, host, start })
+}
+
+impl LockOwner {
+    /// Whether this owner is certainly gone: same host, and no process with its PID and
+    /// start time.
+    pub fn is_stale(&self) -> bool {
+        if self.host != hostname() || !Path::new("/proc/self").exists() {
+            return false;
+        }
+        match (start_time(self.pid), self.start) {
+            (None, _) => true,
+            (Some(now), Some(then)) => now != then,
+            (Some(_), None) => false,
+        }
+    }
+}
+
+/// `<out>.lock`.
+pub fn lock_path(out: &Path) -> PathBuf {
+    let mut s = out.as_os_str().to_owned();
+    s.push(".lock");
+    PathBuf::from(s)
+}
+
+impl OutputLock {
+    /// Takes the lock of `out`, or says who holds it. A stale lock is taken over.
+    pub fn acquire(out: &Path) -> Result<OutputLock, StoreError> {
+        let path = lock_path(out);
+        for _ in 0..3 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    let m = me();
+                    let line = format!("{} {} {}\n", m.pid, m.host, m.start.unwrap_or(0));
+                    f.write_all(line.as_bytes())
+                        .and_then(|_| f.sync_all())
+                        .map_err(io(&path, "cannot write the lock"))?;
+                    return Ok(OutputLock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let text = std::fs::read_to_string(&path).unwrap_or_default();
+                    match parse(&text) {
+                        Some(owner) if owner.is_stale() => {
+                            // The owner was killed: take the lock over.
+                            let _ = std::fs::remove_file(&path);
+                        }
+                        Some(owner) => {
+                            return Err(StoreError::Locked {
+                                path: out.to_path_buf(),
+                                lock: path,
+                                pid: owner.pid,
+                                host: owner.host,
+                            });
+                        }
+                        // Being written this instant, or garbage: wait once, then judge.
+                        None => {
+                            std::thread::sleep(std::time::Duration::from_millis(50));
+                            if parse(&std::fs::read_to_string(&path).unwrap_or_default()).is_none()
+                            {
+                                let _ = std::fs::remove_file(&path);
+                            }
+                        }
+                    }
+                }
+                Err(e) => return Err(io(&path, "cannot create the lock")(e)),
+            }
+        }
+        Err(StoreError::Locked {
+            path: out.to_path_buf(),
+            lock: path,
+            pid: 0,
+            host: "?".into(),
+        })
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_live_lock_is_refused_and_a_dead_one_taken_over() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("x.h5");
+        let held = OutputLock::acquire(&out).unwrap();
+        let e = OutputLock::acquire(&out).unwrap_err().to_string();
+        assert!(e.contains(&std::process::id().to_string()), "{e}");
+        assert!(e.contains(&hostname()), "{e}");
+        drop(held);
+        assert!(!lock_path(&out).exists());
+        // A lock left by a process that no longer runs: a child that has exited.
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let pid = child.id();
+        child.wait().unwrap();
+        std::fs::write(lock_path(&out), format!("{pid} {} 1\n", hostname())).unwrap();
+        let _l = OutputLock::acquire(&out).unwrap();
+        // From another host: cannot be checked, refused.
+        drop(_l);
+        std::fs::write(lock_path(&out), "1 some-other-host 1\n").unwrap();
+        assert!(OutputLock::acquire(&out).is_err());
+    }
+}

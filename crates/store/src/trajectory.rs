@@ -1,0 +1,128 @@
+//! The `.h5` of `squeal trajectory`: one run's samples with the time as a coordinate.
+//!
+//! ```text
+//! /            attrs schema = "squeal-trajectory/1", squeal_version, git_revision, and the
+//!              run's settings (law, solver text; nu, lambda, tau, phi, dt, x0, v0, t_end f64;
+//!              every u64)
+//! t  (t)       f64 dimension scale: nondimensional time (natural period 2 pi)
+//! x, v, a, force (t)   f64, long_name and units "1", attached to t
+//! ```
+
+use std::path::Path;
+
+use hdf5::File;
+
+use crate::error::H5Ctx;
+use crate::h5write::{Dims, class_type, num_attr, str_attr};
+use crate::{Provenance, StoreError};
+
+/// The `schema` attribute of trajectory files.
+pub const TRAJECTORY_SCHEMA: &str = "squeal-trajectory/1";
+
+/// One sampled quantity: name, long name, values.
+pub type Series<'a> = (&'a str, &'a str, &'a [f64]);
+
+/// A run's settings stored as root attributes.
+#[derive(Clone, Debug, Default)]
+pub struct RunAttrs<'a> {
+    /// Text settings (law, solver).
+    pub text: Vec<(&'a str, &'a str)>,
+    /// Numbers (parameters, step, start, end).
+    pub numbers: Vec<(&'a str, f64)>,
+    /// Counts (sampling stride).
+    pub counts: Vec<(&'a str, u64)>,
+}
+
+/// Writes a trajectory file: `time` is the coordinate `t`, each series a variable over it.
+pub fn write_trajectory(
+    path: &Path,
+    force: bool,
+    prov: &Provenance,
+    attrs: &RunAttrs,
+    time: &[f64],
+    series: &[Series],
+) -> Result<(), StoreError> {
+    let file = if force {
+        File::create(path)
+    } else {
+        File::create_excl(path)
+    }
+    .h5(path)?;
+    let mut dims = Dims::new(class_type(path)?);
+    (|| -> hdf5::Result<()> {
+        str_attr(&file, "schema", TRAJECTORY_SCHEMA)?;
+        str_attr(&file, "squeal_version", &prov.version)?;
+        str_attr(&file, "git_revision", &prov.git_revision)?;
+        for (k, v) in &attrs.text {
+            str_attr(&file, k, v)?;
+        }
+        for (k, v) in &attrs.numbers {
+            num_attr(&file, k, *v)?;
+        }
+        for (k, v) in &attrs.counts {
+            num_attr(&file, k, *v)?;
+        }
+        let t = file
+            .new_dataset_builder()
+            .obj_track_times(false)
+            .with_data(time)
+            .create("t")?;
+        str_attr(
+            &t,
+            "long_name",
+            "time (nondimensional, natural period 2 pi)",
+        )?;
+        str_attr(&t, "units", "1")?;
+        dims.scale(&t, "t")?;
+        for (name, long, data) in series {
+            if data.len() != time.len() {
+                return Err(hdf5::Error::from(format!(
+                    "{name} has {} samples, t has {}",
+                    data.len(),
+                    time.len()
+                )));
+            }
+            let ds = file
+                .new_dataset_builder()
+                .obj_track_times(false)
+                .with_data(*data)
+                .create(*name)?;
+            str_attr(&ds, "long_name", long)?;
+            str_attr(&ds, "units", "1")?;
+            dims.attach(&file, &ds, &[&t])?;
+        }
+        dims.finish()
+    })()
+    .h5(path)?;
+    file.close().h5(path)
+}
+
+/// A trajectory file's summary for `squeal info`.
+#[derive(Clone, Debug)]
+pub struct TrajectoryInfo {
+    /// Root attributes as text.
+    pub attrs: Vec<(String, String)>,
+    /// Samples.
+    pub samples: usize,
+    /// First and last time.
+    pub t_range: Option<(f64, f64)>,
+    /// Variables besides `t`.
+    pub variables: Vec<String>,
+}
+
+/// Reads a trajectory file's summary.
+pub fn read_trajectory_info(path: &Path) -> Result<TrajectoryInfo, StoreError> {
+    let file = crate::read::open_with_schema(path, TRAJECTORY_SCHEMA)?;
+    (|| -> hdf5::Result<TrajectoryInfo> {
+        let t: Vec<f64> = file.dataset("t")?.read_raw()?;
+        let mut variables = file.member_names()?;
+        variables.retain(|n| n != "t");
+        Ok(TrajectoryInfo {
+            attrs: crate::read::root_attrs_text(&file)?,
+            samples: t.len(),
+            t_range: t.first().copied().zip(t.last().copied()),
+            variables,
+        })
+    })()
+    .h5(path)
+}
