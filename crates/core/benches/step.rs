@@ -18,7 +18,7 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use squeal_core::classify::crossing;
 use squeal_core::{
-    FrictionLaw, Params, Sample, SolverConfig, SolverKind, SolverStats, State, Stepper,
+    FrictionLaw, Params, Run, Sample, SolverConfig, SolverKind, SolverStats, State, Stepper,
 };
 
 const NU: f64 = 1e-3;
@@ -35,22 +35,21 @@ fn stepper(law: FrictionLaw, kind: SolverKind) -> Stepper {
 /// The samples of one revolution after `settle` time units from `ic` (robust solver).
 fn revolution(law: FrictionLaw, ic: State, settle: f64) -> Vec<Sample> {
     let st = stepper(law, SolverKind::Robust);
-    let mut stats = SolverStats::default();
-    let (mut s, _) = st.initial(ic, &mut stats);
-    for _ in 0..(settle / DT).round() as u64 {
-        s = st.step(&s, &mut stats).0;
-    }
+    let mut run = Run::new(&st, ic);
+    run.by_ref()
+        .take((settle / DT).round() as usize)
+        .for_each(drop);
     let mut out = Vec::new();
     let mut crossings = 0;
-    while crossings < 2 {
-        let n = st.step(&s, &mut stats).0;
-        if crossing(1.0, &s, &n).is_some() {
+    for step in run {
+        if crossing(1.0, &step.prev, &step.next).is_some() {
             crossings += 1;
         }
-        if crossings == 1 {
-            out.push(n);
+        match crossings {
+            1 => out.push(step.next),
+            2 => break,
+            _ => {}
         }
-        s = n;
     }
     out
 }

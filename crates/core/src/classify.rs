@@ -22,9 +22,12 @@
 //! Label names the attractor. "Reached belt speed" is not used: with true roots the
 //! hysteretic stick-slip loop need not reach `lambda` (MODEL.md).
 
+use std::collections::VecDeque;
+
 use serde::Serialize;
 
-use crate::friction;
+use crate::params::Params;
+use crate::run::{Run, Step};
 use crate::solver::SolverStats;
 use crate::stepper::{Sample, State, Stepper};
 
@@ -230,158 +233,30 @@ impl Classifier {
 
     /// Runs from `ic` until a decision or `t_max`.
     pub fn classify(&self, stepper: &Stepper, ic: State) -> Outcome {
-        self.classify_with(stepper, ic, |_| {})
+        let mut run = Run::new(stepper, ic);
+        let mut watch = self.watch(stepper.params());
+        for _ in 0..run.steps_to(self.t_max) {
+            let step = run.step();
+            if let Some(decision) = watch.observe(&run, &step) {
+                return watch.finish(decision, &run);
+            }
+        }
+        watch.finish((Regime::Undecided, Reason::TimeLimit), &run)
     }
 
-    /// As [`Classifier::classify`], calling `visit` on every sample (for trajectories).
-    pub fn classify_with(
-        &self,
-        stepper: &Stepper,
-        ic: State,
-        mut visit: impl FnMut(&Sample),
-    ) -> Outcome {
-        let p = *stepper.params();
-        let fp = p.fixed_point();
-        let mut stats = SolverStats::default();
-        let (mut s, sol) = stepper.initial(ic, &mut stats);
-        visit(&s);
-        let mut max_residual = sol.residual;
-        let mut quasi_static = friction::on_quasi_static_branch(&p, s.v - p.lambda, s.a);
-        let window = self.settle_cycles as usize;
-        let mut ring: Vec<f64> = Vec::with_capacity(window);
-        let mut crossings = 0u32;
-        let (mut last_t, mut omega, mut amplitude) = (f64::NAN, f64::NAN, f64::NAN);
-        let fp_r2 = self.fp_radius * self.fp_radius;
-        let n_max = (self.t_max / stepper.dt()).ceil() as u64;
-        let finish =
-            |regime, reason, s: &Sample, amplitude, omega, crossings, qs, stats, res| Outcome {
-                regime,
-                reason,
-                t_decision: s.t,
-                amplitude,
-                distance: (s.x - fp.x).hypot(s.v - fp.v),
-                omega,
-                crossings,
-                quasi_static: qs,
-                stats,
-                max_residual: res,
-            };
-        for _ in 0..n_max {
-            let (n, sol) = stepper.step(&s, &mut stats);
-            visit(&n);
-            max_residual = max_residual.max(sol.residual);
-            quasi_static |= friction::on_quasi_static_branch(&p, n.v - p.lambda, n.a);
-            if stats.failures > 0 || !n.x.is_finite() || !n.v.is_finite() {
-                let reason = if stats.failures > 0 {
-                    Reason::SolverFailure
-                } else {
-                    Reason::Diverged
-                };
-                return finish(
-                    Regime::Undecided,
-                    reason,
-                    &n,
-                    amplitude,
-                    omega,
-                    crossings,
-                    quasi_static,
-                    stats,
-                    max_residual,
-                );
-            }
-            let (dx, dv) = (n.x - fp.x, n.v - fp.v);
-            if dx * dx + dv * dv < fp_r2 {
-                return finish(
-                    Regime::SteadySlip,
-                    Reason::NearFixedPoint,
-                    &n,
-                    amplitude,
-                    omega,
-                    crossings,
-                    quasi_static,
-                    stats,
-                    max_residual,
-                );
-            }
-            if n.x.abs() > self.max_radius || n.v.abs() > self.max_radius {
-                return finish(
-                    Regime::Undecided,
-                    Reason::Diverged,
-                    &n,
-                    amplitude,
-                    omega,
-                    crossings,
-                    quasi_static,
-                    stats,
-                    max_residual,
-                );
-            }
-            if let Some(c) = crossing(fp.x, &s, &n) {
-                crossings += 1;
-                if last_t.is_finite() {
-                    omega = std::f64::consts::TAU / (c.t - last_t);
-                }
-                last_t = c.t;
-                amplitude = c.r;
-                if let Some(trap) = self.trap {
-                    if c.r < trap.r_inner {
-                        return finish(
-                            Regime::SteadySlip,
-                            Reason::InsideCycle,
-                            &n,
-                            amplitude,
-                            omega,
-                            crossings,
-                            quasi_static,
-                            stats,
-                            max_residual,
-                        );
-                    }
-                    if c.r > trap.r_outer {
-                        return finish(
-                            Regime::StickSlip,
-                            Reason::OutsideCycle,
-                            &n,
-                            amplitude,
-                            omega,
-                            crossings,
-                            quasi_static,
-                            stats,
-                            max_residual,
-                        );
-                    }
-                }
-                if ring.len() == window {
-                    ring.remove(0);
-                }
-                ring.push(c.r);
-                if ring.len() == window && self.settled(&ring) {
-                    return finish(
-                        Regime::StickSlip,
-                        Reason::SettledStickSlip,
-                        &n,
-                        amplitude,
-                        omega,
-                        crossings,
-                        quasi_static,
-                        stats,
-                        max_residual,
-                    );
-                }
-            }
-            s = n;
+    /// The classifier's state for one run of a model with parameters `p`: feed it every step
+    /// with [`Watch::observe`] until it decides, then [`Watch::finish`].
+    pub fn watch(&self, p: &Params) -> Watch<'_> {
+        Watch {
+            cl: self,
+            fp: p.fixed_point(),
+            fp_r2: self.fp_radius * self.fp_radius,
+            ring: VecDeque::with_capacity(self.settle_cycles as usize),
+            crossings: 0,
+            last_t: f64::NAN,
+            omega: f64::NAN,
+            amplitude: f64::NAN,
         }
-        finish(
-            Regime::Undecided,
-            Reason::TimeLimit,
-            &s,
-            amplitude,
-            omega,
-            crossings,
-            quasi_static,
-            stats,
-            max_residual,
-        )
     }
 
     /// The stick-slip settling test on a full window of section amplitudes: a narrow band
@@ -406,8 +281,83 @@ impl Classifier {
     }
 }
 
+/// The classifier's view of one run: what it has seen of the section crossings.
+#[derive(Clone, Debug)]
+pub struct Watch<'c> {
+    cl: &'c Classifier,
+    fp: State,
+    fp_r2: f64,
+    ring: VecDeque<f64>,
+    crossings: u32,
+    last_t: f64,
+    omega: f64,
+    amplitude: f64,
+}
+
+impl Watch<'_> {
+    /// Observes one step of `run` (the step just taken); returns the decision, if any.
+    pub fn observe(&mut self, run: &Run, step: &Step) -> Option<(Regime, Reason)> {
+        let n = &step.next;
+        if run.failed() {
+            return Some((Regime::Undecided, Reason::SolverFailure));
+        }
+        if !n.x.is_finite() || !n.v.is_finite() {
+            return Some((Regime::Undecided, Reason::Diverged));
+        }
+        let (dx, dv) = (n.x - self.fp.x, n.v - self.fp.v);
+        if dx * dx + dv * dv < self.fp_r2 {
+            return Some((Regime::SteadySlip, Reason::NearFixedPoint));
+        }
+        if n.x.abs() > self.cl.max_radius || n.v.abs() > self.cl.max_radius {
+            return Some((Regime::Undecided, Reason::Diverged));
+        }
+        let c = crossing(self.fp.x, &step.prev, n)?;
+        self.crossings += 1;
+        if self.last_t.is_finite() {
+            self.omega = std::f64::consts::TAU / (c.t - self.last_t);
+        }
+        self.last_t = c.t;
+        self.amplitude = c.r;
+        if let Some(trap) = self.cl.trap {
+            if c.r < trap.r_inner {
+                return Some((Regime::SteadySlip, Reason::InsideCycle));
+            }
+            if c.r > trap.r_outer {
+                return Some((Regime::StickSlip, Reason::OutsideCycle));
+            }
+        }
+        let window = self.cl.settle_cycles as usize;
+        if self.ring.len() == window {
+            self.ring.pop_front();
+        }
+        self.ring.push_back(c.r);
+        if self.ring.len() == window && self.cl.settled(self.ring.make_contiguous()) {
+            return Some((Regime::StickSlip, Reason::SettledStickSlip));
+        }
+        None
+    }
+
+    /// The outcome of `run` stopped with `decision` at its current sample.
+    pub fn finish(&self, (regime, reason): (Regime, Reason), run: &Run) -> Outcome {
+        let s = run.sample();
+        Outcome {
+            regime,
+            reason,
+            t_decision: s.t,
+            amplitude: self.amplitude,
+            distance: (s.x - self.fp.x).hypot(s.v - self.fp.v),
+            omega: self.omega,
+            crossings: self.crossings,
+            quasi_static: run.quasi_static(),
+            stats: *run.stats(),
+            max_residual: run.max_residual(),
+        }
+    }
+}
+
 /// One return to the section from `(x*, r)`: the next crossing's amplitude and time, or
-/// `None` if the run does not come back by `t_max` (or fails). `visit` sees every sample.
+/// `None` if the run does not come back by `t_max` (or this run's solve fails). `visit` sees
+/// every sample; this run's counters are added to `stats`.
 pub fn section_return(
     stepper: &Stepper,
     r: f64,
@@ -416,19 +366,72 @@ pub fn section_return(
     mut visit: impl FnMut(&Sample),
 ) -> Option<Crossing> {
     let fp = stepper.params().fixed_point();
-    let (mut s, _) = stepper.initial(State { x: fp.x, v: r }, stats);
-    visit(&s);
-    let n_max = (t_max / stepper.dt()).ceil() as u64;
-    for _ in 0..n_max {
-        let (n, _) = stepper.step(&s, stats);
-        visit(&n);
-        if stats.failures > 0 || !n.x.is_finite() {
-            return None;
+    let mut run = Run::new(stepper, State { x: fp.x, v: r });
+    visit(run.sample());
+    let mut found = None;
+    for _ in 0..run.steps_to(t_max) {
+        let step = run.step();
+        visit(&step.next);
+        // This run's own failures: the caller's `stats` sum earlier runs.
+        if run.failed() || !step.next.x.is_finite() {
+            break;
         }
-        if let Some(c) = crossing(fp.x, &s, &n) {
-            return Some(c);
+        if let Some(c) = crossing(fp.x, &step.prev, &step.next) {
+            found = Some(c);
+            break;
         }
-        s = n;
     }
-    None
+    stats.merge(run.stats());
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{FrictionLaw, SolverConfig};
+
+    /// `section_return` once read the caller's cumulative `stats.failures`: one failure in an
+    /// earlier run turned every later return into "no return" (the cycle search then saw a
+    /// decaying return map everywhere). A return from r = 0.5 at nu = 1e-3 comes back after
+    /// about one revolution (period about 2 pi) whatever the caller's counters hold.
+    #[test]
+    fn section_return_ignores_earlier_failures() {
+        let st = Stepper::new(
+            Params::paper(FrictionLaw::McMillan, 1e-3),
+            0.01,
+            SolverConfig::default(),
+        )
+        .unwrap();
+        let mut stats = SolverStats {
+            failures: 1,
+            ..SolverStats::default()
+        };
+        let c = section_return(&st, 0.5, 100.0, &mut stats, |_| {}).expect("a return");
+        assert!((c.t - std::f64::consts::TAU).abs() < 0.5, "{c:?}");
+        assert!(stats.solves > 600 && stats.failures == 1, "{stats:?}");
+    }
+
+    /// The classifier's run and a `Run` observed by hand give the same outcome: one loop.
+    #[test]
+    fn classify_is_a_watch_over_a_run() {
+        let st = Stepper::new(
+            Params::paper(FrictionLaw::McMillan, 1e-3),
+            0.01,
+            SolverConfig::default(),
+        )
+        .unwrap();
+        let cl = Classifier::default();
+        let ic = State { x: 1.1, v: 0.0 };
+        let out = cl.classify(&st, ic);
+        assert_eq!(out.regime, Regime::SteadySlip, "{out:?}");
+        let mut run = Run::new(&st, ic);
+        let mut w = cl.watch(st.params());
+        let d = loop {
+            let step = run.step();
+            if let Some(d) = w.observe(&run, &step) {
+                break d;
+            }
+        };
+        assert_eq!(w.finish(d, &run), out);
+    }
 }
