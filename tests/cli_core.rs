@@ -49,7 +49,15 @@ fn trajectory_writes_csv_rows() {
     let dir = tmp();
     let out = ok(squeal(
         dir.path(),
-        &["trajectory", "--t-end", "20", "--out", "traj.csv"],
+        &[
+            "trajectory",
+            "--dt",
+            "0.01",
+            "--t-end",
+            "20",
+            "--out",
+            "traj.csv",
+        ],
     ));
     assert!(out.contains("traj.csv"), "{out}");
     let text = std::fs::read_to_string(dir.path().join("traj.csv")).unwrap();
@@ -79,6 +87,8 @@ fn trajectory_decimates_and_refuses_to_overwrite() {
     let dir = tmp();
     let args = [
         "trajectory",
+        "--dt",
+        "0.01",
         "--t-end",
         "20",
         "--every",
@@ -120,7 +130,7 @@ fn trajectory_json_summary_has_the_fields() {
     let dir = tmp();
     let out = ok(squeal(
         dir.path(),
-        &["trajectory", "--t-end", "500", "--json"],
+        &["trajectory", "--dt", "0.01", "--t-end", "500", "--json"],
     ));
     let j: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
     assert_eq!(j["params"]["law"], "mcmillan");
@@ -241,6 +251,8 @@ fn trajectory_writes_hdf5() {
             "mcmillan-nonhysteretic",
             "--nu",
             "0.002",
+            "--dt",
+            "0.01",
             "--t-end",
             "10",
             "--every",

@@ -26,6 +26,7 @@ use std::collections::VecDeque;
 
 use serde::Serialize;
 
+use crate::friction::Branch;
 use crate::params::Params;
 use crate::run::{Run, Step};
 use crate::solver::SolverStats;
@@ -80,11 +81,14 @@ pub enum Reason {
     Diverged = 5,
     /// The robust solver found no root (counted in the statistics).
     SolverFailure = 6,
+    /// Every revolution of the window stuck and the section amplitudes fluctuate without
+    /// trend in a bounded band: the (wide, irregular) stick-slip attractor.
+    StickingBand = 7,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 7] = [
+    pub const ALL: [Reason; 8] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -92,6 +96,7 @@ impl Reason {
         Reason::SettledStickSlip,
         Reason::Diverged,
         Reason::SolverFailure,
+        Reason::StickingBand,
     ];
 
     /// The reason's name in files and output.
@@ -104,6 +109,7 @@ impl Reason {
             Reason::SettledStickSlip => "settled_stick_slip",
             Reason::Diverged => "diverged",
             Reason::SolverFailure => "solver_failure",
+            Reason::StickingBand => "sticking_band",
         }
     }
 }
@@ -252,6 +258,9 @@ impl Classifier {
             fp: p.fixed_point(),
             fp_r2: self.fp_radius * self.fp_radius,
             ring: VecDeque::with_capacity(self.settle_cycles as usize),
+            stuck: VecDeque::with_capacity(self.settle_cycles as usize),
+            stuck_now: false,
+            sticks: 0,
             crossings: 0,
             last_t: f64::NAN,
             omega: f64::NAN,
@@ -288,6 +297,12 @@ pub struct Watch<'c> {
     fp: State,
     fp_r2: f64,
     ring: VecDeque<f64>,
+    /// For each crossing in `ring`: whether the revolution that ended there stuck.
+    stuck: VecDeque<bool>,
+    /// Whether the revolution in progress has stuck.
+    stuck_now: bool,
+    /// The run's Coulomb stick count at the last step.
+    sticks: u64,
     crossings: u32,
     last_t: f64,
     omega: f64,
@@ -311,6 +326,9 @@ impl Watch<'_> {
         if n.x.abs() > self.cl.max_radius || n.v.abs() > self.cl.max_radius {
             return Some((Regime::Undecided, Reason::Diverged));
         }
+        let sticks = run.stats().sticks;
+        self.stuck_now |= step.solution.branch == Branch::QuasiStatic || sticks > self.sticks;
+        self.sticks = sticks;
         let c = crossing(self.fp.x, &step.prev, n)?;
         self.crossings += 1;
         if self.last_t.is_finite() {
@@ -329,10 +347,18 @@ impl Watch<'_> {
         let window = self.cl.settle_cycles as usize;
         if self.ring.len() == window {
             self.ring.pop_front();
+            self.stuck.pop_front();
         }
         self.ring.push_back(c.r);
-        if self.ring.len() == window && self.cl.settled(self.ring.make_contiguous()) {
-            return Some((Regime::StickSlip, Reason::SettledStickSlip));
+        self.stuck.push_back(std::mem::take(&mut self.stuck_now));
+        if self.ring.len() == window {
+            let ring = self.ring.make_contiguous();
+            if self.cl.settled(ring) {
+                return Some((Regime::StickSlip, Reason::SettledStickSlip));
+            }
+            if self.stuck.iter().any(|&s| s) && self.cl.sticking_band(ring) {
+                return Some((Regime::StickSlip, Reason::StickingBand));
+            }
         }
         None
     }
@@ -352,6 +378,35 @@ impl Watch<'_> {
             stats: *run.stats(),
             max_residual: run.max_residual(),
         }
+    }
+}
+
+impl Classifier {
+    /// The wide-band test of [`Reason::StickingBand`] on a full window of section amplitudes
+    /// (the sticking of every revolution is checked by the caller): bounded, reversing, no
+    /// trend.
+    fn sticking_band(&self, ring: &[f64]) -> bool {
+        let (lo, hi) = ring
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &r| {
+                (l.min(r), h.max(r))
+            });
+        let mean = ring.iter().sum::<f64>() / ring.len() as f64;
+        let spread = hi - lo;
+        if lo.is_nan() || lo <= 10.0 * self.fp_radius || spread > mean {
+            return false;
+        }
+        let reversals = ring
+            .windows(3)
+            .filter(|w| (w[1] - w[0]) * (w[2] - w[1]) < 0.0)
+            .count();
+        if 4 * reversals < ring.len() {
+            return false;
+        }
+        let half = ring.len() / 2;
+        let m1 = ring[..half].iter().sum::<f64>() / half as f64;
+        let m2 = ring[ring.len() - half..].iter().sum::<f64>() / half as f64;
+        (m2 - m1).abs() <= 0.25 * spread
     }
 }
 
@@ -433,5 +488,34 @@ mod tests {
             }
         };
         assert_eq!(w.finish(d, &run), out);
+    }
+
+    /// The wide-band test on synthetic windows of 20 section amplitudes: an irregular band of
+    /// +-25% (as measured at lambda <= 1) passes; a run drifting away from the unstable cycle
+    /// (0.64% per revolution, monotone) and a sticking run decaying by 2% per revolution with
+    /// jitter do not; nor does a band wider than its mean.
+    #[test]
+    fn sticking_band_accepts_irregular_bands_only() {
+        let cl = Classifier::default();
+        // Deterministic irregular sequence in [0.75, 1.25] (a logistic map, chaotic).
+        let mut z = 0.3f64;
+        let band: Vec<f64> = (0..20)
+            .map(|_| {
+                z = 3.9 * z * (1.0 - z);
+                0.75 + 0.5 * z
+            })
+            .collect();
+        assert!(cl.sticking_band(&band), "{band:?}");
+        assert!(!cl.settled(&band));
+        let growth: Vec<f64> = (0..20).map(|k| 0.37 * 1.0064f64.powi(k)).collect();
+        assert!(!cl.sticking_band(&growth));
+        let decay: Vec<f64> = band
+            .iter()
+            .enumerate()
+            .map(|(k, r)| 2.0 * 0.98f64.powi(k as i32) + 0.02 * (r - 1.0))
+            .collect();
+        assert!(!cl.sticking_band(&decay), "{decay:?}");
+        let wide: Vec<f64> = band.iter().map(|r| (r - 1.0) * 5.0 + 1.0).collect();
+        assert!(!cl.sticking_band(&wide));
     }
 }

@@ -594,33 +594,32 @@ fn unstable_cycle(st: &Stepper) -> Option<f64> {
 #[test]
 #[ignore]
 fn dt_study() {
-    println!(
-        "| dt | omega nu=1e-3 | r_ss nu=1e-3 | omega nu=1e-2 | r_u nu=1e-3 | r_u nu=1e-2 | r_u nu=1e-3 non-hyst | paper unconverged nu=1e-3 |"
-    );
-    println!("|---|---|---|---|---|---|---|---|");
-    for dt in [0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125, 0.000625] {
-        let light = stepper(FrictionLaw::McMillan, 1e-3, dt, SolverKind::Robust);
-        let heavy = stepper(FrictionLaw::McMillan, 1e-2, dt, SolverKind::Robust);
-        let nh = stepper(
-            FrictionLaw::McMillanNonHysteretic,
-            1e-3,
-            dt,
-            SolverKind::Robust,
-        );
-        let (w1, r1) = mean_cycle(&light, run_to(&light, REST, 1000.0), 2000.0);
-        let far = State { x: -2.5, v: 0.0 };
-        let (w2, _) = mean_cycle(&heavy, run_to(&heavy, far, 1000.0), 2000.0);
-        let ru1 = unstable_cycle(&light).unwrap_or(f64::NAN);
-        let ru2 = unstable_cycle(&heavy).unwrap_or(f64::NAN);
-        let ru3 = unstable_cycle(&nh).unwrap_or(f64::NAN);
-        let paper = stepper(FrictionLaw::McMillan, 1e-3, dt, SolverKind::Paper);
-        let s = run_to(&paper, REST, 1000.0);
-        let mut stats = SolverStats::default();
-        advance(&paper, s, steps(&paper, 1000.0), &mut stats, |_, _, _| {});
-        let share = stats.unconverged as f64 / stats.solves as f64;
+    for scheme in [Scheme::Zoh, Scheme::Foh] {
+        println!("scheme {scheme}");
         println!(
-            "| {dt} | {w1:.4} | {r1:.4} | {w2:.4} | {ru1:.5} | {ru2:.5} | {ru3:.5} | {:.1}% |",
-            100.0 * share
+            "| dt | omega nu=1e-3 | r_ss nu=1e-3 | omega nu=1e-2 | r_u nu=1e-3 | r_u nu=1e-2 | r_u nu=1e-3 non-hyst | paper unconverged nu=1e-3 |"
         );
+        println!("|---|---|---|---|---|---|---|---|");
+        for dt in [0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125, 0.000625] {
+            let at = |law, nu, kind| stepper_with(law, nu, dt, kind, scheme);
+            let light = at(FrictionLaw::McMillan, 1e-3, SolverKind::Robust);
+            let heavy = at(FrictionLaw::McMillan, 1e-2, SolverKind::Robust);
+            let nh = at(FrictionLaw::McMillanNonHysteretic, 1e-3, SolverKind::Robust);
+            let (w1, r1) = mean_cycle(&light, run_to(&light, REST, 1000.0), 2000.0);
+            let far = State { x: -2.5, v: 0.0 };
+            let (w2, _) = mean_cycle(&heavy, run_to(&heavy, far, 1000.0), 2000.0);
+            let ru1 = unstable_cycle(&light).unwrap_or(f64::NAN);
+            let ru2 = unstable_cycle(&heavy).unwrap_or(f64::NAN);
+            let ru3 = unstable_cycle(&nh).unwrap_or(f64::NAN);
+            let paper = at(FrictionLaw::McMillan, 1e-3, SolverKind::Paper);
+            let s = run_to(&paper, REST, 1000.0);
+            let mut stats = SolverStats::default();
+            advance(&paper, s, steps(&paper, 1000.0), &mut stats, |_, _, _| {});
+            let share = stats.unconverged as f64 / stats.solves as f64;
+            println!(
+                "| {dt} | {w1:.4} | {r1:.4} | {w2:.4} | {ru1:.5} | {ru2:.5} | {ru3:.5} | {:.1}% |",
+                100.0 * share
+            );
+        }
     }
 }

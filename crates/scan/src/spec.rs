@@ -15,7 +15,7 @@
 //! v0 = { min = -4.0, max = 4.0, count = 64 }
 //! block_rows = 8                   # rows of v0 per stored block (default 8)
 //! [integration]
-//! dt = 0.01
+//! dt = 0.005
 //! solver = "robust"                # robust | paper
 //! scheme = "foh"                    # foh (force linear over a step) | zoh (held: the paper's)
 //! max_iter = 100                   # paper iteration cap
