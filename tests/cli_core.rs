@@ -139,7 +139,13 @@ fn trajectory_json_summary_has_the_fields() {
     assert_eq!(j["steps"], 50_000);
     // nu = 1e-3 from rest: stick-slip (paper Fig 9), decided well before t = 500.
     assert_eq!(j["classification"]["regime"], "stick_slip");
-    assert_eq!(j["classification"]["reason"], "settled_stick_slip");
+    // Decided by the attractor test: the quasi-periodic band with sticking (issue 9's wide-band
+    // rule fires first here; the 5% settling rule a few crossings later).
+    let reason = j["classification"]["reason"].as_str().unwrap();
+    assert!(
+        ["sticking_band", "settled_stick_slip"].contains(&reason),
+        "{reason}"
+    );
     let omega = j["oscillation"]["omega"].as_f64().expect("omega");
     assert!((omega - 0.96).abs() < 0.015, "{omega}");
     assert!(j["oscillation"]["crossings"].as_u64().unwrap() > 50);
