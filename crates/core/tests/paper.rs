@@ -2,9 +2,11 @@
 //!
 //! * Results of the paper (MODEL.md's table): which attractor a run from a given state settles
 //!   on, the stick-slip frequency, the flat top of the non-hysteretic loop.
-//! * The scheme: first order in `dt` (the force is held at its end-of-step value over each
-//!   step), robust solves at rounding level where the paper's iteration diverges, the paper
-//!   iteration's share of unconverged steps, Coulomb friction never feeding energy in.
+//! * The schemes: the paper's zero-order hold is first order in `dt` (the force held at its
+//!   end-of-step value over each step), the default first-order hold second order; robust
+//!   solves at rounding level where the paper's iteration diverges, the paper iteration's
+//!   share of unconverged steps (both pinned to the paper's scheme), Coulomb friction never
+//!   feeding energy in.
 //! * A snapshot of the solver counters, to flag unintended algorithm changes in review.
 //!
 //! `cargo test -p squeal-core --test paper -- --ignored --nocapture dt_study` prints the
