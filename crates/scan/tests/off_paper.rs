@@ -149,7 +149,20 @@ fn measure() {
 /// 20-60 ms per cell (the 64 x 64 grids of the issue are in `measure`, results below).
 ///
 /// Measured at 64 x 64, dt = 0.01 (`N=64 cargo test --release -p squeal-scan --test
-/// off_paper -- --ignored --nocapture measure`): see MEASURED_64 below.
+/// off_paper -- --ignored --nocapture measure`, 2026-11-22, counts steady / stick /
+/// undecided, the same under both rules unless said):
+/// lambda = 0.5: 97 / 3999 / 0 (settlement: 3999 by the wide-band rule);
+/// lambda = 1: 467 / 3629 / 0; lambda = 5: 2047 / 2049 / 0; tau = 0.05: 1196 / 2900 / 0 with
+/// 8 cells undecided by settlement (slow decay at nu = 2e-3, time limit); tau = 1:
+/// 346 / 3750 / 0; Phi = 0.3 and Phi = 1.4: 1158 / 2938 / 0. Before the wide-band rule the
+/// settlement rule left every stick-slip cell undecided at lambda = 0.5 and 1 (issue 9).
+/// That run also found 5 cells (the same at both Phi: slip-branch dynamics) that settlement
+/// called stick-slip and the cycle called steady slip: starts just inside the nu = 1e-2
+/// cycle whose amplitudes drifted inward at an accelerating pace inside a 5% band, which the
+/// old settling test took for a settled band. The settling test now also asks for reversals
+/// (`probe_disagreements` finds none since at Phi = 0.3; the other 64 x 64 counts above were
+/// measured before that change, the 32 x 32 assertions here run with it). Run time of this test: 80-160 s on the 2-core
+/// VM shared with other builds (the settlement rule is 95% of it).
 #[test]
 fn early_stopping_agrees_with_settlement_off_the_paper() {
     let (n, dt) = (32, 0.01);
@@ -193,5 +206,36 @@ fn early_stopping_agrees_with_settlement_off_the_paper() {
                 case.name
             );
         }
+    }
+}
+
+#[test]
+#[ignore]
+fn probe_disagreements() {
+    let case = &CASES[5];
+    let (n, dt) = (64, 0.01);
+    let pa = plan(case, n, dt, "cycle");
+    let pb = plan(case, n, dt, "none");
+    let ca = MapContext::prepare(&pa, 0).unwrap();
+    let cb = MapContext::prepare(&pb, 0).unwrap();
+    println!("trap {:?}", ca.classifier.trap);
+    let g = &pa.grid;
+    let bad: Vec<String> = (0..n * n)
+        .into_par_iter()
+        .filter_map(|k| {
+            let ic = State {
+                x: g.x0.value(k % n),
+                v: g.v0.value(k / n),
+            };
+            let a = ca.classifier.classify(&ca.stepper, ic);
+            if a.regime != Regime::SteadySlip {
+                return None;
+            }
+            let b = cb.classifier.classify(&cb.stepper, ic);
+            (b.regime != a.regime).then(|| format!("{ic:?}: cycle {a:?}\n   none {b:?}"))
+        })
+        .collect();
+    for b in bad {
+        println!("{b}");
     }
 }
