@@ -531,7 +531,8 @@ fn print_summary(s: &Summary, kind: SolverKind) {
     let st = &s.stats;
     println!(
         "solver: solves={} evaluations={} newton_steps={} bisections={} expansions={} \
-         multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={}",
+         multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={} \
+         fallbacks={}",
         st.solves,
         st.evaluations,
         st.newton_steps,
@@ -542,7 +543,8 @@ fn print_summary(s: &Summary, kind: SolverKind) {
         st.failures,
         st.iterations,
         st.unconverged,
-        st.sticks
+        st.sticks,
+        st.fallbacks
     );
     println!("max residual |G(F)| = {:.3e}", s.max_residual);
     if kind == SolverKind::Paper || s.unconverged_steps > 0 {
