@@ -1,7 +1,7 @@
 //! Model and integration flags shared by `trajectory`, `classify`, `ulc` and `critical`.
 
 use anyhow::{Context, bail};
-use squeal_core::{CoreError, FrictionLaw, Params, SolverConfig, SolverKind, Stepper};
+use squeal_core::{CoreError, FrictionLaw, Params, Scheme, SolverConfig, SolverKind, Stepper};
 
 /// Model flags (nondimensional, paper Section 4; defaults are the paper's Table 1).
 #[derive(clap::Args, Debug, Clone)]
@@ -27,6 +27,9 @@ pub struct ModelArgs {
     /// Implicit force solver: robust (true root nearest the previous force) or paper.
     #[arg(long, default_value = "robust")]
     pub solver: String,
+    /// How the force varies over a step: foh (linear, second order) or zoh (held, the paper's).
+    #[arg(long, default_value = "foh")]
+    pub scheme: String,
 }
 
 impl ModelArgs {
@@ -48,6 +51,7 @@ impl ModelArgs {
     pub fn stepper(&self) -> anyhow::Result<Stepper> {
         let p = self.params()?;
         let kind: SolverKind = self.solver.parse().context("--solver")?;
+        let scheme: Scheme = self.scheme.parse().context("--scheme")?;
         if !self.dt.is_finite() || self.dt <= 0.0 || self.dt > 1.0 {
             bail!(
                 "--dt: invalid dt = {}: expected a finite step in (0, 1]",
@@ -59,6 +63,7 @@ impl ModelArgs {
             self.dt,
             SolverConfig {
                 kind,
+                scheme,
                 ..Default::default()
             },
         )
@@ -115,8 +120,8 @@ impl SetupArgs {
                 let text = format!(
                     "version = 1\n[model]\nlaw = \"{}\"\nnu = {:?}\nlambda = {:?}\ntau = {:?}\nphi = {:?}\n\
                      [grid]\nx0 = {{ min = 0.0, max = 0.0, count = 1 }}\nv0 = {{ min = 0.0, max = 0.0, count = 1 }}\n\
-                     [integration]\ndt = {:?}\nsolver = \"{}\"\n[classifier]\nt_max = {:?}\n[output]\npath = \"unused.h5\"\n",
-                    m.law, m.nu, m.lambda, m.tau, m.phi, m.dt, m.solver, self.t_max
+                     [integration]\ndt = {:?}\nsolver = \"{}\"\nscheme = \"{}\"\n[classifier]\nt_max = {:?}\n[output]\npath = \"unused.h5\"\n",
+                    m.law, m.nu, m.lambda, m.tau, m.phi, m.dt, m.solver, m.scheme, self.t_max
                 );
                 squeal_scan::Plan::from_toml(&text, "command line").map_err(|e| {
                     anyhow::anyhow!("{}", e.to_string().replace("classifier.t_max", "--t-max"))

@@ -3,9 +3,8 @@
 //!
 //! The run is integrated to `--t-end` whatever happens on the way, so the samples and the
 //! phase plane show the whole run. The label ("steady slip", "stick-slip", "not yet settled")
-//! comes from [`Classifier::classify`] on the same run with `t_max = t_end`: the classifier
-//! stops at its decision, and the two runs are the same step by step (the stepper is
-//! deterministic), so the label is that of the samples written.
+//! comes from the classifier watching the same run (integrated once) with `t_max = t_end`:
+//! its verdict is taken at its decision and the run goes on to `t_end`.
 //!
 //! The frequency of the final oscillation is `2 pi / (t_k - t_{k-1})` from the last two
 //! crossings of the Poincare section `x = x*, x' > 0` (as in the classifier), absent if the
@@ -19,7 +18,9 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use serde::Serialize;
 use squeal_core::classify::crossing;
-use squeal_core::{Classifier, Sample, SolverKind, SolverStats, State, Stepper};
+use squeal_core::{
+    Classifier, Reason, Regime, Run, Sample, SolverKind, SolverStats, State, Stepper,
+};
 use squeal_plot::{Curve, Marker, Rgb};
 
 use super::model::ModelArgs;
@@ -109,6 +110,7 @@ struct RunParams {
     phi: f64,
     dt: f64,
     solver: &'static str,
+    scheme: &'static str,
     x0: f64,
     v0: f64,
     t_end: f64,
@@ -210,32 +212,39 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let p = *stepper.params();
     let fp = p.fixed_point();
     let mut cols = Columns::default();
-    let mut stats = SolverStats::default();
-    let (mut s, sol) = stepper.initial(ic, &mut stats);
-    let mut max_residual = sol.residual;
+    let classifier = Classifier {
+        t_max: args.t_end,
+        ..Default::default()
+    };
+    let mut watch = classifier.watch(&p);
+    let mut outcome = None;
+    let mut run = Run::new(&stepper, ic);
     let mut unconverged_times = Vec::new();
     let mut unconverged = 0u64;
-    if !sol.converged {
+    if run.initial().is_some_and(|sol| !sol.converged) {
         unconverged += 1;
         unconverged_times.push(0.0);
     }
     if keep {
-        cols.push(&s);
+        cols.push(run.sample());
     }
     let mut crossings = 0u64;
     let (mut t_prev_cross, mut t_last_cross, mut amplitude) = (f64::NAN, f64::NAN, f64::NAN);
     for k in 1..=steps {
-        let (mut n, sol) = stepper.step(&s, &mut stats);
-        // Time by index, not by accumulated addition.
-        n.t = k as f64 * stepper.dt();
-        max_residual = max_residual.max(sol.residual);
-        if !sol.converged {
+        let step = run.step();
+        let n = step.next;
+        if !step.solution.converged {
             unconverged += 1;
             if unconverged_times.len() < FIRST_UNCONVERGED {
                 unconverged_times.push(n.t);
             }
         }
-        if let Some(c) = crossing(fp.x, &s, &n) {
+        if outcome.is_none() {
+            if let Some(decision) = watch.observe(&run, &step) {
+                outcome = Some(watch.finish(decision, &run));
+            }
+        }
+        if let Some(c) = crossing(fp.x, &step.prev, &n) {
             crossings += 1;
             t_prev_cross = t_last_cross;
             t_last_cross = c.t;
@@ -244,18 +253,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         if keep && k % args.every == 0 {
             cols.push(&n);
         }
-        s = n;
-        if !s.x.is_finite() || !s.v.is_finite() {
+        if !n.x.is_finite() || !n.v.is_finite() {
             break;
         }
     }
-    let steps_taken = (s.t / stepper.dt()).round() as u64;
+    let outcome =
+        outcome.unwrap_or_else(|| watch.finish((Regime::Undecided, Reason::TimeLimit), &run));
+    let s = *run.sample();
+    let stats = *run.stats();
+    let max_residual = run.max_residual();
+    let steps_taken = run.steps();
 
-    let classifier = Classifier {
-        t_max: args.t_end,
-        ..Default::default()
-    };
-    let outcome = classifier.classify(&stepper, ic);
     let finite = |x: f64| x.is_finite().then_some(x);
 
     if let (Some(path), Some(format)) = (&args.out, format) {
@@ -321,6 +329,7 @@ fn run_params(args: &Args, stepper: &Stepper) -> RunParams {
         phi: p.phi,
         dt: stepper.dt(),
         solver: stepper.solver().kind.name(),
+        scheme: stepper.scheme().name(),
         x0: args.x0,
         v0: args.v0,
         t_end: args.t_end,
@@ -386,7 +395,11 @@ fn write_h5(path: &Path, cols: &Columns, rp: &RunParams, force: bool) -> anyhow:
     // the run's settings and provenance are root attributes (squeal-store's trajectory
     // schema), and `squeal info` reads it back.
     let attrs = squeal_store::RunAttrs {
-        text: vec![("law", rp.law), ("solver", rp.solver)],
+        text: vec![
+            ("law", rp.law),
+            ("solver", rp.solver),
+            ("scheme", rp.scheme),
+        ],
         numbers: vec![
             ("nu", rp.nu),
             ("lambda", rp.lambda),
@@ -478,8 +491,8 @@ fn plot_phase_plane(
 fn print_summary(s: &Summary, kind: SolverKind) {
     let p = &s.params;
     println!(
-        "run: {} nu={} lambda={} tau={} phi={} dt={} solver={} from (x0, x'0) = ({}, {}) to t = {} ({} steps)",
-        p.law, p.nu, p.lambda, p.tau, p.phi, p.dt, p.solver, p.x0, p.v0, p.t_end, s.steps
+        "run: {} nu={} lambda={} tau={} phi={} dt={} solver={} scheme={} from (x0, x'0) = ({}, {}) to t = {} ({} steps)",
+        p.law, p.nu, p.lambda, p.tau, p.phi, p.dt, p.solver, p.scheme, p.x0, p.v0, p.t_end, s.steps
     );
     let c = &s.classification;
     let label = match c.regime {
@@ -513,7 +526,8 @@ fn print_summary(s: &Summary, kind: SolverKind) {
     let st = &s.stats;
     println!(
         "solver: solves={} evaluations={} newton_steps={} bisections={} expansions={} \
-         multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={}",
+         multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={} \
+         fallbacks={}",
         st.solves,
         st.evaluations,
         st.newton_steps,
@@ -524,7 +538,8 @@ fn print_summary(s: &Summary, kind: SolverKind) {
         st.failures,
         st.iterations,
         st.unconverged,
-        st.sticks
+        st.sticks,
+        st.fallbacks
     );
     println!("max residual |G(F)| = {:.3e}", s.max_residual);
     if kind == SolverKind::Paper || s.unconverged_steps > 0 {

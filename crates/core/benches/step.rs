@@ -1,4 +1,4 @@
-//! Cost of one step, for each friction law and solver, in two situations:
+//! Cost of one step, for each friction law, solver and scheme, in two situations:
 //!
 //! * `step/decay`: the common case of a scan, a decaying oscillation near the fixed point
 //!   (nu = 1e-3 from (1.2, 0), inside the unstable cycle, after 100 time units);
@@ -9,7 +9,8 @@
 //! Each benchmark steps from every sample of one revolution (between two crossings of the
 //! section `x = 1, x' > 0`), recorded with the robust solver on the hysteretic law (the
 //! non-hysteretic law on its own runs), so the time per element is the mean time of one step
-//! along that revolution. Coulomb's solve is closed form whatever the solver setting.
+//! along that revolution. Coulomb's solve is closed form whatever the solver setting. Before
+//! timing, each case prints its law evaluations per step (from the solver's counters).
 //!
 //! `cargo bench -p squeal-core --bench step -- --warm-up-time 1 --measurement-time 3`
 
@@ -18,15 +19,16 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use squeal_core::classify::crossing;
 use squeal_core::{
-    FrictionLaw, Params, Sample, SolverConfig, SolverKind, SolverStats, State, Stepper,
+    FrictionLaw, Params, Run, Sample, Scheme, SolverConfig, SolverKind, SolverStats, State, Stepper,
 };
 
 const NU: f64 = 1e-3;
-const DT: f64 = 0.01;
+const DT: f64 = squeal_core::defaults::DT;
 
-fn stepper(law: FrictionLaw, kind: SolverKind) -> Stepper {
+fn stepper(law: FrictionLaw, kind: SolverKind, scheme: Scheme) -> Stepper {
     let cfg = SolverConfig {
         kind,
+        scheme,
         ..Default::default()
     };
     Stepper::new(Params::paper(law, NU), DT, cfg).expect("valid parameters")
@@ -34,23 +36,22 @@ fn stepper(law: FrictionLaw, kind: SolverKind) -> Stepper {
 
 /// The samples of one revolution after `settle` time units from `ic` (robust solver).
 fn revolution(law: FrictionLaw, ic: State, settle: f64) -> Vec<Sample> {
-    let st = stepper(law, SolverKind::Robust);
-    let mut stats = SolverStats::default();
-    let (mut s, _) = st.initial(ic, &mut stats);
-    for _ in 0..(settle / DT).round() as u64 {
-        s = st.step(&s, &mut stats).0;
-    }
+    let st = stepper(law, SolverKind::Robust, Scheme::default());
+    let mut run = Run::new(&st, ic);
+    run.by_ref()
+        .take((settle / DT).round() as usize)
+        .for_each(drop);
     let mut out = Vec::new();
     let mut crossings = 0;
-    while crossings < 2 {
-        let n = st.step(&s, &mut stats).0;
-        if crossing(1.0, &s, &n).is_some() {
+    for step in run {
+        if crossing(1.0, &step.prev, &step.next).is_some() {
             crossings += 1;
         }
-        if crossings == 1 {
-            out.push(n);
+        match crossings {
+            1 => out.push(step.next),
+            2 => break,
+            _ => {}
         }
-        s = n;
     }
     out
 }
@@ -66,15 +67,28 @@ fn bench_case(c: &mut Criterion, name: &str, ic: State, settle: f64) {
         };
         group.throughput(Throughput::Elements(samples.len() as u64));
         for kind in [SolverKind::Robust, SolverKind::Paper] {
-            let st = stepper(law, kind);
-            group.bench_function(BenchmarkId::new(law.name(), kind.name()), |b| {
+            for scheme in [Scheme::Foh, Scheme::Zoh] {
+                let st = stepper(law, kind, scheme);
                 let mut stats = SolverStats::default();
-                b.iter(|| {
-                    for s in samples {
-                        black_box(st.step(black_box(s), &mut stats));
-                    }
+                for s in samples {
+                    st.step(s, &mut stats);
+                }
+                eprintln!(
+                    "step/{name}/{law}/{kind}-{scheme}: {:.2} law evaluations per step, {} fallbacks in {} steps",
+                    stats.evaluations as f64 / samples.len() as f64,
+                    stats.fallbacks,
+                    samples.len()
+                );
+                let id = BenchmarkId::new(law.name(), format!("{kind}-{scheme}"));
+                group.bench_function(id, |b| {
+                    let mut stats = SolverStats::default();
+                    b.iter(|| {
+                        for s in samples {
+                            black_box(st.step(black_box(s), &mut stats));
+                        }
+                    });
                 });
-            });
+            }
         }
     }
     group.finish();

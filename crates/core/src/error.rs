@@ -14,6 +14,9 @@ pub enum CoreError {
     /// A friction-law name that is not one of ours.
     #[error("unknown friction law '{0}' (expected mcmillan, mcmillan-nonhysteretic or coulomb)")]
     UnknownLaw(String),
+    /// A scheme name that is not one of ours.
+    #[error("unknown scheme '{0}' (expected foh or zoh)")]
+    UnknownScheme(String),
     /// A solver name that is not one of ours.
     #[error("unknown solver '{0}' (expected robust or paper)")]
     UnknownSolver(String),

@@ -57,13 +57,73 @@ fn sgn0(x: f64) -> f64 {
     }
 }
 
-/// The nondimensional friction force at slip velocity `v` and acceleration `a`.
+/// The nondimensional friction force at slip velocity `v` and acceleration `a` (builds the
+/// law's constants on every call; the stepper holds a [`Law`] instead).
 #[inline]
 pub fn force(p: &Params, v: f64, a: f64) -> ForceEval {
-    match p.law {
-        FrictionLaw::McMillan => mcmillan(v, a, p.tau, p.phi),
-        FrictionLaw::McMillanNonHysteretic => nonhysteretic(v, a, p.tau, p.phi),
-        FrictionLaw::Coulomb => coulomb(v),
+    Law::new(p).eval(v, a)
+}
+
+/// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
+/// stepper and the solver evaluate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Law {
+    kind: FrictionLaw,
+    tau: f64,
+    phi: f64,
+    /// `1 / sin Phi`.
+    inv_sin_phi: f64,
+    /// `pi - Phi`.
+    pi_minus_phi: f64,
+    /// Bound on `|F|` over all states ([`Params::force_bound`]).
+    bound: f64,
+}
+
+impl Law {
+    /// The law of `p` with its constants.
+    pub fn new(p: &Params) -> Law {
+        Law {
+            kind: p.law,
+            tau: p.tau,
+            phi: p.phi,
+            inv_sin_phi: 1.0 / p.phi.sin(),
+            pi_minus_phi: PI - p.phi,
+            bound: p.force_bound(),
+        }
+    }
+
+    /// Which law.
+    pub fn kind(&self) -> FrictionLaw {
+        self.kind
+    }
+
+    /// `tau`.
+    pub fn tau(&self) -> f64 {
+        self.tau
+    }
+
+    /// Every root of a force equation lies in `[-bound, bound]`.
+    pub fn bound(&self) -> f64 {
+        self.bound
+    }
+
+    /// `F(v, a)` with its partial derivatives and the branch used.
+    #[inline]
+    pub fn eval(&self, v: f64, a: f64) -> ForceEval {
+        match self.kind {
+            FrictionLaw::McMillan => mcmillan_k(
+                v,
+                a,
+                self.tau,
+                self.phi,
+                self.inv_sin_phi,
+                self.pi_minus_phi,
+            ),
+            FrictionLaw::McMillanNonHysteretic => {
+                nonhysteretic_k(v, a, self.tau, self.inv_sin_phi, self.pi_minus_phi)
+            }
+            FrictionLaw::Coulomb => coulomb(v),
+        }
     }
 }
 
@@ -92,6 +152,18 @@ pub fn coulomb(v: f64) -> ForceEval {
 /// McMillan's hysteretic law, eq. (4.1) corrected.
 #[inline]
 pub fn mcmillan(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
+    mcmillan_k(v, a, tau, phi, 1.0 / phi.sin(), PI - phi)
+}
+
+#[inline]
+fn mcmillan_k(
+    v: f64,
+    a: f64,
+    tau: f64,
+    phi: f64,
+    inv_sin_phi: f64,
+    pi_minus_phi: f64,
+) -> ForceEval {
     if a == 0.0 {
         return coulomb(v);
     }
@@ -112,10 +184,10 @@ pub fn mcmillan(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
             branch: Branch::Slip,
         }
     } else {
-        let k = (PI - phi) / (a * tau);
+        let k = pi_minus_phi / (a * tau);
         let theta = k * v + phi;
         let (sn, cs) = theta.sin_cos();
-        let amp = s / phi.sin();
+        let amp = s * inv_sin_phi;
         ForceEval {
             force: f1 + amp * sn,
             dv: f1_dv + amp * cs * k,
@@ -128,6 +200,11 @@ pub fn mcmillan(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
 /// The non-hysteretic law, eq. (5.1) corrected (`|x''|` in the sine argument).
 #[inline]
 pub fn nonhysteretic(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
+    nonhysteretic_k(v, a, tau, 1.0 / phi.sin(), PI - phi)
+}
+
+#[inline]
+fn nonhysteretic_k(v: f64, a: f64, tau: f64, inv_sin_phi: f64, pi_minus_phi: f64) -> ForceEval {
     if a == 0.0 {
         return coulomb(v);
     }
@@ -145,14 +222,13 @@ pub fn nonhysteretic(v: f64, a: f64, tau: f64, phi: f64) -> ForceEval {
             branch: Branch::Slip,
         }
     } else {
-        let k = (phi - PI) / b;
+        let k = -pi_minus_phi / b;
         let psi = k * v;
         let (sn, cs) = psi.sin_cos();
-        let inv = 1.0 / phi.sin();
         ForceEval {
-            force: f1 + sn * inv,
-            dv: f1_dv + cs * inv * k,
-            da: f1_da - cs * inv * psi * s * tau / b,
+            force: f1 + sn * inv_sin_phi,
+            dv: f1_dv + cs * inv_sin_phi * k,
+            da: f1_da - cs * inv_sin_phi * psi * s * tau / b,
             branch: Branch::QuasiStatic,
         }
     }

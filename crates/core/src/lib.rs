@@ -10,22 +10,25 @@
 //!
 //! * [`Params`] and [`FrictionLaw`]: the model (paper eq. 4.1, 5.1, Coulomb).
 //! * [`friction`]: the laws with their derivatives, and the dimensional law (eqs. 3.2-3.4).
-//! * [`Propagator`]: the exact linear step with constant force (eqs. 4.3-4.6).
+//! * [`Propagator`]: the exact linear step with the force constant (eqs. 4.3-4.6) or linear
+//!   over the step ([`Scheme`]).
 //! * [`solver`]: the implicit force equation, solved by the paper's iteration or robustly.
-//! * [`Stepper`]: one step of a run, [`Sample`] the state with acceleration and force.
+//! * [`Stepper`]: one step, [`Sample`] the state with acceleration and force; [`Run`]: the one
+//!   loop that advances a run, yielding [`Step`]s to its observers.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
 //! * [`model`]: the model itself, in words and equations: units, the laws with the paper's
 //!   two misprints corrected, the schemes, the conventions and the labels
 //!   (`crates/core/MODEL.md`).
 //!
 //! ```
-//! use squeal_core::{FrictionLaw, Params, SolverConfig, State, Stepper, SolverStats};
+//! use squeal_core::{Classifier, FrictionLaw, Params, Regime, Run, SolverConfig, State, Stepper};
 //! let stepper = Stepper::new(Params::paper(FrictionLaw::McMillan, 1e-3), 0.01,
 //!                            SolverConfig::default()).unwrap();
-//! let mut stats = SolverStats::default();
-//! let (mut s, _) = stepper.initial(State { x: 0.0, v: 0.0 }, &mut stats);
-//! for _ in 0..1000 { s = stepper.step(&s, &mut stats).0; }
-//! assert!(stats.failures == 0 && s.t > 9.99);
+//! let mut run = Run::new(&stepper, State { x: 0.0, v: 0.0 });
+//! let end = run.by_ref().take(1000).last().unwrap().next;
+//! assert!(run.stats().failures == 0 && end.t == 10.0);
+//! let out = Classifier::default().classify(&stepper, State { x: 0.0, v: 0.0 });
+//! assert_eq!(out.regime, Regime::StickSlip); // Fig. 9: from rest the block squeals
 //! ```
 
 pub mod classify;
@@ -36,12 +39,15 @@ pub mod friction;
 pub mod model {}
 pub mod params;
 pub mod propagator;
+pub mod run;
 pub mod solver;
 pub mod stepper;
 
 pub use classify::{Classifier, Outcome, Reason, Regime, Trap};
 pub use error::CoreError;
+pub use friction::Law;
 pub use params::{FrictionLaw, Params};
-pub use propagator::Propagator;
+pub use propagator::{Propagator, Scheme};
+pub use run::{Run, Step};
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};

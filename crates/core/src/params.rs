@@ -60,7 +60,7 @@ pub struct Params {
     pub law: FrictionLaw,
     /// Damping ratio `nu = r / (2 sqrt(m s))`; `nu >= 0` (under-, critically or over-damped).
     pub nu: f64,
-    /// Belt speed `lambda = v_B / (mu_k g) sqrt(s/m)`; finite, any sign.
+    /// Belt speed `lambda = v_B / (mu_k g) sqrt(s/m)`; `0 < lambda <= 1e6`.
     pub lambda: f64,
     /// Characteristic time `tau' = tau / mu_k sqrt(s/m)` of the surfaces; `tau > 0`.
     pub tau: f64,
@@ -95,11 +95,16 @@ impl Params {
         if self.nu > 1e6 {
             return bad("nu", self.nu, "a damping ratio <= 1e6");
         }
-        if !self.lambda.is_finite() || self.lambda.abs() > 1e6 {
+        // A belt at rest or reversed is outside the model as written: there is no steady slip
+        // at x' = 0 (the fixed point's slip velocity -lambda vanishes or changes sign), the law
+        // chatters about v = 0 (a "stick-slip" at about 14 times the natural frequency at
+        // lambda = 0), and labels change with dt (MODEL.md, issue 9).
+        if !self.lambda.is_finite() || self.lambda <= 0.0 || self.lambda > 1e6 {
             return bad(
                 "lambda",
                 self.lambda,
-                "a finite belt speed with |lambda| <= 1e6",
+                "a belt speed in (0, 1e6] (a belt at rest or reversed is outside the model: \
+                 the law chatters about zero slip and labels depend on dt)",
             );
         }
         if !self.tau.is_finite() || self.tau <= 0.0 {
@@ -129,6 +134,39 @@ impl Params {
         match self.law {
             FrictionLaw::Coulomb => 1.0,
             _ => 1.0 + 1.0 / self.phi.sin(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// lambda <= 0 is refused with the reason; the smallest positive speeds are accepted.
+    #[test]
+    fn belt_at_rest_or_reversed_is_refused() {
+        for lambda in [0.0, -0.0, -3.0, f64::NAN, 2e6] {
+            let p = Params {
+                lambda,
+                ..Params::paper(FrictionLaw::McMillan, 1e-3)
+            };
+            let e = p.validate().unwrap_err().to_string();
+            assert!(e.contains("lambda") && e.contains("(0, 1e6]"), "{e}");
+        }
+        let e = Params {
+            lambda: 0.0,
+            ..Params::paper(FrictionLaw::McMillan, 1e-3)
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("belt at rest or reversed"), "{e}");
+        for lambda in [1e-6, 0.5, 3.0, 1e6] {
+            let p = Params {
+                lambda,
+                ..Params::paper(FrictionLaw::McMillan, 1e-3)
+            };
+            assert!(p.validate().is_ok(), "{lambda}");
         }
     }
 }

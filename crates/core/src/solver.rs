@@ -11,20 +11,32 @@
 //! * [`SolverKind::Paper`]: the paper's fixed-point iteration `F <- L(v(F), a(F))` warm-started
 //!   at the previous force, with an iteration cap. On the quasi-static branch `|dL/dF| > 1`
 //!   and it may not converge: such steps keep the last iterate and are counted.
-//! * [`SolverKind::Robust`] (default): a true root. It brackets outwards from the previous
-//!   force in both directions at once (so the first sign change it finds is the nearest one on
-//!   either side, which is the model's hysteresis: the force stays on its branch while the
-//!   branch exists), then polishes with Newton on the analytic derivative, falling back to
-//!   bisection whenever Newton would leave the bracket. All roots lie in
-//!   `[-B, B]` with `B = Params::force_bound`, so the search always ends.
+//! * [`SolverKind::Robust`] (default): a true root, the nearest to the previous force (the
+//!   model's hysteresis: the force stays on its branch while the branch exists). Two paths:
+//!   - *certified Newton* (most steps): from the previous force `F0` with Newton step
+//!     `d = -G(F0)/G'(F0)`, the interval `I = [F0 - 2|d|, F0 + 2|d|]` is mapped to boxes of
+//!     slip velocity and acceleration. If the whole box lies on the slip branch of the law,
+//!     the law's partial derivatives are bounded there by closed forms in `min |v|` (see
+//!     [`slip_lipschitz`]), which bounds `|dL/dF| <= K`; with `K < 1`, `G = L - F` is strictly
+//!     decreasing on `I`, so `I` holds at most one root and every other root is farther from
+//!     `F0` than any point of `I`. Newton iterates that stay in `I` and reach a zero residual
+//!     have then found the nearest root: usually 2-3 law evaluations per step.
+//!   - *full search* ([`solve_full`]), when the certificate does not hold (quasi-static branch,
+//!     slip velocity near zero) or Newton leaves `I`: it brackets outwards from the previous
+//!     force in both directions at once (so the first sign change it finds is the nearest one
+//!     on either side), then polishes with Newton on the analytic derivative, falling back to
+//!     bisection whenever Newton would leave the bracket. All roots lie in `[-B, B]` with
+//!     `B = Params::force_bound`, so the search always ends. Counted in
+//!     [`SolverStats::fallbacks`].
 //!
 //! Coulomb's law is set-valued at `v = 0`; its equation is solved in closed form: slip with
 //! `F = -sgn v`, or stick with the `F` in `[-1, 1]` that keeps `v = 0`.
 
 use serde::{Deserialize, Serialize};
 
-use crate::friction;
-use crate::params::{FrictionLaw, Params};
+use crate::friction::{Branch, ForceEval, Law};
+use crate::params::FrictionLaw;
+use crate::propagator::Scheme;
 
 /// Which solver finds the step's force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -73,6 +85,10 @@ pub struct SolverConfig {
     pub max_iter: u32,
     /// Convergence tolerance of the paper's iteration on `|F_{k+1} - F_k|`.
     pub paper_tol: f64,
+    /// How the force varies over a step (first-order hold by default; zero-order hold is the
+    /// paper's scheme).
+    #[serde(default)]
+    pub scheme: Scheme,
 }
 
 impl Default for SolverConfig {
@@ -81,6 +97,7 @@ impl Default for SolverConfig {
             kind: SolverKind::Robust,
             max_iter: crate::defaults::MAX_ITER,
             paper_tol: 1e-12,
+            scheme: Scheme::default(),
         }
     }
 }
@@ -90,9 +107,10 @@ impl Default for SolverConfig {
 pub struct SolverStats {
     /// Implicit solves (steps, plus the initial force).
     pub solves: u64,
-    /// Friction-law evaluations.
+    /// Friction-law evaluations (counted in [`ForceEquation::law_at`], the only place the
+    /// solvers evaluate the law).
     pub evaluations: u64,
-    /// Newton steps accepted inside a bracket (robust).
+    /// Newton steps taken (robust: certified Newton, and Newton inside a bracket).
     pub newton_steps: u64,
     /// Bisection steps taken because Newton would have left the bracket (robust).
     pub bisections: u64,
@@ -111,6 +129,10 @@ pub struct SolverStats {
     pub unconverged: u64,
     /// Coulomb steps that stuck (`v = 0`, force inside `[-1, 1]`).
     pub sticks: u64,
+    /// Robust solves that could not use certified Newton and ran the full two-sided bracket
+    /// search (the certificate did not hold, or Newton left the certified interval).
+    #[serde(default)]
+    pub fallbacks: u64,
 }
 
 impl SolverStats {
@@ -127,6 +149,7 @@ impl SolverStats {
         self.iterations += o.iterations;
         self.unconverged += o.unconverged;
         self.sticks += o.sticks;
+        self.fallbacks += o.fallbacks;
     }
 }
 
@@ -152,68 +175,120 @@ pub struct Solution {
     pub residual: f64,
     /// False when the paper's iteration hit its cap or the robust solver failed.
     pub converged: bool,
+    /// The branch of the law at the returned force (from the evaluation that gave it).
+    pub branch: Branch,
+}
+
+/// One evaluation of `G` and `G'` at `f`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point {
+    /// The force.
+    pub f: f64,
+    /// `G(f)`.
+    pub g: f64,
+    /// `G'(f)`.
+    pub d: f64,
+    /// Branch of the law at `f`.
+    pub branch: Branch,
 }
 
 impl ForceEquation {
-    /// `G(F)` and `G'(F)`.
+    /// The law at the state the force `f` gives, counting the evaluation.
     #[inline]
-    pub fn eval(&self, p: &Params, f: f64) -> (f64, f64) {
-        let e = friction::force(p, self.pv + self.qv * f, self.pa + self.qa * f);
-        (e.force - f, e.dv * self.qv + e.da * self.qa - 1.0)
+    pub fn law_at(&self, law: &Law, f: f64, stats: &mut SolverStats) -> ForceEval {
+        stats.evaluations += 1;
+        law.eval(self.pv + self.qv * f, self.pa + self.qa * f)
+    }
+
+    /// `G(F)` and `G'(F)` (one counted law evaluation).
+    #[inline]
+    pub fn eval(&self, law: &Law, f: f64, stats: &mut SolverStats) -> Point {
+        let e = self.law_at(law, f, stats);
+        Point {
+            f,
+            g: e.force - f,
+            d: e.dv * self.qv + e.da * self.qa - 1.0,
+            branch: e.branch,
+        }
     }
 }
 
 /// Residual below which `G(F)` counts as zero: a few ulps of `F`'s size.
 const RESIDUAL_TOL: f64 = 4.0 * f64::EPSILON;
 
+#[inline]
+fn is_zero(p: &Point) -> bool {
+    p.g.abs() <= RESIDUAL_TOL * (1.0 + p.f.abs())
+}
+
+#[inline]
+fn root(p: &Point) -> Solution {
+    Solution {
+        force: p.f,
+        residual: p.g.abs(),
+        converged: true,
+        branch: p.branch,
+    }
+}
+
 /// Solves one implicit force equation, starting from (and, for the robust solver, nearest
 /// to) `f_prev`.
 pub fn solve(
-    p: &Params,
+    law: &Law,
     cfg: &SolverConfig,
     eq: &ForceEquation,
     f_prev: f64,
     stats: &mut SolverStats,
 ) -> Solution {
     stats.solves += 1;
-    if p.law == FrictionLaw::Coulomb {
+    if law.kind() == FrictionLaw::Coulomb {
         return solve_coulomb(eq, f_prev, stats);
     }
     match cfg.kind {
-        SolverKind::Paper => solve_paper(p, cfg, eq, f_prev, stats),
-        SolverKind::Robust => solve_robust(p, eq, f_prev, stats),
+        SolverKind::Paper => solve_paper(law, cfg, eq, f_prev, stats),
+        SolverKind::Robust => solve_robust(law, eq, f_prev, stats, true),
     }
 }
 
+/// The robust solve without the certified-Newton path: always the full two-sided bracket
+/// search. Kept callable so tests can check that the cheaper path returns the same root.
+pub fn solve_full(law: &Law, eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> Solution {
+    stats.solves += 1;
+    if law.kind() == FrictionLaw::Coulomb {
+        return solve_coulomb(eq, f_prev, stats);
+    }
+    solve_robust(law, eq, f_prev, stats, false)
+}
+
 fn solve_paper(
-    p: &Params,
+    law: &Law,
     cfg: &SolverConfig,
     eq: &ForceEquation,
     f_prev: f64,
     stats: &mut SolverStats,
 ) -> Solution {
     let mut f = f_prev;
+    let mut converged = false;
     for _ in 0..cfg.max_iter {
         stats.iterations += 1;
-        stats.evaluations += 1;
-        let next = friction::force(p, eq.pv + eq.qv * f, eq.pa + eq.qa * f).force;
+        let next = eq.law_at(law, f, stats).force;
         let done = (next - f).abs() <= cfg.paper_tol * (1.0 + f.abs());
         f = next;
         if done {
-            let residual = eq.eval(p, f).0.abs();
-            return Solution {
-                force: f,
-                residual,
-                converged: true,
-            };
+            converged = true;
+            break;
         }
     }
-    stats.unconverged += 1;
-    let residual = eq.eval(p, f).0.abs();
+    if !converged {
+        stats.unconverged += 1;
+    }
+    // The residual at the returned force: one more evaluation, counted.
+    let p = eq.eval(law, f, stats);
     Solution {
         force: f,
-        residual,
-        converged: false,
+        residual: p.g.abs(),
+        converged,
+        branch: p.branch,
     }
 }
 
@@ -254,6 +329,7 @@ fn solve_coulomb(eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> So
                 force: f,
                 residual: 0.0,
                 converged: true,
+                branch: Branch::Coulomb,
             }
         }
         None => {
@@ -262,6 +338,7 @@ fn solve_coulomb(eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> So
                 force: f_prev,
                 residual: f64::INFINITY,
                 converged: false,
+                branch: Branch::Coulomb,
             }
         }
     }
@@ -272,31 +349,136 @@ fn same_sign(a: f64, b: f64) -> bool {
     (a > 0.0 && b > 0.0) || (a < 0.0 && b < 0.0)
 }
 
-fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverStats) -> Solution {
-    let bound = p.force_bound() * (1.0 + 1e-12);
+/// A bound `K` on `|dL(v(F), a(F))/dF|` for all `F` in `[f0 - w, f0 + w]`, or `None` when
+/// that interval is not provably on the slip branch of the law.
+///
+/// On the slip branch of McMillan's law (`s v < 0` or `s v > 2 |a| tau`, `s = sgn a`) the
+/// denominator `d = v - a tau` of `F2 = -|a| tau / d` satisfies `|d| >= |a| tau` and
+/// `|d| >= |v| / 2`, and `b / (b^2 + v^2) <= 1 / (2 |v|)`, so
+///
+/// ```text
+/// |dF/dv| <= (1/pi + 2) / |v|,      |dF/da| <= (2/pi + 4) tau / |v|
+/// ```
+///
+/// (the non-hysteretic slip branch, `|v| > |a| tau`, satisfies the same bounds with room to
+/// spare). The law is continuous on the slip branch, including across `a = 0` where it takes
+/// the Coulomb limit, so these bound its Lipschitz constant along the segment, and
+/// `K = bound_v |qv| + bound_a |qa|` with `|v|` at its minimum over the interval.
+pub fn slip_lipschitz(law: &Law, eq: &ForceEquation, f0: f64, w: f64) -> Option<f64> {
+    let (vc, ac) = (eq.pv + eq.qv * f0, eq.pa + eq.qa * f0);
+    let (dv, da) = (eq.qv.abs() * w, eq.qa.abs() * w);
+    let (vlo, vhi, alo, ahi) = (vc - dv, vc + dv, ac - da, ac + da);
+    if !(vlo.is_finite() && vhi.is_finite() && alo.is_finite() && ahi.is_finite()) {
+        return None;
+    }
+    // A relative margin covers the rounding of v(F), a(F) and of the law's branch test.
+    const MARGIN: f64 = 1.0 + 1e-9;
+    let v_min = if vlo > 0.0 {
+        vlo
+    } else if vhi < 0.0 {
+        -vhi
+    } else {
+        return None;
+    } / MARGIN;
+    let a_max = alo.abs().max(ahi.abs()) * MARGIN;
+    let tau = law.tau();
+    let slip = match law.kind() {
+        FrictionLaw::McMillan => {
+            v_min > 2.0 * tau * a_max || (alo >= 0.0 && vhi < 0.0) || (ahi <= 0.0 && vlo > 0.0)
+        }
+        FrictionLaw::McMillanNonHysteretic => v_min > tau * a_max,
+        FrictionLaw::Coulomb => false,
+    };
+    if !slip {
+        return None;
+    }
+    let bound_v = (std::f64::consts::FRAC_1_PI + 2.0) / v_min;
+    let bound_a = (std::f64::consts::FRAC_2_PI + 4.0) * tau / v_min;
+    Some(bound_v * eq.qv.abs() + bound_a * eq.qa.abs())
+}
+
+/// Largest certified Lipschitz bound accepted by the Newton path (`G' <= K - 1 < 0`).
+const CERTIFIED_K: f64 = 0.9;
+
+/// Newton from `start` inside the certified interval `[f0 - w, f0 + w]` (see the module
+/// docs); `None` if the certificate does not hold or an iterate leaves the interval.
+fn certified_newton(
+    law: &Law,
+    eq: &ForceEquation,
+    start: &Point,
+    stats: &mut SolverStats,
+) -> Option<Solution> {
+    let delta = -start.g / start.d;
+    if !delta.is_finite() || delta == 0.0 {
+        return None;
+    }
+    let w = 2.0 * delta.abs();
+    if slip_lipschitz(law, eq, start.f, w)? >= CERTIFIED_K {
+        return None;
+    }
+    let (lo, hi) = (start.f - w, start.f + w);
+    let mut x = start.f + delta;
+    stats.newton_steps += 1;
+    for _ in 0..16 {
+        let p = eq.eval(law, x, stats);
+        if is_zero(&p) {
+            return Some(root(&p));
+        }
+        let n = x - p.g / p.d;
+        if !(n > lo && n < hi) || n == x {
+            return None;
+        }
+        x = n;
+        stats.newton_steps += 1;
+    }
+    None
+}
+
+fn solve_robust(
+    law: &Law,
+    eq: &ForceEquation,
+    f_prev: f64,
+    stats: &mut SolverStats,
+    fast: bool,
+) -> Solution {
+    let bound = law.bound() * (1.0 + 1e-12);
     let f0 = if f_prev.is_finite() {
         f_prev.clamp(-bound, bound)
     } else {
         0.0
     };
-    let (g0, d0) = eq.eval(p, f0);
-    stats.evaluations += 1;
-    if g0.abs() <= RESIDUAL_TOL * (1.0 + f0.abs()) {
-        return Solution {
-            force: f0,
-            residual: g0.abs(),
-            converged: true,
-        };
+    let p0 = eq.eval(law, f0, stats);
+    if is_zero(&p0) {
+        return root(&p0);
     }
-    if !g0.is_finite() {
+    if !p0.g.is_finite() {
         stats.failures += 1;
         return Solution {
             force: f0,
             residual: f64::INFINITY,
             converged: false,
+            branch: p0.branch,
         };
     }
-    let newton = -g0 / d0;
+    if fast {
+        if let Some(sol) = certified_newton(law, eq, &p0, stats) {
+            return sol;
+        }
+        stats.fallbacks += 1;
+    }
+    full_search(law, eq, &p0, bound, stats)
+}
+
+/// The two-sided outward bracket search from `p0`, then a safeguarded Newton polish.
+fn full_search(
+    law: &Law,
+    eq: &ForceEquation,
+    p0: &Point,
+    bound: f64,
+    stats: &mut SolverStats,
+) -> Solution {
+    let f0 = p0.f;
+    let newton = -p0.g / p0.d;
     let mut delta = if newton.is_finite() && newton != 0.0 {
         (2.0 * newton.abs()).clamp(1e-12, 2.0 * bound)
     } else {
@@ -305,61 +487,57 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
     // Outward search: consecutive intervals on the right [r_in, r_out] and on the left.
     // An interval without a sign change can still hold a pair of roots: `hidden_pair` looks
     // for it when the slopes at the ends say `|G|` has a minimum inside.
-    let (mut r_in, mut gr_in, mut dr_in) = (f0, g0, d0);
-    let (mut l_in, mut gl_in, mut dl_in) = (f0, g0, d0);
+    let (mut r_in, mut l_in) = (*p0, *p0);
     let mut first = true;
     loop {
         let r_out = (f0 + delta).min(bound);
         let l_out = (f0 - delta).max(-bound);
         let mut right = None;
         let mut left = None;
-        if r_in < bound {
-            let (g, d) = eq.eval(p, r_out);
-            stats.evaluations += 1;
-            if !same_sign(g, gr_in) {
-                right = Some((r_in, gr_in, r_out, g));
+        if r_in.f < bound {
+            let p = eq.eval(law, r_out, stats);
+            if !same_sign(p.g, r_in.g) {
+                right = Some((r_in, p));
             } else {
-                right = hidden_pair(p, eq, (r_in, gr_in, dr_in), (r_out, g, d), stats);
+                right = hidden_pair(law, eq, &r_in, &p, stats);
             }
-            (r_in, gr_in, dr_in) = (r_out, g, d);
+            r_in = p;
         }
-        if l_in > -bound {
-            let (g, d) = eq.eval(p, l_out);
-            stats.evaluations += 1;
-            if !same_sign(g, gl_in) {
-                left = Some((l_out, g, l_in, gl_in));
-            } else if let Some((near, g_near, far, g_far)) =
-                hidden_pair(p, eq, (l_in, gl_in, dl_in), (l_out, g, d), stats)
-            {
-                left = Some((far, g_far, near, g_near));
+        if l_in.f > -bound {
+            let p = eq.eval(law, l_out, stats);
+            if !same_sign(p.g, l_in.g) {
+                left = Some((p, l_in));
+            } else if let Some((near, far)) = hidden_pair(law, eq, &l_in, &p, stats) {
+                left = Some((far, near));
             }
-            (l_in, gl_in, dl_in) = (l_out, g, d);
+            l_in = p;
         }
         if !first && (right.is_some() || left.is_some()) {
             stats.expansions += 1;
         }
-        let start = if first { Some((f0, g0, d0)) } else { None };
+        let start = if first { Some(p0) } else { None };
         match (right, left) {
             (Some(r), Some(l)) => {
                 stats.multi_root += 1;
-                let a = polish(p, eq, r, start, stats);
-                let b = polish(p, eq, l, start, stats);
+                let a = polish(law, eq, r, start, stats);
+                let b = polish(law, eq, l, start, stats);
                 return if (a.force - f0).abs() <= (b.force - f0).abs() {
                     a
                 } else {
                     b
                 };
             }
-            (Some(r), None) => return polish(p, eq, r, start, stats),
-            (None, Some(l)) => return polish(p, eq, l, start, stats),
+            (Some(r), None) => return polish(law, eq, r, start, stats),
+            (None, Some(l)) => return polish(law, eq, l, start, stats),
             (None, None) => {}
         }
-        if r_in >= bound && l_in <= -bound {
+        if r_in.f >= bound && l_in.f <= -bound {
             stats.failures += 1;
             return Solution {
                 force: f0,
-                residual: g0.abs(),
+                residual: p0.g.abs(),
                 converged: false,
+                branch: p0.branch,
             };
         }
         first = false;
@@ -367,37 +545,36 @@ fn solve_robust(p: &Params, eq: &ForceEquation, f_prev: f64, stats: &mut SolverS
     }
 }
 
-/// Looks for a pair of roots between `inner` and `outer` (each `(F, G, G')`, `G` of the same
-/// sign at both): if `|G|` falls going outward at `inner` and rises at `outer`, it has a minimum
-/// in between, found by bisection on the slope. Returns the bracket `(near, g_near, far, g_far)`
-/// of the first sign change met on the way, the nearer of the pair to `inner`, or `None` if the
-/// minimum does not reach zero. Without this the outward search steps over two roots that fall
-/// in one interval and returns a farther root.
+/// Looks for a pair of roots between `inner` and `outer` (`G` of the same sign at both): if
+/// `|G|` falls going outward at `inner` and rises at `outer`, it has a minimum in between,
+/// found by bisection on the slope. Returns the bracket `(near, far)` of the first sign change
+/// met on the way, the nearer of the pair to `inner`, or `None` if the minimum does not reach
+/// zero. Without this the outward search steps over two roots that fall in one interval and
+/// returns a farther root.
 fn hidden_pair(
-    p: &Params,
+    law: &Law,
     eq: &ForceEquation,
-    inner: (f64, f64, f64),
-    outer: (f64, f64, f64),
+    inner: &Point,
+    outer: &Point,
     stats: &mut SolverStats,
-) -> Option<(f64, f64, f64, f64)> {
-    let dir = (outer.0 - inner.0).signum();
-    let falling = |g: f64, d: f64| g * d * dir < 0.0;
-    if !falling(inner.1, inner.2) || falling(outer.1, outer.2) {
+) -> Option<(Point, Point)> {
+    let dir = (outer.f - inner.f).signum();
+    let falling = |p: &Point| p.g * p.d * dir < 0.0;
+    if !falling(inner) || falling(outer) {
         return None;
     }
-    let (mut a, mut ga, mut b) = (inner.0, inner.1, outer.0);
+    let (mut a, mut b) = (*inner, outer.f);
     for _ in 0..200 {
-        let m = 0.5 * (a + b);
-        if m == a || m == b {
+        let m = 0.5 * (a.f + b);
+        if m == a.f || m == b {
             break;
         }
-        let (g, d) = eq.eval(p, m);
-        stats.evaluations += 1;
-        if !same_sign(g, ga) {
-            return Some((a, ga, m, g));
+        let p = eq.eval(law, m, stats);
+        if !same_sign(p.g, a.g) {
+            return Some((a, p));
         }
-        if falling(g, d) {
-            (a, ga) = (m, g);
+        if falling(&p) {
+            a = p;
         } else {
             b = m;
         }
@@ -405,81 +582,61 @@ fn hidden_pair(
     None
 }
 
-/// Safeguarded Newton inside a sign-change bracket `[lo, hi]`.
+/// Safeguarded Newton inside a sign-change bracket `(lo, hi)` (in either order of `f`; the
+/// first is the one with `f` smaller).
 fn polish(
-    p: &Params,
+    law: &Law,
     eq: &ForceEquation,
-    (mut lo, mut glo, mut hi, mut ghi): (f64, f64, f64, f64),
-    start: Option<(f64, f64, f64)>,
+    (mut lo, mut hi): (Point, Point),
+    start: Option<&Point>,
     stats: &mut SolverStats,
 ) -> Solution {
-    if glo == 0.0 {
-        return Solution {
-            force: lo,
-            residual: 0.0,
-            converged: true,
-        };
+    if lo.g == 0.0 {
+        return root(&lo);
     }
-    if ghi == 0.0 {
-        return Solution {
-            force: hi,
-            residual: 0.0,
-            converged: true,
-        };
+    if hi.g == 0.0 {
+        return root(&hi);
     }
     // First iterate: Newton from the previous force when it is an endpoint, else the middle.
     let mut x = match start {
-        Some((f0, g0, d0)) => {
-            let n = f0 - g0 / d0;
-            if n > lo && n < hi {
+        Some(p0) => {
+            let n = p0.f - p0.g / p0.d;
+            if n > lo.f && n < hi.f {
                 stats.newton_steps += 1;
                 n
             } else {
                 stats.bisections += 1;
-                0.5 * (lo + hi)
+                0.5 * (lo.f + hi.f)
             }
         }
-        None => 0.5 * (lo + hi),
+        None => 0.5 * (lo.f + hi.f),
     };
     for _ in 0..200 {
-        let (g, d) = eq.eval(p, x);
-        stats.evaluations += 1;
-        if g.abs() <= RESIDUAL_TOL * (1.0 + x.abs()) {
-            return Solution {
-                force: x,
-                residual: g.abs(),
-                converged: true,
-            };
+        let p = eq.eval(law, x, stats);
+        if is_zero(&p) {
+            return root(&p);
         }
-        if same_sign(g, glo) {
-            (lo, glo) = (x, g);
+        if same_sign(p.g, lo.g) {
+            lo = p;
         } else {
-            (hi, ghi) = (x, g);
+            hi = p;
         }
-        if hi - lo <= 2.0 * f64::EPSILON * lo.abs().max(hi.abs()).max(1e-300) {
+        if hi.f - lo.f <= 2.0 * f64::EPSILON * lo.f.abs().max(hi.f.abs()).max(1e-300) {
             break;
         }
-        let n = x - g / d;
-        x = if n > lo && n < hi && n.is_finite() {
+        let n = x - p.g / p.d;
+        x = if n > lo.f && n < hi.f && n.is_finite() {
             stats.newton_steps += 1;
             n
         } else {
             stats.bisections += 1;
-            0.5 * (lo + hi)
+            0.5 * (lo.f + hi.f)
         };
     }
     // The bracket has shrunk to adjacent floats: a root to rounding, or a jump of G.
-    let (x, g) = if glo.abs() <= ghi.abs() {
-        (lo, glo)
-    } else {
-        (hi, ghi)
-    };
-    if g.abs() > 1e-9 {
+    let best = if lo.g.abs() <= hi.g.abs() { lo } else { hi };
+    if best.g.abs() > 1e-9 {
         stats.discontinuities += 1;
     }
-    Solution {
-        force: x,
-        residual: g.abs(),
-        converged: true,
-    }
+    root(&best)
 }

@@ -1,11 +1,13 @@
-//! One run of the oscillator: the exact step with the implicit force (paper eqs. 4.3-4.6).
+//! One step of the oscillator: the exact linear step with the implicit end-of-step force
+//! (paper eqs. 4.3-4.6), the force held ([`Scheme::Zoh`]) or linear ([`Scheme::Foh`]) over
+//! the step. Runs of many steps go through [`crate::run::Run`].
 
 use serde::Serialize;
 
 use crate::error::CoreError;
-use crate::friction;
+use crate::friction::Law;
 use crate::params::Params;
-use crate::propagator::Propagator;
+use crate::propagator::{Propagator, Scheme};
 use crate::solver::{self, ForceEquation, Solution, SolverConfig, SolverStats};
 
 /// A point of the phase plane: displacement `x` and velocity `x'` (nondimensional).
@@ -46,8 +48,16 @@ impl Sample {
 #[derive(Clone, Copy, Debug)]
 pub struct Stepper {
     params: Params,
+    law: Law,
     prop: Propagator,
     solver: SolverConfig,
+    /// End state `x = x_free + w_x0 F_j + w_x1 F_{j+1}`, `v = v_free + w_v0 F_j + w_v1 F_{j+1}`.
+    w_x0: f64,
+    w_x1: f64,
+    w_v0: f64,
+    w_v1: f64,
+    /// `da/dF_{j+1} = 1 - 2 nu w_v1 - w_x1`.
+    qa: f64,
 }
 
 impl Stepper {
@@ -68,10 +78,34 @@ impl Stepper {
                 expected: "an iteration cap >= 1",
             });
         }
+        let prop = Propagator::new(params.nu, dt)?;
+        let c = &prop;
+        // Zero-order hold: the force F_{j+1} over the whole step, written as in the paper
+        // (x = x_free + (1 - c11) F, v = v_free - c21 F). First-order hold: the ramp response
+        // (q1, q2) moves weight from F_{j+1} to F_j.
+        let (w_x0, w_x1, w_v0, w_v1, qa) = match solver.scheme {
+            Scheme::Zoh => (
+                0.0,
+                1.0 - c.c11,
+                0.0,
+                -c.c21,
+                c.c11 + 2.0 * params.nu * c.c21,
+            ),
+            Scheme::Foh => {
+                let (wx1, wv1) = (1.0 - c.c11 - c.q1, -c.c21 - c.q2);
+                (c.q1, wx1, c.q2, wv1, 1.0 - 2.0 * params.nu * wv1 - wx1)
+            }
+        };
         Ok(Stepper {
             params,
-            prop: Propagator::new(params.nu, dt)?,
+            law: Law::new(&params),
+            prop,
             solver,
+            w_x0,
+            w_x1,
+            w_v0,
+            w_v1,
+            qa,
         })
     }
 
@@ -83,6 +117,16 @@ impl Stepper {
     /// The step length.
     pub fn dt(&self) -> f64 {
         self.prop.h
+    }
+
+    /// The friction law with its constants.
+    pub fn law(&self) -> &Law {
+        &self.law
+    }
+
+    /// The scheme (how the force varies over a step).
+    pub fn scheme(&self) -> Scheme {
+        self.solver.scheme
     }
 
     /// The solver settings.
@@ -100,8 +144,9 @@ impl Stepper {
             pa: -2.0 * p.nu * s.v - s.x,
             qa: 1.0,
         };
-        let guess = friction::force(p, s.v - p.lambda, 0.0).force;
-        let sol = solver::solve(p, &self.solver, &eq, guess, stats);
+        stats.evaluations += 1;
+        let guess = self.law.eval(s.v - p.lambda, 0.0).force;
+        let sol = solver::solve(&self.law, &self.solver, &eq, guess, stats);
         let a = eq.pa + eq.qa * sol.force;
         (
             Sample {
@@ -115,27 +160,20 @@ impl Stepper {
         )
     }
 
-    /// One step of length `dt`: the force held constant over the step is the force at its end.
+    /// One step of length `dt` from `s`: the end-of-step force solves the implicit equation
+    /// (nearest to `s.force` for the robust solver); the end state is affine in it.
     #[inline]
     pub fn step(&self, s: &Sample, stats: &mut SolverStats) -> (Sample, Solution) {
-        let p = &self.params;
-        let c = &self.prop;
-        let x_free = c.c11 * s.x + c.c12 * s.v;
-        let v_free = c.c21 * s.x + c.c22 * s.v;
-        let eq = ForceEquation {
-            pv: v_free - p.lambda,
-            qv: -c.c21,
-            pa: -2.0 * p.nu * v_free - x_free,
-            qa: c.c11 + 2.0 * p.nu * c.c21,
-        };
-        let sol = solver::solve(p, &self.solver, &eq, s.force, stats);
+        let (x_free, v_free) = self.free(s);
+        let eq = self.equation_from(x_free, v_free);
+        let sol = solver::solve(&self.law, &self.solver, &eq, s.force, stats);
         let f = sol.force;
-        let x = x_free + (1.0 - c.c11) * f;
-        let v = v_free - c.c21 * f;
-        let a = f - 2.0 * p.nu * v - x;
+        let x = x_free + self.w_x1 * f;
+        let v = v_free + self.w_v1 * f;
+        let a = f - 2.0 * self.params.nu * v - x;
         (
             Sample {
-                t: s.t + c.h,
+                t: s.t + self.prop.h,
                 x,
                 v,
                 a,
@@ -143,6 +181,33 @@ impl Stepper {
             },
             sol,
         )
+    }
+
+    /// The implicit equation of the step from `s` (as [`Stepper::step`] builds it).
+    pub fn equation(&self, s: &Sample) -> ForceEquation {
+        let (x_free, v_free) = self.free(s);
+        self.equation_from(x_free, v_free)
+    }
+
+    /// The end state with the end-of-step force set to zero.
+    #[inline]
+    fn free(&self, s: &Sample) -> (f64, f64) {
+        let c = &self.prop;
+        (
+            c.c11 * s.x + c.c12 * s.v + self.w_x0 * s.force,
+            c.c21 * s.x + c.c22 * s.v + self.w_v0 * s.force,
+        )
+    }
+
+    #[inline]
+    fn equation_from(&self, x_free: f64, v_free: f64) -> ForceEquation {
+        let p = &self.params;
+        ForceEquation {
+            pv: v_free - p.lambda,
+            qv: self.w_v1,
+            pa: -2.0 * p.nu * v_free - x_free,
+            qa: self.qa,
+        }
     }
 }
 
@@ -154,9 +219,14 @@ mod tests {
     #[test]
     fn fixed_point_stays_put() {
         for law in FrictionLaw::ALL {
-            for kind in [solver::SolverKind::Robust, solver::SolverKind::Paper] {
+            for (kind, scheme) in [
+                (solver::SolverKind::Robust, Scheme::Foh),
+                (solver::SolverKind::Robust, Scheme::Zoh),
+                (solver::SolverKind::Paper, Scheme::Zoh),
+            ] {
                 let cfg = SolverConfig {
                     kind,
+                    scheme,
                     ..Default::default()
                 };
                 let st = Stepper::new(Params::paper(law, 1e-3), 0.01, cfg).unwrap();

@@ -25,7 +25,7 @@
 //! x0 = { min = -0.5, max = 0.5, count = 2 }
 //! v0 = { min = 0.0, max = 0.0, count = 1 }
 //! [integration]
-//! dt = 0.01
+//! dt = 0.005
 //! [classifier]
 //! t_max = 3000.0
 //! [output]

@@ -18,8 +18,9 @@
 //! v0 = { min = -4.0, max = 4.0, count = 64 }
 //! block_rows = 8                   # rows of v0 per stored block (default 8)
 //! [integration]
-//! dt = 0.01
+//! dt = 0.005
 //! solver = "robust"                # robust | paper
+//! scheme = "foh"                    # foh (force linear over a step) | zoh (held: the paper's)
 //! max_iter = 100                   # paper iteration cap
 //! [classifier]
 //! t_max = 5000.0
@@ -41,7 +42,7 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Classifier, FrictionLaw, Params, SolverConfig, SolverKind};
+use squeal_core::{Classifier, FrictionLaw, Params, Scheme, SolverConfig, SolverKind};
 
 use crate::error::ScanError;
 use crate::grid::{Axis, Grid};
@@ -132,6 +133,8 @@ struct IntegrationSpec {
     dt: f64,
     #[serde(default)]
     solver: SolverKind,
+    #[serde(default)]
+    scheme: Scheme,
     #[serde(default = "default_max_iter")]
     max_iter: i64,
 }
@@ -148,6 +151,7 @@ impl Default for IntegrationSpec {
         IntegrationSpec {
             dt: default_dt(),
             solver: SolverKind::Robust,
+            scheme: Scheme::default(),
             max_iter: default_max_iter(),
         }
     }
@@ -503,6 +507,7 @@ impl Plan {
             dt: it.dt,
             solver: SolverConfig {
                 kind: it.solver,
+                scheme: it.scheme,
                 max_iter: it.max_iter as u32,
                 ..Default::default()
             },

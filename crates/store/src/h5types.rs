@@ -47,6 +47,8 @@ pub(crate) enum ReasonH5 {
     Diverged = 5,
     #[hdf5(rename = "solver_failure")]
     SolverFailure = 6,
+    #[hdf5(rename = "sticking_band")]
+    StickingBand = 7,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -61,6 +63,7 @@ impl ReasonH5 {
             4 => ReasonH5::SettledStickSlip,
             5 => ReasonH5::Diverged,
             6 => ReasonH5::SolverFailure,
+            7 => ReasonH5::StickingBand,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

@@ -362,6 +362,7 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     }
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;
+    str_attr(file, "scheme", plan.solver.scheme.name())?;
     num_attr(file, "max_iter", plan.solver.max_iter)?;
     num_attr(file, "t_max", plan.classifier.t_max)?;
     num_attr(file, "fp_radius", plan.classifier.fp_radius)?;
