@@ -122,7 +122,10 @@ fn trajectory_writes_csv_rows() {
         assert_force_is_the_law(&rows) > 0,
         "no row on the quasi-static branch"
     );
-    assert!((rows[2000][0] - 20.0).abs() < 1e-9);
+    // The default step (crates/core/src/defaults.rs) over t in [0, 20]: the last row is t = 20.
+    let n = (20.0 / squeal_core::defaults::DT).round() as usize;
+    assert_eq!(rows.len(), n + 1);
+    assert!((rows[n][0] - 20.0).abs() < 1e-9);
 }
 
 #[test]
@@ -483,7 +486,8 @@ fn ulc_verifies_the_readme_example() {
 #[test]
 fn ulc_exits_nonzero_when_the_rays_disagree() {
     let dir = tmp();
-    // With --rtol 0.09 no bisection step is taken: the cycle's crossing is the middle of
+    // At the paper's scheme and dt = 0.01 (where r_u = 0.364853), with --rtol 0.09 no
+    // bisection step is taken: the cycle's crossing is the middle of
     // the sampled bracket. The 96 samples are log-spaced on [0.01, 6] (ratio 600^(1/95)),
     // and the one holding r_u = 0.364853 is [0.354745, 0.379454], whose middle is 0.6%
     // too far out (computed in Python from those two formulas). Starts 0.2% inside that
@@ -494,6 +498,10 @@ fn ulc_exits_nonzero_when_the_rays_disagree() {
             "ulc",
             "--nu",
             "1e-3",
+            "--dt",
+            "0.01",
+            "--scheme",
+            "zoh",
             "--rtol",
             "0.09",
             "--verify-eps",

@@ -178,14 +178,33 @@ fn killed_sweep_resumes_to_the_same_file() {
         ])
         .spawn()
         .unwrap();
-    // Wait until some blocks are in the journal, then kill hard.
+    // Wait until a block record is in the journal, then kill hard. Journal frames are
+    // `SQJR`, a kind byte (`H`eader, `C`ycle, `B`lock), a little-endian u32 length, the
+    // payload and an 8-byte checksum (crates/store/src/journal.rs); the cycle record comes
+    // first and is large, so the file's size alone says nothing about blocks.
     let journal = d.path().join("cut.h5.journal");
-    for _ in 0..400 {
-        if journal.metadata().map(|m| m.len() > 4096).unwrap_or(false) {
+    let blocks_in = |p: &Path| -> usize {
+        let b = std::fs::read(p).unwrap_or_default();
+        let (mut at, mut n) = (0usize, 0usize);
+        while at + 9 <= b.len() && &b[at..at + 4] == b"SQJR" {
+            let len = u32::from_le_bytes(b[at + 5..at + 9].try_into().unwrap()) as usize;
+            if at + 9 + len + 8 > b.len() {
+                break;
+            }
+            n += (b[at + 4] == b'B') as usize;
+            at += 9 + len + 8;
+        }
+        n
+    };
+    for _ in 0..2000 {
+        if blocks_in(&journal) > 0 {
             break;
         }
-        std::thread::sleep(std::time::Duration::from_millis(10));
+        std::thread::sleep(std::time::Duration::from_millis(5));
     }
+    // The kill must come after at least one block was stored, or resuming proves nothing.
+    let stored = blocks_in(&journal);
+    assert!(stored > 0, "no block reached the journal before the kill");
     // While it runs, a second scan or resume of the same output is refused, naming it.
     let pid = child.id().to_string();
     for extra in ["--force", "--resume"] {
@@ -208,10 +227,16 @@ fn killed_sweep_resumes_to_the_same_file() {
         &squeal(d.path(), &["scan", "slow.toml", "-o", "cut.h5", "--quiet"]),
         "--resume",
     );
-    ok(&squeal(
+    let out = ok(&squeal(
         d.path(),
         &["scan", "slow.toml", "-o", "cut.h5", "--quiet", "--resume"],
     ));
+    // Resuming computes only what the journal lacks: fewer than the 24 x 16 cells.
+    let computed: usize = out
+        .lines()
+        .find_map(|l| l.trim().split(" cells in ").next()?.parse().ok())
+        .unwrap_or(0);
+    assert!(computed < 24 * 16, "resume recomputed everything: {out}");
     assert_eq!(
         digest(&d.path().join("full.h5")),
         digest(&d.path().join("cut.h5"))

@@ -245,6 +245,7 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (4, "settled_stick_slip"),
     (5, "diverged"),
     (6, "solver_failure"),
+    (7, "sticking_band"),
     (NOT_COMPUTED, "not_computed"),
 ];
 
