@@ -14,6 +14,7 @@
 //! * [`solver`]: the implicit force equation, solved by the paper's iteration or robustly.
 //! * [`Stepper`]: one step of a run, [`Sample`] the state with acceleration and force.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
+//! * [`units`]: the paper's scaling between a [`Physical`] system and [`Params`].
 //!
 //! ```
 //! use squeal_core::{FrictionLaw, Params, SolverConfig, State, Stepper, SolverStats};
@@ -33,6 +34,7 @@ pub mod params;
 pub mod propagator;
 pub mod solver;
 pub mod stepper;
+pub mod units;
 
 pub use classify::{Classifier, Outcome, Reason, Regime, Trap};
 pub use error::CoreError;
@@ -40,3 +42,4 @@ pub use params::{FrictionLaw, Params};
 pub use propagator::Propagator;
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
+pub use units::{Physical, Scales};

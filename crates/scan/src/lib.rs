@@ -4,6 +4,8 @@
 //! * [`grid`]: the grid of initial conditions `(x0, v0)` and its blocks.
 //! * [`scanner`]: the rayon-parallel loop over cells, one [`squeal_core::Classifier`] run per
 //!   cell, collected by index so the result depends only on the plan and the cell.
+//! * [`atlas`]: design-space scans with figures of merit per parameter point, regimes, the
+//!   fold of cycles and critical damping by bisection, physical units.
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
 //!   on `x = x*, x' > 0`, its curve, period, Floquet multiplier, size; critical damping.
 //!
@@ -28,6 +30,7 @@
 //! assert_eq!(block.cells.len(), 2);
 //! ```
 
+pub mod atlas;
 pub mod error;
 pub mod grid;
 pub mod scanner;
