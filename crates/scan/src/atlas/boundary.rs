@@ -217,10 +217,6 @@ mod tests {
 
     use crate::ulc::CycleSettings;
 
-    fn cs() -> CycleSettings {
-        PointSettings::default().cycle
-    }
-
     #[test]
     fn bisection_finds_a_known_threshold() {
         // Predicate nu >= 0.0123: the bracket must hold it to rtol.
