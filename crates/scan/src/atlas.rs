@@ -8,10 +8,12 @@
 //!   stick-slip attractor, the [`AtlasRegime`] and the basin fraction of steady slip.
 //! * [`boundary`]: the fold of cycles and the critical damping of the operating point, by
 //!   bisection in `nu`.
+//! * [`columns`]: the stored figures as one table (HDF5, journal and JSON walk it).
 //! * [`driver`]: the work units (lines of points along the last axis, warm-started from the
 //!   previous point; boundary searches), run in parallel, results by index.
 
 pub mod boundary;
+pub mod columns;
 pub mod driver;
 pub mod point;
 pub mod spec;

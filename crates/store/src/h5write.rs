@@ -28,7 +28,7 @@ pub(crate) struct Meta<'a> {
     pub shard: Option<String>,
 }
 
-fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+pub(crate) fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
     let v: VarLenUnicode = value
         .parse()
         .map_err(|e| hdf5::Error::from(format!("{e}")))?;
@@ -37,15 +37,15 @@ fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
         .write_scalar(&v)
 }
 
-fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
+pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
     loc.new_attr::<T>().create(name)?.write_scalar(&value)
 }
 
 /// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
-struct Dims {
-    scales: Vec<(Dataset, Vec<RefEntry>)>,
+pub(crate) struct Dims {
+    pub(crate) scales: Vec<(Dataset, Vec<RefEntry>)>,
     /// The type of `CLASS`: a 16-byte null-terminated ASCII string, as `H5DSis_scale` demands.
-    class_type: hdf5::Datatype,
+    pub(crate) class_type: hdf5::Datatype,
 }
 
 /// A tiny HDF5 file (written with h5py) whose root attribute `CLASS` has the type the
@@ -57,7 +57,7 @@ struct Dims {
 const CLASS_TEMPLATE: &[u8] = include_bytes!("dimension_scale_class.bin");
 
 /// Reads the `CLASS` type from the template, written beside `path` for the moment.
-fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
+pub(crate) fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
     let mut s = path.as_os_str().to_owned();
     s.push(".class");
     let tpl = std::path::PathBuf::from(s);
@@ -75,7 +75,7 @@ fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
 
 impl Dims {
     /// Makes `ds` a dimension scale named `name` (netCDF-4 / HDF5 DS convention).
-    fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
+    pub(crate) fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
         let class: FixedAscii<16> = FixedAscii::from_ascii("DIMENSION_SCALE")
             .map_err(|e| hdf5::Error::from(format!("{e}")))?;
         ds.new_attr_builder()
@@ -92,7 +92,12 @@ impl Dims {
     }
 
     /// Attaches scales (by dataset name) to the dimensions of `var`, in order.
-    fn attach(&mut self, file: &File, var: &Dataset, scales: &[&Dataset]) -> hdf5::Result<()> {
+    pub(crate) fn attach(
+        &mut self,
+        file: &File,
+        var: &Dataset,
+        scales: &[&Dataset],
+    ) -> hdf5::Result<()> {
         let me: ObjectReference1 = file.reference(&var.name())?;
         let mut list = Vec::new();
         for (i, s) in scales.iter().enumerate() {
@@ -116,7 +121,7 @@ impl Dims {
         str_attr(var, "dimensions", &names.join(" "))
     }
 
-    fn finish(self) -> hdf5::Result<()> {
+    pub(crate) fn finish(self) -> hdf5::Result<()> {
         for (ds, refs) in self.scales {
             if !refs.is_empty() {
                 ds.new_attr::<RefEntry>()

@@ -7,6 +7,8 @@
 //!   removes the journal.
 //! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merge`] joins the shard
 //!   files into the file a single run writes.
+//! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
+//!   finished units and writes the file, [`atlas::read_atlas`], [`atlas::merge_atlas`].
 //! * [`read_info`], [`read_map`], [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!
@@ -84,6 +86,7 @@
 //! `DIMENSION_LIST` and, for readers without dimension-scale support, a plain
 //! `dimensions` string attribute such as `"v0 x0"`.
 
+pub mod atlas;
 mod error;
 mod h5types;
 mod h5write;
