@@ -101,6 +101,22 @@ fn atlas_reproduces_the_single_point_commands() {
     assert!(lo <= chi && clo <= hi, "[{lo}, {hi}] vs [{clo}, {chi}]");
     let fold = a["boundaries"][0]["fold"]["nu"].as_f64().unwrap();
     assert!(fold > 0.019 && fold < 0.031, "fold {fold}");
+    // `squeal critical --fold` finds the same fold (same bisection, its own rtol 1e-4).
+    let cf = json(&ok(squeal(
+        dir.path(),
+        &[
+            "critical", "--fold", "--json", "--nu-lo", "1e-3", "--nu-hi", "5e-2",
+        ],
+    )));
+    let (flo, fhi) = (
+        cf["bracket"][0].as_f64().unwrap(),
+        cf["bracket"][1].as_f64().unwrap(),
+    );
+    let fb = &a["boundaries"][0]["fold"]["bracket"];
+    assert!(
+        fb[0].as_f64().unwrap() <= fhi && flo <= fb[1].as_f64().unwrap(),
+        "{fb} vs [{flo}, {fhi}]"
+    );
 
     // The file: a coordinate nu (dimension scale, long name, units), datasets over it.
     let f = hdf5::File::open(dir.path().join("paper.h5")).unwrap();

@@ -239,6 +239,7 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
                 .collect();
             let mut o = json!({"index": j, "coords": coords, "nu_range": range});
             if let Some(b) = b {
+                o["note"] = json!(b.note);
                 for (name, bd) in [("fold", b.fold), ("critical", b.critical)] {
                     let mut e = json!({
                         "status": bd.status.name(),
@@ -447,10 +448,22 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
                 .iter()
                 .map(|p| p.as_ref().map_or(255, |p| p.regime as u8))
                 .collect();
+            // Contours inside the bistable region only: elsewhere the fraction is 0 or 1 by
+            // the regime, and contours would crowd along its edge.
             let field: Vec<f64> = res
                 .points
                 .iter()
-                .map(|p| p.as_ref().map_or(f64::NAN, |p| p.basin_fraction))
+                .map(|p| match p {
+                    Some(p)
+                        if matches!(
+                            p.regime,
+                            AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
+                        ) =>
+                    {
+                        p.basin_fraction
+                    }
+                    _ => f64::NAN,
+                })
                 .collect();
             let mut curves = Vec::new();
             if dpos == Some(0) {

@@ -66,6 +66,30 @@ fn edges(c: &[f64]) -> Vec<f64> {
     e
 }
 
+/// Tick values for a log axis over `[lo, hi]` (lo > 0): 1, 2, 5 x 10^k (also 3 for spans
+/// under two decades; only 10^k over more than four).
+pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    let decades = (b / a).log10();
+    let mults: &[f64] = if decades > 4.0 {
+        &[1.0]
+    } else if decades > 2.0 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0, 2.0, 3.0, 5.0]
+    };
+    let mut out = Vec::new();
+    for k in a.log10().floor() as i32..=b.log10().ceil() as i32 {
+        for m in mults {
+            let v = m * 10f64.powi(k);
+            if v >= a * (1.0 - 1e-12) && v <= b * (1.0 + 1e-12) {
+                out.push(v);
+            }
+        }
+    }
+    out
+}
+
 /// Marching squares: the segments of `f = level` on the grid `(us, vs)` (cell corners at
 /// the grid points), skipping squares with a NaN corner.
 pub fn contour_segments(us: &[f64], vs: &[f64], f: &[f64], level: f64) -> Vec<[(f64, f64); 2]> {
@@ -171,16 +195,12 @@ pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), Pl
         }
         if chart.field.is_some() && !chart.levels.is_empty() {
             items.push(LegendItem::Line {
-                name: format!(
-                    "{} = {}",
-                    chart.field_name,
-                    chart
-                        .levels
-                        .iter()
-                        .map(|l| fmt_sig(*l))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
+                name: "white lines, labelled:".into(),
+                color: Rgb(255, 255, 255),
+                dots: false,
+            });
+            items.push(LegendItem::Line {
+                name: chart.field_name.clone(),
                 color: Rgb(255, 255, 255),
                 dots: false,
             });
@@ -203,16 +223,17 @@ fn draw_plot(
         .y_label_area_size(90)
         .build_cartesian_2d(xr.clone(), yr.clone())?;
     let (lx, ly) = (chart.log_x, chart.log_y);
-    let fx = move |u: &f64| fmt_sig(if lx { 10f64.powf(*u) } else { *u });
-    let fy = move |v: &f64| fmt_sig(if ly { 10f64.powf(*v) } else { *v });
+    let fx = move |u: &f64| fmt_sig(*u);
+    let fy = move |v: &f64| fmt_sig(*v);
+    // Log axes get their ticks drawn below (at 1, 2, 5 x 10^k); plotters labels linear ones.
     c.configure_mesh()
         .disable_mesh()
         .x_desc(chart.x_label.as_str())
         .y_desc(chart.y_label.as_str())
         .axis_desc_style(font(20))
         .label_style(font(15))
-        .x_labels(10)
-        .y_labels(10)
+        .x_labels(if lx { 0 } else { 10 })
+        .y_labels(if ly { 0 } else { 10 })
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)
         .draw()?;
@@ -277,12 +298,48 @@ fn draw_plot(
             }
         }
     }
+    let (bx, by) = area.get_base_pixel();
+    let at = |u: f64, v: f64| {
+        let p = c.backend_coord(&(u, v));
+        (p.0 - bx, p.1 - by)
+    };
+    if lx {
+        let lo = 10f64.powf(xr.start);
+        let hi = 10f64.powf(xr.end);
+        for t in log_ticks(lo, hi) {
+            let p = at(t.log10(), yr.start);
+            area.draw(&PathElement::new(vec![p, (p.0, p.1 + 6)], BLACK))?;
+            let text = fmt_sig(t);
+            let w = 4 * text.len() as i32;
+            area.draw_text(&text, &font(15), (p.0 - w, p.1 + 10))?;
+        }
+    }
+    if ly {
+        let lo = 10f64.powf(yr.start);
+        let hi = 10f64.powf(yr.end);
+        for t in log_ticks(lo, hi) {
+            let p = at(xr.start, t.log10());
+            area.draw(&PathElement::new(vec![p, (p.0 - 6, p.1)], BLACK))?;
+            let text = fmt_sig(t);
+            let w = 9 * text.len() as i32;
+            area.draw_text(&text, &font(15), (p.0 - 10 - w, p.1 - 8))?;
+        }
+    }
     Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn log_ticks_are_round() {
+        assert_eq!(log_ticks(0.5, 6.0), vec![0.5, 1.0, 2.0, 3.0, 5.0]);
+        assert_eq!(
+            log_ticks(1e-4, 0.1),
+            vec![1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 0.01, 0.02, 0.05, 0.1]
+        );
+    }
 
     #[test]
     fn contour_of_a_plane_is_a_straight_line() {

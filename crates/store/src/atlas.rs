@@ -26,12 +26,14 @@
 //!   returns, evaluations, failures                          u64
 //!   <figure>_si    (physical specs) the same figure in SI units (m, m/s, s, Hz, m^2/s)
 //!   nu, lambda, tau, phi (physical specs: nondim_nu, ...) the nondimensional parameters
+//!   note           string: why a point is undecided, or the caveat of its label
 //!   points_done    u8: 1 where computed (shards)
 //! over the swept dims except the damping (nu or c):
 //!   fold_status, critical_status  u8 enum {found=0, below_range=1, above_range=2,
 //!                                 not_computed=255}
 //!   fold_nu, fold_nu_lo, fold_nu_hi, critical_nu, critical_nu_lo, critical_nu_hi   f64
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m
+//!   boundary_note                 string: why a search was not computed
 //!   boundaries_done               u8
 //! ```
 
@@ -39,6 +41,7 @@ use std::collections::HashSet;
 use std::io::{BufRead, Seek, Write};
 use std::path::{Path, PathBuf};
 
+use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, File, H5Type};
 use ndarray::{ArrayD, IxDyn};
 use serde_json::{Value, json};
@@ -219,6 +222,7 @@ pub fn unit_json(r: &UnitResult) -> Value {
             "critical_status": b.critical.status as u8,
             "fold_evaluations": b.fold.evaluations,
             "critical_evaluations": b.critical.evaluations,
+            "note": b.note,
             "v": BOUNDARY_COLUMNS.iter().map(|c| num((c.get)(b))).collect::<Vec<_>>(),
         }),
     }
@@ -243,6 +247,7 @@ fn unit_from_json(v: &Value) -> Option<UnitResult> {
     b.critical.status = BoundaryStatus::from_u8(v.get("critical_status")?.as_u64()? as u8)?;
     b.fold.evaluations = v.get("fold_evaluations")?.as_u64()? as u32;
     b.critical.evaluations = v.get("critical_evaluations")?.as_u64()? as u32;
+    b.note = v.get("note").and_then(|n| n.as_str()).map(str::to_string);
     let vals = v.get("v")?.as_array()?;
     if vals.len() != BOUNDARY_COLUMNS.len() {
         return None;
@@ -668,6 +673,27 @@ fn write_all(
             )?;
         }
     }
+    let notes: Vec<VarLenUnicode> = res
+        .points
+        .iter()
+        .map(|p| {
+            p.as_ref()
+                .and_then(|p| p.note.clone())
+                .unwrap_or_default()
+                .parse::<VarLenUnicode>()
+                .map_err(|e| hdf5::Error::from(format!("note: {e}")))
+        })
+        .collect::<hdf5::Result<_>>()?;
+    put(
+        file,
+        dims,
+        "note",
+        &shape,
+        notes,
+        "why a point is undecided, or the caveat its label rests on (empty: none)",
+        None,
+        &pscales,
+    )?;
     let done: Vec<u8> = res.points.iter().map(|p| u8::from(p.is_some())).collect();
     put(
         file,
@@ -755,6 +781,26 @@ fn write_all(
                 )?;
             }
         }
+        let notes: Vec<VarLenUnicode> = bs
+            .iter()
+            .map(|b| {
+                b.as_ref()
+                    .and_then(|b| b.note.clone())
+                    .unwrap_or_default()
+                    .parse::<VarLenUnicode>()
+                    .map_err(|e| hdf5::Error::from(format!("note: {e}")))
+            })
+            .collect::<hdf5::Result<_>>()?;
+        put(
+            file,
+            dims,
+            "boundary_note",
+            &bshape,
+            notes,
+            "why a boundary search was not computed (empty: none)",
+            None,
+            &bscales,
+        )?;
         let done: Vec<u8> = bs.iter().map(|b| u8::from(b.is_some())).collect();
         put(
             file,
@@ -833,8 +879,13 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             (c.set)(p, v);
         }
     }
+    let notes: Vec<VarLenUnicode> = file.dataset("note").and_then(|d| d.read_raw()).h5(path)?;
     for (i, mut p) in pts.into_iter().enumerate() {
         if done.get(i) == Some(&1) {
+            p.note = notes
+                .get(i)
+                .map(|n| n.as_str().to_string())
+                .filter(|n| !n.is_empty());
             p.regime = AtlasRegime::from_u8(regime[i]).unwrap_or(AtlasRegime::Undecided);
             finish_point(&mut p);
             res.points[i] = Some(p);
@@ -844,6 +895,10 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
         let done = rd_u8("boundaries_done")?;
         let fs = rd_u8("fold_status")?;
         let cs = rd_u8("critical_status")?;
+        let bnotes: Vec<VarLenUnicode> = file
+            .dataset("boundary_note")
+            .and_then(|d| d.read_raw())
+            .h5(path)?;
         let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
             .iter()
             .map(|c| rd_f64(c.name))
@@ -859,6 +914,10 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             for (c, v) in BOUNDARY_COLUMNS.iter().zip(&cols) {
                 (c.set)(&mut b, v[j]);
             }
+            b.note = bnotes
+                .get(j)
+                .map(|n| n.as_str().to_string())
+                .filter(|n| !n.is_empty());
             res.boundaries[j] = Some(b);
         }
     }

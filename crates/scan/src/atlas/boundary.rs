@@ -133,13 +133,12 @@ pub fn quiet_everywhere(
     ps: &PointSettings,
 ) -> Result<bool, ScanError> {
     let a = analyse(params, dt, solver, ps, None, true)?;
-    match a.squeals_somewhere() {
-        Some(s) => Ok(!s),
-        None => Err(ScanError::NoCycle(format!(
-            "nu = {}: the stick-slip run failed, cannot tell whether anything squeals",
+    a.squeals_somewhere().map(|s| !s).map_err(|e| {
+        ScanError::NoCycle(format!(
+            "nu = {}: cannot tell whether anything squeals: {e}",
             params.nu
-        ))),
-    }
+        ))
+    })
 }
 
 /// Whether `point` does not squeal: inside the unstable cycle, or nothing squeals at all; a

@@ -445,6 +445,7 @@ pub fn empty_boundary(j: usize) -> BoundaryResult {
         index: j,
         fold: Boundary::none(),
         critical: Boundary::none(),
+        note: None,
     }
 }
 

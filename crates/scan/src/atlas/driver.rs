@@ -35,7 +35,7 @@ pub struct LineResult {
 }
 
 /// The boundaries of one combination of the non-damping axes.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoundaryResult {
     /// Index into the boundary array.
     pub index: usize,
@@ -43,6 +43,8 @@ pub struct BoundaryResult {
     pub fold: Boundary,
     /// The damping at which the operating point stops squealing.
     pub critical: Boundary,
+    /// Why a search was not computed (a failed run), if one was not.
+    pub note: Option<String>,
 }
 
 /// A finished unit.
@@ -93,13 +95,20 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let mut points = Vec::with_capacity(len);
             let mut warm = None;
             for i in line * len..(line + 1) * len {
+                // A failure at one point is data (an undecided point with its reason),
+                // not an abort.
                 let p = compute_point(
                     plan.params_at(i),
                     plan.dt,
                     plan.solver,
                     &plan.settings_at(i),
                     warm,
-                )?;
+                )
+                .unwrap_or_else(|e| {
+                    let mut p = super::columns::empty_point();
+                    p.note = Some(e.to_string());
+                    p
+                });
                 warm = p.cycle.map(|c| c.r_section);
                 points.push(p);
             }
@@ -109,37 +118,55 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let (i, range) = plan.boundary_setup(j);
             let base = plan.params_at(i);
             let ps = plan.settings_at(i);
+            // A failed run inside a bisection leaves that boundary not computed, with the
+            // reason: one hard point does not abort the atlas.
+            let mut notes = Vec::new();
+            let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
+                Ok(b) => b,
+                Err(e) => {
+                    notes.push(format!("{what}: {e}"));
+                    Boundary::none()
+                }
+            };
             let fold = if plan.fold {
-                boundary::fold_nu(
-                    base,
-                    plan.dt,
-                    plan.solver,
-                    &ps,
-                    range[0],
-                    range[1],
-                    plan.boundary_rtol,
-                )?
+                keep(
+                    "fold",
+                    boundary::fold_nu(
+                        base,
+                        plan.dt,
+                        plan.solver,
+                        &ps,
+                        range[0],
+                        range[1],
+                        plan.boundary_rtol,
+                    ),
+                )
             } else {
                 Boundary::none()
             };
             let critical = if plan.critical {
-                boundary::critical_nu(
-                    base,
-                    plan.dt,
-                    plan.solver,
-                    &ps,
-                    ps.operating,
-                    range[0],
-                    range[1],
-                    plan.boundary_rtol,
-                )?
+                keep(
+                    "critical",
+                    boundary::critical_nu(
+                        base,
+                        plan.dt,
+                        plan.solver,
+                        &ps,
+                        ps.operating,
+                        range[0],
+                        range[1],
+                        plan.boundary_rtol,
+                    ),
+                )
             } else {
                 Boundary::none()
             };
+            let note = (!notes.is_empty()).then(|| notes.join("; "));
             Ok(UnitResult::Boundary(BoundaryResult {
                 index: j,
                 fold,
                 critical,
+                note,
             }))
         }
     }

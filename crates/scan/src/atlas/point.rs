@@ -33,7 +33,8 @@ pub enum AtlasRegime {
     BistableQuiet = 2,
     /// Steady slip and stick-slip coexist; the operating point is outside: it squeals.
     BistableSqueals = 3,
-    /// `D(r_min) > 0`: the fixed point repels (at the resolution `r_min`): every start squeals.
+    /// `D(r_min) > 0`: the fixed point repels, or its unstable cycle is smaller than the
+    /// search's resolution `r_min` (the label rests on that): every start squeals.
     FixedPointUnstable = 4,
 }
 
@@ -65,7 +66,7 @@ impl AtlasRegime {
             AtlasRegime::SteadySlipOnly => "steady slip only (no start squeals)",
             AtlasRegime::BistableQuiet => "bistable, operating point quiet",
             AtlasRegime::BistableSqueals => "bistable, operating point squeals",
-            AtlasRegime::FixedPointUnstable => "fixed point unstable (every start squeals)",
+            AtlasRegime::FixedPointUnstable => "every start squeals (no cycle above r_min)",
         }
     }
 
@@ -546,7 +547,7 @@ pub fn stick_slip(
         }
         if n.t - t_last > t_return {
             return Err(StickFail::Failed(format!(
-                "no section crossing for {t_return} time units"
+                "no crossing of the section x = x*, x' > 0 for {t_return} time units without reaching the fixed point: an oscillation that does not surround the fixed point, which the section method cannot measure"
             )));
         }
         if crossings > transient {
@@ -645,16 +646,15 @@ pub struct Analysis {
 }
 
 impl Analysis {
-    /// Whether some start squeals (stick-slip reached).
-    pub fn squeals_somewhere(&self) -> Option<bool> {
-        match &self.stick {
-            Some(Ok(_)) => Some(true),
-            Some(Err(StickFail::FellInside { .. })) => Some(false),
-            Some(Err(StickFail::Failed(_))) => None,
-            None => match self.search {
-                Search::NoneBelow { .. } => Some(false),
-                _ => None,
-            },
+    /// Whether some start squeals (stick-slip reached); `Err` with the reason when the runs
+    /// cannot tell.
+    pub fn squeals_somewhere(&self) -> Result<bool, String> {
+        match (&self.stick, self.search) {
+            (Some(Ok(_)), _) => Ok(true),
+            (Some(Err(StickFail::FellInside { .. })), _) => Ok(false),
+            (Some(Err(StickFail::Failed(e))), _) => Err(e.clone()),
+            (None, Search::NoneBelow { .. }) => Ok(false),
+            (None, _) => Err("no stick-slip run".into()),
         }
     }
 }
