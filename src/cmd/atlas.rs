@@ -399,7 +399,7 @@ fn axis_label(a: &squeal_scan::atlas::AtlasAxis) -> String {
     }
 }
 
-fn title(plan: &AtlasPlan, what: &str) -> String {
+fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
     let fixed: Vec<String> = plan
         .fixed()
         .iter()
@@ -412,7 +412,10 @@ fn title(plan: &AtlasPlan, what: &str) -> String {
             format!("{} = {}{u}", a.key, squeal_plot::fmt_value(*v))
         })
         .collect();
-    format!("{} law: {what}; {}", plan.law, fixed.join(", "))
+    match what {
+        Some(w) => format!("{} law: {w}; {}", plan.law, fixed.join(", ")),
+        None => format!("{}: {}", plan.law, fixed.join(", ")),
+    }
 }
 
 /// Draws the chart of an atlas file: a stability chart (2-D), a bifurcation diagram (1-D).
@@ -499,7 +502,7 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
                 ""
             };
             let chart = squeal_plot::StabilityChart {
-                title: title(&plan, "stability chart"),
+                title: title(&plan, Some("stability chart")),
                 subtitle: format!(
                     "operating point ({}, {}){units}; basin fraction of steady slip over x in [{}, {}], x' in [{}, {}]{units}",
                     op.x, op.v, d.x[0], d.x[1], d.v[0], d.v[1]
@@ -623,7 +626,7 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
             };
             squeal_plot::line_plot(
                 png,
-                &title(&plan, "bifurcation diagram"),
+                &title(&plan, None),
                 &axis_label(a),
                 y_label,
                 &curves,
