@@ -4,16 +4,32 @@
 # dependencies = ["h5py", "matplotlib", "numpy"]
 # ///
 """Plot a squeal basin map from its HDF5 file with matplotlib, reading the label names from
-the file's HDF5 enum type (no squeal code needed). For sweeps, pick the map with --map."""
+the file's HDF5 enum type (no squeal code needed). For sweeps, pick the map with --map.
+
+Run it with uv, which reads the dependencies from the header above:
+    uv run scripts/plot_basins.py out/fig9.h5 -o fig9.png
+or install them once and use python3:
+    python3 -m pip install h5py matplotlib numpy
+    python3 scripts/plot_basins.py out/fig9.h5 -o fig9.png"""
 import argparse
+import sys
 
-import h5py
-import matplotlib
+try:
+    import h5py
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import ListedColormap  # noqa: E402
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.colors import ListedColormap
+except ImportError as e:
+    sys.exit(
+        f"plot_basins.py needs h5py, matplotlib and numpy ({e}).\n"
+        "Run it with uv, which installs them from the script's header:\n"
+        "    uv run scripts/plot_basins.py FILE.h5 -o FILE.png\n"
+        "or install them first:\n"
+        "    python3 -m pip install h5py matplotlib numpy"
+    )
 
 COLOURS = {"steady_slip": "#3b75af", "stick_slip": "#ef8636", "undecided": "#d62fd6", "not_computed": "#d9d9d9"}
 
@@ -29,14 +45,18 @@ def main():
             raise SystemExit(f"{a.file}: not a squeal basin file (no schema attribute)")
         labels = f["labels"]
         members = h5py.check_enum_dtype(labels.dtype)  # name -> value
+        nmaps = labels.shape[0] if labels.ndim == 3 else 1
+        if not 0 <= a.map < nmaps:
+            valid = f"0..{nmaps - 1}" if nmaps > 1 else "0 (the file holds one map)"
+            raise SystemExit(f"{a.file}: --map {a.map} is out of range; valid: {valid}")
         data = labels[a.map] if labels.ndim == 3 else labels[()]
         x0, v0 = f["x0"][()], f["v0"][()]
         title = f"{f.attrs['law']}"
-        for p in ("nu", "lambda"):
+        for p in ("nu", "lambda", "tau", "phi", "dt"):
             if p in f and f[p].ndim == 1 and labels.ndim == 3:
-                title += f" {p} = {f[p][a.map]:g}"
+                title += f", {p} = {f[p][a.map]:.4g}"
             elif p in f.attrs:
-                title += f" {p} = {f.attrs[p]:g}"
+                title += f", {p} = {f.attrs[p]:.4g}"
         cyc = None
         g = f.get("cycle") if labels.ndim == 2 else f.get(f"cycles/map_{a.map:04d}")
         if g is not None and "x" in g:
@@ -50,14 +70,15 @@ def main():
     dx = (x0[-1] - x0[0]) / max(len(x0) - 1, 1) / 2
     dv = (v0[-1] - v0[0]) / max(len(v0) - 1, 1) / 2
     ax.imshow(index[data], origin="lower", cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5,
-              extent=(x0[0] - dx, x0[-1] + dx, v0[0] - dv, v0[-1] + dv), aspect="auto", interpolation="nearest")
+              extent=(x0[0] - dx, x0[-1] + dx, v0[0] - dv, v0[-1] + dv), aspect="equal", interpolation="nearest")
     if cyc is not None:
         ax.plot(np.append(cyc[0], cyc[0][0]), np.append(cyc[1], cyc[1][0]), "k-", lw=1, label="unstable limit cycle")
     ax.plot([1.0], [0.0], "k+", ms=10, label="fixed point")
     for n in names:
         ax.plot([], [], "s", color=COLOURS.get(n, "grey"), label=f"{n} ({int((data == members[n]).sum())})")
-    ax.set_xlabel("x0")
-    ax.set_ylabel("x'0")
+    # Nondimensional units (README, "Units"): x in mu_k m g / k, x' in mu_k g / sqrt(k/m).
+    ax.set_xlabel("initial displacement x0 (units of mu_k m g / k)")
+    ax.set_ylabel("initial velocity x'0 (units of mu_k g sqrt(m/k))")
     ax.set_title(title)
     ax.legend(loc="upper right", fontsize=8)
     fig.savefig(a.out, dpi=120, bbox_inches="tight")

@@ -3,22 +3,39 @@
 #
 #   scripts/slurm-array.sh scans/nu-sweep.toml 16 [out/nu-sweep.h5]
 #
-# Submits an array job (one shard per task, each its own process and file, each resumable
-# with --resume if a node dies) and a merge job that runs after all tasks succeed.
-# Extra sbatch options: SBATCH_OPTS="--partition=short --time=02:00:00".
+# Submits an array job (one shard per task, each its own process and file) and a merge job
+# that runs after all tasks succeed. Each task resumes its shard's journal when one exists,
+# so a task that is requeued (by `scontrol requeue`, or by SLURM after a node failure or a
+# preemption: the tasks are submitted with --requeue) finishes the blocks it had not stored
+# instead of starting over; a task whose shard file is already complete does nothing.
+# Tested on a real single-node cluster by scripts/slurm-ci.sh.
+# Extra sbatch options: SBATCH_OPTS="--partition=short --time=02:00:00"; CPUS per task
+# (default 4); SQUEAL=/path/to/squeal (default target/release/squeal).
 set -euo pipefail
-spec=${1:?usage: slurm-array.sh SPEC.toml N [OUT.h5]}
-n=${2:?usage: slurm-array.sh SPEC.toml N [OUT.h5]}
+usage="usage: slurm-array.sh SPEC.toml N [OUT.h5]"
+spec=${1:?$usage}
+n=${2:?$usage}
 out=${3:-out/$(basename "${spec%.toml}").h5}
 bin=${SQUEAL:-target/release/squeal}
+case $n in '' | *[!0-9]* | 0) echo "N = '$n': expected a number of shards >= 1" >&2; exit 2 ;; esac
+[ -f "$spec" ] || { echo "no spec file $spec" >&2; exit 2; }
 [ -x "$bin" ] || { echo "build first: cargo build --release (or set SQUEAL=/path/to/squeal)" >&2; exit 2; }
+case $out in *.h5) ;; *) echo "output $out: expected a name ending in .h5" >&2; exit 2 ;; esac
 mkdir -p "$(dirname "$out")" logs
 stem=${out%.h5}
-array=$(sbatch --parsable ${SBATCH_OPTS:-} --array=1-"$n" --cpus-per-task="${CPUS:-4}" \
-  --job-name=squeal-shards --output=logs/squeal-%A_%a.out \
-  --wrap "k=\$SLURM_ARRAY_TASK_ID; f=${stem}.shard\$k.h5; if [ -e \$f.journal ]; then r=--resume; else r=; fi; \
-          $bin scan $spec -o \$f --shard \$k/$n --threads \$SLURM_CPUS_PER_TASK --quiet \$r")
-shards=$(for k in $(seq 1 "$n"); do printf '%s ' "${stem}.shard$k.h5"; done)
-sbatch ${SBATCH_OPTS:-} --dependency=afterok:"$array" --job-name=squeal-merge \
-  --output=logs/squeal-merge-%j.out --wrap "$bin merge $shards -o $out"
-echo "submitted array $array ($n shards) and its merge into $out"
+q() { printf '%q' "$1"; }
+# One task: resume the shard's journal if there is one; skip a shard that is complete.
+task="k=\$SLURM_ARRAY_TASK_ID; f=$(q "$stem").shard\$k.h5; \
+if [ -e \"\$f.journal\" ]; then r=--resume; \
+elif [ -e \"\$f\" ]; then echo \"\$f is complete\"; exit 0; else r=; fi; \
+exec $(q "$bin") scan $(q "$spec") -o \"\$f\" --shard \$k/$n --threads \$SLURM_CPUS_PER_TASK --quiet \$r"
+# shellcheck disable=SC2086 # SBATCH_OPTS is a list of options
+array=$(sbatch --parsable ${SBATCH_OPTS:-} --array=1-"$n" --cpus-per-task="${CPUS:-4}" --requeue \
+  --open-mode=append --job-name=squeal-shards --output=logs/squeal-%A_%a.out --wrap "$task")
+array=${array%%;*}
+shards=$(for k in $(seq 1 "$n"); do printf '%s ' "$(q "$stem.shard$k.h5")"; done)
+# shellcheck disable=SC2086
+merge=$(sbatch --parsable ${SBATCH_OPTS:-} --dependency=afterok:"$array" --job-name=squeal-merge \
+  --output=logs/squeal-merge-%j.out --wrap "$(q "$bin") merge $shards -o $(q "$out")")
+merge=${merge%%;*}
+echo "submitted array $array ($n shards) and merge job $merge into $out"

@@ -49,6 +49,27 @@ pub fn classes() -> Vec<(u8, &'static str, Rgb)> {
     ]
 }
 
+/// The model parameters of map `map` of a file, for picture titles (root attributes, with the
+/// swept parameter's value of that map).
+pub fn model_params(info: &squeal_store::FileInfo, map: usize) -> squeal_plot::ModelParams {
+    let num = |key: &str| -> f64 {
+        match &info.sweep {
+            Some((name, values)) if name == key => values.get(map).copied().unwrap_or(f64::NAN),
+            _ => attr(info, key)
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(f64::NAN),
+        }
+    };
+    squeal_plot::ModelParams {
+        law: attr(info, "law").unwrap_or("?").to_string(),
+        nu: num("nu"),
+        lambda: num("lambda"),
+        tau: num("tau"),
+        phi: num("phi"),
+        dt: num("dt"),
+    }
+}
+
 /// A basin panel for one map of a file.
 pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
     let mut overlays = Vec::new();
@@ -74,7 +95,7 @@ pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
         labels: &m.labels,
         overlays,
         markers: vec![Marker {
-            label: "fixed point".into(),
+            label: "steady-slip fixed point".into(),
             x: m.fixed_point.0,
             y: m.fixed_point.1,
             color: squeal_plot::FIXED_POINT,
@@ -90,7 +111,10 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
     if n == 1 {
         check_new(png, force, "picture")?;
         let m = squeal_store::read_map(h5, 0)?;
-        squeal_plot::basin_map(png, &panel(&m), &classes)
+        let info = squeal_store::read_info(h5)?;
+        let mut one = panel(&m);
+        one.title = squeal_plot::map_title(&model_params(&info, 0));
+        squeal_plot::basin_map(png, &one, &classes)
             .with_context(|| format!("drawing {}", png.display()))?;
         return Ok(vec![png.to_path_buf()]);
     }
@@ -100,43 +124,64 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
     let maps: Vec<_> = (0..n)
         .map(|i| squeal_store::read_map(h5, i))
         .collect::<Result<_, _>>()?;
-    let panels: Vec<_> = maps.iter().map(panel).collect();
     let info = squeal_store::read_info(h5)?;
-    let title = format!("{}: basin maps", attr(&info, "name").unwrap_or("squeal"));
-    let ncols = (n as f64).sqrt().ceil() as usize;
-    squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols)
-        .with_context(|| format!("drawing {}", png.display()))?;
-    let summary = squeal_store::read_cycle_summary(h5)?;
     let param = info
         .sweep
         .as_ref()
         .map(|s| s.0.clone())
         .unwrap_or_else(|| "nu".into());
+    let panels: Vec<_> = maps
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let mut p = panel(m);
+            let value = info.sweep.as_ref().map_or(f64::NAN, |s| s.1[i]);
+            p.title = squeal_plot::panel_title(&param, value);
+            p
+        })
+        .collect();
+    let title = squeal_plot::sheet_title(
+        attr(&info, "name").unwrap_or("squeal"),
+        &model_params(&info, 0),
+        &param,
+    );
+    let ncols = (n as f64).sqrt().ceil() as usize;
+    squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols)
+        .with_context(|| format!("drawing {}", png.display()))?;
+    let summary = squeal_store::read_cycle_summary(h5)?;
     let xs: Vec<f64> = summary.iter().map(|s| s.0).collect();
     let curves = vec![
         Curve {
-            label: "distance along +x".into(),
+            label: "distance from the fixed point along +x".into(),
             xs: xs.clone(),
             ys: summary.iter().map(|s| s.2).collect(),
             color: Rgb(200, 60, 20),
             points_only: false,
         },
         Curve {
-            label: "x' at the section x = x*".into(),
+            label: "velocity x' where the cycle crosses x = x*".into(),
             xs,
             ys: summary.iter().map(|s| s.1).collect(),
             color: Rgb(30, 90, 200),
             points_only: false,
         },
     ];
-    squeal_plot::line_plot(
+    let mut shared = squeal_plot::params_line(&model_params(&info, 0), Some(&param));
+    shared.insert_str(
+        0,
+        &format!(
+            "{}, ",
+            squeal_plot::law_title(attr(&info, "law").unwrap_or("?"))
+        ),
+    );
+    squeal_plot::sweep_chart(
         &size,
-        "Unstable limit cycle size",
-        &param,
-        "cycle size",
+        &format!("Unstable limit cycle size against {param}\n{shared}"),
+        &format!("{param} (swept parameter)"),
+        "size of the unstable cycle (nondimensional)",
         &curves,
-        &[],
         param == "nu",
+        "no unstable cycle located",
     )
     .with_context(|| format!("drawing {}", size.display()))?;
     Ok(vec![png.to_path_buf(), size])

@@ -89,13 +89,17 @@ pub struct Setup {
 pub struct SetupArgs {
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Take the model, integration and classifier settings from a scan spec instead.
-    #[arg(long)]
+    /// Take the model, integration and classifier settings from a scan spec instead (the
+    /// model flags and --t-max are then refused: the spec is the one place they come from).
+    #[arg(
+        long,
+        conflicts_with_all = ["law", "nu", "lambda", "tau", "phi", "dt", "solver", "t_max"]
+    )]
     pub spec: Option<std::path::PathBuf>,
     /// With --spec of a sweep: which map (0-based).
     #[arg(long, default_value_t = 0)]
     pub map: usize,
-    /// Give up (undecided) at this time (ignored with --spec).
+    /// Give up (undecided) at this time.
     #[arg(long, default_value_t = squeal_core::defaults::T_MAX, allow_negative_numbers = true)]
     pub t_max: f64,
 }

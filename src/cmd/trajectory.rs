@@ -454,9 +454,20 @@ fn plot_phase_plane(
         ys.push(*v);
     }
     let p = stepper.params();
-    let title = format!(
-        "{} nu={} lambda={} from ({}, {})",
-        p.law, p.nu, p.lambda, ic.x, ic.v
+    let title = squeal_plot::phase_title(
+        &format!(
+            "Trajectory from (x0, x'0) = ({}, {})",
+            squeal_plot::fmt_number(ic.x),
+            squeal_plot::fmt_number(ic.v)
+        ),
+        &squeal_plot::ModelParams {
+            law: p.law.name().into(),
+            nu: p.nu,
+            lambda: p.lambda,
+            tau: p.tau,
+            phi: p.phi,
+            dt: stepper.dt(),
+        },
     );
     let curves = [Curve {
         label: format!("trajectory, t in [0, {}]", cols.t.last().unwrap_or(&0.0)),
@@ -479,7 +490,7 @@ fn plot_phase_plane(
             color: Rgb(238, 118, 22),
         },
     ];
-    squeal_plot::line_plot(path, &title, "x", "x'", &curves, &markers, false)?;
+    squeal_plot::phase_plot(path, &title, &curves, &markers)?;
     Ok(())
 }
 

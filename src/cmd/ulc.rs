@@ -19,7 +19,8 @@ pub struct Args {
     /// Relative bracket width at which the bisection stops.
     #[arg(long, default_value_t = 1e-10)]
     pub rtol: f64,
-    /// Check against runs to settlement on this many rays from the fixed point (0: skip).
+    /// Check the curve on this many rays from the fixed point (0: skip): a start just inside
+    /// must move inward, one just outside outward; exits with status 1 if any ray disagrees.
     #[arg(long, default_value_t = 0)]
     pub verify_rays: usize,
     /// Relative offset inside/outside the cycle of the ray checks.
@@ -76,7 +77,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             &rep,
             args.verify_rays,
             args.verify_eps,
-            &plan.classifier,
             plan.solver,
         )?)
     } else {
@@ -109,8 +109,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 color: squeal_plot::STICK,
             },
         ];
-        let title = format!("{} nu = {}: unstable limit cycle", params.law, params.nu);
-        squeal_plot::line_plot(p, &title, "x", "x'", &[curve], &marks, false)
+        let title = squeal_plot::phase_title(
+            "Unstable limit cycle",
+            &squeal_plot::ModelParams {
+                law: params.law.name().into(),
+                nu: params.nu,
+                lambda: params.lambda,
+                tau: params.tau,
+                phi: params.phi,
+                dt: plan.dt,
+            },
+        );
+        squeal_plot::phase_plot(p, &title, &[curve], &marks)
             .with_context(|| format!("drawing {}", p.display()))?;
     }
     if args.json {
@@ -118,8 +128,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v["seconds"] = seconds.into();
         v["bracket_width"] = (rep.bracket[1] - rep.bracket[0]).into();
         v["rays"] = serde_json::to_value(&rays)?;
+        v["verified"] = rays.as_ref().map(|r| r.passed()).into();
         println!("{}", serde_json::to_string(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return Ok(verdict(rays.as_ref()));
     }
     println!(
         "unstable limit cycle: {} nu = {} lambda = {} (dt = {}, {} solver)",
@@ -165,28 +176,49 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         "  {} section returns, {} friction evaluations, {:.3} s",
         rep.returns, rep.solver.evaluations, seconds
     );
-    if let Some(rays) = rays {
-        let ok = rays
-            .iter()
-            .filter(|r| {
-                r.inner == squeal_core::Regime::SteadySlip
-                    && r.outer == squeal_core::Regime::StickSlip
-            })
-            .count();
+    if let Some(rays) = &rays {
         println!(
-            "  rays: {ok} of {} have steady slip just inside and stick-slip just outside (eps {})",
-            rays.len(),
-            args.verify_eps
+            "  rays: {} of {} have the start just inside moving inward and the one just outside \
+             moving outward (eps {}; a deviation must grow {}-fold within {} revolutions, \
+             from the one-sided multipliers {:.6} inside and {:.6} outside)",
+            rays.agreeing(),
+            rays.rays.len(),
+            rays.eps,
+            rays.growth,
+            rays.revolutions_max,
+            rays.multipliers[0],
+            rays.multipliers[1]
         );
-        for r in &rays {
+        for r in &rays.rays {
+            let show = |s: &ulc::RayStart| match s.drift {
+                ulc::Drift::Inward => format!("inward after {} revolutions", s.revolutions),
+                ulc::Drift::Outward => format!("outward after {} revolutions", s.revolutions),
+                ulc::Drift::Undecided => format!("UNDECIDED after {} revolutions", s.revolutions),
+            };
             println!(
-                "    angle {:6.3} radius {:.5}: inside {}, outside {}",
+                "    angle {:6.3} radius {:.5}: inside {}, outside {}{}",
                 r.angle,
                 r.radius,
-                r.inner.name(),
-                r.outer.name()
+                show(&r.inner),
+                show(&r.outer),
+                if r.agrees() { "" } else { "  <- disagrees" }
             );
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(verdict(rays.as_ref()))
+}
+
+/// Exit status: 1 when a ray check was asked for and did not pass.
+fn verdict(rays: Option<&ulc::RayVerification>) -> ExitCode {
+    match rays {
+        Some(r) if !r.passed() => {
+            eprintln!(
+                "squeal ulc: verification failed: {} of {} rays disagree with the located cycle",
+                r.rays.len() - r.agreeing(),
+                r.rays.len()
+            );
+            ExitCode::from(1)
+        }
+        _ => ExitCode::SUCCESS,
+    }
 }

@@ -20,7 +20,7 @@
 //!   A run that blows up or whose robust solve fails is undecided too.
 //!
 //! Label names the attractor. "Reached belt speed" is not used: with true roots the
-//! hysteretic stick-slip loop need not reach `lambda` (MODEL.md).
+//! hysteretic stick-slip loop need not reach `lambda` (crates/core/MODEL.md, section 5).
 
 use serde::Serialize;
 

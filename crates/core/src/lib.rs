@@ -15,6 +15,9 @@
 //! * [`Stepper`]: one step of a run, [`Sample`] the state with acceleration and force.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
 //! * [`units`]: the paper's scaling between a [`Physical`] system and [`Params`].
+//! * [`model`]: the model itself, in words and equations: units, the laws with the paper's
+//!   two misprints corrected, the schemes, the conventions and the labels
+//!   (`crates/core/MODEL.md`).
 //!
 //! ```
 //! use squeal_core::{FrictionLaw, Params, SolverConfig, State, Stepper, SolverStats};
@@ -30,6 +33,8 @@ pub mod classify;
 pub mod defaults;
 pub mod error;
 pub mod friction;
+#[doc = include_str!("../MODEL.md")]
+pub mod model {}
 pub mod params;
 pub mod propagator;
 pub mod solver;

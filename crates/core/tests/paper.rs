@@ -1,6 +1,6 @@
 //! The engine against McMillan (1997) and against properties of its own scheme.
 //!
-//! * Results of the paper (MODEL.md's table): which attractor a run from a given state settles
+//! * Results of the paper (../MODEL.md, sec. 7): which attractor a run from a given state settles
 //!   on, the stick-slip frequency, the flat top of the non-hysteretic loop.
 //! * The scheme: first order in `dt` (the force is held at its end-of-step value over each
 //!   step), robust solves at rounding level where the paper's iteration diverges, the paper
@@ -216,7 +216,7 @@ fn not_nearest(law: FrictionLaw, samples: &[Sample]) -> (usize, usize) {
 }
 
 /// The robust solver keeps the force on its branch: of several roots it takes the one nearest
-/// to the previous force (MODEL.md; the model's hysteresis). Over these 2001 steps of each
+/// to the previous force (../MODEL.md, sec. 4: hysteresis). Over these 2001 steps of each
 /// stick-slip cycle, 383-392 (hysteretic) and about 170 (non-hysteretic) have several roots.
 /// Hysteretic law: always the nearest. Non-hysteretic law: in its stick phase `G` can have four
 /// or more roots inside one interval of the outward search, and 8 of the 2001 steps took a
@@ -311,7 +311,7 @@ proptest! {
 }
 
 /// Along the stick-slip cycle the paper's iteration (cap 100, tolerance 1e-12) fails on a
-/// sizeable share of the steps. MODEL.md reports 5-13% from an independent implementation;
+/// sizeable share of the steps. ../MODEL.md reports 5-13% from an independent implementation;
 /// measured here: 12.4% of the steps over t in [1000, 2000] from rest at nu = 1e-3 (hysteretic;
 /// 11.3% for the non-hysteretic law).
 #[test]

@@ -19,6 +19,10 @@ pub enum ScanError {
     /// The limit cycle could not be located.
     #[error("unstable limit cycle not found: {0}")]
     NoCycle(String),
+    /// `squeal critical` has nothing to bisect (the point is the fixed point, or there is
+    /// no unstable cycle at the low end of the bracket).
+    #[error("no critical damping: {0}")]
+    NoCriticalDamping(String),
     /// A bad `--shard K/N`.
     #[error("--shard {0}: expected K/N with 1 <= K <= N")]
     Shard(String),

@@ -1,6 +1,9 @@
 //! Scan specs: the TOML file (a serde mirror, unknown keys rejected) and the checked
 //! [`Plan`] the scanner accepts. Validation happens once, here, and names the key.
 //!
+//! Users' reference: `docs/spec.md` lists every key with its default, range and meaning;
+//! `tests/spec_doc.rs` fails when a key is added here without a row there.
+//!
 //! ```toml
 //! version = 1                      # required; this is spec version 1
 //! [model]
@@ -658,11 +661,143 @@ path = "x.h5"
         assert_eq!(p.maps.len(), 3);
     }
 
-    proptest::proptest! {
-        #[test]
-        fn validation_never_panics(text in "\\PC{0,200}") {
-            let _ = Plan::from_toml(&text, "fuzz.toml");
+    /// Every key of a spec, valid as a whole: (table, key, value). The grid axes are written
+    /// as sub-tables so that each of their keys is a line of its own.
+    const FULL: &[(&str, &str, &str)] = &[
+        ("", "version", "1"),
+        ("", "name", "\"fuzz\""),
+        ("model", "law", "\"mcmillan\""),
+        ("model", "nu", "1e-3"),
+        ("model", "lambda", "3.0"),
+        ("model", "tau", "0.31622776601683794"),
+        ("model", "phi", "1.0"),
+        ("grid", "block_rows", "8"),
+        ("grid.x0", "min", "-3.0"),
+        ("grid.x0", "max", "5.0"),
+        ("grid.x0", "count", "4"),
+        ("grid.v0", "min", "-4.0"),
+        ("grid.v0", "max", "4.0"),
+        ("grid.v0", "count", "3"),
+        ("integration", "dt", "0.01"),
+        ("integration", "solver", "\"robust\""),
+        ("integration", "max_iter", "100"),
+        ("classifier", "t_max", "5000.0"),
+        ("classifier", "fp_radius", "1e-3"),
+        ("classifier", "settle_cycles", "20"),
+        ("classifier", "settle_rtol", "0.05"),
+        ("classifier", "early_stop", "\"cycle\""),
+        ("classifier", "trap_margin", "1e-3"),
+        ("cycle", "locate", "true"),
+        ("output", "path", "\"x.h5\""),
+    ];
+
+    /// What to do to one key of [`FULL`].
+    #[derive(Clone, Debug)]
+    enum Mutation {
+        /// Give it this TOML value (any type).
+        Set(String),
+        /// Remove the line.
+        Delete,
+        /// Write the line twice.
+        Duplicate,
+    }
+
+    /// The spec of [`FULL`] with `mutation` applied to key number `at`.
+    fn mutated(at: usize, mutation: &Mutation) -> String {
+        let mut text = String::new();
+        let mut table = "";
+        for (i, &(t, key, value)) in FULL.iter().enumerate() {
+            if t != table {
+                text += &format!("[{t}]\n");
+                table = t;
+            }
+            let line = format!("{key} = {value}\n");
+            match (i == at, mutation) {
+                (false, _) => text += &line,
+                (true, Mutation::Set(v)) => text += &format!("{key} = {v}\n"),
+                (true, Mutation::Delete) => {}
+                (true, Mutation::Duplicate) => {
+                    text += &line;
+                    text += &line;
+                }
+            }
         }
+        text
+    }
+
+    /// TOML literals of every type, in and out of range.
+    fn toml_value() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let float = proptest::num::f64::ANY.prop_map(|f| {
+            if f.is_nan() {
+                "nan".to_string()
+            } else if f.is_infinite() {
+                if f > 0.0 { "inf" } else { "-inf" }.to_string()
+            } else {
+                format!("{f:?}")
+            }
+        });
+        let small = (-10.0f64..10.0).prop_map(|f| format!("{f:?}"));
+        let string = "\\PC{0,12}"
+            .prop_map(|s| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\"")));
+        let word = proptest::sample::select(vec![
+            "\"mcmillan\"",
+            "\"coulomb\"",
+            "\"none\"",
+            "\"paper\"",
+            "\"log\"",
+            "\"\"",
+        ])
+        .prop_map(str::to_string);
+        // Weighted towards numbers of the right type, which get past the parser.
+        prop_oneof![
+            2 => float,
+            4 => small,
+            1 => any::<i64>().prop_map(|n| n.to_string()),
+            3 => (-5i64..300).prop_map(|n| n.to_string()),
+            1 => any::<bool>().prop_map(|b| b.to_string()),
+            1 => string,
+            2 => word,
+            1 => proptest::collection::vec(-1.0f64..1.0, 0..4)
+                .prop_map(|v| format!("{v:?}")),
+            1 => Just("{ from = 1e-3, to = 1e-2, count = 3, spacing = \"log\" }".to_string()),
+            1 => Just("{ min = -1.0, max = 1.0, count = 2 }".to_string()),
+            1 => Just("{}".to_string()),
+        ]
+    }
+
+    #[test]
+    fn the_full_spec_is_valid_and_mutations_reach_validation() {
+        // The base of the mutations is accepted, so an error comes from the mutation.
+        Plan::from_toml(&mutated(usize::MAX, &Mutation::Delete), "full.toml").unwrap();
+        // Out-of-range values of the right type get past the TOML parser to validation.
+        let e = err(&mutated(3, &Mutation::Set("-1.0".into())));
+        assert!(e.contains("model.nu"), "{e}");
+        assert!(!e.contains("TOML parse error"), "{e}");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// A valid spec with one key changed (any value of any type), deleted or duplicated:
+        /// never a panic, and a refusal names the key it is about.
+        #[test]
+        fn mutated_specs_never_panic_and_errors_name_the_key(
+            at in 0..FULL.len(),
+            mutation in proptest::prop_oneof![
+                6 => proptest::strategy::Strategy::prop_map(toml_value(), Mutation::Set),
+                1 => proptest::strategy::Just(Mutation::Delete),
+                1 => proptest::strategy::Just(Mutation::Duplicate),
+            ],
+        ) {
+            use proptest::prelude::*;
+            let text = mutated(at, &mutation);
+            if let Err(e) = Plan::from_toml(&text, "fuzz.toml") {
+                let key = FULL[at].1;
+                let msg = e.to_string();
+                prop_assert!(msg.contains(key), "{mutation:?} of `{key}`: {msg}\n{text}");
+            }
+        }
+
         #[test]
         fn mutated_numbers_never_panic(a in proptest::num::f64::ANY, n in proptest::num::i64::ANY) {
             let t = GOOD.replace("-3.0", &format!("{a:?}")).replace("count = 4", &format!("count = {n}"));

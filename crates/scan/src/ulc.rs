@@ -14,13 +14,15 @@
 //!
 //! This is the "periodic orbit" refinement: an unstable cycle of a planar flow is a stable
 //! one in reversed time; on the section it is a root of `D`, found by bisection without ever
-//! running to settlement. [`verify_rays`] checks it independently: on rays from the fixed
-//! point, a start just inside the curve settles on steady slip, one just outside on stick-slip.
+//! running to settlement. [`verify_rays`] checks the whole curve, not only its section
+//! crossing: on rays from the fixed point, a start just inside the curve moves inward and
+//! one just outside moves outward, followed for as many revolutions as the Floquet
+//! multiplier says the deviation needs to grow.
 
 use rayon::prelude::*;
 use serde::Serialize;
 use squeal_core::classify::section_return;
-use squeal_core::{Classifier, Params, Regime, SolverConfig, SolverStats, State, Stepper};
+use squeal_core::{Params, SolverConfig, SolverStats, State, Stepper};
 
 use crate::error::ScanError;
 
@@ -334,6 +336,32 @@ pub fn locate(
     Ok(report)
 }
 
+/// Which way a start near the cycle moved on the section `x = x*`, `x' > 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Drift {
+    /// Its distance below the cycle's crossing grew by the required factor (or it came to rest
+    /// at the fixed point): it lies in the steady-slip basin.
+    Inward,
+    /// Its distance above the cycle's crossing grew by the required factor: stick-slip basin.
+    Outward,
+    /// Neither within the revolution budget (or the solver failed).
+    Undecided,
+}
+
+/// What one start of a ray did.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RayStart {
+    /// The verdict.
+    pub drift: Drift,
+    /// Section crossings followed.
+    pub revolutions: u32,
+    /// `x'` at the first crossing of the section.
+    pub r_first: f64,
+    /// `x'` at the last crossing (the first one that decided, if any).
+    pub r_last: f64,
+}
+
 /// One ray of [`verify_rays`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct RayCheck {
@@ -341,28 +369,169 @@ pub struct RayCheck {
     pub angle: f64,
     /// Distance from the fixed point to the cycle along the ray.
     pub radius: f64,
-    /// Label of the start at `radius (1 - eps)`, run to settlement.
-    pub inner: Regime,
-    /// Label of the start at `radius (1 + eps)`, run to settlement.
-    pub outer: Regime,
+    /// The start at `radius (1 - eps)`.
+    pub inner: RayStart,
+    /// The start at `radius (1 + eps)`.
+    pub outer: RayStart,
 }
 
-/// Checks the cycle against runs taken to settlement (no early stopping) on `rays` rays.
+impl RayCheck {
+    /// The cycle separates the basins on this ray: inside moves in, outside moves out.
+    pub fn agrees(&self) -> bool {
+        self.inner.drift == Drift::Inward && self.outer.drift == Drift::Outward
+    }
+}
+
+/// The result of [`verify_rays`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RayVerification {
+    /// Relative offset of the starts from the cycle along each ray.
+    pub eps: f64,
+    /// Factor by which a start's distance from the cycle's section crossing must grow.
+    pub growth: f64,
+    /// One-sided Floquet multipliers `(P(r_u) - P(r_u - h)) / h` and `(P(r_u + h) - P(r_u)) / h`
+    /// with `h = 1e-3 r_u` (the return map `P` may have a kink at the cycle).
+    pub multipliers: [f64; 2],
+    /// Revolutions allowed per start: `3 ln(growth) / ln(m)` plus 10 with `m` the smaller
+    /// one-sided multiplier (the growth needs `ln(growth) / ln(m)` of them where the
+    /// linearisation holds).
+    pub revolutions_max: u32,
+    /// The rays.
+    pub rays: Vec<RayCheck>,
+}
+
+impl RayVerification {
+    /// Rays on which the cycle separates the basins.
+    pub fn agreeing(&self) -> usize {
+        self.rays.iter().filter(|r| r.agrees()).count()
+    }
+
+    /// Whether every ray agrees.
+    pub fn passed(&self) -> bool {
+        !self.rays.is_empty() && self.agreeing() == self.rays.len()
+    }
+}
+
+/// Factor by which a start's deviation from the cycle must grow before it counts as moved.
+pub const RAY_GROWTH: f64 = 3.0;
+
+/// Revolutions allowed per start for deviations growing by `multiplier` per revolution.
+pub fn ray_revolutions(multiplier: f64, growth: f64) -> Result<u32, ScanError> {
+    if !(multiplier.is_finite() && multiplier > 1.0) {
+        return Err(ScanError::NoCycle(format!(
+            "Floquet multiplier {multiplier}: deviations from the cycle do not grow, so the ray \
+             check cannot tell its sides apart"
+        )));
+    }
+    let n = 3.0 * growth.ln() / multiplier.ln() + 10.0;
+    if n > 1e6 {
+        return Err(ScanError::NoCycle(format!(
+            "Floquet multiplier {multiplier}: a deviation needs {n:.0} revolutions to grow \
+             {growth}-fold; too slow to verify by simulation"
+        )));
+    }
+    Ok(n.ceil() as u32)
+}
+
+/// Follows a start over section crossings until its distance from `r_u` has grown
+/// `growth`-fold from the first crossing, on either side (or `revolutions_max` crossings
+/// pass).
+fn follow(
+    st: &Stepper,
+    start: State,
+    r_u: f64,
+    growth: f64,
+    revolutions_max: u32,
+    t_return: f64,
+) -> RayStart {
+    let fp = st.params().fixed_point();
+    let mut stats = SolverStats::default();
+    let (mut s, _) = st.initial(start, &mut stats);
+    let steps_per_return = (t_return / st.dt()).ceil() as u64;
+    let mut out = RayStart {
+        drift: Drift::Undecided,
+        revolutions: 0,
+        r_first: f64::NAN,
+        r_last: f64::NAN,
+    };
+    let mut since = 0u64;
+    while out.revolutions < revolutions_max {
+        let (n, _) = st.step(&s, &mut stats);
+        if stats.failures > 0 || !n.x.is_finite() || !n.v.is_finite() {
+            return out;
+        }
+        since += 1;
+        if let Some(c) = squeal_core::classify::crossing(fp.x, &s, &n) {
+            since = 0;
+            out.revolutions += 1;
+            out.r_last = c.r;
+            if out.revolutions == 1 {
+                out.r_first = c.r;
+            } else {
+                let (d0, d) = (out.r_first - r_u, c.r - r_u);
+                if d.abs() >= growth * d0.abs() {
+                    out.drift = if d < 0.0 {
+                        Drift::Inward
+                    } else {
+                        Drift::Outward
+                    };
+                    return out;
+                }
+            }
+        } else if since > steps_per_return {
+            // No crossing for a whole return time: at rest on the fixed point (steady
+            // slip) if the last crossing was inside, else undecided.
+            if out.r_last < r_u {
+                out.drift = Drift::Inward;
+            }
+            return out;
+        }
+        s = n;
+    }
+    out
+}
+
+/// Checks the located cycle on `rays` rays from the fixed point: a start at `1 - eps` of
+/// the cycle's distance along the ray must move inward (its distance below the cycle's
+/// section crossing grows [`RAY_GROWTH`]-fold), one at `1 + eps` outward. The number of
+/// revolutions allowed follows from the cycle's Floquet multiplier (a deviation grows by it
+/// per revolution), so slowly diverging cycles (multiplier 1.0064 at nu = 1e-3) get the
+/// hundreds of revolutions they need.
 pub fn verify_rays(
     report: &CycleReport,
     rays: usize,
     eps: f64,
-    classifier: &Classifier,
     solver: SolverConfig,
-) -> Result<Vec<RayCheck>, ScanError> {
+) -> Result<RayVerification, ScanError> {
+    if !(eps > 0.0 && eps < 0.5) {
+        return Err(ScanError::NoCycle(format!(
+            "ray offset eps = {eps}: expected a value in (0, 0.5)"
+        )));
+    }
     let st = Stepper::new(report.params, report.dt, solver)
         .map_err(|e| ScanError::NoCycle(e.to_string()))?;
     let fp = report.params.fixed_point();
-    let cl = Classifier {
-        trap: None,
-        ..*classifier
+    // Longest wait for one return: ten periods of the cycle.
+    let t_return = 10.0 * report.period;
+    let r_u = report.r_section;
+    let h = 1e-3 * r_u;
+    let once = |r: f64| {
+        follow(
+            &st,
+            State { x: fp.x, v: r },
+            r_u,
+            f64::INFINITY,
+            1,
+            t_return,
+        )
+        .r_last
     };
-    (0..rays)
+    // A start on the section does not count as a crossing: the first one is P(r). One-sided
+    // slopes of P around the reported crossing (P(r_u) = r_u only if the cycle is right).
+    let p_u = once(r_u);
+    let multipliers = [(p_u - once(r_u - h)) / h, (once(r_u + h) - p_u) / h];
+    let revolutions_max = ray_revolutions(multipliers[0].min(multipliers[1]), RAY_GROWTH)?;
+    let checks = (0..rays)
         .into_par_iter()
         .map(|k| {
             let angle = std::f64::consts::TAU * k as f64 / rays as f64;
@@ -397,16 +566,31 @@ pub fn verify_rays(
                 x: fp.x + f * radius * c,
                 v: fp.v + f * radius * s,
             };
-            let inner = cl.classify(&st, at(1.0 - eps)).regime;
-            let outer = cl.classify(&st, at(1.0 + eps)).regime;
+            let run = |f: f64| {
+                follow(
+                    &st,
+                    at(f),
+                    report.r_section,
+                    RAY_GROWTH,
+                    revolutions_max,
+                    t_return,
+                )
+            };
             Ok(RayCheck {
                 angle,
                 radius,
-                inner,
-                outer,
+                inner: run(1.0 - eps),
+                outer: run(1.0 + eps),
             })
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(RayVerification {
+        eps,
+        growth: RAY_GROWTH,
+        multipliers,
+        revolutions_max,
+        rays: checks,
+    })
 }
 
 /// The damping at which the unstable cycle first encloses `point`.
@@ -422,9 +606,49 @@ pub struct CriticalReport {
     pub evaluations: u32,
 }
 
-/// Whether the system at `point` is inside the unstable cycle for these parameters (it then
-/// does not squeal). No unstable cycle below `r_max` (the return map decays everywhere)
-/// counts as enclosed; a repelling fixed point as not enclosed.
+/// Where `point` lies relative to the unstable cycle for one parameter set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointSide {
+    /// Inside the cycle: that start ends in steady slip.
+    Inside,
+    /// Outside the cycle: that start squeals.
+    Outside,
+    /// No unstable cycle below `r_max`: the return map decays at every sampled amplitude.
+    NoCycle,
+    /// The return map grows already at `r_min`: the fixed point repels.
+    FixedPointRepels,
+}
+
+/// Where `point` lies relative to the unstable cycle for these parameters.
+pub fn point_side(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    cs: &CycleSettings,
+    point: State,
+) -> Result<PointSide, ScanError> {
+    let st = Stepper::new(params, dt, solver).map_err(|e| ScanError::NoCycle(e.to_string()))?;
+    let (mut stats, mut returns) = (SolverStats::default(), 0u64);
+    match section_cycles(&st, cs, &mut stats, &mut returns) {
+        SectionCycles::NoneBelow { .. } => return Ok(PointSide::NoCycle),
+        SectionCycles::FixedPointUnstable { .. } => return Ok(PointSide::FixedPointRepels),
+        SectionCycles::Unstable { .. } => {}
+    }
+    let cs1 = CycleSettings {
+        check_half_dt: false,
+        ..*cs
+    };
+    let rep = locate(params, dt, solver, &cs1)?;
+    Ok(if rep.encloses(point.x, point.v) {
+        PointSide::Inside
+    } else {
+        PointSide::Outside
+    })
+}
+
+/// Whether the system at `point` does not squeal for these parameters: inside the unstable
+/// cycle, or no unstable cycle below `r_max` at all (the return map decays everywhere); a
+/// repelling fixed point counts as squealing.
 pub fn point_enclosed(
     params: Params,
     dt: f64,
@@ -432,16 +656,10 @@ pub fn point_enclosed(
     cs: &CycleSettings,
     point: State,
 ) -> Result<bool, ScanError> {
-    let cs1 = CycleSettings {
-        check_half_dt: false,
-        ..*cs
-    };
-    match locate(params, dt, solver, &cs1) {
-        Ok(rep) => Ok(rep.encloses(point.x, point.v)),
-        Err(ScanError::NoCycle(msg)) if msg.contains("decays at every") => Ok(true),
-        Err(ScanError::NoCycle(msg)) if msg.contains("repels") => Ok(false),
-        Err(e) => Err(e),
-    }
+    Ok(matches!(
+        point_side(params, dt, solver, cs, point)?,
+        PointSide::Inside | PointSide::NoCycle
+    ))
 }
 
 /// Bisection in `nu` (geometric) for the damping at which the cycle first encloses `point`.
@@ -456,17 +674,40 @@ pub fn critical_nu(
     nu_hi: f64,
     rtol: f64,
 ) -> Result<CriticalReport, ScanError> {
-    let at = |nu: f64| point_enclosed(Params { nu, ..base }, dt, solver, cs, point);
+    let side = |nu: f64| point_side(Params { nu, ..base }, dt, solver, cs, point);
+    let at = |nu: f64| -> Result<bool, ScanError> {
+        Ok(matches!(side(nu)?, PointSide::Inside | PointSide::NoCycle))
+    };
     if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite()) {
         return Err(ScanError::NoCycle(format!(
             "--nu-lo {nu_lo} / --nu-hi {nu_hi}: need 0 < nu_lo < nu_hi"
         )));
     }
-    if at(nu_lo)? {
-        return Err(ScanError::NoCycle(format!(
-            "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
+    let fp = base.fixed_point();
+    if point == fp {
+        return Err(ScanError::NoCriticalDamping(format!(
+            "({}, {}) is the fixed point: steady slip for every nu (a start there stays \
+             there), so it never squeals and no damping is critical for it",
             point.x, point.v
         )));
+    }
+    match side(nu_lo)? {
+        PointSide::Inside => {
+            return Err(ScanError::NoCriticalDamping(format!(
+                "--nu-lo {nu_lo}: the cycle already encloses ({}, {}) there; lower --nu-lo",
+                point.x, point.v
+            )));
+        }
+        PointSide::NoCycle => {
+            return Err(ScanError::NoCriticalDamping(format!(
+                "--nu-lo {nu_lo}: {} has no unstable limit cycle there (the return map decays at \
+                 every amplitude sampled up to r = {}, as `squeal ulc` reports), so there is no \
+                 cycle to enclose ({}, {}): starts within that amplitude end in steady slip \
+                 already at nu = {nu_lo}",
+                base.law, cs.r_max, point.x, point.v
+            )));
+        }
+        PointSide::Outside | PointSide::FixedPointRepels => {}
     }
     if !at(nu_hi)? {
         return Err(ScanError::NoCycle(format!(

@@ -120,18 +120,61 @@ fn cycle_lies_between_steady_and_stick_slip_on_every_ray() {
         },
     )
     .unwrap();
-    let cl = Classifier {
-        t_max: 40_000.0,
-        ..Classifier::default()
-    };
-    let rays = ulc::verify_rays(&rep, 8, 0.05, &cl, SolverConfig::default()).unwrap();
-    for r in &rays {
-        assert_eq!(
-            (r.inner, r.outer),
-            (Regime::SteadySlip, Regime::StickSlip),
-            "ray {r:?}"
-        );
+    // The README's example (`squeal ulc --nu 1e-3 --verify-rays 8`): the deviation grows by
+    // only 0.64% per revolution, so each start needs about ln 3 / ln 1.0064 = 172 revolutions.
+    let v = ulc::verify_rays(&rep, 8, 0.05, SolverConfig::default()).unwrap();
+    assert!(v.passed(), "{v:#?}");
+    assert_eq!(v.rays.len(), 8);
+    // The budget follows from the multiplier: 3 ln 3 / ln m + 10, m about 1.0064.
+    assert!((v.multipliers[0] - rep.multiplier).abs() < 1e-3, "{v:?}");
+    assert!((480..=560).contains(&v.revolutions_max), "{v:?}");
+    for r in &v.rays {
+        assert_eq!(r.inner.drift, ulc::Drift::Inward, "{r:?}");
+        assert_eq!(r.outer.drift, ulc::Drift::Outward, "{r:?}");
+        assert!(r.inner.r_last < rep.r_section && r.outer.r_last > rep.r_section);
     }
+}
+
+/// A cycle drawn at the wrong size fails the ray check: scale the located curve (and its
+/// section crossing) about the fixed point by 1.2 or 0.8 and the starts "inside" it move
+/// outward (or those "outside" move inward).
+#[test]
+fn a_wrong_cycle_fails_the_ray_check() {
+    let p = Params::paper(FrictionLaw::McMillan, 1e-3);
+    let rep = ulc::locate(
+        p,
+        0.01,
+        SolverConfig::default(),
+        &CycleSettings {
+            check_half_dt: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let fp = p.fixed_point();
+    for (scale, bad_side) in [(1.2, "inner"), (0.8, "outer")] {
+        let mut wrong = rep.clone();
+        wrong.r_section *= scale;
+        for (x, v) in wrong.curve_x.iter_mut().zip(wrong.curve_v.iter_mut()) {
+            *x = fp.x + scale * (*x - fp.x);
+            *v = fp.v + scale * (*v - fp.v);
+        }
+        let v = ulc::verify_rays(&wrong, 4, 0.05, SolverConfig::default()).unwrap();
+        assert!(!v.passed(), "scale {scale}: {v:#?}");
+        assert_eq!(v.agreeing(), 0, "scale {scale}: {v:#?}");
+        for r in &v.rays {
+            let (side, want) = if bad_side == "inner" {
+                (r.inner.drift, ulc::Drift::Outward)
+            } else {
+                (r.outer.drift, ulc::Drift::Inward)
+            };
+            assert_eq!(side, want, "scale {scale}: {r:?}");
+        }
+    }
+    // A cycle that does not repel cannot be checked this way: a clear error, not a pass.
+    let mut stable = rep.clone();
+    stable.multiplier = 0.99;
+    assert!(ulc::ray_revolutions(stable.multiplier, ulc::RAY_GROWTH).is_err());
 }
 
 #[test]
