@@ -34,6 +34,8 @@ enum Command {
     Ulc(cmd::ulc::Args),
     /// Find the damping at which the unstable cycle first encloses a given state.
     Critical(cmd::critical::Args),
+    /// Figures of merit, regimes, the fold and critical damping over a design space.
+    Atlas(cmd::atlas::Args),
     /// Join the shard files of a scan into the file a single run would have written.
     Merge(cmd::merge::Args),
 }
@@ -50,6 +52,7 @@ fn main() -> ExitCode {
         Command::Ulc(a) => cmd::ulc::run(a),
         Command::Critical(a) => cmd::critical::run(a),
         Command::Merge(a) => cmd::merge::run(a),
+        Command::Atlas(a) => cmd::atlas::run(a),
     };
     match result {
         Ok(code) => code,

@@ -31,6 +31,9 @@ pub struct Args {
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
+    /// Find the fold of cycles instead: the damping above which no start squeals.
+    #[arg(long)]
+    pub fold: bool,
 }
 
 /// Bisects in nu.
@@ -48,6 +51,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         x: args.x0,
         v: args.v0,
     };
+    if args.fold {
+        return fold(&args, plan, setup.map, t0);
+    }
     let cs = CycleSettings::default();
     let rep = ulc::critical_nu(
         plan.maps[setup.map],
@@ -82,6 +88,47 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",
             point.x, point.v
         );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--fold`: bisects in nu for the fold of cycles (crate `squeal_scan::atlas::boundary`).
+fn fold(
+    args: &Args,
+    plan: &squeal_scan::Plan,
+    map: usize,
+    t0: std::time::Instant,
+) -> anyhow::Result<ExitCode> {
+    use squeal_scan::atlas::{BoundaryStatus, PointSettings, boundary};
+    let b = boundary::fold_nu(
+        plan.maps[map],
+        plan.dt,
+        plan.solver,
+        &PointSettings::default(),
+        args.nu_lo,
+        args.nu_hi,
+        args.rtol,
+    )?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if args.json {
+        let mut v = serde_json::to_value(b)?;
+        v["seconds"] = seconds.into();
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    match b.status {
+        BoundaryStatus::Found => println!(
+            "fold of cycles: nu = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  below it a stick-slip oscillation exists beside steady slip; above it no start squeals",
+            b.nu, b.bracket[0], b.bracket[1], b.evaluations, seconds
+        ),
+        BoundaryStatus::BelowRange => bail!(
+            "--nu-lo {}: nothing squeals there already; lower --nu-lo",
+            args.nu_lo
+        ),
+        _ => bail!(
+            "--nu-hi {}: some start still squeals there; raise --nu-hi",
+            args.nu_hi
+        ),
     }
     Ok(ExitCode::SUCCESS)
 }

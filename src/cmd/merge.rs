@@ -28,10 +28,26 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !args.no_render {
         common::check_new(&png, args.force, "picture")?;
     }
-    squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
+    // Atlas shards (schema squeal-atlas/1) are joined by the atlas store.
+    let atlas = squeal_store::atlas::is_atlas_file(&args.shards[0]);
+    if atlas {
+        squeal_store::atlas::merge_atlas(
+            &args.shards,
+            &args.out,
+            args.force,
+            &common::provenance(),
+        )?;
+    } else {
+        squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
+    }
     println!("{}", args.out.display());
     if !args.no_render {
-        for p in common::render_file(&args.out, &png, true)? {
+        let drawn = if atlas {
+            super::atlas::render_atlas(&args.out, &png, true)?
+        } else {
+            common::render_file(&args.out, &png, true)?
+        };
+        for p in drawn {
             println!("{}", p.display());
         }
     }

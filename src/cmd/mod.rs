@@ -1,5 +1,6 @@
 //! One module per subcommand; `model` holds the flags shared by several.
 
+pub mod atlas;
 pub mod classify;
 pub mod common;
 pub mod critical;

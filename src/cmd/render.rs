@@ -26,7 +26,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if png.extension().and_then(|e| e.to_str()) != Some("png") {
         anyhow::bail!("-o {}: expected a file name ending in .png", png.display());
     }
-    for p in common::render_file(&args.file, &png, args.force)? {
+    // An atlas file (schema squeal-atlas/1) gets its chart; a scan file its basin maps.
+    let drawn = if squeal_store::atlas::is_atlas_file(&args.file) {
+        super::atlas::render_atlas(&args.file, &png, args.force)?
+    } else {
+        common::render_file(&args.file, &png, args.force)?
+    };
+    for p in drawn {
         println!("{}", p.display());
     }
     Ok(ExitCode::SUCCESS)

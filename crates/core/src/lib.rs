@@ -16,6 +16,7 @@
 //! * [`Stepper`]: one step, [`Sample`] the state with acceleration and force; [`Run`]: the one
 //!   loop that advances a run, yielding [`Step`]s to its observers.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
+//! * [`units`]: the paper's scaling between a [`Physical`] system and [`Params`].
 //! * [`model`]: the model itself, in words and equations: units, the laws with the paper's
 //!   two misprints corrected, the schemes, the conventions and the labels
 //!   (`crates/core/MODEL.md`).
@@ -42,6 +43,7 @@ pub mod propagator;
 pub mod run;
 pub mod solver;
 pub mod stepper;
+pub mod units;
 
 pub use classify::{Classifier, Outcome, Reason, Regime, Trap};
 pub use error::CoreError;
@@ -51,3 +53,4 @@ pub use propagator::{Propagator, Scheme};
 pub use run::{Run, Step};
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
+pub use units::{Physical, Scales};

@@ -36,6 +36,10 @@
 //! The palette constants [`STEADY`], [`STICK`], [`UNDECIDED`], [`NOT_COMPUTED`], [`OTHER`],
 //! [`CYCLE`] and [`FIXED_POINT`] are suggestions for the classes and overlays of a basin map.
 
+mod atlas;
+
+pub use atlas::{StabilityChart, contour_segments, fmt_value, stability_chart};
+
 use std::error::Error as StdError;
 use std::ops::Range;
 use std::path::Path;

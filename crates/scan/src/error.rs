@@ -74,6 +74,9 @@ pub enum ScanError {
     /// no unstable cycle at the low end of the bracket).
     #[error("no critical damping: {0}")]
     NoCriticalDamping(String),
+    /// A design-space figure or boundary could not be decided (the reason in words).
+    #[error("{0}")]
+    Undetermined(String),
     /// The ray check of a located cycle cannot be run as asked.
     #[error("ray verification: {0}")]
     RayCheck(String),

@@ -8,6 +8,8 @@
 //!   the trap and the located cycle) and one block of cells, classified in parallel.
 //! * [`driver`]: [`drive`] runs every pending `(map, block)` pair of a plan on the rayon
 //!   pool and hands finished work to a [`Sink`] on one thread; an [`Observer`] sees progress.
+//! * [`atlas`]: design-space scans with figures of merit per parameter point, regimes, the
+//!   fold of cycles and critical damping by bisection, physical units.
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
 //!   on `x = x*, x' > 0`, its [`ClosedCurve`], period, Floquet multiplier, size; critical
 //!   damping.
@@ -39,6 +41,7 @@
 //! assert!(sink.cycles[&0].as_ref().unwrap().as_ref().unwrap().encloses_origin);
 //! ```
 
+pub mod atlas;
 pub mod cell;
 pub mod checks;
 pub mod curve;

@@ -46,9 +46,9 @@ pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5:
 
 /// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
 pub(crate) struct Dims {
-    scales: Vec<(Dataset, Vec<RefEntry>)>,
+    pub(crate) scales: Vec<(Dataset, Vec<RefEntry>)>,
     /// The type of `CLASS`: a 16-byte null-terminated ASCII string, as `H5DSis_scale` demands.
-    class_type: hdf5::Datatype,
+    pub(crate) class_type: hdf5::Datatype,
 }
 
 /// A tiny HDF5 file (written with h5py) whose root attribute `CLASS` has the type the

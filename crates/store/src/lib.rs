@@ -10,6 +10,8 @@
 //!   or made from another spec (compared as parsed plans, not text).
 //! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merge`] joins the shard
 //!   files into the file a single run writes.
+//! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
+//!   finished units and writes the file, [`atlas::read_atlas`], [`atlas::merge_atlas`].
 //! * [`read_info`], [`read_map`], [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!
@@ -93,6 +95,7 @@
 //! `CLASS = "DIMENSION_SCALE"`, `NAME` and `REFERENCE_LIST`; each variable has
 //! `DIMENSION_LIST`.
 
+pub mod atlas;
 mod cycle;
 mod error;
 mod h5types;

@@ -1,0 +1,40 @@
+//! The atlas: scans over the design space (`nu`, `lambda`, `tau`, `phi`, or the physical
+//! parameters) with figures of merit per parameter point and boundaries located by
+//! bisection.
+//!
+//! * [`spec`]: the atlas TOML spec (a Cartesian product of values, lists and ranges; either
+//!   nondimensional or physical) and its checked [`AtlasPlan`].
+//! * [`point`]: one parameter point to a [`PointResult`]: the unstable cycle, the
+//!   stick-slip attractor, the [`AtlasRegime`] and the basin fraction of steady slip.
+//! * [`boundary`]: the fold of cycles and the critical damping of the operating point, by
+//!   bisection in `nu`.
+//! * [`columns`]: the stored figures as one table (HDF5, journal and JSON walk it).
+//! * [`driver`]: the work units (lines of points along the last axis, warm-started from the
+//!   previous point; boundary searches), run in parallel, results by index.
+//!
+//! The per-point regime rests on the section method of [`crate::ulc`]: the unstable cycle
+//! and the stick-slip oscillation are found where they cross `x = x*, x' > 0`. An
+//! oscillation that does not surround the fixed point (seen at low belt speed) is not
+//! measured: such points are undecided, with a note saying so. Boundaries are found by
+//! bisection in `nu`, which assumes one crossing in the bracketed range.
+//!
+//! ```
+//! use squeal_core::{FrictionLaw, Params, SolverConfig};
+//! use squeal_scan::atlas::{AtlasRegime, PointSettings, point::compute_point};
+//! // The paper's Fig 10 (nu = 1e-2): the unstable cycle encloses the state at rest.
+//! let p = compute_point(Params::paper(FrictionLaw::McMillan, 1e-2), 0.01,
+//!                       SolverConfig::default(), &PointSettings::default(), None).unwrap();
+//! assert_eq!(p.regime, AtlasRegime::BistableQuiet);
+//! assert!(p.cycle.unwrap().r_section > 2.0 && p.stick_slip.unwrap().omega_mean < 1.0);
+//! ```
+
+pub mod boundary;
+pub mod columns;
+pub mod driver;
+pub mod point;
+pub mod spec;
+
+pub use boundary::{Boundary, BoundaryStatus};
+pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
+pub use point::{AtlasRegime, PointResult, PointSettings, Region};
+pub use spec::{AtlasAxis, AtlasPlan, Units};

@@ -1,0 +1,247 @@
+//! The atlas's work units and their parallel driver.
+//!
+//! A **line** is the points along the last swept axis with the other indices fixed; its
+//! points run in order, each warm-started from the previous point's cycle crossing, so a
+//! result depends only on the plan and the unit (not on threads or order). A **boundary**
+//! unit locates the fold and the critical damping for one combination of the swept axes
+//! other than the damping. Units run in parallel (rayon); each finished one is handed to
+//! the caller's sink, which journals it (crash safety) and later writes the file.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::boundary::{self, Boundary};
+use super::point::{PointResult, compute_point};
+use super::spec::AtlasPlan;
+use crate::error::ScanError;
+
+/// One unit of work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Unit {
+    /// Line `i`: points `i * len .. (i + 1) * len` (len = the last axis' length).
+    Line(usize),
+    /// Boundary search `j` (index into the boundary array).
+    Boundary(usize),
+}
+
+/// The points of one line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LineResult {
+    /// Line index.
+    pub line: usize,
+    /// Its points, in order.
+    pub points: Vec<PointResult>,
+}
+
+/// The boundaries of one combination of the non-damping axes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryResult {
+    /// Index into the boundary array.
+    pub index: usize,
+    /// The fold of cycles (damping above which no start squeals).
+    pub fold: Boundary,
+    /// The damping at which the operating point stops squealing.
+    pub critical: Boundary,
+    /// Why a search was not computed (a failed run), if one was not.
+    pub note: Option<String>,
+}
+
+/// A finished unit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UnitResult {
+    /// A line of points.
+    Line(LineResult),
+    /// A boundary search.
+    Boundary(BoundaryResult),
+}
+
+impl UnitResult {
+    /// Which unit this is.
+    pub fn unit(&self) -> Unit {
+        match self {
+            UnitResult::Line(l) => Unit::Line(l.line),
+            UnitResult::Boundary(b) => Unit::Boundary(b.index),
+        }
+    }
+}
+
+impl AtlasPlan {
+    /// Points per line (the last swept axis' length, 1 with no axes).
+    pub fn line_len(&self) -> usize {
+        self.shape().last().copied().unwrap_or(1)
+    }
+
+    /// Number of lines.
+    pub fn n_lines(&self) -> usize {
+        self.n_points() / self.line_len()
+    }
+
+    /// Every unit: the boundary searches first (the longest), then the lines.
+    pub fn units(&self) -> Vec<Unit> {
+        (0..self.n_boundaries())
+            .map(Unit::Boundary)
+            .chain((0..self.n_lines()).map(Unit::Line))
+            .collect()
+    }
+}
+
+/// Runs one unit.
+pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
+    match unit {
+        Unit::Line(line) => {
+            let len = plan.line_len();
+            let mut points = Vec::with_capacity(len);
+            let mut warm = None;
+            for i in line * len..(line + 1) * len {
+                // A failure at one point is data (an undecided point with its reason),
+                // not an abort.
+                let p = compute_point(
+                    plan.params_at(i),
+                    plan.dt,
+                    plan.solver,
+                    &plan.settings_at(i),
+                    warm,
+                )
+                .unwrap_or_else(|e| {
+                    let mut p = super::columns::empty_point();
+                    p.note = Some(e.to_string());
+                    p
+                });
+                warm = p.cycle.map(|c| c.r_section);
+                points.push(p);
+            }
+            Ok(UnitResult::Line(LineResult { line, points }))
+        }
+        Unit::Boundary(j) => {
+            let (i, range) = plan.boundary_setup(j);
+            let base = plan.params_at(i);
+            let ps = plan.settings_at(i);
+            // A failed run inside a bisection leaves that boundary not computed, with the
+            // reason: one hard point does not abort the atlas.
+            let mut notes = Vec::new();
+            let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
+                Ok(b) => b,
+                Err(e) => {
+                    notes.push(format!("{what}: {e}"));
+                    Boundary::none()
+                }
+            };
+            let fold = if plan.fold {
+                keep(
+                    "fold",
+                    boundary::fold_nu(
+                        base,
+                        plan.dt,
+                        plan.solver,
+                        &ps,
+                        range[0],
+                        range[1],
+                        plan.boundary_rtol,
+                    ),
+                )
+            } else {
+                Boundary::none()
+            };
+            let critical = if plan.critical {
+                keep(
+                    "critical",
+                    boundary::critical_nu(
+                        base,
+                        plan.dt,
+                        plan.solver,
+                        &ps,
+                        ps.operating,
+                        range[0],
+                        range[1],
+                        plan.boundary_rtol,
+                    ),
+                )
+            } else {
+                Boundary::none()
+            };
+            let note = (!notes.is_empty()).then(|| notes.join("; "));
+            Ok(UnitResult::Boundary(BoundaryResult {
+                index: j,
+                fold,
+                critical,
+                note,
+            }))
+        }
+    }
+}
+
+/// Runs `units` in parallel, handing each finished one to `sink` (called from the worker
+/// threads; the sink serialises its own writes). Stops at the first error or when `stop`
+/// returns true (units in flight finish and are handed over).
+pub fn run(
+    plan: &AtlasPlan,
+    units: &[Unit],
+    stop: &(dyn Fn() -> bool + Sync),
+    sink: &(dyn Fn(UnitResult) -> Result<(), ScanError> + Sync),
+) -> Result<(), ScanError> {
+    units.par_iter().try_for_each(|&u| {
+        if stop() {
+            return Ok(());
+        }
+        sink(run_unit(plan, u)?)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+
+    #[test]
+    fn one_line_and_its_boundary() {
+        let plan = AtlasPlan::from_toml(
+            r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = [1e-3, 1e-2, 5e-2]
+[cycle]
+half_dt = false
+[attractor]
+transient = 10
+window = 10
+[boundaries]
+rtol = 1e-2
+[output]
+path = "x.h5"
+"#,
+            "x.toml",
+        )
+        .unwrap();
+        assert_eq!(plan.units(), vec![Unit::Boundary(0), Unit::Line(0)]);
+        let got = Mutex::new(Vec::new());
+        run(&plan, &plan.units(), &|| false, &|r| {
+            got.lock().unwrap().push(r);
+            Ok(())
+        })
+        .unwrap();
+        let got = got.into_inner().unwrap();
+        assert_eq!(got.len(), 2);
+        for r in got {
+            match r {
+                UnitResult::Line(l) => {
+                    use super::super::point::AtlasRegime::*;
+                    let regimes: Vec<_> = l.points.iter().map(|p| p.regime).collect();
+                    // Figs 9 and 10 of the paper, then above the fold (MODEL.md: < 0.031).
+                    assert_eq!(
+                        regimes,
+                        vec![BistableSqueals, BistableQuiet, SteadySlipOnly]
+                    );
+                    // The second point was warm-started from the first.
+                    assert!(!l.points[0].warm_started);
+                }
+                UnitResult::Boundary(b) => {
+                    assert!(b.fold.nu > 0.019 && b.fold.nu < 0.031, "{:?}", b.fold);
+                    assert!(b.critical.nu > 1e-3 && b.critical.nu < b.fold.nu);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,991 @@
+//! Atlas specs: the TOML file (a serde mirror, unknown keys rejected) and the checked
+//! [`AtlasPlan`]. Every value is checked here, naming the key, before any computing.
+//!
+//! ```toml
+//! version = 1
+//! name = "atlas-lambda-nu"           # optional, used in titles
+//! [model]
+//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb
+//! # Nondimensional parameters (paper Section 4), each a number, a list, or a range
+//! # { from = .., to = .., count = .., spacing = "linear" | "log" }:
+//! nu = { from = 1e-3, to = 0.06, count = 64, spacing = "log" }
+//! lambda = { from = 0.5, to = 6.0, count = 64 }
+//! tau = 0.31622776601683794          # default 0.1 sqrt(10)
+//! phi = 1.0                          # default 1
+//! # ... or, instead of nu/lambda/tau/phi, the physical system (SI units), same forms:
+//! # [physical]
+//! # m = 1.0        # kg            k = 1e4      # N/m         c = 2.0   # N s/m
+//! # v_belt = 0.1   # m/s           mu_k = 0.3   mu_s = 0.4    tau = 3e-3  # s
+//! # g = 9.81       # m/s^2, default
+//! [integration]
+//! dt = 0.01
+//! solver = "robust"                  # robust | paper
+//! [cycle]                            # the section search (crate::ulc)
+//! r_min = 0.01                       # smallest section amplitude sampled
+//! r_max = 6.0                        # largest (raised to 2 lambda where that is larger)
+//! samples = 96
+//! rtol = 1e-9                        # relative bisection width
+//! half_dt = true                     # locate again with dt/2 (accuracy of each point)
+//! [attractor]
+//! transient = 40                     # stick-slip revolutions discarded
+//! window = 40                        # revolutions measured
+//! [operating_point]                  # default the state at rest; SI (m, m/s) in physical specs
+//! x = 0.0
+//! v = 0.0
+//! [disturbance]                      # the box of the basin fraction; SI in physical specs
+//! x = [-2.0, 4.0]
+//! v = [-3.0, 3.0]
+//! [boundaries]
+//! fold = true                        # the damping above which no start squeals
+//! critical = true                    # the damping at which the operating point stops squealing
+//! nu_lo = 1e-4                       # bisection range when the damping is not swept
+//! nu_hi = 0.2
+//! rtol = 1e-3
+//! [output]
+//! path = "atlas.h5"
+//! ```
+//!
+//! The swept parameters (more than one value) are the axes, in the fixed order
+//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`); points are their
+//! Cartesian product in C order (the last axis fastest).
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+use squeal_core::{FrictionLaw, Params, Physical, SolverConfig, SolverKind, State};
+
+use super::point::{PointSettings, Region};
+use crate::error::ScanError;
+
+/// The atlas spec version this build reads.
+pub const ATLAS_VERSION: u32 = 1;
+/// Largest number of parameter points in one atlas.
+pub const MAX_POINTS: usize = 1_000_000;
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct AtlasFile {
+    version: u32,
+    #[serde(default)]
+    name: Option<String>,
+    model: ModelFile,
+    #[serde(default)]
+    physical: Option<PhysicalFile>,
+    #[serde(default)]
+    integration: Option<IntegrationFile>,
+    #[serde(default)]
+    cycle: Option<CycleFile>,
+    #[serde(default)]
+    attractor: Option<AttractorFile>,
+    #[serde(default)]
+    operating_point: Option<PointFile>,
+    #[serde(default)]
+    disturbance: Option<BoxFile>,
+    #[serde(default)]
+    boundaries: Option<BoundariesFile>,
+    output: OutputFile,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+enum Value {
+    One(f64),
+    List(Vec<f64>),
+    Range(RangeFile),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+struct RangeFile {
+    from: f64,
+    to: f64,
+    count: i64,
+    #[serde(default)]
+    spacing: Spacing,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq)]
+#[serde(rename_all = "lowercase")]
+enum Spacing {
+    #[default]
+    Linear,
+    Log,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ModelFile {
+    law: FrictionLaw,
+    nu: Option<Value>,
+    lambda: Option<Value>,
+    tau: Option<Value>,
+    phi: Option<Value>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct PhysicalFile {
+    m: Value,
+    k: Value,
+    c: Value,
+    v_belt: Value,
+    mu_k: Value,
+    mu_s: Value,
+    tau: Value,
+    #[serde(default)]
+    g: Option<Value>,
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct IntegrationFile {
+    dt: Option<f64>,
+    #[serde(default)]
+    solver: SolverKind,
+    max_iter: Option<i64>,
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct CycleFile {
+    r_min: Option<f64>,
+    r_max: Option<f64>,
+    samples: Option<i64>,
+    rtol: Option<f64>,
+    t_return: Option<f64>,
+    half_dt: Option<bool>,
+    tangency_iters: Option<i64>,
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct AttractorFile {
+    transient: Option<i64>,
+    window: Option<i64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct PointFile {
+    x: f64,
+    v: f64,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct BoxFile {
+    x: [f64; 2],
+    v: [f64; 2],
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+struct BoundariesFile {
+    fold: Option<bool>,
+    critical: Option<bool>,
+    nu_lo: Option<f64>,
+    nu_hi: Option<f64>,
+    rtol: Option<f64>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct OutputFile {
+    path: PathBuf,
+}
+
+/// Whether the spec describes the nondimensional model or the physical system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Units {
+    /// `nu, lambda, tau, phi` (paper Section 4).
+    Nondimensional,
+    /// `m, k, c, v_belt, mu_k, mu_s, tau, g` in SI units.
+    Physical,
+}
+
+impl Units {
+    /// The name in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Units::Nondimensional => "nondimensional",
+            Units::Physical => "physical",
+        }
+    }
+}
+
+/// One parameter of the spec: its key, words, units and values.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AtlasAxis {
+    /// The key (`nu`, `v_belt`, ...), also the dataset name of the coordinate.
+    pub key: &'static str,
+    /// Words for axes and `long_name`.
+    pub long_name: &'static str,
+    /// Units (`"1"` for nondimensional).
+    pub units: &'static str,
+    /// The values (one: fixed; more: swept).
+    pub values: Vec<f64>,
+}
+
+/// `(key, long name, units)` of the nondimensional parameters, in axis order.
+pub const NONDIMENSIONAL: [(&str, &str, &str); 4] = [
+    ("nu", "damping ratio nu", "1"),
+    ("lambda", "belt speed lambda (nondimensional)", "1"),
+    ("tau", "surface time tau' (nondimensional)", "1"),
+    ("phi", "Phi = arcsin(mu_k / mu_s)", "rad"),
+];
+
+/// `(key, long name, units)` of the physical parameters, in axis order.
+pub const PHYSICAL: [(&str, &str, &str); 8] = [
+    ("m", "mass m", "kg"),
+    ("k", "stiffness k", "N/m"),
+    ("c", "damping coefficient c", "N s/m"),
+    ("v_belt", "belt speed v_B", "m/s"),
+    ("mu_k", "kinetic friction coefficient mu_k", "1"),
+    ("mu_s", "static friction coefficient mu_s", "1"),
+    ("tau", "surface time tau", "s"),
+    ("g", "gravitational acceleration g", "m/s^2"),
+];
+
+/// The checked atlas plan.
+#[derive(Clone, Debug, Serialize)]
+pub struct AtlasPlan {
+    /// Name for titles.
+    pub name: String,
+    /// Friction law.
+    pub law: FrictionLaw,
+    /// Nondimensional or physical.
+    pub units: Units,
+    /// Every parameter in axis order (fixed ones have one value).
+    pub params: Vec<AtlasAxis>,
+    /// Time step.
+    pub dt: f64,
+    /// Solver.
+    pub solver: SolverConfig,
+    /// Per-point settings; in physical plans `operating` and `disturbance` are in SI units
+    /// (see [`AtlasPlan::settings_at`]).
+    pub point: PointSettings,
+    /// Locate the fold of cycles.
+    pub fold: bool,
+    /// Locate the critical damping of the operating point.
+    pub critical: bool,
+    /// Bisection range in `nu` when the damping is not swept.
+    pub nu_range: [f64; 2],
+    /// Relative bracket width of the boundaries.
+    pub boundary_rtol: f64,
+    /// Output file.
+    pub out: PathBuf,
+    /// The spec file's text.
+    pub spec_text: String,
+    /// Where it was read from.
+    pub spec_path: String,
+}
+
+fn invalid(path: &str, key: &str, value: impl ToString, expected: &str) -> ScanError {
+    ScanError::Invalid {
+        path: path.to_string(),
+        key: key.to_string(),
+        value: value.to_string(),
+        expected: expected.to_string(),
+    }
+}
+
+fn expand(path: &str, key: &str, v: &Value) -> Result<Vec<f64>, ScanError> {
+    let values = match v {
+        Value::One(x) => vec![*x],
+        Value::List(xs) => {
+            if xs.is_empty() {
+                return Err(invalid(path, key, "[]", "a non-empty list"));
+            }
+            xs.clone()
+        }
+        Value::Range(r) => {
+            if r.count < 1 || r.count > 100_000 {
+                return Err(invalid(
+                    path,
+                    &format!("{key}.count"),
+                    r.count,
+                    "a count in 1..=100000",
+                ));
+            }
+            if !r.from.is_finite() || !r.to.is_finite() {
+                return Err(invalid(
+                    path,
+                    key,
+                    format!("from {} to {}", r.from, r.to),
+                    "finite bounds",
+                ));
+            }
+            if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
+                return Err(invalid(
+                    path,
+                    key,
+                    format!("from {} to {}", r.from, r.to),
+                    "positive bounds for log spacing",
+                ));
+            }
+            let n = r.count as usize;
+            // By index, never by adding a step.
+            (0..n)
+                .map(|i| {
+                    let t = if n == 1 {
+                        0.0
+                    } else {
+                        i as f64 / (n - 1) as f64
+                    };
+                    match r.spacing {
+                        Spacing::Linear => r.from + t * (r.to - r.from),
+                        Spacing::Log => (r.from.ln() + t * (r.to.ln() - r.from.ln())).exp(),
+                    }
+                })
+                .collect()
+        }
+    };
+    if let Some(bad) = values.iter().find(|x| !x.is_finite()) {
+        return Err(invalid(path, key, bad, "finite values"));
+    }
+    let up = values.windows(2).all(|w| w[1] > w[0]);
+    let down = values.windows(2).all(|w| w[1] < w[0]);
+    if values.len() > 1 && !up && !down {
+        return Err(invalid(
+            path,
+            key,
+            format!("{values:?}"),
+            "strictly monotone values (no repeats, one direction)",
+        ));
+    }
+    Ok(values)
+}
+
+impl AtlasPlan {
+    /// Reads and checks a spec file.
+    pub fn from_file(path: &std::path::Path) -> Result<AtlasPlan, ScanError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ScanError::Parse {
+            path: path.display().to_string(),
+            message: format!("cannot read: {e}"),
+        })?;
+        AtlasPlan::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Checks a spec's text; `path` names it in errors.
+    pub fn from_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
+        let f: AtlasFile = toml::from_str(text).map_err(|e| ScanError::Parse {
+            path: path.to_string(),
+            message: e.to_string(),
+        })?;
+        if f.version != ATLAS_VERSION {
+            return Err(invalid(
+                path,
+                "version",
+                f.version,
+                "1 (the atlas spec version this build reads)",
+            ));
+        }
+        let m = &f.model;
+        let (units, params) = if let Some(ph) = &f.physical {
+            for (key, v) in [
+                ("nu", &m.nu),
+                ("lambda", &m.lambda),
+                ("tau", &m.tau),
+                ("phi", &m.phi),
+            ] {
+                if v.is_some() {
+                    return Err(invalid(
+                        path,
+                        &format!("model.{key}"),
+                        "given with [physical]",
+                        "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical system ([physical] m, k, c, v_belt, mu_k, mu_s, tau, g), not both",
+                    ));
+                }
+            }
+            let g =
+                ph.g.clone()
+                    .unwrap_or(Value::One(squeal_core::units::G_STANDARD));
+            let vals = [
+                &ph.m, &ph.k, &ph.c, &ph.v_belt, &ph.mu_k, &ph.mu_s, &ph.tau, &g,
+            ];
+            let mut axes = Vec::new();
+            for ((key, long, u), v) in PHYSICAL.iter().zip(vals) {
+                axes.push(AtlasAxis {
+                    key,
+                    long_name: long,
+                    units: u,
+                    values: expand(path, &format!("physical.{key}"), v)?,
+                });
+            }
+            (Units::Physical, axes)
+        } else {
+            let nu = m.nu.clone().ok_or_else(|| {
+                invalid(
+                    path,
+                    "model.nu",
+                    "missing",
+                    "a damping ratio (or a [physical] table instead)",
+                )
+            })?;
+            let d = squeal_core::defaults::LAMBDA;
+            let vals = [
+                nu,
+                m.lambda.clone().unwrap_or(Value::One(d)),
+                m.tau
+                    .clone()
+                    .unwrap_or(Value::One(squeal_core::defaults::TAU)),
+                m.phi
+                    .clone()
+                    .unwrap_or(Value::One(squeal_core::defaults::PHI)),
+            ];
+            let mut axes = Vec::new();
+            for ((key, long, u), v) in NONDIMENSIONAL.iter().zip(vals.iter()) {
+                axes.push(AtlasAxis {
+                    key,
+                    long_name: long,
+                    units: u,
+                    values: expand(path, &format!("model.{key}"), v)?,
+                });
+            }
+            (Units::Nondimensional, axes)
+        };
+        let n: usize = params
+            .iter()
+            .map(|a| a.values.len())
+            .try_fold(1usize, |acc, n| acc.checked_mul(n))
+            .unwrap_or(usize::MAX);
+        if n > MAX_POINTS {
+            return Err(invalid(
+                path,
+                "model",
+                format!("{n} parameter points"),
+                "at most 1000000 points (the product of the value counts)",
+            ));
+        }
+        let integ = f.integration.unwrap_or_default();
+        let dt = integ.dt.unwrap_or(squeal_core::defaults::DT);
+        if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+            return Err(invalid(
+                path,
+                "integration.dt",
+                dt,
+                "a finite step in (0, 1]",
+            ));
+        }
+        let max_iter = integ
+            .max_iter
+            .unwrap_or(squeal_core::defaults::MAX_ITER as i64);
+        if !(1..=1_000_000).contains(&max_iter) {
+            return Err(invalid(
+                path,
+                "integration.max_iter",
+                max_iter,
+                "an iteration cap in 1..=1000000",
+            ));
+        }
+        let solver = SolverConfig {
+            kind: integ.solver,
+            max_iter: max_iter as u32,
+            ..SolverConfig::default()
+        };
+        let mut ps = PointSettings::default();
+        let cy = f.cycle.unwrap_or_default();
+        let c = &mut ps.cycle;
+        c.r_min = cy.r_min.unwrap_or(c.r_min);
+        c.r_max = cy.r_max.unwrap_or(c.r_max);
+        c.rtol = cy.rtol.unwrap_or(c.rtol);
+        c.t_return = cy.t_return.unwrap_or(c.t_return);
+        c.check_half_dt = cy.half_dt.unwrap_or(true);
+        if !(c.r_min.is_finite() && c.r_min > 0.0) {
+            return Err(invalid(
+                path,
+                "cycle.r_min",
+                c.r_min,
+                "a finite amplitude > 0",
+            ));
+        }
+        if !(c.r_max.is_finite() && c.r_max > 2.0 * c.r_min) {
+            return Err(invalid(
+                path,
+                "cycle.r_max",
+                c.r_max,
+                "a finite amplitude > 2 r_min",
+            ));
+        }
+        if !(c.rtol > 0.0 && c.rtol < 0.1) {
+            return Err(invalid(
+                path,
+                "cycle.rtol",
+                c.rtol,
+                "a relative width in (0, 0.1)",
+            ));
+        }
+        if !(c.t_return.is_finite() && c.t_return > 10.0) {
+            return Err(invalid(
+                path,
+                "cycle.t_return",
+                c.t_return,
+                "a finite time > 10",
+            ));
+        }
+        let samples = cy.samples.unwrap_or(c.samples as i64);
+        if !(3..=100_000).contains(&samples) {
+            return Err(invalid(
+                path,
+                "cycle.samples",
+                samples,
+                "a count in 3..=100000",
+            ));
+        }
+        c.samples = samples as usize;
+        let ti = cy.tangency_iters.unwrap_or(ps.tangency_iters as i64);
+        if !(0..=200).contains(&ti) {
+            return Err(invalid(
+                path,
+                "cycle.tangency_iters",
+                ti,
+                "a count in 0..=200",
+            ));
+        }
+        ps.tangency_iters = ti as u32;
+        let at = f.attractor.unwrap_or_default();
+        for (key, v, slot) in [
+            ("attractor.transient", at.transient, &mut ps.transient),
+            ("attractor.window", at.window, &mut ps.window),
+        ] {
+            if let Some(v) = v {
+                if !(4..=100_000).contains(&v) {
+                    return Err(invalid(
+                        path,
+                        key,
+                        v,
+                        "a count of revolutions in 4..=100000",
+                    ));
+                }
+                *slot = v as u32;
+            }
+        }
+        if let Some(op) = f.operating_point {
+            if !(op.x.is_finite() && op.v.is_finite()) {
+                return Err(invalid(
+                    path,
+                    "operating_point",
+                    format!("({}, {})", op.x, op.v),
+                    "finite x and v",
+                ));
+            }
+            ps.operating = State { x: op.x, v: op.v };
+        }
+        if let Some(b) = f.disturbance {
+            for (key, r) in [("disturbance.x", b.x), ("disturbance.v", b.v)] {
+                if !(r[0].is_finite() && r[1].is_finite() && r[1] > r[0]) {
+                    return Err(invalid(
+                        path,
+                        key,
+                        format!("{r:?}"),
+                        "[min, max] with min < max",
+                    ));
+                }
+            }
+            ps.disturbance = Region { x: b.x, v: b.v };
+        }
+        let bd = f.boundaries.unwrap_or_default();
+        let nu_range = [bd.nu_lo.unwrap_or(1e-4), bd.nu_hi.unwrap_or(0.2)];
+        if !(nu_range[0] > 0.0 && nu_range[1] > nu_range[0] && nu_range[1] <= 10.0) {
+            return Err(invalid(
+                path,
+                "boundaries.nu_lo",
+                format!("{nu_range:?}"),
+                "0 < nu_lo < nu_hi <= 10",
+            ));
+        }
+        let boundary_rtol = bd.rtol.unwrap_or(1e-3);
+        if !(boundary_rtol > 0.0 && boundary_rtol < 0.5) {
+            return Err(invalid(
+                path,
+                "boundaries.rtol",
+                boundary_rtol,
+                "a relative width in (0, 0.5)",
+            ));
+        }
+        let plan = AtlasPlan {
+            name: f.name.unwrap_or_else(|| {
+                std::path::Path::new(path)
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "atlas".into())
+            }),
+            law: m.law,
+            units,
+            params,
+            dt,
+            solver,
+            point: ps,
+            fold: bd.fold.unwrap_or(true),
+            critical: bd.critical.unwrap_or(true),
+            nu_range,
+            boundary_rtol,
+            out: f.output.path,
+            spec_text: text.to_string(),
+            spec_path: path.to_string(),
+        };
+        // Every point's model, checked before any computing.
+        for i in 0..plan.n_points() {
+            plan.check_point(i, path)?;
+        }
+        Ok(plan)
+    }
+
+    fn check_point(&self, i: usize, path: &str) -> Result<(), ScanError> {
+        let prefix = match self.units {
+            Units::Nondimensional => "model",
+            Units::Physical => "physical",
+        };
+        let name_err = |name: &str, value: f64, expected: &str| {
+            invalid(path, &format!("{prefix}.{name}"), value, expected)
+        };
+        let p = match self.physical_at(i) {
+            Some(ph) => ph.params(self.law).map_err(|e| match e {
+                squeal_core::CoreError::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                } => {
+                    // A derived nondimensional value names the physical keys it comes from.
+                    let name = match name {
+                        "nu" => "c (nu = c / (2 sqrt(m k)))",
+                        "lambda" => "v_belt (lambda = v_B sqrt(k/m) / (mu_k g))",
+                        "phi" => "mu_s",
+                        n => n,
+                    };
+                    name_err(name, value, expected)
+                }
+                e => invalid(path, prefix, e, "a valid model"),
+            })?,
+            None => {
+                let p = self.params_at(i);
+                p.validate().map_err(|e| match e {
+                    squeal_core::CoreError::InvalidParameter {
+                        name,
+                        value,
+                        expected,
+                    } => name_err(name, value, expected),
+                    e => invalid(path, prefix, e, "a valid model"),
+                })?;
+                p
+            }
+        };
+        if p.lambda <= 0.0 {
+            return Err(name_err(
+                if self.units == Units::Physical {
+                    "v_belt"
+                } else {
+                    "lambda"
+                },
+                p.lambda,
+                "a belt speed > 0 (lambda <= 0 is outside the model as written)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The swept parameters (more than one value), in axis order.
+    pub fn axes(&self) -> Vec<&AtlasAxis> {
+        self.params.iter().filter(|a| a.values.len() > 1).collect()
+    }
+
+    /// The fixed parameters with their value.
+    pub fn fixed(&self) -> Vec<(&AtlasAxis, f64)> {
+        self.params
+            .iter()
+            .filter(|a| a.values.len() == 1)
+            .map(|a| (a, a.values[0]))
+            .collect()
+    }
+
+    /// Shape of the point array (the swept axes' lengths).
+    pub fn shape(&self) -> Vec<usize> {
+        self.axes().iter().map(|a| a.values.len()).collect()
+    }
+
+    /// Number of parameter points.
+    pub fn n_points(&self) -> usize {
+        self.shape().iter().product()
+    }
+
+    /// The index of each swept axis at point `i` (C order).
+    pub fn unravel(&self, mut i: usize) -> Vec<usize> {
+        let shape = self.shape();
+        let mut idx = vec![0; shape.len()];
+        for d in (0..shape.len()).rev() {
+            idx[d] = i % shape[d];
+            i /= shape[d];
+        }
+        idx
+    }
+
+    /// Every parameter's value at point `i`, in `params` order.
+    pub fn values_at(&self, i: usize) -> Vec<f64> {
+        let idx = self.unravel(i);
+        let mut k = 0;
+        self.params
+            .iter()
+            .map(|a| {
+                if a.values.len() > 1 {
+                    k += 1;
+                    a.values[idx[k - 1]]
+                } else {
+                    a.values[0]
+                }
+            })
+            .collect()
+    }
+
+    /// The physical system at point `i` (physical plans only).
+    pub fn physical_at(&self, i: usize) -> Option<Physical> {
+        if self.units != Units::Physical {
+            return None;
+        }
+        let v = self.values_at(i);
+        Some(Physical {
+            m: v[0],
+            k: v[1],
+            c: v[2],
+            v_belt: v[3],
+            mu_k: v[4],
+            mu_s: v[5],
+            tau: v[6],
+            g: v[7],
+        })
+    }
+
+    /// The nondimensional parameters at point `i`.
+    pub fn params_at(&self, i: usize) -> Params {
+        match self.physical_at(i) {
+            Some(ph) => {
+                let s = ph.scales();
+                Params {
+                    law: self.law,
+                    nu: ph.c / s.damping,
+                    lambda: ph.v_belt / s.velocity,
+                    tau: ph.tau / ph.mu_k * s.omega0,
+                    phi: (ph.mu_k / ph.mu_s).asin(),
+                }
+            }
+            None => {
+                let v = self.values_at(i);
+                Params {
+                    law: self.law,
+                    nu: v[0],
+                    lambda: v[1],
+                    tau: v[2],
+                    phi: v[3],
+                }
+            }
+        }
+    }
+
+    /// The point settings at `i`, operating point and disturbance box in nondimensional
+    /// units (converted with the point's scales in physical plans).
+    pub fn settings_at(&self, i: usize) -> PointSettings {
+        let mut ps = self.point;
+        if let Some(ph) = self.physical_at(i) {
+            let s = ph.scales();
+            ps.operating = State {
+                x: ps.operating.x / s.length,
+                v: ps.operating.v / s.velocity,
+            };
+            ps.disturbance = Region {
+                x: ps.disturbance.x.map(|x| x / s.length),
+                v: ps.disturbance.v.map(|v| v / s.velocity),
+            };
+        }
+        ps
+    }
+
+    /// The damping parameter's key (`nu` or `c`) and its position among the swept axes.
+    pub fn damping_axis(&self) -> (&'static str, Option<usize>) {
+        let key = match self.units {
+            Units::Nondimensional => "nu",
+            Units::Physical => "c",
+        };
+        (key, self.axes().iter().position(|a| a.key == key))
+    }
+
+    /// Shape of the boundary array: the swept axes except the damping.
+    pub fn boundary_shape(&self) -> Vec<usize> {
+        let (_, d) = self.damping_axis();
+        self.shape()
+            .into_iter()
+            .enumerate()
+            .filter(|(k, _)| Some(*k) != d)
+            .map(|(_, n)| n)
+            .collect()
+    }
+
+    /// Number of boundary searches (0 when neither boundary is asked for).
+    pub fn n_boundaries(&self) -> usize {
+        if self.fold || self.critical {
+            self.boundary_shape().iter().product()
+        } else {
+            0
+        }
+    }
+
+    /// For boundary search `j`: a representative point (damping index 0) and the bisection
+    /// range in `nu` (the swept damping's range there, or `nu_range`).
+    pub fn boundary_setup(&self, j: usize) -> (usize, [f64; 2]) {
+        let shape = self.shape();
+        let (_, d) = self.damping_axis();
+        let bshape = self.boundary_shape();
+        let mut rem = j;
+        let mut bidx = vec![0; bshape.len()];
+        for k in (0..bshape.len()).rev() {
+            bidx[k] = rem % bshape[k];
+            rem /= bshape[k];
+        }
+        let mut idx = Vec::with_capacity(shape.len());
+        let mut b = bidx.into_iter();
+        for k in 0..shape.len() {
+            idx.push(if Some(k) == d {
+                0
+            } else {
+                b.next().unwrap_or(0)
+            });
+        }
+        let i = idx.iter().zip(&shape).fold(0, |acc, (x, n)| acc * n + x);
+        let range = match d {
+            Some(dk) => {
+                let n = shape[dk];
+                let stride: usize = shape[dk + 1..].iter().product();
+                let a = self.params_at(i).nu;
+                let z = self.params_at(i + (n - 1) * stride).nu;
+                [a.min(z), a.max(z)]
+            }
+            None => self.nu_range,
+        };
+        (i, range)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = { from = 1e-3, to = 4e-2, count = 3, spacing = "log" }
+lambda = [2.0, 3.0]
+[output]
+path = "a.h5"
+"#;
+
+    const PHYS: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+[physical]
+m = 1.0
+k = 1.0e4
+c = [2.0, 4.0]
+v_belt = 0.1
+mu_k = 0.3
+mu_s = 0.4
+tau = 3e-3
+[output]
+path = "p.h5"
+"#;
+
+    fn err(text: &str) -> String {
+        AtlasPlan::from_toml(text, "t.toml")
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn cartesian_product_in_c_order() {
+        let p = AtlasPlan::from_toml(GOOD, "t.toml").unwrap();
+        assert_eq!(p.shape(), vec![3, 2]);
+        assert_eq!(p.n_points(), 6);
+        // Point 3 = (nu index 1, lambda index 1).
+        let q = p.params_at(3);
+        assert!((q.nu - (1e-3f64 * 4e-2).sqrt()).abs() < 1e-15);
+        assert_eq!(q.lambda, 3.0);
+        assert_eq!(q.tau, squeal_core::defaults::TAU);
+        // Boundaries over lambda, bisected over nu's range.
+        assert_eq!(p.boundary_shape(), vec![2]);
+        let (i, r) = p.boundary_setup(1);
+        assert_eq!(p.params_at(i).lambda, 3.0);
+        assert!((r[0] - 1e-3).abs() < 1e-15 && (r[1] - 4e-2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn physical_spec_converts() {
+        let p = AtlasPlan::from_toml(PHYS, "p.toml").unwrap();
+        assert_eq!(p.units, Units::Physical);
+        assert_eq!(p.shape(), vec![2]);
+        // nu = c / (2 sqrt(m k)) = 2 / 200.
+        assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
+        assert_eq!(p.damping_axis(), ("c", Some(0)));
+        assert_eq!(p.n_boundaries(), 1);
+    }
+
+    #[test]
+    fn bad_specs_name_the_key() {
+        let cases: Vec<(String, &str)> = vec![
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = []"),
+                "model.lambda",
+            ),
+            (GOOD.replace("count = 3", "count = 0"), "model.nu.count"),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [2.0, 3.0]\nfoo = 1"),
+                "foo",
+            ),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [2.0, -3.0]"),
+                "model.lambda",
+            ),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [3.0, 2.0, 3.0]"),
+                "model.lambda",
+            ),
+            (PHYS.replace("m = 1.0", "m = -1.0"), "physical.m"),
+            (PHYS.replace("k = 1.0e4", "k = -1.0e4"), "physical.k"),
+            (PHYS.replace("mu_s = 0.4", "mu_s = 0.3"), "physical.mu_s"),
+            (
+                PHYS.replace("[physical]", "nu = 0.01\n[physical]"),
+                "model.nu",
+            ),
+            (PHYS.replace("tau = 3e-3", "tau = 3e-3\nmass = 2"), "mass"),
+            (
+                GOOD.replace("[output]", "[cycle]\nrtol = 0.0\n[output]"),
+                "cycle.rtol",
+            ),
+            (
+                GOOD.replace(
+                    "[output]",
+                    "[disturbance]\nx = [1.0, 0.0]\nv = [0.0, 1.0]\n[output]",
+                ),
+                "disturbance.x",
+            ),
+        ];
+        for (text, key) in cases {
+            let e = err(&text);
+            assert!(e.contains(key), "expected `{key}` in: {e}");
+        }
+    }
+
+    #[test]
+    fn every_shipped_atlas_spec_validates() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scans");
+        let mut n = 0;
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            if name.starts_with("atlas-") && name.ends_with(".toml") {
+                AtlasPlan::from_file(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
+                n += 1;
+            }
+        }
+        assert!(n >= 2, "expected the shipped atlas specs in scans/");
+    }
+}

@@ -1,0 +1,646 @@
+//! `squeal atlas SPEC.toml`: figures of merit over a design space, regimes, the fold of
+//! cycles and the critical damping, into an HDF5 file and a chart.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::{Value, json};
+use squeal_plot::{Curve, Rgb};
+use squeal_scan::atlas::columns::{COLUMNS, Si};
+use squeal_scan::atlas::{AtlasPlan, AtlasRegime, BoundaryStatus, Units, driver};
+use squeal_store::Shard;
+use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
+
+use super::common;
+
+/// Flags of `squeal atlas`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The atlas spec (TOML; see scans/atlas-*.toml).
+    pub spec: PathBuf,
+    /// Output file (.h5); default: the spec's output.path.
+    #[arg(short = 'o', long)]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Finish an interrupted atlas of the same spec.
+    #[arg(long, conflicts_with = "force")]
+    pub resume: bool,
+    /// Overwrite an existing output (and discard an interrupted atlas).
+    #[arg(long)]
+    pub force: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Run only shard K of N (1-based): its own file, joined later by `squeal merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Do not draw the chart.
+    #[arg(long)]
+    pub no_render: bool,
+    /// Print every point's figures as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the atlas.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let plan = AtlasPlan::from_file(&args.spec)?;
+    let out = args.out.clone().unwrap_or_else(|| plan.out.clone());
+    if out.extension().and_then(|e| e.to_str()) != Some("h5") {
+        bail!(
+            "output {}: expected a file name ending in .h5",
+            out.display()
+        );
+    }
+    let shard: Option<Shard> = args
+        .shard
+        .as_deref()
+        .map(|s| s.parse().with_context(|| format!("--shard {s}")))
+        .transpose()?;
+    if let Some(n) = args.threads {
+        if n == 0 || n > 4096 {
+            bail!("--threads {n}: expected 1..=4096");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("--threads")?;
+    }
+    let png = common::sibling(&out, "", "png");
+    // Charts exist for one swept parameter (bifurcation diagram) or two (stability chart).
+    let chartable = matches!(plan.axes().len(), 1 | 2);
+    let render = shard.is_none() && !args.no_render && chartable;
+    if render && !args.resume {
+        common::check_new(&png, args.force, "chart of the atlas")?;
+    }
+    let prov = common::provenance();
+    let writer = if args.resume {
+        AtlasWriter::resume(&out, &plan, shard, &prov)?
+    } else {
+        AtlasWriter::create(&out, &plan, shard, &prov, args.force)?
+    };
+    let todo = writer.missing();
+
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        ctrlc::set_handler(move || {
+            if stop.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            eprintln!(
+                "\nsqueal: stopping after the units in flight (Ctrl-C again to quit at once)"
+            );
+        })
+        .context("installing the Ctrl-C handler")?;
+    }
+    let bar = ProgressBar::with_draw_target(
+        Some(todo.len() as u64),
+        if common::show_progress(args.quiet) {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    )
+    .with_style(
+        ProgressStyle::with_template("atlas [{bar:40}] {pos}/{len} units  ETA {eta}")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    let t0 = Instant::now();
+    let writer = Mutex::new(writer);
+    let result = driver::run(&plan, &todo, &|| stop.load(Ordering::SeqCst), &|r| {
+        let mut w = writer.lock().expect("writer lock");
+        w.record(r)
+            .map_err(|e| squeal_scan::ScanError::Undetermined(format!("journal: {e}")))?;
+        bar.inc(1);
+        Ok(())
+    });
+    bar.finish_and_clear();
+    let writer = writer.into_inner().expect("writer lock");
+    result?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if stop.load(Ordering::SeqCst) && !writer.missing().is_empty() {
+        eprintln!(
+            "squeal: interrupted; {} units left. Finish with: squeal atlas {} -o {} --resume{}",
+            writer.missing().len(),
+            args.spec.display(),
+            out.display(),
+            args.shard
+                .as_ref()
+                .map(|s| format!(" --shard {s}"))
+                .unwrap_or_default()
+        );
+        return Ok(ExitCode::from(130));
+    }
+    let res = writer.finish()?;
+    let pictures = if render {
+        render_atlas(&out, &png, true)?
+    } else {
+        Vec::new()
+    };
+    if args.json {
+        let mut v = atlas_json(&plan, &res);
+        v["file"] = out.display().to_string().into();
+        v["seconds"] = seconds.into();
+        v["units_computed"] = todo.len().into();
+        println!("{}", serde_json::to_string(&v)?);
+    } else {
+        print_summary(&plan, &res, &out, seconds, todo.len());
+        for p in pictures {
+            println!("{}", p.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn num(v: f64) -> Value {
+    if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+/// Every point and boundary as JSON (nondimensional figures, and SI ones for physical
+/// specs), with the coordinates of each.
+pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
+    let axes: Vec<Value> = plan
+        .axes()
+        .iter()
+        .map(|a| json!({"key": a.key, "long_name": a.long_name, "units": a.units, "values": a.values}))
+        .collect();
+    let fixed: serde_json::Map<String, Value> = plan
+        .fixed()
+        .iter()
+        .map(|(a, v)| (a.key.to_string(), json!({"value": v, "units": a.units})))
+        .collect();
+    let points: Vec<Value> = res
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let values = plan.values_at(i);
+            let coords: serde_json::Map<String, Value> = plan
+                .params
+                .iter()
+                .zip(&values)
+                .filter(|(a, _)| a.values.len() > 1)
+                .map(|(a, v)| (a.key.to_string(), json!(v)))
+                .collect();
+            let q = plan.params_at(i);
+            let mut o = json!({
+                "index": i,
+                "coords": coords,
+                "params": {"nu": q.nu, "lambda": q.lambda, "tau": q.tau, "phi": q.phi},
+            });
+            let Some(p) = p else {
+                o["regime"] = "not_computed".into();
+                return o;
+            };
+            o["regime"] = p.regime.name().into();
+            o["operating_point_squeals"] = json!(p.regime.operating_point_squeals());
+            o["note"] = json!(p.note);
+            let scales = plan.physical_at(i).map(|ph| ph.scales());
+            let mut si = serde_json::Map::new();
+            for c in COLUMNS {
+                let v = (c.get)(p);
+                o[c.name] = num(v);
+                if let (Some(s), true) = (scales, c.si != Si::None) {
+                    si.insert(
+                        c.name.to_string(),
+                        json!({"value": num(c.si.convert(v, &s)), "units": c.si.units()}),
+                    );
+                }
+            }
+            if scales.is_some() {
+                o["si"] = Value::Object(si);
+            }
+            o
+        })
+        .collect();
+    let boundaries: Vec<Value> = res
+        .boundaries
+        .iter()
+        .enumerate()
+        .map(|(j, b)| {
+            let (i, range) = plan.boundary_setup(j);
+            let values = plan.values_at(i);
+            let (dkey, _) = plan.damping_axis();
+            let coords: serde_json::Map<String, Value> = plan
+                .params
+                .iter()
+                .zip(&values)
+                .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
+                .map(|(a, v)| (a.key.to_string(), json!(v)))
+                .collect();
+            let mut o = json!({"index": j, "coords": coords, "nu_range": range});
+            if let Some(b) = b {
+                o["note"] = json!(b.note);
+                for (name, bd) in [("fold", b.fold), ("critical", b.critical)] {
+                    let mut e = json!({
+                        "status": bd.status.name(),
+                        "nu": num(bd.nu),
+                        "bracket": [num(bd.bracket[0]), num(bd.bracket[1])],
+                        "evaluations": bd.evaluations,
+                    });
+                    if let Some(ph) = plan.physical_at(i) {
+                        let s = ph.scales();
+                        e["c_si"] = json!({"value": num(bd.nu * s.damping), "units": "N s/m",
+                            "bracket": [num(bd.bracket[0] * s.damping), num(bd.bracket[1] * s.damping)]});
+                    }
+                    o[name] = e;
+                }
+            }
+            o
+        })
+        .collect();
+    json!({
+        "schema": squeal_store::atlas::ATLAS_SCHEMA,
+        "name": plan.name,
+        "law": plan.law.name(),
+        "units": plan.units.name(),
+        "axes": axes,
+        "fixed": fixed,
+        "operating_point": {"x": plan.point.operating.x, "v": plan.point.operating.v},
+        "disturbance": {"x": plan.point.disturbance.x, "v": plan.point.disturbance.v},
+        "points": points,
+        "boundaries": boundaries,
+    })
+}
+
+fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64, units: usize) {
+    println!(
+        "atlas {}: {} law, {} points over {}, {} units computed in {:.1} s",
+        plan.name,
+        plan.law,
+        plan.n_points(),
+        plan.axes()
+            .iter()
+            .map(|a| format!("{} ({} values)", a.key, a.values.len()))
+            .collect::<Vec<_>>()
+            .join(" x "),
+        units,
+        seconds
+    );
+    for r in AtlasRegime::ALL {
+        let n = res
+            .points
+            .iter()
+            .filter(|p| p.as_ref().is_some_and(|p| p.regime == r))
+            .count();
+        if n > 0 {
+            println!("  {:>6} points: {}", n, r.description());
+        }
+    }
+    let (dkey, _) = plan.damping_axis();
+    let shown = res.boundaries.len().min(12);
+    if shown > 0 {
+        println!(
+            "  boundaries in the damping (first {shown} of {}):",
+            res.boundaries.len()
+        );
+    }
+    for (j, b) in res.boundaries.iter().enumerate().take(shown) {
+        let Some(b) = b else { continue };
+        let (i, _) = plan.boundary_setup(j);
+        let at: Vec<String> = plan
+            .params
+            .iter()
+            .zip(plan.values_at(i))
+            .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
+            .map(|(a, v)| {
+                format!(
+                    "{} = {v:.4} {}",
+                    a.key,
+                    if a.units == "1" { "" } else { a.units }
+                )
+            })
+            .collect();
+        let show = |bd: &squeal_scan::atlas::Boundary| match bd.status {
+            BoundaryStatus::Found => match plan.physical_at(i) {
+                Some(ph) => format!(
+                    "nu = {:.5} (c = {:.4} N s/m)",
+                    bd.nu,
+                    bd.nu * ph.scales().damping
+                ),
+                None => format!("nu = {:.5}", bd.nu),
+            },
+            s => s.name().to_string(),
+        };
+        println!(
+            "    {}: fold {}, critical {}",
+            if at.is_empty() {
+                "here".into()
+            } else {
+                at.join(", ")
+            },
+            show(&b.fold),
+            show(&b.critical)
+        );
+    }
+    println!("{}", out.display());
+}
+
+/// Regime colours, in the order of the enum, and `not computed`.
+pub fn regime_classes() -> Vec<(u8, &'static str, Rgb)> {
+    vec![
+        (
+            AtlasRegime::FixedPointUnstable as u8,
+            AtlasRegime::FixedPointUnstable.description(),
+            Rgb(200, 40, 40),
+        ),
+        (
+            AtlasRegime::BistableSqueals as u8,
+            AtlasRegime::BistableSqueals.description(),
+            squeal_plot::STICK,
+        ),
+        (
+            AtlasRegime::BistableQuiet as u8,
+            AtlasRegime::BistableQuiet.description(),
+            Rgb(140, 190, 235),
+        ),
+        (
+            AtlasRegime::SteadySlipOnly as u8,
+            AtlasRegime::SteadySlipOnly.description(),
+            squeal_plot::STEADY,
+        ),
+        (
+            AtlasRegime::Undecided as u8,
+            AtlasRegime::Undecided.description(),
+            squeal_plot::UNDECIDED,
+        ),
+        (255, "not computed", squeal_plot::NOT_COMPUTED),
+    ]
+}
+
+fn is_log(v: &[f64]) -> bool {
+    v.len() > 2 && v.iter().all(|&x| x > 0.0) && {
+        let r0 = v[1] / v[0];
+        let d0 = v[1] - v[0];
+        let geo = v
+            .windows(2)
+            .all(|w| ((w[1] / w[0]) / r0 - 1.0).abs() < 1e-6);
+        let lin = v
+            .windows(2)
+            .all(|w| ((w[1] - w[0]) / d0 - 1.0).abs() < 1e-6);
+        geo && !lin
+    }
+}
+
+fn axis_label(a: &squeal_scan::atlas::AtlasAxis) -> String {
+    if a.units == "1" {
+        a.long_name.to_string()
+    } else {
+        format!("{} ({})", a.long_name, a.units)
+    }
+}
+
+fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
+    let fixed: Vec<String> = plan
+        .fixed()
+        .iter()
+        .map(|(a, v)| {
+            let u = if a.units == "1" {
+                String::new()
+            } else {
+                format!(" {}", a.units)
+            };
+            format!("{} = {}{u}", a.key, squeal_plot::fmt_value(*v))
+        })
+        .collect();
+    match what {
+        Some(w) => format!("{} law: {w}; {}", plan.law, fixed.join(", ")),
+        None => format!("{}: {}", plan.law, fixed.join(", ")),
+    }
+}
+
+/// Draws the chart of an atlas file: a stability chart (2-D), a bifurcation diagram (1-D).
+pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
+    let (plan, res, _) = read_atlas(h5)?;
+    common::check_new(png, force, "chart")?;
+    let axes = plan.axes();
+    let (dkey, dpos) = plan.damping_axis();
+    let bvals =
+        |f: fn(&squeal_scan::atlas::BoundaryResult) -> squeal_scan::atlas::Boundary| -> Vec<f64> {
+            res.boundaries
+                .iter()
+                .enumerate()
+                .map(|(j, b)| {
+                    b.as_ref().map_or(f64::NAN, |b| {
+                        let bd = f(b);
+                        if bd.status != BoundaryStatus::Found {
+                            return f64::NAN;
+                        }
+                        match plan.physical_at(plan.boundary_setup(j).0) {
+                            Some(ph) => bd.nu * ph.scales().damping,
+                            None => bd.nu,
+                        }
+                    })
+                })
+                .collect()
+        };
+    match axes.len() {
+        2 => {
+            let (ya, xa) = (axes[0], axes[1]);
+            let classes: Vec<u8> = res
+                .points
+                .iter()
+                .map(|p| p.as_ref().map_or(255, |p| p.regime as u8))
+                .collect();
+            // Contours inside the bistable region only: elsewhere the fraction is 0 or 1 by
+            // the regime, and contours would crowd along its edge.
+            let field: Vec<f64> = res
+                .points
+                .iter()
+                .map(|p| match p {
+                    Some(p)
+                        if matches!(
+                            p.regime,
+                            AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
+                        ) =>
+                    {
+                        p.basin_fraction
+                    }
+                    _ => f64::NAN,
+                })
+                .collect();
+            let mut curves = Vec::new();
+            if dpos == Some(0) {
+                let xs = xa.values.clone();
+                for (label, color, ys) in [
+                    (
+                        "fold: above it no start squeals",
+                        Rgb(0, 0, 0),
+                        bvals(|b| b.fold),
+                    ),
+                    (
+                        "critical: above it the operating point is quiet",
+                        Rgb(120, 0, 160),
+                        bvals(|b| b.critical),
+                    ),
+                ] {
+                    if ys.iter().any(|y| y.is_finite()) {
+                        curves.push(Curve {
+                            label: label.into(),
+                            xs: xs.clone(),
+                            ys,
+                            color,
+                            points_only: false,
+                        });
+                    }
+                }
+            }
+            let op = plan.point.operating;
+            let d = plan.point.disturbance;
+            let units = if plan.units == Units::Physical {
+                " (SI)"
+            } else {
+                ""
+            };
+            let chart = squeal_plot::StabilityChart {
+                title: title(&plan, Some("stability chart")),
+                subtitle: format!(
+                    "operating point ({}, {}){units}; basin fraction of steady slip over x in [{}, {}], x' in [{}, {}]{units}",
+                    op.x, op.v, d.x[0], d.x[1], d.v[0], d.v[1]
+                ),
+                x_label: axis_label(xa),
+                y_label: axis_label(ya),
+                xs: &xa.values,
+                ys: &ya.values,
+                log_x: is_log(&xa.values),
+                log_y: is_log(&ya.values),
+                classes: &classes,
+                palette: regime_classes(),
+                field: Some(&field),
+                levels: vec![0.25, 0.5, 0.75, 0.9],
+                field_name: "basin fraction of steady slip".into(),
+                curves,
+            };
+            squeal_plot::stability_chart(png, &chart)
+                .with_context(|| format!("drawing {}", png.display()))?;
+        }
+        1 => {
+            let a = axes[0];
+            let xs = a.values.clone();
+            let phys = plan.units == Units::Physical;
+            let scale = |i: usize, v: f64| match plan.physical_at(i) {
+                Some(ph) => v * ph.scales().velocity,
+                None => v,
+            };
+            let pick = |f: &dyn Fn(&squeal_scan::atlas::PointResult) -> f64| -> Vec<f64> {
+                res.points
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| p.as_ref().map_or(f64::NAN, |p| scale(i, f(p))))
+                    .collect()
+            };
+            let cyc = pick(&|p| p.cycle.map_or(f64::NAN, |c| c.r_section));
+            let smin = pick(&|p| p.stick_slip.map_or(f64::NAN, |s| s.r_band[0]));
+            let smean = pick(&|p| p.stick_slip.map_or(f64::NAN, |s| s.r_band[1]));
+            let smax = pick(&|p| p.stick_slip.map_or(f64::NAN, |s| s.r_band[2]));
+            let none: Vec<f64> = res
+                .points
+                .iter()
+                .map(|p| match p {
+                    Some(p) if p.cycle.is_none() => 0.0,
+                    _ => f64::NAN,
+                })
+                .collect();
+            let top = smax
+                .iter()
+                .chain(&cyc)
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(0.0f64, f64::max);
+            let mut curves = vec![
+                Curve {
+                    label: "unstable cycle (basin boundary)".into(),
+                    xs: xs.clone(),
+                    ys: cyc,
+                    color: Rgb(0, 0, 0),
+                    points_only: false,
+                },
+                Curve {
+                    label: "stick-slip: band max".into(),
+                    xs: xs.clone(),
+                    ys: smax,
+                    color: squeal_plot::STICK,
+                    points_only: false,
+                },
+                Curve {
+                    label: "stick-slip: mean".into(),
+                    xs: xs.clone(),
+                    ys: smean,
+                    color: Rgb(170, 70, 0),
+                    points_only: true,
+                },
+                Curve {
+                    label: "stick-slip: band min".into(),
+                    xs: xs.clone(),
+                    ys: smin,
+                    color: squeal_plot::STICK,
+                    points_only: false,
+                },
+            ];
+            if none.iter().any(|v| v.is_finite()) {
+                curves.push(Curve {
+                    label: "no unstable cycle (at 0)".into(),
+                    xs: xs.clone(),
+                    ys: none,
+                    color: squeal_plot::STEADY,
+                    points_only: true,
+                });
+            }
+            if a.key == dkey {
+                for (label, color, v) in [
+                    (
+                        "fold (no start squeals above)",
+                        Rgb(0, 120, 0),
+                        bvals(|b| b.fold),
+                    ),
+                    (
+                        "critical (operating point quiet above)",
+                        Rgb(120, 0, 160),
+                        bvals(|b| b.critical),
+                    ),
+                ] {
+                    if let Some(&x) = v.first().filter(|x| x.is_finite()) {
+                        curves.push(Curve {
+                            label: format!("{label}: {}", squeal_plot::fmt_value(x)),
+                            xs: vec![x, x],
+                            ys: vec![0.0, 1.05 * top.max(1e-12)],
+                            color,
+                            points_only: false,
+                        });
+                    }
+                }
+            }
+            let y_label = if phys {
+                "x' at the section x = x* (m/s)"
+            } else {
+                "x' at the section x = x* (nondimensional)"
+            };
+            squeal_plot::line_plot(
+                png,
+                &title(&plan, None),
+                &axis_label(a),
+                y_label,
+                &curves,
+                &[],
+                is_log(&xs),
+            )
+            .with_context(|| format!("drawing {}", png.display()))?;
+        }
+        n => {
+            bail!(
+                "{}: {n} swept parameters; charts are drawn for 1 (bifurcation diagram) or 2 (stability chart); read the file with h5py/xarray",
+                h5.display()
+            )
+        }
+    }
+    Ok(vec![png.to_path_buf()])
+}
