@@ -135,7 +135,7 @@ fn measure() {
     }
 }
 
-/// Both rules on 32 x 32 grids of every case: they agree on every cell both decide, and
+/// Both rules on 64 x 64 grids of every case (the grids of issue 9): they agree on every cell both decide, and
 /// neither leaves more than 1% of the cells undecided.
 ///
 /// Why these settings. nu = 1e-2 where both basins then exist (lambda = 0.5, 1, tau = 1,
@@ -145,8 +145,7 @@ fn measure() {
 /// revolution scales with nu, so at nu = 1e-3 they outlast t_max = 5000 (measured: all 16
 /// steady-slip cells of a 16 x 16 grid at lambda = 5 and all 32 at tau = 0.05 ran out of
 /// time). The box is centred on the fixed point and reaches past the cycle, so both basins
-/// show. dt = 0.01 and 32 x 32 cells keep the run time reasonable: the settlement rule costs
-/// 20-60 ms per cell (the 64 x 64 grids of the issue are in `measure`, results below).
+/// show. dt = 0.01 keeps the run time reasonable: the settlement rule costs 20-60 ms per cell.
 ///
 /// Measured at 64 x 64, dt = 0.01 (`N=64 cargo test --release -p squeal-scan --test
 /// off_paper -- --ignored --nocapture measure`, 2026-11-22, counts steady / stick /
@@ -161,11 +160,12 @@ fn measure() {
 /// cycle whose amplitudes drifted inward at an accelerating pace inside a 5% band, which the
 /// old settling test took for a settled band. The settling test now also asks for reversals
 /// (`probe_disagreements` finds none since at Phi = 0.3; the other 64 x 64 counts above were
-/// measured before that change, the 32 x 32 assertions here run with it). Run time of this test: 80-160 s on the 2-core
-/// VM shared with other builds (the settlement rule is 95% of it).
+/// measured before that change; this test asserts them with it). Run time of this test: 149 s
+/// on the idle 2-core VM (`cargo test -p squeal-scan --test off_paper`, 2026-11-22; the
+/// settlement rule is 95% of it).
 #[test]
 fn early_stopping_agrees_with_settlement_off_the_paper() {
-    let (n, dt) = (32, 0.01);
+    let (n, dt) = (64, 0.01);
     for case in &CASES {
         let a = labels(&plan(case, n, dt, "cycle"));
         let b = labels(&plan(case, n, dt, "none"));
