@@ -51,6 +51,7 @@ pub mod grid;
 pub mod scanner;
 pub mod spec;
 pub mod ulc;
+mod values;
 
 pub use cell::{COLUMNS, Cell, Column};
 pub use checks::{MapChecks, WrongSide};

@@ -46,6 +46,7 @@ use squeal_core::{Classifier, FrictionLaw, Params, Scheme, SolverConfig, SolverK
 
 use crate::error::ScanError;
 use crate::grid::{Axis, Grid};
+use crate::values::{Value, expand};
 
 /// The spec version this build reads.
 pub const SPEC_VERSION: u32 = 1;
@@ -65,35 +66,6 @@ struct SpecFile {
     #[serde(default)]
     cycle: CycleSpec,
     output: OutputSpec,
-}
-
-#[derive(Deserialize, Debug, Clone)]
-#[serde(
-    untagged,
-    expecting = "a number (model.nu / model.lambda), a list of numbers such as [1e-3, 2e-3], or a range such as { from = 1e-3, to = 1e-2, count = 8, spacing = \"log\" }"
-)]
-enum Value {
-    One(f64),
-    List(Vec<f64>),
-    Range(RangeSpec),
-}
-
-#[derive(Deserialize, Debug, Clone)]
-#[serde(deny_unknown_fields)]
-struct RangeSpec {
-    from: f64,
-    to: f64,
-    count: i64,
-    #[serde(default)]
-    spacing: Spacing,
-}
-
-#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq)]
-#[serde(rename_all = "lowercase")]
-enum Spacing {
-    #[default]
-    Linear,
-    Log,
 }
 
 #[derive(Deserialize, Debug)]
@@ -300,9 +272,9 @@ impl Plan {
             ));
         }
         let m = &spec.model;
-        let nus = expand(&m.nu, "model.nu", &invalid)?;
+        let nus = expand(&m.nu, "model.nu", MAX_MAPS, &invalid)?;
         let lambdas = match &m.lambda {
-            Some(v) => expand(v, "model.lambda", &invalid)?,
+            Some(v) => expand(v, "model.lambda", MAX_MAPS, &invalid)?,
             None => vec![squeal_core::defaults::LAMBDA],
         };
         if nus.len() > 1 && lambdas.len() > 1 {
@@ -312,12 +284,12 @@ impl Plan {
                 "only one of model.nu and model.lambda may be swept in one spec",
             ));
         }
-        let sweep = if nus.len() > 1 || matches!(m.nu, Value::List(_) | Value::Range(_)) {
+        let sweep = if nus.len() > 1 || m.nu.is_sweep() {
             Some(Sweep {
                 name: "nu",
                 values: nus.clone(),
             })
-        } else if lambdas.len() > 1 || matches!(m.lambda, Some(Value::List(_) | Value::Range(_))) {
+        } else if lambdas.len() > 1 || m.lambda.as_ref().is_some_and(Value::is_sweep) {
             Some(Sweep {
                 name: "lambda",
                 values: lambdas.clone(),
@@ -570,79 +542,6 @@ impl Plan {
     }
 }
 
-fn expand(
-    v: &Value,
-    key: &str,
-    invalid: &dyn Fn(&str, String, &str) -> ScanError,
-) -> Result<Vec<f64>, ScanError> {
-    let values = match v {
-        Value::One(x) => vec![*x],
-        Value::List(xs) => {
-            if xs.is_empty() {
-                return Err(invalid(key, "[]".into(), "a non-empty list"));
-            }
-            xs.clone()
-        }
-        Value::Range(r) => {
-            if r.count < 1 || r.count > MAX_MAPS {
-                return Err(invalid(
-                    &format!("{key}.count"),
-                    r.count.to_string(),
-                    "a count in 1..=10000",
-                ));
-            }
-            if !r.from.is_finite() || !r.to.is_finite() {
-                return Err(invalid(
-                    key,
-                    format!("from {} to {}", r.from, r.to),
-                    "finite bounds",
-                ));
-            }
-            if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
-                return Err(invalid(
-                    key,
-                    format!("from {} to {}", r.from, r.to),
-                    "positive bounds for log spacing",
-                ));
-            }
-            let a = Axis {
-                min: 0.0,
-                max: 1.0,
-                count: r.count as usize,
-            };
-            (0..a.count)
-                .map(|i| {
-                    let t = a.value(i);
-                    match r.spacing {
-                        Spacing::Linear => r.from + t * (r.to - r.from),
-                        Spacing::Log => (r.from.ln() + t * (r.to.ln() - r.from.ln())).exp(),
-                    }
-                })
-                .collect()
-        }
-    };
-    if values.len() as i64 > MAX_MAPS {
-        return Err(invalid(
-            key,
-            format!("{} values", values.len()),
-            "at most 10000 values",
-        ));
-    }
-    if let Some(bad) = values.iter().find(|x| !x.is_finite()) {
-        return Err(invalid(key, bad.to_string(), "finite values"));
-    }
-    let increasing = values.windows(2).all(|w| w[1] > w[0]);
-    let decreasing = values.windows(2).all(|w| w[1] < w[0]);
-    if values.len() > 1 && !increasing && !decreasing {
-        return Err(invalid(
-            key,
-            format!("{values:?}"),
-            "strictly monotone values (no repeats, one direction)",
-        ));
-    }
-    Ok(values)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -723,7 +622,8 @@ path = "x.h5"
             ),
             (
                 GOOD.replace("nu = 1e-3", "nu = \"small\""),
-                "a number (model.nu / model.lambda), a list of numbers",
+                // The TOML error quotes the line (naming the key) and says what is accepted.
+                "nu = \"small\"\n  |      ^^^^^^^\na number, a list of numbers",
             ),
         ];
         for (text, want) in cases {

@@ -56,6 +56,7 @@ use squeal_core::{FrictionLaw, Params, Physical, SolverConfig, SolverKind, State
 
 use super::point::{PointSettings, Region};
 use crate::error::ScanError;
+use crate::values::Value;
 
 /// The atlas spec version this build reads.
 pub const ATLAS_VERSION: u32 = 1;
@@ -84,32 +85,6 @@ struct AtlasFile {
     #[serde(default)]
     boundaries: Option<BoundariesFile>,
     output: OutputFile,
-}
-
-#[derive(Deserialize, Debug, Clone)]
-#[serde(untagged)]
-enum Value {
-    One(f64),
-    List(Vec<f64>),
-    Range(RangeFile),
-}
-
-#[derive(Deserialize, Debug, Clone)]
-#[serde(deny_unknown_fields)]
-struct RangeFile {
-    from: f64,
-    to: f64,
-    count: i64,
-    #[serde(default)]
-    spacing: Spacing,
-}
-
-#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq)]
-#[serde(rename_all = "lowercase")]
-enum Spacing {
-    #[default]
-    Linear,
-    Log,
 }
 
 #[derive(Deserialize, Debug)]
@@ -291,70 +266,9 @@ fn invalid(path: &str, key: &str, value: impl ToString, expected: &str) -> ScanE
 }
 
 fn expand(path: &str, key: &str, v: &Value) -> Result<Vec<f64>, ScanError> {
-    let values = match v {
-        Value::One(x) => vec![*x],
-        Value::List(xs) => {
-            if xs.is_empty() {
-                return Err(invalid(path, key, "[]", "a non-empty list"));
-            }
-            xs.clone()
-        }
-        Value::Range(r) => {
-            if r.count < 1 || r.count > 100_000 {
-                return Err(invalid(
-                    path,
-                    &format!("{key}.count"),
-                    r.count,
-                    "a count in 1..=100000",
-                ));
-            }
-            if !r.from.is_finite() || !r.to.is_finite() {
-                return Err(invalid(
-                    path,
-                    key,
-                    format!("from {} to {}", r.from, r.to),
-                    "finite bounds",
-                ));
-            }
-            if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
-                return Err(invalid(
-                    path,
-                    key,
-                    format!("from {} to {}", r.from, r.to),
-                    "positive bounds for log spacing",
-                ));
-            }
-            let n = r.count as usize;
-            // By index, never by adding a step.
-            (0..n)
-                .map(|i| {
-                    let t = if n == 1 {
-                        0.0
-                    } else {
-                        i as f64 / (n - 1) as f64
-                    };
-                    match r.spacing {
-                        Spacing::Linear => r.from + t * (r.to - r.from),
-                        Spacing::Log => (r.from.ln() + t * (r.to.ln() - r.from.ln())).exp(),
-                    }
-                })
-                .collect()
-        }
-    };
-    if let Some(bad) = values.iter().find(|x| !x.is_finite()) {
-        return Err(invalid(path, key, bad, "finite values"));
-    }
-    let up = values.windows(2).all(|w| w[1] > w[0]);
-    let down = values.windows(2).all(|w| w[1] < w[0]);
-    if values.len() > 1 && !up && !down {
-        return Err(invalid(
-            path,
-            key,
-            format!("{values:?}"),
-            "strictly monotone values (no repeats, one direction)",
-        ));
-    }
-    Ok(values)
+    crate::values::expand(v, key, 100_000, &|key, value, expected| {
+        invalid(path, key, value, expected)
+    })
 }
 
 impl AtlasPlan {
