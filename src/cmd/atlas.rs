@@ -23,24 +23,8 @@ use super::common;
 pub struct Args {
     /// The atlas spec (TOML; see scans/atlas-*.toml).
     pub spec: PathBuf,
-    /// Output file (.h5); default: the spec's output.path.
-    #[arg(short = 'o', long)]
-    pub out: Option<PathBuf>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Finish an interrupted atlas of the same spec.
-    #[arg(long, conflicts_with = "force")]
-    pub resume: bool,
-    /// Overwrite an existing output (and discard an interrupted atlas).
-    #[arg(long)]
-    pub force: bool,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
-    /// Run only shard K of N (1-based): its own file, joined later by `squeal merge`.
-    #[arg(long, value_name = "K/N")]
-    pub shard: Option<String>,
+    #[command(flatten)]
+    pub run: super::common::RunArgs,
     /// Do not draw the chart.
     #[arg(long)]
     pub no_render: bool,
@@ -52,7 +36,7 @@ pub struct Args {
 /// Runs the atlas.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = AtlasPlan::from_file(&args.spec)?;
-    let out = args.out.clone().unwrap_or_else(|| plan.out.clone());
+    let out = args.run.out.clone().unwrap_or_else(|| plan.out.clone());
     if out.extension().and_then(|e| e.to_str()) != Some("h5") {
         bail!(
             "output {}: expected a file name ending in .h5",
@@ -60,11 +44,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     let shard: Option<Shard> = args
+        .run
         .shard
         .as_deref()
         .map(|s| s.parse().with_context(|| format!("--shard {s}")))
         .transpose()?;
-    if let Some(n) = args.threads {
+    if let Some(n) = args.run.threads {
         if n == 0 || n > 4096 {
             bail!("--threads {n}: expected 1..=4096");
         }
@@ -77,14 +62,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // Charts exist for one swept parameter (bifurcation diagram) or two (stability chart).
     let chartable = matches!(plan.axes().len(), 1 | 2);
     let render = shard.is_none() && !args.no_render && chartable;
-    if render && !args.resume {
-        common::check_new(&png, args.force, "chart of the atlas")?;
+    if render && !args.run.resume {
+        common::check_new(&png, args.run.force, "chart of the atlas")?;
     }
     let prov = common::provenance();
-    let writer = if args.resume {
+    let writer = if args.run.resume {
         AtlasWriter::resume(&out, &plan, shard, &prov)?
     } else {
-        AtlasWriter::create(&out, &plan, shard, &prov, args.force)?
+        AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
     let todo = writer.missing();
 
@@ -103,7 +88,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     let bar = ProgressBar::with_draw_target(
         Some(todo.len() as u64),
-        if common::show_progress(args.quiet) {
+        if common::show_progress(args.run.quiet) {
             ProgressDrawTarget::stderr()
         } else {
             ProgressDrawTarget::hidden()
@@ -133,7 +118,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             writer.missing().len(),
             args.spec.display(),
             out.display(),
-            args.shard
+            args.run
+                .shard
                 .as_ref()
                 .map(|s| format!(" --shard {s}"))
                 .unwrap_or_default()

@@ -194,3 +194,27 @@ pub fn attr<'a>(info: &'a squeal_store::FileInfo, key: &str) -> Option<&'a str> 
         .find(|(k, _)| k == key)
         .map(|(_, v)| v.as_str())
 }
+
+/// Output, threads and restart flags shared by `scan` and `atlas` (long jobs that write one
+/// journalled file).
+#[derive(clap::Args, Debug)]
+pub struct RunArgs {
+    /// Output file (.h5); default: the spec's output.path.
+    #[arg(short = 'o', long)]
+    pub out: Option<std::path::PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Finish an interrupted run of the same spec.
+    #[arg(long, conflicts_with = "force")]
+    pub resume: bool,
+    /// Overwrite an existing output (and discard an interrupted run).
+    #[arg(long)]
+    pub force: bool,
+    /// No progress bar (and for `scan` no work estimate).
+    #[arg(long)]
+    pub quiet: bool,
+    /// Run only shard K of N (1-based): its own file, joined later by `squeal merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+}

@@ -33,24 +33,8 @@ const LONG_SCAN: f64 = 30.0 * 86_400.0;
 pub struct Args {
     /// The scan spec (TOML; see scans/).
     pub spec: PathBuf,
-    /// Output file (.h5); default: the spec's output.path.
-    #[arg(short = 'o', long)]
-    pub out: Option<PathBuf>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Finish an interrupted scan of the same spec.
-    #[arg(long, conflicts_with = "force")]
-    pub resume: bool,
-    /// Overwrite an existing output (and discard an interrupted scan).
-    #[arg(long)]
-    pub force: bool,
-    /// No progress bar and no work estimate.
-    #[arg(long)]
-    pub quiet: bool,
-    /// Run only shard K of N (1-based): its own file, joined later by `squeal merge`.
-    #[arg(long, value_name = "K/N")]
-    pub shard: Option<String>,
+    #[command(flatten)]
+    pub run: super::common::RunArgs,
     /// Print the summary as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -108,7 +92,7 @@ fn install_signals(stop: &Arc<AtomicBool>) -> anyhow::Result<()> {
 /// Runs the scan.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = Plan::from_file(&args.spec)?;
-    let out = args.out.clone().unwrap_or_else(|| plan.output.clone());
+    let out = args.run.out.clone().unwrap_or_else(|| plan.output.clone());
     if out.extension().and_then(|e| e.to_str()) != Some("h5") {
         bail!(
             "output {}: expected a file name ending in .h5",
@@ -116,11 +100,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     let shard: Option<Shard> = args
+        .run
         .shard
         .as_deref()
         .map(|s| s.parse().with_context(|| format!("--shard {s}")))
         .transpose()?;
-    if let Some(n) = args.threads {
+    if let Some(n) = args.run.threads {
         if n == 0 || n > 4096 {
             bail!("--threads {n}: expected 1..=4096");
         }
@@ -133,7 +118,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     // Like make: a finished output of the same parsed spec (and shard) is up to date, for
     // a rerun and for a resume (a requeued job that had finished).
-    if !args.force {
+    if !args.run.force {
         match squeal_store::output_state(&out, &plan, shard)? {
             OutputState::Complete => {
                 let drawn = if shard.is_none() {
@@ -155,16 +140,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 report(&args, &plan, &info, &info.checks, &shown, 0, 0.0)?;
                 return Ok(ExitCode::SUCCESS);
             }
-            OutputState::Different(key) if !args.resume => bail!(
+            OutputState::Different(key) if !args.run.resume => bail!(
                 "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output",
                 out.display()
             ),
             _ => {}
         }
     }
-    if shard.is_none() && !args.resume {
+    if shard.is_none() && !args.run.resume {
         for p in &pics {
-            common::check_new(p, args.force, "picture of the scan")?;
+            common::check_new(p, args.run.force, "picture of the scan")?;
         }
     }
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -182,10 +167,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     let prov = common::provenance();
-    let mut writer = if args.resume {
+    let mut writer = if args.run.resume {
         ScanWriter::resume(&out, &plan, shard, &prov)?
     } else {
-        ScanWriter::create(&out, &plan, shard, &prov, args.force)?
+        ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
     let plan = writer.plan().clone();
 
@@ -193,7 +178,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     install_signals(&stop)?;
 
     let pending = Pending::of(&plan, shard, &writer);
-    if !args.quiet {
+    if !args.run.quiet {
         eprintln!(
             "squeal: {} cells to compute ({} map(s) of {} x {}{}) on {threads} thread(s): roughly {} at the documented rate (BENCHMARKS.md)",
             pending.cells,
@@ -205,7 +190,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
 
-    let multi = MultiProgress::with_draw_target(if common::show_progress(args.quiet) {
+    let multi = MultiProgress::with_draw_target(if common::show_progress(args.run.quiet) {
         ProgressDrawTarget::stderr()
     } else {
         ProgressDrawTarget::hidden()
@@ -261,7 +246,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             writer.owned_blocks(),
             args.spec.display(),
             out.display(),
-            args.shard
+            args.run
+                .shard
                 .as_deref()
                 .map(|s| format!(" --shard {s}"))
                 .unwrap_or_default()

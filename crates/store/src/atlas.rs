@@ -673,17 +673,11 @@ fn write_all(
             )?;
         }
     }
-    let notes: Vec<VarLenUnicode> = res
-        .points
-        .iter()
-        .map(|p| {
-            p.as_ref()
-                .and_then(|p| p.note.clone())
-                .unwrap_or_default()
-                .parse::<VarLenUnicode>()
-                .map_err(|e| hdf5::Error::from(format!("note: {e}")))
-        })
-        .collect::<hdf5::Result<_>>()?;
+    let notes = note_strings(
+        res.points
+            .iter()
+            .map(|p| p.as_ref().and_then(|p| p.note.as_deref())),
+    )?;
     put(
         file,
         dims,
@@ -781,16 +775,10 @@ fn write_all(
                 )?;
             }
         }
-        let notes: Vec<VarLenUnicode> = bs
-            .iter()
-            .map(|b| {
-                b.as_ref()
-                    .and_then(|b| b.note.clone())
-                    .unwrap_or_default()
-                    .parse::<VarLenUnicode>()
-                    .map_err(|e| hdf5::Error::from(format!("note: {e}")))
-            })
-            .collect::<hdf5::Result<_>>()?;
+        let notes = note_strings(
+            bs.iter()
+                .map(|b| b.as_ref().and_then(|b| b.note.as_deref())),
+        )?;
         put(
             file,
             dims,
@@ -998,4 +986,17 @@ pub fn merge_atlas(
         });
     }
     write_atlas(out, &plan, &res, prov, None)
+}
+
+/// Per-point (or per-boundary) notes as HDF5 strings, empty where there is none.
+fn note_strings<'a>(
+    notes: impl Iterator<Item = Option<&'a str>>,
+) -> hdf5::Result<Vec<VarLenUnicode>> {
+    notes
+        .map(|n| {
+            n.unwrap_or_default()
+                .parse::<VarLenUnicode>()
+                .map_err(|e| hdf5::Error::from(format!("note: {e}")))
+        })
+        .collect()
 }
