@@ -36,6 +36,8 @@ enum Command {
     Critical(cmd::critical::Args),
     /// Figures of merit, regimes, the fold and critical damping over a design space.
     Atlas(cmd::atlas::Args),
+    /// Cell-by-cell agreement of two scans of the same grid (e.g. against a reference).
+    Compare(cmd::compare::Args),
     /// Join the shard files of a scan into the file a single run would have written.
     Merge(cmd::merge::Args),
 }
@@ -52,6 +54,7 @@ fn main() -> ExitCode {
         Command::Ulc(a) => cmd::ulc::run(a),
         Command::Critical(a) => cmd::critical::run(a),
         Command::Merge(a) => cmd::merge::run(a),
+        Command::Compare(a) => cmd::compare::run(a),
         Command::Atlas(a) => cmd::atlas::run(a),
     };
     match result {

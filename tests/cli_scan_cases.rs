@@ -55,6 +55,8 @@ fn text_attr(loc: &hdf5::Location, name: &str) -> String {
 /// Reason codes of the file's `reason` enum (crates/store schema).
 const INSIDE_CYCLE: u8 = 2;
 const OUTSIDE_CYCLE: u8 = 3;
+const START_INSIDE: u8 = 8;
+const START_OUTSIDE: u8 = 9;
 const NEAR_FIXED_POINT: u8 = 1;
 
 #[test]
@@ -176,7 +178,8 @@ fn a_scan_without_an_unstable_cycle_says_so() {
 /// are not decided by the cycle at once: they run until their own crossing leaves the band,
 /// and then land on the side they started on. nu = 1e-2: multiplier 1.16 per revolution,
 /// so a deviation of 5e-4 leaves the 1e-3 band after about ln 2 / ln 1.16 = 4.7
-/// revolutions, while one of 5e-3 is decided at its first crossing.
+/// revolutions, while one of 5e-3 lies clear of the band and of the curve's margin and is
+/// decided at the start, without a run, on the same side.
 #[test]
 fn starts_inside_the_trap_band_run_until_they_leave_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -194,7 +197,8 @@ fn starts_inside_the_trap_band_run_until_they_leave_it() {
         format!(
             "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-2\n[grid]\n\
              x0 = {{ min = 0.9999999, max = 1.0000001, count = 2 }}\n\
-             v0 = {{ min = {:?}, max = {:?}, count = 2 }}\n[output]\npath = \"x.h5\"\n",
+             v0 = {{ min = {:?}, max = {:?}, count = 2 }}\n\
+             [classifier]\ntrap_margin = 1e-3\n[output]\npath = \"x.h5\"\n",
             r_u * (1.0 - d),
             r_u * (1.0 + d)
         )
@@ -206,17 +210,18 @@ fn starts_inside_the_trap_band_run_until_they_leave_it() {
         let t: Vec<f64> = f.dataset("t_decision").unwrap().read_raw().unwrap();
         // Row 0 (below r_u): steady slip, inside; row 1: stick-slip, outside.
         assert_eq!(labels, [1, 1, 2, 2], "{name}");
-        assert_eq!(
-            reason,
-            [INSIDE_CYCLE, INSIDE_CYCLE, OUTSIDE_CYCLE, OUTSIDE_CYCLE],
-            "{name}"
-        );
+        let want = if name == "band" {
+            [INSIDE_CYCLE, INSIDE_CYCLE, OUTSIDE_CYCLE, OUTSIDE_CYCLE]
+        } else {
+            [START_INSIDE, START_INSIDE, START_OUTSIDE, START_OUTSIDE]
+        };
+        assert_eq!(reason, want, "{name}");
         for (k, &tk) in t.iter().enumerate() {
             if name == "band" {
                 assert!(tk > 3.0 * period, "{name} cell {k}: decided at {tk}");
                 assert!(tk < 12.0 * period, "{name} cell {k}: decided at {tk}");
             } else {
-                assert!(tk < 1.1 * period, "{name} cell {k}: decided at {tk}");
+                assert_eq!(tk, 0.0, "{name} cell {k}: decided at {tk}");
             }
         }
     }

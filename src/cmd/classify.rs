@@ -86,10 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     common::check_new(&args.out, args.force, "labels")?;
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
-    let outcomes: Vec<_> = ics
-        .par_iter()
-        .map(|&ic| ctx.classifier.classify(&ctx.stepper, ic))
-        .collect();
+    let outcomes: Vec<_> = ics.par_iter().map(|&ic| ctx.classify(ic)).collect();
     let mut w = std::io::BufWriter::new(
         std::fs::File::create(&args.out)
             .with_context(|| format!("creating {}", args.out.display()))?,

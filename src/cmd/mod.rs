@@ -3,6 +3,7 @@
 pub mod atlas;
 pub mod classify;
 pub mod common;
+pub mod compare;
 pub mod critical;
 pub mod friction;
 pub mod info;

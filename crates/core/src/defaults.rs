@@ -15,6 +15,15 @@ pub const NU: f64 = 1e-3;
 /// (at dt = 0.01 the nu = 1e-3 cycle is 0.17% off). BENCHMARKS.md, "Step size", gives the
 /// study; `crates/scan/tests/accuracy.rs` checks it.
 pub const DT: f64 = 0.005;
+/// Relative half-width of the band around the located unstable cycle in which early
+/// stopping leaves runs going (`r_u (1 -+ TRAP_MARGIN)` at the section). It only has to
+/// cover the error of the cycle's location as the classifier sees it: the bisection bracket
+/// (relative `1e-10`) and the crossing interpolation (cubic Hermite, `O(dt^4)`, below
+/// `1e-11` at the default step), so `1e-5` leaves five orders to spare. Larger margins
+/// give the same labels and cost more: a start at distance `d` inside the band takes
+/// `ln(margin / d) / ln(m)` revolutions to leave it (Floquet multiplier `m` = 1.0064 at
+/// nu = 1e-3). BENCHMARKS.md, "Early stopping", compares 1e-3, 1e-4, 1e-5 and 1e-6.
+pub const TRAP_MARGIN: f64 = 1e-5;
 /// Classifier time limit.
 pub const T_MAX: f64 = 5000.0;
 /// Iteration cap of the paper's fixed-point solver.

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use squeal_core::{Regime, State};
 
 use crate::cell::{Audit, Cell};
-use crate::curve::ClosedCurve;
+use crate::curve::{ClosedCurve, CurveLocator};
 use crate::spec::Plan;
 
 /// Decided cells on the wrong side of the located cycle (steady slip outside it, stick-slip
@@ -125,6 +125,7 @@ impl MapChecks {
         let rows = g.block_rows(block);
         let diag = g.x0.spacing().hypot(g.v0.spacing());
         let origin = nearest(g.x0, 0.0).zip(nearest(g.v0, 0.0));
+        let locator = curve.map(|c| CurveLocator::new(c.clone()));
         for (k, cell) in cells.iter().enumerate() {
             let (row, col) = (rows.start + k / nx, k % nx);
             let tally = match Audit::from_u8(cell.audit) {
@@ -137,7 +138,7 @@ impl MapChecks {
                 *n += 1;
                 self.audit.audited += 1;
             }
-            let Some(c) = curve else { continue };
+            let Some(c) = &locator else { continue };
             let p = State {
                 x: g.x0.value(col),
                 v: g.v0.value(row),
@@ -151,7 +152,7 @@ impl MapChecks {
             };
             if let Some(w) = self.wrong_side.as_mut().filter(|_| wrong) {
                 w.cells += 1;
-                if c.distance_to(p) > diag {
+                if c.curve().distance_to(p) > diag {
                     w.beyond_pixel += 1;
                 }
             }

@@ -111,6 +111,71 @@ impl ClosedCurve {
     }
 }
 
+/// A closed curve with the bounds that answer most point queries in constant time: about a
+/// centre inside it, no point of the curve is nearer than `r_in` or farther than `r_out`
+/// (a polygon's farthest point from any centre is a vertex). Points well inside the
+/// inner disc or outside the outer one are decided without visiting the segments.
+#[derive(Clone, Debug)]
+pub struct CurveLocator {
+    curve: ClosedCurve,
+    centre: State,
+    /// Nearest distance from `centre` to the curve (0 when `centre` is not enclosed, which
+    /// turns the inner test off).
+    r_in: f64,
+    r_out: f64,
+}
+
+impl CurveLocator {
+    /// The locator of `curve` about the mean of its points.
+    pub fn new(curve: ClosedCurve) -> CurveLocator {
+        let n = curve.len().max(1) as f64;
+        let centre = State {
+            x: curve.x.iter().sum::<f64>() / n,
+            v: curve.v.iter().sum::<f64>() / n,
+        };
+        let r_in = if curve.encloses(centre) {
+            curve.distance_to(centre)
+        } else {
+            0.0
+        };
+        let r_out = (0..curve.len())
+            .map(|i| (curve.x[i] - centre.x).hypot(curve.v[i] - centre.v))
+            .fold(0.0f64, f64::max);
+        CurveLocator {
+            curve,
+            centre,
+            r_in,
+            r_out,
+        }
+    }
+
+    /// The curve.
+    pub fn curve(&self) -> &ClosedCurve {
+        &self.curve
+    }
+
+    /// Which side of the curve `p` lies on (`Some(true)`: inside), if it is farther than
+    /// `margin` from the curve; `None` within the margin.
+    pub fn side(&self, p: State, margin: f64) -> Option<bool> {
+        let rho = (p.x - self.centre.x).hypot(p.v - self.centre.v);
+        if rho + margin < self.r_in {
+            return Some(true);
+        }
+        if rho - margin > self.r_out {
+            return Some(false);
+        }
+        if margin > 0.0 && self.curve.distance_to(p) <= margin {
+            return None;
+        }
+        Some(self.curve.encloses(p))
+    }
+
+    /// Whether `p` lies inside the curve (as [`ClosedCurve::encloses`]).
+    pub fn encloses(&self, p: State) -> bool {
+        self.side(p, 0.0).unwrap_or_else(|| self.curve.encloses(p))
+    }
+}
+
 fn min_max(a: &[f64]) -> [f64; 2] {
     a.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |m, &x| {
         [m[0].min(x), m[1].max(x)]
@@ -150,5 +215,37 @@ mod tests {
         assert!((d - 0.5 * 2f64.sqrt()).abs() < 1e-12);
         // A ray from outside pointing away misses.
         assert_eq!(q.distance_along_ray(st(3.0, 0.5), 0.0), None);
+    }
+
+    /// The locator's constant-time answers agree with the polygon tests everywhere on a grid
+    /// over a 64-gon circle of radius 1 (the inner and outer discs are exercised) and the
+    /// square, and the margin withholds exactly the points near the curve.
+    #[test]
+    fn locator_agrees_with_polygon_tests() {
+        let n = 64;
+        let circle = ClosedCurve::new(
+            (0..n)
+                .map(|i| 2.0 + (std::f64::consts::TAU * i as f64 / n as f64).cos())
+                .collect(),
+            (0..n)
+                .map(|i| -1.0 + (std::f64::consts::TAU * i as f64 / n as f64).sin())
+                .collect(),
+        );
+        for curve in [square(), circle] {
+            let loc = CurveLocator::new(curve.clone());
+            for i in 0..81 {
+                for j in 0..81 {
+                    let p = st(-1.0 + 0.05 * i as f64, -3.0 + 0.05 * j as f64);
+                    assert_eq!(loc.encloses(p), curve.encloses(p), "{p:?}");
+                    match loc.side(p, 0.1) {
+                        Some(inside) => {
+                            assert_eq!(inside, curve.encloses(p));
+                            assert!(curve.distance_to(p) > 0.1);
+                        }
+                        None => assert!(curve.distance_to(p) <= 0.1),
+                    }
+                }
+            }
+        }
     }
 }

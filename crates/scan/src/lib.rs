@@ -44,6 +44,7 @@
 pub mod atlas;
 pub mod cell;
 pub mod checks;
+pub mod compare;
 pub mod curve;
 pub mod driver;
 pub mod error;

@@ -4,10 +4,11 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
-use squeal_core::{Classifier, Params, Regime, State, Stepper, Trap};
+use squeal_core::{Classifier, Outcome, Params, Reason, Regime, SolverStats, State, Stepper, Trap};
 
 use crate::cell::Audit;
 pub use crate::cell::Cell;
+use crate::curve::{ClosedCurve, CurveLocator};
 use crate::error::ScanError;
 use crate::spec::{EarlyStop, Plan};
 use crate::ulc::{self, CycleOutcome, CycleSettings, SectionCycles};
@@ -37,6 +38,85 @@ pub struct BlockResult {
     pub cells: Vec<Cell>,
 }
 
+/// Early stopping at the start: a start farther than `margin` from the located unstable
+/// cycle is labelled by the side of the cycle it lies on, without a run.
+///
+/// This is the argument of the classifier's trap ([`Reason::InsideCycle`],
+/// [`Reason::OutsideCycle`]) applied to the whole closed curve instead of its crossing of
+/// the section: the flow near the cycle is planar, so a trajectory cannot cross it; inside
+/// it the runs settle on the fixed point, outside it on stick-slip. It rests on the same
+/// assumption (one unstable cycle, found as the first sign change of the sampled return
+/// map), and the same audit checks it: audited cells are also run to settlement.
+///
+/// The margin is the trap's band at the section, `trap_margin r_u`, plus a bound on how far
+/// the polygon of one revolution's steps strays from the smooth cycle between its points:
+/// for each segment, its length times the larger turning angle at its ends (for a circle
+/// of `N` points this is 8 times the true sagitta `L theta / 8`). Starts within the
+/// margin are run as before.
+#[derive(Clone, Debug)]
+pub struct StartRule {
+    curve: CurveLocator,
+    margin: f64,
+    centre: State,
+}
+
+impl StartRule {
+    /// The rule for `curve` around the fixed point `centre` with the trap's relative margin
+    /// at the section crossing `r_section`.
+    pub fn new(curve: ClosedCurve, centre: State, r_section: f64, trap_margin: f64) -> StartRule {
+        let n = curve.len();
+        let seg = |i: usize| {
+            let j = (i + 1) % n;
+            (curve.x[j] - curve.x[i], curve.v[j] - curve.v[i])
+        };
+        // Turning angle at vertex i, between segments i - 1 and i.
+        let turn = |i: usize| {
+            let (a, b) = (seg((i + n - 1) % n), seg(i));
+            (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).abs()
+        };
+        let sag = (0..n)
+            .map(|i| {
+                let (dx, dv) = seg(i);
+                dx.hypot(dv) * turn(i).max(turn((i + 1) % n))
+            })
+            .fold(0.0f64, f64::max);
+        StartRule {
+            margin: trap_margin * r_section + sag,
+            curve: CurveLocator::new(curve),
+            centre,
+        }
+    }
+
+    /// The margin: starts closer than this to the curve are run.
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+
+    /// The label of start `p`, if it lies farther than the margin from the curve.
+    pub fn decide(&self, p: State) -> Option<(Regime, Reason)> {
+        Some(match self.curve.side(p, self.margin)? {
+            true => (Regime::SteadySlip, Reason::StartInsideCycle),
+            false => (Regime::StickSlip, Reason::StartOutsideCycle),
+        })
+    }
+
+    /// The outcome of a start decided by the rule: at `t = 0`, no steps taken.
+    fn outcome(&self, p: State, (regime, reason): (Regime, Reason)) -> Outcome {
+        Outcome {
+            regime,
+            reason,
+            t_decision: 0.0,
+            amplitude: f64::NAN,
+            distance: (p.x - self.centre.x).hypot(p.v - self.centre.v),
+            omega: f64::NAN,
+            crossings: 0,
+            quasi_static: false,
+            stats: SolverStats::default(),
+            max_residual: 0.0,
+        }
+    }
+}
+
 /// Everything one map needs: stepper, classifier with its trap, the located cycle.
 #[derive(Clone, Debug)]
 pub struct MapContext {
@@ -52,6 +132,8 @@ pub struct MapContext {
     pub section: Option<SectionCycles>,
     /// The located cycle or why there is none, if the plan asks to locate it.
     pub cycle: Option<CycleOutcome>,
+    /// Early stopping at the start (with the trap, when the cycle's curve was traced).
+    pub start_rule: Option<StartRule>,
 }
 
 /// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
@@ -87,6 +169,7 @@ impl MapContext {
         let needs_search = plan.early_stop == EarlyStop::Cycle || plan.locate_cycle;
         let mut section = None;
         let mut cycle = None;
+        let mut start_rule = None;
         if needs_search {
             let mut stats = Default::default();
             let mut returns = 0;
@@ -112,6 +195,15 @@ impl MapContext {
                     },
                 );
             }
+            if let (Some(_), SectionCycles::Unstable { r, .. }) = (classifier.trap, found) {
+                let fp = params.fixed_point();
+                let curve = match &cycle {
+                    Some(Ok(c)) => Some(c.curve.clone()),
+                    _ => ulc::cycle_curve(&stepper, r, cs.t_return, &mut Default::default())
+                        .map(|(c, _)| c),
+                };
+                start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.trap_margin));
+            }
             section = Some(found);
         }
         Ok(MapContext {
@@ -121,7 +213,20 @@ impl MapContext {
             classifier,
             section,
             cycle,
+            start_rule,
         })
+    }
+
+    /// Classifies one start: by the start rule when it decides, else by a run.
+    pub fn classify(&self, ic: State) -> Outcome {
+        match self
+            .start_rule
+            .as_ref()
+            .and_then(|s| Some((s, s.decide(ic)?)))
+        {
+            Some((rule, decision)) => rule.outcome(ic, decision),
+            None => self.classifier.classify(&self.stepper, ic),
+        }
     }
 
     /// Classifies one cell (and audits it when it is in the sample and the run stopped
@@ -132,7 +237,7 @@ impl MapContext {
             x: g.x0.value(col),
             v: g.v0.value(row),
         };
-        let out = self.classifier.classify(&self.stepper, ic);
+        let out = self.classify(ic);
         let mut cell = Cell::from(&out);
         if self.classifier.trap.is_some()
             && audited((row * g.x0.count + col) as u64, plan.audit_every)

@@ -28,7 +28,7 @@
 //! settle_cycles = 20
 //! settle_rtol = 0.05
 //! early_stop = "cycle"             # cycle (stop once inside/outside the located cycle) | none
-//! trap_margin = 1e-3               # relative band around the cycle left to run on
+//! trap_margin = 1e-5               # relative band around the cycle left to run on
 //! audit_every = 1024               # with early_stop = "cycle": also run about 1 cell in
 //!                                  # this many to settlement and count (dis)agreements;
 //!                                  # 0 turns the audit off. Default: 1024, or cells / 16
@@ -420,7 +420,7 @@ impl Plan {
                 "at most 1e10 steps per run (t_max / dt)",
             ));
         }
-        let trap_margin = c.trap_margin.unwrap_or(1e-3);
+        let trap_margin = c.trap_margin.unwrap_or(squeal_core::defaults::TRAP_MARGIN);
         if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
             return Err(invalid(
                 "classifier.trap_margin",
@@ -683,7 +683,7 @@ path = "x.h5"
         ("classifier", "settle_cycles", "20"),
         ("classifier", "settle_rtol", "0.05"),
         ("classifier", "early_stop", "\"cycle\""),
-        ("classifier", "trap_margin", "1e-3"),
+        ("classifier", "trap_margin", "1e-5"),
         ("cycle", "locate", "true"),
         ("output", "path", "\"x.h5\""),
     ];

@@ -194,6 +194,25 @@ impl CycleReport {
     }
 }
 
+/// The closed curve of the cycle crossing the section at `r`: the states of one revolution
+/// from `(x*, r)` (the step past the section dropped, so the curve closes on its first
+/// point), and the revolution's period; `None` if the run does not return within `t_return`.
+pub fn cycle_curve(
+    st: &Stepper,
+    r: f64,
+    t_return: f64,
+    stats: &mut SolverStats,
+) -> Option<(ClosedCurve, f64)> {
+    let (mut xs, mut vs) = (Vec::new(), Vec::new());
+    let c = section_return(st, r, t_return, stats, |s| {
+        xs.push(s.x);
+        vs.push(s.v);
+    })?;
+    xs.pop();
+    vs.pop();
+    Some((ClosedCurve::new(xs, vs), c.t))
+}
+
 /// A map's cycle search result: the cycle, or why there is none.
 pub type CycleOutcome = Result<CycleReport, NoCycle>;
 
@@ -246,26 +265,16 @@ pub fn locate_from(
             .into());
         }
     };
-    let (mut xs, mut vs) = (Vec::new(), Vec::new());
     returns += 1;
-    let c = section_return(st, r, cs.t_return, &mut stats, |s| {
-        xs.push(s.x);
-        vs.push(s.v);
-    })
-    .ok_or(NoCycle::NoReturn {
+    let (curve, period) = cycle_curve(st, r, cs.t_return, &mut stats).ok_or(NoCycle::NoReturn {
         r,
         t_return: cs.t_return,
     })?;
-    let period = c.t;
-    // The last sample lies past the section: drop it so the curve closes on the first one.
-    xs.pop();
-    vs.pop();
     let fp = params.fixed_point();
     let h = 1e-4 * r;
     let p_plus = d_of(st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
     let p_minus = d_of(st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
     let multiplier = (p_plus - p_minus) / (2.0 * h);
-    let curve = ClosedCurve::new(xs, vs);
     // Crossing of v = 0 with x > x* (going down, on the right of the fixed point).
     let distance_plus_x = curve
         .distance_along_ray(State { x: fp.x, v: 0.0 }, 0.0)

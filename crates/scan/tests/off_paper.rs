@@ -89,7 +89,8 @@ fn labels(plan: &Plan) -> Vec<(Regime, Reason)> {
                 x: g.x0.value(k % g.x0.count),
                 v: g.v0.value(k / g.x0.count),
             };
-            let out = ctx.classifier.classify(&ctx.stepper, ic);
+            // The scan's rule: the start rule, then the classifier with its trap.
+            let out = ctx.classify(ic);
             (out.regime, out.reason)
         })
         .collect()

@@ -50,8 +50,9 @@ fn every_shipped_scan_validates() {
     assert!(n >= 7);
 }
 
-/// The early-stopping rule (stop at the first section crossing clearly inside or outside
-/// the located cycle) gives the label of the same run taken to settlement, on a grid that
+/// The early-stopping rules (a start clear of the located cycle's curve labelled by its
+/// side; a run stopped at its first section crossing clearly inside or outside the cycle)
+/// give the label of the same run taken to settlement, on a grid that
 /// straddles the boundary (the cycle crosses the section at x' = 0.365 for nu = 1e-3).
 #[test]
 fn early_stopping_matches_runs_to_settlement() {
@@ -85,10 +86,12 @@ fn early_stopping_matches_runs_to_settlement() {
                 s.spawn(|| {
                     c.iter()
                         .map(|&ic| {
-                            (
-                                ctx.classifier.classify(&ctx.stepper, ic).regime,
-                                long.classify(&st, ic).regime,
-                            )
+                            // The scan's rule (start rule, then trap) and the trap
+                            // alone must both give the settled label.
+                            let trap = ctx.classifier.classify(&ctx.stepper, ic).regime;
+                            let fast = ctx.classify(ic).regime;
+                            assert_eq!(fast, trap, "start rule vs trap at {ic:?}");
+                            (fast, long.classify(&st, ic).regime)
                         })
                         .collect::<Vec<_>>()
                 })

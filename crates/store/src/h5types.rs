@@ -49,6 +49,10 @@ pub(crate) enum ReasonH5 {
     SolverFailure = 6,
     #[hdf5(rename = "sticking_band")]
     StickingBand = 7,
+    #[hdf5(rename = "start_inside_cycle")]
+    StartInsideCycle = 8,
+    #[hdf5(rename = "start_outside_cycle")]
+    StartOutsideCycle = 9,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -64,6 +68,8 @@ impl ReasonH5 {
             5 => ReasonH5::Diverged,
             6 => ReasonH5::SolverFailure,
             7 => ReasonH5::StickingBand,
+            8 => ReasonH5::StartInsideCycle,
+            9 => ReasonH5::StartOutsideCycle,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })
