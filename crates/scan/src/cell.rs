@@ -246,6 +246,7 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (5, "diverged"),
     (6, "solver_failure"),
     (7, "sticking_band"),
+    (8, "stick_cycle"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

@@ -49,6 +49,8 @@ pub(crate) enum ReasonH5 {
     SolverFailure = 6,
     #[hdf5(rename = "sticking_band")]
     StickingBand = 7,
+    #[hdf5(rename = "stick_cycle")]
+    StickCycle = 8,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -64,6 +66,7 @@ impl ReasonH5 {
             5 => ReasonH5::Diverged,
             6 => ReasonH5::SolverFailure,
             7 => ReasonH5::StickingBand,
+            8 => ReasonH5::StickCycle,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })
