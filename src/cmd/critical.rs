@@ -81,8 +81,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         println!("{}", serde_json::to_string(&v)?);
     } else {
         println!(
-            "critical damping for ({}, {}): nu = {:.6e}, bracket [{:.6e}, {:.6e}] ({} cycle locations, {:.2} s)",
-            point.x, point.v, rep.nu, rep.bracket[0], rep.bracket[1], rep.evaluations, seconds
+            "critical damping for ({}, {}): {} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} cycle locations, {:.2} s)",
+            point.x,
+            point.v,
+            plan.maps[setup.map].damping_key(),
+            rep.nu,
+            rep.bracket[0],
+            rep.bracket[1],
+            rep.evaluations,
+            seconds
         );
         println!(
             "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",

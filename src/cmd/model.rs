@@ -3,24 +3,43 @@
 use anyhow::{Context, bail};
 use squeal_core::{CoreError, FrictionLaw, Params, Scheme, SolverConfig, SolverKind, Stepper};
 
-/// Model flags (nondimensional, paper Section 4; defaults are the paper's Table 1).
+/// Model flags (nondimensional, paper Section 4; defaults are the paper's Table 1, or
+/// bSTAB's friction case for `--law stribeck`).
 #[derive(clap::Args, Debug, Clone)]
 pub struct ModelArgs {
-    /// Friction law: mcmillan, mcmillan-nonhysteretic or coulomb.
+    /// Friction law: mcmillan, mcmillan-nonhysteretic, coulomb or stribeck.
     #[arg(long, default_value = "mcmillan")]
     pub law: String,
-    /// Damping ratio nu >= 0.
-    #[arg(long, default_value_t = squeal_core::defaults::NU, allow_negative_numbers = true)]
-    pub nu: f64,
-    /// Belt speed lambda.
-    #[arg(long, default_value_t = squeal_core::defaults::LAMBDA, allow_negative_numbers = true)]
-    pub lambda: f64,
-    /// Characteristic time tau > 0 of the surfaces.
-    #[arg(long, default_value_t = squeal_core::defaults::TAU, allow_negative_numbers = true)]
-    pub tau: f64,
-    /// Phi = arcsin(mu_k/mu_s), in (0, pi/2].
-    #[arg(long, default_value_t = squeal_core::defaults::PHI, allow_negative_numbers = true)]
-    pub phi: f64,
+    /// Damping ratio nu >= 0 (McMillan's laws; default 1e-3).
+    #[arg(long, allow_negative_numbers = true)]
+    pub nu: Option<f64>,
+    /// Belt speed lambda (McMillan's laws; default 3).
+    #[arg(long, allow_negative_numbers = true)]
+    pub lambda: Option<f64>,
+    /// Characteristic time tau > 0 of the surfaces (McMillan's laws; default 0.1 sqrt(10)).
+    #[arg(long, allow_negative_numbers = true)]
+    pub tau: Option<f64>,
+    /// Phi = arcsin(mu_k/mu_s), in (0, pi/2] (McMillan's laws; default 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub phi: Option<f64>,
+    /// Damping ratio xi >= 0 (--law stribeck; default 0.05).
+    #[arg(long, allow_negative_numbers = true)]
+    pub xi: Option<f64>,
+    /// Belt speed v_d > 0 (--law stribeck; default 1.5).
+    #[arg(long = "v-d", allow_negative_numbers = true)]
+    pub v_d: Option<f64>,
+    /// Dynamic friction coefficient mu_d > 0 (--law stribeck; default 0.5).
+    #[arg(long = "mu-d", allow_negative_numbers = true)]
+    pub mu_d: Option<f64>,
+    /// Static-to-dynamic ratio mu_sd >= 1 (--law stribeck; default 2).
+    #[arg(long = "mu-sd", allow_negative_numbers = true)]
+    pub mu_sd: Option<f64>,
+    /// Stribeck reference velocity v_0 > 0 (--law stribeck; default 0.5).
+    #[arg(long = "v-0", allow_negative_numbers = true)]
+    pub v_0: Option<f64>,
+    /// Viscous strengthening mu_v >= 0 (--law stribeck; default 0).
+    #[arg(long = "mu-v", allow_negative_numbers = true)]
+    pub mu_v: Option<f64>,
     /// Time step (see BENCHMARKS.md for the convergence study behind the default).
     #[arg(long, default_value_t = squeal_core::defaults::DT, allow_negative_numbers = true)]
     pub dt: f64,
@@ -33,18 +52,63 @@ pub struct ModelArgs {
 }
 
 impl ModelArgs {
+    /// The law's flags given, by key name.
+    fn given(&self) -> [(&'static str, Option<f64>); 10] {
+        [
+            ("nu", self.nu),
+            ("lambda", self.lambda),
+            ("tau", self.tau),
+            ("phi", self.phi),
+            ("xi", self.xi),
+            ("v_d", self.v_d),
+            ("mu_d", self.mu_d),
+            ("mu_sd", self.mu_sd),
+            ("v_0", self.v_0),
+            ("mu_v", self.mu_v),
+        ]
+    }
+
     /// Checked parameters; errors name the flag.
     pub fn params(&self) -> anyhow::Result<Params> {
         let law: FrictionLaw = self.law.parse().context("--law")?;
-        let p = Params {
-            law,
-            nu: self.nu,
-            lambda: self.lambda,
-            tau: self.tau,
-            phi: self.phi,
+        let given = self.given();
+        let own = law.keys();
+        if let Some((k, _)) = given.iter().find(|(k, v)| v.is_some() && !own.contains(k)) {
+            bail!(
+                "--{}: not a parameter of --law {law} (its flags: {})",
+                k.replace('_', "-"),
+                own.iter()
+                    .map(|k| format!("--{}", k.replace('_', "-")))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+        let defaults = if law == FrictionLaw::Stribeck {
+            Params::bstab()
+        } else {
+            Params::paper(law, squeal_core::defaults::NU)
         };
+        let named = defaults.named();
+        let p = Params::from_named(law, |k| {
+            given
+                .iter()
+                .find(|(g, _)| *g == k)
+                .and_then(|(_, v)| *v)
+                .or_else(|| named.iter().find(|n| n.name == k).map(|n| n.value))
+        })
+        .map_err(|k| anyhow::anyhow!("--{k}: missing"))?;
         p.validate().map_err(flag_error)?;
         Ok(p)
+    }
+
+    /// The `[model]` table of a scan spec for these flags.
+    pub fn model_toml(&self) -> anyhow::Result<String> {
+        let p = self.params()?;
+        let mut t = format!("law = \"{}\"\n", p.law);
+        for n in p.named() {
+            t.push_str(&format!("{} = {:?}\n", n.name, n.value));
+        }
+        Ok(t)
     }
 
     /// The stepper for these flags; errors name the flag.
@@ -98,7 +162,8 @@ pub struct SetupArgs {
     /// model flags and --t-max are then refused: the spec is the one place they come from).
     #[arg(
         long,
-        conflicts_with_all = ["law", "nu", "lambda", "tau", "phi", "dt", "solver", "t_max"]
+        conflicts_with_all = ["law", "nu", "lambda", "tau", "phi", "xi", "v_d", "mu_d", "mu_sd",
+            "v_0", "mu_v", "dt", "solver", "t_max"]
     )]
     pub spec: Option<std::path::PathBuf>,
     /// With --spec of a sweep: which map (0-based).
@@ -118,10 +183,14 @@ impl SetupArgs {
                 let m = &self.model;
                 m.stepper()?;
                 let text = format!(
-                    "version = 1\n[model]\nlaw = \"{}\"\nnu = {:?}\nlambda = {:?}\ntau = {:?}\nphi = {:?}\n\
+                    "version = 1\n[model]\n{}\
                      [grid]\nx0 = {{ min = 0.0, max = 0.0, count = 1 }}\nv0 = {{ min = 0.0, max = 0.0, count = 1 }}\n\
                      [integration]\ndt = {:?}\nsolver = \"{}\"\nscheme = \"{}\"\n[classifier]\nt_max = {:?}\n[output]\npath = \"unused.h5\"\n",
-                    m.law, m.nu, m.lambda, m.tau, m.phi, m.dt, m.solver, m.scheme, self.t_max
+                    m.model_toml()?,
+                    m.dt,
+                    m.solver,
+                    m.scheme,
+                    self.t_max
                 );
                 squeal_scan::Plan::from_toml(&text, "command line").map_err(|e| {
                     anyhow::anyhow!("{}", e.to_string().replace("classifier.t_max", "--t-max"))

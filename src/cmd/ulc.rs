@@ -133,8 +133,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         return Ok(verdict(rays.as_ref()));
     }
     println!(
-        "unstable limit cycle: {} nu = {} lambda = {} (dt = {}, {} solver)",
-        params.law, params.nu, params.lambda, plan.dt, plan.solver.kind
+        "unstable limit cycle: {} {} = {} {} = {} (dt = {}, {} solver)",
+        params.law,
+        params.damping_key(),
+        params.nu,
+        params.speed_key(),
+        params.lambda,
+        plan.dt,
+        plan.solver.kind
     );
     println!(
         "  section x = {:.6}, x' = {:.10} (bracket width {:.2e})",

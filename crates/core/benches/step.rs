@@ -60,7 +60,7 @@ fn bench_case(c: &mut Criterion, name: &str, ic: State, settle: f64) {
     let hysteretic = revolution(FrictionLaw::McMillan, ic, settle);
     let nonhysteretic = revolution(FrictionLaw::McMillanNonHysteretic, ic, settle);
     let mut group = c.benchmark_group(format!("step/{name}"));
-    for law in FrictionLaw::ALL {
+    for law in FrictionLaw::MCMILLAN {
         let samples = match law {
             FrictionLaw::McMillanNonHysteretic => &nonhysteretic,
             _ => &hysteretic,

@@ -90,11 +90,14 @@ pub enum Reason {
     /// The start lies outside the located unstable cycle, farther from it than the margin:
     /// stick-slip without a run (same argument as [`Reason::OutsideCycle`]).
     StartOutsideCycle = 9,
+    /// A law with true stick: the block stuck again after a breakaway. Every breakaway starts
+    /// from the same state, so the orbit from it is the stick-slip cycle and the run is on it.
+    StickCycle = 10,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 10] = [
+    pub const ALL: [Reason; 11] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -105,6 +108,7 @@ impl Reason {
         Reason::StickingBand,
         Reason::StartInsideCycle,
         Reason::StartOutsideCycle,
+        Reason::StickCycle,
     ];
 
     /// The reason's name in files and output.
@@ -120,6 +124,7 @@ impl Reason {
             Reason::StickingBand => "sticking_band",
             Reason::StartInsideCycle => "start_inside_cycle",
             Reason::StartOutsideCycle => "start_outside_cycle",
+            Reason::StickCycle => "stick_cycle",
         }
     }
 }
@@ -326,6 +331,9 @@ impl Classifier {
             stuck: VecDeque::with_capacity(self.settle_cycles as usize),
             stuck_now: false,
             sticks: 0,
+            true_stick: p.law.has_true_stick(),
+            broke_away: false,
+            fp_repels: p.fixed_point_damping().is_some_and(|d| d < 0.0),
             crossings: 0,
             last_t: f64::NAN,
             omega: f64::NAN,
@@ -388,6 +396,13 @@ pub struct Watch<'c> {
     stuck_now: bool,
     /// The run's Coulomb stick count at the last step.
     sticks: u64,
+    /// The law sticks with located events ([`Reason::StickCycle`] applies).
+    true_stick: bool,
+    /// The run has broken away from a stick phase.
+    broke_away: bool,
+    /// The fixed point repels (linearisation known: laws of the slip velocity only), so
+    /// coming near it decides nothing.
+    fp_repels: bool,
     crossings: u32,
     last_t: f64,
     omega: f64,
@@ -405,11 +420,18 @@ impl Watch<'_> {
             return Some((Regime::Undecided, Reason::Diverged));
         }
         let (dx, dv) = (n.x - self.fp.x, n.v - self.fp.v);
-        if dx * dx + dv * dv < self.fp_r2 {
+        if dx * dx + dv * dv < self.fp_r2 && !self.fp_repels {
             return Some((Regime::SteadySlip, Reason::NearFixedPoint));
         }
         if n.x.abs() > self.cl.max_radius || n.v.abs() > self.cl.max_radius {
             return Some((Regime::Undecided, Reason::Diverged));
+        }
+        if self.true_stick {
+            let e = &step.events;
+            if e.onsets > 0 && (self.broke_away || e.onset_after_breakaway) {
+                return Some((Regime::StickSlip, Reason::StickCycle));
+            }
+            self.broke_away |= e.breakaways > 0;
         }
         let sticks = run.stats().sticks;
         self.stuck_now |= step.solution.branch == Branch::QuasiStatic || sticks > self.sticks;

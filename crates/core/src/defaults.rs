@@ -28,3 +28,16 @@ pub const TRAP_MARGIN: f64 = 1e-5;
 pub const T_MAX: f64 = 5000.0;
 /// Iteration cap of the paper's fixed-point solver.
 pub const MAX_ITER: u32 = 100;
+
+/// bSTAB's friction case (Stender et al., Nonlinear Dynamics 2021): damping ratio `xi`.
+pub const XI: f64 = 0.05;
+/// bSTAB's friction case: belt speed `v_d`.
+pub const V_D: f64 = 1.5;
+/// bSTAB's friction case: dynamic friction coefficient `mu_d`.
+pub const MU_D: f64 = 0.5;
+/// bSTAB's friction case: static-to-dynamic ratio `mu_sd`.
+pub const MU_SD: f64 = 2.0;
+/// bSTAB's friction case: Stribeck reference velocity `v_0`.
+pub const V_0: f64 = 0.5;
+/// bSTAB's friction case: viscous strengthening `mu_v`.
+pub const MU_V: f64 = 0.0;

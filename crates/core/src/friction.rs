@@ -20,7 +20,7 @@
 
 use std::f64::consts::{FRAC_2_PI, PI};
 
-use crate::params::{FrictionLaw, Params};
+use crate::params::{FrictionLaw, Params, Stribeck};
 
 /// Which piece of the law was used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,6 +31,9 @@ pub enum Branch {
     Slip,
     /// Quasi-static branch of F2 (`0 <= s v <= 2|a| tau`; `|v| <= |a| tau` non-hysteretic).
     QuasiStatic,
+    /// Stuck to the belt under a law with true stick: the force is whatever holds the block,
+    /// within the static limit.
+    Stick,
 }
 
 /// A value of the friction law and its partial derivatives.
@@ -64,17 +67,159 @@ pub fn force(p: &Params, v: f64, a: f64) -> ForceEval {
     Law::new(p).eval(v, a)
 }
 
-/// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
-/// stepper and the solver evaluate.
+/// A friction law: what closes `x'' + 2 nu x' + x = F`. Each law is a small `Copy` struct with
+/// its constants; [`Law`] holds one of them and is what the stepper and the solvers use.
+/// Adding a law is one struct implementing this trait, one [`FrictionLaw`] variant with its
+/// parameters, and one arm in [`Law::new`] and [`Law::eval`].
+pub trait FrictionModel {
+    /// `F(v, a)` with its partial derivatives and the branch used (at a set-valued point,
+    /// `v = 0` for a law that sticks, the middle of the set).
+    fn eval(&self, v: f64, a: f64) -> ForceEval;
+
+    /// Whether `(v, a)` lies on a quasi-static branch of the law (cheap; no evaluation).
+    fn quasi_static(&self, v: f64, a: f64) -> bool {
+        let _ = (v, a);
+        false
+    }
+
+    /// The static limit of a law with true stick: while `v = 0` the force can take any value
+    /// in `[-limit, limit]`. Such laws are stepped with located stick events
+    /// ([`crate::stick`]); `None` for the others.
+    fn static_limit(&self) -> Option<f64> {
+        None
+    }
+
+    /// The force while slipping on the side `sigma = sgn(v)` (+1 or -1), extended to the other
+    /// side by its value at `v = 0` (continuous, so a step that overshoots zero slip can be
+    /// bisected to the event), with `dF/dv`.
+    fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
+        let e = self.eval(if sigma * v > 0.0 { v } else { 0.0 }, 0.0);
+        (e.force, if sigma * v > 0.0 { e.dv } else { 0.0 })
+    }
+}
+
+/// McMillan's constants (`sin Phi`, `pi - Phi`), shared by his two laws.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Law {
-    kind: FrictionLaw,
+pub struct McMillanConsts {
     tau: f64,
     phi: f64,
     /// `1 / sin Phi`.
     inv_sin_phi: f64,
     /// `pi - Phi`.
     pi_minus_phi: f64,
+}
+
+impl McMillanConsts {
+    fn new(tau: f64, phi: f64) -> McMillanConsts {
+        McMillanConsts {
+            tau,
+            phi,
+            inv_sin_phi: 1.0 / phi.sin(),
+            pi_minus_phi: PI - phi,
+        }
+    }
+}
+
+/// McMillan's hysteretic law, eq. (4.1) corrected.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hysteretic(pub McMillanConsts);
+
+/// McMillan's non-hysteretic law, eq. (5.1) corrected.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NonHysteretic(pub McMillanConsts);
+
+/// Plain Coulomb friction `-sgn(v)` (its stick is solved in closed form by the solver).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coulomb;
+
+/// The Stribeck law with true stick: `F = -sgn(v) mu(|v|)` while slipping, any value in
+/// `[-mu_s, mu_s]` while stuck.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StribeckLaw(pub Stribeck);
+
+impl FrictionModel for Hysteretic {
+    #[inline]
+    fn eval(&self, v: f64, a: f64) -> ForceEval {
+        let c = &self.0;
+        mcmillan_k(v, a, c.tau, c.phi, c.inv_sin_phi, c.pi_minus_phi)
+    }
+    #[inline]
+    fn quasi_static(&self, v: f64, a: f64) -> bool {
+        let b = a.abs() * self.0.tau;
+        a != 0.0 && (0.0..=2.0 * b).contains(&(v * a.signum()))
+    }
+}
+
+impl FrictionModel for NonHysteretic {
+    #[inline]
+    fn eval(&self, v: f64, a: f64) -> ForceEval {
+        let c = &self.0;
+        nonhysteretic_k(v, a, c.tau, c.inv_sin_phi, c.pi_minus_phi)
+    }
+    #[inline]
+    fn quasi_static(&self, v: f64, a: f64) -> bool {
+        a != 0.0 && v.abs() <= a.abs() * self.0.tau
+    }
+}
+
+impl FrictionModel for Coulomb {
+    #[inline]
+    fn eval(&self, v: f64, _a: f64) -> ForceEval {
+        coulomb(v)
+    }
+}
+
+impl FrictionModel for StribeckLaw {
+    #[inline]
+    fn eval(&self, v: f64, _a: f64) -> ForceEval {
+        if v == 0.0 {
+            // Set-valued: the middle of [-mu_s, mu_s], as Coulomb's F(0) = 0.
+            return ForceEval {
+                force: 0.0,
+                dv: 0.0,
+                da: 0.0,
+                branch: Branch::Stick,
+            };
+        }
+        let (mu, dmu) = self.0.mu(v.abs());
+        ForceEval {
+            force: -sgn0(v) * mu,
+            dv: -dmu,
+            da: 0.0,
+            branch: Branch::Slip,
+        }
+    }
+    fn static_limit(&self) -> Option<f64> {
+        Some(self.0.mu_s())
+    }
+    #[inline]
+    fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
+        let s = sigma * v;
+        if s > 0.0 {
+            let (mu, dmu) = self.0.mu(s);
+            (-sigma * mu, -dmu)
+        } else {
+            (-sigma * self.0.mu_s(), 0.0)
+        }
+    }
+}
+
+/// The law of one run, with its constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    McMillan(Hysteretic),
+    NonHysteretic(NonHysteretic),
+    Coulomb(Coulomb),
+    Stribeck(StribeckLaw),
+}
+
+/// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
+/// stepper and the solver evaluate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Law {
+    kind: Kind,
+    name: FrictionLaw,
+    tau: f64,
     /// Bound on `|F|` over all states ([`Params::force_bound`]).
     bound: f64,
 }
@@ -82,19 +227,24 @@ pub struct Law {
 impl Law {
     /// The law of `p` with its constants.
     pub fn new(p: &Params) -> Law {
+        let mc = || McMillanConsts::new(p.tau, p.phi);
+        let kind = match p.law {
+            FrictionLaw::McMillan => Kind::McMillan(Hysteretic(mc())),
+            FrictionLaw::McMillanNonHysteretic => Kind::NonHysteretic(NonHysteretic(mc())),
+            FrictionLaw::Coulomb => Kind::Coulomb(Coulomb),
+            FrictionLaw::Stribeck => Kind::Stribeck(StribeckLaw(p.stribeck.unwrap_or_default())),
+        };
         Law {
-            kind: p.law,
+            kind,
+            name: p.law,
             tau: p.tau,
-            phi: p.phi,
-            inv_sin_phi: 1.0 / p.phi.sin(),
-            pi_minus_phi: PI - p.phi,
             bound: p.force_bound(),
         }
     }
 
     /// Which law.
     pub fn kind(&self) -> FrictionLaw {
-        self.kind
+        self.name
     }
 
     /// `tau`.
@@ -107,35 +257,52 @@ impl Law {
         self.bound
     }
 
+    /// The law as a trait object (for the rarely called methods).
+    fn model(&self) -> &dyn FrictionModel {
+        match &self.kind {
+            Kind::McMillan(l) => l,
+            Kind::NonHysteretic(l) => l,
+            Kind::Coulomb(l) => l,
+            Kind::Stribeck(l) => l,
+        }
+    }
+
     /// `F(v, a)` with its partial derivatives and the branch used.
     #[inline]
     pub fn eval(&self, v: f64, a: f64) -> ForceEval {
-        match self.kind {
-            FrictionLaw::McMillan => mcmillan_k(
-                v,
-                a,
-                self.tau,
-                self.phi,
-                self.inv_sin_phi,
-                self.pi_minus_phi,
-            ),
-            FrictionLaw::McMillanNonHysteretic => {
-                nonhysteretic_k(v, a, self.tau, self.inv_sin_phi, self.pi_minus_phi)
-            }
-            FrictionLaw::Coulomb => coulomb(v),
+        match &self.kind {
+            Kind::McMillan(l) => l.eval(v, a),
+            Kind::NonHysteretic(l) => l.eval(v, a),
+            Kind::Coulomb(l) => l.eval(v, a),
+            Kind::Stribeck(l) => l.eval(v, a),
         }
+    }
+
+    /// See [`FrictionModel::static_limit`].
+    pub fn static_limit(&self) -> Option<f64> {
+        self.model().static_limit()
+    }
+
+    /// See [`FrictionModel::sliding`].
+    #[inline]
+    pub fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
+        match &self.kind {
+            Kind::Stribeck(l) => l.sliding(sigma, v),
+            _ => self.model().sliding(sigma, v),
+        }
+    }
+
+    /// See [`FrictionModel::quasi_static`].
+    #[inline]
+    pub fn quasi_static(&self, v: f64, a: f64) -> bool {
+        self.model().quasi_static(v, a)
     }
 }
 
 /// Whether `(v, a)` lies on the quasi-static branch of the law (cheap; no evaluation).
 #[inline]
 pub fn on_quasi_static_branch(p: &Params, v: f64, a: f64) -> bool {
-    let b = a.abs() * p.tau;
-    match p.law {
-        FrictionLaw::McMillan => a != 0.0 && (0.0..=2.0 * b).contains(&(v * a.signum())),
-        FrictionLaw::McMillanNonHysteretic => a != 0.0 && v.abs() <= b,
-        FrictionLaw::Coulomb => false,
-    }
+    Law::new(p).quasi_static(v, a)
 }
 
 /// Plain Coulomb friction `-sgn(v)`, with `F(0) = 0`.
@@ -252,7 +419,7 @@ mod tests {
 
     #[test]
     fn value_at_fixed_point_is_one() {
-        for law in FrictionLaw::ALL {
+        for law in FrictionLaw::MCMILLAN {
             let p = Params::paper(law, 1e-3);
             assert_eq!(force(&p, -p.lambda, 0.0).force, 1.0, "{law}");
             let fp = p.fixed_point();

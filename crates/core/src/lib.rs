@@ -8,7 +8,10 @@
 //! x'' + 2 nu x' + x = F(x' - lambda, x'')
 //! ```
 //!
-//! * [`Params`] and [`FrictionLaw`]: the model (paper eq. 4.1, 5.1, Coulomb).
+//! * [`Params`] and [`FrictionLaw`]: the model (paper eq. 4.1, 5.1, Coulomb, and a
+//!   Stribeck law with true stick, [`Stribeck`]).
+//! * [`stick`]: true stick with located onset and breakaway events (laws with a static
+//!   limit), the stick-slip cycle's existence and the [`Landscape`] of a parameter point.
 //! * [`friction`]: the laws with their derivatives, and the dimensional law (eqs. 3.2-3.4).
 //! * [`Propagator`]: the exact linear step with the force constant (eqs. 4.3-4.6) or linear
 //!   over the step ([`Scheme`]).
@@ -43,14 +46,16 @@ pub mod propagator;
 pub mod run;
 pub mod solver;
 pub mod stepper;
+pub mod stick;
 pub mod units;
 
 pub use classify::{Classifier, Outcome, Reason, Regime, Trap};
 pub use error::CoreError;
 pub use friction::Law;
-pub use params::{FrictionLaw, Params};
+pub use params::{FrictionLaw, Named, Params, Stribeck};
 pub use propagator::{Propagator, Scheme};
 pub use run::{Run, Step};
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
+pub use stick::{Landscape, StickCycle, StickEvents};
 pub use units::{Physical, Scales};

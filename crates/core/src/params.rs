@@ -17,6 +17,11 @@ pub enum FrictionLaw {
     /// Plain Coulomb friction `F = -sgn(v)`, set-valued (`F` in `[-1, 1]`) at `v = 0`.
     #[serde(rename = "coulomb")]
     Coulomb,
+    /// A Stribeck-type law with true stick (the friction case of bSTAB, Stender et al. 2021):
+    /// `F = -sgn(v) mu(|v|)` while slipping, any value in `[-mu_s, mu_s]` while stuck; its
+    /// parameters are [`Stribeck`].
+    #[serde(rename = "stribeck")]
+    Stribeck,
 }
 
 impl FrictionLaw {
@@ -26,15 +31,39 @@ impl FrictionLaw {
             FrictionLaw::McMillan => "mcmillan",
             FrictionLaw::McMillanNonHysteretic => "mcmillan-nonhysteretic",
             FrictionLaw::Coulomb => "coulomb",
+            FrictionLaw::Stribeck => "stribeck",
         }
     }
 
-    /// All laws, in a fixed order.
-    pub const ALL: [FrictionLaw; 3] = [
+    /// McMillan's parameterisation (`nu`, `lambda`, `tau`, `phi`): the three laws of the paper.
+    pub const MCMILLAN: [FrictionLaw; 3] = [
         FrictionLaw::McMillan,
         FrictionLaw::McMillanNonHysteretic,
         FrictionLaw::Coulomb,
     ];
+
+    /// All laws, in a fixed order.
+    pub const ALL: [FrictionLaw; 4] = [
+        FrictionLaw::McMillan,
+        FrictionLaw::McMillanNonHysteretic,
+        FrictionLaw::Coulomb,
+        FrictionLaw::Stribeck,
+    ];
+
+    /// Whether the law sticks with a static limit, stepped with located stick events
+    /// ([`crate::stick`]).
+    pub fn has_true_stick(self) -> bool {
+        self == FrictionLaw::Stribeck
+    }
+
+    /// The names of the law's own parameters, damping and belt speed first, as they appear in
+    /// specs, flags and files ([`Params::named`] gives their values).
+    pub fn keys(self) -> &'static [&'static str] {
+        match self {
+            FrictionLaw::Stribeck => &["xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v"],
+            _ => &["nu", "lambda", "tau", "phi"],
+        }
+    }
 }
 
 impl std::str::FromStr for FrictionLaw {
@@ -53,19 +82,89 @@ impl std::fmt::Display for FrictionLaw {
     }
 }
 
-/// Nondimensional parameters of McMillan's oscillator (paper Section 4).
+/// The Stribeck law's own parameters (bSTAB's friction case): the friction coefficient
+/// while slipping at speed `s = |v|` is
+///
+/// ```text
+/// mu(s) = mu_d + mu_d (mu_sd - 1) exp(-s / v_0) + mu_v s / v_0,    static limit mu_s = mu_d mu_sd
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stribeck {
+    /// Dynamic (kinetic) coefficient `mu_d > 0`.
+    pub mu_d: f64,
+    /// Static-to-dynamic ratio `mu_sd >= 1`.
+    pub mu_sd: f64,
+    /// Reference slip velocity of the exponential decay, `v_0 > 0`.
+    pub v_0: f64,
+    /// Linear viscous strengthening `mu_v >= 0`.
+    pub mu_v: f64,
+}
+
+impl Default for Stribeck {
+    /// bSTAB's friction case.
+    fn default() -> Self {
+        Stribeck {
+            mu_d: crate::defaults::MU_D,
+            mu_sd: crate::defaults::MU_SD,
+            v_0: crate::defaults::V_0,
+            mu_v: crate::defaults::MU_V,
+        }
+    }
+}
+
+impl Stribeck {
+    /// The static limit `mu_s = mu_d mu_sd` (`= mu(0)`).
+    pub fn mu_s(&self) -> f64 {
+        self.mu_d * self.mu_sd
+    }
+
+    /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
+    #[inline]
+    pub fn mu(&self, s: f64) -> (f64, f64) {
+        let amp = self.mu_d * (self.mu_sd - 1.0);
+        let e = (-s / self.v_0).exp();
+        (
+            self.mu_d + amp * e + self.mu_v * s / self.v_0,
+            (self.mu_v - amp * e) / self.v_0,
+        )
+    }
+}
+
+/// Nondimensional parameters of the oscillator `x'' + 2 nu x' + x = F` (paper Section 4).
+///
+/// Damping ratio and belt speed are common to every law (the Stribeck law names them `xi`
+/// and `v_d`); `tau` and `phi` belong to McMillan's laws, [`Stribeck`] to the Stribeck law
+/// (present exactly when `law = stribeck`, so McMillan's files and JSON are unchanged).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Params {
     /// Friction law.
     pub law: FrictionLaw,
-    /// Damping ratio `nu = r / (2 sqrt(m s))`; `nu >= 0` (under-, critically or over-damped).
+    /// Damping ratio `nu = r / (2 sqrt(m s))` (Stribeck: `xi`); `nu >= 0` (under-, critically
+    /// or over-damped).
     pub nu: f64,
-    /// Belt speed `lambda = v_B / (mu_k g) sqrt(s/m)`; `0 < lambda <= 1e6`.
+    /// Belt speed `lambda = v_B / (mu_k g) sqrt(s/m)` (Stribeck: `v_d`); `0 < lambda <= 1e6`.
     pub lambda: f64,
     /// Characteristic time `tau' = tau / mu_k sqrt(s/m)` of the surfaces; `tau > 0`.
     pub tau: f64,
     /// `Phi = arcsin(mu_k / mu_s)`, in `(0, pi/2]` since `mu_s >= mu_k > 0`.
     pub phi: f64,
+    /// The Stribeck law's parameters (`Some` exactly when `law = stribeck`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck: Option<Stribeck>,
+}
+
+/// One named parameter of a law, as specs, flags, files and `info` show it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Named {
+    /// The key (`nu`, `xi`, `mu_sd`, ...).
+    pub name: &'static str,
+    /// Its value.
+    pub value: f64,
+    /// A long name for files and plots.
+    pub long_name: &'static str,
+    /// Units (all nondimensional; the scale is named).
+    pub units: &'static str,
 }
 
 impl Params {
@@ -77,7 +176,110 @@ impl Params {
             lambda: crate::defaults::LAMBDA,
             tau: crate::defaults::TAU,
             phi: crate::defaults::PHI,
+            stribeck: None,
         }
+    }
+
+    /// The Stribeck law with damping ratio `xi` and belt speed `v_d` (`tau`, `phi` at their
+    /// defaults, unused).
+    pub fn stribeck(xi: f64, v_d: f64, s: Stribeck) -> Params {
+        Params {
+            law: FrictionLaw::Stribeck,
+            nu: xi,
+            lambda: v_d,
+            tau: crate::defaults::TAU,
+            phi: crate::defaults::PHI,
+            stribeck: Some(s),
+        }
+    }
+
+    /// bSTAB's friction case: `xi = 0.05`, `v_d = 1.5`, `mu_sd = 2`, `mu_d = 0.5`,
+    /// `v_0 = 0.5`, `mu_v = 0`.
+    pub fn bstab() -> Params {
+        Params::stribeck(
+            crate::defaults::XI,
+            crate::defaults::V_D,
+            Stribeck::default(),
+        )
+    }
+
+    /// The law's own parameters with their names ([`FrictionLaw::keys`] order).
+    pub fn named(&self) -> Vec<Named> {
+        let n = |name, value, long_name, units| Named {
+            name,
+            value,
+            long_name,
+            units,
+        };
+        match (self.law, self.stribeck) {
+            (FrictionLaw::Stribeck, Some(s)) => vec![
+                n("xi", self.nu, "damping ratio xi", "1"),
+                n(
+                    "v_d",
+                    self.lambda,
+                    "belt speed v_d",
+                    "natural-frequency velocity scale",
+                ),
+                n("mu_d", s.mu_d, "dynamic friction coefficient mu_d", "1"),
+                n("mu_sd", s.mu_sd, "static-to-dynamic ratio mu_sd", "1"),
+                n(
+                    "v_0",
+                    s.v_0,
+                    "Stribeck reference velocity v_0",
+                    "natural-frequency velocity scale",
+                ),
+                n("mu_v", s.mu_v, "viscous strengthening mu_v", "1"),
+            ],
+            _ => vec![
+                n("nu", self.nu, "damping ratio nu", "1"),
+                n(
+                    "lambda",
+                    self.lambda,
+                    "belt speed lambda",
+                    "mu_k g / omega_n (nondimensional)",
+                ),
+                n("tau", self.tau, "surface time tau", "1 / omega_n"),
+                n("phi", self.phi, "Phi = arcsin(mu_k / mu_s)", "rad"),
+            ],
+        }
+    }
+
+    /// The parameters of `law` from named values (the inverse of [`Params::named`]); `get`
+    /// returns `None` for a missing key, reported by name. Not validated.
+    pub fn from_named(
+        law: FrictionLaw,
+        mut get: impl FnMut(&'static str) -> Option<f64>,
+    ) -> Result<Params, &'static str> {
+        let mut val = |k: &'static str| get(k).ok_or(k);
+        Ok(if law == FrictionLaw::Stribeck {
+            let (xi, v_d) = (val("xi")?, val("v_d")?);
+            let s = Stribeck {
+                mu_d: val("mu_d")?,
+                mu_sd: val("mu_sd")?,
+                v_0: val("v_0")?,
+                mu_v: val("mu_v")?,
+            };
+            Params::stribeck(xi, v_d, s)
+        } else {
+            Params {
+                law,
+                nu: val("nu")?,
+                lambda: val("lambda")?,
+                tau: val("tau")?,
+                phi: val("phi")?,
+                stribeck: None,
+            }
+        })
+    }
+
+    /// The damping name of the law (`nu` or `xi`).
+    pub fn damping_key(&self) -> &'static str {
+        self.law.keys()[0]
+    }
+
+    /// The belt-speed name of the law (`lambda` or `v_d`).
+    pub fn speed_key(&self) -> &'static str {
+        self.law.keys()[1]
     }
 
     /// Checks every value; the error names the parameter and the value.
@@ -89,6 +291,15 @@ impl Params {
                 expected,
             })
         };
+        if self.law == FrictionLaw::Stribeck {
+            return self.validate_stribeck();
+        }
+        if self.stribeck.is_some() {
+            return Err(CoreError::ForeignParameters {
+                law: self.law.name(),
+                keys: "mu_d, mu_sd, v_0, mu_v",
+            });
+        }
         if !self.nu.is_finite() || self.nu < 0.0 {
             return bad("nu", self.nu, "a finite damping ratio >= 0");
         }
@@ -120,8 +331,53 @@ impl Params {
         Ok(())
     }
 
+    /// The Stribeck law's checks, naming its keys (`xi`, `v_d`, ...).
+    fn validate_stribeck(&self) -> Result<(), CoreError> {
+        let bad = |name: &'static str, value: f64, expected: &'static str| {
+            Err(CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        let Some(s) = self.stribeck else {
+            return Err(CoreError::MissingParameters {
+                law: "stribeck",
+                keys: "mu_d, mu_sd, v_0, mu_v",
+            });
+        };
+        if !self.nu.is_finite() || self.nu < 0.0 || self.nu > 1e6 {
+            return bad("xi", self.nu, "a finite damping ratio in [0, 1e6]");
+        }
+        if !self.lambda.is_finite() || self.lambda <= 0.0 || self.lambda > 1e6 {
+            return bad(
+                "v_d",
+                self.lambda,
+                "a belt speed in (0, 1e6] (stick means moving with the belt; a belt at rest \
+                 has no steady slip)",
+            );
+        }
+        if !s.mu_d.is_finite() || s.mu_d <= 0.0 || s.mu_d > 1e6 {
+            return bad("mu_d", s.mu_d, "a dynamic friction coefficient in (0, 1e6]");
+        }
+        if !s.mu_sd.is_finite() || s.mu_sd < 1.0 || s.mu_sd > 1e6 {
+            return bad(
+                "mu_sd",
+                s.mu_sd,
+                "a static-to-dynamic ratio in [1, 1e6] (static friction is at least dynamic)",
+            );
+        }
+        if !s.v_0.is_finite() || s.v_0 <= 0.0 || s.v_0 > 1e12 {
+            return bad("v_0", s.v_0, "a reference velocity in (0, 1e12]");
+        }
+        if !s.mu_v.is_finite() || s.mu_v < 0.0 || s.mu_v > 1e6 {
+            return bad("mu_v", s.mu_v, "a viscous coefficient in [0, 1e6]");
+        }
+        Ok(())
+    }
+
     /// The steady-slip fixed point: `x' = x'' = 0`, so `x* = F(-lambda, 0)`
-    /// (`x* = 1` for `lambda > 0`).
+    /// (`x* = 1` for `lambda > 0` under McMillan's laws, `x* = mu(v_d)` under Stribeck's).
     pub fn fixed_point(&self) -> crate::State {
         let f = crate::friction::force(self, -self.lambda, 0.0).force;
         crate::State { x: f, v: 0.0 }
@@ -131,10 +387,26 @@ impl Params {
     /// in `[-bound, bound]`. `|F1| < 1`; `|F2| <= 1 / sin(Phi)` (McMillan) and `|F2| <= 1` on the
     /// slip branches.
     pub fn force_bound(&self) -> f64 {
-        match self.law {
-            FrictionLaw::Coulomb => 1.0,
+        match (self.law, self.stribeck) {
+            (FrictionLaw::Coulomb, _) => 1.0,
+            // |F| <= mu(|v|) <= mu_s + mu_v |v| / v_0, and |v| stays below 1e6 (the classifier's
+            // divergence radius) plus the belt speed.
+            (FrictionLaw::Stribeck, Some(s)) => {
+                s.mu_s().max(s.mu_d) + s.mu_v * (1e6 + self.lambda) / s.v_0
+            }
             _ => 1.0 + 1.0 / self.phi.sin(),
         }
+    }
+
+    /// The effective damping `2 nu - dF/dv` of the fixed point's linearisation, for laws whose
+    /// force depends on the slip velocity only (Stribeck): the fixed point repels where it is
+    /// negative (`mu'(v_d) < -2 xi`, the falling friction curve beats the damping). `None` for
+    /// McMillan's laws (the force depends on the acceleration too; their stability is found by
+    /// runs) and Coulomb.
+    pub fn fixed_point_damping(&self) -> Option<f64> {
+        let s = self.stribeck?;
+        let (_, dmu) = s.mu(self.lambda);
+        Some(2.0 * self.nu + dmu)
     }
 }
 

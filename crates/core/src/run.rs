@@ -16,6 +16,7 @@
 use crate::friction::Branch;
 use crate::solver::{Solution, SolverStats};
 use crate::stepper::{Sample, State, Stepper};
+use crate::stick::StickEvents;
 
 /// One step of a run: the samples before and after it and the solve of its force.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +27,8 @@ pub struct Step {
     pub next: Sample,
     /// The implicit solve of the end-of-step force.
     pub solution: Solution,
+    /// Stick events located inside the step (laws with true stick; times from `prev.t`).
+    pub events: StickEvents,
 }
 
 /// A run of the oscillator from one initial condition. As an [`Iterator`] it never ends:
@@ -77,7 +80,7 @@ impl<'a> Run<'a> {
     #[inline]
     pub fn step(&mut self) -> Step {
         let prev = self.sample;
-        let (mut next, solution) = self.stepper.step(&prev, &mut self.stats);
+        let (mut next, solution, events) = self.stepper.advance(&prev, &mut self.stats);
         self.steps += 1;
         next.t = self.t0 + self.steps as f64 * self.stepper.dt();
         self.max_residual = self.max_residual.max(solution.residual);
@@ -87,6 +90,7 @@ impl<'a> Run<'a> {
             prev,
             next,
             solution,
+            events,
         }
     }
 

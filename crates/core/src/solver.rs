@@ -127,12 +127,25 @@ pub struct SolverStats {
     pub iterations: u64,
     /// Steps where the paper's iteration hit its cap and kept the last iterate.
     pub unconverged: u64,
-    /// Coulomb steps that stuck (`v = 0`, force inside `[-1, 1]`).
+    /// Coulomb steps that stuck (`v = 0`, force inside `[-1, 1]`); with a law with true stick,
+    /// steps that were stuck for any part of their length.
     pub sticks: u64,
     /// Robust solves that could not use certified Newton and ran the full two-sided bracket
     /// search (the certificate did not hold, or Newton left the certified interval).
     #[serde(default)]
     pub fallbacks: u64,
+    /// Stick onsets located inside steps (laws with true stick, [`crate::stick`]).
+    #[serde(default)]
+    pub stick_onsets: u64,
+    /// Breakaways located inside steps (laws with true stick).
+    #[serde(default)]
+    pub breakaways: u64,
+    /// Passages through zero slip without sticking (laws with true stick).
+    #[serde(default)]
+    pub slip_reversals: u64,
+    /// Iterations of the event location (false position on the sub-step length).
+    #[serde(default)]
+    pub event_iterations: u64,
 }
 
 impl SolverStats {
@@ -150,6 +163,10 @@ impl SolverStats {
         self.unconverged += o.unconverged;
         self.sticks += o.sticks;
         self.fallbacks += o.fallbacks;
+        self.stick_onsets += o.stick_onsets;
+        self.breakaways += o.breakaways;
+        self.slip_reversals += o.slip_reversals;
+        self.event_iterations += o.event_iterations;
     }
 }
 
@@ -387,7 +404,7 @@ pub fn slip_lipschitz(law: &Law, eq: &ForceEquation, f0: f64, w: f64) -> Option<
             v_min > 2.0 * tau * a_max || (alo >= 0.0 && vhi < 0.0) || (ahi <= 0.0 && vlo > 0.0)
         }
         FrictionLaw::McMillanNonHysteretic => v_min > tau * a_max,
-        FrictionLaw::Coulomb => false,
+        FrictionLaw::Coulomb | FrictionLaw::Stribeck => false,
     };
     if !slip {
         return None;

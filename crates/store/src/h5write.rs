@@ -351,14 +351,25 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     str_attr(file, "spec", &plan.spec_text)?;
     str_attr(file, "name", &plan.name)?;
     str_attr(file, "law", p0.law.name())?;
-    num_attr(file, "tau", p0.tau)?;
-    num_attr(file, "phi", p0.phi)?;
     let swept = plan.sweep.as_ref().map(|s| s.name);
-    if swept != Some("nu") {
-        num_attr(file, "nu", p0.nu)?;
-    }
-    if swept != Some("lambda") {
-        num_attr(file, "lambda", p0.lambda)?;
+    if p0.law.has_true_stick() {
+        // The law's own parameters, each with its long name and units beside it.
+        for n in p0.named() {
+            if swept != Some(n.name) {
+                num_attr(file, n.name, n.value)?;
+            }
+            str_attr(file, &format!("{}_long_name", n.name), n.long_name)?;
+            str_attr(file, &format!("{}_units", n.name), n.units)?;
+        }
+    } else {
+        num_attr(file, "tau", p0.tau)?;
+        num_attr(file, "phi", p0.phi)?;
+        if swept != Some("nu") {
+            num_attr(file, "nu", p0.nu)?;
+        }
+        if swept != Some("lambda") {
+            num_attr(file, "lambda", p0.lambda)?;
+        }
     }
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;
@@ -450,11 +461,11 @@ fn write_all(
     .h5(path)?;
     let sw = match &plan.sweep {
         Some(s) => {
-            let long = if s.name == "nu" {
-                "damping ratio nu"
-            } else {
-                "belt speed lambda"
-            };
+            let named = plan.maps[0].named();
+            let long = named
+                .iter()
+                .find(|n| n.name == s.name)
+                .map_or(s.name, |n| n.long_name);
             Some(coord(file, &mut dims, s.name, &s.values, long).h5(path)?)
         }
         None => None,

@@ -98,7 +98,7 @@ pub(crate) fn f64_attr(loc: &Location, name: &str) -> hdf5::Result<f64> {
 
 /// The sweep axis (name, values), if the file holds a sweep.
 pub(crate) fn sweep_of(file: &File) -> hdf5::Result<Option<(String, Vec<f64>)>> {
-    for name in ["nu", "lambda"] {
+    for name in ["nu", "lambda", "xi", "v_d"] {
         if file.link_exists(name) {
             return Ok(Some((
                 name.to_string(),
@@ -280,22 +280,17 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
         let law: squeal_core::FrictionLaw = law_name
             .parse()
             .map_err(|e: squeal_core::CoreError| hdf5::Error::from(e.to_string()))?;
-        let value = |name: &str| -> hdf5::Result<f64> {
+        let value = |name: &str| -> Option<f64> {
             match &sweep {
-                Some((n, v)) if n == name => Ok(v[map]),
-                _ => f64_attr(&file, name),
+                Some((n, v)) if n == name => Some(v[map]),
+                _ => f64_attr(&file, name).ok(),
             }
         };
-        let params = squeal_core::Params {
-            law,
-            nu: value("nu")?,
-            lambda: value("lambda")?,
-            tau: f64_attr(&file, "tau")?,
-            phi: f64_attr(&file, "phi")?,
-        };
+        let params = squeal_core::Params::from_named(law, value)
+            .map_err(|k| hdf5::Error::from(format!("attribute {k} is missing")))?;
         let title = match &sweep {
             Some((n, v)) => format!("{law_name} {n} = {}", v[map]),
-            None => format!("{law_name} nu = {}", params.nu),
+            None => format!("{law_name} {} = {}", params.damping_key(), params.nu),
         };
         let cycle = match cycle_group(&file, sweep.is_some(), map) {
             Some(g) if g.link_exists("x") => {
@@ -330,7 +325,7 @@ pub fn read_cycle_summary(path: &Path) -> Result<Vec<CycleSummary>, StoreError> 
         for m in 0..n {
             let value = match &sweep {
                 Some((_, v)) => v[m],
-                None => f64_attr(&file, "nu")?,
+                None => f64_attr(&file, "nu").or_else(|_| f64_attr(&file, "xi"))?,
             };
             let rec = read_cycle(&file, sweep.is_some(), m)?;
             out.push(match rec.flatten().and_then(Result::ok) {

@@ -296,6 +296,15 @@ impl AtlasPlan {
             ));
         }
         let m = &f.model;
+        if m.law == FrictionLaw::Stribeck {
+            return Err(invalid(
+                path,
+                "model.law",
+                "stribeck",
+                "a McMillan law (mcmillan, mcmillan-nonhysteretic or coulomb): the atlas does not \
+                 take the Stribeck law yet; scan it with `squeal scan` (xi or v_d swept)",
+            ));
+        }
         let (units, params) = if let Some(ph) = &f.physical {
             for (key, v) in [
                 ("nu", &m.nu),
@@ -680,6 +689,7 @@ impl AtlasPlan {
                     lambda: ph.v_belt / s.velocity,
                     tau: ph.tau / ph.mu_k * s.omega0,
                     phi: (ph.mu_k / ph.mu_s).asin(),
+                    stribeck: None,
                 }
             }
             None => {
@@ -690,6 +700,7 @@ impl AtlasPlan {
                     lambda: v[1],
                     tau: v[2],
                     phi: v[3],
+                    stribeck: None,
                 }
             }
         }
