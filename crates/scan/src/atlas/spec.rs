@@ -43,7 +43,8 @@
 //! nu_hi = 0.2
 //! rtol = 1e-3
 //! [grid]                             # optional: one basin map per point (scan spec keys)
-//! x0 = { min = -2.0, max = 4.0, count = 64 }   # its box is the disturbance box
+//! x0 = { min = -2.0, max = 4.0, count = 64 }   # the box its cells cover is the
+//!                                              # disturbance box (no [disturbance] then)
 //! v0 = { min = -3.0, max = 3.0, count = 64 }
 //! block_rows = 8
 //! [classifier]                       # optional, only with [grid]: as in the scan spec
@@ -563,17 +564,19 @@ impl AtlasPlan {
                     None => crate::spec::ClassifierSpec::default().check(dt, grid.cells(), &inv)?,
                 };
                 // One box: the basin fraction from the map and from the cycle cover the
-                // same initial conditions.
+                // same initial conditions, the area the cells tile (each cell centred on
+                // its grid point, half a spacing beyond the first and last).
+                let (hx, hv) = (0.5 * grid.x0.spacing(), 0.5 * grid.v0.spacing());
                 let gbox = Region {
-                    x: [grid.x0.min, grid.x0.max],
-                    v: [grid.v0.min, grid.v0.max],
+                    x: [grid.x0.min - hx, grid.x0.max + hx],
+                    v: [grid.v0.min - hv, grid.v0.max + hv],
                 };
-                if has_disturbance && ps.disturbance != gbox {
+                if has_disturbance {
                     return Err(invalid(
                         path,
                         "disturbance",
                         format!("x {:?}, v {:?}", ps.disturbance.x, ps.disturbance.v),
-                        "no [disturbance] with [grid]: the grid's box is the disturbance box",
+                        "no [disturbance] with [grid]: the box the grid's cells cover is the disturbance box",
                     ));
                 }
                 if !(gbox.area() > 0.0) {
@@ -994,9 +997,10 @@ path = "p.h5"
             (m.grid.x0.count, m.grid.v0.count, m.grid.block_rows),
             (8, 6, 8)
         );
-        // The grid's box is the disturbance box.
-        assert_eq!(p.point.disturbance.x, [-2.0, 4.0]);
-        assert_eq!(p.point.disturbance.v, [-3.0, 3.0]);
+        // The box the cells tile is the disturbance box: half a spacing (6/7 in x, 6/5 in
+        // v) beyond the first and last grid values.
+        assert_eq!(p.point.disturbance.x, [-2.0 - 3.0 / 7.0, 4.0 + 3.0 / 7.0]);
+        assert_eq!(p.point.disturbance.v, [-3.0 - 0.6, 3.0 + 0.6]);
         let mp = p.map_plan().unwrap();
         assert_eq!(mp.maps.len(), p.n_points());
         assert_eq!(mp.maps[3], p.params_at(3));
