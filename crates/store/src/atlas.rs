@@ -297,7 +297,7 @@ fn unhex(s: &str) -> Option<Vec<u8>> {
 /// "record": TOML}`, exact).
 enum MapRec {
     Block(usize, usize, Vec<Cell>),
-    Cycle(usize, Option<CycleOutcome>),
+    Cycle(usize, Box<Option<CycleOutcome>>),
 }
 
 fn block_json(point: usize, block: usize, cells: &[Cell]) -> Value {
@@ -323,7 +323,7 @@ fn map_rec_from_json(v: &Value) -> Option<MapRec> {
     }
     let m = v.get("map_cycle")?.as_u64()? as usize;
     let rec = crate::cycle::from_text(v.get("record")?.as_str()?, None).ok()?;
-    Some(MapRec::Cycle(m, rec))
+    Some(MapRec::Cycle(m, Box::new(rec)))
 }
 
 fn point_json(p: &PointResult) -> Value {
@@ -534,7 +534,7 @@ impl AtlasWriter {
                         results.blocks.insert((m, b), cells);
                     }
                     (MapRec::Cycle(m, c), Some(_)) if m < plan.n_points() => {
-                        results.map_cycles.insert(m, c);
+                        results.map_cycles.insert(m, *c);
                     }
                     _ => {
                         return Err(StoreError::NotSquealFile {

@@ -579,7 +579,7 @@ impl AtlasPlan {
                         "no [disturbance] with [grid]: the box the grid's cells cover is the disturbance box",
                     ));
                 }
-                if !(gbox.area() > 0.0) {
+                if gbox.area() <= 0.0 {
                     return Err(invalid(
                         path,
                         "grid",
