@@ -695,3 +695,34 @@ fn blocks_in_file(p: &Path) -> usize {
         .filter(|&&d| d == 1)
         .count()
 }
+
+/// Width and height of a PNG (its IHDR chunk: bytes 16..24, big-endian).
+fn png_size(p: &Path) -> (u32, u32) {
+    let b = std::fs::read(p).unwrap();
+    let be = |k: usize| u32::from_be_bytes(b[k..k + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+#[test]
+fn a_2d_atlas_lays_its_maps_out_over_both_parameters() {
+    let spec = MAPS
+        .replace(
+            "nu = [1e-3, 1e-2]",
+            "nu = [1e-3, 1e-2]\nlambda = [2.5, 3.0, 3.5]",
+        )
+        .replace("rtol = 1e-2", "fold = false\ncritical = false")
+        .replace("count = 10", "count = 6")
+        .replace("count = 8", "count = 5");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("two.toml"), spec).unwrap();
+    ok(squeal(dir.path(), &["atlas", "two.toml"]));
+    let h5 = dir.path().join("maps.h5");
+    assert_eq!(shape(&h5, "map_labels"), [2, 3, 5, 6]);
+    assert_eq!(shape(&h5, "blocks_done"), [2, 3, 2]);
+    // Rows: nu (2), columns: lambda (3); panels 440 x 420 plus a 245-pixel legend
+    // (crates/plot/src/lib.rs, basin_sheet).
+    let (w, h) = png_size(&dir.path().join("maps-maps.png"));
+    assert_eq!(w, 3 * 440 + 245);
+    assert!(h > 2 * 420 && h < 3 * 420, "{h}");
+    assert!(dir.path().join("maps.png").exists());
+}

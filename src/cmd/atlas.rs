@@ -701,18 +701,19 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 .map(|p| p.as_ref().map_or(255, |p| p.regime as u8))
                 .collect();
             // Contours inside the bistable region only: elsewhere the fraction is 0 or 1 by
-            // the regime, and contours would crowd along its edge.
+            // the regime, and contours would crowd along its edge. With maps, the map's.
             let field: Vec<f64> = res
                 .points
                 .iter()
-                .map(|p| match p {
+                .enumerate()
+                .map(|(i, p)| match p {
                     Some(p)
                         if matches!(
                             p.regime,
                             AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
                         ) =>
                     {
-                        p.basin_fraction
+                        res.basin_fraction(&plan, i).0
                     }
                     _ => f64::NAN,
                 })
@@ -887,4 +888,17 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
         _ => {}
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pick;
+
+    #[test]
+    fn sheet_panels_are_spread_evenly_with_both_ends() {
+        assert_eq!(pick(4, 6), vec![0, 1, 2, 3]);
+        // round(k * 47 / 5): 0, 9.4, 18.8, 28.2, 37.6, 47.
+        assert_eq!(pick(48, 6), vec![0, 9, 19, 28, 38, 47]);
+        assert_eq!(pick(7, 2), vec![0, 6]);
+    }
 }
