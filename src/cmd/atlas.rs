@@ -33,6 +33,15 @@ pub struct Args {
     pub json: bool,
 }
 
+/// Counts finished map blocks on the progress bar.
+struct BarObserver<'a>(&'a ProgressBar);
+
+impl squeal_scan::Observer for BarObserver<'_> {
+    fn block_done(&self, _map: usize, _block: usize) {
+        self.0.inc(1);
+    }
+}
+
 /// Runs the atlas.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = AtlasPlan::from_file(&args.spec)?;
@@ -61,9 +70,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let png = common::sibling(&out, "", "png");
     // Charts exist for one swept parameter (bifurcation diagram) or two (stability chart).
     let chartable = matches!(plan.axes().len(), 1 | 2);
-    let render = shard.is_none() && !args.no_render && chartable;
+    let render = shard.is_none() && !args.no_render && (chartable || plan.maps.is_some());
     if render && !args.run.resume {
-        common::check_new(&png, args.run.force, "chart of the atlas")?;
+        if chartable {
+            common::check_new(&png, args.run.force, "chart of the atlas")?;
+        }
+        if plan.maps.is_some() {
+            common::check_new(&sheet_path(&png), args.run.force, "sheet of basin maps")?;
+        }
     }
     let prov = common::provenance();
     let writer = if args.run.resume {
@@ -72,6 +86,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
     let todo = writer.missing();
+    let map_plan = plan.map_plan();
+    let todo_blocks = writer.missing_blocks().len();
 
     let stop = Arc::new(AtomicBool::new(false));
     {
@@ -87,7 +103,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .context("installing the Ctrl-C handler")?;
     }
     let bar = ProgressBar::with_draw_target(
-        Some(todo.len() as u64),
+        Some((todo.len() + todo_blocks) as u64),
         if common::show_progress(args.run.quiet) {
             ProgressDrawTarget::stderr()
         } else {
@@ -95,9 +111,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         },
     )
     .with_style(
-        ProgressStyle::with_template("atlas [{bar:40}] {pos}/{len} units  ETA {eta}")
-            .expect("static template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "atlas [{bar:40}] {pos}/{len} units and map blocks  ETA {eta}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
     );
     let t0 = Instant::now();
     let writer = Mutex::new(writer);
@@ -108,14 +126,24 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         bar.inc(1);
         Ok(())
     });
+    let mut writer = writer.into_inner().expect("writer lock");
+    if let Err(e) = result {
+        bar.finish_and_clear();
+        return Err(e.into());
+    }
+    // The basin maps: the scan's driver over (point, block) pairs, into the same journal.
+    if let Some(mp) = map_plan.as_ref().filter(|_| !stop.load(Ordering::SeqCst)) {
+        squeal_scan::drive(mp, shard, &mut writer, &BarObserver(&bar), &stop)
+            .map_err(|e| anyhow::anyhow!("{e}"))
+            .context("basin maps")?;
+    }
     bar.finish_and_clear();
-    let writer = writer.into_inner().expect("writer lock");
-    result?;
     let seconds = t0.elapsed().as_secs_f64();
-    if stop.load(Ordering::SeqCst) && !writer.missing().is_empty() {
+    let left = writer.missing().len() + writer.missing_blocks().len();
+    if stop.load(Ordering::SeqCst) && left > 0 {
         eprintln!(
-            "squeal: interrupted; {} units left. Finish with: squeal atlas {} -o {} --resume{}",
-            writer.missing().len(),
+            "squeal: interrupted; {} units and map blocks left. Finish with: squeal atlas {} -o {} --resume{}",
+            left,
             args.spec.display(),
             out.display(),
             args.run
@@ -137,6 +165,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v["file"] = out.display().to_string().into();
         v["seconds"] = seconds.into();
         v["units_computed"] = todo.len().into();
+        v["map_blocks_computed"] = todo_blocks.into();
         println!("{}", serde_json::to_string(&v)?);
     } else {
         print_summary(&plan, &res, &out, seconds, todo.len());
@@ -205,6 +234,25 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
             if scales.is_some() {
                 o["si"] = Value::Object(si);
             }
+            if plan.maps.is_some() {
+                // The reported basin fraction is the map's; the cycle's is kept beside it.
+                o["basin_fraction_cycle"] = o["basin_fraction"].clone();
+                o["basin_fraction_cycle_err"] = o["basin_fraction_err"].clone();
+                let f = res.map_fraction(plan, i);
+                o["basin_fraction"] = num(f.map_or(f64::NAN, |f| f.fraction));
+                o["basin_fraction_err"] = num(f.map_or(f64::NAN, |f| f.err));
+                o["basin_fraction_source"] = "map".into();
+                if let Some(f) = f {
+                    o["map"] = json!({
+                        "cells": f.cells,
+                        "steady_slip": f.steady,
+                        "stick_slip": f.stick,
+                        "undecided": f.undecided,
+                        "near_cycle": f.near_cycle,
+                        "cycle_r_section": num(res.map_cycle(i).map_or(f64::NAN, |r| r.r_section)),
+                    });
+                }
+            }
             o
         })
         .collect();
@@ -255,6 +303,13 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
         "disturbance": {"x": plan.point.disturbance.x, "v": plan.point.disturbance.v},
         "points": points,
         "boundaries": boundaries,
+        "scheme": plan.solver.scheme.name(),
+        "maps": plan.maps.map(|m| json!({
+            "x0": {"min": m.grid.x0.min, "max": m.grid.x0.max, "count": m.grid.x0.count},
+            "v0": {"min": m.grid.v0.min, "max": m.grid.v0.max, "count": m.grid.v0.count},
+            "block_rows": m.grid.block_rows,
+            "early_stop": m.early_stop.name(),
+        })),
     })
 }
 
@@ -281,6 +336,12 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
         if n > 0 {
             println!("  {:>6} points: {}", n, r.description());
         }
+    }
+    if let Some(m) = &plan.maps {
+        println!(
+            "  basin maps: {} x {} cells per point; basin fraction of steady slip from the maps",
+            m.grid.x0.count, m.grid.v0.count
+        );
     }
     let (dkey, _) = plan.damping_axis();
     let shown = res.boundaries.len().min(12);
@@ -404,10 +465,212 @@ fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
     }
 }
 
-/// Draws the chart of an atlas file: a stability chart (2-D), a bifurcation diagram (1-D).
+/// The sheet of basin maps of an atlas whose chart is `png`: `<stem>-maps.png`.
+pub fn sheet_path(png: &Path) -> PathBuf {
+    common::sibling(png, "-maps", "png")
+}
+
+/// Draws the pictures of an atlas file: a stability chart (2-D), a bifurcation diagram
+/// (1-D), and with maps a sheet of them ([`sheet_path`]). Returns the files written.
 pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
     let (plan, res, _) = read_atlas(h5)?;
-    common::check_new(png, force, "chart")?;
+    let chartable = matches!(plan.axes().len(), 1 | 2);
+    if !chartable && plan.maps.is_none() {
+        bail!(
+            "{}: {} swept parameters; charts are drawn for 1 (bifurcation diagram) or 2 (stability chart); read the file with h5py/xarray",
+            h5.display(),
+            plan.axes().len()
+        )
+    }
+    let mut drawn = Vec::new();
+    if chartable {
+        common::check_new(png, force, "chart")?;
+        draw_chart(&plan, &res, png)?;
+        drawn.push(png.to_path_buf());
+    }
+    if plan.maps.is_some() {
+        let sheet = sheet_path(png);
+        common::check_new(&sheet, force, "sheet of basin maps")?;
+        draw_sheet(&plan, &res, &sheet)?;
+        drawn.push(sheet);
+    }
+    Ok(drawn)
+}
+
+/// Panels per axis of a sheet of maps at most (1-D: `MAX_PANELS_1D` in all).
+const MAX_PANELS_AXIS: usize = 6;
+const MAX_PANELS_1D: usize = 24;
+
+/// `m` indices of `0..n`, evenly spread, first and last included.
+fn pick(n: usize, m: usize) -> Vec<usize> {
+    if n <= m {
+        return (0..n).collect();
+    }
+    let mut v: Vec<usize> = (0..m)
+        .map(|k| ((k * (n - 1)) as f64 / (m - 1) as f64).round() as usize)
+        .collect();
+    v.dedup();
+    v
+}
+
+fn value_text(a: &squeal_scan::atlas::AtlasAxis, v: f64) -> String {
+    let u = if a.units == "1" {
+        String::new()
+    } else {
+        format!(" {}", a.units)
+    };
+    format!("{} = {}{u}", a.key, squeal_plot::fmt_number(v))
+}
+
+/// The sheet of basin maps laid out over the parameter grid: one row of panels per value
+/// of the first swept parameter and one column per value of the second (1-D: the values in
+/// reading order), at most 6 per axis (24 in 1-D), evenly spread with both ends; further
+/// axes at their first value. The title says which were drawn.
+fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Result<()> {
+    let Some(m) = &plan.maps else {
+        return Ok(());
+    };
+    let g = m.grid;
+    let axes = plan.axes();
+    let shape = plan.shape();
+    // The drawn indices per axis.
+    let picks: Vec<Vec<usize>> = shape
+        .iter()
+        .enumerate()
+        .map(|(k, &n)| match (axes.len(), k) {
+            (1, _) => pick(n, MAX_PANELS_1D),
+            (_, 0 | 1) => pick(n, MAX_PANELS_AXIS),
+            _ => vec![0],
+        })
+        .collect();
+    let mut points: Vec<Vec<usize>> = vec![vec![]];
+    for p in &picks {
+        points = points
+            .into_iter()
+            .flat_map(|pre| {
+                p.iter().map(move |&i| {
+                    let mut v = pre.clone();
+                    v.push(i);
+                    v
+                })
+            })
+            .collect();
+    }
+    let flat = |idx: &[usize]| idx.iter().zip(&shape).fold(0, |acc, (i, n)| acc * n + i);
+    let x0 = g.x0.values();
+    let v0 = g.v0.values();
+    let data: Vec<(usize, Vec<u8>)> = points
+        .iter()
+        .map(|idx| {
+            let i = flat(idx);
+            let labels = res.map_cells(plan, i).map_or_else(
+                || vec![squeal_scan::cell::NOT_COMPUTED; g.cells()],
+                |c| c.iter().map(|c| c.regime).collect(),
+            );
+            (i, labels)
+        })
+        .collect();
+    let panels: Vec<squeal_plot::BasinPanel> = data
+        .iter()
+        .map(|(i, labels)| {
+            let values = plan.values_at(*i);
+            let swept: Vec<(&squeal_scan::atlas::AtlasAxis, f64)> = plan
+                .params
+                .iter()
+                .zip(&values)
+                .filter(|(a, _)| a.values.len() > 1)
+                .map(|(a, &v)| (a, v))
+                .collect();
+            // Only the parameters that differ between panels (axes 0 and 1).
+            let title = swept
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| picks[*k].len() > 1)
+                .map(|(_, (a, v))| value_text(a, *v))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let mut overlays = Vec::new();
+            if let Some(r) = res.map_cycle(*i) {
+                let mut xs = r.curve.x.clone();
+                let mut vs = r.curve.v.clone();
+                if let (Some(&a), Some(&b)) = (xs.first(), vs.first()) {
+                    xs.push(a);
+                    vs.push(b);
+                }
+                overlays.push(Curve {
+                    label: "unstable limit cycle".into(),
+                    xs,
+                    ys: vs,
+                    color: squeal_plot::CYCLE,
+                    points_only: false,
+                });
+            }
+            let fp = plan.params_at(*i).fixed_point();
+            squeal_plot::BasinPanel {
+                title: if title.is_empty() {
+                    plan.name.clone()
+                } else {
+                    title
+                },
+                x0: &x0,
+                v0: &v0,
+                labels,
+                overlays,
+                markers: vec![squeal_plot::Marker {
+                    label: "steady-slip fixed point".into(),
+                    x: fp.x,
+                    y: fp.v,
+                    color: squeal_plot::FIXED_POINT,
+                }],
+            }
+        })
+        .collect();
+    let drawn: Vec<String> = axes
+        .iter()
+        .zip(&picks)
+        .map(|(a, p)| {
+            let n = a.values.len();
+            if p.len() == n {
+                format!("{}: all {n} values", a.key)
+            } else if p.len() == 1 {
+                format!(
+                    "{} at its first value {}",
+                    a.key,
+                    squeal_plot::fmt_number(a.values[0])
+                )
+            } else {
+                format!("{}: {} of {n} values, evenly spread", a.key, p.len())
+            }
+        })
+        .collect();
+    let layout = match axes.len() {
+        0 | 1 => String::new(),
+        _ => format!("; rows: {}, columns: {}", axes[0].key, axes[1].key),
+    };
+    let title = format!(
+        "{}: basins of attraction, {}, one map per parameter point\n{}, dt = {}, scheme {}\npanels: {}{layout}",
+        plan.name,
+        squeal_plot::law_title(plan.law.name()),
+        title(plan, None)
+            .split_once(": ")
+            .map_or(String::new(), |(_, f)| f.to_string()),
+        squeal_plot::fmt_number(plan.dt),
+        plan.solver.scheme.name(),
+        drawn.join("; "),
+    );
+    let ncols = match axes.len() {
+        0 => 1,
+        1 => (panels.len() as f64).sqrt().ceil() as usize,
+        _ => picks[1].len(),
+    };
+    squeal_plot::basin_sheet(png, &title, &panels, &common::classes(), ncols)
+        .with_context(|| format!("drawing {}", png.display()))?;
+    Ok(())
+}
+
+/// Draws the chart: a stability chart (2-D) or a bifurcation diagram (1-D).
+fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Result<()> {
+    let plan = plan.clone();
     let axes = plan.axes();
     let (dkey, dpos) = plan.damping_axis();
     let bvals =
@@ -438,18 +701,19 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
                 .map(|p| p.as_ref().map_or(255, |p| p.regime as u8))
                 .collect();
             // Contours inside the bistable region only: elsewhere the fraction is 0 or 1 by
-            // the regime, and contours would crowd along its edge.
+            // the regime, and contours would crowd along its edge. With maps, the map's.
             let field: Vec<f64> = res
                 .points
                 .iter()
-                .map(|p| match p {
+                .enumerate()
+                .map(|(i, p)| match p {
                     Some(p)
                         if matches!(
                             p.regime,
                             AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
                         ) =>
                     {
-                        p.basin_fraction
+                        res.basin_fraction(&plan, i).0
                     }
                     _ => f64::NAN,
                 })
@@ -621,12 +885,20 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
             )
             .with_context(|| format!("drawing {}", png.display()))?;
         }
-        n => {
-            bail!(
-                "{}: {n} swept parameters; charts are drawn for 1 (bifurcation diagram) or 2 (stability chart); read the file with h5py/xarray",
-                h5.display()
-            )
-        }
+        _ => {}
     }
-    Ok(vec![png.to_path_buf()])
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pick;
+
+    #[test]
+    fn sheet_panels_are_spread_evenly_with_both_ends() {
+        assert_eq!(pick(4, 6), vec![0, 1, 2, 3]);
+        // round(k * 47 / 5): 0, 9.4, 18.8, 28.2, 37.6, 47.
+        assert_eq!(pick(48, 6), vec![0, 9, 19, 28, 38, 47]);
+        assert_eq!(pick(7, 2), vec![0, 6]);
+    }
 }

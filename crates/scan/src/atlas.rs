@@ -9,6 +9,8 @@
 //! * [`boundary`]: the fold of cycles and the critical damping of the operating point, by
 //!   bisection in `nu`.
 //! * [`columns`]: the stored figures as one table (HDF5, journal and JSON walk it).
+//! * [`maps`]: optional basin maps, one per point, made by the scan's spine
+//!   ([`AtlasPlan::map_plan`]), and the basin fraction read off a map ([`maps::map_fraction`]).
 //! * [`driver`]: the work units (lines of points along the last axis, warm-started from the
 //!   previous point; boundary searches), run in parallel, results by index.
 //!
@@ -31,10 +33,12 @@
 pub mod boundary;
 pub mod columns;
 pub mod driver;
+pub mod maps;
 pub mod point;
 pub mod spec;
 
 pub use boundary::{Boundary, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
+pub use maps::{MapFraction, map_fraction};
 pub use point::{AtlasRegime, PointResult, PointSettings, Region};
-pub use spec::{AtlasAxis, AtlasPlan, Units};
+pub use spec::{AtlasAxis, AtlasPlan, MapSettings, Units};

@@ -126,15 +126,16 @@ impl ModelSpec {
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct AxisSpec {
+pub(crate) struct AxisSpec {
     min: f64,
     max: f64,
     count: i64,
 }
 
+/// The `[grid]` table (also read by the atlas spec, [`crate::atlas::spec`]).
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct GridSpec {
+pub(crate) struct GridSpec {
     x0: AxisSpec,
     v0: AxisSpec,
     #[serde(default)]
@@ -194,9 +195,10 @@ impl EarlyStop {
     }
 }
 
+/// The `[classifier]` table (also read by the atlas spec, [`crate::atlas::spec`]).
 #[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
-struct ClassifierSpec {
+pub(crate) struct ClassifierSpec {
     t_max: Option<f64>,
     fp_radius: Option<f64>,
     settle_cycles: Option<i64>,
@@ -228,6 +230,154 @@ impl Default for CycleSpec {
 #[serde(deny_unknown_fields)]
 struct OutputSpec {
     path: PathBuf,
+}
+
+/// A spec error: the key, the value found, what was expected.
+pub(crate) type Invalid<'a> = &'a dyn Fn(&str, String, &str) -> ScanError;
+
+impl GridSpec {
+    /// The checked grid; errors name `grid.<key>`.
+    pub(crate) fn check(&self, invalid: Invalid) -> Result<Grid, ScanError> {
+        let axis = |a: &AxisSpec, key: &str| -> Result<Axis, ScanError> {
+            if !a.min.is_finite() || !a.max.is_finite() {
+                return Err(invalid(
+                    &format!("{key}.min/max"),
+                    format!("[{}, {}]", a.min, a.max),
+                    "finite bounds",
+                ));
+            }
+            if a.count < 1 || a.count > MAX_AXIS {
+                return Err(invalid(
+                    &format!("{key}.count"),
+                    a.count.to_string(),
+                    "a count in 1..=65536",
+                ));
+            }
+            if a.min > a.max {
+                return Err(invalid(
+                    key,
+                    format!("[{}, {}]", a.min, a.max),
+                    "min <= max (the range is inverted)",
+                ));
+            }
+            if a.min == a.max && a.count > 1 {
+                return Err(invalid(
+                    key,
+                    format!("[{}, {}]", a.min, a.max),
+                    "an empty range holds one value: use count = 1 or widen it",
+                ));
+            }
+            Ok(Axis {
+                min: a.min,
+                max: a.max,
+                count: a.count as usize,
+            })
+        };
+        let x0 = axis(&self.x0, "grid.x0")?;
+        let v0 = axis(&self.v0, "grid.v0")?;
+        if (x0.count as i64) * (v0.count as i64) > MAX_CELLS {
+            return Err(invalid(
+                "grid",
+                format!("{} x {} cells", x0.count, v0.count),
+                "at most 2^26 cells per map",
+            ));
+        }
+        let block_rows = self.block_rows.unwrap_or(8);
+        if !(1..=MAX_AXIS).contains(&block_rows) {
+            return Err(invalid(
+                "grid.block_rows",
+                block_rows.to_string(),
+                "a row count in 1..=65536",
+            ));
+        }
+        Ok(Grid {
+            x0,
+            v0,
+            block_rows: block_rows as usize,
+        })
+    }
+}
+
+/// The checked `[classifier]` table.
+pub(crate) struct ClassifierPlan {
+    pub classifier: Classifier,
+    pub early_stop: EarlyStop,
+    pub trap_margin: f64,
+    pub audit_every: u64,
+}
+
+impl ClassifierSpec {
+    /// The checked classifier settings for step `dt` on maps of `cells` cells; errors name
+    /// `classifier.<key>`.
+    pub(crate) fn check(
+        &self,
+        dt: f64,
+        cells: usize,
+        invalid: Invalid,
+    ) -> Result<ClassifierPlan, ScanError> {
+        let c = self;
+        let d = Classifier::default();
+        let settle_cycles = c.settle_cycles.unwrap_or(d.settle_cycles as i64);
+        if !(4..=100_000).contains(&settle_cycles) {
+            return Err(invalid(
+                "classifier.settle_cycles",
+                settle_cycles.to_string(),
+                "a crossing count in 4..=100000",
+            ));
+        }
+        let classifier = Classifier {
+            t_max: c.t_max.unwrap_or(d.t_max),
+            fp_radius: c.fp_radius.unwrap_or(d.fp_radius),
+            settle_cycles: settle_cycles as u32,
+            settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
+            max_radius: d.max_radius,
+            trap: None,
+        };
+        classifier.validate().map_err(|e| match e {
+            squeal_core::CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => invalid(&format!("classifier.{name}"), value.to_string(), expected),
+            other => invalid("classifier", String::new(), &other.to_string()),
+        })?;
+        if classifier.t_max / dt > 1e10 {
+            return Err(invalid(
+                "classifier.t_max",
+                classifier.t_max.to_string(),
+                "at most 1e10 steps per run (t_max / dt)",
+            ));
+        }
+        let trap_margin = c.trap_margin.unwrap_or(squeal_core::defaults::TRAP_MARGIN);
+        if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
+            return Err(invalid(
+                "classifier.trap_margin",
+                trap_margin.to_string(),
+                "a relative margin in (0, 0.5)",
+            ));
+        }
+        // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
+        // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
+        // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
+        // as its 16384 early-stopped cells.
+        let audit_every = c.audit_every.unwrap_or_else(|| {
+            let cells = cells as i64;
+            (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
+        });
+        if !(0..=1 << 40).contains(&audit_every) {
+            return Err(invalid(
+                "classifier.audit_every",
+                audit_every.to_string(),
+                "0 (no audit) or a sampling interval in 1..=2^40 cells",
+            ));
+        }
+        Ok(ClassifierPlan {
+            classifier,
+            early_stop: c.early_stop,
+            trap_margin,
+            audit_every: audit_every as u64,
+        })
+    }
 }
 
 /// A swept parameter: one basin map per value.
@@ -408,58 +558,7 @@ impl Plan {
                 maps.push(p);
             }
         }
-        let axis = |a: &AxisSpec, key: &str| -> Result<Axis, ScanError> {
-            if !a.min.is_finite() || !a.max.is_finite() {
-                return Err(invalid(
-                    &format!("{key}.min/max"),
-                    format!("[{}, {}]", a.min, a.max),
-                    "finite bounds",
-                ));
-            }
-            if a.count < 1 || a.count > MAX_AXIS {
-                return Err(invalid(
-                    &format!("{key}.count"),
-                    a.count.to_string(),
-                    "a count in 1..=65536",
-                ));
-            }
-            if a.min > a.max {
-                return Err(invalid(
-                    key,
-                    format!("[{}, {}]", a.min, a.max),
-                    "min <= max (the range is inverted)",
-                ));
-            }
-            if a.min == a.max && a.count > 1 {
-                return Err(invalid(
-                    key,
-                    format!("[{}, {}]", a.min, a.max),
-                    "an empty range holds one value: use count = 1 or widen it",
-                ));
-            }
-            Ok(Axis {
-                min: a.min,
-                max: a.max,
-                count: a.count as usize,
-            })
-        };
-        let x0 = axis(&spec.grid.x0, "grid.x0")?;
-        let v0 = axis(&spec.grid.v0, "grid.v0")?;
-        if (x0.count as i64) * (v0.count as i64) > MAX_CELLS {
-            return Err(invalid(
-                "grid",
-                format!("{} x {} cells", x0.count, v0.count),
-                "at most 2^26 cells per map",
-            ));
-        }
-        let block_rows = spec.grid.block_rows.unwrap_or(8);
-        if !(1..=MAX_AXIS).contains(&block_rows) {
-            return Err(invalid(
-                "grid.block_rows",
-                block_rows.to_string(),
-                "a row count in 1..=65536",
-            ));
-        }
+        let grid = spec.grid.check(&invalid)?;
         let it = &spec.integration;
         if !it.dt.is_finite() || it.dt <= 0.0 || it.dt > 1.0 {
             return Err(invalid(
@@ -475,62 +574,12 @@ impl Plan {
                 "an iteration cap in 1..=100000",
             ));
         }
-        let c = &spec.classifier;
-        let d = Classifier::default();
-        let settle_cycles = c.settle_cycles.unwrap_or(d.settle_cycles as i64);
-        if !(4..=100_000).contains(&settle_cycles) {
-            return Err(invalid(
-                "classifier.settle_cycles",
-                settle_cycles.to_string(),
-                "a crossing count in 4..=100000",
-            ));
-        }
-        let classifier = Classifier {
-            t_max: c.t_max.unwrap_or(d.t_max),
-            fp_radius: c.fp_radius.unwrap_or(d.fp_radius),
-            settle_cycles: settle_cycles as u32,
-            settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
-            max_radius: d.max_radius,
-            trap: None,
-        };
-        classifier.validate().map_err(|e| match e {
-            squeal_core::CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            } => invalid(&format!("classifier.{name}"), value.to_string(), expected),
-            other => invalid("classifier", String::new(), &other.to_string()),
-        })?;
-        if classifier.t_max / it.dt > 1e10 {
-            return Err(invalid(
-                "classifier.t_max",
-                classifier.t_max.to_string(),
-                "at most 1e10 steps per run (t_max / dt)",
-            ));
-        }
-        let trap_margin = c.trap_margin.unwrap_or(squeal_core::defaults::TRAP_MARGIN);
-        if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
-            return Err(invalid(
-                "classifier.trap_margin",
-                trap_margin.to_string(),
-                "a relative margin in (0, 0.5)",
-            ));
-        }
-        // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
-        // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
-        // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
-        // as its 16384 early-stopped cells.
-        let audit_every = c.audit_every.unwrap_or_else(|| {
-            let cells = (x0.count * v0.count) as i64;
-            (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
-        });
-        if !(0..=1 << 40).contains(&audit_every) {
-            return Err(invalid(
-                "classifier.audit_every",
-                audit_every.to_string(),
-                "0 (no audit) or a sampling interval in 1..=2^40 cells",
-            ));
-        }
+        let ClassifierPlan {
+            classifier,
+            early_stop,
+            trap_margin,
+            audit_every,
+        } = spec.classifier.check(it.dt, grid.cells(), &invalid)?;
         if spec.output.path.as_os_str().is_empty() {
             return Err(invalid(
                 "output.path",
@@ -559,11 +608,7 @@ impl Plan {
             name,
             maps,
             sweep,
-            grid: Grid {
-                x0,
-                v0,
-                block_rows: block_rows as usize,
-            },
+            grid,
             dt: it.dt,
             solver: SolverConfig {
                 kind: it.solver,
@@ -572,9 +617,9 @@ impl Plan {
                 ..Default::default()
             },
             classifier,
-            early_stop: c.early_stop,
+            early_stop,
             trap_margin,
-            audit_every: audit_every as u64,
+            audit_every,
             locate_cycle: spec.cycle.locate,
             output: spec.output.path.clone(),
         })

@@ -4,9 +4,12 @@
 //! ## Journal `<out>.journal`
 //! JSON lines, fsynced after each: a header `{"schema", "spec", "shard"}`, then one line per
 //! finished unit (a line of points or a boundary search), the figures as arrays in the
-//! order of [`squeal_scan::atlas::columns`] (NaN as `null`). A torn last line (a kill during
-//! the write) is dropped on resume. The journal is created exclusively, so two runs never
-//! write the same file; `--resume` reopens it.
+//! order of [`squeal_scan::atlas::columns`] (NaN as `null`). With maps, also one line per
+//! finished map block `{"block": [point, block], "cells": hex}` (the scan journal's binary
+//! block, exact) and per cycle search `{"map_cycle": point, "record": TOML}`. A torn last
+//! line (a kill during the write) is dropped on resume. While a writer lives it holds the
+//! [`OutputLock`] `<out>.lock` (as the scan does), so two runs never write the same file; a
+//! lock left by a dead process is taken over; `--resume` reopens the journal.
 //!
 //! ## HDF5 schema `squeal-atlas/1`
 //! ```text
@@ -35,9 +38,25 @@
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m
 //!   boundary_note                 string: why a search was not computed
 //!   boundaries_done               u8
+//! with basin maps (spec [grid]; root attrs also scheme, x0_min/_max, v0_min/_max,
+//! block_rows, t_max, fp_radius, settle_cycles, settle_rtol, early_stop, trap_margin,
+//! audit_every; coordinates x0, v0, block, cycle_point):
+//!   map_<column>  over (swept dims..., v0, x0): every column of squeal_scan::cell::COLUMNS
+//!                 (map_labels, map_reason, map_t_decision, ..., map_audit) with its
+//!                 long_name, units, fill and CF flags, chunked one block of rows
+//!   blocks_done   u8 over (swept dims..., block)
+//!   map_<check>   i64 over the swept dims: squeal_scan::checks::CHECK_FIELDS
+//!   basin_fraction, basin_fraction_err   from the map (attr source = "map"): steady-slip
+//!                 cells over decided cells; err = (undecided cells + decided cells within
+//!                 one cell of the located cycle) / cells
+//!   basin_fraction_cycle, basin_fraction_cycle_err   the point's own, from its cycle
+//!   map_undecided_cells, map_cells_near_cycle        u64, the counts behind err
+//!   map_cycle_record  string: the map's cycle search (TOML, as the scan stores it)
+//!   map_cycle_x, map_cycle_v  over (swept dims..., cycle_point): the located cycle of
+//!                 each map, NaN-padded
 //! ```
 
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashSet};
 use std::io::{BufRead, Seek, Write};
 use std::path::{Path, PathBuf};
 
@@ -53,9 +72,13 @@ use squeal_scan::atlas::{
     UnitResult, Units,
 };
 
+use squeal_scan::atlas::MapFraction;
+use squeal_scan::cell::Cell;
+use squeal_scan::ulc::CycleOutcome;
+
 use crate::error::{H5Ctx, io};
 use crate::h5write::{Dims, class_type, num_attr, str_attr};
-use crate::{Provenance, Shard, StoreError};
+use crate::{OutputLock, Provenance, Shard, StoreError};
 
 /// The `schema` attribute of atlas files.
 pub const ATLAS_SCHEMA: &str = "squeal-atlas/1";
@@ -123,6 +146,11 @@ pub struct AtlasResults {
     pub points: Vec<Option<PointResult>>,
     /// Per boundary search; `None` where not computed.
     pub boundaries: Vec<Option<BoundaryResult>>,
+    /// Basin-map blocks by `(point, block)` (specs with a `[grid]`): cells row-major over
+    /// the block's rows of `v0` and all `x0`.
+    pub blocks: BTreeMap<(usize, usize), Vec<Cell>>,
+    /// The cycle search of each map (`None` inside: not located), by point.
+    pub map_cycles: BTreeMap<usize, Option<CycleOutcome>>,
 }
 
 impl AtlasResults {
@@ -131,7 +159,52 @@ impl AtlasResults {
         AtlasResults {
             points: vec![None; plan.n_points()],
             boundaries: vec![None; plan.n_boundaries()],
+            blocks: BTreeMap::new(),
+            map_cycles: BTreeMap::new(),
         }
+    }
+
+    /// The cells of point `i`'s map, row-major over `(v0, x0)`, if every block is stored.
+    pub fn map_cells(&self, plan: &AtlasPlan, i: usize) -> Option<Vec<Cell>> {
+        let g = plan.maps.as_ref()?.grid;
+        let mut out = Vec::with_capacity(g.cells());
+        for b in 0..g.blocks() {
+            out.extend_from_slice(self.blocks.get(&(i, b))?);
+        }
+        Some(out)
+    }
+
+    /// The located cycle of point `i`'s map, if there is one.
+    pub fn map_cycle(&self, i: usize) -> Option<&squeal_scan::ulc::CycleReport> {
+        match self.map_cycles.get(&i) {
+            Some(Some(Ok(r))) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The basin fraction of steady slip read off point `i`'s map
+    /// ([`squeal_scan::atlas::map_fraction`]), if the map is complete.
+    pub fn map_fraction(&self, plan: &AtlasPlan, i: usize) -> Option<MapFraction> {
+        let g = plan.maps.as_ref()?.grid;
+        let cells = self.map_cells(plan, i)?;
+        Some(squeal_scan::atlas::map_fraction(
+            &g,
+            &cells,
+            self.map_cycle(i).map(|r| &r.curve),
+        ))
+    }
+
+    /// The basin fraction of point `i` and its uncertainty as reported: from the map when
+    /// the spec makes maps, else the point's own (from its cycle).
+    pub fn basin_fraction(&self, plan: &AtlasPlan, i: usize) -> (f64, f64) {
+        if plan.maps.is_some() {
+            return self
+                .map_fraction(plan, i)
+                .map_or((f64::NAN, f64::NAN), |f| (f.fraction, f.err));
+        }
+        self.points[i].as_ref().map_or((f64::NAN, f64::NAN), |p| {
+            (p.basin_fraction, p.basin_fraction_err)
+        })
     }
 
     /// Stores a finished unit.
@@ -182,8 +255,75 @@ pub fn missing_units(plan: &AtlasPlan, res: &AtlasResults, shard: Option<Shard>)
         .collect()
 }
 
+/// The map blocks `(point, block)` that `shard` owns and that are not stored yet (none
+/// without a `[grid]`). Ownership is the scan's ([`squeal_scan::shard_owns`]).
+pub fn missing_blocks(
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    shard: Option<Shard>,
+) -> Vec<(usize, usize)> {
+    let Some(mp) = plan.map_plan() else {
+        return Vec::new();
+    };
+    let nb = mp.grid.blocks();
+    (0..mp.maps.len())
+        .flat_map(|m| (0..nb).map(move |b| (m, b)))
+        .filter(|&(m, b)| {
+            squeal_scan::shard_owns(shard, &mp, m, b) && !res.blocks.contains_key(&(m, b))
+        })
+        .collect()
+}
+
 fn num(v: f64) -> Value {
     if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+fn hex(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
+
+fn unhex(s: &str) -> Option<Vec<u8>> {
+    if s.len() % 2 != 0 {
+        return None;
+    }
+    (0..s.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(s.get(i..i + 2)?, 16).ok())
+        .collect()
+}
+
+/// A map record of the journal: a block (`{"block": [point, block], "cells": hex}`, the
+/// cells in the scan journal's binary form, exact) or a cycle search (`{"map_cycle": point,
+/// "record": TOML}`, exact).
+enum MapRec {
+    Block(usize, usize, Vec<Cell>),
+    Cycle(usize, Box<Option<CycleOutcome>>),
+}
+
+fn block_json(point: usize, block: usize, cells: &[Cell]) -> Value {
+    json!({
+        "block": [point, block],
+        "cells": hex(&crate::journal::encode_block(point, block, cells)),
+    })
+}
+
+fn map_cycle_json(point: usize, c: Option<&CycleOutcome>) -> Value {
+    json!({
+        "map_cycle": point,
+        "record": crate::cycle::to_text(&c.cloned(), true),
+    })
+}
+
+fn map_rec_from_json(v: &Value) -> Option<MapRec> {
+    if let Some(b) = v.get("block") {
+        let (m, k) = (b.get(0)?.as_u64()? as usize, b.get(1)?.as_u64()? as usize);
+        let bytes = unhex(v.get("cells")?.as_str()?)?;
+        let (m2, k2, cells) = crate::journal::decode_block(&bytes)?;
+        return (m == m2 && k == k2).then_some(MapRec::Block(m, k, cells));
+    }
+    let m = v.get("map_cycle")?.as_u64()? as usize;
+    let rec = crate::cycle::from_text(v.get("record")?.as_str()?, None).ok()?;
+    Some(MapRec::Cycle(m, Box::new(rec)))
 }
 
 fn point_json(p: &PointResult) -> Value {
@@ -274,6 +414,7 @@ pub struct AtlasWriter {
     prov: Provenance,
     /// What is stored so far.
     pub results: AtlasResults,
+    _lock: OutputLock,
 }
 
 impl AtlasWriter {
@@ -285,6 +426,11 @@ impl AtlasWriter {
         prov: &Provenance,
         force: bool,
     ) -> Result<AtlasWriter, StoreError> {
+        if let Some(d) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(d).map_err(io(d, "cannot create folder"))?;
+        }
+        // Two runs never write one output: the lock first, then the checks.
+        let lock = OutputLock::acquire(out)?;
         let journal = journal_path(out);
         if !force {
             if journal.exists() {
@@ -297,9 +443,6 @@ impl AtlasWriter {
             }
         } else if journal.exists() {
             std::fs::remove_file(&journal).map_err(io(&journal, "cannot remove"))?;
-        }
-        if let Some(d) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(d).map_err(io(d, "cannot create folder"))?;
         }
         // Exclusive: a second run on the same output fails here.
         let mut file = std::fs::OpenOptions::new()
@@ -322,6 +465,7 @@ impl AtlasWriter {
             shard,
             prov: prov.clone(),
             results: AtlasResults::new(plan),
+            _lock: lock,
         })
     }
 
@@ -332,6 +476,7 @@ impl AtlasWriter {
         shard: Option<Shard>,
         prov: &Provenance,
     ) -> Result<AtlasWriter, StoreError> {
+        let lock = OutputLock::acquire(out)?;
         let journal = journal_path(out);
         if !journal.exists() {
             return Err(if out.exists() {
@@ -378,6 +523,26 @@ impl AtlasWriter {
                     return Err(mismatch("different --shard"));
                 }
                 first = false;
+            } else if let Some(r) = map_rec_from_json(&v) {
+                let g = plan.maps.as_ref().map(|m| m.grid);
+                match (r, g) {
+                    (MapRec::Block(m, b, cells), Some(g))
+                        if m < plan.n_points()
+                            && b < g.blocks()
+                            && cells.len() == g.block_rows(b).len() * g.x0.count =>
+                    {
+                        results.blocks.insert((m, b), cells);
+                    }
+                    (MapRec::Cycle(m, c), Some(_)) if m < plan.n_points() => {
+                        results.map_cycles.insert(m, *c);
+                    }
+                    _ => {
+                        return Err(StoreError::NotSquealFile {
+                            path: journal.clone(),
+                            why: "a map record that does not fit the spec".into(),
+                        });
+                    }
+                }
             } else {
                 let Some(r) = unit_from_json(&v) else { break };
                 results.add(plan, r);
@@ -407,6 +572,7 @@ impl AtlasWriter {
             shard,
             prov: prov.clone(),
             results,
+            _lock: lock,
         })
     }
 
@@ -415,13 +581,21 @@ impl AtlasWriter {
         missing_units(&self.plan, &self.results, self.shard)
     }
 
-    /// Journals a finished unit (fsynced) and keeps it.
-    pub fn record(&mut self, r: UnitResult) -> Result<(), StoreError> {
-        let line = unit_json(&r);
+    /// The map blocks still to compute.
+    pub fn missing_blocks(&self) -> Vec<(usize, usize)> {
+        missing_blocks(&self.plan, &self.results, self.shard)
+    }
+
+    fn append(&mut self, line: &Value) -> Result<(), StoreError> {
         writeln!(self.file, "{line}").map_err(io(&self.journal, "cannot write"))?;
         self.file
             .sync_data()
-            .map_err(io(&self.journal, "cannot sync"))?;
+            .map_err(io(&self.journal, "cannot sync"))
+    }
+
+    /// Journals a finished unit (fsynced) and keeps it.
+    pub fn record(&mut self, r: UnitResult) -> Result<(), StoreError> {
+        self.append(&unit_json(&r))?;
         self.results.add(&self.plan, r);
         Ok(())
     }
@@ -437,9 +611,53 @@ impl AtlasWriter {
                 total: self.plan.units().len(),
             });
         }
+        let blocks = self.missing_blocks();
+        if !blocks.is_empty() {
+            return Err(StoreError::Incomplete {
+                path: self.out.clone(),
+                missing: blocks.len(),
+                total: self.plan.map_plan().map_or(0, |p| p.total_blocks()),
+            });
+        }
         write_atlas(&self.out, &self.plan, &self.results, &self.prov, self.shard)?;
         std::fs::remove_file(&self.journal).map_err(io(&self.journal, "cannot remove"))?;
         Ok(self.results)
+    }
+}
+
+/// The atlas's maps come from the scan's driver ([`squeal_scan::drive`] on
+/// [`AtlasPlan::map_plan`]): each finished block and cycle search is journalled (fsynced).
+impl squeal_scan::Sink for AtlasWriter {
+    type Error = StoreError;
+    fn is_done(&self, map: usize, block: usize) -> bool {
+        self.results.blocks.contains_key(&(map, block))
+    }
+    fn has_cycle(&self, map: usize) -> bool {
+        self.results.map_cycles.contains_key(&map)
+    }
+    fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), StoreError> {
+        self.append(&map_cycle_json(map, cycle))?;
+        self.results.map_cycles.insert(map, cycle.cloned());
+        Ok(())
+    }
+    fn write_block(&mut self, b: &squeal_scan::BlockResult) -> Result<(), StoreError> {
+        let g = self.plan.maps.as_ref().map(|m| m.grid);
+        let fits = g.is_some_and(|g| {
+            b.map < self.plan.n_points()
+                && b.block < g.blocks()
+                && b.cells.len() == g.block_rows(b.block).len() * g.x0.count
+        });
+        if !fits {
+            return Err(StoreError::BadBlock {
+                path: self.out.clone(),
+                why: format!("map {} block {} does not fit the atlas", b.map, b.block),
+            });
+        }
+        self.append(&block_json(b.map, b.block, &b.cells))?;
+        self.results
+            .blocks
+            .insert((b.map, b.block), b.cells.clone());
+        Ok(())
     }
 }
 
@@ -521,6 +739,7 @@ fn write_all(
     str_attr(file, "law", plan.law.name())?;
     str_attr(file, "units", plan.units.name())?;
     str_attr(file, "solver", plan.solver.kind.name())?;
+    str_attr(file, "scheme", plan.solver.scheme.name())?;
     num_attr(file, "dt", plan.dt)?;
     for (a, v) in plan.fixed() {
         num_attr(file, a.key, v)?;
@@ -609,15 +828,17 @@ fn write_all(
         } else {
             "1"
         };
+        // With maps the reported basin fraction is the map's; the cycle's is kept beside it.
+        let (name, long) = stored_name(plan, c);
         match c.kind {
             Kind::Real => {
                 put(
                     file,
                     dims,
-                    c.name,
+                    &name,
                     &shape,
                     vals.clone(),
-                    c.long_name,
+                    &long,
                     Some(units),
                     &pscales,
                 )?;
@@ -688,6 +909,9 @@ fn write_all(
         None,
         &pscales,
     )?;
+    if plan.maps.is_some() {
+        write_maps(file, dims, plan, res, &shape, &pscales)?;
+    }
     let done: Vec<u8> = res.points.iter().map(|p| u8::from(p.is_some())).collect();
     put(
         file,
@@ -804,6 +1028,259 @@ fn write_all(
     Ok(())
 }
 
+/// The dataset name and long name of a point column: with maps, `basin_fraction` and
+/// `basin_fraction_err` are the map's, and the point's own (from the cycle) are stored as
+/// `basin_fraction_cycle` and `basin_fraction_cycle_err`.
+fn stored_name(plan: &AtlasPlan, c: &squeal_scan::atlas::columns::Column) -> (String, String) {
+    match (plan.maps.is_some(), c.name) {
+        (true, "basin_fraction") => (
+            "basin_fraction_cycle".into(),
+            format!("{} (from the unstable cycle)", c.long_name),
+        ),
+        (true, "basin_fraction_err") => (
+            "basin_fraction_cycle_err".into(),
+            format!("{} (from the unstable cycle)", c.long_name),
+        ),
+        _ => (c.name.to_string(), c.long_name.to_string()),
+    }
+}
+
+/// The dataset of a per-cell column (or a per-map check) in an atlas file: `map_` and its
+/// name in [`squeal_scan::cell::COLUMNS`] (a point's own columns such as `evaluations`
+/// keep their names).
+pub fn map_name(column: &str) -> String {
+    format!("map_{column}")
+}
+
+/// The basin maps: every column of [`squeal_scan::cell::COLUMNS`] over (the swept
+/// parameters..., v0, x0), the per-map checks and cycles, and the basin fraction read off
+/// each map.
+fn write_maps(
+    file: &File,
+    dims: &mut Dims,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    shape: &[usize],
+    pscales: &[Dataset],
+) -> hdf5::Result<()> {
+    let Some(mp) = plan.map_plan() else {
+        return Ok(());
+    };
+    let g = mp.grid;
+    let (nx, nv) = (g.x0.count, g.v0.count);
+    let coord = |dims: &mut Dims, name: &str, values: &[f64], long: &str| {
+        let ds = file
+            .new_dataset_builder()
+            .obj_track_times(false)
+            .with_data(values)
+            .create(name)?;
+        str_attr(&ds, "long_name", long)?;
+        str_attr(&ds, "units", "1")?;
+        dims.scale(&ds, name)?;
+        Ok::<_, hdf5::Error>(ds)
+    };
+    let x0 = coord(dims, "x0", &g.x0.values(), "initial displacement x(0)")?;
+    let v0 = coord(dims, "v0", &g.v0.values(), "initial velocity x'(0)")?;
+    let blocks: Vec<u64> = (0..g.blocks() as u64).collect();
+    let block_dim = file
+        .new_dataset_builder()
+        .obj_track_times(false)
+        .with_data(&blocks)
+        .create("block")?;
+    str_attr(&block_dim, "long_name", "block of grid rows")?;
+    dims.scale(&block_dim, "block")?;
+    for (k, v) in [
+        ("x0_min", g.x0.min),
+        ("x0_max", g.x0.max),
+        ("v0_min", g.v0.min),
+        ("v0_max", g.v0.max),
+    ] {
+        num_attr(file, k, v)?;
+    }
+    num_attr(file, "block_rows", g.block_rows as u64)?;
+    num_attr(file, "t_max", mp.classifier.t_max)?;
+    num_attr(file, "fp_radius", mp.classifier.fp_radius)?;
+    num_attr(file, "settle_cycles", mp.classifier.settle_cycles)?;
+    num_attr(file, "settle_rtol", mp.classifier.settle_rtol)?;
+    str_attr(file, "early_stop", mp.early_stop.name())?;
+    num_attr(file, "trap_margin", mp.trap_margin)?;
+    num_attr(file, "audit_every", mp.audit_every)?;
+
+    let mut mshape = shape.to_vec();
+    mshape.extend([nv, nx]);
+    let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
+    let mut chunk = vec![1; shape.len()];
+    chunk.extend([rows_per_chunk, nx]);
+    let mut mdims: Vec<&Dataset> = pscales.iter().collect();
+    mdims.extend([&v0, &x0]);
+    let vars: Vec<Dataset> = squeal_scan::cell::COLUMNS
+        .iter()
+        .map(|col| crate::h5write::column_dataset(file, col, &map_name(col.name), &mshape, &chunk))
+        .collect::<hdf5::Result<_>>()?;
+    for v in &vars {
+        dims.attach(file, v, &mdims)?;
+    }
+    let n = plan.n_points();
+    let nb = g.blocks();
+    let mut done = vec![0u8; n * nb];
+    let mut checks = Vec::with_capacity(n);
+    for i in 0..n {
+        let prefix = if plan.axes().is_empty() {
+            vec![0]
+        } else {
+            plan.unravel(i)
+        };
+        let curve = res.map_cycle(i).map(|r| &r.curve);
+        let mut ck = squeal_scan::MapChecks::new(curve);
+        for b in 0..nb {
+            let Some(cells) = res.blocks.get(&(i, b)) else {
+                continue;
+            };
+            done[i * nb + b] = 1;
+            ck.add_block(&mp, curve, b, cells);
+            for (ds, col) in vars.iter().zip(squeal_scan::cell::COLUMNS) {
+                crate::h5write::write_column(ds, col, cells, &prefix, g.block_rows(b), nx)?;
+            }
+        }
+        checks.push(ck);
+    }
+    let mut bshape = shape.to_vec();
+    bshape.push(nb);
+    let mut bdims = pscales.to_vec();
+    bdims.push(block_dim.clone());
+    put(
+        file,
+        dims,
+        "blocks_done",
+        &bshape,
+        done,
+        "1 where the block of map rows is stored",
+        None,
+        &bdims,
+    )?;
+    for (k, (name, long)) in squeal_scan::checks::CHECK_FIELDS.iter().enumerate() {
+        let v: Vec<i64> = checks.iter().map(|c| c.values()[k]).collect();
+        put(
+            file,
+            dims,
+            &map_name(name),
+            shape,
+            v,
+            long,
+            Some("1"),
+            pscales,
+        )?;
+    }
+
+    // The basin fraction read off each map.
+    let fr: Vec<Option<MapFraction>> = (0..n).map(|i| res.map_fraction(plan, i)).collect();
+    let real = |f: fn(&MapFraction) -> f64| -> Vec<f64> {
+        fr.iter().map(|x| x.as_ref().map_or(f64::NAN, f)).collect()
+    };
+    let count = |f: fn(&MapFraction) -> u64| -> Vec<u64> {
+        fr.iter().map(|x| x.as_ref().map_or(0, f)).collect()
+    };
+    let ds = put(
+        file,
+        dims,
+        "basin_fraction",
+        shape,
+        real(|f| f.fraction),
+        "share of the grid box that returns to steady slip, from the basin map: steady-slip cells over decided cells",
+        Some("1"),
+        pscales,
+    )?;
+    str_attr(&ds, "source", "map")?;
+    put(
+        file,
+        dims,
+        "basin_fraction_err",
+        shape,
+        real(|f| f.err),
+        "uncertainty of basin_fraction: (undecided cells + decided cells within one cell of the located cycle) over all cells",
+        Some("1"),
+        pscales,
+    )?;
+    put(
+        file,
+        dims,
+        "map_undecided_cells",
+        shape,
+        count(|f| f.undecided),
+        "cells of the map left undecided (or not computed)",
+        Some("1"),
+        pscales,
+    )?;
+    put(
+        file,
+        dims,
+        "map_cells_near_cycle",
+        shape,
+        count(|f| f.near_cycle),
+        "decided cells within one cell of the located cycle",
+        Some("1"),
+        pscales,
+    )?;
+
+    // Each map's cycle search: the record (TOML, exact) and the closed curve, NaN-padded.
+    let recs: Vec<Option<&Option<CycleOutcome>>> = (0..n).map(|i| res.map_cycles.get(&i)).collect();
+    let texts: Vec<String> = recs
+        .iter()
+        .map(|r| r.map_or(String::new(), |c| crate::cycle::to_text(c, false)))
+        .collect();
+    let notes = note_strings(texts.iter().map(|t| Some(t.as_str())))?;
+    put(
+        file,
+        dims,
+        "map_cycle_record",
+        shape,
+        notes,
+        "cycle search of the map (TOML; empty: not recorded)",
+        None,
+        pscales,
+    )?;
+    let len = (0..n)
+        .filter_map(|i| res.map_cycle(i).map(|r| r.curve.x.len()))
+        .max()
+        .unwrap_or(0);
+    if len > 0 {
+        let pts: Vec<u64> = (0..len as u64).collect();
+        let pdim = file
+            .new_dataset_builder()
+            .obj_track_times(false)
+            .with_data(&pts)
+            .create("cycle_point")?;
+        str_attr(&pdim, "long_name", "step along the closed curve")?;
+        dims.scale(&pdim, "cycle_point")?;
+        let mut cshape = shape.to_vec();
+        cshape.push(len);
+        let mut cdims = pscales.to_vec();
+        cdims.push(pdim);
+        for (name, long, get) in [
+            (
+                "map_cycle_x",
+                "displacement x on the located cycle of the map (NaN-padded)",
+                (|r: &squeal_scan::ulc::CycleReport| &r.curve.x) as fn(&_) -> &Vec<f64>,
+            ),
+            (
+                "map_cycle_v",
+                "velocity x' on the located cycle of the map (NaN-padded)",
+                |r: &squeal_scan::ulc::CycleReport| &r.curve.v,
+            ),
+        ] {
+            let mut v = vec![f64::NAN; n * len];
+            for i in 0..n {
+                if let Some(r) = res.map_cycle(i) {
+                    let c = get(r);
+                    v[i * len..i * len + c.len()].copy_from_slice(c);
+                }
+            }
+            put(file, dims, name, &cshape, v, long, Some("1"), &cdims)?;
+        }
+    }
+    Ok(())
+}
+
 /// Whether `path` is an atlas file (HDF5 with schema `squeal-atlas/...`).
 pub fn is_atlas_file(path: &Path) -> bool {
     let Ok(mut f) = std::fs::File::open(path) else {
@@ -852,8 +1329,9 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     let regime = rd_u8("regime")?;
     let mut pts: Vec<PointResult> = (0..n).map(|_| empty_point()).collect();
     for c in COLUMNS {
+        let (name, _) = stored_name(&plan, c);
         let vals: Vec<f64> = match c.kind {
-            Kind::Real => rd_f64(c.name)?,
+            Kind::Real => rd_f64(&name)?,
             Kind::Flag => rd_u8(c.name)?
                 .into_iter()
                 .map(|v| if v == 255 { f64::NAN } else { v as f64 })
@@ -878,6 +1356,9 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             finish_point(&mut p);
             res.points[i] = Some(p);
         }
+    }
+    if plan.maps.is_some() {
+        read_maps(&file, path, &plan, &mut res)?;
     }
     if plan.n_boundaries() > 0 {
         let done = rd_u8("boundaries_done")?;
@@ -912,6 +1393,118 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     Ok((plan, res, shard))
 }
 
+/// Reads the stored map blocks and cycle searches of an atlas file with maps.
+fn read_maps(
+    file: &File,
+    path: &Path,
+    plan: &AtlasPlan,
+    res: &mut AtlasResults,
+) -> Result<(), StoreError> {
+    use squeal_scan::cell::{COLUMNS as CELLS, Kind as CellKind, Num};
+    let Some(g) = plan.maps.as_ref().map(|m| m.grid) else {
+        return Ok(());
+    };
+    let n = plan.n_points();
+    let (nx, nv, nb) = (g.x0.count, g.v0.count, g.blocks());
+    let done: Vec<u8> = file
+        .dataset("blocks_done")
+        .and_then(|d| d.read_raw())
+        .h5(path)?;
+    if done.len() != n * nb {
+        return Err(StoreError::NotSquealFile {
+            path: path.to_path_buf(),
+            why: format!(
+                "blocks_done holds {} values, expected {}",
+                done.len(),
+                n * nb
+            ),
+        });
+    }
+    let mut maps: Vec<Vec<Cell>> = Vec::new();
+    let any = done.contains(&1);
+    if any {
+        maps = vec![vec![Cell::fill(); nx * nv]; n];
+        for col in CELLS {
+            let name = map_name(col.name);
+            let ds = file.dataset(&name).h5(path)?;
+            let vals: Vec<Num> = match col.kind {
+                CellKind::Enum | CellKind::U8 => {
+                    let v: Vec<u8> = ds.read_raw().h5(path)?;
+                    v.into_iter().map(|x| Num::U(x as u64)).collect()
+                }
+                CellKind::U32 => {
+                    let v: Vec<u32> = ds.read_raw().h5(path)?;
+                    v.into_iter().map(|x| Num::U(x as u64)).collect()
+                }
+                CellKind::U64 => {
+                    let v: Vec<u64> = ds.read_raw().h5(path)?;
+                    v.into_iter().map(Num::U).collect()
+                }
+                CellKind::F64 => {
+                    let v: Vec<f64> = ds.read_raw().h5(path)?;
+                    v.into_iter().map(Num::F).collect()
+                }
+            };
+            if vals.len() != n * nx * nv {
+                return Err(StoreError::NotSquealFile {
+                    path: path.to_path_buf(),
+                    why: format!(
+                        "{name} holds {} values, expected {}",
+                        vals.len(),
+                        n * nx * nv
+                    ),
+                });
+            }
+            for (k, v) in vals.into_iter().enumerate() {
+                (col.set)(&mut maps[k / (nx * nv)][k % (nx * nv)], v);
+            }
+        }
+    }
+    for i in 0..n {
+        for b in 0..nb {
+            if done[i * nb + b] == 1 {
+                let rows = g.block_rows(b);
+                res.blocks
+                    .insert((i, b), maps[i][rows.start * nx..rows.end * nx].to_vec());
+            }
+        }
+    }
+    let recs: Vec<VarLenUnicode> = file
+        .dataset("map_cycle_record")
+        .and_then(|d| d.read_raw())
+        .h5(path)?;
+    let curves = match (file.dataset("map_cycle_x"), file.dataset("map_cycle_v")) {
+        (Ok(x), Ok(v)) => {
+            let x: Vec<f64> = x.read_raw().h5(path)?;
+            let v: Vec<f64> = v.read_raw().h5(path)?;
+            Some((x, v))
+        }
+        _ => None,
+    };
+    for (i, r) in recs.iter().enumerate().take(n) {
+        if r.as_str().is_empty() {
+            continue;
+        }
+        let curve = curves.as_ref().and_then(|(x, v)| {
+            let len = x.len() / n.max(1);
+            let xs: Vec<f64> = x[i * len..(i + 1) * len]
+                .iter()
+                .copied()
+                .take_while(|a| !a.is_nan())
+                .collect();
+            let vs: Vec<f64> = v[i * len..(i + 1) * len][..xs.len()].to_vec();
+            (!xs.is_empty()).then_some(squeal_scan::ClosedCurve { x: xs, v: vs })
+        });
+        let rec =
+            crate::cycle::from_text(r.as_str(), curve).map_err(|e| StoreError::NotSquealFile {
+                path: path.to_path_buf(),
+                why: format!("map_cycle_record of point {i}: {e}"),
+            })?;
+        res.map_cycles.insert(i, rec);
+    }
+    Ok(())
+}
+
 /// Joins atlas shard files (all `N` shards of one spec) into the file one run writes.
 pub fn merge_atlas(
     shards: &[PathBuf],
@@ -919,6 +1512,7 @@ pub fn merge_atlas(
     force: bool,
     prov: &Provenance,
 ) -> Result<(), StoreError> {
+    let _lock = OutputLock::acquire(out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {
             path: out.to_path_buf(),
@@ -960,6 +1554,10 @@ pub fn merge_atlas(
                         *a = b;
                     }
                 }
+                acc.blocks.extend(r.blocks);
+                for (m, c) in r.map_cycles {
+                    acc.map_cycles.entry(m).or_insert(c);
+                }
             }
             _ => {
                 plan = Some(pl);
@@ -983,6 +1581,14 @@ pub fn merge_atlas(
             path: out.to_path_buf(),
             missing: missing.len(),
             total: plan.units().len(),
+        });
+    }
+    let blocks = missing_blocks(&plan, &res, None);
+    if !blocks.is_empty() {
+        return Err(StoreError::Incomplete {
+            path: out.to_path_buf(),
+            missing: blocks.len(),
+            total: plan.map_plan().map_or(0, |p| p.total_blocks()),
         });
     }
     write_atlas(out, &plan, &res, prov, None)

@@ -182,10 +182,12 @@ fn index_coord(
     Ok(ds)
 }
 
-/// Creates the dataset of one column of [`COLUMNS`] with its CF attributes.
-fn column_dataset(
+/// Creates the dataset of one column of [`COLUMNS`] with its CF attributes (also the atlas's
+/// maps, with the parameter dimensions in front).
+pub(crate) fn column_dataset(
     file: &File,
     col: &Column,
+    name: &str,
     shape: &[usize],
     chunk: &[usize],
 ) -> hdf5::Result<Dataset> {
@@ -205,7 +207,7 @@ fn column_dataset(
             .fill_value(fill)
             .create(name)
     }
-    let (f, n) = (col.fill, col.name);
+    let (f, n) = (col.fill, name);
     let bad = || hdf5::Error::from(format!("{n}: fill value is not a member"));
     let ds = match (EnumColumn::of(col), col.kind) {
         (Some(EnumColumn::Label), _) => make(
@@ -250,13 +252,13 @@ fn column_dataset(
     Ok(ds)
 }
 
-/// Writes one column of a block's cells.
-fn write_column(
+/// Writes one column of a block's cells at `prefix` (the indices of the leading dimensions:
+/// none for one map, the map of a sweep, an atlas point's indices).
+pub(crate) fn write_column(
     ds: &Dataset,
     col: &Column,
     cells: &[Cell],
-    sweep: bool,
-    map: usize,
+    prefix: &[usize],
     rows: std::ops::Range<usize>,
     nx: usize,
 ) -> hdf5::Result<()> {
@@ -273,40 +275,28 @@ fn write_column(
             .collect()
     }
     match (EnumColumn::of(col), col.kind) {
-        (Some(EnumColumn::Label), _) => write_rows(
-            ds,
-            enum_of(col, cells, Label::from_u8)?,
-            sweep,
-            map,
-            rows,
-            nx,
-        ),
+        (Some(EnumColumn::Label), _) => {
+            write_rows(ds, enum_of(col, cells, Label::from_u8)?, prefix, rows, nx)
+        }
         (Some(EnumColumn::Reason), _) => write_rows(
             ds,
             enum_of(col, cells, ReasonH5::from_u8)?,
-            sweep,
-            map,
+            prefix,
             rows,
             nx,
         ),
-        (Some(EnumColumn::Audit), _) => write_rows(
-            ds,
-            enum_of(col, cells, AuditH5::from_u8)?,
-            sweep,
-            map,
-            rows,
-            nx,
-        ),
-        (None, Kind::U8 | Kind::Enum) => {
-            write_rows(ds, u().map(|v| v as u8).collect(), sweep, map, rows, nx)
+        (Some(EnumColumn::Audit), _) => {
+            write_rows(ds, enum_of(col, cells, AuditH5::from_u8)?, prefix, rows, nx)
         }
-        (None, Kind::U32) => write_rows(ds, u().map(|v| v as u32).collect(), sweep, map, rows, nx),
-        (None, Kind::U64) => write_rows(ds, u().collect(), sweep, map, rows, nx),
+        (None, Kind::U8 | Kind::Enum) => {
+            write_rows(ds, u().map(|v| v as u8).collect(), prefix, rows, nx)
+        }
+        (None, Kind::U32) => write_rows(ds, u().map(|v| v as u32).collect(), prefix, rows, nx),
+        (None, Kind::U64) => write_rows(ds, u().collect(), prefix, rows, nx),
         (None, Kind::F64) => write_rows(
             ds,
             cells.iter().map(|c| (col.get)(c).as_f64()).collect(),
-            sweep,
-            map,
+            prefix,
             rows,
             nx,
         ),
@@ -327,18 +317,16 @@ pub(crate) fn sel(map: Option<usize>, rows: std::ops::Range<usize>) -> hdf5::Hyp
 fn write_rows<T: H5Type>(
     ds: &Dataset,
     data: Vec<T>,
-    sweep: bool,
-    map: usize,
+    prefix: &[usize],
     rows: std::ops::Range<usize>,
     nx: usize,
 ) -> hdf5::Result<()> {
     let a = Array2::from_shape_vec((rows.len(), nx), data)
         .map_err(|e| hdf5::Error::from(e.to_string()))?;
-    if sweep {
-        ds.write_slice(&a, sel(Some(map), rows))
-    } else {
-        ds.write_slice(&a, sel(None, rows))
-    }
+    let mut v: Vec<hdf5::SliceOrIndex> = prefix.iter().map(|&i| i.into()).collect();
+    v.push(rows.into());
+    v.push((..).into());
+    ds.write_slice(&a, hdf5::Hyperslab::from(v))
 }
 
 /// The root attributes: provenance, the spec and every setting of the plan.
@@ -485,7 +473,7 @@ fn write_all(
     };
     let vars: Vec<Dataset> = COLUMNS
         .iter()
-        .map(|col| column_dataset(file, col, &shape, &chunk))
+        .map(|col| column_dataset(file, col, col.name, &shape, &chunk))
         .collect::<hdf5::Result<_>>()
         .h5(path)?;
     for v in &vars {
@@ -522,11 +510,17 @@ fn write_all(
             done[m * nblocks + b] = 1;
             ck.add_block(plan, curve, b, &cells);
             for (ds, col) in vars.iter().zip(COLUMNS) {
-                write_column(ds, col, &cells, sweep, m, rows.clone(), nx).map_err(|e| {
-                    StoreError::BadBlock {
-                        path: path.to_path_buf(),
-                        why: format!("map {m} block {b}: {e}"),
-                    }
+                write_column(
+                    ds,
+                    col,
+                    &cells,
+                    if sweep { std::slice::from_ref(&m) } else { &[] },
+                    rows.clone(),
+                    nx,
+                )
+                .map_err(|e| StoreError::BadBlock {
+                    path: path.to_path_buf(),
+                    why: format!("map {m} block {b}: {e}"),
                 })?;
             }
         }

@@ -11,7 +11,9 @@
 //! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merge`] joins the shard
 //!   files into the file a single run writes.
 //! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
-//!   finished units and writes the file, [`atlas::read_atlas`], [`atlas::merge_atlas`].
+//!   finished units and, as a [`squeal_scan::Sink`], the blocks of the optional basin maps,
+//!   holds the [`OutputLock`], and writes the file; [`atlas::read_atlas`],
+//!   [`atlas::merge_atlas`].
 //! * [`read_info`], [`read_map`], [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!

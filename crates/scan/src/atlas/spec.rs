@@ -20,6 +20,7 @@
 //! [integration]
 //! dt = 0.01
 //! solver = "robust"                  # robust | paper
+//! scheme = "foh"                     # foh (force linear over a step) | zoh (held: the paper's)
 //! [cycle]                            # the section search (crate::ulc)
 //! r_min = 0.01                       # smallest section amplitude sampled
 //! r_max = 6.0                        # largest (raised to 2 lambda where that is larger)
@@ -41,6 +42,13 @@
 //! nu_lo = 1e-4                       # bisection range when the damping is not swept
 //! nu_hi = 0.2
 //! rtol = 1e-3
+//! [grid]                             # optional: one basin map per point (scan spec keys)
+//! x0 = { min = -2.0, max = 4.0, count = 64 }   # the box its cells cover is the
+//!                                              # disturbance box (no [disturbance] then)
+//! v0 = { min = -3.0, max = 3.0, count = 64 }
+//! block_rows = 8
+//! [classifier]                       # optional, only with [grid]: as in the scan spec
+//! t_max = 5000.0
 //! [output]
 //! path = "atlas.h5"
 //! ```
@@ -52,10 +60,14 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{FrictionLaw, Params, Physical, SolverConfig, SolverKind, State};
+use squeal_core::{
+    Classifier, FrictionLaw, Params, Physical, Scheme, SolverConfig, SolverKind, State,
+};
 
 use super::point::{PointSettings, Region};
 use crate::error::ScanError;
+use crate::grid::Grid;
+use crate::spec::EarlyStop;
 use crate::values::Value;
 
 /// The atlas spec version this build reads.
@@ -84,6 +96,11 @@ struct AtlasFile {
     disturbance: Option<BoxFile>,
     #[serde(default)]
     boundaries: Option<BoundariesFile>,
+    /// Basin maps: the scan spec's `[grid]` and `[classifier]` tables.
+    #[serde(default)]
+    grid: Option<crate::spec::GridSpec>,
+    #[serde(default)]
+    classifier: Option<crate::spec::ClassifierSpec>,
     output: OutputFile,
 }
 
@@ -117,6 +134,8 @@ struct IntegrationFile {
     dt: Option<f64>,
     #[serde(default)]
     solver: SolverKind,
+    #[serde(default)]
+    scheme: Scheme,
     max_iter: Option<i64>,
 }
 
@@ -250,10 +269,28 @@ pub struct AtlasPlan {
     pub boundary_rtol: f64,
     /// Output file.
     pub out: PathBuf,
+    /// Basin maps, one per point (the spec's `[grid]`), if asked for.
+    pub maps: Option<MapSettings>,
     /// The spec file's text.
     pub spec_text: String,
     /// Where it was read from.
     pub spec_path: String,
+}
+
+/// The basin maps of an atlas: the grid and classifier of the scan spec (same keys, same
+/// checks), one map per parameter point.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MapSettings {
+    /// The grid of initial conditions (its box is also the disturbance box).
+    pub grid: Grid,
+    /// Classifier settings (the trap is filled in per map from its located cycle).
+    pub classifier: Classifier,
+    /// Early-stopping rule.
+    pub early_stop: EarlyStop,
+    /// Relative half-width of the band around the cycle where runs go on.
+    pub trap_margin: f64,
+    /// About one cell in this many is also run to settlement (0: none).
+    pub audit_every: u64,
 }
 
 fn invalid(path: &str, key: &str, value: impl ToString, expected: &str) -> ScanError {
@@ -404,6 +441,7 @@ impl AtlasPlan {
         }
         let solver = SolverConfig {
             kind: integ.solver,
+            scheme: integ.scheme,
             max_iter: max_iter as u32,
             ..SolverConfig::default()
         };
@@ -495,6 +533,7 @@ impl AtlasPlan {
             }
             ps.operating = State { x: op.x, v: op.v };
         }
+        let has_disturbance = f.disturbance.is_some();
         if let Some(b) = f.disturbance {
             for (key, r) in [("disturbance.x", b.x), ("disturbance.v", b.v)] {
                 if !(r[0].is_finite() && r[1].is_finite() && r[1] > r[0]) {
@@ -508,6 +547,65 @@ impl AtlasPlan {
             }
             ps.disturbance = Region { x: b.x, v: b.v };
         }
+        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
+        let maps = match (&f.grid, &f.classifier) {
+            (None, Some(_)) => {
+                return Err(invalid(
+                    path,
+                    "classifier",
+                    "given without [grid]",
+                    "a [grid] table: the classifier settings are for basin maps",
+                ));
+            }
+            (None, None) => None,
+            (Some(g), c) => {
+                if units == Units::Physical {
+                    return Err(invalid(
+                        path,
+                        "grid",
+                        "given with [physical]",
+                        "a nondimensional spec ([model] nu, lambda, tau, phi): basin maps are on the nondimensional grid",
+                    ));
+                }
+                let grid = g.check(&inv)?;
+                let c = match c {
+                    Some(c) => c.check(dt, grid.cells(), &inv)?,
+                    None => crate::spec::ClassifierSpec::default().check(dt, grid.cells(), &inv)?,
+                };
+                // One box: the basin fraction from the map and from the cycle cover the
+                // same initial conditions, the area the cells tile (each cell centred on
+                // its grid point, half a spacing beyond the first and last).
+                let (hx, hv) = (0.5 * grid.x0.spacing(), 0.5 * grid.v0.spacing());
+                let gbox = Region {
+                    x: [grid.x0.min - hx, grid.x0.max + hx],
+                    v: [grid.v0.min - hv, grid.v0.max + hv],
+                };
+                if has_disturbance {
+                    return Err(invalid(
+                        path,
+                        "disturbance",
+                        format!("x {:?}, v {:?}", ps.disturbance.x, ps.disturbance.v),
+                        "no [disturbance] with [grid]: the box the grid's cells cover is the disturbance box",
+                    ));
+                }
+                if gbox.area() <= 0.0 {
+                    return Err(invalid(
+                        path,
+                        "grid",
+                        format!("x0 {:?}, v0 {:?}", gbox.x, gbox.v),
+                        "a box of positive area (x0 and v0 each with min < max)",
+                    ));
+                }
+                ps.disturbance = gbox;
+                Some(MapSettings {
+                    grid,
+                    classifier: c.classifier,
+                    early_stop: c.early_stop,
+                    trap_margin: c.trap_margin,
+                    audit_every: c.audit_every,
+                })
+            }
+        };
         let bd = f.boundaries.unwrap_or_default();
         let nu_range = [bd.nu_lo.unwrap_or(1e-4), bd.nu_hi.unwrap_or(0.2)];
         if !(nu_range[0] > 0.0 && nu_range[1] > nu_range[0] && nu_range[1] <= 10.0) {
@@ -544,6 +642,7 @@ impl AtlasPlan {
             critical: bd.critical.unwrap_or(true),
             nu_range,
             boundary_rtol,
+            maps,
             out: f.output.path,
             spec_text: text.to_string(),
             spec_path: path.to_string(),
@@ -891,6 +990,84 @@ path = "p.h5"
                     "[disturbance]\nx = [1.0, 0.0]\nv = [0.0, 1.0]\n[output]",
                 ),
                 "disturbance.x",
+            ),
+        ];
+        for (text, key) in cases {
+            let e = err(&text);
+            assert!(e.contains(key), "expected `{key}` in: {e}");
+        }
+    }
+
+    const GRID: &str = "[grid]\nx0 = { min = -2.0, max = 4.0, count = 8 }\nv0 = { min = -3.0, max = 3.0, count = 6 }\n[output]";
+
+    #[test]
+    fn a_grid_makes_maps_with_the_scan_rules() {
+        let p = AtlasPlan::from_toml(&GOOD.replace("[output]", GRID), "t.toml").unwrap();
+        let m = p.maps.unwrap();
+        assert_eq!(
+            (m.grid.x0.count, m.grid.v0.count, m.grid.block_rows),
+            (8, 6, 8)
+        );
+        // The box the cells tile is the disturbance box: half a spacing (6/7 in x, 6/5 in
+        // v) beyond the first and last grid values.
+        assert_eq!(p.point.disturbance.x, [-2.0 - 3.0 / 7.0, 4.0 + 3.0 / 7.0]);
+        assert_eq!(p.point.disturbance.v, [-3.0 - 0.6, 3.0 + 0.6]);
+        let mp = p.map_plan().unwrap();
+        assert_eq!(mp.maps.len(), p.n_points());
+        assert_eq!(mp.maps[3], p.params_at(3));
+        assert_eq!(mp.early_stop, EarlyStop::Cycle);
+        assert!(
+            AtlasPlan::from_toml(GOOD, "t.toml")
+                .unwrap()
+                .map_plan()
+                .is_none()
+        );
+        // The scheme is read and kept.
+        let z = AtlasPlan::from_toml(
+            &GOOD.replace("[output]", "[integration]\nscheme = \"zoh\"\n[output]"),
+            "t.toml",
+        )
+        .unwrap();
+        assert_eq!(z.solver.scheme, Scheme::Zoh);
+        assert_eq!(
+            AtlasPlan::from_toml(GOOD, "t.toml").unwrap().solver.scheme,
+            Scheme::default()
+        );
+    }
+
+    #[test]
+    fn bad_grids_name_the_key() {
+        let g = GOOD.replace("[output]", GRID);
+        let cases: Vec<(String, &str)> = vec![
+            (g.replace("count = 8 }", "count = 0 }"), "grid.x0.count"),
+            (
+                g.replace("min = -3.0, max = 3.0", "min = 3.0, max = -3.0"),
+                "grid.v0",
+            ),
+            (g.replace("v0 = {", "w0 = {"), "w0"),
+            (
+                g.replace("[output]", "block_rows = 0\n[output]"),
+                "grid.block_rows",
+            ),
+            (
+                g.replace("[output]", "[classifier]\ntrap_margin = 0.9\n[output]"),
+                "classifier.trap_margin",
+            ),
+            (
+                GOOD.replace("[output]", "[classifier]\nt_max = 100.0\n[output]"),
+                "classifier",
+            ),
+            (
+                g.replace(
+                    "[grid]",
+                    "[disturbance]\nx = [-1.0, 1.0]\nv = [-1.0, 1.0]\n[grid]",
+                ),
+                "disturbance",
+            ),
+            (PHYS.replace("[output]", GRID), "grid"),
+            (
+                GOOD.replace("[output]", "[integration]\nscheme = \"rk4\"\n[output]"),
+                "scheme",
             ),
         ];
         for (text, key) in cases {
