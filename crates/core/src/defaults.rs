@@ -12,8 +12,8 @@ pub const NU: f64 = 1e-3;
 /// Time step, chosen by accuracy for the default scheme (first-order hold): the unstable
 /// cycle's section crossing and distance along +x (nu = 1e-3, 1e-2), the stick-slip frequency
 /// (nu = 1e-3) and the critical damping for (0, 0) are within 0.1% of their dt -> 0 limits
-/// (at dt = 0.01 the nu = 1e-3 cycle is 0.17% off). BENCHMARKS.md, "Step size", gives the
-/// study; `crates/scan/tests/accuracy.rs` checks it.
+/// (at dt = 0.01 the stick-slip frequency is 0.22% off; the cycle figures would allow it).
+/// BENCHMARKS.md, "Step size", gives the study; `crates/scan/tests/accuracy.rs` checks it.
 pub const DT: f64 = 0.005;
 /// Relative half-width of the band around the located unstable cycle in which early
 /// stopping leaves runs going (`r_u (1 -+ TRAP_MARGIN)` at the section). It only has to

@@ -100,10 +100,11 @@ fn order(scheme: Scheme) -> i32 {
 
 /// At the default dt and scheme every figure is within 0.1% of its Richardson limit.
 ///
-/// Measured (default dt = 0.005, first-order hold; BENCHMARKS.md): relative distances 4.3e-4
-/// (r_u and d+x at nu = 1e-3), 1.5e-5 and 1.4e-5 (nu = 1e-2), 8.4e-4 (stick-slip omega, the
-/// tightest: a mean over an irregular band, which converges less cleanly) and 1e-4 (critical
-/// damping). At dt = 0.01 the nu = 1e-3 cycle is 1.7e-3 away, which is why the default moved.
+/// Measured (default dt = 0.005, first-order hold, Hermite crossings; BENCHMARKS.md): relative
+/// distances 1.1e-5 and 1.3e-5 (r_u and d+x at nu = 1e-3), below 3e-6 (nu = 1e-2), 8.4e-4
+/// (stick-slip omega, the tightest: a mean over an irregular band, which converges less
+/// cleanly; 2.2e-3 at dt = 0.01, which is why the default is 0.005) and below 1e-6
+/// (critical damping).
 #[test]
 fn default_step_is_within_a_tenth_of_a_percent() {
     let dt = squeal_core::defaults::DT;
