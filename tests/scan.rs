@@ -722,13 +722,18 @@ fn stribeck_scan_states_the_landscape_of_every_map() {
         !names.iter().any(|n| n == "nu" || n == "lambda"),
         "{names:?}"
     );
-    for g in ["cycles/map_0000", "cycles/map_0002"] {
-        if let Ok(g) = f.group(g) {
-            let attrs = g.attr_names().unwrap();
-            assert!(
-                !attrs.iter().any(|a| a == "no_cycle_nu"),
-                "{g:?}: {attrs:?}"
-            );
+    for g in ["cycles/map_0000", "cycles/map_0001", "cycles/map_0002"] {
+        let attrs = f.group(g).unwrap().attr_names().unwrap();
+        for a in [
+            "no_cycle_nu",
+            "params_nu",
+            "params_lambda",
+            "params_stribeck_mu_d",
+        ] {
+            assert!(!attrs.iter().any(|x| x == a), "{g}: {attrs:?}");
         }
     }
+    // The bistable map's located cycle records the law's parameters by their names.
+    let attrs = f.group("cycles/map_0001").unwrap().attr_names().unwrap();
+    assert!(attrs.iter().any(|x| x == "params_xi"), "{attrs:?}");
 }
