@@ -665,3 +665,80 @@ fn critical_and_ulc_agree_that_coulomb_has_no_cycle() {
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(j["classification"]["regime"], "steady_slip", "{j}");
 }
+
+#[test]
+fn stribeck_trajectory_names_its_parameters_and_stick_phases() {
+    let dir = tmp();
+    // Start stuck at x = 0 with the belt (x' = v_d = 1.5, bSTAB's defaults xi = 0.05,
+    // mu_s = mu_d mu_sd = 1): the holding force x + 2 xi v_d grows as v_d t, so the first
+    // breakaway is at t = (mu_s - 2 xi v_d) / v_d = 0.85 / 1.5 (closed form, MODEL.md 8).
+    let args = [
+        "trajectory",
+        "--law",
+        "stribeck",
+        "--v0",
+        "1.5",
+        "--t-end",
+        "100",
+    ];
+    let j: serde_json::Value =
+        serde_json::from_str(&ok(squeal(dir.path(), &[&args[..], &["--json"]].concat()))).unwrap();
+    let p = &j["params"];
+    assert_eq!(p["xi"], 0.05);
+    assert_eq!(p["v_d"], 1.5);
+    assert_eq!(p["mu_sd"], 2.0);
+    assert!(p.get("nu").is_none() && p.get("lambda").is_none(), "{p}");
+    let st = &j["stick"];
+    let tb = st["first_breakaways"][0].as_f64().unwrap();
+    assert!((tb - 0.85 / 1.5).abs() < 1e-12, "{tb}");
+    // From the breakaway state the orbit is the stick-slip cycle (v_d = 1.5 is bistable):
+    // it sticks again, once per period.
+    let onsets = st["onsets"].as_u64().unwrap();
+    let breaks = st["breakaways"].as_u64().unwrap();
+    assert!(onsets >= 2 && breaks.abs_diff(onsets) <= 1, "{st}");
+    assert_eq!(j["stats"]["stick_onsets"].as_u64(), Some(onsets));
+    assert_eq!(j["classification"]["reason"], "stick_cycle");
+    // Text: the law's names, the stick phases.
+    let text = ok(squeal(dir.path(), &args));
+    assert!(
+        text.contains("xi=0.05") && text.contains("mu_v=0"),
+        "{text}"
+    );
+    assert!(!text.contains("nu=") && !text.contains("lambda="), "{text}");
+    assert!(
+        text.contains(&format!("stick phases: {onsets} onsets")),
+        "{text}"
+    );
+    assert!(text.contains("breakaways at t = 0.566667"), "{text}");
+    // A McMillan run has no stick section.
+    let m: serde_json::Value = serde_json::from_str(&ok(squeal(
+        dir.path(),
+        &["trajectory", "--t-end", "1", "--json"],
+    )))
+    .unwrap();
+    assert!(m.get("stick").is_none() && m["params"]["nu"] == 1e-3);
+    // The file records the law's parameters with long names and units, and the counts.
+    ok(squeal(
+        dir.path(),
+        &[&args[..], &["--out", "s.h5"]].concat(),
+    ));
+    let f = hdf5::File::open(dir.path().join("s.h5")).unwrap();
+    let num = |name: &str| -> f64 { f.attr(name).unwrap().read_scalar().unwrap() };
+    for (k, v) in [
+        ("xi", 0.05),
+        ("v_d", 1.5),
+        ("mu_d", 0.5),
+        ("mu_sd", 2.0),
+        ("v_0", 0.5),
+        ("mu_v", 0.0),
+    ] {
+        assert_eq!(num(k), v, "{k}");
+        for suffix in ["_long_name", "_units"] {
+            assert!(f.attr(&format!("{k}{suffix}")).is_ok(), "{k}{suffix}");
+        }
+    }
+    assert!(f.attr("nu").is_err() && f.attr("lambda").is_err());
+    let count = |name: &str| -> u64 { f.attr(name).unwrap().read_scalar().unwrap() };
+    assert_eq!(count("stick_onsets"), onsets);
+    assert_eq!(count("breakaways"), breaks);
+}

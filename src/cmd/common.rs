@@ -60,13 +60,29 @@ pub fn model_params(info: &squeal_store::FileInfo, map: usize) -> squeal_plot::M
                 .unwrap_or(f64::NAN),
         }
     };
+    let law = attr(info, "law").unwrap_or("?");
+    // The law's own keys (files of an unknown law: McMillan's, as files before the
+    // Stribeck law).
+    let keys = law
+        .parse::<squeal_core::FrictionLaw>()
+        .map_or(squeal_core::FrictionLaw::McMillan.keys(), |l| l.keys());
     squeal_plot::ModelParams {
-        law: attr(info, "law").unwrap_or("?").to_string(),
-        nu: num("nu"),
-        lambda: num("lambda"),
-        tau: num("tau"),
-        phi: num("phi"),
+        law: law.to_string(),
+        params: keys.iter().map(|k| (k.to_string(), num(k))).collect(),
         dt: num("dt"),
+    }
+}
+
+/// The parameters of a run for picture titles, by the law's own names.
+pub fn plot_params(p: &squeal_core::Params, dt: f64) -> squeal_plot::ModelParams {
+    squeal_plot::ModelParams {
+        law: p.law.name().into(),
+        params: p
+            .named()
+            .iter()
+            .map(|n| (n.name.to_string(), n.value))
+            .collect(),
+        dt,
     }
 }
 
@@ -180,7 +196,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         &format!("{param} (swept parameter)"),
         "size of the unstable cycle (nondimensional)",
         &curves,
-        param == "nu",
+        param == "nu" || param == "xi",
         "no unstable cycle located",
     )
     .with_context(|| format!("drawing {}", size.display()))?;

@@ -58,6 +58,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     .collect::<serde_json::Map<_, _>>()
             }).collect::<Vec<_>>(),
             "no_cycle": info.no_cycle,
+            "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
             "shard": info.shard,
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -91,6 +92,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
+        }
+        if let Some(Some(l)) = info.landscapes.get(i) {
+            for w in super::scan::landscape_words(l) {
+                println!("    {w}");
+            }
         }
         for w in info
             .checks

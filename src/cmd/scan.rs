@@ -281,6 +281,33 @@ fn duration(secs: f64) -> String {
     }
 }
 
+/// The landscape of a map in words: the verdict, its note and its evidence.
+pub fn landscape_words(l: &squeal_store::LandscapeInfo) -> Vec<String> {
+    let ev: Vec<String> = l
+        .evidence
+        .iter()
+        .map(|(n, v)| format!("{n} = {v:.6}"))
+        .collect();
+    vec![
+        format!("landscape: {} ({})", l.landscape.name(), l.landscape.note()),
+        format!("  evidence: {}", ev.join(", ")),
+    ]
+}
+
+/// The landscape of a map as JSON (`null` where none is stored).
+pub fn landscape_json(l: Option<&squeal_store::LandscapeInfo>) -> serde_json::Value {
+    l.map_or(serde_json::Value::Null, |l| {
+        let mut o = serde_json::Map::new();
+        o.insert("landscape".into(), l.landscape.name().into());
+        o.insert("note".into(), l.landscape.note().into());
+        for (n, v) in &l.evidence {
+            // NaN (no stick-slip cycle) is null in JSON.
+            o.insert((*n).into(), serde_json::json!(v.is_finite().then_some(*v)));
+        }
+        o.into()
+    })
+}
+
 /// One line per check that found something, in words.
 pub fn check_words(values: &[i64]) -> Vec<String> {
     let v = |name: &str| {
@@ -312,6 +339,18 @@ pub fn check_words(values: &[i64]) -> Vec<String> {
             "DISAGREEMENT: the label at (0, 0) contradicts whether the cycle encloses (0, 0)"
                 .into(),
         );
+    }
+    if v("landscape_contradictions") >= 0 {
+        out.push(format!(
+            "against the landscape: {} decided cells labelled otherwise",
+            v("landscape_contradictions")
+        ));
+    }
+    if v("landscape_contradictions") > 0 {
+        out.push(format!(
+            "DISAGREEMENT: {} decided cells are labelled against the landscape",
+            v("landscape_contradictions")
+        ));
     }
     if v("audit_disagrees") > 0 {
         out.push(
@@ -358,6 +397,12 @@ fn report(
                 if let Some(Some(why)) = info.no_cycle.get(i) {
                     o.insert("no_cycle".into(), why.clone().into());
                 }
+                if !info.landscapes.is_empty() {
+                    o.insert(
+                        "landscape".into(),
+                        landscape_json(info.landscapes.get(i).and_then(Option::as_ref)),
+                    );
+                }
                 Ok(serde_json::Value::Object(o))
             })
             .collect::<anyhow::Result<_>>()?;
@@ -395,6 +440,11 @@ fn report(
         println!("{line}");
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
+        }
+        if let Some(Some(l)) = info.landscapes.get(i) {
+            for w in landscape_words(l) {
+                println!("    {w}");
+            }
         }
         for w in checks.get(i).map(|c| check_words(c)).unwrap_or_default() {
             println!("    {w}");

@@ -19,7 +19,7 @@ use anyhow::{Context, bail};
 use serde::Serialize;
 use squeal_core::classify::crossing;
 use squeal_core::{
-    Classifier, Reason, Regime, Run, Sample, SolverKind, SolverStats, State, Stepper,
+    Classifier, Named, Reason, Regime, Run, Sample, SolverKind, SolverStats, State, Stepper,
 };
 use squeal_plot::{Curve, Marker, Rgb};
 
@@ -31,6 +31,8 @@ const MAX_ROWS: u64 = 20_000_000;
 const MAX_PLOT_POINTS: usize = 200_000;
 /// How many times of unconverged paper-iteration steps are reported.
 const FIRST_UNCONVERGED: usize = 5;
+/// How many stick onset and breakaway times are reported from the start of the run.
+const FIRST_EVENTS: usize = 5;
 
 /// Flags of `squeal trajectory`.
 #[derive(clap::Args, Debug)]
@@ -100,14 +102,11 @@ impl Columns {
     }
 }
 
-/// Model and run parameters, as printed and stored.
-#[derive(Serialize)]
+/// Model and run parameters, as printed and stored: the law, its own parameters by name
+/// (`nu, lambda, tau, phi` or `xi, v_d, mu_d, mu_sd, v_0, mu_v`), then the run's settings.
 struct RunParams {
     law: &'static str,
-    nu: f64,
-    lambda: f64,
-    tau: f64,
-    phi: f64,
+    named: Vec<Named>,
     dt: f64,
     solver: &'static str,
     scheme: &'static str,
@@ -115,6 +114,70 @@ struct RunParams {
     v0: f64,
     t_end: f64,
     every: u64,
+}
+
+impl Serialize for RunParams {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = ser.serialize_map(None)?;
+        m.serialize_entry("law", self.law)?;
+        for n in &self.named {
+            m.serialize_entry(n.name, &n.value)?;
+        }
+        m.serialize_entry("dt", &self.dt)?;
+        m.serialize_entry("solver", self.solver)?;
+        m.serialize_entry("scheme", self.scheme)?;
+        m.serialize_entry("x0", &self.x0)?;
+        m.serialize_entry("v0", &self.v0)?;
+        m.serialize_entry("t_end", &self.t_end)?;
+        m.serialize_entry("every", &self.every)?;
+        m.end()
+    }
+}
+
+/// The stick phases of a law with true stick, from the events located inside the steps.
+#[derive(Serialize, Default)]
+struct StickPhases {
+    /// Stick onsets.
+    onsets: u64,
+    /// Breakaways.
+    breakaways: u64,
+    /// Passages through zero slip without sticking.
+    reversals: u64,
+    /// Times of the first few onsets.
+    first_onsets: Vec<f64>,
+    /// Times of the first few breakaways.
+    first_breakaways: Vec<f64>,
+    /// Time of the last onset located (`null` if none; the first onset of its step).
+    last_onset: Option<f64>,
+    /// Time of the last breakaway located (`null` if none; the first of its step).
+    last_breakaway: Option<f64>,
+    /// Whether the block is stuck at the end of the run.
+    stuck_at_end: bool,
+}
+
+impl StickPhases {
+    fn observe(&mut self, step: &squeal_core::Step) {
+        let e = &step.events;
+        self.stuck_at_end = step.solution.branch == squeal_core::friction::Branch::Stick;
+        self.onsets += u64::from(e.onsets);
+        self.breakaways += u64::from(e.breakaways);
+        self.reversals += u64::from(e.reversals);
+        if e.onsets > 0 {
+            let t = step.prev.t + e.onset_at;
+            if self.first_onsets.len() < FIRST_EVENTS {
+                self.first_onsets.push(t);
+            }
+            self.last_onset = Some(t);
+        }
+        if e.breakaways > 0 {
+            let t = step.prev.t + e.breakaway_at;
+            if self.first_breakaways.len() < FIRST_EVENTS {
+                self.first_breakaways.push(t);
+            }
+            self.last_breakaway = Some(t);
+        }
+    }
 }
 
 /// The classifier's verdict on the same run.
@@ -151,6 +214,9 @@ struct Summary {
     classification: Classification,
     final_state: Sample,
     oscillation: Oscillation,
+    /// Stick phases (laws with true stick only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stick: Option<StickPhases>,
     stats: SolverStats,
     max_residual: f64,
     /// Steps (including the initial solve) whose solve did not converge: the paper's
@@ -228,6 +294,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if keep {
         cols.push(run.sample());
     }
+    let mut stick = p.law.has_true_stick().then(StickPhases::default);
     let mut crossings = 0u64;
     let (mut t_prev_cross, mut t_last_cross, mut amplitude) = (f64::NAN, f64::NAN, f64::NAN);
     for k in 1..=steps {
@@ -238,6 +305,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             if unconverged_times.len() < FIRST_UNCONVERGED {
                 unconverged_times.push(n.t);
             }
+        }
+        if let Some(sp) = stick.as_mut() {
+            sp.observe(&step);
         }
         if outcome.is_none() {
             if let Some(decision) = watch.observe(&run, &step) {
@@ -269,7 +339,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let (Some(path), Some(format)) = (&args.out, format) {
         let written = match format {
             Format::Csv => write_csv(path, &cols, args.force),
-            Format::Hdf5 => write_h5(path, &cols, &run_params(&args, &stepper), args.force),
+            Format::Hdf5 => write_h5(
+                path,
+                &cols,
+                &run_params(&args, &stepper),
+                stick.as_ref(),
+                args.force,
+            ),
         };
         written.with_context(|| format!("--out: cannot write {}", path.display()))?;
     }
@@ -295,6 +371,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             amplitude: finite(amplitude),
             t_last_crossing: finite(t_last_cross),
         },
+        stick,
         stats,
         max_residual,
         unconverged_steps: unconverged,
@@ -323,10 +400,7 @@ fn run_params(args: &Args, stepper: &Stepper) -> RunParams {
     let p = stepper.params();
     RunParams {
         law: p.law.name(),
-        nu: p.nu,
-        lambda: p.lambda,
-        tau: p.tau,
-        phi: p.phi,
+        named: p.named(),
         dt: stepper.dt(),
         solver: stepper.solver().kind.name(),
         scheme: stepper.scheme().name(),
@@ -390,27 +464,59 @@ fn write_csv(path: &Path, cols: &Columns, force: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn write_h5(path: &Path, cols: &Columns, rp: &RunParams, force: bool) -> anyhow::Result<()> {
+fn write_h5(
+    path: &Path,
+    cols: &Columns,
+    rp: &RunParams,
+    stick: Option<&StickPhases>,
+    force: bool,
+) -> anyhow::Result<()> {
     // Self-describing: t is the coordinate, every variable has units and a long name,
     // the run's settings and provenance are root attributes (squeal-store's trajectory
-    // schema), and `squeal info` reads it back.
+    // schema), and `squeal info` reads it back. A law with true stick also names its
+    // parameters (`xi_long_name`, `xi_units`, ...), as the scan files do.
+    let described: Vec<(String, String, &Named)> = if stick.is_some() {
+        rp.named
+            .iter()
+            .map(|n| {
+                (
+                    format!("{}_long_name", n.name),
+                    format!("{}_units", n.name),
+                    n,
+                )
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut text = vec![
+        ("law", rp.law),
+        ("solver", rp.solver),
+        ("scheme", rp.scheme),
+    ];
+    for (long, units, n) in &described {
+        text.push((long.as_str(), n.long_name));
+        text.push((units.as_str(), n.units));
+    }
+    let mut numbers: Vec<(&str, f64)> = rp.named.iter().map(|n| (n.name, n.value)).collect();
+    numbers.extend([
+        ("dt", rp.dt),
+        ("x0", rp.x0),
+        ("v0", rp.v0),
+        ("t_end", rp.t_end),
+    ]);
+    let mut counts = vec![("every", rp.every)];
+    if let Some(sp) = stick {
+        counts.extend([
+            ("stick_onsets", sp.onsets),
+            ("breakaways", sp.breakaways),
+            ("slip_reversals", sp.reversals),
+        ]);
+    }
     let attrs = squeal_store::RunAttrs {
-        text: vec![
-            ("law", rp.law),
-            ("solver", rp.solver),
-            ("scheme", rp.scheme),
-        ],
-        numbers: vec![
-            ("nu", rp.nu),
-            ("lambda", rp.lambda),
-            ("tau", rp.tau),
-            ("phi", rp.phi),
-            ("dt", rp.dt),
-            ("x0", rp.x0),
-            ("v0", rp.v0),
-            ("t_end", rp.t_end),
-        ],
-        counts: vec![("every", rp.every)],
+        text,
+        numbers,
+        counts,
     };
     squeal_store::write_trajectory(
         path,
@@ -454,14 +560,7 @@ fn plot_phase_plane(
             squeal_plot::fmt_number(ic.x),
             squeal_plot::fmt_number(ic.v)
         ),
-        &squeal_plot::ModelParams {
-            law: p.law.name().into(),
-            nu: p.nu,
-            lambda: p.lambda,
-            tau: p.tau,
-            phi: p.phi,
-            dt: stepper.dt(),
-        },
+        &super::common::plot_params(p, stepper.dt()),
     );
     let curves = [Curve {
         label: format!("trajectory, t in [0, {}]", cols.t.last().unwrap_or(&0.0)),
@@ -490,9 +589,22 @@ fn plot_phase_plane(
 
 fn print_summary(s: &Summary, kind: SolverKind) {
     let p = &s.params;
+    let named: Vec<String> = p
+        .named
+        .iter()
+        .map(|n| format!("{}={}", n.name, n.value))
+        .collect();
     println!(
-        "run: {} nu={} lambda={} tau={} phi={} dt={} solver={} scheme={} from (x0, x'0) = ({}, {}) to t = {} ({} steps)",
-        p.law, p.nu, p.lambda, p.tau, p.phi, p.dt, p.solver, p.scheme, p.x0, p.v0, p.t_end, s.steps
+        "run: {} {} dt={} solver={} scheme={} from (x0, x'0) = ({}, {}) to t = {} ({} steps)",
+        p.law,
+        named.join(" "),
+        p.dt,
+        p.solver,
+        p.scheme,
+        p.x0,
+        p.v0,
+        p.t_end,
+        s.steps
     );
     let c = &s.classification;
     let label = match c.regime {
@@ -522,6 +634,44 @@ fn print_summary(s: &Summary, kind: SolverKind) {
             "final oscillation: none ({} crossings of x = {}, x' > 0)",
             o.crossings, s.fixed_point.x
         ),
+    }
+    if let Some(sp) = &s.stick {
+        let times = |v: &[f64]| {
+            v.iter()
+                .map(|t| format!("{t:.6}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let last = |t: Option<f64>| t.map_or("none".to_string(), |t| format!("{t:.6}"));
+        println!(
+            "stick phases: {} onsets, {} breakaways, {} passages through zero slip without sticking; {} at the end",
+            sp.onsets,
+            sp.breakaways,
+            sp.reversals,
+            if sp.stuck_at_end { "stuck" } else { "slipping" }
+        );
+        if sp.onsets + sp.breakaways > 0 {
+            println!(
+                "  onsets at t = {}{}; last at t = {}",
+                times(&sp.first_onsets),
+                if sp.onsets as usize > sp.first_onsets.len() {
+                    ", ..."
+                } else {
+                    ""
+                },
+                last(sp.last_onset)
+            );
+            println!(
+                "  breakaways at t = {}{}; last at t = {}",
+                times(&sp.first_breakaways),
+                if sp.breakaways as usize > sp.first_breakaways.len() {
+                    ", ..."
+                } else {
+                    ""
+                },
+                last(sp.last_breakaway)
+            );
+        }
     }
     let st = &s.stats;
     println!(

@@ -111,14 +111,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ];
         let title = squeal_plot::phase_title(
             "Unstable limit cycle",
-            &squeal_plot::ModelParams {
-                law: params.law.name().into(),
-                nu: params.nu,
-                lambda: params.lambda,
-                tau: params.tau,
-                phi: params.phi,
-                dt: plan.dt,
-            },
+            &super::common::plot_params(&params, plan.dt),
         );
         squeal_plot::phase_plot(p, &title, &[curve], &marks)
             .with_context(|| format!("drawing {}", p.display()))?;

@@ -24,7 +24,7 @@
 
 use std::collections::VecDeque;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::friction::Branch;
 use crate::params::Params;
@@ -33,7 +33,7 @@ use crate::solver::SolverStats;
 use crate::stepper::{Sample, State, Stepper};
 
 /// The attractor a run settles on. The values are stored in files (HDF5 enum `regime`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[repr(u8)]
 pub enum Regime {
     /// Not settled by `t_max` (or blew up, or the solver failed): never guessed.

@@ -57,5 +57,5 @@ pub use propagator::{Propagator, Scheme};
 pub use run::{Run, Step};
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
-pub use stick::{Landscape, StickCycle, StickEvents};
+pub use stick::{Landscape, LandscapeEvidence, StickCycle, StickEvents};
 pub use units::{Physical, Scales};

@@ -135,8 +135,14 @@ impl Stribeck {
 ///
 /// Damping ratio and belt speed are common to every law (the Stribeck law names them `xi`
 /// and `v_d`); `tau` and `phi` belong to McMillan's laws, [`Stribeck`] to the Stribeck law
-/// (present exactly when `law = stribeck`, so McMillan's files and JSON are unchanged).
+/// (present exactly when `law = stribeck`).
+///
+/// Serialised by the law's own names ([`FrictionLaw::keys`]): `{law, nu, lambda, tau, phi}`
+/// for McMillan's laws (as always), `{law, xi, v_d, mu_d, mu_sd, v_0, mu_v}` for the
+/// Stribeck law. Records written before the Stribeck law had its own names (`nu`, `lambda`
+/// and a `stribeck` table) still read.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "ParamsWire", try_from = "ParamsWire")]
 pub struct Params {
     /// Friction law.
     pub law: FrictionLaw,
@@ -150,8 +156,92 @@ pub struct Params {
     /// `Phi = arcsin(mu_k / mu_s)`, in `(0, pi/2]` since `mu_s >= mu_k > 0`.
     pub phi: f64,
     /// The Stribeck law's parameters (`Some` exactly when `law = stribeck`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stribeck: Option<Stribeck>,
+}
+
+/// The serde form of [`Params`]: the law's own keys, each present only for its law.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+struct ParamsWire {
+    law: FrictionLaw,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    nu: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    lambda: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tau: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    phi: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    xi: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    v_d: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mu_d: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mu_sd: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    v_0: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mu_v: Option<f64>,
+    /// Read only: the Stribeck parameters as a table (records of earlier builds).
+    #[serde(default, skip_serializing)]
+    stribeck: Option<Stribeck>,
+}
+
+impl From<Params> for ParamsWire {
+    fn from(p: Params) -> ParamsWire {
+        let mut w = ParamsWire {
+            law: p.law,
+            nu: None,
+            lambda: None,
+            tau: None,
+            phi: None,
+            xi: None,
+            v_d: None,
+            mu_d: None,
+            mu_sd: None,
+            v_0: None,
+            mu_v: None,
+            stribeck: None,
+        };
+        for n in p.named() {
+            let slot = match n.name {
+                "nu" => &mut w.nu,
+                "lambda" => &mut w.lambda,
+                "tau" => &mut w.tau,
+                "phi" => &mut w.phi,
+                "xi" => &mut w.xi,
+                "v_d" => &mut w.v_d,
+                "mu_d" => &mut w.mu_d,
+                "mu_sd" => &mut w.mu_sd,
+                "v_0" => &mut w.v_0,
+                _ => &mut w.mu_v,
+            };
+            *slot = Some(n.value);
+        }
+        w
+    }
+}
+
+impl TryFrom<ParamsWire> for Params {
+    type Error = String;
+    fn try_from(w: ParamsWire) -> Result<Params, String> {
+        let legacy = w.stribeck;
+        Params::from_named(w.law, |k| match k {
+            "nu" => w.nu,
+            "lambda" => w.lambda,
+            "tau" => w.tau,
+            "phi" => w.phi,
+            "xi" => w.xi.or(w.nu),
+            "v_d" => w.v_d.or(w.lambda),
+            "mu_d" => w.mu_d.or(legacy.map(|s| s.mu_d)),
+            "mu_sd" => w.mu_sd.or(legacy.map(|s| s.mu_sd)),
+            "v_0" => w.v_0.or(legacy.map(|s| s.v_0)),
+            "mu_v" => w.mu_v.or(legacy.map(|s| s.mu_v)),
+            _ => None,
+        })
+        .map_err(|k| format!("missing parameter `{k}` of law {}", w.law))
+    }
 }
 
 /// One named parameter of a law, as specs, flags, files and `info` show it.

@@ -549,22 +549,46 @@ pub fn stick_slip_cycle(stepper: &Stepper, t_max: f64, fp_radius: f64) -> Option
 }
 
 /// What is known about the attractors of a law with true stick before any basin is mapped.
+/// The values are stable: files store them (`landscape`, an HDF5 enum).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[repr(u8)]
 pub enum Landscape {
     /// The fixed point repels (`2 xi + mu'(v_d) < 0`): every start ends in stick-slip (no
     /// other attractor is known for this law; runs are still labelled one by one).
-    StickSlipOnly,
+    StickSlipOnly = 1,
     /// A stable fixed point and a stick-slip cycle: the basins are mapped.
-    Bistable,
+    Bistable = 2,
     /// A stable fixed point and no stick-slip cycle (the orbit from breakaway decays to the
     /// fixed point): every start ends in steady slip (assuming no slip-only cycle).
-    SteadySlipOnly,
+    SteadySlipOnly = 3,
     /// The orbit from breakaway decided nothing by the time limit.
-    Unknown,
+    Unknown = 0,
 }
 
 impl Landscape {
+    /// Every landscape, by stored value.
+    pub const ALL: [Landscape; 4] = [
+        Landscape::Unknown,
+        Landscape::StickSlipOnly,
+        Landscape::Bistable,
+        Landscape::SteadySlipOnly,
+    ];
+
+    /// The landscape of a stored value.
+    pub fn from_u8(v: u8) -> Option<Landscape> {
+        Landscape::ALL.into_iter().find(|l| *l as u8 == v)
+    }
+
+    /// The regime every start must end in, where the landscape states one.
+    pub fn only_regime(self) -> Option<crate::Regime> {
+        match self {
+            Landscape::StickSlipOnly => Some(crate::Regime::StickSlip),
+            Landscape::SteadySlipOnly => Some(crate::Regime::SteadySlip),
+            Landscape::Bistable | Landscape::Unknown => None,
+        }
+    }
+
     /// The name in files and output.
     pub fn name(self) -> &'static str {
         match self {
@@ -594,12 +618,28 @@ impl Landscape {
     }
 }
 
-/// The landscape of a law with true stick (`None` for other laws): the fixed point's
-/// linear stability and whether the stick-slip cycle exists.
-pub fn landscape(stepper: &Stepper, t_max: f64, fp_radius: f64) -> Option<Landscape> {
+/// A landscape with the evidence it rests on.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LandscapeEvidence {
+    /// The verdict.
+    pub landscape: Landscape,
+    /// The fixed point's effective damping `2 xi + mu'(v_d)` (negative: it repels).
+    pub damping: f64,
+    /// What the orbit from the breakaway state did.
+    pub cycle: StickCycle,
+}
+
+/// The landscape of a law with true stick with its evidence (`None` for other laws): the
+/// fixed point's linear stability and whether the stick-slip cycle exists, the orbit from
+/// breakaway run to `t_max` or to within `fp_radius` of the fixed point.
+pub fn landscape_evidence(
+    stepper: &Stepper,
+    t_max: f64,
+    fp_radius: f64,
+) -> Option<LandscapeEvidence> {
     let damping = stepper.params().fixed_point_damping()?;
     let cycle = stick_slip_cycle(stepper, t_max, fp_radius)?;
-    Some(if damping < 0.0 {
+    let landscape = if damping < 0.0 {
         Landscape::StickSlipOnly
     } else {
         match cycle {
@@ -607,5 +647,16 @@ pub fn landscape(stepper: &Stepper, t_max: f64, fp_radius: f64) -> Option<Landsc
             StickCycle::Absent => Landscape::SteadySlipOnly,
             StickCycle::Undecided => Landscape::Unknown,
         }
+    };
+    Some(LandscapeEvidence {
+        landscape,
+        damping,
+        cycle,
     })
+}
+
+/// The landscape of a law with true stick (`None` for other laws): the fixed point's
+/// linear stability and whether the stick-slip cycle exists.
+pub fn landscape(stepper: &Stepper, t_max: f64, fp_radius: f64) -> Option<Landscape> {
+    landscape_evidence(stepper, t_max, fp_radius).map(|e| e.landscape)
 }

@@ -184,18 +184,32 @@ pub const V0_LABEL: &str = "initial velocity x'0 (unit: μk g √(m/k))";
 /// this in from `Params` and the step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelParams {
-    /// The friction law's name (`mcmillan`, `mcmillan-nonhysteretic`, `coulomb`).
+    /// The friction law's name (`mcmillan`, `mcmillan-nonhysteretic`, `coulomb`, `stribeck`).
     pub law: String,
-    /// Damping ratio.
-    pub nu: f64,
-    /// Belt speed.
-    pub lambda: f64,
-    /// Characteristic time of the surfaces.
-    pub tau: f64,
-    /// `arcsin(mu_k / mu_s)`.
-    pub phi: f64,
+    /// The law's own parameters in order, by their names: `nu, lambda, tau, phi` for
+    /// McMillan's laws, `xi, v_d, mu_d, mu_sd, v_0, mu_v` for the Stribeck law.
+    pub params: Vec<(String, f64)>,
     /// Time step.
     pub dt: f64,
+}
+
+impl ModelParams {
+    /// McMillan's four parameters.
+    pub fn mcmillan(law: &str, nu: f64, lambda: f64, tau: f64, phi: f64, dt: f64) -> Self {
+        ModelParams {
+            law: law.into(),
+            params: [("nu", nu), ("lambda", lambda), ("tau", tau), ("phi", phi)]
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect(),
+            dt,
+        }
+    }
+
+    /// The value of parameter `name`, if the law has it.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.params.iter().find(|(k, _)| k == name).map(|(_, v)| *v)
+    }
 }
 
 /// A number with at most four significant digits, trailing zeros dropped, scientific notation
@@ -217,25 +231,22 @@ pub fn law_title(law: &str) -> String {
         "mcmillan" => "McMillan law (hysteretic)".into(),
         "mcmillan-nonhysteretic" => "McMillan law (non-hysteretic)".into(),
         "coulomb" => "Coulomb friction".into(),
+        "stribeck" => "Stribeck law with true stick".into(),
         other => other.to_string(),
     }
 }
 
-/// `nu = 0.001, lambda = 3, tau = 0.3162, phi = 1, dt = 0.01`, leaving out `skip` (the swept
-/// parameter of a sheet).
+/// `nu = 0.001, lambda = 3, tau = 0.3162, phi = 1, dt = 0.01` (the law's own parameters,
+/// then the step), leaving out `skip` (the swept parameter of a sheet).
 pub fn params_line(p: &ModelParams, skip: Option<&str>) -> String {
-    [
-        ("nu", p.nu),
-        ("lambda", p.lambda),
-        ("tau", p.tau),
-        ("phi", p.phi),
-        ("dt", p.dt),
-    ]
-    .into_iter()
-    .filter(|(name, _)| Some(*name) != skip)
-    .map(|(name, v)| format!("{name} = {}", fmt_number(v)))
-    .collect::<Vec<_>>()
-    .join(", ")
+    p.params
+        .iter()
+        .map(|(k, v)| (k.as_str(), *v))
+        .chain([("dt", p.dt)])
+        .filter(|(name, _)| Some(*name) != skip)
+        .map(|(name, v)| format!("{name} = {}", fmt_number(v)))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Title of one basin map: the law, then every parameter and the step.
@@ -1699,14 +1710,7 @@ mod tests {
     }
 
     fn table1(law: &str) -> ModelParams {
-        ModelParams {
-            law: law.into(),
-            nu: 1e-3,
-            lambda: 3.0,
-            tau: 0.316_227_766_016_837_94,
-            phi: 1.0,
-            dt: 0.01,
-        }
+        ModelParams::mcmillan(law, 1e-3, 3.0, 0.316_227_766_016_837_94, 1.0, 0.01)
     }
 
     #[test]
@@ -1717,10 +1721,14 @@ mod tests {
              nu = 0.001, lambda = 3, tau = 0.3162, phi = 1, dt = 0.01"
         );
         // A lambda = 0.5 map must not look like Fig. 9.
-        let slow = ModelParams {
-            lambda: 0.5,
-            ..table1("mcmillan-nonhysteretic")
-        };
+        let slow = ModelParams::mcmillan(
+            "mcmillan-nonhysteretic",
+            1e-3,
+            0.5,
+            0.316_227_766_016_837_94,
+            1.0,
+            0.01,
+        );
         let t = map_title(&slow);
         assert!(
             t.contains("lambda = 0.5") && t.contains("non-hysteretic"),
@@ -1736,6 +1744,32 @@ mod tests {
         assert!(
             phase_title("Unstable limit cycle", &table1("coulomb"))
                 .starts_with("Unstable limit cycle, Coulomb friction\nnu = 0.001")
+        );
+        // The Stribeck law's titles name its own parameters, none of McMillan's.
+        let s = ModelParams {
+            law: "stribeck".into(),
+            params: [
+                ("xi", 0.05),
+                ("v_d", 1.5),
+                ("mu_d", 0.5),
+                ("mu_sd", 2.0),
+                ("v_0", 0.5),
+                ("mu_v", 0.0),
+            ]
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+            dt: 0.005,
+        };
+        assert_eq!(
+            map_title(&s),
+            "Basins of attraction, Stribeck law with true stick\n\
+             xi = 0.05, v_d = 1.5, mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0, dt = 0.005"
+        );
+        let sheet = sheet_title("bstab", &s, "v_d");
+        assert!(
+            !sheet.contains("v_d = ") && !sheet.contains("nu"),
+            "{sheet}"
         );
     }
 

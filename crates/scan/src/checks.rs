@@ -3,7 +3,7 @@
 //! the file and the CLI prints them; nothing here is a guess about which one is right.
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Regime, State};
+use squeal_core::{Landscape, Regime, State};
 
 use crate::cell::{Audit, Cell};
 use crate::curve::{ClosedCurve, CurveLocator};
@@ -45,6 +45,17 @@ pub struct OriginCheck {
     pub disagrees: bool,
 }
 
+/// Decided cells whose label contradicts a landscape that states one regime for every
+/// start ([`Landscape::only_regime`]): steady slip where the fixed point repels, stick-slip
+/// where no stick-slip cycle exists. Labels are never changed; this only counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LandscapeCheck {
+    /// The regime the landscape states for every start.
+    pub regime: Regime,
+    /// Decided cells with the other label.
+    pub contradictions: u64,
+}
+
 /// Every check of one map.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct MapChecks {
@@ -54,6 +65,8 @@ pub struct MapChecks {
     pub audit: AuditCounts,
     /// The state at rest, when it lies in the grid and a cycle is known.
     pub origin: Option<OriginCheck>,
+    /// Against the landscape, where it states one regime for every start.
+    pub landscape: Option<LandscapeCheck>,
 }
 
 /// The checks as stored per map (datasets over the map dimension): name, long name. The
@@ -87,11 +100,15 @@ pub const CHECK_FIELDS: &[(&str, &str)] = &[
         "origin_disagrees",
         "1 if the label of the cell nearest (0, 0) contradicts whether the cycle encloses (0, 0) (-1: not checked)",
     ),
+    (
+        "landscape_contradictions",
+        "decided cells labelled against the landscape: steady slip where the fixed point repels, stick-slip where no stick-slip cycle exists (-1: the landscape states no single regime)",
+    ),
 ];
 
 impl MapChecks {
     /// The values of [`CHECK_FIELDS`], in order.
-    pub fn values(&self) -> [i64; 7] {
+    pub fn values(&self) -> [i64; 8] {
         let w = |f: fn(&WrongSide) -> u64| self.wrong_side.as_ref().map_or(-1, |w| f(w) as i64);
         [
             w(|w| w.cells),
@@ -101,13 +118,21 @@ impl MapChecks {
             self.audit.disagrees as i64,
             self.audit.undecided as i64,
             self.origin.map_or(-1, |o| o.disagrees as i64),
+            self.landscape.map_or(-1, |l| l.contradictions as i64),
         ]
     }
 
-    /// Empty checks for a map whose cycle is `curve` (if any).
-    pub fn new(curve: Option<&ClosedCurve>) -> MapChecks {
+    /// Empty checks for a map whose cycle is `curve` (if any) and whose landscape is
+    /// `landscape` (if stated).
+    pub fn new(curve: Option<&ClosedCurve>, landscape: Option<Landscape>) -> MapChecks {
         MapChecks {
             wrong_side: curve.map(|_| WrongSide::default()),
+            landscape: landscape
+                .and_then(Landscape::only_regime)
+                .map(|regime| LandscapeCheck {
+                    regime,
+                    contradictions: 0,
+                }),
             ..MapChecks::default()
         }
     }
@@ -137,6 +162,11 @@ impl MapChecks {
             if let Some(n) = tally {
                 *n += 1;
                 self.audit.audited += 1;
+            }
+            if let (Some(l), Some(r)) = (self.landscape.as_mut(), cell.regime()) {
+                if r != Regime::Undecided && r != l.regime {
+                    l.contradictions += 1;
+                }
             }
             let Some(c) = &locator else { continue };
             let p = State {
@@ -171,6 +201,7 @@ impl MapChecks {
         self.wrong_side.is_some_and(|w| w.cells > 0)
             || self.audit.disagrees > 0
             || self.origin.is_some_and(|o| o.disagrees)
+            || self.landscape.is_some_and(|l| l.contradictions > 0)
     }
 }
 
@@ -220,7 +251,7 @@ path = "t.h5"
         cells[8].regime = 1;
         cells[0].audit = Audit::Disagrees as u8;
         cells[1].audit = Audit::Agrees as u8;
-        let mut c = MapChecks::new(Some(&sq));
+        let mut c = MapChecks::new(Some(&sq), None);
         c.add_block(&plan, Some(&sq), 0, &cells);
         assert_eq!(
             c.wrong_side,
@@ -234,5 +265,45 @@ path = "t.h5"
         let o = c.origin.unwrap();
         assert!(o.encloses && !o.disagrees);
         assert!(c.any_disagreement());
+        assert_eq!(c.landscape, None);
+        assert_eq!(c.values()[7], -1);
+    }
+
+    #[test]
+    fn counts_labels_against_the_landscape() {
+        // One block of 3 cells labelled steady slip, stick-slip and undecided: a landscape
+        // of stick-slip only finds one contradiction, steady slip only one, bistable none
+        // (not checked: -1).
+        let plan = crate::Plan::from_toml(
+            r#"version = 1
+[model]
+law = "stribeck"
+[grid]
+x0 = { min = -1.0, max = 1.0, count = 3 }
+v0 = { min = 0.0, max = 0.0, count = 1 }
+[output]
+path = "t.h5"
+"#,
+            "t.toml",
+        )
+        .unwrap();
+        let mut cells = vec![Cell::fill(); 3];
+        cells[0].regime = Regime::SteadySlip as u8;
+        cells[1].regime = Regime::StickSlip as u8;
+        cells[2].regime = Regime::Undecided as u8;
+        for (l, want) in [
+            (Landscape::StickSlipOnly, 1),
+            (Landscape::SteadySlipOnly, 1),
+            (Landscape::Bistable, -1),
+            (Landscape::Unknown, -1),
+        ] {
+            let mut c = MapChecks::new(None, Some(l));
+            c.add_block(&plan, None, 0, &cells);
+            assert_eq!(c.values()[7], want, "{l:?}");
+            assert_eq!(c.any_disagreement(), want > 0, "{l:?}");
+        }
+        let mut c = MapChecks::new(None, Some(Landscape::StickSlipOnly));
+        c.add_block(&plan, None, 0, &cells[1..]);
+        assert_eq!(c.values()[7], 0);
     }
 }

@@ -2,6 +2,49 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The damping of the model under its law's own name: `nu` for McMillan's laws, `xi` for
+/// the Stribeck law. Stored flattened (`nu = 0.001` or `xi = 0.05`) and printed so.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Damping {
+    /// McMillan's damping ratio `nu`.
+    Nu(f64),
+    /// The Stribeck law's damping ratio `xi`.
+    Xi(f64),
+}
+
+impl Damping {
+    /// The damping of `p` under its law's name.
+    pub fn of(p: &squeal_core::Params) -> Damping {
+        if p.damping_key() == "xi" {
+            Damping::Xi(p.nu)
+        } else {
+            Damping::Nu(p.nu)
+        }
+    }
+
+    /// The value.
+    pub fn value(self) -> f64 {
+        match self {
+            Damping::Nu(v) | Damping::Xi(v) => v,
+        }
+    }
+
+    /// The key (`nu` or `xi`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Damping::Nu(_) => "nu",
+            Damping::Xi(_) => "xi",
+        }
+    }
+}
+
+impl std::fmt::Display for Damping {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} = {}", self.key(), self.value())
+    }
+}
+
 /// Why no unstable limit cycle was located (a result about the model, not a failure of the
 /// program: the scan stores it beside the map).
 #[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
@@ -11,23 +54,25 @@ pub enum NoCycle {
     /// `D(r) = P(r) - r < 0` at every sampled amplitude: no unstable cycle below `r_max`,
     /// every start inside it decays to steady slip.
     #[error(
-        "the return map decays at every sampled section amplitude up to r = {r_max} (nu = {nu}): no unstable cycle, no squeal below it"
+        "the return map decays at every sampled section amplitude up to r = {r_max} ({damping}): no unstable cycle, no squeal below it"
     )]
     Decays {
         /// Largest amplitude sampled.
         r_max: f64,
-        /// Damping of the model.
-        nu: f64,
+        /// Damping of the model (`nu` or `xi`).
+        #[serde(flatten)]
+        damping: Damping,
     },
     /// `D > 0` already at `r_min`: the steady-slip fixed point repels.
     #[error(
-        "the return map grows already at r = {r_min} (nu = {nu}): the steady-slip fixed point repels"
+        "the return map grows already at r = {r_min} ({damping}): the steady-slip fixed point repels"
     )]
     FixedPointRepels {
         /// Smallest amplitude sampled.
         r_min: f64,
-        /// Damping of the model.
-        nu: f64,
+        /// Damping of the model (`nu` or `xi`).
+        #[serde(flatten)]
+        damping: Damping,
     },
     /// The run from the bisected crossing did not come back to the section.
     #[error("the run from the section amplitude r = {r} did not return within t = {t_return}")]

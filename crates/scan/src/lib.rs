@@ -13,7 +13,10 @@
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
 //!   on `x = x*, x' > 0`, its [`ClosedCurve`], period, Floquet multiplier, size; critical
 //!   damping.
-//! * [`checks`]: where labels, cycle and the run-to-settlement audit disagree in a map.
+//! * [`landscape`]: for laws with true stick, which attractors a map's parameters have,
+//!   stated before the map (every start stick-slip, bistable, every start steady slip).
+//! * [`checks`]: where labels, cycle, landscape and the run-to-settlement audit disagree in
+//!   a map.
 //!
 //! ```
 //! use std::sync::atomic::AtomicBool;
@@ -49,13 +52,14 @@ pub mod curve;
 pub mod driver;
 pub mod error;
 pub mod grid;
+pub mod landscape;
 pub mod scanner;
 pub mod spec;
 pub mod ulc;
 mod values;
 
 pub use cell::{COLUMNS, Cell, Column};
-pub use checks::{MapChecks, WrongSide};
+pub use checks::{LandscapeCheck, MapChecks, WrongSide};
 pub use curve::ClosedCurve;
 pub use driver::{DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns};
 pub use error::{NoCycle, ScanError};

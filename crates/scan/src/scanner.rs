@@ -134,6 +134,8 @@ pub struct MapContext {
     pub cycle: Option<CycleOutcome>,
     /// Early stopping at the start (with the trap, when the cycle's curve was traced).
     pub start_rule: Option<StartRule>,
+    /// The landscape of a law with true stick ([`crate::landscape`]); `None` for others.
+    pub landscape: Option<squeal_core::LandscapeEvidence>,
 }
 
 /// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
@@ -214,6 +216,7 @@ impl MapContext {
             section,
             cycle,
             start_rule,
+            landscape: crate::landscape::of_params(plan, params)?,
         })
     }
 

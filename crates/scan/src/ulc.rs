@@ -253,14 +253,14 @@ pub fn locate_from(
         SectionCycles::NoneBelow { r_max } => {
             return Err(NoCycle::Decays {
                 r_max,
-                nu: params.nu,
+                damping: crate::error::Damping::of(&params),
             }
             .into());
         }
         SectionCycles::FixedPointUnstable { r_min } => {
             return Err(NoCycle::FixedPointRepels {
                 r_min,
-                nu: params.nu,
+                damping: crate::error::Damping::of(&params),
             }
             .into());
         }

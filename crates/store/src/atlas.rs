@@ -1131,7 +1131,8 @@ fn write_maps(
             plan.unravel(i)
         };
         let curve = res.map_cycle(i).map(|r| &r.curve);
-        let mut ck = squeal_scan::MapChecks::new(curve);
+        // The atlas takes McMillan laws only, which have no landscape check.
+        let mut ck = squeal_scan::MapChecks::new(curve, None);
         for b in 0..nb {
             let Some(cells) = res.blocks.get(&(i, b)) else {
                 continue;

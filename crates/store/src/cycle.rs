@@ -121,6 +121,7 @@ fn walk(prefix: &str, t: &toml::Table, out: &mut Vec<(String, Flat)>) {
 mod tests {
     use super::*;
     use squeal_core::{FrictionLaw, Params, SolverStats};
+    use squeal_scan::error::Damping;
 
     fn report() -> CycleReport {
         CycleReport {
@@ -160,16 +161,72 @@ mod tests {
         assert!(same(&r, back.as_ref().unwrap().as_ref().unwrap()));
         let e = NoCycle::Decays {
             r_max: 4.0,
-            nu: 0.5,
+            damping: Damping::Nu(0.5),
         };
         let back = from_text(&to_text(&Some(Err(e.clone())), true), None).unwrap();
-        assert_eq!(back, Some(Err(e)));
+        assert_eq!(back, Some(Err(e.clone())));
+        // McMillan's record is as before the damping got its law's name (the text of
+        // this record a build of main wrote before this change; files and journals read back the
+        // same), and the Stribeck law's says xi.
+        let old = "not_located = false\n\n[no_cycle]\nkind = \"decays\"\nnu = 0.5\nr_max = 4.0\n";
+        assert_eq!(to_text(&Some(Err(e.clone())), true), old);
+        assert_eq!(from_text(old, None).unwrap(), Some(Err(e)));
+        let x = NoCycle::FixedPointRepels {
+            r_min: 1e-3,
+            damping: Damping::Xi(0.05),
+        };
+        let rec = Some(Err(x.clone()));
+        assert_eq!(from_text(&to_text(&rec, true), None).unwrap(), rec);
+        assert!(x.to_string().contains("(xi = 0.05)"), "{x}");
+        let flat = flatten(&rec);
+        assert!(
+            flat.contains(&("no_cycle_xi".into(), Flat::F64(0.05))),
+            "{flat:?}"
+        );
+        assert!(!flat.iter().any(|(k, _)| k == "no_cycle_nu"));
         assert_eq!(from_text(&to_text(&None, true), None).unwrap(), None);
         let flat = flatten(&Some(Ok(r)));
         let get = |n: &str| flat.iter().find(|(k, _)| k == n).map(|(_, v)| v.clone());
         assert_eq!(get("params_nu"), Some(Flat::F64(1e-3)));
+        // McMillan's params as before the Stribeck law had its own names (the derived
+        // form: law, nu, lambda, tau, phi).
+        assert_eq!(
+            toml::to_string(&Params::paper(FrictionLaw::McMillan, 1e-3)).unwrap(),
+            "law = \"mcmillan\"\nnu = 0.001\nlambda = 3.0\ntau = 0.31622776601683794\nphi = 1.0\n"
+        );
         assert_eq!(get("stable_above"), Some(Flat::F64(2.5)));
         assert_eq!(get("encloses_origin"), Some(Flat::Bool(true)));
         assert_eq!(get("curve_x"), None);
+    }
+
+    #[test]
+    fn stribeck_params_are_stored_by_their_own_names() {
+        let mut r = report();
+        r.params = Params::bstab();
+        let rec = Some(Ok(r.clone()));
+        let back = from_text(&to_text(&rec, true), None).unwrap();
+        assert!(same(&r, back.as_ref().unwrap().as_ref().unwrap()));
+        assert_eq!(back.unwrap().unwrap().params, Params::bstab());
+        let flat = flatten(&rec);
+        let names: Vec<&str> = flat.iter().map(|(k, _)| k.as_str()).collect();
+        for k in ["xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v"] {
+            assert!(
+                names.contains(&format!("params_{k}").as_str()),
+                "{k}: {names:?}"
+            );
+        }
+        for k in ["nu", "lambda", "tau", "phi", "stribeck_mu_d"] {
+            assert!(
+                !names.contains(&format!("params_{k}").as_str()),
+                "{k}: {names:?}"
+            );
+        }
+        // The form of earlier builds (nu, lambda, tau, phi and a stribeck table) still reads.
+        let legacy = "law = \"stribeck\"\nnu = 0.05\nlambda = 1.5\ntau = 0.31622776601683794\n\
+                      phi = 1.0\n[stribeck]\nmu_d = 0.5\nmu_sd = 2.0\nv_0 = 0.5\nmu_v = 0.0\n";
+        assert_eq!(toml::from_str::<Params>(legacy).unwrap(), Params::bstab());
+        // A missing key is named.
+        let e = toml::from_str::<Params>("law = \"stribeck\"\nxi = 0.05\n").unwrap_err();
+        assert!(e.to_string().contains("v_d"), "{e}");
     }
 }

@@ -108,6 +108,14 @@ pub enum StoreError {
         /// Maps in the file.
         count: usize,
     },
+    /// A per-map statement of the model (the landscape) could not be computed.
+    #[error("{}: cannot state the landscape: {why}", path.display())]
+    Landscape {
+        /// The output.
+        path: PathBuf,
+        /// What went wrong.
+        why: String,
+    },
     /// A block of the wrong shape or index was handed to the writer.
     #[error("bad block for {}: {why}", path.display())]
     BadBlock {

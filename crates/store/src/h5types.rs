@@ -105,6 +105,36 @@ impl AuditH5 {
     }
 }
 
+/// The per-map `landscape` enum: [`squeal_core::Landscape`] values plus `not_applicable`
+/// (laws without true stick).
+#[derive(H5Type, Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub(crate) enum LandscapeH5 {
+    #[hdf5(rename = "unknown")]
+    Unknown = 0,
+    #[hdf5(rename = "stick_slip_only")]
+    StickSlipOnly = 1,
+    #[hdf5(rename = "bistable")]
+    Bistable = 2,
+    #[hdf5(rename = "steady_slip_only")]
+    SteadySlipOnly = 3,
+    #[hdf5(rename = "not_applicable")]
+    NotApplicable = 255,
+}
+
+impl LandscapeH5 {
+    pub(crate) fn of(l: Option<squeal_core::Landscape>) -> LandscapeH5 {
+        use squeal_core::Landscape as L;
+        match l {
+            Some(L::Unknown) => LandscapeH5::Unknown,
+            Some(L::StickSlipOnly) => LandscapeH5::StickSlipOnly,
+            Some(L::Bistable) => LandscapeH5::Bistable,
+            Some(L::SteadySlipOnly) => LandscapeH5::SteadySlipOnly,
+            None => LandscapeH5::NotApplicable,
+        }
+    }
+}
+
 /// The HDF5 enum type of an enum column of [`squeal_scan::cell::COLUMNS`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum EnumColumn {
@@ -187,6 +217,22 @@ mod tests {
                     .iter()
                     .any(|m| m.name == r.name() && m.value == r as u64)
             );
+        }
+        let TypeDescriptor::Enum(e) = LandscapeH5::type_descriptor() else {
+            panic!("not an enum")
+        };
+        let flags = squeal_scan::landscape::flags();
+        assert_eq!(e.members.len(), flags.len());
+        for (v, name) in flags {
+            assert!(
+                e.members
+                    .iter()
+                    .any(|m| m.name == name && m.value == v as u64),
+                "{name}"
+            );
+        }
+        for l in squeal_core::Landscape::ALL {
+            assert_eq!(LandscapeH5::of(Some(l)) as u8, l as u8);
         }
         let TypeDescriptor::Enum(e) = Label::type_descriptor() else {
             panic!("not an enum")

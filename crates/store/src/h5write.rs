@@ -5,6 +5,7 @@ use std::path::Path;
 use hdf5::types::{FixedAscii, VarLenArray, VarLenUnicode};
 use hdf5::{Dataset, File, Group, H5Type, Location, ObjectReference1};
 use ndarray::{Array1, Array2};
+use squeal_core::LandscapeEvidence;
 use squeal_scan::cell::{COLUMNS, Cell, Column, Kind};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
@@ -12,7 +13,7 @@ use squeal_scan::{MapChecks, Plan};
 
 use crate::cycle::Flat;
 use crate::error::H5Ctx;
-use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5, RefEntry};
+use crate::h5types::{AuditH5, EnumColumn, Label, LandscapeH5, ReasonH5, RefEntry};
 use crate::journal::CycleRecord;
 use crate::{SCHEMA, StoreError};
 
@@ -485,13 +486,23 @@ fn write_all(
         dims.attach(file, v, &d).h5(path)?;
     }
 
+    // The landscape of each map (laws with true stick): a function of the plan alone, so
+    // a merge states the same as the scan.
+    let landscapes: Vec<Option<LandscapeEvidence>> = (0..nmaps)
+        .map(|m| squeal_scan::landscape::of_map(plan, m))
+        .collect::<Result<_, _>>()
+        .map_err(|e| StoreError::Landscape {
+            path: path.to_path_buf(),
+            why: e.to_string(),
+        })?;
+
     let mut done = vec![0u8; nmaps * nblocks];
     let mut checks = Vec::with_capacity(nmaps);
     let mut cycles: Vec<Option<CycleRecord>> = Vec::with_capacity(nmaps);
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
         let curve = report_of(&cyc).map(|r| &r.curve);
-        let mut ck = MapChecks::new(curve);
+        let mut ck = MapChecks::new(curve, landscapes[m].map(|l| l.landscape));
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;
@@ -550,6 +561,44 @@ fn write_all(
             str_attr(&ds, "long_name", long)?;
             str_attr(&ds, "units", "1")?;
             dims.attach(file, &ds, &[&map_dim])?;
+        }
+
+        // The landscape and its evidence, for laws with true stick.
+        if plan.maps[0].law.has_true_stick() {
+            let (name, long) = squeal_scan::landscape::LANDSCAPE;
+            let vals: Array1<LandscapeH5> = landscapes
+                .iter()
+                .map(|l| LandscapeH5::of(l.map(|l| l.landscape)))
+                .collect();
+            let ds = file
+                .new_dataset_builder()
+                .obj_track_times(false)
+                .with_data(&vals)
+                .create(name)?;
+            str_attr(&ds, "long_name", long)?;
+            let flags = squeal_scan::landscape::flags();
+            let values: Vec<u8> = flags.iter().map(|(v, _)| *v).collect();
+            ds.new_attr::<u8>()
+                .shape(values.len())
+                .create("flag_values")?
+                .write_raw(&values)?;
+            let names: Vec<&str> = flags.iter().map(|(_, n)| *n).collect();
+            str_attr(&ds, "flag_meanings", &names.join(" "))?;
+            dims.attach(file, &ds, &[&map_dim])?;
+            for (name, long, units, get) in squeal_scan::landscape::LANDSCAPE_FIELDS {
+                let vals: Array1<f64> = landscapes
+                    .iter()
+                    .map(|l| l.as_ref().map_or(f64::NAN, get))
+                    .collect();
+                let ds = file
+                    .new_dataset_builder()
+                    .obj_track_times(false)
+                    .with_data(&vals)
+                    .create(*name)?;
+                str_attr(&ds, "long_name", long)?;
+                str_attr(&ds, "units", units)?;
+                dims.attach(file, &ds, &[&map_dim])?;
+            }
         }
 
         // Cycles.

@@ -81,7 +81,15 @@
 //! blocks_done    u8 (map|nu|lambda, block): 1 where the block is stored
 //! per map (map|nu|lambda), i64, -1 where not applicable (squeal_scan::checks::CHECK_FIELDS):
 //!   wrong_side_cells, wrong_side_beyond_pixel, audit_cells, audit_agrees,
-//!   audit_disagrees, audit_undecided, origin_disagrees
+//!   audit_disagrees, audit_undecided, origin_disagrees,
+//!   landscape_contradictions (decided cells labelled against a landscape that states
+//!                one regime for every start)
+//! laws with true stick only, per map (map|xi|v_d):
+//!   landscape    u8 enum {unknown=0, stick_slip_only=1, bistable=2, steady_slip_only=3,
+//!                not_applicable=255}: the attractors stated before mapping
+//!                (squeal_scan::landscape)
+//!   fixed_point_damping, stick_cycle_period, stick_cycle_stuck   f64 (NaN: none), its
+//!                evidence (squeal_scan::landscape::LANDSCAPE_FIELDS)
 //! cycle          group /cycle (one map) or /cycles/map_0000, ... (sweep), present when the
 //!                scan searched: attr record (the search as TOML text, exact), every
 //!                scalar of it flattened into attrs (r_section, bracket[2], period, omega,
@@ -118,8 +126,8 @@ pub use squeal_scan::{Shard, WrongSide, shard_owns};
 pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use read::{
-    FileInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary, read_info,
-    read_map,
+    FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,
+    read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_trajectory,

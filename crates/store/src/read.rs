@@ -138,6 +138,42 @@ pub struct FileInfo {
     pub checks: Vec<Vec<i64>>,
     /// Per map: why no cycle was located, where the search found none.
     pub no_cycle: Vec<Option<String>>,
+    /// Per map: the landscape and its evidence, for laws with true stick (empty otherwise).
+    pub landscapes: Vec<Option<LandscapeInfo>>,
+}
+
+/// A map's stored landscape ([`squeal_scan::landscape`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LandscapeInfo {
+    /// The verdict.
+    pub landscape: squeal_core::Landscape,
+    /// The values of [`squeal_scan::landscape::LANDSCAPE_FIELDS`], by name.
+    pub evidence: Vec<(&'static str, f64)>,
+}
+
+/// The stored landscapes of a file's maps (empty for files without them).
+fn read_landscapes(file: &File, nmaps: usize) -> hdf5::Result<Vec<Option<LandscapeInfo>>> {
+    let (name, _) = squeal_scan::landscape::LANDSCAPE;
+    if !file.link_exists(name) {
+        return Ok(Vec::new());
+    }
+    let verdicts: Vec<u8> = file.dataset(name)?.read_raw()?;
+    let fields = squeal_scan::landscape::LANDSCAPE_FIELDS
+        .iter()
+        .map(|(n, ..)| Ok((*n, file.dataset(n)?.read_raw::<f64>()?)))
+        .collect::<hdf5::Result<Vec<_>>>()?;
+    Ok((0..nmaps)
+        .map(|m| {
+            let landscape = squeal_core::Landscape::from_u8(*verdicts.get(m)?)?;
+            Some(LandscapeInfo {
+                landscape,
+                evidence: fields
+                    .iter()
+                    .map(|(n, v)| (*n, v.get(m).copied().unwrap_or(f64::NAN)))
+                    .collect(),
+            })
+        })
+        .collect())
 }
 
 fn attr_text(a: &Attribute) -> hdf5::Result<String> {
@@ -199,6 +235,10 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                     CHECK_FIELDS
                         .iter()
                         .map(|(name, _)| {
+                            // Files written before a check was added lack its dataset.
+                            if !file.link_exists(name) {
+                                return Ok(-1);
+                            }
                             let v: Vec<i64> = file.dataset(name)?.read_raw()?;
                             Ok(v.get(m).copied().unwrap_or(-1))
                         })
@@ -213,6 +253,7 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                         .map(|e| e.to_string()))
                 })
                 .collect::<hdf5::Result<_>>()?,
+            landscapes: read_landscapes(&file, nmaps)?,
             counts,
             shard: str_attr(&file, "shard").ok(),
         })

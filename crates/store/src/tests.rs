@@ -116,7 +116,7 @@ fn write_cycles(w: &mut ScanWriter, plan: &Plan, shard: Option<Shard>) {
         if m == 1 {
             let why = squeal_scan::NoCycle::Decays {
                 r_max: 4.0,
-                nu: 2e-3,
+                damping: squeal_scan::error::Damping::Nu(2e-3),
             };
             w.write_cycle(m, Some(&Err(why))).unwrap();
         } else {

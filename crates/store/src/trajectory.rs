@@ -2,8 +2,10 @@
 //!
 //! ```text
 //! /            attrs schema = "squeal-trajectory/1", squeal_version, git_revision, and the
-//!              run's settings (law, solver text; nu, lambda, tau, phi, dt, x0, v0, t_end f64;
-//!              every u64)
+//!              run's settings (law, solver text; the law's own parameters, nu, lambda, tau,
+//!              phi or xi, v_d, mu_d, mu_sd, v_0, mu_v, then dt, x0, v0, t_end f64; every
+//!              u64; the Stribeck law adds <key>_long_name, <key>_units text and the
+//!              counts stick_onsets, breakaways, slip_reversals u64)
 //! t  (t)       f64 dimension scale: nondimensional time (natural period 2 pi)
 //! x, v, a, force (t)   f64, long_name and units "1", attached to t
 //! ```
