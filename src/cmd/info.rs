@@ -58,6 +58,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     .collect::<serde_json::Map<_, _>>()
             }).collect::<Vec<_>>(),
             "no_cycle": info.no_cycle,
+            "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
             "shard": info.shard,
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -89,6 +90,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
             c[0], c[1], c[2], c[3]
         );
+        if let Some(b) = info.basin.get(i) {
+            println!("    {}", super::common::basin_words(b));
+        }
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
         }

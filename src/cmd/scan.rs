@@ -358,6 +358,9 @@ fn report(
                 if let Some(Some(why)) = info.no_cycle.get(i) {
                     o.insert("no_cycle".into(), why.clone().into());
                 }
+                if let Some(b) = info.basin.get(i) {
+                    o.insert("basin_stability".into(), common::basin_json(b));
+                }
                 Ok(serde_json::Value::Object(o))
             })
             .collect::<anyhow::Result<_>>()?;
@@ -393,6 +396,9 @@ fn report(
             line += &format!("  not_computed {}", c[3]);
         }
         println!("{line}");
+        if let Some(b) = info.basin.get(i) {
+            println!("    {}", common::basin_words(b));
+        }
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
         }

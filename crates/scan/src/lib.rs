@@ -13,6 +13,8 @@
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
 //!   on `x = x*, x' > 0`, its [`ClosedCurve`], period, Floquet multiplier, size; critical
 //!   damping.
+//! * [`basin`]: basin stability as bSTAB defines it: each regime's share with its standard
+//!   error, and a grid's shares on nested coarser grids ([`GridShares`]).
 //! * [`checks`]: where labels, cycle and the run-to-settlement audit disagree in a map.
 //!
 //! ```
@@ -42,6 +44,7 @@
 //! ```
 
 pub mod atlas;
+pub mod basin;
 pub mod cell;
 pub mod checks;
 pub mod curve;
@@ -53,6 +56,7 @@ pub mod spec;
 pub mod ulc;
 mod values;
 
+pub use basin::{BASIN_FIELDS, GridShares, Share, Shares};
 pub use cell::{COLUMNS, Cell, Column};
 pub use checks::{MapChecks, WrongSide};
 pub use curve::ClosedCurve;

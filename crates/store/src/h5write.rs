@@ -8,6 +8,7 @@ use ndarray::{Array1, Array2};
 use squeal_scan::cell::{COLUMNS, Cell, Column, Kind};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
+use squeal_scan::{BASIN_FIELDS, GridShares};
 use squeal_scan::{MapChecks, Plan};
 
 use crate::cycle::Flat;
@@ -488,11 +489,13 @@ fn write_all(
 
     let mut done = vec![0u8; nmaps * nblocks];
     let mut checks = Vec::with_capacity(nmaps);
+    let mut basins = Vec::with_capacity(nmaps);
     let mut cycles: Vec<Option<CycleRecord>> = Vec::with_capacity(nmaps);
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
         let curve = report_of(&cyc).map(|r| &r.curve);
         let mut ck = MapChecks::new(curve);
+        let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;
@@ -510,6 +513,9 @@ fn write_all(
             }
             done[m * nblocks + b] = 1;
             ck.add_block(plan, curve, b, &cells);
+            for (k, c) in cells.iter().enumerate() {
+                labels[rows.start * nx + k] = c.regime;
+            }
             for (ds, col) in vars.iter().zip(COLUMNS) {
                 write_column(ds, col, &cells, sweep, m, rows.clone(), nx).map_err(|e| {
                     StoreError::BadBlock {
@@ -520,6 +526,7 @@ fn write_all(
             }
         }
         checks.push(ck);
+        basins.push(GridShares::of(&labels, nx));
         cycles.push(cyc);
     }
 
@@ -537,6 +544,19 @@ fn write_all(
         // Per-map consistency checks.
         for (i, (name, long)) in CHECK_FIELDS.iter().enumerate() {
             let vals: Array1<i64> = checks.iter().map(|c| c.values()[i]).collect();
+            let ds = file
+                .new_dataset_builder()
+                .obj_track_times(false)
+                .with_data(&vals)
+                .create(*name)?;
+            str_attr(&ds, "long_name", long)?;
+            str_attr(&ds, "units", "1")?;
+            dims.attach(file, &ds, &[&map_dim])?;
+        }
+
+        // Per-map basin stability (squeal_scan::basin).
+        for (i, (name, long)) in BASIN_FIELDS.iter().enumerate() {
+            let vals: Array1<f64> = basins.iter().map(|b| b.values()[i]).collect();
             let ds = file
                 .new_dataset_builder()
                 .obj_track_times(false)

@@ -9,6 +9,7 @@ use hdf5::{
     Attribute, Container, Dataset, File, Group, Location, ObjectReference1, ReferencedObject,
 };
 use squeal_scan::ClosedCurve;
+use squeal_scan::GridShares;
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num};
 use squeal_scan::checks::CHECK_FIELDS;
 
@@ -132,6 +133,8 @@ pub struct FileInfo {
     pub v0: Vec<f64>,
     /// Per map: cells undecided, steady_slip, stick_slip, not_computed.
     pub counts: Vec<[u64; 4]>,
+    /// Per map: basin stability, computed from the labels ([`squeal_scan::GridShares`]).
+    pub basin: Vec<GridShares>,
     /// `K/N` in shard files.
     pub shard: Option<String>,
     /// Per map: the values of [`squeal_scan::checks::CHECK_FIELDS`] (-1: not applicable).
@@ -171,8 +174,11 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
         let shape = labels.shape();
         let nmaps = if shape.len() == 3 { shape[0] } else { 1 };
         let mut counts = Vec::with_capacity(nmaps);
+        let mut basin = Vec::with_capacity(nmaps);
+        let nx = file.dataset("x0")?.size();
         for m in 0..nmaps {
             let l = read_labels(&labels, m)?;
+            basin.push(GridShares::of(&l, nx));
             let mut c = [0u64; 4];
             for v in l {
                 c[match v {
@@ -214,6 +220,7 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                 })
                 .collect::<hdf5::Result<_>>()?,
             counts,
+            basin,
             shard: str_attr(&file, "shard").ok(),
         })
     })()
