@@ -224,6 +224,10 @@ pub struct RunArgs {
 /// `p_h - p_2h` (the grid error bar); `n` is the number of computed cells.
 pub fn basin_json(b: &squeal_scan::GridShares) -> serde_json::Value {
     let mut o = serde_json::Map::new();
+    o.insert(
+        "sampling".into(),
+        if b.random { "random" } else { "grid" }.into(),
+    );
     o.insert("n".into(), b.h.n.into());
     o.insert("n_2h".into(), b.h2.n.into());
     o.insert("n_4h".into(), b.h4.n.into());
@@ -252,14 +256,27 @@ pub fn basin_words(b: &squeal_scan::GridShares) -> String {
         .enumerate()
         .filter(|(i, r)| **r != squeal_core::Regime::Undecided || b.h.shares[*i].count > 0)
         .map(|(i, r)| {
-            format!(
-                "{} {:.4} (2h {:.4}, change {:+.4})",
-                r.name(),
-                b.h.shares[i].p,
-                b.h2.shares[i].p,
-                b.change(i)
-            )
+            let s = b.h.shares[i];
+            if b.random {
+                format!("{} {:.4} +- {:.4}", r.name(), s.p, s.se)
+            } else {
+                format!(
+                    "{} {:.4} (2h {:.4}, change {:+.4})",
+                    r.name(),
+                    s.p,
+                    b.h2.shares[i].p,
+                    b.change(i)
+                )
+            }
         })
         .collect();
-    format!("basin stability of {} cells: {}", b.h.n, parts.join("  "))
+    if b.random {
+        format!(
+            "basin stability of {} random samples (+- one standard error): {}",
+            b.h.n,
+            parts.join("  ")
+        )
+    } else {
+        format!("basin stability of {} cells: {}", b.h.n, parts.join("  "))
+    }
 }

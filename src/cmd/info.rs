@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use super::common;
+
 /// Flags of `squeal info`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -80,7 +82,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         (Some(lo), Some(hi)) => format!("{} values in [{lo}, {hi}]", a.len()),
         _ => "no values".to_string(),
     };
-    println!("  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0));
+    if common::attr(&info, "sampling") == Some("random") {
+        println!(
+            "  {} random samples (x0, v0 stored per sample)",
+            info.x0.len()
+        );
+    } else {
+        println!("  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0));
+    }
     for (i, c) in info.counts.iter().enumerate() {
         let label = info
             .sweep

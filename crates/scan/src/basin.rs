@@ -93,9 +93,12 @@ impl Shares {
     }
 }
 
-/// A grid map's shares at its spacing and on its nested coarser sub-grids.
+/// A map's shares: for a grid at its spacing and on its nested coarser sub-grids; for a
+/// random sample (`random`) the sub-grid shares are NaN (`n = 0`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct GridShares {
+    /// Whether the initial conditions are uniform random samples (then `se` is the error).
+    pub random: bool,
     /// On every point (spacing `h`).
     pub h: Shares,
     /// On every second point along each axis (`2h`).
@@ -118,9 +121,21 @@ impl GridShares {
             )
         };
         GridShares {
+            random: false,
             h: level(1),
             h2: level(2),
             h4: level(4),
+        }
+    }
+
+    /// From the labels of uniform random samples (no sub-grids).
+    pub fn random(labels: &[u8]) -> GridShares {
+        let none = Shares::of(&[]);
+        GridShares {
+            random: true,
+            h: Shares::of(labels),
+            h2: none,
+            h4: none,
         }
     }
 
@@ -148,7 +163,7 @@ impl GridShares {
 pub const BASIN_FIELDS: &[(&str, &str)] = &[
     (
         "basin_stability_steady_slip",
-        "basin stability of steady slip: share of the computed grid cells labelled steady_slip",
+        "basin stability of steady slip: share of the computed initial conditions labelled steady_slip",
     ),
     (
         "basin_stability_steady_slip_se",
@@ -156,7 +171,7 @@ pub const BASIN_FIELDS: &[(&str, &str)] = &[
     ),
     (
         "basin_stability_steady_slip_2h",
-        "steady-slip share on the sub-grid of every second point along each axis (spacing 2h)",
+        "steady-slip share on the sub-grid of every second point along each axis (spacing 2h; NaN for random samples)",
     ),
     (
         "basin_stability_steady_slip_4h",
@@ -168,7 +183,7 @@ pub const BASIN_FIELDS: &[(&str, &str)] = &[
     ),
     (
         "basin_stability_stick_slip",
-        "basin stability of stick-slip: share of the computed grid cells labelled stick_slip",
+        "basin stability of stick-slip: share of the computed initial conditions labelled stick_slip",
     ),
     (
         "basin_stability_stick_slip_se",
@@ -176,7 +191,7 @@ pub const BASIN_FIELDS: &[(&str, &str)] = &[
     ),
     (
         "basin_stability_stick_slip_2h",
-        "stick-slip share on the sub-grid of every second point along each axis (spacing 2h)",
+        "stick-slip share on the sub-grid of every second point along each axis (spacing 2h; NaN for random samples)",
     ),
     (
         "basin_stability_stick_slip_4h",
@@ -188,7 +203,7 @@ pub const BASIN_FIELDS: &[(&str, &str)] = &[
     ),
     (
         "basin_stability_undecided",
-        "share of the computed grid cells left undecided by t_max",
+        "share of the computed initial conditions left undecided by t_max",
     ),
     (
         "basin_stability_undecided_se",
@@ -196,7 +211,7 @@ pub const BASIN_FIELDS: &[(&str, &str)] = &[
     ),
     (
         "basin_stability_undecided_2h",
-        "undecided share on the sub-grid of every second point along each axis (spacing 2h)",
+        "undecided share on the sub-grid of every second point along each axis (spacing 2h; NaN for random samples)",
     ),
     (
         "basin_stability_undecided_4h",
