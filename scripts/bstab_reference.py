@@ -58,7 +58,7 @@ except ImportError:
 XI, MU_D, MU_SD, V_0, MU_V = 0.05, 0.5, 2.0, 0.5, 0.0
 VD_STUDY = [0.8 + 0.075 * i for i in range(20)]  # numpy.linspace(0.8, 2.225, 20)
 REGION = ((-2.0, 2.0), (0.0, 2.0))
-T_END, T_STAR, THRESHOLD = 500.0, 400.0, 0.2
+T_END, TAIL, THRESHOLD = 500.0, 100.0, 0.2  # bSTAB: tSpanEnd = 500, tStar = tSpanEnd - 100
 
 
 def mu_branch(s, u):
@@ -88,7 +88,7 @@ def slip_branch_at_rest(x, vd):
     return np.where(x + 2.0 * XI * vd > 0.0, -1.0, 1.0)
 
 
-def run(vd, x0, v0, dt, counters):
+def run(vd, x0, v0, dt, counters, t_end=T_END):
     mu_s = MU_D * MU_SD
     x, v = x0.copy(), v0.copy()
     n = x.size
@@ -99,7 +99,8 @@ def run(vd, x0, v0, dt, counters):
     stuck[at] = np.abs(x[at] + 2 * XI * vd) <= mu_s
     s[at] = slip_branch_at_rest(x[at], vd)
     vmax = np.zeros(n)
-    steps = int(round(T_END / dt))
+    steps = int(round(t_end / dt))
+    t_star = t_end - TAIL
     x_break = mu_s - 2.0 * XI * vd
     for k in range(steps):
         t1 = (k + 1) * dt
@@ -152,7 +153,7 @@ def run(vd, x0, v0, dt, counters):
                 xp, vp = rk4(xh[ps], np.full(p.size, vd), sp, vd, rest[ps])
                 xn[p], vn[p], s[p] = xp, vp, sp
         x, v = xn, vn
-        if t1 > T_STAR:
+        if t1 > t_star:
             np.maximum(vmax, np.abs(v), out=vmax)
     return vmax > THRESHOLD
 
@@ -168,8 +169,16 @@ def main():
     ap.add_argument("--n", type=int, default=5000, help="random samples per v_d (default 5000)")
     ap.add_argument("--seed", type=int, default=1, help="numpy default_rng seed (default 1)")
     ap.add_argument("--dt", type=float, default=0.01, help="RK4 step (default 0.01 = bSTAB's 1/fs)")
+    ap.add_argument(
+        "--t-end",
+        type=float,
+        default=T_END,
+        help="integration time (default 500, bSTAB's); the rule looks at the last 100",
+    )
     ap.add_argument("-o", "--out", default="tests/data/bstab_friction_reference.json")
     a = ap.parse_args()
+    if not a.t_end > TAIL:
+        sys.exit(f"--t-end {a.t_end}: expected more than {TAIL}")
     if a.n < 1:
         sys.exit(f"--n {a.n}: expected at least one sample")
     vds = a.vd if a.vd else VD_STUDY
@@ -182,7 +191,7 @@ def main():
     for vd in vds:
         counters = {"crossings": 0, "stick_onsets": 0, "breakaways": 0}
         t0 = time.perf_counter()
-        lc = run(vd, x0, v0, a.dt, counters)
+        lc = run(vd, x0, v0, a.dt, counters, a.t_end)
         secs = time.perf_counter() - t0
         n_lc = int(lc.sum())
         p_lc, se = share(n_lc, a.n)
@@ -212,8 +221,8 @@ def main():
         "region": {"x0": list(REGION[0]), "v0": list(REGION[1])},
         "seed": a.seed,
         "dt": a.dt,
-        "t_end": T_END,
-        "t_star": T_STAR,
+        "t_end": a.t_end,
+        "t_star": a.t_end - TAIL,
         "threshold": THRESHOLD,
         "machine": f"{platform.node()} {platform.machine()} {os.cpu_count()} cpu(s), "
         f"python {platform.python_version()}, numpy {np.__version__}",
