@@ -234,3 +234,65 @@ pub struct RunArgs {
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
 }
+
+/// Basin stability of one map as JSON: per regime the share `p` of the computed cells, its
+/// binomial `se`, the shares on the nested `2h` and `4h` sub-grids and the change
+/// `p_h - p_2h` (the grid error bar); `n` is the number of computed cells.
+pub fn basin_json(b: &squeal_scan::GridShares) -> serde_json::Value {
+    let mut o = serde_json::Map::new();
+    o.insert(
+        "sampling".into(),
+        if b.random { "random" } else { "grid" }.into(),
+    );
+    o.insert("n".into(), b.h.n.into());
+    o.insert("n_2h".into(), b.h2.n.into());
+    o.insert("n_4h".into(), b.h4.n.into());
+    for (i, r) in squeal_scan::basin::REGIMES.iter().enumerate() {
+        let s = b.h.shares[i];
+        o.insert(
+            r.name().into(),
+            serde_json::json!({
+                "count": s.count,
+                "p": s.p,
+                "se": s.se,
+                "p_2h": b.h2.shares[i].p,
+                "p_4h": b.h4.shares[i].p,
+                "change": b.change(i),
+            }),
+        );
+    }
+    o.into()
+}
+
+/// Basin stability of one map in words: each decided regime's share, with its change from
+/// the `2h` sub-grid.
+pub fn basin_words(b: &squeal_scan::GridShares) -> String {
+    let parts: Vec<String> = squeal_scan::basin::REGIMES
+        .iter()
+        .enumerate()
+        .filter(|(i, r)| **r != squeal_core::Regime::Undecided || b.h.shares[*i].count > 0)
+        .map(|(i, r)| {
+            let s = b.h.shares[i];
+            if b.random {
+                format!("{} {:.4} +- {:.4}", r.name(), s.p, s.se)
+            } else {
+                format!(
+                    "{} {:.4} (2h {:.4}, change {:+.4})",
+                    r.name(),
+                    s.p,
+                    b.h2.shares[i].p,
+                    b.change(i)
+                )
+            }
+        })
+        .collect();
+    if b.random {
+        format!(
+            "basin stability of {} random samples (+- one standard error): {}",
+            b.h.n,
+            parts.join("  ")
+        )
+    } else {
+        format!("basin stability of {} cells: {}", b.h.n, parts.join("  "))
+    }
+}

@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use super::common;
+
 /// Flags of `squeal info`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -59,6 +61,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             }).collect::<Vec<_>>(),
             "no_cycle": info.no_cycle,
             "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
+            "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
             "shard": info.shard,
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -80,7 +83,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         (Some(lo), Some(hi)) => format!("{} values in [{lo}, {hi}]", a.len()),
         _ => "no values".to_string(),
     };
-    println!("  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0));
+    if common::attr(&info, "sampling") == Some("random") {
+        println!(
+            "  {} random samples (x0, v0 stored per sample)",
+            info.x0.len()
+        );
+    } else {
+        println!("  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0));
+    }
     for (i, c) in info.counts.iter().enumerate() {
         let label = info
             .sweep
@@ -90,6 +100,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
             c[0], c[1], c[2], c[3]
         );
+        if let Some(b) = info.basin.get(i) {
+            println!("    {}", super::common::basin_words(b));
+        }
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
         }

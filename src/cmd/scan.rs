@@ -57,8 +57,12 @@ impl Observer for Bars {
     }
 }
 
-/// The pictures a finished scan file has: the map (or sheet) and, for sweeps, the cycle chart.
-fn pictures(out: &Path, maps: usize) -> Vec<PathBuf> {
+/// The pictures a finished scan file has: the map (or sheet) and, for sweeps, the cycle chart;
+/// none for random samples (a list of points, not a map).
+fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
+    if sample {
+        return Vec::new();
+    }
     let png = common::sibling(out, "", "png");
     let mut v = vec![png.clone()];
     if maps > 1 {
@@ -68,8 +72,8 @@ fn pictures(out: &Path, maps: usize) -> Vec<PathBuf> {
 }
 
 /// Draws the pictures of a finished file if any is missing; returns those drawn.
-fn draw_missing(out: &Path, maps: usize) -> anyhow::Result<Vec<PathBuf>> {
-    let pics = pictures(out, maps);
+fn draw_missing(out: &Path, maps: usize, sample: bool) -> anyhow::Result<Vec<PathBuf>> {
+    let pics = pictures(out, maps, sample);
     if pics.iter().all(|p| p.exists()) {
         return Ok(Vec::new());
     }
@@ -114,7 +118,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .build_global()
             .context("--threads")?;
     }
-    let pics = pictures(&out, plan.maps.len());
+    let sample = plan.grid.is_sample();
+    let pics = pictures(&out, plan.maps.len(), sample);
 
     // Like make: a finished output of the same parsed spec (and shard) is up to date, for
     // a rerun and for a resume (a requeued job that had finished).
@@ -122,7 +127,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         match squeal_store::output_state(&out, &plan, shard)? {
             OutputState::Complete => {
                 let drawn = if shard.is_none() {
-                    draw_missing(&out, plan.maps.len())?
+                    draw_missing(&out, plan.maps.len(), sample)?
                 } else {
                     Vec::new()
                 };
@@ -180,11 +185,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
         eprintln!(
-            "squeal: {} cells to compute ({} map(s) of {} x {}{}) on {threads} thread(s): roughly {} at the documented rate (BENCHMARKS.md)",
+            "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} at the documented rate (BENCHMARKS.md)",
             pending.cells,
             plan.maps.len(),
-            plan.grid.x0.count,
-            plan.grid.v0.count,
+            layout(&plan),
             shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
             duration(plan.estimate_seconds(pending.cells, threads))
         );
@@ -259,7 +263,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .iter()
         .map(|c| c.values().to_vec())
         .collect();
-    let written = if shard.is_none() {
+    let written = if shard.is_none() && !sample {
         common::render_file(&out, &pics[0], true)?
     } else {
         Vec::new()
@@ -267,6 +271,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let info = squeal_store::read_info(&out)?;
     report(&args, &plan, &info, &checks, &written, done.cells, secs)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// "256 x 128 cells" or "5000 random samples in [-2, 2] x [0, 2] (seed 1)".
+fn layout(plan: &Plan) -> String {
+    let g = &plan.grid;
+    match &g.sample {
+        Some(s) => format!(
+            "{} random samples in x0 [{}, {}] x v0 [{}, {}] (seed {})",
+            s.n, g.x0.min, g.x0.max, g.v0.min, g.v0.max, s.seed
+        ),
+        None => format!("{} x {} cells", g.x0.count, g.v0.count),
+    }
 }
 
 fn duration(secs: f64) -> String {
@@ -403,6 +419,9 @@ fn report(
                         landscape_json(info.landscapes.get(i).and_then(Option::as_ref)),
                     );
                 }
+                if let Some(b) = info.basin.get(i) {
+                    o.insert("basin_stability".into(), common::basin_json(b));
+                }
                 Ok(serde_json::Value::Object(o))
             })
             .collect::<anyhow::Result<_>>()?;
@@ -418,11 +437,10 @@ fn report(
         return Ok(());
     }
     println!(
-        "{}: {} map(s) of {} x {} cells -> {}",
+        "{}: {} map(s) of {} -> {}",
         plan.name,
         plan.maps.len(),
-        plan.grid.x0.count,
-        plan.grid.v0.count,
+        layout(plan),
         info.path.display()
     );
     for (i, c) in info.counts.iter().enumerate() {
@@ -438,6 +456,9 @@ fn report(
             line += &format!("  not_computed {}", c[3]);
         }
         println!("{line}");
+        if let Some(b) = info.basin.get(i) {
+            println!("    {}", common::basin_words(b));
+        }
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
         }

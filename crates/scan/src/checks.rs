@@ -148,8 +148,19 @@ impl MapChecks {
         let g = &plan.grid;
         let nx = g.x0.count;
         let rows = g.block_rows(block);
-        let diag = g.x0.spacing().hypot(g.v0.spacing());
-        let origin = nearest(g.x0, 0.0).zip(nearest(g.v0, 0.0));
+        // A random sample has no pixel: its mean spacing sqrt(area / n) stands in for one,
+        // and no cell sits at the state at rest.
+        let (diag, origin) = match &g.sample {
+            Some(s) => (
+                ((g.x0.max - g.x0.min) * (g.v0.max - g.v0.min) / s.n as f64).sqrt()
+                    * std::f64::consts::SQRT_2,
+                None,
+            ),
+            None => (
+                g.x0.spacing().hypot(g.v0.spacing()),
+                nearest(g.x0, 0.0).zip(nearest(g.v0, 0.0)),
+            ),
+        };
         let locator = curve.map(|c| CurveLocator::new(c.clone()));
         for (k, cell) in cells.iter().enumerate() {
             let (row, col) = (rows.start + k / nx, k % nx);
@@ -169,10 +180,8 @@ impl MapChecks {
                 }
             }
             let Some(c) = &locator else { continue };
-            let p = State {
-                x: g.x0.value(col),
-                v: g.v0.value(row),
-            };
+            let (x, v) = g.state(row, col);
+            let p = State { x, v };
             let inside = c.encloses(p);
             let regime = cell.regime();
             let wrong = match regime {

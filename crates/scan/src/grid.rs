@@ -42,18 +42,82 @@ impl Axis {
     }
 }
 
-/// The grid: `x0` along the columns, `v0` along the rows; blocks are runs of `block_rows` rows.
+/// Initial conditions drawn uniformly at random in a rectangle (bSTAB's sampling).
+///
+/// Sample `i` depends only on `(seed, i)`: its coordinates are SplitMix64 (Steele, Lea and
+/// Flood, OOPSLA 2014) of the counters `2 i` and `2 i + 1` offset by the seed, the top 53
+/// bits scaled to `[0, 1)`. So a sample is the same whatever the thread count, the block
+/// order, a resume or a shard.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RandomSample {
+    /// Number of initial conditions.
+    pub n: usize,
+    /// The seed.
+    pub seed: u64,
+}
+
+/// SplitMix64's output function of the counter `z`.
+fn splitmix64(z: u64) -> u64 {
+    let mut z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+impl RandomSample {
+    /// Uniform number in `[0, 1)` number `k` of the stream.
+    fn unit(&self, k: u64) -> f64 {
+        let z = splitmix64(
+            self.seed
+                .wrapping_mul(0xD1B5_4A32_D192_ED03)
+                .wrapping_add(k.wrapping_mul(0x9E37_79B9_7F4A_7C15)),
+        );
+        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Sample `i` in the rectangle `x0 x v0`: `(x, v)`.
+    pub fn point(&self, i: usize, x0: &Axis, v0: &Axis) -> (f64, f64) {
+        let (a, b) = (self.unit(2 * i as u64), self.unit(2 * i as u64 + 1));
+        (
+            x0.min + a * (x0.max - x0.min),
+            v0.min + b * (v0.max - v0.min),
+        )
+    }
+}
+
+/// The initial conditions of a map and their blocks. A grid has `x0` along the columns and
+/// `v0` along the rows; blocks are runs of `block_rows` rows.
+///
+/// With `sample` (uniform random initial conditions) the layout is a list: one sample per
+/// row, `x0.count = 1`, `v0.count = n`, and `x0`, `v0` hold the rectangle's bounds (not grid
+/// values); [`Grid::state`] gives each cell's initial condition in both layouts.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Grid {
-    /// Initial displacements.
+    /// Initial displacements (for a sample: the bounds, count 1).
     pub x0: Axis,
-    /// Initial velocities.
+    /// Initial velocities (for a sample: the bounds, count n).
     pub v0: Axis,
     /// Rows of `v0` per block (the unit of storage, resume and sharding).
     pub block_rows: usize,
+    /// Random initial conditions instead of the grid.
+    pub sample: Option<RandomSample>,
 }
 
 impl Grid {
+    /// The initial condition `(x0, v0)` of the cell at `row`, `col`.
+    #[inline]
+    pub fn state(&self, row: usize, col: usize) -> (f64, f64) {
+        match &self.sample {
+            Some(s) => s.point(row, &self.x0, &self.v0),
+            None => (self.x0.value(col), self.v0.value(row)),
+        }
+    }
+
+    /// Whether the initial conditions are random samples (a list, not a grid).
+    pub fn is_sample(&self) -> bool {
+        self.sample.is_some()
+    }
+
     /// Cells in one map.
     pub fn cells(&self) -> usize {
         self.x0.count * self.v0.count
@@ -74,6 +138,44 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn random_samples_are_uniform_and_reproducible() {
+        let s = RandomSample { n: 20_000, seed: 7 };
+        let (x0, v0) = (
+            Axis {
+                min: -2.0,
+                max: 2.0,
+                count: 1,
+            },
+            Axis {
+                min: 0.0,
+                max: 2.0,
+                count: s.n,
+            },
+        );
+        let pts: Vec<(f64, f64)> = (0..s.n).map(|i| s.point(i, &x0, &v0)).collect();
+        assert!(
+            pts.iter()
+                .all(|&(x, v)| (-2.0..2.0).contains(&x) && (0.0..2.0).contains(&v))
+        );
+        assert_eq!(pts[123], s.point(123, &x0, &v0));
+        assert_ne!(
+            pts[123],
+            RandomSample { n: s.n, seed: 8 }.point(123, &x0, &v0)
+        );
+        // Quadrant counts of a uniform sample: binomial with p = 1/4, sd = sqrt(n p (1 - p))
+        // = 61.2; each within 4 sd of n / 4. Means within 4 standard errors (x: 4 / sqrt(12 n)).
+        let mut q = [0usize; 4];
+        for &(x, v) in &pts {
+            q[(x > 0.0) as usize + 2 * (v > 1.0) as usize] += 1;
+        }
+        for c in q {
+            assert!((c as f64 - 5000.0).abs() < 4.0 * 61.2, "{q:?}");
+        }
+        let mx = pts.iter().map(|p| p.0).sum::<f64>() / s.n as f64;
+        assert!(mx.abs() < 4.0 * 4.0 / (12.0 * s.n as f64).sqrt(), "{mx}");
+    }
 
     #[test]
     fn axis_by_index_hits_both_ends() {
@@ -110,6 +212,7 @@ mod tests {
                 count: 10,
             },
             block_rows: 4,
+            sample: None,
         };
         assert_eq!(g.blocks(), 3);
         let rows: Vec<usize> = (0..g.blocks()).flat_map(|b| g.block_rows(b)).collect();

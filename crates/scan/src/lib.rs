@@ -15,6 +15,8 @@
 //!   damping.
 //! * [`landscape`]: for laws with true stick, which attractors a map's parameters have,
 //!   stated before the map (every start stick-slip, bistable, every start steady slip).
+//! * [`basin`]: basin stability as bSTAB defines it: each regime's share with its standard
+//!   error, and a grid's shares on nested coarser grids ([`GridShares`]).
 //! * [`checks`]: where labels, cycle, landscape and the run-to-settlement audit disagree in
 //!   a map.
 //!
@@ -45,6 +47,7 @@
 //! ```
 
 pub mod atlas;
+pub mod basin;
 pub mod cell;
 pub mod checks;
 pub mod compare;
@@ -58,6 +61,7 @@ pub mod spec;
 pub mod ulc;
 mod values;
 
+pub use basin::{BASIN_FIELDS, GridShares, Share, Shares};
 pub use cell::{COLUMNS, Cell, Column};
 pub use checks::{LandscapeCheck, MapChecks, WrongSide};
 pub use curve::ClosedCurve;

@@ -236,10 +236,8 @@ impl MapContext {
     /// early on the cycle).
     pub fn cell(&self, plan: &Plan, row: usize, col: usize) -> Cell {
         let g = &plan.grid;
-        let ic = State {
-            x: g.x0.value(col),
-            v: g.v0.value(row),
-        };
+        let (x, v) = g.state(row, col);
+        let ic = State { x, v };
         let out = self.classify(ic);
         let mut cell = Cell::from(&out);
         if self.classifier.trap.is_some()

@@ -19,6 +19,13 @@
 //! x0 = { min = -3.0, max = 5.0, count = 64 }
 //! v0 = { min = -4.0, max = 4.0, count = 64 }
 //! block_rows = 8                   # rows of v0 per stored block (default 8)
+//! # or, instead of [grid], random initial conditions (bSTAB's basin-stability sampling):
+//! # [sample]
+//! # kind = "random"
+//! # n = 5000
+//! # seed = 1
+//! # region = { x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }
+//! # block = 256                    # samples per stored block (default 256)
 //! [integration]
 //! dt = 0.005
 //! solver = "robust"                # robust | paper
@@ -47,7 +54,7 @@ use serde::{Deserialize, Serialize};
 use squeal_core::{Classifier, FrictionLaw, Params, Scheme, SolverConfig, SolverKind};
 
 use crate::error::ScanError;
-use crate::grid::{Axis, Grid};
+use crate::grid::{Axis, Grid, RandomSample};
 use crate::values::{Value, expand};
 
 /// The spec version this build reads.
@@ -60,7 +67,10 @@ struct SpecFile {
     #[serde(default)]
     name: Option<String>,
     model: ModelSpec,
-    grid: GridSpec,
+    #[serde(default)]
+    grid: Option<GridSpec>,
+    #[serde(default)]
+    sample: Option<SampleSpec>,
     #[serde(default)]
     integration: IntegrationSpec,
     #[serde(default)]
@@ -141,6 +151,37 @@ pub(crate) struct GridSpec {
     #[serde(default)]
     block_rows: Option<i64>,
 }
+
+/// How `[sample]` draws its initial conditions.
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+enum SampleKind {
+    /// Uniform at random in the region (bSTAB's default).
+    Random,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct RegionSpec {
+    x0: [f64; 2],
+    v0: [f64; 2],
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct SampleSpec {
+    kind: SampleKind,
+    n: i64,
+    seed: u64,
+    region: RegionSpec,
+    #[serde(default)]
+    block: Option<i64>,
+}
+
+/// Default samples per stored block of a `[sample]` spec.
+pub const DEFAULT_SAMPLE_BLOCK: i64 = 256;
+/// Largest number of random samples per map.
+pub const MAX_SAMPLES: i64 = 1 << 26;
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -294,6 +335,7 @@ impl GridSpec {
             x0,
             v0,
             block_rows: block_rows as usize,
+            sample: None,
         })
     }
 }
@@ -558,7 +600,74 @@ impl Plan {
                 maps.push(p);
             }
         }
-        let grid = spec.grid.check(&invalid)?;
+        let grid = match (&spec.grid, &spec.sample) {
+            (Some(_), Some(_)) => {
+                return Err(invalid(
+                    "sample",
+                    "both [grid] and [sample]".into(),
+                    "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
+                ));
+            }
+            (None, None) => {
+                return Err(invalid(
+                    "grid",
+                    "neither [grid] nor [sample]".into(),
+                    "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
+                ));
+            }
+            (Some(gs), None) => gs.check(&invalid)?,
+            (None, Some(ss)) => {
+                let SampleKind::Random = ss.kind;
+                if !(1..=MAX_SAMPLES).contains(&ss.n) {
+                    return Err(invalid(
+                        "sample.n",
+                        ss.n.to_string(),
+                        "a sample count in 1..=2^26",
+                    ));
+                }
+                let bound = |b: [f64; 2], key: &str| -> Result<Axis, ScanError> {
+                    if !b[0].is_finite() || !b[1].is_finite() {
+                        return Err(invalid(
+                            key,
+                            format!("[{}, {}]", b[0], b[1]),
+                            "finite bounds [min, max]",
+                        ));
+                    }
+                    if b[0] > b[1] {
+                        return Err(invalid(
+                            key,
+                            format!("[{}, {}]", b[0], b[1]),
+                            "min <= max (the range is inverted)",
+                        ));
+                    }
+                    Ok(Axis {
+                        min: b[0],
+                        max: b[1],
+                        count: 1,
+                    })
+                };
+                let x0 = bound(ss.region.x0, "sample.region.x0")?;
+                let mut v0 = bound(ss.region.v0, "sample.region.v0")?;
+                v0.count = ss.n as usize;
+                let block = ss.block.unwrap_or(DEFAULT_SAMPLE_BLOCK);
+                if !(1..=MAX_AXIS).contains(&block) {
+                    return Err(invalid(
+                        "sample.block",
+                        block.to_string(),
+                        "a sample count per stored block in 1..=65536",
+                    ));
+                }
+                Grid {
+                    x0,
+                    v0,
+                    block_rows: block as usize,
+                    sample: Some(RandomSample {
+                        n: ss.n as usize,
+                        seed: ss.seed,
+                    }),
+                }
+            }
+        };
         let it = &spec.integration;
         if !it.dt.is_finite() || it.dt <= 0.0 || it.dt > 1.0 {
             return Err(invalid(
@@ -763,6 +872,85 @@ path = "x.h5"
             let e = err(&text);
             assert!(e.contains(want), "expected '{want}' in: {e}");
         }
+    }
+
+    pub(crate) const SAMPLED: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[sample]
+kind = "random"
+n = 50
+seed = 3
+region = { x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }
+[output]
+path = "x.h5"
+"#;
+
+    #[test]
+    fn a_random_sample_is_a_list_of_points_in_the_region() {
+        let p = Plan::from_toml(SAMPLED, "t.toml").unwrap();
+        let g = p.grid;
+        assert_eq!((g.cells(), g.x0.count, g.v0.count), (50, 1, 50));
+        assert_eq!(g.block_rows, DEFAULT_SAMPLE_BLOCK as usize);
+        assert_eq!(g.blocks(), 1);
+        for i in 0..50 {
+            let (x, v) = g.state(i, 0);
+            assert!(
+                (-2.0..2.0).contains(&x) && (0.0..2.0).contains(&v),
+                "{x} {v}"
+            );
+        }
+        // Another seed is another plan (a resume refuses it).
+        let q = Plan::from_toml(&SAMPLED.replace("seed = 3", "seed = 4"), "t.toml").unwrap();
+        assert_eq!(p.differs_from(&q).as_deref(), Some("grid"));
+    }
+
+    #[test]
+    fn bad_samples_name_the_problem() {
+        let cases: Vec<(String, &str)> = vec![
+            (SAMPLED.replace("n = 50", "n = 0"), "sample.n"),
+            (SAMPLED.replace("n = 50", "n = -5"), "sample.n"),
+            (
+                SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [2.0, -2.0]"),
+                "`sample.region.x0` = [2, -2]: min <= max (the range is inverted)",
+            ),
+            (
+                SAMPLED.replace("v0 = [0.0, 2.0]", "v0 = [nan, 2.0]"),
+                "sample.region.v0",
+            ),
+            // A NaN (or any float) seed: the TOML error quotes the `seed` line.
+            (SAMPLED.replace("seed = 3", "seed = nan"), "seed = nan"),
+            (SAMPLED.replace("seed = 3", "seed = -1"), "seed = -1"),
+            (SAMPLED.replace("kind = \"random\"", "kind = \"sobol\""), "sobol"),
+            (
+                SAMPLED.replace("[output]", "block = 0\n[output]"),
+                "sample.block",
+            ),
+            (
+                SAMPLED.replace("[output]", "[grid]\nx0 = { min = 0.0, max = 1.0, count = 2 }\nv0 = { min = 0.0, max = 1.0, count = 2 }\n[output]"),
+                "one of [grid]",
+            ),
+            (
+                SAMPLED.replace("[sample]", "[unused]").replace("kind = \"random\"\n", ""),
+                "unknown field `unused`",
+            ),
+            (
+                GOOD.replace("[grid]", "[other]"),
+                "unknown field `other`",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = err(&text);
+            assert!(e.contains(want), "expected '{want}' in: {e}");
+        }
+        let neither = GOOD
+            .replace("[grid]\n", "")
+            .replace("x0 = { min = -3.0, max = 5.0, count = 4 }\n", "")
+            .replace("v0 = { min = -4.0, max = 4.0, count = 3 }\n", "");
+        let e = err(&neither);
+        assert!(e.contains("`grid`") && e.contains("neither"), "{e}");
     }
 
     #[test]

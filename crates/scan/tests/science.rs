@@ -32,6 +32,13 @@ fn coarse(mut plan: Plan, n: usize) -> Plan {
     plan
 }
 
+/// Shipped specs that need a friction law this build does not have yet: each must be refused
+/// for exactly that reason, so the day the law lands this test fails and says to take the
+/// file off the list (and to switch on its test).
+/// - `bstab-friction.toml`: the Stribeck law (branch stribeck); its test is
+///   `tests/bstab_friction.rs`, `squeal_matches_the_published_basin_stability` (ignored).
+const PENDING_LAW: &[(&str, &str)] = &[];
+
 #[test]
 fn every_shipped_scan_validates() {
     let dir = format!("{}/../../scans", env!("CARGO_MANIFEST_DIR"));
@@ -42,6 +49,20 @@ fn every_shipped_scan_validates() {
         let atlas = p
             .file_name()
             .is_some_and(|f| f.to_string_lossy().starts_with("atlas-"));
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if let Some((_, law)) = PENDING_LAW.iter().find(|(f, _)| *f == name) {
+            let e = Plan::from_file(&p)
+                .err()
+                .unwrap_or_else(|| {
+                    panic!("{name} validates: the {law} law is here; take it off PENDING_LAW and switch on its test")
+                })
+                .to_string();
+            assert!(
+                e.contains("unknown variant") && e.contains(law),
+                "{name}: refused for another reason than the missing {law} law: {e}"
+            );
+            continue;
+        }
         if p.extension().is_some_and(|x| x == "toml") && !atlas {
             Plan::from_file(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             n += 1;

@@ -99,6 +99,19 @@ fn location(section: &str) -> (Vec<&'static str>, Table) {
                 .insert("nu".into(), Value::Table(range));
             vec!["model", "nu"]
         }
+        "[sample]" | "sample.region" => {
+            base.remove("grid");
+            let sample: Table = toml::from_str(
+                "kind = \"random\"\nn = 4\nseed = 1\nregion = { x0 = [-1.0, 1.0], v0 = [0.0, 1.0] }",
+            )
+            .unwrap();
+            base.insert("sample".into(), Value::Table(sample));
+            if section == "[sample]" {
+                vec!["sample"]
+            } else {
+                vec!["sample", "region"]
+            }
+        }
         "[integration]" => vec!["integration"],
         "[classifier]" => vec!["classifier"],
         "[cycle]" => vec!["cycle"],
@@ -170,6 +183,8 @@ fn documented_keys_are_the_accepted_keys() {
         "[grid]",
         "grid.x0",
         "range",
+        "[sample]",
+        "sample.region",
         "[integration]",
         "[classifier]",
         "[cycle]",
@@ -199,7 +214,7 @@ fn documented_keys_are_the_accepted_keys() {
         }
         checked += 1;
     }
-    assert_eq!(checked, 8);
+    assert_eq!(checked, 10);
 }
 
 #[test]

@@ -9,6 +9,7 @@ use squeal_core::LandscapeEvidence;
 use squeal_scan::cell::{COLUMNS, Cell, Column, Kind};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
+use squeal_scan::{BASIN_FIELDS, GridShares};
 use squeal_scan::{MapChecks, Plan};
 
 use crate::cycle::Flat;
@@ -304,15 +305,22 @@ pub(crate) fn write_column(
     }
 }
 
-/// The rows `rows` of map `map` (sweep) or of the single map: a hyperslab over `(.., v0, x0)`.
-pub(crate) fn sel(map: Option<usize>, rows: std::ops::Range<usize>) -> hdf5::Hyperslab {
-    let mut v: Vec<hdf5::SliceOrIndex> = Vec::with_capacity(3);
-    if let Some(m) = map {
-        v.push(m.into());
-    }
+/// The rows `rows` after the leading indices `prefix` (a sweep's map, an atlas point's
+/// parameter indices; none for a single map): a hyperslab over `(.., v0, x0)`, or over
+/// `(.., sample)` for a `list` (random samples).
+pub(crate) fn sel(prefix: &[usize], rows: std::ops::Range<usize>, list: bool) -> hdf5::Hyperslab {
+    let mut v: Vec<hdf5::SliceOrIndex> = prefix.iter().map(|&i| i.into()).collect();
     v.push(rows.into());
-    v.push((..).into());
+    if !list {
+        v.push((..).into());
+    }
     hdf5::Hyperslab::from(v)
+}
+
+/// Whether `ds` is a list over random samples: after its `leading` indices (sweep or
+/// parameter dimensions) one dimension, where a grid variable has two.
+pub(crate) fn is_list(ds: &Dataset, leading: usize) -> bool {
+    ds.ndim() == leading + 1
 }
 
 fn write_rows<T: H5Type>(
@@ -322,12 +330,12 @@ fn write_rows<T: H5Type>(
     rows: std::ops::Range<usize>,
     nx: usize,
 ) -> hdf5::Result<()> {
+    if is_list(ds, prefix.len()) {
+        return ds.write_slice(&Array1::from(data), sel(prefix, rows, true));
+    }
     let a = Array2::from_shape_vec((rows.len(), nx), data)
         .map_err(|e| hdf5::Error::from(e.to_string()))?;
-    let mut v: Vec<hdf5::SliceOrIndex> = prefix.iter().map(|&i| i.into()).collect();
-    v.push(rows.into());
-    v.push((..).into());
-    ds.write_slice(&a, hdf5::Hyperslab::from(v))
+    ds.write_slice(&a, sel(prefix, rows, false))
 }
 
 /// The root attributes: provenance, the spec and every setting of the plan.
@@ -372,6 +380,18 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     num_attr(file, "trap_margin", plan.trap_margin)?;
     num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
     num_attr(file, "block_rows", g.block_rows as u64)?;
+    match &g.sample {
+        None => str_attr(file, "sampling", "grid")?,
+        Some(smp) => {
+            str_attr(file, "sampling", "random")?;
+            num_attr(file, "sample_n", smp.n as u64)?;
+            num_attr(file, "sample_seed", smp.seed)?;
+            num_attr(file, "sample_x0_min", g.x0.min)?;
+            num_attr(file, "sample_x0_max", g.x0.max)?;
+            num_attr(file, "sample_v0_min", g.v0.min)?;
+            num_attr(file, "sample_v0_max", g.v0.max)?;
+        }
+    }
     num_attr(file, "audit_every", plan.audit_every)?;
     if let Some(s) = &meta.shard {
         str_attr(file, "shard", s)?;
@@ -431,23 +451,57 @@ fn write_all(
 
     root_attrs(file, plan, meta).h5(path)?;
 
-    // Coordinates and variables.
-    let x0 = coord(
-        file,
-        &mut dims,
-        "x0",
-        &g.x0.values(),
-        "initial displacement x(0)",
-    )
-    .h5(path)?;
-    let v0 = coord(
-        file,
-        &mut dims,
-        "v0",
-        &g.v0.values(),
-        "initial velocity x'(0)",
-    )
-    .h5(path)?;
+    // Coordinates and variables: a grid's axes x0 (columns) and v0 (rows), or a random
+    // sample's index with the points' x0 and v0 as variables over it.
+    let sample = g.sample.is_some();
+    let (x0, v0) = if sample {
+        let idx = index_coord(file, &mut dims, "sample", nv, "random sample index").h5(path)?;
+        let pts: Vec<(f64, f64)> = (0..nv).map(|i| g.state(i, 0)).collect();
+        let var = |name: &str, vals: Vec<f64>, long: &str| -> hdf5::Result<Dataset> {
+            let ds = file
+                .new_dataset_builder()
+                .obj_track_times(false)
+                .with_data(&vals)
+                .create(name)?;
+            str_attr(&ds, "long_name", long)?;
+            str_attr(&ds, "units", "1")?;
+            Ok(ds)
+        };
+        let xs = var(
+            "x0",
+            pts.iter().map(|p| p.0).collect(),
+            "initial displacement x(0) of the sample",
+        )
+        .h5(path)?;
+        let vs = var(
+            "v0",
+            pts.iter().map(|p| p.1).collect(),
+            "initial velocity x'(0) of the sample",
+        )
+        .h5(path)?;
+        dims.attach(file, &xs, &[&idx]).h5(path)?;
+        dims.attach(file, &vs, &[&idx]).h5(path)?;
+        (idx.clone(), idx)
+    } else {
+        (
+            coord(
+                file,
+                &mut dims,
+                "x0",
+                &g.x0.values(),
+                "initial displacement x(0)",
+            )
+            .h5(path)?,
+            coord(
+                file,
+                &mut dims,
+                "v0",
+                &g.v0.values(),
+                "initial velocity x'(0)",
+            )
+            .h5(path)?,
+        )
+    };
     let sw = match &plan.sweep {
         Some(s) => {
             let named = plan.maps[0].named();
@@ -463,14 +517,26 @@ fn write_all(
         Some(d) => d.clone(),
         None => index_coord(file, &mut dims, "map", nmaps, "map index").h5(path)?,
     };
-    let block_dim =
-        index_coord(file, &mut dims, "block", nblocks, "block of grid rows").h5(path)?;
+    let block_dim = index_coord(
+        file,
+        &mut dims,
+        "block",
+        nblocks,
+        if sample {
+            "block of random samples"
+        } else {
+            "block of grid rows"
+        },
+    )
+    .h5(path)?;
 
     let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
-    let (shape, chunk): (Vec<usize>, Vec<usize>) = if sweep {
-        (vec![nmaps, nv, nx], vec![1, rows_per_chunk, nx])
-    } else {
-        (vec![nv, nx], vec![rows_per_chunk, nx])
+    // A random sample is a list over `sample` (nx = 1): one dimension less.
+    let (shape, chunk): (Vec<usize>, Vec<usize>) = match (sweep, sample) {
+        (true, false) => (vec![nmaps, nv, nx], vec![1, rows_per_chunk, nx]),
+        (false, false) => (vec![nv, nx], vec![rows_per_chunk, nx]),
+        (true, true) => (vec![nmaps, nv], vec![1, rows_per_chunk]),
+        (false, true) => (vec![nv], vec![rows_per_chunk]),
     };
     let vars: Vec<Dataset> = COLUMNS
         .iter()
@@ -478,10 +544,11 @@ fn write_all(
         .collect::<hdf5::Result<_>>()
         .h5(path)?;
     for v in &vars {
-        let d: Vec<&Dataset> = if sweep {
-            vec![&map_dim, &v0, &x0]
-        } else {
-            vec![&v0, &x0]
+        let d: Vec<&Dataset> = match (sweep, sample) {
+            (true, false) => vec![&map_dim, &v0, &x0],
+            (false, false) => vec![&v0, &x0],
+            (true, true) => vec![&map_dim, &v0],
+            (false, true) => vec![&v0],
         };
         dims.attach(file, v, &d).h5(path)?;
     }
@@ -498,11 +565,13 @@ fn write_all(
 
     let mut done = vec![0u8; nmaps * nblocks];
     let mut checks = Vec::with_capacity(nmaps);
+    let mut basins = Vec::with_capacity(nmaps);
     let mut cycles: Vec<Option<CycleRecord>> = Vec::with_capacity(nmaps);
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
         let curve = report_of(&cyc).map(|r| &r.curve);
         let mut ck = MapChecks::new(curve, landscapes[m].map(|l| l.landscape));
+        let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;
@@ -520,6 +589,9 @@ fn write_all(
             }
             done[m * nblocks + b] = 1;
             ck.add_block(plan, curve, b, &cells);
+            for (k, c) in cells.iter().enumerate() {
+                labels[rows.start * nx + k] = c.regime;
+            }
             for (ds, col) in vars.iter().zip(COLUMNS) {
                 write_column(
                     ds,
@@ -536,6 +608,11 @@ fn write_all(
             }
         }
         checks.push(ck);
+        basins.push(if sample {
+            GridShares::random(&labels)
+        } else {
+            GridShares::of(&labels, nx)
+        });
         cycles.push(cyc);
     }
 
@@ -599,6 +676,19 @@ fn write_all(
                 str_attr(&ds, "units", units)?;
                 dims.attach(file, &ds, &[&map_dim])?;
             }
+        }
+
+        // Per-map basin stability (squeal_scan::basin).
+        for (i, (name, long)) in BASIN_FIELDS.iter().enumerate() {
+            let vals: Array1<f64> = basins.iter().map(|b| b.values()[i]).collect();
+            let ds = file
+                .new_dataset_builder()
+                .obj_track_times(false)
+                .with_data(&vals)
+                .create(*name)?;
+            str_attr(&ds, "long_name", long)?;
+            str_attr(&ds, "units", "1")?;
+            dims.attach(file, &ds, &[&map_dim])?;
         }
 
         // Cycles.

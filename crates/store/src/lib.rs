@@ -90,6 +90,12 @@
 //!                (squeal_scan::landscape)
 //!   fixed_point_damping, stick_cycle_period, stick_cycle_stuck   f64 (NaN: none), its
 //!                evidence (squeal_scan::landscape::LANDSCAPE_FIELDS)
+//! per map (map|nu|lambda), f64, basin stability (squeal_scan::basin::BASIN_FIELDS), for
+//! each regime R of steady_slip, stick_slip, undecided:
+//!   basin_stability_R              share of the computed cells labelled R
+//!   basin_stability_R_se           sqrt(p (1 - p) / N) (standard error of random samples)
+//!   basin_stability_R_2h, _4h      shares on the nested sub-grids of every 2nd / 4th point
+//!   basin_stability_R_change       p_h - p_2h, the grid error bar
 //! cycle          group /cycle (one map) or /cycles/map_0000, ... (sweep), present when the
 //!                scan searched: attr record (the search as TOML text, exact), every
 //!                scalar of it flattened into attrs (r_section, bracket[2], period, omega,

@@ -9,6 +9,7 @@ use hdf5::{
     Attribute, Container, Dataset, File, Group, Location, ObjectReference1, ReferencedObject,
 };
 use squeal_scan::ClosedCurve;
+use squeal_scan::GridShares;
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num};
 use squeal_scan::checks::CHECK_FIELDS;
 
@@ -132,6 +133,8 @@ pub struct FileInfo {
     pub v0: Vec<f64>,
     /// Per map: cells undecided, steady_slip, stick_slip, not_computed.
     pub counts: Vec<[u64; 4]>,
+    /// Per map: basin stability, computed from the labels ([`squeal_scan::GridShares`]).
+    pub basin: Vec<GridShares>,
     /// `K/N` in shard files.
     pub shard: Option<String>,
     /// Per map: the values of [`squeal_scan::checks::CHECK_FIELDS`] (-1: not applicable).
@@ -205,10 +208,18 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
         let is_sweep = sweep.is_some();
         let labels = file.dataset("labels")?;
         let shape = labels.shape();
-        let nmaps = if shape.len() == 3 { shape[0] } else { 1 };
+        let nmaps = if is_sweep { shape[0] } else { 1 };
+        let sample = is_sample(&file);
         let mut counts = Vec::with_capacity(nmaps);
+        let mut basin = Vec::with_capacity(nmaps);
+        let nx = file.dataset("x0")?.size();
         for m in 0..nmaps {
-            let l = read_labels(&labels, m)?;
+            let l = read_labels(&labels, m, is_sweep)?;
+            basin.push(if sample {
+                GridShares::random(&l)
+            } else {
+                GridShares::of(&l, nx)
+            });
             let mut c = [0u64; 4];
             for v in l {
                 c[match v {
@@ -255,21 +266,33 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                 .collect::<hdf5::Result<_>>()?,
             landscapes: read_landscapes(&file, nmaps)?,
             counts,
+            basin,
             shard: str_attr(&file, "shard").ok(),
         })
     })()
     .h5(path)
 }
 
-fn read_labels(labels: &Dataset, map: usize) -> hdf5::Result<Vec<u8>> {
-    if labels.ndim() == 3 {
+fn read_labels(labels: &Dataset, map: usize, sweep: bool) -> hdf5::Result<Vec<u8>> {
+    let rows = 0..labels.shape().get(sweep as usize).copied().unwrap_or(0);
+    if !sweep {
+        labels.read_raw::<u8>()
+    } else if crate::h5write::is_list(labels, 1) {
         Ok(labels
-            .read_slice_2d::<u8, _>(crate::h5write::sel(Some(map), 0..labels.shape()[1]))?
+            .read_slice_1d::<u8, _>(crate::h5write::sel(&[map], rows, true))?
             .into_iter()
             .collect())
     } else {
-        labels.read_raw::<u8>()
+        Ok(labels
+            .read_slice_2d::<u8, _>(crate::h5write::sel(&[map], rows, false))?
+            .into_iter()
+            .collect())
     }
+}
+
+/// Whether a file holds random samples (root attribute `sampling = "random"`).
+fn is_sample(file: &File) -> bool {
+    str_attr(file, "sampling").is_ok_and(|s| s == "random")
 }
 
 /// One basin map, ready to draw.
@@ -293,7 +316,8 @@ pub struct MapData {
 pub fn map_count(path: &Path) -> Result<usize, StoreError> {
     let file = open_squeal(path)?;
     let shape = file.dataset("labels").h5(path)?.shape();
-    Ok(if shape.len() == 3 { shape[0] } else { 1 })
+    let sweep = sweep_of(&file).h5(path)?.is_some();
+    Ok(if sweep { shape[0] } else { 1 })
 }
 
 fn cycle_group(file: &File, sweep: bool, map: usize) -> Option<Group> {
@@ -316,6 +340,11 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
         });
     }
     (|| -> hdf5::Result<MapData> {
+        if is_sample(&file) {
+            return Err(hdf5::Error::from(
+                "the file holds random samples, a list of points, not a map to draw".to_string(),
+            ));
+        }
         let sweep = sweep_of(&file)?;
         let law_name = str_attr(&file, "law")?;
         let law: squeal_core::FrictionLaw = law_name
@@ -344,7 +373,7 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
             title,
             x0: file.dataset("x0")?.read_raw()?,
             v0: file.dataset("v0")?.read_raw()?,
-            labels: read_labels(&file.dataset("labels")?, map)?,
+            labels: read_labels(&file.dataset("labels")?, map, sweep.is_some())?,
             cycle,
             fixed_point: (fp.x, fp.v),
         })
@@ -423,11 +452,16 @@ pub(crate) fn read_block(
         r: &std::ops::Range<usize>,
     ) -> hdf5::Result<Vec<T>> {
         let ds = file.dataset(name)?;
-        let a = if sweep {
-            ds.read_slice_2d::<T, _>(crate::h5write::sel(Some(map), r.clone()))?
+        let m: &[usize] = if sweep {
+            std::slice::from_ref(&map)
         } else {
-            ds.read_slice_2d::<T, _>(crate::h5write::sel(None, r.clone()))?
+            &[]
         };
+        if crate::h5write::is_list(&ds, m.len()) {
+            let a = ds.read_slice_1d::<T, _>(crate::h5write::sel(m, r.clone(), true))?;
+            return Ok(a.into_iter().collect());
+        }
+        let a = ds.read_slice_2d::<T, _>(crate::h5write::sel(m, r.clone(), false))?;
         Ok(a.into_iter().collect())
     }
     let mut cells: Vec<Cell> = Vec::new();

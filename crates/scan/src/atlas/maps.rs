@@ -170,6 +170,7 @@ mod tests {
                 count: n,
             },
             block_rows: 4,
+            sample: None,
         }
     }
 
