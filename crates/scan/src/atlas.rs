@@ -34,7 +34,7 @@ pub mod driver;
 pub mod point;
 pub mod spec;
 
-pub use boundary::{Boundary, BoundaryStatus};
+pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
 pub use point::{AtlasRegime, PointResult, PointSettings, Region};
 pub use spec::{AtlasAxis, AtlasPlan, Units};

@@ -131,7 +131,8 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let fold = if plan.fold {
                 keep(
                     "fold",
-                    boundary::fold_nu(
+                    boundary::fold_in(
+                        plan.boundary_in,
                         base,
                         plan.dt,
                         plan.solver,
@@ -147,7 +148,8 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let critical = if plan.critical {
                 keep(
                     "critical",
-                    boundary::critical_nu(
+                    boundary::critical_in(
+                        plan.boundary_in,
                         base,
                         plan.dt,
                         plan.solver,

@@ -26,7 +26,9 @@ use crate::ulc::{self, CycleReport, CycleSettings, SectionCycles};
 #[repr(u8)]
 #[serde(rename_all = "snake_case")]
 pub enum AtlasRegime {
-    /// The evidence conflicts (a cycle but no stick-slip attractor found, or a failed run).
+    /// The evidence conflicts (the section method says the operating point squeals but its
+    /// own run settles, a cycle but no stick-slip attractor found, or a failed run); the
+    /// point's note says which.
     Undecided = 0,
     /// No start squeals: `D(r) < 0` on the whole sampled section range.
     SteadySlipOnly = 1,
@@ -923,10 +925,51 @@ pub fn compute_point(
         (_, Some(Err(StickFail::Failed(e)))) => res.note = Some(e.clone()),
         (_, None) => res.note = Some("no stick-slip run".into()),
     }
+    if res.regime == AtlasRegime::BistableSqueals {
+        confirm_operating_point(params, dt, solver, ps, &mut res, &mut a.work)?;
+    }
     res.returns = a.work.returns;
     res.evaluations = a.work.stats.evaluations;
     res.failures = a.work.stats.failures;
     Ok(res)
+}
+
+/// Checks a "bistable, operating point squeals" label by running the operating point
+/// itself to settlement ([`squeal_core::Classifier`], the rules of `squeal classify`).
+///
+/// The label rests on two section-method findings: the operating point lies outside the
+/// unstable cycle, and a run started outside the cycle stayed there for the attractor's
+/// `transient + window` revolutions. Just above the fold of cycles that run can sit for
+/// that long on the ghost of the vanished stable cycle (a bottleneck where `D` is barely
+/// negative) and still end in steady slip: at nu = 0.0299, lambda = 0.803
+/// (`scans/atlas-lambda-nu.toml`) rest and big starts all reach the fixed point by
+/// t = 450 at dt = 0.005 and 0.0025 while the section method saw a band at r = 0.7968.
+/// When the run from the operating point does not end in stick-slip, the evidence
+/// conflicts: the point is undecided, with a note naming both findings (never a guess).
+fn confirm_operating_point(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    res: &mut PointResult,
+    w: &mut Work,
+) -> Result<(), ScanError> {
+    let st = Stepper::new(params, dt, solver)?;
+    let o = squeal_core::Classifier::default().classify(&st, ps.operating);
+    w.stats.merge(&o.stats);
+    if o.regime != squeal_core::Regime::StickSlip {
+        let band = res.stick_slip.map_or(f64::NAN, |s| s.r_band[1]);
+        res.note = Some(format!(
+            "conflict: the section method says the operating point squeals (outside the unstable cycle at r = {:.6}, stick-slip band at r = {band:.6} for {} revolutions) but its own run ends {} ({} at t = {:.1})",
+            res.cycle.map_or(f64::NAN, |c| c.r_section),
+            ps.transient + ps.window,
+            o.regime.name(),
+            o.reason.name(),
+            o.t_decision
+        ));
+        res.regime = AtlasRegime::Undecided;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -1067,5 +1110,46 @@ mod tests {
         let p = point(FrictionLaw::McMillan, 0.0, None);
         assert_eq!(p.regime, AtlasRegime::FixedPointUnstable);
         assert!(p.stick_slip.is_some());
+    }
+
+    #[test]
+    fn conflicting_evidence_is_undecided() {
+        // `scans/atlas-lambda-nu.toml` at nu index 52, lambda index 12, warm-started from
+        // the previous point of its line (lambda index 11, crossing 0.52686, as stored by
+        // that run at dt = 0.005): the section method found an unstable cycle and a
+        // stick-slip band outside it for 80 revolutions, but `squeal trajectory --nu
+        // 0.029935772947 --lambda 0.802653930857 --x0 0 --v0 0 --t-end 4000` reaches the
+        // fixed point at dt = 0.005 (t = 334) and 0.0025 (t = 451), as do starts at
+        // (-4, 0), (1, 2), (-2, -3), (4, 3): evidence that conflicts.
+        let p = Params {
+            nu: 0.029_935_772_947_204_92,
+            lambda: 0.802_653_930_857_430_8,
+            ..Params::paper(FrictionLaw::McMillan, 0.0)
+        };
+        let r = compute_point(
+            p,
+            0.005,
+            SolverConfig::default(),
+            &PointSettings::default(),
+            Some(0.526_863_078_829_873_4),
+        )
+        .unwrap();
+        assert_eq!(r.regime, AtlasRegime::Undecided, "{r:?}");
+        let note = r.note.unwrap();
+        assert!(
+            note.starts_with("conflict:") && note.contains("steady_slip"),
+            "{note}"
+        );
+        // Where the evidence agrees (paper Fig 9, nu = 1e-3: rest squeals), the label stands.
+        let r = compute_point(
+            Params::paper(FrictionLaw::McMillan, 1e-3),
+            0.005,
+            SolverConfig::default(),
+            &PointSettings::default(),
+            None,
+        )
+        .unwrap();
+        assert_eq!(r.regime, AtlasRegime::BistableSqueals);
+        assert!(r.note.is_none());
     }
 }
