@@ -134,8 +134,8 @@ fn atlas_reproduces_the_single_point_commands() {
 /// Table 1 (Fig 10's damping nu = 1e-2) over belt speeds: the boundaries are bisected in
 /// lambda (the only swept axis). The 64 x 64 chart (`scans/atlas-lambda-nu.toml`) puts the
 /// critical damping 0.0133 at lambda = 1.63 and 0.0097 at 1.84, so the critical belt speed
-/// for rest lies between them; the fold at nu = 1e-2 lies below lambda = 0.5 (the fold in
-/// nu is above 0.02 all along the chart's lambda range).
+/// for rest lies between them; the fold in nu is above 0.017 all along the chart's lambda
+/// range (0.5 to 6), so at nu = 1e-2 some start squeals at every lambda here.
 const BELT: &str = r#"
 version = 1
 name = "belt"
@@ -166,9 +166,8 @@ fn critical_belt_speed_matches_the_single_point_command() {
         c["bracket"][1].as_f64().unwrap(),
     );
     assert!(lo > 1.63 && hi < 1.84, "[{lo}, {hi}]");
-    // The fold in lambda lies below the range: nothing squeals from lambda = 1 up? No:
-    // above the critical belt speed rest is quiet but big starts still squeal (bistable),
-    // so the fold lies above the range.
+    // Above the critical belt speed rest is quiet but big starts still squeal
+    // (bistable): the fold in lambda lies above the range.
     assert_eq!(b["fold"]["status"], "above_range", "{b}");
     let cli = json(&ok(squeal(
         dir.path(),

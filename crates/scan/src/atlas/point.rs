@@ -405,7 +405,7 @@ pub fn refine(
         if width <= tol {
             break;
         }
-        let mut r = if slow >= 2 || !(d_hi > d_lo) {
+        let mut r = if slow >= 2 || d_hi.partial_cmp(&d_lo) != Some(std::cmp::Ordering::Greater) {
             slow = 0;
             0.5 * (lo + hi)
         } else {
