@@ -191,8 +191,7 @@ fn critical_belt_speed_matches_the_single_point_command() {
         cli["bracket"][0].as_f64().unwrap(),
         cli["bracket"][1].as_f64().unwrap(),
     );
-    // Both bisect [1, 3] to rtol = 1e-3 (the atlas warm-starts its cycle searches, the
-    // command too): the brackets overlap.
+    // Both bisect [1, 3] to rtol = 1e-3 with the same predicate: the brackets overlap.
     assert!(lo <= chi && clo <= hi, "[{lo}, {hi}] vs [{clo}, {chi}]");
     // The file stores it under the lambda names, with its bracket.
     let f = hdf5::File::open(dir.path().join("belt.h5")).unwrap();

@@ -378,7 +378,11 @@ pub fn search(
 /// `d_lo`, `d_hi`) to the relative width `rtol` by the Illinois variant of false position.
 ///
 /// The bracket is kept at every step, so the result meets the same tolerance as bisection
-/// ([`crate::ulc::section_cycles`]) and contains the same root; near a simple root `D` is
+/// ([`crate::ulc::section_cycles`]). Where the starting bracket holds one sign change it
+/// is the same root; where it holds several (`D` jumps where the orbit starts to stick)
+/// the two methods may settle on different ones, both sign changes of `D` to the
+/// tolerance: on the 64 x 64 chart (`scans/atlas-lambda-nu.toml`) at 18 of 4096 points,
+/// all above the fold (nu >= 0.037) and all "steady slip only" either way. Near a simple root `D` is
 /// smooth and the method converges superlinearly (about 6-8 returns from a 10% bracket
 /// instead of bisection's 27 to 1e-9). Each trial point is kept at least a quarter of the
 /// tolerance inside the bracket, so once the estimate is that close the next trial lands
@@ -957,7 +961,16 @@ fn confirm_operating_point(
     let st = Stepper::new(params, dt, solver)?;
     let o = squeal_core::Classifier::default().classify(&st, ps.operating);
     w.stats.merge(&o.stats);
-    if o.regime != squeal_core::Regime::StickSlip {
+    if o.regime == squeal_core::Regime::Undecided {
+        // No verdict within the classifier's t_max (seen at low damping, where the run from
+        // near the fixed point grows slowly): no evidence against the label, but it is not
+        // confirmed either, and the note says so.
+        res.note = Some(format!(
+            "unconfirmed: the operating point's own run did not settle by t = {:.0} ({})",
+            o.t_decision,
+            o.reason.name()
+        ));
+    } else if o.regime != squeal_core::Regime::StickSlip {
         let band = res.stick_slip.map_or(f64::NAN, |s| s.r_band[1]);
         res.note = Some(format!(
             "conflict: the section method says the operating point squeals (outside the unstable cycle at r = {:.6}, stick-slip band at r = {band:.6} for {} revolutions) but its own run ends {} ({} at t = {:.1})",
