@@ -303,6 +303,69 @@ pub fn critical_in(
     )
 }
 
+/// Both boundaries of one combination of the other parameters, sharing work: each
+/// evaluation at a parameter value analyses the point once (section search, cycle and the
+/// stick-slip runs) and answers both predicates from it, so where the two bisections visit
+/// the same value (always the two ends and the first middle; all the way where the fold and
+/// the critical value coincide, as at low belt speed) the second costs nothing. Each
+/// result is what [`fold_in`] and [`critical_in`] give alone: the critical predicate read
+/// from that analysis is [`point_quiet`]'s (the same starts of the same stick-slip runs).
+/// `None` for a boundary not asked for.
+#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
+pub fn both_in(
+    param: BoundaryParam,
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    point: State,
+    [lo, hi]: [f64; 2],
+    rtol: f64,
+    [fold, critical]: [bool; 2],
+) -> [Option<Result<Boundary, ScanError>>; 2] {
+    use std::cell::RefCell;
+    use std::collections::HashMap;
+    // Per value: (quiet everywhere, point quiet), each an answer or the reason it has none.
+    type Answers = (Result<bool, String>, Result<bool, String>);
+    let memo: RefCell<HashMap<u64, Answers>> = RefCell::new(HashMap::new());
+    let eval = |v: f64| -> Result<Answers, ScanError> {
+        if let Some(a) = memo.borrow().get(&v.to_bits()) {
+            return Ok(a.clone());
+        }
+        let p = param.with(base, v);
+        let a = analyse(p, dt, solver, ps, None, true)?;
+        let here = |e: String| format!("nu = {}, lambda = {}: {e}", p.nu, p.lambda);
+        let everywhere = a
+            .squeals_somewhere()
+            .map(|s| !s)
+            .map_err(|e| here(format!("cannot tell whether anything squeals: {e}")));
+        let at_point = match (&a.search, &a.cycle, &a.stick) {
+            (Search::NoneBelow { .. }, _, _) => Ok(true),
+            (Search::FixedPointUnstable { .. }, _, _) => Ok(false),
+            (_, Some(rep), _) if rep.encloses(point.x, point.v) => Ok(true),
+            (_, Some(_), Some(Ok(_))) => Ok(false),
+            (_, Some(_), Some(Err(StickFail::FellInside { .. }))) => Ok(true),
+            (_, Some(_), Some(Err(StickFail::Failed(e)))) => Err(here(e.clone())),
+            _ => Err("a bracket without a cycle".into()),
+        };
+        let ans = (everywhere, at_point);
+        memo.borrow_mut().insert(v.to_bits(), ans.clone());
+        Ok(ans)
+    };
+    let run = |which: usize| {
+        bisect_nu(
+            |v| {
+                let (e, c) = eval(v)?;
+                if which == 0 { e } else { c }.map_err(ScanError::Undetermined)
+            },
+            lo,
+            hi,
+            rtol,
+        )
+    };
+    [fold.then(|| run(0)), critical.then(|| run(1))]
+}
+
 /// The fold of cycles: the damping above which no start squeals.
 pub fn fold_nu(
     base: Params,
@@ -593,6 +656,36 @@ mod tests {
             } else if nu > fold.bracket[1] {
                 assert!(steady, "nu = {nu} above the fold {:?}", fold.bracket);
             }
+        }
+    }
+
+    #[test]
+    fn shared_boundaries_equal_separate_ones() {
+        // At lambda = 1 (the chart's fold and critical damping coincide below lambda ~ 1.3)
+        // and at Table 1's lambda = 3 (they differ): bit-identical to separate bisections.
+        let ps = PointSettings::default();
+        let (dt, solver) = (0.01, SolverConfig::default());
+        let rest = State { x: 0.0, v: 0.0 };
+        for lambda in [1.0, 3.0] {
+            let base = Params {
+                lambda,
+                ..Params::paper(FrictionLaw::McMillan, 0.0)
+            };
+            let [f, c] = both_in(
+                BoundaryParam::Nu,
+                base,
+                dt,
+                solver,
+                &ps,
+                rest,
+                [1e-3, 0.05],
+                1e-2,
+                [true, true],
+            );
+            let fold = fold_nu(base, dt, solver, &ps, 1e-3, 0.05, 1e-2).unwrap();
+            let crit = critical_nu(base, dt, solver, &ps, rest, 1e-3, 0.05, 1e-2).unwrap();
+            assert_eq!(f.unwrap().unwrap(), fold, "lambda = {lambda}");
+            assert_eq!(c.unwrap().unwrap(), crit, "lambda = {lambda}");
         }
     }
 }
