@@ -20,11 +20,18 @@
 //! rises then falls); a second crossing is not looked for.
 //!
 //! The bisections search the section cold at every step (not warm-started from the last
-//! step's crossing, as the points along a line are): the predicate must be a function of
-//! the parameter alone, not of the path the bisection took to it. Warm-started predicates
-//! were tried: near the fold the warm search sees narrow `D > 0` windows the cold one
-//! misses, and on the 64 x 64 chart the fold moved by more than the 1e-3 tolerance at 43
-//! of 64 belt speeds (up to 10%).
+//! step's crossing, as the points along a line are), so the predicate is a function of the
+//! parameter alone, not of the path the bisection took to it.
+//!
+//! **Accuracy of the fold (known limitation).** Near the fold the predicate is not a clean
+//! step: whether a start outside the cycle stays on stick-slip for the attractor window
+//! depends on digits far below any tolerance (runs linger on the ghost of the vanished
+//! stable cycle). Narrowing the cycle's bracket by false position instead of bisection
+//! moves its crossing by about 1e-10 and, on the 64 x 64 chart
+//! (`scans/atlas-lambda-nu.toml`), moved the bisected fold by more than its 1e-3 bracket at
+//! 44 of 64 belt speeds (median 0.4%, up to 11%, the largest below lambda = 1.3; the
+//! critical damping, where it equals the fold). The stored bracket is the bisection's, not
+//! this uncertainty.
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{Params, SolverConfig, State, Stepper};
