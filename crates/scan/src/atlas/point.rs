@@ -382,7 +382,7 @@ pub fn search(
 /// is the same root; where it holds several (`D` jumps where the orbit starts to stick)
 /// the two methods may settle on different ones, both sign changes of `D` to the
 /// tolerance: on the 64 x 64 chart (`scans/atlas-lambda-nu.toml`) at 18 of 4096 points,
-/// all above the fold (nu >= 0.037) and all "steady slip only" either way. Near a simple root `D` is
+/// all above the fold (nu >= 0.046) and all "steady slip only" either way. Near a simple root `D` is
 /// smooth and the method converges superlinearly (about 6-8 returns from a 10% bracket
 /// instead of bisection's 27 to 1e-9). Each trial point is kept at least a quarter of the
 /// tolerance inside the bracket, so once the estimate is that close the next trial lands
