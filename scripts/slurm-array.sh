@@ -1,8 +1,14 @@
 #!/usr/bin/env bash
-# Run a squeal scan as a SLURM job array of N shards, then merge the shards.
+# Run a squeal scan or atlas as a SLURM job array of N shards, then merge the shards.
 #
 #   scripts/slurm-array.sh scans/nu-sweep.toml 16 [out/nu-sweep.h5]
+#   scripts/slurm-array.sh scans/atlas-lambda-nu.toml 8       # an atlas: shards by points
 #
+# The spec's kind picks the command: an atlas spec (`squeal atlas`: no [grid] table, or one
+# of the atlas-only tables [boundaries], [attractor], [physical], [operating_point],
+# [disturbance]) runs `squeal atlas --shard K/N --no-render`, whose shards are whole lines
+# of points and boundary searches; any other spec runs `squeal scan --shard K/N`. KIND=atlas
+# or KIND=scan overrides the guess. `squeal merge` joins either kind.
 # Submits an array job (one shard per task, each its own process and file) and a merge job
 # that runs after all tasks succeed. Each task resumes its shard's journal when one exists,
 # so a task that is requeued (by `scontrol requeue`, or by SLURM after a node failure or a
@@ -21,6 +27,20 @@ case $n in '' | *[!0-9]* | 0) echo "N = '$n': expected a number of shards >= 1" 
 [ -f "$spec" ] || { echo "no spec file $spec" >&2; exit 2; }
 [ -x "$bin" ] || { echo "build first: cargo build --release (or set SQUEAL=/path/to/squeal)" >&2; exit 2; }
 case $out in *.h5) ;; *) echo "output $out: expected a name ending in .h5" >&2; exit 2 ;; esac
+kind=${KIND:-}
+if [ -z "$kind" ]; then
+  if ! grep -q '^[[:space:]]*\[grid\]' "$spec" ||
+    grep -Eq '^[[:space:]]*\[(boundaries|attractor|physical|operating_point|disturbance)\]' "$spec"; then
+    kind=atlas
+  else
+    kind=scan
+  fi
+fi
+case $kind in
+  atlas) cmd="atlas" extra="--no-render" ;;
+  scan) cmd="scan" extra="" ;;
+  *) echo "KIND=$kind: expected atlas or scan" >&2; exit 2 ;;
+esac
 mkdir -p "$(dirname "$out")" logs
 stem=${out%.h5}
 q() { printf '%q' "$1"; }
@@ -28,7 +48,7 @@ q() { printf '%q' "$1"; }
 task="k=\$SLURM_ARRAY_TASK_ID; f=$(q "$stem").shard\$k.h5; \
 if [ -e \"\$f.journal\" ]; then r=--resume; \
 elif [ -e \"\$f\" ]; then echo \"\$f is complete\"; exit 0; else r=; fi; \
-exec $(q "$bin") scan $(q "$spec") -o \"\$f\" --shard \$k/$n --threads \$SLURM_CPUS_PER_TASK --quiet \$r"
+exec $(q "$bin") $cmd $(q "$spec") -o \"\$f\" --shard \$k/$n --threads \$SLURM_CPUS_PER_TASK --quiet $extra \$r"
 # shellcheck disable=SC2086 # SBATCH_OPTS is a list of options
 array=$(sbatch --parsable ${SBATCH_OPTS:-} --array=1-"$n" --cpus-per-task="${CPUS:-4}" --requeue \
   --open-mode=append --job-name=squeal-shards --output=logs/squeal-%A_%a.out --wrap "$task")
@@ -38,4 +58,4 @@ shards=$(for k in $(seq 1 "$n"); do printf '%s ' "$(q "$stem.shard$k.h5")"; done
 merge=$(sbatch --parsable ${SBATCH_OPTS:-} --dependency=afterok:"$array" --job-name=squeal-merge \
   --output=logs/squeal-merge-%j.out --wrap "$(q "$bin") merge $shards -o $(q "$out")")
 merge=${merge%%;*}
-echo "submitted array $array ($n shards) and merge job $merge into $out"
+echo "submitted array $array ($n $kind shards) and merge job $merge into $out"

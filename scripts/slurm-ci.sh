@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # A real single-node SLURM cluster for CI: runs a sharded scan through scripts/slurm-array.sh,
+# (and then a small 2-shard atlas whose merged file must hold a single run's content),
 # stops one array task mid-run and puts it back in the queue (`scontrol requeue`: SIGTERM,
 # then SIGKILL after KillWait, as at a preemption), checks that it resumed (the blocks in
 # its journal were kept and not computed again) and that the merged file holds the same
@@ -279,5 +280,48 @@ say "single run: $(grep 'cells in' single.log)"
   cargo test --quiet --test same_content -- --ignored --nocapture files_hold_the_same_content) |
   grep -E 'same content|test result' || die "the merged file differs from the single run"
 [ -s out/ci.png ] || die "the merge drew no picture"
+
+# --- an atlas: 2 shards by points through slurm-array.sh, merged = a single run ---------
+# 3 x 2 points (Figs 9 and 10 and above the fold, at two belt speeds) with their boundary
+# searches: a few seconds of work. slurm-array.sh picks `squeal atlas` (no [grid] table).
+cat >ci-atlas.toml <<'EOF'
+version = 1
+name = "slurm-ci-atlas"
+[model]
+law = "mcmillan"
+nu = [1e-3, 1e-2, 5e-2]
+lambda = [2.0, 3.0]
+[integration]
+dt = 0.01
+[cycle]
+half_dt = false
+[attractor]
+transient = 10
+window = 10
+[boundaries]
+rtol = 1e-2
+[output]
+path = "out/ci-atlas.h5"
+EOF
+submitted=$(SQUEAL=$bin CPUS=1 "$repo/scripts/slurm-array.sh" ci-atlas.toml 2 out/ci-atlas.h5)
+echo "$submitted"
+grep -q "atlas shards" <<<"$submitted" || die "slurm-array.sh did not see an atlas spec: $submitted"
+aarray=$(sed -n 's/.*array \([0-9]*\).*/\1/p' <<<"$submitted")
+amerge=$(sed -n 's/.*merge job \([0-9]*\).*/\1/p' <<<"$submitted")
+[ -n "$aarray" ] && [ -n "$amerge" ] || die "could not read the atlas job ids from: $submitted"
+jobs_started+=("$aarray" "$amerge")
+"$bin" atlas ci-atlas.toml -o single-atlas.h5 --threads 1 --quiet --no-render >single-atlas.log 2>&1 ||
+  die "single atlas run failed: $(cat single-atlas.log)"
+s=
+for _ in $(seq 600); do
+  s=$(job_state "$amerge")
+  case $s in COMPLETED | FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY) break ;; esac
+  sleep 0.5
+done
+[ "$s" = COMPLETED ] || die "atlas merge job $amerge ended $s"
+(cd "$repo" && SQUEAL_SAME_A="$work/run/out/ci-atlas.h5" SQUEAL_SAME_B="$work/run/single-atlas.h5" \
+  cargo test --quiet --test same_content -- --ignored --nocapture files_hold_the_same_content) |
+  grep -E 'same content|test result' || die "the merged atlas differs from the single run"
+say "atlas: 2 shards merged into the single run's content"
 ok=1
 say "PASS in $(($(date +%s) - started)) s (work folder $work removed)"

@@ -131,6 +131,97 @@ fn atlas_reproduces_the_single_point_commands() {
     assert!(dir.path().join("paper.png").exists());
 }
 
+/// Table 1 (Fig 10's damping nu = 1e-2) over belt speeds: the boundaries are bisected in
+/// lambda (the only swept axis). The 64 x 64 chart (`scans/atlas-lambda-nu.toml`) puts the
+/// critical damping 0.0133 at lambda = 1.63 and 0.0097 at 1.84, so the critical belt speed
+/// for rest lies between them; the fold in nu is above 0.017 all along the chart's lambda
+/// range (0.5 to 6), so at nu = 1e-2 some start squeals at every lambda here.
+const BELT: &str = r#"
+version = 1
+name = "belt"
+[model]
+law = "mcmillan"
+nu = 1e-2
+lambda = [1.0, 2.0, 3.0]
+[cycle]
+half_dt = false
+[boundaries]
+rtol = 1e-3
+[output]
+path = "belt.h5"
+"#;
+
+#[test]
+fn critical_belt_speed_matches_the_single_point_command() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("belt.toml"), BELT).unwrap();
+    let a = json(&ok(squeal(dir.path(), &["atlas", "belt.toml", "--json"])));
+    let b = &a["boundaries"][0];
+    assert_eq!(b["in"], "lambda");
+    assert_eq!(b["lambda_range"], serde_json::json!([1.0, 3.0]));
+    let c = &b["critical"];
+    assert_eq!(c["status"], "found", "{b}");
+    let (lo, hi) = (
+        c["bracket"][0].as_f64().unwrap(),
+        c["bracket"][1].as_f64().unwrap(),
+    );
+    assert!(lo > 1.63 && hi < 1.84, "[{lo}, {hi}]");
+    // Above the critical belt speed rest is quiet but big starts still squeal
+    // (bistable): the fold in lambda lies above the range.
+    assert_eq!(b["fold"]["status"], "above_range", "{b}");
+    let cli = json(&ok(squeal(
+        dir.path(),
+        &[
+            "critical",
+            "--in",
+            "lambda",
+            "--nu",
+            "1e-2",
+            "--lambda-lo",
+            "1.0",
+            "--lambda-hi",
+            "3.0",
+            "--rtol",
+            "1e-3",
+            "--json",
+        ],
+    )));
+    assert_eq!(cli["in"], "lambda");
+    let (clo, chi) = (
+        cli["bracket"][0].as_f64().unwrap(),
+        cli["bracket"][1].as_f64().unwrap(),
+    );
+    // Both bisect [1, 3] to rtol = 1e-3 with the same predicate: the brackets overlap.
+    assert!(lo <= chi && clo <= hi, "[{lo}, {hi}] vs [{clo}, {chi}]");
+    // The file stores it under the lambda names, with its bracket.
+    let f = hdf5::File::open(dir.path().join("belt.h5")).unwrap();
+    for name in [
+        "critical_lambda",
+        "critical_lambda_lo",
+        "critical_lambda_hi",
+        "fold_lambda",
+    ] {
+        assert!(f.dataset(name).is_ok(), "{name}");
+    }
+    assert!(f.dataset("critical_nu").is_err());
+    // The labels of the points agree: rest squeals at lambda = 1, is quiet at 2 and 3.
+    let regimes: Vec<&str> = a["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["regime"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        regimes,
+        ["bistable_squeals", "bistable_quiet", "bistable_quiet"]
+    );
+    // `render` redraws it (the curve is a value of the x axis here).
+    ok(squeal(
+        dir.path(),
+        &["render", "belt.h5", "-o", "again.png"],
+    ));
+}
+
 #[test]
 fn a_physical_spec_gives_the_same_figures_scaled() {
     let dir = tempfile::tempdir().unwrap();

@@ -114,12 +114,21 @@ fn the_plain_script_agrees_with_the_published_values() {
 /// of their standard errors (plus the grid's own change from its 2h sub-grid) at every belt
 /// speed, and the same regime (stick-slip only, bistable, steady slip only) at every one.
 ///
-/// To switch on after the stribeck branch is merged: remove the `#[ignore]` below, and take
-/// `bstab-friction.toml` off `PENDING_LAW` in crates/scan/tests/science.rs (that test fails
-/// until you do). 20 maps of 256 x 128 cells: time it (BENCHMARKS.md, "bSTAB friction
-/// benchmark") before putting it in CI.
+/// squeal's basin stability of steady slip over bSTAB's belt-speed study (scans/bstab-friction.toml,
+/// 256 x 128 grid per belt speed, runs to settlement or early-stopped on the located cycle)
+/// against both published MATLAB runs: within 3 of their standard errors plus the grid's
+/// own error bar (the change to the nested half-resolution grid), and in the same regime.
+///
+/// One exception, measured and kept in the repository: at v_d = 1.175 the fixed point is
+/// barely stable (damping 2 xi + mu'(v_d) = 0.0046), so runs that settle on steady slip
+/// still swing above bSTAB's threshold at t = 400-500 and bSTAB's rule calls them
+/// stick-slip. The same 5000 samples (seed 1) integrated by `scripts/bstab_reference.py` to
+/// t = 500 give 67 steady-slip samples (0.0134, tests/data/bstab_friction_reference.json),
+/// to t = 2500 give 76 (0.0152 +- 0.0017,
+/// tests/data/bstab_friction_reference_vd1.175_t2500.json): the published 0.0132 / 0.0126
+/// undercount steady slip there. At that belt speed squeal is compared with the t = 2500
+/// reference instead (the issue's claim does not hold there; the closing note says so).
 #[test]
-#[ignore = "needs the Stribeck law (branch stribeck): switch on after the merge"]
 fn squeal_matches_the_published_basin_stability() {
     let dir = tempfile::tempdir().unwrap();
     let spec = Path::new(env!("CARGO_MANIFEST_DIR")).join("scans/bstab-friction.toml");
@@ -134,8 +143,17 @@ fn squeal_matches_the_published_basin_stability() {
     let maps = v["maps"].as_array().unwrap();
     assert_eq!(maps.len(), 20);
     let doc = load("bstab_friction_published.json");
+    let long = load("bstab_friction_reference_vd1.175_t2500.json");
+    let long = &long["results"][0];
+    let (long_vd, long_p, long_se) = (f(long, "v_d"), f(long, "bs_FP"), f(long, "se"));
+    assert_eq!(long_vd, 1.175);
     for name in ["A", "B"] {
         for ((vd, p, se), m) in run(&doc, name).into_iter().zip(maps) {
+            let (p, se) = if (vd - long_vd).abs() < 1e-9 {
+                (long_p, long_se)
+            } else {
+                (p, se)
+            };
             assert!((f(m, "v_d") - vd).abs() < 1e-9, "{m}");
             let b = &m["basin_stability"];
             assert_eq!(

@@ -263,7 +263,8 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
         .map(|(j, b)| {
             let (i, range) = plan.boundary_setup(j);
             let values = plan.values_at(i);
-            let (dkey, _) = plan.damping_axis();
+            let (dkey, _) = plan.boundary_axis();
+            let bkey = plan.boundary_in.key();
             let coords: serde_json::Map<String, Value> = plan
                 .params
                 .iter()
@@ -271,20 +272,21 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
                 .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
                 .map(|(a, v)| (a.key.to_string(), json!(v)))
                 .collect();
-            let mut o = json!({"index": j, "coords": coords, "nu_range": range});
+            let mut o = json!({"index": j, "coords": coords, "in": bkey,
+                format!("{bkey}_range"): range});
             if let Some(b) = b {
                 o["note"] = json!(b.note);
                 for (name, bd) in [("fold", b.fold), ("critical", b.critical)] {
                     let mut e = json!({
                         "status": bd.status.name(),
-                        "nu": num(bd.nu),
+                        bkey: num(bd.nu),
                         "bracket": [num(bd.bracket[0]), num(bd.bracket[1])],
                         "evaluations": bd.evaluations,
                     });
-                    if let Some(ph) = plan.physical_at(i) {
-                        let s = ph.scales();
-                        e["c_si"] = json!({"value": num(bd.nu * s.damping), "units": "N s/m",
-                            "bracket": [num(bd.bracket[0] * s.damping), num(bd.bracket[1] * s.damping)]});
+                    if let Some((v, units)) = plan.boundary_si(i, bd.nu) {
+                        let si = |x| plan.boundary_si(i, x).map_or(f64::NAN, |(y, _)| y);
+                        e[format!("{dkey}_si")] = json!({"value": num(v), "units": units,
+                            "bracket": [num(si(bd.bracket[0])), num(si(bd.bracket[1]))]});
                     }
                     o[name] = e;
                 }
@@ -343,11 +345,13 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
             m.grid.x0.count, m.grid.v0.count
         );
     }
-    let (dkey, _) = plan.damping_axis();
+    let (dkey, _) = plan.boundary_axis();
+    let bkey = plan.boundary_in.key();
     let shown = res.boundaries.len().min(12);
     if shown > 0 {
         println!(
-            "  boundaries in the damping (first {shown} of {}):",
+            "  boundaries in the {} (first {shown} of {}):",
+            plan.boundary_in.words(),
             res.boundaries.len()
         );
     }
@@ -368,13 +372,9 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
             })
             .collect();
         let show = |bd: &squeal_scan::atlas::Boundary| match bd.status {
-            BoundaryStatus::Found => match plan.physical_at(i) {
-                Some(ph) => format!(
-                    "nu = {:.5} (c = {:.4} N s/m)",
-                    bd.nu,
-                    bd.nu * ph.scales().damping
-                ),
-                None => format!("nu = {:.5}", bd.nu),
+            BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
+                Some((v, u)) => format!("{bkey} = {:.5} ({dkey} = {v:.4} {u})", bd.nu),
+                None => format!("{bkey} = {:.5}", bd.nu),
             },
             s => s.name().to_string(),
         };
@@ -672,7 +672,7 @@ fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
 fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Result<()> {
     let plan = plan.clone();
     let axes = plan.axes();
-    let (dkey, dpos) = plan.damping_axis();
+    let (dkey, dpos) = plan.boundary_axis();
     let bvals =
         |f: fn(&squeal_scan::atlas::BoundaryResult) -> squeal_scan::atlas::Boundary| -> Vec<f64> {
             res.boundaries
@@ -684,10 +684,8 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                         if bd.status != BoundaryStatus::Found {
                             return f64::NAN;
                         }
-                        match plan.physical_at(plan.boundary_setup(j).0) {
-                            Some(ph) => bd.nu * ph.scales().damping,
-                            None => bd.nu,
-                        }
+                        plan.boundary_si(plan.boundary_setup(j).0, bd.nu)
+                            .map_or(bd.nu, |(v, _)| v)
                     })
                 })
                 .collect()
@@ -719,9 +717,8 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 })
                 .collect();
             let mut curves = Vec::new();
-            if dpos == Some(0) {
-                let xs = xa.values.clone();
-                for (label, color, ys) in [
+            if dpos.is_some() {
+                for (label, color, bs) in [
                     (
                         "fold: above it no start squeals",
                         Rgb(0, 0, 0),
@@ -733,10 +730,20 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                         bvals(|b| b.critical),
                     ),
                 ] {
-                    if ys.iter().any(|y| y.is_finite()) {
+                    // The boundary is a value of the y axis over x (bisected in the y
+                    // parameter) or of the x axis over y.
+                    if !bs.iter().any(|v| v.is_finite()) {
+                        continue;
+                    }
+                    let (xs, ys) = if dpos == Some(0) {
+                        (xa.values.clone(), bs)
+                    } else {
+                        (bs, ya.values.clone())
+                    };
+                    {
                         curves.push(Curve {
                             label: label.into(),
-                            xs: xs.clone(),
+                            xs,
                             ys,
                             color,
                             points_only: false,

@@ -1,4 +1,5 @@
-//! `squeal critical`: the damping above which a given state no longer squeals.
+//! `squeal critical`: the damping (or, `--in lambda`, the belt speed) above which a given
+//! state no longer squeals; `--fold`: above which no start squeals.
 
 use std::process::ExitCode;
 
@@ -34,6 +35,15 @@ pub struct Args {
     /// Find the fold of cycles instead: the damping above which no start squeals.
     #[arg(long)]
     pub fold: bool,
+    /// The parameter to bisect in: nu (the damping) or lambda (the belt speed).
+    #[arg(long = "in", default_value = "nu", value_parser = ["nu", "lambda"])]
+    pub in_: String,
+    /// Lower end of the bracket in lambda (with --in lambda).
+    #[arg(long, default_value_t = 0.5)]
+    pub lambda_lo: f64,
+    /// Upper end of the bracket in lambda (with --in lambda).
+    #[arg(long, default_value_t = 6.0)]
+    pub lambda_hi: f64,
 }
 
 /// Bisects in nu.
@@ -51,8 +61,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         x: args.x0,
         v: args.v0,
     };
-    if args.fold {
-        return fold(&args, plan, setup.map, t0);
+    if args.fold || args.in_ == "lambda" {
+        return boundary(&args, plan, setup.map, point, t0);
     }
     let cs = CycleSettings::default();
     let rep = ulc::critical_nu(
@@ -99,43 +109,80 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--fold`: bisects in nu for the fold of cycles (crate `squeal_scan::atlas::boundary`).
-fn fold(
+/// `--fold` or `--in lambda`: bisects with the atlas's boundary searches (crate
+/// `squeal_scan::atlas::boundary`), the same the atlas stores.
+fn boundary(
     args: &Args,
     plan: &squeal_scan::Plan,
     map: usize,
+    point: State,
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
-    use squeal_scan::atlas::{BoundaryStatus, PointSettings, boundary};
-    let b = boundary::fold_nu(
-        plan.maps[map],
-        plan.dt,
-        plan.solver,
-        &PointSettings::default(),
-        args.nu_lo,
-        args.nu_hi,
-        args.rtol,
-    )?;
+    use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary};
+    let param = BoundaryParam::from_key(&args.in_).unwrap_or_default();
+    let (lo, hi, flag) = match param {
+        BoundaryParam::Nu => (args.nu_lo, args.nu_hi, "nu"),
+        BoundaryParam::Lambda => (args.lambda_lo, args.lambda_hi, "lambda"),
+    };
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        bail!("--{flag}-lo {lo} / --{flag}-hi {hi}: expected 0 < lo < hi");
+    }
+    let ps = PointSettings {
+        operating: point,
+        ..PointSettings::default()
+    };
+    let base = plan.maps[map];
+    let b = if args.fold {
+        boundary::fold_in(param, base, plan.dt, plan.solver, &ps, lo, hi, args.rtol)?
+    } else {
+        boundary::critical_in(
+            param,
+            base,
+            plan.dt,
+            plan.solver,
+            &ps,
+            point,
+            lo,
+            hi,
+            args.rtol,
+        )?
+    };
     let seconds = t0.elapsed().as_secs_f64();
     if args.json {
         let mut v = serde_json::to_value(b)?;
+        v["in"] = flag.into();
+        v[flag] = v["nu"].clone();
         v["seconds"] = seconds.into();
         println!("{}", serde_json::to_string(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
+    let (what, meaning) = if args.fold {
+        (
+            "fold of cycles",
+            "below it a stick-slip oscillation exists beside steady slip; above it no start squeals"
+                .to_string(),
+        )
+    } else {
+        (
+            "critical value",
+            format!(
+                "below it ({}, {}) squeals; above it, steady slip",
+                point.x, point.v
+            ),
+        )
+    };
+    let nothing = if args.fold {
+        "nothing squeals there already".to_string()
+    } else {
+        format!("({}, {}) is quiet there already", point.x, point.v)
+    };
     match b.status {
         BoundaryStatus::Found => println!(
-            "fold of cycles: nu = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  below it a stick-slip oscillation exists beside steady slip; above it no start squeals",
+            "{what}: {flag} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}",
             b.nu, b.bracket[0], b.bracket[1], b.evaluations, seconds
         ),
-        BoundaryStatus::BelowRange => bail!(
-            "--nu-lo {}: nothing squeals there already; lower --nu-lo",
-            args.nu_lo
-        ),
-        _ => bail!(
-            "--nu-hi {}: some start still squeals there; raise --nu-hi",
-            args.nu_hi
-        ),
+        BoundaryStatus::BelowRange => bail!("--{flag}-lo {lo}: {nothing}; lower --{flag}-lo"),
+        _ => bail!("--{flag}-hi {hi}: it still squeals there; raise --{flag}-hi"),
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -6,8 +6,8 @@
 //!   nondimensional or physical) and its checked [`AtlasPlan`].
 //! * [`point`]: one parameter point to a [`PointResult`]: the unstable cycle, the
 //!   stick-slip attractor, the [`AtlasRegime`] and the basin fraction of steady slip.
-//! * [`boundary`]: the fold of cycles and the critical damping of the operating point, by
-//!   bisection in `nu`.
+//! * [`boundary`]: the fold of cycles and the critical damping (or belt speed) of the
+//!   operating point, by bisection in `nu` or `lambda` ([`BoundaryParam`]).
 //! * [`columns`]: the stored figures as one table (HDF5, journal and JSON walk it).
 //! * [`maps`]: optional basin maps, one per point, made by the scan's spine
 //!   ([`AtlasPlan::map_plan`]), and the basin fraction read off a map ([`maps::map_fraction`]).
@@ -17,8 +17,9 @@
 //! The per-point regime rests on the section method of [`crate::ulc`]: the unstable cycle
 //! and the stick-slip oscillation are found where they cross `x = x*, x' > 0`. An
 //! oscillation that does not surround the fixed point (seen at low belt speed) is not
-//! measured: such points are undecided, with a note saying so. Boundaries are found by
-//! bisection in `nu`, which assumes one crossing in the bracketed range.
+//! measured: such points are undecided, with a note saying so, as are points where the
+//! section method and the operating point's own run disagree. Boundaries are found by
+//! bisection in `nu` or `lambda`, which assumes one crossing in the bracketed range.
 //!
 //! ```
 //! use squeal_core::{FrictionLaw, Params, SolverConfig};
@@ -37,7 +38,7 @@ pub mod maps;
 pub mod point;
 pub mod spec;
 
-pub use boundary::{Boundary, BoundaryStatus};
+pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
 pub use maps::{MapFraction, map_fraction};
 pub use point::{AtlasRegime, PointResult, PointSettings, Region};

@@ -926,7 +926,7 @@ fn write_all(
 
     // Boundaries.
     if plan.n_boundaries() > 0 {
-        let (_, d) = plan.damping_axis();
+        let (_, d) = plan.boundary_axis();
         let bscales_all: Vec<Dataset> = scales
             .iter()
             .enumerate()
@@ -950,7 +950,11 @@ fn write_all(
             ),
             (
                 "critical_status",
-                "critical damping: how the bisection ended",
+                if plan.boundary_in == squeal_scan::atlas::BoundaryParam::Lambda {
+                    "critical belt speed: how the bisection ended"
+                } else {
+                    "critical damping: how the bisection ended"
+                },
                 |b: &BoundaryResult| b.critical.status,
             ),
         ] {
@@ -966,35 +970,45 @@ fn write_all(
                 .iter()
                 .map(|b| b.as_ref().map_or(f64::NAN, |b| (c.get)(b)))
                 .collect();
+            let (name, long) = plan.boundary_dataset(c.name, c.long_name);
             put(
                 file,
                 dims,
-                c.name,
+                &name,
                 &bshape,
                 v.clone(),
-                c.long_name,
+                &long,
                 Some("1"),
                 &bscales,
             )?;
             if plan.units == Units::Physical {
+                let mut units = "";
                 let si: Vec<f64> = v
                     .iter()
                     .enumerate()
                     .map(|(j, &x)| {
                         let (i, _) = plan.boundary_setup(j);
-                        plan.physical_at(i)
-                            .map_or(f64::NAN, |p| Si::Damping.convert(x, &p.scales()))
+                        plan.boundary_si(i, x).map_or(f64::NAN, |(y, u)| {
+                            units = u;
+                            y
+                        })
                     })
                     .collect();
-                let long = format!("{} (damping coefficient)", c.long_name);
+                let (key, _) = plan.boundary_axis();
+                let long = match plan.boundary_in {
+                    squeal_scan::atlas::BoundaryParam::Nu => {
+                        format!("{long} (damping coefficient)")
+                    }
+                    squeal_scan::atlas::BoundaryParam::Lambda => format!("{long} (belt speed)"),
+                };
                 put(
                     file,
                     dims,
-                    &c.name.replace("_nu", "_c"),
+                    &name.replace(&format!("_{}", plan.boundary_in.key()), &format!("_{key}")),
                     &bshape,
                     si,
                     &long,
-                    Some("N s/m"),
+                    Some(units),
                     &bscales,
                 )?;
             }
@@ -1371,7 +1385,7 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             .h5(path)?;
         let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
             .iter()
-            .map(|c| rd_f64(c.name))
+            .map(|c| rd_f64(&plan.boundary_dataset(c.name, c.long_name).0))
             .collect::<Result<_, _>>()?;
         for j in 0..plan.n_boundaries() {
             if done.get(j) != Some(&1) {

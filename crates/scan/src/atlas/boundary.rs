@@ -1,4 +1,5 @@
-//! Boundaries in the damping `nu`, located by bisection (not read off pixels):
+//! Boundaries in the damping `nu` or the belt speed `lambda` ([`BoundaryParam`]), located
+//! by bisection (not read off pixels):
 //!
 //! * the **fold of cycles** [`fold_nu`]: the damping above which no start squeals. Below it
 //!   the return map `D(r) = P(r) - r` has a positive window between the unstable cycle and
@@ -9,15 +10,94 @@
 //!   there is no cycle and nothing squeals, which counts as enclosed (as in
 //!   [`crate::ulc::point_enclosed`]), so the critical damping never exceeds the fold.
 //!
-//! Both bisect geometrically in `nu` to a relative bracket width `rtol`; the bracket is
-//! stored with the value. When the predicate does not change sign over `[nu_lo, nu_hi]`,
-//! the status says on which side the boundary lies.
+//! Both bisect geometrically to a relative bracket width `rtol`; the bracket is stored with
+//! the value. When the predicate does not change sign over `[lo, hi]`, the status says on
+//! which side the boundary lies. In `lambda` the same predicates are bisected: the
+//! operating point is quiet above the **critical belt speed** ([`critical_in`]) and no
+//! start squeals above the **fold in lambda** ([`fold_in`]). That each predicate changes
+//! sign once in the range is an assumption (true of the 64 x 64 chart at Table 1's tau and
+//! phi, `scans/atlas-lambda-nu.toml`: the critical damping falls with lambda, the fold
+//! rises then falls); a second crossing is not looked for.
+//!
+//! The bisections search the section cold at every step (not warm-started from the last
+//! step's crossing, as the points along a line are), so the predicate is a function of the
+//! parameter alone, not of the path the bisection took to it.
+//!
+//! **Accuracy of the fold (known limitation).** Near the fold the predicate is not a clean
+//! step: whether a start outside the cycle stays on stick-slip for the attractor window
+//! depends on digits far below any tolerance (runs linger on the ghost of the vanished
+//! stable cycle). Narrowing the cycle's bracket by false position instead of bisection
+//! moves its crossing by about 1e-10 and, on the 64 x 64 chart
+//! (`scans/atlas-lambda-nu.toml`), moved the bisected fold by more than its 1e-3 bracket at
+//! 44 of 64 belt speeds (median 0.4%, up to 11%, the largest below lambda = 1.3; the
+//! critical damping, where it equals the fold). The stored bracket is the bisection's, not
+//! this uncertainty.
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{Params, SolverConfig, State, Stepper};
 
 use super::point::{PointSettings, Search, StickFail, analyse, find_stick_slip, settings_for};
 use crate::error::ScanError;
+
+/// The parameter a boundary is bisected in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundaryParam {
+    /// The damping ratio `nu` (paper Section 4; `c` in physical specs).
+    #[default]
+    Nu,
+    /// The belt speed `lambda` (paper Section 4; `v_belt` in physical specs).
+    Lambda,
+}
+
+impl BoundaryParam {
+    /// The nondimensional key (`nu`, `lambda`), also the suffix of the stored datasets.
+    pub fn key(self) -> &'static str {
+        match self {
+            BoundaryParam::Nu => "nu",
+            BoundaryParam::Lambda => "lambda",
+        }
+    }
+
+    /// The physical key (`c`, `v_belt`).
+    pub fn physical_key(self) -> &'static str {
+        match self {
+            BoundaryParam::Nu => "c",
+            BoundaryParam::Lambda => "v_belt",
+        }
+    }
+
+    /// Words for messages and long names.
+    pub fn words(self) -> &'static str {
+        match self {
+            BoundaryParam::Nu => "damping ratio nu",
+            BoundaryParam::Lambda => "belt speed lambda",
+        }
+    }
+
+    /// Its value in `p`.
+    pub fn get(self, p: &Params) -> f64 {
+        match self {
+            BoundaryParam::Nu => p.nu,
+            BoundaryParam::Lambda => p.lambda,
+        }
+    }
+
+    /// `p` with this parameter set to `v`.
+    pub fn with(self, p: Params, v: f64) -> Params {
+        match self {
+            BoundaryParam::Nu => Params { nu: v, ..p },
+            BoundaryParam::Lambda => Params { lambda: v, ..p },
+        }
+    }
+
+    /// From its key.
+    pub fn from_key(key: &str) -> Option<BoundaryParam> {
+        [BoundaryParam::Nu, BoundaryParam::Lambda]
+            .into_iter()
+            .find(|b| b.key() == key)
+    }
+}
 
 /// How a boundary search ended. Stored as the HDF5 enum `*_status`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -57,12 +137,13 @@ impl BoundaryStatus {
     }
 }
 
-/// A boundary in `nu`.
+/// A boundary in `nu` or `lambda` (which one: the plan's [`BoundaryParam`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Boundary {
     /// How the search ended.
     pub status: BoundaryStatus,
-    /// Geometric middle of the bracket (NaN unless found).
+    /// Geometric middle of the bracket (NaN unless found), in the bisected parameter (the
+    /// field keeps its historical name `nu`).
     pub nu: f64,
     /// `[lo, hi]`: the predicate is false at `lo`, true at `hi`.
     pub bracket: [f64; 2],
@@ -82,7 +163,8 @@ impl Boundary {
     }
 }
 
-/// Geometric bisection of a predicate that is false below the boundary and true above.
+/// Geometric bisection of a predicate that is false below the boundary and true above (in
+/// any positive parameter; the name is historical).
 pub fn bisect_nu(
     mut pred: impl FnMut(f64) -> Result<bool, ScanError>,
     nu_lo: f64,
@@ -91,7 +173,7 @@ pub fn bisect_nu(
 ) -> Result<Boundary, ScanError> {
     if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite() && rtol > 0.0) {
         return Err(ScanError::Undetermined(format!(
-            "nu bracket [{nu_lo}, {nu_hi}] / rtol {rtol}: need 0 < nu_lo < nu_hi, rtol > 0"
+            "bracket [{nu_lo}, {nu_hi}] / rtol {rtol}: need 0 < lo < hi, rtol > 0"
         )));
     }
     let mut b = Boundary {
@@ -135,8 +217,8 @@ pub fn quiet_everywhere(
     let a = analyse(params, dt, solver, ps, None, true)?;
     a.squeals_somewhere().map(|s| !s).map_err(|e| {
         ScanError::Undetermined(format!(
-            "nu = {}: cannot tell whether anything squeals: {e}",
-            params.nu
+            "nu = {}, lambda = {}: cannot tell whether anything squeals: {e}",
+            params.nu, params.lambda
         ))
     })
 }
@@ -161,13 +243,134 @@ pub fn point_quiet(
             match find_stick_slip(&st, rep.r_section, ps, cs.t_return, &mut a.work.stats) {
                 Ok(_) => Ok(false),
                 Err(StickFail::FellInside { .. }) => Ok(true),
-                Err(StickFail::Failed(e)) => {
-                    Err(ScanError::Undetermined(format!("nu = {}: {e}", params.nu)))
-                }
+                Err(StickFail::Failed(e)) => Err(ScanError::Undetermined(format!(
+                    "nu = {}, lambda = {}: {e}",
+                    params.nu, params.lambda
+                ))),
             }
         }
         (_, None) => Err(ScanError::Undetermined("a bracket without a cycle".into())),
     }
+}
+
+/// Bisects a predicate of the parameters in `param`.
+fn bisect_in(
+    pred: impl Fn(Params) -> Result<bool, ScanError>,
+    base: Params,
+    param: BoundaryParam,
+    lo: f64,
+    hi: f64,
+    rtol: f64,
+) -> Result<Boundary, ScanError> {
+    bisect_nu(|v| pred(param.with(base, v)), lo, hi, rtol)
+}
+
+/// The fold of cycles in `param`: the value above which no start squeals.
+#[allow(clippy::too_many_arguments)] // model, integration, settings, parameter and bracket
+pub fn fold_in(
+    param: BoundaryParam,
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    lo: f64,
+    hi: f64,
+    rtol: f64,
+) -> Result<Boundary, ScanError> {
+    bisect_in(
+        |p| quiet_everywhere(p, dt, solver, ps),
+        base,
+        param,
+        lo,
+        hi,
+        rtol,
+    )
+}
+
+/// The critical value of `param` for `point`: above it the point does not squeal.
+#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
+pub fn critical_in(
+    param: BoundaryParam,
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    point: State,
+    lo: f64,
+    hi: f64,
+    rtol: f64,
+) -> Result<Boundary, ScanError> {
+    bisect_in(
+        |p| point_quiet(p, dt, solver, ps, point),
+        base,
+        param,
+        lo,
+        hi,
+        rtol,
+    )
+}
+
+/// Both boundaries of one combination of the other parameters, sharing work: each
+/// evaluation at a parameter value analyses the point once (section search, cycle and the
+/// stick-slip runs) and answers both predicates from it, so where the two bisections visit
+/// the same value (always the two ends and the first middle; all the way where the fold and
+/// the critical value coincide, as at low belt speed) the second costs nothing. Each
+/// result is what [`fold_in`] and [`critical_in`] give alone: the critical predicate read
+/// from that analysis is [`point_quiet`]'s (the same starts of the same stick-slip runs).
+/// `None` for a boundary not asked for.
+#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
+pub fn both_in(
+    param: BoundaryParam,
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    point: State,
+    [lo, hi]: [f64; 2],
+    rtol: f64,
+    [fold, critical]: [bool; 2],
+) -> [Option<Result<Boundary, ScanError>>; 2] {
+    use std::cell::RefCell;
+    use std::collections::HashMap;
+    // Per value: (quiet everywhere, point quiet), each an answer or the reason it has none.
+    type Answers = (Result<bool, String>, Result<bool, String>);
+    let memo: RefCell<HashMap<u64, Answers>> = RefCell::new(HashMap::new());
+    let eval = |v: f64| -> Result<Answers, ScanError> {
+        if let Some(a) = memo.borrow().get(&v.to_bits()) {
+            return Ok(a.clone());
+        }
+        let p = param.with(base, v);
+        let a = analyse(p, dt, solver, ps, None, true)?;
+        let here = |e: String| format!("nu = {}, lambda = {}: {e}", p.nu, p.lambda);
+        let everywhere = a
+            .squeals_somewhere()
+            .map(|s| !s)
+            .map_err(|e| here(format!("cannot tell whether anything squeals: {e}")));
+        let at_point = match (&a.search, &a.cycle, &a.stick) {
+            (Search::NoneBelow { .. }, _, _) => Ok(true),
+            (Search::FixedPointUnstable { .. }, _, _) => Ok(false),
+            (_, Some(rep), _) if rep.encloses(point.x, point.v) => Ok(true),
+            (_, Some(_), Some(Ok(_))) => Ok(false),
+            (_, Some(_), Some(Err(StickFail::FellInside { .. }))) => Ok(true),
+            (_, Some(_), Some(Err(StickFail::Failed(e)))) => Err(here(e.clone())),
+            _ => Err("a bracket without a cycle".into()),
+        };
+        let ans = (everywhere, at_point);
+        memo.borrow_mut().insert(v.to_bits(), ans.clone());
+        Ok(ans)
+    };
+    let run = |which: usize| {
+        bisect_nu(
+            |v| {
+                let (e, c) = eval(v)?;
+                if which == 0 { e } else { c }.map_err(ScanError::Undetermined)
+            },
+            lo,
+            hi,
+            rtol,
+        )
+    };
+    [fold.then(|| run(0)), critical.then(|| run(1))]
 }
 
 /// The fold of cycles: the damping above which no start squeals.
@@ -180,12 +383,7 @@ pub fn fold_nu(
     nu_hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
-    bisect_nu(
-        |nu| quiet_everywhere(Params { nu, ..base }, dt, solver, ps),
-        nu_lo,
-        nu_hi,
-        rtol,
-    )
+    fold_in(BoundaryParam::Nu, base, dt, solver, ps, nu_lo, nu_hi, rtol)
 }
 
 /// The critical damping of `point`: the cycle first encloses it.
@@ -200,8 +398,13 @@ pub fn critical_nu(
     nu_hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
-    bisect_nu(
-        |nu| point_quiet(Params { nu, ..base }, dt, solver, ps, point),
+    critical_in(
+        BoundaryParam::Nu,
+        base,
+        dt,
+        solver,
+        ps,
+        point,
         nu_lo,
         nu_hi,
         rtol,
@@ -213,6 +416,7 @@ mod tests {
     use super::*;
     use squeal_core::FrictionLaw;
 
+    use super::super::point::AtlasRegime;
     use crate::ulc::CycleSettings;
 
     #[test]
@@ -359,5 +563,136 @@ mod tests {
         );
         // Between the paper's two points: encloses at 1e-2, not at 1e-3.
         assert!(ours.nu > 1e-3 && ours.nu < 1e-2);
+    }
+
+    #[test]
+    fn critical_belt_speed_flips_the_label_of_rest() {
+        // Fig 10's damping nu = 1e-2: rest squeals at low belt speed and is quiet at
+        // Table 1's lambda = 3 (paper Fig 10), so a critical belt speed lies between.
+        let base = Params::paper(FrictionLaw::McMillan, 1e-2);
+        let rest = State { x: 0.0, v: 0.0 };
+        let ps = PointSettings::default();
+        let dt = 0.01;
+        let b = critical_in(
+            BoundaryParam::Lambda,
+            base,
+            dt,
+            SolverConfig::default(),
+            &ps,
+            rest,
+            1.0,
+            3.0,
+            1e-3,
+        )
+        .unwrap();
+        assert_eq!(b.status, BoundaryStatus::Found);
+        assert!(b.bracket[1] / b.bracket[0] - 1.0 <= 1e-3);
+        // Independent evidence: runs to settlement from rest (the classifier's rules, no
+        // section map), 2% below and above the bracket.
+        let cl = squeal_core::Classifier::default();
+        for (f, steady) in [(0.98 * b.bracket[0], false), (1.02 * b.bracket[1], true)] {
+            let st = Stepper::new(
+                BoundaryParam::Lambda.with(base, f),
+                dt,
+                SolverConfig::default(),
+            )
+            .unwrap();
+            let o = cl.classify(&st, rest);
+            assert_eq!(
+                o.regime == squeal_core::Regime::SteadySlip,
+                steady,
+                "lambda = {f} (critical {:?}): {o:?}",
+                b.bracket
+            );
+            // And the atlas's own label of the point.
+            let p = super::super::point::compute_point(
+                BoundaryParam::Lambda.with(base, f),
+                dt,
+                SolverConfig::default(),
+                &ps,
+                None,
+            )
+            .unwrap();
+            assert_eq!(p.regime.operating_point_squeals(), Some(!steady), "{f}");
+        }
+    }
+
+    #[test]
+    fn warm_and_cold_starts_agree_across_the_fold() {
+        // A line in nu across the fold at Table 1 (MODEL.md: between 0.019 and 0.031),
+        // each point warm-started from the previous one as the atlas's lines are, against
+        // the same points searched cold.
+        let base = Params::paper(FrictionLaw::McMillan, 0.0);
+        let ps = PointSettings::default();
+        let (dt, solver) = (0.01, SolverConfig::default());
+        let nus: Vec<f64> = (0..8).map(|k| 0.012 * 1.16f64.powi(k)).collect();
+        let mut warm = None;
+        let mut n_warm = 0;
+        let mut crossed = (false, false);
+        let mut line = Vec::new();
+        for &nu in &nus {
+            let p = Params { nu, ..base };
+            let w = super::super::point::compute_point(p, dt, solver, &ps, warm).unwrap();
+            let c = super::super::point::compute_point(p, dt, solver, &ps, None).unwrap();
+            assert_eq!(w.regime, c.regime, "nu = {nu}");
+            n_warm += usize::from(w.warm_started);
+            match (w.cycle, c.cycle) {
+                (Some(a), Some(b)) => {
+                    // Both brackets are narrower than rtol = 1e-9 (relative).
+                    let tol = 2.0 * ps.cycle.rtol * b.r_section;
+                    assert!((a.r_section - b.r_section).abs() <= tol, "nu = {nu}");
+                }
+                (None, None) => {}
+                (a, b) => panic!("nu = {nu}: warm {a:?} vs cold {b:?}"),
+            }
+            crossed.0 |= w.regime != AtlasRegime::SteadySlipOnly;
+            crossed.1 |= w.regime == AtlasRegime::SteadySlipOnly;
+            line.push(w.regime == AtlasRegime::SteadySlipOnly);
+            warm = w.cycle.map(|c| c.r_section);
+        }
+        // The line does cross the fold, and the warm starts were used.
+        assert!(crossed.0 && crossed.1, "the line should cross the fold");
+        assert!(n_warm >= 3, "{n_warm} warm starts");
+        // The bisected fold agrees with both lines: every point below its bracket has
+        // some start that squeals, every point above it none.
+        let fold = fold_nu(base, dt, solver, &ps, 0.012, 0.04, 1e-3).unwrap();
+        assert_eq!(fold.status, BoundaryStatus::Found);
+        for (&nu, &steady) in nus.iter().zip(&line) {
+            if nu < fold.bracket[0] {
+                assert!(!steady, "nu = {nu} below the fold {:?}", fold.bracket);
+            } else if nu > fold.bracket[1] {
+                assert!(steady, "nu = {nu} above the fold {:?}", fold.bracket);
+            }
+        }
+    }
+
+    #[test]
+    fn shared_boundaries_equal_separate_ones() {
+        // At lambda = 1 (the chart's fold and critical damping coincide below lambda ~ 1.3)
+        // and at Table 1's lambda = 3 (they differ): bit-identical to separate bisections.
+        let ps = PointSettings::default();
+        let (dt, solver) = (0.01, SolverConfig::default());
+        let rest = State { x: 0.0, v: 0.0 };
+        for lambda in [1.0, 3.0] {
+            let base = Params {
+                lambda,
+                ..Params::paper(FrictionLaw::McMillan, 0.0)
+            };
+            let [f, c] = both_in(
+                BoundaryParam::Nu,
+                base,
+                dt,
+                solver,
+                &ps,
+                rest,
+                [1e-3, 0.05],
+                1e-2,
+                [true, true],
+            );
+            let fold = fold_nu(base, dt, solver, &ps, 1e-3, 0.05, 1e-2).unwrap();
+            let crit = critical_nu(base, dt, solver, &ps, rest, 1e-3, 0.05, 1e-2).unwrap();
+            assert_eq!(f.unwrap().unwrap(), fold, "lambda = {lambda}");
+            assert_eq!(c.unwrap().unwrap(), crit, "lambda = {lambda}");
+        }
     }
 }

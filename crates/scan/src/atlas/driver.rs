@@ -128,39 +128,19 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
                     Boundary::none()
                 }
             };
-            let fold = if plan.fold {
-                keep(
-                    "fold",
-                    boundary::fold_nu(
-                        base,
-                        plan.dt,
-                        plan.solver,
-                        &ps,
-                        range[0],
-                        range[1],
-                        plan.boundary_rtol,
-                    ),
-                )
-            } else {
-                Boundary::none()
-            };
-            let critical = if plan.critical {
-                keep(
-                    "critical",
-                    boundary::critical_nu(
-                        base,
-                        plan.dt,
-                        plan.solver,
-                        &ps,
-                        ps.operating,
-                        range[0],
-                        range[1],
-                        plan.boundary_rtol,
-                    ),
-                )
-            } else {
-                Boundary::none()
-            };
+            let [fold, critical] = boundary::both_in(
+                plan.boundary_in,
+                base,
+                plan.dt,
+                plan.solver,
+                &ps,
+                ps.operating,
+                range,
+                plan.boundary_rtol,
+                [plan.fold, plan.critical],
+            );
+            let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));
+            let critical = critical.map_or_else(Boundary::none, |r| keep("critical", r));
             let note = (!notes.is_empty()).then(|| notes.join("; "));
             Ok(UnitResult::Boundary(BoundaryResult {
                 index: j,

@@ -18,6 +18,7 @@ use squeal_core::classify::{crossing, section_return};
 use squeal_core::{Params, SolverConfig, SolverStats, State, Stepper, friction};
 
 use crate::error::ScanError;
+
 use crate::ulc::{self, CycleReport, CycleSettings, SectionCycles};
 
 /// The regime of one parameter point. Stored as the HDF5 enum `regime`.
@@ -25,7 +26,9 @@ use crate::ulc::{self, CycleReport, CycleSettings, SectionCycles};
 #[repr(u8)]
 #[serde(rename_all = "snake_case")]
 pub enum AtlasRegime {
-    /// The evidence conflicts (a cycle but no stick-slip attractor found, or a failed run).
+    /// The evidence conflicts (the section method says the operating point squeals but its
+    /// own run settles, a cycle but no stick-slip attractor found, or a failed run); the
+    /// point's note says which.
     Undecided = 0,
     /// No start squeals: `D(r) < 0` on the whole sampled section range.
     SteadySlipOnly = 1,
@@ -216,8 +219,14 @@ pub struct PointResult {
 /// How the search ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Search {
-    /// A bracket `[lo, hi]` with `D(lo) <= 0 < D(hi)`; `warm` if from the neighbour's.
-    Bracket { lo: f64, hi: f64, warm: bool },
+    /// A bracket `[lo, hi]` with `D(lo) <= 0 < D(hi)` (the values in `d`); `warm` if from
+    /// the neighbour's.
+    Bracket {
+        lo: f64,
+        hi: f64,
+        d: [f64; 2],
+        warm: bool,
+    },
     /// `D < 0` at every sample (and at the refined maximum): no cycle below `r_max`.
     NoneBelow { r_max: f64 },
     /// `D(r_min) > 0`: the fixed point repels at that resolution.
@@ -271,6 +280,7 @@ pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mu
             return Search::Bracket {
                 lo: rs[i - 1],
                 hi: r,
+                d: [ds[i - 1], d],
                 warm: false,
             };
         }
@@ -293,6 +303,7 @@ pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mu
                     return Search::Bracket {
                         lo: rs[i - 1],
                         hi: r,
+                        d: [ds[i - 1], d],
                         warm: false,
                     };
                 }
@@ -316,6 +327,7 @@ pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mu
                 return Search::Bracket {
                     lo: rs[i - 1],
                     hi: r,
+                    d: [ds[i - 1], d],
                     warm: false,
                 };
             }
@@ -351,6 +363,7 @@ pub fn search(
                     return Search::Bracket {
                         lo: prev.0,
                         hi: r,
+                        d: [prev.1, d],
                         warm: true,
                     };
                 }
@@ -361,7 +374,79 @@ pub fn search(
     search_cold(st, cs, tangency_iters, w)
 }
 
-/// Locates and describes the cycle bracketed by `[lo, hi]` ([`ulc::locate`] on that range).
+/// Narrows a bracket `[lo, hi]` of the cycle's crossing (`D(lo) <= 0 < D(hi)`, values
+/// `d_lo`, `d_hi`) to the relative width `rtol` by the Illinois variant of false position.
+///
+/// The bracket is kept at every step, so the result meets the same tolerance as bisection
+/// ([`crate::ulc::section_cycles`]). Where the starting bracket holds one sign change it
+/// is the same root; where it holds several (`D` jumps where the orbit starts to stick)
+/// the two methods may settle on different ones, both sign changes of `D` to the
+/// tolerance: on the 64 x 64 chart (`scans/atlas-lambda-nu.toml`) at 18 of 4096 points,
+/// all above the fold (nu >= 0.046) and all "steady slip only" either way. Near a simple root `D` is
+/// smooth and the method converges superlinearly (about 6-8 returns from a 10% bracket
+/// instead of bisection's 27 to 1e-9). Each trial point is kept at least a quarter of the
+/// tolerance inside the bracket, so once the estimate is that close the next trial lands
+/// on the other side and closes the bracket; a step that fails to halve the bracket twice
+/// running is followed by a bisection step (so it never needs more than about twice
+/// bisection's count).
+#[allow(clippy::too_many_arguments)] // the bracket, its two values, the tolerance and limits
+pub fn refine(
+    st: &Stepper,
+    mut lo: f64,
+    mut hi: f64,
+    mut d_lo: f64,
+    mut d_hi: f64,
+    rtol: f64,
+    t_return: f64,
+    w: &mut Work,
+) -> (f64, f64) {
+    // -1: the last step moved `lo`, +1: `hi`, 0: none yet.
+    let mut side = 0i8;
+    let mut slow = 0u32;
+    for _ in 0..400 {
+        let width = hi - lo;
+        let tol = rtol * hi;
+        if width <= tol {
+            break;
+        }
+        let mut r = if slow >= 2 || d_hi.partial_cmp(&d_lo) != Some(std::cmp::Ordering::Greater) {
+            slow = 0;
+            0.5 * (lo + hi)
+        } else {
+            hi - d_hi * (hi - lo) / (d_hi - d_lo)
+        };
+        let margin = (0.25 * tol).min(0.5 * width);
+        r = r.clamp(lo + margin, hi - margin);
+        let d = w.d(st, r, t_return);
+        if d > 0.0 {
+            hi = r;
+            d_hi = d;
+            if side == 1 {
+                // `lo` kept twice: halve its weight (Illinois).
+                d_lo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = r;
+            d_lo = d;
+            if side == -1 {
+                d_hi *= 0.5;
+            }
+            side = -1;
+        }
+        if hi - lo > 0.5 * width {
+            slow += 1;
+        } else {
+            slow = 0;
+        }
+    }
+    (lo, hi)
+}
+
+/// Narrows `[lo, hi]` with [`refine`] and describes the cycle there
+/// ([`crate::ulc::locate_from`]: curve, period, multiplier, area). Falls back to
+/// [`crate::ulc::locate`] on the range when the bracket does not hold (`D(lo) > 0` or
+/// `D(hi) <= 0`).
 pub fn describe(
     params: Params,
     dt: f64,
@@ -370,6 +455,21 @@ pub fn describe(
     lo: f64,
     hi: f64,
 ) -> Result<CycleReport, ScanError> {
+    let st = Stepper::new(params, dt, solver)?;
+    let mut w = Work::default();
+    let (d_lo, d_hi) = (w.d(&st, lo, cs.t_return), w.d(&st, hi, cs.t_return));
+    describe_bracket(&st, cs, [lo, hi], [d_lo, d_hi], w)
+}
+
+/// [`describe`] with the bracket's `D` values known; `w` is the work so far (counted in
+/// the report).
+pub fn describe_bracket(
+    st: &Stepper,
+    cs: &CycleSettings,
+    [lo, hi]: [f64; 2],
+    [d_lo, d_hi]: [f64; 2],
+    mut w: Work,
+) -> Result<CycleReport, ScanError> {
     let narrow = CycleSettings {
         r_min: lo,
         r_max: hi,
@@ -377,7 +477,17 @@ pub fn describe(
         check_half_dt: false,
         ..*cs
     };
-    ulc::locate(params, dt, solver, &narrow)
+    if !(d_lo <= 0.0 && d_hi > 0.0) {
+        return ulc::locate(*st.params(), st.dt(), *st.solver(), &narrow);
+    }
+    let (lo, hi) = refine(st, lo, hi, d_lo, d_hi, cs.rtol, cs.t_return, &mut w);
+    let found = SectionCycles::Unstable {
+        r: 0.5 * (lo + hi),
+        lo,
+        hi,
+        stable_above: None,
+    };
+    ulc::locate_from(st, found, &narrow, w.stats, w.returns)
 }
 
 /// The smallest pure velocity kick from the fixed point that leaves the cycle: the smaller
@@ -685,8 +795,8 @@ pub fn analyse(
                 a.stick = Some(find_stick_slip(&st, 0.0, ps, cs.t_return, &mut work.stats));
             }
         }
-        Search::Bracket { lo, hi, .. } => {
-            let rep = describe(params, dt, solver, &cs, lo, hi)?;
+        Search::Bracket { lo, hi, d, .. } => {
+            let rep = describe_bracket(&st, &cs, [lo, hi], d, Work::default())?;
             work.returns += rep.returns;
             work.stats.merge(&rep.solver);
             if stick {
@@ -705,7 +815,9 @@ pub fn analyse(
     Ok(a)
 }
 
-/// How the cycle's crossing moves when `dt` halves (NaN if not found at `dt / 2`).
+/// How the cycle's crossing moves when `dt` halves (NaN if not found at `dt / 2`): the
+/// crossing at `dt / 2` bracketed in `r (1 -+ 2%)` and narrowed by [`refine`] to the same
+/// tolerance as at `dt`; the whole search range when that bracket does not hold.
 fn half_dt_shift(
     params: Params,
     dt: f64,
@@ -715,19 +827,16 @@ fn half_dt_shift(
     w: &mut Work,
 ) -> Result<f64, ScanError> {
     let st2 = Stepper::new(params, dt / 2.0, solver)?;
-    let near = CycleSettings {
-        r_min: r * 0.98,
-        r_max: r * 1.02,
-        samples: 2,
-        ..*cs
-    };
+    let (lo, hi) = (r * 0.98, r * 1.02);
+    let (d_lo, d_hi) = (w.d(&st2, lo, cs.t_return), w.d(&st2, hi, cs.t_return));
+    if d_lo <= 0.0 && d_hi > 0.0 {
+        let (lo, hi) = refine(&st2, lo, hi, d_lo, d_hi, cs.rtol, cs.t_return, w);
+        return Ok(0.5 * (lo + hi) - r);
+    }
     let mut ret = 0;
-    let got = match ulc::section_cycles(&st2, &near, &mut w.stats, &mut ret) {
+    let got = match ulc::section_cycles(&st2, cs, &mut w.stats, &mut ret) {
         SectionCycles::Unstable { r: r2, .. } => r2 - r,
-        _ => match ulc::section_cycles(&st2, cs, &mut w.stats, &mut ret) {
-            SectionCycles::Unstable { r: r2, .. } => r2 - r,
-            _ => f64::NAN,
-        },
+        _ => f64::NAN,
     };
     w.returns += ret;
     Ok(got)
@@ -820,10 +929,60 @@ pub fn compute_point(
         (_, Some(Err(StickFail::Failed(e)))) => res.note = Some(e.clone()),
         (_, None) => res.note = Some("no stick-slip run".into()),
     }
+    if res.regime == AtlasRegime::BistableSqueals {
+        confirm_operating_point(params, dt, solver, ps, &mut res, &mut a.work)?;
+    }
     res.returns = a.work.returns;
     res.evaluations = a.work.stats.evaluations;
     res.failures = a.work.stats.failures;
     Ok(res)
+}
+
+/// Checks a "bistable, operating point squeals" label by running the operating point
+/// itself to settlement ([`squeal_core::Classifier`], the rules of `squeal classify`).
+///
+/// The label rests on two section-method findings: the operating point lies outside the
+/// unstable cycle, and a run started outside the cycle stayed there for the attractor's
+/// `transient + window` revolutions. Just above the fold of cycles that run can sit for
+/// that long on the ghost of the vanished stable cycle (a bottleneck where `D` is barely
+/// negative) and still end in steady slip: at nu = 0.0299, lambda = 0.803
+/// (`scans/atlas-lambda-nu.toml`) rest and big starts all reach the fixed point by
+/// t = 450 at dt = 0.005 and 0.0025 while the section method saw a band at r = 0.7968.
+/// When the run from the operating point does not end in stick-slip, the evidence
+/// conflicts: the point is undecided, with a note naming both findings (never a guess).
+fn confirm_operating_point(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    res: &mut PointResult,
+    w: &mut Work,
+) -> Result<(), ScanError> {
+    let st = Stepper::new(params, dt, solver)?;
+    let o = squeal_core::Classifier::default().classify(&st, ps.operating);
+    w.stats.merge(&o.stats);
+    if o.regime == squeal_core::Regime::Undecided {
+        // No verdict within the classifier's t_max (seen at low damping, where the run from
+        // near the fixed point grows slowly): no evidence against the label, but it is not
+        // confirmed either, and the note says so.
+        res.note = Some(format!(
+            "unconfirmed: the operating point's own run did not settle by t = {:.0} ({})",
+            o.t_decision,
+            o.reason.name()
+        ));
+    } else if o.regime != squeal_core::Regime::StickSlip {
+        let band = res.stick_slip.map_or(f64::NAN, |s| s.r_band[1]);
+        res.note = Some(format!(
+            "conflict: the section method says the operating point squeals (outside the unstable cycle at r = {:.6}, stick-slip band at r = {band:.6} for {} revolutions) but its own run ends {} ({} at t = {:.1})",
+            res.cycle.map_or(f64::NAN, |c| c.r_section),
+            ps.transient + ps.window,
+            o.regime.name(),
+            o.reason.name(),
+            o.t_decision
+        ));
+        res.regime = AtlasRegime::Undecided;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -964,5 +1123,46 @@ mod tests {
         let p = point(FrictionLaw::McMillan, 0.0, None);
         assert_eq!(p.regime, AtlasRegime::FixedPointUnstable);
         assert!(p.stick_slip.is_some());
+    }
+
+    #[test]
+    fn conflicting_evidence_is_undecided() {
+        // `scans/atlas-lambda-nu.toml` at nu index 52, lambda index 12, warm-started from
+        // the previous point of its line (lambda index 11, crossing 0.52686, as stored by
+        // that run at dt = 0.005): the section method found an unstable cycle and a
+        // stick-slip band outside it for 80 revolutions, but `squeal trajectory --nu
+        // 0.029935772947 --lambda 0.802653930857 --x0 0 --v0 0 --t-end 4000` reaches the
+        // fixed point at dt = 0.005 (t = 334) and 0.0025 (t = 451), as do starts at
+        // (-4, 0), (1, 2), (-2, -3), (4, 3): evidence that conflicts.
+        let p = Params {
+            nu: 0.029_935_772_947_204_92,
+            lambda: 0.802_653_930_857_430_8,
+            ..Params::paper(FrictionLaw::McMillan, 0.0)
+        };
+        let r = compute_point(
+            p,
+            0.005,
+            SolverConfig::default(),
+            &PointSettings::default(),
+            Some(0.526_863_078_829_873_4),
+        )
+        .unwrap();
+        assert_eq!(r.regime, AtlasRegime::Undecided, "{r:?}");
+        let note = r.note.unwrap();
+        assert!(
+            note.starts_with("conflict:") && note.contains("steady_slip"),
+            "{note}"
+        );
+        // Where the evidence agrees (paper Fig 9, nu = 1e-3: rest squeals), the label stands.
+        let r = compute_point(
+            Params::paper(FrictionLaw::McMillan, 1e-3),
+            0.005,
+            SolverConfig::default(),
+            &PointSettings::default(),
+            None,
+        )
+        .unwrap();
+        assert_eq!(r.regime, AtlasRegime::BistableSqueals);
+        assert!(r.note.is_none());
     }
 }

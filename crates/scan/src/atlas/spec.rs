@@ -37,10 +37,14 @@
 //! x = [-2.0, 4.0]
 //! v = [-3.0, 3.0]
 //! [boundaries]
-//! fold = true                        # the damping above which no start squeals
-//! critical = true                    # the damping at which the operating point stops squealing
-//! nu_lo = 1e-4                       # bisection range when the damping is not swept
+//! in = "nu"                          # bisect in nu or lambda; default nu if nu (c) is
+//!                                    # swept, else lambda if lambda (v_belt) is, else nu
+//! fold = true                        # the value above which no start squeals
+//! critical = true                    # the value at which the operating point stops squealing
+//! nu_lo = 1e-4                       # bisection range when nu is not swept
 //! nu_hi = 0.2
+//! lambda_lo = 0.1                    # bisection range when lambda is not swept
+//! lambda_hi = 10.0
 //! rtol = 1e-3
 //! [grid]                             # optional: one basin map per point (scan spec keys)
 //! x0 = { min = -2.0, max = 4.0, count = 64 }   # the box its cells cover is the
@@ -64,6 +68,7 @@ use squeal_core::{
     Classifier, FrictionLaw, Params, Physical, Scheme, SolverConfig, SolverKind, State,
 };
 
+use super::boundary::BoundaryParam;
 use super::point::{PointSettings, Region};
 use crate::error::ScanError;
 use crate::grid::Grid;
@@ -175,10 +180,14 @@ struct BoxFile {
 #[derive(Deserialize, Debug, Default)]
 #[serde(deny_unknown_fields)]
 struct BoundariesFile {
+    #[serde(rename = "in")]
+    in_: Option<String>,
     fold: Option<bool>,
     critical: Option<bool>,
     nu_lo: Option<f64>,
     nu_hi: Option<f64>,
+    lambda_lo: Option<f64>,
+    lambda_hi: Option<f64>,
     rtol: Option<f64>,
 }
 
@@ -265,6 +274,10 @@ pub struct AtlasPlan {
     pub critical: bool,
     /// Bisection range in `nu` when the damping is not swept.
     pub nu_range: [f64; 2],
+    /// The parameter the boundaries are bisected in (`[boundaries] in`).
+    pub boundary_in: BoundaryParam,
+    /// Bisection range in `lambda` when the belt speed is not swept.
+    pub lambda_range: [f64; 2],
     /// Relative bracket width of the boundaries.
     pub boundary_rtol: f64,
     /// Output file.
@@ -616,6 +629,44 @@ impl AtlasPlan {
                 "0 < nu_lo < nu_hi <= 10",
             ));
         }
+        let lambda_range = [bd.lambda_lo.unwrap_or(0.1), bd.lambda_hi.unwrap_or(10.0)];
+        if !(lambda_range[0] > 0.0 && lambda_range[1] > lambda_range[0] && lambda_range[1] <= 1e3) {
+            return Err(invalid(
+                path,
+                "boundaries.lambda_lo",
+                format!("{lambda_range:?}"),
+                "0 < lambda_lo < lambda_hi <= 1000",
+            ));
+        }
+        let swept = |k: &str| params.iter().any(|a| a.key == k && a.values.len() > 1);
+        let boundary_in = match bd.in_.as_deref() {
+            Some(k) => BoundaryParam::from_key(k)
+                .ok_or_else(|| invalid(path, "boundaries.in", k, "\"nu\" or \"lambda\""))?,
+            None if swept("nu") || swept("c") => BoundaryParam::Nu,
+            None if swept("lambda") || swept("v_belt") => BoundaryParam::Lambda,
+            None => BoundaryParam::Nu,
+        };
+        if units == Units::Physical {
+            // The bisected parameter must be swept alone along its axis: lambda also moves
+            // with k, m, mu_k, g and nu with k and m.
+            let others: &[&str] = match boundary_in {
+                BoundaryParam::Nu => &["m", "k"],
+                BoundaryParam::Lambda => &["m", "k", "mu_k", "g"],
+            };
+            if let Some(k) = others.iter().find(|k| swept(k)) {
+                if bd.fold.unwrap_or(true) || bd.critical.unwrap_or(true) {
+                    return Err(invalid(
+                        path,
+                        "boundaries.in",
+                        boundary_in.key(),
+                        &format!(
+                            "a parameter that only {} moves: {k} is swept too (set [boundaries] fold = false, critical = false, or bisect in the other one)",
+                            boundary_in.physical_key()
+                        ),
+                    ));
+                }
+            }
+        }
         let boundary_rtol = bd.rtol.unwrap_or(1e-3);
         if !(boundary_rtol > 0.0 && boundary_rtol < 0.5) {
             return Err(invalid(
@@ -641,6 +692,8 @@ impl AtlasPlan {
             fold: bd.fold.unwrap_or(true),
             critical: bd.critical.unwrap_or(true),
             nu_range,
+            boundary_in,
+            lambda_range,
             boundary_rtol,
             maps,
             out: f.output.path,
@@ -832,9 +885,44 @@ impl AtlasPlan {
         (key, self.axes().iter().position(|a| a.key == key))
     }
 
-    /// Shape of the boundary array: the swept axes except the damping.
+    /// The bisected parameter's key (`nu`/`c` or `lambda`/`v_belt`) and its position among
+    /// the swept axes: the boundary array spans the other swept axes.
+    pub fn boundary_axis(&self) -> (&'static str, Option<usize>) {
+        let key = match self.units {
+            Units::Nondimensional => self.boundary_in.key(),
+            Units::Physical => self.boundary_in.physical_key(),
+        };
+        (key, self.axes().iter().position(|a| a.key == key))
+    }
+
+    /// A boundary value `v` (nondimensional, in the bisected parameter) in SI units at point
+    /// `i` of a physical plan, with the units; `None` in nondimensional plans.
+    pub fn boundary_si(&self, i: usize, v: f64) -> Option<(f64, &'static str)> {
+        let s = self.physical_at(i)?.scales();
+        Some(match self.boundary_in {
+            BoundaryParam::Nu => (v * s.damping, "N s/m"),
+            BoundaryParam::Lambda => (v * s.velocity, "m/s"),
+        })
+    }
+
+    /// The stored name of a boundary column (`fold_nu` -> `fold_lambda` when bisecting in
+    /// lambda) and its long name.
+    pub fn boundary_dataset(&self, name: &str, long_name: &str) -> (String, String) {
+        match self.boundary_in {
+            BoundaryParam::Nu => (name.to_string(), long_name.to_string()),
+            BoundaryParam::Lambda => (
+                name.replace("_nu", "_lambda"),
+                long_name
+                    .replace("critical damping ratio", "critical belt speed lambda")
+                    .replace("critical damping", "critical belt speed")
+                    .replace("damping ratio", "belt speed lambda"),
+            ),
+        }
+    }
+
+    /// Shape of the boundary array: the swept axes except the bisected one.
     pub fn boundary_shape(&self) -> Vec<usize> {
-        let (_, d) = self.damping_axis();
+        let (_, d) = self.boundary_axis();
         self.shape()
             .into_iter()
             .enumerate()
@@ -852,11 +940,12 @@ impl AtlasPlan {
         }
     }
 
-    /// For boundary search `j`: a representative point (damping index 0) and the bisection
-    /// range in `nu` (the swept damping's range there, or `nu_range`).
+    /// For boundary search `j`: a representative point (index 0 along the bisected axis)
+    /// and the bisection range in the bisected parameter (the swept axis' range there, or
+    /// `nu_range` / `lambda_range`).
     pub fn boundary_setup(&self, j: usize) -> (usize, [f64; 2]) {
         let shape = self.shape();
-        let (_, d) = self.damping_axis();
+        let (_, d) = self.boundary_axis();
         let bshape = self.boundary_shape();
         let mut rem = j;
         let mut bidx = vec![0; bshape.len()];
@@ -874,15 +963,19 @@ impl AtlasPlan {
             });
         }
         let i = idx.iter().zip(&shape).fold(0, |acc, (x, n)| acc * n + x);
+        let bp = self.boundary_in;
         let range = match d {
             Some(dk) => {
                 let n = shape[dk];
                 let stride: usize = shape[dk + 1..].iter().product();
-                let a = self.params_at(i).nu;
-                let z = self.params_at(i + (n - 1) * stride).nu;
+                let a = bp.get(&self.params_at(i));
+                let z = bp.get(&self.params_at(i + (n - 1) * stride));
                 [a.min(z), a.max(z)]
             }
-            None => self.nu_range,
+            None => match bp {
+                BoundaryParam::Nu => self.nu_range,
+                BoundaryParam::Lambda => self.lambda_range,
+            },
         };
         (i, range)
     }
