@@ -145,6 +145,26 @@ impl Dims {
     }
 }
 
+/// A per-map variable over the map dimension, with its long name and units.
+fn per_map<T: H5Type>(
+    file: &File,
+    dims: &mut Dims,
+    map_dim: &Dataset,
+    name: &str,
+    vals: &Array1<T>,
+    long_name: &str,
+    units: &str,
+) -> hdf5::Result<()> {
+    let ds = file
+        .new_dataset_builder()
+        .obj_track_times(false)
+        .with_data(vals)
+        .create(name)?;
+    str_attr(&ds, "long_name", long_name)?;
+    str_attr(&ds, "units", units)?;
+    dims.attach(file, &ds, &[map_dim])
+}
+
 /// A per-map cycle series: dataset name, value, long name.
 type Series = (&'static str, fn(&CycleReport) -> f64, &'static str);
 
@@ -630,14 +650,7 @@ fn write_all(
         // Per-map consistency checks.
         for (i, (name, long)) in CHECK_FIELDS.iter().enumerate() {
             let vals: Array1<i64> = checks.iter().map(|c| c.values()[i]).collect();
-            let ds = file
-                .new_dataset_builder()
-                .obj_track_times(false)
-                .with_data(&vals)
-                .create(*name)?;
-            str_attr(&ds, "long_name", long)?;
-            str_attr(&ds, "units", "1")?;
-            dims.attach(file, &ds, &[&map_dim])?;
+            per_map(file, &mut dims, &map_dim, name, &vals, long, "1")?;
         }
 
         // The landscape and its evidence, for laws with true stick.
@@ -667,28 +680,14 @@ fn write_all(
                     .iter()
                     .map(|l| l.as_ref().map_or(f64::NAN, get))
                     .collect();
-                let ds = file
-                    .new_dataset_builder()
-                    .obj_track_times(false)
-                    .with_data(&vals)
-                    .create(*name)?;
-                str_attr(&ds, "long_name", long)?;
-                str_attr(&ds, "units", units)?;
-                dims.attach(file, &ds, &[&map_dim])?;
+                per_map(file, &mut dims, &map_dim, name, &vals, long, units)?;
             }
         }
 
         // Per-map basin stability (squeal_scan::basin).
         for (i, (name, long)) in BASIN_FIELDS.iter().enumerate() {
             let vals: Array1<f64> = basins.iter().map(|b| b.values()[i]).collect();
-            let ds = file
-                .new_dataset_builder()
-                .obj_track_times(false)
-                .with_data(&vals)
-                .create(*name)?;
-            str_attr(&ds, "long_name", long)?;
-            str_attr(&ds, "units", "1")?;
-            dims.attach(file, &ds, &[&map_dim])?;
+            per_map(file, &mut dims, &map_dim, name, &vals, long, "1")?;
         }
 
         // Cycles.
