@@ -13,7 +13,6 @@ use serde_json::{Value, json};
 use squeal_plot::{Curve, Rgb};
 use squeal_scan::atlas::columns::{COLUMNS, Si};
 use squeal_scan::atlas::{AtlasPlan, AtlasRegime, BoundaryStatus, Units, driver};
-use squeal_store::Shard;
 use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
 
 use super::common;
@@ -45,28 +44,7 @@ impl squeal_scan::Observer for BarObserver<'_> {
 /// Runs the atlas.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = AtlasPlan::from_file(&args.spec)?;
-    let out = args.run.out.clone().unwrap_or_else(|| plan.out.clone());
-    if out.extension().and_then(|e| e.to_str()) != Some("h5") {
-        bail!(
-            "output {}: expected a file name ending in .h5",
-            out.display()
-        );
-    }
-    let shard: Option<Shard> = args
-        .run
-        .shard
-        .as_deref()
-        .map(|s| s.parse().with_context(|| format!("--shard {s}")))
-        .transpose()?;
-    if let Some(n) = args.run.threads {
-        if n == 0 || n > 4096 {
-            bail!("--threads {n}: expected 1..=4096");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("--threads")?;
-    }
+    let (out, shard) = args.run.setup(&plan.out)?;
     let png = common::sibling(&out, "", "png");
     // Charts exist for one swept parameter (bifurcation diagram) or two (stability chart).
     let chartable = matches!(plan.axes().len(), 1 | 2);

@@ -235,6 +235,41 @@ pub struct RunArgs {
     pub shard: Option<String>,
 }
 
+impl RunArgs {
+    /// Checks the flags before any computing and sets the worker threads: the output file
+    /// (`--out`, else the spec's `default_out`; it must end in .h5) and the shard, if any.
+    pub fn setup(
+        &self,
+        default_out: &Path,
+    ) -> anyhow::Result<(PathBuf, Option<squeal_scan::Shard>)> {
+        let out = self
+            .out
+            .clone()
+            .unwrap_or_else(|| default_out.to_path_buf());
+        if out.extension().and_then(|e| e.to_str()) != Some("h5") {
+            bail!(
+                "output {}: expected a file name ending in .h5",
+                out.display()
+            );
+        }
+        let shard = self
+            .shard
+            .as_deref()
+            .map(|s| s.parse().with_context(|| format!("--shard {s}")))
+            .transpose()?;
+        if let Some(n) = self.threads {
+            if n == 0 || n > 4096 {
+                bail!("--threads {n}: expected 1..=4096");
+            }
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build_global()
+                .context("--threads")?;
+        }
+        Ok((out, shard))
+    }
+}
+
 /// Basin stability of one map as JSON: per regime the share `p` of the computed cells, its
 /// binomial `se`, the shares on the nested `2h` and `4h` sub-grids and the change
 /// `p_h - p_2h` (the grid error bar); `n` is the number of computed cells.

@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-use squeal_scan::{Observer, Pending, Plan, Shard, drive};
+use squeal_scan::{Observer, Pending, Plan, drive};
 use squeal_store::{OutputState, ScanWriter};
 
 use super::common;
@@ -96,28 +96,7 @@ fn install_signals(stop: &Arc<AtomicBool>) -> anyhow::Result<()> {
 /// Runs the scan.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = Plan::from_file(&args.spec)?;
-    let out = args.run.out.clone().unwrap_or_else(|| plan.output.clone());
-    if out.extension().and_then(|e| e.to_str()) != Some("h5") {
-        bail!(
-            "output {}: expected a file name ending in .h5",
-            out.display()
-        );
-    }
-    let shard: Option<Shard> = args
-        .run
-        .shard
-        .as_deref()
-        .map(|s| s.parse().with_context(|| format!("--shard {s}")))
-        .transpose()?;
-    if let Some(n) = args.run.threads {
-        if n == 0 || n > 4096 {
-            bail!("--threads {n}: expected 1..=4096");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("--threads")?;
-    }
+    let (out, shard) = args.run.setup(&plan.output)?;
     let sample = plan.grid.is_sample();
     let pics = pictures(&out, plan.maps.len(), sample);
 
