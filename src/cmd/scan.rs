@@ -303,6 +303,14 @@ pub fn landscape_json(l: Option<&squeal_store::LandscapeInfo>) -> serde_json::Va
     })
 }
 
+/// The line for a map whose return map jumps past the cycle from `r` (the scanner's
+/// [`squeal_scan::scanner::Outside::Escapes`]).
+pub fn escape_words(r: f64) -> String {
+    format!(
+        "the return map jumps past the cycle (the start r = {r:.4} on the section returns inside): starts outside may end in steady slip, so none is labelled stick-slip for lying outside, and none by its band unless a stick-slip attractor was found outside"
+    )
+}
+
 /// One line per check that found something, in words.
 pub fn check_words(values: &[i64]) -> Vec<String> {
     let v = |name: &str| {
@@ -392,6 +400,9 @@ fn report(
                 if let Some(Some(why)) = info.no_cycle.get(i) {
                     o.insert("no_cycle".into(), why.clone().into());
                 }
+                if let Some(Some(r)) = info.escape.get(i) {
+                    o.insert("escape".into(), (*r).into());
+                }
                 if !info.landscapes.is_empty() {
                     o.insert(
                         "landscape".into(),
@@ -440,6 +451,9 @@ fn report(
         }
         if let Some(Some(why)) = info.no_cycle.get(i) {
             println!("    no unstable cycle: {why}");
+        }
+        if let Some(Some(r)) = info.escape.get(i) {
+            println!("    {}", escape_words(*r));
         }
         if let Some(Some(l)) = info.landscapes.get(i) {
             for w in landscape_words(l) {

@@ -134,7 +134,8 @@ impl Reason {
 pub struct Trap {
     /// Section amplitudes below this are inside the unstable cycle.
     pub r_inner: f64,
-    /// Section amplitudes above this are outside the unstable cycle.
+    /// Section amplitudes above this are outside the unstable cycle (infinite where the
+    /// outside is not invariant: [`Reason::OutsideCycle`] then never fires).
     pub r_outer: f64,
 }
 
@@ -153,6 +154,11 @@ pub struct Classifier {
     pub max_radius: f64,
     /// Early stopping on the located unstable cycle, if any.
     pub trap: Option<Trap>,
+    /// Whether a run may be labelled stick-slip by its section amplitudes
+    /// ([`Reason::SettledStickSlip`], [`Reason::StickingBand`]). Off where the return map
+    /// jumps past the unstable cycle and no stick-slip attractor was found outside it: a
+    /// long transient there looks like a band and still ends in steady slip.
+    pub band_rules: bool,
 }
 
 impl Default for Classifier {
@@ -164,6 +170,7 @@ impl Default for Classifier {
             settle_rtol: 0.05,
             max_radius: 1e6,
             trap: None,
+            band_rules: true,
         }
     }
 }
@@ -458,7 +465,7 @@ impl Watch<'_> {
         }
         self.ring.push_back(c.r);
         self.stuck.push_back(std::mem::take(&mut self.stuck_now));
-        if self.ring.len() == window {
+        if self.ring.len() == window && self.cl.band_rules {
             let ring = self.ring.make_contiguous();
             if self.cl.settled(ring) {
                 return Some((Regime::StickSlip, Reason::SettledStickSlip));

@@ -67,6 +67,10 @@ pub struct MapChecks {
     pub origin: Option<OriginCheck>,
     /// Against the landscape, where it states one regime for every start.
     pub landscape: Option<LandscapeCheck>,
+    /// The return map jumps past the cycle ([`crate::ulc::escape_above`]): starts outside
+    /// may end in steady slip, so only stick-slip inside counts as the wrong side.
+    #[serde(default)]
+    pub escapes: bool,
 }
 
 /// The checks as stored per map (datasets over the map dimension): name, long name. The
@@ -122,10 +126,15 @@ impl MapChecks {
         ]
     }
 
-    /// Empty checks for a map whose cycle is `curve` (if any) and whose landscape is
-    /// `landscape` (if stated).
-    pub fn new(curve: Option<&ClosedCurve>, landscape: Option<Landscape>) -> MapChecks {
+    /// Empty checks for a map whose cycle is `curve` (if any; `escapes` when its outside is
+    /// not invariant) and whose landscape is `landscape` (if stated).
+    pub fn new(
+        curve: Option<&ClosedCurve>,
+        landscape: Option<Landscape>,
+        escapes: bool,
+    ) -> MapChecks {
         MapChecks {
+            escapes,
             wrong_side: curve.map(|_| WrongSide::default()),
             landscape: landscape
                 .and_then(Landscape::only_regime)
@@ -185,7 +194,7 @@ impl MapChecks {
             let inside = c.encloses(p);
             let regime = cell.regime();
             let wrong = match regime {
-                Some(Regime::SteadySlip) => !inside,
+                Some(Regime::SteadySlip) => !inside && !self.escapes,
                 Some(Regime::StickSlip) => inside,
                 _ => false,
             };
@@ -260,7 +269,7 @@ path = "t.h5"
         cells[8].regime = 1;
         cells[0].audit = Audit::Disagrees as u8;
         cells[1].audit = Audit::Agrees as u8;
-        let mut c = MapChecks::new(Some(&sq), None);
+        let mut c = MapChecks::new(Some(&sq), None, false);
         c.add_block(&plan, Some(&sq), 0, &cells);
         assert_eq!(
             c.wrong_side,
@@ -306,12 +315,12 @@ path = "t.h5"
             (Landscape::Bistable, -1),
             (Landscape::Unknown, -1),
         ] {
-            let mut c = MapChecks::new(None, Some(l));
+            let mut c = MapChecks::new(None, Some(l), false);
             c.add_block(&plan, None, 0, &cells);
             assert_eq!(c.values()[7], want, "{l:?}");
             assert_eq!(c.any_disagreement(), want > 0, "{l:?}");
         }
-        let mut c = MapChecks::new(None, Some(Landscape::StickSlipOnly));
+        let mut c = MapChecks::new(None, Some(Landscape::StickSlipOnly), false);
         c.add_block(&plan, None, 0, &cells[1..]);
         assert_eq!(c.values()[7], 0);
     }

@@ -58,12 +58,21 @@ pub struct StartRule {
     curve: CurveLocator,
     margin: f64,
     centre: State,
+    /// Whether starts outside the cycle are decided (off where the return map jumps past
+    /// the cycle: [`crate::ulc::escape_above`]).
+    outside: bool,
 }
 
 impl StartRule {
     /// The rule for `curve` around the fixed point `centre` with the trap's relative margin
     /// at the section crossing `r_section`.
-    pub fn new(curve: ClosedCurve, centre: State, r_section: f64, trap_margin: f64) -> StartRule {
+    pub fn new(
+        curve: ClosedCurve,
+        centre: State,
+        r_section: f64,
+        trap_margin: f64,
+        outside: bool,
+    ) -> StartRule {
         let n = curve.len();
         let seg = |i: usize| {
             let j = (i + 1) % n;
@@ -84,6 +93,7 @@ impl StartRule {
             margin: trap_margin * r_section + sag,
             curve: CurveLocator::new(curve),
             centre,
+            outside,
         }
     }
 
@@ -96,7 +106,8 @@ impl StartRule {
     pub fn decide(&self, p: State) -> Option<(Regime, Reason)> {
         Some(match self.curve.side(p, self.margin)? {
             true => (Regime::SteadySlip, Reason::StartInsideCycle),
-            false => (Regime::StickSlip, Reason::StartOutsideCycle),
+            false if self.outside => (Regime::StickSlip, Reason::StartOutsideCycle),
+            false => return None,
         })
     }
 
@@ -136,6 +147,46 @@ pub struct MapContext {
     pub start_rule: Option<StartRule>,
     /// The landscape of a law with true stick ([`crate::landscape`]); `None` for others.
     pub landscape: Option<squeal_core::LandscapeEvidence>,
+    /// Whether the outside of the unstable cycle was found invariant (`None`: no cycle
+    /// found or not searched).
+    pub outside: Option<Outside>,
+}
+
+/// What the section search says of the outside of the unstable cycle, and what the scan
+/// does about it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outside {
+    /// No sampled start outside the cycle returns inside: starts outside end in stick-slip,
+    /// and the trap and the start rule may say so without a run.
+    Invariant,
+    /// The start `r_escape` (and maybe others) returns inside ([`crate::ulc::escape_above`]):
+    /// the trap and the start rule decide only inside the cycle. `attractor`: whether runs
+    /// from far starts stayed outside for 80 revolutions (the atlas's stick-slip test,
+    /// [`crate::atlas::point::find_stick_slip`]); if not, no run is labelled stick-slip
+    /// by its section band either (runs end at the fixed point or undecided at `t_max`).
+    Escapes { r_escape: f64, attractor: bool },
+}
+
+impl Outside {
+    /// One line for summaries.
+    pub fn words(&self) -> String {
+        match self {
+            Outside::Invariant => {
+                "outside the cycle invariant (no sampled start returns inside)".into()
+            }
+            Outside::Escapes {
+                r_escape,
+                attractor,
+            } => format!(
+                "the return map jumps past the cycle (the start r = {r_escape:.4} returns inside): no start labelled stick-slip for lying outside; {}",
+                if *attractor {
+                    "a stick-slip attractor was found outside (band rules kept)"
+                } else {
+                    "no stick-slip attractor found outside (band rules off: no start is labelled stick-slip by its band)"
+                }
+            ),
+        }
+    }
 }
 
 /// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
@@ -168,10 +219,16 @@ impl MapContext {
         let stepper = Stepper::new(params, plan.dt, plan.solver)?;
         let cs = cycle_settings(plan, &params);
         let mut classifier = plan.classifier;
-        let needs_search = plan.early_stop == EarlyStop::Cycle || plan.locate_cycle;
+        // The section is searched for every law without true stick, early stopping or not:
+        // the classifier's band rules need to know whether the outside of the cycle is
+        // invariant ([`Outside`]).
+        let needs_search = plan.early_stop == EarlyStop::Cycle
+            || plan.locate_cycle
+            || !params.law.has_true_stick();
         let mut section = None;
         let mut cycle = None;
         let mut start_rule = None;
+        let mut outside = None;
         if needs_search {
             let mut stats = Default::default();
             let mut returns = 0;
@@ -180,11 +237,38 @@ impl MapContext {
             // bounded friction and nu > 0 nothing escapes, and any attracting cycle out there
             // is stick-slip. (The sampled return map also changes sign inside the
             // quasi-periodic stick-slip band; those are not further unstable cycles.)
+            if let SectionCycles::Unstable { r, escape, .. } = found {
+                outside = Some(match escape {
+                    None => Outside::Invariant,
+                    Some(r_escape) => {
+                        let ps = crate::atlas::point::PointSettings {
+                            cycle: cs,
+                            ..Default::default()
+                        };
+                        let attractor = crate::atlas::point::find_stick_slip(
+                            &stepper,
+                            r,
+                            &ps,
+                            cs.t_return,
+                            &mut SolverStats::default(),
+                        )
+                        .is_ok();
+                        classifier.band_rules = attractor;
+                        Outside::Escapes {
+                            r_escape,
+                            attractor,
+                        }
+                    }
+                });
+            }
             if plan.early_stop == EarlyStop::Cycle {
-                if let SectionCycles::Unstable { lo, hi, .. } = found {
+                if let SectionCycles::Unstable { lo, hi, escape, .. } = found {
                     classifier.trap = Some(Trap {
                         r_inner: lo * (1.0 - plan.trap_margin),
-                        r_outer: hi * (1.0 + plan.trap_margin),
+                        r_outer: match escape {
+                            None => hi * (1.0 + plan.trap_margin),
+                            Some(_) => f64::INFINITY,
+                        },
                     });
                 }
             }
@@ -204,7 +288,8 @@ impl MapContext {
                     _ => ulc::cycle_curve(&stepper, r, cs.t_return, &mut Default::default())
                         .map(|(c, _)| c),
                 };
-                start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.trap_margin));
+                let invariant = outside == Some(Outside::Invariant);
+                start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.trap_margin, invariant));
             }
             section = Some(found);
         }
@@ -217,6 +302,7 @@ impl MapContext {
             cycle,
             start_rule,
             landscape: crate::landscape::of_params(plan, params)?,
+            outside,
         })
     }
 

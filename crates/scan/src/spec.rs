@@ -374,6 +374,7 @@ impl ClassifierSpec {
             settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
             max_radius: d.max_radius,
             trap: None,
+            band_rules: true,
         };
         classifier.validate().map_err(|e| match e {
             squeal_core::CoreError::InvalidParameter {

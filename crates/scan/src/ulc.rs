@@ -62,12 +62,14 @@ impl Default for CycleSettings {
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum SectionCycles {
     /// An unstable cycle crosses `S` in `[lo, hi]`; `stable_above` is the first sampled
-    /// crossing further out, if the sampled range shows one.
+    /// crossing further out, if the sampled range shows one; `escape` the smallest sampled
+    /// start outside the cycle whose return lands inside (see [`escape_above`]), if any.
     Unstable {
         r: f64,
         lo: f64,
         hi: f64,
         stable_above: Option<f64>,
+        escape: Option<f64>,
     },
     /// `D < 0` at every sample: no unstable cycle below `r_max` was seen.
     NoneBelow { r_max: f64 },
@@ -113,6 +115,7 @@ pub fn section_cycles(
     let stable_above = (i + 1..n - 1)
         .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)
         .map(|j| rs[j + 1]);
+
     let (mut lo, mut hi) = (rs[i], rs[i + 1]);
     for _ in 0..200 {
         if hi - lo <= cs.rtol * hi {
@@ -130,7 +133,24 @@ pub fn section_cycles(
         lo,
         hi,
         stable_above,
+        escape: escape_above(&rs, &ds, i + 1, lo),
     }
+}
+
+/// The smallest sampled start outside the unstable cycle whose return falls back inside.
+///
+/// `rs[first..]` are the samples above the cycle, whose section crossing is `r_u`. A
+/// sample whose return `P(r) = r + D(r)` lands below `r_u` has jumped past the cycle:
+/// where the orbit starts to stick the return map falls steeply (McMillan's hysteretic
+/// law above the fold of cycles at lambda = 0.5: at nu = 0.0223 starts at r = 0.91 and 2.19
+/// return to 0.231 and 0.228, inside the cycle's 0.236). Then the outside of the cycle is
+/// not invariant: a start outside may end in steady slip, and no rule may label a start
+/// stick-slip for lying outside. Sampled, so an escape narrower than the sample spacing
+/// can be missed; the audit (runs to settlement) checks the labels that rest on it.
+pub fn escape_above(rs: &[f64], ds: &[f64], first: usize, r_u: f64) -> Option<f64> {
+    (first..rs.len())
+        .find(|&j| rs[j] + ds[j] < r_u)
+        .map(|j| rs[j])
 }
 
 /// How the located cycle moves when `dt` is halved.
@@ -178,6 +198,9 @@ pub struct CycleReport {
     pub solver: SolverStats,
     /// The stable stick-slip crossing seen above the cycle, if sampled.
     pub stable_above: Option<f64>,
+    /// The smallest sampled start outside the cycle whose return falls back inside
+    /// ([`escape_above`]): when present, the outside of the cycle is not invariant.
+    pub escape: Option<f64>,
     /// The closed curve: the states of one revolution.
     pub curve: ClosedCurve,
 }
@@ -242,14 +265,14 @@ pub fn locate_from(
 ) -> Result<CycleReport, ScanError> {
     let params = *st.params();
     let (dt, solver) = (st.dt(), *st.solver());
-    let (r, lo, hi, stable_above) = match found {
+    let (r, lo, hi, stable_above, escape) = match found {
         SectionCycles::Unstable {
             r,
             lo,
             hi,
             stable_above,
-            ..
-        } => (r, lo, hi, stable_above),
+            escape,
+        } => (r, lo, hi, stable_above, escape),
         SectionCycles::NoneBelow { r_max } => {
             return Err(NoCycle::Decays {
                 r_max,
@@ -308,6 +331,7 @@ pub fn locate_from(
         returns,
         solver: stats,
         stable_above,
+        escape,
         curve,
     })
 }

@@ -261,3 +261,90 @@ fn paper_findings_on_the_shipped_scans() {
         "no undecided cells"
     );
 }
+
+/// A one-map plan at `(nu, lambda)` of the hysteretic law (Table 1's tau and phi), with
+/// early stopping on the cycle or not, over `scans/nu-sweep.toml`'s box.
+fn point_plan(nu: f64, lambda: f64, early_stop: &str) -> Plan {
+    Plan::from_toml(
+        &format!(
+            r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = {nu}
+lambda = {lambda}
+[grid]
+x0 = {{ min = -3.0, max = 5.0, count = 8 }}
+v0 = {{ min = -4.0, max = 4.0, count = 8 }}
+[classifier]
+early_stop = "{early_stop}"
+[cycle]
+locate = true
+[output]
+path = "x.h5"
+"#
+        ),
+        "x.toml",
+    )
+    .unwrap()
+}
+
+/// Above the fold of cycles at lambda = 0.5 (the atlas's fold there is nu = 0.0199,
+/// `scans/atlas-lambda-nu.toml`) the unstable cycle still exists, but starts outside it
+/// fall back inside: `squeal trajectory --nu 0.022275429519995588 --lambda 0.5 --x0 X --v0 V
+/// --t-end 5000` comes within 0.05 of the fixed point for good by t = 778 from (0, 0),
+/// 877 from (2, 0), 300 from (-1, 0), 145 from (0, 1), 281 from (4, 3), and stays there to
+/// t = 20000. Before the outside of the cycle was checked, the start rule labelled (0, 0)
+/// stick-slip without a run (it lies outside the cycle), and without early stopping the
+/// sticking-band rule labelled half of a 32 x 32 grid stick-slip at t = 129-761.
+#[test]
+fn starts_outside_a_cycle_the_return_map_jumps_past_are_not_guessed() {
+    use squeal_scan::scanner::Outside;
+    let (nu, lambda) = (0.022_275_429_519_995_588, 0.5);
+    for early_stop in ["cycle", "none"] {
+        let plan = point_plan(nu, lambda, early_stop);
+        let ctx = MapContext::prepare(&plan, 0).unwrap();
+        assert!(
+            matches!(
+                ctx.outside,
+                Some(Outside::Escapes {
+                    attractor: false,
+                    ..
+                })
+            ),
+            "{:?}",
+            ctx.outside
+        );
+        assert!(!ctx.classifier.band_rules);
+        for (x, v) in [(0.0, 0.0), (2.0, 0.0), (-1.0, 0.0), (0.0, 1.0)] {
+            let out = ctx.classify(State { x, v });
+            assert_eq!(
+                out.regime,
+                Regime::SteadySlip,
+                "{early_stop} ({x}, {v}): {out:?}"
+            );
+        }
+    }
+    // Just below the fold at lambda = 0.5 (0.0199) the return map also jumps past the
+    // cycle (at nu = 0.0195 a sampled start returns inside; measured with this plan's
+    // samples), but runs from far starts stay outside for 80 revolutions: the band rules
+    // stay, the outside rules go.
+    let ctx = MapContext::prepare(&point_plan(0.0195, 0.5, "cycle"), 0).unwrap();
+    assert!(
+        matches!(
+            ctx.outside,
+            Some(Outside::Escapes {
+                attractor: true,
+                ..
+            })
+        ),
+        "{:?}",
+        ctx.outside
+    );
+    assert!(ctx.classifier.band_rules);
+    assert!(ctx.classifier.trap.is_some_and(|t| t.r_outer.is_infinite()));
+    // Paper Fig 9 (nu = 1e-3): no start returns inside; the outside rules apply.
+    let ctx = MapContext::prepare(&point_plan(1e-3, 3.0, "cycle"), 0).unwrap();
+    assert_eq!(ctx.outside, Some(Outside::Invariant));
+    assert!(ctx.classifier.trap.is_some_and(|t| t.r_outer.is_finite()));
+}

@@ -1145,8 +1145,9 @@ fn write_maps(
             plan.unravel(i)
         };
         let curve = res.map_cycle(i).map(|r| &r.curve);
+        let escapes = res.map_cycle(i).is_some_and(|r| r.escape.is_some());
         // The atlas takes McMillan laws only, which have no landscape check.
-        let mut ck = squeal_scan::MapChecks::new(curve, None);
+        let mut ck = squeal_scan::MapChecks::new(curve, None, escapes);
         for b in 0..nb {
             let Some(cells) = res.blocks.get(&(i, b)) else {
                 continue;

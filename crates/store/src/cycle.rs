@@ -141,6 +141,7 @@ mod tests {
             returns: 7,
             solver: SolverStats::default(),
             stable_above: Some(2.5),
+            escape: None,
             curve: ClosedCurve::new(vec![1.0, 2.0, 1.5], vec![0.0, 0.5, 1.0 / 7.0]),
         }
     }

@@ -590,7 +590,8 @@ fn write_all(
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
         let curve = report_of(&cyc).map(|r| &r.curve);
-        let mut ck = MapChecks::new(curve, landscapes[m].map(|l| l.landscape));
+        let escapes = report_of(&cyc).is_some_and(|r| r.escape.is_some());
+        let mut ck = MapChecks::new(curve, landscapes[m].map(|l| l.landscape), escapes);
         let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {

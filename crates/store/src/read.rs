@@ -141,6 +141,9 @@ pub struct FileInfo {
     pub checks: Vec<Vec<i64>>,
     /// Per map: why no cycle was located, where the search found none.
     pub no_cycle: Vec<Option<String>>,
+    /// Per map: the sampled start outside the located cycle that returns inside, where the
+    /// return map jumps past the cycle ([`squeal_scan::ulc::escape_above`]).
+    pub escape: Vec<Option<f64>>,
     /// Per map: the landscape and its evidence, for laws with true stick (empty otherwise).
     pub landscapes: Vec<Option<LandscapeInfo>>,
 }
@@ -262,6 +265,14 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                         .flatten()
                         .and_then(|r| r.err())
                         .map(|e| e.to_string()))
+                })
+                .collect::<hdf5::Result<_>>()?,
+            escape: (0..nmaps)
+                .map(|m| {
+                    Ok(read_cycle(&file, is_sweep, m)?
+                        .flatten()
+                        .and_then(|r| r.ok())
+                        .and_then(|r| r.escape))
                 })
                 .collect::<hdf5::Result<_>>()?,
             landscapes: read_landscapes(&file, nmaps)?,

@@ -103,6 +103,7 @@ fn cycle() -> CycleReport {
         returns: 120,
         solver: Default::default(),
         stable_above: None,
+        escape: None,
         curve: squeal_scan::ClosedCurve::new(xs, vs),
     }
 }

@@ -486,6 +486,7 @@ pub fn describe_bracket(
         lo,
         hi,
         stable_above: None,
+        escape: None,
     };
     ulc::locate_from(st, found, &narrow, w.stats, w.returns)
 }
