@@ -37,6 +37,7 @@ pub mod driver;
 pub mod maps;
 pub mod point;
 pub mod spec;
+pub mod stribeck;
 
 pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};

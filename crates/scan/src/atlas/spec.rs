@@ -117,6 +117,39 @@ struct ModelFile {
     lambda: Option<Value>,
     tau: Option<Value>,
     phi: Option<Value>,
+    // The Stribeck law's keys (law = "stribeck" only): xi and v_d may be swept.
+    xi: Option<Value>,
+    v_d: Option<Value>,
+    mu_d: Option<f64>,
+    mu_sd: Option<f64>,
+    v_0: Option<f64>,
+    mu_v: Option<f64>,
+}
+
+impl ModelFile {
+    /// The first key given that belongs to the other parameterisation (McMillan's or
+    /// Stribeck's).
+    fn foreign_key(&self) -> Option<&'static str> {
+        let given = |k: &str| match k {
+            "nu" => self.nu.is_some(),
+            "lambda" => self.lambda.is_some(),
+            "tau" => self.tau.is_some(),
+            "phi" => self.phi.is_some(),
+            "xi" => self.xi.is_some(),
+            "v_d" => self.v_d.is_some(),
+            "mu_d" => self.mu_d.is_some(),
+            "mu_sd" => self.mu_sd.is_some(),
+            "v_0" => self.v_0.is_some(),
+            "mu_v" => self.mu_v.is_some(),
+            _ => false,
+        };
+        let other = if self.law.has_true_stick() {
+            FrictionLaw::McMillan
+        } else {
+            FrictionLaw::Stribeck
+        };
+        other.keys().iter().copied().find(|k| given(k))
+    }
 }
 
 #[derive(Deserialize, Debug)]
@@ -188,6 +221,11 @@ struct BoundariesFile {
     nu_hi: Option<f64>,
     lambda_lo: Option<f64>,
     lambda_hi: Option<f64>,
+    // The Stribeck law's names of the same ranges.
+    xi_lo: Option<f64>,
+    xi_hi: Option<f64>,
+    v_d_lo: Option<f64>,
+    v_d_hi: Option<f64>,
     rtol: Option<f64>,
 }
 
@@ -249,6 +287,21 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
     ("tau", "surface time tau", "s"),
     ("g", "gravitational acceleration g", "m/s^2"),
 ];
+
+/// `(key, long name, units)` of the Stribeck law's parameters, in axis order
+/// ([`FrictionLaw::keys`]; the words of [`Params::named`]).
+pub fn stribeck_params() -> Vec<(&'static str, &'static str, &'static str)> {
+    Params::bstab()
+        .named()
+        .into_iter()
+        .map(|n| (n.name, n.long_name, n.units))
+        .collect()
+}
+
+/// Default bisection range of the damping (`nu` or `xi`) when it is not swept.
+pub const DAMPING_RANGE: [f64; 2] = [1e-4, 0.2];
+/// Default bisection range of the belt speed (`lambda` or `v_d`) when it is not swept.
+pub const SPEED_RANGE: [f64; 2] = [0.1, 10.0];
 
 /// The checked atlas plan.
 #[derive(Clone, Debug, Serialize)]
@@ -346,13 +399,25 @@ impl AtlasPlan {
             ));
         }
         let m = &f.model;
-        if m.law == FrictionLaw::Stribeck {
+        let stribeck = m.law.has_true_stick();
+        if let Some(k) = m.foreign_key() {
+            let expected = if stribeck {
+                "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
+            } else {
+                "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
+                 mu_sd, v_0, mu_v)"
+            };
+            return Err(invalid(path, &format!("model.{k}"), "given", expected));
+        }
+        if stribeck && f.physical.is_some() {
             return Err(invalid(
                 path,
-                "model.law",
-                "stribeck",
-                "a McMillan law (mcmillan, mcmillan-nonhysteretic or coulomb): the atlas does not \
-                 take the Stribeck law yet; scan it with `squeal scan` (xi or v_d swept)",
+                "physical",
+                "given with law = \"stribeck\"",
+                "a nondimensional Stribeck spec ([model] xi, v_d, mu_d, mu_sd, v_0, mu_v): the \
+                 physical units are McMillan's scaling (x scaled by mu_k g / omega_n^2, lambda = \
+                 v_B omega_n / (mu_k g), tau and Phi from the surfaces), which the Stribeck law \
+                 does not share",
             ));
         }
         let (units, params) = if let Some(ph) = &f.physical {
@@ -387,6 +452,30 @@ impl AtlasPlan {
                 });
             }
             (Units::Physical, axes)
+        } else if stribeck {
+            let fixed = |v: Option<f64>, d: f64| Value::One(v.unwrap_or(d));
+            let d = squeal_core::Stribeck::default();
+            let vals = [
+                m.xi.clone()
+                    .unwrap_or(Value::One(squeal_core::defaults::XI)),
+                m.v_d
+                    .clone()
+                    .unwrap_or(Value::One(squeal_core::defaults::V_D)),
+                fixed(m.mu_d, d.mu_d),
+                fixed(m.mu_sd, d.mu_sd),
+                fixed(m.v_0, d.v_0),
+                fixed(m.mu_v, d.mu_v),
+            ];
+            let mut axes = Vec::new();
+            for ((key, long, u), v) in stribeck_params().into_iter().zip(vals.iter()) {
+                axes.push(AtlasAxis {
+                    key,
+                    long_name: long,
+                    units: u,
+                    values: expand(path, &format!("model.{key}"), v)?,
+                });
+            }
+            (Units::Nondimensional, axes)
         } else {
             let nu = m.nu.clone().ok_or_else(|| {
                 invalid(
@@ -620,30 +709,79 @@ impl AtlasPlan {
             }
         };
         let bd = f.boundaries.unwrap_or_default();
-        let nu_range = [bd.nu_lo.unwrap_or(1e-4), bd.nu_hi.unwrap_or(0.2)];
+        // The bisection ranges under the law's own names (`nu_lo` or `xi_lo`, ...); the other
+        // law's names are refused.
+        let (dk, sk) = (m.law.keys()[0], m.law.keys()[1]);
+        let (own, foreign) = if stribeck {
+            (
+                [bd.xi_lo, bd.xi_hi, bd.v_d_lo, bd.v_d_hi],
+                [
+                    ("nu_lo", bd.nu_lo),
+                    ("nu_hi", bd.nu_hi),
+                    ("lambda_lo", bd.lambda_lo),
+                    ("lambda_hi", bd.lambda_hi),
+                ],
+            )
+        } else {
+            (
+                [bd.nu_lo, bd.nu_hi, bd.lambda_lo, bd.lambda_hi],
+                [
+                    ("xi_lo", bd.xi_lo),
+                    ("xi_hi", bd.xi_hi),
+                    ("v_d_lo", bd.v_d_lo),
+                    ("v_d_hi", bd.v_d_hi),
+                ],
+            )
+        };
+        if let Some((k, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
+            return Err(invalid(
+                path,
+                &format!("boundaries.{k}"),
+                "given",
+                &format!(
+                    "the bisection range under law {}'s names: {dk}_lo, {dk}_hi, {sk}_lo, {sk}_hi",
+                    m.law
+                ),
+            ));
+        }
+        let nu_range = [
+            own[0].unwrap_or(DAMPING_RANGE[0]),
+            own[1].unwrap_or(DAMPING_RANGE[1]),
+        ];
         if !(nu_range[0] > 0.0 && nu_range[1] > nu_range[0] && nu_range[1] <= 10.0) {
             return Err(invalid(
                 path,
-                "boundaries.nu_lo",
+                &format!("boundaries.{dk}_lo"),
                 format!("{nu_range:?}"),
-                "0 < nu_lo < nu_hi <= 10",
+                &format!("0 < {dk}_lo < {dk}_hi <= 10"),
             ));
         }
-        let lambda_range = [bd.lambda_lo.unwrap_or(0.1), bd.lambda_hi.unwrap_or(10.0)];
+        let lambda_range = [
+            own[2].unwrap_or(SPEED_RANGE[0]),
+            own[3].unwrap_or(SPEED_RANGE[1]),
+        ];
         if !(lambda_range[0] > 0.0 && lambda_range[1] > lambda_range[0] && lambda_range[1] <= 1e3) {
             return Err(invalid(
                 path,
-                "boundaries.lambda_lo",
+                &format!("boundaries.{sk}_lo"),
                 format!("{lambda_range:?}"),
-                "0 < lambda_lo < lambda_hi <= 1000",
+                &format!("0 < {sk}_lo < {sk}_hi <= 1000"),
             ));
         }
         let swept = |k: &str| params.iter().any(|a| a.key == k && a.values.len() > 1);
         let boundary_in = match bd.in_.as_deref() {
-            Some(k) => BoundaryParam::from_key(k)
-                .ok_or_else(|| invalid(path, "boundaries.in", k, "\"nu\" or \"lambda\""))?,
-            None if swept("nu") || swept("c") => BoundaryParam::Nu,
-            None if swept("lambda") || swept("v_belt") => BoundaryParam::Lambda,
+            Some(k) if k == dk => BoundaryParam::Nu,
+            Some(k) if k == sk => BoundaryParam::Lambda,
+            Some(k) => {
+                return Err(invalid(
+                    path,
+                    "boundaries.in",
+                    k,
+                    &format!("\"{dk}\" or \"{sk}\" (law {})", m.law),
+                ));
+            }
+            None if swept(dk) || swept("c") => BoundaryParam::Nu,
+            None if swept(sk) || swept("v_belt") => BoundaryParam::Lambda,
             None => BoundaryParam::Nu,
         };
         if units == Units::Physical {
@@ -844,6 +982,20 @@ impl AtlasPlan {
                     stribeck: None,
                 }
             }
+            None if self.law.has_true_stick() => {
+                // Axis order is the law's keys: xi, v_d, mu_d, mu_sd, v_0, mu_v.
+                let v = self.values_at(i);
+                Params::stribeck(
+                    v[0],
+                    v[1],
+                    squeal_core::Stribeck {
+                        mu_d: v[2],
+                        mu_sd: v[3],
+                        v_0: v[4],
+                        mu_v: v[5],
+                    },
+                )
+            }
             None => {
                 let v = self.values_at(i);
                 Params {
@@ -879,17 +1031,35 @@ impl AtlasPlan {
     /// The damping parameter's key (`nu` or `c`) and its position among the swept axes.
     pub fn damping_axis(&self) -> (&'static str, Option<usize>) {
         let key = match self.units {
-            Units::Nondimensional => "nu",
+            Units::Nondimensional => self.law.keys()[0],
             Units::Physical => "c",
         };
         (key, self.axes().iter().position(|a| a.key == key))
+    }
+
+    /// The bisected parameter's nondimensional key under the law's names (`nu`, `lambda`;
+    /// Stribeck: `xi`, `v_d`), also the suffix of the stored boundary datasets.
+    pub fn boundary_key(&self) -> &'static str {
+        match self.boundary_in {
+            BoundaryParam::Nu => self.law.keys()[0],
+            BoundaryParam::Lambda => self.law.keys()[1],
+        }
+    }
+
+    /// Words for the bisected parameter (`damping ratio nu`, `belt speed v_d`, ...).
+    pub fn boundary_words(&self) -> &'static str {
+        match (self.law.has_true_stick(), self.boundary_in) {
+            (true, BoundaryParam::Nu) => "damping ratio xi",
+            (true, BoundaryParam::Lambda) => "belt speed v_d",
+            (false, b) => b.words(),
+        }
     }
 
     /// The bisected parameter's key (`nu`/`c` or `lambda`/`v_belt`) and its position among
     /// the swept axes: the boundary array spans the other swept axes.
     pub fn boundary_axis(&self) -> (&'static str, Option<usize>) {
         let key = match self.units {
-            Units::Nondimensional => self.boundary_in.key(),
+            Units::Nondimensional => self.boundary_key(),
             Units::Physical => self.boundary_in.physical_key(),
         };
         (key, self.axes().iter().position(|a| a.key == key))
@@ -908,6 +1078,24 @@ impl AtlasPlan {
     /// The stored name of a boundary column (`fold_nu` -> `fold_lambda` when bisecting in
     /// lambda) and its long name.
     pub fn boundary_dataset(&self, name: &str, long_name: &str) -> (String, String) {
+        if self.law.has_true_stick() {
+            // The Stribeck law's words: its fold is where the stick-slip cycle ends.
+            let name = name.replace("_nu", &format!("_{}", self.boundary_key()));
+            let long = long_name.replace(
+                "fold of cycles",
+                "fold (the stick-slip cycle ends: the orbit from breakaway no longer sticks again)",
+            );
+            let long = match self.boundary_in {
+                BoundaryParam::Nu => long
+                    .replace("damping ratio", "damping ratio xi")
+                    .replace("critical damping:", "critical damping ratio xi:"),
+                BoundaryParam::Lambda => long
+                    .replace("critical damping ratio", "critical belt speed v_d")
+                    .replace("critical damping", "critical belt speed v_d")
+                    .replace("damping ratio", "belt speed v_d"),
+            };
+            return (name, long);
+        }
         match self.boundary_in {
             BoundaryParam::Nu => (name.to_string(), long_name.to_string()),
             BoundaryParam::Lambda => (

@@ -1,0 +1,292 @@
+//! The atlas for laws with true stick (the Stribeck law, `law = "stribeck"`).
+//!
+//! Each point is computed twice over, by independent evidence, and labelled only where
+//! the two agree:
+//!
+//! * the **section search** of [`super::point::compute_point`] (the return map `D(r)` on
+//!   `x = x*, x' > 0`, the unstable cycle located as `squeal ulc` does, the stick-slip
+//!   attractor run for `transient + window` revolutions, the operating point's own run);
+//! * the **landscape** ([`squeal_core::stick::landscape_evidence`], as `squeal scan` stores
+//!   per map): the fixed point repels exactly where `2 xi + mu'(v_d) < 0`, and the
+//!   stick-slip cycle exists exactly when the orbit from the one breakaway state sticks
+//!   again (every stick phase ends there).
+//!
+//! They agree when `stick_slip_only` goes with `fixed_point_unstable` (every start ends in
+//! stick-slip, basin fraction of steady slip 0), `steady_slip_only` with `steady_slip_only`
+//! (every start ends in steady slip, fraction 1; this rests on the landscape's assumption
+//! of no slip-only cycle, which the section search checks below `r_max`) and `bistable`
+//! with `bistable_quiet` or `bistable_squeals` (by the operating point). Anything else is
+//! `undecided`, with a note naming both findings.
+//!
+//! For this law the stick-slip attractor is the cycle through the breakaway state, so its
+//! "share of time on the quasi-static branch" is replaced by the share of time stuck per
+//! period (`stick_stuck_share`), from the cycle's located stick onset and breakaway.
+//!
+//! Boundaries ([`both_in`]) bisect the landscape itself: the **fold** is where the
+//! stick-slip cycle ends (the landscape turns `steady_slip_only`), the **critical value**
+//! where the operating point stops squealing (`steady_slip_only`, or `bistable` with the
+//! unstable cycle enclosing the point).
+
+use serde::{Deserialize, Serialize};
+use squeal_core::stick::{self, LandscapeEvidence, StickCycle};
+use squeal_core::{Classifier, Landscape, Params, SolverConfig, State, Stepper};
+
+use super::boundary::{Boundary, BoundaryParam, bisect_nu};
+use super::columns::{Column, Kind, Si};
+use super::point::{self, AtlasRegime, PointResult, PointSettings, Search, analyse};
+use crate::error::ScanError;
+use crate::landscape::{LANDSCAPE_FIELDS, evidence_words};
+
+/// The landscape of one point as stored: the verdict and the numbers it rests on.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LandscapeRecord {
+    /// The verdict ([`Landscape`] as stored, `landscape` in files).
+    pub landscape: u8,
+    /// The fixed point's effective damping `2 xi + mu'(v_d)` (negative: it repels).
+    pub damping: f64,
+    /// Period of the stick-slip cycle, breakaway to breakaway (NaN: none found).
+    pub cycle_period: f64,
+    /// Time stuck per period of that cycle (NaN: none found).
+    pub cycle_stuck: f64,
+}
+
+impl LandscapeRecord {
+    /// From the evidence (the numbers of [`LANDSCAPE_FIELDS`]).
+    pub fn from_evidence(e: &LandscapeEvidence) -> LandscapeRecord {
+        LandscapeRecord {
+            landscape: e.landscape as u8,
+            damping: (LANDSCAPE_FIELDS[0].3)(e),
+            cycle_period: (LANDSCAPE_FIELDS[1].3)(e),
+            cycle_stuck: (LANDSCAPE_FIELDS[2].3)(e),
+        }
+    }
+
+    /// The verdict (`None` for a value no build wrote).
+    pub fn verdict(&self) -> Option<Landscape> {
+        Landscape::from_u8(self.landscape)
+    }
+}
+
+fn rec(p: &mut PointResult) -> &mut LandscapeRecord {
+    p.landscape.get_or_insert(LandscapeRecord {
+        landscape: Landscape::Unknown as u8,
+        damping: f64::NAN,
+        cycle_period: f64::NAN,
+        cycle_stuck: f64::NAN,
+    })
+}
+
+/// The landscape's numbers as stored per point (Stribeck atlases only), named as the scan
+/// stores them per map ([`LANDSCAPE_FIELDS`]). The verdict itself is the enum `landscape`.
+pub const LANDSCAPE_COLUMNS: &[Column] = &[
+    Column {
+        name: LANDSCAPE_FIELDS[0].0,
+        long_name: LANDSCAPE_FIELDS[0].1,
+        kind: Kind::Real,
+        si: Si::None,
+        get: |p| p.landscape.map_or(f64::NAN, |l| l.damping),
+        set: |p, v| rec(p).damping = v,
+    },
+    Column {
+        name: LANDSCAPE_FIELDS[1].0,
+        long_name: LANDSCAPE_FIELDS[1].1,
+        kind: Kind::Real,
+        si: Si::None,
+        get: |p| p.landscape.map_or(f64::NAN, |l| l.cycle_period),
+        set: |p, v| rec(p).cycle_period = v,
+    },
+    Column {
+        name: LANDSCAPE_FIELDS[2].0,
+        long_name: LANDSCAPE_FIELDS[2].1,
+        kind: Kind::Real,
+        si: Si::None,
+        get: |p| p.landscape.map_or(f64::NAN, |l| l.cycle_stuck),
+        set: |p, v| rec(p).cycle_stuck = v,
+    },
+];
+
+/// The stored name and long name of the point column `stick_quasi_static_share` for laws
+/// with true stick: the share of time stuck.
+pub const STUCK_SHARE: (&str, &str) = (
+    "stick_stuck_share",
+    "stick-slip: share of time stuck (x' = v_d) per period of the stick-slip cycle, from its \
+     located stick onset and breakaway (the Stribeck law's counterpart of the share of time \
+     on the quasi-static branch)",
+);
+
+/// The landscape of `params` with the classifier's default `t_max` and `fp_radius` (the
+/// values `squeal scan` uses unless its spec sets them).
+pub fn evidence(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+) -> Result<LandscapeEvidence, ScanError> {
+    let st = Stepper::new(params, dt, solver)?;
+    let cl = Classifier::default();
+    stick::landscape_evidence(&st, cl.t_max, cl.fp_radius).ok_or_else(|| {
+        ScanError::Undetermined(format!(
+            "law {} has no true stick: no landscape",
+            params.law
+        ))
+    })
+}
+
+/// Whether the section search's regime and the landscape agree (`None`: the search itself
+/// is undecided).
+pub fn agrees(landscape: Landscape, regime: AtlasRegime) -> Option<bool> {
+    use AtlasRegime as R;
+    match (landscape, regime) {
+        (_, R::Undecided) => None,
+        (Landscape::StickSlipOnly, R::FixedPointUnstable)
+        | (Landscape::SteadySlipOnly, R::SteadySlipOnly)
+        | (Landscape::Bistable, R::BistableQuiet | R::BistableSqueals) => Some(true),
+        _ => Some(false),
+    }
+}
+
+/// All figures at one point of a law with true stick: the section search's
+/// ([`point::compute_point`]) checked against the landscape (module docs).
+pub fn compute_point(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    warm: Option<f64>,
+) -> Result<PointResult, ScanError> {
+    let ev = evidence(params, dt, solver)?;
+    let mut res = point::compute_point(params, dt, solver, ps, warm)?;
+    reconcile(&mut res, &ev);
+    Ok(res)
+}
+
+/// Stores the landscape in `res`, replaces the quasi-static share by the share of time
+/// stuck, and makes the point undecided (with both findings in its note) where the section
+/// search and the landscape disagree.
+pub fn reconcile(res: &mut PointResult, ev: &LandscapeEvidence) {
+    res.landscape = Some(LandscapeRecord::from_evidence(ev));
+    if let Some(s) = res.stick_slip.as_mut() {
+        s.quasi_static_share = match ev.cycle {
+            StickCycle::Exists { period, stuck } => stuck / period,
+            _ => f64::NAN,
+        };
+    }
+    let landscape = format!(
+        "the landscape says {} ({})",
+        ev.landscape.name(),
+        evidence_words(ev)
+    );
+    match agrees(ev.landscape, res.regime) {
+        Some(true) => {}
+        None => {
+            res.note = Some(match res.note.take() {
+                Some(n) => format!("{n}; {landscape}"),
+                None => landscape,
+            });
+        }
+        Some(false) => {
+            let search = match res.cycle {
+                Some(c) => format!(
+                    "{} (unstable cycle at r = {:.6})",
+                    res.regime.name(),
+                    c.r_section
+                ),
+                None => res.regime.name().to_string(),
+            };
+            let extra = res
+                .note
+                .take()
+                .map_or(String::new(), |n| format!("; its note: {n}"));
+            res.note = Some(format!(
+                "conflict: the section search says {search} but {landscape}{extra}"
+            ));
+            res.regime = AtlasRegime::Undecided;
+        }
+    }
+}
+
+/// Whether `point` does not squeal at `params`, read from the landscape: steady slip only
+/// (quiet), stick-slip only (squeals), bistable (quiet exactly when the unstable cycle the
+/// section search locates encloses it). `Err` with both findings where they cannot tell.
+fn point_quiet(
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    point: State,
+    ev: &LandscapeEvidence,
+) -> Result<bool, String> {
+    match ev.landscape {
+        Landscape::SteadySlipOnly => Ok(true),
+        Landscape::StickSlipOnly => Ok(false),
+        Landscape::Unknown => Err(format!("the landscape is unknown ({})", evidence_words(ev))),
+        Landscape::Bistable => {
+            let a = analyse(params, dt, solver, ps, None, false).map_err(|e| e.to_string())?;
+            match (&a.search, &a.cycle) {
+                (Search::Bracket { .. }, Some(rep)) => Ok(rep.encloses(point.x, point.v)),
+                (s, _) => Err(format!(
+                    "conflict: the landscape says bistable ({}) but the section search found no \
+                     unstable cycle ({s:?})",
+                    evidence_words(ev)
+                )),
+            }
+        }
+    }
+}
+
+/// Both boundaries of one combination of the other parameters for a law with true stick
+/// (the counterpart of [`super::boundary::both_in`]): the fold, where the landscape turns
+/// `steady_slip_only` (the stick-slip cycle ends), and the critical value of `point`.
+/// Each value's landscape is computed once and answers both.
+#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
+pub fn both_in(
+    param: BoundaryParam,
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    point: State,
+    [lo, hi]: [f64; 2],
+    rtol: f64,
+    [fold, critical]: [bool; 2],
+) -> [Option<Result<Boundary, ScanError>>; 2] {
+    use std::cell::RefCell;
+    use std::collections::HashMap;
+    type Answers = (Result<bool, String>, Result<bool, String>);
+    let memo: RefCell<HashMap<u64, Answers>> = RefCell::new(HashMap::new());
+    let eval = |v: f64| -> Result<Answers, ScanError> {
+        if let Some(a) = memo.borrow().get(&v.to_bits()) {
+            return Ok(a.clone());
+        }
+        let p = param.with(base, v);
+        let ev = evidence(p, dt, solver)?;
+        let here = |e: String| format!("xi = {}, v_d = {}: {e}", p.nu, p.lambda);
+        let everywhere = match ev.landscape {
+            Landscape::SteadySlipOnly => Ok(true),
+            Landscape::StickSlipOnly | Landscape::Bistable => Ok(false),
+            Landscape::Unknown => Err(here(format!(
+                "cannot tell whether anything squeals: {}",
+                evidence_words(&ev)
+            ))),
+        };
+        let at_point = if critical {
+            point_quiet(p, dt, solver, ps, point, &ev).map_err(here)
+        } else {
+            Ok(false)
+        };
+        let ans = (everywhere, at_point);
+        memo.borrow_mut().insert(v.to_bits(), ans.clone());
+        Ok(ans)
+    };
+    let run = |which: usize| {
+        bisect_nu(
+            |v| {
+                let (e, c) = eval(v)?;
+                if which == 0 { e } else { c }.map_err(ScanError::Undetermined)
+            },
+            lo,
+            hi,
+            rtol,
+        )
+    };
+    [fold.then(|| run(0)), critical.then(|| run(1))]
+}
