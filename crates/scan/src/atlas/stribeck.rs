@@ -290,3 +290,265 @@ pub fn both_in(
     };
     [fold.then(|| run(0)), critical.then(|| run(1))]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::atlas::boundary::BoundaryStatus;
+    use crate::atlas::driver::{Unit, UnitResult, run_unit};
+    use crate::atlas::spec::AtlasPlan;
+    use crate::ulc::{self, CycleSettings};
+
+    /// bSTAB's friction case (xi = 0.05, mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0, the
+    /// defaults) at the given belt speeds, disturbance box = bSTAB's region.
+    fn plan(v_d: &str) -> AtlasPlan {
+        AtlasPlan::from_toml(
+            &format!(
+                r#"version = 1
+[model]
+law = "stribeck"
+v_d = {v_d}
+[disturbance]
+x = [-2.0, 2.0]
+v = [0.0, 2.0]
+[boundaries]
+rtol = 1e-3
+[output]
+path = "s.h5"
+"#
+            ),
+            "s.toml",
+        )
+        .unwrap()
+    }
+
+    fn line(p: &AtlasPlan) -> Vec<PointResult> {
+        match run_unit(p, Unit::Line(0)).unwrap() {
+            UnitResult::Line(l) => l.points,
+            u => panic!("{u:?}"),
+        }
+    }
+
+    #[test]
+    fn bstab_speeds_give_the_three_regimes_agreeing_with_the_landscape() {
+        // MODEL.md section 8 and crate::landscape's test: at xi = 0.05 the fixed point
+        // repels below v_d = 0.5 ln 10 = 1.151 (closed form of 2 xi + mu'(v_d) = 0), the
+        // stick-slip cycle exists up to between 1.8 and 2.0.
+        let p = plan("[1.0, 1.5, 2.2]");
+        let pts = line(&p);
+        let regimes: Vec<AtlasRegime> = pts.iter().map(|q| q.regime).collect();
+        assert_eq!(regimes[0], AtlasRegime::FixedPointUnstable, "{:?}", pts[0]);
+        assert!(
+            matches!(
+                regimes[1],
+                AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
+            ),
+            "{:?}",
+            pts[1]
+        );
+        assert_eq!(regimes[2], AtlasRegime::SteadySlipOnly, "{:?}", pts[2]);
+        // The stored landscape is the one `squeal scan` computes for the same parameters
+        // (crate::landscape, the scan's own path).
+        let want = [
+            Landscape::StickSlipOnly,
+            Landscape::Bistable,
+            Landscape::SteadySlipOnly,
+        ];
+        for (i, (q, w)) in pts.iter().zip(want).enumerate() {
+            let scan = crate::Plan::from_toml(
+                &format!(
+                    "version = 1\n[model]\nlaw = \"stribeck\"\nv_d = {}\n[grid]\nx0 = {{ min = -2.0, max = 2.0, count = 2 }}\nv0 = {{ min = 0.0, max = 2.0, count = 2 }}\n[output]\npath = \"t.h5\"\n",
+                    p.params_at(i).lambda
+                ),
+                "t.toml",
+            )
+            .unwrap();
+            let l = crate::landscape::of_map(&scan, 0).unwrap().unwrap();
+            assert_eq!(l.landscape, w);
+            let r = q.landscape.unwrap();
+            assert_eq!(r.verdict(), Some(w));
+            // Bit for bit (NaN where no cycle: compared as text).
+            assert_eq!(
+                format!("{r:?}"),
+                format!("{:?}", LandscapeRecord::from_evidence(&l))
+            );
+            assert!(q.note.is_none(), "{:?}", q.note);
+        }
+        // Every start squeals / none does: fractions 0 and 1, stated with no error.
+        assert_eq!(
+            (pts[0].basin_fraction, pts[0].basin_fraction_err),
+            (0.0, 0.0)
+        );
+        assert_eq!(
+            (pts[2].basin_fraction, pts[2].basin_fraction_err),
+            (1.0, 0.0)
+        );
+        // Stick-slip at 1.0 and 1.5, none at 2.2; its stuck share is the cycle's.
+        for q in &pts[..2] {
+            let s = q.stick_slip.unwrap();
+            let l = q.landscape.unwrap();
+            assert_eq!(s.quasi_static_share, l.cycle_stuck / l.cycle_period);
+            assert!(s.quasi_static_share > 0.0 && s.quasi_static_share < 1.0);
+            // The attractor's mean period over its window is the cycle's period from
+            // breakaway to breakaway (the same orbit), to a few steps.
+            let period = std::f64::consts::TAU / s.omega_mean;
+            assert!(
+                (period - l.cycle_period).abs() < 4.0 * p.dt,
+                "{period} vs {}",
+                l.cycle_period
+            );
+        }
+        assert!(pts[2].stick_slip.is_none() && pts[2].cycle.is_none());
+    }
+
+    #[test]
+    fn basin_fraction_at_bstabs_case_matches_the_published_value() {
+        // tests/data/bstab_friction_published.json, case1 (pyBasin's repository, the MATLAB
+        // bSTAB run): v_d = 1.5, steady slip ("FP") 0.304 with standard error 0.0065 over
+        // x in [-2, 2], x' in [0, 2] (5000 uniform random starts).
+        // (No JSON parser in this crate: the numbers are read after the "case1" key.)
+        let doc = include_str!("../../../../tests/data/bstab_friction_published.json");
+        let case1 = &doc[doc.find("\"case1\"").unwrap()..];
+        let num = |key: &str| -> f64 {
+            let at = case1.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
+            let rest = case1[at..].trim_start();
+            let end = rest.find([',', '\n', '}']).unwrap();
+            rest[..end].trim().parse().unwrap()
+        };
+        assert_eq!(num("v_d"), 1.5);
+        let (bs, se) = (num("bs_FP"), num("se_FP"));
+        assert!((bs - 0.304).abs() < 1e-12 && (se - 0.0065).abs() < 1e-4);
+        let p = plan("1.5");
+        let q = &line(&p)[0];
+        assert!(q.basin_fraction_err.is_finite() && q.basin_fraction_err < 0.02);
+        assert!(
+            (q.basin_fraction - bs).abs() <= 3.0 * se + q.basin_fraction_err,
+            "atlas {} +- {} vs published {bs} +- {se}",
+            q.basin_fraction,
+            q.basin_fraction_err
+        );
+    }
+
+    #[test]
+    fn the_cycle_at_a_bistable_point_is_ulcs() {
+        // `squeal ulc --law stribeck --v-d 1.5` (crate::ulc::locate, bisection to rtol 1e-10)
+        // against the atlas's (false position to rtol 1e-9): the same root of D.
+        let p = plan("[1.4, 1.5, 1.7]");
+        for (i, q) in line(&p).iter().enumerate() {
+            let params = p.params_at(i);
+            let rep = ulc::locate(params, p.dt, p.solver, &CycleSettings::default()).unwrap();
+            let c = q.cycle.unwrap();
+            assert!(
+                (c.r_section - rep.r_section).abs() <= 2e-9 * rep.r_section,
+                "v_d = {}: {} vs {}",
+                params.lambda,
+                c.r_section,
+                rep.r_section
+            );
+            assert!((c.period - rep.period).abs() < 1e-6);
+            assert!((c.area - rep.area).abs() < 1e-6 * rep.area);
+            // And the dt/2 check moved it little.
+            assert!(c.half_dt_shift.abs() < 1e-3 * c.r_section, "{c:?}");
+        }
+    }
+
+    #[test]
+    fn boundaries_in_v_d_lie_where_the_labels_flip() {
+        let p = plan("[1.0, 2.2]");
+        let ps = p.settings_at(0);
+        let base = p.params_at(0);
+        let [fold, crit] = both_in(
+            BoundaryParam::Lambda,
+            base,
+            p.dt,
+            p.solver,
+            &ps,
+            ps.operating,
+            [1.0, 2.2],
+            1e-3,
+            [true, true],
+        );
+        let (fold, crit) = (fold.unwrap().unwrap(), crit.unwrap().unwrap());
+        assert_eq!(fold.status, BoundaryStatus::Found);
+        assert_eq!(crit.status, BoundaryStatus::Found);
+        // MODEL.md section 8: the stick-slip cycle ends between v_d = 1.8 and 2.0.
+        assert!(fold.nu > 1.8 && fold.nu < 2.0, "{fold:?}");
+        // Rest squeals at least where the fixed point repels (v_d < 1.151).
+        assert!(crit.nu > 1.151 && crit.nu <= fold.nu, "{crit:?}");
+        // The atlas's own labels (section search and landscape together) flip across each
+        // bracket, 1% either side.
+        let at = |v_d: f64| {
+            compute_point(
+                BoundaryParam::Lambda.with(base, v_d),
+                p.dt,
+                p.solver,
+                &ps,
+                None,
+            )
+            .unwrap()
+        };
+        let below = at(0.99 * fold.bracket[0]);
+        let above = at(1.01 * fold.bracket[1]);
+        assert!(
+            matches!(
+                below.regime,
+                AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
+            ),
+            "{below:?}"
+        );
+        assert_eq!(above.regime, AtlasRegime::SteadySlipOnly, "{above:?}");
+        let below = at(0.99 * crit.bracket[0]);
+        let above = at(1.01 * crit.bracket[1]);
+        assert_eq!(
+            below.regime.operating_point_squeals(),
+            Some(true),
+            "{below:?}"
+        );
+        assert_eq!(
+            above.regime.operating_point_squeals(),
+            Some(false),
+            "{above:?}"
+        );
+        // Independent of the section method: the operating point's own run to settlement
+        // (the classifier of `squeal classify`) flips there too.
+        let cl = Classifier::default();
+        for (v_d, steady) in [
+            (0.99 * crit.bracket[0], false),
+            (1.01 * crit.bracket[1], true),
+        ] {
+            let st = Stepper::new(BoundaryParam::Lambda.with(base, v_d), p.dt, p.solver).unwrap();
+            let o = cl.classify(&st, ps.operating);
+            assert_eq!(
+                o.regime == squeal_core::Regime::SteadySlip,
+                steady,
+                "v_d = {v_d}: {o:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn disagreement_is_undecided_with_both_findings() {
+        // The landscape of v_d = 1.5 (bistable) against a section search that (say) found
+        // nothing: the point is undecided and its note names both.
+        let p = plan("1.5");
+        let ev = evidence(p.params_at(0), p.dt, p.solver).unwrap();
+        assert_eq!(ev.landscape, Landscape::Bistable);
+        let mut r = crate::atlas::columns::empty_point();
+        r.regime = AtlasRegime::SteadySlipOnly;
+        reconcile(&mut r, &ev);
+        assert_eq!(r.regime, AtlasRegime::Undecided);
+        let note = r.note.unwrap();
+        assert!(
+            note.starts_with("conflict:")
+                && note.contains("steady_slip_only")
+                && note.contains("says bistable"),
+            "{note}"
+        );
+        // Agreement leaves the label alone.
+        let mut r = crate::atlas::columns::empty_point();
+        r.regime = AtlasRegime::BistableQuiet;
+        reconcile(&mut r, &ev);
+        assert_eq!(r.regime, AtlasRegime::BistableQuiet);
+        assert!(r.note.is_none());
+    }
+}
