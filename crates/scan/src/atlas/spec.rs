@@ -1279,6 +1279,112 @@ path = "p.h5"
         }
     }
 
+    const STRIBECK: &str = r#"
+version = 1
+[model]
+law = "stribeck"
+xi = [0.02, 0.05]
+v_d = { from = 1.0, to = 2.2, count = 4 }
+[output]
+path = "s.h5"
+"#;
+
+    #[test]
+    fn a_stribeck_spec_has_its_own_axes_and_defaults() {
+        let p = AtlasPlan::from_toml(STRIBECK, "s.toml").unwrap();
+        let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
+        assert_eq!(keys, FrictionLaw::Stribeck.keys());
+        assert_eq!(p.shape(), vec![2, 4]);
+        // Point 5 = (xi index 1, v_d index 1); the fixed keys at bSTAB's case.
+        let q = p.params_at(5);
+        assert_eq!(q.law, FrictionLaw::Stribeck);
+        assert_eq!((q.nu, q.lambda), (0.05, 1.4));
+        assert_eq!(q.stribeck, Some(squeal_core::Stribeck::default()));
+        assert_eq!(p.damping_axis(), ("xi", Some(0)));
+        // Boundaries in xi by default (xi is swept), over v_d; in v_d on request.
+        assert_eq!(p.boundary_axis(), ("xi", Some(0)));
+        assert_eq!(
+            p.boundary_dataset("fold_nu_lo", "x").0,
+            "fold_xi_lo".to_string()
+        );
+        let v = AtlasPlan::from_toml(
+            &STRIBECK.replace("[output]", "[boundaries]\nin = \"v_d\"\n[output]"),
+            "s.toml",
+        )
+        .unwrap();
+        assert_eq!(v.boundary_axis(), ("v_d", Some(1)));
+        let (name, long) = v.boundary_dataset(
+            "critical_nu",
+            "critical damping ratio: the operating point stops squealing above it",
+        );
+        assert_eq!(name, "critical_v_d");
+        assert!(long.starts_with("critical belt speed v_d"), "{long}");
+        assert_eq!(v.boundary_words(), "belt speed v_d");
+        // Unset keys take the scan spec's defaults (crates/core/src/defaults.rs).
+        let d = AtlasPlan::from_toml(&STRIBECK.replace("xi = [0.02, 0.05]\n", ""), "s.toml")
+            .unwrap()
+            .params_at(0);
+        assert_eq!(d.nu, squeal_core::defaults::XI);
+    }
+
+    #[test]
+    fn bad_stribeck_specs_name_the_key() {
+        let with = |k: &str| STRIBECK.replace("[output]", &format!("{k}\n[output]"));
+        let model =
+            |k: &str| STRIBECK.replace("xi = [0.02, 0.05]", &format!("xi = [0.02, 0.05]\n{k}"));
+        let cases: Vec<(String, &str)> = vec![
+            (model("nu = 0.01"), "model.nu"),
+            (model("lambda = 3.0"), "model.lambda"),
+            (model("tau = 0.3"), "model.tau"),
+            (model("phi = 1.0"), "model.phi"),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [2.0, 3.0]\nxi = 0.1"),
+                "model.xi",
+            ),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [2.0, 3.0]\nmu_sd = 2.0"),
+                "model.mu_sd",
+            ),
+            (model("mu_sd = 0.5"), "model.mu_sd"),
+            (model("v_0 = 0.0"), "model.v_0"),
+            (model("v_0 = -1.0"), "model.v_0"),
+            (
+                STRIBECK.replace("xi = [0.02, 0.05]", "xi = [-0.1, 0.05]"),
+                "model.xi",
+            ),
+            (
+                STRIBECK.replace("count = 4", "count = 0"),
+                "model.v_d.count",
+            ),
+            (model("mu_d = 0.0"), "model.mu_d"),
+            (model("mu_v = -1.0"), "model.mu_v"),
+            (
+                with(
+                    "[physical]\nm = 1.0\nk = 1.0\nc = 1.0\nv_belt = 1.0\nmu_k = 0.3\nmu_s = 0.4\ntau = 1.0",
+                ),
+                "physical",
+            ),
+            (with("[boundaries]\nin = \"nu\""), "boundaries.in"),
+            (with("[boundaries]\nnu_lo = 0.01"), "boundaries.nu_lo"),
+            (
+                with("[boundaries]\nxi_lo = 0.5\nxi_hi = 0.1"),
+                "boundaries.xi_lo",
+            ),
+            (
+                GOOD.replace("[output]", "[boundaries]\nv_d_hi = 3.0\n[output]"),
+                "boundaries.v_d_hi",
+            ),
+            (
+                GOOD.replace("[output]", "[boundaries]\nin = \"xi\"\n[output]"),
+                "boundaries.in",
+            ),
+        ];
+        for (text, key) in cases {
+            let e = err(&text);
+            assert!(e.contains(key), "expected `{key}` in: {e}");
+        }
+    }
+
     const GRID: &str = "[grid]\nx0 = { min = -2.0, max = 4.0, count = 8 }\nv0 = { min = -3.0, max = 3.0, count = 6 }\n[output]";
 
     #[test]
