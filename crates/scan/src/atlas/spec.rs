@@ -289,12 +289,13 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
 ];
 
 /// `(key, long name, units)` of the Stribeck law's parameters, in axis order
-/// ([`FrictionLaw::keys`]; the words of [`Params::named`]).
+/// ([`FrictionLaw::keys`]; the words of [`Params::named`]). All are nondimensional (`"1"`,
+/// as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity scale.
 pub fn stribeck_params() -> Vec<(&'static str, &'static str, &'static str)> {
     Params::bstab()
         .named()
         .into_iter()
-        .map(|n| (n.name, n.long_name, n.units))
+        .map(|n| (n.name, n.long_name, "1"))
         .collect()
 }
 
