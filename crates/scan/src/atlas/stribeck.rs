@@ -475,6 +475,49 @@ path = "s.h5"
         assert!(fold.nu > 1.8 && fold.nu < 2.0, "{fold:?}");
         // Rest squeals at least where the fixed point repels (v_d < 1.151).
         assert!(crit.nu > 1.151 && crit.nu <= fold.nu, "{crit:?}");
+        // `squeal critical --fold` / `squeal critical --in lambda` bisect the section
+        // method's predicates instead (super::boundary: stick-slip runs outside the located
+        // cycle; the cycle enclosing the point): independent evidence, the same brackets
+        // to their width.
+        for (ours, theirs) in [
+            (
+                fold,
+                super::super::boundary::fold_in(
+                    BoundaryParam::Lambda,
+                    base,
+                    p.dt,
+                    p.solver,
+                    &ps,
+                    1.0,
+                    2.2,
+                    1e-3,
+                )
+                .unwrap(),
+            ),
+            (
+                crit,
+                super::super::boundary::critical_in(
+                    BoundaryParam::Lambda,
+                    base,
+                    p.dt,
+                    p.solver,
+                    &ps,
+                    ps.operating,
+                    1.0,
+                    2.2,
+                    1e-3,
+                )
+                .unwrap(),
+            ),
+        ] {
+            assert_eq!(theirs.status, BoundaryStatus::Found);
+            assert!(
+                ours.bracket[0] <= theirs.bracket[1] && theirs.bracket[0] <= ours.bracket[1],
+                "{:?} vs {:?}",
+                ours.bracket,
+                theirs.bracket
+            );
+        }
         // The atlas's own labels (section search and landscape together) flip across each
         // bracket, 1% either side.
         let at = |v_d: f64| {
