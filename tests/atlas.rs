@@ -818,7 +818,8 @@ fn a_2d_atlas_lays_its_maps_out_over_both_parameters() {
     assert!(dir.path().join("maps.png").exists());
 }
 
-/// bSTAB's friction case (the Stribeck law's defaults) at v_d = 1.5, with a 64 x 32 map
+/// bSTAB's friction case (the Stribeck law's defaults) at v_d = 1.0, 1.5 (bSTAB's case 1)
+/// and 2.2, each with a 64 x 32 map
 /// whose cells tile exactly bSTAB's region x in [-2, 2], x' in [0, 2] (spacing 4/64 and
 /// 2/32, first and last values half a spacing inside).
 const STRIBECK_MAP: &str = r#"
@@ -826,7 +827,7 @@ version = 1
 name = "bstab-one"
 [model]
 law = "stribeck"
-v_d = 1.5
+v_d = [1.0, 1.5, 2.2]
 [boundaries]
 fold = false
 critical = false
@@ -861,7 +862,7 @@ fn stribeck_basin_fraction_agrees_with_bstab_and_the_map() {
     )));
     assert_eq!(a["disturbance"]["x"], serde_json::json!([-2.0, 2.0]));
     assert_eq!(a["disturbance"]["v"], serde_json::json!([0.0, 2.0]));
-    let p = &a["points"][0];
+    let p = &a["points"][1];
     assert_eq!(p["landscape"]["landscape"], "bistable");
     assert!(p["regime"].as_str().unwrap().starts_with("bistable"), "{p}");
     // The map (squeal's own grid scan of the box, the scan's spine) and the cycle (the
@@ -886,6 +887,23 @@ fn stribeck_basin_fraction_agrees_with_bstab_and_the_map() {
     }
     // Every cell of the map decided.
     assert_eq!(p["map"]["undecided"], 0);
+    // Where the landscape states the regime of every start (v_d = 1.0: the fixed point
+    // repels; 2.2: no stick-slip cycle), every cell of the map ends there: fractions 0 and
+    // 1 from the map, as the atlas states them, and no cell labelled against the landscape
+    // (-1 where it states none: bistable).
+    for (k, want) in [(0, 0.0), (2, 1.0)] {
+        let q = &a["points"][k];
+        assert_eq!(q["basin_fraction"].as_f64(), Some(want), "{q}");
+        assert_eq!(q["basin_fraction_cycle"].as_f64(), Some(want), "{q}");
+        assert_eq!(q["map"]["undecided"], 0, "{q}");
+    }
+    let contradictions: Vec<i64> = hdf5::File::open(dir.path().join("bstab.h5"))
+        .unwrap()
+        .dataset("map_landscape_contradictions")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    assert_eq!(contradictions, [0, -1, 0]);
 }
 
 #[test]
