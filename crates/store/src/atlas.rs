@@ -17,7 +17,8 @@
 //!           ("nondimensional" | "physical"), solver, dt, every fixed parameter (f64, with
 //!           <key>_units), operating_point_x/_v, disturbance_x/_v ([min, max]), shard
 //! coordinates (dimension scales, attrs long_name, units): one per swept parameter, in
-//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g);
+//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g |
+//!           xi, v_d, mu_d, mu_sd, v_0, mu_v);
 //!           `point` (length 1) when nothing is swept, `boundary` (length 1) when only the
 //!           damping is
 //! over the swept dims:
@@ -29,12 +30,19 @@
 //!   returns, evaluations, failures                          u64
 //!   <figure>_si    (physical specs) the same figure in SI units (m, m/s, s, Hz, m^2/s)
 //!   nu, lambda, tau, phi (physical specs: nondim_nu, ...) the nondimensional parameters
+//!   landscape      (law = "stribeck") u8 enum {unknown=0, stick_slip_only=1, bistable=2,
+//!                  steady_slip_only=3, not_computed=255}; CF flags; with
+//!                  fixed_point_damping, stick_cycle_period, stick_cycle_stuck  f64, its
+//!                  evidence (squeal_scan::landscape::LANDSCAPE_FIELDS); the stick-slip
+//!                  figure stick_quasi_static_share is stored as stick_stuck_share
 //!   note           string: why a point is undecided, or the caveat of its label
 //!   points_done    u8: 1 where computed (shards)
 //! over the swept dims except the damping (nu or c):
 //!   fold_status, critical_status  u8 enum {found=0, below_range=1, above_range=2,
 //!                                 not_computed=255}
 //!   fold_nu, fold_nu_lo, fold_nu_hi, critical_nu, critical_nu_lo, critical_nu_hi   f64
+//!                 (bisected in lambda: fold_lambda, ...; law = "stribeck": fold_xi, ... or
+//!                 fold_v_d, ...)
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m
 //!   boundary_note                 string: why a search was not computed
 //!   boundaries_done               u8

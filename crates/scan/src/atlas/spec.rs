@@ -5,7 +5,7 @@
 //! version = 1
 //! name = "atlas-lambda-nu"           # optional, used in titles
 //! [model]
-//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb
+//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
 //! # Nondimensional parameters (paper Section 4), each a number, a list, or a range
 //! # { from = .., to = .., count = .., spacing = "linear" | "log" }:
 //! nu = { from = 1e-3, to = 0.06, count = 64, spacing = "log" }
@@ -17,6 +17,9 @@
 //! # m = 1.0        # kg            k = 1e4      # N/m         c = 2.0   # N s/m
 //! # v_belt = 0.1   # m/s           mu_k = 0.3   mu_s = 0.4    tau = 3e-3  # s
 //! # g = 9.81       # m/s^2, default
+//! # law = "stribeck" takes instead xi (default 0.05) and v_d (default 1.5), each a number,
+//! # list or range, and the numbers mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0 (the scan
+//! # spec's defaults); no McMillan key and no [physical] (McMillan's scaling)
 //! [integration]
 //! dt = 0.01
 //! solver = "robust"                  # robust | paper
@@ -39,6 +42,7 @@
 //! [boundaries]
 //! in = "nu"                          # bisect in nu or lambda; default nu if nu (c) is
 //!                                    # swept, else lambda if lambda (v_belt) is, else nu
+//!                                    # (law = "stribeck": xi or v_d, ranges xi_lo, ...)
 //! fold = true                        # the value above which no start squeals
 //! critical = true                    # the value at which the operating point stops squealing
 //! nu_lo = 1e-4                       # bisection range when nu is not swept
@@ -58,7 +62,8 @@
 //! ```
 //!
 //! The swept parameters (more than one value) are the axes, in the fixed order
-//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`); points are their
+//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`, or for the Stribeck
+//! law `xi, v_d, mu_d, mu_sd, v_0, mu_v`); points are their
 //! Cartesian product in C order (the last axis fastest).
 
 use std::path::PathBuf;
