@@ -188,7 +188,7 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
             let mut o = json!({
                 "index": i,
                 "coords": coords,
-                "params": {"nu": q.nu, "lambda": q.lambda, "tau": q.tau, "phi": q.phi},
+                "params": q.named().iter().map(|n| (n.name.to_string(), json!(n.value))).collect::<serde_json::Map<_, _>>(),
             });
             let Some(p) = p else {
                 o["regime"] = "not_computed".into();
@@ -211,6 +211,23 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
             }
             if scales.is_some() {
                 o["si"] = Value::Object(si);
+            }
+            if let Some(l) = p.landscape {
+                // Laws with true stick: the landscape beside the section search's figures,
+                // and the share of time stuck under its own name.
+                use squeal_scan::atlas::stribeck::{LANDSCAPE_COLUMNS, STUCK_SHARE};
+                let mut e = serde_json::Map::new();
+                e.insert(
+                    "landscape".into(),
+                    l.verdict().map_or("unknown", |v| v.name()).into(),
+                );
+                for c in LANDSCAPE_COLUMNS {
+                    e.insert(c.name.into(), num((c.get)(p)));
+                }
+                o["landscape"] = Value::Object(e);
+                if let Some(v) = o.as_object_mut().and_then(|m| m.remove("stick_quasi_static_share")) {
+                    o[STUCK_SHARE.0] = v;
+                }
             }
             if plan.maps.is_some() {
                 // The reported basin fraction is the map's; the cycle's is kept beside it.
@@ -242,7 +259,7 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
             let (i, range) = plan.boundary_setup(j);
             let values = plan.values_at(i);
             let (dkey, _) = plan.boundary_axis();
-            let bkey = plan.boundary_in.key();
+            let bkey = plan.boundary_key();
             let coords: serde_json::Map<String, Value> = plan
                 .params
                 .iter()
@@ -324,12 +341,12 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
         );
     }
     let (dkey, _) = plan.boundary_axis();
-    let bkey = plan.boundary_in.key();
+    let bkey = plan.boundary_key();
     let shown = res.boundaries.len().min(12);
     if shown > 0 {
         println!(
             "  boundaries in the {} (first {shown} of {}):",
-            plan.boundary_in.words(),
+            plan.boundary_words(),
             res.boundaries.len()
         );
     }

@@ -1,5 +1,5 @@
 //! The atlas: scans over the design space (`nu`, `lambda`, `tau`, `phi`, or the physical
-//! parameters) with figures of merit per parameter point and boundaries located by
+//! parameters, or the Stribeck law's `xi`, `v_d`) with figures of merit per parameter point and boundaries located by
 //! bisection.
 //!
 //! * [`spec`]: the atlas TOML spec (a Cartesian product of values, lists and ranges; either
@@ -11,6 +11,8 @@
 //! * [`columns`]: the stored figures as one table (HDF5, journal and JSON walk it).
 //! * [`maps`]: optional basin maps, one per point, made by the scan's spine
 //!   ([`AtlasPlan::map_plan`]), and the basin fraction read off a map ([`maps::map_fraction`]).
+//! * [`stribeck`]: laws with true stick: each point's section search checked against the
+//!   landscape (undecided where they disagree), boundaries bisected on the landscape.
 //! * [`driver`]: the work units (lines of points along the last axis, warm-started from the
 //!   previous point; boundary searches), run in parallel, results by index.
 //!
@@ -37,6 +39,7 @@ pub mod driver;
 pub mod maps;
 pub mod point;
 pub mod spec;
+pub mod stribeck;
 
 pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};

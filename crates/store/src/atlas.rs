@@ -17,7 +17,8 @@
 //!           ("nondimensional" | "physical"), solver, dt, every fixed parameter (f64, with
 //!           <key>_units), operating_point_x/_v, disturbance_x/_v ([min, max]), shard
 //! coordinates (dimension scales, attrs long_name, units): one per swept parameter, in
-//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g);
+//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g |
+//!           xi, v_d, mu_d, mu_sd, v_0, mu_v);
 //!           `point` (length 1) when nothing is swept, `boundary` (length 1) when only the
 //!           damping is
 //! over the swept dims:
@@ -29,12 +30,19 @@
 //!   returns, evaluations, failures                          u64
 //!   <figure>_si    (physical specs) the same figure in SI units (m, m/s, s, Hz, m^2/s)
 //!   nu, lambda, tau, phi (physical specs: nondim_nu, ...) the nondimensional parameters
+//!   landscape      (law = "stribeck") u8 enum {unknown=0, stick_slip_only=1, bistable=2,
+//!                  steady_slip_only=3, not_computed=255}; CF flags; with
+//!                  fixed_point_damping, stick_cycle_period, stick_cycle_stuck  f64, its
+//!                  evidence (squeal_scan::landscape::LANDSCAPE_FIELDS); the stick-slip
+//!                  figure stick_quasi_static_share is stored as stick_stuck_share
 //!   note           string: why a point is undecided, or the caveat of its label
 //!   points_done    u8: 1 where computed (shards)
 //! over the swept dims except the damping (nu or c):
 //!   fold_status, critical_status  u8 enum {found=0, below_range=1, above_range=2,
 //!                                 not_computed=255}
 //!   fold_nu, fold_nu_lo, fold_nu_hi, critical_nu, critical_nu_lo, critical_nu_hi   f64
+//!                 (bisected in lambda: fold_lambda, ...; law = "stribeck": fold_xi, ... or
+//!                 fold_v_d, ...)
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m
 //!   boundary_note                 string: why a search was not computed
 //!   boundaries_done               u8
@@ -73,6 +81,7 @@ use squeal_scan::atlas::{
 };
 
 use squeal_scan::atlas::MapFraction;
+use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::cell::Cell;
 use squeal_scan::ulc::CycleOutcome;
 
@@ -327,11 +336,18 @@ fn map_rec_from_json(v: &Value) -> Option<MapRec> {
 }
 
 fn point_json(p: &PointResult) -> Value {
-    json!({
+    let mut o = json!({
         "regime": p.regime as u8,
         "note": p.note,
         "v": COLUMNS.iter().map(|c| num((c.get)(p))).collect::<Vec<_>>(),
-    })
+    });
+    if let Some(l) = p.landscape {
+        // Laws with true stick: the landscape and the numbers it rests on.
+        let mut v = vec![json!(l.landscape)];
+        v.extend(LANDSCAPE_COLUMNS.iter().map(|c| num((c.get)(p))));
+        o["l"] = Value::Array(v);
+    }
+    o
 }
 
 fn point_from_json(v: &Value) -> Option<PointResult> {
@@ -345,8 +361,32 @@ fn point_from_json(v: &Value) -> Option<PointResult> {
     for (c, x) in COLUMNS.iter().zip(vals) {
         (c.set)(&mut p, x.as_f64().unwrap_or(f64::NAN));
     }
+    if let Some(l) = v.get("l") {
+        let l = l.as_array()?;
+        if l.len() != LANDSCAPE_COLUMNS.len() + 1 {
+            return None;
+        }
+        for (c, x) in LANDSCAPE_COLUMNS.iter().zip(&l[1..]) {
+            (c.set)(&mut p, x.as_f64().unwrap_or(f64::NAN));
+        }
+        stribeck_landscape(&mut p, l[0].as_u64()? as u8);
+    }
     finish_point(&mut p);
     Some(p)
+}
+
+/// Sets the stored landscape verdict of a point (laws with true stick).
+fn stribeck_landscape(p: &mut PointResult, v: u8) {
+    if let Some(l) = p.landscape.as_mut() {
+        l.landscape = v;
+    } else {
+        p.landscape = Some(squeal_scan::atlas::stribeck::LandscapeRecord {
+            landscape: v,
+            damping: f64::NAN,
+            cycle_period: f64::NAN,
+            cycle_stuck: f64::NAN,
+        });
+    }
 }
 
 /// A unit result as one JSON value (NaN as null), for the journal and `--json`.
@@ -700,6 +740,24 @@ fn u8_of(v: f64) -> u8 {
     if v.is_nan() { 255 } else { v as u8 }
 }
 
+/// The stored `landscape` of a point not computed.
+const LANDSCAPE_NOT_COMPUTED: u8 = 255;
+
+/// The CF flag values and meanings of the per-point `landscape` enum.
+fn landscape_flags() -> (Vec<u8>, String) {
+    let mut values: Vec<u8> = squeal_core::Landscape::ALL
+        .iter()
+        .map(|l| *l as u8)
+        .collect();
+    let mut names: Vec<&str> = squeal_core::Landscape::ALL
+        .iter()
+        .map(|l| l.name())
+        .collect();
+    values.push(LANDSCAPE_NOT_COMPUTED);
+    names.push("not_computed");
+    (values, names.join(" "))
+}
+
 /// Writes the atlas file `out` (through `<out>.tmp`, then renamed).
 pub fn write_atlas(
     out: &Path,
@@ -894,6 +952,39 @@ fn write_all(
             )?;
         }
     }
+    if plan.law.has_true_stick() {
+        // The landscape of each point (as `squeal scan` stores per map) and its evidence.
+        let v: Vec<u8> = res
+            .points
+            .iter()
+            .map(|p| {
+                p.as_ref()
+                    .and_then(|p| p.landscape)
+                    .map_or(LANDSCAPE_NOT_COMPUTED, |l| l.landscape)
+            })
+            .collect();
+        let (name, long) = squeal_scan::landscape::LANDSCAPE;
+        let ds = put(file, dims, name, &shape, v, long, None, &pscales)?;
+        let (values, meanings) = landscape_flags();
+        flags(&ds, &meanings, &values)?;
+        for c in LANDSCAPE_COLUMNS {
+            let vals: Vec<f64> = res
+                .points
+                .iter()
+                .map(|p| p.as_ref().map_or(f64::NAN, |p| (c.get)(p)))
+                .collect();
+            put(
+                file,
+                dims,
+                c.name,
+                &shape,
+                vals,
+                c.long_name,
+                Some("1"),
+                &pscales,
+            )?;
+        }
+    }
     let notes = note_strings(
         res.points
             .iter()
@@ -1046,6 +1137,10 @@ fn write_all(
 /// `basin_fraction_err` are the map's, and the point's own (from the cycle) are stored as
 /// `basin_fraction_cycle` and `basin_fraction_cycle_err`.
 fn stored_name(plan: &AtlasPlan, c: &squeal_scan::atlas::columns::Column) -> (String, String) {
+    if plan.law.has_true_stick() && c.name == "stick_quasi_static_share" {
+        let (name, long) = squeal_scan::atlas::stribeck::STUCK_SHARE;
+        return (name.into(), long.into());
+    }
     match (plan.maps.is_some(), c.name) {
         (true, "basin_fraction") => (
             "basin_fraction_cycle".into(),
@@ -1146,8 +1241,13 @@ fn write_maps(
         };
         let curve = res.map_cycle(i).map(|r| &r.curve);
         let escapes = res.map_cycle(i).is_some_and(|r| r.escape.is_some());
-        // The atlas takes McMillan laws only, which have no landscape check.
-        let mut ck = squeal_scan::MapChecks::new(curve, None, escapes);
+        // Laws with true stick: the map's cells are checked against the point's landscape
+        // (every cell steady slip, or every cell stick-slip, where it says so).
+        let landscape = res.points[i]
+            .as_ref()
+            .and_then(|p| p.landscape)
+            .and_then(|l| l.verdict());
+        let mut ck = squeal_scan::MapChecks::new(curve, landscape, escapes);
         for b in 0..nb {
             let Some(cells) = res.blocks.get(&(i, b)) else {
                 continue;
@@ -1359,6 +1459,21 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
         };
         for (p, v) in pts.iter_mut().zip(vals) {
             (c.set)(p, v);
+        }
+    }
+    if plan.law.has_true_stick() {
+        for c in LANDSCAPE_COLUMNS {
+            for (p, v) in pts.iter_mut().zip(rd_f64(c.name)?) {
+                (c.set)(p, v);
+            }
+        }
+        let (name, _) = squeal_scan::landscape::LANDSCAPE;
+        for (p, v) in pts.iter_mut().zip(rd_u8(name)?) {
+            if v == LANDSCAPE_NOT_COMPUTED {
+                p.landscape = None;
+            } else {
+                stribeck_landscape(p, v);
+            }
         }
     }
     let notes: Vec<VarLenUnicode> = file.dataset("note").and_then(|d| d.read_raw()).h5(path)?;

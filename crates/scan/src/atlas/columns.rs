@@ -373,6 +373,7 @@ pub fn empty_point() -> PointResult {
         evaluations: 0,
         failures: 0,
         note: None,
+        landscape: None,
     }
 }
 

@@ -94,10 +94,16 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let len = plan.line_len();
             let mut points = Vec::with_capacity(len);
             let mut warm = None;
+            // Laws with true stick check the section search against the landscape.
+            let compute = if plan.law.has_true_stick() {
+                super::stribeck::compute_point
+            } else {
+                compute_point
+            };
             for i in line * len..(line + 1) * len {
                 // A failure at one point is data (an undecided point with its reason),
                 // not an abort.
-                let p = compute_point(
+                let p = compute(
                     plan.params_at(i),
                     plan.dt,
                     plan.solver,
@@ -128,7 +134,12 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
                     Boundary::none()
                 }
             };
-            let [fold, critical] = boundary::both_in(
+            let both = if plan.law.has_true_stick() {
+                super::stribeck::both_in
+            } else {
+                boundary::both_in
+            };
+            let [fold, critical] = both(
                 plan.boundary_in,
                 base,
                 plan.dt,

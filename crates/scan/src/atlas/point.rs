@@ -214,6 +214,9 @@ pub struct PointResult {
     pub failures: u64,
     /// Why the point is undecided, if it is.
     pub note: Option<String>,
+    /// The landscape and its evidence, for laws with true stick ([`super::stribeck`]).
+    #[serde(default)]
+    pub landscape: Option<super::stribeck::LandscapeRecord>,
 }
 
 /// How the search ended.
@@ -865,6 +868,7 @@ pub fn compute_point(
         evaluations: 0,
         failures: 0,
         note: None,
+        landscape: None,
     };
     if let Some(rep) = &a.cycle {
         let r = rep.r_section;

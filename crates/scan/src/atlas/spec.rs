@@ -5,7 +5,7 @@
 //! version = 1
 //! name = "atlas-lambda-nu"           # optional, used in titles
 //! [model]
-//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb
+//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
 //! # Nondimensional parameters (paper Section 4), each a number, a list, or a range
 //! # { from = .., to = .., count = .., spacing = "linear" | "log" }:
 //! nu = { from = 1e-3, to = 0.06, count = 64, spacing = "log" }
@@ -17,6 +17,9 @@
 //! # m = 1.0        # kg            k = 1e4      # N/m         c = 2.0   # N s/m
 //! # v_belt = 0.1   # m/s           mu_k = 0.3   mu_s = 0.4    tau = 3e-3  # s
 //! # g = 9.81       # m/s^2, default
+//! # law = "stribeck" takes instead xi (default 0.05) and v_d (default 1.5), each a number,
+//! # list or range, and the numbers mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0 (the scan
+//! # spec's defaults); no McMillan key and no [physical] (McMillan's scaling)
 //! [integration]
 //! dt = 0.01
 //! solver = "robust"                  # robust | paper
@@ -39,6 +42,7 @@
 //! [boundaries]
 //! in = "nu"                          # bisect in nu or lambda; default nu if nu (c) is
 //!                                    # swept, else lambda if lambda (v_belt) is, else nu
+//!                                    # (law = "stribeck": xi or v_d, ranges xi_lo, ...)
 //! fold = true                        # the value above which no start squeals
 //! critical = true                    # the value at which the operating point stops squealing
 //! nu_lo = 1e-4                       # bisection range when nu is not swept
@@ -58,7 +62,8 @@
 //! ```
 //!
 //! The swept parameters (more than one value) are the axes, in the fixed order
-//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`); points are their
+//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`, or for the Stribeck
+//! law `xi, v_d, mu_d, mu_sd, v_0, mu_v`); points are their
 //! Cartesian product in C order (the last axis fastest).
 
 use std::path::PathBuf;
@@ -117,6 +122,39 @@ struct ModelFile {
     lambda: Option<Value>,
     tau: Option<Value>,
     phi: Option<Value>,
+    // The Stribeck law's keys (law = "stribeck" only): xi and v_d may be swept.
+    xi: Option<Value>,
+    v_d: Option<Value>,
+    mu_d: Option<f64>,
+    mu_sd: Option<f64>,
+    v_0: Option<f64>,
+    mu_v: Option<f64>,
+}
+
+impl ModelFile {
+    /// The first key given that belongs to the other parameterisation (McMillan's or
+    /// Stribeck's).
+    fn foreign_key(&self) -> Option<&'static str> {
+        let given = |k: &str| match k {
+            "nu" => self.nu.is_some(),
+            "lambda" => self.lambda.is_some(),
+            "tau" => self.tau.is_some(),
+            "phi" => self.phi.is_some(),
+            "xi" => self.xi.is_some(),
+            "v_d" => self.v_d.is_some(),
+            "mu_d" => self.mu_d.is_some(),
+            "mu_sd" => self.mu_sd.is_some(),
+            "v_0" => self.v_0.is_some(),
+            "mu_v" => self.mu_v.is_some(),
+            _ => false,
+        };
+        let other = if self.law.has_true_stick() {
+            FrictionLaw::McMillan
+        } else {
+            FrictionLaw::Stribeck
+        };
+        other.keys().iter().copied().find(|k| given(k))
+    }
 }
 
 #[derive(Deserialize, Debug)]
@@ -188,6 +226,11 @@ struct BoundariesFile {
     nu_hi: Option<f64>,
     lambda_lo: Option<f64>,
     lambda_hi: Option<f64>,
+    // The Stribeck law's names of the same ranges.
+    xi_lo: Option<f64>,
+    xi_hi: Option<f64>,
+    v_d_lo: Option<f64>,
+    v_d_hi: Option<f64>,
     rtol: Option<f64>,
 }
 
@@ -249,6 +292,22 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
     ("tau", "surface time tau", "s"),
     ("g", "gravitational acceleration g", "m/s^2"),
 ];
+
+/// `(key, long name, units)` of the Stribeck law's parameters, in axis order
+/// ([`FrictionLaw::keys`]; the words of [`Params::named`]). All are nondimensional (`"1"`,
+/// as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity scale.
+pub fn stribeck_params() -> Vec<(&'static str, &'static str, &'static str)> {
+    Params::bstab()
+        .named()
+        .into_iter()
+        .map(|n| (n.name, n.long_name, "1"))
+        .collect()
+}
+
+/// Default bisection range of the damping (`nu` or `xi`) when it is not swept.
+pub const DAMPING_RANGE: [f64; 2] = [1e-4, 0.2];
+/// Default bisection range of the belt speed (`lambda` or `v_d`) when it is not swept.
+pub const SPEED_RANGE: [f64; 2] = [0.1, 10.0];
 
 /// The checked atlas plan.
 #[derive(Clone, Debug, Serialize)]
@@ -346,13 +405,25 @@ impl AtlasPlan {
             ));
         }
         let m = &f.model;
-        if m.law == FrictionLaw::Stribeck {
+        let stribeck = m.law.has_true_stick();
+        if let Some(k) = m.foreign_key() {
+            let expected = if stribeck {
+                "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
+            } else {
+                "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
+                 mu_sd, v_0, mu_v)"
+            };
+            return Err(invalid(path, &format!("model.{k}"), "given", expected));
+        }
+        if stribeck && f.physical.is_some() {
             return Err(invalid(
                 path,
-                "model.law",
-                "stribeck",
-                "a McMillan law (mcmillan, mcmillan-nonhysteretic or coulomb): the atlas does not \
-                 take the Stribeck law yet; scan it with `squeal scan` (xi or v_d swept)",
+                "physical",
+                "given with law = \"stribeck\"",
+                "a nondimensional Stribeck spec ([model] xi, v_d, mu_d, mu_sd, v_0, mu_v): the \
+                 physical units are McMillan's scaling (x scaled by mu_k g / omega_n^2, lambda = \
+                 v_B omega_n / (mu_k g), tau and Phi from the surfaces), which the Stribeck law \
+                 does not share",
             ));
         }
         let (units, params) = if let Some(ph) = &f.physical {
@@ -387,6 +458,30 @@ impl AtlasPlan {
                 });
             }
             (Units::Physical, axes)
+        } else if stribeck {
+            let fixed = |v: Option<f64>, d: f64| Value::One(v.unwrap_or(d));
+            let d = squeal_core::Stribeck::default();
+            let vals = [
+                m.xi.clone()
+                    .unwrap_or(Value::One(squeal_core::defaults::XI)),
+                m.v_d
+                    .clone()
+                    .unwrap_or(Value::One(squeal_core::defaults::V_D)),
+                fixed(m.mu_d, d.mu_d),
+                fixed(m.mu_sd, d.mu_sd),
+                fixed(m.v_0, d.v_0),
+                fixed(m.mu_v, d.mu_v),
+            ];
+            let mut axes = Vec::new();
+            for ((key, long, u), v) in stribeck_params().into_iter().zip(vals.iter()) {
+                axes.push(AtlasAxis {
+                    key,
+                    long_name: long,
+                    units: u,
+                    values: expand(path, &format!("model.{key}"), v)?,
+                });
+            }
+            (Units::Nondimensional, axes)
         } else {
             let nu = m.nu.clone().ok_or_else(|| {
                 invalid(
@@ -620,30 +715,79 @@ impl AtlasPlan {
             }
         };
         let bd = f.boundaries.unwrap_or_default();
-        let nu_range = [bd.nu_lo.unwrap_or(1e-4), bd.nu_hi.unwrap_or(0.2)];
+        // The bisection ranges under the law's own names (`nu_lo` or `xi_lo`, ...); the other
+        // law's names are refused.
+        let (dk, sk) = (m.law.keys()[0], m.law.keys()[1]);
+        let (own, foreign) = if stribeck {
+            (
+                [bd.xi_lo, bd.xi_hi, bd.v_d_lo, bd.v_d_hi],
+                [
+                    ("nu_lo", bd.nu_lo),
+                    ("nu_hi", bd.nu_hi),
+                    ("lambda_lo", bd.lambda_lo),
+                    ("lambda_hi", bd.lambda_hi),
+                ],
+            )
+        } else {
+            (
+                [bd.nu_lo, bd.nu_hi, bd.lambda_lo, bd.lambda_hi],
+                [
+                    ("xi_lo", bd.xi_lo),
+                    ("xi_hi", bd.xi_hi),
+                    ("v_d_lo", bd.v_d_lo),
+                    ("v_d_hi", bd.v_d_hi),
+                ],
+            )
+        };
+        if let Some((k, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
+            return Err(invalid(
+                path,
+                &format!("boundaries.{k}"),
+                "given",
+                &format!(
+                    "the bisection range under law {}'s names: {dk}_lo, {dk}_hi, {sk}_lo, {sk}_hi",
+                    m.law
+                ),
+            ));
+        }
+        let nu_range = [
+            own[0].unwrap_or(DAMPING_RANGE[0]),
+            own[1].unwrap_or(DAMPING_RANGE[1]),
+        ];
         if !(nu_range[0] > 0.0 && nu_range[1] > nu_range[0] && nu_range[1] <= 10.0) {
             return Err(invalid(
                 path,
-                "boundaries.nu_lo",
+                &format!("boundaries.{dk}_lo"),
                 format!("{nu_range:?}"),
-                "0 < nu_lo < nu_hi <= 10",
+                &format!("0 < {dk}_lo < {dk}_hi <= 10"),
             ));
         }
-        let lambda_range = [bd.lambda_lo.unwrap_or(0.1), bd.lambda_hi.unwrap_or(10.0)];
+        let lambda_range = [
+            own[2].unwrap_or(SPEED_RANGE[0]),
+            own[3].unwrap_or(SPEED_RANGE[1]),
+        ];
         if !(lambda_range[0] > 0.0 && lambda_range[1] > lambda_range[0] && lambda_range[1] <= 1e3) {
             return Err(invalid(
                 path,
-                "boundaries.lambda_lo",
+                &format!("boundaries.{sk}_lo"),
                 format!("{lambda_range:?}"),
-                "0 < lambda_lo < lambda_hi <= 1000",
+                &format!("0 < {sk}_lo < {sk}_hi <= 1000"),
             ));
         }
         let swept = |k: &str| params.iter().any(|a| a.key == k && a.values.len() > 1);
         let boundary_in = match bd.in_.as_deref() {
-            Some(k) => BoundaryParam::from_key(k)
-                .ok_or_else(|| invalid(path, "boundaries.in", k, "\"nu\" or \"lambda\""))?,
-            None if swept("nu") || swept("c") => BoundaryParam::Nu,
-            None if swept("lambda") || swept("v_belt") => BoundaryParam::Lambda,
+            Some(k) if k == dk => BoundaryParam::Nu,
+            Some(k) if k == sk => BoundaryParam::Lambda,
+            Some(k) => {
+                return Err(invalid(
+                    path,
+                    "boundaries.in",
+                    k,
+                    &format!("\"{dk}\" or \"{sk}\" (law {})", m.law),
+                ));
+            }
+            None if swept(dk) || swept("c") => BoundaryParam::Nu,
+            None if swept(sk) || swept("v_belt") => BoundaryParam::Lambda,
             None => BoundaryParam::Nu,
         };
         if units == Units::Physical {
@@ -844,6 +988,20 @@ impl AtlasPlan {
                     stribeck: None,
                 }
             }
+            None if self.law.has_true_stick() => {
+                // Axis order is the law's keys: xi, v_d, mu_d, mu_sd, v_0, mu_v.
+                let v = self.values_at(i);
+                Params::stribeck(
+                    v[0],
+                    v[1],
+                    squeal_core::Stribeck {
+                        mu_d: v[2],
+                        mu_sd: v[3],
+                        v_0: v[4],
+                        mu_v: v[5],
+                    },
+                )
+            }
             None => {
                 let v = self.values_at(i);
                 Params {
@@ -879,17 +1037,35 @@ impl AtlasPlan {
     /// The damping parameter's key (`nu` or `c`) and its position among the swept axes.
     pub fn damping_axis(&self) -> (&'static str, Option<usize>) {
         let key = match self.units {
-            Units::Nondimensional => "nu",
+            Units::Nondimensional => self.law.keys()[0],
             Units::Physical => "c",
         };
         (key, self.axes().iter().position(|a| a.key == key))
+    }
+
+    /// The bisected parameter's nondimensional key under the law's names (`nu`, `lambda`;
+    /// Stribeck: `xi`, `v_d`), also the suffix of the stored boundary datasets.
+    pub fn boundary_key(&self) -> &'static str {
+        match self.boundary_in {
+            BoundaryParam::Nu => self.law.keys()[0],
+            BoundaryParam::Lambda => self.law.keys()[1],
+        }
+    }
+
+    /// Words for the bisected parameter (`damping ratio nu`, `belt speed v_d`, ...).
+    pub fn boundary_words(&self) -> &'static str {
+        match (self.law.has_true_stick(), self.boundary_in) {
+            (true, BoundaryParam::Nu) => "damping ratio xi",
+            (true, BoundaryParam::Lambda) => "belt speed v_d",
+            (false, b) => b.words(),
+        }
     }
 
     /// The bisected parameter's key (`nu`/`c` or `lambda`/`v_belt`) and its position among
     /// the swept axes: the boundary array spans the other swept axes.
     pub fn boundary_axis(&self) -> (&'static str, Option<usize>) {
         let key = match self.units {
-            Units::Nondimensional => self.boundary_in.key(),
+            Units::Nondimensional => self.boundary_key(),
             Units::Physical => self.boundary_in.physical_key(),
         };
         (key, self.axes().iter().position(|a| a.key == key))
@@ -908,6 +1084,24 @@ impl AtlasPlan {
     /// The stored name of a boundary column (`fold_nu` -> `fold_lambda` when bisecting in
     /// lambda) and its long name.
     pub fn boundary_dataset(&self, name: &str, long_name: &str) -> (String, String) {
+        if self.law.has_true_stick() {
+            // The Stribeck law's words: its fold is where the stick-slip cycle ends.
+            let name = name.replace("_nu", &format!("_{}", self.boundary_key()));
+            let long = long_name.replace(
+                "fold of cycles",
+                "fold (the stick-slip cycle ends: the orbit from breakaway no longer sticks again)",
+            );
+            let long = match self.boundary_in {
+                BoundaryParam::Nu => long
+                    .replace("damping ratio", "damping ratio xi")
+                    .replace("critical damping:", "critical damping ratio xi:"),
+                BoundaryParam::Lambda => long
+                    .replace("critical damping ratio", "critical belt speed v_d")
+                    .replace("critical damping", "critical belt speed v_d")
+                    .replace("damping ratio", "belt speed v_d"),
+            };
+            return (name, long);
+        }
         match self.boundary_in {
             BoundaryParam::Nu => (name.to_string(), long_name.to_string()),
             BoundaryParam::Lambda => (
@@ -1083,6 +1277,112 @@ path = "p.h5"
                     "[disturbance]\nx = [1.0, 0.0]\nv = [0.0, 1.0]\n[output]",
                 ),
                 "disturbance.x",
+            ),
+        ];
+        for (text, key) in cases {
+            let e = err(&text);
+            assert!(e.contains(key), "expected `{key}` in: {e}");
+        }
+    }
+
+    const STRIBECK: &str = r#"
+version = 1
+[model]
+law = "stribeck"
+xi = [0.02, 0.05]
+v_d = { from = 1.0, to = 2.2, count = 4 }
+[output]
+path = "s.h5"
+"#;
+
+    #[test]
+    fn a_stribeck_spec_has_its_own_axes_and_defaults() {
+        let p = AtlasPlan::from_toml(STRIBECK, "s.toml").unwrap();
+        let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
+        assert_eq!(keys, FrictionLaw::Stribeck.keys());
+        assert_eq!(p.shape(), vec![2, 4]);
+        // Point 5 = (xi index 1, v_d index 1); the fixed keys at bSTAB's case.
+        let q = p.params_at(5);
+        assert_eq!(q.law, FrictionLaw::Stribeck);
+        assert_eq!((q.nu, q.lambda), (0.05, 1.4));
+        assert_eq!(q.stribeck, Some(squeal_core::Stribeck::default()));
+        assert_eq!(p.damping_axis(), ("xi", Some(0)));
+        // Boundaries in xi by default (xi is swept), over v_d; in v_d on request.
+        assert_eq!(p.boundary_axis(), ("xi", Some(0)));
+        assert_eq!(
+            p.boundary_dataset("fold_nu_lo", "x").0,
+            "fold_xi_lo".to_string()
+        );
+        let v = AtlasPlan::from_toml(
+            &STRIBECK.replace("[output]", "[boundaries]\nin = \"v_d\"\n[output]"),
+            "s.toml",
+        )
+        .unwrap();
+        assert_eq!(v.boundary_axis(), ("v_d", Some(1)));
+        let (name, long) = v.boundary_dataset(
+            "critical_nu",
+            "critical damping ratio: the operating point stops squealing above it",
+        );
+        assert_eq!(name, "critical_v_d");
+        assert!(long.starts_with("critical belt speed v_d"), "{long}");
+        assert_eq!(v.boundary_words(), "belt speed v_d");
+        // Unset keys take the scan spec's defaults (crates/core/src/defaults.rs).
+        let d = AtlasPlan::from_toml(&STRIBECK.replace("xi = [0.02, 0.05]\n", ""), "s.toml")
+            .unwrap()
+            .params_at(0);
+        assert_eq!(d.nu, squeal_core::defaults::XI);
+    }
+
+    #[test]
+    fn bad_stribeck_specs_name_the_key() {
+        let with = |k: &str| STRIBECK.replace("[output]", &format!("{k}\n[output]"));
+        let model =
+            |k: &str| STRIBECK.replace("xi = [0.02, 0.05]", &format!("xi = [0.02, 0.05]\n{k}"));
+        let cases: Vec<(String, &str)> = vec![
+            (model("nu = 0.01"), "model.nu"),
+            (model("lambda = 3.0"), "model.lambda"),
+            (model("tau = 0.3"), "model.tau"),
+            (model("phi = 1.0"), "model.phi"),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [2.0, 3.0]\nxi = 0.1"),
+                "model.xi",
+            ),
+            (
+                GOOD.replace("lambda = [2.0, 3.0]", "lambda = [2.0, 3.0]\nmu_sd = 2.0"),
+                "model.mu_sd",
+            ),
+            (model("mu_sd = 0.5"), "model.mu_sd"),
+            (model("v_0 = 0.0"), "model.v_0"),
+            (model("v_0 = -1.0"), "model.v_0"),
+            (
+                STRIBECK.replace("xi = [0.02, 0.05]", "xi = [-0.1, 0.05]"),
+                "model.xi",
+            ),
+            (
+                STRIBECK.replace("count = 4", "count = 0"),
+                "model.v_d.count",
+            ),
+            (model("mu_d = 0.0"), "model.mu_d"),
+            (model("mu_v = -1.0"), "model.mu_v"),
+            (
+                with(
+                    "[physical]\nm = 1.0\nk = 1.0\nc = 1.0\nv_belt = 1.0\nmu_k = 0.3\nmu_s = 0.4\ntau = 1.0",
+                ),
+                "physical",
+            ),
+            (with("[boundaries]\nin = \"nu\""), "boundaries.in"),
+            (with("[boundaries]\nnu_lo = 0.01"), "boundaries.nu_lo"),
+            (
+                with("[boundaries]\nxi_lo = 0.5\nxi_hi = 0.1"),
+                "boundaries.xi_lo",
+            ),
+            (
+                GOOD.replace("[output]", "[boundaries]\nv_d_hi = 3.0\n[output]"),
+                "boundaries.v_d_hi",
+            ),
+            (
+                GOOD.replace("[output]", "[boundaries]\nin = \"xi\"\n[output]"),
+                "boundaries.in",
             ),
         ];
         for (text, key) in cases {
