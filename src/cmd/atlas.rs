@@ -277,6 +277,7 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
                         bkey: num(bd.nu),
                         "bracket": [num(bd.bracket[0]), num(bd.bracket[1])],
                         "evaluations": bd.evaluations,
+                        "half_dt_holds": bd.half_dt_holds,
                     });
                     if let Some((v, units)) = plan.boundary_si(i, bd.nu) {
                         let si = |x| plan.boundary_si(i, x).map_or(f64::NAN, |(y, _)| y);
@@ -366,12 +367,21 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
                 )
             })
             .collect();
-        let show = |bd: &squeal_scan::atlas::Boundary| match bd.status {
-            BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
-                Some((v, u)) => format!("{bkey} = {:.5} ({dkey} = {v:.4} {u})", bd.nu),
-                None => format!("{bkey} = {:.5}", bd.nu),
-            },
-            s => s.name().to_string(),
+        let show = |bd: &squeal_scan::atlas::Boundary| {
+            let half = match bd.half_dt_holds {
+                Some(true) => "",
+                Some(false) => " [moves at dt/2]",
+                None => " [dt/2 not checked]",
+            };
+            match bd.status {
+                BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
+                    Some((v, u)) => {
+                        format!("{bkey} = {:.5} ({dkey} = {v:.4} {u}){half}", bd.nu)
+                    }
+                    None => format!("{bkey} = {:.5}{half}", bd.nu),
+                },
+                s => s.name().to_string(),
+            }
         };
         println!(
             "    {}: fold {}, critical {}",

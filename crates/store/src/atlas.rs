@@ -402,6 +402,8 @@ pub fn unit_json(r: &UnitResult) -> Value {
             "critical_status": b.critical.status as u8,
             "fold_evaluations": b.fold.evaluations,
             "critical_evaluations": b.critical.evaluations,
+            "fold_half_dt": b.fold.half_dt_holds,
+            "critical_half_dt": b.critical.half_dt_holds,
             "note": b.note,
             "v": BOUNDARY_COLUMNS.iter().map(|c| num((c.get)(b))).collect::<Vec<_>>(),
         }),
@@ -427,6 +429,8 @@ fn unit_from_json(v: &Value) -> Option<UnitResult> {
     b.critical.status = BoundaryStatus::from_u8(v.get("critical_status")?.as_u64()? as u8)?;
     b.fold.evaluations = v.get("fold_evaluations")?.as_u64()? as u32;
     b.critical.evaluations = v.get("critical_evaluations")?.as_u64()? as u32;
+    b.fold.half_dt_holds = v.get("fold_half_dt").and_then(Value::as_bool);
+    b.critical.half_dt_holds = v.get("critical_half_dt").and_then(Value::as_bool);
     b.note = v.get("note").and_then(|n| n.as_str()).map(str::to_string);
     let vals = v.get("v")?.as_array()?;
     if vals.len() != BOUNDARY_COLUMNS.len() {
@@ -734,6 +738,19 @@ fn flags(ds: &Dataset, meanings: &str, values: &[u8]) -> hdf5::Result<()> {
         .shape(values.len())
         .create("flag_values")?
         .write_raw(values)
+}
+
+/// Long names of the boundaries' dt/2 checks.
+const HALF_DT_FOLD: &str = "fold of cycles: 1 if at dt/2 the predicate still holds at both ends of the bracket (the fold at dt/2 lies in it), 0 if it moved out, 255 not checked";
+const HALF_DT_CRITICAL: &str = "critical value: 1 if at dt/2 the operating point still squeals at the lower end and is quiet at the upper, 0 if the boundary moved out, 255 not checked";
+
+/// The stored value of a dt/2 check.
+fn half_dt_u8(h: Option<bool>) -> u8 {
+    match h {
+        Some(true) => 1,
+        Some(false) => 0,
+        None => 255,
+    }
 }
 
 fn u8_of(v: f64) -> u8 {
@@ -1055,6 +1072,25 @@ fn write_all(
                 .collect();
             let ds = put(file, dims, name, &bshape, v, long, None, &bscales)?;
             flags(&ds, &status_meanings(), &[0, 1, 2, 255])?;
+        }
+        for (name, long, get) in [
+            (
+                "fold_half_dt",
+                HALF_DT_FOLD,
+                (|b: &BoundaryResult| b.fold.half_dt_holds) as fn(&BoundaryResult) -> Option<bool>,
+            ),
+            (
+                "critical_half_dt",
+                HALF_DT_CRITICAL,
+                |b: &BoundaryResult| b.critical.half_dt_holds,
+            ),
+        ] {
+            let v: Vec<u8> = bs
+                .iter()
+                .map(|b| half_dt_u8(b.as_ref().and_then(get)))
+                .collect();
+            let ds = put(file, dims, name, &bshape, v, long, None, &bscales)?;
+            flags(&ds, "moves holds not_checked", &[0, 1, 255])?;
         }
         for c in BOUNDARY_COLUMNS {
             let v: Vec<f64> = bs
@@ -1495,6 +1531,20 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
         let done = rd_u8("boundaries_done")?;
         let fs = rd_u8("fold_status")?;
         let cs = rd_u8("critical_status")?;
+        // Files written before the dt/2 check lack these: not checked.
+        let half = |name: &str| -> Result<Vec<u8>, StoreError> {
+            if file.link_exists(name) {
+                rd_u8(name)
+            } else {
+                Ok(Vec::new())
+            }
+        };
+        let (fh, ch) = (half("fold_half_dt")?, half("critical_half_dt")?);
+        let holds = |v: &[u8], j: usize| match v.get(j) {
+            Some(1) => Some(true),
+            Some(0) => Some(false),
+            _ => None,
+        };
         let bnotes: Vec<VarLenUnicode> = file
             .dataset("boundary_note")
             .and_then(|d| d.read_raw())
@@ -1511,6 +1561,8 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             b.fold.status = BoundaryStatus::from_u8(fs[j]).unwrap_or(BoundaryStatus::NotComputed);
             b.critical.status =
                 BoundaryStatus::from_u8(cs[j]).unwrap_or(BoundaryStatus::NotComputed);
+            b.fold.half_dt_holds = holds(&fh, j);
+            b.critical.half_dt_holds = holds(&ch, j);
             for (c, v) in BOUNDARY_COLUMNS.iter().zip(&cols) {
                 (c.set)(&mut b, v[j]);
             }

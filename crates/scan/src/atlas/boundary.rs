@@ -149,6 +149,11 @@ pub struct Boundary {
     pub bracket: [f64; 2],
     /// Predicate evaluations.
     pub evaluations: u32,
+    /// The bracket checked at `dt / 2`: `Some(true)` when the predicate is still false at
+    /// `lo` and true at `hi` (the boundary at `dt / 2` lies in the same bracket),
+    /// `Some(false)` when it moved out, `None` when not checked (not found, a failed run).
+    #[serde(default)]
+    pub half_dt_holds: Option<bool>,
 }
 
 impl Boundary {
@@ -159,6 +164,7 @@ impl Boundary {
             nu: f64::NAN,
             bracket: [f64::NAN; 2],
             evaluations: 0,
+            half_dt_holds: None,
         }
     }
 }
@@ -181,6 +187,7 @@ pub fn bisect_nu(
         nu: f64::NAN,
         bracket: [nu_lo, nu_hi],
         evaluations: 2,
+        half_dt_holds: None,
     };
     if pred(nu_lo)? {
         b.status = BoundaryStatus::BelowRange;
@@ -206,6 +213,43 @@ pub fn bisect_nu(
     Ok(b)
 }
 
+/// The section crossings found so far in one bisection, by parameter value: each step's
+/// cycle search warm-starts from the crossing at the nearest value already analysed (in
+/// `|ln v|`), as the points of a line do ([`super::point::search`]: the warm bracket is
+/// only kept once checked, else the cold search runs).
+#[derive(Debug, Default)]
+pub struct Crossings(std::cell::RefCell<Vec<(f64, f64)>>);
+
+impl Crossings {
+    /// The crossing at the analysed value nearest `v`, if any had a cycle.
+    pub fn nearest(&self, v: f64) -> Option<f64> {
+        self.0
+            .borrow()
+            .iter()
+            .min_by(|a, b| (a.0 / v).ln().abs().total_cmp(&(b.0 / v).ln().abs()))
+            .map(|&(_, r)| r)
+    }
+
+    /// Analyses parameter value `v` (`p` its parameters), warm-started from the nearest
+    /// crossing, and keeps its crossing.
+    #[allow(clippy::too_many_arguments)] // the analysis' own arguments
+    pub fn analyse(
+        &self,
+        v: f64,
+        p: Params,
+        dt: f64,
+        solver: SolverConfig,
+        ps: &PointSettings,
+        stick: bool,
+    ) -> Result<super::point::Analysis, ScanError> {
+        let a = analyse(p, dt, solver, ps, self.nearest(v), stick)?;
+        if let Some(rep) = &a.cycle {
+            self.0.borrow_mut().push((v, rep.r_section));
+        }
+        Ok(a)
+    }
+}
+
 /// Whether no start squeals at these parameters: no `D > 0` on the section, or an unstable
 /// cycle with no stick-slip attractor outside it (see [`super::point::find_stick_slip`]).
 pub fn quiet_everywhere(
@@ -214,7 +258,19 @@ pub fn quiet_everywhere(
     solver: SolverConfig,
     ps: &PointSettings,
 ) -> Result<bool, ScanError> {
-    let a = analyse(params, dt, solver, ps, None, true)?;
+    quiet_everywhere_from(&Crossings::default(), f64::NAN, params, dt, solver, ps)
+}
+
+/// [`quiet_everywhere`] warm-started from `memo` (`v`: the bisected parameter's value).
+fn quiet_everywhere_from(
+    memo: &Crossings,
+    v: f64,
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+) -> Result<bool, ScanError> {
+    let a = memo.analyse(v, params, dt, solver, ps, true)?;
     a.squeals_somewhere().map(|s| !s).map_err(|e| {
         ScanError::Undetermined(format!(
             "nu = {}, lambda = {}: cannot tell whether anything squeals: {e}",
@@ -232,7 +288,29 @@ pub fn point_quiet(
     ps: &PointSettings,
     point: State,
 ) -> Result<bool, ScanError> {
-    let mut a = analyse(params, dt, solver, ps, None, false)?;
+    point_quiet_from(
+        &Crossings::default(),
+        f64::NAN,
+        params,
+        dt,
+        solver,
+        ps,
+        point,
+    )
+}
+
+/// [`point_quiet`] warm-started from `memo` (`v`: the bisected parameter's value).
+#[allow(clippy::too_many_arguments)] // point_quiet's arguments and the memo
+fn point_quiet_from(
+    memo: &Crossings,
+    v: f64,
+    params: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &PointSettings,
+    point: State,
+) -> Result<bool, ScanError> {
+    let mut a = memo.analyse(v, params, dt, solver, ps, false)?;
     match (&a.search, &a.cycle) {
         (Search::NoneBelow { .. }, _) => Ok(true),
         (Search::FixedPointUnstable { .. }, _) => Ok(false),
@@ -253,16 +331,16 @@ pub fn point_quiet(
     }
 }
 
-/// Bisects a predicate of the parameters in `param`.
+/// Bisects a predicate of the parameters in `param` (given the value too, for warm starts).
 fn bisect_in(
-    pred: impl Fn(Params) -> Result<bool, ScanError>,
+    pred: impl Fn(f64, Params) -> Result<bool, ScanError>,
     base: Params,
     param: BoundaryParam,
     lo: f64,
     hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
-    bisect_nu(|v| pred(param.with(base, v)), lo, hi, rtol)
+    bisect_nu(|v| pred(v, param.with(base, v)), lo, hi, rtol)
 }
 
 /// The fold of cycles in `param`: the value above which no start squeals.
@@ -277,8 +355,9 @@ pub fn fold_in(
     hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
+    let memo = Crossings::default();
     bisect_in(
-        |p| quiet_everywhere(p, dt, solver, ps),
+        |v, p| quiet_everywhere_from(&memo, v, p, dt, solver, ps),
         base,
         param,
         lo,
@@ -300,8 +379,9 @@ pub fn critical_in(
     hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
+    let memo = Crossings::default();
     bisect_in(
-        |p| point_quiet(p, dt, solver, ps, point),
+        |v, p| point_quiet_from(&memo, v, p, dt, solver, ps, point),
         base,
         param,
         lo,
@@ -330,47 +410,136 @@ pub fn both_in(
     rtol: f64,
     [fold, critical]: [bool; 2],
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
-    use std::cell::RefCell;
-    use std::collections::HashMap;
-    // Per value: (quiet everywhere, point quiet), each an answer or the reason it has none.
-    type Answers = (Result<bool, String>, Result<bool, String>);
-    let memo: RefCell<HashMap<u64, Answers>> = RefCell::new(HashMap::new());
-    let eval = |v: f64| -> Result<Answers, ScanError> {
-        if let Some(a) = memo.borrow().get(&v.to_bits()) {
-            return Ok(a.clone());
+    let at_dt = Evaluator::new(param, base, dt, solver, ps, point);
+    let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), lo, hi, rtol);
+    let mut out = [
+        fold.then(|| run(Which::Fold)),
+        critical.then(|| run(Which::Critical)),
+    ];
+    // The accuracy of each bracket: its predicate again at its ends with dt / 2. Near the
+    // fold the stick-slip test is a finite run beside a boundary crisis (runs outside the
+    // cycle can linger for many revolutions and then fall inside), so the bracket at dt can
+    // be off by far more than its width; this says where it holds.
+    let half = Evaluator::new(param, base, dt / 2.0, solver, ps, point);
+    for (which, b) in [Which::Fold, Which::Critical]
+        .into_iter()
+        .zip(out.iter_mut())
+    {
+        let Some(Ok(b)) = b else { continue };
+        if b.status != BoundaryStatus::Found {
+            continue;
         }
-        let p = param.with(base, v);
-        let a = analyse(p, dt, solver, ps, None, true)?;
-        let here = |e: String| format!("nu = {}, lambda = {}: {e}", p.nu, p.lambda);
-        let everywhere = a
-            .squeals_somewhere()
-            .map(|s| !s)
-            .map_err(|e| here(format!("cannot tell whether anything squeals: {e}")));
-        let at_point = match (&a.search, &a.cycle, &a.stick) {
-            (Search::NoneBelow { .. }, _, _) => Ok(true),
-            (Search::FixedPointUnstable { .. }, _, _) => Ok(false),
-            (_, Some(rep), _) if rep.encloses(point.x, point.v) => Ok(true),
-            (_, Some(_), Some(Ok(_))) => Ok(false),
-            (_, Some(_), Some(Err(StickFail::FellInside { .. }))) => Ok(true),
-            (_, Some(_), Some(Err(StickFail::Failed(e)))) => Err(here(e.clone())),
-            _ => Err("a bracket without a cycle".into()),
+        b.half_dt_holds = match (
+            half.answer(b.bracket[0], which),
+            half.answer(b.bracket[1], which),
+        ) {
+            (Ok(at_lo), Ok(at_hi)) => Some(!at_lo && at_hi),
+            _ => None,
         };
-        let ans = (everywhere, at_point);
-        memo.borrow_mut().insert(v.to_bits(), ans.clone());
-        Ok(ans)
-    };
-    let run = |which: usize| {
-        bisect_nu(
-            |v| {
-                let (e, c) = eval(v)?;
-                if which == 0 { e } else { c }.map_err(ScanError::Undetermined)
+    }
+    out
+}
+
+/// Which boundary's predicate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Which {
+    /// Quiet everywhere ([`quiet_everywhere`]).
+    Fold,
+    /// The operating point quiet ([`point_quiet`]).
+    Critical,
+}
+
+/// Answers both predicates at parameter values, analysing each value once (warm-started
+/// from the nearest value's crossing) and running the stick-slip attractor only when a
+/// predicate needs it: the critical predicate does not where the cycle encloses the point.
+/// Each answer is the one [`quiet_everywhere`] or [`point_quiet`] gives (the same starts of
+/// the same stick-slip runs).
+struct Evaluator<'a> {
+    param: BoundaryParam,
+    base: Params,
+    dt: f64,
+    solver: SolverConfig,
+    ps: &'a PointSettings,
+    point: State,
+    crossings: Crossings,
+    memo: std::cell::RefCell<std::collections::HashMap<u64, super::point::Analysis>>,
+}
+
+impl<'a> Evaluator<'a> {
+    fn new(
+        param: BoundaryParam,
+        base: Params,
+        dt: f64,
+        solver: SolverConfig,
+        ps: &'a PointSettings,
+        point: State,
+    ) -> Evaluator<'a> {
+        Evaluator {
+            param,
+            base,
+            dt,
+            solver,
+            ps,
+            point,
+            crossings: Crossings::default(),
+            memo: Default::default(),
+        }
+    }
+
+    fn answer(&self, v: f64, which: Which) -> Result<bool, ScanError> {
+        let p = self.param.with(self.base, v);
+        let mut memo = self.memo.borrow_mut();
+        let a = match memo.entry(v.to_bits()) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(
+                    self.crossings
+                        .analyse(v, p, self.dt, self.solver, self.ps, false)?,
+                )
+            }
+        };
+        let here = |e: String| {
+            ScanError::Undetermined(format!("nu = {}, lambda = {}: {e}", p.nu, p.lambda))
+        };
+        let encloses = a
+            .cycle
+            .as_ref()
+            .is_some_and(|rep| rep.encloses(self.point.x, self.point.v));
+        let needs_stick = match (which, &a.search) {
+            (_, Search::NoneBelow { .. }) => false,
+            (Which::Critical, Search::FixedPointUnstable { .. }) => false,
+            (Which::Critical, _) => !encloses,
+            (Which::Fold, _) => true,
+        };
+        if needs_stick && a.stick.is_none() {
+            // As `analyse` with `stick`: from outside the cycle, or from 0 without one.
+            let st = Stepper::new(p, self.dt, self.solver)?;
+            let cs = settings_for(&p, &self.ps.cycle);
+            let r_u = a.cycle.as_ref().map_or(0.0, |rep| rep.r_section);
+            a.stick = Some(find_stick_slip(
+                &st,
+                r_u,
+                self.ps,
+                cs.t_return,
+                &mut a.work.stats,
+            ));
+        }
+        match which {
+            Which::Fold => a
+                .squeals_somewhere()
+                .map(|s| !s)
+                .map_err(|e| here(format!("cannot tell whether anything squeals: {e}"))),
+            Which::Critical => match (&a.search, &a.cycle, &a.stick) {
+                (Search::NoneBelow { .. }, _, _) => Ok(true),
+                (Search::FixedPointUnstable { .. }, _, _) => Ok(false),
+                (_, Some(_), _) if encloses => Ok(true),
+                (_, Some(_), Some(Ok(_))) => Ok(false),
+                (_, Some(_), Some(Err(StickFail::FellInside { .. }))) => Ok(true),
+                (_, Some(_), Some(Err(StickFail::Failed(e)))) => Err(here(e.clone())),
+                _ => Err(ScanError::Undetermined("a bracket without a cycle".into())),
             },
-            lo,
-            hi,
-            rtol,
-        )
-    };
-    [fold.then(|| run(0)), critical.then(|| run(1))]
+        }
+    }
 }
 
 /// The fold of cycles: the damping above which no start squeals.
@@ -698,8 +867,21 @@ mod tests {
             );
             let fold = fold_nu(base, dt, solver, &ps, 1e-3, 0.05, 1e-2).unwrap();
             let crit = critical_nu(base, dt, solver, &ps, rest, 1e-3, 0.05, 1e-2).unwrap();
-            assert_eq!(f.unwrap().unwrap(), fold, "lambda = {lambda}");
-            assert_eq!(c.unwrap().unwrap(), crit, "lambda = {lambda}");
+            let (f, c) = (f.unwrap().unwrap(), c.unwrap().unwrap());
+            // The shared search also checks each bracket at dt / 2 (the separate ones do not).
+            let unchecked = |b: Boundary| Boundary {
+                half_dt_holds: None,
+                ..b
+            };
+            assert_eq!(unchecked(f), fold, "lambda = {lambda}");
+            assert_eq!(unchecked(c), crit, "lambda = {lambda}");
+            assert!(f.half_dt_holds.is_some() && c.half_dt_holds.is_some());
+            if lambda == 3.0 {
+                // At lambda = 3 the critical damping is where the cycle comes to enclose
+                // rest: the cycle moves by about 1e-6 when dt halves (`squeal ulc`), far
+                // inside the 1% bracket, so the bracket holds at dt / 2.
+                assert_eq!(c.half_dt_holds, Some(true), "{c:?}");
+            }
         }
     }
 }

@@ -749,6 +749,8 @@ pub fn find_stick_slip(
 /// What the section search and the stick-slip runs show at one point (no dt/2 check).
 #[derive(Debug)]
 pub struct Analysis {
+    /// The parameters analysed.
+    pub params: Params,
     /// The search's end.
     pub search: Search,
     /// The located cycle, for a bracket.
@@ -787,6 +789,7 @@ pub fn analyse(
     let mut work = Work::default();
     let found = search(&st, &cs, ps.tangency_iters, warm, &mut work);
     let mut a = Analysis {
+        params,
         search: found,
         cycle: None,
         stick: None,
