@@ -132,20 +132,22 @@ fn boundary(
         ..PointSettings::default()
     };
     let base = plan.maps[map];
-    let b = if args.fold {
-        boundary::fold_in(param, base, plan.dt, plan.solver, &ps, lo, hi, args.rtol)?
-    } else {
-        boundary::critical_in(
-            param,
-            base,
-            plan.dt,
-            plan.solver,
-            &ps,
-            point,
-            lo,
-            hi,
-            args.rtol,
-        )?
+    // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
+    // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
+    let [f, c] = boundary::both_in(
+        param,
+        base,
+        plan.dt,
+        plan.solver,
+        &ps,
+        point,
+        [lo, hi],
+        args.rtol,
+        [args.fold, !args.fold],
+    );
+    let b = match f.or(c) {
+        Some(r) => r?,
+        None => bail!("no boundary asked for"),
     };
     let seconds = t0.elapsed().as_secs_f64();
     if args.json {
@@ -178,8 +180,18 @@ fn boundary(
     };
     match b.status {
         BoundaryStatus::Found => println!(
-            "{what}: {flag} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}",
-            b.nu, b.bracket[0], b.bracket[1], b.evaluations, seconds
+            "{what}: {flag} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
+            b.nu,
+            b.bracket[0],
+            b.bracket[1],
+            b.evaluations,
+            seconds,
+            match b.half_dt_holds {
+                Some(true) => "at dt/2 the bracket holds (the predicate is the same at both ends)",
+                Some(false) =>
+                    "at dt/2 the boundary moves out of the bracket: its error is larger than the bracket",
+                None => "at dt/2: not checked (a run failed)",
+            }
         ),
         BoundaryStatus::BelowRange => bail!("--{flag}-lo {lo}: {nothing}; lower --{flag}-lo"),
         _ => bail!("--{flag}-hi {hi}: it still squeals there; raise --{flag}-hi"),

@@ -43,6 +43,8 @@
 //!   fold_nu, fold_nu_lo, fold_nu_hi, critical_nu, critical_nu_lo, critical_nu_hi   f64
 //!                 (bisected in lambda: fold_lambda, ...; law = "stribeck": fold_xi, ... or
 //!                 fold_v_d, ...)
+//!   fold_half_dt, critical_half_dt  u8 {moves=0, holds=1, not_checked=255}: the
+//!                 bracket's predicate again at dt/2 at both ends
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m
 //!   boundary_note                 string: why a search was not computed
 //!   boundaries_done               u8

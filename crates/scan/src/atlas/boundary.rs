@@ -19,19 +19,24 @@
 //! phi, `scans/atlas-lambda-nu.toml`: the critical damping falls with lambda, the fold
 //! rises then falls); a second crossing is not looked for.
 //!
-//! The bisections search the section cold at every step (not warm-started from the last
-//! step's crossing, as the points along a line are), so the predicate is a function of the
-//! parameter alone, not of the path the bisection took to it.
+//! Each bisection step warm-starts its cycle search from the crossing at the nearest value
+//! already analysed ([`Crossings`]; the warm bracket is kept only once checked, as for the
+//! points along a line), and the shared search ([`both_in`]) runs the stick-slip attractor
+//! only where a predicate needs it.
 //!
-//! **Accuracy of the fold (known limitation).** Near the fold the predicate is not a clean
-//! step: whether a start outside the cycle stays on stick-slip for the attractor window
-//! depends on digits far below any tolerance (runs linger on the ghost of the vanished
-//! stable cycle). Narrowing the cycle's bracket by false position instead of bisection
-//! moves its crossing by about 1e-10 and, on the 64 x 64 chart
-//! (`scans/atlas-lambda-nu.toml`), moved the bisected fold by more than its 1e-3 bracket at
-//! 44 of 64 belt speeds (median 0.4%, up to 11%, the largest below lambda = 1.3; the
-//! critical damping, where it equals the fold). The stored bracket is the bisection's, not
-//! this uncertainty.
+//! **Accuracy of the fold (known limitation, measured per boundary).** Near the fold the
+//! predicate is not a clean step: whether a start outside the cycle stays on stick-slip for
+//! the attractor window depends on digits far below any tolerance (runs linger on the ghost
+//! of the vanished stable cycle, or in a band the return map can jump out of, and then fall
+//! inside). A change of the cycle's crossing by 1e-10 (false position instead of bisection,
+//! or a warm instead of a cold search) moved the bisected fold on the 64 x 64 chart
+//! (`scans/atlas-lambda-nu.toml`) by more than its 1e-3 bracket at 40-44 of 64 belt speeds
+//! (median 0.4%, up to 10%, the largest below lambda = 1.3; the critical damping too where
+//! it equals the fold). So [`both_in`] checks every bracket at `dt / 2`: the predicate again
+//! at both ends ([`Boundary::half_dt_holds`], stored as `fold_half_dt` and
+//! `critical_half_dt`). On that chart the fold's bracket holds at dt / 2 at 15 of 64 belt
+//! speeds and the critical damping's at 44 (those where the cycle comes to enclose rest,
+//! a sharp predicate).
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{Params, SolverConfig, State, Stepper};
