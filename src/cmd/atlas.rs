@@ -755,6 +755,30 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                         });
                     }
                 }
+                // Fold values whose bracket does not hold at dt / 2, marked.
+                let fold = bvals(|b| b.fold);
+                let moved: Vec<f64> = fold
+                    .iter()
+                    .zip(&res.boundaries)
+                    .map(|(v, b)| match b {
+                        Some(b) if b.fold.half_dt_holds == Some(false) => *v,
+                        _ => f64::NAN,
+                    })
+                    .collect();
+                if moved.iter().any(|v| v.is_finite()) {
+                    let (xs, ys) = if dpos == Some(0) {
+                        (xa.values.clone(), moved)
+                    } else {
+                        (moved, ya.values.clone())
+                    };
+                    curves.push(Curve {
+                        label: "fold: bracket moves at dt/2".into(),
+                        xs,
+                        ys,
+                        color: Rgb(250, 220, 0),
+                        points_only: true,
+                    });
+                }
             }
             let op = plan.point.operating;
             let d = plan.point.disturbance;

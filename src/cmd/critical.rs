@@ -35,8 +35,10 @@ pub struct Args {
     /// Find the fold of cycles instead: the damping above which no start squeals.
     #[arg(long)]
     pub fold: bool,
-    /// The parameter to bisect in: nu (the damping) or lambda (the belt speed).
-    #[arg(long = "in", default_value = "nu", value_parser = ["nu", "lambda"])]
+    /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the
+    /// Stribeck law xi and v_d (nu and lambda are taken there too). The bracket flags keep
+    /// the names --nu-lo ... --lambda-hi.
+    #[arg(long = "in", default_value = "nu", value_parser = ["nu", "lambda", "xi", "v_d"])]
     pub in_: String,
     /// Lower end of the bracket in lambda (with --in lambda).
     #[arg(long, default_value_t = 0.5)]
@@ -60,6 +62,23 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let point = State {
         x: args.x0,
         v: args.v0,
+    };
+    let stribeck = plan.maps[setup.map].law.has_true_stick();
+    let args = match (args.in_.as_str(), stribeck) {
+        ("xi" | "v_d", false) => bail!(
+            "--in {}: the Stribeck law's name; with law {} use --in nu or --in lambda",
+            args.in_,
+            plan.maps[setup.map].law.name()
+        ),
+        ("xi", true) => Args {
+            in_: "nu".into(),
+            ..args
+        },
+        ("v_d", true) => Args {
+            in_: "lambda".into(),
+            ..args
+        },
+        _ => args,
     };
     if args.fold || args.in_ == "lambda" {
         return boundary(&args, plan, setup.map, point, t0);
@@ -127,6 +146,12 @@ fn boundary(
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         bail!("--{flag}-lo {lo} / --{flag}-hi {hi}: expected 0 < lo < hi");
     }
+    // The bisected parameter by the law's own name (the Stribeck law: xi, v_d).
+    let name = match (param, plan.maps[map].law.has_true_stick()) {
+        (BoundaryParam::Nu, true) => "xi",
+        (BoundaryParam::Lambda, true) => "v_d",
+        _ => flag,
+    };
     let ps = PointSettings {
         operating: point,
         ..PointSettings::default()
@@ -152,8 +177,8 @@ fn boundary(
     let seconds = t0.elapsed().as_secs_f64();
     if args.json {
         let mut v = serde_json::to_value(b)?;
-        v["in"] = flag.into();
-        v[flag] = v["nu"].clone();
+        v["in"] = name.into();
+        v[name] = v["nu"].clone();
         v["seconds"] = seconds.into();
         println!("{}", serde_json::to_string(&v)?);
         return Ok(ExitCode::SUCCESS);
@@ -180,7 +205,7 @@ fn boundary(
     };
     match b.status {
         BoundaryStatus::Found => println!(
-            "{what}: {flag} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
+            "{what}: {name} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
             b.nu,
             b.bracket[0],
             b.bracket[1],

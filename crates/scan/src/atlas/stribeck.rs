@@ -252,9 +252,9 @@ pub fn both_in(
     use std::cell::RefCell;
     use std::collections::HashMap;
     type Answers = (Result<bool, String>, Result<bool, String>);
-    let memo: RefCell<HashMap<u64, Answers>> = RefCell::new(HashMap::new());
-    let eval = |v: f64| -> Result<Answers, ScanError> {
-        if let Some(a) = memo.borrow().get(&v.to_bits()) {
+    let memo: RefCell<HashMap<(u64, u64), Answers>> = RefCell::new(HashMap::new());
+    let eval_at = |v: f64, dt: f64| -> Result<Answers, ScanError> {
+        if let Some(a) = memo.borrow().get(&(v.to_bits(), dt.to_bits())) {
             return Ok(a.clone());
         }
         let p = param.with(base, v);
@@ -274,21 +274,33 @@ pub fn both_in(
             Ok(false)
         };
         let ans = (everywhere, at_point);
-        memo.borrow_mut().insert(v.to_bits(), ans.clone());
+        memo.borrow_mut()
+            .insert((v.to_bits(), dt.to_bits()), ans.clone());
         Ok(ans)
     };
+    let pick = |which: usize, (e, c): Answers| if which == 0 { e } else { c };
     let run = |which: usize| {
         bisect_nu(
-            |v| {
-                let (e, c) = eval(v)?;
-                if which == 0 { e } else { c }.map_err(ScanError::Undetermined)
-            },
+            |v| pick(which, eval_at(v, dt)?).map_err(ScanError::Undetermined),
             lo,
             hi,
             rtol,
         )
     };
-    [fold.then(|| run(0)), critical.then(|| run(1))]
+    let mut out = [fold.then(|| run(0)), critical.then(|| run(1))];
+    // Each bracket checked at dt / 2, as for McMillan's laws (`Boundary::half_dt_holds`).
+    for (which, b) in out.iter_mut().enumerate() {
+        let Some(Ok(b)) = b else { continue };
+        if b.status != super::boundary::BoundaryStatus::Found {
+            continue;
+        }
+        let at = |v: f64| eval_at(v, dt / 2.0).ok().and_then(|a| pick(which, a).ok());
+        b.half_dt_holds = match (at(b.bracket[0]), at(b.bracket[1])) {
+            (Some(at_lo), Some(at_hi)) => Some(!at_lo && at_hi),
+            _ => None,
+        };
+    }
+    out
 }
 
 #[cfg(test)]
