@@ -263,25 +263,8 @@ pub fn quiet_everywhere(
     solver: SolverConfig,
     ps: &PointSettings,
 ) -> Result<bool, ScanError> {
-    quiet_everywhere_from(&Crossings::default(), f64::NAN, params, dt, solver, ps)
-}
-
-/// [`quiet_everywhere`] warm-started from `memo` (`v`: the bisected parameter's value).
-fn quiet_everywhere_from(
-    memo: &Crossings,
-    v: f64,
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    ps: &PointSettings,
-) -> Result<bool, ScanError> {
-    let a = memo.analyse(v, params, dt, solver, ps, true)?;
-    a.squeals_somewhere().map(|s| !s).map_err(|e| {
-        ScanError::Undetermined(format!(
-            "nu = {}, lambda = {}: cannot tell whether anything squeals: {e}",
-            params.nu, params.lambda
-        ))
-    })
+    let origin = State { x: 0.0, v: 0.0 };
+    Evaluator::new(BoundaryParam::Nu, params, dt, solver, ps, origin).answer(params.nu, Which::Fold)
 }
 
 /// Whether `point` does not squeal: inside the unstable cycle, or nothing squeals at all; a
@@ -293,59 +276,8 @@ pub fn point_quiet(
     ps: &PointSettings,
     point: State,
 ) -> Result<bool, ScanError> {
-    point_quiet_from(
-        &Crossings::default(),
-        f64::NAN,
-        params,
-        dt,
-        solver,
-        ps,
-        point,
-    )
-}
-
-/// [`point_quiet`] warm-started from `memo` (`v`: the bisected parameter's value).
-#[allow(clippy::too_many_arguments)] // point_quiet's arguments and the memo
-fn point_quiet_from(
-    memo: &Crossings,
-    v: f64,
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    ps: &PointSettings,
-    point: State,
-) -> Result<bool, ScanError> {
-    let mut a = memo.analyse(v, params, dt, solver, ps, false)?;
-    match (&a.search, &a.cycle) {
-        (Search::NoneBelow { .. }, _) => Ok(true),
-        (Search::FixedPointUnstable { .. }, _) => Ok(false),
-        (_, Some(rep)) if rep.encloses(point.x, point.v) => Ok(true),
-        (_, Some(rep)) => {
-            let st = Stepper::new(params, dt, solver)?;
-            let cs = settings_for(&params, &ps.cycle);
-            match find_stick_slip(&st, rep.r_section, ps, cs.t_return, &mut a.work.stats) {
-                Ok(_) => Ok(false),
-                Err(StickFail::FellInside { .. }) => Ok(true),
-                Err(StickFail::Failed(e)) => Err(ScanError::Undetermined(format!(
-                    "nu = {}, lambda = {}: {e}",
-                    params.nu, params.lambda
-                ))),
-            }
-        }
-        (_, None) => Err(ScanError::Undetermined("a bracket without a cycle".into())),
-    }
-}
-
-/// Bisects a predicate of the parameters in `param` (given the value too, for warm starts).
-fn bisect_in(
-    pred: impl Fn(f64, Params) -> Result<bool, ScanError>,
-    base: Params,
-    param: BoundaryParam,
-    lo: f64,
-    hi: f64,
-    rtol: f64,
-) -> Result<Boundary, ScanError> {
-    bisect_nu(|v| pred(v, param.with(base, v)), lo, hi, rtol)
+    Evaluator::new(BoundaryParam::Nu, params, dt, solver, ps, point)
+        .answer(params.nu, Which::Critical)
 }
 
 /// The fold of cycles in `param`: the value above which no start squeals.
@@ -360,15 +292,8 @@ pub fn fold_in(
     hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
-    let memo = Crossings::default();
-    bisect_in(
-        |v, p| quiet_everywhere_from(&memo, v, p, dt, solver, ps),
-        base,
-        param,
-        lo,
-        hi,
-        rtol,
-    )
+    let e = Evaluator::new(param, base, dt, solver, ps, State { x: 0.0, v: 0.0 });
+    bisect_nu(|v| e.answer(v, Which::Fold), lo, hi, rtol)
 }
 
 /// The critical value of `param` for `point`: above it the point does not squeal.
@@ -384,15 +309,8 @@ pub fn critical_in(
     hi: f64,
     rtol: f64,
 ) -> Result<Boundary, ScanError> {
-    let memo = Crossings::default();
-    bisect_in(
-        |v, p| point_quiet_from(&memo, v, p, dt, solver, ps, point),
-        base,
-        param,
-        lo,
-        hi,
-        rtol,
-    )
+    let e = Evaluator::new(param, base, dt, solver, ps, point);
+    bisect_nu(|v| e.answer(v, Which::Critical), lo, hi, rtol)
 }
 
 /// Both boundaries of one combination of the other parameters, sharing work: each
