@@ -167,28 +167,6 @@ pub enum Outside {
     Escapes { r_escape: f64, attractor: bool },
 }
 
-impl Outside {
-    /// One line for summaries.
-    pub fn words(&self) -> String {
-        match self {
-            Outside::Invariant => {
-                "outside the cycle invariant (no sampled start returns inside)".into()
-            }
-            Outside::Escapes {
-                r_escape,
-                attractor,
-            } => format!(
-                "the return map jumps past the cycle (the start r = {r_escape:.4} returns inside): no start labelled stick-slip for lying outside; {}",
-                if *attractor {
-                    "a stick-slip attractor was found outside (band rules kept)"
-                } else {
-                    "no stick-slip attractor found outside (band rules off: no start is labelled stick-slip by its band)"
-                }
-            ),
-        }
-    }
-}
-
 /// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
 pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
     let fp = params.fixed_point();
@@ -233,10 +211,12 @@ impl MapContext {
             let mut stats = Default::default();
             let mut returns = 0;
             let found = ulc::section_cycles(&stepper, &cs, &mut stats, &mut returns);
-            // Outside the unstable cycle every run ends on a self-excited oscillation: with
-            // bounded friction and nu > 0 nothing escapes, and any attracting cycle out there
-            // is stick-slip. (The sampled return map also changes sign inside the
-            // quasi-periodic stick-slip band; those are not further unstable cycles.)
+            // Outside the unstable cycle a run ends on a self-excited oscillation (bounded
+            // friction, nu > 0: nothing escapes to infinity, and an attracting cycle out
+            // there is stick-slip) unless it falls back inside: where a sampled start does
+            // ([`Outside::Escapes`]) no outside rule applies. (The sampled return map also
+            // changes sign inside the quasi-periodic stick-slip band; those are not further
+            // unstable cycles.)
             if let SectionCycles::Unstable { r, escape, .. } = found {
                 outside = Some(match escape {
                     None => Outside::Invariant,
