@@ -344,23 +344,29 @@ pub fn both_in(
     // cycle can linger for many revolutions and then fall inside), so the bracket at dt can
     // be off by far more than its width; this says where it holds.
     let half = Evaluator::new(param, base, dt / 2.0, solver, ps, point);
-    for (which, b) in [Which::Fold, Which::Critical]
-        .into_iter()
-        .zip(out.iter_mut())
-    {
+    let which = [Which::Fold, Which::Critical];
+    check_half_dt(&mut out, |i, v| half.answer(v, which[i]).ok());
+    out
+}
+
+/// Fills [`Boundary::half_dt_holds`] of each found bracket in `[fold, critical]`:
+/// `at_half_dt(i, v)` answers predicate `i` (0 fold, 1 critical) at value `v` with `dt / 2`
+/// (`None`: no answer). The bracket holds when the predicate is still false at its lower
+/// end and true at its upper.
+pub fn check_half_dt(
+    out: &mut [Option<Result<Boundary, ScanError>>; 2],
+    at_half_dt: impl Fn(usize, f64) -> Option<bool>,
+) {
+    for (i, b) in out.iter_mut().enumerate() {
         let Some(Ok(b)) = b else { continue };
         if b.status != BoundaryStatus::Found {
             continue;
         }
-        b.half_dt_holds = match (
-            half.answer(b.bracket[0], which),
-            half.answer(b.bracket[1], which),
-        ) {
-            (Ok(at_lo), Ok(at_hi)) => Some(!at_lo && at_hi),
+        b.half_dt_holds = match (at_half_dt(i, b.bracket[0]), at_half_dt(i, b.bracket[1])) {
+            (Some(at_lo), Some(at_hi)) => Some(!at_lo && at_hi),
             _ => None,
         };
     }
-    out
 }
 
 /// Which boundary's predicate.

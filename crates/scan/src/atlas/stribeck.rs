@@ -288,18 +288,10 @@ pub fn both_in(
         )
     };
     let mut out = [fold.then(|| run(0)), critical.then(|| run(1))];
-    // Each bracket checked at dt / 2, as for McMillan's laws (`Boundary::half_dt_holds`).
-    for (which, b) in out.iter_mut().enumerate() {
-        let Some(Ok(b)) = b else { continue };
-        if b.status != super::boundary::BoundaryStatus::Found {
-            continue;
-        }
-        let at = |v: f64| eval_at(v, dt / 2.0).ok().and_then(|a| pick(which, a).ok());
-        b.half_dt_holds = match (at(b.bracket[0]), at(b.bracket[1])) {
-            (Some(at_lo), Some(at_hi)) => Some(!at_lo && at_hi),
-            _ => None,
-        };
-    }
+    // Each bracket checked at dt / 2, as for McMillan's laws.
+    super::boundary::check_half_dt(&mut out, |which, v| {
+        eval_at(v, dt / 2.0).ok().and_then(|a| pick(which, a).ok())
+    });
     out
 }
 
