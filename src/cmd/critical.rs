@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::bail;
 use squeal_core::State;
+use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::model::SetupArgs;
@@ -84,17 +85,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         return boundary(&args, plan, setup.map, point, t0);
     }
     let cs = CycleSettings::default();
-    let rep = ulc::critical_nu(
-        plan.maps[setup.map],
-        plan.dt,
-        plan.solver,
-        &cs,
-        point,
-        args.nu_lo,
-        args.nu_hi,
-        args.rtol,
-    )
-    .map_err(|e| {
+    let range = ParamRange {
+        lo: args.nu_lo,
+        hi: args.nu_hi,
+        rtol: args.rtol,
+    };
+    let rep = ulc::critical_nu(plan.setup(setup.map), &cs, point, range).map_err(|e| {
         let bracket = matches!(e, squeal_scan::ScanError::Bracket { .. });
         let e = anyhow::Error::new(e);
         if bracket {
@@ -156,18 +152,19 @@ fn boundary(
         operating: point,
         ..PointSettings::default()
     };
-    let base = plan.maps[map];
     // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
     // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
+    let range = ParamRange {
+        lo,
+        hi,
+        rtol: args.rtol,
+    };
     let [f, c] = boundary::both_in(
         param,
-        base,
-        plan.dt,
-        plan.solver,
+        plan.setup(map),
         &ps,
         point,
-        [lo, hi],
-        args.rtol,
+        range,
         [args.fold, !args.fold],
     );
     let b = match f.or(c) {

@@ -3,6 +3,7 @@
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
+use squeal_core::Setup;
 use squeal_plot::{Curve, Marker};
 use squeal_scan::ulc::{self, CycleSettings};
 
@@ -70,7 +71,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     let t0 = std::time::Instant::now();
-    let rep = ulc::locate(params, plan.dt, plan.solver, &cs)?;
+    let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
     let seconds = t0.elapsed().as_secs_f64();
     let rays = if args.verify_rays > 0 {
         Some(ulc::verify_rays(

@@ -44,6 +44,7 @@ pub mod model {}
 pub mod params;
 pub mod propagator;
 pub mod run;
+pub mod setup;
 pub mod solver;
 pub mod stepper;
 pub mod stick;
@@ -55,6 +56,7 @@ pub use friction::Law;
 pub use params::{FrictionLaw, Named, Params, Stribeck};
 pub use propagator::{Propagator, Scheme};
 pub use run::{Run, Step};
+pub use setup::Setup;
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
 pub use stick::{Landscape, LandscapeEvidence, StickCycle, StickEvents};

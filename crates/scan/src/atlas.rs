@@ -24,11 +24,11 @@
 //! bisection in `nu` or `lambda`, which assumes one crossing in the bracketed range.
 //!
 //! ```
-//! use squeal_core::{FrictionLaw, Params, SolverConfig};
+//! use squeal_core::{FrictionLaw, Params, Setup, SolverConfig};
 //! use squeal_scan::atlas::{AtlasRegime, PointSettings, point::compute_point};
 //! // The paper's Fig 10 (nu = 1e-2): the unstable cycle encloses the state at rest.
-//! let p = compute_point(Params::paper(FrictionLaw::McMillan, 1e-2), 0.01,
-//!                       SolverConfig::default(), &PointSettings::default(), None).unwrap();
+//! let setup = Setup::new(Params::paper(FrictionLaw::McMillan, 1e-2), 0.01, SolverConfig::default());
+//! let p = compute_point(setup, &PointSettings::default(), None).unwrap();
 //! assert_eq!(p.regime, AtlasRegime::BistableQuiet);
 //! assert!(p.cycle.unwrap().r_section > 2.0 && p.stick_slip.unwrap().omega_mean < 1.0);
 //! ```

@@ -57,6 +57,7 @@ pub mod error;
 pub mod grid;
 pub mod landscape;
 pub mod scanner;
+pub mod section;
 pub mod spec;
 pub mod ulc;
 mod values;

@@ -51,7 +51,7 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Classifier, FrictionLaw, Params, Scheme, SolverConfig, SolverKind};
+use squeal_core::{Classifier, FrictionLaw, Params, Scheme, Setup, SolverConfig, SolverKind};
 
 use crate::error::ScanError;
 use crate::grid::{Axis, Grid, RandomSample};
@@ -478,6 +478,11 @@ pub const MAX_CELLS: i64 = 1 << 26;
 pub const MAX_MAPS: i64 = 10_000;
 
 impl Plan {
+    /// The integration setting of map `map`: its parameters with the plan's step and solver.
+    pub fn setup(&self, map: usize) -> Setup {
+        Setup::new(self.maps[map], self.dt, self.solver)
+    }
+
     /// Reads and checks a spec file.
     pub fn from_file(path: &std::path::Path) -> Result<Plan, ScanError> {
         let shown = path.display().to_string();

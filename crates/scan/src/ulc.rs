@@ -22,10 +22,11 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use squeal_core::classify::section_return;
-use squeal_core::{Params, SolverConfig, SolverStats, State, Stepper};
+use squeal_core::{Params, Setup, SolverConfig, SolverStats, State, Stepper};
 
 use crate::curve::ClosedCurve;
 use crate::error::{BracketProblem, NoCycle, ScanError};
+use crate::section::{ParamRange, ReturnMap, Work, log_samples};
 
 /// Settings of the cycle search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -77,15 +78,6 @@ pub enum SectionCycles {
     FixedPointUnstable { r_min: f64 },
 }
 
-/// `D(r) = P(r) - r`; a run that does not come back within `t_return` counts as decaying.
-fn d_of(st: &Stepper, r: f64, t_return: f64, stats: &mut SolverStats, returns: &mut u64) -> f64 {
-    *returns += 1;
-    match section_return(st, r, t_return, stats, |_| {}) {
-        Some(c) => c.r - r,
-        None => -r,
-    }
-}
-
 /// Finds the sign changes of `D` on the section and bisects the first unstable one.
 pub fn section_cycles(
     st: &Stepper,
@@ -93,16 +85,19 @@ pub fn section_cycles(
     stats: &mut SolverStats,
     returns: &mut u64,
 ) -> SectionCycles {
+    let mut w = Work::default();
+    let found = search_section(&ReturnMap::new(st, cs.t_return), cs, &mut w);
+    stats.merge(&w.stats);
+    *returns += w.returns;
+    found
+}
+
+/// [`section_cycles`] on a return map, counted in `w`: every sample of `D`, the first
+/// `-` to `+` sign change bisected to `rtol`.
+pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
     let n = cs.samples.max(2);
-    let rs: Vec<f64> = (0..n)
-        .map(|i| {
-            (cs.r_min.ln() + (cs.r_max.ln() - cs.r_min.ln()) * i as f64 / (n - 1) as f64).exp()
-        })
-        .collect();
-    let ds: Vec<f64> = rs
-        .iter()
-        .map(|&r| d_of(st, r, cs.t_return, stats, returns))
-        .collect();
+    let rs = log_samples(cs.r_min, cs.r_max, n);
+    let ds = map.sample(&rs, w);
     if ds[0] > 0.0 {
         return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
     }
@@ -115,19 +110,7 @@ pub fn section_cycles(
     let stable_above = (i + 1..n - 1)
         .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)
         .map(|j| rs[j + 1]);
-
-    let (mut lo, mut hi) = (rs[i], rs[i + 1]);
-    for _ in 0..200 {
-        if hi - lo <= cs.rtol * hi {
-            break;
-        }
-        let mid = 0.5 * (lo + hi);
-        if d_of(st, mid, cs.t_return, stats, returns) > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
+    let (lo, hi) = map.bisect(rs[i], rs[i + 1], cs.rtol, w);
     SectionCycles::Unstable {
         r: 0.5 * (lo + hi),
         lo,
@@ -240,13 +223,8 @@ pub fn cycle_curve(
 pub type CycleOutcome = Result<CycleReport, NoCycle>;
 
 /// Locates the unstable cycle for one parameter set.
-pub fn locate(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    cs: &CycleSettings,
-) -> Result<CycleReport, ScanError> {
-    let st = Stepper::new(params, dt, solver)?;
+pub fn locate(setup: Setup, cs: &CycleSettings) -> Result<CycleReport, ScanError> {
+    let st = setup.stepper()?;
     let mut stats = SolverStats::default();
     let mut returns = 0u64;
     let found = section_cycles(&st, cs, &mut stats, &mut returns);
@@ -263,8 +241,8 @@ pub fn locate_from(
     mut stats: SolverStats,
     mut returns: u64,
 ) -> Result<CycleReport, ScanError> {
-    let params = *st.params();
-    let (dt, solver) = (st.dt(), *st.solver());
+    let setup = st.setup();
+    let (params, dt) = (setup.params, setup.dt);
     let (r, lo, hi, stable_above, escape) = match found {
         SectionCycles::Unstable {
             r,
@@ -295,15 +273,19 @@ pub fn locate_from(
     })?;
     let fp = params.fixed_point();
     let h = 1e-4 * r;
-    let p_plus = d_of(st, r + h, cs.t_return, &mut stats, &mut returns) + r + h;
-    let p_minus = d_of(st, r - h, cs.t_return, &mut stats, &mut returns) + r - h;
+    let map = ReturnMap::new(st, cs.t_return);
+    let mut w = Work::default();
+    let p_plus = map.d(r + h, &mut w) + r + h;
+    let p_minus = map.d(r - h, &mut w) + r - h;
+    stats.merge(&w.stats);
+    returns += w.returns;
     let multiplier = (p_plus - p_minus) / (2.0 * h);
     // Crossing of v = 0 with x > x* (going down, on the right of the fixed point).
     let distance_plus_x = curve
         .distance_along_ray(State { x: fp.x, v: 0.0 }, 0.0)
         .unwrap_or(f64::NAN);
     let half_dt = if cs.check_half_dt {
-        let st2 = Stepper::new(params, dt / 2.0, solver)?;
+        let st2 = setup.half_dt().stepper()?;
         match section_cycles(&st2, cs, &mut stats, &mut returns) {
             SectionCycles::Unstable { r: r2, .. } => Some(HalfStepCheck {
                 r_section: r2,
@@ -597,14 +579,8 @@ pub enum PointSide {
 }
 
 /// Where `point` lies relative to the unstable cycle for these parameters.
-pub fn point_side(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    cs: &CycleSettings,
-    point: State,
-) -> Result<PointSide, ScanError> {
-    let st = Stepper::new(params, dt, solver)?;
+pub fn point_side(setup: Setup, cs: &CycleSettings, point: State) -> Result<PointSide, ScanError> {
+    let st = setup.stepper()?;
     let (mut stats, mut returns) = (SolverStats::default(), 0u64);
     match section_cycles(&st, cs, &mut stats, &mut returns) {
         SectionCycles::NoneBelow { .. } => return Ok(PointSide::NoCycle),
@@ -615,7 +591,7 @@ pub fn point_side(
         check_half_dt: false,
         ..*cs
     };
-    let rep = locate(params, dt, solver, &cs1)?;
+    let rep = locate(setup, &cs1)?;
     Ok(if rep.encloses(point.x, point.v) {
         PointSide::Inside
     } else {
@@ -626,32 +602,27 @@ pub fn point_side(
 /// Whether the system at `point` does not squeal for these parameters: inside the unstable
 /// cycle, or no unstable cycle below `r_max` at all (the return map decays everywhere); a
 /// repelling fixed point counts as squealing.
-pub fn point_enclosed(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    cs: &CycleSettings,
-    point: State,
-) -> Result<bool, ScanError> {
+pub fn point_enclosed(setup: Setup, cs: &CycleSettings, point: State) -> Result<bool, ScanError> {
     Ok(matches!(
-        point_side(params, dt, solver, cs, point)?,
+        point_side(setup, cs, point)?,
         PointSide::Inside | PointSide::NoCycle
     ))
 }
 
 /// Bisection in `nu` (geometric) for the damping at which the cycle first encloses `point`.
-#[allow(clippy::too_many_arguments)] // the bracket, tolerance and model are all independent inputs
 pub fn critical_nu(
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     cs: &CycleSettings,
     point: State,
-    nu_lo: f64,
-    nu_hi: f64,
-    rtol: f64,
+    range: ParamRange,
 ) -> Result<CriticalReport, ScanError> {
-    let side = |nu: f64| point_side(Params { nu, ..base }, dt, solver, cs, point);
+    let base = setup.params;
+    let ParamRange {
+        lo: nu_lo,
+        hi: nu_hi,
+        rtol,
+    } = range;
+    let side = |nu: f64| point_side(setup.with_params(Params { nu, ..base }), cs, point);
     let at = |nu: f64| -> Result<bool, ScanError> {
         Ok(matches!(side(nu)?, PointSide::Inside | PointSide::NoCycle))
     };
@@ -689,16 +660,8 @@ pub fn critical_nu(
     if !at(nu_hi)? {
         return Err(bracket(BracketProblem::NotEnclosedAtHigh));
     }
-    let (mut lo, mut hi, mut evaluations) = (nu_lo, nu_hi, 2u32);
-    while hi / lo - 1.0 > rtol && evaluations < 200 {
-        let mid = (lo * hi).sqrt();
-        evaluations += 1;
-        if at(mid)? {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
+    let ((lo, hi), evaluations) =
+        crate::section::geometric_bisection(at, (nu_lo, nu_hi), rtol, 200)?;
     Ok(CriticalReport {
         point,
         nu: (lo * hi).sqrt(),

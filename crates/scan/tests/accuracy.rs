@@ -10,7 +10,8 @@
 //! the step-size study recorded in BENCHMARKS.md (both schemes).
 
 use squeal_core::classify::crossing;
-use squeal_core::{FrictionLaw, Params, Run, Scheme, SolverConfig, State, Stepper};
+use squeal_core::{FrictionLaw, Params, Run, Scheme, Setup, SolverConfig, State, Stepper};
+use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
 
 fn solver(scheme: Scheme) -> SolverConfig {
@@ -53,23 +54,21 @@ fn figures(dt: f64, scheme: Scheme) -> [f64; 6] {
     let cs = settings();
     let cycle = |nu| {
         ulc::locate(
-            Params::paper(FrictionLaw::McMillan, nu),
-            dt,
-            solver(scheme),
+            Setup::new(Params::paper(FrictionLaw::McMillan, nu), dt, solver(scheme)),
             &cs,
         )
         .expect("a cycle")
     };
     let (a, b) = (cycle(1e-3), cycle(1e-2));
     let crit = ulc::critical_nu(
-        Params::paper(FrictionLaw::McMillan, 1e-3),
-        dt,
-        solver(scheme),
+        Setup::new(
+            Params::paper(FrictionLaw::McMillan, 1e-3),
+            dt,
+            solver(scheme),
+        ),
         &cs,
         State { x: 0.0, v: 0.0 },
-        2e-3,
-        1e-2,
-        1e-6,
+        ParamRange::new(2e-3, 1e-2, 1e-6),
     )
     .expect("a critical damping");
     [

@@ -1,7 +1,7 @@
 //! Scientific checks: the early-stopping rule against runs taken to settlement, the located
 //! cycle against rays and a fine scan, and the paper's findings on the shipped scans.
 
-use squeal_core::{Classifier, FrictionLaw, Params, Regime, SolverConfig, State, Stepper};
+use squeal_core::{Classifier, FrictionLaw, Params, Regime, Setup, SolverConfig, State, Stepper};
 use squeal_scan::Plan;
 use squeal_scan::grid::Axis;
 use std::sync::atomic::AtomicBool;
@@ -139,9 +139,7 @@ fn early_stopping_matches_runs_to_settlement() {
 fn cycle_lies_between_steady_and_stick_slip_on_every_ray() {
     let p = Params::paper(FrictionLaw::McMillan, 1e-3);
     let rep = ulc::locate(
-        p,
-        0.01,
-        SolverConfig::default(),
+        Setup::new(p, 0.01, SolverConfig::default()),
         &CycleSettings {
             check_half_dt: false,
             ..Default::default()
@@ -170,9 +168,7 @@ fn cycle_lies_between_steady_and_stick_slip_on_every_ray() {
 fn a_wrong_cycle_fails_the_ray_check() {
     let p = Params::paper(FrictionLaw::McMillan, 1e-3);
     let rep = ulc::locate(
-        p,
-        0.01,
-        SolverConfig::default(),
+        Setup::new(p, 0.01, SolverConfig::default()),
         &CycleSettings {
             check_half_dt: false,
             ..Default::default()

@@ -39,10 +39,11 @@
 //! a sharp predicate).
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Params, SolverConfig, State, Stepper};
+use squeal_core::{Params, Setup, State};
 
 use super::point::{PointSettings, Search, StickFail, analyse, find_stick_slip, settings_for};
 use crate::error::ScanError;
+use crate::section::ParamRange;
 
 /// The parameter a boundary is bisected in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -178,10 +179,13 @@ impl Boundary {
 /// any positive parameter; the name is historical).
 pub fn bisect_nu(
     mut pred: impl FnMut(f64) -> Result<bool, ScanError>,
-    nu_lo: f64,
-    nu_hi: f64,
-    rtol: f64,
+    range: ParamRange,
 ) -> Result<Boundary, ScanError> {
+    let ParamRange {
+        lo: nu_lo,
+        hi: nu_hi,
+        rtol,
+    } = range;
     if !(nu_lo > 0.0 && nu_hi > nu_lo && nu_hi.is_finite() && rtol > 0.0) {
         return Err(ScanError::Undetermined(format!(
             "bracket [{nu_lo}, {nu_hi}] / rtol {rtol}: need 0 < lo < hi, rtol > 0"
@@ -203,16 +207,9 @@ pub fn bisect_nu(
         b.status = BoundaryStatus::AboveRange;
         return Ok(b);
     }
-    let (mut lo, mut hi) = (nu_lo, nu_hi);
-    while hi / lo - 1.0 > rtol && b.evaluations < 200 {
-        let mid = (lo * hi).sqrt();
-        b.evaluations += 1;
-        if pred(mid)? {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
+    let ((lo, hi), evaluations) =
+        crate::section::geometric_bisection(pred, (nu_lo, nu_hi), rtol, 200)?;
+    b.evaluations = evaluations;
     b.bracket = [lo, hi];
     b.nu = (lo * hi).sqrt();
     Ok(b)
@@ -237,17 +234,14 @@ impl Crossings {
 
     /// Analyses parameter value `v` (`p` its parameters), warm-started from the nearest
     /// crossing, and keeps its crossing.
-    #[allow(clippy::too_many_arguments)] // the analysis' own arguments
     pub fn analyse(
         &self,
         v: f64,
-        p: Params,
-        dt: f64,
-        solver: SolverConfig,
+        setup: Setup,
         ps: &PointSettings,
         stick: bool,
     ) -> Result<super::point::Analysis, ScanError> {
-        let a = analyse(p, dt, solver, ps, self.nearest(v), stick)?;
+        let a = analyse(setup, ps, self.nearest(v), stick)?;
         if let Some(rep) = &a.cycle {
             self.0.borrow_mut().push((v, rep.r_section));
         }
@@ -257,60 +251,38 @@ impl Crossings {
 
 /// Whether no start squeals at these parameters: no `D > 0` on the section, or an unstable
 /// cycle with no stick-slip attractor outside it (see [`super::point::find_stick_slip`]).
-pub fn quiet_everywhere(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    ps: &PointSettings,
-) -> Result<bool, ScanError> {
+pub fn quiet_everywhere(setup: Setup, ps: &PointSettings) -> Result<bool, ScanError> {
     let origin = State { x: 0.0, v: 0.0 };
-    Evaluator::new(BoundaryParam::Nu, params, dt, solver, ps, origin).answer(params.nu, Which::Fold)
+    Evaluator::new(BoundaryParam::Nu, setup, ps, origin).answer(setup.params.nu, Which::Fold)
 }
 
 /// Whether `point` does not squeal: inside the unstable cycle, or nothing squeals at all; a
 /// repelling fixed point squeals.
-pub fn point_quiet(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    ps: &PointSettings,
-    point: State,
-) -> Result<bool, ScanError> {
-    Evaluator::new(BoundaryParam::Nu, params, dt, solver, ps, point)
-        .answer(params.nu, Which::Critical)
+pub fn point_quiet(setup: Setup, ps: &PointSettings, point: State) -> Result<bool, ScanError> {
+    Evaluator::new(BoundaryParam::Nu, setup, ps, point).answer(setup.params.nu, Which::Critical)
 }
 
 /// The fold of cycles in `param`: the value above which no start squeals.
-#[allow(clippy::too_many_arguments)] // model, integration, settings, parameter and bracket
 pub fn fold_in(
     param: BoundaryParam,
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
-    lo: f64,
-    hi: f64,
-    rtol: f64,
+    range: ParamRange,
 ) -> Result<Boundary, ScanError> {
-    let e = Evaluator::new(param, base, dt, solver, ps, State { x: 0.0, v: 0.0 });
-    bisect_nu(|v| e.answer(v, Which::Fold), lo, hi, rtol)
+    let e = Evaluator::new(param, setup, ps, State { x: 0.0, v: 0.0 });
+    bisect_nu(|v| e.answer(v, Which::Fold), range)
 }
 
 /// The critical value of `param` for `point`: above it the point does not squeal.
-#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
 pub fn critical_in(
     param: BoundaryParam,
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     point: State,
-    lo: f64,
-    hi: f64,
-    rtol: f64,
+    range: ParamRange,
 ) -> Result<Boundary, ScanError> {
-    let e = Evaluator::new(param, base, dt, solver, ps, point);
-    bisect_nu(|v| e.answer(v, Which::Critical), lo, hi, rtol)
+    let e = Evaluator::new(param, setup, ps, point);
+    bisect_nu(|v| e.answer(v, Which::Critical), range)
 }
 
 /// Both boundaries of one combination of the other parameters, sharing work: each
@@ -321,20 +293,16 @@ pub fn critical_in(
 /// result is what [`fold_in`] and [`critical_in`] give alone: the critical predicate read
 /// from that analysis is [`point_quiet`]'s (the same starts of the same stick-slip runs).
 /// `None` for a boundary not asked for.
-#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
 pub fn both_in(
     param: BoundaryParam,
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     point: State,
-    [lo, hi]: [f64; 2],
-    rtol: f64,
+    range: ParamRange,
     [fold, critical]: [bool; 2],
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
-    let at_dt = Evaluator::new(param, base, dt, solver, ps, point);
-    let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), lo, hi, rtol);
+    let at_dt = Evaluator::new(param, setup, ps, point);
+    let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), range);
     let mut out = [
         fold.then(|| run(Which::Fold)),
         critical.then(|| run(Which::Critical)),
@@ -343,7 +311,7 @@ pub fn both_in(
     // fold the stick-slip test is a finite run beside a boundary crisis (runs outside the
     // cycle can linger for many revolutions and then fall inside), so the bracket at dt can
     // be off by far more than its width; this says where it holds.
-    let half = Evaluator::new(param, base, dt / 2.0, solver, ps, point);
+    let half = Evaluator::new(param, setup.half_dt(), ps, point);
     let which = [Which::Fold, Which::Critical];
     check_half_dt(&mut out, |i, v| half.answer(v, which[i]).ok());
     out
@@ -385,9 +353,7 @@ enum Which {
 /// the same stick-slip runs).
 struct Evaluator<'a> {
     param: BoundaryParam,
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &'a PointSettings,
     point: State,
     crossings: Crossings,
@@ -397,17 +363,13 @@ struct Evaluator<'a> {
 impl<'a> Evaluator<'a> {
     fn new(
         param: BoundaryParam,
-        base: Params,
-        dt: f64,
-        solver: SolverConfig,
+        setup: Setup,
         ps: &'a PointSettings,
         point: State,
     ) -> Evaluator<'a> {
         Evaluator {
             param,
-            base,
-            dt,
-            solver,
+            setup,
             ps,
             point,
             crossings: Crossings::default(),
@@ -416,15 +378,15 @@ impl<'a> Evaluator<'a> {
     }
 
     fn answer(&self, v: f64, which: Which) -> Result<bool, ScanError> {
-        let p = self.param.with(self.base, v);
+        let setup = self
+            .setup
+            .with_params(self.param.with(self.setup.params, v));
+        let p = setup.params;
         let mut memo = self.memo.borrow_mut();
         let a = match memo.entry(v.to_bits()) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => {
-                e.insert(
-                    self.crossings
-                        .analyse(v, p, self.dt, self.solver, self.ps, false)?,
-                )
+                e.insert(self.crossings.analyse(v, setup, self.ps, false)?)
             }
         };
         let here = |e: String| {
@@ -442,7 +404,7 @@ impl<'a> Evaluator<'a> {
         };
         if needs_stick && a.stick.is_none() {
             // As `analyse` with `stick`: from outside the cycle, or from 0 without one.
-            let st = Stepper::new(p, self.dt, self.solver)?;
+            let st = setup.stepper()?;
             let cs = settings_for(&p, &self.ps.cycle);
             let r_u = a.cycle.as_ref().map_or(0.0, |rep| rep.r_section);
             a.stick = Some(find_stick_slip(
@@ -472,41 +434,18 @@ impl<'a> Evaluator<'a> {
 }
 
 /// The fold of cycles: the damping above which no start squeals.
-pub fn fold_nu(
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
-    ps: &PointSettings,
-    nu_lo: f64,
-    nu_hi: f64,
-    rtol: f64,
-) -> Result<Boundary, ScanError> {
-    fold_in(BoundaryParam::Nu, base, dt, solver, ps, nu_lo, nu_hi, rtol)
+pub fn fold_nu(setup: Setup, ps: &PointSettings, range: ParamRange) -> Result<Boundary, ScanError> {
+    fold_in(BoundaryParam::Nu, setup, ps, range)
 }
 
 /// The critical damping of `point`: the cycle first encloses it.
-#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
 pub fn critical_nu(
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     point: State,
-    nu_lo: f64,
-    nu_hi: f64,
-    rtol: f64,
+    range: ParamRange,
 ) -> Result<Boundary, ScanError> {
-    critical_in(
-        BoundaryParam::Nu,
-        base,
-        dt,
-        solver,
-        ps,
-        point,
-        nu_lo,
-        nu_hi,
-        rtol,
-    )
+    critical_in(BoundaryParam::Nu, setup, ps, point, range)
 }
 
 #[cfg(test)]
@@ -514,19 +453,25 @@ mod tests {
     use super::*;
     use squeal_core::FrictionLaw;
 
+    use squeal_core::{SolverConfig, Stepper};
+
     use super::super::point::AtlasRegime;
     use crate::ulc::CycleSettings;
+
+    fn setup(p: Params, dt: f64) -> Setup {
+        Setup::new(p, dt, SolverConfig::default())
+    }
 
     #[test]
     fn bisection_finds_a_known_threshold() {
         // Predicate nu >= 0.0123: the bracket must hold it to rtol.
-        let b = bisect_nu(|nu| Ok(nu >= 0.0123), 1e-3, 1e-1, 1e-6).unwrap();
+        let b = bisect_nu(|nu| Ok(nu >= 0.0123), ParamRange::new(1e-3, 1e-1, 1e-6)).unwrap();
         assert_eq!(b.status, BoundaryStatus::Found);
         assert!(b.bracket[0] < 0.0123 && b.bracket[1] >= 0.0123);
         assert!(b.bracket[1] / b.bracket[0] - 1.0 <= 1e-6);
-        let b = bisect_nu(|nu| Ok(nu >= 0.5), 1e-3, 1e-1, 1e-6).unwrap();
+        let b = bisect_nu(|nu| Ok(nu >= 0.5), ParamRange::new(1e-3, 1e-1, 1e-6)).unwrap();
         assert_eq!(b.status, BoundaryStatus::AboveRange);
-        let b = bisect_nu(|_| Ok(true), 1e-3, 1e-1, 1e-6).unwrap();
+        let b = bisect_nu(|_| Ok(true), ParamRange::new(1e-3, 1e-1, 1e-6)).unwrap();
         assert_eq!(b.status, BoundaryStatus::BelowRange);
     }
 
@@ -535,13 +480,9 @@ mod tests {
         for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
             let base = Params::paper(law, 0.0);
             let b = fold_nu(
-                base,
-                0.01,
-                SolverConfig::default(),
+                setup(base, 0.01),
                 &PointSettings::default(),
-                1e-3,
-                0.1,
-                1e-3,
+                ParamRange::new(1e-3, 0.1, 1e-3),
             )
             .unwrap();
             assert_eq!(b.status, BoundaryStatus::Found, "{law}");
@@ -614,9 +555,7 @@ mod tests {
             // Below the fold the unstable cycle exists and grows with nu (MODEL.md).
             let r = |nu: f64| {
                 analyse(
-                    Params { nu, ..base },
-                    0.01,
-                    SolverConfig::default(),
+                    setup(Params { nu, ..base }, 0.01),
                     &PointSettings::default(),
                     None,
                     false,
@@ -636,28 +575,11 @@ mod tests {
         // `squeal critical` (ulc::critical_nu) at Table 1, rest, rtol 1e-4.
         let base = Params::paper(FrictionLaw::McMillan, 0.0);
         let rest = State { x: 0.0, v: 0.0 };
-        let ours = critical_nu(
-            base,
-            0.01,
-            SolverConfig::default(),
-            &PointSettings::default(),
-            rest,
-            1e-3,
-            5e-2,
-            1e-4,
-        )
-        .unwrap();
-        let theirs = crate::ulc::critical_nu(
-            base,
-            0.01,
-            SolverConfig::default(),
-            &CycleSettings::default(),
-            rest,
-            1e-3,
-            5e-2,
-            1e-4,
-        )
-        .unwrap();
+        let range = ParamRange::new(1e-3, 5e-2, 1e-4);
+        let ours = critical_nu(setup(base, 0.01), &PointSettings::default(), rest, range).unwrap();
+        let theirs =
+            crate::ulc::critical_nu(setup(base, 0.01), &CycleSettings::default(), rest, range)
+                .unwrap();
         assert_eq!(ours.status, BoundaryStatus::Found);
         // Both brackets are 1e-4 wide (relative) and must overlap.
         assert!(
@@ -680,14 +602,10 @@ mod tests {
         let dt = 0.01;
         let b = critical_in(
             BoundaryParam::Lambda,
-            base,
-            dt,
-            SolverConfig::default(),
+            setup(base, dt),
             &ps,
             rest,
-            1.0,
-            3.0,
-            1e-3,
+            ParamRange::new(1.0, 3.0, 1e-3),
         )
         .unwrap();
         assert_eq!(b.status, BoundaryStatus::Found);
@@ -711,9 +629,7 @@ mod tests {
             );
             // And the atlas's own label of the point.
             let p = super::super::point::compute_point(
-                BoundaryParam::Lambda.with(base, f),
-                dt,
-                SolverConfig::default(),
+                setup(BoundaryParam::Lambda.with(base, f), dt),
                 &ps,
                 None,
             )
@@ -736,9 +652,9 @@ mod tests {
         let mut crossed = (false, false);
         let mut line = Vec::new();
         for &nu in &nus {
-            let p = Params { nu, ..base };
-            let w = super::super::point::compute_point(p, dt, solver, &ps, warm).unwrap();
-            let c = super::super::point::compute_point(p, dt, solver, &ps, None).unwrap();
+            let p = Setup::new(Params { nu, ..base }, dt, solver);
+            let w = super::super::point::compute_point(p, &ps, warm).unwrap();
+            let c = super::super::point::compute_point(p, &ps, None).unwrap();
             assert_eq!(w.regime, c.regime, "nu = {nu}");
             n_warm += usize::from(w.warm_started);
             match (w.cycle, c.cycle) {
@@ -760,7 +676,12 @@ mod tests {
         assert!(n_warm >= 3, "{n_warm} warm starts");
         // The bisected fold agrees with both lines: every point below its bracket has
         // some start that squeals, every point above it none.
-        let fold = fold_nu(base, dt, solver, &ps, 0.012, 0.04, 1e-3).unwrap();
+        let fold = fold_nu(
+            Setup::new(base, dt, solver),
+            &ps,
+            ParamRange::new(0.012, 0.04, 1e-3),
+        )
+        .unwrap();
         assert_eq!(fold.status, BoundaryStatus::Found);
         for (&nu, &steady) in nus.iter().zip(&line) {
             if nu < fold.bracket[0] {
@@ -783,19 +704,13 @@ mod tests {
                 lambda,
                 ..Params::paper(FrictionLaw::McMillan, 0.0)
             };
-            let [f, c] = both_in(
-                BoundaryParam::Nu,
-                base,
-                dt,
-                solver,
-                &ps,
-                rest,
-                [1e-3, 0.05],
-                1e-2,
-                [true, true],
+            let (s, range) = (
+                Setup::new(base, dt, solver),
+                ParamRange::new(1e-3, 0.05, 1e-2),
             );
-            let fold = fold_nu(base, dt, solver, &ps, 1e-3, 0.05, 1e-2).unwrap();
-            let crit = critical_nu(base, dt, solver, &ps, rest, 1e-3, 0.05, 1e-2).unwrap();
+            let [f, c] = both_in(BoundaryParam::Nu, s, &ps, rest, range, [true, true]);
+            let fold = fold_nu(s, &ps, range).unwrap();
+            let crit = critical_nu(s, &ps, rest, range).unwrap();
             let (f, c) = (f.unwrap().unwrap(), c.unwrap().unwrap());
             // The shared search also checks each bracket at dt / 2 (the separate ones do not).
             let unchecked = |b: Boundary| Boundary {

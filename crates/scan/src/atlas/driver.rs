@@ -14,6 +14,7 @@ use super::boundary::{self, Boundary};
 use super::point::{PointResult, compute_point};
 use super::spec::AtlasPlan;
 use crate::error::ScanError;
+use crate::section::ParamRange;
 
 /// One unit of work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -103,14 +104,7 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             for i in line * len..(line + 1) * len {
                 // A failure at one point is data (an undecided point with its reason),
                 // not an abort.
-                let p = compute(
-                    plan.params_at(i),
-                    plan.dt,
-                    plan.solver,
-                    &plan.settings_at(i),
-                    warm,
-                )
-                .unwrap_or_else(|e| {
+                let p = compute(plan.setup_at(i), &plan.settings_at(i), warm).unwrap_or_else(|e| {
                     let mut p = super::columns::empty_point();
                     p.note = Some(e.to_string());
                     p
@@ -122,7 +116,6 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
         }
         Unit::Boundary(j) => {
             let (i, range) = plan.boundary_setup(j);
-            let base = plan.params_at(i);
             let ps = plan.settings_at(i);
             // A failed run inside a bisection leaves that boundary not computed, with the
             // reason: one hard point does not abort the atlas.
@@ -139,15 +132,17 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             } else {
                 boundary::both_in
             };
+            let range = ParamRange {
+                lo: range[0],
+                hi: range[1],
+                rtol: plan.boundary_rtol,
+            };
             let [fold, critical] = both(
                 plan.boundary_in,
-                base,
-                plan.dt,
-                plan.solver,
+                plan.setup_at(i),
                 &ps,
                 ps.operating,
                 range,
-                plan.boundary_rtol,
                 [plan.fold, plan.critical],
             );
             let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));

@@ -14,10 +14,11 @@
 //! the same as `squeal ulc` gives.
 
 use serde::{Deserialize, Serialize};
-use squeal_core::classify::{crossing, section_return};
-use squeal_core::{Params, SolverConfig, SolverStats, State, Stepper, friction};
+use squeal_core::classify::crossing;
+use squeal_core::{Params, Setup, SolverStats, State, Stepper, friction};
 
 use crate::error::ScanError;
+use crate::section::{Bracket, ReturnMap, log_samples};
 
 use crate::ulc::{self, CycleReport, CycleSettings, SectionCycles};
 
@@ -236,25 +237,7 @@ pub enum Search {
     FixedPointUnstable { r_min: f64 },
 }
 
-/// Counts section returns and solver work over one point.
-#[derive(Debug, Default)]
-pub struct Work {
-    /// Solver counters.
-    pub stats: SolverStats,
-    /// Section returns.
-    pub returns: u64,
-}
-
-impl Work {
-    /// `D(r) = P(r) - r`; no return within `t_return` counts as decay (`D = -r`).
-    pub fn d(&mut self, st: &Stepper, r: f64, t_return: f64) -> f64 {
-        self.returns += 1;
-        match section_return(st, r, t_return, &mut self.stats, |_| {}) {
-            Some(c) => c.r - r,
-            None => -r,
-        }
-    }
-}
+pub use crate::section::Work;
 
 /// The section range searched at these parameters: `r_max` at least `2 lambda` (the
 /// stick-slip crossing lies below the belt speed, MODEL.md).
@@ -268,14 +251,12 @@ pub fn settings_for(p: &Params, cs: &CycleSettings) -> CycleSettings {
 /// Cold search: log-spaced samples of `D`, the first `-` to `+` sign change; if none, the
 /// tangency check around the largest `D`.
 pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mut Work) -> Search {
+    let map = ReturnMap::new(st, cs.t_return);
     let n = cs.samples.max(3);
-    let (a, b) = (cs.r_min.ln(), cs.r_max.ln());
-    let rs: Vec<f64> = (0..n)
-        .map(|i| (a + (b - a) * i as f64 / (n - 1) as f64).exp())
-        .collect();
+    let rs = log_samples(cs.r_min, cs.r_max, n);
     let mut ds = Vec::with_capacity(n);
     for (i, &r) in rs.iter().enumerate() {
-        let d = w.d(st, r, cs.t_return);
+        let d = map.d(r, w);
         if i == 0 && d > 0.0 {
             return Search::FixedPointUnstable { r_min: cs.r_min };
         }
@@ -299,7 +280,7 @@ pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mu
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let mut c = hi - g * (hi - lo);
         let mut e = lo + g * (hi - lo);
-        let (mut dc, mut de) = (w.d(st, c, cs.t_return), w.d(st, e, cs.t_return));
+        let (mut dc, mut de) = (map.d(c, w), map.d(e, w));
         for _ in 0..tangency_iters {
             for (r, d) in [(c, dc), (e, de)] {
                 if d > 0.0 {
@@ -316,13 +297,13 @@ pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mu
                 e = c;
                 de = dc;
                 c = hi - g * (hi - lo);
-                dc = w.d(st, c, cs.t_return);
+                dc = map.d(c, w);
             } else {
                 lo = c;
                 c = e;
                 dc = de;
                 e = lo + g * (hi - lo);
-                de = w.d(st, e, cs.t_return);
+                de = map.d(e, w);
             }
         }
         for (r, d) in [(c, dc), (e, de)] {
@@ -349,19 +330,20 @@ pub fn search(
     warm: Option<f64>,
     w: &mut Work,
 ) -> Search {
+    let map = ReturnMap::new(st, cs.t_return);
     if let Some(r0) = warm.filter(|r| r.is_finite() && *r > cs.r_min) {
         for q in [1.25f64, 2.0] {
             let (lo, hi) = ((r0 / q).max(cs.r_min), (r0 * q).min(cs.r_max));
             if lo >= hi {
                 continue;
             }
-            let mut prev = (lo, w.d(st, lo, cs.t_return));
+            let mut prev = (lo, map.d(lo, w));
             if prev.1 > 0.0 {
                 continue;
             }
             for i in 1..6 {
                 let r = (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / 5.0).exp();
-                let d = w.d(st, r, cs.t_return);
+                let d = map.d(r, w);
                 if d > 0.0 {
                     return Search::Bracket {
                         lo: prev.0,
@@ -377,90 +359,20 @@ pub fn search(
     search_cold(st, cs, tangency_iters, w)
 }
 
-/// Narrows a bracket `[lo, hi]` of the cycle's crossing (`D(lo) <= 0 < D(hi)`, values
-/// `d_lo`, `d_hi`) to the relative width `rtol` by the Illinois variant of false position.
-///
-/// The bracket is kept at every step, so the result meets the same tolerance as bisection
-/// ([`crate::ulc::section_cycles`]). Where the starting bracket holds one sign change it
-/// is the same root; where it holds several (`D` jumps where the orbit starts to stick)
-/// the two methods may settle on different ones, both sign changes of `D` to the
-/// tolerance: on the 64 x 64 chart (`scans/atlas-lambda-nu.toml`) at 18 of 4096 points,
-/// all above the fold (nu >= 0.046) and all "steady slip only" either way. Near a simple root `D` is
-/// smooth and the method converges superlinearly (about 6-8 returns from a 10% bracket
-/// instead of bisection's 27 to 1e-9). Each trial point is kept at least a quarter of the
-/// tolerance inside the bracket, so once the estimate is that close the next trial lands
-/// on the other side and closes the bracket; a step that fails to halve the bracket twice
-/// running is followed by a bisection step (so it never needs more than about twice
-/// bisection's count).
-#[allow(clippy::too_many_arguments)] // the bracket, its two values, the tolerance and limits
-pub fn refine(
-    st: &Stepper,
-    mut lo: f64,
-    mut hi: f64,
-    mut d_lo: f64,
-    mut d_hi: f64,
-    rtol: f64,
-    t_return: f64,
-    w: &mut Work,
-) -> (f64, f64) {
-    // -1: the last step moved `lo`, +1: `hi`, 0: none yet.
-    let mut side = 0i8;
-    let mut slow = 0u32;
-    for _ in 0..400 {
-        let width = hi - lo;
-        let tol = rtol * hi;
-        if width <= tol {
-            break;
-        }
-        let mut r = if slow >= 2 || d_hi.partial_cmp(&d_lo) != Some(std::cmp::Ordering::Greater) {
-            slow = 0;
-            0.5 * (lo + hi)
-        } else {
-            hi - d_hi * (hi - lo) / (d_hi - d_lo)
-        };
-        let margin = (0.25 * tol).min(0.5 * width);
-        r = r.clamp(lo + margin, hi - margin);
-        let d = w.d(st, r, t_return);
-        if d > 0.0 {
-            hi = r;
-            d_hi = d;
-            if side == 1 {
-                // `lo` kept twice: halve its weight (Illinois).
-                d_lo *= 0.5;
-            }
-            side = 1;
-        } else {
-            lo = r;
-            d_lo = d;
-            if side == -1 {
-                d_hi *= 0.5;
-            }
-            side = -1;
-        }
-        if hi - lo > 0.5 * width {
-            slow += 1;
-        } else {
-            slow = 0;
-        }
-    }
-    (lo, hi)
-}
-
-/// Narrows `[lo, hi]` with [`refine`] and describes the cycle there
+/// Narrows `[lo, hi]` with [`ReturnMap::illinois`] and describes the cycle there
 /// ([`crate::ulc::locate_from`]: curve, period, multiplier, area). Falls back to
 /// [`crate::ulc::locate`] on the range when the bracket does not hold (`D(lo) > 0` or
 /// `D(hi) <= 0`).
 pub fn describe(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     cs: &CycleSettings,
     lo: f64,
     hi: f64,
 ) -> Result<CycleReport, ScanError> {
-    let st = Stepper::new(params, dt, solver)?;
+    let st = setup.stepper()?;
     let mut w = Work::default();
-    let (d_lo, d_hi) = (w.d(&st, lo, cs.t_return), w.d(&st, hi, cs.t_return));
+    let map = ReturnMap::new(&st, cs.t_return);
+    let (d_lo, d_hi) = (map.d(lo, &mut w), map.d(hi, &mut w));
     describe_bracket(&st, cs, [lo, hi], [d_lo, d_hi], w)
 }
 
@@ -481,9 +393,14 @@ pub fn describe_bracket(
         ..*cs
     };
     if !(d_lo <= 0.0 && d_hi > 0.0) {
-        return ulc::locate(*st.params(), st.dt(), *st.solver(), &narrow);
+        return ulc::locate(st.setup(), &narrow);
     }
-    let (lo, hi) = refine(st, lo, hi, d_lo, d_hi, cs.rtol, cs.t_return, &mut w);
+    let bracket = Bracket {
+        lo,
+        hi,
+        d: [d_lo, d_hi],
+    };
+    let (lo, hi) = ReturnMap::new(st, cs.t_return).illinois(bracket, cs.rtol, &mut w);
     let found = SectionCycles::Unstable {
         r: 0.5 * (lo + hi),
         lo,
@@ -777,19 +694,17 @@ impl Analysis {
 
 /// Searches the cycle, describes it and (if `stick`) looks for the stick-slip attractor.
 pub fn analyse(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     warm: Option<f64>,
     stick: bool,
 ) -> Result<Analysis, ScanError> {
-    let st = Stepper::new(params, dt, solver)?;
-    let cs = settings_for(&params, &ps.cycle);
+    let st = setup.stepper()?;
+    let cs = settings_for(&setup.params, &ps.cycle);
     let mut work = Work::default();
     let found = search(&st, &cs, ps.tangency_iters, warm, &mut work);
     let mut a = Analysis {
-        params,
+        params: setup.params,
         search: found,
         cycle: None,
         stick: None,
@@ -823,43 +738,33 @@ pub fn analyse(
 }
 
 /// How the cycle's crossing moves when `dt` halves (NaN if not found at `dt / 2`): the
-/// crossing at `dt / 2` bracketed in `r (1 -+ 2%)` and narrowed by [`refine`] to the same
+/// crossing at `dt / 2` bracketed in `r (1 -+ 2%)` and narrowed by [`ReturnMap::illinois`] to the same
 /// tolerance as at `dt`; the whole search range when that bracket does not hold.
-fn half_dt_shift(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-    cs: &CycleSettings,
-    r: f64,
-    w: &mut Work,
-) -> Result<f64, ScanError> {
-    let st2 = Stepper::new(params, dt / 2.0, solver)?;
+fn half_dt_shift(setup: Setup, cs: &CycleSettings, r: f64, w: &mut Work) -> Result<f64, ScanError> {
+    let st2 = setup.half_dt().stepper()?;
     let (lo, hi) = (r * 0.98, r * 1.02);
-    let (d_lo, d_hi) = (w.d(&st2, lo, cs.t_return), w.d(&st2, hi, cs.t_return));
-    if d_lo <= 0.0 && d_hi > 0.0 {
-        let (lo, hi) = refine(&st2, lo, hi, d_lo, d_hi, cs.rtol, cs.t_return, w);
+    let map = ReturnMap::new(&st2, cs.t_return);
+    let d = [map.d(lo, w), map.d(hi, w)];
+    let bracket = Bracket { lo, hi, d };
+    if bracket.holds() {
+        let (lo, hi) = map.illinois(bracket, cs.rtol, w);
         return Ok(0.5 * (lo + hi) - r);
     }
-    let mut ret = 0;
-    let got = match ulc::section_cycles(&st2, cs, &mut w.stats, &mut ret) {
+    Ok(match ulc::search_section(&map, cs, w) {
         SectionCycles::Unstable { r: r2, .. } => r2 - r,
         _ => f64::NAN,
-    };
-    w.returns += ret;
-    Ok(got)
+    })
 }
 
 /// All figures at one point; `warm` is a neighbour's section crossing, if known.
 pub fn compute_point(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     warm: Option<f64>,
 ) -> Result<PointResult, ScanError> {
-    let mut a = analyse(params, dt, solver, ps, warm, true)?;
-    let cs = settings_for(&params, &ps.cycle);
-    let fp = params.fixed_point();
+    let mut a = analyse(setup, ps, warm, true)?;
+    let cs = settings_for(&setup.params, &ps.cycle);
+    let fp = setup.params.fixed_point();
     let mut res = PointResult {
         regime: AtlasRegime::Undecided,
         cycle: None,
@@ -876,7 +781,7 @@ pub fn compute_point(
     if let Some(rep) = &a.cycle {
         let r = rep.r_section;
         let shift = if cs.check_half_dt {
-            half_dt_shift(params, dt, solver, &cs, r, &mut a.work)?
+            half_dt_shift(setup, &cs, r, &mut a.work)?
         } else {
             f64::NAN
         };
@@ -938,7 +843,7 @@ pub fn compute_point(
         (_, None) => res.note = Some("no stick-slip run".into()),
     }
     if res.regime == AtlasRegime::BistableSqueals {
-        confirm_operating_point(params, dt, solver, ps, &mut res, &mut a.work)?;
+        confirm_operating_point(setup, ps, &mut res, &mut a.work)?;
     }
     res.returns = a.work.returns;
     res.evaluations = a.work.stats.evaluations;
@@ -959,14 +864,12 @@ pub fn compute_point(
 /// When the run from the operating point does not end in stick-slip, the evidence
 /// conflicts: the point is undecided, with a note naming both findings (never a guess).
 fn confirm_operating_point(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     res: &mut PointResult,
     w: &mut Work,
 ) -> Result<(), ScanError> {
-    let st = Stepper::new(params, dt, solver)?;
+    let st = setup.stepper()?;
     let o = squeal_core::Classifier::default().classify(&st, ps.operating);
     w.stats.merge(&o.stats);
     if o.regime == squeal_core::Regime::Undecided {
@@ -996,7 +899,7 @@ fn confirm_operating_point(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use squeal_core::FrictionLaw;
+    use squeal_core::{FrictionLaw, SolverConfig};
 
     #[test]
     fn clipping_a_square() {
@@ -1042,9 +945,7 @@ mod tests {
 
     fn point(law: FrictionLaw, nu: f64, warm: Option<f64>) -> PointResult {
         compute_point(
-            Params::paper(law, nu),
-            0.01,
-            SolverConfig::default(),
+            Setup::new(Params::paper(law, nu), 0.01, SolverConfig::default()),
             &PointSettings::default(),
             warm,
         )
@@ -1061,9 +962,7 @@ mod tests {
         ] {
             let p = point(law, nu, None);
             let rep = ulc::locate(
-                Params::paper(law, nu),
-                0.01,
-                SolverConfig::default(),
+                Setup::new(Params::paper(law, nu), 0.01, SolverConfig::default()),
                 &CycleSettings::default(),
             )
             .unwrap();
@@ -1148,9 +1047,7 @@ mod tests {
             ..Params::paper(FrictionLaw::McMillan, 0.0)
         };
         let r = compute_point(
-            p,
-            0.005,
-            SolverConfig::default(),
+            Setup::new(p, 0.005, SolverConfig::default()),
             &PointSettings::default(),
             Some(0.526_863_078_829_873_4),
         )
@@ -1163,9 +1060,11 @@ mod tests {
         );
         // Where the evidence agrees (paper Fig 9, nu = 1e-3: rest squeals), the label stands.
         let r = compute_point(
-            Params::paper(FrictionLaw::McMillan, 1e-3),
-            0.005,
-            SolverConfig::default(),
+            Setup::new(
+                Params::paper(FrictionLaw::McMillan, 1e-3),
+                0.005,
+                SolverConfig::default(),
+            ),
             &PointSettings::default(),
             None,
         )

@@ -70,7 +70,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{
-    Classifier, FrictionLaw, Params, Physical, Scheme, SolverConfig, SolverKind, State,
+    Classifier, FrictionLaw, Params, Physical, Scheme, Setup, SolverConfig, SolverKind, State,
 };
 
 use super::boundary::BoundaryParam;
@@ -974,7 +974,12 @@ impl AtlasPlan {
         })
     }
 
-    /// The nondimensional parameters at point `i`.
+    /// The integration setting at point `i`: its parameters with the plan's step and solver.
+    pub fn setup_at(&self, i: usize) -> Setup {
+        Setup::new(self.params_at(i), self.dt, self.solver)
+    }
+
+    /// The model parameters at point `i`.
     pub fn params_at(&self, i: usize) -> Params {
         match self.physical_at(i) {
             Some(ph) => {

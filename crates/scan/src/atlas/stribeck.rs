@@ -29,7 +29,9 @@
 
 use serde::{Deserialize, Serialize};
 use squeal_core::stick::{self, LandscapeEvidence, StickCycle};
-use squeal_core::{Classifier, Landscape, Params, SolverConfig, State, Stepper};
+use squeal_core::{Classifier, Landscape, Setup, State};
+
+use crate::section::ParamRange;
 
 use super::boundary::{Boundary, BoundaryParam, bisect_nu};
 use super::columns::{Column, Kind, Si};
@@ -116,17 +118,13 @@ pub const STUCK_SHARE: (&str, &str) = (
 
 /// The landscape of `params` with the classifier's default `t_max` and `fp_radius` (the
 /// values `squeal scan` uses unless its spec sets them).
-pub fn evidence(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
-) -> Result<LandscapeEvidence, ScanError> {
-    let st = Stepper::new(params, dt, solver)?;
+pub fn evidence(setup: Setup) -> Result<LandscapeEvidence, ScanError> {
+    let st = setup.stepper()?;
     let cl = Classifier::default();
     stick::landscape_evidence(&st, cl.t_max, cl.fp_radius).ok_or_else(|| {
         ScanError::Undetermined(format!(
             "law {} has no true stick: no landscape",
-            params.law
+            setup.params.law
         ))
     })
 }
@@ -147,14 +145,12 @@ pub fn agrees(landscape: Landscape, regime: AtlasRegime) -> Option<bool> {
 /// All figures at one point of a law with true stick: the section search's
 /// ([`point::compute_point`]) checked against the landscape (module docs).
 pub fn compute_point(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     warm: Option<f64>,
 ) -> Result<PointResult, ScanError> {
-    let ev = evidence(params, dt, solver)?;
-    let mut res = point::compute_point(params, dt, solver, ps, warm)?;
+    let ev = evidence(setup)?;
+    let mut res = point::compute_point(setup, ps, warm)?;
     reconcile(&mut res, &ev);
     Ok(res)
 }
@@ -208,9 +204,7 @@ pub fn reconcile(res: &mut PointResult, ev: &LandscapeEvidence) {
 /// (quiet), stick-slip only (squeals), bistable (quiet exactly when the unstable cycle the
 /// section search locates encloses it). `Err` with both findings where they cannot tell.
 fn point_quiet(
-    params: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     point: State,
     ev: &LandscapeEvidence,
@@ -220,7 +214,7 @@ fn point_quiet(
         Landscape::StickSlipOnly => Ok(false),
         Landscape::Unknown => Err(format!("the landscape is unknown ({})", evidence_words(ev))),
         Landscape::Bistable => {
-            let a = analyse(params, dt, solver, ps, None, false).map_err(|e| e.to_string())?;
+            let a = analyse(setup, ps, None, false).map_err(|e| e.to_string())?;
             match (&a.search, &a.cycle) {
                 (Search::Bracket { .. }, Some(rep)) => Ok(rep.encloses(point.x, point.v)),
                 (s, _) => Err(format!(
@@ -237,28 +231,25 @@ fn point_quiet(
 /// (the counterpart of [`super::boundary::both_in`]): the fold, where the landscape turns
 /// `steady_slip_only` (the stick-slip cycle ends), and the critical value of `point`.
 /// Each value's landscape is computed once and answers both.
-#[allow(clippy::too_many_arguments)] // model, integration, settings, point and bracket
 pub fn both_in(
     param: BoundaryParam,
-    base: Params,
-    dt: f64,
-    solver: SolverConfig,
+    setup: Setup,
     ps: &PointSettings,
     point: State,
-    [lo, hi]: [f64; 2],
-    rtol: f64,
+    range: ParamRange,
     [fold, critical]: [bool; 2],
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
     use std::cell::RefCell;
     use std::collections::HashMap;
     type Answers = (Result<bool, String>, Result<bool, String>);
     let memo: RefCell<HashMap<(u64, u64), Answers>> = RefCell::new(HashMap::new());
-    let eval_at = |v: f64, dt: f64| -> Result<Answers, ScanError> {
-        if let Some(a) = memo.borrow().get(&(v.to_bits(), dt.to_bits())) {
+    let eval_at = |v: f64, at: Setup| -> Result<Answers, ScanError> {
+        if let Some(a) = memo.borrow().get(&(v.to_bits(), at.dt.to_bits())) {
             return Ok(a.clone());
         }
-        let p = param.with(base, v);
-        let ev = evidence(p, dt, solver)?;
+        let here_setup = at.with_params(param.with(at.params, v));
+        let p = here_setup.params;
+        let ev = evidence(here_setup)?;
         let here = |e: String| format!("xi = {}, v_d = {}: {e}", p.nu, p.lambda);
         let everywhere = match ev.landscape {
             Landscape::SteadySlipOnly => Ok(true),
@@ -269,28 +260,28 @@ pub fn both_in(
             ))),
         };
         let at_point = if critical {
-            point_quiet(p, dt, solver, ps, point, &ev).map_err(here)
+            point_quiet(here_setup, ps, point, &ev).map_err(here)
         } else {
             Ok(false)
         };
         let ans = (everywhere, at_point);
         memo.borrow_mut()
-            .insert((v.to_bits(), dt.to_bits()), ans.clone());
+            .insert((v.to_bits(), at.dt.to_bits()), ans.clone());
         Ok(ans)
     };
     let pick = |which: usize, (e, c): Answers| if which == 0 { e } else { c };
     let run = |which: usize| {
         bisect_nu(
-            |v| pick(which, eval_at(v, dt)?).map_err(ScanError::Undetermined),
-            lo,
-            hi,
-            rtol,
+            |v| pick(which, eval_at(v, setup)?).map_err(ScanError::Undetermined),
+            range,
         )
     };
     let mut out = [fold.then(|| run(0)), critical.then(|| run(1))];
     // Each bracket checked at dt / 2, as for McMillan's laws.
     super::boundary::check_half_dt(&mut out, |which, v| {
-        eval_at(v, dt / 2.0).ok().and_then(|a| pick(which, a).ok())
+        eval_at(v, setup.half_dt())
+            .ok()
+            .and_then(|a| pick(which, a).ok())
     });
     out
 }
@@ -302,6 +293,7 @@ mod tests {
     use crate::atlas::driver::{Unit, UnitResult, run_unit};
     use crate::atlas::spec::AtlasPlan;
     use crate::ulc::{self, CycleSettings};
+    use squeal_core::Stepper;
 
     /// bSTAB's friction case (xi = 0.05, mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0, the
     /// defaults) at the given belt speeds, disturbance box = bSTAB's region.
@@ -440,7 +432,11 @@ path = "s.h5"
         let p = plan("[1.4, 1.5, 1.7]");
         for (i, q) in line(&p).iter().enumerate() {
             let params = p.params_at(i);
-            let rep = ulc::locate(params, p.dt, p.solver, &CycleSettings::default()).unwrap();
+            let rep = ulc::locate(
+                Setup::new(params, p.dt, p.solver),
+                &CycleSettings::default(),
+            )
+            .unwrap();
             let c = q.cycle.unwrap();
             assert!(
                 (c.r_section - rep.r_section).abs() <= 2e-9 * rep.r_section,
@@ -463,13 +459,10 @@ path = "s.h5"
         let base = p.params_at(0);
         let [fold, crit] = both_in(
             BoundaryParam::Lambda,
-            base,
-            p.dt,
-            p.solver,
+            p.setup_at(0),
             &ps,
             ps.operating,
-            [1.0, 2.2],
-            1e-3,
+            ParamRange::new(1.0, 2.2, 1e-3),
             [true, true],
         );
         let (fold, crit) = (fold.unwrap().unwrap(), crit.unwrap().unwrap());
@@ -488,13 +481,9 @@ path = "s.h5"
                 fold,
                 super::super::boundary::fold_in(
                     BoundaryParam::Lambda,
-                    base,
-                    p.dt,
-                    p.solver,
+                    Setup::new(base, p.dt, p.solver),
                     &ps,
-                    1.0,
-                    2.2,
-                    1e-3,
+                    ParamRange::new(1.0, 2.2, 1e-3),
                 )
                 .unwrap(),
             ),
@@ -502,14 +491,10 @@ path = "s.h5"
                 crit,
                 super::super::boundary::critical_in(
                     BoundaryParam::Lambda,
-                    base,
-                    p.dt,
-                    p.solver,
+                    Setup::new(base, p.dt, p.solver),
                     &ps,
                     ps.operating,
-                    1.0,
-                    2.2,
-                    1e-3,
+                    ParamRange::new(1.0, 2.2, 1e-3),
                 )
                 .unwrap(),
             ),
@@ -526,9 +511,7 @@ path = "s.h5"
         // bracket, 1% either side.
         let at = |v_d: f64| {
             compute_point(
-                BoundaryParam::Lambda.with(base, v_d),
-                p.dt,
-                p.solver,
+                Setup::new(BoundaryParam::Lambda.with(base, v_d), p.dt, p.solver),
                 &ps,
                 None,
             )
@@ -578,7 +561,7 @@ path = "s.h5"
         // The landscape of v_d = 1.5 (bistable) against a section search that (say) found
         // nothing: the point is undecided and its note names both.
         let p = plan("1.5");
-        let ev = evidence(p.params_at(0), p.dt, p.solver).unwrap();
+        let ev = evidence(Setup::new(p.params_at(0), p.dt, p.solver)).unwrap();
         assert_eq!(ev.landscape, Landscape::Bistable);
         let mut r = crate::atlas::columns::empty_point();
         r.regime = AtlasRegime::SteadySlipOnly;

@@ -1,0 +1,248 @@
+//! The Poincaré section `S = { x = x*, x' > 0 }` and its return map, in one place.
+//!
+//! Every revolution around the fixed point crosses `S` once, going right. `P(r)` is the
+//! section amplitude one revolution after a start at `(x*, r)`, and `D(r) = P(r) - r`:
+//! `D < 0` where starts spiral in, `D > 0` where they grow, so an unstable cycle crosses
+//! `S` at a `-` to `+` sign change of `D`. Everything that looks for the cycle on `S` (the
+//! `ulc` command, a scan's per-map preparation, an atlas point, a boundary predicate) asks
+//! this module for `D`, its samples and its brackets, and every evaluation is counted here,
+//! where it happens ([`Work`]).
+//!
+//! - [`ReturnMap::d`]: one counted return (a run that does not return within `t_return`
+//!   counts as decay, `D = -r`);
+//! - [`log_samples`]: the log-spaced amplitudes a search samples;
+//! - [`ReturnMap::bisect`]: plain bisection of a bracket (the reference method);
+//! - [`ReturnMap::illinois`]: the same bracket narrowed by the Illinois variant of false
+//!   position (the atlas's faster method, same tolerance).
+
+use squeal_core::classify::section_return;
+use squeal_core::{SolverStats, Stepper};
+
+/// Work done on the section: section returns and the solver counters over those runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Work {
+    /// Solver counters.
+    pub stats: SolverStats,
+    /// Section returns (each one revolution).
+    pub returns: u64,
+}
+
+impl Work {
+    /// Adds `other`'s counts to these.
+    pub fn merge(&mut self, other: &Work) {
+        self.stats.merge(&other.stats);
+        self.returns += other.returns;
+    }
+}
+
+/// A bracket `[lo, hi]` of a sign change of `D`, with `D(lo) <= 0 < D(hi)` in `d`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bracket {
+    /// Lower end (`D <= 0`).
+    pub lo: f64,
+    /// Upper end (`D > 0`).
+    pub hi: f64,
+    /// `[D(lo), D(hi)]`.
+    pub d: [f64; 2],
+}
+
+impl Bracket {
+    /// Whether the values show the sign change (`D(lo) <= 0 < D(hi)`).
+    pub fn holds(&self) -> bool {
+        self.d[0] <= 0.0 && self.d[1] > 0.0
+    }
+
+    /// The middle of the bracket.
+    pub fn mid(&self) -> f64 {
+        0.5 * (self.lo + self.hi)
+    }
+}
+
+/// `n` amplitudes log-spaced on `[r_min, r_max]`, computed by index (never by adding a step).
+pub fn log_samples(r_min: f64, r_max: f64, n: usize) -> Vec<f64> {
+    let (a, b) = (r_min.ln(), r_max.ln());
+    (0..n)
+        .map(|i| (a + (b - a) * i as f64 / (n - 1) as f64).exp())
+        .collect()
+}
+
+/// The return map of one stepper (one law, parameter set, step and solver).
+#[derive(Clone, Copy)]
+pub struct ReturnMap<'a> {
+    st: &'a Stepper,
+    t_return: f64,
+}
+
+impl<'a> ReturnMap<'a> {
+    /// The return map of `st`; a return that takes longer than `t_return` counts as decay.
+    pub fn new(st: &'a Stepper, t_return: f64) -> Self {
+        ReturnMap { st, t_return }
+    }
+
+    /// The stepper.
+    pub fn stepper(&self) -> &'a Stepper {
+        self.st
+    }
+
+    /// `D(r) = P(r) - r`, counted in `w`; no return within `t_return` counts as decay
+    /// (`D = -r`).
+    pub fn d(&self, r: f64, w: &mut Work) -> f64 {
+        w.returns += 1;
+        match section_return(self.st, r, self.t_return, &mut w.stats, |_| {}) {
+            Some(c) => c.r - r,
+            None => -r,
+        }
+    }
+
+    /// `D` at each amplitude of `rs`.
+    pub fn sample(&self, rs: &[f64], w: &mut Work) -> Vec<f64> {
+        rs.iter().map(|&r| self.d(r, w)).collect()
+    }
+
+    /// Bisects `[lo, hi]` (`D(lo) <= 0 < D(hi)`) to the relative width `rtol` (at most
+    /// 200 halvings); returns the final bracket.
+    pub fn bisect(&self, mut lo: f64, mut hi: f64, rtol: f64, w: &mut Work) -> (f64, f64) {
+        for _ in 0..200 {
+            if hi - lo <= rtol * hi {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            if self.d(mid, w) > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Narrows a bracket to the relative width `rtol` by the Illinois variant of false
+    /// position; returns the final `(lo, hi)`.
+    ///
+    /// The bracket is kept at every step, so the result meets the same tolerance as
+    /// [`ReturnMap::bisect`]. Where the starting bracket holds one sign change it is the
+    /// same root; where it holds several (`D` jumps where the orbit starts to stick) the
+    /// two methods may settle on different ones, both sign changes of `D` to the
+    /// tolerance: on the 64 x 64 chart (`scans/atlas-lambda-nu.toml`) at 18 of 4096
+    /// points, all above the fold (nu >= 0.046) and all "steady slip only" either way.
+    /// Near a simple root `D` is smooth and the method converges superlinearly (about 6-8
+    /// returns from a 10% bracket instead of bisection's 27 to 1e-9). Each trial point is
+    /// kept at least a quarter of the tolerance inside the bracket, so once the estimate
+    /// is that close the next trial lands on the other side and closes the bracket; a
+    /// step that fails to halve the bracket twice running is followed by a bisection step
+    /// (so it never needs more than about twice bisection's count).
+    pub fn illinois(&self, b: Bracket, rtol: f64, w: &mut Work) -> (f64, f64) {
+        let (mut lo, mut hi) = (b.lo, b.hi);
+        let [mut d_lo, mut d_hi] = b.d;
+        // -1: the last step moved `lo`, +1: `hi`, 0: none yet.
+        let mut side = 0i8;
+        let mut slow = 0u32;
+        for _ in 0..400 {
+            let width = hi - lo;
+            let tol = rtol * hi;
+            if width <= tol {
+                break;
+            }
+            let mut r = if slow >= 2 || d_hi.partial_cmp(&d_lo) != Some(std::cmp::Ordering::Greater)
+            {
+                slow = 0;
+                0.5 * (lo + hi)
+            } else {
+                hi - d_hi * (hi - lo) / (d_hi - d_lo)
+            };
+            let margin = (0.25 * tol).min(0.5 * width);
+            r = r.clamp(lo + margin, hi - margin);
+            let d = self.d(r, w);
+            if d > 0.0 {
+                hi = r;
+                d_hi = d;
+                if side == 1 {
+                    // `lo` kept twice: halve its weight (Illinois).
+                    d_lo *= 0.5;
+                }
+                side = 1;
+            } else {
+                lo = r;
+                d_lo = d;
+                if side == -1 {
+                    d_hi *= 0.5;
+                }
+                side = -1;
+            }
+            if hi - lo > 0.5 * width {
+                slow += 1;
+            } else {
+                slow = 0;
+            }
+        }
+        (lo, hi)
+    }
+}
+
+/// A bracket of a positive parameter to bisect, and the relative width to stop at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamRange {
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end.
+    pub hi: f64,
+    /// Stop when `hi / lo - 1 <= rtol`.
+    pub rtol: f64,
+}
+
+impl ParamRange {
+    /// `[lo, hi]` to the relative width `rtol`.
+    pub fn new(lo: f64, hi: f64, rtol: f64) -> ParamRange {
+        ParamRange { lo, hi, rtol }
+    }
+}
+
+/// Geometric bisection of a predicate in a positive parameter: false at `lo`, true at
+/// `hi`; halves `ln(hi / lo)` until `hi / lo - 1 <= rtol` (at most `max_evaluations`
+/// calls in all, counting the two ends the caller already evaluated). Returns the final
+/// bracket and the number of evaluations including those two.
+pub fn geometric_bisection<E>(
+    mut pred: impl FnMut(f64) -> Result<bool, E>,
+    (mut lo, mut hi): (f64, f64),
+    rtol: f64,
+    max_evaluations: u32,
+) -> Result<((f64, f64), u32), E> {
+    let mut evaluations = 2u32;
+    while hi / lo - 1.0 > rtol && evaluations < max_evaluations {
+        let mid = (lo * hi).sqrt();
+        evaluations += 1;
+        if pred(mid)? {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(((lo, hi), evaluations))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_samples_hit_both_ends() {
+        let rs = log_samples(1e-2, 6.0, 96);
+        assert_eq!(rs.len(), 96);
+        assert!((rs[0] - 1e-2).abs() < 1e-15);
+        assert!((rs[95] - 6.0).abs() < 1e-12);
+        // Log-spaced: constant ratio (6 / 0.01)^(1/95).
+        let q = (6.0f64 / 1e-2).powf(1.0 / 95.0);
+        assert!(rs.windows(2).all(|p| (p[1] / p[0] / q - 1.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn geometric_bisection_finds_a_known_threshold() {
+        // Predicate true above sqrt(2): the bracket closes on it.
+        let t = 2f64.sqrt();
+        let ((lo, hi), n) =
+            geometric_bisection(|v| Ok::<_, ()>(v > t), (1e-3, 10.0), 1e-9, 200).unwrap();
+        assert!(lo <= t && t <= hi && hi / lo - 1.0 <= 1e-9);
+        // ln(1e4) / ln(1 + 1e-9) halvings: ceil(log2(9.21 / 1e-9)) = 34, plus the two ends.
+        assert_eq!(n, 36);
+    }
+}

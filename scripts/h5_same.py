@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+# /// script
+# requires-python = ">=3.9"
+# dependencies = ["h5py", "numpy"]
+# ///
+"""Compare two HDF5 files written by squeal: every group, dataset and attribute, with types,
+shapes and values bit for bit (NaN equals NaN). Provenance attributes (software version, git
+revision, creation time) are reported apart and do not count as differences. Exits 1 when
+anything else differs. Used by scripts/same-results.sh."""
+import argparse
+import sys
+
+import h5py
+import numpy as np
+
+PROVENANCE = {"software_version", "git_revision", "created", "version", "squeal_version",
+              "history", "date_created", "creation_time"}
+
+
+def same_values(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    if a.dtype != b.dtype or a.shape != b.shape:
+        return False
+    if a.dtype.names:
+        return all(same_values(a[n], b[n]) for n in a.dtype.names)
+    if a.dtype.kind in "fc":
+        # Bit for bit, or equal as numbers with NaN = NaN (so -0.0 = 0.0 and NaN payloads pass).
+        return a.tobytes() == b.tobytes() or bool(np.array_equal(a, b, equal_nan=True))
+    return bool(np.array_equal(a, b))
+
+
+def describe(v):
+    a = np.asarray(v)
+    if a.size <= 4:
+        return repr(v)
+    return f"{a.dtype} {a.shape}"
+
+
+def attrs(obj, path, out, prov):
+    keys = set(obj[0].attrs) | set(obj[1].attrs)
+    for k in sorted(keys):
+        where = f"{path}@{k}"
+        if k not in obj[0].attrs or k not in obj[1].attrs:
+            side = "new" if k not in obj[0].attrs else "old"
+            out.append(f"{where}: only in {side}")
+            continue
+        a, b = obj[0].attrs[k], obj[1].attrs[k]
+        if same_values(a, b):
+            continue
+        (prov if k in PROVENANCE else out).append(f"{where}: {describe(a)} -> {describe(b)}")
+
+
+def walk(a, b, path, out, prov):
+    attrs((a, b), path, out, prov)
+    if not isinstance(a, h5py.Group):
+        return
+    for k in sorted(set(a) | set(b)):
+        p = f"{path.rstrip('/')}/{k}"
+        if k not in a or k not in b:
+            out.append(f"{p}: only in {'new' if k not in a else 'old'}")
+            continue
+        x, y = a[k], b[k]
+        if isinstance(x, h5py.Dataset) != isinstance(y, h5py.Dataset):
+            out.append(f"{p}: a dataset in one file, a group in the other")
+            continue
+        if isinstance(x, h5py.Dataset):
+            if x.dtype != y.dtype or x.shape != y.shape:
+                out.append(f"{p}: {x.dtype} {x.shape} -> {y.dtype} {y.shape}")
+            elif not same_values(x[()], y[()]):
+                diff = np.asarray(x[()] != y[()])
+                n = int(diff.sum()) if diff.dtype == bool else -1
+                out.append(f"{p}: values differ ({n} of {x.size} elements)")
+        walk(x, y, p, out, prov)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("old")
+    ap.add_argument("new")
+    ap.add_argument("--label", default=None)
+    args = ap.parse_args()
+    out, prov = [], []
+    with h5py.File(args.old, "r") as a, h5py.File(args.new, "r") as b:
+        walk(a, b, "/", out, prov)
+    label = args.label or args.new
+    if out:
+        print(f"  {label}: {len(out)} difference(s)")
+        for line in out:
+            print(f"    {line}")
+    else:
+        print(f"  {label}: equal ({len(prov)} provenance attribute(s) differ)")
+    return 1 if out else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
