@@ -1,13 +1,27 @@
 //! Records the git revision for the provenance attributes of every output file.
-fn main() {
-    let rev = std::process::Command::new("git")
-        .args(["describe", "--always", "--dirty", "--abbrev=12"])
+use std::process::Command;
+
+fn git(args: &[&str]) -> Option<String> {
+    Command::new("git")
+        .args(args)
         .output()
         .ok()
         .filter(|o| o.status.success())
         .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+}
+
+fn main() {
+    let rev = git(&["describe", "--always", "--dirty", "--abbrev=12"])
         .unwrap_or_else(|| "unknown".to_string());
     println!("cargo:rustc-env=SQUEAL_GIT_REV={rev}");
-    println!("cargo:rerun-if-changed=.git/HEAD");
-    println!("cargo:rerun-if-changed=.git/index");
+    // Rebuild when HEAD moves (a commit changes the branch's ref, not HEAD itself, which
+    // only names the branch) or the index changes; paths asked of git, so a worktree,
+    // whose `.git` is a file, works too.
+    let mut watched = vec!["HEAD".to_string(), "index".into(), "packed-refs".into()];
+    watched.extend(git(&["symbolic-ref", "-q", "HEAD"]));
+    for name in watched {
+        if let Some(path) = git(&["rev-parse", "--git-path", &name]) {
+            println!("cargo:rerun-if-changed={path}");
+        }
+    }
 }

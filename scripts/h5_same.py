@@ -36,6 +36,15 @@ def describe(v):
     return f"{a.dtype} {a.shape}"
 
 
+def deref(f, k, v):
+    """Dimension-scale references by the names they point to (references compare by identity)."""
+    if k == "DIMENSION_LIST":
+        return [[f[r].name for r in refs] for refs in v]
+    if k == "REFERENCE_LIST":
+        return [(f[r[0]].name, int(r[1])) for r in v]
+    return None
+
+
 def attrs(obj, path, out, prov):
     keys = set(obj[0].attrs) | set(obj[1].attrs)
     for k in sorted(keys):
@@ -45,6 +54,11 @@ def attrs(obj, path, out, prov):
             out.append(f"{where}: only in {side}")
             continue
         a, b = obj[0].attrs[k], obj[1].attrs[k]
+        ra, rb = deref(obj[0].file, k, a), deref(obj[1].file, k, b)
+        if ra is not None or rb is not None:
+            if ra != rb:
+                out.append(f"{where}: {ra} -> {rb}")
+            continue
         if same_values(a, b):
             continue
         (prov if k in PROVENANCE else out).append(f"{where}: {describe(a)} -> {describe(b)}")
@@ -85,8 +99,10 @@ def main():
     label = args.label or args.new
     if out:
         print(f"  {label}: {len(out)} difference(s)")
-        for line in out:
+        for line in out[:30]:
             print(f"    {line}")
+        if len(out) > 30:
+            print(f"    ... and {len(out) - 30} more")
     else:
         print(f"  {label}: equal ({len(prov)} provenance attribute(s) differ)")
     return 1 if out else 0

@@ -67,7 +67,7 @@ pub struct MapChecks {
     pub origin: Option<OriginCheck>,
     /// Against the landscape, where it states one regime for every start.
     pub landscape: Option<LandscapeCheck>,
-    /// The return map jumps past the cycle ([`crate::ulc::escape_above`]): starts outside
+    /// The return map jumps past the cycle ([`crate::section::escape_above`]): starts outside
     /// may end in steady slip, so only stick-slip inside counts as the wrong side.
     #[serde(default)]
     pub escapes: bool,

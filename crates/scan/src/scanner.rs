@@ -10,8 +10,9 @@ use crate::cell::Audit;
 pub use crate::cell::Cell;
 use crate::curve::{ClosedCurve, CurveLocator};
 use crate::error::ScanError;
+use crate::section::{self, SectionCycles};
 use crate::spec::{EarlyStop, Plan};
-use crate::ulc::{self, CycleOutcome, CycleSettings, SectionCycles};
+use crate::ulc::{self, CycleOutcome, CycleSettings};
 
 /// Progress callbacks (no-op defaults); called from worker threads.
 pub trait Observer: Sync {
@@ -59,7 +60,7 @@ pub struct StartRule {
     margin: f64,
     centre: State,
     /// Whether starts outside the cycle are decided (off where the return map jumps past
-    /// the cycle: [`crate::ulc::escape_above`]).
+    /// the cycle: [`crate::section::escape_above`]).
     outside: bool,
 }
 
@@ -159,7 +160,7 @@ pub enum Outside {
     /// No sampled start outside the cycle returns inside: starts outside end in stick-slip,
     /// and the trap and the start rule may say so without a run.
     Invariant,
-    /// The start `r_escape` (and maybe others) returns inside ([`crate::ulc::escape_above`]):
+    /// The start `r_escape` (and maybe others) returns inside ([`crate::section::escape_above`]):
     /// the trap and the start rule decide only inside the cycle. `attractor`: whether runs
     /// from far starts stayed outside for 80 revolutions (the atlas's stick-slip test,
     /// [`crate::atlas::point::find_stick_slip`]); if not, no run is labelled stick-slip
@@ -210,7 +211,7 @@ impl MapContext {
         if needs_search {
             let mut stats = Default::default();
             let mut returns = 0;
-            let found = ulc::section_cycles(&stepper, &cs, &mut stats, &mut returns);
+            let found = section::section_cycles(&stepper, &cs, &mut stats, &mut returns);
             // Outside the unstable cycle a run ends on a self-excited oscillation (bounded
             // friction, nu > 0: nothing escapes to infinity, and an attracting cycle out
             // there is stick-slip) unless it falls back inside: where a sampled start does

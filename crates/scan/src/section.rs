@@ -15,8 +15,11 @@
 //! - [`ReturnMap::illinois`]: the same bracket narrowed by the Illinois variant of false
 //!   position (the atlas's faster method, same tolerance).
 
+use serde::Serialize;
 use squeal_core::classify::section_return;
 use squeal_core::{SolverStats, Stepper};
+
+use crate::ulc::CycleSettings;
 
 /// Work done on the section: section returns and the solver counters over those runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -218,6 +221,212 @@ pub fn geometric_bisection<E>(
         }
     }
     Ok(((lo, hi), evaluations))
+}
+
+/// Where the return map changes sign.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum SectionCycles {
+    /// An unstable cycle crosses `S` in `[lo, hi]`; `stable_above` is the first sampled
+    /// crossing further out, if the sampled range shows one; `escape` the smallest sampled
+    /// start outside the cycle whose return lands inside (see [`escape_above`]), if any.
+    Unstable {
+        r: f64,
+        lo: f64,
+        hi: f64,
+        stable_above: Option<f64>,
+        escape: Option<f64>,
+    },
+    /// `D < 0` at every sample: no unstable cycle below `r_max` was seen.
+    NoneBelow { r_max: f64 },
+    /// `D > 0` already at `r_min`: the fixed point repels.
+    FixedPointUnstable { r_min: f64 },
+}
+
+/// Finds the sign changes of `D` on the section and bisects the first unstable one.
+pub fn section_cycles(
+    st: &Stepper,
+    cs: &CycleSettings,
+    stats: &mut SolverStats,
+    returns: &mut u64,
+) -> SectionCycles {
+    let mut w = Work::default();
+    let found = search_section(&ReturnMap::new(st, cs.t_return), cs, &mut w);
+    stats.merge(&w.stats);
+    *returns += w.returns;
+    found
+}
+
+/// [`section_cycles`] on a return map, counted in `w`: every sample of `D`, the first
+/// `-` to `+` sign change bisected to `rtol`.
+pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
+    let n = cs.samples.max(2);
+    let rs = log_samples(cs.r_min, cs.r_max, n);
+    let ds = map.sample(&rs, w);
+    if ds[0] > 0.0 {
+        return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
+    }
+    let up: Vec<usize> = (0..n - 1)
+        .filter(|&i| ds[i] <= 0.0 && ds[i + 1] > 0.0)
+        .collect();
+    let Some(&i) = up.first() else {
+        return SectionCycles::NoneBelow { r_max: cs.r_max };
+    };
+    let stable_above = (i + 1..n - 1)
+        .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)
+        .map(|j| rs[j + 1]);
+    let (lo, hi) = map.bisect(rs[i], rs[i + 1], cs.rtol, w);
+    SectionCycles::Unstable {
+        r: 0.5 * (lo + hi),
+        lo,
+        hi,
+        stable_above,
+        escape: escape_above(&rs, &ds, i + 1, lo),
+    }
+}
+
+/// The smallest sampled start outside the unstable cycle whose return falls back inside.
+///
+/// `rs[first..]` are the samples above the cycle, whose section crossing is `r_u`. A
+/// sample whose return `P(r) = r + D(r)` lands below `r_u` has jumped past the cycle:
+/// where the orbit starts to stick the return map falls steeply (McMillan's hysteretic
+/// law above the fold of cycles at lambda = 0.5: at nu = 0.0223 starts at r = 0.91 and 2.19
+/// return to 0.231 and 0.228, inside the cycle's 0.236). Then the outside of the cycle is
+/// not invariant: a start outside may end in steady slip, and no rule may label a start
+/// stick-slip for lying outside. Sampled, so an escape narrower than the sample spacing
+/// can be missed; the audit (runs to settlement) checks the labels that rest on it.
+pub fn escape_above(rs: &[f64], ds: &[f64], first: usize, r_u: f64) -> Option<f64> {
+    (first..rs.len())
+        .find(|&j| rs[j] + ds[j] < r_u)
+        .map(|j| rs[j])
+}
+
+/// How the search ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Search {
+    /// A bracket `[lo, hi]` with `D(lo) <= 0 < D(hi)` (the values in `d`); `warm` if from
+    /// the neighbour's.
+    Bracket {
+        lo: f64,
+        hi: f64,
+        d: [f64; 2],
+        warm: bool,
+    },
+    /// `D < 0` at every sample (and at the refined maximum): no cycle below `r_max`.
+    NoneBelow { r_max: f64 },
+    /// `D(r_min) > 0`: the fixed point repels at that resolution.
+    FixedPointUnstable { r_min: f64 },
+}
+
+/// Cold search: log-spaced samples of `D`, the first `-` to `+` sign change; if none, the
+/// tangency check around the largest `D`.
+pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mut Work) -> Search {
+    let map = ReturnMap::new(st, cs.t_return);
+    let n = cs.samples.max(3);
+    let rs = log_samples(cs.r_min, cs.r_max, n);
+    let mut ds = Vec::with_capacity(n);
+    for (i, &r) in rs.iter().enumerate() {
+        let d = map.d(r, w);
+        if i == 0 && d > 0.0 {
+            return Search::FixedPointUnstable { r_min: cs.r_min };
+        }
+        if d > 0.0 {
+            return Search::Bracket {
+                lo: rs[i - 1],
+                hi: r,
+                d: [ds[i - 1], d],
+                warm: false,
+            };
+        }
+        ds.push(d);
+    }
+    if tangency_iters > 0 {
+        // The sample where D/r is largest; D is a smooth function of r on the slip branch,
+        // so near a tangency its maximum lies within one sample spacing.
+        let i = (1..n - 1)
+            .max_by(|&i, &j| (ds[i] / rs[i]).total_cmp(&(ds[j] / rs[j])))
+            .unwrap_or(1);
+        let (mut lo, mut hi) = (rs[i - 1], rs[i + 1]);
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let mut c = hi - g * (hi - lo);
+        let mut e = lo + g * (hi - lo);
+        let (mut dc, mut de) = (map.d(c, w), map.d(e, w));
+        for _ in 0..tangency_iters {
+            for (r, d) in [(c, dc), (e, de)] {
+                if d > 0.0 {
+                    return Search::Bracket {
+                        lo: rs[i - 1],
+                        hi: r,
+                        d: [ds[i - 1], d],
+                        warm: false,
+                    };
+                }
+            }
+            if dc > de {
+                hi = e;
+                e = c;
+                de = dc;
+                c = hi - g * (hi - lo);
+                dc = map.d(c, w);
+            } else {
+                lo = c;
+                c = e;
+                dc = de;
+                e = lo + g * (hi - lo);
+                de = map.d(e, w);
+            }
+        }
+        for (r, d) in [(c, dc), (e, de)] {
+            if d > 0.0 {
+                return Search::Bracket {
+                    lo: rs[i - 1],
+                    hi: r,
+                    d: [ds[i - 1], d],
+                    warm: false,
+                };
+            }
+        }
+    }
+    Search::NoneBelow { r_max: cs.r_max }
+}
+
+/// Warm search around a neighbour's crossing `r0`: the first `-` to `+` sign change of `D`
+/// among 6 log-spaced samples in `[r0 / q, r0 q]`, q = 1.25 then 2; the cold search if
+/// neither shows one (a warm bracket is only kept once checked).
+pub fn search(
+    st: &Stepper,
+    cs: &CycleSettings,
+    tangency_iters: u32,
+    warm: Option<f64>,
+    w: &mut Work,
+) -> Search {
+    let map = ReturnMap::new(st, cs.t_return);
+    if let Some(r0) = warm.filter(|r| r.is_finite() && *r > cs.r_min) {
+        for q in [1.25f64, 2.0] {
+            let (lo, hi) = ((r0 / q).max(cs.r_min), (r0 * q).min(cs.r_max));
+            if lo >= hi {
+                continue;
+            }
+            let mut prev = (lo, map.d(lo, w));
+            if prev.1 > 0.0 {
+                continue;
+            }
+            for i in 1..6 {
+                let r = (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / 5.0).exp();
+                let d = map.d(r, w);
+                if d > 0.0 {
+                    return Search::Bracket {
+                        lo: prev.0,
+                        hi: r,
+                        d: [prev.1, d],
+                        warm: true,
+                    };
+                }
+                prev = (r, d);
+            }
+        }
+    }
+    search_cold(st, cs, tangency_iters, w)
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ use squeal_core::{Params, Setup, SolverConfig, SolverStats, State, Stepper};
 
 use crate::curve::ClosedCurve;
 use crate::error::{BracketProblem, NoCycle, ScanError};
-use crate::section::{ParamRange, ReturnMap, Work, log_samples};
+use crate::section::{Bracket, ParamRange, ReturnMap, SectionCycles, Work, section_cycles};
 
 /// Settings of the cycle search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -56,84 +56,6 @@ impl Default for CycleSettings {
             check_half_dt: true,
         }
     }
-}
-
-/// Where the return map changes sign.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum SectionCycles {
-    /// An unstable cycle crosses `S` in `[lo, hi]`; `stable_above` is the first sampled
-    /// crossing further out, if the sampled range shows one; `escape` the smallest sampled
-    /// start outside the cycle whose return lands inside (see [`escape_above`]), if any.
-    Unstable {
-        r: f64,
-        lo: f64,
-        hi: f64,
-        stable_above: Option<f64>,
-        escape: Option<f64>,
-    },
-    /// `D < 0` at every sample: no unstable cycle below `r_max` was seen.
-    NoneBelow { r_max: f64 },
-    /// `D > 0` already at `r_min`: the fixed point repels.
-    FixedPointUnstable { r_min: f64 },
-}
-
-/// Finds the sign changes of `D` on the section and bisects the first unstable one.
-pub fn section_cycles(
-    st: &Stepper,
-    cs: &CycleSettings,
-    stats: &mut SolverStats,
-    returns: &mut u64,
-) -> SectionCycles {
-    let mut w = Work::default();
-    let found = search_section(&ReturnMap::new(st, cs.t_return), cs, &mut w);
-    stats.merge(&w.stats);
-    *returns += w.returns;
-    found
-}
-
-/// [`section_cycles`] on a return map, counted in `w`: every sample of `D`, the first
-/// `-` to `+` sign change bisected to `rtol`.
-pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
-    let n = cs.samples.max(2);
-    let rs = log_samples(cs.r_min, cs.r_max, n);
-    let ds = map.sample(&rs, w);
-    if ds[0] > 0.0 {
-        return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
-    }
-    let up: Vec<usize> = (0..n - 1)
-        .filter(|&i| ds[i] <= 0.0 && ds[i + 1] > 0.0)
-        .collect();
-    let Some(&i) = up.first() else {
-        return SectionCycles::NoneBelow { r_max: cs.r_max };
-    };
-    let stable_above = (i + 1..n - 1)
-        .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)
-        .map(|j| rs[j + 1]);
-    let (lo, hi) = map.bisect(rs[i], rs[i + 1], cs.rtol, w);
-    SectionCycles::Unstable {
-        r: 0.5 * (lo + hi),
-        lo,
-        hi,
-        stable_above,
-        escape: escape_above(&rs, &ds, i + 1, lo),
-    }
-}
-
-/// The smallest sampled start outside the unstable cycle whose return falls back inside.
-///
-/// `rs[first..]` are the samples above the cycle, whose section crossing is `r_u`. A
-/// sample whose return `P(r) = r + D(r)` lands below `r_u` has jumped past the cycle:
-/// where the orbit starts to stick the return map falls steeply (McMillan's hysteretic
-/// law above the fold of cycles at lambda = 0.5: at nu = 0.0223 starts at r = 0.91 and 2.19
-/// return to 0.231 and 0.228, inside the cycle's 0.236). Then the outside of the cycle is
-/// not invariant: a start outside may end in steady slip, and no rule may label a start
-/// stick-slip for lying outside. Sampled, so an escape narrower than the sample spacing
-/// can be missed; the audit (runs to settlement) checks the labels that rest on it.
-pub fn escape_above(rs: &[f64], ds: &[f64], first: usize, r_u: f64) -> Option<f64> {
-    (first..rs.len())
-        .find(|&j| rs[j] + ds[j] < r_u)
-        .map(|j| rs[j])
 }
 
 /// How the located cycle moves when `dt` is halved.
@@ -182,7 +104,7 @@ pub struct CycleReport {
     /// The stable stick-slip crossing seen above the cycle, if sampled.
     pub stable_above: Option<f64>,
     /// The smallest sampled start outside the cycle whose return falls back inside
-    /// ([`escape_above`]): when present, the outside of the cycle is not invariant.
+    /// ([`crate::section::escape_above`]): when present, the outside of the cycle is not invariant.
     pub escape: Option<f64>,
     /// The closed curve: the states of one revolution.
     pub curve: ClosedCurve,
@@ -668,4 +590,56 @@ pub fn critical_nu(
         bracket: [lo, hi],
         evaluations,
     })
+}
+
+/// Narrows `[lo, hi]` with [`ReturnMap::illinois`] and describes the cycle there
+/// ([`crate::ulc::locate_from`]: curve, period, multiplier, area). Falls back to
+/// [`crate::ulc::locate`] on the range when the bracket does not hold (`D(lo) > 0` or
+/// `D(hi) <= 0`).
+pub fn describe(
+    setup: Setup,
+    cs: &CycleSettings,
+    lo: f64,
+    hi: f64,
+) -> Result<CycleReport, ScanError> {
+    let st = setup.stepper()?;
+    let mut w = Work::default();
+    let map = ReturnMap::new(&st, cs.t_return);
+    let (d_lo, d_hi) = (map.d(lo, &mut w), map.d(hi, &mut w));
+    describe_bracket(&st, cs, [lo, hi], [d_lo, d_hi], w)
+}
+
+/// [`describe`] with the bracket's `D` values known; `w` is the work so far (counted in
+/// the report).
+pub fn describe_bracket(
+    st: &Stepper,
+    cs: &CycleSettings,
+    [lo, hi]: [f64; 2],
+    [d_lo, d_hi]: [f64; 2],
+    mut w: Work,
+) -> Result<CycleReport, ScanError> {
+    let narrow = CycleSettings {
+        r_min: lo,
+        r_max: hi,
+        samples: 2,
+        check_half_dt: false,
+        ..*cs
+    };
+    if !(d_lo <= 0.0 && d_hi > 0.0) {
+        return locate(st.setup(), &narrow);
+    }
+    let bracket = Bracket {
+        lo,
+        hi,
+        d: [d_lo, d_hi],
+    };
+    let (lo, hi) = ReturnMap::new(st, cs.t_return).illinois(bracket, cs.rtol, &mut w);
+    let found = SectionCycles::Unstable {
+        r: 0.5 * (lo + hi),
+        lo,
+        hi,
+        stable_above: None,
+        escape: None,
+    };
+    locate_from(st, found, &narrow, w.stats, w.returns)
 }

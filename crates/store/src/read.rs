@@ -142,7 +142,7 @@ pub struct FileInfo {
     /// Per map: why no cycle was located, where the search found none.
     pub no_cycle: Vec<Option<String>>,
     /// Per map: the sampled start outside the located cycle that returns inside, where the
-    /// return map jumps past the cycle ([`squeal_scan::ulc::escape_above`]).
+    /// return map jumps past the cycle ([`squeal_scan::section::escape_above`]).
     pub escape: Vec<Option<f64>>,
     /// Per map: the landscape and its evidence, for laws with true stick (empty otherwise).
     pub landscapes: Vec<Option<LandscapeInfo>>,

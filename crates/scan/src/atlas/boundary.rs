@@ -4,7 +4,7 @@
 //! * the **fold of cycles** [`fold_nu`]: the damping above which no start squeals. Below it
 //!   the return map `D(r) = P(r) - r` has a positive window between the unstable cycle and
 //!   the stick-slip oscillation; at the fold they meet and the window closes. The predicate
-//!   "some `D > 0`" uses the tangency check of [`super::point::search_cold`].
+//!   "some `D > 0`" uses the tangency check of [`crate::section::search_cold`].
 //! * the **critical damping** [`critical_nu`] of the operating point: the damping at which
 //!   the unstable cycle first encloses it (from then on it does not squeal). Above the fold
 //!   there is no cycle and nothing squeals, which counts as enclosed (as in
@@ -41,9 +41,9 @@
 use serde::{Deserialize, Serialize};
 use squeal_core::{Params, Setup, State};
 
-use super::point::{PointSettings, Search, StickFail, analyse, find_stick_slip, settings_for};
+use super::point::{PointSettings, StickFail, analyse, find_stick_slip, settings_for};
 use crate::error::ScanError;
-use crate::section::ParamRange;
+use crate::section::{ParamRange, Search};
 
 /// The parameter a boundary is bisected in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -217,7 +217,7 @@ pub fn bisect_nu(
 
 /// The section crossings found so far in one bisection, by parameter value: each step's
 /// cycle search warm-starts from the crossing at the nearest value already analysed (in
-/// `|ln v|`), as the points of a line do ([`super::point::search`]: the warm bracket is
+/// `|ln v|`), as the points of a line do ([`crate::section::search`]: the warm bracket is
 /// only kept once checked, else the cold search runs).
 #[derive(Debug, Default)]
 pub struct Crossings(std::cell::RefCell<Vec<(f64, f64)>>);

@@ -18,9 +18,9 @@ use squeal_core::classify::crossing;
 use squeal_core::{Params, Setup, SolverStats, State, Stepper, friction};
 
 use crate::error::ScanError;
-use crate::section::{Bracket, ReturnMap, log_samples};
+use crate::section::{self, Bracket, ReturnMap, Search, SectionCycles, search};
 
-use crate::ulc::{self, CycleReport, CycleSettings, SectionCycles};
+use crate::ulc::{CycleReport, CycleSettings, describe_bracket};
 
 /// The regime of one parameter point. Stored as the HDF5 enum `regime`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -220,23 +220,6 @@ pub struct PointResult {
     pub landscape: Option<super::stribeck::LandscapeRecord>,
 }
 
-/// How the search ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Search {
-    /// A bracket `[lo, hi]` with `D(lo) <= 0 < D(hi)` (the values in `d`); `warm` if from
-    /// the neighbour's.
-    Bracket {
-        lo: f64,
-        hi: f64,
-        d: [f64; 2],
-        warm: bool,
-    },
-    /// `D < 0` at every sample (and at the refined maximum): no cycle below `r_max`.
-    NoneBelow { r_max: f64 },
-    /// `D(r_min) > 0`: the fixed point repels at that resolution.
-    FixedPointUnstable { r_min: f64 },
-}
-
 pub use crate::section::Work;
 
 /// The section range searched at these parameters: `r_max` at least `2 lambda` (the
@@ -246,169 +229,6 @@ pub fn settings_for(p: &Params, cs: &CycleSettings) -> CycleSettings {
         r_max: cs.r_max.max(2.0 * p.lambda),
         ..*cs
     }
-}
-
-/// Cold search: log-spaced samples of `D`, the first `-` to `+` sign change; if none, the
-/// tangency check around the largest `D`.
-pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mut Work) -> Search {
-    let map = ReturnMap::new(st, cs.t_return);
-    let n = cs.samples.max(3);
-    let rs = log_samples(cs.r_min, cs.r_max, n);
-    let mut ds = Vec::with_capacity(n);
-    for (i, &r) in rs.iter().enumerate() {
-        let d = map.d(r, w);
-        if i == 0 && d > 0.0 {
-            return Search::FixedPointUnstable { r_min: cs.r_min };
-        }
-        if d > 0.0 {
-            return Search::Bracket {
-                lo: rs[i - 1],
-                hi: r,
-                d: [ds[i - 1], d],
-                warm: false,
-            };
-        }
-        ds.push(d);
-    }
-    if tangency_iters > 0 {
-        // The sample where D/r is largest; D is a smooth function of r on the slip branch,
-        // so near a tangency its maximum lies within one sample spacing.
-        let i = (1..n - 1)
-            .max_by(|&i, &j| (ds[i] / rs[i]).total_cmp(&(ds[j] / rs[j])))
-            .unwrap_or(1);
-        let (mut lo, mut hi) = (rs[i - 1], rs[i + 1]);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let mut c = hi - g * (hi - lo);
-        let mut e = lo + g * (hi - lo);
-        let (mut dc, mut de) = (map.d(c, w), map.d(e, w));
-        for _ in 0..tangency_iters {
-            for (r, d) in [(c, dc), (e, de)] {
-                if d > 0.0 {
-                    return Search::Bracket {
-                        lo: rs[i - 1],
-                        hi: r,
-                        d: [ds[i - 1], d],
-                        warm: false,
-                    };
-                }
-            }
-            if dc > de {
-                hi = e;
-                e = c;
-                de = dc;
-                c = hi - g * (hi - lo);
-                dc = map.d(c, w);
-            } else {
-                lo = c;
-                c = e;
-                dc = de;
-                e = lo + g * (hi - lo);
-                de = map.d(e, w);
-            }
-        }
-        for (r, d) in [(c, dc), (e, de)] {
-            if d > 0.0 {
-                return Search::Bracket {
-                    lo: rs[i - 1],
-                    hi: r,
-                    d: [ds[i - 1], d],
-                    warm: false,
-                };
-            }
-        }
-    }
-    Search::NoneBelow { r_max: cs.r_max }
-}
-
-/// Warm search around a neighbour's crossing `r0`: the first `-` to `+` sign change of `D`
-/// among 6 log-spaced samples in `[r0 / q, r0 q]`, q = 1.25 then 2; the cold search if
-/// neither shows one (a warm bracket is only kept once checked).
-pub fn search(
-    st: &Stepper,
-    cs: &CycleSettings,
-    tangency_iters: u32,
-    warm: Option<f64>,
-    w: &mut Work,
-) -> Search {
-    let map = ReturnMap::new(st, cs.t_return);
-    if let Some(r0) = warm.filter(|r| r.is_finite() && *r > cs.r_min) {
-        for q in [1.25f64, 2.0] {
-            let (lo, hi) = ((r0 / q).max(cs.r_min), (r0 * q).min(cs.r_max));
-            if lo >= hi {
-                continue;
-            }
-            let mut prev = (lo, map.d(lo, w));
-            if prev.1 > 0.0 {
-                continue;
-            }
-            for i in 1..6 {
-                let r = (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / 5.0).exp();
-                let d = map.d(r, w);
-                if d > 0.0 {
-                    return Search::Bracket {
-                        lo: prev.0,
-                        hi: r,
-                        d: [prev.1, d],
-                        warm: true,
-                    };
-                }
-                prev = (r, d);
-            }
-        }
-    }
-    search_cold(st, cs, tangency_iters, w)
-}
-
-/// Narrows `[lo, hi]` with [`ReturnMap::illinois`] and describes the cycle there
-/// ([`crate::ulc::locate_from`]: curve, period, multiplier, area). Falls back to
-/// [`crate::ulc::locate`] on the range when the bracket does not hold (`D(lo) > 0` or
-/// `D(hi) <= 0`).
-pub fn describe(
-    setup: Setup,
-    cs: &CycleSettings,
-    lo: f64,
-    hi: f64,
-) -> Result<CycleReport, ScanError> {
-    let st = setup.stepper()?;
-    let mut w = Work::default();
-    let map = ReturnMap::new(&st, cs.t_return);
-    let (d_lo, d_hi) = (map.d(lo, &mut w), map.d(hi, &mut w));
-    describe_bracket(&st, cs, [lo, hi], [d_lo, d_hi], w)
-}
-
-/// [`describe`] with the bracket's `D` values known; `w` is the work so far (counted in
-/// the report).
-pub fn describe_bracket(
-    st: &Stepper,
-    cs: &CycleSettings,
-    [lo, hi]: [f64; 2],
-    [d_lo, d_hi]: [f64; 2],
-    mut w: Work,
-) -> Result<CycleReport, ScanError> {
-    let narrow = CycleSettings {
-        r_min: lo,
-        r_max: hi,
-        samples: 2,
-        check_half_dt: false,
-        ..*cs
-    };
-    if !(d_lo <= 0.0 && d_hi > 0.0) {
-        return ulc::locate(st.setup(), &narrow);
-    }
-    let bracket = Bracket {
-        lo,
-        hi,
-        d: [d_lo, d_hi],
-    };
-    let (lo, hi) = ReturnMap::new(st, cs.t_return).illinois(bracket, cs.rtol, &mut w);
-    let found = SectionCycles::Unstable {
-        r: 0.5 * (lo + hi),
-        lo,
-        hi,
-        stable_above: None,
-        escape: None,
-    };
-    ulc::locate_from(st, found, &narrow, w.stats, w.returns)
 }
 
 /// The smallest pure velocity kick from the fixed point that leaves the cycle: the smaller
@@ -750,7 +570,7 @@ fn half_dt_shift(setup: Setup, cs: &CycleSettings, r: f64, w: &mut Work) -> Resu
         let (lo, hi) = map.illinois(bracket, cs.rtol, w);
         return Ok(0.5 * (lo + hi) - r);
     }
-    Ok(match ulc::search_section(&map, cs, w) {
+    Ok(match section::search_section(&map, cs, w) {
         SectionCycles::Unstable { r: r2, .. } => r2 - r,
         _ => f64::NAN,
     })
@@ -961,7 +781,7 @@ mod tests {
             (FrictionLaw::McMillanNonHysteretic, 1e-3, false),
         ] {
             let p = point(law, nu, None);
-            let rep = ulc::locate(
+            let rep = crate::ulc::locate(
                 Setup::new(Params::paper(law, nu), 0.01, SolverConfig::default()),
                 &CycleSettings::default(),
             )

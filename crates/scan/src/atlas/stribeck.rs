@@ -31,11 +31,11 @@ use serde::{Deserialize, Serialize};
 use squeal_core::stick::{self, LandscapeEvidence, StickCycle};
 use squeal_core::{Classifier, Landscape, Setup, State};
 
-use crate::section::ParamRange;
+use crate::section::{ParamRange, Search};
 
 use super::boundary::{Boundary, BoundaryParam, bisect_nu};
 use super::columns::{Column, Kind, Si};
-use super::point::{self, AtlasRegime, PointResult, PointSettings, Search, analyse};
+use super::point::{self, AtlasRegime, PointResult, PointSettings, analyse};
 use crate::error::ScanError;
 use crate::landscape::{LANDSCAPE_FIELDS, evidence_words};
 

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The long physics checks: tests too slow for the suite a developer runs often
+# (`cargo test --workspace`), marked `#[ignore]` there and run here by exact name. .ci/run
+# calls this after the quick suite. Each line: package or test target, then the test.
+#
+#   scripts/long-checks.sh          # all of them
+#   scripts/long-checks.sh --list   # their names
+set -euo pipefail
+cd "$(dirname "$0")/.."
+checks=(
+  # bSTAB's published basin stability at 20 belt speeds, 655,360 cells (tests/bstab_friction.rs).
+  "--test bstab_friction squeal_matches_the_published_basin_stability"
+  # Early stopping against runs to settlement off the paper's parameters, 4 x 2 scans of 64 x 64.
+  "-p squeal-scan --test off_paper early_stopping_agrees_with_settlement_off_the_paper"
+)
+if [ "${1:-}" = --list ]; then
+  printf '%s\n' "${checks[@]}"
+  exit 0
+fi
+for c in "${checks[@]}"; do
+  read -r -a words <<<"$c"
+  name=${words[-1]}
+  unset 'words[-1]'
+  echo "long check: $name"
+  cargo test "${words[@]}" -- --ignored --exact "$name"
+done
