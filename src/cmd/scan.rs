@@ -337,6 +337,15 @@ pub fn check_words(values: &[i64]) -> Vec<String> {
             v("audit_undecided")
         ));
     }
+    let (steady, stick) = (v("settled_steady_slip"), v("settled_stick_slip"));
+    if steady > 0 || stick > 0 {
+        // Why: no certified shortcut reached these runs (crates/core/MODEL.md section 9).
+        out.push(format!(
+            "runs to settlement: {steady} steady slip within fp_radius (no certified region, \
+             or the run never entered it), {stick} stick-slip by a settled band or a second \
+             stick (no located cycle or known orbit from breakaway decided them)"
+        ));
+    }
     if v("origin_disagrees") == 1 {
         out.push(
             "DISAGREEMENT: the label at (0, 0) contradicts whether the cycle encloses (0, 0)"
