@@ -98,6 +98,9 @@ pub struct MapChecks {
     /// Cells whose runs went to settlement (no early decision reached them).
     #[serde(default)]
     pub settled: Settled,
+    /// Cells per reason, indexed by [`Reason`] value (for summaries; not stored per map).
+    #[serde(default)]
+    pub reasons: [u64; Reason::ALL.len()],
 }
 
 /// The checks as stored per map (datasets over the map dimension): name, long name. The
@@ -221,6 +224,9 @@ impl MapChecks {
                 self.audit.audited += 1;
             }
             self.settled.add(cell);
+            if let Some(n) = self.reasons.get_mut(cell.reason as usize) {
+                *n += 1;
+            }
             if let (Some(l), Some(r)) = (self.landscape.as_mut(), cell.regime()) {
                 if r != Regime::Undecided && r != l.regime {
                     l.contradictions += 1;
