@@ -13,7 +13,8 @@
 # new alternating on the same specs, each pair compared cell by cell with `squeal compare`:
 # bSTAB's friction case at v_d = 2.0 (steady_slip_only), 1.0 (stick_slip_only), both
 # 128 x 128, and 1.5 (bistable, 256 x 128); scans/fig10.toml at nu = 0.03 (McMillan above
-# the fold, 128 x 128); with FULL=1 also the whole scans/bstab-friction.toml (20 speeds).
+# the fold, 128 x 128); the 20-speed study scans/bstab-friction.toml at 64 x 32 per speed,
+# or with FULL=1 at its own 256 x 128 (about 470 s for the old binary on a quiet machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 suite=${SUITE:-fig9}
@@ -37,15 +38,15 @@ if [ "$suite" = decisions ]; then
   echo "| spec (2 threads) | round | old s | new s | old/new | agreement (new vs old) |"
   echo "|---|---|---:|---:|---:|---|"
   bstab() { sed -e "s/^v_d = .*/v_d = $1/" -e "s/count = 256 }/count = $2 }/" -e "s/count = 128 }/count = $3 }/" scans/bstab-friction.toml; }
-  cases="steady-2.0 stick-1.0 bistable-1.5 mcmillan-above-fold"
-  [ "${FULL:-0}" = 1 ] && cases="$cases bstab-friction"
+  cases=${CASES:-steady-2.0 stick-1.0 bistable-1.5 mcmillan-above-fold bstab-friction}
   for c in $cases; do
     case $c in
       steady-2.0) bstab 2.0 128 128 ;;
       stick-1.0) bstab 1.0 128 128 ;;
       bistable-1.5) bstab 1.5 256 128 ;;
       mcmillan-above-fold) sed -e 's/^nu = .*/nu = 0.03/' -e 's/count = 256/count = 128/g' scans/fig10.toml ;;
-      bstab-friction) cat scans/bstab-friction.toml ;;
+      bstab-friction) if [ "${FULL:-0}" = 1 ]; then cat scans/bstab-friction.toml; else
+        sed -e 's/count = 256 }/count = 64 }/' -e 's/count = 128 }/count = 32 }/' scans/bstab-friction.toml; fi ;;
     esac >"$tmp/$c.toml"
     for i in $(seq "$rounds"); do
       a=$(secs "$old" scan "$tmp/$c.toml" -o "$tmp/$c-old.h5")

@@ -28,9 +28,12 @@
 //! step error of the scheme (`O(dt^2)` per unit time, relative) cannot undo at the shipped
 //! steps. The audit checks it against runs to settlement in every scan.
 //!
-//! McMillan's laws have no certified region here (`None`): their force depends on `|x''|`,
-//! which is not smooth at the fixed point itself (MODEL.md section 9 says what a proof would
-//! need); their runs still end at `fp_radius` or on the located cycle's trap.
+//! **McMillan's laws** ([`mcmillan`]): the force depends on `|x''|`, not smooth at the fixed
+//! point itself, so there is no linearisation; the function `V = u^2/2 + W(sigma, u)` with
+//! `sigma = y + 2 nu u` and `W = -integral_0^sigma a(s, u) ds` absorbs the `|x''|` part
+//! exactly and falls at `V' = -2 nu a^2 + W_u a`, where the remainder `W_u` (the law's
+//! dependence on the slip speed) is bounded over the region (MODEL.md section 9 gives every
+//! bound). The region is an ellipse in `(sigma, u)`.
 
 use serde::Serialize;
 
@@ -43,35 +46,61 @@ const KEPT_DAMPING: f64 = 0.25;
 /// The largest radius as a share of the belt speed (the disc stays clear of zero slip).
 const MAX_SHARE_OF_BELT: f64 = 0.9;
 
-/// A disc around the steady-slip fixed point that every run inside it stays in and
-/// converges from (see the module's argument).
+/// The shape of a certified region, in `y = x - x*`, `u = x'`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum Shape {
+    /// The disc `y^2 + u^2 < radius^2` (the Stribeck law's energy argument).
+    Disc {
+        /// The radius.
+        radius: f64,
+        /// The least damping `2 xi + mu'(v_d - radius)` over the disc (positive).
+        least_damping: f64,
+    },
+    /// The ellipse `u^2 / u2 + sigma^2 / s2 < 1` with `sigma = y + 2 nu u` (McMillan's laws,
+    /// [`mcmillan`]).
+    Ellipse {
+        /// `2 nu`.
+        two_nu: f64,
+        /// Its semi-axis in `u`, squared.
+        u2: f64,
+        /// Its semi-axis in `sigma`, squared.
+        s2: f64,
+    },
+}
+
+/// A neighbourhood of the steady-slip fixed point that every run inside it converges from
+/// (see the module's argument).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Region {
     /// The fixed point.
     pub centre: State,
-    /// The disc's radius in the `(x, x')` plane.
-    pub radius: f64,
-    /// The least damping `2 xi + mu'(v_d - radius)` over the disc (positive).
-    pub least_damping: f64,
+    /// The region around it.
+    pub shape: Shape,
 }
 
 impl Region {
-    /// The certified region of `p`, where the argument applies (`None` otherwise: McMillan's
-    /// laws, Coulomb, or a fixed point that does not attract).
+    /// The certified region of `p`, where the argument applies (`None` otherwise: Coulomb,
+    /// or a fixed point that does not attract).
     pub fn of(p: &Params) -> Option<Region> {
         match p.law {
             FrictionLaw::Stribeck => stribeck(p),
-            FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic | FrictionLaw::Coulomb => {
-                None
-            }
+            FrictionLaw::McMillan => mcmillan(p, true),
+            FrictionLaw::McMillanNonHysteretic => mcmillan(p, false),
+            FrictionLaw::Coulomb => None,
         }
     }
 
-    /// Whether `(x, v)` lies inside the disc (strictly).
+    /// Whether `(x, v)` lies inside the region (strictly).
     #[inline]
     pub fn contains(&self, x: f64, v: f64) -> bool {
-        let (dx, dv) = (x - self.centre.x, v - self.centre.v);
-        dx * dx + dv * dv < self.radius * self.radius
+        let (y, u) = (x - self.centre.x, v - self.centre.v);
+        match self.shape {
+            Shape::Disc { radius, .. } => y * y + u * u < radius * radius,
+            Shape::Ellipse { two_nu, u2, s2 } => {
+                let sigma = y + two_nu * u;
+                u * u / u2 + sigma * sigma / s2 < 1.0
+            }
+        }
     }
 }
 
@@ -106,8 +135,99 @@ fn stribeck(p: &Params) -> Option<Region> {
     }
     Some(Region {
         centre: p.fixed_point(),
-        radius,
-        least_damping,
+        shape: Shape::Disc {
+            radius,
+            least_damping,
+        },
+    })
+}
+
+/// Bounds of McMillan's law over a box `|sigma| <= s`, `|u| <= u_max` around the fixed point
+/// (MODEL.md section 9 derives each one).
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    /// `|g| <= kappa |a|` along the slip root (`g = F - 1`).
+    kappa: f64,
+    /// `|dg/da| <= kappa_a` along it.
+    kappa_a: f64,
+    /// `w_min - b_max`: the least slip speed minus the largest `|a| tau`.
+    d: f64,
+    /// The level `c` of `V` whose set lies in the box.
+    c: f64,
+}
+
+/// The bounds of McMillan's law (`hysteretic` or not) for the box of half-width `s` in
+/// `sigma`, or `None` where one of the conditions of the argument fails there.
+fn mcmillan_bounds(p: &Params, hysteretic: bool, s: f64) -> Option<Bounds> {
+    let tau = p.tau;
+    // |a| <= |sigma| / (1 - kappa) <= 2 s along the slip root, if kappa <= 1/2 (checked).
+    let b1 = tau * 2.0 * s;
+    let mut kappa = 0.5;
+    let (mut c, mut w_min, mut d) = (0.0, 0.0, 0.0);
+    // kappa depends on w_min, which depends on c, which depends on kappa: three passes from
+    // kappa = 1/2, and the check below that c is within the box for the final kappa.
+    for _ in 0..3 {
+        c = s * s / (2.0 * (1.0 + kappa));
+        w_min = p.lambda - (2.0 * c).sqrt();
+        d = w_min - b1;
+        if d.is_nan() || d <= 0.0 {
+            return None;
+        }
+        kappa = tau / d;
+    }
+    // The conditions used: kappa <= 1/2 (with the c computed from it), the slip branch over
+    // the box (w > 2 |a| tau, or > |a| tau without hysteresis), and a single root of the
+    // force equation: every root has |a| < 1 + 1/sin(phi) + |sigma| (F1 > 0 while v < 0),
+    // so with w_min above that times tau (2 tau) every root is on the slip branch, where
+    // the equation is monotone (|dg/da| < 1).
+    let c_kappa = s * s / (2.0 * (1.0 + kappa));
+    let kappa_a = tau * w_min / (d * d);
+    let a_all = 1.0 + 1.0 / p.phi.sin() + s;
+    let branch = if hysteretic { 2.0 } else { 1.0 };
+    let d_all = w_min - tau * a_all;
+    let ok = kappa <= 0.5
+        && c_kappa >= c * (1.0 - 1e-12)
+        && kappa_a < 1.0
+        && w_min > branch * b1
+        && w_min > branch * tau * a_all
+        && d_all > 0.0
+        && tau * w_min / (d_all * d_all) < 1.0;
+    ok.then_some(Bounds {
+        kappa,
+        kappa_a,
+        d,
+        c,
+    })
+}
+
+/// McMillan's laws: the ellipse from `V = u^2/2 + W(sigma, u)` (MODEL.md section 9). The
+/// half-width `s` in `sigma` is the largest (on a grid of 1/1000 of the belt speed) at which
+/// every condition holds and `V` falls: `s <= 4 nu (1 - kappa)(1 - kappa_a) d^2 /
+/// ((1 + kappa) tau)`. The labelled ellipse is the set `u^2/2 + sigma^2 / (2 (1 - kappa))
+/// < c / 2`, inside `V < c / 2` (half the certified level: the margin).
+fn mcmillan(p: &Params, hysteretic: bool) -> Option<Region> {
+    if p.nu.is_nan() || p.nu <= 0.0 || p.tau <= 0.0 {
+        return None;
+    }
+    let falls = |s: f64, b: &Bounds| {
+        s <= 4.0 * p.nu * (1.0 - b.kappa) * (1.0 - b.kappa_a) * b.d * b.d
+            / ((1.0 + b.kappa) * p.tau)
+    };
+    let step = 1e-3 * p.lambda;
+    let best = (1..1000)
+        .map(|i| i as f64 * step)
+        .filter_map(|s| Some((s, mcmillan_bounds(p, hysteretic, s)?)))
+        .take_while(|(s, b)| falls(*s, b))
+        .last()?;
+    let (_, b) = best;
+    let level = 0.5 * b.c;
+    Some(Region {
+        centre: p.fixed_point(),
+        shape: Shape::Ellipse {
+            two_nu: 2.0 * p.nu,
+            u2: 2.0 * level,
+            s2: 2.0 * level * (1.0 - b.kappa),
+        },
     })
 }
 
@@ -126,16 +246,43 @@ mod tests {
         let r = Region::of(&p).expect("a region at v_d = 2");
         let k0 = 0.1 - (-4.0f64).exp();
         let want = 2.0 - 0.5 * (1.0 / (0.1 - k0 / 4.0)).ln();
-        assert!((r.radius - want).abs() < 1e-12, "{r:?} vs {want}");
-        assert!((r.least_damping - k0 / 4.0).abs() < 1e-12, "{r:?}");
+        let Shape::Disc {
+            radius,
+            least_damping,
+        } = r.shape
+        else {
+            panic!("{r:?}")
+        };
+        assert!((radius - want).abs() < 1e-12, "{r:?} vs {want}");
+        assert!((least_damping - k0 / 4.0).abs() < 1e-12, "{r:?}");
         assert!(r.contains(r.centre.x + 0.99 * want, 0.0));
         assert!(!r.contains(r.centre.x, 1.01 * want));
         assert_eq!(
             Region::of(&Params::stribeck(0.05, 1.0, Stribeck::default())),
             None
         );
-        let mc = Params::paper(FrictionLaw::McMillan, 1e-2);
-        assert_eq!(Region::of(&mc), None);
+    }
+
+    /// McMillan's region lies inside the unstable cycle, as it must (a start between would
+    /// contradict it): the cycle crosses the section `x = 1` at `x' = 0.365` for
+    /// `nu = 1e-3` (crates/scan/tests/science.rs) and at about `2.09` for `nu = 1e-2`
+    /// (classify.rs, the settling test's comment). Without damping (`nu = 0`, the fixed point
+    /// repels, every start squeals) there is none.
+    #[test]
+    fn mcmillan_region_lies_inside_the_unstable_cycle() {
+        for (nu, r_u) in [(1e-3, 0.365), (1e-2, 2.09)] {
+            for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
+                let p = Params::paper(law, nu);
+                let r = Region::of(&p).unwrap_or_else(|| panic!("{law:?} {nu}: no region"));
+                let Shape::Ellipse { u2, .. } = r.shape else {
+                    panic!("{r:?}")
+                };
+                // On the section sigma = 2 nu u, so the ellipse's reach there is below u2.
+                assert!(u2.sqrt() < r_u, "{law:?} {nu}: {r:?}");
+                assert!(r.contains(1.0, 0.0) && !r.contains(1.0, r_u));
+            }
+        }
+        assert_eq!(Region::of(&Params::paper(FrictionLaw::McMillan, 0.0)), None);
     }
 
     /// The energy estimate over the disc, checked pointwise: for every `|u| <= R`,
@@ -147,17 +294,27 @@ mod tests {
         for i in 0..20 {
             let v_d = 0.8 + 0.075 * i as f64;
             let p = Params::stribeck(0.05, v_d, Stribeck::default());
-            let Some(r) = Region::of(&p) else { continue };
+            let Some(Region {
+                shape:
+                    Shape::Disc {
+                        radius,
+                        least_damping,
+                    },
+                ..
+            }) = Region::of(&p)
+            else {
+                continue;
+            };
             found += 1;
             let s = p.stribeck.unwrap();
             for j in 0..=2000 {
-                let u = r.radius * (j as f64 / 1000.0 - 1.0);
+                let u = radius * (j as f64 / 1000.0 - 1.0);
                 let h = 2.0 * p.nu * u + s.mu(v_d).0 - s.mu(v_d - u).0;
                 assert!(
-                    u * h >= r.least_damping * u * u - 1e-15,
+                    u * h >= least_damping * u * u - 1e-15,
                     "v_d {v_d} u {u}: {} < {}",
                     u * h,
-                    r.least_damping * u * u
+                    least_damping * u * u
                 );
             }
         }

@@ -89,10 +89,13 @@ fn runs_from_the_region_edge_stay_inside_and_settle() {
         let v_d = 0.8 + 0.075 * i as f64;
         let p = Params::stribeck(0.05, v_d, Stribeck::default());
         let region = Region::of(&p).expect("the fixed point attracts above v_d = 1.151");
+        let squeal_core::region::Shape::Disc { radius, .. } = region.shape else {
+            panic!("{region:?}")
+        };
         let st = Stepper::new(p, 0.005, SolverConfig::default()).unwrap();
         for k in 0..32 {
             let th = std::f64::consts::TAU * k as f64 / 32.0;
-            let r0 = 0.999 * region.radius;
+            let r0 = 0.999 * radius;
             let ic = State {
                 x: region.centre.x + r0 * th.cos(),
                 v: region.centre.v + r0 * th.sin(),
@@ -101,10 +104,7 @@ fn runs_from_the_region_edge_stay_inside_and_settle() {
             for _ in 0..2000 {
                 let s = run.step().next;
                 let d = (s.x - region.centre.x).hypot(s.v - region.centre.v);
-                assert!(
-                    d < region.radius,
-                    "v_d {v_d} angle {k}: left the disc ({d})"
-                );
+                assert!(d < radius, "v_d {v_d} angle {k}: left the disc ({d})");
             }
             let out = cl.classify(&st, ic);
             assert_eq!(
@@ -113,6 +113,72 @@ fn runs_from_the_region_edge_stay_inside_and_settle() {
                 "v_d {v_d} angle {k}: {out:?}"
             );
             assert_eq!(out.reason, Reason::NearFixedPoint);
+        }
+    }
+}
+
+/// McMillan's hysteretic law above the fold (nu = 0.03 at Table 1's lambda, tau and phi: no
+/// unstable cycle, `critical --fold` gives about 0.024): on a 10 x 10 grid over Fig. 10's
+/// window every cell gets the label of its run to settlement, and runs entering the
+/// certified region decided some of them.
+#[test]
+fn mcmillan_region_gives_the_labels_of_runs_to_settlement_above_the_fold() {
+    let spec = |early_stop: &str| {
+        Plan::from_toml(
+            &format!(
+                r#"version = 1
+[model]
+law = "mcmillan"
+nu = 0.03
+[grid]
+x0 = {{ min = -3.0, max = 5.0, count = 10 }}
+v0 = {{ min = -4.0, max = 4.0, count = 10 }}
+[classifier]
+early_stop = "{early_stop}"
+[output]
+path = "t.h5"
+"#
+            ),
+            "t.toml",
+        )
+        .unwrap()
+    };
+    let fast = cells(&spec("cycle"));
+    let slow = cells(&spec("none"));
+    for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
+        assert_eq!(f.0, s.0, "cell {k}: {f:?} vs settled {s:?}");
+    }
+    assert!(fast.iter().any(|c| c.1 == Reason::EnteredRegion as u8));
+}
+
+/// Runs from 32 states just inside the edge of McMillan's certified ellipse (0.999 of each
+/// semi-axis), at nu = 1e-3, 1e-2 and 0.03 and both of his laws, all settle on the fixed
+/// point when run to settlement (no shortcut).
+#[test]
+fn runs_from_mcmillans_region_edge_settle() {
+    let cl = Classifier::default();
+    for law in [
+        squeal_core::FrictionLaw::McMillan,
+        squeal_core::FrictionLaw::McMillanNonHysteretic,
+    ] {
+        for nu in [1e-3, 1e-2, 0.03] {
+            let p = Params::paper(law, nu);
+            let region = Region::of(&p).expect("a region");
+            let squeal_core::region::Shape::Ellipse { two_nu, u2, s2 } = region.shape else {
+                panic!("{region:?}")
+            };
+            let st = Stepper::new(p, 0.005, SolverConfig::default()).unwrap();
+            for k in 0..32 {
+                let th = std::f64::consts::TAU * k as f64 / 32.0;
+                let (u, sigma) = (0.999 * u2.sqrt() * th.sin(), 0.999 * s2.sqrt() * th.cos());
+                let ic = State {
+                    x: region.centre.x + sigma - two_nu * u,
+                    v: u,
+                };
+                assert!(region.contains(ic.x, ic.v));
+                let out = cl.classify(&st, ic);
+                assert_eq!(out.regime, Regime::SteadySlip, "{law:?} {nu} {k}: {out:?}");
+            }
         }
     }
 }
