@@ -8,8 +8,17 @@
 # this tree on the old step and scheme (the per-step speed-up alone).
 #
 # The old binary is built from a git worktree of BASE in /tmp (kept between runs).
+#
+# SUITE=decisions (issue 18, BASE default 6685246): the certified early decisions, old and
+# new alternating on the same specs, each pair compared cell by cell with `squeal compare`:
+# bSTAB's friction case at v_d = 2.0 (steady_slip_only), 1.0 (stick_slip_only), both
+# 128 x 128, and 1.5 (bistable, 256 x 128); scans/fig10.toml at nu = 0.03 (McMillan above
+# the fold, 128 x 128); the 20-speed study scans/bstab-friction.toml at 64 x 32 per speed,
+# or with FULL=1 at its own 256 x 128 (about 470 s for the old binary on a quiet machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+suite=${SUITE:-fig9}
+if [ "$suite" = decisions ]; then BASE=${BASE:-6685246}; fi
 base=${BASE:-c44a1a5}
 rounds=${ROUNDS:-2}
 oldtree=/tmp/squeal-bench-$base
@@ -23,6 +32,32 @@ new=target/release/squeal
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 rate() { "$@" --threads 2 --force --quiet | grep -o '[0-9]* cells/s' | cut -d' ' -f1; }
+secs() { "$@" --threads 2 --force --quiet | grep -o 'cells in [0-9.]* s' | cut -d' ' -f3; }
+if [ "$suite" = decisions ]; then
+  echo "date: $(date -u +%Y-%m-%dT%H:%MZ)  machine: $(lscpu | grep 'Model name' | sed 's/  */ /g')  cpus: $(nproc)  load: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "| spec (2 threads) | round | old s | new s | old/new | agreement (new vs old) |"
+  echo "|---|---|---:|---:|---:|---|"
+  bstab() { sed -e "s/^v_d = .*/v_d = $1/" -e "s/count = 256 }/count = $2 }/" -e "s/count = 128 }/count = $3 }/" scans/bstab-friction.toml; }
+  cases=${CASES:-steady-2.0 stick-1.0 bistable-1.5 mcmillan-above-fold bstab-friction}
+  for c in $cases; do
+    case $c in
+      steady-2.0) bstab 2.0 128 128 ;;
+      stick-1.0) bstab 1.0 128 128 ;;
+      bistable-1.5) bstab 1.5 256 128 ;;
+      mcmillan-above-fold) sed -e 's/^nu = .*/nu = 0.03/' -e 's/count = 256/count = 128/g' scans/fig10.toml ;;
+      bstab-friction) if [ "${FULL:-0}" = 1 ]; then cat scans/bstab-friction.toml; else
+        sed -e 's/count = 256 }/count = 64 }/' -e 's/count = 128 }/count = 32 }/' scans/bstab-friction.toml; fi ;;
+    esac >"$tmp/$c.toml"
+    for i in $(seq "$rounds"); do
+      a=$(secs "$old" scan "$tmp/$c.toml" -o "$tmp/$c-old.h5")
+      b=$(secs "$new" scan "$tmp/$c.toml" -o "$tmp/$c-new.h5")
+      agree=$("$new" compare "$tmp/$c-new.h5" "$tmp/$c-old.h5" | grep -o '[0-9]* of [0-9]* cells agree' | paste -sd';')
+      echo "| $c | $i | $a | $b | $(echo "scale=1; $a / $b" | bc) | $agree |"
+    done
+    "$new" scan "$tmp/$c.toml" -o "$tmp/$c-new.h5" --threads 2 --force --quiet | grep -E 'reasons:|runs to settlement' | sed 's/^ */    /'
+  done
+  exit 0
+fi
 echo "date: $(date -u +%Y-%m-%dT%H:%MZ)  machine: $(lscpu | grep 'Model name' | sed 's/  */ /g')  cpus: $(nproc)"
 echo "| grid (512 x 512, 2 threads) | round | old cells/s | new cells/s | new/old | new@0.01 zoh cells/s | ratio |"
 echo "|---|---|---:|---:|---:|---:|---:|"

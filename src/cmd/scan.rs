@@ -121,7 +121,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 );
                 let info = squeal_store::read_info(&out)?;
                 let shown = if shard.is_none() { pics } else { Vec::new() };
-                report(&args, &plan, &info, &info.checks, &shown, 0, 0.0)?;
+                // Nothing computed: the file holds the checks, no per-reason tally.
+                let tallies = Tallies {
+                    checks: &info.checks,
+                    reasons: &[],
+                };
+                report(&args, &plan, &info, tallies, &shown, 0, 0.0)?;
                 return Ok(ExitCode::SUCCESS);
             }
             OutputState::Different(key) if !args.run.resume => bail!(
@@ -237,18 +242,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
-    let checks: Vec<Vec<i64>> = writer
-        .finish()?
-        .iter()
-        .map(|c| c.values().to_vec())
-        .collect();
+    let finished = writer.finish()?;
+    let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
+    let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
     let written = if shard.is_none() && !sample {
         common::render_file(&out, &pics[0], true)?
     } else {
         Vec::new()
     };
     let info = squeal_store::read_info(&out)?;
-    report(&args, &plan, &info, &checks, &written, done.cells, secs)?;
+    let tallies = Tallies {
+        checks: &checks,
+        reasons: &reasons,
+    };
+    report(&args, &plan, &info, tallies, &written, done.cells, secs)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -337,6 +344,15 @@ pub fn check_words(values: &[i64]) -> Vec<String> {
             v("audit_undecided")
         ));
     }
+    let (steady, stick) = (v("settled_steady_slip"), v("settled_stick_slip"));
+    if steady > 0 || stick > 0 {
+        // Why: no certified shortcut reached these runs (crates/core/MODEL.md section 9).
+        out.push(format!(
+            "runs to settlement: {steady} steady slip within fp_radius (no certified region, \
+             or the run never entered it), {stick} stick-slip by a settled band or a second \
+             stick (no located cycle or known orbit from breakaway decided them)"
+        ));
+    }
     if v("origin_disagrees") == 1 {
         out.push(
             "DISAGREEMENT: the label at (0, 0) contradicts whether the cycle encloses (0, 0)"
@@ -364,16 +380,39 @@ pub fn check_words(values: &[i64]) -> Vec<String> {
     out
 }
 
+/// What the writer counted per map: the stored checks and the cells per reason.
+struct Tallies<'a> {
+    checks: &'a [Vec<i64>],
+    reasons: &'a [[u64; squeal_core::Reason::ALL.len()]],
+}
+
+/// Each reason's share of a map's cells, largest first ("start_in_region 61.2%, ...").
+fn reason_words(counts: &[u64]) -> String {
+    let total = counts.iter().sum::<u64>().max(1) as f64;
+    let mut named: Vec<_> = squeal_core::Reason::ALL
+        .iter()
+        .zip(counts)
+        .filter(|(_, n)| **n > 0)
+        .collect();
+    named.sort_by(|a, b| b.1.cmp(a.1));
+    let parts: Vec<_> = named
+        .iter()
+        .map(|(r, n)| format!("{} {:.1}%", r.name(), 100.0 * **n as f64 / total))
+        .collect();
+    format!("reasons: {}", parts.join(", "))
+}
+
 fn report(
     args: &Args,
     plan: &Plan,
     info: &squeal_store::FileInfo,
-    checks: &[Vec<i64>],
+    tallies: Tallies,
     pictures: &[PathBuf],
     computed: usize,
     secs: f64,
 ) -> anyhow::Result<()> {
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    let checks = tallies.checks;
     let rate = computed as f64 / secs.max(1e-9);
     if args.json {
         let maps: Vec<_> = info
@@ -397,6 +436,14 @@ fn report(
                     ck.insert((*name).into(), (*v).into());
                 }
                 o.insert("checks".into(), ck.into());
+                if let Some(counts) = tallies.reasons.get(i) {
+                    let by_name: serde_json::Map<_, _> = squeal_core::Reason::ALL
+                        .iter()
+                        .zip(counts)
+                        .map(|(r, n)| (r.name().to_string(), (*n).into()))
+                        .collect();
+                    o.insert("reasons".into(), by_name.into());
+                }
                 if let Some(Some(why)) = info.no_cycle.get(i) {
                     o.insert("no_cycle".into(), why.clone().into());
                 }
@@ -462,6 +509,9 @@ fn report(
         }
         for w in checks.get(i).map(|c| check_words(c)).unwrap_or_default() {
             println!("    {w}");
+        }
+        if let Some(counts) = tallies.reasons.get(i) {
+            println!("    {}", reason_words(counts));
         }
     }
     if computed > 0 {

@@ -93,11 +93,22 @@ pub enum Reason {
     /// A law with true stick: the block stuck again after a breakaway. Every breakaway starts
     /// from the same state, so the orbit from it is the stick-slip cycle and the run is on it.
     StickCycle = 10,
+    /// The run entered the certified region of attraction of the fixed point
+    /// ([`crate::Region`]): steady slip (MODEL.md section 9).
+    EnteredRegion = 11,
+    /// The start lies inside the certified region of attraction: steady slip without a run.
+    StartInRegion = 12,
+    /// A law with true stick: the block stuck, so it breaks away from the one breakaway
+    /// state, whose orbit sticks again (the map's landscape): the stick-slip cycle.
+    StuckOntoCycle = 13,
+    /// A law with true stick: the block stuck, so it breaks away from the one breakaway
+    /// state, whose orbit decays to the fixed point without sticking (the landscape).
+    StuckThenSettles = 14,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 11] = [
+    pub const ALL: [Reason; 15] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -109,6 +120,10 @@ impl Reason {
         Reason::StartInsideCycle,
         Reason::StartOutsideCycle,
         Reason::StickCycle,
+        Reason::EnteredRegion,
+        Reason::StartInRegion,
+        Reason::StuckOntoCycle,
+        Reason::StuckThenSettles,
     ];
 
     /// The reason's name in files and output.
@@ -125,6 +140,10 @@ impl Reason {
             Reason::StartInsideCycle => "start_inside_cycle",
             Reason::StartOutsideCycle => "start_outside_cycle",
             Reason::StickCycle => "stick_cycle",
+            Reason::EnteredRegion => "entered_region",
+            Reason::StartInRegion => "start_in_region",
+            Reason::StuckOntoCycle => "stuck_onto_cycle",
+            Reason::StuckThenSettles => "stuck_then_settles",
         }
     }
 }
@@ -137,6 +156,43 @@ pub struct Trap {
     /// Section amplitudes above this are outside the unstable cycle (infinite where the
     /// outside is not invariant: [`Reason::OutsideCycle`] then never fires).
     pub r_outer: f64,
+}
+
+/// Certified early decisions of one parameter point, beside the classifier's settings
+/// (MODEL.md section 9). Each one rests on a written argument; `None` where it does not
+/// apply. Runs to settlement (audits, `early_stop = "none"`) use [`Shortcuts::NONE`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Shortcuts {
+    /// The certified region of attraction of the fixed point: a run that enters it is steady
+    /// slip ([`Reason::EnteredRegion`]).
+    pub region: Option<crate::Region>,
+    /// A law with true stick: the regime the orbit from the breakaway state ends in (the
+    /// landscape's stick-slip cycle or its decay), where known. Every stick phase ends at
+    /// that state, so a run that sticks ends there too ([`Reason::StuckOntoCycle`],
+    /// [`Reason::StuckThenSettles`]).
+    pub breakaway: Option<Regime>,
+}
+
+impl Shortcuts {
+    /// No shortcut: every run goes to settlement.
+    pub const NONE: Shortcuts = Shortcuts {
+        region: None,
+        breakaway: None,
+    };
+
+    /// Whether any shortcut applies.
+    pub fn any(&self) -> bool {
+        self.region.is_some() || self.breakaway.is_some()
+    }
+
+    /// The decision for a run that stuck, from the fate of the orbit from breakaway.
+    fn after_stick(&self) -> Option<(Regime, Reason)> {
+        match self.breakaway? {
+            Regime::StickSlip => Some((Regime::StickSlip, Reason::StuckOntoCycle)),
+            Regime::SteadySlip => Some((Regime::SteadySlip, Reason::StuckThenSettles)),
+            Regime::Undecided => None,
+        }
+    }
 }
 
 /// Classifier settings.
@@ -316,8 +372,13 @@ impl Classifier {
 
     /// Runs from `ic` until a decision or `t_max`.
     pub fn classify(&self, stepper: &Stepper, ic: State) -> Outcome {
+        self.classify_with(stepper, ic, Shortcuts::NONE)
+    }
+
+    /// Runs from `ic` until a decision or `t_max`, with the certified `shortcuts`.
+    pub fn classify_with(&self, stepper: &Stepper, ic: State, shortcuts: Shortcuts) -> Outcome {
         let mut run = Run::new(stepper, ic);
-        let mut watch = self.watch(stepper.params());
+        let mut watch = self.watch_with(stepper.params(), shortcuts);
         for _ in 0..run.steps_to(self.t_max) {
             let step = run.step();
             if let Some(decision) = watch.observe(&run, &step) {
@@ -330,8 +391,14 @@ impl Classifier {
     /// The classifier's state for one run of a model with parameters `p`: feed it every step
     /// with [`Watch::observe`] until it decides, then [`Watch::finish`].
     pub fn watch(&self, p: &Params) -> Watch<'_> {
+        self.watch_with(p, Shortcuts::NONE)
+    }
+
+    /// [`Classifier::watch`] with the certified `shortcuts`.
+    pub fn watch_with(&self, p: &Params, shortcuts: Shortcuts) -> Watch<'_> {
         Watch {
             cl: self,
+            shortcuts,
             fp: p.fixed_point(),
             fp_r2: self.fp_radius * self.fp_radius,
             ring: VecDeque::with_capacity(self.settle_cycles as usize),
@@ -394,6 +461,7 @@ fn reversals(ring: &[f64], mean: f64) -> usize {
 #[derive(Clone, Debug)]
 pub struct Watch<'c> {
     cl: &'c Classifier,
+    shortcuts: Shortcuts,
     fp: State,
     fp_r2: f64,
     ring: VecDeque<f64>,
@@ -430,15 +498,16 @@ impl Watch<'_> {
         if dx * dx + dv * dv < self.fp_r2 && !self.fp_repels {
             return Some((Regime::SteadySlip, Reason::NearFixedPoint));
         }
+        if self.shortcuts.region.is_some_and(|r| r.contains(n.x, n.v)) {
+            return Some((Regime::SteadySlip, Reason::EnteredRegion));
+        }
         if n.x.abs() > self.cl.max_radius || n.v.abs() > self.cl.max_radius {
             return Some((Regime::Undecided, Reason::Diverged));
         }
         if self.true_stick {
-            let e = &step.events;
-            if e.onsets > 0 && (self.broke_away || e.onset_after_breakaway) {
-                return Some((Regime::StickSlip, Reason::StickCycle));
+            if let Some(decision) = self.stick_events(&step.events) {
+                return Some(decision);
             }
-            self.broke_away |= e.breakaways > 0;
         }
         let sticks = run.stats().sticks;
         self.stuck_now |= step.solution.branch == Branch::QuasiStatic || sticks > self.sticks;
@@ -473,6 +542,20 @@ impl Watch<'_> {
             if self.stuck.iter().any(|&s| s) && self.cl.sticking_band(ring) {
                 return Some((Regime::StickSlip, Reason::StickingBand));
             }
+        }
+        None
+    }
+
+    /// The decision a step's stick events give (laws with true stick): a stick after a
+    /// breakaway is the stick-slip cycle; any stick, where the fate of the orbit from
+    /// breakaway is known, ends as that orbit does.
+    fn stick_events(&mut self, e: &crate::StickEvents) -> Option<(Regime, Reason)> {
+        if e.onsets > 0 && (self.broke_away || e.onset_after_breakaway) {
+            return Some((Regime::StickSlip, Reason::StickCycle));
+        }
+        self.broke_away |= e.breakaways > 0;
+        if e.onsets > 0 {
+            return self.shortcuts.after_stick();
         }
         None
     }

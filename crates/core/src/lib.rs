@@ -19,6 +19,7 @@
 //! * [`Stepper`]: one step, [`Sample`] the state with acceleration and force; [`Run`]: the one
 //!   loop that advances a run, yielding [`Step`]s to its observers.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
+//! * [`region`]: a certified region of attraction of the fixed point ([`Region`]).
 //! * [`units`]: the paper's scaling between a [`Physical`] system and [`Params`].
 //! * [`model`]: the model itself, in words and equations: units, the laws with the paper's
 //!   two misprints corrected, the schemes, the conventions and the labels
@@ -43,6 +44,7 @@ pub mod friction;
 pub mod model {}
 pub mod params;
 pub mod propagator;
+pub mod region;
 pub mod run;
 pub mod setup;
 pub mod solver;
@@ -50,11 +52,12 @@ pub mod stepper;
 pub mod stick;
 pub mod units;
 
-pub use classify::{Classifier, Outcome, Reason, Regime, Trap};
+pub use classify::{Classifier, Outcome, Reason, Regime, Shortcuts, Trap};
 pub use error::CoreError;
 pub use friction::Law;
 pub use params::{FrictionLaw, Named, Params, Stribeck};
 pub use propagator::{Propagator, Scheme};
+pub use region::Region;
 pub use run::{Run, Step};
 pub use setup::Setup;
 pub use solver::{SolverConfig, SolverKind, SolverStats};

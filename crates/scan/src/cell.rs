@@ -249,6 +249,10 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (8, "start_inside_cycle"),
     (9, "start_outside_cycle"),
     (10, "stick_cycle"),
+    (11, "entered_region"),
+    (12, "start_in_region"),
+    (13, "stuck_onto_cycle"),
+    (14, "stuck_then_settles"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

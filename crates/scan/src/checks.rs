@@ -3,7 +3,7 @@
 //! the file and the CLI prints them; nothing here is a guess about which one is right.
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Landscape, Regime, State};
+use squeal_core::{Landscape, Reason, Regime, State};
 
 use crate::cell::{Audit, Cell};
 use crate::curve::{ClosedCurve, CurveLocator};
@@ -56,6 +56,30 @@ pub struct LandscapeCheck {
     pub contradictions: u64,
 }
 
+/// Cells that no early decision reached: their runs went on until they settled (MODEL.md
+/// section 9 says why a map can have none).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Settled {
+    /// Steady slip by coming within `fp_radius` of the fixed point (`near_fixed_point`).
+    pub steady_slip: u64,
+    /// Stick-slip by the band rules or a second stick (`settled_stick_slip`,
+    /// `sticking_band`, `stick_cycle`).
+    pub stick_slip: u64,
+}
+
+impl Settled {
+    /// Counts `cell` if its run went to settlement.
+    fn add(&mut self, cell: &Cell) {
+        match Reason::ALL.get(cell.reason as usize) {
+            Some(Reason::NearFixedPoint) => self.steady_slip += 1,
+            Some(Reason::SettledStickSlip | Reason::StickingBand | Reason::StickCycle) => {
+                self.stick_slip += 1
+            }
+            _ => {}
+        }
+    }
+}
+
 /// Every check of one map.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct MapChecks {
@@ -71,6 +95,12 @@ pub struct MapChecks {
     /// may end in steady slip, so only stick-slip inside counts as the wrong side.
     #[serde(default)]
     pub escapes: bool,
+    /// Cells whose runs went to settlement (no early decision reached them).
+    #[serde(default)]
+    pub settled: Settled,
+    /// Cells per reason, indexed by [`Reason`] value (for summaries; not stored per map).
+    #[serde(default)]
+    pub reasons: [u64; Reason::ALL.len()],
 }
 
 /// The checks as stored per map (datasets over the map dimension): name, long name. The
@@ -108,11 +138,19 @@ pub const CHECK_FIELDS: &[(&str, &str)] = &[
         "landscape_contradictions",
         "decided cells labelled against the landscape: steady slip where the fixed point repels, stick-slip where no stick-slip cycle exists (-1: the landscape states no single regime)",
     ),
+    (
+        "settled_steady_slip",
+        "cells labelled steady slip by a run taken to within fp_radius of the fixed point (no early decision reached them)",
+    ),
+    (
+        "settled_stick_slip",
+        "cells labelled stick-slip by a run taken to a settled band or a second stick (no early decision reached them)",
+    ),
 ];
 
 impl MapChecks {
     /// The values of [`CHECK_FIELDS`], in order.
-    pub fn values(&self) -> [i64; 8] {
+    pub fn values(&self) -> [i64; 10] {
         let w = |f: fn(&WrongSide) -> u64| self.wrong_side.as_ref().map_or(-1, |w| f(w) as i64);
         [
             w(|w| w.cells),
@@ -123,6 +161,8 @@ impl MapChecks {
             self.audit.undecided as i64,
             self.origin.map_or(-1, |o| o.disagrees as i64),
             self.landscape.map_or(-1, |l| l.contradictions as i64),
+            self.settled.steady_slip as i64,
+            self.settled.stick_slip as i64,
         ]
     }
 
@@ -182,6 +222,10 @@ impl MapChecks {
             if let Some(n) = tally {
                 *n += 1;
                 self.audit.audited += 1;
+            }
+            self.settled.add(cell);
+            if let Some(n) = self.reasons.get_mut(cell.reason as usize) {
+                *n += 1;
             }
             if let (Some(l), Some(r)) = (self.landscape.as_mut(), cell.regime()) {
                 if r != Regime::Undecided && r != l.regime {

@@ -4,7 +4,11 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
-use squeal_core::{Classifier, Outcome, Params, Reason, Regime, SolverStats, State, Stepper, Trap};
+use squeal_core::stick::StickCycle;
+use squeal_core::{
+    Classifier, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts, SolverStats,
+    State, Stepper, Trap,
+};
 
 use crate::cell::Audit;
 pub use crate::cell::Cell;
@@ -111,21 +115,41 @@ impl StartRule {
             false => return None,
         })
     }
+}
 
-    /// The outcome of a start decided by the rule: at `t = 0`, no steps taken.
-    fn outcome(&self, p: State, (regime, reason): (Regime, Reason)) -> Outcome {
-        Outcome {
-            regime,
-            reason,
-            t_decision: 0.0,
-            amplitude: f64::NAN,
-            distance: (p.x - self.centre.x).hypot(p.v - self.centre.v),
-            omega: f64::NAN,
-            crossings: 0,
-            quasi_static: false,
-            stats: SolverStats::default(),
-            max_residual: 0.0,
-        }
+/// The outcome of start `p` decided without a run (fixed point `centre`): at `t = 0`, no
+/// steps taken.
+fn at_start(p: State, centre: State, (regime, reason): (Regime, Reason)) -> Outcome {
+    Outcome {
+        regime,
+        reason,
+        t_decision: 0.0,
+        amplitude: f64::NAN,
+        distance: (p.x - centre.x).hypot(p.v - centre.v),
+        omega: f64::NAN,
+        crossings: 0,
+        quasi_static: false,
+        stats: SolverStats::default(),
+        max_residual: 0.0,
+    }
+}
+
+/// The certified shortcuts of a map with parameters `params` and landscape `landscape`
+/// (MODEL.md section 9); none without early stopping (every run goes to settlement).
+pub fn shortcuts(plan: &Plan, params: &Params, landscape: Option<&LandscapeEvidence>) -> Shortcuts {
+    if plan.early_stop != EarlyStop::Cycle {
+        return Shortcuts::NONE;
+    }
+    // The orbit from breakaway decides every run that sticks: a stick-slip cycle where it
+    // sticks again, steady slip where it reaches the attracting fixed point first.
+    let breakaway = landscape.and_then(|e| match e.cycle {
+        StickCycle::Exists { .. } => Some(Regime::StickSlip),
+        StickCycle::Absent if e.damping > 0.0 => Some(Regime::SteadySlip),
+        StickCycle::Absent | StickCycle::Undecided => None,
+    });
+    Shortcuts {
+        region: Region::of(params),
+        breakaway,
     }
 }
 
@@ -151,6 +175,8 @@ pub struct MapContext {
     /// Whether the outside of the unstable cycle was found invariant (`None`: no cycle
     /// found or not searched).
     pub outside: Option<Outside>,
+    /// The certified early decisions ([`shortcuts`]).
+    pub shortcuts: Shortcuts,
 }
 
 /// What the section search says of the outside of the unstable cycle, and what the scan
@@ -274,6 +300,7 @@ impl MapContext {
             }
             section = Some(found);
         }
+        let landscape = crate::landscape::of_params(plan, params)?;
         Ok(MapContext {
             map,
             params,
@@ -282,32 +309,36 @@ impl MapContext {
             section,
             cycle,
             start_rule,
-            landscape: crate::landscape::of_params(plan, params)?,
+            shortcuts: shortcuts(plan, &params, landscape.as_ref()),
+            landscape,
             outside,
         })
     }
 
-    /// Classifies one start: by the start rule when it decides, else by a run.
+    /// Classifies one start: by the start rule or the certified region when they decide,
+    /// else by a run (with the certified shortcuts).
     pub fn classify(&self, ic: State) -> Outcome {
-        match self
-            .start_rule
-            .as_ref()
-            .and_then(|s| Some((s, s.decide(ic)?)))
-        {
-            Some((rule, decision)) => rule.outcome(ic, decision),
-            None => self.classifier.classify(&self.stepper, ic),
+        if let Some(rule) = &self.start_rule {
+            if let Some(decision) = rule.decide(ic) {
+                return at_start(ic, rule.centre, decision);
+            }
         }
+        if let Some(r) = self.shortcuts.region.filter(|r| r.contains(ic.x, ic.v)) {
+            return at_start(ic, r.centre, (Regime::SteadySlip, Reason::StartInRegion));
+        }
+        self.classifier
+            .classify_with(&self.stepper, ic, self.shortcuts)
     }
 
-    /// Classifies one cell (and audits it when it is in the sample and the run stopped
-    /// early on the cycle).
+    /// Classifies one cell (and audits it when it is in the sample and an early decision
+    /// could apply: the cycle's trap or a certified shortcut).
     pub fn cell(&self, plan: &Plan, row: usize, col: usize) -> Cell {
         let g = &plan.grid;
         let (x, v) = g.state(row, col);
         let ic = State { x, v };
         let out = self.classify(ic);
         let mut cell = Cell::from(&out);
-        if self.classifier.trap.is_some()
+        if (self.classifier.trap.is_some() || self.shortcuts.any())
             && audited((row * g.x0.count + col) as u64, plan.audit_every)
         {
             let settle = Classifier {

@@ -55,6 +55,14 @@ pub(crate) enum ReasonH5 {
     StartOutsideCycle = 9,
     #[hdf5(rename = "stick_cycle")]
     StickCycle = 10,
+    #[hdf5(rename = "entered_region")]
+    EnteredRegion = 11,
+    #[hdf5(rename = "start_in_region")]
+    StartInRegion = 12,
+    #[hdf5(rename = "stuck_onto_cycle")]
+    StuckOntoCycle = 13,
+    #[hdf5(rename = "stuck_then_settles")]
+    StuckThenSettles = 14,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -73,6 +81,10 @@ impl ReasonH5 {
             8 => ReasonH5::StartInsideCycle,
             9 => ReasonH5::StartOutsideCycle,
             10 => ReasonH5::StickCycle,
+            11 => ReasonH5::EnteredRegion,
+            12 => ReasonH5::StartInRegion,
+            13 => ReasonH5::StuckOntoCycle,
+            14 => ReasonH5::StuckThenSettles,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

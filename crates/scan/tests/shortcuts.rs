@@ -1,0 +1,184 @@
+//! The certified early decisions (crates/core/MODEL.md section 9) against runs taken to
+//! settlement: the region of attraction of the fixed point and the orbit from breakaway of
+//! a law with true stick.
+
+use std::sync::atomic::AtomicBool;
+
+use squeal_core::{
+    Classifier, Params, Reason, Regime, Region, SolverConfig, State, Stepper, Stribeck,
+};
+use squeal_scan::{MemorySink, NoObserver, Plan, drive};
+
+/// bSTAB's friction case at belt speed `v_d` on an `n x n` grid over its region
+/// (x0 in [-2, 2], x'0 in [0, 2]), with early stopping `early_stop`.
+fn plan(v_d: f64, n: usize, early_stop: &str) -> Plan {
+    Plan::from_toml(
+        &format!(
+            r#"version = 1
+[model]
+law = "stribeck"
+xi = 0.05
+v_d = {v_d}
+[grid]
+x0 = {{ min = -2.0, max = 2.0, count = {n} }}
+v0 = {{ min = 0.0, max = 2.0, count = {n} }}
+[classifier]
+early_stop = "{early_stop}"
+[output]
+path = "t.h5"
+"#
+        ),
+        "t.toml",
+    )
+    .unwrap()
+}
+
+/// (regime, reason) of every cell of map 0, row-major.
+fn cells(plan: &Plan) -> Vec<(u8, u8)> {
+    let mut sink = MemorySink::default();
+    let done = drive(plan, None, &mut sink, &NoObserver, &AtomicBool::new(false)).unwrap();
+    assert!(!done.interrupted);
+    let cells = sink.map_cells(plan, 0).unwrap();
+    cells.iter().map(|c| (c.regime, c.reason)).collect()
+}
+
+/// At v_d = 2.0 (no stick-slip cycle: the orbit from breakaway decays) and v_d = 1.0 (the
+/// fixed point repels: the orbit from breakaway sticks again), every cell of a 12 x 12 grid
+/// gets the label of its run taken to settlement (`early_stop = "none"`, no shortcut), and
+/// the shortcuts are what decided them: at 2.0 starts inside the region, runs entering it
+/// and runs that stuck; at 1.0 runs that stuck. Before the shortcuts, no cell had these
+/// reasons (values 11-14 did not exist).
+#[test]
+fn shortcuts_give_the_labels_of_runs_to_settlement() {
+    for (v_d, want) in [
+        (
+            2.0,
+            vec![
+                Reason::StartInRegion,
+                Reason::EnteredRegion,
+                Reason::StuckThenSettles,
+            ],
+        ),
+        (1.0, vec![Reason::StuckOntoCycle]),
+    ] {
+        let fast = cells(&plan(v_d, 12, "cycle"));
+        let slow = cells(&plan(v_d, 12, "none"));
+        for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
+            assert_eq!(f.0, s.0, "v_d {v_d} cell {k}: {f:?} vs settled {s:?}");
+            assert_ne!(f.0, Regime::Undecided as u8, "v_d {v_d} cell {k}");
+        }
+        for r in want {
+            assert!(
+                fast.iter().any(|c| c.1 == r as u8),
+                "v_d {v_d}: no cell decided by {r:?}"
+            );
+        }
+        // Runs to settlement never use a shortcut.
+        assert!(slow.iter().all(|c| c.1 <= Reason::StickCycle as u8));
+    }
+}
+
+/// The region's argument on the scheme squeal integrates: runs from 32 states just inside
+/// the disc's edge (0.999 of its radius) at the 15 belt speeds of bSTAB's study where the
+/// fixed point attracts never leave the disc (distance from the fixed point at every step
+/// within the radius) and end at the fixed point when run to settlement.
+#[test]
+fn runs_from_the_region_edge_stay_inside_and_settle() {
+    let cl = Classifier::default();
+    for i in 5..20 {
+        let v_d = 0.8 + 0.075 * i as f64;
+        let p = Params::stribeck(0.05, v_d, Stribeck::default());
+        let region = Region::of(&p).expect("the fixed point attracts above v_d = 1.151");
+        let squeal_core::region::Shape::Disc { radius, .. } = region.shape else {
+            panic!("{region:?}")
+        };
+        let st = Stepper::new(p, 0.005, SolverConfig::default()).unwrap();
+        for k in 0..32 {
+            let th = std::f64::consts::TAU * k as f64 / 32.0;
+            let r0 = 0.999 * radius;
+            let ic = State {
+                x: region.centre.x + r0 * th.cos(),
+                v: region.centre.v + r0 * th.sin(),
+            };
+            let mut run = squeal_core::Run::new(&st, ic);
+            for _ in 0..2000 {
+                let s = run.step().next;
+                let d = (s.x - region.centre.x).hypot(s.v - region.centre.v);
+                assert!(d < radius, "v_d {v_d} angle {k}: left the disc ({d})");
+            }
+            let out = cl.classify(&st, ic);
+            assert_eq!(
+                out.regime,
+                Regime::SteadySlip,
+                "v_d {v_d} angle {k}: {out:?}"
+            );
+            assert_eq!(out.reason, Reason::NearFixedPoint);
+        }
+    }
+}
+
+/// McMillan's hysteretic law above the fold (nu = 0.03 at Table 1's lambda, tau and phi: no
+/// unstable cycle, `critical --fold` gives about 0.024): on a 10 x 10 grid over Fig. 10's
+/// window every cell gets the label of its run to settlement, and runs entering the
+/// certified region decided some of them.
+#[test]
+fn mcmillan_region_gives_the_labels_of_runs_to_settlement_above_the_fold() {
+    let spec = |early_stop: &str| {
+        Plan::from_toml(
+            &format!(
+                r#"version = 1
+[model]
+law = "mcmillan"
+nu = 0.03
+[grid]
+x0 = {{ min = -3.0, max = 5.0, count = 10 }}
+v0 = {{ min = -4.0, max = 4.0, count = 10 }}
+[classifier]
+early_stop = "{early_stop}"
+[output]
+path = "t.h5"
+"#
+            ),
+            "t.toml",
+        )
+        .unwrap()
+    };
+    let fast = cells(&spec("cycle"));
+    let slow = cells(&spec("none"));
+    for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
+        assert_eq!(f.0, s.0, "cell {k}: {f:?} vs settled {s:?}");
+    }
+    assert!(fast.iter().any(|c| c.1 == Reason::EnteredRegion as u8));
+}
+
+/// Runs from 32 states just inside the edge of McMillan's certified ellipse (0.999 of each
+/// semi-axis), at nu = 1e-3, 1e-2 and 0.03 and both of his laws, all settle on the fixed
+/// point when run to settlement (no shortcut).
+#[test]
+fn runs_from_mcmillans_region_edge_settle() {
+    let cl = Classifier::default();
+    for law in [
+        squeal_core::FrictionLaw::McMillan,
+        squeal_core::FrictionLaw::McMillanNonHysteretic,
+    ] {
+        for nu in [1e-3, 1e-2, 0.03] {
+            let p = Params::paper(law, nu);
+            let region = Region::of(&p).expect("a region");
+            let squeal_core::region::Shape::Ellipse { two_nu, u2, s2 } = region.shape else {
+                panic!("{region:?}")
+            };
+            let st = Stepper::new(p, 0.005, SolverConfig::default()).unwrap();
+            for k in 0..32 {
+                let th = std::f64::consts::TAU * k as f64 / 32.0;
+                let (u, sigma) = (0.999 * u2.sqrt() * th.sin(), 0.999 * s2.sqrt() * th.cos());
+                let ic = State {
+                    x: region.centre.x + sigma - two_nu * u,
+                    v: u,
+                };
+                assert!(region.contains(ic.x, ic.v));
+                let out = cl.classify(&st, ic);
+                assert_eq!(out.regime, Regime::SteadySlip, "{law:?} {nu} {k}: {out:?}");
+            }
+        }
+    }
+}
