@@ -294,7 +294,10 @@ def critical(
     **model: Any,
 ) -> CriticalDamping:
     """The critical damping of the state ``(x0, v0)`` (``squeal critical``), bisected in
-    ``nu`` over ``[nu_lo, nu_hi]`` (defaults as the command line's) for McMillan's laws."""
+    ``nu`` over ``[nu_lo, nu_hi]`` (defaults as the command line's) for McMillan's laws
+    (the model's own ``nu``, if not given, is ``nu_lo``: it is the one bisected)."""
+    if spec is None and "nu" not in model:
+        model["nu"] = nu_lo
     name, text = _spec(_model_spec(spec, model, {"integration": integration}))
     rep = json.loads(
         _squeal.critical(name, text, map, (x0, v0), (nu_lo, nu_hi), rtol)
@@ -307,8 +310,34 @@ def critical(
     )
 
 
-def trajectory(*args: Any, **kwargs: Any):
-    """One run from ``(x0, v0)`` as a Dataset over time: see :mod:`squeal._trajectory`."""
-    from ._trajectory import trajectory as run
+def trajectory(
+    spec: Optional[Spec] = None,
+    *,
+    x0: float = 0.0,
+    v0: float = 0.0,
+    t_end: float = 1000.0,
+    every: int = 1,
+    out=None,
+    map: int = 0,  # noqa: A002 (the command line's --map)
+    integration: Optional[Mapping[str, Any]] = None,
+    **model: Any,
+):
+    """One run from ``(x0, v0)`` to ``t_end`` (``squeal trajectory``) as a Dataset over the
+    time ``t``: ``x``, ``v``, ``a`` and the friction ``force``, every ``every``-th step, with
+    the run's settings as attributes and the classifier's verdict on the run in
+    ``regime``, ``reason`` and ``t_decision``. The model as for :func:`ulc`; ``out`` keeps
+    the file (the schema of ``squeal trajectory --out run.h5``)."""
+    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
 
-    return run(*args, **kwargs)
+    def run(path):
+        verdict = _squeal.trajectory(
+            name, text, map, (x0, v0), (float(t_end), int(every)), str(path)
+        )
+        ds = open(path)
+        ds.attrs.update(zip(("regime", "reason", "t_decision"), verdict))
+        return ds
+
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="squeal-") as d:
+        return run(Path(d) / "trajectory.h5")

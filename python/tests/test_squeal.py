@@ -210,3 +210,39 @@ def test_ulc_and_critical_return_dataclasses():
     assert c.x.shape == c.v.shape and c.x.size > 10
     k = squeal.critical(law="mcmillan", x0=0.0, v0=0.0)
     assert k.bracket[0] <= k.nu <= k.bracket[1]
+
+
+def test_trajectory_is_a_dataset_over_time_with_the_cli_verdict(tmp_path):
+    ds = squeal.trajectory(law="mcmillan", nu=1e-2, x0=0.0, v0=0.0, t_end=200.0, every=10)
+    assert ds["x"].dims == ("t",)
+    # dt = 0.005 (the default): 200 / 0.005 = 40000 steps, every 10th kept, and t = 0.
+    assert ds.sizes["t"] == 4001
+    r = cli(
+        "trajectory", "--nu", "1e-2", "--t-end", "200", "--json", cwd=tmp_path
+    )
+    assert r.returncode == 0, r.stderr
+    verdict = json.loads(r.stdout)["classification"]
+    assert ds.attrs["regime"] == verdict["regime"]
+    assert ds.attrs["t_decision"] == verdict["t_decision"]
+
+
+def test_atlas_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):
+    spec = tmp_path / "atlas.toml"
+    spec.write_text(
+        """version = 1
+name = "small-atlas"
+[model]
+law = "stribeck"
+v_d = [1.0, 1.5, 2.0]
+[disturbance]
+x = [-2.0, 2.0]
+v = [0.0, 2.0]
+[output]
+path = "atlas.h5"
+"""
+    )
+    r = cli("atlas", str(spec), "-o", str(tmp_path / "cli.h5"), "--quiet", "--no-render", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    ds = squeal.atlas(spec)
+    xr.testing.assert_identical(ds, read_cli_file(tmp_path / "cli.h5"))
+    assert ds["basin_fraction"].dims == ("v_d",)

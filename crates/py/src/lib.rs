@@ -23,6 +23,7 @@
 //! | [`atlas`] | `squeal atlas` into the HDF5 file `out` |
 //! | [`ulc`] | the unstable limit cycle of one map, as JSON |
 //! | [`critical`] | the critical damping of a state, as JSON |
+//! | [`trajectory()`] | one run into a trajectory file, and its verdict |
 //! | [`cli`] | the command line |
 
 use std::io::Write;
@@ -45,6 +46,9 @@ use squeal_store::{Provenance, ScanWriter, StoreError};
 #[allow(dead_code)]
 #[path = "../../../src/main.rs"]
 mod command_line;
+
+mod run;
+pub use run::trajectory;
 
 /// How often the waiting thread runs Python's signal handlers.
 pub const POLL: Duration = Duration::from_millis(50);
@@ -288,6 +292,7 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(atlas, m)?)?;
     m.add_function(wrap_pyfunction!(ulc, m)?)?;
     m.add_function(wrap_pyfunction!(critical, m)?)?;
+    m.add_function(wrap_pyfunction!(trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     Ok(())
 }
