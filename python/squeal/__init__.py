@@ -40,6 +40,7 @@ __all__ = [
     "atlas",
     "basin_stability",
     "critical",
+    "flags",
     "open",
     "scan",
     "trajectory",
@@ -82,6 +83,14 @@ def open(path: Union[str, os.PathLike]) -> "xarray.Dataset":  # noqa: A001 (sque
         decode_timedelta=False,
     ) as ds:
         return ds.load()
+
+
+def flags(da) -> dict:
+    """``{value: meaning}`` of a flagged integer variable (CF ``flag_values`` and
+    ``flag_meanings``), e.g. ``{0: 'undecided', 1: 'steady_slip', 2: 'stick_slip', 255:
+    'not_computed'}`` for a scan's ``labels``."""
+    meanings = da.attrs["flag_meanings"].split()
+    return {int(v): m for v, m in zip(da.attrs["flag_values"], meanings)}
 
 
 def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
