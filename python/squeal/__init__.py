@@ -24,6 +24,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import sys
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -101,9 +102,21 @@ def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
             raise ValueError("resume=True needs out=: the file of the interrupted run")
         with tempfile.TemporaryDirectory(prefix="squeal-") as d:
             path = Path(d) / f"{kind}.h5"
-            run(name, text, str(path), False, False)
+            try:
+                run(name, text, str(path), False, False)
+            except KeyboardInterrupt:
+                print("squeal: interrupted; pass out= to keep a resumable run", file=sys.stderr)
+                raise
             return open(path)
-    run(name, text, os.fspath(out), resume, force)
+    try:
+        run(name, text, os.fspath(out), resume, force)
+    except KeyboardInterrupt:
+        print(
+            f"squeal: interrupted; the finished work is kept in {os.fspath(out)}.journal. "
+            f"Finish with: squeal.{kind}(..., out={os.fspath(out)!r}, resume=True)",
+            file=sys.stderr,
+        )
+        raise
     return open(out)
 
 

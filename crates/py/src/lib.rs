@@ -13,6 +13,16 @@
 //! * [`cli`] runs the `squeal` command line itself (`src/main.rs`, compiled into this
 //!   module), so the wheel's `squeal` command is the same program as the Rust binary.
 //!
+//! The library's entry points it uses, and nothing below them (they are the library's
+//! public face for other programs too): [`Plan::from_toml`] / [`Plan::from_file`],
+//! [`AtlasPlan::from_toml`] / [`AtlasPlan::from_file`], [`ScanWriter::create`] /
+//! [`ScanWriter::resume`] / [`ScanWriter::finish`] with [`squeal_scan::drive`],
+//! [`AtlasWriter::create`] / [`AtlasWriter::resume`] / [`AtlasWriter::finish`] with
+//! [`squeal_store::run_atlas`], [`squeal_scan::ulc::locate`],
+//! [`squeal_scan::ulc::critical_nu`], and for a trajectory [`squeal_core::Stepper`],
+//! [`squeal_core::Run`], [`squeal_core::Classifier::watch`] and
+//! [`squeal_store::write_trajectory`].
+//!
 //! The functions (all take the spec as `spec`, a path used in messages, and `text`, its
 //! TOML text, or `None` to read the file at `spec`):
 //!
