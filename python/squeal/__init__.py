@@ -36,7 +36,7 @@ __version__: str = _squeal.__version__
 
 __all__ = [
     "BasinStability",
-    "CriticalDamping",
+    "Critical",
     "UnstableCycle",
     "atlas",
     "basin_stability",
@@ -292,15 +292,27 @@ def ulc(
 
 
 @dataclasses.dataclass
-class CriticalDamping:
-    """The damping ``nu`` above which the unstable cycle encloses ``point`` (that start
-    then ends in steady slip; below it, it squeals): the geometric middle of ``bracket``,
-    after ``evaluations`` cycle locations."""
+class Critical:
+    """A stability boundary in one parameter (``squeal critical``): with ``fold=False`` the
+    value above which the unstable cycle encloses ``point`` (that start then ends in
+    steady slip; below it, it squeals), with ``fold=True`` the fold of cycles (above it no
+    start squeals). ``value`` is the geometric middle of ``bracket``, after ``evaluations``
+    bisection steps; ``half_dt_holds`` says whether the bracket holds at ``dt / 2``
+    (``None``: not checked, as for the critical damping bisected with cycle locations)."""
 
-    point: tuple
-    nu: float
+    parameter: str
+    value: float
     bracket: tuple
     evaluations: int
+    point: tuple
+    fold: bool = False
+    half_dt_holds: Optional[bool] = None
+
+
+#: The bisected parameters: the Stribeck law's names, and the bracket defaults of the
+#: command line (--nu-lo/--nu-hi, --lambda-lo/--lambda-hi).
+_BOUNDARY_KEYS = {"nu": "nu", "xi": "nu", "lambda": "lambda", "v_d": "lambda"}
+_BRACKETS = {"nu": (1e-3, 5e-2), "lambda": (0.5, 6.0)}
 
 
 def critical(
@@ -308,27 +320,39 @@ def critical(
     *,
     x0: float = 0.0,
     v0: float = 0.0,
-    nu_lo: float = 1e-3,
-    nu_hi: float = 5e-2,
+    parameter: str = "nu",
+    fold: bool = False,
+    bracket: Optional[Sequence[float]] = None,
     rtol: float = 1e-4,
     map: int = 0,  # noqa: A002 (the command line's --map)
     integration: Optional[Mapping[str, Any]] = None,
     **model: Any,
-) -> CriticalDamping:
-    """The critical damping of the state ``(x0, v0)`` (``squeal critical``), bisected in
-    ``nu`` over ``[nu_lo, nu_hi]`` (defaults as the command line's) for McMillan's laws
-    (the model's own ``nu``, if not given, is ``nu_lo``: it is the one bisected)."""
-    if spec is None and "nu" not in model:
-        model["nu"] = nu_lo
+) -> Critical:
+    """The critical value of ``parameter`` for the state ``(x0, v0)``, or with ``fold=True``
+    the fold of cycles (``squeal critical [--fold] [--in PARAMETER]``), bisected over
+    ``bracket`` (default: the command line's, ``(1e-3, 5e-2)`` in ``nu``/``xi``,
+    ``(0.5, 6)`` in ``lambda``/``v_d``). The model as for :func:`ulc`; the bisected
+    parameter's own value, if not given, is the bracket's low end."""
+    key = _BOUNDARY_KEYS.get(parameter)
+    if key is None:
+        raise ValueError(f"parameter {parameter!r}: expected one of {', '.join(_BOUNDARY_KEYS)}")
+    lo, hi = bracket if bracket is not None else _BRACKETS[key]
+    if spec is None and parameter not in model:
+        model[parameter] = lo
     name, text = _spec(_model_spec(spec, model, {"integration": integration}))
-    rep = json.loads(
-        _squeal.critical(name, text, map, (x0, v0), (nu_lo, nu_hi), rtol)
-    )
-    return CriticalDamping(
-        point=(rep["point"]["x"], rep["point"]["v"]),
-        nu=rep["nu"],
-        bracket=tuple(rep["bracket"]),
-        evaluations=rep["evaluations"],
+    point = (float(x0), float(v0))
+    if key == "nu" and not fold:
+        # As the command line: the critical damping by cycle locations.
+        rep = json.loads(_squeal.critical(name, text, map, point, (lo, hi), rtol))
+        return Critical(parameter, rep["nu"], tuple(rep["bracket"]), rep["evaluations"], point)
+    b = json.loads(_squeal.boundary(name, text, map, point, (key, fold, rtol), (lo, hi)))
+    if b["status"] == "below_range":
+        what = "nothing squeals there already" if fold else f"{point} is quiet there already"
+        raise ValueError(f"bracket low end {parameter} = {lo}: {what}; lower it")
+    if b["status"] != "found":
+        raise ValueError(f"bracket high end {parameter} = {hi}: it still squeals there; raise it")
+    return Critical(
+        parameter, b["nu"], tuple(b["bracket"]), b["evaluations"], point, fold, b["half_dt_holds"]
     )
 
 

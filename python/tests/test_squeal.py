@@ -202,14 +202,30 @@ def test_ctrl_c_raises_keyboard_interrupt_and_leaves_a_resumable_journal(tmp_pat
     assert not journal.exists()
     assert (resumed["labels"].values != 255).all()
     assert resumed["blocks_done"].values.all()
+    # The store's promise: a resumed run writes the file an uninterrupted one writes.
+    xr.testing.assert_identical(resumed, squeal.scan(spec))
 
 
-def test_ulc_and_critical_return_dataclasses():
+def test_ulc_and_critical_return_dataclasses_with_the_cli_values(tmp_path):
     c = squeal.ulc(law="mcmillan", nu=1e-2)
     assert c.multiplier > 1  # unstable
     assert c.x.shape == c.v.shape and c.x.size > 10
+    r = cli("ulc", "--nu", "1e-2", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert c.r_section == json.loads(r.stdout)["r_section"]
     k = squeal.critical(law="mcmillan", x0=0.0, v0=0.0)
-    assert k.bracket[0] <= k.nu <= k.bracket[1]
+    assert k.bracket[0] <= k.value <= k.bracket[1]
+    r = cli("critical", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert k.value == json.loads(r.stdout)["nu"]
+    # The Stribeck law's fold in the belt speed (squeal critical --law stribeck --in v_d
+    # --fold), as the command line finds it.
+    f = squeal.critical(law="stribeck", parameter="v_d", fold=True)
+    r = cli("critical", "--law", "stribeck", "--in", "v_d", "--fold", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert f.value == json.loads(r.stdout)["v_d"]
+    with pytest.raises(ValueError, match="raise it"):
+        squeal.critical(law="stribeck", parameter="v_d", fold=True, bracket=(0.5, 0.6))
 
 
 def test_trajectory_is_a_dataset_over_time_with_the_cli_verdict(tmp_path):

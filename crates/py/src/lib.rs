@@ -19,7 +19,7 @@
 //! [`ScanWriter::resume`] / [`ScanWriter::finish`] with [`squeal_scan::drive`],
 //! [`AtlasWriter::create`] / [`AtlasWriter::resume`] / [`AtlasWriter::finish`] with
 //! [`squeal_store::run_atlas`], [`squeal_scan::ulc::locate`],
-//! [`squeal_scan::ulc::critical_nu`], and for a trajectory [`squeal_core::Stepper`],
+//! [`squeal_scan::ulc::critical_nu`], [`squeal_scan::atlas::boundary::both_in`], and for a trajectory [`squeal_core::Stepper`],
 //! [`squeal_core::Run`], [`squeal_core::Classifier::watch`] and
 //! [`squeal_store::write_trajectory`].
 //!
@@ -33,6 +33,7 @@
 //! | [`atlas`] | `squeal atlas` into the HDF5 file `out` |
 //! | [`ulc`] | the unstable limit cycle of one map, as JSON |
 //! | [`critical`] | the critical damping of a state, as JSON |
+//! | [`boundary`] | the fold of cycles, or a critical value in `nu` or `lambda`, as JSON |
 //! | [`trajectory()`] | one run into a trajectory file, and its verdict |
 //! | [`cli`] | the command line |
 
@@ -282,6 +283,58 @@ pub fn critical(
     serde_json::to_string(&rep).map_err(value_error)
 }
 
+/// The fold of cycles (`search = (param, true, rtol)`: above it no start squeals) or the
+/// critical value for `point` (`(param, false, rtol)`: above it that start is quiet) of
+/// map `map` of `spec`, bisected in `param` (`"nu"` or `"lambda"`; the Stribeck law's
+/// `xi` and `v_d`) over `bracket` with the atlas's boundary search
+/// ([`squeal_scan::atlas::boundary::both_in`], as `squeal critical --fold` / `--in lambda`),
+/// as JSON ([`squeal_scan::atlas::Boundary`]).
+#[pyfunction]
+#[pyo3(signature = (spec, text, map, point, search, bracket))]
+pub fn boundary(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    map: usize,
+    point: (f64, f64),
+    search: (String, bool, f64),
+    bracket: (f64, f64),
+) -> PyResult<String> {
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
+    let plan = plan_of(spec, text)?;
+    let base = params_of(&plan, map)?;
+    let (key, fold, rtol) = search;
+    let param = BoundaryParam::from_key(&key).ok_or_else(|| {
+        PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
+    })?;
+    let point = State {
+        x: point.0,
+        v: point.1,
+    };
+    let ps = PointSettings {
+        operating: point,
+        ..PointSettings::default()
+    };
+    let [f, c] = py.detach(|| {
+        both_in(
+            param,
+            base,
+            plan.dt,
+            plan.solver,
+            &ps,
+            point,
+            [bracket.0, bracket.1],
+            rtol,
+            [fold, !fold],
+        )
+    });
+    let b = f
+        .or(c)
+        .ok_or_else(|| PyValueError::new_err("no boundary asked for"))?
+        .map_err(value_error)?;
+    serde_json::to_string(&b).map_err(value_error)
+}
+
 /// Runs the `squeal` command line with `argv` (the program name first) and returns its
 /// exit status (the `squeal` command of the wheel).
 #[pyfunction]
@@ -302,6 +355,7 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(atlas, m)?)?;
     m.add_function(wrap_pyfunction!(ulc, m)?)?;
     m.add_function(wrap_pyfunction!(critical, m)?)?;
+    m.add_function(wrap_pyfunction!(boundary, m)?)?;
     m.add_function(wrap_pyfunction!(trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     Ok(())
