@@ -4,8 +4,8 @@ chart and bSTAB's belt-speed study of basin stability, each in a few lines.
     pip install target/wheels/squeal-*.whl matplotlib   # or: pip install ".[examples]"
     python examples/first_steps.py                      # -> examples/out/*.png
 
-3.7 minutes on the shared 2-core development machine at load 10 (most of it the belt-speed study:
-20 x 5000 runs)."""
+3.7 minutes on the shared 2-core development machine at load 10 (most of it the
+belt-speed study: 20 x 5000 runs)."""
 
 from pathlib import Path
 

@@ -262,3 +262,32 @@ path = "atlas.h5"
     ds = squeal.atlas(spec)
     xr.testing.assert_identical(ds, read_cli_file(tmp_path / "cli.h5"))
     assert ds["basin_fraction"].dims == ("v_d",)
+
+
+def test_the_gil_is_released_while_computing(tmp_path):
+    # SLOW with 4 rows of v0 (2 blocks): a few seconds of computing in the main thread.
+    spec = tmp_path / "gil.toml"
+    spec.write_text(SLOW.replace("count = 32", "count = 4"))
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.005)
+
+    t = threading.Thread(target=tick)
+    t.start()
+    t0 = time.monotonic()
+    try:
+        squeal.scan(spec)
+        t1 = time.monotonic()
+    finally:
+        done.set()
+        t.join()
+    during = [x for x in ticks if t0 < x < t1]
+    # A thread running beside the scan ticks about every 5 ms; with the GIL held by the
+    # scan it could not tick at all until the scan returned. A quarter of the ideal count
+    # leaves room for a loaded machine.
+    assert t1 - t0 > 0.5, "the scan was too quick to tell"
+    assert len(during) > 0.25 * (t1 - t0) / 0.005, (len(during), t1 - t0)
