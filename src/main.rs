@@ -43,7 +43,17 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    run_from(std::env::args_os())
+}
+
+/// Runs the command line `args` (the program name first), as `main` does with the process's
+/// own; the Python package's `squeal` command calls this.
+pub fn run_from<I, T>(args: I) -> ExitCode
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::parse_from(args);
     let result = match cli.command {
         Command::Trajectory(a) => cmd::trajectory::run(a),
         Command::Friction(a) => cmd::friction::run(a),

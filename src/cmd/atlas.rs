@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{Value, json};
 use squeal_plot::{Curve, Rgb};
 use squeal_scan::atlas::columns::{COLUMNS, Si};
-use squeal_scan::atlas::{AtlasPlan, AtlasRegime, BoundaryStatus, Units, driver};
+use squeal_scan::atlas::{AtlasPlan, AtlasRegime, BoundaryStatus, Units};
 use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
 
 use super::common;
@@ -64,7 +64,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
     let todo = writer.missing();
-    let map_plan = plan.map_plan();
     let todo_blocks = writer.missing_blocks().len();
 
     let stop = Arc::new(AtomicBool::new(false));
@@ -96,28 +95,23 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .progress_chars("=> "),
     );
     let t0 = Instant::now();
-    let writer = Mutex::new(writer);
-    let result = driver::run(&plan, &todo, &|| stop.load(Ordering::SeqCst), &|r| {
-        let mut w = writer.lock().expect("writer lock");
-        w.record(r)
-            .map_err(|e| squeal_scan::ScanError::Undetermined(format!("journal: {e}")))?;
-        bar.inc(1);
-        Ok(())
-    });
-    let mut writer = writer.into_inner().expect("writer lock");
-    if let Err(e) = result {
-        bar.finish_and_clear();
-        return Err(e.into());
-    }
-    // The basin maps: the scan's driver over (point, block) pairs, into the same journal.
-    if let Some(mp) = map_plan.as_ref().filter(|_| !stop.load(Ordering::SeqCst)) {
-        squeal_scan::drive(mp, shard, &mut writer, &BarObserver(&bar), &stop)
-            .map_err(|e| anyhow::anyhow!("{e}"))
-            .context("basin maps")?;
-    }
+    let result = squeal_store::run_atlas(
+        &plan,
+        shard,
+        writer,
+        &stop,
+        &|| bar.inc(1),
+        &BarObserver(&bar),
+    );
+    let (writer, left) = match result {
+        Ok(r) => r,
+        Err(e) => {
+            bar.finish_and_clear();
+            return Err(e.into());
+        }
+    };
     bar.finish_and_clear();
     let seconds = t0.elapsed().as_secs_f64();
-    let left = writer.missing().len() + writer.missing_blocks().len();
     if stop.load(Ordering::SeqCst) && left > 0 {
         eprintln!(
             "squeal: interrupted; {} units and map blocks left. Finish with: squeal atlas {} -o {} --resume{}",

@@ -12,8 +12,8 @@
 //!   files into the file a single run writes.
 //! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
 //!   finished units and, as a [`squeal_scan::Sink`], the blocks of the optional basin maps,
-//!   holds the [`OutputLock`], and writes the file; [`atlas::read_atlas`],
-//!   [`atlas::merge_atlas`].
+//!   holds the [`OutputLock`], and writes the file; [`run_atlas`] computes what it is
+//!   missing; [`atlas::read_atlas`], [`atlas::merge_atlas`].
 //! * [`read_info`], [`read_map`], [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!
@@ -114,6 +114,7 @@
 //! `DIMENSION_LIST`.
 
 pub mod atlas;
+mod atlas_run;
 mod cycle;
 mod error;
 mod h5types;
@@ -130,6 +131,7 @@ use squeal_scan::scanner::{BlockResult, Cell};
 use squeal_scan::{MapChecks, Plan};
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
+pub use atlas_run::{AtlasRunError, run_atlas};
 pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use read::{

@@ -1,0 +1,362 @@
+//! # squeal-py: the native module `squeal._squeal` of the Python package `squeal`
+//!
+//! Wiring only: every function here parses a spec with [`squeal_scan::Plan`] (or
+//! [`AtlasPlan`]), runs the library's driver into the store's writer (the same calls as
+//! `squeal scan` and `squeal atlas`), or calls [`squeal_scan::ulc`]; the Python side
+//! (`python/squeal/`) turns the files and reports into xarray Datasets and dataclasses.
+//!
+//! * The GIL is released while computing: the work runs on a scoped thread while the
+//!   calling thread waits with the GIL released and, every [`POLL`], runs Python's signal
+//!   handlers. A `KeyboardInterrupt` (Ctrl-C) sets the run's stop flag; the blocks in
+//!   flight are journalled, the exception is raised, and `resume=True` finishes the run.
+//! * Bad input raises `ValueError` with the command line's message (`error: ...` there).
+//! * [`cli`] runs the `squeal` command line itself (`src/main.rs`, compiled into this
+//!   module), so the wheel's `squeal` command is the same program as the Rust binary.
+//!
+//! The library's entry points it uses, and nothing below them (they are the library's
+//! public face for other programs too): [`Plan::from_toml`] / [`Plan::from_file`],
+//! [`AtlasPlan::from_toml`] / [`AtlasPlan::from_file`], [`ScanWriter::create`] /
+//! [`ScanWriter::resume`] / [`ScanWriter::finish`] with [`squeal_scan::drive`],
+//! [`AtlasWriter::create`] / [`AtlasWriter::resume`] / [`AtlasWriter::finish`] with
+//! [`squeal_store::run_atlas`], [`squeal_scan::ulc::locate`],
+//! [`squeal_scan::ulc::critical_nu`], [`squeal_scan::atlas::boundary::both_in`], and for a trajectory [`squeal_core::Stepper`],
+//! [`squeal_core::Run`], [`squeal_core::Classifier::watch`] and
+//! [`squeal_store::write_trajectory`].
+//!
+//! The functions (all take the spec as `spec`, a path used in messages, and `text`, its
+//! TOML text, or `None` to read the file at `spec`):
+//!
+//! | function | does |
+//! |---|---|
+//! | [`spec_toml`] | JSON of a spec's tables → TOML text |
+//! | [`scan`] | `squeal scan` into the HDF5 file `out` |
+//! | [`atlas`] | `squeal atlas` into the HDF5 file `out` |
+//! | [`ulc`] | the unstable limit cycle of one map, as JSON |
+//! | [`critical`] | the critical damping of a state, as JSON |
+//! | [`boundary`] | the fold of cycles, or a critical value in `nu` or `lambda`, as JSON |
+//! | [`trajectory()`] | one run into a trajectory file, and its verdict |
+//! | [`cli`] | the command line |
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use squeal_core::State;
+use squeal_scan::atlas::AtlasPlan;
+use squeal_scan::ulc::{CycleSettings, critical_nu, locate};
+use squeal_scan::{NoObserver, Plan};
+use squeal_store::atlas::AtlasWriter;
+use squeal_store::{Provenance, ScanWriter, StoreError};
+
+/// The command line, compiled into this module for the `squeal` command ([`cli`]); only
+/// its `run_from` is used here.
+#[allow(dead_code)]
+#[path = "../../../src/main.rs"]
+mod command_line;
+
+mod run;
+pub use run::trajectory;
+
+/// How often the waiting thread runs Python's signal handlers.
+pub const POLL: Duration = Duration::from_millis(50);
+
+/// The error as the command line prints it (`{:#}`: the message and its causes).
+fn message(e: impl Into<anyhow::Error>) -> String {
+    format!("{:#}", e.into())
+}
+
+/// A bad spec or argument: `ValueError` with the command line's message.
+fn value_error(e: impl Into<anyhow::Error>) -> PyErr {
+    PyValueError::new_err(message(e))
+}
+
+/// A store error: a bad request (`ValueError`: the output exists, an interrupted run is
+/// there, nothing to resume, ...) or a failing file system (`OSError`).
+fn store_error(e: StoreError) -> PyErr {
+    match e {
+        StoreError::Io { .. } | StoreError::Hdf5 { .. } => PyOSError::new_err(message(e)),
+        e => value_error(e),
+    }
+}
+
+/// What produced a file: this version and the git revision it was built from.
+fn provenance() -> Provenance {
+    Provenance {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        git_revision: env!("SQUEAL_GIT_REV").to_string(),
+    }
+}
+
+/// Runs `work` on a scoped thread while this thread holds no GIL, running Python's signal
+/// handlers every [`POLL`]. If a handler raises (Ctrl-C: `KeyboardInterrupt`), `stop` is
+/// set, the work is awaited (it stops at its next clean point) and the exception returned.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    stop: &AtomicBool,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    std::thread::scope(|s| {
+        let handle = s.spawn(work);
+        let mut raised = None;
+        while !handle.is_finished() {
+            py.detach(|| std::thread::sleep(POLL));
+            if raised.is_none() {
+                if let Err(e) = py.check_signals() {
+                    stop.store(true, Ordering::SeqCst);
+                    raised = Some(e);
+                }
+            }
+        }
+        let out = handle
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        raised.map_or(Ok(out), Err)
+    })
+}
+
+fn plan_of(spec: &str, text: Option<&str>) -> PyResult<Plan> {
+    match text {
+        Some(t) => Plan::from_toml(t, spec),
+        None => Plan::from_file(Path::new(spec)),
+    }
+    .map_err(value_error)
+}
+
+/// The TOML text of a spec given as JSON (a dict's `json.dumps`): the tables of a spec file.
+#[pyfunction]
+pub fn spec_toml(json: &str) -> PyResult<String> {
+    let v: toml::Value = serde_json::from_str(json).map_err(value_error)?;
+    toml::to_string(&v).map_err(value_error)
+}
+
+/// Runs the scan of `spec` into the HDF5 file `out`: a new file (`force` overwrites one),
+/// or with `resume` the rest of an interrupted run. Returns the number of cells computed.
+#[pyfunction]
+#[pyo3(signature = (spec, text, out, resume=false, force=false))]
+pub fn scan(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    out: PathBuf,
+    resume: bool,
+    force: bool,
+) -> PyResult<usize> {
+    let plan = plan_of(spec, text)?;
+    let prov = provenance();
+    let mut writer = if resume {
+        ScanWriter::resume(&out, &plan, None, &prov)
+    } else {
+        ScanWriter::create(&out, &plan, None, &prov, force)
+    }
+    .map_err(store_error)?;
+    let plan = writer.plan().clone();
+    let stop = AtomicBool::new(false);
+    let report = interruptible(py, &stop, || {
+        squeal_scan::drive(&plan, None, &mut writer, &NoObserver, &stop)
+    })?;
+    let report = report.map_err(|e| match e {
+        squeal_scan::DriveError::Scan(e) => value_error(e),
+        squeal_scan::DriveError::Sink(e) => store_error(e),
+    })?;
+    py.detach(|| writer.finish()).map_err(store_error)?;
+    Ok(report.cells)
+}
+
+/// Runs the atlas of `spec` into the HDF5 file `out` (`resume` and `force` as for [`scan`]).
+/// Returns the number of units and map blocks computed.
+#[pyfunction]
+#[pyo3(signature = (spec, text, out, resume=false, force=false))]
+pub fn atlas(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    out: PathBuf,
+    resume: bool,
+    force: bool,
+) -> PyResult<usize> {
+    let plan = match text {
+        Some(t) => AtlasPlan::from_toml(t, spec),
+        None => AtlasPlan::from_file(Path::new(spec)),
+    }
+    .map_err(value_error)?;
+    let prov = provenance();
+    let writer = if resume {
+        AtlasWriter::resume(&out, &plan, None, &prov)
+    } else {
+        AtlasWriter::create(&out, &plan, None, &prov, force)
+    }
+    .map_err(store_error)?;
+    let todo = writer.missing().len() + writer.missing_blocks().len();
+    let stop = AtomicBool::new(false);
+    let (writer, left) = interruptible(py, &stop, || {
+        squeal_store::run_atlas(&plan, None, writer, &stop, &|| {}, &NoObserver)
+    })?
+    .map_err(|e| match e {
+        squeal_store::AtlasRunError::Store(e) => store_error(e),
+        e => value_error(e),
+    })?;
+    if left > 0 {
+        return Err(PyOSError::new_err(format!(
+            "{}: {left} units and map blocks were not computed",
+            out.display()
+        )));
+    }
+    py.detach(|| writer.finish()).map_err(store_error)?;
+    Ok(todo)
+}
+
+/// The map `map` of a plan, or `ValueError` naming how many the spec has.
+fn params_of(plan: &Plan, map: usize) -> PyResult<squeal_core::Params> {
+    plan.maps.get(map).copied().ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "map {map}: the spec has {} map(s)",
+            plan.maps.len()
+        ))
+    })
+}
+
+/// Locates the unstable limit cycle of map `map` of `spec` ([`squeal_scan::ulc::locate`]) and returns
+/// its report ([`squeal_scan::ulc::CycleReport`]) as JSON.
+#[pyfunction]
+#[pyo3(signature = (spec, text, map=0, r_max=6.0, rtol=1e-10, check_half_dt=true))]
+pub fn ulc(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    map: usize,
+    r_max: f64,
+    rtol: f64,
+    check_half_dt: bool,
+) -> PyResult<String> {
+    let plan = plan_of(spec, text)?;
+    let params = params_of(&plan, map)?;
+    let cs = CycleSettings {
+        r_max,
+        rtol,
+        check_half_dt,
+        ..Default::default()
+    };
+    let rep = py
+        .detach(|| locate(params, plan.dt, plan.solver, &cs))
+        .map_err(value_error)?;
+    serde_json::to_string(&rep).map_err(value_error)
+}
+
+/// The critical damping `nu` of the state `point = (x, v)` for map `map` of `spec`
+/// ([`squeal_scan::ulc::critical_nu`], bracket `(nu_lo, nu_hi)`), as JSON.
+#[pyfunction]
+#[pyo3(signature = (spec, text, map, point, bracket, rtol))]
+pub fn critical(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    map: usize,
+    point: (f64, f64),
+    bracket: (f64, f64),
+    rtol: f64,
+) -> PyResult<String> {
+    let plan = plan_of(spec, text)?;
+    let params = params_of(&plan, map)?;
+    let point = State {
+        x: point.0,
+        v: point.1,
+    };
+    let cs = CycleSettings::default();
+    let rep = py
+        .detach(|| {
+            critical_nu(
+                params,
+                plan.dt,
+                plan.solver,
+                &cs,
+                point,
+                bracket.0,
+                bracket.1,
+                rtol,
+            )
+        })
+        .map_err(value_error)?;
+    serde_json::to_string(&rep).map_err(value_error)
+}
+
+/// The fold of cycles (`search = (param, true, rtol)`: above it no start squeals) or the
+/// critical value for `point` (`(param, false, rtol)`: above it that start is quiet) of
+/// map `map` of `spec`, bisected in `param` (`"nu"` or `"lambda"`; the Stribeck law's
+/// `xi` and `v_d`) over `bracket` with the atlas's boundary search
+/// ([`squeal_scan::atlas::boundary::both_in`], as `squeal critical --fold` / `--in lambda`),
+/// as JSON ([`squeal_scan::atlas::Boundary`]).
+#[pyfunction]
+#[pyo3(signature = (spec, text, map, point, search, bracket))]
+pub fn boundary(
+    py: Python<'_>,
+    spec: &str,
+    text: Option<&str>,
+    map: usize,
+    point: (f64, f64),
+    search: (String, bool, f64),
+    bracket: (f64, f64),
+) -> PyResult<String> {
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
+    let plan = plan_of(spec, text)?;
+    let base = params_of(&plan, map)?;
+    let (key, fold, rtol) = search;
+    let param = BoundaryParam::from_key(&key).ok_or_else(|| {
+        PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
+    })?;
+    let point = State {
+        x: point.0,
+        v: point.1,
+    };
+    let ps = PointSettings {
+        operating: point,
+        ..PointSettings::default()
+    };
+    let [f, c] = py.detach(|| {
+        both_in(
+            param,
+            base,
+            plan.dt,
+            plan.solver,
+            &ps,
+            point,
+            [bracket.0, bracket.1],
+            rtol,
+            [fold, !fold],
+        )
+    });
+    let b = f
+        .or(c)
+        .ok_or_else(|| PyValueError::new_err("no boundary asked for"))?
+        .map_err(value_error)?;
+    serde_json::to_string(&b).map_err(value_error)
+}
+
+/// Runs the `squeal` command line with `argv` (the program name first) and returns its
+/// exit status (the `squeal` command of the wheel).
+#[pyfunction]
+pub fn cli(argv: Vec<String>) -> u8 {
+    let code = command_line::run_from(argv);
+    let _ = std::io::stdout().flush();
+    (0..=255u8)
+        .find(|&n| ExitCode::from(n) == code)
+        .unwrap_or(1)
+}
+
+/// The module `squeal._squeal`.
+#[pymodule]
+fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(spec_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(scan, m)?)?;
+    m.add_function(wrap_pyfunction!(atlas, m)?)?;
+    m.add_function(wrap_pyfunction!(ulc, m)?)?;
+    m.add_function(wrap_pyfunction!(critical, m)?)?;
+    m.add_function(wrap_pyfunction!(boundary, m)?)?;
+    m.add_function(wrap_pyfunction!(trajectory, m)?)?;
+    m.add_function(wrap_pyfunction!(cli, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,60 @@
+//! The atlas run: every unit an [`AtlasWriter`] is missing, then the missing blocks of the
+//! atlas's basin maps, journalled as they finish. `squeal atlas` and the Python package
+//! both call [`run_atlas`]; they add the progress display, the signals and the report.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use squeal_scan::atlas::{AtlasPlan, driver};
+use squeal_scan::{DriveError, Observer, ScanError, Shard};
+
+use crate::StoreError;
+use crate::atlas::AtlasWriter;
+
+/// Why an atlas run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum AtlasRunError {
+    /// A unit could not be computed.
+    #[error(transparent)]
+    Scan(#[from] ScanError),
+    /// The journal refused a record.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// The basin maps failed.
+    #[error("basin maps: {0}")]
+    Maps(#[from] DriveError<StoreError>),
+}
+
+/// Computes what `writer` is missing: the units (each handed to `on_unit` once journalled)
+/// and then the blocks of the basin maps (reported to `observer`). Stops early when `stop`
+/// becomes true (the units and blocks in flight are journalled first). Returns the writer
+/// and the number of units and map blocks still missing: 0 means
+/// [`AtlasWriter::finish`] can write the file; otherwise a resume continues.
+pub fn run_atlas(
+    plan: &AtlasPlan,
+    shard: Option<Shard>,
+    writer: AtlasWriter,
+    stop: &AtomicBool,
+    on_unit: &(dyn Fn() + Sync),
+    observer: &dyn Observer,
+) -> Result<(AtlasWriter, usize), AtlasRunError> {
+    let todo = writer.missing();
+    let writer = Mutex::new(writer);
+    driver::run(plan, &todo, &|| stop.load(Ordering::SeqCst), &|r| {
+        let mut w = writer.lock().expect("writer lock");
+        w.record(r)
+            .map_err(|e| ScanError::Undetermined(format!("journal: {e}")))?;
+        on_unit();
+        Ok(())
+    })?;
+    let mut writer = writer.into_inner().expect("writer lock");
+    if let Some(mp) = plan
+        .map_plan()
+        .as_ref()
+        .filter(|_| !stop.load(Ordering::SeqCst))
+    {
+        squeal_scan::drive(mp, shard, &mut writer, observer, stop)?;
+    }
+    let left = writer.missing().len() + writer.missing_blocks().len();
+    Ok((writer, left))
+}

@@ -1,0 +1,389 @@
+"""squeal: basins of attraction of McMillan's friction oscillator (steady slip or stick-slip
+"squeal") and of the Stribeck law with true stick (bSTAB's friction case), from Python.
+
+The computing is the Rust library's (the same code as the ``squeal`` command, which this
+package also installs); results come back as ``xarray.Dataset`` objects with the HDF5
+file's names, coordinates, units and CF flag meanings, and as dataclasses.
+
+* :func:`scan` and :func:`atlas` run a spec (a path, or a dict with the TOML file's tables)
+  and return the file's Dataset; ``out=`` keeps the file (else it is written to a
+  temporary folder and removed).
+* :func:`basin_stability`: bSTAB/pyBasin-style shares per regime with standard errors
+  from random initial conditions.
+* :func:`ulc` (the unstable limit cycle) and :func:`critical` (the critical damping)
+  return dataclasses; :func:`trajectory` returns one run as a Dataset over time.
+* :func:`open` reads any file squeal writes.
+
+The GIL is released while computing. Ctrl-C stops a run cleanly: ``KeyboardInterrupt`` is
+raised after the blocks in flight are journalled next to ``out``, and the same call with
+``resume=True`` finishes it. Bad input raises ``ValueError`` with the command line's message.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import sys
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any, Optional, Union
+
+from . import _squeal
+
+__version__: str = _squeal.__version__
+
+__all__ = [
+    "BasinStability",
+    "Critical",
+    "UnstableCycle",
+    "atlas",
+    "basin_stability",
+    "critical",
+    "flags",
+    "open",
+    "scan",
+    "trajectory",
+    "ulc",
+]
+
+Spec = Union[str, os.PathLike, Mapping[str, Any]]
+
+#: The regimes of a basin-stability report, in the file's order (squeal_scan::basin::REGIMES).
+REGIMES = ("steady_slip", "stick_slip", "undecided")
+
+
+def _jsonable(v: Any) -> Any:
+    """numpy scalars and arrays in a spec dict, as JSON numbers and lists."""
+    if hasattr(v, "tolist"):
+        return v.tolist()
+    raise TypeError(f"spec value {v!r}: expected numbers, strings, lists or tables")
+
+
+def _spec(spec: Spec) -> tuple[str, Optional[str]]:
+    """(name used in messages, TOML text or None to read the file ``name``)."""
+    if isinstance(spec, (str, os.PathLike)):
+        return os.fspath(spec), None
+    if isinstance(spec, Mapping):
+        return "spec", _squeal.spec_toml(json.dumps(dict(spec), default=_jsonable))
+    raise TypeError(f"spec: expected a path or a dict, not {type(spec).__name__}")
+
+
+def open(path: Union[str, os.PathLike]) -> "xarray.Dataset":  # noqa: A001 (squeal.open)
+    """Any file squeal writes (scan, sweep, sample, atlas, trajectory ``.h5``), loaded into
+    memory as an ``xarray.Dataset``: its variables, dimension coordinates and attributes as
+    stored (integers stay integers; enumerations keep ``flag_values``/``flag_meanings``)."""
+    import xarray as xr
+
+    with xr.open_dataset(
+        os.fspath(path),
+        engine="h5netcdf",
+        mask_and_scale=False,
+        decode_times=False,
+        decode_timedelta=False,
+    ) as ds:
+        return ds.load()
+
+
+def flags(da) -> dict:
+    """``{value: meaning}`` of a flagged integer variable (CF ``flag_values`` and
+    ``flag_meanings``), e.g. ``{0: 'undecided', 1: 'steady_slip', 2: 'stick_slip', 255:
+    'not_computed'}`` for a scan's ``labels``."""
+    meanings = da.attrs["flag_meanings"].split()
+    return {int(v): m for v, m in zip(da.attrs["flag_values"], meanings)}
+
+
+def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
+    name, text = _spec(spec)
+    run = getattr(_squeal, kind)
+    if out is None:
+        if resume:
+            raise ValueError("resume=True needs out=: the file of the interrupted run")
+        with tempfile.TemporaryDirectory(prefix="squeal-") as d:
+            path = Path(d) / f"{kind}.h5"
+            try:
+                run(name, text, str(path), False, False)
+            except KeyboardInterrupt:
+                print("squeal: interrupted; pass out= to keep a resumable run", file=sys.stderr)
+                raise
+            return open(path)
+    try:
+        run(name, text, os.fspath(out), resume, force)
+    except KeyboardInterrupt:
+        print(
+            f"squeal: interrupted; the finished work is kept in {os.fspath(out)}.journal. "
+            f"Finish with: squeal.{kind}(..., out={os.fspath(out)!r}, resume=True)",
+            file=sys.stderr,
+        )
+        raise
+    return open(out)
+
+
+def scan(spec: Spec, out=None, *, resume: bool = False, force: bool = False):
+    """Runs a scan spec (``squeal scan``): a basin map, a sweep of maps or random samples.
+
+    ``spec``: a path to a TOML spec or a dict of its tables, e.g.
+    ``{"version": 1, "model": {"law": "mcmillan", "nu": 1e-2}, "grid": {...},
+    "output": {"path": "x.h5"}}`` (``output.path`` is required by the spec format but the
+    file goes to ``out``). ``out``: keep the HDF5 file there (``force`` overwrites it;
+    ``resume`` finishes an interrupted run of it). Returns the file as a Dataset."""
+    return _run("scan", spec, out, resume, force)
+
+
+def atlas(spec: Spec, out=None, *, resume: bool = False, force: bool = False):
+    """Runs an atlas spec (``squeal atlas``): figures of merit, regimes, the fold and the
+    critical damping over a design space. Arguments as for :func:`scan`."""
+    return _run("atlas", spec, out, resume, force)
+
+
+@dataclasses.dataclass
+class BasinStability:
+    """Basin stability (Menck et al. 2013; bSTAB, pyBasin): the share of random initial
+    conditions in a region ending in each regime, with the binomial standard error
+    ``sqrt(p (1 - p) / n)``. For a sweep, ``shares[r]``, ``errors[r]`` are arrays over
+    ``values`` of the swept parameter ``parameter``; else floats."""
+
+    shares: dict
+    errors: dict
+    n: int
+    seed: int
+    region: tuple
+    parameter: Optional[str] = None
+    values: Any = None
+    dataset: Any = dataclasses.field(default=None, repr=False)
+
+
+def _swept(ds) -> Optional[str]:
+    """The sweep dimension of a scan Dataset (None for one map)."""
+    dims = [d for d in ds["labels"].dims if d not in ("v0", "x0", "sample")]
+    return dims[0] if dims and dims[0] in ds.coords and dims[0] != "map" else None
+
+
+def basin_stability(
+    law: str = "stribeck",
+    *,
+    n: int = 5000,
+    seed: int = 1,
+    region: Sequence[Sequence[float]] = ((-2.0, 2.0), (0.0, 2.0)),
+    out=None,
+    integration: Optional[Mapping[str, Any]] = None,
+    classifier: Optional[Mapping[str, Any]] = None,
+    **params: Any,
+) -> BasinStability:
+    """Shares per regime of ``n`` uniform random initial conditions (seeded) in
+    ``region = ((x0_min, x0_max), (v0_min, v0_max))``: bSTAB's estimator, squeal's
+    classifier. ``params`` are the model's (``xi``, ``v_d``, ``mu_d``, ... for the Stribeck
+    law; ``nu``, ``lambda``, ... for McMillan's); one of them may be a list or array (a
+    sweep, e.g. ``v_d=numpy.linspace(0.8, 2.225, 20)``, the belt-speed study).
+    Defaults: bSTAB's friction case region and 5000 samples."""
+    (x_lo, x_hi), (v_lo, v_hi) = region
+    spec = {
+        "version": 1,
+        "name": "basin-stability",
+        "model": {"law": law, **params},
+        "sample": {
+            "kind": "random",
+            "n": int(n),
+            "seed": int(seed),
+            "region": {"x0": [x_lo, x_hi], "v0": [v_lo, v_hi]},
+        },
+        "output": {"path": "basin-stability.h5"},
+    }
+    if integration:
+        spec["integration"] = dict(integration)
+    if classifier:
+        spec["classifier"] = dict(classifier)
+    ds = scan(spec, out)
+    dim = _swept(ds)
+
+    def pick(var):
+        a = ds[var].values
+        return a if dim else float(a.reshape(-1)[0])
+
+    return BasinStability(
+        shares={r: pick(f"basin_stability_{r}") for r in REGIMES},
+        errors={r: pick(f"basin_stability_{r}_se") for r in REGIMES},
+        n=int(n),
+        seed=int(seed),
+        region=((x_lo, x_hi), (v_lo, v_hi)),
+        parameter=dim,
+        values=ds[dim].values if dim else None,
+        dataset=ds,
+    )
+
+
+def _model_spec(spec: Optional[Spec], model: Mapping[str, Any], extra: Mapping[str, Any]):
+    """A spec for one parameter point: ``spec`` as given, or the model ``model`` on a
+    one-cell grid (as the command line builds one from its flags)."""
+    if spec is not None:
+        if model:
+            raise ValueError(
+                "give either spec= or the model's parameters, not both "
+                f"(got {', '.join(sorted(model))})"
+            )
+        return spec
+    one = {"min": 0.0, "max": 0.0, "count": 1}
+    s = {
+        "version": 1,
+        "model": dict(model),
+        "grid": {"x0": one, "v0": one},
+        "output": {"path": "unused.h5"},
+    }
+    s.update({k: dict(v) for k, v in extra.items() if v})
+    return s
+
+
+@dataclasses.dataclass
+class UnstableCycle:
+    """The unstable limit cycle (the basin boundary) as a periodic orbit: its crossing
+    ``r_section`` of the section ``x = x*, x' > 0`` and bisection ``bracket``, period,
+    angular frequency ``omega``, extents, area, Floquet ``multiplier`` (> 1: unstable),
+    whether it encloses the state at rest, the ``dt / 2`` check, and the closed curve
+    ``x``, ``v`` (numpy arrays). ``report`` holds every field the library reports."""
+
+    r_section: float
+    bracket: tuple
+    period: float
+    omega: float
+    x_range: tuple
+    v_range: tuple
+    distance_plus_x: float
+    area: float
+    multiplier: float
+    encloses_origin: bool
+    x: Any = dataclasses.field(repr=False)
+    v: Any = dataclasses.field(repr=False)
+    report: dict = dataclasses.field(repr=False, default_factory=dict)
+
+
+def ulc(
+    spec: Optional[Spec] = None,
+    *,
+    map: int = 0,  # noqa: A002 (the command line's --map)
+    r_max: float = 6.0,
+    rtol: float = 1e-10,
+    check_half_dt: bool = True,
+    integration: Optional[Mapping[str, Any]] = None,
+    **model: Any,
+) -> UnstableCycle:
+    """Locates the unstable limit cycle (``squeal ulc``) of the model given by its
+    parameters (``law="mcmillan", nu=1e-2``; ``integration={"dt": ...}``) or of map ``map``
+    of a scan ``spec``."""
+    import numpy as np
+
+    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
+    rep = json.loads(_squeal.ulc(name, text, map, r_max, rtol, check_half_dt))
+    return UnstableCycle(
+        r_section=rep["r_section"],
+        bracket=tuple(rep["bracket"]),
+        period=rep["period"],
+        omega=rep["omega"],
+        x_range=tuple(rep["x_range"]),
+        v_range=tuple(rep["v_range"]),
+        distance_plus_x=rep["distance_plus_x"],
+        area=rep["area"],
+        multiplier=rep["multiplier"],
+        encloses_origin=rep["encloses_origin"],
+        x=np.asarray(rep["curve"]["x"]),
+        v=np.asarray(rep["curve"]["v"]),
+        report=rep,
+    )
+
+
+@dataclasses.dataclass
+class Critical:
+    """A stability boundary in one parameter (``squeal critical``): with ``fold=False`` the
+    value above which the unstable cycle encloses ``point`` (that start then ends in
+    steady slip; below it, it squeals), with ``fold=True`` the fold of cycles (above it no
+    start squeals). ``value`` is the geometric middle of ``bracket``, after ``evaluations``
+    bisection steps; ``half_dt_holds`` says whether the bracket holds at ``dt / 2``
+    (``None``: not checked, as for the critical damping bisected with cycle locations)."""
+
+    parameter: str
+    value: float
+    bracket: tuple
+    evaluations: int
+    point: tuple
+    fold: bool = False
+    half_dt_holds: Optional[bool] = None
+
+
+#: The bisected parameters: the Stribeck law's names, and the bracket defaults of the
+#: command line (--nu-lo/--nu-hi, --lambda-lo/--lambda-hi).
+_BOUNDARY_KEYS = {"nu": "nu", "xi": "nu", "lambda": "lambda", "v_d": "lambda"}
+_BRACKETS = {"nu": (1e-3, 5e-2), "lambda": (0.5, 6.0)}
+
+
+def critical(
+    spec: Optional[Spec] = None,
+    *,
+    x0: float = 0.0,
+    v0: float = 0.0,
+    parameter: str = "nu",
+    fold: bool = False,
+    bracket: Optional[Sequence[float]] = None,
+    rtol: float = 1e-4,
+    map: int = 0,  # noqa: A002 (the command line's --map)
+    integration: Optional[Mapping[str, Any]] = None,
+    **model: Any,
+) -> Critical:
+    """The critical value of ``parameter`` for the state ``(x0, v0)``, or with ``fold=True``
+    the fold of cycles (``squeal critical [--fold] [--in PARAMETER]``), bisected over
+    ``bracket`` (default: the command line's, ``(1e-3, 5e-2)`` in ``nu``/``xi``,
+    ``(0.5, 6)`` in ``lambda``/``v_d``). The model as for :func:`ulc`; the bisected
+    parameter's own value, if not given, is the bracket's low end."""
+    key = _BOUNDARY_KEYS.get(parameter)
+    if key is None:
+        raise ValueError(f"parameter {parameter!r}: expected one of {', '.join(_BOUNDARY_KEYS)}")
+    lo, hi = bracket if bracket is not None else _BRACKETS[key]
+    if spec is None and parameter not in model:
+        model[parameter] = lo
+    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
+    point = (float(x0), float(v0))
+    if key == "nu" and not fold:
+        # As the command line: the critical damping by cycle locations.
+        rep = json.loads(_squeal.critical(name, text, map, point, (lo, hi), rtol))
+        return Critical(parameter, rep["nu"], tuple(rep["bracket"]), rep["evaluations"], point)
+    b = json.loads(_squeal.boundary(name, text, map, point, (key, fold, rtol), (lo, hi)))
+    if b["status"] == "below_range":
+        what = "nothing squeals there already" if fold else f"{point} is quiet there already"
+        raise ValueError(f"bracket low end {parameter} = {lo}: {what}; lower it")
+    if b["status"] != "found":
+        raise ValueError(f"bracket high end {parameter} = {hi}: it still squeals there; raise it")
+    return Critical(
+        parameter, b["nu"], tuple(b["bracket"]), b["evaluations"], point, fold, b["half_dt_holds"]
+    )
+
+
+def trajectory(
+    spec: Optional[Spec] = None,
+    *,
+    x0: float = 0.0,
+    v0: float = 0.0,
+    t_end: float = 1000.0,
+    every: int = 1,
+    out=None,
+    map: int = 0,  # noqa: A002 (the command line's --map)
+    integration: Optional[Mapping[str, Any]] = None,
+    **model: Any,
+):
+    """One run from ``(x0, v0)`` to ``t_end`` (``squeal trajectory``) as a Dataset over the
+    time ``t``: ``x``, ``v``, ``a`` and the friction ``force``, every ``every``-th step, with
+    the run's settings as attributes and the classifier's verdict on the run in
+    ``regime``, ``reason`` and ``t_decision``. The model as for :func:`ulc`; ``out`` keeps
+    the file (the schema of ``squeal trajectory --out run.h5``)."""
+    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
+
+    def run(path):
+        verdict = _squeal.trajectory(
+            name, text, map, (x0, v0), (float(t_end), int(every)), str(path)
+        )
+        ds = open(path)
+        ds.attrs.update(zip(("regime", "reason", "t_decision"), verdict))
+        return ds
+
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="squeal-") as d:
+        return run(Path(d) / "trajectory.h5")

@@ -1,0 +1,293 @@
+"""Tests of the Python package against the command line it installs (`squeal`, the same
+Rust program): scan files, bSTAB's basin stability, spec errors and interruption.
+
+Run by scripts/test-python.sh in a fresh venv with the wheel installed and no Rust."""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import squeal
+
+# A small McMillan map: the hysteretic law at nu = 1e-2 (the fixed point is stable there,
+# so the map has both basins and the unstable cycle between them), 24 x 16 cells.
+SMALL = """version = 1
+name = "small"
+
+[model]
+law = "mcmillan"
+nu = 1e-2
+
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 24 }
+v0 = { min = -4.0, max = 4.0, count = 16 }
+
+[output]
+path = "small.h5"
+"""
+
+# bSTAB's friction case 1 (scans/bstab-friction.toml at v_d = 1.5) with bSTAB's sampling:
+# 5000 uniform random starts in x0 in [-2, 2], x'0 in [0, 2].
+BSTAB = dict(xi=0.05, v_d=1.5, mu_d=0.5, mu_sd=2.0, v_0=0.5, mu_v=0.0)
+
+
+def cli(*args, cwd):
+    """The `squeal` command installed with the wheel."""
+    exe = shutil.which("squeal")
+    assert exe, "the wheel did not put `squeal` on PATH"
+    return subprocess.run(
+        [exe, *args], cwd=cwd, capture_output=True, text=True, timeout=600
+    )
+
+
+def read_cli_file(path):
+    """What xarray reads from a file the command line wrote, with xarray's own defaults
+    except that integers stay integers (no NaN masking) and nothing is read as a time."""
+    with xr.open_dataset(
+        path,
+        engine="h5netcdf",
+        mask_and_scale=False,
+        decode_times=False,
+        decode_timedelta=False,
+    ) as ds:
+        return ds.load()
+
+
+def test_scan_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):
+    spec = tmp_path / "small.toml"
+    spec.write_text(SMALL)
+    r = cli("scan", str(spec), "-o", str(tmp_path / "cli.h5"), "--quiet", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    from_cli = read_cli_file(tmp_path / "cli.h5")
+    ds = squeal.scan(spec)
+    # Same data, coordinates and attributes (the spec text and provenance included).
+    xr.testing.assert_identical(ds, from_cli)
+    assert ds["labels"].dims == ("v0", "x0")
+    assert ds["labels"].dtype == np.uint8
+    assert "steady_slip" in ds["labels"].attrs["flag_meanings"].split()
+    # Both regimes occur, or the comparison would be weak.
+    labels = set(np.unique(ds["labels"].values))
+    assert {1, 2} <= labels, labels
+
+
+def test_dict_spec_gives_the_same_map_as_the_file(tmp_path):
+    spec = {
+        "version": 1,
+        "name": "small",
+        "model": {"law": "mcmillan", "nu": 1e-2},
+        "grid": {
+            "x0": {"min": -3.0, "max": 5.0, "count": 24},
+            "v0": {"min": -4.0, "max": 4.0, "count": 16},
+        },
+        "output": {"path": "small.h5"},
+    }
+    (tmp_path / "small.toml").write_text(SMALL)
+    a = squeal.scan(spec, tmp_path / "kept.h5")
+    b = squeal.scan(tmp_path / "small.toml")
+    assert (tmp_path / "kept.h5").exists()
+    # The spec text differs (generated from the dict); every variable and coordinate agrees.
+    xr.testing.assert_equal(a, b)
+    assert squeal.open(tmp_path / "kept.h5").attrs["name"] == "small"
+
+
+def test_bstab_case1_basin_stability_equals_the_cli(tmp_path):
+    bs = squeal.basin_stability("stribeck", n=5000, seed=1, **BSTAB)
+    model = "\n".join(f"{k} = {v!r}" for k, v in BSTAB.items())
+    (tmp_path / "case1.toml").write_text(
+        f"""version = 1
+[model]
+law = "stribeck"
+{model}
+[sample]
+kind = "random"
+n = 5000
+seed = 1
+region = {{ x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }}
+[output]
+path = "case1.h5"
+"""
+    )
+    r = cli("scan", "case1.toml", "--json", "--quiet", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    report = json.loads(r.stdout)["maps"][0]["basin_stability"]
+    assert report["n"] == bs.n == 5000
+    for regime in squeal.REGIMES:
+        assert bs.shares[regime] == report[regime]["p"], regime
+        assert bs.errors[regime] == report[regime]["se"], regime
+    # bSTAB's published case 1 (tests/data/bstab_friction_published.json): steady slip
+    # (FP) 0.304 +- 0.0065 of 5000 starts. Different samples and classifiers: agreement
+    # within 4 combined standard errors (4 * sqrt(2) * 0.0065 = 0.037).
+    assert abs(bs.shares["steady_slip"] - 0.304) < 0.037, bs.shares
+
+
+def test_belt_speed_sweep_gives_one_share_per_speed():
+    bs = squeal.basin_stability(
+        "stribeck", n=200, seed=3, **{**BSTAB, "v_d": [1.0, 1.5, 2.0]}
+    )
+    assert bs.parameter == "v_d"
+    np.testing.assert_allclose(bs.values, [1.0, 1.5, 2.0])
+    total = sum(bs.shares[r] for r in squeal.REGIMES)
+    np.testing.assert_allclose(total, 1.0, rtol=1e-12)
+
+
+def test_spec_error_raises_value_error_with_the_cli_message(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SMALL.replace("count = 24", "count = 0"))
+    r = cli("scan", str(bad), "--quiet", cwd=tmp_path)
+    assert r.returncode == 2
+    with pytest.raises(ValueError) as e:
+        squeal.scan(bad)
+    assert r.stderr.strip() == f"error: {e.value}"
+    assert "x0" in str(e.value)
+    with pytest.raises(ValueError, match="nu"):
+        squeal.basin_stability("mcmillan", n=10, nu=-1.0)
+
+
+# Slow on purpose: every cell runs to t_max = 400 (no early stop), in blocks of 2 rows:
+# some 8 s at 2 threads, so the signal lands mid-run.
+SLOW = """version = 1
+[model]
+law = "mcmillan"
+nu = 1e-2
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 16 }
+v0 = { min = -4.0, max = 4.0, count = 32 }
+block_rows = 2
+[classifier]
+early_stop = "none"
+t_max = 400.0
+[output]
+path = "slow.h5"
+"""
+
+
+def sigint_after_first_block(journal, sizes):
+    """Sends SIGINT to this process once the journal has grown past its first size (the
+    header: a block was stored), noting the sizes seen."""
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        if journal.exists():
+            sizes.append(journal.stat().st_size)
+            if sizes[-1] > sizes[0]:
+                break
+        time.sleep(0.01)
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+def test_ctrl_c_raises_keyboard_interrupt_and_leaves_a_resumable_journal(tmp_path):
+    spec = tmp_path / "slow.toml"
+    spec.write_text(SLOW)
+    out = tmp_path / "slow.h5"
+    journal = Path(f"{out}.journal")
+    sizes = []
+    sender = threading.Thread(target=sigint_after_first_block, args=(journal, sizes))
+    sender.start()
+    with pytest.raises(KeyboardInterrupt):
+        squeal.scan(spec, out)
+    sender.join()
+    assert journal.exists() and not out.exists()
+    assert journal.stat().st_size > sizes[0]  # blocks are stored
+    with pytest.raises(ValueError, match="resume"):
+        squeal.scan(spec, out)  # the CLI's refusal: an interrupted scan is there
+    resumed = squeal.scan(spec, out, resume=True)
+    assert not journal.exists()
+    assert (resumed["labels"].values != 255).all()
+    assert resumed["blocks_done"].values.all()
+    # The store's promise: a resumed run writes the file an uninterrupted one writes.
+    xr.testing.assert_identical(resumed, squeal.scan(spec))
+
+
+def test_ulc_and_critical_return_dataclasses_with_the_cli_values(tmp_path):
+    c = squeal.ulc(law="mcmillan", nu=1e-2)
+    assert c.multiplier > 1  # unstable
+    assert c.x.shape == c.v.shape and c.x.size > 10
+    r = cli("ulc", "--nu", "1e-2", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert c.r_section == json.loads(r.stdout)["r_section"]
+    k = squeal.critical(law="mcmillan", x0=0.0, v0=0.0)
+    assert k.bracket[0] <= k.value <= k.bracket[1]
+    r = cli("critical", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert k.value == json.loads(r.stdout)["nu"]
+    # The Stribeck law's fold in the belt speed (squeal critical --law stribeck --in v_d
+    # --fold), as the command line finds it.
+    f = squeal.critical(law="stribeck", parameter="v_d", fold=True)
+    r = cli("critical", "--law", "stribeck", "--in", "v_d", "--fold", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert f.value == json.loads(r.stdout)["v_d"]
+    with pytest.raises(ValueError, match="raise it"):
+        squeal.critical(law="stribeck", parameter="v_d", fold=True, bracket=(0.5, 0.6))
+
+
+def test_trajectory_is_a_dataset_over_time_with_the_cli_verdict(tmp_path):
+    ds = squeal.trajectory(law="mcmillan", nu=1e-2, x0=0.0, v0=0.0, t_end=200.0, every=10)
+    assert ds["x"].dims == ("t",)
+    # dt = 0.005 (the default): 200 / 0.005 = 40000 steps, every 10th kept, and t = 0.
+    assert ds.sizes["t"] == 4001
+    r = cli(
+        "trajectory", "--nu", "1e-2", "--t-end", "200", "--json", cwd=tmp_path
+    )
+    assert r.returncode == 0, r.stderr
+    verdict = json.loads(r.stdout)["classification"]
+    assert ds.attrs["regime"] == verdict["regime"]
+    assert ds.attrs["t_decision"] == verdict["t_decision"]
+
+
+def test_atlas_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):
+    spec = tmp_path / "atlas.toml"
+    spec.write_text(
+        """version = 1
+name = "small-atlas"
+[model]
+law = "stribeck"
+v_d = [1.0, 1.5, 2.0]
+[disturbance]
+x = [-2.0, 2.0]
+v = [0.0, 2.0]
+[output]
+path = "atlas.h5"
+"""
+    )
+    r = cli("atlas", str(spec), "-o", str(tmp_path / "cli.h5"), "--quiet", "--no-render", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    ds = squeal.atlas(spec)
+    xr.testing.assert_identical(ds, read_cli_file(tmp_path / "cli.h5"))
+    assert ds["basin_fraction"].dims == ("v_d",)
+
+
+def test_the_gil_is_released_while_computing(tmp_path):
+    # SLOW with 4 rows of v0 (2 blocks): a few seconds of computing in the main thread.
+    spec = tmp_path / "gil.toml"
+    spec.write_text(SLOW.replace("count = 32", "count = 4"))
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.005)
+
+    t = threading.Thread(target=tick)
+    t.start()
+    t0 = time.monotonic()
+    try:
+        squeal.scan(spec)
+        t1 = time.monotonic()
+    finally:
+        done.set()
+        t.join()
+    during = [x for x in ticks if t0 < x < t1]
+    # A thread running beside the scan ticks about every 5 ms; with the GIL held by the
+    # scan it could not tick at all until the scan returned. A quarter of the ideal count
+    # leaves room for a loaded machine.
+    assert t1 - t0 > 0.5, "the scan was too quick to tell"
+    assert len(during) > 0.25 * (t1 - t0) / 0.005, (len(during), t1 - t0)
