@@ -33,9 +33,11 @@
 //! assert!(p.cycle.unwrap().r_section > 2.0 && p.stick_slip.unwrap().omega_mean < 1.0);
 //! ```
 
+pub mod attractor;
 pub mod boundary;
 pub mod columns;
 pub mod driver;
+pub mod geometry;
 pub mod maps;
 pub mod point;
 pub mod spec;
@@ -43,6 +45,7 @@ pub mod stribeck;
 
 pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
+pub use geometry::Region;
 pub use maps::{MapFraction, map_fraction};
-pub use point::{AtlasRegime, PointResult, PointSettings, Region};
+pub use point::{AtlasRegime, PointResult, PointSettings};
 pub use spec::{AtlasAxis, AtlasPlan, MapSettings, Units};

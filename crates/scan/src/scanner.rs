@@ -189,7 +189,7 @@ pub enum Outside {
     /// The start `r_escape` (and maybe others) returns inside ([`crate::section::escape_above`]):
     /// the trap and the start rule decide only inside the cycle. `attractor`: whether runs
     /// from far starts stayed outside for 80 revolutions (the atlas's stick-slip test,
-    /// [`crate::atlas::point::find_stick_slip`]); if not, no run is labelled stick-slip
+    /// [`crate::atlas::attractor::find_stick_slip`]); if not, no run is labelled stick-slip
     /// by its section band either (runs end at the fixed point or undecided at `t_max`).
     Escapes { r_escape: f64, attractor: bool },
 }
@@ -252,7 +252,7 @@ impl MapContext {
                             cycle: cs,
                             ..Default::default()
                         };
-                        let attractor = crate::atlas::point::find_stick_slip(
+                        let attractor = crate::atlas::attractor::find_stick_slip(
                             &stepper,
                             r,
                             &ps,

@@ -41,7 +41,8 @@
 use serde::{Deserialize, Serialize};
 use squeal_core::{Params, Setup, State};
 
-use super::point::{PointSettings, StickFail, analyse, find_stick_slip, settings_for};
+use super::attractor::{StickFail, find_stick_slip};
+use super::point::{PointSettings, analyse, settings_for};
 use crate::error::ScanError;
 use crate::section::{ParamRange, Search};
 
@@ -250,7 +251,7 @@ impl Crossings {
 }
 
 /// Whether no start squeals at these parameters: no `D > 0` on the section, or an unstable
-/// cycle with no stick-slip attractor outside it (see [`super::point::find_stick_slip`]).
+/// cycle with no stick-slip attractor outside it (see [`super::attractor::find_stick_slip`]).
 pub fn quiet_everywhere(setup: Setup, ps: &PointSettings) -> Result<bool, ScanError> {
     let origin = State { x: 0.0, v: 0.0 };
     Evaluator::new(BoundaryParam::Nu, setup, ps, origin).answer(setup.params.nu, Which::Fold)

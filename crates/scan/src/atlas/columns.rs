@@ -2,9 +2,10 @@
 //! read it from and write it into a [`PointResult`]). The HDF5 writer and reader, the
 //! journal and `--json` all walk this table, so adding a figure of merit is one line.
 
+use super::attractor::StickSlipFigures;
 use super::boundary::{Boundary, BoundaryStatus};
 use super::driver::BoundaryResult;
-use super::point::{AtlasRegime, CycleFigures, PointResult, StickSlipFigures};
+use super::point::{AtlasRegime, CycleFigures, PointResult};
 use squeal_core::Scales;
 
 /// How a nondimensional figure converts to SI units.

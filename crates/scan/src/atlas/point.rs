@@ -14,12 +14,13 @@
 //! the same as `squeal ulc` gives.
 
 use serde::{Deserialize, Serialize};
-use squeal_core::classify::crossing;
-use squeal_core::{Params, Setup, SolverStats, State, Stepper, friction};
+use squeal_core::{Params, Setup, State};
 
 use crate::error::ScanError;
 use crate::section::{self, Bracket, ReturnMap, Search, SectionCycles, search};
 
+use super::attractor::{StickFail, StickSlipFigures, find_stick_slip};
+use super::geometry::{Region, basin_fraction, min_kick};
 use crate::ulc::{CycleReport, CycleSettings, describe_bracket};
 
 /// The regime of one parameter point. Stored as the HDF5 enum `regime`.
@@ -89,22 +90,6 @@ impl AtlasRegime {
     }
 }
 
-/// A box of the phase plane `[x0, x1] x [v0, v1]` (nondimensional).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Region {
-    /// `x` range.
-    pub x: [f64; 2],
-    /// `x'` range.
-    pub v: [f64; 2],
-}
-
-impl Region {
-    /// Area of the box.
-    pub fn area(&self) -> f64 {
-        (self.x[1] - self.x[0]) * (self.v[1] - self.v[0])
-    }
-}
-
 /// Settings of one point's computation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PointSettings {
@@ -170,28 +155,6 @@ pub struct CycleFigures {
     pub encloses_operating: bool,
 }
 
-/// The stick-slip attractor's figures of merit over a window of revolutions.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct StickSlipFigures {
-    /// Section amplitudes over the window: min, mean, max.
-    pub r_band: [f64; 3],
-    /// Relative change of the mean section amplitude from the window's first half to its
-    /// second half (near 0 when settled).
-    pub drift: f64,
-    /// Extent in `x`.
-    pub x_range: [f64; 2],
-    /// Extent in `x'`.
-    pub v_range: [f64; 2],
-    /// `max x' - lambda`: how far the block overtakes the belt (negative: it never does).
-    pub overshoot: f64,
-    /// Mean angular frequency over the window's revolutions.
-    pub omega_mean: f64,
-    /// Standard deviation of the per-revolution angular frequency.
-    pub omega_std: f64,
-    /// Share of the window's steps on the quasi-static branch of the law.
-    pub quasi_static_share: f64,
-}
-
 /// Everything computed at one parameter point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PointResult {
@@ -229,258 +192,6 @@ pub fn settings_for(p: &Params, cs: &CycleSettings) -> CycleSettings {
         r_max: cs.r_max.max(2.0 * p.lambda),
         ..*cs
     }
-}
-
-/// The smallest pure velocity kick from the fixed point that leaves the cycle: the smaller
-/// of the cycle's two crossings of `x = x*` (upper `r_section`, lower at `x' < 0`).
-pub fn min_kick(rep: &CycleReport, x_star: f64) -> f64 {
-    let (xs, vs) = (&rep.curve.x, &rep.curve.v);
-    let n = xs.len();
-    let mut lower = f64::NAN;
-    for i in 0..n {
-        let j = (i + 1) % n;
-        if (xs[i] - x_star) * (xs[j] - x_star) <= 0.0 && xs[i] != xs[j] {
-            let t = (x_star - xs[i]) / (xs[j] - xs[i]);
-            let v = vs[i] + t * (vs[j] - vs[i]);
-            if v < 0.0 {
-                lower = if lower.is_nan() { -v } else { lower.min(-v) };
-            }
-        }
-    }
-    if lower.is_nan() {
-        rep.r_section
-    } else {
-        rep.r_section.min(lower)
-    }
-}
-
-/// Area of the part of the closed polygon `(xs, vs)` inside the box (Sutherland-Hodgman
-/// clipping against the box's four half-planes, then the shoelace formula). The clipping
-/// is exact for a convex clip region and any simple polygon (degenerate edges it creates
-/// enclose no area).
-pub fn clipped_area(xs: &[f64], vs: &[f64], region: &Region) -> f64 {
-    let mut poly: Vec<(f64, f64)> = xs.iter().copied().zip(vs.iter().copied()).collect();
-    // Each half-plane as (axis 0 = x / 1 = v, bound, keep if >= bound when `lower`).
-    let planes = [
-        (0, region.x[0], true),
-        (0, region.x[1], false),
-        (1, region.v[0], true),
-        (1, region.v[1], false),
-    ];
-    for (axis, bound, lower) in planes {
-        if poly.is_empty() {
-            break;
-        }
-        let coord = |p: &(f64, f64)| if axis == 0 { p.0 } else { p.1 };
-        let inside = |p: &(f64, f64)| {
-            if lower {
-                coord(p) >= bound
-            } else {
-                coord(p) <= bound
-            }
-        };
-        let mut out = Vec::with_capacity(poly.len() + 4);
-        for i in 0..poly.len() {
-            let a = poly[i];
-            let b = poly[(i + 1) % poly.len()];
-            let (ia, ib) = (inside(&a), inside(&b));
-            if ia {
-                out.push(a);
-            }
-            if ia != ib {
-                let t = (bound - coord(&a)) / (coord(&b) - coord(&a));
-                out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
-            }
-        }
-        poly = out;
-    }
-    let n = poly.len();
-    if n < 3 {
-        return 0.0;
-    }
-    0.5 * (0..n)
-        .map(|i| {
-            let j = (i + 1) % n;
-            poly[i].0 * poly[j].1 - poly[j].0 * poly[i].1
-        })
-        .sum::<f64>()
-        .abs()
-}
-
-/// Basin fraction of steady slip over `region` from the cycle, and its uncertainty: the
-/// change when the curve is scaled about the fixed point by `r(dt/2) / r(dt)` (the section
-/// crossing's move when the step halves; this assumes the shape moves with its crossing),
-/// plus the polygon's chord error (one step's travel times the clipped perimeter, bounded
-/// here by `max |x'| dt` times the curve length over the box area).
-pub fn basin_fraction(
-    rep: &CycleReport,
-    half_dt_shift: f64,
-    region: &Region,
-    fp: State,
-) -> (f64, f64) {
-    let a = region.area();
-    let f = clipped_area(&rep.curve.x, &rep.curve.v, region) / a;
-    let mut err = 0.0;
-    if half_dt_shift.is_finite() {
-        let s = 1.0 + half_dt_shift / rep.r_section;
-        let xs: Vec<f64> = rep.curve.x.iter().map(|x| fp.x + s * (x - fp.x)).collect();
-        let vs: Vec<f64> = rep.curve.v.iter().map(|v| fp.v + s * (v - fp.v)).collect();
-        err += (clipped_area(&xs, &vs, region) / a - f).abs();
-    } else {
-        err = f64::NAN;
-    }
-    // Chord error: each chord of length l cuts off at most l * sagitta <= l * (l / 8) * ...
-    // bounded crudely by l^2 per chord.
-    let n = rep.curve.x.len();
-    let chords: f64 = (0..n)
-        .map(|i| {
-            let j = (i + 1) % n;
-            let l = (rep.curve.x[j] - rep.curve.x[i]).hypot(rep.curve.v[j] - rep.curve.v[i]);
-            l * l
-        })
-        .sum();
-    (f, err + chords / a)
-}
-
-/// Why a stick-slip run did not give the attractor.
-#[derive(Clone, Debug, PartialEq)]
-pub enum StickFail {
-    /// A section crossing fell inside the unstable cycle (below `r_inside`), or the run
-    /// reached the fixed point: this start returns to steady slip.
-    FellInside {
-        /// Time of that crossing.
-        t: f64,
-    },
-    /// The run failed (solver failure, blow-up, no crossing for `t_return`).
-    Failed(String),
-}
-
-/// Runs the stick-slip attractor from `(x*, r_start)`: `transient` revolutions discarded,
-/// then `window` measured. A crossing below `r_inside` (the unstable cycle's crossing; 0 if
-/// there is none) means the run fell inside the cycle: in the plane it then cannot leave.
-#[allow(clippy::too_many_arguments)] // start, cycle, window lengths and limits are independent
-pub fn stick_slip(
-    st: &Stepper,
-    r_start: f64,
-    r_inside: f64,
-    transient: u32,
-    window: u32,
-    t_return: f64,
-    stats: &mut SolverStats,
-) -> Result<StickSlipFigures, StickFail> {
-    let p = *st.params();
-    let fp = p.fixed_point();
-    let (mut s, _) = st.initial(
-        State {
-            x: fp.x,
-            v: r_start,
-        },
-        stats,
-    );
-    let mut crossings = 0u32;
-    let mut last_cross = f64::NAN;
-    let mut t_last = 0.0;
-    let (mut rs, mut omegas) = (Vec::new(), Vec::new());
-    let mut x_range = [f64::INFINITY, f64::NEG_INFINITY];
-    let mut v_range = [f64::INFINITY, f64::NEG_INFINITY];
-    let (mut steps, mut qs) = (0u64, 0u64);
-    let total = transient + window;
-    while crossings <= total {
-        let (n, _) = st.step(&s, stats);
-        if stats.failures > 0 || !n.x.is_finite() || n.x.abs() > 1e6 {
-            return Err(StickFail::Failed(format!(
-                "the stick-slip run failed at t = {:.1}",
-                n.t
-            )));
-        }
-        if (n.x - fp.x).hypot(n.v - fp.v) < 1e-3 {
-            return Err(StickFail::FellInside { t: n.t });
-        }
-        if n.t - t_last > t_return {
-            return Err(StickFail::Failed(format!(
-                "no crossing of the section x = x*, x' > 0 for {t_return} time units without reaching the fixed point: an oscillation that does not surround the fixed point, which the section method cannot measure"
-            )));
-        }
-        if crossings > transient {
-            steps += 1;
-            qs += u64::from(friction::on_quasi_static_branch(&p, n.v - p.lambda, n.a));
-            x_range = [x_range[0].min(n.x), x_range[1].max(n.x)];
-            v_range = [v_range[0].min(n.v), v_range[1].max(n.v)];
-        }
-        if let Some(c) = crossing(fp.x, &s, &n) {
-            if c.r < r_inside {
-                return Err(StickFail::FellInside { t: c.t });
-            }
-            crossings += 1;
-            t_last = n.t;
-            if crossings > transient {
-                rs.push(c.r);
-                if crossings > transient + 1 {
-                    omegas.push(std::f64::consts::TAU / (c.t - last_cross));
-                }
-            }
-            last_cross = c.t;
-        }
-        s = n;
-    }
-    // The window is the revolutions between crossing transient+1 and the last one.
-    rs.pop();
-    let m = rs.len().max(1) as f64;
-    let mean = rs.iter().sum::<f64>() / m;
-    let half = rs.len() / 2;
-    let m1 = rs[..half].iter().sum::<f64>() / half.max(1) as f64;
-    let m2 = rs[rs.len() - half..].iter().sum::<f64>() / half.max(1) as f64;
-    let no = omegas.len().max(1) as f64;
-    let om = omegas.iter().sum::<f64>() / no;
-    let var = omegas.iter().map(|o| (o - om).powi(2)).sum::<f64>() / no;
-    Ok(StickSlipFigures {
-        r_band: [
-            rs.iter().copied().fold(f64::INFINITY, f64::min),
-            mean,
-            rs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        ],
-        drift: (m2 - m1) / mean,
-        x_range,
-        v_range,
-        overshoot: v_range[1] - p.lambda,
-        omega_mean: om,
-        omega_std: var.sqrt(),
-        quasi_static_share: qs as f64 / steps.max(1) as f64,
-    })
-}
-
-/// The starts tried for stick-slip outside a cycle crossing `r_u` (upper end `hi` of the
-/// window where `D > 0` first showed): far out (`max(1.5 r_u, lambda)`), then just outside
-/// the cycle. The return map jumps where the orbit starts to stick (D falls from positive to
-/// strongly negative), so a start just outside the cycle can overshoot and fall back inside:
-/// squeal exists only if some start settles.
-fn stick_starts(r_u: f64, lambda: f64) -> [f64; 2] {
-    [(1.5 * r_u).max(lambda), r_u * 1.02]
-}
-
-/// The stick-slip attractor outside a cycle at `r_u` (0: none), tried from each start.
-pub fn find_stick_slip(
-    st: &Stepper,
-    r_u: f64,
-    ps: &PointSettings,
-    t_return: f64,
-    stats: &mut SolverStats,
-) -> Result<StickSlipFigures, StickFail> {
-    let lambda = st.params().lambda;
-    let starts: Vec<f64> = if r_u > 0.0 {
-        stick_starts(r_u, lambda).to_vec()
-    } else {
-        vec![lambda.max(10.0 * ps.cycle.r_min)]
-    };
-    let mut last = StickFail::Failed("no start".into());
-    for r0 in starts {
-        match stick_slip(st, r0, r_u, ps.transient, ps.window, t_return, stats) {
-            Ok(s) => return Ok(s),
-            Err(e @ StickFail::Failed(_)) => return Err(e),
-            Err(e) => last = e,
-        }
-    }
-    Err(last)
 }
 
 /// What the section search and the stick-slip runs show at one point (no dt/2 check).
@@ -720,48 +431,6 @@ fn confirm_operating_point(
 mod tests {
     use super::*;
     use squeal_core::{FrictionLaw, SolverConfig};
-
-    #[test]
-    fn clipping_a_square() {
-        // Unit square [0,1]^2 against the box [0.5, 2] x [-1, 0.25]: overlap 0.5 * 0.25.
-        let xs = [0.0, 1.0, 1.0, 0.0];
-        let vs = [0.0, 0.0, 1.0, 1.0];
-        let b = Region {
-            x: [0.5, 2.0],
-            v: [-1.0, 0.25],
-        };
-        assert!((clipped_area(&xs, &vs, &b) - 0.125).abs() < 1e-15);
-        // A box holding the whole square.
-        let all = Region {
-            x: [-1.0, 2.0],
-            v: [-1.0, 2.0],
-        };
-        assert!((clipped_area(&xs, &vs, &all) - 1.0).abs() < 1e-15);
-        // A box missing it.
-        let none = Region {
-            x: [3.0, 4.0],
-            v: [-1.0, 2.0],
-        };
-        assert_eq!(clipped_area(&xs, &vs, &none), 0.0);
-    }
-
-    #[test]
-    fn clipping_a_disc_matches_the_closed_form() {
-        // Unit disc (2000-gon) clipped by the half-plane x >= 0 inside a big box: pi / 2
-        // (up to the polygon's deficit, pi - n/2 sin(2 pi / n) ~ 5e-6).
-        let n = 2000;
-        let xs: Vec<f64> = (0..n)
-            .map(|i| (i as f64 * std::f64::consts::TAU / n as f64).cos())
-            .collect();
-        let vs: Vec<f64> = (0..n)
-            .map(|i| (i as f64 * std::f64::consts::TAU / n as f64).sin())
-            .collect();
-        let b = Region {
-            x: [0.0, 5.0],
-            v: [-5.0, 5.0],
-        };
-        assert!((clipped_area(&xs, &vs, &b) - std::f64::consts::FRAC_PI_2).abs() < 1e-5);
-    }
 
     fn point(law: FrictionLaw, nu: f64, warm: Option<f64>) -> PointResult {
         compute_point(

@@ -74,7 +74,8 @@ use squeal_core::{
 };
 
 use super::boundary::BoundaryParam;
-use super::point::{PointSettings, Region};
+use super::geometry::Region;
+use super::point::PointSettings;
 use crate::error::ScanError;
 use crate::grid::Grid;
 use crate::spec::EarlyStop;
