@@ -75,7 +75,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 std::process::exit(130);
             }
             eprintln!(
-                "\nsqueal: stopping after the units in flight (Ctrl-C again to quit at once)"
+                "\nsqueal: stopping after the units and map blocks in flight (signal again to quit at once)"
             );
         })
         .context("installing the Ctrl-C handler")?;
@@ -100,7 +100,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let result = driver::run(&plan, &todo, &|| stop.load(Ordering::SeqCst), &|r| {
         let mut w = writer.lock().expect("writer lock");
         w.record(r)
-            .map_err(|e| squeal_scan::ScanError::Undetermined(format!("journal: {e}")))?;
+            // `{:#}`: the OS's reason ("No space left on device") is the error's source.
+            .map_err(|e| {
+                squeal_scan::ScanError::Undetermined(format!(
+                    "journal: {:#}",
+                    anyhow::Error::from(e)
+                ))
+            })?;
         bar.inc(1);
         Ok(())
     });
@@ -112,7 +118,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // The basin maps: the scan's driver over (point, block) pairs, into the same journal.
     if let Some(mp) = map_plan.as_ref().filter(|_| !stop.load(Ordering::SeqCst)) {
         squeal_scan::drive(mp, shard, &mut writer, &BarObserver(&bar), &stop)
-            .map_err(|e| anyhow::anyhow!("{e}"))
+            .map_err(anyhow::Error::from)
             .context("basin maps")?;
     }
     bar.finish_and_clear();
