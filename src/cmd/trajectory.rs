@@ -243,7 +243,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     if args.t_end / stepper.dt() > squeal_scan::bounds::MAX_STEPS {
         bail!(
-            "--t-end {} with --dt {}: {:.3e} steps, at most 1e10 (about 40 minutes at 250 ns \
+            "--t-end {:?} with --dt {:?}: {:.3e} steps, at most 1e10 (about 40 minutes at 250 ns \
              per step): lower --t-end or raise --dt",
             args.t_end,
             stepper.dt(),

@@ -57,6 +57,12 @@ pub fn state(key: &str, v: f64, invalid: Invalid) -> Result<f64, ScanError> {
     }
 }
 
+/// Narrowest side of a box with an area (the disturbance box), in the model's units (the
+/// fixed point sits at x = 1). Narrower is a point for a basin fraction, and below about
+/// 1e-154 a side's square underflows: with `[physical] m = 1e308` the disturbance box
+/// scaled to the model's units had sides of 1e-308 and an area of 0.
+pub const MIN_WIDTH: f64 = 1e-9;
+
 /// Whether a range may be a single value (`min = max`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Width {
@@ -98,12 +104,12 @@ pub fn state_range(
     }
     let ordered = match width {
         Width::MayBeEmpty => lo <= hi,
-        Width::Positive => lo < hi,
+        Width::Positive => hi - lo >= MIN_WIDTH,
     };
     if !ordered {
         let expected = match width {
             Width::MayBeEmpty => "min <= max (the range is inverted)",
-            Width::Positive => "[min, max] with min < max",
+            Width::Positive => "[min, max] with max - min >= 1e-9 (a box with an area)",
         };
         return Err(invalid(key, shown, expected));
     }
@@ -218,7 +224,7 @@ mod tests {
             (vec![1.0], Width::MayBeEmpty, "exactly two"),
             (vec![-1e308, 1e308], Width::MayBeEmpty, "1e6"),
             (vec![f64::NAN, 1.0], Width::MayBeEmpty, "finite"),
-            (vec![1.0, 1.0], Width::Positive, "min < max"),
+            (vec![1.0, 1.0], Width::Positive, "an area"),
             (vec![2.0, 1.0], Width::MayBeEmpty, "inverted"),
         ] {
             let e = state_range("k", &list, width, &inv)

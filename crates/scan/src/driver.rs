@@ -396,15 +396,23 @@ path = "t.h5"
             .install(|| drive(&plan, None, &mut sink, &StopInBlock(&stop), &stop))
             .unwrap();
         assert!(r.interrupted);
-        // The block that was running when the stop came is finished and in the sink (the
-        // old driver threw it away: 0 blocks), and no block was started after it.
-        assert_eq!(sink.blocks.len(), 1, "{:?}", sink.blocks.keys());
-        let (&(m, b), block) = sink.blocks.iter().next().unwrap();
-        assert_eq!(
-            block.cells.len(),
-            plan.grid.block_rows(b).len() * 5,
-            "map {m}"
+        // The blocks running when the stop came are finished and in the sink, whole (the
+        // old driver threw them away: 0 blocks). More than one can be in flight even on one
+        // thread: while it waits inside a block's parallel cells, rayon lets it start
+        // another block.
+        let n = sink.blocks.len();
+        assert!(
+            n >= 1 && n < plan.total_blocks(),
+            "{:?}",
+            sink.blocks.keys()
         );
+        for (&(m, b), block) in &sink.blocks {
+            assert_eq!(
+                block.cells.len(),
+                plan.grid.block_rows(b).len() * 5,
+                "map {m}"
+            );
+        }
     }
 
     #[test]

@@ -307,13 +307,6 @@ impl GridSpec {
     /// The checked grid; errors name `grid.<key>`.
     pub(crate) fn check(&self, invalid: Invalid) -> Result<Grid, ScanError> {
         let axis = |a: &AxisSpec, key: &str| -> Result<Axis, ScanError> {
-            if !a.min.is_finite() || !a.max.is_finite() {
-                return Err(invalid(
-                    &format!("{key}.min/max"),
-                    format!("[{}, {}]", a.min, a.max),
-                    "finite bounds",
-                ));
-            }
             for (end, v) in [("min", a.min), ("max", a.max)] {
                 crate::bounds::state(&format!("{key}.{end}"), v, invalid)?;
             }

@@ -886,6 +886,27 @@ impl AtlasPlan {
                 p
             }
         };
+        if self.units == Units::Physical {
+            // The SI box and point, scaled by this point's units, must still be a box and
+            // a point the classifier can run from.
+            let s = self.settings_at(i);
+            let inv = |key: &str, value: String, expected: &str| {
+                invalid(
+                    path,
+                    key,
+                    value,
+                    &format!(
+                        "{expected}, in the model's units at parameter point {i} (lengths \
+                         scaled by [physical] m, k, mu_k, g)"
+                    ),
+                )
+            };
+            use crate::bounds::{Width, state, state_range};
+            state_range("disturbance.x", &s.disturbance.x, Width::Positive, &inv)?;
+            state_range("disturbance.v", &s.disturbance.v, Width::Positive, &inv)?;
+            state("operating_point.x", s.operating.x, &inv)?;
+            state("operating_point.v", s.operating.v, &inv)?;
+        }
         if p.lambda <= 0.0 {
             return Err(name_err(
                 if self.units == Units::Physical {

@@ -1,0 +1,111 @@
+//! Hostile and careless command lines (issue "Hostile and careless input"): unbounded runs
+//! and flags whose errors did not name them are refused before any computing, and a
+//! picture cut short by a full disk is drawn again.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn squeal(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the squeal binary runs")
+}
+
+fn refused(o: Output, needle: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "should fail: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(
+        err.contains(needle),
+        "message should contain {needle:?}: {err}"
+    );
+}
+
+/// `--t-max nan` was written into a generated spec and reported as "TOML parse error at
+/// line 16 ... t_max = NaN", never naming the flag.
+#[test]
+fn a_nan_time_limit_names_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    refused(
+        squeal(d.path(), &["ulc", "--t-max", "nan"]),
+        "--t-max NaN: expected a finite time > 0",
+    );
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0.5,0.0\n").unwrap();
+    let o = squeal(
+        d.path(),
+        &[
+            "classify", "--ics", "ics.csv", "--out", "o.csv", "--t-max", "nan",
+        ],
+    );
+    refused(o, "--t-max NaN");
+}
+
+/// `ulc --r-max 1e300` reported "no unstable cycle" for Table 1 (which has one): the
+/// samples of the section search lay too far apart. The atlas spec's rule, naming the flag.
+#[test]
+fn an_absurd_search_range_names_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    refused(
+        squeal(d.path(), &["ulc", "--r-max", "1e300"]),
+        "`--r-max` = 1e300",
+    );
+    refused(
+        squeal(d.path(), &["ulc", "--rtol", "0.5"]),
+        "`--rtol` = 0.5",
+    );
+}
+
+/// Runs with no cap: `--verify-rays 1000000000`, `trajectory --dt 1e-12` or `--t-end 1e15`.
+#[test]
+fn unbounded_runs_are_refused_before_they_start() {
+    let d = tempfile::tempdir().unwrap();
+    refused(
+        squeal(d.path(), &["ulc", "--verify-rays", "1000000000"]),
+        "at most 10000 rays",
+    );
+    refused(
+        squeal(d.path(), &["trajectory", "--dt", "1e-12"]),
+        "1.000e15 steps, at most 1e10",
+    );
+    refused(
+        squeal(d.path(), &["trajectory", "--t-end", "1e15"]),
+        "2.000e17 steps, at most 1e10",
+    );
+}
+
+/// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and
+/// left it empty.
+#[test]
+fn an_empty_picture_is_drawn_again() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-2
+[grid]
+x0 = { min = 0.0, max = 2.0, count = 3 }
+v0 = { min = -1.0, max = 1.0, count = 3 }
+[classifier]
+t_max = 500.0
+[output]
+path = "b.h5"
+"#;
+    std::fs::write(d.path().join("b.toml"), spec).unwrap();
+    let o = squeal(d.path(), &["scan", "b.toml", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let png = d.path().join("b.png");
+    assert!(std::fs::metadata(&png).unwrap().len() > 8);
+    std::fs::write(&png, b"").unwrap();
+    let o = squeal(d.path(), &["scan", "b.toml", "--quiet"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && err.contains("drew the missing picture"),
+        "{err}"
+    );
+    assert!(
+        std::fs::metadata(&png).unwrap().len() > 8,
+        "still empty: {err}"
+    );
+}
