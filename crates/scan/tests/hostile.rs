@@ -216,3 +216,28 @@ fn one_key_of_a_point_or_box_takes_the_others_default() {
         (d.x, [-1.0, 1.0])
     );
 }
+
+/// Item 2, once the cycle is known: at nu = 5e-5 (Table 1 otherwise) the unstable cycle
+/// crosses the section at x' = 0.01845 (`squeal ulc --nu 5e-5`), so a ball of radius 0.01,
+/// within the spec's bound, reaches past half of it and is refused before any cell runs.
+#[test]
+fn a_fixed_point_ball_reaching_the_located_cycle_is_refused() {
+    let text = |fp: &str| {
+        SCAN.replace("nu = 1e-3", "nu = 5e-5").replace(
+            "[output]",
+            &format!("[classifier]\nfp_radius = {fp}\n[output]"),
+        )
+    };
+    let wide = Plan::from_toml(&text("0.01"), "t.toml").unwrap();
+    let e = match squeal_scan::MapContext::prepare(&wide, 0) {
+        Ok(_) => panic!("a ball of 0.01 inside a cycle at 0.018 was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert_names(
+        &e,
+        "classifier.fp_radius",
+        "at most half its section crossing",
+    );
+    let small = Plan::from_toml(&text("1e-3"), "t.toml").unwrap();
+    assert!(squeal_scan::MapContext::prepare(&small, 0).is_ok());
+}
