@@ -183,7 +183,100 @@ struct Counts {
     warned: usize,
 }
 
-/// Random byte flips and truncations of a journal of 12 records of random sizes: every
+/// A journal of 12 records of random sizes written through the writer, as read back.
+fn write_base(path: &std::path::Path, k: usize, rng: &mut Mix) -> Base {
+    let _ = std::fs::remove_file(path);
+    let header = journal::Header {
+        owner: Owner::Scan,
+        spec: format!("spec {k}"),
+        shard: String::new(),
+    };
+    let mut j = Journal::create(path, &header).unwrap();
+    let mut written = Vec::new();
+    for _ in 0..12 {
+        let len = rng.below(300);
+        // Payloads that hold the frame's magic make resynchronisation harder.
+        let payload: Vec<u8> = (0..len)
+            .map(|i| {
+                if i % 50 < 4 {
+                    b"SQJR"[i % 50]
+                } else {
+                    rng.next() as u8
+                }
+            })
+            .collect();
+        written.push((j.append(KIND_BLOCK, &payload).unwrap(), payload));
+    }
+    drop(j);
+    (written, std::fs::read(path).unwrap())
+}
+
+/// `bytes` after the header with one to three bits flipped and, one time in three, cut
+/// short; returns the flipped positions.
+fn damage(bytes: &mut Vec<u8>, header_end: usize, rng: &mut Mix) -> Vec<usize> {
+    let mut hit = Vec::new();
+    for _ in 0..1 + rng.below(3) {
+        // Damage after the header (a damaged header is refused, tested above).
+        let at = header_end + rng.below(bytes.len() - header_end);
+        bytes[at] ^= 1 << rng.below(8);
+        hit.push(at);
+    }
+    if rng.below(3) == 0 {
+        bytes.truncate(header_end + rng.below(bytes.len() - header_end));
+    }
+    hit
+}
+
+/// The whole frame of a record: from `SQJR` to the end of its checksum.
+fn frame(r: &Rec) -> (usize, usize) {
+    (
+        r.offset as usize - 9,
+        r.offset as usize + r.len as usize + 8,
+    )
+}
+
+/// Counts what a reading of the damaged `bytes` did with each record `written`.
+fn tally(
+    n: &mut Counts,
+    written: &[(Rec, Vec<u8>)],
+    bytes: &[u8],
+    hit: &[usize],
+    read: &[Rec],
+    warned: bool,
+) {
+    n.cases += 1;
+    n.warned += warned as usize;
+    for (r, _) in written {
+        let (a, b) = frame(r);
+        if a >= bytes.len() {
+            // Cut off whole at a frame boundary: the file reads as one whose run stopped
+            // before this record (as after a kill), nothing to warn about.
+            n.cut_whole += 1;
+            continue;
+        }
+        let intact = b <= bytes.len() && !hit.iter().any(|&h| (a..b).contains(&h));
+        let back = read.iter().any(|x| x.offset == r.offset && x.len == r.len);
+        n.records_damaged += !intact as usize;
+        match (intact, back) {
+            (true, false) => n.intact_lost += 1,
+            (false, false) if !warned => n.dropped_silently += 1,
+            (_, true) => n.records_kept += 1,
+            _ => {}
+        }
+    }
+    // Everything read back is a record as written, byte for byte.
+    for x in read {
+        let (a, b) = frame(x);
+        let same = written
+            .iter()
+            .any(|(r, p)| r.offset == x.offset && *p == bytes[x.offset as usize..b - 8]);
+        if !same || hit.iter().any(|&h| (a..b).contains(&h)) {
+            n.corrupt_through += 1;
+        }
+    }
+}
+
+/// Random byte flips and truncations of journals of 12 records of random sizes: every
 /// record left intact is read back, every record read back is one that was written, and a
 /// record that is lost comes with a warning.
 #[test]
@@ -192,102 +285,26 @@ fn fuzzed_journals_lose_only_damaged_records_and_say_so() {
     let path = dir.path().join("f.journal");
     let mut rng = Mix(19);
     let mut n = Counts::default();
-    // Twenty journals written through the writer (each append is fsynced, so they are
-    // made once), each damaged in 75 ways.
-    let bases: Vec<Base> = (0..20)
-        .map(|k| {
-            let _ = std::fs::remove_file(&path);
-            let header = journal::Header {
-                owner: Owner::Scan,
-                spec: format!("spec {k}"),
-                shard: String::new(),
-            };
-            let mut j = Journal::create(&path, &header).unwrap();
-            let mut written = Vec::new();
-            for _ in 0..12 {
-                let len = rng.below(300);
-                // Payloads that hold the frame's magic make resynchronisation harder.
-                let payload: Vec<u8> = (0..len)
-                    .map(|i| {
-                        if i % 50 < 4 {
-                            b"SQJR"[i % 50]
-                        } else {
-                            rng.next() as u8
-                        }
-                    })
-                    .collect();
-                written.push((j.append(KIND_BLOCK, &payload).unwrap(), payload));
-            }
-            drop(j);
-            (written, std::fs::read(&path).unwrap())
-        })
-        .collect();
+    // Twenty journals (each append is fsynced, so they are written once), each damaged in
+    // 75 ways.
+    let bases: Vec<Base> = (0..20).map(|k| write_base(&path, k, &mut rng)).collect();
     for case in 0..1500 {
         let (written, base) = &bases[case % bases.len()];
         let mut bytes = base.clone();
         let header_end = written[0].0.offset as usize - 9;
-        let mut hit = Vec::new();
-        for _ in 0..1 + rng.below(3) {
-            // Damage after the header (a damaged header is refused, tested above).
-            let at = header_end + rng.below(bytes.len() - header_end);
-            bytes[at] ^= 1 << rng.below(8);
-            hit.push(at);
-        }
-        if rng.below(3) == 0 {
-            bytes.truncate(header_end + rng.below(bytes.len() - header_end));
-        }
+        let hit = damage(&mut bytes, header_end, &mut rng);
         std::fs::write(&path, &bytes).unwrap();
-        let (_, _, read, damage) = Journal::open_counted(&path, Owner::Scan).unwrap();
-        n.cases += 1;
-        let frame = |r: &Rec| {
-            (
-                r.offset as usize - 9,
-                r.offset as usize + r.len as usize + 8,
-            )
-        };
-        for (r, _) in written {
-            let (a, b) = frame(r);
-            if a >= bytes.len() {
-                // Cut off whole at a frame boundary: the file reads as one whose run
-                // stopped before this record (as after a kill), nothing to warn about.
-                n.cut_whole += 1;
-                continue;
-            }
-            let intact = b <= bytes.len() && !hit.iter().any(|&h| (a..b).contains(&h));
-            let back = read.iter().any(|x| x.offset == r.offset && x.len == r.len);
-            n.records_damaged += !intact as usize;
-            match (intact, back) {
-                (true, false) => n.intact_lost += 1,
-                (false, false) if damage.warning(&path).is_none() => n.dropped_silently += 1,
-                (_, true) => n.records_kept += 1,
-                _ => {}
-            }
-        }
-        // Everything read back is a record as written, byte for byte.
-        for x in &read {
-            let (a, b) = frame(x);
-            let same = written
-                .iter()
-                .any(|(r, p)| r.offset == x.offset && *p == bytes[x.offset as usize..b - 8]);
-            if !same || hit.iter().any(|&h| (a..b).contains(&h)) {
-                n.corrupt_through += 1;
-            }
-        }
-        n.warned += damage.warning(&path).is_some() as usize;
+        let (_, _, read, skipped) = Journal::open_counted(&path, Owner::Scan).unwrap();
+        let warned = skipped.warning(&path).is_some();
+        tally(&mut n, written, &bytes, &hit, &read, warned);
         // The file is cut after the last good record: appends continue from a clean end.
         let end = read.last().map_or(header_end, |r| frame(r).1);
-        assert_eq!(
-            std::fs::metadata(&path).unwrap().len() as usize,
-            end,
-            "case {case}"
-        );
+        let len = std::fs::metadata(&path).unwrap().len() as usize;
+        assert_eq!(len, end, "case {case}");
     }
     eprintln!("journal fuzz: {n:?}");
-    assert_eq!(
-        (n.intact_lost, n.dropped_silently, n.corrupt_through),
-        (0, 0, 0),
-        "{n:?}"
-    );
+    let failures = (n.intact_lost, n.dropped_silently, n.corrupt_through);
+    assert_eq!(failures, (0, 0, 0), "{n:?}");
     assert!(
         n.records_damaged > 1000 && n.warned > 1000,
         "the fuzz damages records: {n:?}"
