@@ -427,7 +427,10 @@ impl ClassifierSpec {
             return Err(invalid(
                 "classifier.t_max",
                 classifier.t_max.to_string(),
-                "at most 1e10 steps per run (t_max / dt)",
+                &format!(
+                    "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
+                    classifier.t_max / dt
+                ),
             ));
         }
         let trap_margin = c.trap_margin.unwrap_or(squeal_core::defaults::TRAP_MARGIN);

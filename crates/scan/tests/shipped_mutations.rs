@@ -5,6 +5,7 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use proptest::strategy::Strategy;
 use squeal_scan::Plan;
 use squeal_scan::atlas::AtlasPlan;
 use toml::Value;
@@ -45,7 +46,8 @@ fn at<'a>(v: &'a mut Value, path: &[Step]) -> &'a mut Value {
     })
 }
 
-/// Whether a refusal names the value at `path`: its dotted key (`grid.x0.min`), the key
+/// Whether a refusal names the value at `path`: its dotted key (`grid.x0.min`, also where a
+/// bound on another key depends on it: `t_max / integration.dt`), the key
 /// above it (an axis or range checked as a whole: `grid.x0`, `model.nu`), or the TOML line
 /// (`count = 1e308`, quoted by a type error). A physical parameter may also be named as
 /// a word of the message about a physical quantity it sets (the formula of lambda, nu or
@@ -64,12 +66,14 @@ fn names_it(path: &[Step], msg: &str) -> bool {
     let word = msg
         .split(|c: char| !(c.is_alphanumeric() || c == '_'))
         .any(|w| w == leaf || keys.len() > 2 && w == keys[keys.len() - 2]);
-    msg.contains(&format!("`{dotted}"))
+    msg.contains(&dotted)
         || (keys.len() > 2 && msg.contains(&format!("`{parent}")))
         || msg.contains(&format!("{leaf} = "))
         // The nondimensional value a physical key sets, named with its formula
         // (`physical.v_belt (lambda = v_B sqrt(k/m) / (mu_k g))`), or the box it scales.
         || (keys[0] == "physical" && msg.contains("physical") && word)
+        // Too many parameter points: the swept keys are listed with their value counts.
+        || (keys.len() > 1 && msg.contains("parameter points") && msg.contains(&format!("{}: ", keys[1])))
 }
 
 /// Why an accepted scan plan is wrong, if it is.
@@ -150,8 +154,16 @@ struct Counts {
     panics: usize,
 }
 
-#[test]
-fn every_number_of_every_shipped_spec_mutated() {
+/// A shipped spec: its file name, whether it is an atlas spec, its TOML and the paths to
+/// its numbers.
+struct Shipped {
+    name: String,
+    atlas: bool,
+    spec: Value,
+    paths: Vec<Vec<Step>>,
+}
+
+fn shipped() -> Vec<Shipped> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scans");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -159,6 +171,70 @@ fn every_number_of_every_shipped_spec_mutated() {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     files.sort();
+    files
+        .iter()
+        .map(|file| {
+            let name = file.file_name().unwrap().to_string_lossy().into_owned();
+            let spec: Value = toml::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+            let mut paths = Vec::new();
+            numbers(&spec, &mut Vec::new(), &mut paths);
+            Shipped {
+                atlas: name.starts_with("atlas-"),
+                name,
+                spec,
+                paths,
+            }
+        })
+        .collect()
+}
+
+/// Sets the number at `path` of spec `sh` to `m`, checks the spec, counts the outcome in
+/// `n` and returns the problem, if any. On a float key an integer is written as a float
+/// (an integer there is a type error, which says nothing about the bounds).
+fn judge(sh: &Shipped, path: &[Step], m: &Value, n: &mut Counts) -> Option<String> {
+    let was_float = matches!(at(&mut sh.spec.clone(), path), Value::Float(_));
+    let m = match (m, was_float) {
+        (Value::Integer(i), true) => Value::Float(*i as f64),
+        (m, _) => m.clone(),
+    };
+    let mut s = sh.spec.clone();
+    *at(&mut s, path) = m.clone();
+    let text = toml::to_string(&s).unwrap();
+    n.cases += 1;
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if sh.atlas {
+            AtlasPlan::from_toml(&text, &sh.name).map(|p| atlas_wrong(&p))
+        } else {
+            Plan::from_toml(&text, &sh.name).map(|p| scan_wrong(&p))
+        }
+    }));
+    let case = format!("{} {path:?} = {m}", sh.name);
+    match outcome {
+        Err(_) => {
+            n.panics += 1;
+            Some(format!("panic: {case}"))
+        }
+        Ok(Err(e)) if names_it(path, &e.to_string()) => {
+            n.refused_naming_the_key += 1;
+            None
+        }
+        Ok(Err(e)) => {
+            n.refused_unclear += 1;
+            Some(format!("unclear: {case}: {e}"))
+        }
+        Ok(Ok(None)) => {
+            n.accepted += 1;
+            None
+        }
+        Ok(Ok(Some(why))) => {
+            n.wrong += 1;
+            Some(format!("wrong: {case}: {why}"))
+        }
+    }
+}
+
+#[test]
+fn every_number_of_every_shipped_spec_mutated() {
     let mutations = [
         Value::Integer(0),
         Value::Integer(-1),
@@ -169,56 +245,11 @@ fn every_number_of_every_shipped_spec_mutated() {
     ];
     let mut n = Counts::default();
     let mut problems = Vec::new();
-    for file in &files {
-        let name = file.file_name().unwrap().to_string_lossy().into_owned();
-        let atlas = name.starts_with("atlas-");
-        let spec: Value = toml::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
-        let mut paths = Vec::new();
-        numbers(&spec, &mut Vec::new(), &mut paths);
+    for sh in &shipped() {
         n.specs += 1;
-        n.numbers += paths.len();
-        for path in &paths {
-            let was_float = matches!(at(&mut spec.clone(), path), Value::Float(_));
-            for m in &mutations {
-                // On a float key 0 and -1 are written as floats (an integer there is a
-                // type error, which says nothing about the bounds).
-                let m = match (m, was_float) {
-                    (Value::Integer(i), true) => Value::Float(*i as f64),
-                    (m, _) => m.clone(),
-                };
-                let mut s = spec.clone();
-                *at(&mut s, path) = m.clone();
-                let text = toml::to_string(&s).unwrap();
-                n.cases += 1;
-                let outcome = catch_unwind(AssertUnwindSafe(|| {
-                    if atlas {
-                        AtlasPlan::from_toml(&text, &name).map(|p| atlas_wrong(&p))
-                    } else {
-                        Plan::from_toml(&text, &name).map(|p| scan_wrong(&p))
-                    }
-                }));
-                let case = format!("{name} {path:?} = {m}");
-                match outcome {
-                    Err(_) => {
-                        n.panics += 1;
-                        problems.push(format!("panic: {case}"));
-                    }
-                    Ok(Err(e)) => {
-                        let msg = e.to_string();
-                        if names_it(path, &msg) {
-                            n.refused_naming_the_key += 1;
-                        } else {
-                            n.refused_unclear += 1;
-                            problems.push(format!("unclear: {case}: {msg}"));
-                        }
-                    }
-                    Ok(Ok(None)) => n.accepted += 1,
-                    Ok(Ok(Some(why))) => {
-                        n.wrong += 1;
-                        problems.push(format!("wrong: {case}: {why}"));
-                    }
-                }
-            }
+        n.numbers += sh.paths.len();
+        for path in &sh.paths {
+            problems.extend(mutations.iter().filter_map(|m| judge(sh, path, m, &mut n)));
         }
     }
     eprintln!("shipped spec mutations: {n:?}");
@@ -232,4 +263,32 @@ fn every_number_of_every_shipped_spec_mutated() {
         problems.len(),
         problems[0]
     );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        // Reproduce from the printed input: no regression file next to the test.
+        failure_persistence: None,
+        ..proptest::prelude::ProptestConfig::with_cases(2000)
+    })]
+    /// Any float or integer at any number of any shipped spec: refused naming the key, or
+    /// accepted with finite derived numbers; never a panic.
+    #[test]
+    fn any_value_at_any_number_of_a_shipped_spec(
+        spec in 0usize..1000,
+        key in 0usize..1000,
+        value in proptest::prop_oneof![
+            proptest::num::f64::ANY.prop_map(Value::Float),
+            proptest::num::i64::ANY.prop_map(Value::Integer),
+            (-1e7f64..1e7).prop_map(Value::Float),
+            (-100i64..100_000).prop_map(Value::Integer),
+        ],
+    ) {
+        use proptest::prop_assert;
+        let all = shipped();
+        let sh = &all[spec % all.len()];
+        let path = &sh.paths[key % sh.paths.len()];
+        let problem = judge(sh, path, &value, &mut Counts::default());
+        prop_assert!(problem.is_none(), "{}", problem.unwrap_or_default());
+    }
 }

@@ -552,10 +552,15 @@ impl AtlasPlan {
             .try_fold(1usize, |acc, n| acc.checked_mul(n))
             .unwrap_or(usize::MAX);
         if n > MAX_POINTS {
+            let counts: Vec<String> = params
+                .iter()
+                .filter(|a| a.values.len() > 1)
+                .map(|a| format!("{}: {} values", a.key, a.values.len()))
+                .collect();
             return Err(invalid(
                 path,
                 "model",
-                format!("{n} parameter points"),
+                format!("{n} parameter points ({})", counts.join(", ")),
                 "at most 1000000 points (the product of the value counts)",
             ));
         }
