@@ -13,7 +13,8 @@ use super::{common, model::SetupArgs};
 pub struct Args {
     #[command(flatten)]
     pub setup: SetupArgs,
-    /// Largest section amplitude searched.
+    /// Largest section amplitude searched: at most 1e6, and close enough to 0.01 that the
+    /// 96 log-spaced samples lie within a factor 1.25 of each other (docs/atlas-spec.md).
     #[arg(long, default_value_t = 6.0)]
     pub r_max: f64,
     /// Relative bracket width at which the bisection stops.

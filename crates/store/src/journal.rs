@@ -16,7 +16,9 @@
 //! Reading checks every record's checksum. A corrupt or short record is skipped and the
 //! reader resynchronises on the next record that checks out, so one damaged record loses
 //! only itself; the skipped bytes are reported on stderr with the number of records kept
-//! after them. Bytes after the last good record (a write torn by a kill) are cut off.
+//! after them. Bytes after the last good record (a write torn by a kill) are cut off; a
+//! damaged stretch between good records stays in the file (rewriting the journal could lose
+//! it all to a crash), so each later resume skips it and warns again.
 
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
