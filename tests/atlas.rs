@@ -430,10 +430,7 @@ fn resume_after_a_kill_gives_the_same_file() {
     // Wait for the header and at least one unit, then kill without warning.
     let t0 = std::time::Instant::now();
     loop {
-        let lines = std::fs::read_to_string(&journal)
-            .map(|s| s.lines().count())
-            .unwrap_or(0);
-        if lines >= 2 || t0.elapsed().as_secs() > 120 {
+        if records_in(&journal, b'U') >= 1 || t0.elapsed().as_secs() > 120 {
             break;
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
@@ -450,7 +447,8 @@ fn resume_after_a_kill_gives_the_same_file() {
         .append(true)
         .open(&journal)
         .unwrap();
-    j.write_all(b"{\"line\": 1, \"poi").unwrap();
+    j.write_all(b"SQJRU\x40\x00\x00\x00{\"line\": 1, \"poi")
+        .unwrap();
     drop(j);
     // A second run without --resume is refused.
     refused(squeal(dir.path(), &["atlas", "grid.toml"]), "--resume");
@@ -463,6 +461,23 @@ fn resume_after_a_kill_gives_the_same_file() {
         assert_eq!(read_f64(&a, name), read_f64(&b, name), "{name}");
     }
     assert!(!journal.exists());
+}
+
+/// Complete records of `kind` in a journal. Frames are `SQJR`, a kind byte (`A` the atlas
+/// header, `U` a unit, `B` a map block, `C` a map's cycle search), a little-endian u32
+/// length, the payload and an 8-byte checksum (crates/store/src/journal.rs).
+fn records_in(journal: &Path, kind: u8) -> usize {
+    let b = std::fs::read(journal).unwrap_or_default();
+    let (mut at, mut n) = (0usize, 0usize);
+    while at + 9 <= b.len() && &b[at..at + 4] == b"SQJR" {
+        let len = u32::from_le_bytes(b[at + 5..at + 9].try_into().unwrap()) as usize;
+        if at + 9 + len + 8 > b.len() {
+            break;
+        }
+        n += (b[at + 4] == kind) as usize;
+        at += 9 + len + 8;
+    }
+    n
 }
 
 /// Table 1 at Figs 9 and 10 (nu = 1e-3, 1e-2) with a small basin map per point over the
@@ -709,16 +724,9 @@ fn killed_maps_resume_to_the_same_file_and_the_output_is_locked() {
         .current_dir(dir.path())
         .spawn()
         .unwrap();
-    // Journal lines are JSON; a map block is `{"block": [point, block], ...}`
-    // (crates/store/src/atlas.rs). Wait for one, then kill without warning.
+    // Wait for a map block record (kind `B`), then kill without warning.
     let journal = dir.path().join("cut.h5.journal");
-    let blocks_in = || {
-        std::fs::read_to_string(&journal)
-            .unwrap_or_default()
-            .lines()
-            .filter(|l| l.starts_with("{\"block\""))
-            .count()
-    };
+    let blocks_in = || records_in(&journal, b'B');
     let t0 = std::time::Instant::now();
     while blocks_in() == 0 && t0.elapsed().as_secs() < 300 {
         std::thread::sleep(std::time::Duration::from_millis(10));

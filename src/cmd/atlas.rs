@@ -74,7 +74,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 std::process::exit(130);
             }
             eprintln!(
-                "\nsqueal: stopping after the units in flight (Ctrl-C again to quit at once)"
+                "\nsqueal: stopping after the units and map blocks in flight (signal again to quit at once)"
             );
         })
         .context("installing the Ctrl-C handler")?;

@@ -25,6 +25,25 @@ pub fn check_new(path: &Path, force: bool, what: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Whether `path` holds a picture: a file that starts with the PNG signature and holds
+/// more than it. A full disk left a 0-byte PNG that a rerun reported "up to date"; such a
+/// file is drawn again.
+pub fn is_drawn(path: &Path) -> bool {
+    use std::io::Read;
+    const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
+    let mut head = [0u8; 9];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok_and(|_| head[..8] == SIGNATURE)
+}
+
+/// The error of a drawing, with the picture it left removed (a full disk left a 0-byte or
+/// cut PNG).
+fn discard(png: &Path, e: impl Into<anyhow::Error>) -> anyhow::Error {
+    let _ = std::fs::remove_file(png);
+    e.into().context(format!("drawing {}", png.display()))
+}
+
 /// `out` with its extension replaced and an optional suffix on the stem.
 pub fn sibling(out: &Path, suffix: &str, ext: &str) -> PathBuf {
     let stem = out
@@ -130,8 +149,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         let info = squeal_store::read_info(h5)?;
         let mut one = panel(&m);
         one.title = squeal_plot::map_title(&model_params(&info, 0));
-        squeal_plot::basin_map(png, &one, &classes)
-            .with_context(|| format!("drawing {}", png.display()))?;
+        squeal_plot::basin_map(png, &one, &classes).map_err(|e| discard(png, e))?;
         return Ok(vec![png.to_path_buf()]);
     }
     let size = sibling(png, "-cycle", "png");
@@ -162,8 +180,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         &param,
     );
     let ncols = (n as f64).sqrt().ceil() as usize;
-    squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols)
-        .with_context(|| format!("drawing {}", png.display()))?;
+    squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols).map_err(|e| discard(png, e))?;
     let summary = squeal_store::read_cycle_summary(h5)?;
     let xs: Vec<f64> = summary.iter().map(|s| s.0).collect();
     let curves = vec![
@@ -199,7 +216,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         param == "nu" || param == "xi",
         "no unstable cycle located",
     )
-    .with_context(|| format!("drawing {}", size.display()))?;
+    .map_err(|e| discard(&size, e))?;
     Ok(vec![png.to_path_buf(), size])
 }
 

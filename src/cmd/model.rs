@@ -182,6 +182,11 @@ impl SetupArgs {
             None => {
                 let m = &self.model;
                 m.stepper()?;
+                // Checked here, not in the spec built below: a NaN would be written as
+                // `t_max = NaN`, which TOML refuses without naming the flag.
+                if !(self.t_max.is_finite() && self.t_max > 0.0) {
+                    bail!("--t-max {}: expected a finite time > 0", self.t_max);
+                }
                 let text = format!(
                     "version = 1\n[model]\n{}\
                      [grid]\nx0 = {{ min = 0.0, max = 0.0, count = 1 }}\nv0 = {{ min = 0.0, max = 0.0, count = 1 }}\n\

@@ -74,7 +74,7 @@ fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
 /// Draws the pictures of a finished file if any is missing; returns those drawn.
 fn draw_missing(out: &Path, maps: usize, sample: bool) -> anyhow::Result<Vec<PathBuf>> {
     let pics = pictures(out, maps, sample);
-    if pics.iter().all(|p| p.exists()) {
+    if pics.iter().all(|p| common::is_drawn(p)) {
         return Ok(Vec::new());
     }
     common::render_file(out, &pics[0], true)

@@ -241,6 +241,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             args.t_end
         );
     }
+    if args.t_end / stepper.dt() > squeal_scan::bounds::MAX_STEPS {
+        bail!(
+            "--t-end {:?} with --dt {:?}: {:.3e} steps, at most 1e10 (about 40 minutes at 250 ns \
+             per step): lower --t-end or raise --dt",
+            args.t_end,
+            stepper.dt(),
+            args.t_end / stepper.dt()
+        );
+    }
     if args.every == 0 {
         bail!("--every: invalid every = 0: expected a decimation factor >= 1");
     }

@@ -14,7 +14,8 @@ use super::{common, model::SetupArgs};
 pub struct Args {
     #[command(flatten)]
     pub setup: SetupArgs,
-    /// Largest section amplitude searched.
+    /// Largest section amplitude searched: at most 1e6, and close enough to 0.01 that the
+    /// 96 log-spaced samples lie within a factor 1.25 of each other (docs/atlas-spec.md).
     #[arg(long, default_value_t = 6.0)]
     pub r_max: f64,
     /// Relative bracket width at which the bisection stops.
@@ -46,13 +47,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
     let plan = &setup.plan;
     let params = plan.maps[setup.map];
-    if !(args.r_max.is_finite() && args.r_max > 0.02) {
-        bail!("--r-max {}: expected a finite amplitude > 0.02", args.r_max);
-    }
-    if !(args.rtol.is_finite() && args.rtol > 0.0 && args.rtol < 0.1) {
+    if args.verify_rays > squeal_scan::bounds::MAX_RAYS {
         bail!(
-            "--rtol {}: expected a relative width in (0, 0.1)",
-            args.rtol
+            "--verify-rays {}: expected at most {} rays (one every 0.036 degrees, finer than \
+             the curve's samples)",
+            args.verify_rays,
+            squeal_scan::bounds::MAX_RAYS
         );
     }
     if !(args.verify_eps > 0.0 && args.verify_eps < 0.5) {
@@ -70,6 +70,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         check_half_dt: !args.no_half_dt,
         ..Default::default()
     };
+    // The atlas spec's `[cycle]` rules, naming the flags.
+    squeal_scan::bounds::cycle_search(
+        &cs,
+        &|k| format!("--{}", k.replace('_', "-")),
+        &|key, value, expected| squeal_scan::ScanError::Invalid {
+            path: "command line".into(),
+            key: key.into(),
+            value,
+            expected: expected.into(),
+        },
+    )?;
     let t0 = std::time::Instant::now();
     let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
     let seconds = t0.elapsed().as_secs_f64();

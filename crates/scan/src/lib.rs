@@ -48,6 +48,7 @@
 
 pub mod atlas;
 pub mod basin;
+pub mod bounds;
 pub mod cell;
 pub mod checks;
 pub mod compare;

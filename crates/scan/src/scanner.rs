@@ -238,6 +238,9 @@ impl MapContext {
             let mut stats = Default::default();
             let mut returns = 0;
             let found = section::section_cycles(&stepper, &cs, &mut stats, &mut returns);
+            if let SectionCycles::Unstable { lo, .. } = found {
+                crate::bounds::fp_radius_inside(classifier.fp_radius, lo, map)?;
+            }
             // Outside the unstable cycle a run ends on a self-excited oscillation (bounded
             // friction, nu > 0: nothing escapes to infinity, and an attracting cycle out
             // there is stick-slip) unless it falls back inside: where a sampled start does

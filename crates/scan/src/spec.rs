@@ -163,8 +163,9 @@ enum SampleKind {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 struct RegionSpec {
-    x0: [f64; 2],
-    v0: [f64; 2],
+    // Lists, not `[f64; 2]`: a third element is refused by the check, not dropped.
+    x0: Vec<f64>,
+    v0: Vec<f64>,
 }
 
 #[derive(Deserialize, Debug)]
@@ -273,19 +274,41 @@ struct OutputSpec {
     path: PathBuf,
 }
 
+/// Largest spec file read, in bytes. The shipped specs are under 3 kB; a spec is a few
+/// tables of numbers. The cap keeps a wrong path (`/dev/zero`, a data file) from filling
+/// memory: reading `/dev/zero` grew by about 250 MB/s until killed.
+pub const MAX_SPEC_BYTES: u64 = 1 << 20;
+
+/// Reads a spec file (scan or atlas) of at most [`MAX_SPEC_BYTES`].
+pub(crate) fn read_spec(path: &std::path::Path) -> Result<String, ScanError> {
+    use std::io::Read;
+    let parse = |message: String| ScanError::Parse {
+        path: path.display().to_string(),
+        message,
+    };
+    let file =
+        std::fs::File::open(path).map_err(|e| parse(format!("cannot read the spec: {e}")))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SPEC_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| parse(format!("cannot read the spec: {e}")))?;
+    if bytes.len() as u64 > MAX_SPEC_BYTES {
+        return Err(parse(format!(
+            "longer than {MAX_SPEC_BYTES} bytes: not a spec (a spec is a few tables of numbers)"
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| parse(format!("not UTF-8 text: {e}")))
+}
+
 /// A spec error: the key, the value found, what was expected.
-pub(crate) type Invalid<'a> = &'a dyn Fn(&str, String, &str) -> ScanError;
+pub type Invalid<'a> = &'a dyn Fn(&str, String, &str) -> ScanError;
 
 impl GridSpec {
     /// The checked grid; errors name `grid.<key>`.
     pub(crate) fn check(&self, invalid: Invalid) -> Result<Grid, ScanError> {
         let axis = |a: &AxisSpec, key: &str| -> Result<Axis, ScanError> {
-            if !a.min.is_finite() || !a.max.is_finite() {
-                return Err(invalid(
-                    &format!("{key}.min/max"),
-                    format!("[{}, {}]", a.min, a.max),
-                    "finite bounds",
-                ));
+            for (end, v) in [("min", a.min), ("max", a.max)] {
+                crate::bounds::state(&format!("{key}.{end}"), v, invalid)?;
             }
             if a.count < 1 || a.count > MAX_AXIS {
                 return Err(invalid(
@@ -306,6 +329,14 @@ impl GridSpec {
                     key,
                     format!("[{}, {}]", a.min, a.max),
                     "an empty range holds one value: use count = 1 or widen it",
+                ));
+            }
+            if a.min != a.max && a.count == 1 {
+                // One point cannot stand for a range: `max` would be ignored.
+                return Err(invalid(
+                    &format!("{key}.count"),
+                    format!("1 on [{}, {}]", a.min, a.max),
+                    "count >= 2 for a range, or min = max for a single value",
                 ));
             }
             Ok(Axis {
@@ -384,11 +415,22 @@ impl ClassifierSpec {
             } => invalid(&format!("classifier.{name}"), value.to_string(), expected),
             other => invalid("classifier", String::new(), &other.to_string()),
         })?;
-        if classifier.t_max / dt > 1e10 {
+        if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
+            return Err(invalid(
+                "classifier.fp_radius",
+                classifier.fp_radius.to_string(),
+                "a radius in (0, 0.01]: the ball must lie inside the unstable cycle, below the \
+                 cycle search's first sample",
+            ));
+        }
+        if classifier.t_max / dt > crate::bounds::MAX_STEPS {
             return Err(invalid(
                 "classifier.t_max",
                 classifier.t_max.to_string(),
-                "at most 1e10 steps per run (t_max / dt)",
+                &format!(
+                    "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
+                    classifier.t_max / dt
+                ),
             ));
         }
         let trap_margin = c.trap_margin.unwrap_or(squeal_core::defaults::TRAP_MARGIN);
@@ -485,12 +527,7 @@ impl Plan {
 
     /// Reads and checks a spec file.
     pub fn from_file(path: &std::path::Path) -> Result<Plan, ScanError> {
-        let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ScanError::Parse {
-            path: shown.clone(),
-            message: format!("cannot read the spec: {e}"),
-        })?;
-        Plan::from_toml(&text, &shown)
+        Plan::from_toml(&read_spec(path)?, &path.display().to_string())
     }
 
     /// Parses and checks spec text; `path` is used in messages and for the default name.
@@ -631,29 +668,17 @@ impl Plan {
                         "a sample count in 1..=2^26",
                     ));
                 }
-                let bound = |b: [f64; 2], key: &str| -> Result<Axis, ScanError> {
-                    if !b[0].is_finite() || !b[1].is_finite() {
-                        return Err(invalid(
-                            key,
-                            format!("[{}, {}]", b[0], b[1]),
-                            "finite bounds [min, max]",
-                        ));
-                    }
-                    if b[0] > b[1] {
-                        return Err(invalid(
-                            key,
-                            format!("[{}, {}]", b[0], b[1]),
-                            "min <= max (the range is inverted)",
-                        ));
-                    }
-                    Ok(Axis {
-                        min: b[0],
-                        max: b[1],
-                        count: 1,
-                    })
+                let bound = |b: &[f64], key: &str| -> Result<Axis, ScanError> {
+                    let [min, max] = crate::bounds::state_range(
+                        key,
+                        b,
+                        crate::bounds::Width::MayBeEmpty,
+                        &invalid,
+                    )?;
+                    Ok(Axis { min, max, count: 1 })
                 };
-                let x0 = bound(ss.region.x0, "sample.region.x0")?;
-                let mut v0 = bound(ss.region.v0, "sample.region.v0")?;
+                let x0 = bound(&ss.region.x0, "sample.region.x0")?;
+                let mut v0 = bound(&ss.region.v0, "sample.region.v0")?;
                 v0.count = ss.n as usize;
                 let block = ss.block.unwrap_or(DEFAULT_SAMPLE_BLOCK);
                 if !(1..=MAX_AXIS).contains(&block) {
@@ -766,10 +791,24 @@ impl Plan {
     /// `t_max`, at up to about 250 ns per step with the robust solver, "Time per step").
     /// An order of magnitude, not a promise: cells near the boundary and off-paper
     /// parameters take longer.
+    ///
+    /// With early stopping the rate is scaled by the surfaces' time `tau` relative to the
+    /// paper's (McMillan's laws): a run settles over a few of the slowest times of the
+    /// model, and with `tau = 1e300` a 4-row block took 20 s where the rate promised
+    /// "roughly 0 s". No cell costs more than its run to `t_max`, the bound used then.
     pub fn estimate_seconds(&self, cells: usize, threads: usize) -> f64 {
+        let to_t_max = (self.classifier.t_max / self.dt) * 250e-9;
         let per_cell = match self.early_stop {
-            EarlyStop::Cycle => 2.0 / 25_000.0,
-            EarlyStop::None => (self.classifier.t_max / self.dt) * 250e-9,
+            EarlyStop::Cycle => {
+                let slowest = self
+                    .maps
+                    .iter()
+                    .filter(|p| !p.law.has_true_stick())
+                    .map(|p| p.tau / squeal_core::defaults::TAU)
+                    .fold(1.0f64, f64::max);
+                (2.0 / 25_000.0 * slowest).min(to_t_max)
+            }
+            EarlyStop::None => to_t_max,
         };
         cells as f64 * per_cell / threads.max(1) as f64
     }
@@ -920,7 +959,7 @@ path = "x.h5"
             (SAMPLED.replace("n = 50", "n = -5"), "sample.n"),
             (
                 SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [2.0, -2.0]"),
-                "`sample.region.x0` = [2, -2]: min <= max (the range is inverted)",
+                "`sample.region.x0` = [2.0, -2.0]: min <= max (the range is inverted)",
             ),
             (
                 SAMPLED.replace("v0 = [0.0, 2.0]", "v0 = [nan, 2.0]"),

@@ -2,12 +2,12 @@
 //! shards.
 //!
 //! ## Journal `<out>.journal`
-//! JSON lines, fsynced after each: a header `{"schema", "spec", "shard"}`, then one line per
-//! finished unit (a line of points or a boundary search), the figures as arrays in the
-//! order of [`squeal_scan::atlas::columns`] (NaN as `null`). With maps, also one line per
-//! finished map block `{"block": [point, block], "cells": hex}` (the scan journal's binary
-//! block, exact) and per cycle search `{"map_cycle": point, "record": TOML}`. A torn last
-//! line (a kill during the write) is dropped on resume. While a writer lives it holds the
+//! The scan's journal (`crate::journal`: checksummed binary records, fsynced after each,
+//! corrupt records skipped with a warning on resume) with an atlas header (kind `A`, the
+//! spec text and shard) and one record per finished unit (kind `U`: a line of points or a
+//! boundary search as the JSON of [`unit_json`], the figures as arrays in the order of
+//! [`squeal_scan::atlas::columns`], NaN as `null`). With maps, also the scan's block (`B`,
+//! the map index being the point) and cycle (`C`) records. While a writer lives it holds the
 //! [`OutputLock`] `<out>.lock` (as the scan does), so two runs never write the same file; a
 //! lock left by a dead process is taken over; `--resume` reopens the journal.
 //!
@@ -67,7 +67,6 @@
 //! ```
 
 use std::collections::{BTreeMap, HashSet};
-use std::io::{BufRead, Seek, Write};
 use std::path::{Path, PathBuf};
 
 use hdf5::types::VarLenUnicode;
@@ -89,6 +88,10 @@ use squeal_scan::ulc::CycleOutcome;
 
 use crate::error::{H5Ctx, io};
 use crate::h5write::{Dims, class_type, num_attr, str_attr};
+use crate::journal::{
+    Header, Journal, KIND_BLOCK, KIND_CYCLE, KIND_UNIT, Owner, decode_block, decode_cycle,
+    encode_block, encode_cycle,
+};
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
 /// The `schema` attribute of atlas files.
@@ -289,54 +292,6 @@ fn num(v: f64) -> Value {
     if v.is_finite() { json!(v) } else { Value::Null }
 }
 
-fn hex(b: &[u8]) -> String {
-    b.iter().map(|x| format!("{x:02x}")).collect()
-}
-
-fn unhex(s: &str) -> Option<Vec<u8>> {
-    if s.len() % 2 != 0 {
-        return None;
-    }
-    (0..s.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(s.get(i..i + 2)?, 16).ok())
-        .collect()
-}
-
-/// A map record of the journal: a block (`{"block": [point, block], "cells": hex}`, the
-/// cells in the scan journal's binary form, exact) or a cycle search (`{"map_cycle": point,
-/// "record": TOML}`, exact).
-enum MapRec {
-    Block(usize, usize, Vec<Cell>),
-    Cycle(usize, Box<Option<CycleOutcome>>),
-}
-
-fn block_json(point: usize, block: usize, cells: &[Cell]) -> Value {
-    json!({
-        "block": [point, block],
-        "cells": hex(&crate::journal::encode_block(point, block, cells)),
-    })
-}
-
-fn map_cycle_json(point: usize, c: Option<&CycleOutcome>) -> Value {
-    json!({
-        "map_cycle": point,
-        "record": crate::cycle::to_text(&c.cloned(), true),
-    })
-}
-
-fn map_rec_from_json(v: &Value) -> Option<MapRec> {
-    if let Some(b) = v.get("block") {
-        let (m, k) = (b.get(0)?.as_u64()? as usize, b.get(1)?.as_u64()? as usize);
-        let bytes = unhex(v.get("cells")?.as_str()?)?;
-        let (m2, k2, cells) = crate::journal::decode_block(&bytes)?;
-        return (m == m2 && k == k2).then_some(MapRec::Block(m, k, cells));
-    }
-    let m = v.get("map_cycle")?.as_u64()? as usize;
-    let rec = crate::cycle::from_text(v.get("record")?.as_str()?, None).ok()?;
-    Some(MapRec::Cycle(m, Box::new(rec)))
-}
-
 fn point_json(p: &PointResult) -> Value {
     let mut o = json!({
         "regime": p.regime as u8,
@@ -444,6 +399,45 @@ fn unit_from_json(v: &Value) -> Option<UnitResult> {
     Some(UnitResult::Boundary(b))
 }
 
+/// Adds one journal record to `results`: a unit, or a map's block or cycle search. A record
+/// that checks out but does not fit the plan is an error (not a torn write).
+fn add_record(
+    plan: &AtlasPlan,
+    results: &mut AtlasResults,
+    kind: u8,
+    payload: &[u8],
+) -> Result<(), String> {
+    let grid = plan.maps.as_ref().map(|m| m.grid);
+    match (kind, grid) {
+        (KIND_UNIT, _) => {
+            let unit = serde_json::from_slice::<Value>(payload)
+                .ok()
+                .and_then(|v| unit_from_json(&v))
+                .ok_or("a malformed unit record")?;
+            results.add(plan, unit);
+        }
+        (KIND_BLOCK, Some(g)) => {
+            let (m, b, cells) = decode_block(payload).ok_or("a malformed block record")?;
+            if !(m < plan.n_points()
+                && b < g.blocks()
+                && cells.len() == g.block_rows(b).len() * g.x0.count)
+            {
+                return Err("a map block that does not fit the spec".into());
+            }
+            results.blocks.insert((m, b), cells);
+        }
+        (KIND_CYCLE, Some(_)) => {
+            let (m, c) = decode_cycle(payload).ok_or("a malformed cycle record")?;
+            if m >= plan.n_points() {
+                return Err("a map cycle that does not fit the spec".into());
+            }
+            results.map_cycles.insert(m, c);
+        }
+        (k, _) => return Err(format!("a record of kind {k} that an atlas does not write")),
+    }
+    Ok(())
+}
+
 fn journal_path(out: &Path) -> PathBuf {
     let mut s = out.as_os_str().to_owned();
     s.push(".journal");
@@ -453,8 +447,7 @@ fn journal_path(out: &Path) -> PathBuf {
 /// Journals finished units and writes the atlas file at the end.
 pub struct AtlasWriter {
     out: PathBuf,
-    journal: PathBuf,
-    file: std::fs::File,
+    journal: Journal,
     plan: AtlasPlan,
     shard: Option<Shard>,
     prov: Provenance,
@@ -477,36 +470,30 @@ impl AtlasWriter {
         }
         // Two runs never write one output: the lock first, then the checks.
         let lock = OutputLock::acquire(out)?;
-        let journal = journal_path(out);
+        let path = journal_path(out);
         if !force {
-            if journal.exists() {
-                return Err(StoreError::Interrupted { path: journal });
+            if path.exists() {
+                return Err(StoreError::Interrupted { path });
             }
             if out.exists() {
                 return Err(StoreError::Exists {
                     path: out.to_path_buf(),
                 });
             }
-        } else if journal.exists() {
-            std::fs::remove_file(&journal).map_err(io(&journal, "cannot remove"))?;
+        } else if path.exists() {
+            std::fs::remove_file(&path).map_err(io(&path, "cannot remove"))?;
         }
-        // Exclusive: a second run on the same output fails here.
-        let mut file = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&journal)
-            .map_err(io(&journal, "cannot create (another run on this output?)"))?;
-        let header = json!({
-            "schema": ATLAS_SCHEMA,
-            "spec": plan.spec_text,
-            "shard": shard.map(|s| s.to_string()),
-        });
-        writeln!(file, "{header}").map_err(io(&journal, "cannot write"))?;
-        file.sync_all().map_err(io(&journal, "cannot sync"))?;
+        let journal = Journal::create(
+            &path,
+            &Header {
+                owner: Owner::Atlas,
+                spec: plan.spec_text.clone(),
+                shard: shard.map(|s| s.to_string()).unwrap_or_default(),
+            },
+        )?;
         Ok(AtlasWriter {
             out: out.to_path_buf(),
             journal,
-            file,
             plan: plan.clone(),
             shard,
             prov: prov.clone(),
@@ -523,8 +510,8 @@ impl AtlasWriter {
         prov: &Provenance,
     ) -> Result<AtlasWriter, StoreError> {
         let lock = OutputLock::acquire(out)?;
-        let journal = journal_path(out);
-        if !journal.exists() {
+        let path = journal_path(out);
+        if !path.exists() {
             return Err(if out.exists() {
                 StoreError::AlreadyComplete {
                     path: out.to_path_buf(),
@@ -535,85 +522,30 @@ impl AtlasWriter {
                 }
             });
         }
-        let f = std::fs::File::open(&journal).map_err(io(&journal, "cannot open"))?;
-        let mut reader = std::io::BufReader::new(f);
+        let (mut journal, header, recs) = Journal::open(&path, Owner::Atlas)?;
+        let mismatch = |why: &str| StoreError::SpecMismatch {
+            path: path.clone(),
+            why: why.to_string(),
+        };
+        if header.spec != plan.spec_text {
+            return Err(mismatch("different spec text"));
+        }
+        if header.shard != shard.map(|s| s.to_string()).unwrap_or_default() {
+            return Err(mismatch("different --shard"));
+        }
         let mut results = AtlasResults::new(plan);
-        let mut good = 0u64;
-        let mut first = true;
-        loop {
-            let mut line = String::new();
-            let n = reader
-                .read_line(&mut line)
-                .map_err(io(&journal, "cannot read"))?;
-            if n == 0 || !line.ends_with('\n') {
-                break;
-            }
-            let Ok(v) = serde_json::from_str::<Value>(&line) else {
-                break;
-            };
-            if first {
-                let mismatch = |why: &str| StoreError::SpecMismatch {
-                    path: journal.clone(),
-                    why: why.to_string(),
-                };
-                if v["schema"] != ATLAS_SCHEMA {
-                    return Err(StoreError::NotSquealFile {
-                        path: journal.clone(),
-                        why: "not an atlas journal".into(),
-                    });
+        for r in recs {
+            let payload = journal.read(&r)?;
+            add_record(plan, &mut results, r.kind, &payload).map_err(|why| {
+                StoreError::NotSquealFile {
+                    path: path.clone(),
+                    why,
                 }
-                if v["spec"] != plan.spec_text.as_str() {
-                    return Err(mismatch("different spec text"));
-                }
-                if v["shard"] != json!(shard.map(|s| s.to_string())) {
-                    return Err(mismatch("different --shard"));
-                }
-                first = false;
-            } else if let Some(r) = map_rec_from_json(&v) {
-                let g = plan.maps.as_ref().map(|m| m.grid);
-                match (r, g) {
-                    (MapRec::Block(m, b, cells), Some(g))
-                        if m < plan.n_points()
-                            && b < g.blocks()
-                            && cells.len() == g.block_rows(b).len() * g.x0.count =>
-                    {
-                        results.blocks.insert((m, b), cells);
-                    }
-                    (MapRec::Cycle(m, c), Some(_)) if m < plan.n_points() => {
-                        results.map_cycles.insert(m, *c);
-                    }
-                    _ => {
-                        return Err(StoreError::NotSquealFile {
-                            path: journal.clone(),
-                            why: "a map record that does not fit the spec".into(),
-                        });
-                    }
-                }
-            } else {
-                let Some(r) = unit_from_json(&v) else { break };
-                results.add(plan, r);
-            }
-            good += n as u64;
+            })?;
         }
-        if first {
-            return Err(StoreError::NotSquealFile {
-                path: journal.clone(),
-                why: "the journal has no header".into(),
-            });
-        }
-        let mut file = std::fs::OpenOptions::new()
-            .write(true)
-            .open(&journal)
-            .map_err(io(&journal, "cannot open"))?;
-        // Drop a torn last line.
-        file.set_len(good)
-            .map_err(io(&journal, "cannot truncate"))?;
-        file.seek(std::io::SeekFrom::End(0))
-            .map_err(io(&journal, "cannot seek"))?;
         Ok(AtlasWriter {
             out: out.to_path_buf(),
             journal,
-            file,
             plan: plan.clone(),
             shard,
             prov: prov.clone(),
@@ -632,16 +564,10 @@ impl AtlasWriter {
         missing_blocks(&self.plan, &self.results, self.shard)
     }
 
-    fn append(&mut self, line: &Value) -> Result<(), StoreError> {
-        writeln!(self.file, "{line}").map_err(io(&self.journal, "cannot write"))?;
-        self.file
-            .sync_data()
-            .map_err(io(&self.journal, "cannot sync"))
-    }
-
     /// Journals a finished unit (fsynced) and keeps it.
     pub fn record(&mut self, r: UnitResult) -> Result<(), StoreError> {
-        self.append(&unit_json(&r))?;
+        self.journal
+            .append(KIND_UNIT, unit_json(&r).to_string().as_bytes())?;
         self.results.add(&self.plan, r);
         Ok(())
     }
@@ -666,7 +592,8 @@ impl AtlasWriter {
             });
         }
         write_atlas(&self.out, &self.plan, &self.results, &self.prov, self.shard)?;
-        std::fs::remove_file(&self.journal).map_err(io(&self.journal, "cannot remove"))?;
+        let path = self.journal.path.clone();
+        std::fs::remove_file(&path).map_err(io(&path, "cannot remove"))?;
         Ok(self.results)
     }
 }
@@ -682,7 +609,8 @@ impl squeal_scan::Sink for AtlasWriter {
         self.results.map_cycles.contains_key(&map)
     }
     fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), StoreError> {
-        self.append(&map_cycle_json(map, cycle))?;
+        self.journal
+            .append(KIND_CYCLE, &encode_cycle(map, &cycle.cloned()))?;
         self.results.map_cycles.insert(map, cycle.cloned());
         Ok(())
     }
@@ -699,7 +627,8 @@ impl squeal_scan::Sink for AtlasWriter {
                 why: format!("map {} block {} does not fit the atlas", b.map, b.block),
             });
         }
-        self.append(&block_json(b.map, b.block, &b.cells))?;
+        self.journal
+            .append(KIND_BLOCK, &encode_block(b.map, b.block, &b.cells))?;
         self.results
             .blocks
             .insert((b.map, b.block), b.cells.clone());
@@ -788,14 +717,21 @@ pub fn write_atlas(
     let mut tmp = out.as_os_str().to_owned();
     tmp.push(".tmp");
     let tmp = PathBuf::from(tmp);
-    let file = File::create(&tmp).h5(&tmp)?;
-    let mut dims = Dims {
-        scales: Vec::new(),
-        class_type: class_type(&tmp)?,
-    };
-    write_all(&file, &mut dims, plan, res, prov, shard).h5(&tmp)?;
-    dims.finish().h5(&tmp)?;
-    file.close().h5(&tmp)?;
+    let written = (|| {
+        let file = File::create(&tmp).h5(&tmp)?;
+        let mut dims = Dims {
+            scales: Vec::new(),
+            class_type: class_type(&tmp)?,
+        };
+        write_all(&file, &mut dims, plan, res, prov, shard).h5(&tmp)?;
+        dims.finish().h5(&tmp)?;
+        file.close().h5(&tmp)
+    })();
+    if let Err(e) = written {
+        // A full disk: leave no partial file; the journal keeps the work for a resume.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
     std::fs::rename(&tmp, out).map_err(io(out, "cannot rename the finished file to"))?;
     Ok(())
 }

@@ -25,6 +25,17 @@ pub enum AtlasRunError {
     Maps(#[from] DriveError<StoreError>),
 }
 
+/// An error and its sources, `: `-separated.
+fn chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut src = e.source();
+    while let Some(c) = src {
+        s.push_str(&format!(": {c}"));
+        src = c.source();
+    }
+    s
+}
+
 /// Computes what `writer` is missing: the units (each handed to `on_unit` once journalled)
 /// and then the blocks of the basin maps (reported to `observer`). Stops early when `stop`
 /// becomes true (the units and blocks in flight are journalled first). Returns the writer
@@ -42,8 +53,9 @@ pub fn run_atlas(
     let writer = Mutex::new(writer);
     driver::run(plan, &todo, &|| stop.load(Ordering::SeqCst), &|r| {
         let mut w = writer.lock().expect("writer lock");
+        // With every source: the OS's reason ("No space left on device") is one.
         w.record(r)
-            .map_err(|e| ScanError::Undetermined(format!("journal: {e}")))?;
+            .map_err(|e| ScanError::Undetermined(format!("journal: {}", chain(&e))))?;
         on_unit();
         Ok(())
     })?;

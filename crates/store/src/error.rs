@@ -32,6 +32,18 @@ pub enum StoreError {
         /// The owner's host.
         host: String,
     },
+    /// The lock's path holds something that is not a lock file (a directory, a socket...).
+    #[error(
+        "{} is not a lock file ({what}): remove it if no squeal run writes {}", lock.display(), path.display()
+    )]
+    NotALock {
+        /// The output.
+        path: PathBuf,
+        /// The path of the lock.
+        lock: PathBuf,
+        /// What is there instead.
+        what: String,
+    },
     /// The output is also one of the inputs.
     #[error("{} is one of the inputs: choose another output", path.display())]
     OutputIsInput {

@@ -1,15 +1,24 @@
-//! The journal `<out>.journal`: an append-only log of finished blocks and located cycles,
-//! fsynced after each record, so an interrupted scan loses at most the block in flight.
+//! The journal `<out>.journal` of a scan or an atlas: an append-only log of finished work,
+//! fsynced after each record, so an interrupted run loses at most the work in flight.
+//! Scans and atlases share this one framing, reader and writer.
 //!
 //! ```text
 //! record  = "SQJR" kind:u8 len:u32 payload[len] fnv1a64(kind, payload):u64   (little endian)
-//! header  = kind 'H': format:u32 spec:str shard:str             (str = len:u64 bytes)
+//! header  = kind 'H' (scan) or 'A' (atlas): format:u32 spec:str shard:str
+//!                                                              (str = len:u64 bytes)
 //! block   = kind 'B': map:u64 block:u64 n:u64 n x cell (the columns of
-//!           squeal_scan::cell::COLUMNS in order, each at its storage width)
+//!           squeal_scan::cell::COLUMNS in order, each at its storage width); in an atlas
+//!           `map` is the parameter point
 //! cycle   = kind 'C': map:u64 record:str (the cycle search as TOML, see crate::cycle)
+//! unit    = kind 'U' (atlas): a finished line of points or boundary search, as the JSON
+//!           of crate::atlas::unit_json
 //! ```
-//! Reading stops at the first short or corrupt record (a write torn by a kill) and the
-//! file is truncated there.
+//! Reading checks every record's checksum. A corrupt or short record is skipped and the
+//! reader resynchronises on the next record that checks out, so one damaged record loses
+//! only itself; the skipped bytes are reported on stderr with the number of records kept
+//! after them. Bytes after the last good record (a write torn by a kill) are cut off; a
+//! damaged stretch between good records stays in the file (rewriting the journal could lose
+//! it all to a crash), so each later resume skips it and warns again.
 
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -24,6 +33,8 @@ use crate::error::io;
 const MAGIC: &[u8; 4] = b"SQJR";
 const FORMAT: u32 = 2;
 pub(crate) const KIND_HEADER: u8 = b'H';
+pub(crate) const KIND_ATLAS_HEADER: u8 = b'A';
+pub(crate) const KIND_UNIT: u8 = b'U';
 pub(crate) const KIND_BLOCK: u8 = b'B';
 pub(crate) const KIND_CYCLE: u8 = b'C';
 const FRAME: usize = 4 + 1 + 4;
@@ -170,11 +181,98 @@ pub(crate) fn decode_cycle(p: &[u8]) -> Option<(usize, CycleRecord)> {
     d.done().then_some((map, rec))
 }
 
+/// Whose journal it is: the kind of its header record.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Owner {
+    Scan,
+    Atlas,
+}
+
+impl Owner {
+    fn header_kind(self) -> u8 {
+        match self {
+            Owner::Scan => KIND_HEADER,
+            Owner::Atlas => KIND_ATLAS_HEADER,
+        }
+    }
+    fn words(self) -> &'static str {
+        match self {
+            Owner::Scan => "a scan's",
+            Owner::Atlas => "an atlas's",
+        }
+    }
+}
+
 /// The journal's header.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Header {
+    pub owner: Owner,
     pub spec: String,
     pub shard: String,
+}
+
+/// What a reading of the journal skipped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Damage {
+    /// Stretches of corrupt bytes between good records.
+    pub regions: usize,
+    /// Bytes in those stretches.
+    pub bytes: u64,
+    /// Good records read after the first corrupt stretch (kept).
+    pub kept_after: usize,
+    /// Bytes after the last good record (a torn write), cut off.
+    pub tail: u64,
+}
+
+impl Damage {
+    /// The warning printed for it, if any.
+    pub fn warning(&self, path: &Path) -> Option<String> {
+        let mut parts = Vec::new();
+        if self.regions > 0 {
+            parts.push(format!(
+                "{} corrupt stretch(es) of {} bytes skipped (their records will be computed \
+                 again); {} good records after them kept",
+                self.regions, self.bytes, self.kept_after
+            ));
+        }
+        if self.tail > 0 {
+            parts.push(format!(
+                "{} bytes of a torn last record (a write cut short) dropped",
+                self.tail
+            ));
+        }
+        (!parts.is_empty())
+            .then(|| format!("squeal: warning: {}: {}", path.display(), parts.join("; ")))
+    }
+}
+
+/// The good records of a journal's bytes, resynchronising after corrupt ones; the end of
+/// the last good record; what was skipped.
+pub(crate) fn scan(bytes: &[u8]) -> (Vec<Rec>, usize, Damage) {
+    let mut recs = Vec::new();
+    let mut damage = Damage::default();
+    let (mut at, mut end) = (0usize, 0usize);
+    let mut first_damage: Option<usize> = None;
+    while at < bytes.len() {
+        if let Some(r) = frame_at(bytes, at) {
+            recs.push(r);
+            at = r.offset as usize + r.len as usize + 8;
+            end = at;
+            continue;
+        }
+        // The next place where a record checks out; none: the rest is a torn tail.
+        let next = (at + 1..bytes.len())
+            .filter(|&p| bytes[p..].starts_with(MAGIC))
+            .find(|&p| frame_at(bytes, p).is_some());
+        let Some(p) = next else { break };
+        damage.regions += 1;
+        damage.bytes += (p - at) as u64;
+        first_damage.get_or_insert(recs.len());
+        at = p;
+    }
+    damage.tail = (bytes.len() - end) as u64;
+    damage.kept_after = first_damage.map_or(0, |k| recs.len() - k);
+    (recs, end, damage)
 }
 
 fn encode_header(h: &Header) -> Vec<u8> {
@@ -215,12 +313,25 @@ impl Journal {
             file,
             end: 0,
         };
-        j.append(KIND_HEADER, &encode_header(h))?;
+        j.append(h.owner.header_kind(), &encode_header(h))?;
         Ok(j)
     }
 
-    /// Opens a journal, checks the header, drops a torn tail; returns the records after the header.
-    pub fn open(path: &Path) -> Result<(Journal, Header, Vec<Rec>), StoreError> {
+    /// Opens `owner`'s journal, checks the header, skips corrupt records (with a warning
+    /// on stderr), cuts a torn tail; returns the records after the header.
+    pub fn open(path: &Path, owner: Owner) -> Result<(Journal, Header, Vec<Rec>), StoreError> {
+        let (j, h, recs, damage) = Journal::open_counted(path, owner)?;
+        if let Some(w) = damage.warning(path) {
+            eprintln!("{w}");
+        }
+        Ok((j, h, recs))
+    }
+
+    /// [`Journal::open`], returning what was skipped instead of printing it.
+    pub fn open_counted(
+        path: &Path,
+        owner: Owner,
+    ) -> Result<(Journal, Header, Vec<Rec>, Damage), StoreError> {
         let mut file = std::fs::OpenOptions::new()
             .read(true)
             .write(true)
@@ -229,29 +340,12 @@ impl Journal {
         let mut bytes = Vec::new();
         file.read_to_end(&mut bytes)
             .map_err(io(path, "cannot read the journal"))?;
-        let not = |why: &str| StoreError::NotSquealFile {
-            path: path.to_path_buf(),
-            why: why.to_string(),
-        };
-        let mut recs = Vec::new();
-        let mut at = 0usize;
-        while let Some(r) = frame_at(&bytes, at) {
-            recs.push(r);
-            at = r.offset as usize + r.len as usize + 8;
-        }
-        let Some(first) = recs.first().copied() else {
-            return Err(not("the journal has no valid header record"));
-        };
-        if first.kind != KIND_HEADER {
-            return Err(not("the journal does not start with a header record"));
-        }
-        let mut d = Dec::new(&bytes[first.offset as usize..][..first.len as usize]);
-        if d.u32() != Some(FORMAT) {
-            return Err(not("unknown journal format"));
-        }
-        let (Some(spec), Some(shard)) = (d.str(), d.str()) else {
-            return Err(not("the journal header is malformed"));
-        };
+        let (mut recs, at, damage) = scan(&bytes);
+        let header =
+            read_header(&bytes, &recs, owner).map_err(|why| StoreError::NotSquealFile {
+                path: path.to_path_buf(),
+                why,
+            })?;
         if (at as u64) < bytes.len() as u64 {
             // A torn last record: drop it so appends continue from a clean end.
             file.set_len(at as u64)
@@ -267,8 +361,9 @@ impl Journal {
                 file,
                 end: at as u64,
             },
-            Header { spec, shard },
+            header,
             recs,
+            damage,
         ))
     }
 
@@ -307,6 +402,43 @@ impl Journal {
             .map_err(io(&self.path, "cannot read the journal"))?;
         Ok(buf)
     }
+}
+
+/// The header of `owner`'s journal: the first record, which must be intact (it says which
+/// spec the records belong to).
+fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, String> {
+    let first = recs.first().copied().filter(|r| r.offset == FRAME as u64);
+    let Some(first) = first else {
+        if bytes.first() == Some(&b'{') {
+            return Err(
+                "a JSON-lines atlas journal of an earlier squeal: finish it with that \
+                        version, or use --force to start over (its records are then discarded)"
+                    .into(),
+            );
+        }
+        return Err(format!(
+            "the journal's header record is corrupt or missing, so its {} intact later \
+             record(s) cannot be matched to a spec and are not used: use --force to start \
+             over (the journal is then removed)",
+            recs.len()
+        ));
+    };
+    let found = match first.kind {
+        KIND_HEADER => Owner::Scan,
+        KIND_ATLAS_HEADER => Owner::Atlas,
+        _ => return Err("the journal does not start with a header record".into()),
+    };
+    if found != owner {
+        return Err(format!("{} journal, not {}", found.words(), owner.words()));
+    }
+    let mut d = Dec::new(&bytes[first.offset as usize..][..first.len as usize]);
+    if d.u32() != Some(FORMAT) {
+        return Err("unknown journal format".into());
+    }
+    let (Some(spec), Some(shard)) = (d.str(), d.str()) else {
+        return Err("the journal header is malformed".into());
+    };
+    Ok(Header { owner, spec, shard })
 }
 
 fn frame_at(bytes: &[u8], at: usize) -> Option<Rec> {

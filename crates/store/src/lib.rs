@@ -234,6 +234,7 @@ impl ScanWriter {
         let journal = Journal::create(
             &jpath,
             &Header {
+                owner: journal::Owner::Scan,
                 spec: plan.spec_text.clone(),
                 shard: shard_text(shard),
             },
@@ -278,7 +279,7 @@ impl ScanWriter {
                 path: out.to_path_buf(),
             });
         }
-        let (mut journal, header, recs) = Journal::open(&jpath)?;
+        let (mut journal, header, recs) = Journal::open(&jpath, journal::Owner::Scan)?;
         // Compare what the spec means, not its bytes: a comment edit does not block a
         // resume. The file then records the spec text the scan started with.
         let mut plan = plan.clone();

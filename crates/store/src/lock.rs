@@ -99,12 +99,30 @@ impl OutputLock {
                 Ok(mut f) => {
                     let m = me();
                     let line = format!("{} {} {}\n", m.pid, m.host, m.start.unwrap_or(0));
-                    f.write_all(line.as_bytes())
-                        .and_then(|_| f.sync_all())
-                        .map_err(io(&path, "cannot write the lock"))?;
+                    if let Err(e) = f.write_all(line.as_bytes()).and_then(|_| f.sync_all()) {
+                        // A full disk: leave no empty lock behind.
+                        let _ = std::fs::remove_file(&path);
+                        return Err(io(&path, "cannot write the lock")(e));
+                    }
                     return Ok(OutputLock { path });
                 }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    // Only a regular file is a lock; anything else would never parse and
+                    // was reported as held by "process 0 on host ?".
+                    match std::fs::symlink_metadata(&path) {
+                        Ok(md) if !md.is_file() => {
+                            return Err(StoreError::NotALock {
+                                path: out.to_path_buf(),
+                                lock: path,
+                                what: if md.is_dir() {
+                                    "a directory".into()
+                                } else {
+                                    format!("{:?}", md.file_type())
+                                },
+                            });
+                        }
+                        _ => {}
+                    }
                     let text = std::fs::read_to_string(&path).unwrap_or_default();
                     match parse(&text) {
                         Some(owner) if owner.is_stale() => {
@@ -171,5 +189,24 @@ mod tests {
         drop(_l);
         std::fs::write(lock_path(&out), "1 some-other-host 1\n").unwrap();
         assert!(OutputLock::acquire(&out).is_err());
+    }
+
+    #[test]
+    fn a_directory_in_the_locks_place_is_named() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("x.h5");
+        std::fs::create_dir(lock_path(&out)).unwrap();
+        let e = OutputLock::acquire(&out).unwrap_err().to_string();
+        // Before: "... is being written by process 0 on host ?".
+        assert!(e.contains("not a lock file (a directory)"), "{e}");
+        assert!(!e.contains("process 0"), "{e}");
+    }
+
+    #[test]
+    fn an_empty_lock_left_by_a_full_disk_is_taken_over() {
+        let d = tempfile::tempdir().unwrap();
+        let out = d.path().join("x.h5");
+        std::fs::write(lock_path(&out), "").unwrap();
+        let _l = OutputLock::acquire(&out).unwrap();
     }
 }

@@ -628,3 +628,6 @@ fn a_plan_the_file_cannot_hold_is_refused_before_any_computing() {
     assert!(!journal_of(&out).exists());
     assert!(!lock_path(&out).exists());
 }
+
+#[cfg(test)]
+mod journal_fuzz;

@@ -205,15 +205,18 @@ struct AttractorFile {
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 struct PointFile {
-    x: f64,
-    v: f64,
+    // Each key has its default (the state at rest) when left out.
+    x: Option<f64>,
+    v: Option<f64>,
 }
 
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 struct BoxFile {
-    x: [f64; 2],
-    v: [f64; 2],
+    // Lists, not `[f64; 2]`: a third element is refused by the check, not dropped. Each key
+    // has its default (the box of `PointSettings::default`) when left out.
+    x: Option<Vec<f64>>,
+    v: Option<Vec<f64>>,
 }
 
 #[derive(Deserialize, Debug, Default)]
@@ -381,13 +384,43 @@ fn expand(path: &str, key: &str, v: &Value) -> Result<Vec<f64>, ScanError> {
     })
 }
 
+/// A boundary's bisection range `[lo, hi]` of parameter `key`: `0 < lo < hi <= top`. The
+/// error names the key that breaks it (`boundaries.nu_hi` for a bad upper end).
+fn bisection_range(
+    inv: crate::spec::Invalid,
+    key: &str,
+    [lo, hi]: [f64; 2],
+    top: f64,
+) -> Result<(), ScanError> {
+    let expected = format!("0 < {key}_lo < {key}_hi <= {top}");
+    if !(lo.is_finite() && lo > 0.0 && lo < top) {
+        return Err(inv(
+            &format!("boundaries.{key}_lo"),
+            lo.to_string(),
+            &expected,
+        ));
+    }
+    if !(hi.is_finite() && hi > 0.0 && hi <= top) {
+        return Err(inv(
+            &format!("boundaries.{key}_hi"),
+            hi.to_string(),
+            &expected,
+        ));
+    }
+    if hi <= lo {
+        return Err(inv(
+            &format!("boundaries.{key}_lo/{key}_hi"),
+            format!("[{lo}, {hi}]"),
+            &expected,
+        ));
+    }
+    Ok(())
+}
+
 impl AtlasPlan {
     /// Reads and checks a spec file.
     pub fn from_file(path: &std::path::Path) -> Result<AtlasPlan, ScanError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ScanError::Parse {
-            path: path.display().to_string(),
-            message: format!("cannot read: {e}"),
-        })?;
+        let text = crate::spec::read_spec(path)?;
         AtlasPlan::from_toml(&text, &path.display().to_string())
     }
 
@@ -520,10 +553,15 @@ impl AtlasPlan {
             .try_fold(1usize, |acc, n| acc.checked_mul(n))
             .unwrap_or(usize::MAX);
         if n > MAX_POINTS {
+            let counts: Vec<String> = params
+                .iter()
+                .filter(|a| a.values.len() > 1)
+                .map(|a| format!("{}: {} values", a.key, a.values.len()))
+                .collect();
             return Err(invalid(
                 path,
                 "model",
-                format!("{n} parameter points"),
+                format!("{n} parameter points ({})", counts.join(", ")),
                 "at most 1000000 points (the product of the value counts)",
             ));
         }
@@ -554,6 +592,7 @@ impl AtlasPlan {
             max_iter: max_iter as u32,
             ..SolverConfig::default()
         };
+        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let mut ps = PointSettings::default();
         let cy = f.cycle.unwrap_or_default();
         let c = &mut ps.cycle;
@@ -562,38 +601,6 @@ impl AtlasPlan {
         c.rtol = cy.rtol.unwrap_or(c.rtol);
         c.t_return = cy.t_return.unwrap_or(c.t_return);
         c.check_half_dt = cy.half_dt.unwrap_or(true);
-        if !(c.r_min.is_finite() && c.r_min > 0.0) {
-            return Err(invalid(
-                path,
-                "cycle.r_min",
-                c.r_min,
-                "a finite amplitude > 0",
-            ));
-        }
-        if !(c.r_max.is_finite() && c.r_max > 2.0 * c.r_min) {
-            return Err(invalid(
-                path,
-                "cycle.r_max",
-                c.r_max,
-                "a finite amplitude > 2 r_min",
-            ));
-        }
-        if !(c.rtol > 0.0 && c.rtol < 0.1) {
-            return Err(invalid(
-                path,
-                "cycle.rtol",
-                c.rtol,
-                "a relative width in (0, 0.1)",
-            ));
-        }
-        if !(c.t_return.is_finite() && c.t_return > 10.0) {
-            return Err(invalid(
-                path,
-                "cycle.t_return",
-                c.t_return,
-                "a finite time > 10",
-            ));
-        }
         let samples = cy.samples.unwrap_or(c.samples as i64);
         if !(3..=100_000).contains(&samples) {
             return Err(invalid(
@@ -604,6 +611,7 @@ impl AtlasPlan {
             ));
         }
         c.samples = samples as usize;
+        crate::bounds::cycle_search(c, &|k| format!("cycle.{k}"), &inv)?;
         let ti = cy.tangency_iters.unwrap_or(ps.tangency_iters as i64);
         if !(0..=200).contains(&ti) {
             return Err(invalid(
@@ -632,29 +640,25 @@ impl AtlasPlan {
             }
         }
         if let Some(op) = f.operating_point {
-            if !(op.x.is_finite() && op.v.is_finite()) {
-                return Err(invalid(
-                    path,
-                    "operating_point",
-                    format!("({}, {})", op.x, op.v),
-                    "finite x and v",
-                ));
-            }
-            ps.operating = State { x: op.x, v: op.v };
+            let d = ps.operating;
+            ps.operating = State {
+                x: crate::bounds::state("operating_point.x", op.x.unwrap_or(d.x), &inv)?,
+                v: crate::bounds::state("operating_point.v", op.v.unwrap_or(d.v), &inv)?,
+            };
         }
         let has_disturbance = f.disturbance.is_some();
         if let Some(b) = f.disturbance {
-            for (key, r) in [("disturbance.x", b.x), ("disturbance.v", b.v)] {
-                if !(r[0].is_finite() && r[1].is_finite() && r[1] > r[0]) {
-                    return Err(invalid(
-                        path,
-                        key,
-                        format!("{r:?}"),
-                        "[min, max] with min < max",
-                    ));
+            let d = ps.disturbance;
+            let range = |key: &str, given: Option<Vec<f64>>, default: [f64; 2]| match given {
+                Some(list) => {
+                    crate::bounds::state_range(key, &list, crate::bounds::Width::Positive, &inv)
                 }
-            }
-            ps.disturbance = Region { x: b.x, v: b.v };
+                None => Ok(default),
+            };
+            ps.disturbance = Region {
+                x: range("disturbance.x", b.x, d.x)?,
+                v: range("disturbance.v", b.v, d.v)?,
+            };
         }
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let maps = match (&f.grid, &f.classifier) {
@@ -677,6 +681,17 @@ impl AtlasPlan {
                     ));
                 }
                 let grid = g.check(&inv)?;
+                // The cells' box is the disturbance box: each axis needs two points or more
+                // to span one (a single point has no spacing and so no box).
+                for (key, a) in [("grid.x0.count", grid.x0), ("grid.v0.count", grid.v0)] {
+                    if a.count < 2 {
+                        return Err(inv(
+                            key,
+                            a.count.to_string(),
+                            "a count >= 2 (an atlas map's cells tile the disturbance box)",
+                        ));
+                    }
+                }
                 let c = match c {
                     Some(c) => c.check(dt, grid.cells(), &inv)?,
                     None => crate::spec::ClassifierSpec::default().check(dt, grid.cells(), &inv)?,
@@ -755,26 +770,12 @@ impl AtlasPlan {
             own[0].unwrap_or(DAMPING_RANGE[0]),
             own[1].unwrap_or(DAMPING_RANGE[1]),
         ];
-        if !(nu_range[0] > 0.0 && nu_range[1] > nu_range[0] && nu_range[1] <= 10.0) {
-            return Err(invalid(
-                path,
-                &format!("boundaries.{dk}_lo"),
-                format!("{nu_range:?}"),
-                &format!("0 < {dk}_lo < {dk}_hi <= 10"),
-            ));
-        }
+        bisection_range(&inv, dk, nu_range, 10.0)?;
         let lambda_range = [
             own[2].unwrap_or(SPEED_RANGE[0]),
             own[3].unwrap_or(SPEED_RANGE[1]),
         ];
-        if !(lambda_range[0] > 0.0 && lambda_range[1] > lambda_range[0] && lambda_range[1] <= 1e3) {
-            return Err(invalid(
-                path,
-                &format!("boundaries.{sk}_lo"),
-                format!("{lambda_range:?}"),
-                &format!("0 < {sk}_lo < {sk}_hi <= 1000"),
-            ));
-        }
+        bisection_range(&inv, sk, lambda_range, 1e3)?;
         let swept = |k: &str| params.iter().any(|a| a.key == k && a.values.len() > 1);
         let boundary_in = match bd.in_.as_deref() {
             Some(k) if k == dk => BoundaryParam::Nu,
@@ -891,6 +892,27 @@ impl AtlasPlan {
                 p
             }
         };
+        if self.units == Units::Physical {
+            // The SI box and point, scaled by this point's units, must still be a box and
+            // a point the classifier can run from.
+            let s = self.settings_at(i);
+            let inv = |key: &str, value: String, expected: &str| {
+                invalid(
+                    path,
+                    key,
+                    value,
+                    &format!(
+                        "{expected}, in the model's units at parameter point {i} (lengths \
+                         scaled by [physical] m, k, mu_k, g)"
+                    ),
+                )
+            };
+            use crate::bounds::{Width, state, state_range};
+            state_range("disturbance.x", &s.disturbance.x, Width::Positive, &inv)?;
+            state_range("disturbance.v", &s.disturbance.v, Width::Positive, &inv)?;
+            state("operating_point.x", s.operating.x, &inv)?;
+            state("operating_point.v", s.operating.v, &inv)?;
+        }
         if p.lambda <= 0.0 {
             return Err(name_err(
                 if self.units == Units::Physical {

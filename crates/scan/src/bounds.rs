@@ -1,0 +1,271 @@
+//! Bounds shared by the scan spec, the atlas spec and the command line, each written once
+//! with the reason for it (the users' words are in `docs/spec.md` and `docs/atlas-spec.md`).
+//!
+//! A check takes the name to print (`sample.region.x0`, `disturbance.v`, `--r-max`) and an
+//! [`Invalid`] that builds the error, so a spec key and a flag are refused by the same rule
+//! and each message names what the user wrote.
+
+use crate::error::ScanError;
+use crate::spec::Invalid;
+use crate::ulc::CycleSettings;
+
+/// Largest `|x|` or `|x'|` of a start, a grid or sample bound, an operating point or a
+/// disturbance box. It is the classifier's escape radius (`Classifier::max_radius`, 1e6): a
+/// start beyond it is labelled diverged before its first step, so nothing there can be
+/// mapped. It also keeps every derived number finite: a grid spacing or box width is at
+/// most 2e6 and a box area at most 4e12 (with `min = -1e308, max = 1e308` the width
+/// overflowed to inf and the grid's coordinates became NaN).
+pub const MAX_STATE: f64 = 1e6;
+
+/// Largest ratio of neighbouring amplitudes in the cycle search's log-spaced sampling
+/// (`(r_max / r_min)^(1 / (samples - 1))`). The search sees the unstable cycle only as a
+/// sign change of `D = P(r) - r` between two samples; a band of growing returns narrower
+/// than one sample spacing falls between samples and the point is reported as having no
+/// cycle. The defaults (r_min = 0.01, r_max = 6, 96 samples) give 1.07. Measured on Table 1
+/// (nu = 1e-3, lambda = 3; `squeal ulc --r-max R --no-half-dt` before this bound), whose
+/// band of growing returns is wide (from the cycle at 0.367 to the stick-slip orbit near
+/// 3): found up to R = 1e200 (ratio 133, a sample at 1.33 lands in the band), lost at
+/// R = 1e250 (ratio 449: "the return map decays at every sampled section amplitude").
+/// Near the fold the band shrinks to nothing, so no ratio is safe everywhere; 1.25 stays
+/// within about three times the default spacing (ln 1.25 / ln 1.07 = 3.3).
+pub const MAX_SAMPLE_RATIO: f64 = 1.25;
+
+/// Most steps of one run (`t_max / dt` of the classifier, `t_end / dt` of a trajectory):
+/// at up to about 250 ns per step with the robust solver (BENCHMARKS.md, "Time per step")
+/// one run then takes at most about 40 minutes; `--dt 1e-12` with `--t-end 5000` asked
+/// for 5e15 steps (about 40 years).
+pub const MAX_STEPS: f64 = 1e10;
+
+/// Most rays of `squeal ulc --verify-rays`: 10 000 rays put one every 0.036 degrees, finer
+/// than the located curve's samples at the default step (about 1260 per revolution at
+/// dt = 0.005), so more rays check no new part of the curve.
+pub const MAX_RAYS: usize = 10_000;
+
+/// Largest cycle-search sample count: each sample is one revolution.
+pub const MAX_CYCLE_SAMPLES: usize = 100_000;
+
+/// A finite coordinate of the phase plane within [`MAX_STATE`].
+pub fn state(key: &str, v: f64, invalid: Invalid) -> Result<f64, ScanError> {
+    if v.is_finite() && v.abs() <= MAX_STATE {
+        Ok(v)
+    } else {
+        Err(invalid(
+            key,
+            format!("{v:?}"),
+            "a finite coordinate with |value| <= 1e6 (the classifier's escape radius)",
+        ))
+    }
+}
+
+/// Narrowest side of a box with an area (the disturbance box), in the model's units (the
+/// fixed point sits at x = 1). Narrower is a point for a basin fraction, and below about
+/// 1e-154 a side's square underflows: with `[physical] m = 1e308` the disturbance box
+/// scaled to the model's units had sides of 1e-308 and an area of 0.
+pub const MIN_WIDTH: f64 = 1e-9;
+
+/// Whether a range may be a single value (`min = max`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Width {
+    /// `min <= max`.
+    MayBeEmpty,
+    /// `min < max` (a box with an area).
+    Positive,
+}
+
+/// A `[min, max]` pair of phase-plane coordinates: exactly two finite numbers within
+/// [`MAX_STATE`], in order. TOML arrays are read as lists so that a third element is
+/// refused here instead of being dropped.
+pub fn state_range(
+    key: &str,
+    list: &[f64],
+    width: Width,
+    invalid: Invalid,
+) -> Result<[f64; 2], ScanError> {
+    let shown = format!(
+        "[{}]",
+        list.iter()
+            .map(|v| format!("{v:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let &[lo, hi] = list else {
+        return Err(invalid(
+            key,
+            shown,
+            &format!("exactly two numbers [min, max] (got {})", list.len()),
+        ));
+    };
+    if !(lo.is_finite() && hi.is_finite() && lo.abs() <= MAX_STATE && hi.abs() <= MAX_STATE) {
+        return Err(invalid(
+            key,
+            shown,
+            "finite bounds [min, max] with |value| <= 1e6 (the classifier's escape radius)",
+        ));
+    }
+    let ordered = match width {
+        Width::MayBeEmpty => lo <= hi,
+        Width::Positive => hi - lo >= MIN_WIDTH,
+    };
+    if !ordered {
+        let expected = match width {
+            Width::MayBeEmpty => "min <= max (the range is inverted)",
+            Width::Positive => "[min, max] with max - min >= 1e-9 (a box with an area)",
+        };
+        return Err(invalid(key, shown, expected));
+    }
+    Ok([lo, hi])
+}
+
+/// The cycle search's settings (`[cycle]` of an atlas spec, `squeal ulc`'s flags). `name`
+/// turns a field name (`r_max`) into what the user wrote (`cycle.r_max`, `--r-max`).
+pub fn cycle_search(
+    cs: &CycleSettings,
+    name: &dyn Fn(&str) -> String,
+    invalid: Invalid,
+) -> Result<(), ScanError> {
+    if !(cs.r_min.is_finite() && cs.r_min > 0.0 && cs.r_min < 1.0) {
+        return Err(invalid(
+            &name("r_min"),
+            format!("{:?}", cs.r_min),
+            "a finite amplitude in (0, 1) (the search starts next to the fixed point)",
+        ));
+    }
+    if !(cs.r_max.is_finite() && cs.r_max > 2.0 * cs.r_min && cs.r_max <= MAX_STATE) {
+        return Err(invalid(
+            &name("r_max"),
+            format!("{:?}", cs.r_max),
+            "a finite amplitude > 2 r_min and <= 1e6 (the classifier's escape radius)",
+        ));
+    }
+    if !(3..=MAX_CYCLE_SAMPLES).contains(&cs.samples) {
+        return Err(invalid(
+            &name("samples"),
+            cs.samples.to_string(),
+            "a count in 3..=100000",
+        ));
+    }
+    let ratio = (cs.r_max / cs.r_min).powf(1.0 / (cs.samples - 1) as f64);
+    if ratio > MAX_SAMPLE_RATIO {
+        return Err(invalid(
+            &name("r_max"),
+            format!("{:?}", cs.r_max),
+            &format!(
+                "a range the {} samples cover finely: neighbouring samples {ratio:.3} apart \
+                 in ratio, at most 1.25 (a cycle between two samples is missed); lower r_max \
+                 or raise the samples",
+                cs.samples
+            ),
+        ));
+    }
+    if !(cs.rtol.is_finite() && cs.rtol > 0.0 && cs.rtol < 0.1) {
+        return Err(invalid(
+            &name("rtol"),
+            format!("{:?}", cs.rtol),
+            "a relative width in (0, 0.1)",
+        ));
+    }
+    if !(cs.t_return.is_finite() && cs.t_return > 10.0 && cs.t_return <= 1e6) {
+        return Err(invalid(
+            &name("t_return"),
+            format!("{:?}", cs.t_return),
+            "a finite time in (10, 1e6] (one revolution takes about 2 pi)",
+        ));
+    }
+    Ok(())
+}
+
+/// Largest `classifier.fp_radius`: the smallest amplitude the cycle search samples
+/// ([`CycleSettings::default`]'s `r_min`, 0.01). The classifier ends a run as steady slip
+/// once it is inside this ball around the fixed point, so the ball must lie inside the
+/// unstable cycle; the cycle is only known after the search (then [`fp_radius_inside`]
+/// checks it), and a ball wider than the search's first sample would cover amplitudes the
+/// search itself looks at. With `fp_radius = 10` every cell of Fig. 9 was labelled steady
+/// slip.
+pub const MAX_FP_RADIUS: f64 = 1e-2;
+
+/// The fixed point's ball against the located unstable cycle of map `map`: its radius must
+/// be at most half the cycle's crossing `r_cycle` of the section (the cycle's smallest
+/// crossing bracket), else runs that start between the ball and the cycle, and would
+/// squeal, are stopped as steady slip.
+pub fn fp_radius_inside(fp_radius: f64, r_cycle: f64, map: usize) -> Result<(), ScanError> {
+    if fp_radius <= 0.5 * r_cycle {
+        return Ok(());
+    }
+    Err(ScanError::Invalid {
+        path: format!("map {map}"),
+        key: "classifier.fp_radius".into(),
+        value: fp_radius.to_string(),
+        expected: format!(
+            "a ball well inside the unstable cycle: at most half its section crossing \
+             r = {r_cycle:.4} (found by the cycle search before any cell ran)"
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inv(key: &str, value: String, expected: &str) -> ScanError {
+        ScanError::Invalid {
+            path: "t".into(),
+            key: key.into(),
+            value,
+            expected: expected.into(),
+        }
+    }
+
+    #[test]
+    fn ranges_take_exactly_two_finite_ordered_numbers() {
+        let ok = state_range("k", &[-2.0, 2.0], Width::Positive, &inv).unwrap();
+        assert_eq!(ok, [-2.0, 2.0]);
+        for (list, width, want) in [
+            (vec![-2.0, 2.0, 3.0], Width::MayBeEmpty, "exactly two"),
+            (vec![1.0], Width::MayBeEmpty, "exactly two"),
+            (vec![-1e308, 1e308], Width::MayBeEmpty, "1e6"),
+            (vec![f64::NAN, 1.0], Width::MayBeEmpty, "finite"),
+            (vec![1.0, 1.0], Width::Positive, "an area"),
+            (vec![2.0, 1.0], Width::MayBeEmpty, "inverted"),
+        ] {
+            let e = state_range("k", &list, width, &inv)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want) && e.contains("`k`"), "{list:?}: {e}");
+        }
+        assert!(state_range("k", &[1.0, 1.0], Width::MayBeEmpty, &inv).is_ok());
+    }
+
+    #[test]
+    fn the_cycle_search_refuses_ranges_it_cannot_sample() {
+        let name = |k: &str| format!("cycle.{k}");
+        assert!(cycle_search(&CycleSettings::default(), &name, &inv).is_ok());
+        for (r_max, want) in [
+            (1e100, "1e6"),
+            (f64::INFINITY, "finite"),
+            (0.015, "> 2 r_min"),
+            // 1e6 with 96 samples: ratio (1e8)^(1/95) = 1.214, accepted; with 40
+            // samples (1e8)^(1/39) = 1.604, refused.
+        ] {
+            let cs = CycleSettings {
+                r_max,
+                ..Default::default()
+            };
+            let e = cycle_search(&cs, &name, &inv).unwrap_err().to_string();
+            assert!(
+                e.contains("cycle.r_max") && e.contains(want),
+                "{r_max}: {e}"
+            );
+        }
+        let wide = CycleSettings {
+            r_max: 1e6,
+            ..Default::default()
+        };
+        assert!(cycle_search(&wide, &name, &inv).is_ok());
+        let coarse = CycleSettings {
+            samples: 40,
+            ..wide
+        };
+        let e = cycle_search(&coarse, &name, &inv).unwrap_err().to_string();
+        assert!(e.contains("1.6") && e.contains("samples"), "{e}");
+    }
+}

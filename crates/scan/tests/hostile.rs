@@ -1,0 +1,243 @@
+//! Hostile and careless specs (issue "Hostile and careless input"): each case was accepted
+//! and silently wrong, or unbounded, before the checks of `squeal_scan::bounds`; each is now
+//! refused before any computing with a message naming the key.
+
+use squeal_scan::Plan;
+use squeal_scan::atlas::AtlasPlan;
+
+const SCAN: &str = r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 32 }
+v0 = { min = -4.0, max = 4.0, count = 32 }
+[output]
+path = "x.h5"
+"#;
+
+const SAMPLED: &str = r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[sample]
+kind = "random"
+n = 500
+seed = 1
+region = { x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }
+[output]
+path = "x.h5"
+"#;
+
+const ATLAS: &str = r#"version = 1
+[model]
+law = "mcmillan"
+nu = [1e-3, 2e-3]
+[output]
+path = "a.h5"
+"#;
+
+fn scan_err(text: &str) -> String {
+    match Plan::from_toml(text, "t.toml") {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn atlas_err(text: &str) -> String {
+    match AtlasPlan::from_toml(text, "t.toml") {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// `text` with `table` (a `[name]` line and its keys) added before `[output]`.
+fn with(text: &str, table: &str) -> String {
+    text.replace("[output]", &format!("{table}\n[output]"))
+}
+
+fn assert_names(e: &str, key: &str, why: &str) {
+    assert!(
+        e.contains(&format!("`{key}`")) && e.contains(why),
+        "expected `{key}` ({why}) in: {e}"
+    );
+}
+
+/// Item 1: `[cycle] r_max = 1e100` was accepted ("> 2 r_min" only): the section search's
+/// samples then lie too far apart to see the cycle (see `bounds::MAX_SAMPLE_RATIO`).
+#[test]
+fn a_cycle_search_beyond_the_escape_radius_or_too_coarse_is_refused() {
+    for r_max in ["1e100", "1e300", "2e6"] {
+        let e = atlas_err(&with(ATLAS, &format!("[cycle]\nr_max = {r_max}")));
+        assert_names(&e, "cycle.r_max", "<= 1e6");
+    }
+    let e = atlas_err(&with(ATLAS, "[cycle]\nr_max = 1e6\nsamples = 20"));
+    assert_names(&e, "cycle.r_max", "at most 1.25");
+    AtlasPlan::from_toml(&with(ATLAS, "[cycle]\nr_max = 1e3"), "t.toml").unwrap();
+}
+
+/// Item 2: `fp_radius = 10` labelled every cell of Fig. 9 steady slip.
+#[test]
+fn a_fixed_point_ball_as_large_as_the_cycle_is_refused() {
+    for fp in ["10.0", "0.5", "0.011"] {
+        let e = scan_err(&with(
+            SCAN,
+            &format!("[classifier]\nfp_radius = {fp}\nearly_stop = \"none\""),
+        ));
+        assert_names(&e, "classifier.fp_radius", "(0, 0.01]");
+    }
+    Plan::from_toml(&with(SCAN, "[classifier]\nfp_radius = 0.01"), "t.toml").unwrap();
+}
+
+/// Item 3: huge finite bounds overflowed the grid spacing (x0 = [NaN, inf, ...]) and the
+/// box area (basin fraction NaN); a huge sample region gave 500 solver failures.
+#[test]
+fn bounds_beyond_the_escape_radius_are_refused() {
+    let e = scan_err(&SCAN.replace("min = -3.0, max = 5.0", "min = -1e308, max = 1e308"));
+    assert_names(&e, "grid.x0.min", "1e6");
+    let e = scan_err(&SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [-1e308, 1e308]"));
+    assert_names(&e, "sample.region.x0", "1e6");
+    let grid = "[grid]\nx0 = { min = -1e308, max = 1e308, count = 4 }\nv0 = { min = -1.0, max = 1.0, count = 4 }";
+    let e = atlas_err(&with(ATLAS, grid));
+    assert_names(&e, "grid.x0.min", "1e6");
+    let e = atlas_err(&with(ATLAS, "[disturbance]\nx = [-1e308, 1e308]"));
+    assert_names(&e, "disturbance.x", "1e6");
+    let e = atlas_err(&with(ATLAS, "[operating_point]\nx = 1e300"));
+    assert_names(&e, "operating_point.x", "1e6");
+    // At the bound itself every coordinate is finite.
+    let p = Plan::from_toml(
+        &SCAN.replace("min = -3.0, max = 5.0", "min = -1e6, max = 1e6"),
+        "t.toml",
+    )
+    .unwrap();
+    let g = p.grid;
+    assert!((0..g.x0.count).all(|i| g.state(0, i).0.is_finite()));
+}
+
+/// Item 4: a third list element was dropped (`[0, 1, 2]` used as `[0, 1]`).
+#[test]
+fn extra_list_elements_are_refused() {
+    let e = scan_err(&SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [-2.0, 2.0, 3.0]"));
+    assert_names(
+        &e,
+        "sample.region.x0",
+        "exactly two numbers [min, max] (got 3)",
+    );
+    let e = atlas_err(&with(ATLAS, "[disturbance]\nv = [0.0, 1.0, 2.0]"));
+    assert_names(
+        &e,
+        "disturbance.v",
+        "exactly two numbers [min, max] (got 3)",
+    );
+    let e = atlas_err(&with(ATLAS, "[disturbance]\nv = [1.0]"));
+    assert_names(&e, "disturbance.v", "(got 1)");
+}
+
+/// Item 5: an atlas `[grid]` with `count = 1` ran (docs: count >= 2), and `count = 1` with
+/// `min != max` ignored `max`, in atlases and scans.
+#[test]
+fn single_point_axes_are_refused_where_they_mean_nothing() {
+    let grid = |x0: &str| format!("[grid]\nx0 = {x0}\nv0 = {{ min = -1.0, max = 1.0, count = 4 }}");
+    let e = atlas_err(&with(ATLAS, &grid("{ min = 0.5, max = 0.5, count = 1 }")));
+    assert_names(&e, "grid.x0.count", "count >= 2");
+    let e = atlas_err(&with(ATLAS, &grid("{ min = -1.0, max = 2.0, count = 1 }")));
+    assert_names(&e, "grid.x0.count", "min = max for a single value");
+    let e = scan_err(&SCAN.replace(
+        "min = -3.0, max = 5.0, count = 32",
+        "min = -3.0, max = 5.0, count = 1",
+    ));
+    assert_names(&e, "grid.x0.count", "min = max for a single value");
+    // A single value stays a valid scan axis (a line of starts).
+    Plan::from_toml(
+        &SCAN.replace(
+            "min = -3.0, max = 5.0, count = 32",
+            "min = 1.0, max = 1.0, count = 1",
+        ),
+        "t.toml",
+    )
+    .unwrap();
+}
+
+/// Item 9: with `tau = 1e300` a 4-row block took 20 s where the estimate said "roughly
+/// 0 s" (2 / 25000 s per cell). The estimate now grows with tau, up to a run to t_max.
+#[test]
+fn the_estimate_of_a_slow_model_is_not_zero() {
+    let slow = Plan::from_toml(
+        &SCAN.replace("nu = 1e-3", "nu = 1e-3\ntau = 1e300"),
+        "t.toml",
+    )
+    .unwrap();
+    let paper = Plan::from_toml(SCAN, "t.toml").unwrap();
+    let cells = slow.total_cells();
+    // Run to t_max: (t_max / dt) steps at 250 ns (BENCHMARKS.md, "Time per step").
+    let to_t_max = 5000.0 / 0.005 * 250e-9 * cells as f64;
+    assert_eq!(slow.estimate_seconds(cells, 1), to_t_max);
+    // The paper's tau keeps the measured rate of BENCHMARKS.md ("Basin scans").
+    assert_eq!(
+        paper.estimate_seconds(cells, 1),
+        cells as f64 * 2.0 / 25_000.0
+    );
+}
+
+/// Item 9: a spec read from /dev/zero grew memory at about 250 MB/s until killed.
+#[test]
+fn an_endless_spec_file_is_refused() {
+    let e = Plan::from_file(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("longer than 1048576 bytes"), "{e}");
+    let e = AtlasPlan::from_file(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("longer than 1048576 bytes"), "{e}");
+}
+
+/// Item 10: a bad `boundaries.nu_hi` was reported as `boundaries.nu_lo`.
+#[test]
+fn a_bad_upper_bisection_end_is_named() {
+    let e = atlas_err(&with(ATLAS, "[boundaries]\nnu_hi = 20.0"));
+    assert_names(&e, "boundaries.nu_hi", "<= 10");
+    let e = atlas_err(&with(ATLAS, "[boundaries]\nlambda_hi = nan"));
+    assert_names(&e, "boundaries.lambda_hi", "<= 1000");
+    let e = atlas_err(&with(ATLAS, "[boundaries]\nnu_lo = 0.0"));
+    assert_names(&e, "boundaries.nu_lo", "0 < nu_lo");
+}
+
+/// Item 10: `[operating_point]` or `[disturbance]` with one key failed with "missing field
+/// `v`" though the docs give each key a default.
+#[test]
+fn one_key_of_a_point_or_box_takes_the_others_default() {
+    let p = AtlasPlan::from_toml(&with(ATLAS, "[operating_point]\nx = 0.5"), "t.toml").unwrap();
+    assert_eq!((p.point.operating.x, p.point.operating.v), (0.5, 0.0));
+    let p = AtlasPlan::from_toml(&with(ATLAS, "[disturbance]\nv = [-1.0, 1.0]"), "t.toml").unwrap();
+    let d = squeal_scan::atlas::point::PointSettings::default().disturbance;
+    assert_eq!(
+        (p.point.disturbance.x, p.point.disturbance.v),
+        (d.x, [-1.0, 1.0])
+    );
+}
+
+/// Item 2, once the cycle is known: at nu = 5e-5 (Table 1 otherwise) the unstable cycle
+/// crosses the section at x' = 0.01845 (`squeal ulc --nu 5e-5`), so a ball of radius 0.01,
+/// within the spec's bound, reaches past half of it and is refused before any cell runs.
+#[test]
+fn a_fixed_point_ball_reaching_the_located_cycle_is_refused() {
+    let text = |fp: &str| {
+        SCAN.replace("nu = 1e-3", "nu = 5e-5").replace(
+            "[output]",
+            &format!("[classifier]\nfp_radius = {fp}\n[output]"),
+        )
+    };
+    let wide = Plan::from_toml(&text("0.01"), "t.toml").unwrap();
+    let e = match squeal_scan::MapContext::prepare(&wide, 0) {
+        Ok(_) => panic!("a ball of 0.01 inside a cycle at 0.018 was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert_names(
+        &e,
+        "classifier.fp_radius",
+        "at most half its section crossing",
+    );
+    let small = Plan::from_toml(&text("1e-3"), "t.toml").unwrap();
+    assert!(squeal_scan::MapContext::prepare(&small, 0).is_ok());
+}
