@@ -97,17 +97,18 @@ path = "b.h5"
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let png = d.path().join("b.png");
     assert!(std::fs::metadata(&png).unwrap().len() > 8);
-    std::fs::write(&png, b"").unwrap();
-    let o = squeal(d.path(), &["scan", "b.toml", "--quiet"]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        o.status.success() && err.contains("drew the missing picture"),
-        "{err}"
-    );
-    assert!(
-        std::fs::metadata(&png).unwrap().len() > 8,
-        "still empty: {err}"
-    );
+    let whole = std::fs::read(&png).unwrap();
+    // Empty, and cut short (as a full disk left them): both are drawn again.
+    for broken in [&whole[..0], &whole[..whole.len() / 2]] {
+        std::fs::write(&png, broken).unwrap();
+        let o = squeal(d.path(), &["scan", "b.toml", "--quiet"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            o.status.success() && err.contains("drew the missing picture"),
+            "{err}"
+        );
+        assert_eq!(std::fs::read(&png).unwrap(), whole, "not redrawn: {err}");
+    }
 }
 
 /// Complete records of `kind` in a journal: `SQJR`, kind byte, u32 length (little endian),

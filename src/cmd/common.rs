@@ -25,16 +25,14 @@ pub fn check_new(path: &Path, force: bool, what: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Whether `path` holds a picture: a file that starts with the PNG signature and holds
-/// more than it. A full disk left a 0-byte PNG that a rerun reported "up to date"; such a
-/// file is drawn again.
+/// Whether `path` holds a whole picture: a file that starts with the PNG signature and
+/// ends with the PNG's closing `IEND` chunk (its name and fixed CRC). A full disk left a
+/// 0-byte or cut PNG that a rerun reported "up to date"; such a file is drawn again.
 pub fn is_drawn(path: &Path) -> bool {
-    use std::io::Read;
     const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
-    let mut head = [0u8; 9];
-    std::fs::File::open(path)
-        .and_then(|mut f| f.read_exact(&mut head))
-        .is_ok_and(|_| head[..8] == SIGNATURE)
+    const END: [u8; 8] = [b'I', b'E', b'N', b'D', 0xAE, 0x42, 0x60, 0x82];
+    std::fs::read(path)
+        .is_ok_and(|b| b.len() > 16 && b.starts_with(&SIGNATURE) && b.ends_with(&END))
 }
 
 /// The error of a drawing, with the picture it left removed (a full disk left a 0-byte or
