@@ -8,13 +8,11 @@
 //! result depends only on the plan and the cell, never on the thread count or the order in
 //! which blocks finish.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, OnceLock};
 
-use rayon::prelude::*;
-
 use crate::error::ScanError;
+use crate::executor::{Emit, execute};
 use crate::scanner::{BlockResult, MapContext, Observer, run_block};
 use crate::spec::Plan;
 use crate::ulc::CycleOutcome;
@@ -175,13 +173,19 @@ pub enum DriveError<E> {
     Sink(E),
 }
 
+impl<E> From<ScanError> for DriveError<E> {
+    fn from(e: ScanError) -> Self {
+        DriveError::Scan(e)
+    }
+}
+
 enum Msg {
     Cycle(usize, Box<Option<CycleOutcome>>),
     Block(BlockResult),
-    Failed(ScanError),
 }
 
-/// Runs the pending work of `shard` of `plan` into `sink` on the current rayon pool.
+/// Runs the pending work of `shard` of `plan` into `sink` through the one executor
+/// ([`crate::executor::execute`]: workers on the rayon pool, the sink on this thread).
 /// Raising `stop` hands out no further work: the blocks in flight are finished and go to the
 /// sink (a signal lost them before: one 48-row block interrupted after 15 s left nothing
 /// for the resume), then the drive returns with `interrupted`.
@@ -203,75 +207,47 @@ pub fn drive<S: Sink>(
         .map(|&m| (m, None))
         .chain(pending.blocks.iter().map(|&(m, b)| (m, Some(b))))
         .collect();
-    let (tx, rx) = mpsc::channel::<Msg>();
-    let mut report = DriveReport::default();
-    let mut cycles_written = 0usize;
     let cycles_wanted: std::collections::BTreeSet<usize> = jobs
         .iter()
         .map(|&(m, _)| m)
         .filter(|&m| need_cycle[m])
         .collect();
-    let mut failure: Option<DriveError<S::Error>> = None;
-    std::thread::scope(|scope| {
-        let ctxs = &ctxs;
-        let need_cycle = &need_cycle;
-        let workers = scope.spawn(move || {
-            jobs.into_par_iter().for_each_with(tx, |tx, (m, b)| {
-                if stop.load(Ordering::SeqCst) {
-                    return;
+    let mut report = DriveReport::default();
+    let mut cycles_written = 0usize;
+    let work = |(m, b): (usize, Option<usize>), emit: &dyn Fn(Emit<Msg, ScanError>)| {
+        let ctx = ctxs[m].get_or_init(|| match MapContext::prepare(plan, m) {
+            Ok(ctx) => {
+                if need_cycle[m] {
+                    emit(Emit::Done(Msg::Cycle(m, Box::new(ctx.cycle.clone()))));
                 }
-                let ctx = ctxs[m].get_or_init(|| match MapContext::prepare(plan, m) {
-                    Ok(ctx) => {
-                        if need_cycle[m] {
-                            let _ = tx.send(Msg::Cycle(m, Box::new(ctx.cycle.clone())));
-                        }
-                        observer.map_prepared(m);
-                        Some(Arc::new(ctx))
-                    }
-                    Err(e) => {
-                        stop.store(true, Ordering::SeqCst);
-                        let _ = tx.send(Msg::Failed(e));
-                        None
-                    }
-                });
-                let (Some(ctx), Some(b)) = (ctx, b) else {
-                    return;
-                };
-                // No stop inside the block: once started it is finished and journalled.
-                if let Some(r) = run_block(plan, ctx, b, observer, None) {
-                    observer.block_done(m, b);
-                    let _ = tx.send(Msg::Block(r));
-                }
-            });
+                observer.map_prepared(m);
+                Some(Arc::new(ctx))
+            }
+            Err(e) => {
+                emit(Emit::Failed(e));
+                None
+            }
         });
-        for msg in rx {
-            if failure.is_some() {
-                continue;
-            }
-            let res = match msg {
-                Msg::Cycle(m, c) => {
-                    cycles_written += 1;
-                    sink.write_cycle(m, (*c).as_ref()).map_err(DriveError::Sink)
-                }
-                Msg::Block(r) => {
-                    report.blocks += 1;
-                    report.cells += r.cells.len();
-                    sink.write_block(&r).map_err(DriveError::Sink)
-                }
-                Msg::Failed(e) => Err(DriveError::Scan(e)),
-            };
-            if let Err(e) = res {
-                stop.store(true, Ordering::SeqCst);
-                failure = Some(e);
-            }
+        let (Some(ctx), Some(b)) = (ctx, b) else {
+            return;
+        };
+        // No stop inside the block: once started it is finished and journalled.
+        if let Some(r) = run_block(plan, ctx, b, observer, None) {
+            observer.block_done(m, b);
+            emit(Emit::Done(Msg::Block(r)));
         }
-        if let Err(panic) = workers.join() {
-            std::panic::resume_unwind(panic);
+    };
+    execute(jobs, stop, work, |msg| match msg {
+        Msg::Cycle(m, c) => {
+            cycles_written += 1;
+            sink.write_cycle(m, (*c).as_ref()).map_err(DriveError::Sink)
         }
-    });
-    if let Some(e) = failure {
-        return Err(e);
-    }
+        Msg::Block(r) => {
+            report.blocks += 1;
+            report.cells += r.cells.len();
+            sink.write_block(&r).map_err(DriveError::Sink)
+        }
+    })?;
     report.interrupted =
         report.blocks < pending.blocks.len() || cycles_written < cycles_wanted.len();
     Ok(report)
@@ -280,6 +256,7 @@ pub fn drive<S: Sink>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::atomic::Ordering;
 
     fn tiny() -> Plan {
         Plan::from_toml(

@@ -2,7 +2,6 @@
 //! atlas's basin maps, journalled as they finish. `squeal atlas` and the Python package
 //! both call [`run_atlas`]; they add the progress display, the signals and the report.
 
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use squeal_scan::atlas::{AtlasPlan, driver};
@@ -50,16 +49,16 @@ pub fn run_atlas(
     observer: &dyn Observer,
 ) -> Result<(AtlasWriter, usize), AtlasRunError> {
     let todo = writer.missing();
-    let writer = Mutex::new(writer);
-    driver::run(plan, &todo, &|| stop.load(Ordering::SeqCst), &|r| {
-        let mut w = writer.lock().expect("writer lock");
+    let mut writer = writer;
+    // The sink runs on this thread: the journal's fsyncs stay off the workers.
+    driver::run(plan, &todo, stop, |r| {
         // With every source: the OS's reason ("No space left on device") is one.
-        w.record(r)
+        writer
+            .record(r)
             .map_err(|e| ScanError::Undetermined(format!("journal: {}", chain(&e))))?;
         on_unit();
         Ok(())
     })?;
-    let mut writer = writer.into_inner().expect("writer lock");
     if let Some(mp) = plan
         .map_plan()
         .as_ref()

@@ -7,13 +7,15 @@
 //! other than the damping. Units run in parallel (rayon); each finished one is handed to
 //! the caller's sink, which journals it (crash safety) and later writes the file.
 
-use rayon::prelude::*;
+use std::sync::atomic::AtomicBool;
+
 use serde::{Deserialize, Serialize};
 
 use super::boundary::{self, Boundary};
 use super::point::{PointResult, compute_point};
 use super::spec::AtlasPlan;
 use crate::error::ScanError;
+use crate::executor::{Emit, execute};
 use crate::section::ParamRange;
 
 /// One unit of work.
@@ -158,27 +160,27 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
     }
 }
 
-/// Runs `units` in parallel, handing each finished one to `sink` (called from the worker
-/// threads; the sink serialises its own writes). Stops at the first error or when `stop`
-/// returns true (units in flight finish and are handed over).
+/// Runs `units` through the one executor ([`crate::executor::execute`]), handing each
+/// finished one to `sink` on the calling thread. Stops at the first error or when `stop` is
+/// raised (units in flight finish and are handed over).
 pub fn run(
     plan: &AtlasPlan,
     units: &[Unit],
-    stop: &(dyn Fn() -> bool + Sync),
-    sink: &(dyn Fn(UnitResult) -> Result<(), ScanError> + Sync),
+    stop: &AtomicBool,
+    sink: impl FnMut(UnitResult) -> Result<(), ScanError>,
 ) -> Result<(), ScanError> {
-    units.par_iter().try_for_each(|&u| {
-        if stop() {
-            return Ok(());
-        }
-        sink(run_unit(plan, u)?)
-    })
+    let work = |u: Unit, emit: &dyn Fn(Emit<UnitResult, ScanError>)| {
+        emit(match run_unit(plan, u) {
+            Ok(r) => Emit::Done(r),
+            Err(e) => Emit::Failed(e),
+        })
+    };
+    execute(units.to_vec(), stop, work, sink)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::Mutex;
 
     #[test]
     fn one_line_and_its_boundary() {
@@ -202,13 +204,12 @@ path = "x.h5"
         )
         .unwrap();
         assert_eq!(plan.units(), vec![Unit::Boundary(0), Unit::Line(0)]);
-        let got = Mutex::new(Vec::new());
-        run(&plan, &plan.units(), &|| false, &|r| {
-            got.lock().unwrap().push(r);
+        let mut got = Vec::new();
+        run(&plan, &plan.units(), &AtomicBool::new(false), |r| {
+            got.push(r);
             Ok(())
         })
         .unwrap();
-        let got = got.into_inner().unwrap();
         assert_eq!(got.len(), 2);
         for r in got {
             match r {

@@ -1,0 +1,152 @@
+//! The one executor: every kind of work (a scan's map blocks, an atlas's lines of points and
+//! boundary searches) runs through [`execute`].
+//!
+//! Jobs run on the global rayon pool (the CLI sizes it with `--threads`; they are handed
+//! out from a helper thread, so a pool installed around the call does not apply); each emits its finished results over a channel to
+//! the thread that called [`execute`], the only one that calls the sink. So the journal's
+//! writes and fsyncs stay off the workers' path, whichever engine runs (before, the atlas
+//! called its sink from the workers behind a lock). Raising `stop` hands out no further
+//! job; the jobs in flight finish and their results still reach the sink. The first error
+//! from a job or from the sink raises `stop` too, and is returned once the jobs in flight
+//! are done (their results are not handed to a sink that has failed).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+
+use rayon::prelude::*;
+
+/// What a job sends to the sink's thread: a result, or the error that ends the run.
+pub enum Emit<M, E> {
+    /// A finished result.
+    Done(M),
+    /// A failure: the run stops and returns it.
+    Failed(E),
+}
+
+/// Runs `work` on every job in parallel; `work` hands its results to `emit`, and `sink`
+/// receives them, one at a time, on the calling thread. Returns the first failure (from a
+/// job, `JE`, or from the sink, `E`) after the jobs in flight are done.
+pub fn execute<J, M, JE, E>(
+    jobs: Vec<J>,
+    stop: &AtomicBool,
+    work: impl Fn(J, &dyn Fn(Emit<M, JE>)) + Sync,
+    mut sink: impl FnMut(M) -> Result<(), E>,
+) -> Result<(), E>
+where
+    J: Send,
+    M: Send,
+    JE: Send,
+    E: From<JE>,
+{
+    let (tx, rx) = mpsc::channel::<Emit<M, JE>>();
+    let mut failure = None;
+    std::thread::scope(|scope| {
+        let work = &work;
+        let workers = scope.spawn(move || {
+            jobs.into_par_iter().for_each_with(tx, |tx, job| {
+                if stop.load(Ordering::SeqCst) {
+                    return;
+                }
+                work(job, &|m| {
+                    let _ = tx.send(m);
+                });
+            });
+        });
+        for msg in rx {
+            if failure.is_some() {
+                continue;
+            }
+            let res = match msg {
+                Emit::Done(m) => sink(m),
+                Emit::Failed(e) => Err(E::from(e)),
+            };
+            if let Err(e) = res {
+                stop.store(true, Ordering::SeqCst);
+                failure = Some(e);
+            }
+        }
+        if let Err(panic) = workers.join() {
+            std::panic::resume_unwind(panic);
+        }
+    });
+    failure.map_or(Ok(()), Err)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_result_reaches_the_sink_on_the_calling_thread() {
+        let caller = std::thread::current().id();
+        let mut got = Vec::new();
+        let stop = AtomicBool::new(false);
+        execute(
+            (0..100u32).collect(),
+            &stop,
+            |j, emit: &dyn Fn(Emit<u32, ()>)| emit(Emit::Done(j * j)),
+            |m| {
+                assert_eq!(std::thread::current().id(), caller);
+                got.push(m);
+                Ok::<(), ()>(())
+            },
+        )
+        .unwrap();
+        got.sort_unstable();
+        assert_eq!(got, (0..100u32).map(|j| j * j).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn a_failure_stops_the_run_and_is_returned() {
+        let stop = AtomicBool::new(false);
+        let mut sunk = 0;
+        let r = execute(
+            (0..50u32).collect(),
+            &stop,
+            |j, emit: &dyn Fn(Emit<u32, String>)| {
+                if j == 3 {
+                    emit(Emit::Failed(format!("job {j}")));
+                } else {
+                    emit(Emit::Done(j));
+                }
+            },
+            |_| {
+                sunk += 1;
+                Ok::<(), String>(())
+            },
+        );
+        assert_eq!(r, Err("job 3".to_string()));
+        assert!(stop.load(Ordering::SeqCst));
+        assert!(sunk < 50, "{sunk}");
+    }
+
+    #[test]
+    fn a_failing_sink_stops_the_run() {
+        let stop = AtomicBool::new(false);
+        let r = execute(
+            (0..50u32).collect(),
+            &stop,
+            |j, emit: &dyn Fn(Emit<u32, u32>)| emit(Emit::Done(j)),
+            |m| Err::<(), u32>(m),
+        );
+        assert!(r.is_err());
+        assert!(stop.load(Ordering::SeqCst));
+    }
+
+    #[test]
+    fn a_raised_stop_hands_out_no_job() {
+        let stop = AtomicBool::new(true);
+        let mut sunk = 0;
+        execute(
+            (0..10u32).collect(),
+            &stop,
+            |j, emit: &dyn Fn(Emit<u32, ()>)| emit(Emit::Done(j)),
+            |_| {
+                sunk += 1;
+                Ok::<(), ()>(())
+            },
+        )
+        .unwrap();
+        assert_eq!(sunk, 0);
+    }
+}
