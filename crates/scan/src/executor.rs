@@ -127,7 +127,7 @@ mod tests {
             (0..50u32).collect(),
             &stop,
             |j, emit: &dyn Fn(Emit<u32, u32>)| emit(Emit::Done(j)),
-            |m| Err::<(), u32>(m),
+            Err::<(), u32>,
         );
         assert!(r.is_err());
         assert!(stop.load(Ordering::SeqCst));
