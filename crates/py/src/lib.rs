@@ -45,8 +45,9 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use squeal_core::State;
+use squeal_core::{Setup, State};
 use squeal_scan::atlas::AtlasPlan;
+use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{CycleSettings, critical_nu, locate};
 use squeal_scan::{NoObserver, Plan};
 use squeal_store::atlas::AtlasWriter;
@@ -241,7 +242,7 @@ pub fn ulc(
         ..Default::default()
     };
     let rep = py
-        .detach(|| locate(params, plan.dt, plan.solver, &cs))
+        .detach(|| locate(Setup::new(params, plan.dt, plan.solver), &cs))
         .map_err(value_error)?;
     serde_json::to_string(&rep).map_err(value_error)
 }
@@ -269,14 +270,10 @@ pub fn critical(
     let rep = py
         .detach(|| {
             critical_nu(
-                params,
-                plan.dt,
-                plan.solver,
+                Setup::new(params, plan.dt, plan.solver),
                 &cs,
                 point,
-                bracket.0,
-                bracket.1,
-                rtol,
+                ParamRange::new(bracket.0, bracket.1, rtol),
             )
         })
         .map_err(value_error)?;
@@ -318,13 +315,10 @@ pub fn boundary(
     let [f, c] = py.detach(|| {
         both_in(
             param,
-            base,
-            plan.dt,
-            plan.solver,
+            Setup::new(base, plan.dt, plan.solver),
             &ps,
             point,
-            [bracket.0, bracket.1],
-            rtol,
+            ParamRange::new(bracket.0, bracket.1, rtol),
             [fold, !fold],
         )
     });
