@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget};
 use serde_json::{Value, json};
 use squeal_plot::{Curve, Rgb};
 use squeal_scan::atlas::columns::{COLUMNS, Si};
@@ -32,12 +32,15 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Counts finished map blocks on the progress bar.
-struct BarObserver<'a>(&'a ProgressBar);
+/// Counts finished map blocks on the progress bar (and the plain lines off a terminal).
+struct BarObserver<'a>(&'a ProgressBar, &'a Option<common::PlainLines>);
 
 impl squeal_scan::Observer for BarObserver<'_> {
     fn block_done(&self, _map: usize, _block: usize) {
         self.0.inc(1);
+        if let Some(p) = self.1 {
+            p.inc();
+        }
     }
 }
 
@@ -88,12 +91,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             ProgressDrawTarget::hidden()
         },
     )
-    .with_style(
-        ProgressStyle::with_template(
-            "atlas [{bar:40}] {pos}/{len} units and map blocks  ETA {eta}",
-        )
-        .expect("static template")
-        .progress_chars("=> "),
+    .with_style(common::bar_style(
+        "atlas [{bar:40}] {pos}/{len} units and map blocks  {avg_rate}  ETA {avg_eta}",
+        "unit",
+    ));
+    let plain = common::PlainLines::new(
+        "units and map blocks",
+        "unit",
+        (todo.len() + todo_blocks) as u64,
+        args.run.quiet,
     );
     let t0 = Instant::now();
     let writer = Mutex::new(writer);
@@ -102,6 +108,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         w.record(r)
             .map_err(|e| squeal_scan::ScanError::Undetermined(format!("journal: {e}")))?;
         bar.inc(1);
+        if let Some(p) = &plain {
+            p.inc();
+        }
         Ok(())
     });
     let mut writer = writer.into_inner().expect("writer lock");
@@ -111,7 +120,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     // The basin maps: the scan's driver over (point, block) pairs, into the same journal.
     if let Some(mp) = map_plan.as_ref().filter(|_| !stop.load(Ordering::SeqCst)) {
-        squeal_scan::drive(mp, shard, &mut writer, &BarObserver(&bar), &stop)
+        squeal_scan::drive(mp, shard, &mut writer, &BarObserver(&bar, &plain), &stop)
             .map_err(|e| anyhow::anyhow!("{e}"))
             .context("basin maps")?;
     }
@@ -298,7 +307,8 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
         "axes": axes,
         "fixed": fixed,
         "operating_point": {"x": plan.point.operating.x, "v": plan.point.operating.v},
-        "disturbance": {"x": plan.point.disturbance.x, "v": plan.point.disturbance.v},
+        "disturbance": {"x": plan.point.disturbance.x, "v": plan.point.disturbance.v,
+            "x_units": plan.disturbance_units()[0], "v_units": plan.disturbance_units()[1]},
         "points": points,
         "boundaries": boundaries,
         "scheme": plan.solver.scheme.name(),
@@ -782,15 +792,18 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
             }
             let op = plan.point.operating;
             let d = plan.point.disturbance;
-            let units = if plan.units == Units::Physical {
-                " (SI)"
-            } else {
-                ""
+            let (units, box_units) = match (plan.units, plan.disturbance_nondimensional) {
+                (Units::Physical, false) => (" (m, m/s)", " (m, m/s)"),
+                (Units::Physical, true) => (
+                    " (m, m/s)",
+                    " (nondimensional at each point: the default box)",
+                ),
+                _ => ("", ""),
             };
             let chart = squeal_plot::StabilityChart {
                 title: title(&plan, Some("stability chart")),
                 subtitle: format!(
-                    "operating point ({}, {}){units}; basin fraction of steady slip over x in [{}, {}], x' in [{}, {}]{units}",
+                    "operating point ({}, {}){units}; basin fraction of steady slip over x in [{}, {}], x' in [{}, {}]{box_units}",
                     op.x, op.v, d.x[0], d.x[1], d.v[0], d.v[1]
                 ),
                 x_label: axis_label(xa),

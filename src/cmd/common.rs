@@ -39,6 +39,116 @@ pub fn show_progress(quiet: bool) -> bool {
     !quiet && std::io::stderr().is_terminal()
 }
 
+/// The average rate so far, `done` units over `secs` seconds ("-" before the first second:
+/// a rate from a few units in a few milliseconds is noise).
+pub fn rate_words(done: u64, secs: f64, unit: &str) -> String {
+    if secs < 1.0 || done == 0 {
+        return "-".into();
+    }
+    let r = done as f64 / secs;
+    if r >= 10.0 {
+        format!("{r:.0} {unit}/s")
+    } else {
+        format!("{:.1} s/{unit}", 1.0 / r)
+    }
+}
+
+/// The time left at the average rate so far ("estimating" before the first second and the
+/// first unit: indicatif's own estimate starts from a few samples and can say hours for a
+/// job of a second).
+pub fn eta_words(done: u64, total: u64, secs: f64) -> String {
+    if secs < 1.0 || done == 0 {
+        return "estimating".into();
+    }
+    let left = total.saturating_sub(done) as f64 * secs / done as f64;
+    short_duration(left)
+}
+
+/// "45 s", "12 min", "3.2 h".
+pub fn short_duration(s: f64) -> String {
+    if s < 90.0 {
+        format!("{s:.0} s")
+    } else if s < 5400.0 {
+        format!("{:.0} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}
+
+/// A bar style whose `{avg_rate}` and `{avg_eta}` are [`rate_words`] and [`eta_words`]
+/// (`unit` names what is counted).
+pub fn bar_style(template: &str, unit: &'static str) -> indicatif::ProgressStyle {
+    use indicatif::ProgressState;
+    let secs = |s: &ProgressState| s.elapsed().as_secs_f64();
+    indicatif::ProgressStyle::with_template(template)
+        .expect("static template")
+        .with_key(
+            "avg_rate",
+            move |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = w.write_str(&rate_words(s.pos(), secs(s), unit));
+            },
+        )
+        .with_key(
+            "avg_eta",
+            move |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+                let total = s.len().unwrap_or(0);
+                let _ = w.write_str(&eta_words(s.pos(), total, secs(s)));
+            },
+        )
+        .progress_chars("=> ")
+}
+
+/// Progress as plain lines on stderr when it is not a terminal (a batch or SLURM log, where
+/// a bar draws nothing): one line every 5 % of the work, with the average rate and the time
+/// left, and at least one a minute.
+pub struct PlainLines {
+    what: &'static str,
+    unit: &'static str,
+    total: u64,
+    done: std::sync::atomic::AtomicU64,
+    /// The last 5 % step printed, and the elapsed second of the last line.
+    printed: std::sync::Mutex<(u64, f64)>,
+    started: std::time::Instant,
+}
+
+impl PlainLines {
+    /// Lines for `total` units of `what` (e.g. "cells"), counted as `unit`; `None` with
+    /// `--quiet`, on a terminal (the bar shows it) or for no work.
+    pub fn new(what: &'static str, unit: &'static str, total: u64, quiet: bool) -> Option<Self> {
+        (!quiet && !std::io::stderr().is_terminal() && total > 0).then(|| PlainLines {
+            what,
+            unit,
+            total,
+            done: 0.into(),
+            printed: std::sync::Mutex::new((0, 0.0)),
+            started: std::time::Instant::now(),
+        })
+    }
+
+    /// Counts one unit; prints a line at each 5 % step (or after a minute without one).
+    pub fn inc(&self) {
+        use std::sync::atomic::Ordering;
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let step = done * 20 / self.total;
+        let secs = self.started.elapsed().as_secs_f64();
+        let Ok(mut last) = self.printed.lock() else {
+            return;
+        };
+        if step > last.0 || secs - last.1 >= 60.0 {
+            *last = (step, secs);
+            eprintln!(
+                "squeal: {:.0}% ({done}/{} {}) after {}, {}, about {} left",
+                100.0 * done as f64 / self.total as f64,
+                self.total,
+                self.what,
+                short_duration(secs),
+                rate_words(done, secs.max(1.0), self.unit),
+                eta_words(done, self.total, secs.max(1.0)),
+            );
+        }
+    }
+}
+
 /// The label classes in the pictures, in the order of the HDF5 enum.
 pub fn classes() -> Vec<(u8, &'static str, Rgb)> {
     vec![

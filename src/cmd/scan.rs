@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use squeal_scan::{Observer, Pending, Plan, drive};
 use squeal_store::{OutputState, ScanWriter};
 
@@ -46,11 +46,15 @@ pub struct Args {
 struct Bars {
     overall: ProgressBar,
     maps: Vec<ProgressBar>,
+    plain: Option<common::PlainLines>,
 }
 
 impl Observer for Bars {
     fn cell_done(&self, map: usize) {
         self.overall.inc(1);
+        if let Some(p) = &self.plain {
+            p.inc();
+        }
         if let Some(m) = self.maps.get(map) {
             m.inc(1);
         }
@@ -178,11 +182,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ProgressDrawTarget::hidden()
     });
-    let style = ProgressStyle::with_template(
-        "{prefix:>8} [{bar:40}] {pos}/{len} cells  {per_sec}  ETA {eta}",
-    )
-    .expect("static template")
-    .progress_chars("=> ");
+    let style = common::bar_style(
+        "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
+        "cell",
+    );
     let overall = multi.add(
         ProgressBar::new(pending.cells as u64)
             .with_style(style.clone())
@@ -210,7 +213,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
-    let bars = Bars { overall, maps };
+    let plain = common::PlainLines::new("cells", "cell", pending.cells as u64, args.run.quiet);
+    let bars = Bars {
+        overall,
+        maps,
+        plain,
+    };
 
     let started = Instant::now();
     let done = drive(&plan, shard, &mut writer, &bars, &stop).map_err(|e| match e {
