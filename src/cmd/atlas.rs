@@ -474,9 +474,10 @@ fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
             format!("{} = {}{u}", a.key, squeal_plot::fmt_value(*v))
         })
         .collect();
+    // The spec's name first (docs/atlas-spec.md: "used in titles").
     match what {
-        Some(w) => format!("{} law: {w}; {}", plan.law, fixed.join(", ")),
-        None => format!("{}: {}", plan.law, fixed.join(", ")),
+        Some(w) => format!("{}: {} law, {w}; {}", plan.name, plan.law, fixed.join(", ")),
+        None => format!("{}: {} law; {}", plan.name, plan.law, fixed.join(", ")),
     }
 }
 
@@ -855,6 +856,20 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 .copied()
                 .filter(|v| v.is_finite())
                 .fold(0.0f64, f64::max);
+            // Where no stick-slip oscillation exists beside it (steady slip only) the
+            // unstable cycle bounds no basin: drawn apart, as grey dots.
+            let only_steady = |i: usize| {
+                res.points[i]
+                    .as_ref()
+                    .is_some_and(|p| p.regime == AtlasRegime::SteadySlipOnly)
+            };
+            let split = |keep: bool| -> Vec<f64> {
+                cyc.iter()
+                    .enumerate()
+                    .map(|(i, &v)| if only_steady(i) == keep { v } else { f64::NAN })
+                    .collect()
+            };
+            let (cyc_alone, cyc) = (split(true), split(false));
             let mut curves = vec![
                 Curve {
                     label: "unstable cycle (basin boundary)".into(),
@@ -885,6 +900,15 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                     points_only: false,
                 },
             ];
+            if cyc_alone.iter().any(|v| v.is_finite()) {
+                curves.push(Curve {
+                    label: "unstable cycle, no stick-slip beside it (no basin boundary)".into(),
+                    xs: xs.clone(),
+                    ys: cyc_alone,
+                    color: Rgb(150, 150, 150),
+                    points_only: true,
+                });
+            }
             if none.iter().any(|v| v.is_finite()) {
                 curves.push(Curve {
                     label: "no unstable cycle (at 0)".into(),
@@ -909,7 +933,15 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 ] {
                     if let Some(&x) = v.first().filter(|x| x.is_finite()) {
                         curves.push(Curve {
-                            label: format!("{label}: {}", squeal_plot::fmt_value(x)),
+                            label: format!(
+                                "{label}: {}{}",
+                                squeal_plot::fmt_value(x),
+                                if a.units == "1" {
+                                    String::new()
+                                } else {
+                                    format!(" {}", a.units)
+                                }
+                            ),
                             xs: vec![x, x],
                             ys: vec![0.0, 1.05 * top.max(1e-12)],
                             color,

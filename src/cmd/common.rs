@@ -214,18 +214,33 @@ pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
             points_only: false,
         });
     }
+    let mut markers = vec![Marker {
+        label: "steady-slip fixed point".into(),
+        x: m.fixed_point.0,
+        y: m.fixed_point.1,
+        color: squeal_plot::FIXED_POINT,
+    }];
+    // The state at rest, the start most engineers ask about, where the map covers it.
+    let covers = |axis: &[f64]| {
+        axis.first()
+            .zip(axis.last())
+            .is_some_and(|(a, b)| a.min(*b) <= 0.0 && a.max(*b) >= 0.0)
+    };
+    if covers(&m.x0) && covers(&m.v0) {
+        markers.push(Marker {
+            label: "state at rest (0, 0)".into(),
+            x: 0.0,
+            y: 0.0,
+            color: squeal_plot::REST,
+        });
+    }
     BasinPanel {
         title: m.title.clone(),
         x0: &m.x0,
         v0: &m.v0,
         labels: &m.labels,
         overlays,
-        markers: vec![Marker {
-            label: "steady-slip fixed point".into(),
-            x: m.fixed_point.0,
-            y: m.fixed_point.1,
-            color: squeal_plot::FIXED_POINT,
-        }],
+        markers,
     }
 }
 
@@ -239,7 +254,11 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         let m = squeal_store::read_map(h5, 0)?;
         let info = squeal_store::read_info(h5)?;
         let mut one = panel(&m);
-        one.title = squeal_plot::map_title(&model_params(&info, 0));
+        one.title = format!(
+            "{}: {}",
+            attr(&info, "name").unwrap_or("squeal"),
+            squeal_plot::map_title(&model_params(&info, 0))
+        );
         squeal_plot::basin_map(png, &one, &classes)
             .with_context(|| format!("drawing {}", png.display()))?;
         return Ok(vec![png.to_path_buf()]);

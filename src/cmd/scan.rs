@@ -147,7 +147,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // The work, estimated before anything is created or computed.
     let threads = rayon::current_num_threads();
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default()).cells;
-    let estimate = plan.estimate_seconds(owned, threads);
+    // A pilot measures the time per cell with this plan's law, landscape and early
+    // stopping (squeal_scan::estimate); --quiet skips it and uses the documented rate.
+    let pilot = if args.run.quiet {
+        None
+    } else {
+        Some(squeal_scan::estimate::pilot(&plan)?)
+    };
+    let seconds_for = |cells: usize| match &pilot {
+        Some(e) => e.seconds(plan.maps.len(), cells, threads),
+        None => plan.estimate_seconds(cells, threads),
+    };
+    let estimate = seconds_for(owned);
     if estimate > LONG_SCAN && !args.allow_long {
         bail!(
             "{owned} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
@@ -167,13 +178,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
+        let secs = seconds_for(pending.cells);
         eprintln!(
-            "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} at the documented rate (BENCHMARKS.md)",
+            "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} ({secs:.1} s){}",
             pending.cells,
             plan.maps.len(),
             layout(&plan),
             shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
-            duration(plan.estimate_seconds(pending.cells, threads))
+            duration(secs),
+            pilot.map_or(String::new(), |e| format!(
+                ", from a pilot of {} cells over {} map(s) in {:.1} s",
+                e.cells, e.maps, e.pilot_seconds
+            ))
         );
     }
 

@@ -74,6 +74,8 @@ pub const OTHER: Rgb = Rgb(128, 128, 128);
 pub const CYCLE: Rgb = Rgb(0, 0, 0);
 /// Marker for the fixed point: black (markers get a white halo, so they stay visible).
 pub const FIXED_POINT: Rgb = Rgb(0, 0, 0);
+/// Marker for the state at rest `(0, 0)` on basin maps: dark red.
+pub const REST: Rgb = Rgb(190, 0, 30);
 /// Marks of swept values without data in a [`sweep_chart`]: dark red.
 pub const MISSING: Rgb = Rgb(180, 20, 40);
 
@@ -734,11 +736,16 @@ fn line_chart(path: &Path, o: LineOpts<'_>) -> Result<(), PlotError> {
 /// Draws a title (lines separated by `\n`; the first bold, the others regular and smaller)
 /// centred at the top of `area`, and returns the area below it.
 fn draw_title<'a>(area: &Area<'a>, title: &str, size: u32) -> DrawResult<Area<'a>> {
-    let lines: Vec<&str> = title.lines().filter(|l| !l.trim().is_empty()).collect();
+    let sub = (size * 4).div_ceil(5).max(8);
+    let (width, _) = area.dim_in_pixel();
+    let mut lines: Vec<String> = Vec::new();
+    for (i, line) in title.lines().filter(|l| !l.trim().is_empty()).enumerate() {
+        let style = if i == 0 { bold(size) } else { font(sub) };
+        lines.extend(wrap_line(area, line, &style, width.saturating_sub(24)));
+    }
     if lines.is_empty() {
         return Ok(area.clone());
     }
-    let sub = (size * 4).div_ceil(5).max(8);
     let heights: Vec<u32> = (0..lines.len())
         .map(|i| if i == 0 { size } else { sub } * 13 / 10)
         .collect();
@@ -756,6 +763,30 @@ fn draw_title<'a>(area: &Area<'a>, title: &str, size: u32) -> DrawResult<Area<'a
         y += *h as i32;
     }
     Ok(rest)
+}
+
+/// `line` split after its commas into lines no wider than `width` pixels in `style` (a
+/// title with every parameter of a physical system is wider than the picture).
+fn wrap_line(area: &Area<'_>, line: &str, style: &TextStyle<'_>, width: u32) -> Vec<String> {
+    let fits = |t: &str| {
+        area.estimate_text_size(t, style)
+            .is_ok_and(|(w, _)| w <= width)
+    };
+    let mut out: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for part in line.split_inclusive(", ") {
+        let joined = format!("{cur}{part}");
+        if cur.is_empty() || fits(joined.trim_end()) {
+            cur = joined;
+        } else {
+            out.push(cur.trim_end().trim_end_matches(',').to_string());
+            cur = part.to_string();
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur.trim_end().to_string());
+    }
+    out
 }
 
 /// Picks the chart corner with the fewest data points for the legend.

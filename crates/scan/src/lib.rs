@@ -54,6 +54,7 @@ pub mod compare;
 pub mod curve;
 pub mod driver;
 pub mod error;
+pub mod estimate;
 pub mod grid;
 pub mod landscape;
 pub mod scanner;

@@ -1268,6 +1268,28 @@ path = "p.h5"
     }
 
     #[test]
+    fn physical_default_disturbance_scales_with_the_system() {
+        // Issue 21: the default box [-2, 4] x [-3, 3] was taken as metres and m/s, so a
+        // brake's basin fraction came out 1.5e-8. Without [disturbance] it stays
+        // nondimensional at each point; a [disturbance] in SI is converted.
+        let p = AtlasPlan::from_toml(PHYS, "p.toml").unwrap();
+        assert!(p.disturbance_nondimensional);
+        let d = p.settings_at(0).disturbance;
+        assert_eq!(d, PointSettings::default().disturbance);
+        assert_eq!(p.disturbance_units()[0].split(' ').next(), Some("1"));
+        let given = PHYS.replace(
+            "[output]",
+            "[disturbance]\nx = [-1e-3, 1e-3]\nv = [-0.05, 0.05]\n[output]",
+        );
+        let p = AtlasPlan::from_toml(&given, "p.toml").unwrap();
+        let s = p.physical_at(0).unwrap().scales();
+        let d = p.settings_at(0).disturbance;
+        assert!((d.x[1] * s.length - 1e-3).abs() < 1e-15);
+        assert!((d.v[0] * s.velocity + 0.05).abs() < 1e-15);
+        assert_eq!(p.disturbance_units(), ["m", "m/s"]);
+    }
+
+    #[test]
     fn bad_specs_name_the_key() {
         let cases: Vec<(String, &str)> = vec![
             (

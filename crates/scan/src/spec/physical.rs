@@ -127,3 +127,75 @@ pub(super) fn grid_to_nondimensional(grid: &mut Grid, ph: &Physical) {
     grid.v0.min /= s.velocity;
     grid.v0.max /= s.velocity;
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::Plan;
+
+    /// The brake of issue 21: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
+    const BRAKE: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+[physical]
+m = 2.0
+k = 5.0e4
+c = [5.0, 10.0]
+v_belt = 0.05
+mu_k = 0.35
+mu_s = 0.45
+tau = 1e-3
+[grid]
+x0 = { min = -1e-4, max = 2e-4, count = 4 }
+v0 = { min = -0.01, max = 0.01, count = 3 }
+[output]
+path = "b.h5"
+"#;
+
+    #[test]
+    fn physical_spec_is_the_scaled_model_and_grid() {
+        let p = Plan::from_toml(BRAKE, "b.toml").unwrap();
+        let ph = p.physical.expect("the physical system is kept");
+        let s = ph.scales();
+        // omega_0 = sqrt(5e4 / 2) = 158.1 rad/s; c = 2 sqrt(m k) nu = 632.5 nu.
+        assert!((s.damping - 2.0 * (1.0e5f64).sqrt()).abs() < 1e-9);
+        let sweep = p.sweep.as_ref().expect("c swept: nu swept");
+        assert_eq!(sweep.name, "nu");
+        for (nu, c) in sweep.values.iter().zip([5.0, 10.0]) {
+            assert!((nu * s.damping - c).abs() < 1e-12, "{nu}");
+        }
+        let want = ph.params(squeal_core::FrictionLaw::McMillan).unwrap();
+        assert!((p.maps[0].lambda - want.lambda).abs() < 1e-12);
+        assert!((p.maps[0].tau - want.tau).abs() < 1e-12);
+        assert!((p.maps[0].phi - want.phi).abs() < 1e-12);
+        // The grid was given in metres and m/s.
+        assert!((p.grid.x0.max * s.length - 2e-4).abs() < 1e-15);
+        assert!((p.grid.v0.min * s.velocity + 0.01).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_physical_specs_name_the_key() {
+        let cases = [
+            (BRAKE.replace("m = 2.0", "m = [1.0, 2.0]"), "physical.m"),
+            (BRAKE.replace("mu_s = 0.45", "mu_s = 0.3"), "physical.mu_s"),
+            (BRAKE.replace("k = 5.0e4", "k = -1.0"), "physical.k"),
+            (
+                BRAKE.replace("v_belt = 0.05", "v_belt = [0.05, 0.1]"),
+                "physical.v_belt",
+            ),
+            (
+                BRAKE.replace("[physical]", "nu = 0.01\n[physical]"),
+                "model.nu",
+            ),
+            (
+                BRAKE.replace("law = \"mcmillan\"", "law = \"stribeck\""),
+                "`physical`",
+            ),
+            (BRAKE.replace("v_belt", "v_B"), "unknown field `v_B`"),
+        ];
+        for (text, key) in cases {
+            let e = Plan::from_toml(&text, "b.toml").unwrap_err().to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        }
+    }
+}
