@@ -718,7 +718,7 @@ fn print_summary(s: &Summary, kind: SolverKind) {
     println!(
         "solver: solves={} evaluations={} newton_steps={} bisections={} expansions={} \
          multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={} \
-         fallbacks={}",
+         bracket_fallbacks={}",
         st.solves,
         st.evaluations,
         st.newton_steps,
