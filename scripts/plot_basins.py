@@ -41,8 +41,14 @@ def main():
     ap.add_argument("--map", type=int, default=0, help="map index of a sweep")
     a = ap.parse_args()
     with h5py.File(a.file, "r") as f:
-        if f.attrs.get("schema", "") != "squeal-basins/1":
-            raise SystemExit(f"{a.file}: not a squeal basin file (no schema attribute)")
+        schema = f.attrs.get("schema", "")
+        if isinstance(schema, bytes):
+            schema = schema.decode()
+        if schema != "squeal-basins/1":
+            found = f"schema = {schema}" if schema else "no schema attribute"
+            hint = (" (an atlas file: its basin maps are the map_* datasets; squeal render draws them)"
+                    if str(schema).startswith("squeal-atlas") else "")
+            raise SystemExit(f"{a.file}: not a squeal basin file ({found}; expected squeal-basins/1){hint}")
         labels = f["labels"]
         members = h5py.check_enum_dtype(labels.dtype)  # name -> value
         nmaps = labels.shape[0] if labels.ndim == 3 else 1

@@ -322,18 +322,23 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
 }
 
 fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64, units: usize) {
+    let axes = plan.axes();
+    let over = if axes.is_empty() {
+        "1 parameter point (nothing swept: no chart; the figures are below and in the file)"
+            .to_string()
+    } else {
+        format!(
+            "{} points over {}",
+            plan.n_points(),
+            axes.iter()
+                .map(|a| format!("{} ({} values)", a.key, a.values.len()))
+                .collect::<Vec<_>>()
+                .join(" x ")
+        )
+    };
     println!(
-        "atlas {}: {} law, {} points over {}, {} units computed in {:.1} s",
-        plan.name,
-        plan.law,
-        plan.n_points(),
-        plan.axes()
-            .iter()
-            .map(|a| format!("{} ({} values)", a.key, a.values.len()))
-            .collect::<Vec<_>>()
-            .join(" x "),
-        units,
-        seconds
+        "atlas {}: {} law, {over}, {units} units computed in {seconds:.1} s",
+        plan.name, plan.law,
     );
     for r in AtlasRegime::ALL {
         let n = res

@@ -335,8 +335,9 @@ pub fn escape_words(r: f64) -> String {
     )
 }
 
-/// One line per check that found something, in words.
-pub fn check_words(values: &[i64]) -> Vec<String> {
+/// One line per check that found something, in words (`sample`: random initial conditions,
+/// where a cell, and so "beyond a pixel", does not exist).
+pub fn check_words(values: &[i64], sample: bool) -> Vec<String> {
     let v = |name: &str| {
         squeal_scan::checks::CHECK_FIELDS
             .iter()
@@ -345,7 +346,12 @@ pub fn check_words(values: &[i64]) -> Vec<String> {
             .unwrap_or(-1)
     };
     let mut out = Vec::new();
-    if v("wrong_side_cells") >= 0 {
+    if v("wrong_side_cells") >= 0 && sample {
+        out.push(format!(
+            "wrong side of cycle: {} samples",
+            v("wrong_side_cells")
+        ));
+    } else if v("wrong_side_cells") >= 0 {
         out.push(format!(
             "wrong side of cycle: {} ({} beyond a pixel)",
             v("wrong_side_cells"),
@@ -484,7 +490,12 @@ fn report(
                 println!("    {w}");
             }
         }
-        for w in checks.get(i).map(|c| check_words(c)).unwrap_or_default() {
+        let sample = plan.grid.is_sample();
+        for w in checks
+            .get(i)
+            .map(|c| check_words(c, sample))
+            .unwrap_or_default()
+        {
             println!("    {w}");
         }
     }
