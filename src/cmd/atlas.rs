@@ -628,6 +628,7 @@ fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
             }
             let fp = plan.params_at(*i).fixed_point();
             squeal_plot::BasinPanel {
+                axis_labels: None,
                 title: if title.is_empty() {
                     plan.name.clone()
                 } else {

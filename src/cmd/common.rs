@@ -235,6 +235,7 @@ pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
         });
     }
     BasinPanel {
+        axis_labels: None,
         title: m.title.clone(),
         x0: &m.x0,
         v0: &m.v0,
@@ -253,9 +254,15 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         check_new(png, force, "picture")?;
         let m = squeal_store::read_map(h5, 0)?;
         let info = squeal_store::read_info(h5)?;
+        let units = physical_units(&info);
+        let scaled = units.map(|u| scaled_axes(&m, u));
         let mut one = panel(&m);
+        if let (Some(u), Some((xs, vs))) = (units, &scaled) {
+            to_si(&mut one, xs, vs, u);
+        }
+        let system = physical_line(&info);
         one.title = format!(
-            "{}: {}",
+            "{}: {}{system}",
             attr(&info, "name").unwrap_or("squeal"),
             squeal_plot::map_title(&model_params(&info, 0))
         );
@@ -270,6 +277,11 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         .map(|i| squeal_store::read_map(h5, i))
         .collect::<Result<_, _>>()?;
     let info = squeal_store::read_info(h5)?;
+    let units = physical_units(&info);
+    let scaled: Vec<_> = maps
+        .iter()
+        .map(|m| units.map(|u| scaled_axes(m, u)))
+        .collect();
     let param = info
         .sweep
         .as_ref()
@@ -280,6 +292,9 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         .enumerate()
         .map(|(i, m)| {
             let mut p = panel(m);
+            if let (Some(u), Some((xs, vs))) = (units, &scaled[i]) {
+                to_si(&mut p, xs, vs, u);
+            }
             let value = info.sweep.as_ref().map_or(f64::NAN, |s| s.1[i]);
             p.title = squeal_plot::panel_title(&param, value);
             p
@@ -289,7 +304,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         attr(&info, "name").unwrap_or("squeal"),
         &model_params(&info, 0),
         &param,
-    );
+    ) + &physical_line(&info);
     let ncols = (n as f64).sqrt().ceil() as usize;
     squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols)
         .with_context(|| format!("drawing {}", png.display()))?;
@@ -330,6 +345,63 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
     )
     .with_context(|| format!("drawing {}", size.display()))?;
     Ok(vec![png.to_path_buf(), size])
+}
+
+/// Micrometres and mm/s per nondimensional length and velocity unit of a physical scan file
+/// (its `length_unit`, `velocity_unit` attributes); `None` for nondimensional files.
+fn physical_units(info: &squeal_store::FileInfo) -> Option<(f64, f64)> {
+    let num = |k: &str| attr(info, k).and_then(|v| v.parse::<f64>().ok());
+    Some((num("length_unit")? * 1e6, num("velocity_unit")? * 1e3))
+}
+
+/// The physical system of a physical scan file as a title line ("\nm = 2 kg, k = ..."; empty
+/// for nondimensional files), from its `physical_<key>` and `physical_<key>_units` attributes.
+fn physical_line(info: &squeal_store::FileInfo) -> String {
+    let parts: Vec<String> = squeal_scan::atlas::spec::PHYSICAL
+        .iter()
+        .filter_map(|(key, _, _)| {
+            let v: f64 = attr(info, &format!("physical_{key}"))?.parse().ok()?;
+            let u = attr(info, &format!("physical_{key}_units")).unwrap_or("1");
+            let u = if u == "1" {
+                String::new()
+            } else {
+                format!(" {u}")
+            };
+            Some(format!("{key} = {}{u}", squeal_plot::fmt_value(v)))
+        })
+        .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!("\n{}", parts.join(", "))
+    }
+}
+
+/// A map's grid in um and mm/s.
+fn scaled_axes(m: &squeal_store::MapData, (l, v): (f64, f64)) -> (Vec<f64>, Vec<f64>) {
+    (
+        m.x0.iter().map(|x| x * l).collect(),
+        m.v0.iter().map(|y| y * v).collect(),
+    )
+}
+
+/// A panel of a physical scan drawn in um and mm/s: the grid `xs`, `vs` (from
+/// [`scaled_axes`]), the overlays and markers scaled alike, the axes saying so.
+fn to_si<'a>(p: &mut BasinPanel<'a>, xs: &'a [f64], vs: &'a [f64], (l, v): (f64, f64)) {
+    p.x0 = xs;
+    p.v0 = vs;
+    for c in &mut p.overlays {
+        c.xs.iter_mut().for_each(|x| *x *= l);
+        c.ys.iter_mut().for_each(|y| *y *= v);
+    }
+    for m in &mut p.markers {
+        m.x *= l;
+        m.y *= v;
+    }
+    p.axis_labels = Some([
+        "initial displacement x0 (um)".into(),
+        "initial velocity x'0 (mm/s)".into(),
+    ]);
 }
 
 /// A root attribute of a file, as text.

@@ -166,6 +166,9 @@ pub struct BasinPanel<'a> {
     /// Points marked on top of everything (e.g. the fixed point). Markers outside the grid
     /// extent are listed in the legend but not drawn.
     pub markers: Vec<Marker>,
+    /// Axis labels (horizontal, vertical) when the coordinates are not the nondimensional
+    /// ones of [`X0_LABEL`] and [`V0_LABEL`] (e.g. a physical scan drawn in um and mm/s).
+    pub axis_labels: Option<[String; 2]>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1205,8 +1208,18 @@ fn draw_basin_chart(
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc(X0_LABEL)
-        .y_desc(V0_LABEL)
+        .x_desc(
+            panel
+                .axis_labels
+                .as_ref()
+                .map_or(X0_LABEL, |l| l[0].as_str()),
+        )
+        .y_desc(
+            panel
+                .axis_labels
+                .as_ref()
+                .map_or(V0_LABEL, |l| l[1].as_str()),
+        )
         .axis_desc_style(font(layout.axis_desc))
         .label_style(font(layout.tick))
         .x_labels(layout.ticks)
@@ -2046,6 +2059,7 @@ mod tests {
         let v0 = linspace(-2.0, 2.0, 160);
         let labels = grid_labels(&x0, &v0, 0.9);
         let panel = BasinPanel {
+            axis_labels: None,
             title: map_title(&table1("mcmillan")),
             x0: &x0,
             v0: &v0,
@@ -2084,6 +2098,7 @@ mod tests {
         let v0 = [0.5];
         let labels: Vec<u8> = (0..50).map(|i| (i % 3) as u8).collect();
         let panel = BasinPanel {
+            axis_labels: None,
             title: "one row".into(),
             x0: &x0,
             v0: &v0,
@@ -2097,6 +2112,7 @@ mod tests {
         // Descending axes and a single cell also work.
         let x1 = [1.0];
         let panel = BasinPanel {
+            axis_labels: None,
             x0: &x1,
             labels: &labels[..1],
             ..panel
@@ -2104,6 +2120,7 @@ mod tests {
         basin_map(&path, &panel, &classes()).unwrap();
         let v2 = linspace(1.0, -1.0, 50);
         let panel = BasinPanel {
+            axis_labels: None,
             x0: &x1,
             v0: &v2,
             labels: &labels,
@@ -2122,6 +2139,7 @@ mod tests {
         let v0 = linspace(0.0, 1.0, 3);
         let labels = vec![1u8; 11];
         let panel = BasinPanel {
+            axis_labels: None,
             title: "bad".into(),
             x0: &x0,
             v0: &v0,
@@ -2142,6 +2160,7 @@ mod tests {
             Err(PlotError::ShapeMismatch { .. })
         ));
         let empty = BasinPanel {
+            axis_labels: None,
             x0: &[],
             labels: &[],
             ..panel.clone()
@@ -2153,6 +2172,7 @@ mod tests {
         let uneven = [0.0, 0.1, 0.5, 1.0];
         let labels12 = vec![1u8; 12];
         let bad_grid = BasinPanel {
+            axis_labels: None,
             x0: &uneven,
             labels: &labels12,
             ..panel.clone()
@@ -2162,6 +2182,7 @@ mod tests {
             Err(PlotError::InvalidGrid(_))
         ));
         let bad_overlay = BasinPanel {
+            axis_labels: None,
             labels: &labels12,
             overlays: vec![Curve {
                 label: "c".into(),
@@ -2195,6 +2216,7 @@ mod tests {
             .iter()
             .zip(&labels)
             .map(|(&r, l)| BasinPanel {
+                axis_labels: None,
                 title: panel_title("r", r),
                 x0: &x0,
                 v0: &v0,
@@ -2230,6 +2252,7 @@ mod tests {
             .flat_map(|&v| x0.iter().map(move |&x| 1 + u8::from(x + v > 1.0 + 0.8)))
             .collect();
         let panel = BasinPanel {
+            axis_labels: None,
             title: "1024 x 1024".into(),
             x0: &x0,
             v0: &v0,
