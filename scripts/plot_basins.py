@@ -41,8 +41,14 @@ def main():
     ap.add_argument("--map", type=int, default=0, help="map index of a sweep")
     a = ap.parse_args()
     with h5py.File(a.file, "r") as f:
-        if f.attrs.get("schema", "") != "squeal-basins/1":
-            raise SystemExit(f"{a.file}: not a squeal basin file (no schema attribute)")
+        schema = f.attrs.get("schema", "")
+        if isinstance(schema, bytes):
+            schema = schema.decode()
+        if schema != "squeal-basins/1":
+            found = f"schema = {schema}" if schema else "no schema attribute"
+            hint = (" (an atlas file: its basin maps are the map_* datasets; squeal render draws them)"
+                    if str(schema).startswith("squeal-atlas") else "")
+            raise SystemExit(f"{a.file}: not a squeal basin file ({found}; expected squeal-basins/1){hint}")
         labels = f["labels"]
         members = h5py.check_enum_dtype(labels.dtype)  # name -> value
         nmaps = labels.shape[0] if labels.ndim == 3 else 1
@@ -51,12 +57,21 @@ def main():
             raise SystemExit(f"{a.file}: --map {a.map} is out of range; valid: {valid}")
         data = labels[a.map] if labels.ndim == 3 else labels[()]
         x0, v0 = f["x0"][()], f["v0"][()]
-        title = f"{f.attrs['law']}"
-        for p in ("nu", "lambda", "tau", "phi", "dt"):
+        law = f.attrs["law"]
+        law = law.decode() if isinstance(law, bytes) else str(law)
+        stribeck = law == "stribeck"
+        keys = ("xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v") if stribeck else ("nu", "lambda", "tau", "phi")
+        name = f.attrs.get("name", "")
+        name = name.decode() if isinstance(name, bytes) else str(name)
+        title = f"{name}: {law}" if name else law
+        values = {}
+        for p in keys + ("dt",):
             if p in f and f[p].ndim == 1 and labels.ndim == 3:
-                title += f", {p} = {f[p][a.map]:.4g}"
+                values[p] = float(f[p][a.map])
             elif p in f.attrs:
-                title += f", {p} = {f.attrs[p]:.4g}"
+                values[p] = float(f.attrs[p])
+            if p in values:
+                title += f", {p} = {values[p]:.4g}"
         cyc = None
         g = f.get("cycle") if labels.ndim == 2 else f.get(f"cycles/map_{a.map:04d}")
         if g is not None and "x" in g:
@@ -73,12 +88,25 @@ def main():
               extent=(x0[0] - dx, x0[-1] + dx, v0[0] - dv, v0[-1] + dv), aspect="equal", interpolation="nearest")
     if cyc is not None:
         ax.plot(np.append(cyc[0], cyc[0][0]), np.append(cyc[1], cyc[1][0]), "k-", lw=1, label="unstable limit cycle")
-    ax.plot([1.0], [0.0], "k+", ms=10, label="fixed point")
+    # The steady-slip fixed point: x* = 1 for McMillan's laws; x* = mu(v_d) for the Stribeck
+    # law (x' = 0, slip -v_d: the spring holds the friction force at that slip speed).
+    if stribeck:
+        v = values
+        x_star = v["mu_d"] + v["mu_d"] * (v["mu_sd"] - 1) * np.exp(-v["v_d"] / v["v_0"]) + v["mu_v"] * v["v_d"] / v["v_0"]
+    else:
+        x_star = 1.0
+    ax.plot([x_star], [0.0], "k+", ms=10, label=f"fixed point ({x_star:.3g}, 0)")
+    ax.plot([0.0], [0.0], "rx", ms=8, label="state at rest (0, 0)")
     for n in names:
         ax.plot([], [], "s", color=COLOURS.get(n, "grey"), label=f"{n} ({int((data == members[n]).sum())})")
-    # Nondimensional units (README, "Units"): x in mu_k m g / k, x' in mu_k g / sqrt(k/m).
-    ax.set_xlabel("initial displacement x0 (units of mu_k m g / k)")
-    ax.set_ylabel("initial velocity x'0 (units of mu_k g sqrt(m/k))")
+    if stribeck:
+        # bSTAB's friction case is written nondimensionally already (MODEL.md, section 8).
+        ax.set_xlabel("initial displacement x0 (nondimensional, bSTAB's friction case)")
+        ax.set_ylabel("initial velocity x'0 (nondimensional, bSTAB's friction case)")
+    else:
+        # Nondimensional units (README, "Units"): x in mu_k m g / k, x' in mu_k g / sqrt(k/m).
+        ax.set_xlabel("initial displacement x0 (units of mu_k m g / k)")
+        ax.set_ylabel("initial velocity x'0 (units of mu_k g sqrt(m/k))")
     ax.set_title(title)
     ax.legend(loc="upper right", fontsize=8)
     fig.savefig(a.out, dpi=120, bbox_inches="tight")

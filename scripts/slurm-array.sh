@@ -5,10 +5,19 @@
 #   scripts/slurm-array.sh scans/atlas-lambda-nu.toml 8       # an atlas: shards by points
 #
 # The spec's kind picks the command: an atlas spec (`squeal atlas`: no [grid] table, or one
-# of the atlas-only tables [boundaries], [attractor], [physical], [operating_point],
-# [disturbance]) runs `squeal atlas --shard K/N --no-render`, whose shards are whole lines
-# of points and boundary searches; any other spec runs `squeal scan --shard K/N`. KIND=atlas
-# or KIND=scan overrides the guess. `squeal merge` joins either kind.
+# of the atlas-only tables [boundaries], [attractor], [operating_point], [disturbance]) runs
+# `squeal atlas --shard K/N --no-render`, whose shards are whole lines of points and
+# boundary searches; a spec with [sample] runs `squeal scan --shard K/N`. A spec with [grid]
+# and none of those tables is valid for both (e.g. scans/atlas-maps.toml, an atlas with
+# basin maps): the script then stops and asks for KIND=atlas or KIND=scan, which also
+# overrides the guess elsewhere. `squeal merge` joins either kind.
+#
+# Run it from the repository root (relative paths: the spec, out/, logs/), on a filesystem
+# every node sees (the tasks write their shard files and journals there, the merge job reads
+# them). If a task fails, the merge job's dependency (afterok) can never be met: it is
+# submitted with --kill-on-invalid-dep=yes, so SLURM cancels it instead of leaving it
+# pending for ever; rerun the same command line: each task resumes its journal or skips its
+# complete shard, and a new merge job is submitted.
 # Submits an array job (one shard per task, each its own process and file) and a merge job
 # that runs after all tasks succeed. Each task resumes its shard's journal when one exists,
 # so a task that is requeued (by `scontrol requeue`, or by SLURM after a node failure or a
@@ -29,11 +38,15 @@ case $n in '' | *[!0-9]* | 0) echo "N = '$n': expected a number of shards >= 1" 
 case $out in *.h5) ;; *) echo "output $out: expected a name ending in .h5" >&2; exit 2 ;; esac
 kind=${KIND:-}
 if [ -z "$kind" ]; then
-  if ! grep -q '^[[:space:]]*\[grid\]' "$spec" ||
-    grep -Eq '^[[:space:]]*\[(boundaries|attractor|physical|operating_point|disturbance)\]' "$spec"; then
+  if grep -Eq '^[[:space:]]*\[(boundaries|attractor|operating_point|disturbance)\]' "$spec"; then
+    kind=atlas
+  elif grep -q '^[[:space:]]*\[sample\]' "$spec"; then
+    kind=scan
+  elif ! grep -q '^[[:space:]]*\[grid\]' "$spec"; then
     kind=atlas
   else
-    kind=scan
+    echo "$spec is valid as a scan and as an atlas (it has [grid]): set KIND=scan or KIND=atlas" >&2
+    exit 2
   fi
 fi
 case $kind in
@@ -55,7 +68,8 @@ array=$(sbatch --parsable ${SBATCH_OPTS:-} --array=1-"$n" --cpus-per-task="${CPU
 array=${array%%;*}
 shards=$(for k in $(seq 1 "$n"); do printf '%s ' "$(q "$stem.shard$k.h5")"; done)
 # shellcheck disable=SC2086
-merge=$(sbatch --parsable ${SBATCH_OPTS:-} --dependency=afterok:"$array" --job-name=squeal-merge \
+merge=$(sbatch --parsable ${SBATCH_OPTS:-} --dependency=afterok:"$array" --kill-on-invalid-dep=yes \
+  --job-name=squeal-merge \
   --output=logs/squeal-merge-%j.out --wrap "$(q "$bin") merge $shards -o $(q "$out")")
 merge=${merge%%;*}
 echo "submitted array $array ($n $kind shards) and merge job $merge into $out"

@@ -176,7 +176,7 @@ path = "out/ci.h5"
 EOF
 n=2
 victim=2
-submitted=$(SQUEAL=$bin CPUS=1 "$repo/scripts/slurm-array.sh" ci.toml "$n" out/ci.h5)
+submitted=$(KIND=scan SQUEAL=$bin CPUS=1 "$repo/scripts/slurm-array.sh" ci.toml "$n" out/ci.h5)
 echo "$submitted"
 array=$(sed -n 's/.*array \([0-9]*\).*/\1/p' <<<"$submitted")
 merge=$(sed -n 's/.*merge job \([0-9]*\).*/\1/p' <<<"$submitted")

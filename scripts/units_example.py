@@ -9,9 +9,12 @@ squeal integrates x'' + 2 nu x' + x = F with the scaling of McMillan (1997), Sec
 time in units of sqrt(m/k), displacement in units of mu_k m g / k, velocity in units of
 mu_k g sqrt(m/k), force in units of mu_k m g. Give a system (mass, stiffness, damping,
 friction coefficients, belt speed, surface time) and this prints squeal's parameters
-nu, lambda, tau, phi; or give squeal's parameters (--from-nondim) and it prints the
-dimensional ones. It also converts a few nondimensional values (a basin-map grid and an
-unstable-cycle size) to metres and metres per second.
+nu, lambda, tau, phi; give squeal's parameters instead (--nu, --lam, --tau-nd with the
+mass, stiffness and mu_k) and it prints the dimensional ones. It also converts the grid
+of Fig. 9 to metres and metres per second. The unstable cycle's size depends on the system:
+`squeal ulc` with the same physical flags (--m --k --c --v-belt --mu-k --mu-s --tau-s)
+prints it in metres and m/s; this script quotes the paper's Table 1 cycle only when the
+system is Table 1's (nu = 1e-3, lambda = 3, tau = 0.1 sqrt(10), phi = 1).
 
     python3 scripts/units_example.py                     # the README's worked example
     python3 scripts/units_example.py --m 2 --k 5e4 --mu-k 0.4 --mu-s 0.5 --v-belt 0.05
@@ -34,7 +37,7 @@ def main():
     ap.add_argument("--c", type=float, default=None, help="dashpot coefficient c, N s/m (overrides --nu)")
     ap.add_argument("--lam", type=float, default=3.0,
                     help="nondimensional belt speed lambda (default 3, Table 1); or give --v-belt")
-    ap.add_argument("--v-belt", type=float, default=None, help="belt speed v_B, m/s (overrides --lam)")
+    ap.add_argument("--v-belt", type=float, default=None, help="belt speed v_belt, m/s (overrides --lam)")
     ap.add_argument("--tau-nd", type=float, default=0.1 * math.sqrt(10),
                     help="nondimensional tau (default 0.1 sqrt(10), Table 1); or give --tau")
     ap.add_argument("--tau", type=float, default=None, help="surface time tau, s (overrides --tau-nd)")
@@ -57,7 +60,7 @@ def main():
 
     print("system")
     print(f"  m = {a.m:g} kg, k = {a.k:g} N/m, c = {c:.4g} N s/m")
-    print(f"  mu_k = {a.mu_k:g}, mu_s = {mu_s:.4g}, v_B = {v_belt:.4g} m/s, tau = {tau:.4g} s")
+    print(f"  mu_k = {a.mu_k:g}, mu_s = {mu_s:.4g}, v_belt = {v_belt:.4g} m/s, tau = {tau:.4g} s")
     print("units of squeal's variables")
     print(f"  time         sqrt(m/k)        = {1 / w:.4g} s  (undamped frequency {w:.4g} rad/s = {w / 2 / math.pi:.4g} Hz)")
     print(f"  displacement mu_k m g / k     = {x_unit:.4g} m")
@@ -72,12 +75,18 @@ def main():
     print(f"  fixed point x* = 1: the spring holds the kinetic friction force, stretched {x_unit * 1e6:.4g} um")
     print(f"  Fig. 9 grid x0 in [-3, 5], x'0 in [-4, 4]: x0 in [{-3 * x_unit * 1e6:.4g}, {5 * x_unit * 1e6:.4g}] um,"
           f" x'0 in [{-4 * v_unit * 1e3:.4g}, {4 * v_unit * 1e3:.4g}] mm/s")
-    r = 0.372  # the nu = 1e-3 unstable cycle's distance along +x: `squeal ulc --nu 1e-3` (dt = 0.01)
-    r_v = 0.365  # its x' on the section x = x*: r_section of the same command
-    print(f"  the nu = 1e-3 unstable cycle reaches {r} beyond the fixed point ({r * x_unit * 1e6:.3g} um)"
-          f" and x' = {r_v} on the section ({r_v * v_unit * 1e3:.3g} mm/s):"
-          f" a start inside it slides steadily, one outside squeals")
-    print(f"  stick-slip angular frequency 0.96 (paper, Fig. 9): {0.96 * w / 2 / math.pi:.4g} Hz")
+    table1 = (abs(nu - 1e-3) < 1e-9 and abs(lam - 3.0) < 1e-6
+              and abs(tau_nd - 0.1 * math.sqrt(10)) < 1e-6 and abs(phi - 1.0) < 1e-6)
+    if table1:
+        r = 0.372  # the nu = 1e-3 unstable cycle's distance along +x: `squeal ulc --nu 1e-3` (dt = 0.01)
+        r_v = 0.365  # its x' on the section x = x*: r_section of the same command
+        print(f"  the nu = 1e-3 unstable cycle reaches {r} beyond the fixed point ({r * x_unit * 1e6:.3g} um)"
+              f" and x' = {r_v} on the section ({r_v * v_unit * 1e3:.3g} mm/s):"
+              f" a start inside it slides steadily, one outside squeals")
+        print(f"  stick-slip angular frequency 0.96 (paper, Fig. 9): {0.96 * w / 2 / math.pi:.4g} Hz")
+    else:
+        print("  the unstable cycle of this system (not Table 1's): squeal ulc --m ... --tau-s ...,"
+              " which prints it in metres and m/s")
 
 
 if __name__ == "__main__":

@@ -297,6 +297,23 @@ path = "nond.h5"
         .read_scalar()
         .unwrap();
     assert_eq!(u.as_str(), "Hz");
+    // Issue 21: an SI frequency is called a frequency, and the default disturbance box
+    // (no [disturbance]) says it is nondimensional at each point rather than metres.
+    let long: hdf5::types::VarLenUnicode = f
+        .dataset("stick_omega_mean_si")
+        .unwrap()
+        .attr("long_name")
+        .unwrap()
+        .read_scalar()
+        .unwrap();
+    assert_eq!(long.as_str(), "stick-slip: mean frequency");
+    let du: hdf5::types::VarLenUnicode = f
+        .attr("disturbance_x_units")
+        .unwrap()
+        .read_scalar()
+        .unwrap();
+    assert!(du.as_str().starts_with("1 (the default box"), "{du}");
+    assert_eq!(p["disturbance"]["x"], serde_json::json!([-2.0, 4.0]));
 }
 
 #[test]

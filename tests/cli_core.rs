@@ -742,3 +742,63 @@ fn stribeck_trajectory_names_its_parameters_and_stick_phases() {
     assert_eq!(count("stick_onsets"), onsets);
     assert_eq!(count("breakaways"), breaks);
 }
+
+/// Issue 21's brake as flags: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
+const BRAKE: [&str; 14] = [
+    "--m", "2", "--k", "5e4", "--c", "5", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s", "0.45",
+    "--tau-s", "1e-3",
+];
+
+#[test]
+fn physical_flags_give_si_answers() {
+    let d = tmp();
+    let mut args = vec!["critical"];
+    args.extend(BRAKE);
+    args.push("--json");
+    let v: serde_json::Value = serde_json::from_str(&ok(squeal(d.path(), &args))).unwrap();
+    // c = nu 2 sqrt(m k), in N s/m.
+    let (nu, c) = (v["nu"].as_f64().unwrap(), v["c"].as_f64().unwrap());
+    assert!((c - nu * 2.0 * 1e5f64.sqrt()).abs() < 1e-9 * c, "{v}");
+    assert_eq!(v["c_units"], "N s/m");
+    // The same system given nondimensionally (paper Section 4) gives the same nu.
+    let w0 = (5e4f64 / 2.0).sqrt();
+    let vel = 0.35 * 9.81 / w0;
+    let (lam, tau, phi) = (0.05 / vel, 1e-3 / 0.35 * w0, (0.35f64 / 0.45).asin());
+    let (lam, tau, phi) = (lam.to_string(), tau.to_string(), phi.to_string());
+    let nond = [
+        "critical", "--lambda", &lam, "--tau", &tau, "--phi", &phi, "--json",
+    ];
+    let n: serde_json::Value = serde_json::from_str(&ok(squeal(d.path(), &nond))).unwrap();
+    assert!((n["nu"].as_f64().unwrap() - nu).abs() < 1e-9, "{n} vs {v}");
+    // ulc and trajectory report in SI too.
+    let mut ulc = vec!["ulc"];
+    ulc.extend(BRAKE);
+    ulc.push("--json");
+    let u: serde_json::Value = serde_json::from_str(&ok(squeal(d.path(), &ulc))).unwrap();
+    let r = u["r_section"].as_f64().unwrap();
+    assert!((u["si"]["r_section_m_per_s"].as_f64().unwrap() - r * vel).abs() < 1e-12);
+}
+
+#[test]
+fn physical_flags_are_checked_naming_the_flag() {
+    let d = tmp();
+    // A missing one, a bad value, a mix with the nondimensional flags, the Stribeck law.
+    let without_k: Vec<&str> = ["critical"]
+        .into_iter()
+        .chain(BRAKE.iter().copied().filter(|a| *a != "--k" && *a != "5e4"))
+        .collect();
+    refused(squeal(d.path(), &without_k), "--k: missing");
+    let mut bad = vec!["trajectory"];
+    bad.extend(BRAKE.iter().map(|a| if *a == "0.45" { "0.3" } else { a }));
+    refused(squeal(d.path(), &bad), "--mu-s");
+    let mut mixed = vec!["ulc"];
+    mixed.extend(BRAKE);
+    mixed.extend(["--nu", "0.01"]);
+    refused(
+        squeal(d.path(), &mixed),
+        "--nu: not with the physical system",
+    );
+    let mut stribeck = vec!["critical", "--law", "stribeck"];
+    stribeck.extend(BRAKE);
+    refused(squeal(d.path(), &stribeck), "--law stribeck");
+}

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget};
 use serde_json::{Value, json};
 use squeal_plot::{Curve, Rgb};
 use squeal_scan::atlas::columns::{COLUMNS, Si};
@@ -32,12 +32,15 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Counts finished map blocks on the progress bar.
-struct BarObserver<'a>(&'a ProgressBar);
+/// Counts finished map blocks on the progress bar (and the plain lines off a terminal).
+struct BarObserver<'a>(&'a ProgressBar, &'a Option<common::PlainLines>);
 
 impl squeal_scan::Observer for BarObserver<'_> {
     fn block_done(&self, _map: usize, _block: usize) {
         self.0.inc(1);
+        if let Some(p) = self.1 {
+            p.inc();
+        }
     }
 }
 
@@ -87,12 +90,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             ProgressDrawTarget::hidden()
         },
     )
-    .with_style(
-        ProgressStyle::with_template(
-            "atlas [{bar:40}] {pos}/{len} units and map blocks  ETA {eta}",
-        )
-        .expect("static template")
-        .progress_chars("=> "),
+    .with_style(common::bar_style(
+        "atlas [{bar:40}] {pos}/{len} units and map blocks  {avg_rate}  ETA {avg_eta}",
+        "unit",
+    ));
+    let plain = common::PlainLines::new(
+        "units and map blocks",
+        "unit",
+        (todo.len() + todo_blocks) as u64,
+        args.run.quiet,
     );
     let t0 = Instant::now();
     let result = squeal_store::run_atlas(
@@ -100,8 +106,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         shard,
         writer,
         &stop,
-        &|| bar.inc(1),
-        &BarObserver(&bar),
+        &|| {
+            bar.inc(1);
+            if let Some(p) = &plain {
+                p.inc();
+            }
+        },
+        &BarObserver(&bar, &plain),
     );
     let (writer, left) = match result {
         Ok(r) => r,
@@ -292,7 +303,8 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
         "axes": axes,
         "fixed": fixed,
         "operating_point": {"x": plan.point.operating.x, "v": plan.point.operating.v},
-        "disturbance": {"x": plan.point.disturbance.x, "v": plan.point.disturbance.v},
+        "disturbance": {"x": plan.point.disturbance.x, "v": plan.point.disturbance.v,
+            "x_units": plan.disturbance_units()[0], "v_units": plan.disturbance_units()[1]},
         "points": points,
         "boundaries": boundaries,
         "scheme": plan.solver.scheme.name(),
@@ -306,18 +318,23 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
 }
 
 fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64, units: usize) {
+    let axes = plan.axes();
+    let over = if axes.is_empty() {
+        "1 parameter point (nothing swept: no chart; the figures are below and in the file)"
+            .to_string()
+    } else {
+        format!(
+            "{} points over {}",
+            plan.n_points(),
+            axes.iter()
+                .map(|a| format!("{} ({} values)", a.key, a.values.len()))
+                .collect::<Vec<_>>()
+                .join(" x ")
+        )
+    };
     println!(
-        "atlas {}: {} law, {} points over {}, {} units computed in {:.1} s",
-        plan.name,
-        plan.law,
-        plan.n_points(),
-        plan.axes()
-            .iter()
-            .map(|a| format!("{} ({} values)", a.key, a.values.len()))
-            .collect::<Vec<_>>()
-            .join(" x "),
-        units,
-        seconds
+        "atlas {}: {} law, {over}, {units} units computed in {seconds:.1} s",
+        plan.name, plan.law,
     );
     for r in AtlasRegime::ALL {
         let n = res
@@ -458,9 +475,10 @@ fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
             format!("{} = {}{u}", a.key, squeal_plot::fmt_value(*v))
         })
         .collect();
+    // The spec's name first (docs/atlas-spec.md: "used in titles").
     match what {
-        Some(w) => format!("{} law: {w}; {}", plan.law, fixed.join(", ")),
-        None => format!("{}: {}", plan.law, fixed.join(", ")),
+        Some(w) => format!("{}: {} law, {w}; {}", plan.name, plan.law, fixed.join(", ")),
+        None => format!("{}: {} law; {}", plan.name, plan.law, fixed.join(", ")),
     }
 }
 
@@ -606,6 +624,7 @@ fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
             }
             let fp = plan.params_at(*i).fixed_point();
             squeal_plot::BasinPanel {
+                axis_labels: None,
                 title: if title.is_empty() {
                     plan.name.clone()
                 } else {
@@ -776,15 +795,18 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
             }
             let op = plan.point.operating;
             let d = plan.point.disturbance;
-            let units = if plan.units == Units::Physical {
-                " (SI)"
-            } else {
-                ""
+            let (units, box_units) = match (plan.units, plan.disturbance_nondimensional) {
+                (Units::Physical, false) => (" (m, m/s)", " (m, m/s)"),
+                (Units::Physical, true) => (
+                    " (m, m/s)",
+                    " (nondimensional at each point: the default box)",
+                ),
+                _ => ("", ""),
             };
             let chart = squeal_plot::StabilityChart {
                 title: title(&plan, Some("stability chart")),
                 subtitle: format!(
-                    "operating point ({}, {}){units}; basin fraction of steady slip over x in [{}, {}], x' in [{}, {}]{units}",
+                    "operating point ({}, {}){units}; basin fraction of steady slip over x in [{}, {}], x' in [{}, {}]{box_units}",
                     op.x, op.v, d.x[0], d.x[1], d.v[0], d.v[1]
                 ),
                 x_label: axis_label(xa),
@@ -836,6 +858,20 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 .copied()
                 .filter(|v| v.is_finite())
                 .fold(0.0f64, f64::max);
+            // Where no stick-slip oscillation exists beside it (steady slip only) the
+            // unstable cycle bounds no basin: drawn apart, as grey dots.
+            let only_steady = |i: usize| {
+                res.points[i]
+                    .as_ref()
+                    .is_some_and(|p| p.regime == AtlasRegime::SteadySlipOnly)
+            };
+            let split = |keep: bool| -> Vec<f64> {
+                cyc.iter()
+                    .enumerate()
+                    .map(|(i, &v)| if only_steady(i) == keep { v } else { f64::NAN })
+                    .collect()
+            };
+            let (cyc_alone, cyc) = (split(true), split(false));
             let mut curves = vec![
                 Curve {
                     label: "unstable cycle (basin boundary)".into(),
@@ -866,6 +902,15 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                     points_only: false,
                 },
             ];
+            if cyc_alone.iter().any(|v| v.is_finite()) {
+                curves.push(Curve {
+                    label: "unstable cycle, no stick-slip beside it (no basin boundary)".into(),
+                    xs: xs.clone(),
+                    ys: cyc_alone,
+                    color: Rgb(150, 150, 150),
+                    points_only: true,
+                });
+            }
             if none.iter().any(|v| v.is_finite()) {
                 curves.push(Curve {
                     label: "no unstable cycle (at 0)".into(),
@@ -890,7 +935,15 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 ] {
                     if let Some(&x) = v.first().filter(|x| x.is_finite()) {
                         curves.push(Curve {
-                            label: format!("{label}: {}", squeal_plot::fmt_value(x)),
+                            label: format!(
+                                "{label}: {}{}",
+                                squeal_plot::fmt_value(x),
+                                if a.units == "1" {
+                                    String::new()
+                                } else {
+                                    format!(" {}", a.units)
+                                }
+                            ),
                             xs: vec![x, x],
                             ys: vec![0.0, 1.05 * top.max(1e-12)],
                             color,

@@ -16,7 +16,8 @@ use super::{common, model::SetupArgs};
 pub struct Args {
     #[command(flatten)]
     pub setup: SetupArgs,
-    /// Initial conditions: CSV with a header holding columns x0 and v0.
+    /// Initial conditions: CSV with a header holding columns x0 and v0 (in m and m/s for a
+    /// physical system: --m ... or a spec with [physical]).
     #[arg(long)]
     pub ics: PathBuf,
     /// Labels: CSV with columns x0,v0,label and the diagnostics.
@@ -77,7 +78,19 @@ fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<State>> {
 /// Labels the initial conditions.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
-    let ics = read_ics(&args.ics)?;
+    let given = read_ics(&args.ics)?;
+    // A physical system: the file's x0, v0 are in m and m/s (written back as given).
+    let scales = setup.plan.physical.map(|ph| ph.scales());
+    let ics: Vec<State> = match scales {
+        Some(s) => given
+            .iter()
+            .map(|ic| State {
+                x: ic.x / s.length,
+                v: ic.v / s.velocity,
+            })
+            .collect(),
+        None => given.clone(),
+    };
     if args.out.extension().is_some_and(|e| e == "h5") {
         bail!(
             "--out {}: classify writes CSV text; use a name ending in .csv (an .h5 name would hold CSV)",
@@ -95,7 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let header: Vec<&str> = squeal_scan::COLUMNS.iter().map(|c| c.name).collect();
     writeln!(w, "x0,v0,{}", header.join(","))?;
     let mut counts = [0usize; 3];
-    for (ic, o) in ics.iter().zip(&outcomes) {
+    for (ic, o) in given.iter().zip(&outcomes) {
         counts[o.regime as usize] += 1;
         let cell = squeal_scan::Cell::from(o);
         let cols: Vec<String> = squeal_scan::COLUMNS.iter().map(|c| c.text(&cell)).collect();

@@ -56,6 +56,116 @@ pub fn show_progress(quiet: bool) -> bool {
     !quiet && std::io::stderr().is_terminal()
 }
 
+/// The average rate so far, `done` units over `secs` seconds ("-" before the first second:
+/// a rate from a few units in a few milliseconds is noise).
+pub fn rate_words(done: u64, secs: f64, unit: &str) -> String {
+    if secs < 1.0 || done == 0 {
+        return "-".into();
+    }
+    let r = done as f64 / secs;
+    if r >= 10.0 {
+        format!("{r:.0} {unit}/s")
+    } else {
+        format!("{:.1} s/{unit}", 1.0 / r)
+    }
+}
+
+/// The time left at the average rate so far ("estimating" before the first second and the
+/// first unit: indicatif's own estimate starts from a few samples and can say hours for a
+/// job of a second).
+pub fn eta_words(done: u64, total: u64, secs: f64) -> String {
+    if secs < 1.0 || done == 0 {
+        return "estimating".into();
+    }
+    let left = total.saturating_sub(done) as f64 * secs / done as f64;
+    short_duration(left)
+}
+
+/// "45 s", "12 min", "3.2 h".
+pub fn short_duration(s: f64) -> String {
+    if s < 90.0 {
+        format!("{s:.0} s")
+    } else if s < 5400.0 {
+        format!("{:.0} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}
+
+/// A bar style whose `{avg_rate}` and `{avg_eta}` are [`rate_words`] and [`eta_words`]
+/// (`unit` names what is counted).
+pub fn bar_style(template: &str, unit: &'static str) -> indicatif::ProgressStyle {
+    use indicatif::ProgressState;
+    let secs = |s: &ProgressState| s.elapsed().as_secs_f64();
+    indicatif::ProgressStyle::with_template(template)
+        .expect("static template")
+        .with_key(
+            "avg_rate",
+            move |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = w.write_str(&rate_words(s.pos(), secs(s), unit));
+            },
+        )
+        .with_key(
+            "avg_eta",
+            move |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+                let total = s.len().unwrap_or(0);
+                let _ = w.write_str(&eta_words(s.pos(), total, secs(s)));
+            },
+        )
+        .progress_chars("=> ")
+}
+
+/// Progress as plain lines on stderr when it is not a terminal (a batch or SLURM log, where
+/// a bar draws nothing): one line every 5 % of the work, with the average rate and the time
+/// left, and at least one a minute.
+pub struct PlainLines {
+    what: &'static str,
+    unit: &'static str,
+    total: u64,
+    done: std::sync::atomic::AtomicU64,
+    /// The last 5 % step printed, and the elapsed second of the last line.
+    printed: std::sync::Mutex<(u64, f64)>,
+    started: std::time::Instant,
+}
+
+impl PlainLines {
+    /// Lines for `total` units of `what` (e.g. "cells"), counted as `unit`; `None` with
+    /// `--quiet`, on a terminal (the bar shows it) or for no work.
+    pub fn new(what: &'static str, unit: &'static str, total: u64, quiet: bool) -> Option<Self> {
+        (!quiet && !std::io::stderr().is_terminal() && total > 0).then(|| PlainLines {
+            what,
+            unit,
+            total,
+            done: 0.into(),
+            printed: std::sync::Mutex::new((0, 0.0)),
+            started: std::time::Instant::now(),
+        })
+    }
+
+    /// Counts one unit; prints a line at each 5 % step (or after a minute without one).
+    pub fn inc(&self) {
+        use std::sync::atomic::Ordering;
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let step = done * 20 / self.total;
+        let secs = self.started.elapsed().as_secs_f64();
+        let Ok(mut last) = self.printed.lock() else {
+            return;
+        };
+        if step > last.0 || secs - last.1 >= 60.0 {
+            *last = (step, secs);
+            eprintln!(
+                "squeal: {:.0}% ({done}/{} {}) after {}, {}, about {} left",
+                100.0 * done as f64 / self.total as f64,
+                self.total,
+                self.what,
+                short_duration(secs),
+                rate_words(done, secs.max(1.0), self.unit),
+                eta_words(done, self.total, secs.max(1.0)),
+            );
+        }
+    }
+}
+
 /// The label classes in the pictures, in the order of the HDF5 enum.
 pub fn classes() -> Vec<(u8, &'static str, Rgb)> {
     vec![
@@ -121,18 +231,34 @@ pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
             points_only: false,
         });
     }
+    let mut markers = vec![Marker {
+        label: "steady-slip fixed point".into(),
+        x: m.fixed_point.0,
+        y: m.fixed_point.1,
+        color: squeal_plot::FIXED_POINT,
+    }];
+    // The state at rest, the start most engineers ask about, where the map covers it.
+    let covers = |axis: &[f64]| {
+        axis.first()
+            .zip(axis.last())
+            .is_some_and(|(a, b)| a.min(*b) <= 0.0 && a.max(*b) >= 0.0)
+    };
+    if covers(&m.x0) && covers(&m.v0) {
+        markers.push(Marker {
+            label: "state at rest (0, 0)".into(),
+            x: 0.0,
+            y: 0.0,
+            color: squeal_plot::REST,
+        });
+    }
     BasinPanel {
+        axis_labels: None,
         title: m.title.clone(),
         x0: &m.x0,
         v0: &m.v0,
         labels: &m.labels,
         overlays,
-        markers: vec![Marker {
-            label: "steady-slip fixed point".into(),
-            x: m.fixed_point.0,
-            y: m.fixed_point.1,
-            color: squeal_plot::FIXED_POINT,
-        }],
+        markers,
     }
 }
 
@@ -145,8 +271,18 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         check_new(png, force, "picture")?;
         let m = squeal_store::read_map(h5, 0)?;
         let info = squeal_store::read_info(h5)?;
+        let units = physical_units(&info);
+        let scaled = units.map(|u| scaled_axes(&m, u));
         let mut one = panel(&m);
-        one.title = squeal_plot::map_title(&model_params(&info, 0));
+        if let (Some(u), Some((xs, vs))) = (units, &scaled) {
+            to_si(&mut one, xs, vs, u);
+        }
+        let system = physical_line(&info);
+        one.title = format!(
+            "{}: {}{system}",
+            attr(&info, "name").unwrap_or("squeal"),
+            squeal_plot::map_title(&model_params(&info, 0))
+        );
         squeal_plot::basin_map(png, &one, &classes).map_err(|e| discard(png, e))?;
         return Ok(vec![png.to_path_buf()]);
     }
@@ -157,6 +293,11 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         .map(|i| squeal_store::read_map(h5, i))
         .collect::<Result<_, _>>()?;
     let info = squeal_store::read_info(h5)?;
+    let units = physical_units(&info);
+    let scaled: Vec<_> = maps
+        .iter()
+        .map(|m| units.map(|u| scaled_axes(m, u)))
+        .collect();
     let param = info
         .sweep
         .as_ref()
@@ -167,6 +308,9 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         .enumerate()
         .map(|(i, m)| {
             let mut p = panel(m);
+            if let (Some(u), Some((xs, vs))) = (units, &scaled[i]) {
+                to_si(&mut p, xs, vs, u);
+            }
             let value = info.sweep.as_ref().map_or(f64::NAN, |s| s.1[i]);
             p.title = squeal_plot::panel_title(&param, value);
             p
@@ -176,7 +320,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         attr(&info, "name").unwrap_or("squeal"),
         &model_params(&info, 0),
         &param,
-    );
+    ) + &physical_line(&info);
     let ncols = (n as f64).sqrt().ceil() as usize;
     squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols).map_err(|e| discard(png, e))?;
     let summary = squeal_store::read_cycle_summary(h5)?;
@@ -216,6 +360,63 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
     )
     .map_err(|e| discard(&size, e))?;
     Ok(vec![png.to_path_buf(), size])
+}
+
+/// Micrometres and mm/s per nondimensional length and velocity unit of a physical scan file
+/// (its `length_unit`, `velocity_unit` attributes); `None` for nondimensional files.
+fn physical_units(info: &squeal_store::FileInfo) -> Option<(f64, f64)> {
+    let num = |k: &str| attr(info, k).and_then(|v| v.parse::<f64>().ok());
+    Some((num("length_unit")? * 1e6, num("velocity_unit")? * 1e3))
+}
+
+/// The physical system of a physical scan file as a title line ("\nm = 2 kg, k = ..."; empty
+/// for nondimensional files), from its `physical_<key>` and `physical_<key>_units` attributes.
+fn physical_line(info: &squeal_store::FileInfo) -> String {
+    let parts: Vec<String> = squeal_scan::atlas::spec::PHYSICAL
+        .iter()
+        .filter_map(|(key, _, _)| {
+            let v: f64 = attr(info, &format!("physical_{key}"))?.parse().ok()?;
+            let u = attr(info, &format!("physical_{key}_units")).unwrap_or("1");
+            let u = if u == "1" {
+                String::new()
+            } else {
+                format!(" {u}")
+            };
+            Some(format!("{key} = {}{u}", squeal_plot::fmt_value(v)))
+        })
+        .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!("\n{}", parts.join(", "))
+    }
+}
+
+/// A map's grid in um and mm/s.
+fn scaled_axes(m: &squeal_store::MapData, (l, v): (f64, f64)) -> (Vec<f64>, Vec<f64>) {
+    (
+        m.x0.iter().map(|x| x * l).collect(),
+        m.v0.iter().map(|y| y * v).collect(),
+    )
+}
+
+/// A panel of a physical scan drawn in um and mm/s: the grid `xs`, `vs` (from
+/// [`scaled_axes`]), the overlays and markers scaled alike, the axes saying so.
+fn to_si<'a>(p: &mut BasinPanel<'a>, xs: &'a [f64], vs: &'a [f64], (l, v): (f64, f64)) {
+    p.x0 = xs;
+    p.v0 = vs;
+    for c in &mut p.overlays {
+        c.xs.iter_mut().for_each(|x| *x *= l);
+        c.ys.iter_mut().for_each(|y| *y *= v);
+    }
+    for m in &mut p.markers {
+        m.x *= l;
+        m.y *= v;
+    }
+    p.axis_labels = Some([
+        "initial displacement x0 (um)".into(),
+        "initial velocity x'0 (mm/s)".into(),
+    ]);
 }
 
 /// A root attribute of a file, as text.

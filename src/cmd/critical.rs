@@ -60,9 +60,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         bail!("--rtol {}: expected a value in (0, 1)", args.rtol);
     }
     let t0 = std::time::Instant::now();
-    let point = State {
-        x: args.x0,
-        v: args.v0,
+    // A physical system: --x0/--v0 are in m and m/s, results also in SI units.
+    let scales = plan.physical.map(|ph| ph.scales());
+    let point = match scales {
+        Some(s) => State {
+            x: args.x0 / s.length,
+            v: args.v0 / s.velocity,
+        },
+        None => State {
+            x: args.x0,
+            v: args.v0,
+        },
     };
     let stribeck = plan.maps[setup.map].law.has_true_stick();
     let args = match (args.in_.as_str(), stribeck) {
@@ -103,6 +111,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if args.json {
         let mut v = serde_json::to_value(&rep)?;
         v["seconds"] = seconds.into();
+        if let Some(s) = scales {
+            v["c"] = (rep.nu * s.damping).into();
+            v["c_bracket"] = serde_json::json!(rep.bracket.map(|b| b * s.damping));
+            v["c_units"] = "N s/m".into();
+            v["x0_m"] = args.x0.into();
+            v["v0_m_per_s"] = args.v0.into();
+        }
         println!("{}", serde_json::to_string(&v)?);
     } else {
         println!(
@@ -120,6 +135,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",
             point.x, point.v
         );
+        if let Some(s) = scales {
+            println!(
+                "  in SI units: c = {:.4} N s/m, bracket [{:.4}, {:.4}] N s/m, for the start x0 = {} m, v0 = {} m/s",
+                rep.nu * s.damping,
+                rep.bracket[0] * s.damping,
+                rep.bracket[1] * s.damping,
+                args.x0,
+                args.v0
+            );
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -172,11 +197,24 @@ fn boundary(
         None => bail!("no boundary asked for"),
     };
     let seconds = t0.elapsed().as_secs_f64();
+    // A physical system: the boundary in N s/m (c) or m/s (v_belt) too.
+    let si = plan.physical.map(|ph| {
+        let s = ph.scales();
+        match param {
+            BoundaryParam::Nu => ("c", s.damping, "N s/m"),
+            BoundaryParam::Lambda => ("v_belt", s.velocity, "m/s"),
+        }
+    });
     if args.json {
         let mut v = serde_json::to_value(b)?;
         v["in"] = name.into();
         v[name] = v["nu"].clone();
         v["seconds"] = seconds.into();
+        if let Some((key, unit, units)) = si {
+            v[key] = (b.nu * unit).into();
+            v[format!("{key}_bracket")] = serde_json::json!(b.bracket.map(|x| x * unit));
+            v[format!("{key}_units")] = units.into();
+        }
         println!("{}", serde_json::to_string(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
@@ -201,22 +239,31 @@ fn boundary(
         format!("({}, {}) is quiet there already", point.x, point.v)
     };
     match b.status {
-        BoundaryStatus::Found => println!(
-            "{what}: {name} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
-            b.nu,
-            b.bracket[0],
-            b.bracket[1],
-            b.evaluations,
-            seconds,
-            match b.half_dt_holds {
-                Some(true) => "at dt/2 the bracket holds (the predicate is the same at both ends)",
-                Some(false) =>
-                    "at dt/2 the boundary moves out of the bracket: its error is larger than the bracket",
-                None => "at dt/2: not checked (a run failed)",
-            }
-        ),
+        BoundaryStatus::Found => {}
         BoundaryStatus::BelowRange => bail!("--{flag}-lo {lo}: {nothing}; lower --{flag}-lo"),
         _ => bail!("--{flag}-hi {hi}: it still squeals there; raise --{flag}-hi"),
+    }
+    println!(
+        "{what}: {name} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
+        b.nu,
+        b.bracket[0],
+        b.bracket[1],
+        b.evaluations,
+        seconds,
+        match b.half_dt_holds {
+            Some(true) => "at dt/2 the bracket holds (the predicate is the same at both ends)",
+            Some(false) =>
+                "at dt/2 the boundary moves out of the bracket: its error is larger than the bracket",
+            None => "at dt/2: not checked (a run failed)",
+        }
+    );
+    if let Some((key, unit, units)) = si {
+        println!(
+            "  in SI units: {key} = {:.4} {units}, bracket [{:.4}, {:.4}] {units}",
+            b.nu * unit,
+            b.bracket[0] * unit,
+            b.bracket[1] * unit
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

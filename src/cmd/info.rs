@@ -114,7 +114,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         for w in info
             .checks
             .get(i)
-            .map(|c| super::scan::check_words(c))
+            .map(|c| super::scan::check_words(c, common::attr(&info, "sampling") == Some("random")))
             .unwrap_or_default()
         {
             println!("    {w}");

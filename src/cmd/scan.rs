@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use squeal_scan::{Observer, Pending, Plan, drive};
 use squeal_store::{OutputState, ScanWriter};
 
@@ -46,11 +46,15 @@ pub struct Args {
 struct Bars {
     overall: ProgressBar,
     maps: Vec<ProgressBar>,
+    plain: Option<common::PlainLines>,
 }
 
 impl Observer for Bars {
     fn cell_done(&self, map: usize) {
         self.overall.inc(1);
+        if let Some(p) = &self.plain {
+            p.inc();
+        }
         if let Some(m) = self.maps.get(map) {
             m.inc(1);
         }
@@ -148,7 +152,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // The work, estimated before anything is created or computed.
     let threads = rayon::current_num_threads();
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default()).cells;
-    let estimate = plan.estimate_seconds(owned, threads);
+    // A pilot measures the time per cell with this plan's law, landscape and early
+    // stopping (squeal_scan::estimate); --quiet skips it and uses the documented rate.
+    let pilot = if args.run.quiet {
+        None
+    } else {
+        Some(squeal_scan::estimate::pilot(&plan)?)
+    };
+    let seconds_for = |cells: usize| match &pilot {
+        Some(e) => e.seconds(plan.maps.len(), cells, threads),
+        None => plan.estimate_seconds(cells, threads),
+    };
+    let estimate = seconds_for(owned);
     if estimate > LONG_SCAN && !args.allow_long {
         bail!(
             "{owned} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
@@ -168,13 +183,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
+        let secs = seconds_for(pending.cells);
         eprintln!(
-            "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} at the documented rate (BENCHMARKS.md)",
+            "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} ({secs:.1} s){}",
             pending.cells,
             plan.maps.len(),
             layout(&plan),
             shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
-            duration(plan.estimate_seconds(pending.cells, threads))
+            duration(secs),
+            pilot.map_or(String::new(), |e| format!(
+                ", from a pilot of {} cells over {} map(s) in {:.1} s",
+                e.cells, e.maps, e.pilot_seconds
+            ))
         );
     }
 
@@ -183,11 +203,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ProgressDrawTarget::hidden()
     });
-    let style = ProgressStyle::with_template(
-        "{prefix:>8} [{bar:40}] {pos}/{len} cells  {per_sec}  ETA {eta}",
-    )
-    .expect("static template")
-    .progress_chars("=> ");
+    let style = common::bar_style(
+        "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
+        "cell",
+    );
     let overall = multi.add(
         ProgressBar::new(pending.cells as u64)
             .with_style(style.clone())
@@ -215,7 +234,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
-    let bars = Bars { overall, maps };
+    let plain = common::PlainLines::new("cells", "cell", pending.cells as u64, args.run.quiet);
+    let bars = Bars {
+        overall,
+        maps,
+        plain,
+    };
 
     let started = Instant::now();
     let done = drive(&plan, shard, &mut writer, &bars, &stop).map_err(|e| match e {
@@ -318,8 +342,9 @@ pub fn escape_words(r: f64) -> String {
     )
 }
 
-/// One line per check that found something, in words.
-pub fn check_words(values: &[i64]) -> Vec<String> {
+/// One line per check that found something, in words (`sample`: random initial conditions,
+/// where a cell, and so "beyond a pixel", does not exist).
+pub fn check_words(values: &[i64], sample: bool) -> Vec<String> {
     let v = |name: &str| {
         squeal_scan::checks::CHECK_FIELDS
             .iter()
@@ -328,7 +353,12 @@ pub fn check_words(values: &[i64]) -> Vec<String> {
             .unwrap_or(-1)
     };
     let mut out = Vec::new();
-    if v("wrong_side_cells") >= 0 {
+    if v("wrong_side_cells") >= 0 && sample {
+        out.push(format!(
+            "wrong side of cycle: {} samples",
+            v("wrong_side_cells")
+        ));
+    } else if v("wrong_side_cells") >= 0 {
         out.push(format!(
             "wrong side of cycle: {} ({} beyond a pixel)",
             v("wrong_side_cells"),
@@ -507,7 +537,12 @@ fn report(
                 println!("    {w}");
             }
         }
-        for w in checks.get(i).map(|c| check_words(c)).unwrap_or_default() {
+        let sample = plan.grid.is_sample();
+        for w in checks
+            .get(i)
+            .map(|c| check_words(c, sample))
+            .unwrap_or_default()
+        {
             println!("    {w}");
         }
         if let Some(counts) = tallies.reasons.get(i) {

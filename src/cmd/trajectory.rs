@@ -228,6 +228,29 @@ struct Summary {
     rows: u64,
     out: Option<PathBuf>,
     plot: Option<PathBuf>,
+    /// A physical system (`--m ...`): the start, the end and the oscillation in SI units.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    si: Option<serde_json::Value>,
+}
+
+/// The start, final state and final oscillation in SI units (lengths in m, velocities in
+/// m/s, times in s, frequencies in Hz).
+fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::Value {
+    let f = &s.final_state;
+    serde_json::json!({
+        "x0_m": s.params.x0 * sc.length,
+        "v0_m_per_s": s.params.v0 * sc.velocity,
+        "t_end_s": s.params.t_end * sc.time,
+        "final_t_s": f.t * sc.time,
+        "final_x_m": f.x * sc.length,
+        "final_v_m_per_s": f.v * sc.velocity,
+        "fixed_point_x_m": s.fixed_point.x * sc.length,
+        "frequency_hz": s.oscillation.omega.map(|w| sc.hz(w)),
+        "amplitude_m_per_s": s.oscillation.amplitude.map(|r| r * sc.velocity),
+        "length_unit_m": sc.length,
+        "velocity_unit_m_per_s": sc.velocity,
+        "time_unit_s": sc.time,
+    })
 }
 
 /// Runs `squeal trajectory`.
@@ -280,9 +303,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         refuse_existing("--plot", path, args.force)?;
     }
 
-    let ic = State {
-        x: args.x0,
-        v: args.v0,
+    // A physical system: --x0/--v0 are in m and m/s.
+    let scales = args.model.physical()?.map(|ph| ph.scales());
+    let ic = match scales {
+        Some(s) => State {
+            x: args.x0 / s.length,
+            v: args.v0 / s.velocity,
+        },
+        None => State {
+            x: args.x0,
+            v: args.v0,
+        },
     };
     let p = *stepper.params();
     let fp = p.fixed_point();
@@ -388,12 +419,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         rows: if keep { cols.len() as u64 } else { 0 },
         out: args.out.clone(),
         plot: args.plot.clone(),
+        si: None,
     };
+    let mut summary = summary;
+    summary.params.x0 = ic.x;
+    summary.params.v0 = ic.v;
+    if let Some(sc) = scales {
+        summary.si = Some(si_summary(&summary, &sc));
+    }
     if args.json {
         let text = serde_json::to_string_pretty(&summary).context("cannot encode the summary")?;
         println!("{text}");
     } else {
         print_summary(&summary, stepper.solver().kind);
+        if let Some(si) = &summary.si {
+            println!("in SI units: {si}");
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -686,7 +727,7 @@ fn print_summary(s: &Summary, kind: SolverKind) {
     println!(
         "solver: solves={} evaluations={} newton_steps={} bisections={} expansions={} \
          multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={} \
-         fallbacks={}",
+         bracket_fallbacks={}",
         st.solves,
         st.evaluations,
         st.newton_steps,

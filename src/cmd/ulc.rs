@@ -134,6 +134,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v["bracket_width"] = (rep.bracket[1] - rep.bracket[0]).into();
         v["rays"] = serde_json::to_value(&rays)?;
         v["verified"] = rays.as_ref().map(|r| r.passed()).into();
+        if let Some(ph) = plan.physical {
+            v["si"] = si_json(&rep, &ph.scales());
+        }
         println!("{}", serde_json::to_string(&v)?);
         return Ok(verdict(rays.as_ref()));
     }
@@ -182,6 +185,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "  with dt/2: x' at the section {:.8} (shift {:+.2e})",
             h.r_section, h.shift
         );
+    }
+    if let Some(ph) = plan.physical {
+        println!("{}", si_words(&rep, &ph.scales()));
     }
     println!(
         "  {} section returns, {} friction evaluations, {:.3} s",
@@ -232,4 +238,35 @@ fn verdict(rays: Option<&ulc::RayVerification>) -> ExitCode {
         }
         _ => ExitCode::SUCCESS,
     }
+}
+
+/// The cycle's figures in SI units (a physical system): lengths in m, velocities in m/s,
+/// the period in s and the frequency in Hz.
+fn si_json(rep: &ulc::CycleReport, s: &squeal_core::Scales) -> serde_json::Value {
+    serde_json::json!({
+        "r_section_m_per_s": rep.r_section * s.velocity,
+        "x_range_m": rep.x_range.map(|x| x * s.length),
+        "v_range_m_per_s": rep.v_range.map(|v| v * s.velocity),
+        "distance_plus_x_m": rep.distance_plus_x * s.length,
+        "period_s": rep.period * s.time,
+        "frequency_hz": s.hz(rep.omega),
+        "area_m2_per_s": rep.area * s.area(),
+    })
+}
+
+/// [`si_json`] in words.
+fn si_words(rep: &ulc::CycleReport, s: &squeal_core::Scales) -> String {
+    format!(
+        "  in SI units: section x' = {:.4e} m/s; extent x in [{:.4e}, {:.4e}] m, x' in \
+         [{:.4e}, {:.4e}] m/s; {:.4e} m beyond the fixed point along +x; period {:.4e} s \
+         ({:.2} Hz)",
+        rep.r_section * s.velocity,
+        rep.x_range[0] * s.length,
+        rep.x_range[1] * s.length,
+        rep.v_range[0] * s.velocity,
+        rep.v_range[1] * s.velocity,
+        rep.distance_plus_x * s.length,
+        rep.period * s.time,
+        s.hz(rep.omega)
+    )
 }

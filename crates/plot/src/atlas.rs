@@ -169,9 +169,19 @@ pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), Pl
     let xr = ue[0].min(ue[nx])..ue[0].max(ue[nx]);
     let yr = ve[0].min(ve[ny])..ve[0].max(ve[ny]);
     render(path, (1300, 900), |root| {
-        let (head, body) = root.split_vertically(80);
-        head.draw_text(&chart.title, &bold(22), (20, 12))?;
-        head.draw_text(&chart.subtitle, &font(16), (20, 46))?;
+        // A title wider than the picture (every fixed parameter of a physical system) wraps
+        // after a comma onto a second line.
+        let (w, _) = root.dim_in_pixel();
+        let title = super::wrap_line(root, &chart.title, &bold(22), w.saturating_sub(40));
+        let (head, body) = root.split_vertically(54 + 28 * title.len() as u32);
+        for (i, line) in title.iter().enumerate() {
+            head.draw_text(line, &bold(22), (20, 12 + 28 * i as i32))?;
+        }
+        head.draw_text(
+            &chart.subtitle,
+            &font(16),
+            (20, 18 + 28 * title.len() as i32),
+        )?;
         let (plot, legend) = body.split_horizontally(900);
         draw_plot(&plot, chart, (&us, &vs), (&ue, &ve), (xr, yr))?;
         let mut items = Vec::new();

@@ -74,6 +74,8 @@ pub const OTHER: Rgb = Rgb(128, 128, 128);
 pub const CYCLE: Rgb = Rgb(0, 0, 0);
 /// Marker for the fixed point: black (markers get a white halo, so they stay visible).
 pub const FIXED_POINT: Rgb = Rgb(0, 0, 0);
+/// Marker for the state at rest `(0, 0)` on basin maps: dark red.
+pub const REST: Rgb = Rgb(190, 0, 30);
 /// Marks of swept values without data in a [`sweep_chart`]: dark red.
 pub const MISSING: Rgb = Rgb(180, 20, 40);
 
@@ -164,6 +166,9 @@ pub struct BasinPanel<'a> {
     /// Points marked on top of everything (e.g. the fixed point). Markers outside the grid
     /// extent are listed in the legend but not drawn.
     pub markers: Vec<Marker>,
+    /// Axis labels (horizontal, vertical) when the coordinates are not the nondimensional
+    /// ones of [`X0_LABEL`] and [`V0_LABEL`] (e.g. a physical scan drawn in um and mm/s).
+    pub axis_labels: Option<[String; 2]>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -734,11 +739,16 @@ fn line_chart(path: &Path, o: LineOpts<'_>) -> Result<(), PlotError> {
 /// Draws a title (lines separated by `\n`; the first bold, the others regular and smaller)
 /// centred at the top of `area`, and returns the area below it.
 fn draw_title<'a>(area: &Area<'a>, title: &str, size: u32) -> DrawResult<Area<'a>> {
-    let lines: Vec<&str> = title.lines().filter(|l| !l.trim().is_empty()).collect();
+    let sub = (size * 4).div_ceil(5).max(8);
+    let (width, _) = area.dim_in_pixel();
+    let mut lines: Vec<String> = Vec::new();
+    for (i, line) in title.lines().filter(|l| !l.trim().is_empty()).enumerate() {
+        let style = if i == 0 { bold(size) } else { font(sub) };
+        lines.extend(wrap_line(area, line, &style, width.saturating_sub(24)));
+    }
     if lines.is_empty() {
         return Ok(area.clone());
     }
-    let sub = (size * 4).div_ceil(5).max(8);
     let heights: Vec<u32> = (0..lines.len())
         .map(|i| if i == 0 { size } else { sub } * 13 / 10)
         .collect();
@@ -756,6 +766,30 @@ fn draw_title<'a>(area: &Area<'a>, title: &str, size: u32) -> DrawResult<Area<'a
         y += *h as i32;
     }
     Ok(rest)
+}
+
+/// `line` split after its commas into lines no wider than `width` pixels in `style` (a
+/// title with every parameter of a physical system is wider than the picture).
+fn wrap_line(area: &Area<'_>, line: &str, style: &TextStyle<'_>, width: u32) -> Vec<String> {
+    let fits = |t: &str| {
+        area.estimate_text_size(t, style)
+            .is_ok_and(|(w, _)| w <= width)
+    };
+    let mut out: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for part in line.split_inclusive(", ") {
+        let joined = format!("{cur}{part}");
+        if cur.is_empty() || fits(joined.trim_end()) {
+            cur = joined;
+        } else {
+            out.push(cur.trim_end().trim_end_matches(',').to_string());
+            cur = part.to_string();
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur.trim_end().to_string());
+    }
+    out
 }
 
 /// Picks the chart corner with the fewest data points for the legend.
@@ -1174,8 +1208,18 @@ fn draw_basin_chart(
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc(X0_LABEL)
-        .y_desc(V0_LABEL)
+        .x_desc(
+            panel
+                .axis_labels
+                .as_ref()
+                .map_or(X0_LABEL, |l| l[0].as_str()),
+        )
+        .y_desc(
+            panel
+                .axis_labels
+                .as_ref()
+                .map_or(V0_LABEL, |l| l[1].as_str()),
+        )
         .axis_desc_style(font(layout.axis_desc))
         .label_style(font(layout.tick))
         .x_labels(layout.ticks)
@@ -2015,6 +2059,7 @@ mod tests {
         let v0 = linspace(-2.0, 2.0, 160);
         let labels = grid_labels(&x0, &v0, 0.9);
         let panel = BasinPanel {
+            axis_labels: None,
             title: map_title(&table1("mcmillan")),
             x0: &x0,
             v0: &v0,
@@ -2053,6 +2098,7 @@ mod tests {
         let v0 = [0.5];
         let labels: Vec<u8> = (0..50).map(|i| (i % 3) as u8).collect();
         let panel = BasinPanel {
+            axis_labels: None,
             title: "one row".into(),
             x0: &x0,
             v0: &v0,
@@ -2066,6 +2112,7 @@ mod tests {
         // Descending axes and a single cell also work.
         let x1 = [1.0];
         let panel = BasinPanel {
+            axis_labels: None,
             x0: &x1,
             labels: &labels[..1],
             ..panel
@@ -2073,6 +2120,7 @@ mod tests {
         basin_map(&path, &panel, &classes()).unwrap();
         let v2 = linspace(1.0, -1.0, 50);
         let panel = BasinPanel {
+            axis_labels: None,
             x0: &x1,
             v0: &v2,
             labels: &labels,
@@ -2091,6 +2139,7 @@ mod tests {
         let v0 = linspace(0.0, 1.0, 3);
         let labels = vec![1u8; 11];
         let panel = BasinPanel {
+            axis_labels: None,
             title: "bad".into(),
             x0: &x0,
             v0: &v0,
@@ -2111,6 +2160,7 @@ mod tests {
             Err(PlotError::ShapeMismatch { .. })
         ));
         let empty = BasinPanel {
+            axis_labels: None,
             x0: &[],
             labels: &[],
             ..panel.clone()
@@ -2122,6 +2172,7 @@ mod tests {
         let uneven = [0.0, 0.1, 0.5, 1.0];
         let labels12 = vec![1u8; 12];
         let bad_grid = BasinPanel {
+            axis_labels: None,
             x0: &uneven,
             labels: &labels12,
             ..panel.clone()
@@ -2131,6 +2182,7 @@ mod tests {
             Err(PlotError::InvalidGrid(_))
         ));
         let bad_overlay = BasinPanel {
+            axis_labels: None,
             labels: &labels12,
             overlays: vec![Curve {
                 label: "c".into(),
@@ -2164,6 +2216,7 @@ mod tests {
             .iter()
             .zip(&labels)
             .map(|(&r, l)| BasinPanel {
+                axis_labels: None,
                 title: panel_title("r", r),
                 x0: &x0,
                 v0: &v0,
@@ -2199,6 +2252,7 @@ mod tests {
             .flat_map(|&v| x0.iter().map(move |&x| 1 + u8::from(x + v > 1.0 + 0.8)))
             .collect();
         let panel = BasinPanel {
+            axis_labels: None,
             title: "1024 x 1024".into(),
             x0: &x0,
             v0: &v0,

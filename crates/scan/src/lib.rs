@@ -55,6 +55,7 @@ pub mod compare;
 pub mod curve;
 pub mod driver;
 pub mod error;
+pub mod estimate;
 pub mod executor;
 pub mod grid;
 pub mod landscape;

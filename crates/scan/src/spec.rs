@@ -57,6 +57,8 @@ use crate::error::ScanError;
 use crate::grid::{Axis, Grid, RandomSample};
 use crate::values::{Value, expand};
 
+mod physical;
+
 /// The spec version this build reads.
 pub const SPEC_VERSION: u32 = 1;
 
@@ -67,6 +69,9 @@ struct SpecFile {
     #[serde(default)]
     name: Option<String>,
     model: ModelSpec,
+    /// The physical system in SI units instead of `[model]`'s nondimensional keys.
+    #[serde(default)]
+    physical: Option<crate::atlas::spec::PhysicalFile>,
     #[serde(default)]
     grid: Option<GridSpec>,
     #[serde(default)]
@@ -506,6 +511,10 @@ pub struct Plan {
     pub locate_cycle: bool,
     /// The output file.
     pub output: PathBuf,
+    /// The physical system of the first map when the spec gives `[physical]` (SI units; the
+    /// maps' `nu` or `lambda` are its `c` or `v_belt` over [`squeal_core::Physical::scales`]). The grid is
+    /// stored nondimensional: its spec values were metres and m/s.
+    pub physical: Option<squeal_core::Physical>,
 }
 
 /// Default of `classifier.audit_every`: the audit then costs a few percent of an
@@ -549,7 +558,14 @@ impl Plan {
                 "this squeal reads spec version 1",
             ));
         }
-        let m = &spec.model;
+        let (physical, converted) = match &spec.physical {
+            Some(ph) => {
+                let (base, model) = physical::model(ph, &spec.model, &invalid)?;
+                (Some(base), Some(model))
+            }
+            None => (None, None),
+        };
+        let m = converted.as_ref().unwrap_or(&spec.model);
         if let Some(k) = m.foreign_key() {
             let expected = if m.law == FrictionLaw::Stribeck {
                 "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
@@ -643,7 +659,7 @@ impl Plan {
                 maps.push(p);
             }
         }
-        let grid = match (&spec.grid, &spec.sample) {
+        let mut grid = match (&spec.grid, &spec.sample) {
             (Some(_), Some(_)) => {
                 return Err(invalid(
                     "sample",
@@ -699,6 +715,9 @@ impl Plan {
                 }
             }
         };
+        if let Some(ph) = &physical {
+            physical::grid_to_nondimensional(&mut grid, ph);
+        }
         let it = &spec.integration;
         if !it.dt.is_finite() || it.dt <= 0.0 || it.dt > 1.0 {
             return Err(invalid(
@@ -762,6 +781,7 @@ impl Plan {
             audit_every,
             locate_cycle: spec.cycle.locate,
             output: spec.output.path.clone(),
+            physical,
         })
     }
 

@@ -112,6 +112,15 @@ fn location(section: &str) -> (Vec<&'static str>, Table) {
                 vec!["sample", "region"]
             }
         }
+        "[physical]" => {
+            base["model"].as_table_mut().unwrap().remove("nu");
+            let physical: Table = toml::from_str(
+                "m = 2.0\nk = 5.0e4\nc = 10.0\nv_belt = 0.05\nmu_k = 0.35\nmu_s = 0.45\ntau = 1e-3",
+            )
+            .unwrap();
+            base.insert("physical".into(), Value::Table(physical));
+            vec!["physical"]
+        }
         "[integration]" => vec!["integration"],
         "[classifier]" => vec!["classifier"],
         "[cycle]" => vec!["cycle"],
@@ -180,6 +189,7 @@ fn documented_keys_are_the_accepted_keys() {
     for section in [
         "",
         "[model]",
+        "[physical]",
         "[grid]",
         "grid.x0",
         "range",
@@ -214,7 +224,7 @@ fn documented_keys_are_the_accepted_keys() {
         }
         checked += 1;
     }
-    assert_eq!(checked, 10);
+    assert_eq!(checked, 11);
 }
 
 #[test]

@@ -761,11 +761,23 @@ fn write_all(
     let ps = &plan.point;
     num_attr(file, "operating_point_x", ps.operating.x)?;
     num_attr(file, "operating_point_v", ps.operating.v)?;
-    for (k, r) in [
+    let (xu, vu) = if plan.units == Units::Physical {
+        ("m", "m/s")
+    } else {
+        ("1", "1")
+    };
+    str_attr(file, "operating_point_x_units", xu)?;
+    str_attr(file, "operating_point_v_units", vu)?;
+    let du = plan.disturbance_units();
+    for ((k, r), u) in [
         ("disturbance_x", ps.disturbance.x),
         ("disturbance_v", ps.disturbance.v),
-    ] {
+    ]
+    .into_iter()
+    .zip(du)
+    {
         file.new_attr::<f64>().shape(2).create(k)?.write_raw(&r)?;
+        str_attr(file, &format!("{k}_units"), u)?;
     }
     if let Some(s) = shard {
         str_attr(file, "shard", &s.to_string())?;
@@ -875,7 +887,7 @@ fn write_all(
                 .zip(&scales_at)
                 .map(|(&v, s)| s.map_or(f64::NAN, |s| c.si.convert(v, &s)))
                 .collect();
-            let long = format!("{} (SI)", c.long_name);
+            let long = c.si.long_name(c.long_name);
             put(
                 file,
                 dims,
@@ -1062,9 +1074,11 @@ fn write_all(
                 let (key, _) = plan.boundary_axis();
                 let long = match plan.boundary_in {
                     squeal_scan::atlas::BoundaryParam::Nu => {
-                        format!("{long} (damping coefficient)")
+                        long.replace("damping ratio", "damping coefficient c")
                     }
-                    squeal_scan::atlas::BoundaryParam::Lambda => format!("{long} (belt speed)"),
+                    squeal_scan::atlas::BoundaryParam::Lambda => {
+                        long.replace("belt speed lambda", "belt speed v_belt")
+                    }
                 };
                 put(
                     file,

@@ -358,6 +358,41 @@ fn write_rows<T: H5Type>(
     ds.write_slice(&a, sel(prefix, rows, false))
 }
 
+/// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
+/// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
+/// the SI size of one nondimensional unit.
+fn physical_attrs(
+    file: &File,
+    ph: &squeal_core::Physical,
+    swept: Option<&str>,
+) -> hdf5::Result<()> {
+    let values = [ph.m, ph.k, ph.c, ph.v_belt, ph.mu_k, ph.mu_s, ph.tau, ph.g];
+    let skip = match swept {
+        Some("nu") => "c",
+        Some("lambda") => "v_belt",
+        _ => "",
+    };
+    for ((key, long, units), v) in squeal_scan::atlas::spec::PHYSICAL.iter().zip(values) {
+        if *key == skip {
+            continue;
+        }
+        num_attr(file, &format!("physical_{key}"), v)?;
+        str_attr(file, &format!("physical_{key}_long_name"), long)?;
+        str_attr(file, &format!("physical_{key}_units"), units)?;
+    }
+    let s = ph.scales();
+    for (key, v, units) in [
+        ("length_unit", s.length, "m"),
+        ("velocity_unit", s.velocity, "m/s"),
+        ("time_unit", s.time, "s"),
+        ("damping_unit", s.damping, "N s/m"),
+    ] {
+        num_attr(file, key, v)?;
+        str_attr(file, &format!("{key}_units"), units)?;
+    }
+    Ok(())
+}
+
 /// The root attributes: provenance, the spec and every setting of the plan.
 fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     let g = &plan.grid;
@@ -387,6 +422,9 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
         if swept != Some("lambda") {
             num_attr(file, "lambda", p0.lambda)?;
         }
+    }
+    if let Some(ph) = &plan.physical {
+        physical_attrs(file, ph, plan.sweep.as_ref().map(|s| s.name))?;
     }
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;

@@ -19,7 +19,8 @@ pub enum Si {
     Velocity,
     /// A time: s.
     Time,
-    /// An angular frequency, converted to a frequency in Hz.
+    /// An angular frequency, converted to a frequency in Hz (its SI column says
+    /// "frequency", [`Si::long_name`]).
     Frequency,
     /// A phase-plane area: m^2/s.
     Area,
@@ -38,6 +39,16 @@ impl Si {
             Si::Frequency => "Hz",
             Si::Area => "m^2/s",
             Si::Damping => "N s/m",
+        }
+    }
+
+    /// The long name of the SI column of a column named `long`: an angular frequency's is a
+    /// frequency (Hz), a damping ratio's a damping coefficient (N s/m).
+    pub fn long_name(self, long: &str) -> String {
+        match self {
+            Si::Frequency => long.replace("angular frequency", "frequency"),
+            Si::Damping => long.replace("damping ratio", "damping coefficient c"),
+            _ => long.to_string(),
         }
     }
 
@@ -295,13 +306,13 @@ pub const COLUMNS: &[Column] = &[
     ),
     stick_col!(
         "stick_omega_mean",
-        "stick-slip: mean angular frequency (SI: frequency)",
+        "stick-slip: mean angular frequency",
         Si::Frequency,
         omega_mean
     ),
     stick_col!(
         "stick_omega_std",
-        "stick-slip: standard deviation of the per-revolution angular frequency (SI: frequency)",
+        "stick-slip: standard deviation of the per-revolution angular frequency",
         Si::Frequency,
         omega_std
     ),

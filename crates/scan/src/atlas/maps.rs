@@ -38,6 +38,7 @@ impl AtlasPlan {
             audit_every: m.audit_every,
             locate_cycle: true,
             output: self.out.clone(),
+            physical: None,
         })
     }
 }

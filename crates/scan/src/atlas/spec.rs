@@ -158,18 +158,32 @@ impl ModelFile {
     }
 }
 
+/// The `[physical]` table: the physical system in SI units (also read by the scan spec,
+/// [`crate::spec`], and built from the command line's `--m --k --c --v-belt --mu-k --mu-s
+/// --tau-s --g`).
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
-struct PhysicalFile {
-    m: Value,
-    k: Value,
-    c: Value,
-    v_belt: Value,
-    mu_k: Value,
-    mu_s: Value,
-    tau: Value,
+pub(crate) struct PhysicalFile {
+    pub(crate) m: Value,
+    pub(crate) k: Value,
+    pub(crate) c: Value,
+    pub(crate) v_belt: Value,
+    pub(crate) mu_k: Value,
+    pub(crate) mu_s: Value,
+    pub(crate) tau: Value,
     #[serde(default)]
-    g: Option<Value>,
+    pub(crate) g: Option<Value>,
+}
+
+/// The physical key a [`Physical::params`] error names: a derived nondimensional value
+/// names the physical keys it comes from.
+pub(crate) fn physical_key(name: &str) -> &str {
+    match name {
+        "nu" => "c (nu = c / (2 sqrt(m k)))",
+        "lambda" => "v_belt (lambda = v_B sqrt(k/m) / (mu_k g))",
+        "phi" => "mu_s",
+        n => n,
+    }
 }
 
 #[derive(Deserialize, Debug, Default)]
@@ -290,7 +304,7 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
     ("m", "mass m", "kg"),
     ("k", "stiffness k", "N/m"),
     ("c", "damping coefficient c", "N s/m"),
-    ("v_belt", "belt speed v_B", "m/s"),
+    ("v_belt", "belt speed v_belt", "m/s"),
     ("mu_k", "kinetic friction coefficient mu_k", "1"),
     ("mu_s", "static friction coefficient mu_s", "1"),
     ("tau", "surface time tau", "s"),
@@ -331,6 +345,11 @@ pub struct AtlasPlan {
     /// Per-point settings; in physical plans `operating` and `disturbance` are in SI units
     /// (see [`AtlasPlan::settings_at`]).
     pub point: PointSettings,
+    /// In a physical plan, whether the disturbance box is the default one, kept in
+    /// nondimensional units at every point (so it scales with each point's system: a box in
+    /// metres would be the same for a 1 um and a 1 mm oscillator); false when the spec
+    /// gives `[disturbance]` (SI units) and in nondimensional plans.
+    pub disturbance_nondimensional: bool,
     /// Locate the fold of cycles.
     pub fold: bool,
     /// Locate the critical damping of the operating point.
@@ -835,6 +854,7 @@ impl AtlasPlan {
             dt,
             solver,
             point: ps,
+            disturbance_nondimensional: units == Units::Physical && !has_disturbance,
             fold: bd.fold.unwrap_or(true),
             critical: bd.critical.unwrap_or(true),
             nu_range,
@@ -867,16 +887,7 @@ impl AtlasPlan {
                     name,
                     value,
                     expected,
-                } => {
-                    // A derived nondimensional value names the physical keys it comes from.
-                    let name = match name {
-                        "nu" => "c (nu = c / (2 sqrt(m k)))",
-                        "lambda" => "v_belt (lambda = v_B sqrt(k/m) / (mu_k g))",
-                        "phi" => "mu_s",
-                        n => n,
-                    };
-                    name_err(name, value, expected)
-                }
+                } => name_err(physical_key(name), value, expected),
                 e => invalid(path, prefix, e, "a valid model"),
             })?,
             None => {
@@ -1054,12 +1065,29 @@ impl AtlasPlan {
                 x: ps.operating.x / s.length,
                 v: ps.operating.v / s.velocity,
             };
-            ps.disturbance = Region {
-                x: ps.disturbance.x.map(|x| x / s.length),
-                v: ps.disturbance.v.map(|v| v / s.velocity),
-            };
+            if !self.disturbance_nondimensional {
+                ps.disturbance = Region {
+                    x: ps.disturbance.x.map(|x| x / s.length),
+                    v: ps.disturbance.v.map(|v| v / s.velocity),
+                };
+            }
         }
         ps
+    }
+
+    /// The units of the disturbance box (`[disturbance]`, stored as `disturbance_x`,
+    /// `disturbance_v`), in words.
+    pub fn disturbance_units(&self) -> [&'static str; 2] {
+        if self.units == Units::Physical && !self.disturbance_nondimensional {
+            ["m", "m/s"]
+        } else if self.units == Units::Physical {
+            [
+                "1 (the default box, nondimensional at each point: units of mu_k g / omega_0^2)",
+                "1 (the default box, nondimensional at each point: units of mu_k g / omega_0)",
+            ]
+        } else {
+            ["1", "1"]
+        }
     }
 
     /// The damping parameter's key (`nu` or `c`) and its position among the swept axes.
@@ -1265,6 +1293,28 @@ path = "p.h5"
         assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
         assert_eq!(p.damping_axis(), ("c", Some(0)));
         assert_eq!(p.n_boundaries(), 1);
+    }
+
+    #[test]
+    fn physical_default_disturbance_scales_with_the_system() {
+        // Issue 21: the default box [-2, 4] x [-3, 3] was taken as metres and m/s, so a
+        // brake's basin fraction came out 1.5e-8. Without [disturbance] it stays
+        // nondimensional at each point; a [disturbance] in SI is converted.
+        let p = AtlasPlan::from_toml(PHYS, "p.toml").unwrap();
+        assert!(p.disturbance_nondimensional);
+        let d = p.settings_at(0).disturbance;
+        assert_eq!(d, PointSettings::default().disturbance);
+        assert_eq!(p.disturbance_units()[0].split(' ').next(), Some("1"));
+        let given = PHYS.replace(
+            "[output]",
+            "[disturbance]\nx = [-1e-3, 1e-3]\nv = [-0.05, 0.05]\n[output]",
+        );
+        let p = AtlasPlan::from_toml(&given, "p.toml").unwrap();
+        let s = p.physical_at(0).unwrap().scales();
+        let d = p.settings_at(0).disturbance;
+        assert!((d.x[1] * s.length - 1e-3).abs() < 1e-15);
+        assert!((d.v[0] * s.velocity + 0.05).abs() < 1e-15);
+        assert_eq!(p.disturbance_units(), ["m", "m/s"]);
     }
 
     #[test]

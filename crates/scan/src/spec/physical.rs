@@ -1,0 +1,201 @@
+//! `[physical]` in a scan spec: the atlas's table ([`crate::atlas::spec::PhysicalFile`],
+//! converted by [`Physical::params`], McMillan's scaling) read as the nondimensional
+//! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
+//! other keys are numbers, since a scan's grid has one length and one velocity unit. The
+//! grid (or the sample region) of a physical spec is in metres and m/s.
+
+use squeal_core::{Physical, units::G_STANDARD};
+
+use super::{Invalid, MAX_MAPS, ModelSpec};
+use crate::atlas::spec::{PhysicalFile, physical_key};
+use crate::error::ScanError;
+use crate::grid::Grid;
+use crate::values::{Value, expand};
+
+/// The physical system of the first map and the `[model]` table it stands for.
+pub(super) fn model(
+    ph: &PhysicalFile,
+    m: &ModelSpec,
+    invalid: Invalid,
+) -> Result<(Physical, ModelSpec), ScanError> {
+    if m.law.has_true_stick() {
+        return Err(invalid(
+            "physical",
+            "given with law = \"stribeck\"".into(),
+            "a McMillan law: the physical units are McMillan's scaling, which the Stribeck \
+             law does not share (give its nondimensional keys in [model])",
+        ));
+    }
+    for (key, given) in [
+        ("nu", m.nu.is_some()),
+        ("lambda", m.lambda.is_some()),
+        ("tau", m.tau.is_some()),
+        ("phi", m.phi.is_some()),
+    ] {
+        if given {
+            return Err(invalid(
+                &format!("model.{key}"),
+                "given with [physical]".into(),
+                "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical \
+                 system ([physical] m, k, c, v_belt, mu_k, mu_s, tau, g), not both",
+            ));
+        }
+    }
+    let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
+        match v {
+            Value::One(x) => Ok(*x),
+            _ => Err(invalid(
+                &format!("physical.{key}"),
+                "a list or range".into(),
+                "a number: a scan sweeps only c or v_belt (sweep the others with squeal atlas)",
+            )),
+        }
+    };
+    let cs = expand(&ph.c, "physical.c", MAX_MAPS, invalid)?;
+    let vs = expand(&ph.v_belt, "physical.v_belt", MAX_MAPS, invalid)?;
+    if cs.len() > 1 && vs.len() > 1 {
+        return Err(invalid(
+            "physical.v_belt",
+            format!("{} values", vs.len()),
+            "only one of physical.c and physical.v_belt may be swept in one spec",
+        ));
+    }
+    let g = match &ph.g {
+        Some(g) => one("g", g)?,
+        None => G_STANDARD,
+    };
+    let base = Physical {
+        m: one("m", &ph.m)?,
+        k: one("k", &ph.k)?,
+        c: cs[0],
+        v_belt: vs[0],
+        mu_k: one("mu_k", &ph.mu_k)?,
+        mu_s: one("mu_s", &ph.mu_s)?,
+        tau: one("tau", &ph.tau)?,
+        g,
+    };
+    let mut first = None;
+    for &c in &cs {
+        for &v_belt in &vs {
+            let p = Physical { c, v_belt, ..base }
+                .params(m.law)
+                .map_err(|e| match e {
+                    squeal_core::CoreError::InvalidParameter {
+                        name,
+                        value,
+                        expected,
+                    } => invalid(
+                        &format!("physical.{}", physical_key(name)),
+                        value.to_string(),
+                        expected,
+                    ),
+                    e => invalid("physical", String::new(), &e.to_string()),
+                })?;
+            first.get_or_insert(p);
+        }
+    }
+    let p0 = first.expect("at least one value of c and v_belt");
+    let s = base.scales();
+    let scaled = |given: &Value, xs: &[f64], unit: f64| {
+        if given.is_sweep() {
+            Value::List(xs.iter().map(|x| x / unit).collect())
+        } else {
+            Value::One(xs[0] / unit)
+        }
+    };
+    let model = ModelSpec {
+        law: m.law,
+        nu: Some(scaled(&ph.c, &cs, s.damping)),
+        lambda: Some(scaled(&ph.v_belt, &vs, s.velocity)),
+        tau: Some(p0.tau),
+        phi: Some(p0.phi),
+        xi: None,
+        v_d: None,
+        mu_d: None,
+        mu_sd: None,
+        v_0: None,
+        mu_v: None,
+    };
+    Ok((base, model))
+}
+
+/// The grid (or sample region) given in metres and m/s, in nondimensional units.
+pub(super) fn grid_to_nondimensional(grid: &mut Grid, ph: &Physical) {
+    let s = ph.scales();
+    grid.x0.min /= s.length;
+    grid.x0.max /= s.length;
+    grid.v0.min /= s.velocity;
+    grid.v0.max /= s.velocity;
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::Plan;
+
+    /// The brake of issue 21: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
+    const BRAKE: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+[physical]
+m = 2.0
+k = 5.0e4
+c = [5.0, 10.0]
+v_belt = 0.05
+mu_k = 0.35
+mu_s = 0.45
+tau = 1e-3
+[grid]
+x0 = { min = -1e-4, max = 2e-4, count = 4 }
+v0 = { min = -0.01, max = 0.01, count = 3 }
+[output]
+path = "b.h5"
+"#;
+
+    #[test]
+    fn physical_spec_is_the_scaled_model_and_grid() {
+        let p = Plan::from_toml(BRAKE, "b.toml").unwrap();
+        let ph = p.physical.expect("the physical system is kept");
+        let s = ph.scales();
+        // omega_0 = sqrt(5e4 / 2) = 158.1 rad/s; c = 2 sqrt(m k) nu = 632.5 nu.
+        assert!((s.damping - 2.0 * (1.0e5f64).sqrt()).abs() < 1e-9);
+        let sweep = p.sweep.as_ref().expect("c swept: nu swept");
+        assert_eq!(sweep.name, "nu");
+        for (nu, c) in sweep.values.iter().zip([5.0, 10.0]) {
+            assert!((nu * s.damping - c).abs() < 1e-12, "{nu}");
+        }
+        let want = ph.params(squeal_core::FrictionLaw::McMillan).unwrap();
+        assert!((p.maps[0].lambda - want.lambda).abs() < 1e-12);
+        assert!((p.maps[0].tau - want.tau).abs() < 1e-12);
+        assert!((p.maps[0].phi - want.phi).abs() < 1e-12);
+        // The grid was given in metres and m/s.
+        assert!((p.grid.x0.max * s.length - 2e-4).abs() < 1e-15);
+        assert!((p.grid.v0.min * s.velocity + 0.01).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_physical_specs_name_the_key() {
+        let cases = [
+            (BRAKE.replace("m = 2.0", "m = [1.0, 2.0]"), "physical.m"),
+            (BRAKE.replace("mu_s = 0.45", "mu_s = 0.3"), "physical.mu_s"),
+            (BRAKE.replace("k = 5.0e4", "k = -1.0"), "physical.k"),
+            (
+                BRAKE.replace("v_belt = 0.05", "v_belt = [0.05, 0.1]"),
+                "physical.v_belt",
+            ),
+            (
+                BRAKE.replace("[physical]", "nu = 0.01\n[physical]"),
+                "model.nu",
+            ),
+            (
+                BRAKE.replace("law = \"mcmillan\"", "law = \"stribeck\""),
+                "`physical`",
+            ),
+            (BRAKE.replace("v_belt", "v_B"), "unknown field `v_B`"),
+        ];
+        for (text, key) in cases {
+            let e = Plan::from_toml(&text, "b.toml").unwrap_err().to_string();
+            assert!(e.contains(key), "{key}: {e}");
+        }
+    }
+}
