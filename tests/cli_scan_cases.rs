@@ -58,6 +58,10 @@ const OUTSIDE_CYCLE: u8 = 3;
 const START_INSIDE: u8 = 8;
 const START_OUTSIDE: u8 = 9;
 const NEAR_FIXED_POINT: u8 = 1;
+/// `Reason::EnteredRegion` and `Reason::StartInRegion`: the run entered (or started in) the
+/// certified region of attraction around the fixed point (issue 18, crates/core/MODEL.md
+/// section 9), which proves it settles there.
+const IN_CERTIFIED_REGION: [u8; 2] = [11, 12];
 
 #[test]
 fn a_lambda_sweep_end_to_end() {
@@ -160,8 +164,15 @@ fn a_scan_without_an_unstable_cycle_says_so() {
                 "{name} cell {k}: {r}"
             );
             // Every start settles on the fixed point (Coulomb: the argument above; McMillan at
-            // nu = 5e-2: above the critical damping for the whole window).
-            assert_eq!((l, r), (1, NEAR_FIXED_POINT), "{name} cell {k}");
+            // nu = 5e-2: above the critical damping for the whole window). McMillan's law has
+            // a certified region of attraction, so its runs are decided on entering it;
+            // Coulomb's has none, and its runs are followed to fp_radius.
+            let settles = if law == "coulomb" {
+                r == NEAR_FIXED_POINT
+            } else {
+                r == NEAR_FIXED_POINT || IN_CERTIFIED_REGION.contains(&r)
+            };
+            assert!(l == 1 && settles, "{name} cell {k}: label {l}, reason {r}");
         }
         if law == "coulomb" {
             // From rest (cell x0 = 0, v0 = 0) the distance to the fixed point is e^(-nu t), so

@@ -19,7 +19,8 @@ use anyhow::{Context, bail};
 use serde::Serialize;
 use squeal_core::classify::crossing;
 use squeal_core::{
-    Classifier, Named, Reason, Regime, Run, Sample, SolverKind, SolverStats, State, Stepper,
+    Classifier, Named, Reason, Regime, Run, Sample, Samples, SolverKind, SolverStats, State,
+    Stepper,
 };
 use squeal_plot::{Curve, Marker, Rgb};
 
@@ -76,30 +77,6 @@ pub struct Args {
 enum Format {
     Csv,
     Hdf5,
-}
-
-/// The samples kept for output, column by column.
-#[derive(Default)]
-struct Columns {
-    t: Vec<f64>,
-    x: Vec<f64>,
-    v: Vec<f64>,
-    a: Vec<f64>,
-    force: Vec<f64>,
-}
-
-impl Columns {
-    fn push(&mut self, s: &Sample) {
-        self.t.push(s.t);
-        self.x.push(s.x);
-        self.v.push(s.v);
-        self.a.push(s.a);
-        self.force.push(s.force);
-    }
-
-    fn len(&self) -> usize {
-        self.t.len()
-    }
 }
 
 /// Model and run parameters, as printed and stored: the law, its own parameters by name
@@ -317,7 +294,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let p = *stepper.params();
     let fp = p.fixed_point();
-    let mut cols = Columns::default();
+    let mut cols = Samples::default();
     let classifier = Classifier {
         t_max: args.t_end,
         ..Default::default()
@@ -500,7 +477,7 @@ pub(crate) fn create_file(path: &Path, force: bool) -> std::io::Result<File> {
     o.open(path)
 }
 
-fn write_csv(path: &Path, cols: &Columns, force: bool) -> anyhow::Result<()> {
+fn write_csv(path: &Path, cols: &Samples, force: bool) -> anyhow::Result<()> {
     let mut w = BufWriter::new(create_file(path, force)?);
     writeln!(w, "t,x,v,a,force")?;
     for i in 0..cols.len() {
@@ -516,7 +493,7 @@ fn write_csv(path: &Path, cols: &Columns, force: bool) -> anyhow::Result<()> {
 
 fn write_h5(
     path: &Path,
-    cols: &Columns,
+    cols: &Samples,
     rp: &RunParams,
     stick: Option<&StickPhases>,
     force: bool,
@@ -568,25 +545,13 @@ fn write_h5(
         numbers,
         counts,
     };
-    squeal_store::write_trajectory(
-        path,
-        force,
-        &super::common::provenance(),
-        &attrs,
-        &cols.t,
-        &[
-            ("x", "displacement x (nondimensional)", &cols.x),
-            ("v", "velocity x' (nondimensional)", &cols.v),
-            ("a", "acceleration x'' (nondimensional)", &cols.a),
-            ("force", "friction force F (nondimensional)", &cols.force),
-        ],
-    )?;
+    squeal_store::write_samples(path, force, &super::common::provenance(), &attrs, cols)?;
     Ok(())
 }
 
 fn plot_phase_plane(
     path: &Path,
-    cols: &Columns,
+    cols: &Samples,
     stepper: &Stepper,
     ic: State,
     fp: State,

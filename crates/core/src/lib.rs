@@ -58,7 +58,7 @@ pub use friction::Law;
 pub use params::{FrictionLaw, Named, Params, Stribeck};
 pub use propagator::{Propagator, Scheme};
 pub use region::Region;
-pub use run::{Run, Step};
+pub use run::{Run, Samples, Step};
 pub use setup::Setup;
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};

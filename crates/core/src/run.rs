@@ -148,3 +148,39 @@ impl Iterator for Run<'_> {
         Some(self.step())
     }
 }
+
+/// The samples of a run kept for output, column by column (a trajectory file's datasets).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Samples {
+    /// Time.
+    pub t: Vec<f64>,
+    /// Displacement `x`.
+    pub x: Vec<f64>,
+    /// Velocity `x'`.
+    pub v: Vec<f64>,
+    /// Acceleration `x''`.
+    pub a: Vec<f64>,
+    /// Friction force `F`.
+    pub force: Vec<f64>,
+}
+
+impl Samples {
+    /// Appends one sample.
+    pub fn push(&mut self, s: &Sample) {
+        self.t.push(s.t);
+        self.x.push(s.x);
+        self.v.push(s.v);
+        self.a.push(s.a);
+        self.force.push(s.force);
+    }
+
+    /// Number of samples kept.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether none is kept.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+}

@@ -7,30 +7,10 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use pyo3::prelude::*;
-use squeal_core::{Classifier, Reason, Regime, Run, Sample, State, Stepper};
-use squeal_store::{RunAttrs, write_trajectory};
+use squeal_core::{Classifier, Reason, Regime, Run, Samples, State, Stepper};
+use squeal_store::{RunAttrs, write_samples};
 
 use crate::{interruptible, params_of, plan_of, provenance, store_error, value_error};
-
-/// The samples kept, column by column.
-#[derive(Default)]
-struct Columns {
-    t: Vec<f64>,
-    x: Vec<f64>,
-    v: Vec<f64>,
-    a: Vec<f64>,
-    force: Vec<f64>,
-}
-
-impl Columns {
-    fn push(&mut self, s: &Sample) {
-        self.t.push(s.t);
-        self.x.push(s.x);
-        self.v.push(s.v);
-        self.a.push(s.a);
-        self.force.push(s.force);
-    }
-}
 
 /// The run's start, end and stride.
 #[derive(Clone, Copy)]
@@ -48,7 +28,7 @@ fn integrate(
     classifier: &Classifier,
     Span { ic, t_end, every }: Span,
     stop: &AtomicBool,
-) -> (Columns, (&'static str, &'static str, f64)) {
+) -> (Samples, (&'static str, &'static str, f64)) {
     let p = *stepper.params();
     let cl = Classifier {
         t_max: t_end,
@@ -56,7 +36,7 @@ fn integrate(
     };
     let mut watch = cl.watch(&p);
     let mut run = Run::new(stepper, ic);
-    let mut cols = Columns::default();
+    let mut cols = Samples::default();
     cols.push(run.sample());
     let mut outcome = None;
     let steps = (t_end / stepper.dt()).ceil() as u64;
@@ -142,19 +122,6 @@ pub fn trajectory(
         numbers,
         counts: vec![("every", every)],
     };
-    write_trajectory(
-        &out,
-        true,
-        &provenance(),
-        &attrs,
-        &cols.t,
-        &[
-            ("x", "displacement x (nondimensional)", &cols.x),
-            ("v", "velocity x' (nondimensional)", &cols.v),
-            ("a", "acceleration x'' (nondimensional)", &cols.a),
-            ("force", "friction force F (nondimensional)", &cols.force),
-        ],
-    )
-    .map_err(store_error)?;
+    write_samples(&out, true, &provenance(), &attrs, &cols).map_err(store_error)?;
     Ok(verdict)
 }

@@ -340,54 +340,58 @@ pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mu
         }
         ds.push(d);
     }
-    if tangency_iters > 0 {
-        // The sample where D/r is largest; D is a smooth function of r on the slip branch,
-        // so near a tangency its maximum lies within one sample spacing.
-        let i = (1..n - 1)
-            .max_by(|&i, &j| (ds[i] / rs[i]).total_cmp(&(ds[j] / rs[j])))
-            .unwrap_or(1);
-        let (mut lo, mut hi) = (rs[i - 1], rs[i + 1]);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let mut c = hi - g * (hi - lo);
-        let mut e = lo + g * (hi - lo);
-        let (mut dc, mut de) = (map.d(c, w), map.d(e, w));
-        for _ in 0..tangency_iters {
-            for (r, d) in [(c, dc), (e, de)] {
-                if d > 0.0 {
-                    return Search::Bracket {
-                        lo: rs[i - 1],
-                        hi: r,
-                        d: [ds[i - 1], d],
-                        warm: false,
-                    };
-                }
-            }
-            if dc > de {
-                hi = e;
-                e = c;
-                de = dc;
-                c = hi - g * (hi - lo);
-                dc = map.d(c, w);
-            } else {
-                lo = c;
-                c = e;
-                dc = de;
-                e = lo + g * (hi - lo);
-                de = map.d(e, w);
-            }
-        }
-        for (r, d) in [(c, dc), (e, de)] {
-            if d > 0.0 {
-                return Search::Bracket {
-                    lo: rs[i - 1],
-                    hi: r,
-                    d: [ds[i - 1], d],
-                    warm: false,
-                };
-            }
-        }
+    if tangency_iters > 0
+        && let Some(found) = tangency(&map, &rs, &ds, tangency_iters, w)
+    {
+        return found;
     }
     Search::NoneBelow { r_max: cs.r_max }
+}
+
+/// The tangency check of [`search_cold`]: golden-section search for the largest `D / r`
+/// around the sample where it is largest (`D` is a smooth function of `r` on the slip
+/// branch, so near a tangency its maximum lies within one sample spacing), returning a
+/// bracket as soon as a trial point shows `D > 0`.
+fn tangency(map: &ReturnMap, rs: &[f64], ds: &[f64], iters: u32, w: &mut Work) -> Option<Search> {
+    let n = rs.len();
+    let i = (1..n - 1)
+        .max_by(|&i, &j| (ds[i] / rs[i]).total_cmp(&(ds[j] / rs[j])))
+        .unwrap_or(1);
+    let up = |r: f64, d: f64| {
+        (d > 0.0).then_some(Search::Bracket {
+            lo: rs[i - 1],
+            hi: r,
+            d: [ds[i - 1], d],
+            warm: false,
+        })
+    };
+    let (mut lo, mut hi) = (rs[i - 1], rs[i + 1]);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut c = hi - g * (hi - lo);
+    let mut e = lo + g * (hi - lo);
+    let (mut dc, mut de) = (map.d(c, w), map.d(e, w));
+    for k in 0..=iters {
+        if let Some(found) = up(c, dc).or_else(|| up(e, de)) {
+            return Some(found);
+        }
+        if k == iters {
+            break;
+        }
+        if dc > de {
+            hi = e;
+            e = c;
+            de = dc;
+            c = hi - g * (hi - lo);
+            dc = map.d(c, w);
+        } else {
+            lo = c;
+            c = e;
+            dc = de;
+            e = lo + g * (hi - lo);
+            de = map.d(e, w);
+        }
+    }
+    None
 }
 
 /// Warm search around a neighbour's crossing `r0`: the first `-` to `+` sign change of `D`

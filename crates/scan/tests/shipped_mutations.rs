@@ -179,7 +179,9 @@ fn shipped() -> Vec<Shipped> {
             let mut paths = Vec::new();
             numbers(&spec, &mut Vec::new(), &mut paths);
             Shipped {
-                atlas: name.starts_with("atlas-"),
+                // atlas-*.toml, or a spec without [grid] and [sample] (a scan needs one).
+                atlas: name.starts_with("atlas-")
+                    || spec.get("grid").is_none() && spec.get("sample").is_none(),
                 name,
                 spec,
                 paths,

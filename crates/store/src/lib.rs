@@ -139,7 +139,8 @@ pub use read::{
     read_info, read_map,
 };
 pub use trajectory::{
-    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_trajectory,
+    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_samples,
+    write_trajectory,
 };
 
 use error::{H5Ctx, io};

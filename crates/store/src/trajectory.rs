@@ -128,3 +128,28 @@ pub fn read_trajectory_info(path: &Path) -> Result<TrajectoryInfo, StoreError> {
     })()
     .h5(path)
 }
+
+/// Writes a run's samples ([`squeal_core::Samples`]) to a trajectory file: time as the
+/// dimension, `x`, `v`, `a` and `force` with their long names (the file's schema, in this
+/// one place for `squeal trajectory --out` and the Python package).
+pub fn write_samples(
+    path: &Path,
+    force: bool,
+    prov: &Provenance,
+    attrs: &RunAttrs,
+    s: &squeal_core::Samples,
+) -> Result<(), StoreError> {
+    write_trajectory(
+        path,
+        force,
+        prov,
+        attrs,
+        &s.t,
+        &[
+            ("x", "displacement x (nondimensional)", &s.x),
+            ("v", "velocity x' (nondimensional)", &s.v),
+            ("a", "acceleration x'' (nondimensional)", &s.a),
+            ("force", "friction force F (nondimensional)", &s.force),
+        ],
+    )
+}

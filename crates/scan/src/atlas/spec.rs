@@ -1554,7 +1554,12 @@ path = "s.h5"
         for e in std::fs::read_dir(&dir).unwrap() {
             let p = e.unwrap().path();
             let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            if name.starts_with("atlas-") && name.ends_with(".toml") {
+            if !name.ends_with(".toml") {
+                continue;
+            }
+            // atlas-*.toml, or a spec without [grid] and [sample] (a scan needs one of them).
+            let t: toml::Table = toml::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+            if name.starts_with("atlas-") || !t.contains_key("grid") && !t.contains_key("sample") {
                 AtlasPlan::from_file(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
                 n += 1;
             }
