@@ -108,8 +108,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     })?;
     let seconds = t0.elapsed().as_secs_f64();
+    let key = plan.maps[setup.map].damping_key();
+    report(&args, &rep, point, key, scales, seconds)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Prints the critical damping (JSON with `--json`), in SI units too for a physical system.
+fn report(
+    args: &Args,
+    rep: &ulc::CriticalReport,
+    point: State,
+    key: &str,
+    scales: Option<squeal_core::Scales>,
+    seconds: f64,
+) -> anyhow::Result<()> {
     if args.json {
-        let mut v = serde_json::to_value(&rep)?;
+        let mut v = serde_json::to_value(rep)?;
         v["seconds"] = seconds.into();
         if let Some(s) = scales {
             v["c"] = (rep.nu * s.damping).into();
@@ -122,14 +136,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         println!(
             "critical damping for ({}, {}): {} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} cycle locations, {:.2} s)",
-            point.x,
-            point.v,
-            plan.maps[setup.map].damping_key(),
-            rep.nu,
-            rep.bracket[0],
-            rep.bracket[1],
-            rep.evaluations,
-            seconds
+            point.x, point.v, key, rep.nu, rep.bracket[0], rep.bracket[1], rep.evaluations, seconds
         );
         println!(
             "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",
@@ -146,7 +153,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 /// `--fold` or `--in lambda`: bisects with the atlas's boundary searches (crate

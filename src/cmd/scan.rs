@@ -154,6 +154,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default()).cells;
     // A pilot measures the time per cell with this plan's law, landscape and early
     // stopping (squeal_scan::estimate); --quiet skips it and uses the documented rate.
+    let rough = plan.estimate_seconds(owned, threads);
+    if rough > LONG_SCAN && !args.allow_long {
+        bail!(
+            "{owned} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            duration(rough)
+        );
+    }
     let pilot = if args.run.quiet {
         None
     } else {

@@ -60,6 +60,10 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
     };
     let mut contexts = Vec::with_capacity(picked.len());
     for &m in &picked {
+        // Maps whose preparation is slow (long cycle searches) are sampled fewer.
+        if !contexts.is_empty() && t0.elapsed() >= PILOT_BUDGET {
+            break;
+        }
         contexts.push(MapContext::prepare(plan, m)?);
     }
     let prepare = t0.elapsed().as_secs_f64();
@@ -75,6 +79,9 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
             let (x, v) = g.state(row, col);
             ctx.classify(squeal_core::State { x, v });
             cells += 1;
+            if cells >= contexts.len() && t1.elapsed() >= PILOT_BUDGET {
+                break 'sample;
+            }
         }
         if cells >= PILOT_CELLS
             || t1.elapsed() >= PILOT_BUDGET
@@ -154,8 +161,9 @@ path = "t.h5"
         )
         .unwrap();
         let e = pilot(&plan).unwrap();
-        assert_eq!(e.maps, PILOT_MAPS);
-        assert!(e.cells >= PILOT_MAPS && e.cells % PILOT_MAPS == 0, "{e:?}");
+        // At most PILOT_MAPS maps (fewer when preparing them outlasts the budget).
+        assert!((1..=PILOT_MAPS).contains(&e.maps), "{e:?}");
+        assert!(e.cells >= e.maps, "{e:?}");
         assert!(e.cell_seconds > 0.0 && e.prepare_seconds > 0.0);
     }
 }
