@@ -46,15 +46,30 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = AtlasPlan::from_file(&args.spec)?;
     let (out, shard) = args.run.setup(&plan.out)?;
     let png = common::sibling(&out, "", "png");
-    // Charts exist for one swept parameter (bifurcation diagram) or two (stability chart).
-    let chartable = matches!(plan.axes().len(), 1 | 2);
-    let render = shard.is_none() && !args.no_render && (chartable || plan.maps.is_some());
-    if render && !args.run.resume {
-        if chartable {
-            common::check_new(&png, args.run.force, "chart of the atlas")?;
-        }
-        if plan.maps.is_some() {
-            common::check_new(&sheet_path(&png), args.run.force, "sheet of basin maps")?;
+    let pics = if shard.is_none() && !args.no_render {
+        pictures(&plan, &png)
+    } else {
+        Vec::new()
+    };
+    let render = !pics.is_empty();
+    // Like make (the same rule as the scan's): a finished output of the same parsed spec
+    // (and shard) is up to date; a picture missing is drawn again.
+    let state = squeal_store::output_state(&out, &plan, shard)?;
+    if common::up_to_date(&out, state, &args.run, &pics, || {
+        render_atlas(&out, &png, true)
+    })? {
+        let (plan, res, _) = read_atlas(&out)?;
+        report(&args, &plan, &res, &out, Computed::default(), &pics)?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if !args.run.resume {
+        for p in &pics {
+            let what = if *p == png {
+                "chart of the atlas"
+            } else {
+                "sheet of basin maps"
+            };
+            common::check_new(p, args.run.force, what)?;
         }
     }
     let prov = common::provenance();
@@ -132,20 +147,62 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
+    let computed = Computed {
+        seconds,
+        units: todo.len(),
+        blocks: todo_blocks,
+    };
+    report(&args, &plan, &res, &out, computed, &pictures)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The pictures of a finished atlas whose chart is `png`: the chart (one or two swept
+/// parameters: a bifurcation diagram or a stability chart), then with maps their sheet.
+fn pictures(plan: &AtlasPlan, png: &Path) -> Vec<PathBuf> {
+    let chartable = matches!(plan.axes().len(), 1 | 2);
+    let mut v = Vec::new();
+    if chartable {
+        v.push(png.to_path_buf());
+    }
+    if plan.maps.is_some() {
+        v.push(sheet_path(png));
+    }
+    v
+}
+
+/// What a run computed (nothing for an output already up to date).
+#[derive(Clone, Copy, Debug, Default)]
+struct Computed {
+    seconds: f64,
+    units: usize,
+    blocks: usize,
+}
+
+/// The summary of a finished atlas, in words or as one JSON object.
+fn report(
+    args: &Args,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    out: &Path,
+    computed: Computed,
+    pictures: &[PathBuf],
+) -> anyhow::Result<()> {
     if args.json {
-        let mut v = atlas_json(&plan, &res);
+        let mut v = atlas_json(plan, res);
         v["file"] = out.display().to_string().into();
-        v["seconds"] = seconds.into();
-        v["units_computed"] = todo.len().into();
-        v["map_blocks_computed"] = todo_blocks.into();
+        v["seconds"] = computed.seconds.into();
+        v["units_computed"] = computed.units.into();
+        v["map_blocks_computed"] = computed.blocks.into();
         println!("{}", serde_json::to_string(&v)?);
     } else {
-        print_summary(&plan, &res, &out, seconds, todo.len());
+        let ran =
+            (computed.units + computed.blocks > 0).then_some((computed.seconds, computed.units));
+        print_summary(plan, res, out, ran);
         for p in pictures {
             println!("{}", p.display());
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 fn num(v: f64) -> Value {
@@ -305,9 +362,16 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
     })
 }
 
-fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64, units: usize) {
+/// The atlas in words: its axes, the points per regime, the maps and the boundaries found,
+/// then the file. `computed` is what this run computed (none: the line says nothing of it).
+pub fn print_summary(
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    out: &Path,
+    computed: Option<(f64, usize)>,
+) {
     println!(
-        "atlas {}: {} law, {} points over {}, {} units computed in {:.1} s",
+        "atlas {}: {} law, {} points over {}{}",
         plan.name,
         plan.law,
         plan.n_points(),
@@ -316,8 +380,9 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
             .map(|a| format!("{} ({} values)", a.key, a.values.len()))
             .collect::<Vec<_>>()
             .join(" x "),
-        units,
-        seconds
+        computed.map_or(String::new(), |(seconds, units)| format!(
+            ", {units} units computed in {seconds:.1} s"
+        ))
     );
     for r in AtlasRegime::ALL {
         let n = res

@@ -18,7 +18,7 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use squeal_scan::{Observer, Pending, Plan, drive};
-use squeal_store::{OutputState, ScanWriter};
+use squeal_store::ScanWriter;
 
 use super::common;
 
@@ -71,15 +71,6 @@ fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
     v
 }
 
-/// Draws the pictures of a finished file if any is missing; returns those drawn.
-fn draw_missing(out: &Path, maps: usize, sample: bool) -> anyhow::Result<Vec<PathBuf>> {
-    let pics = pictures(out, maps, sample);
-    if pics.iter().all(|p| common::is_drawn(p)) {
-        return Ok(Vec::new());
-    }
-    common::render_file(out, &pics[0], true)
-}
-
 fn install_signals(stop: &Arc<AtomicBool>) -> anyhow::Result<()> {
     let stop = stop.clone();
     // The "termination" feature of ctrlc routes SIGTERM (SLURM's time limit and
@@ -100,41 +91,25 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let sample = plan.grid.is_sample();
     let pics = pictures(&out, plan.maps.len(), sample);
 
-    // Like make: a finished output of the same parsed spec (and shard) is up to date, for
-    // a rerun and for a resume (a requeued job that had finished).
-    if !args.run.force {
-        match squeal_store::output_state(&out, &plan, shard)? {
-            OutputState::Complete => {
-                let drawn = if shard.is_none() {
-                    draw_missing(&out, plan.maps.len(), sample)?
-                } else {
-                    Vec::new()
-                };
-                eprintln!(
-                    "squeal: {} is up to date (made from the same spec){}",
-                    out.display(),
-                    if drawn.is_empty() {
-                        String::new()
-                    } else {
-                        "; drew the missing picture".into()
-                    }
-                );
-                let info = squeal_store::read_info(&out)?;
-                let shown = if shard.is_none() { pics } else { Vec::new() };
-                // Nothing computed: the file holds the checks, no per-reason tally.
-                let tallies = Tallies {
-                    checks: &info.checks,
-                    reasons: &[],
-                };
-                report(&args, &plan, &info, tallies, &shown, 0, 0.0)?;
-                return Ok(ExitCode::SUCCESS);
-            }
-            OutputState::Different(key) if !args.run.resume => bail!(
-                "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output",
-                out.display()
-            ),
-            _ => {}
-        }
+    // Like make (the same rule as the atlas's): a finished output of the same parsed spec
+    // (and shard) is up to date; a picture missing is drawn again.
+    let shown = if shard.is_none() {
+        pics.clone()
+    } else {
+        Vec::new()
+    };
+    let state = squeal_store::output_state(&out, &plan, shard)?;
+    if common::up_to_date(&out, state, &args.run, &shown, || {
+        common::render_file(&out, &pics[0], true)
+    })? {
+        let info = squeal_store::read_info(&out)?;
+        // Nothing computed: the file holds the checks, no per-reason tally.
+        let tallies = Tallies {
+            checks: &info.checks,
+            reasons: &[],
+        };
+        report(&args, &plan, &info, tallies, &shown, 0, 0.0)?;
+        return Ok(ExitCode::SUCCESS);
     }
     if shard.is_none() && !args.run.resume {
         for p in &pics {

@@ -1396,12 +1396,14 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     }
     let file = File::open(path).h5(path)?;
     let spec = crate::read::str_attr(&file, "spec").h5(path)?;
-    let plan = AtlasPlan::from_toml(&spec, &path.display().to_string()).map_err(|e| {
+    let mut plan = AtlasPlan::from_toml(&spec, &path.display().to_string()).map_err(|e| {
         StoreError::NotSquealFile {
             path: path.to_path_buf(),
             why: format!("its spec does not validate: {e}"),
         }
     })?;
+    // A spec without `name` is named after its own file, not this one (a shard `s1.h5`).
+    plan.name = crate::read::str_attr(&file, "name").h5(path)?;
     let shard = crate::read::str_attr(&file, "shard")
         .ok()
         .and_then(|s| s.parse().ok());
@@ -1633,6 +1635,7 @@ pub fn merge_atlas(
     force: bool,
     prov: &Provenance,
 ) -> Result<(), StoreError> {
+    crate::refuse_input_as_output(shards, out)?;
     let _lock = OutputLock::acquire(out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {
