@@ -1,5 +1,9 @@
 //! `squeal atlas SPEC.toml`: figures of merit over a design space, regimes, the fold of
 //! cycles and the critical damping, into an HDF5 file and a chart.
+//!
+//! Like make, and by the scan's rule ([`common::up_to_date`]): a rerun of a finished atlas
+//! from the same (parsed) spec, with or without `--resume`, draws a missing picture, prints
+//! the summary and exits 0; a different spec is refused naming `--force`.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -82,33 +86,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let todo_blocks = writer.missing_blocks().len();
 
     let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!(
-                "\nsqueal: stopping after the units and map blocks in flight (signal again to quit at once)"
-            );
-        })
-        .context("installing the Ctrl-C handler")?;
-    }
-    let bar = ProgressBar::with_draw_target(
-        Some((todo.len() + todo_blocks) as u64),
-        if common::show_progress(args.run.quiet) {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        },
-    )
-    .with_style(
-        ProgressStyle::with_template(
-            "atlas [{bar:40}] {pos}/{len} units and map blocks  ETA {eta}",
-        )
-        .expect("static template")
-        .progress_chars("=> "),
-    );
+    common::install_signals(&stop, "units and map blocks")?;
+    let bar = progress((todo.len() + todo_blocks) as u64, args.run.quiet);
     let t0 = Instant::now();
     let result = squeal_store::run_atlas(
         &plan,
@@ -118,28 +97,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         &|| bar.inc(1),
         &BarObserver(&bar),
     );
-    let (writer, left) = match result {
-        Ok(r) => r,
-        Err(e) => {
-            bar.finish_and_clear();
-            return Err(e.into());
-        }
-    };
     bar.finish_and_clear();
+    let (writer, left) = result?;
     let seconds = t0.elapsed().as_secs_f64();
     if stop.load(Ordering::SeqCst) && left > 0 {
         eprintln!(
-            "squeal: interrupted; {} units and map blocks left. Finish with: squeal atlas {} -o {} --resume{}",
-            left,
-            args.spec.display(),
-            out.display(),
-            args.run
-                .shard
-                .as_ref()
-                .map(|s| format!(" --shard {s}"))
-                .unwrap_or_default()
+            "squeal: interrupted; {left} units and map blocks left. Finish with: {}",
+            args.run.resume_command("atlas", &args.spec, &out)
         );
-        return Ok(ExitCode::from(130));
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
     let res = writer.finish()?;
     let pictures = if render {
@@ -154,6 +120,25 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     report(&args, &plan, &res, &out, computed, &pictures)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The progress bar over `total` units and map blocks (hidden when quiet or not a terminal).
+fn progress(total: u64, quiet: bool) -> ProgressBar {
+    ProgressBar::with_draw_target(
+        Some(total),
+        if common::show_progress(quiet) {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    )
+    .with_style(
+        ProgressStyle::with_template(
+            "atlas [{bar:40}] {pos}/{len} units and map blocks  ETA {eta}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
+    )
 }
 
 /// The pictures of a finished atlas whose chart is `png`: the chart (one or two swept

@@ -80,43 +80,8 @@ fn atlas(args: &Args) -> anyhow::Result<()> {
 /// A scan file: parameters, grid, label counts and checks per map.
 fn scan(args: &Args) -> anyhow::Result<()> {
     let info = squeal_store::read_info(&args.file)?;
-    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
     if args.json {
-        let attrs = attrs_json(&info.attrs);
-        let counts: Vec<serde_json::Value> = info
-            .counts
-            .iter()
-            .map(|c| {
-                names
-                    .iter()
-                    .zip(c)
-                    .map(|(k, n)| ((*k).to_string(), (*n).into()))
-                    .collect::<serde_json::Map<_, _>>()
-                    .into()
-            })
-            .collect();
-        let v = serde_json::json!({
-            "path": info.path,
-            "schema": info.schema,
-            "squeal_version": info.version,
-            "git_revision": info.git_revision,
-            "attributes": attrs,
-            "sweep": info.sweep.as_ref().map(|(n, v)| serde_json::json!({"name": n, "values": v})),
-            "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
-            "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
-            "counts": counts,
-            "checks": info.checks.iter().map(|c| {
-                squeal_scan::checks::CHECK_FIELDS
-                    .iter()
-                    .zip(c)
-                    .map(|((n, _), v)| ((*n).to_string(), (*v).into()))
-                    .collect::<serde_json::Map<_, _>>()
-            }).collect::<Vec<_>>(),
-            "no_cycle": info.no_cycle,
-            "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
-            "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
-            "shard": info.shard,
-        });
+        let v = scan_json(&info);
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
@@ -200,4 +165,44 @@ fn trajectory(args: &Args) -> anyhow::Result<()> {
     }
     println!("  variables over t: {}", t.variables.join(", "));
     Ok(())
+}
+
+/// A scan file as one JSON object.
+fn scan_json(info: &squeal_store::FileInfo) -> serde_json::Value {
+    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    let attrs = attrs_json(&info.attrs);
+    let counts: Vec<serde_json::Value> = info
+        .counts
+        .iter()
+        .map(|c| {
+            names
+                .iter()
+                .zip(c)
+                .map(|(k, n)| ((*k).to_string(), (*n).into()))
+                .collect::<serde_json::Map<_, _>>()
+                .into()
+        })
+        .collect();
+    serde_json::json!({
+        "path": info.path,
+        "schema": info.schema,
+        "squeal_version": info.version,
+        "git_revision": info.git_revision,
+        "attributes": attrs,
+        "sweep": info.sweep.as_ref().map(|(n, v)| serde_json::json!({"name": n, "values": v})),
+        "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
+        "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
+        "counts": counts,
+        "checks": info.checks.iter().map(|c| {
+            squeal_scan::checks::CHECK_FIELDS
+                .iter()
+                .zip(c)
+                .map(|((n, _), v)| ((*n).to_string(), (*v).into()))
+                .collect::<serde_json::Map<_, _>>()
+        }).collect::<Vec<_>>(),
+        "no_cycle": info.no_cycle,
+        "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
+        "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
+        "shard": info.shard,
+    })
 }

@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
@@ -21,9 +21,6 @@ use squeal_scan::{Observer, Pending, Plan, drive};
 use squeal_store::ScanWriter;
 
 use super::common;
-
-/// Exit code of a scan stopped by SIGINT or SIGTERM: resumable with `--resume`.
-pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Estimated run times above this (seconds) need `--allow-long`.
 const LONG_SCAN: f64 = 30.0 * 86_400.0;
@@ -69,19 +66,6 @@ fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
         v.push(common::sibling(&png, "-cycle", "png"));
     }
     v
-}
-
-fn install_signals(stop: &Arc<AtomicBool>) -> anyhow::Result<()> {
-    let stop = stop.clone();
-    // The "termination" feature of ctrlc routes SIGTERM (SLURM's time limit and
-    // preemption) and SIGHUP here as well as SIGINT.
-    ctrlc::set_handler(move || {
-        if stop.swap(true, Ordering::SeqCst) {
-            std::process::exit(EXIT_INTERRUPTED.into());
-        }
-        eprintln!("\nsqueal: stopping after the blocks in flight (signal again to quit at once)");
-    })
-    .context("installing the SIGINT/SIGTERM handler")
 }
 
 /// Runs the scan.
@@ -139,7 +123,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = writer.plan().clone();
 
     let stop = Arc::new(AtomicBool::new(false));
-    install_signals(&stop)?;
+    common::install_signals(&stop, "blocks")?;
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
@@ -204,18 +188,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let secs = started.elapsed().as_secs_f64();
     if done.interrupted {
         eprintln!(
-            "squeal: interrupted; {} of {} blocks are stored. Finish with: squeal scan {} -o {} --resume{}",
+            "squeal: interrupted; {} of {} blocks are stored. Finish with: {}",
             writer.done_blocks(),
             writer.owned_blocks(),
-            args.spec.display(),
-            out.display(),
-            args.run
-                .shard
-                .as_deref()
-                .map(|s| format!(" --shard {s}"))
-                .unwrap_or_default()
+            args.run.resume_command("scan", &args.spec, &out)
         );
-        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
     let finished = writer.finish()?;
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
