@@ -502,7 +502,8 @@ impl AtlasWriter {
         })
     }
 
-    /// Reopens the journal of an interrupted atlas.
+    /// Reopens the journal of an interrupted atlas (a spec that computes the same and the
+    /// same shard required, as a scan's).
     pub fn resume(
         out: &Path,
         plan: &AtlasPlan,
@@ -527,9 +528,9 @@ impl AtlasWriter {
             path: path.clone(),
             why: why.to_string(),
         };
-        if header.spec != plan.spec_text {
-            return Err(mismatch("different spec text"));
-        }
+        // As a scan's: what the spec means, not its bytes (a comment edit does not block a
+        // resume); the file then records the spec text the atlas started with.
+        let plan = &crate::output::started_plan(&path, &header.spec, plan, &plan.spec_text)?;
         if header.shard != shard.map(|s| s.to_string()).unwrap_or_default() {
             return Err(mismatch("different --shard"));
         }
@@ -552,6 +553,11 @@ impl AtlasWriter {
             results,
             _lock: lock,
         })
+    }
+
+    /// The plan being written (after a resume: the one the atlas started with).
+    pub fn plan(&self) -> &AtlasPlan {
+        &self.plan
     }
 
     /// The units still to compute.

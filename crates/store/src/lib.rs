@@ -257,8 +257,8 @@ impl ScanWriter {
         })
     }
 
-    /// Continues an interrupted scan from its journal (same spec text and shard required);
-    /// a torn last record is dropped.
+    /// Continues an interrupted scan from its journal (a spec that computes the same and the
+    /// same shard required: [`output::started_plan`]); a torn last record is dropped.
     pub fn resume(
         out: &Path,
         plan: &Plan,
@@ -288,27 +288,7 @@ impl ScanWriter {
         let (mut journal, header, recs) = Journal::open(&jpath, journal::Owner::Scan)?;
         // Compare what the spec means, not its bytes: a comment edit does not block a
         // resume. The file then records the spec text the scan started with.
-        let mut plan = plan.clone();
-        if header.spec != plan.spec_text {
-            let started = Plan::from_toml(&header.spec, &plan.spec_path).map_err(|e| {
-                StoreError::SpecMismatch {
-                    path: jpath.clone(),
-                    why: format!("the journal's spec no longer validates: {e}"),
-                }
-            })?;
-            if let Some(key) = started.differs_from(&plan) {
-                return Err(StoreError::SpecMismatch {
-                    path: jpath,
-                    why: format!(
-                        "the journal was written for another spec ({key} differs): use --force to start over"
-                    ),
-                });
-            }
-            plan = Plan {
-                output: plan.output.clone(),
-                ..started
-            };
-        }
+        let plan = output::started_plan(&jpath, &header.spec, plan, &plan.spec_text)?;
         let plan = &plan;
         preflight(out, plan, shard, prov)?;
         if header.shard != shard_text(shard) {

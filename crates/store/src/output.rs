@@ -16,32 +16,80 @@ use crate::{SCHEMA, StoreError, TRAJECTORY_SCHEMA, read};
 pub trait Recorded: Sized {
     /// The `schema` attribute of the files this plan writes.
     const SCHEMA: &'static str;
-    /// The plan of the spec text a file stores, named as the file says (`like` gives the
-    /// spec's path for messages).
-    fn stored(spec: &str, name: String, like: &Self) -> Option<Self>;
+    /// The plan of a stored spec text, parsed as if read from `like`'s spec file, and named
+    /// `name` if given (a file's `name` attribute).
+    fn stored(spec: &str, name: Option<String>, like: &Self) -> Option<Self>;
     /// The first setting in which `other` computes something different, if any.
     fn first_difference(&self, other: &Self) -> Option<String>;
+    /// This plan writing to `other`'s output (a `-o` given at the resume).
+    fn writing_to(self, other: &Self) -> Self;
+}
+
+/// The plan a journal was started with, judged against the `plan` given at a resume, for
+/// scans and atlases alike: the same text is `plan` itself; another text that computes the
+/// same (a comment edit) is the journal's own plan, so the file records the spec the run
+/// started with; anything else is refused naming the first key that differs.
+pub(crate) fn started_plan<P: Recorded + Clone>(
+    journal: &Path,
+    started_text: &str,
+    plan: &P,
+    plan_text: &str,
+) -> Result<P, StoreError> {
+    if started_text == plan_text {
+        return Ok(plan.clone());
+    }
+    let mismatch = |why: String| StoreError::SpecMismatch {
+        path: journal.to_path_buf(),
+        why,
+    };
+    let started = P::stored(started_text, None, plan)
+        .ok_or_else(|| mismatch("the journal's spec no longer validates".into()))?;
+    let started = started.writing_to(plan);
+    match started.first_difference(plan) {
+        None => Ok(started),
+        Some(key) => Err(mismatch(format!(
+            "the journal was written for another spec ({key} differs): use --force to start over"
+        ))),
+    }
 }
 
 impl Recorded for Plan {
     const SCHEMA: &'static str = SCHEMA;
-    fn stored(spec: &str, name: String, like: &Plan) -> Option<Plan> {
+    fn stored(spec: &str, name: Option<String>, like: &Plan) -> Option<Plan> {
         let p = Plan::from_toml(spec, &like.spec_path).ok()?;
-        Some(Plan { name, ..p })
+        Some(Plan {
+            name: name.unwrap_or(p.name.clone()),
+            ..p
+        })
     }
     fn first_difference(&self, other: &Plan) -> Option<String> {
         self.differs_from(other)
+    }
+    fn writing_to(self, other: &Plan) -> Plan {
+        Plan {
+            output: other.output.clone(),
+            ..self
+        }
     }
 }
 
 impl Recorded for AtlasPlan {
     const SCHEMA: &'static str = ATLAS_SCHEMA;
-    fn stored(spec: &str, name: String, like: &AtlasPlan) -> Option<AtlasPlan> {
+    fn stored(spec: &str, name: Option<String>, like: &AtlasPlan) -> Option<AtlasPlan> {
         let p = AtlasPlan::from_toml(spec, &like.spec_path).ok()?;
-        Some(AtlasPlan { name, ..p })
+        Some(AtlasPlan {
+            name: name.unwrap_or(p.name.clone()),
+            ..p
+        })
     }
     fn first_difference(&self, other: &AtlasPlan) -> Option<String> {
         self.differs_from(other)
+    }
+    fn writing_to(self, other: &AtlasPlan) -> AtlasPlan {
+        AtlasPlan {
+            out: other.out.clone(),
+            ..self
+        }
     }
 }
 
@@ -83,7 +131,7 @@ pub fn output_state<P: Recorded>(
         if stored_shard != shard.map(|s| s.to_string()).unwrap_or_default() {
             return Ok(OutputState::Different("shard".into()));
         }
-        let Some(stored) = P::stored(&spec, name, plan) else {
+        let Some(stored) = P::stored(&spec, Some(name), plan) else {
             return Ok(OutputState::Different("spec".into()));
         };
         return Ok(match stored.first_difference(plan) {
