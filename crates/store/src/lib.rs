@@ -258,7 +258,7 @@ impl ScanWriter {
     }
 
     /// Continues an interrupted scan from its journal (a spec that computes the same and the
-    /// same shard required: [`output::started_plan`]); a torn last record is dropped.
+    /// same shard required, as an atlas's); a torn last record is dropped.
     pub fn resume(
         out: &Path,
         plan: &Plan,
