@@ -1052,3 +1052,156 @@ fn stribeck_atlas_matches_bstabs_belt_speed_study() {
         }
     }
 }
+
+/// A 2 x 2 atlas that takes about a second: no `name`, so it is named after its spec file.
+const SMALL: &str = r#"
+version = 1
+[model]
+law = "mcmillan-nonhysteretic"
+nu = [2e-3, 1e-2]
+lambda = [2.0, 3.0]
+[cycle]
+half_dt = false
+[attractor]
+transient = 10
+window = 10
+[boundaries]
+rtol = 1e-2
+[output]
+path = "small.h5"
+"#;
+
+fn stderr_of(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Like a scan, like make: a finished atlas rerun (a requeued SLURM job, with or without
+/// `--resume`) is up to date and exits 0, a missing chart is drawn again, and another spec
+/// is refused naming `--force`. (It exited 2, "refusing to overwrite".)
+#[test]
+fn a_finished_atlas_rerun_is_up_to_date_like_a_scan() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("small.toml"), SMALL).unwrap();
+    ok(squeal(d, &["atlas", "small.toml", "--quiet"]));
+    let (h5, png) = (d.join("small.h5"), d.join("small.png"));
+    let file = std::fs::read(&h5).unwrap();
+    for extra in [None, Some("--resume")] {
+        let args: Vec<&str> = ["atlas", "small.toml"].into_iter().chain(extra).collect();
+        let o = squeal(d, &args);
+        assert!(stderr_of(&o).contains("small.h5 is up to date"), "{o:?}");
+        let out = ok(o);
+        assert!(
+            out.contains("4 points over nu (2 values) x lambda (2 values)"),
+            "{out}"
+        );
+    }
+    // A chart lost (or cut short by a full disk) is drawn again, the file left as it was.
+    std::fs::remove_file(&png).unwrap();
+    let o = squeal(d, &["atlas", "small.toml", "--resume"]);
+    assert!(stderr_of(&o).contains("drew the missing picture"), "{o:?}");
+    ok(o);
+    assert!(png.exists());
+    assert_eq!(std::fs::read(&h5).unwrap(), file);
+    // --json says nothing was computed.
+    let v = json(&ok(squeal(d, &["atlas", "small.toml", "--json"])));
+    assert_eq!(v["units_computed"], 0);
+    assert_eq!(v["points"].as_array().unwrap().len(), 4);
+    // A comment is no change; another bracket width is, with or without --resume.
+    std::fs::write(d.join("small.toml"), format!("{SMALL}# a comment\n")).unwrap();
+    ok(squeal(d, &["atlas", "small.toml"]));
+    let other = SMALL.replace("rtol = 1e-2", "rtol = 2e-2");
+    std::fs::write(d.join("other.toml"), other).unwrap();
+    for extra in [None, Some("--resume")] {
+        let args: Vec<&str> = ["atlas", "other.toml", "-o", "small.h5"]
+            .into_iter()
+            .chain(extra)
+            .collect();
+        refused(squeal(d, &args), "--force");
+        assert_eq!(std::fs::read(&h5).unwrap(), file);
+    }
+    ok(squeal(
+        d,
+        &["atlas", "other.toml", "-o", "small.h5", "--force"],
+    ));
+    assert_ne!(std::fs::read(&h5).unwrap(), file);
+}
+
+/// `merge` refuses an input as its output for atlases as for scans, even with --force,
+/// by its name or another one (a hard link); it overwrote the shard. The merged file is
+/// named as the shards' spec, not after the first shard's file.
+#[test]
+fn an_atlas_merge_refuses_an_input_as_its_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("small.toml"), SMALL).unwrap();
+    for k in ["1/2", "2/2"] {
+        let out = format!("s{}.h5", &k[..1]);
+        ok(squeal(
+            d,
+            &["atlas", "small.toml", "--shard", k, "-o", &out],
+        ));
+    }
+    let s1 = std::fs::read(d.join("s1.h5")).unwrap();
+    std::fs::hard_link(d.join("s1.h5"), d.join("link.h5")).unwrap();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    for out in ["s1.h5", "./sub/../s1.h5", "link.h5"] {
+        let o = squeal(d, &["merge", "s1.h5", "s2.h5", "-o", out, "--force"]);
+        refused(o, "one of the inputs");
+        assert_eq!(std::fs::read(d.join("s1.h5")).unwrap(), s1, "{out}");
+    }
+    ok(squeal(d, &["merge", "s1.h5", "s2.h5", "-o", "m.h5"]));
+    assert_eq!(str_attr(&d.join("m.h5"), None, "name"), "small");
+}
+
+/// `info` reads atlas files (it refused them): parameters, axes, points per regime and the
+/// boundaries found, in words and as JSON; a shard says so.
+#[test]
+fn info_reads_an_atlas_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("small.toml"), SMALL).unwrap();
+    let run = json(&ok(squeal(
+        d,
+        &["atlas", "small.toml", "--json", "--quiet"],
+    )));
+    let text = ok(squeal(d, &["info", "small.h5"]));
+    for want in [
+        "squeal-atlas/1",
+        "law = mcmillan-nonhysteretic",
+        "name = small",
+        "4 points over nu (2 values) x lambda (2 values)",
+        "points: ",
+        "boundaries in the damping ratio nu",
+        "critical nu = ",
+    ] {
+        assert!(text.contains(want), "{want:?} in: {text}");
+    }
+    let v: Value = serde_json::from_str(&ok(squeal(d, &["info", "small.h5", "--json"]))).unwrap();
+    assert_eq!(v["attributes"]["law"], "mcmillan-nonhysteretic");
+    assert_eq!(v["axes"].as_array().unwrap().len(), 2);
+    assert_eq!(v["shard"], Value::Null);
+    // The same points and boundaries as the run printed (the file does not keep the
+    // boundaries' evaluation counts).
+    assert_eq!(v["points"], run["points"]);
+    for (a, b) in v["boundaries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(run["boundaries"].as_array().unwrap())
+    {
+        for (bd, key) in [
+            ("critical", "nu"),
+            ("critical", "status"),
+            ("fold", "status"),
+        ] {
+            assert_eq!(a[bd][key], b[bd][key], "{bd}.{key}");
+        }
+    }
+    assert_eq!(v["boundaries"].as_array().unwrap().len(), 2);
+    ok(squeal(
+        d,
+        &["atlas", "small.toml", "--shard", "1/2", "-o", "s1.h5"],
+    ));
+    assert!(ok(squeal(d, &["info", "s1.h5"])).contains("shard 1/2"));
+}

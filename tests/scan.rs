@@ -560,6 +560,23 @@ fn a_finished_scan_redraws_a_missing_picture() {
     ok(&o);
     assert!(String::from_utf8_lossy(&o.stderr).contains("up to date"));
     assert!(png.exists());
+    // Another spec is refused naming --force, with --resume too (as for an atlas; it said
+    // "already complete: nothing to resume"), and the file is left as it was.
+    let file = std::fs::read(d.path().join("tiny.h5")).unwrap();
+    spec(
+        d.path(),
+        "tiny.toml",
+        &TINY.replace("nu = 1e-3", "nu = 2e-3"),
+    );
+    for extra in [&[][..], &["--resume"][..]] {
+        let args: Vec<&str> = ["scan", "tiny.toml", "--quiet"]
+            .iter()
+            .chain(extra)
+            .copied()
+            .collect();
+        fails(&squeal(d.path(), &args), "--force");
+    }
+    assert_eq!(std::fs::read(d.path().join("tiny.h5")).unwrap(), file);
 }
 
 #[test]

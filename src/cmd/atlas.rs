@@ -1,5 +1,9 @@
 //! `squeal atlas SPEC.toml`: figures of merit over a design space, regimes, the fold of
 //! cycles and the critical damping, into an HDF5 file and a chart.
+//!
+//! Like make, and by the scan's rule ([`common::up_to_date`]): a rerun of a finished atlas
+//! from the same (parsed) spec, with or without `--resume`, draws a missing picture, prints
+//! the summary and exits 0; a different spec is refused naming `--force`.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -49,15 +53,30 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = AtlasPlan::from_file(&args.spec)?;
     let (out, shard) = args.run.setup(&plan.out)?;
     let png = common::sibling(&out, "", "png");
-    // Charts exist for one swept parameter (bifurcation diagram) or two (stability chart).
-    let chartable = matches!(plan.axes().len(), 1 | 2);
-    let render = shard.is_none() && !args.no_render && (chartable || plan.maps.is_some());
-    if render && !args.run.resume {
-        if chartable {
-            common::check_new(&png, args.run.force, "chart of the atlas")?;
-        }
-        if plan.maps.is_some() {
-            common::check_new(&sheet_path(&png), args.run.force, "sheet of basin maps")?;
+    let pics = if shard.is_none() && !args.no_render {
+        pictures(&plan, &png)
+    } else {
+        Vec::new()
+    };
+    let render = !pics.is_empty();
+    // Like make (the same rule as the scan's): a finished output of the same parsed spec
+    // (and shard) is up to date; a picture missing is drawn again.
+    let state = squeal_store::output_state(&out, &plan, shard)?;
+    if common::up_to_date(&out, state, &args.run, &pics, || {
+        render_atlas(&out, &png, true)
+    })? {
+        let (plan, res, _) = read_atlas(&out)?;
+        report(&args, &plan, &res, &out, Computed::default(), &pics)?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if !args.run.resume {
+        for p in &pics {
+            let what = if *p == png {
+                "chart of the atlas"
+            } else {
+                "sheet of basin maps"
+            };
+            common::check_new(p, args.run.force, what)?;
         }
     }
     let prov = common::provenance();
@@ -70,36 +89,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let todo_blocks = writer.missing_blocks().len();
 
     let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!(
-                "\nsqueal: stopping after the units and map blocks in flight (signal again to quit at once)"
-            );
-        })
-        .context("installing the Ctrl-C handler")?;
-    }
-    let bar = ProgressBar::with_draw_target(
-        Some((todo.len() + todo_blocks) as u64),
-        if common::show_progress(args.run.quiet) {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        },
-    )
-    .with_style(common::bar_style(
-        "atlas [{bar:40}] {pos}/{len} units and map blocks  {avg_rate}  ETA {avg_eta}",
-        "unit",
-    ));
-    let plain = common::PlainLines::new(
-        "units and map blocks",
-        "unit",
-        (todo.len() + todo_blocks) as u64,
-        args.run.quiet,
-    );
+    common::install_signals(&stop, "units and map blocks")?;
+    let total = (todo.len() + todo_blocks) as u64;
+    let bar = progress(total, args.run.quiet);
+    let plain = common::PlainLines::new("units and map blocks", "unit", total, args.run.quiet);
     let t0 = Instant::now();
     let result = squeal_store::run_atlas(
         &plan,
@@ -114,28 +107,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         },
         &BarObserver(&bar, &plain),
     );
-    let (writer, left) = match result {
-        Ok(r) => r,
-        Err(e) => {
-            bar.finish_and_clear();
-            return Err(e.into());
-        }
-    };
     bar.finish_and_clear();
+    let (writer, left) = result?;
     let seconds = t0.elapsed().as_secs_f64();
     if stop.load(Ordering::SeqCst) && left > 0 {
         eprintln!(
-            "squeal: interrupted; {} units and map blocks left. Finish with: squeal atlas {} -o {} --resume{}",
-            left,
-            args.spec.display(),
-            out.display(),
-            args.run
-                .shard
-                .as_ref()
-                .map(|s| format!(" --shard {s}"))
-                .unwrap_or_default()
+            "squeal: interrupted; {left} units and map blocks left. Finish with: {}",
+            args.run.resume_command("atlas", &args.spec, &out)
         );
-        return Ok(ExitCode::from(130));
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
     let res = writer.finish()?;
     let pictures = if render {
@@ -143,20 +123,78 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
+    let computed = Computed {
+        seconds,
+        units: todo.len(),
+        blocks: todo_blocks,
+    };
+    report(&args, &plan, &res, &out, computed, &pictures)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The progress bar over `total` units and map blocks (hidden when quiet or not a terminal).
+fn progress(total: u64, quiet: bool) -> ProgressBar {
+    ProgressBar::with_draw_target(
+        Some(total),
+        if common::show_progress(quiet) {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    )
+    .with_style(common::bar_style(
+        "atlas [{bar:40}] {pos}/{len} units and map blocks  {avg_rate}  ETA {avg_eta}",
+        "unit",
+    ))
+}
+
+/// The pictures of a finished atlas whose chart is `png`: the chart (one or two swept
+/// parameters: a bifurcation diagram or a stability chart), then with maps their sheet.
+fn pictures(plan: &AtlasPlan, png: &Path) -> Vec<PathBuf> {
+    let chartable = matches!(plan.axes().len(), 1 | 2);
+    let mut v = Vec::new();
+    if chartable {
+        v.push(png.to_path_buf());
+    }
+    if plan.maps.is_some() {
+        v.push(sheet_path(png));
+    }
+    v
+}
+
+/// What a run computed (nothing for an output already up to date).
+#[derive(Clone, Copy, Debug, Default)]
+struct Computed {
+    seconds: f64,
+    units: usize,
+    blocks: usize,
+}
+
+/// The summary of a finished atlas, in words or as one JSON object.
+fn report(
+    args: &Args,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    out: &Path,
+    computed: Computed,
+    pictures: &[PathBuf],
+) -> anyhow::Result<()> {
     if args.json {
-        let mut v = atlas_json(&plan, &res);
+        let mut v = atlas_json(plan, res);
         v["file"] = out.display().to_string().into();
-        v["seconds"] = seconds.into();
-        v["units_computed"] = todo.len().into();
-        v["map_blocks_computed"] = todo_blocks.into();
+        v["seconds"] = computed.seconds.into();
+        v["units_computed"] = computed.units.into();
+        v["map_blocks_computed"] = computed.blocks.into();
         println!("{}", serde_json::to_string(&v)?);
     } else {
-        print_summary(&plan, &res, &out, seconds, todo.len());
+        let ran =
+            (computed.units + computed.blocks > 0).then_some((computed.seconds, computed.units));
+        print_summary(plan, res, out, ran);
         for p in pictures {
             println!("{}", p.display());
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 fn num(v: f64) -> Value {
@@ -317,7 +355,14 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
     })
 }
 
-fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64, units: usize) {
+/// The atlas in words: its axes, the points per regime, the maps and the boundaries found,
+/// then the file. `computed` is what this run computed (none: the line says nothing of it).
+pub fn print_summary(
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    out: &Path,
+    computed: Option<(f64, usize)>,
+) {
     let axes = plan.axes();
     let over = if axes.is_empty() {
         "1 parameter point (nothing swept: no chart; the figures are below and in the file)"
@@ -333,8 +378,12 @@ fn print_summary(plan: &AtlasPlan, res: &AtlasResults, out: &Path, seconds: f64,
         )
     };
     println!(
-        "atlas {}: {} law, {over}, {units} units computed in {seconds:.1} s",
-        plan.name, plan.law,
+        "atlas {}: {} law, {over}{}",
+        plan.name,
+        plan.law,
+        computed.map_or(String::new(), |(seconds, units)| format!(
+            ", {units} units computed in {seconds:.1} s"
+        ))
     );
     for r in AtlasRegime::ALL {
         let n = res

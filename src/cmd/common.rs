@@ -35,6 +35,74 @@ pub fn is_drawn(path: &Path) -> bool {
         .is_ok_and(|b| b.len() > 16 && b.starts_with(&SIGNATURE) && b.ends_with(&END))
 }
 
+/// Exit code of a run stopped by SIGINT or SIGTERM: resumable with `--resume`.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Sets `stop` on SIGINT, SIGTERM (SLURM's time limit and preemption) and SIGHUP, saying
+/// the run stops after the `what` in flight; a second signal exits at once (code 130).
+pub fn install_signals(
+    stop: &std::sync::Arc<std::sync::atomic::AtomicBool>,
+    what: &'static str,
+) -> anyhow::Result<()> {
+    use std::sync::atomic::Ordering;
+    let stop = stop.clone();
+    // The "termination" feature of ctrlc routes SIGTERM and SIGHUP here as well as SIGINT.
+    ctrlc::set_handler(move || {
+        if stop.swap(true, Ordering::SeqCst) {
+            std::process::exit(EXIT_INTERRUPTED.into());
+        }
+        eprintln!("\nsqueal: stopping after the {what} in flight (signal again to quit at once)");
+    })
+    .context("installing the SIGINT/SIGTERM handler")
+}
+
+/// Like make, for scans and atlases alike: decides what a run does with a finished output
+/// before it computes anything. Without `--force`, a file made from the same parsed spec
+/// (and shard) is up to date, for a rerun and for `--resume` (a requeued job that had
+/// finished): any of `pictures` missing is drawn again with `draw`, it says so and returns
+/// `true` (nothing to compute). A file of another spec, or not a finished file of this
+/// kind, is refused naming `--force`.
+/// Anything else (no file, an interrupted run) returns `false`: the writer takes over.
+pub fn up_to_date(
+    out: &Path,
+    state: squeal_store::OutputState,
+    run: &RunArgs,
+    pictures: &[PathBuf],
+    draw: impl FnOnce() -> anyhow::Result<Vec<PathBuf>>,
+) -> anyhow::Result<bool> {
+    use squeal_store::OutputState;
+    if run.force {
+        return Ok(false);
+    }
+    match state {
+        OutputState::Complete => {
+            let drew = pictures.iter().any(|p| !is_drawn(p));
+            if drew {
+                draw()?;
+            }
+            eprintln!(
+                "squeal: {} is up to date (made from the same spec){}",
+                out.display(),
+                if drew {
+                    "; drew the missing picture"
+                } else {
+                    ""
+                }
+            );
+            Ok(true)
+        }
+        OutputState::Different(key) => bail!(
+            "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output",
+            out.display()
+        ),
+        OutputState::Foreign(why) => bail!(
+            "{} exists and is not a finished file of this spec's kind ({why}): use --force to overwrite it, or -o for another output",
+            out.display()
+        ),
+        OutputState::Absent | OutputState::Interrupted => Ok(false),
+    }
+}
+
 /// The error of a drawing, with the picture it left removed (a full disk left a 0-byte or
 /// cut PNG).
 fn discard(png: &Path, e: impl Into<anyhow::Error>) -> anyhow::Error {
@@ -452,6 +520,20 @@ pub struct RunArgs {
 }
 
 impl RunArgs {
+    /// The command that finishes an interrupted run: `squeal CMD SPEC -o OUT --resume`
+    /// (and its `--shard`).
+    pub fn resume_command(&self, cmd: &str, spec: &Path, out: &Path) -> String {
+        format!(
+            "squeal {cmd} {} -o {} --resume{}",
+            spec.display(),
+            out.display(),
+            self.shard
+                .as_deref()
+                .map(|s| format!(" --shard {s}"))
+                .unwrap_or_default()
+        )
+    }
+
     /// Checks the flags before any computing and sets the worker threads: the output file
     /// (`--out`, else the spec's `default_out`; it must end in .h5) and the shard, if any.
     pub fn setup(

@@ -1,71 +1,89 @@
-//! `squeal info OUT.h5`: parameters and label counts of a scan file.
+//! `squeal info FILE.h5`: what a file squeal wrote holds: a scan's parameters and label
+//! counts, an atlas's parameters, axes, points per regime and boundaries, a trajectory's
+//! settings and samples.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+
+use squeal_store::FileKind;
 
 use super::common;
 
 /// Flags of `squeal info`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// A scan file.
+    /// A file squeal wrote (scan, atlas or trajectory).
     pub file: PathBuf,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
 }
 
-/// Prints the file's description.
+/// Prints the file's description: every kind of file squeal writes.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    if squeal_store::file_schema(&args.file).ok().as_deref()
-        == Some(squeal_store::TRAJECTORY_SCHEMA)
-    {
-        return trajectory(&args);
+    match squeal_store::file_kind(&args.file)? {
+        FileKind::Scan => scan(&args)?,
+        FileKind::Atlas => atlas(&args)?,
+        FileKind::Trajectory => trajectory(&args)?,
     }
-    let info = squeal_store::read_info(&args.file)?;
-    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Root attributes as one JSON object.
+fn attrs_json(attrs: &[(String, String)]) -> serde_json::Value {
+    attrs
+        .iter()
+        .map(|(k, v)| (k.clone(), v.clone().into()))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}
+
+/// Root attributes in words, one a line (the spec's text apart: it is long).
+fn print_attrs(attrs: &[(String, String)]) {
+    for (k, v) in attrs {
+        if k != "spec" {
+            println!("  {k} = {v}");
+        }
+    }
+}
+
+/// An atlas file: its parameters, axes, points per regime and boundaries found, in the
+/// words (and JSON) of `squeal atlas`.
+fn atlas(args: &Args) -> anyhow::Result<()> {
+    let a = squeal_store::read_atlas_info(&args.file)?;
+    let attr = |k: &str| a.attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
     if args.json {
-        let attrs: serde_json::Map<String, serde_json::Value> = info
-            .attrs
-            .iter()
-            .map(|(k, v)| (k.clone(), v.clone().into()))
-            .collect();
-        let counts: Vec<serde_json::Value> = info
-            .counts
-            .iter()
-            .map(|c| {
-                names
-                    .iter()
-                    .zip(c)
-                    .map(|(k, n)| ((*k).to_string(), (*n).into()))
-                    .collect::<serde_json::Map<_, _>>()
-                    .into()
-            })
-            .collect();
-        let v = serde_json::json!({
-            "path": info.path,
-            "schema": info.schema,
-            "squeal_version": info.version,
-            "git_revision": info.git_revision,
-            "attributes": attrs,
-            "sweep": info.sweep.as_ref().map(|(n, v)| serde_json::json!({"name": n, "values": v})),
-            "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
-            "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
-            "counts": counts,
-            "checks": info.checks.iter().map(|c| {
-                squeal_scan::checks::CHECK_FIELDS
-                    .iter()
-                    .zip(c)
-                    .map(|((n, _), v)| ((*n).to_string(), (*v).into()))
-                    .collect::<serde_json::Map<_, _>>()
-            }).collect::<Vec<_>>(),
-            "no_cycle": info.no_cycle,
-            "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
-            "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
-            "shard": info.shard,
-        });
+        let mut v = super::atlas::atlas_json(&a.plan, &a.results);
+        v["path"] = args.file.display().to_string().into();
+        v["squeal_version"] = attr("squeal_version").into();
+        v["git_revision"] = attr("git_revision").into();
+        v["attributes"] = attrs_json(&a.attrs);
+        v["shard"] = a.shard.map(|s| s.to_string()).into();
         println!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return Ok(());
+    }
+    println!(
+        "{} ({}, squeal {} at {})",
+        args.file.display(),
+        squeal_store::atlas::ATLAS_SCHEMA,
+        attr("squeal_version").unwrap_or_default(),
+        attr("git_revision").unwrap_or_default()
+    );
+    print_attrs(&a.attrs);
+    super::atlas::print_summary(&a.plan, &a.results, &args.file, None);
+    if let Some(s) = a.shard {
+        println!("  shard {s} (join the shards with squeal merge)");
+    }
+    Ok(())
+}
+
+/// A scan file: parameters, grid, label counts and checks per map.
+fn scan(args: &Args) -> anyhow::Result<()> {
+    let info = squeal_store::read_info(&args.file)?;
+    if args.json {
+        let v = scan_json(&info);
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
     }
     println!(
         "{} ({}, squeal {} at {})",
@@ -74,11 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         info.version,
         info.git_revision
     );
-    for (k, v) in &info.attrs {
-        if k != "spec" {
-            println!("  {k} = {v}");
-        }
-    }
+    print_attrs(&info.attrs);
     let range = |a: &[f64]| match (a.first(), a.last()) {
         (Some(lo), Some(hi)) => format!("{} values in [{lo}, {hi}]", a.len()),
         _ => "no values".to_string(),
@@ -123,18 +137,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(s) = &info.shard {
         println!("  shard {s} (join the shards with squeal merge)");
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 /// A trajectory file of `squeal trajectory --out X.h5`.
-fn trajectory(args: &Args) -> anyhow::Result<ExitCode> {
+fn trajectory(args: &Args) -> anyhow::Result<()> {
     let t = squeal_store::read_trajectory_info(&args.file)?;
     if args.json {
-        let attrs: serde_json::Map<String, serde_json::Value> = t
-            .attrs
-            .iter()
-            .map(|(k, v)| (k.clone(), v.clone().into()))
-            .collect();
+        let attrs = attrs_json(&t.attrs);
         let v = serde_json::json!({
             "path": args.file,
             "attributes": attrs,
@@ -143,7 +153,7 @@ fn trajectory(args: &Args) -> anyhow::Result<ExitCode> {
             "variables": t.variables,
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        return Ok(());
     }
     println!("{} (trajectory)", args.file.display());
     for (k, v) in &t.attrs {
@@ -154,5 +164,45 @@ fn trajectory(args: &Args) -> anyhow::Result<ExitCode> {
         None => println!("  no samples"),
     }
     println!("  variables over t: {}", t.variables.join(", "));
-    Ok(ExitCode::SUCCESS)
+    Ok(())
+}
+
+/// A scan file as one JSON object.
+fn scan_json(info: &squeal_store::FileInfo) -> serde_json::Value {
+    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    let attrs = attrs_json(&info.attrs);
+    let counts: Vec<serde_json::Value> = info
+        .counts
+        .iter()
+        .map(|c| {
+            names
+                .iter()
+                .zip(c)
+                .map(|(k, n)| ((*k).to_string(), (*n).into()))
+                .collect::<serde_json::Map<_, _>>()
+                .into()
+        })
+        .collect();
+    serde_json::json!({
+        "path": info.path,
+        "schema": info.schema,
+        "squeal_version": info.version,
+        "git_revision": info.git_revision,
+        "attributes": attrs,
+        "sweep": info.sweep.as_ref().map(|(n, v)| serde_json::json!({"name": n, "values": v})),
+        "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
+        "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
+        "counts": counts,
+        "checks": info.checks.iter().map(|c| {
+            squeal_scan::checks::CHECK_FIELDS
+                .iter()
+                .zip(c)
+                .map(|((n, _), v)| ((*n).to_string(), (*v).into()))
+                .collect::<serde_json::Map<_, _>>()
+        }).collect::<Vec<_>>(),
+        "no_cycle": info.no_cycle,
+        "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
+        "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
+        "shard": info.shard,
+    })
 }

@@ -1,4 +1,5 @@
-//! `squeal merge SHARD.h5... -o OUT.h5`: join shard files into one scan file.
+//! `squeal merge SHARD.h5... -o OUT.h5`: join shard files (of a scan or an atlas) into one
+//! file.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -28,8 +29,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !args.no_render {
         common::check_new(&png, args.force, "picture")?;
     }
-    // Atlas shards (schema squeal-atlas/1) are joined by the atlas store.
-    let atlas = squeal_store::atlas::is_atlas_file(&args.shards[0]);
+    // Atlas shards (schema squeal-atlas/1) are joined by the atlas store. Both merges
+    // refuse an input as their output (squeal_store::refuse_input_as_output).
+    let atlas = squeal_store::file_kind(&args.shards[0])? == squeal_store::FileKind::Atlas;
     if atlas {
         squeal_store::atlas::merge_atlas(
             &args.shards,

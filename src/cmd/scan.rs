@@ -12,18 +12,15 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use squeal_scan::{Observer, Pending, Plan, drive};
-use squeal_store::{OutputState, ScanWriter};
+use squeal_store::ScanWriter;
 
 use super::common;
-
-/// Exit code of a scan stopped by SIGINT or SIGTERM: resumable with `--resume`.
-pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Estimated run times above this (seconds) need `--allow-long`.
 const LONG_SCAN: f64 = 30.0 * 86_400.0;
@@ -75,28 +72,6 @@ fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
     v
 }
 
-/// Draws the pictures of a finished file if any is missing; returns those drawn.
-fn draw_missing(out: &Path, maps: usize, sample: bool) -> anyhow::Result<Vec<PathBuf>> {
-    let pics = pictures(out, maps, sample);
-    if pics.iter().all(|p| common::is_drawn(p)) {
-        return Ok(Vec::new());
-    }
-    common::render_file(out, &pics[0], true)
-}
-
-fn install_signals(stop: &Arc<AtomicBool>) -> anyhow::Result<()> {
-    let stop = stop.clone();
-    // The "termination" feature of ctrlc routes SIGTERM (SLURM's time limit and
-    // preemption) and SIGHUP here as well as SIGINT.
-    ctrlc::set_handler(move || {
-        if stop.swap(true, Ordering::SeqCst) {
-            std::process::exit(EXIT_INTERRUPTED.into());
-        }
-        eprintln!("\nsqueal: stopping after the blocks in flight (signal again to quit at once)");
-    })
-    .context("installing the SIGINT/SIGTERM handler")
-}
-
 /// Runs the scan.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = Plan::from_file(&args.spec)?;
@@ -104,41 +79,25 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let sample = plan.grid.is_sample();
     let pics = pictures(&out, plan.maps.len(), sample);
 
-    // Like make: a finished output of the same parsed spec (and shard) is up to date, for
-    // a rerun and for a resume (a requeued job that had finished).
-    if !args.run.force {
-        match squeal_store::output_state(&out, &plan, shard)? {
-            OutputState::Complete => {
-                let drawn = if shard.is_none() {
-                    draw_missing(&out, plan.maps.len(), sample)?
-                } else {
-                    Vec::new()
-                };
-                eprintln!(
-                    "squeal: {} is up to date (made from the same spec){}",
-                    out.display(),
-                    if drawn.is_empty() {
-                        String::new()
-                    } else {
-                        "; drew the missing picture".into()
-                    }
-                );
-                let info = squeal_store::read_info(&out)?;
-                let shown = if shard.is_none() { pics } else { Vec::new() };
-                // Nothing computed: the file holds the checks, no per-reason tally.
-                let tallies = Tallies {
-                    checks: &info.checks,
-                    reasons: &[],
-                };
-                report(&args, &plan, &info, tallies, &shown, 0, 0.0)?;
-                return Ok(ExitCode::SUCCESS);
-            }
-            OutputState::Different(key) if !args.run.resume => bail!(
-                "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output",
-                out.display()
-            ),
-            _ => {}
-        }
+    // Like make (the same rule as the atlas's): a finished output of the same parsed spec
+    // (and shard) is up to date; a picture missing is drawn again.
+    let shown = if shard.is_none() {
+        pics.clone()
+    } else {
+        Vec::new()
+    };
+    let state = squeal_store::output_state(&out, &plan, shard)?;
+    if common::up_to_date(&out, state, &args.run, &shown, || {
+        common::render_file(&out, &pics[0], true)
+    })? {
+        let info = squeal_store::read_info(&out)?;
+        // Nothing computed: the file holds the checks, no per-reason tally.
+        let tallies = Tallies {
+            checks: &info.checks,
+            reasons: &[],
+        };
+        report(&args, &plan, &info, tallies, &shown, 0, 0.0)?;
+        return Ok(ExitCode::SUCCESS);
     }
     if shard.is_none() && !args.run.resume {
         for p in &pics {
@@ -186,7 +145,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = writer.plan().clone();
 
     let stop = Arc::new(AtomicBool::new(false));
-    install_signals(&stop)?;
+    common::install_signals(&stop, "blocks")?;
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
@@ -260,18 +219,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let secs = started.elapsed().as_secs_f64();
     if done.interrupted {
         eprintln!(
-            "squeal: interrupted; {} of {} blocks are stored. Finish with: squeal scan {} -o {} --resume{}",
+            "squeal: interrupted; {} of {} blocks are stored. Finish with: {}",
             writer.done_blocks(),
             writer.owned_blocks(),
-            args.spec.display(),
-            out.display(),
-            args.run
-                .shard
-                .as_deref()
-                .map(|s| format!(" --shard {s}"))
-                .unwrap_or_default()
+            args.run.resume_command("scan", &args.spec, &out)
         );
-        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
     let finished = writer.finish()?;
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();

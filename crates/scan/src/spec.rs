@@ -789,20 +789,7 @@ impl Plan {
     /// something different, or `None` if both plans give the same results. The spec text,
     /// its path and the output path do not count (a comment edit or `-o` changes nothing).
     pub fn differs_from(&self, other: &Plan) -> Option<String> {
-        let table = |p: &Plan| {
-            let mut t = toml::Table::try_from(p).unwrap_or_default();
-            for k in ["spec_text", "spec_path", "output"] {
-                t.remove(k);
-            }
-            t
-        };
-        let (a, b) = (table(self), table(other));
-        let mut keys: Vec<&String> = a.keys().chain(b.keys()).collect();
-        keys.sort();
-        keys.dedup();
-        keys.into_iter()
-            .find(|k| a.get(*k) != b.get(*k))
-            .map(|k| k.to_string())
+        first_difference(self, other, &["spec_text", "spec_path", "output"])
     }
 
     /// A rough time for `cells` cells on `threads` threads, in seconds, from documented rates
@@ -847,6 +834,26 @@ impl Plan {
     pub fn law(&self) -> FrictionLaw {
         self.maps[0].law
     }
+}
+
+/// The first top-level field (in name order) in which two serialised plans differ, the
+/// fields `ignore` apart: how a scan and an atlas judge whether a stored spec computes the
+/// same thing as the one given (comments and layout do not count).
+pub fn first_difference<T: Serialize>(a: &T, b: &T, ignore: &[&str]) -> Option<String> {
+    let table = |p: &T| {
+        let mut t = toml::Table::try_from(p).unwrap_or_default();
+        for k in ignore {
+            t.remove(*k);
+        }
+        t
+    };
+    let (a, b) = (table(a), table(b));
+    let mut keys: Vec<&String> = a.keys().chain(b.keys()).collect();
+    keys.sort();
+    keys.dedup();
+    keys.into_iter()
+        .find(|k| a.get(*k) != b.get(*k))
+        .map(|k| k.to_string())
 }
 
 #[cfg(test)]

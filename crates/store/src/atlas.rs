@@ -502,7 +502,8 @@ impl AtlasWriter {
         })
     }
 
-    /// Reopens the journal of an interrupted atlas.
+    /// Reopens the journal of an interrupted atlas (a spec that computes the same and the
+    /// same shard required, as a scan's).
     pub fn resume(
         out: &Path,
         plan: &AtlasPlan,
@@ -527,9 +528,9 @@ impl AtlasWriter {
             path: path.clone(),
             why: why.to_string(),
         };
-        if header.spec != plan.spec_text {
-            return Err(mismatch("different spec text"));
-        }
+        // As a scan's: what the spec means, not its bytes (a comment edit does not block a
+        // resume); the file then records the spec text the atlas started with.
+        let plan = &crate::output::started_plan(&path, &header.spec, plan, &plan.spec_text)?;
         if header.shard != shard.map(|s| s.to_string()).unwrap_or_default() {
             return Err(mismatch("different --shard"));
         }
@@ -552,6 +553,11 @@ impl AtlasWriter {
             results,
             _lock: lock,
         })
+    }
+
+    /// The plan being written (after a resume: the one the atlas started with).
+    pub fn plan(&self) -> &AtlasPlan {
+        &self.plan
     }
 
     /// The units still to compute.
@@ -1410,12 +1416,14 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     }
     let file = File::open(path).h5(path)?;
     let spec = crate::read::str_attr(&file, "spec").h5(path)?;
-    let plan = AtlasPlan::from_toml(&spec, &path.display().to_string()).map_err(|e| {
+    let mut plan = AtlasPlan::from_toml(&spec, &path.display().to_string()).map_err(|e| {
         StoreError::NotSquealFile {
             path: path.to_path_buf(),
             why: format!("its spec does not validate: {e}"),
         }
     })?;
+    // A spec without `name` is named after its own file, not this one (a shard `s1.h5`).
+    plan.name = crate::read::str_attr(&file, "name").h5(path)?;
     let shard = crate::read::str_attr(&file, "shard")
         .ok()
         .and_then(|s| s.parse().ok());
@@ -1647,6 +1655,7 @@ pub fn merge_atlas(
     force: bool,
     prov: &Provenance,
 ) -> Result<(), StoreError> {
+    crate::refuse_input_as_output(shards, out)?;
     let _lock = OutputLock::acquire(out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {

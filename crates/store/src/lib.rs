@@ -7,14 +7,16 @@
 //!   renames it to `<out>` and removes the journal. While it lives it holds the
 //!   [`OutputLock`] `<out>.lock`, so two runs never write one output.
 //! * [`output_state`] says whether an output is absent, interrupted, complete for this plan
-//!   or made from another spec (compared as parsed plans, not text).
+//!   or made from another spec (compared as parsed plans, not text), for a scan's plan and
+//!   an atlas's alike ([`Recorded`]); [`file_kind`] tells the kinds of file apart.
 //! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merge`] joins the shard
 //!   files into the file a single run writes.
 //! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
 //!   finished units and, as a [`squeal_scan::Sink`], the blocks of the optional basin maps,
 //!   holds the [`OutputLock`], and writes the file; [`run_atlas`] computes what it is
 //!   missing; [`atlas::read_atlas`], [`atlas::merge_atlas`].
-//! * [`read_info`], [`read_map`], [`map_count`], [`read_cycle_summary`] read files back;
+//! * [`read_info`], [`read_atlas_info`], [`read_trajectory_info`], [`read_map`],
+//!   [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!
 //! Every per-cell dataset follows [`squeal_scan::cell::COLUMNS`] (name, long name, units,
@@ -121,6 +123,7 @@ mod h5types;
 mod h5write;
 mod journal;
 mod lock;
+mod output;
 mod read;
 mod trajectory;
 
@@ -134,9 +137,12 @@ pub use squeal_scan::{Shard, WrongSide, shard_owns};
 pub use atlas_run::{AtlasRunError, run_atlas};
 pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
+pub use output::{
+    FileKind, OutputState, Recorded, file_kind, output_state, refuse_input_as_output,
+};
 pub use read::{
-    FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,
-    read_info, read_map,
+    AtlasInfo, FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count,
+    read_atlas_info, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_samples,
@@ -160,7 +166,7 @@ pub struct Provenance {
     pub git_revision: String,
 }
 
-fn journal_path(out: &Path) -> PathBuf {
+pub(crate) fn journal_path(out: &Path) -> PathBuf {
     let mut s = out.as_os_str().to_owned();
     s.push(".journal");
     PathBuf::from(s)
@@ -252,8 +258,8 @@ impl ScanWriter {
         })
     }
 
-    /// Continues an interrupted scan from its journal (same spec text and shard required);
-    /// a torn last record is dropped.
+    /// Continues an interrupted scan from its journal (a spec that computes the same and the
+    /// same shard required, as an atlas's); a torn last record is dropped.
     pub fn resume(
         out: &Path,
         plan: &Plan,
@@ -283,27 +289,7 @@ impl ScanWriter {
         let (mut journal, header, recs) = Journal::open(&jpath, journal::Owner::Scan)?;
         // Compare what the spec means, not its bytes: a comment edit does not block a
         // resume. The file then records the spec text the scan started with.
-        let mut plan = plan.clone();
-        if header.spec != plan.spec_text {
-            let started = Plan::from_toml(&header.spec, &plan.spec_path).map_err(|e| {
-                StoreError::SpecMismatch {
-                    path: jpath.clone(),
-                    why: format!("the journal's spec no longer validates: {e}"),
-                }
-            })?;
-            if let Some(key) = started.differs_from(&plan) {
-                return Err(StoreError::SpecMismatch {
-                    path: jpath,
-                    why: format!(
-                        "the journal was written for another spec ({key} differs): use --force to start over"
-                    ),
-                });
-            }
-            plan = Plan {
-                output: plan.output.clone(),
-                ..started
-            };
-        }
+        let plan = output::started_plan(&jpath, &header.spec, plan, &plan.spec_text)?;
         let plan = &plan;
         preflight(out, plan, shard, prov)?;
         if header.shard != shard_text(shard) {
@@ -492,51 +478,6 @@ impl squeal_scan::Sink for ScanWriter {
     }
 }
 
-/// What is at an output path, judged against the plan that would write it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum OutputState {
-    /// Neither the file nor a journal.
-    Absent,
-    /// A journal of an interrupted scan (and no finished file).
-    Interrupted,
-    /// A finished squeal file made from the same parsed spec.
-    Complete,
-    /// A finished squeal file of another spec: the first key that differs.
-    Different(String),
-}
-
-/// Looks at `out` for `shard` of `plan` (without changing anything).
-pub fn output_state(
-    out: &Path,
-    plan: &Plan,
-    shard: Option<Shard>,
-) -> Result<OutputState, StoreError> {
-    // A file is published (renamed into place) only when complete; a journal beside it is
-    // left by a kill between the rename and the journal's removal.
-    if out.exists() {
-        let f = read::open_squeal(out)?;
-        let spec = read::str_attr(&f, "spec").h5(out)?;
-        let name = read::str_attr(&f, "name").h5(out)?;
-        let stored_shard = read::str_attr(&f, "shard").unwrap_or_default();
-        if stored_shard != shard_text(shard) {
-            return Ok(OutputState::Different("shard".into()));
-        }
-        let mut stored = match Plan::from_toml(&spec, &plan.spec_path) {
-            Ok(p) => p,
-            Err(_) => return Ok(OutputState::Different("spec".into())),
-        };
-        stored.name = name;
-        return Ok(match stored.differs_from(plan) {
-            None => OutputState::Complete,
-            Some(k) => OutputState::Different(k),
-        });
-    }
-    if journal_path(out).exists() {
-        return Ok(OutputState::Interrupted);
-    }
-    Ok(OutputState::Absent)
-}
-
 /// Everything the final write needs from the plan, tried before any computing.
 fn preflight(
     out: &Path,
@@ -664,22 +605,7 @@ pub fn merge(
     if shards.is_empty() {
         return Err(StoreError::Shards("no shard files given".into()));
     }
-    let canon = |p: &Path| -> Option<PathBuf> {
-        // The output may not exist yet: canonicalise its folder and join the name.
-        std::fs::canonicalize(p).ok().or_else(|| {
-            let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
-            let dir = std::fs::canonicalize(dir.unwrap_or(Path::new("."))).ok()?;
-            Some(dir.join(p.file_name()?))
-        })
-    };
-    let out_c = canon(out);
-    for p in shards {
-        if out_c.is_some() && canon(p) == out_c {
-            return Err(StoreError::OutputIsInput {
-                path: out.to_path_buf(),
-            });
-        }
-    }
+    refuse_input_as_output(shards, out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {
             path: out.to_path_buf(),

@@ -202,6 +202,34 @@ fn join<T: std::fmt::Display>(v: Vec<T>) -> String {
         .join(", ")
 }
 
+/// An atlas file for `squeal info`: its root attributes (provenance, name, law, the fixed
+/// parameters...) and what [`crate::atlas::read_atlas`] reads (the plan of its stored spec,
+/// every point and boundary, its shard).
+#[derive(Clone, Debug)]
+pub struct AtlasInfo {
+    /// Root attributes as text, by name.
+    pub attrs: Vec<(String, String)>,
+    /// The plan of the stored spec (named as the file says).
+    pub plan: squeal_scan::atlas::AtlasPlan,
+    /// The points, boundaries and maps stored.
+    pub results: crate::atlas::AtlasResults,
+    /// The shard of a shard file.
+    pub shard: Option<squeal_scan::Shard>,
+}
+
+/// Opens and checks an atlas file and reads it for a summary.
+pub fn read_atlas_info(path: &Path) -> Result<AtlasInfo, StoreError> {
+    let (plan, results, shard) = crate::atlas::read_atlas(path)?;
+    let file = open_with_schema(path, crate::atlas::ATLAS_SCHEMA)?;
+    let attrs = root_attrs_text(&file).h5(path)?;
+    Ok(AtlasInfo {
+        attrs,
+        plan,
+        results,
+        shard,
+    })
+}
+
 /// Opens and checks a squeal file and summarises it.
 pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
     let file = open_squeal(path)?;

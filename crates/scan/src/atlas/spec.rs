@@ -938,6 +938,13 @@ impl AtlasPlan {
         Ok(())
     }
 
+    /// The first setting (top-level field of the plan) in which `other` would compute
+    /// something different, or `None`: as [`crate::Plan::differs_from`], the spec text, its
+    /// path and the output path apart.
+    pub fn differs_from(&self, other: &AtlasPlan) -> Option<String> {
+        crate::spec::first_difference(self, other, &["spec_text", "spec_path", "out"])
+    }
+
     /// The swept parameters (more than one value), in axis order.
     pub fn axes(&self) -> Vec<&AtlasAxis> {
         self.params.iter().filter(|a| a.values.len() > 1).collect()

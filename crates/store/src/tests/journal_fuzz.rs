@@ -139,6 +139,31 @@ fn a_flipped_digit_in_an_atlas_record_is_detected() {
     assert!(w.results.points.iter().all(Option::is_some));
 }
 
+/// An atlas resumes by the scan's rule: a comment edit does not block it (it did: the
+/// texts were compared) and the file records the spec it started with; another spec is
+/// refused naming the key that differs.
+#[test]
+fn a_comment_edit_does_not_block_an_atlas_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let plan = AtlasPlan::from_toml(ATLAS, "a.toml").unwrap();
+    let out = dir.path().join("a.h5");
+    drop(AtlasWriter::create(&out, &plan, None, &prov(), false).unwrap());
+    let other = AtlasPlan::from_toml(&ATLAS.replace("2e-3", "3e-3"), "a.toml").unwrap();
+    let Err(e) = AtlasWriter::resume(&out, &other, None, &prov()) else {
+        panic!("another spec resumed");
+    };
+    assert!(
+        matches!(e, StoreError::SpecMismatch { .. }) && e.to_string().contains("params differs"),
+        "{e}"
+    );
+    let edited = AtlasPlan::from_toml(&format!("# requeued\n{ATLAS}"), "a.toml").unwrap();
+    let w = AtlasWriter::resume(&out, &edited, None, &prov()).unwrap();
+    assert_eq!(w.missing().len(), plan.units().len());
+    drop(w);
+    let w = AtlasWriter::resume(&out, &edited, None, &prov()).unwrap();
+    assert_eq!(w.plan().spec_text, ATLAS);
+}
+
 #[test]
 fn a_scan_does_not_resume_from_an_atlas_journal() {
     let dir = tempfile::tempdir().unwrap();

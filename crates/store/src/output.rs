@@ -1,0 +1,213 @@
+//! What is at an output path, for scans and atlases alike: the make-like rerun rule
+//! ([`output_state`]), the kind of a squeal file ([`file_kind`]), and the merge's refusal of
+//! an input as its output ([`refuse_input_as_output`]).
+
+use std::path::{Path, PathBuf};
+
+use squeal_scan::atlas::AtlasPlan;
+use squeal_scan::{Plan, Shard};
+
+use crate::atlas::ATLAS_SCHEMA;
+use crate::error::H5Ctx;
+use crate::{SCHEMA, StoreError, TRAJECTORY_SCHEMA, read};
+
+/// A checked plan whose finished file records its spec text and name: a scan's [`Plan`]
+/// or an [`AtlasPlan`]. [`output_state`] judges both by this one rule.
+pub trait Recorded: Sized {
+    /// The `schema` attribute of the files this plan writes.
+    const SCHEMA: &'static str;
+    /// The plan of a stored spec text, parsed as if read from `like`'s spec file, and named
+    /// `name` if given (a file's `name` attribute).
+    fn stored(spec: &str, name: Option<String>, like: &Self) -> Option<Self>;
+    /// The first setting in which `other` computes something different, if any.
+    fn first_difference(&self, other: &Self) -> Option<String>;
+    /// This plan writing to `other`'s output (a `-o` given at the resume).
+    fn writing_to(self, other: &Self) -> Self;
+}
+
+/// The plan a journal was started with, judged against the `plan` given at a resume, for
+/// scans and atlases alike: the same text is `plan` itself; another text that computes the
+/// same (a comment edit) is the journal's own plan, so the file records the spec the run
+/// started with; anything else is refused naming the first key that differs.
+pub(crate) fn started_plan<P: Recorded + Clone>(
+    journal: &Path,
+    started_text: &str,
+    plan: &P,
+    plan_text: &str,
+) -> Result<P, StoreError> {
+    if started_text == plan_text {
+        return Ok(plan.clone());
+    }
+    let mismatch = |why: String| StoreError::SpecMismatch {
+        path: journal.to_path_buf(),
+        why,
+    };
+    let started = P::stored(started_text, None, plan)
+        .ok_or_else(|| mismatch("the journal's spec no longer validates".into()))?;
+    let started = started.writing_to(plan);
+    match started.first_difference(plan) {
+        None => Ok(started),
+        Some(key) => Err(mismatch(format!(
+            "the journal was written for another spec ({key} differs): use --force to start over"
+        ))),
+    }
+}
+
+impl Recorded for Plan {
+    const SCHEMA: &'static str = SCHEMA;
+    fn stored(spec: &str, name: Option<String>, like: &Plan) -> Option<Plan> {
+        let p = Plan::from_toml(spec, &like.spec_path).ok()?;
+        Some(Plan {
+            name: name.unwrap_or(p.name.clone()),
+            ..p
+        })
+    }
+    fn first_difference(&self, other: &Plan) -> Option<String> {
+        self.differs_from(other)
+    }
+    fn writing_to(self, other: &Plan) -> Plan {
+        Plan {
+            output: other.output.clone(),
+            ..self
+        }
+    }
+}
+
+impl Recorded for AtlasPlan {
+    const SCHEMA: &'static str = ATLAS_SCHEMA;
+    fn stored(spec: &str, name: Option<String>, like: &AtlasPlan) -> Option<AtlasPlan> {
+        let p = AtlasPlan::from_toml(spec, &like.spec_path).ok()?;
+        Some(AtlasPlan {
+            name: name.unwrap_or(p.name.clone()),
+            ..p
+        })
+    }
+    fn first_difference(&self, other: &AtlasPlan) -> Option<String> {
+        self.differs_from(other)
+    }
+    fn writing_to(self, other: &AtlasPlan) -> AtlasPlan {
+        AtlasPlan {
+            out: other.out.clone(),
+            ..self
+        }
+    }
+}
+
+/// What is at an output path, judged against the plan that would write it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum OutputState {
+    /// Neither the file nor a journal.
+    Absent,
+    /// A journal of an interrupted run (and no finished file).
+    Interrupted,
+    /// A finished squeal file made from the same parsed spec.
+    Complete,
+    /// A finished squeal file of another spec: the first key that differs.
+    Different(String),
+    /// A file that is not a finished file of this kind (another kind of squeal file, not
+    /// HDF5, cut short): what is wrong with it.
+    Foreign(String),
+}
+
+/// Looks at `out` for `shard` of `plan`, a scan's or an atlas's (without changing
+/// anything). Spec texts are compared as parsed plans: a comment edit or `-o` changes
+/// nothing.
+pub fn output_state<P: Recorded>(
+    out: &Path,
+    plan: &P,
+    shard: Option<Shard>,
+) -> Result<OutputState, StoreError> {
+    // A file is published (renamed into place) only when complete; a journal beside it is
+    // left by a kill between the rename and the journal's removal.
+    if out.exists() {
+        let f = match read::open_with_schema(out, P::SCHEMA) {
+            Ok(f) => f,
+            Err(StoreError::NotSquealFile { why, .. }) => return Ok(OutputState::Foreign(why)),
+            Err(e) => return Err(e),
+        };
+        let spec = read::str_attr(&f, "spec").h5(out)?;
+        let name = read::str_attr(&f, "name").h5(out)?;
+        let stored_shard = read::str_attr(&f, "shard").unwrap_or_default();
+        if stored_shard != shard.map(|s| s.to_string()).unwrap_or_default() {
+            return Ok(OutputState::Different("shard".into()));
+        }
+        let Some(stored) = P::stored(&spec, Some(name), plan) else {
+            return Ok(OutputState::Different("spec".into()));
+        };
+        return Ok(match stored.first_difference(plan) {
+            None => OutputState::Complete,
+            Some(k) => OutputState::Different(k),
+        });
+    }
+    if crate::journal_path(out).exists() {
+        return Ok(OutputState::Interrupted);
+    }
+    Ok(OutputState::Absent)
+}
+
+/// The kinds of file squeal writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    /// A scan's basin maps (`squeal scan`, schema `squeal-basins/1`).
+    Scan,
+    /// An atlas (`squeal atlas`, schema `squeal-atlas/1`).
+    Atlas,
+    /// One run's samples (`squeal trajectory --out`, schema `squeal-trajectory/1`).
+    Trajectory,
+}
+
+/// Which kind of squeal file `path` is, by its `schema` attribute; other files are
+/// refused naming the schema found.
+pub fn file_kind(path: &Path) -> Result<FileKind, StoreError> {
+    let schema = read::file_schema(path)?;
+    match schema.as_str() {
+        SCHEMA => Ok(FileKind::Scan),
+        ATLAS_SCHEMA => Ok(FileKind::Atlas),
+        TRAJECTORY_SCHEMA => Ok(FileKind::Trajectory),
+        s => Err(StoreError::NotSquealFile {
+            path: path.to_path_buf(),
+            why: format!(
+                "schema is {s:?}, expected one of {SCHEMA:?}, {ATLAS_SCHEMA:?}, {TRAJECTORY_SCHEMA:?}"
+            ),
+        }),
+    }
+}
+
+/// Refuses an output that is one of the inputs (of a merge): the same path once
+/// canonicalised (the output may not exist yet: its folder is canonicalised), or the same
+/// file under another name (a hard link: the same device and inode).
+pub fn refuse_input_as_output(inputs: &[PathBuf], out: &Path) -> Result<(), StoreError> {
+    let canon = |p: &Path| -> Option<PathBuf> {
+        std::fs::canonicalize(p).ok().or_else(|| {
+            let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+            let dir = std::fs::canonicalize(dir.unwrap_or(Path::new("."))).ok()?;
+            Some(dir.join(p.file_name()?))
+        })
+    };
+    let out_c = canon(out);
+    let out_id = file_id(out);
+    for p in inputs {
+        let same_path = out_c.is_some() && canon(p) == out_c;
+        let same_file = out_id.is_some() && file_id(p) == out_id;
+        if same_path || same_file {
+            return Err(StoreError::OutputIsInput {
+                path: out.to_path_buf(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The device and inode of an existing file (Unix), to recognise one file by two names.
+fn file_id(p: &Path) -> Option<(u64, u64)> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        std::fs::metadata(p).ok().map(|m| (m.dev(), m.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = p;
+        None
+    }
+}
