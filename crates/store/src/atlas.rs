@@ -642,15 +642,12 @@ impl squeal_scan::Sink for AtlasWriter {
     }
 }
 
-#[allow(clippy::too_many_arguments)] // one call per dataset: name, shape, data, words, units, dims
 fn put<T: H5Type>(
     file: &File,
     dims: &mut Dims,
-    name: &str,
+    (name, long_name, units): (&str, &str, Option<&str>),
     shape: &[usize],
     data: Vec<T>,
-    long_name: &str,
-    units: Option<&str>,
     scales: &[Dataset],
 ) -> hdf5::Result<Dataset> {
     let a = ArrayD::from_shape_vec(IxDyn(shape), data)
@@ -832,11 +829,9 @@ fn write_all(
     let ds = put(
         file,
         dims,
-        "regime",
+        ("regime", "regime of the parameter point", None),
         &shape,
         regimes,
-        "regime of the parameter point",
-        None,
         &pscales,
     )?;
     let meanings: Vec<&str> = AtlasRegime::ALL.iter().map(|r| r.name()).collect();
@@ -866,17 +861,15 @@ fn write_all(
                 put(
                     file,
                     dims,
-                    &name,
+                    (&name, &long, Some(units)),
                     &shape,
                     vals.clone(),
-                    &long,
-                    Some(units),
                     &pscales,
                 )?;
             }
             Kind::Flag => {
                 let v: Vec<u8> = vals.iter().map(|&v| u8_of(v)).collect();
-                let ds = put(file, dims, c.name, &shape, v, c.long_name, None, &pscales)?;
+                let ds = put(file, dims, (c.name, c.long_name, None), &shape, v, &pscales)?;
                 flags(&ds, "no yes unknown", &[0, 1, 255])?;
             }
             Kind::Count => {
@@ -884,7 +877,7 @@ fn write_all(
                     .iter()
                     .map(|&v| if v.is_nan() { 0 } else { v as u64 })
                     .collect();
-                put(file, dims, c.name, &shape, v, c.long_name, None, &pscales)?;
+                put(file, dims, (c.name, c.long_name, None), &shape, v, &pscales)?;
             }
         }
         if plan.units == Units::Physical && c.si != Si::None {
@@ -897,11 +890,9 @@ fn write_all(
             put(
                 file,
                 dims,
-                &format!("{}_si", c.name),
+                (&format!("{}_si", c.name), &long, Some(c.si.units())),
                 &shape,
                 si,
-                &long,
-                Some(c.si.units()),
                 &pscales,
             )?;
         }
@@ -916,11 +907,9 @@ fn write_all(
             put(
                 file,
                 dims,
-                &format!("nondim_{key}"),
+                (&format!("nondim_{key}"), long, Some(units)),
                 &shape,
                 v,
-                long,
-                Some(units),
                 &pscales,
             )?;
         }
@@ -937,7 +926,7 @@ fn write_all(
             })
             .collect();
         let (name, long) = squeal_scan::landscape::LANDSCAPE;
-        let ds = put(file, dims, name, &shape, v, long, None, &pscales)?;
+        let ds = put(file, dims, (name, long, None), &shape, v, &pscales)?;
         let (values, meanings) = landscape_flags();
         flags(&ds, &meanings, &values)?;
         for c in LANDSCAPE_COLUMNS {
@@ -949,11 +938,9 @@ fn write_all(
             put(
                 file,
                 dims,
-                c.name,
+                (c.name, c.long_name, Some("1")),
                 &shape,
                 vals,
-                c.long_name,
-                Some("1"),
                 &pscales,
             )?;
         }
@@ -966,11 +953,13 @@ fn write_all(
     put(
         file,
         dims,
-        "note",
+        (
+            "note",
+            "why a point is undecided, or the caveat its label rests on (empty: none)",
+            None,
+        ),
         &shape,
         notes,
-        "why a point is undecided, or the caveat its label rests on (empty: none)",
-        None,
         &pscales,
     )?;
     if plan.maps.is_some() {
@@ -980,11 +969,9 @@ fn write_all(
     put(
         file,
         dims,
-        "points_done",
+        ("points_done", "1 where the point is computed", None),
         &shape,
         done,
-        "1 where the point is computed",
-        None,
         &pscales,
     )?;
 
@@ -1026,7 +1013,7 @@ fn write_all(
                 .iter()
                 .map(|b| StatusH5::from(b.as_ref().map_or(BoundaryStatus::NotComputed, get)))
                 .collect();
-            let ds = put(file, dims, name, &bshape, v, long, None, &bscales)?;
+            let ds = put(file, dims, (name, long, None), &bshape, v, &bscales)?;
             flags(&ds, &status_meanings(), &[0, 1, 2, 255])?;
         }
         for (name, long, get) in [
@@ -1045,7 +1032,7 @@ fn write_all(
                 .iter()
                 .map(|b| half_dt_u8(b.as_ref().and_then(get)))
                 .collect();
-            let ds = put(file, dims, name, &bshape, v, long, None, &bscales)?;
+            let ds = put(file, dims, (name, long, None), &bshape, v, &bscales)?;
             flags(&ds, "moves holds not_checked", &[0, 1, 255])?;
         }
         for c in BOUNDARY_COLUMNS {
@@ -1057,11 +1044,9 @@ fn write_all(
             put(
                 file,
                 dims,
-                &name,
+                (&name, &long, Some("1")),
                 &bshape,
                 v.clone(),
-                &long,
-                Some("1"),
                 &bscales,
             )?;
             if plan.units == Units::Physical {
@@ -1089,11 +1074,13 @@ fn write_all(
                 put(
                     file,
                     dims,
-                    &name.replace(&format!("_{}", plan.boundary_in.key()), &format!("_{key}")),
+                    (
+                        &name.replace(&format!("_{}", plan.boundary_in.key()), &format!("_{key}")),
+                        &long,
+                        Some(units),
+                    ),
                     &bshape,
                     si,
-                    &long,
-                    Some(units),
                     &bscales,
                 )?;
             }
@@ -1105,22 +1092,26 @@ fn write_all(
         put(
             file,
             dims,
-            "boundary_note",
+            (
+                "boundary_note",
+                "why a boundary search was not computed (empty: none)",
+                None,
+            ),
             &bshape,
             notes,
-            "why a boundary search was not computed (empty: none)",
-            None,
             &bscales,
         )?;
         let done: Vec<u8> = bs.iter().map(|b| u8::from(b.is_some())).collect();
         put(
             file,
             dims,
-            "boundaries_done",
+            (
+                "boundaries_done",
+                "1 where the boundary search is computed",
+                None,
+            ),
             &bshape,
             done,
-            "1 where the boundary search is computed",
-            None,
             &bscales,
         )?;
     }
@@ -1261,11 +1252,13 @@ fn write_maps(
     put(
         file,
         dims,
-        "blocks_done",
+        (
+            "blocks_done",
+            "1 where the block of map rows is stored",
+            None,
+        ),
         &bshape,
         done,
-        "1 where the block of map rows is stored",
-        None,
         &bdims,
     )?;
     for (k, (name, long)) in squeal_scan::checks::CHECK_FIELDS.iter().enumerate() {
@@ -1273,11 +1266,9 @@ fn write_maps(
         put(
             file,
             dims,
-            &map_name(name),
+            (&map_name(name), long, Some("1")),
             shape,
             v,
-            long,
-            Some("1"),
             pscales,
         )?;
     }
@@ -1293,42 +1284,50 @@ fn write_maps(
     let ds = put(
         file,
         dims,
-        "basin_fraction",
+        (
+            "basin_fraction",
+            "share of the grid box that returns to steady slip, from the basin map: steady-slip cells over decided cells",
+            Some("1"),
+        ),
         shape,
         real(|f| f.fraction),
-        "share of the grid box that returns to steady slip, from the basin map: steady-slip cells over decided cells",
-        Some("1"),
         pscales,
     )?;
     str_attr(&ds, "source", "map")?;
     put(
         file,
         dims,
-        "basin_fraction_err",
+        (
+            "basin_fraction_err",
+            "uncertainty of basin_fraction: (undecided cells + decided cells within one cell of the located cycle) over all cells",
+            Some("1"),
+        ),
         shape,
         real(|f| f.err),
-        "uncertainty of basin_fraction: (undecided cells + decided cells within one cell of the located cycle) over all cells",
-        Some("1"),
         pscales,
     )?;
     put(
         file,
         dims,
-        "map_undecided_cells",
+        (
+            "map_undecided_cells",
+            "cells of the map left undecided (or not computed)",
+            Some("1"),
+        ),
         shape,
         count(|f| f.undecided),
-        "cells of the map left undecided (or not computed)",
-        Some("1"),
         pscales,
     )?;
     put(
         file,
         dims,
-        "map_cells_near_cycle",
+        (
+            "map_cells_near_cycle",
+            "decided cells within one cell of the located cycle",
+            Some("1"),
+        ),
         shape,
         count(|f| f.near_cycle),
-        "decided cells within one cell of the located cycle",
-        Some("1"),
         pscales,
     )?;
 
@@ -1342,11 +1341,13 @@ fn write_maps(
     put(
         file,
         dims,
-        "map_cycle_record",
+        (
+            "map_cycle_record",
+            "cycle search of the map (TOML; empty: not recorded)",
+            None,
+        ),
         shape,
         notes,
-        "cycle search of the map (TOML; empty: not recorded)",
-        None,
         pscales,
     )?;
     let len = (0..n)
@@ -1385,7 +1386,7 @@ fn write_maps(
                     v[i * len..i * len + c.len()].copy_from_slice(c);
                 }
             }
-            put(file, dims, name, &cshape, v, long, Some("1"), &cdims)?;
+            put(file, dims, (name, long, Some("1")), &cshape, v, &cdims)?;
         }
     }
     Ok(())

@@ -43,19 +43,18 @@ pub enum StickFail {
     Failed(String),
 }
 
-/// Runs the stick-slip attractor from `(x*, r_start)`: `transient` revolutions discarded,
-/// then `window` measured. A crossing below `r_inside` (the unstable cycle's crossing; 0 if
+/// Runs the stick-slip attractor from `(x*, r_start)`: `ps.transient` revolutions
+/// discarded, then `ps.window` measured. A crossing below `r_inside` (the unstable cycle's crossing; 0 if
 /// there is none) means the run fell inside the cycle: in the plane it then cannot leave.
-#[allow(clippy::too_many_arguments)] // start, cycle, window lengths and limits are independent
 pub fn stick_slip(
     st: &Stepper,
     r_start: f64,
     r_inside: f64,
-    transient: u32,
-    window: u32,
+    ps: &PointSettings,
     t_return: f64,
     stats: &mut SolverStats,
 ) -> Result<StickSlipFigures, StickFail> {
+    let (transient, window) = (ps.transient, ps.window);
     let p = *st.params();
     let fp = p.fixed_point();
     let (mut s, _) = st.initial(
@@ -162,7 +161,7 @@ pub fn find_stick_slip(
     };
     let mut last = StickFail::Failed("no start".into());
     for r0 in starts {
-        match stick_slip(st, r0, r_u, ps.transient, ps.window, t_return, stats) {
+        match stick_slip(st, r0, r_u, ps, t_return, stats) {
             Ok(s) => return Ok(s),
             Err(e @ StickFail::Failed(_)) => return Err(e),
             Err(e) => last = e,
