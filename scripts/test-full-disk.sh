@@ -5,7 +5,7 @@
 #   - exit non-zero with the operating system's reason ("No space left on device"),
 #   - leave no lock, no partial `<out>.tmp` and no empty or cut picture behind,
 # and once the tmpfs is grown (remount keeps its contents) the same command with --resume
-# (or a rerun, when the journal itself could not be started) must finish, with every
+# (or a plain rerun, make-like, when no journal is left) must finish, with every
 # picture whole, and give the labels of a clean run on a roomy disk.
 #
 #   scripts/test-full-disk.sh        # needs root (mount); prints "skipped" otherwise
@@ -102,10 +102,12 @@ for kind in scan atlas; do
     done
     # Room again: the same run finishes (resume what the journal kept, else start anew).
     mount -o remount,size=50m "$mnt"
+    # The journal kept: resume it; none (the file itself was finished before the disk
+    # filled, or nothing was started): a plain rerun, which is make-like.
     if [ -s "$mnt/out.h5.journal" ]; then
       again=(--resume)
     else
-      again=(--force)
+      again=()
     fi
     (cd "$mnt" && "$bin" "$kind" "$work/$kind.toml" -o out.h5 --quiet --threads 2 "${again[@]}") \
       >/dev/null 2>"$work/err2.txt" || bad "$what: ${again[*]} failed: $(tail -n 2 "$work/err2.txt")"
@@ -117,7 +119,7 @@ for kind in scan atlas; do
       "$bin" compare "$mnt/out.h5" "$work/ref.h5" --min-agreement 1 >/dev/null ||
         bad "$what: labels differ from the clean run"
     fi
-    echo "  $what: failed with the OS reason, nothing partial left, finished after ${again[*]}"
+    echo "  $what: failed with the OS reason, nothing partial left, finished after a rerun ${again[*]}"
     umount "$mnt"
   done
 done

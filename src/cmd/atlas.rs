@@ -551,13 +551,14 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
     let mut drawn = Vec::new();
     if chartable {
         common::check_new(png, force, "chart")?;
-        draw_chart(&plan, &res, png)?;
+        // A chart cut short (a full disk) is removed, so no later run takes it as drawn.
+        draw_chart(&plan, &res, png).map_err(|e| common::discard(png, e))?;
         drawn.push(png.to_path_buf());
     }
     if plan.maps.is_some() {
         let sheet = sheet_path(png);
         common::check_new(&sheet, force, "sheet of basin maps")?;
-        draw_sheet(&plan, &res, &sheet)?;
+        draw_sheet(&plan, &res, &sheet).map_err(|e| common::discard(&sheet, e))?;
         drawn.push(sheet);
     }
     Ok(drawn)

@@ -105,7 +105,7 @@ pub fn up_to_date(
 
 /// The error of a drawing, with the picture it left removed (a full disk left a 0-byte or
 /// cut PNG).
-fn discard(png: &Path, e: impl Into<anyhow::Error>) -> anyhow::Error {
+pub fn discard(png: &Path, e: impl Into<anyhow::Error>) -> anyhow::Error {
     let _ = std::fs::remove_file(png);
     e.into().context(format!("drawing {}", png.display()))
 }
