@@ -1205,3 +1205,46 @@ fn info_reads_an_atlas_file() {
     ));
     assert!(ok(squeal(d, &["info", "s1.h5"])).contains("shard 1/2"));
 }
+
+/// Issue 16: every atlas prints its work estimate before it starts, and one estimated above
+/// 30 days is refused without `--allow-long`, before any file is made. 1000 dampings with a
+/// 4096 x 4096 basin map each, every cell run to settlement (`early_stop = "none"`), are
+/// 1.7e10 runs of hundreds of time units: at the fastest settled rate measured
+/// (BENCHMARKS.md, issue 18: about 2,000 cells/s on 2 threads) that is 98 days, so the
+/// estimate is above 30 days on any machine of ours; the old code started it without a word.
+#[test]
+fn an_atlas_estimates_its_work_and_refuses_a_huge_one() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("paper.toml"), PAPER).unwrap();
+    let o = squeal(dir.path(), &["atlas", "paper.toml", "--no-render"]);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    ok(o);
+    assert!(
+        err.contains("squeal: atlas of 3 points, 1 boundary searches"),
+        "{err}"
+    );
+    let huge = r#"
+version = 1
+name = "huge"
+[model]
+law = "mcmillan"
+nu = { from = 1e-3, to = 1e-2, count = 1000, spacing = "log" }
+[boundaries]
+fold = false
+critical = false
+[classifier]
+early_stop = "none"
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 4096 }
+v0 = { min = -4.0, max = 4.0, count = 4096 }
+[output]
+path = "huge.h5"
+"#;
+    std::fs::write(dir.path().join("huge.toml"), huge).unwrap();
+    refused(
+        squeal(dir.path(), &["atlas", "huge.toml", "--quiet"]),
+        "--allow-long",
+    );
+    assert!(!dir.path().join("huge.h5").exists());
+    assert!(!dir.path().join("huge.h5.journal").exists());
+}

@@ -34,6 +34,9 @@ pub struct Args {
     /// Print every point's figures as one JSON object.
     #[arg(long)]
     pub json: bool,
+    /// Start an atlas estimated to take more than 30 days.
+    #[arg(long)]
+    pub allow_long: bool,
 }
 
 /// Counts finished map blocks on the progress bar (and the plain lines off a terminal).
@@ -79,6 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             common::check_new(p, args.run.force, what)?;
         }
     }
+    estimate(&args, &plan)?;
     let prov = common::provenance();
     let writer = if args.run.resume {
         AtlasWriter::resume(&out, &plan, shard, &prov)?
@@ -130,6 +134,38 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     report(&args, &plan, &res, &out, computed, &pictures)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The work, estimated from a pilot before anything is created (printed unless quiet); over
+/// [`common::LONG_RUN`] it needs `--allow-long`. The whole atlas is estimated, also for a
+/// shard or a resume (an upper bound then).
+fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
+    let threads = rayon::current_num_threads();
+    let e = squeal_scan::estimate::atlas_pilot(plan)?;
+    let secs = e.seconds(plan, threads);
+    let maps = plan.map_plan().map_or(String::new(), |mp| {
+        format!(", {} map cells", mp.grid.cells() * mp.maps.len())
+    });
+    let what = format!(
+        "{} points, {} boundary searches{maps}",
+        plan.n_points(),
+        plan.n_boundaries()
+    );
+    if secs > common::LONG_RUN && !args.allow_long {
+        bail!(
+            "the atlas ({what}) would take roughly {} on {threads} thread(s): shrink the sweep or the maps, split it with --shard, or pass --allow-long",
+            common::duration(secs)
+        );
+    }
+    if !args.run.quiet {
+        eprintln!(
+            "squeal: atlas of {what} on {threads} thread(s): roughly {} ({secs:.1} s), from a pilot of {} point(s) in {:.1} s",
+            common::duration(secs),
+            e.points,
+            e.pilot_seconds
+        );
+    }
+    Ok(())
 }
 
 /// The progress bar over `total` units and map blocks (hidden when quiet or not a terminal).

@@ -629,3 +629,19 @@ pub fn basin_words(b: &squeal_scan::GridShares) -> String {
         format!("basin stability of {} cells: {}", b.h.n, parts.join("  "))
     }
 }
+
+/// Longest run started without `--allow-long` (scans and atlases alike).
+pub const LONG_RUN: f64 = 30.0 * 86_400.0;
+
+/// A duration in the unit that reads best.
+pub fn duration(secs: f64) -> String {
+    if secs < 120.0 {
+        format!("{secs:.0} s")
+    } else if secs < 7200.0 {
+        format!("{:.0} min", secs / 60.0)
+    } else if secs < 2.0 * 86_400.0 {
+        format!("{:.1} h", secs / 3600.0)
+    } else {
+        format!("{:.0} days", secs / 86_400.0)
+    }
+}

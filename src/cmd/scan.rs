@@ -23,7 +23,6 @@ use squeal_store::ScanWriter;
 use super::common;
 
 /// Estimated run times above this (seconds) need `--allow-long`.
-const LONG_SCAN: f64 = 30.0 * 86_400.0;
 
 /// Flags of `squeal scan`.
 #[derive(clap::Args, Debug)]
@@ -114,10 +113,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // A pilot measures the time per cell with this plan's law, landscape and early
     // stopping (squeal_scan::estimate); --quiet skips it and uses the documented rate.
     let rough = plan.estimate_seconds(owned, threads);
-    if rough > LONG_SCAN && !args.allow_long {
+    if rough > common::LONG_RUN && !args.allow_long {
         bail!(
             "{owned} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
-            duration(rough)
+            common::duration(rough)
         );
     }
     let pilot = if args.run.quiet {
@@ -130,10 +129,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         None => plan.estimate_seconds(cells, threads),
     };
     let estimate = seconds_for(owned);
-    if estimate > LONG_SCAN && !args.allow_long {
+    if estimate > common::LONG_RUN && !args.allow_long {
         bail!(
             "{owned} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
-            duration(estimate)
+            common::duration(estimate)
         );
     }
     let prov = common::provenance();
@@ -156,7 +155,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             plan.maps.len(),
             layout(&plan),
             shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
-            duration(secs),
+            common::duration(secs),
             pilot.map_or(String::new(), |e| format!(
                 ", from a pilot of {} cells over {} map(s) in {:.1} s",
                 e.cells, e.maps, e.pilot_seconds
@@ -252,18 +251,6 @@ fn layout(plan: &Plan) -> String {
             s.n, g.x0.min, g.x0.max, g.v0.min, g.v0.max, s.seed
         ),
         None => format!("{} x {} cells", g.x0.count, g.v0.count),
-    }
-}
-
-fn duration(secs: f64) -> String {
-    if secs < 120.0 {
-        format!("{secs:.0} s")
-    } else if secs < 7200.0 {
-        format!("{:.0} min", secs / 60.0)
-    } else if secs < 2.0 * 86_400.0 {
-        format!("{:.1} h", secs / 3600.0)
-    } else {
-        format!("{:.0} days", secs / 86_400.0)
     }
 }
 

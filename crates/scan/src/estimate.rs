@@ -11,6 +11,7 @@
 
 use std::time::{Duration, Instant};
 
+use crate::atlas::AtlasPlan;
 use crate::error::ScanError;
 use crate::scanner::MapContext;
 use crate::spec::Plan;
@@ -126,6 +127,82 @@ fn audit_seconds(plan: &Plan, ctx: &MapContext) -> f64 {
 
 /// Audited cells timed by the pilot.
 pub const AUDIT_SAMPLES: u64 = 3;
+
+/// At most this many atlas points are computed by an atlas's pilot (spread over the points).
+pub const ATLAS_PILOT_POINTS: usize = 4;
+
+/// An atlas's pilot: a few of its points computed as the atlas computes them (cold: no
+/// neighbour's crossing, so a little slower than a line's warm-started points), and the scan
+/// pilot of its basin maps, if it has any.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AtlasEstimate {
+    /// Points computed by the pilot.
+    pub points: usize,
+    /// Mean seconds per point (one thread).
+    pub point_seconds: f64,
+    /// Seconds the pilot took (points and maps).
+    pub pilot_seconds: f64,
+    /// The pilot of the basin maps.
+    pub maps: Option<Estimate>,
+}
+
+impl AtlasEstimate {
+    /// Wall seconds for the whole `plan` on `threads` threads (a lower bound: the writing of
+    /// very large maps is not counted): its points; its boundary
+    /// searches, each two bisections of `log2(ln(hi / lo) / rtol) + 2` evaluations that
+    /// share their first ones, plus the dt/2 check of both brackets (4 evaluations at half
+    /// the step, about twice the cost), every evaluation costed as one point; and its maps.
+    pub fn seconds(&self, plan: &AtlasPlan, threads: usize) -> f64 {
+        let evaluations = |j: usize| {
+            let (_, [lo, hi]) = plan.boundary_setup(j);
+            let steps = ((hi / lo).ln() / plan.boundary_rtol.max(1e-12))
+                .log2()
+                .ceil()
+                .max(0.0);
+            2.0 * (steps + 2.0) + 8.0
+        };
+        let boundaries: f64 = (0..plan.n_boundaries()).map(evaluations).sum();
+        // A line's points run one after another (each warm-starts the next): one line is
+        // never shared between threads.
+        let line = plan.line_len() as f64 * self.point_seconds;
+        let units = ((plan.n_points() as f64 + boundaries) * self.point_seconds
+            / threads.max(1) as f64)
+            .max(line);
+        let maps = match (&self.maps, plan.map_plan()) {
+            (Some(e), Some(mp)) => {
+                e.seconds(mp.maps.len(), mp.grid.cells() * mp.maps.len(), threads)
+            }
+            _ => 0.0,
+        };
+        units + maps
+    }
+}
+
+/// Runs an atlas's pilot (single-threaded): up to [`ATLAS_PILOT_POINTS`] spread points,
+/// stopping early once [`PILOT_BUDGET`] is spent (at least one point), then the scan pilot
+/// of its basin maps.
+pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
+    let t0 = Instant::now();
+    let n = plan.n_points();
+    let k = ATLAS_PILOT_POINTS.min(n).max(1);
+    let mut points = 0usize;
+    for j in 0..k {
+        let i = if k == 1 { 0 } else { j * (n - 1) / (k - 1) };
+        crate::atlas::driver::compute_at(plan, i, None);
+        points += 1;
+        if t0.elapsed() >= PILOT_BUDGET {
+            break;
+        }
+    }
+    let point_seconds = t0.elapsed().as_secs_f64() / points as f64;
+    let maps = plan.map_plan().map(|mp| pilot(&mp)).transpose()?;
+    Ok(AtlasEstimate {
+        points,
+        point_seconds,
+        pilot_seconds: t0.elapsed().as_secs_f64(),
+        maps,
+    })
+}
 
 #[cfg(test)]
 mod tests {

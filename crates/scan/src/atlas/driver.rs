@@ -90,6 +90,22 @@ impl AtlasPlan {
     }
 }
 
+/// Point `i` of the plan, computed as the atlas computes it (`warm`: the previous point's
+/// section crossing on its line). Laws with true stick check the section search against the
+/// landscape. A failure is data: an undecided point with its reason.
+pub fn compute_at(plan: &AtlasPlan, i: usize, warm: Option<f64>) -> PointResult {
+    let compute = if plan.law.has_true_stick() {
+        super::stribeck::compute_point
+    } else {
+        compute_point
+    };
+    compute(plan.setup_at(i), &plan.settings_at(i), warm).unwrap_or_else(|e| {
+        let mut p = super::columns::empty_point();
+        p.note = Some(e.to_string());
+        p
+    })
+}
+
 /// Runs one unit.
 pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
     match unit {
@@ -97,20 +113,8 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let len = plan.line_len();
             let mut points = Vec::with_capacity(len);
             let mut warm = None;
-            // Laws with true stick check the section search against the landscape.
-            let compute = if plan.law.has_true_stick() {
-                super::stribeck::compute_point
-            } else {
-                compute_point
-            };
             for i in line * len..(line + 1) * len {
-                // A failure at one point is data (an undecided point with its reason),
-                // not an abort.
-                let p = compute(plan.setup_at(i), &plan.settings_at(i), warm).unwrap_or_else(|e| {
-                    let mut p = super::columns::empty_point();
-                    p.note = Some(e.to_string());
-                    p
-                });
+                let p = compute_at(plan, i, warm);
                 warm = p.cycle.map(|c| c.r_section);
                 points.push(p);
             }
