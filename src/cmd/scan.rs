@@ -22,7 +22,6 @@ use squeal_store::ScanWriter;
 
 use super::common;
 
-/// Estimated run times above this (seconds) need `--allow-long`.
 
 /// Flags of `squeal scan`.
 #[derive(clap::Args, Debug)]
