@@ -22,7 +22,6 @@ use squeal_store::ScanWriter;
 
 use super::common;
 
-
 /// Flags of `squeal scan`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
