@@ -81,8 +81,11 @@ def walk(a, b, path, out, prov):
             if x.dtype != y.dtype or x.shape != y.shape:
                 out.append(f"{p}: {x.dtype} {x.shape} -> {y.dtype} {y.shape}")
             elif not same_values(x[()], y[()]):
-                diff = np.asarray(x[()] != y[()])
-                n = int(diff.sum()) if diff.dtype == bool else -1
+                xv, yv = np.asarray(x[()]), np.asarray(y[()])
+                diff = xv != yv
+                if xv.dtype.kind in "fc":
+                    diff &= ~(np.isnan(xv) & np.isnan(yv))
+                n = int(np.sum(diff)) if np.asarray(diff).dtype == bool else -1
                 out.append(f"{p}: values differ ({n} of {x.size} elements)")
         walk(x, y, p, out, prov)
 
