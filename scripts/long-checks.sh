@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The long physics checks: tests too slow for the suite a developer runs often
 # (`cargo test --workspace`), marked `#[ignore]` there and run here by exact name. .ci/run
-# calls this after the quick suite. Each line: package or test target, then the test.
+# calls this after the quick suite. Each line: the test target, then the test. They run with
+# `--workspace`, as the quick suite does, so cargo reuses its build (selecting one package
+# unifies features differently and rebuilds the dependencies).
 #
 #   scripts/long-checks.sh          # all of them
 #   scripts/long-checks.sh --list   # their names
@@ -11,7 +13,7 @@ checks=(
   # bSTAB's published basin stability at 20 belt speeds, 655,360 cells (tests/bstab_friction.rs).
   "--test bstab_friction squeal_matches_the_published_basin_stability"
   # Early stopping against runs to settlement off the paper's parameters, 4 x 2 scans of 64 x 64.
-  "-p squeal-scan --test off_paper early_stopping_agrees_with_settlement_off_the_paper"
+  "--test off_paper early_stopping_agrees_with_settlement_off_the_paper"
 )
 if [ "${1:-}" = --list ]; then
   printf '%s\n' "${checks[@]}"
@@ -22,5 +24,5 @@ for c in "${checks[@]}"; do
   name=${words[-1]}
   unset 'words[-1]'
   echo "long check: $name"
-  cargo test "${words[@]}" -- --ignored --exact "$name"
+  cargo test --workspace "${words[@]}" -- --ignored --exact "$name"
 done
