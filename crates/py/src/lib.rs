@@ -211,13 +211,14 @@ pub fn atlas(
 }
 
 /// The map `map` of a plan, or `ValueError` naming how many the spec has.
-fn params_of(plan: &Plan, map: usize) -> PyResult<squeal_core::Params> {
-    plan.maps.get(map).copied().ok_or_else(|| {
-        PyValueError::new_err(format!(
+fn setup_of(plan: &Plan, map: usize) -> PyResult<Setup> {
+    if map >= plan.maps.len() {
+        return Err(PyValueError::new_err(format!(
             "map {map}: the spec has {} map(s)",
             plan.maps.len()
-        ))
-    })
+        )));
+    }
+    Ok(plan.setup(map))
 }
 
 /// Locates the unstable limit cycle of map `map` of `spec` ([`squeal_scan::ulc::locate`]) and returns
@@ -233,17 +234,14 @@ pub fn ulc(
     rtol: f64,
     check_half_dt: bool,
 ) -> PyResult<String> {
-    let plan = plan_of(spec, text)?;
-    let params = params_of(&plan, map)?;
+    let setup = setup_of(&plan_of(spec, text)?, map)?;
     let cs = CycleSettings {
         r_max,
         rtol,
         check_half_dt,
         ..Default::default()
     };
-    let rep = py
-        .detach(|| locate(Setup::new(params, plan.dt, plan.solver), &cs))
-        .map_err(value_error)?;
+    let rep = py.detach(|| locate(setup, &cs)).map_err(value_error)?;
     serde_json::to_string(&rep).map_err(value_error)
 }
 
@@ -260,8 +258,7 @@ pub fn critical(
     bracket: (f64, f64),
     rtol: f64,
 ) -> PyResult<String> {
-    let plan = plan_of(spec, text)?;
-    let params = params_of(&plan, map)?;
+    let setup = setup_of(&plan_of(spec, text)?, map)?;
     let point = State {
         x: point.0,
         v: point.1,
@@ -270,7 +267,7 @@ pub fn critical(
     let rep = py
         .detach(|| {
             critical_nu(
-                Setup::new(params, plan.dt, plan.solver),
+                setup,
                 &cs,
                 point,
                 ParamRange::new(bracket.0, bracket.1, rtol),
@@ -298,8 +295,7 @@ pub fn boundary(
     bracket: (f64, f64),
 ) -> PyResult<String> {
     use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
-    let plan = plan_of(spec, text)?;
-    let base = params_of(&plan, map)?;
+    let setup = setup_of(&plan_of(spec, text)?, map)?;
     let (key, fold, rtol) = search;
     let param = BoundaryParam::from_key(&key).ok_or_else(|| {
         PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
@@ -315,7 +311,7 @@ pub fn boundary(
     let [f, c] = py.detach(|| {
         both_in(
             param,
-            Setup::new(base, plan.dt, plan.solver),
+            setup,
             &ps,
             point,
             ParamRange::new(bracket.0, bracket.1, rtol),

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use squeal_core::{Classifier, Reason, Regime, Run, Samples, State, Stepper};
 use squeal_store::{RunAttrs, write_samples};
 
-use crate::{interruptible, params_of, plan_of, provenance, store_error, value_error};
+use crate::{interruptible, plan_of, provenance, setup_of, store_error, value_error};
 
 /// The run's start, end and stride.
 #[derive(Clone, Copy)]
@@ -78,8 +78,7 @@ pub fn trajectory(
 ) -> PyResult<(&'static str, &'static str, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
-    let stepper =
-        Stepper::new(params_of(&plan, map)?, plan.dt, plan.solver).map_err(value_error)?;
+    let stepper = setup_of(spec, text, map)?.stepper().map_err(value_error)?;
     if !(point.0.is_finite() && point.1.is_finite()) {
         return Err(value_error(anyhow::anyhow!(
             "x0/v0: expected finite values"
