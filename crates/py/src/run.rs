@@ -78,7 +78,7 @@ pub fn trajectory(
 ) -> PyResult<(&'static str, &'static str, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
-    let stepper = setup_of(spec, text, map)?.stepper().map_err(value_error)?;
+    let stepper = setup_of(&plan, map)?.stepper().map_err(value_error)?;
     if !(point.0.is_finite() && point.1.is_finite()) {
         return Err(value_error(anyhow::anyhow!(
             "x0/v0: expected finite values"
