@@ -236,7 +236,7 @@ pub const REGIME_FLAGS: &[(u8, &str)] = &[
     (NOT_COMPUTED, "not_computed"),
 ];
 
-/// Members of the stored `reason` enum: [`Reason`] plus `not_computed`.
+/// Members of the stored `reason` enum: [`squeal_core::Reason`] plus `not_computed`.
 pub const REASON_FLAGS: &[(u8, &str)] = &[
     (0, "time_limit"),
     (1, "near_fixed_point"),

@@ -6,8 +6,14 @@
 //!   columns (name, long name, units, type, fill) that every writer and reader follows.
 //! * [`scanner`]: a map's preparation ([`scanner::MapContext`]: the section searched once,
 //!   the trap and the located cycle) and one block of cells, classified in parallel.
-//! * [`driver`]: [`drive`] runs every pending `(map, block)` pair of a plan on the rayon
-//!   pool and hands finished work to a [`Sink`] on one thread; an [`Observer`] sees progress.
+//! * [`executor`]: the one executor of every kind of work (a scan's map blocks, an atlas's
+//!   lines and boundary searches): jobs on the rayon pool, results to the sink on one thread.
+//! * [`driver`]: [`drive`] runs every pending `(map, block)` pair of a plan through the
+//!   executor and hands finished work to a [`Sink`]; an [`Observer`] sees progress.
+//! * [`section`]: the return map on the section `x = x*, x' > 0`, in one place: samples,
+//!   cold and warm brackets, bisection and Illinois, counted where they run ([`section::Work`]);
+//!   `ulc`, a map's preparation, atlas points and boundary predicates all use it.
+//! * [`estimate`]: how long a scan or an atlas will take, from a pilot of its own work.
 //! * [`atlas`]: design-space scans with figures of merit per parameter point, regimes, the
 //!   fold of cycles and critical damping by bisection, physical units.
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
