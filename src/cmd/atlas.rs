@@ -82,6 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             common::check_new(p, args.run.force, what)?;
         }
     }
+    squeal_store::OutputLock::check_free(&out)?;
     estimate(&args, &plan)?;
     let prov = common::provenance();
     let writer = if args.run.resume {

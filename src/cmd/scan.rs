@@ -105,6 +105,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("creating the output folder {}", dir.display()))?;
     }
+    squeal_store::OutputLock::check_free(&out)?;
     // The work, estimated before anything is created or computed.
     let threads = rayon::current_num_threads();
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default()).cells;

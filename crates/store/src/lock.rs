@@ -87,6 +87,25 @@ pub fn lock_path(out: &Path) -> PathBuf {
 }
 
 impl OutputLock {
+    /// Refuses at once, before any work, when a live process holds the lock of `out`: the
+    /// answer [`OutputLock::acquire`] gives, without taking the lock (a run's estimate
+    /// comes before its writer takes the lock, and a second run should not wait for it).
+    pub fn check_free(out: &Path) -> Result<(), StoreError> {
+        let path = lock_path(out);
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            return Ok(());
+        };
+        match parse(&text) {
+            Some(owner) if !owner.is_stale() => Err(StoreError::Locked {
+                path: out.to_path_buf(),
+                lock: path,
+                pid: owner.pid,
+                host: owner.host,
+            }),
+            _ => Ok(()),
+        }
+    }
+
     /// Takes the lock of `out`, or says who holds it. A stale lock is taken over.
     pub fn acquire(out: &Path) -> Result<OutputLock, StoreError> {
         let path = lock_path(out);
