@@ -55,6 +55,22 @@ fn squeal_store_digest(p: &Path) -> String {
 }
 
 #[test]
+fn progress_lines_off_a_terminal_wait_for_the_first_second() {
+    // Issue 21: with stderr not a terminal (a batch log), a scan of a fraction of a second
+    // printed twenty lines such as "5% (3/63 cells) after 0 s, 3 cell/s, about 19 s left":
+    // a rate and a time left from a few cells in a few milliseconds. Lines now start after
+    // the first second, so none can say "after 0 s" (a slower run under load may print
+    // some, from "after 1 s" on).
+    let d = tempfile::tempdir().unwrap();
+    spec(d.path(), "tiny.toml", TINY);
+    let o = squeal(d.path(), &["scan", "tiny.toml"]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("roughly"), "the estimate is printed: {err}");
+    assert!(!err.contains("after 0 s"), "{err}");
+}
+
+#[test]
 fn tiny_scan_writes_a_self_describing_file() {
     let d = tempfile::tempdir().unwrap();
     spec(d.path(), "tiny.toml", TINY);

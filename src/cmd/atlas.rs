@@ -46,7 +46,7 @@ impl squeal_scan::Observer for BarObserver<'_> {
     fn block_done(&self, _map: usize, _block: usize) {
         self.0.inc(1);
         if let Some(p) = self.1 {
-            p.inc();
+            p.inc(0);
         }
     }
 }
@@ -107,7 +107,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         &|| {
             bar.inc(1);
             if let Some(p) = &plain {
-                p.inc();
+                p.inc(0);
             }
         },
         &BarObserver(&bar, &plain),

@@ -47,7 +47,7 @@ impl Observer for Bars {
     fn cell_done(&self, map: usize) {
         self.overall.inc(1);
         if let Some(p) = &self.plain {
-            p.inc();
+            p.inc(map);
         }
         if let Some(m) = self.maps.get(map) {
             m.inc(1);
@@ -108,13 +108,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     squeal_store::OutputLock::check_free(&out)?;
     // The work, estimated before anything is created or computed.
     let threads = rayon::current_num_threads();
-    let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default()).cells;
+    let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default());
     // A pilot measures the time per cell with this plan's law, landscape and early
     // stopping (squeal_scan::estimate); --quiet skips it and uses the documented rate.
-    let rough = plan.estimate_seconds(owned, threads);
+    let rough = plan.estimate_seconds(owned.cells, threads);
     if rough > common::LONG_RUN && !args.allow_long {
         bail!(
-            "{owned} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            "{} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            owned.cells,
             common::duration(rough)
         );
     }
@@ -123,14 +124,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Some(squeal_scan::estimate::pilot(&plan)?)
     };
-    let seconds_for = |cells: usize| match &pilot {
-        Some(e) => e.seconds(plan.maps.len(), cells, threads),
-        None => plan.estimate_seconds(cells, threads),
+    let seconds_for = |p: &Pending| match &pilot {
+        Some(e) => e.seconds(plan.maps.len(), |m| p.cells_of(&plan, m), threads),
+        None => plan.estimate_seconds(p.cells, threads),
     };
-    let estimate = seconds_for(owned);
+    let estimate = seconds_for(&owned);
     if estimate > common::LONG_RUN && !args.allow_long {
         bail!(
-            "{owned} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            "{} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            owned.cells,
             common::duration(estimate)
         );
     }
@@ -147,7 +149,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
-        let secs = seconds_for(pending.cells);
+        let secs = seconds_for(&pending);
         eprintln!(
             "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} ({secs:.1} s){}",
             pending.cells,
@@ -155,9 +157,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             layout(&plan),
             shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
             common::duration(secs),
-            pilot.map_or(String::new(), |e| format!(
+            pilot.as_ref().map_or(String::new(), |e| format!(
                 ", from a pilot of {} cells over {} map(s) in {:.1} s",
-                e.cells, e.maps, e.pilot_seconds
+                e.cells,
+                e.maps(),
+                e.pilot_seconds
             ))
         );
     }
@@ -198,7 +202,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
-    let plain = common::PlainLines::new("cells", "cell", pending.cells as u64, args.run.quiet);
+    let plain =
+        common::PlainLines::new("cells", "cell", pending.cells as u64, args.run.quiet).map(|p| {
+            match &pilot {
+                // The time left weighs each map's cells by the pilot's cost per cell there.
+                Some(e) => p.weighted(
+                    (0..plan.maps.len()).map(|m| e.cell_cost(m)).collect(),
+                    &(0..plan.maps.len())
+                        .map(|m| pending.cells_of(&plan, m) as u64)
+                        .collect::<Vec<_>>(),
+                ),
+                None => p,
+            }
+        });
     let bars = Bars {
         overall,
         maps,

@@ -16,117 +16,246 @@ use crate::error::ScanError;
 use crate::scanner::MapContext;
 use crate::spec::Plan;
 
+/// The share of a core the calling thread got since it was started: its CPU time over the
+/// wall time, where the system tells the CPU time (Linux: `/proc/thread-self/schedstat`,
+/// nanoseconds, updated at scheduler ticks, so read only over spans of 0.2 s or more); 1
+/// otherwise. The pilot times its work on the wall clock and scales it by this share, so a
+/// busy machine does not inflate the estimate: the estimate is the time on free cores (on a
+/// shared machine the wall clock is longer, by a factor no estimate can know).
+struct CoreShare {
+    wall: Instant,
+    cpu: Option<f64>,
+}
+
+impl CoreShare {
+    fn cpu_now() -> Option<f64> {
+        let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+        let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+        (ns > 0.0).then_some(ns * 1e-9)
+    }
+
+    fn start() -> Self {
+        CoreShare {
+            wall: Instant::now(),
+            cpu: Self::cpu_now(),
+        }
+    }
+
+    /// The share so far, in [0.05, 1].
+    fn share(&self) -> f64 {
+        let wall = self.wall.elapsed().as_secs_f64();
+        match (self.cpu, Self::cpu_now()) {
+            (Some(a), Some(b)) if wall >= 0.2 => ((b - a) / wall).clamp(0.05, 1.0),
+            _ => 1.0,
+        }
+    }
+}
+
 /// At most this many maps are prepared by the pilot (evenly spread over a sweep).
 pub const PILOT_MAPS: usize = 8;
-/// The pilot stops after this many cells ...
+/// The pilot classifies this many cells, shared among the first maps it prepares ...
 pub const PILOT_CELLS: usize = 512;
-/// ... or after this much time classifying cells (after the maps are prepared), whichever
-/// comes first (at least one cell per map).
+/// ... or stops classifying a map's cells after its share of this time (at least one cell
+/// per map); maps added where the cost jumps get the same share, up to twice this in all.
 pub const PILOT_BUDGET: Duration = Duration::from_millis(1500);
+/// Audited cells timed per prepared map (the first ones of the map's own audited sample).
+pub const AUDIT_SAMPLES: usize = 2;
+
+/// What the pilot measured on one prepared map (seconds on one thread).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapCost {
+    /// The map's index in the plan.
+    pub map: usize,
+    /// Seconds to prepare it (cycle search, landscape, shortcuts).
+    pub prepare: f64,
+    /// Mean seconds per cell, over the cells the pilot classified in it.
+    pub cell: f64,
+    /// Cells the pilot classified in it.
+    pub cells: usize,
+    /// Mean seconds per audited cell (a run to settlement on top of the cell's own run; 0
+    /// where the map's audit does not apply).
+    pub audit: f64,
+}
 
 /// A pilot's measurements and the estimate they give.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Estimate {
-    /// Maps prepared by the pilot.
-    pub maps: usize,
     /// Cells classified by the pilot.
     pub cells: usize,
     /// Seconds the pilot took.
     pub pilot_seconds: f64,
-    /// Mean seconds to prepare one map (one thread).
-    pub prepare_seconds: f64,
-    /// Mean seconds per cell (one thread).
-    pub cell_seconds: f64,
+    /// What it measured, per prepared map (in map order; at least one).
+    pub per_map: Vec<MapCost>,
+    /// Audited cells per map (the same sample in every map: it depends on the cell index).
+    pub audited_per_map: usize,
+    /// Cells per map.
+    pub cells_per_map: usize,
 }
 
 impl Estimate {
-    /// Wall seconds for `maps` maps with `cells` cells in all on `threads` threads (maps are
-    /// prepared one at a time; cells run in parallel).
-    pub fn seconds(&self, maps: usize, cells: usize, threads: usize) -> f64 {
-        maps as f64 * self.prepare_seconds
-            + cells as f64 * self.cell_seconds / threads.max(1) as f64
+    /// Maps prepared by the pilot.
+    pub fn maps(&self) -> usize {
+        self.per_map.len()
+    }
+
+    /// The measured costs that stand for map `map`: those of the nearest prepared map (a
+    /// sweep's cost changes along the sweep: above a fold of cycles a McMillan cell costs
+    /// 20-50 times one below it, so one mean over all maps misleads).
+    pub fn cost_of(&self, map: usize) -> &MapCost {
+        self.per_map
+            .iter()
+            .min_by_key(|c| c.map.abs_diff(map))
+            .expect("the pilot prepares at least one map")
+    }
+
+    /// Expected seconds (one thread) of one cell of map `map`, its share of the map's audits
+    /// included.
+    pub fn cell_cost(&self, map: usize) -> f64 {
+        let c = self.cost_of(map);
+        c.cell + c.audit * self.audited_per_map as f64 / self.cells_per_map.max(1) as f64
+    }
+
+    /// Wall seconds on `threads` threads for the maps `0..maps`, `cells_of(m)` cells of map
+    /// `m` to compute (maps with none are not counted): maps are prepared one at a time; cells and their audits run in
+    /// parallel (the audited share of a map's pending cells is its share of all its cells).
+    pub fn seconds(&self, maps: usize, cells_of: impl Fn(usize) -> usize, threads: usize) -> f64 {
+        let per_map = self.cells_per_map.max(1) as f64;
+        (0..maps)
+            .map(|m| {
+                let c = self.cost_of(m);
+                let n = cells_of(m) as f64;
+                if n == 0.0 {
+                    return 0.0;
+                }
+                let audits = self.audited_per_map as f64 * n / per_map;
+                c.prepare + (n * c.cell + audits * c.audit) / threads.max(1) as f64
+            })
+            .sum()
     }
 }
 
-/// Runs the pilot on `plan` (single-threaded).
-pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
-    let t0 = Instant::now();
-    let n = plan.maps.len();
-    let picked: Vec<usize> = if n <= PILOT_MAPS {
+/// The maps the pilot prepares: all of them, or [`PILOT_MAPS`] spread over the sweep with
+/// both ends.
+fn picked_maps(n: usize) -> Vec<usize> {
+    if n <= PILOT_MAPS {
         (0..n).collect()
     } else {
         (0..PILOT_MAPS)
             .map(|i| i * (n - 1) / (PILOT_MAPS - 1))
             .collect()
-    };
-    let mut contexts = Vec::with_capacity(picked.len());
-    for &m in &picked {
+    }
+}
+
+/// Cell `idx` of a map (row-major) as `(row, col)`.
+fn cell_at(plan: &Plan, idx: usize) -> (usize, usize) {
+    (idx / plan.grid.x0.count, idx % plan.grid.x0.count)
+}
+
+/// Runs the pilot on `plan` (single-threaded): the maps of [`picked_maps`], then more
+/// maps between neighbours whose cost per cell differs more than twofold (a fold of cycles
+/// crossed by the sweep), while the budget lasts.
+pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
+    let t0 = Instant::now();
+    let core = CoreShare::start();
+    let per_map = plan.grid.cells();
+    let audited: Vec<usize> = (0..per_map)
+        .filter(|&i| crate::scanner::audited(i as u64, plan.audit_every))
+        .collect();
+    let first = picked_maps(plan.maps.len());
+    let budget = PILOT_BUDGET / first.len() as u32;
+    let cells = (PILOT_CELLS / first.len()).max(1);
+    let mut costs = Vec::with_capacity(2 * first.len());
+    for m in first {
         // Maps whose preparation is slow (long cycle searches) are sampled fewer.
-        if !contexts.is_empty() && t0.elapsed() >= PILOT_BUDGET {
+        if !costs.is_empty() && t0.elapsed() >= 2 * PILOT_BUDGET {
             break;
         }
-        contexts.push(MapContext::prepare(plan, m)?);
+        costs.push(measure(plan, m, cells, budget, &audited)?);
     }
-    let prepare = t0.elapsed().as_secs_f64();
-    let g = &plan.grid;
-    let per_map = g.cells() as u64;
-    let t1 = Instant::now();
-    let mut cells = 0usize;
-    'sample: for j in 0u64.. {
-        for ctx in &contexts {
-            // A spread sample: Fibonacci hashing of the sample number over the map's cells.
-            let idx = (j.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11) % per_map;
-            let (row, col) = ((idx as usize) / g.x0.count, (idx as usize) % g.x0.count);
-            let (x, v) = g.state(row, col);
-            ctx.classify(squeal_core::State { x, v });
-            cells += 1;
-            if cells >= contexts.len() && t1.elapsed() >= PILOT_BUDGET {
-                break 'sample;
-            }
-        }
-        if cells >= PILOT_CELLS
-            || t1.elapsed() >= PILOT_BUDGET
-            || cells as u64 >= per_map * contexts.len() as u64
-        {
-            break 'sample;
-        }
+    while costs.len() < 2 * PILOT_MAPS && t0.elapsed() < 2 * PILOT_BUDGET {
+        let per_cell = |c: &MapCost| c.cell + c.audit * audited.len() as f64 / per_map as f64;
+        let jump = costs
+            .windows(2)
+            .filter(|w| w[1].map - w[0].map > 1)
+            .map(|w| {
+                let (a, b) = (per_cell(&w[0]), per_cell(&w[1]));
+                (a.max(b) / a.min(b).max(1e-12), (w[0].map + w[1].map) / 2)
+            })
+            .filter(|&(ratio, _)| ratio > 2.0)
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        let Some((_, mid)) = jump else { break };
+        let at = costs.partition_point(|c| c.map < mid);
+        costs.insert(at, measure(plan, mid, cells, budget, &audited)?);
     }
-    let cell_seconds = t1.elapsed().as_secs_f64() / cells.max(1) as f64;
+    let share = core.share();
+    for c in &mut costs {
+        c.prepare *= share;
+        c.cell *= share;
+        c.audit *= share;
+    }
     Ok(Estimate {
-        maps: contexts.len(),
-        cells,
+        cells: costs.iter().map(|c| c.cells).sum(),
         pilot_seconds: t0.elapsed().as_secs_f64(),
-        prepare_seconds: prepare / contexts.len().max(1) as f64,
-        cell_seconds: cell_seconds
-            + audit_seconds(plan, &contexts[0]) / plan.audit_every.max(1) as f64,
+        per_map: costs,
+        audited_per_map: audited.len(),
+        cells_per_map: per_map,
     })
 }
 
-/// Mean seconds of one audited cell (a run to settlement without the trap; 0 without an
-/// audit), timed on [`AUDIT_SAMPLES`] spread cells of the first map: about one cell in
-/// `audit_every` costs this much more. Audited cells are too rare for the pilot's sample to
-/// meet them, and each can cost as much as thousands of early-stopped cells (a start near the
-/// unstable cycle runs long before it settles).
-fn audit_seconds(plan: &Plan, ctx: &MapContext) -> f64 {
-    if ctx.classifier.trap.is_none() || plan.audit_every == 0 {
-        return 0.0;
-    }
-    let settle = squeal_core::Classifier {
-        trap: None,
-        ..ctx.classifier
-    };
-    let g = &plan.grid;
+/// Prepares map `map` as the scan does and classifies a spread sample of up to `cells` of
+/// its cells with the scan's own rule, within `budget` (at least one cell), then times its
+/// audit ([`audit_seconds`]).
+fn measure(
+    plan: &Plan,
+    map: usize,
+    cells: usize,
+    budget: Duration,
+    audited: &[usize],
+) -> Result<MapCost, ScanError> {
     let t = Instant::now();
-    for j in 1..=AUDIT_SAMPLES {
-        let idx = (j.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11) % g.cells() as u64;
-        let (x, v) = g.state(idx as usize / g.x0.count, idx as usize % g.x0.count);
-        settle.classify(&ctx.stepper, squeal_core::State { x, v });
+    let ctx = MapContext::prepare(plan, map)?;
+    let prepare = t.elapsed().as_secs_f64();
+    let per_map = plan.grid.cells() as u64;
+    let t1 = Instant::now();
+    let mut done = 0usize;
+    for j in 0..per_map.min(cells as u64) {
+        // A spread sample: Fibonacci hashing (the top bits of j * 2^64 / phi) over the cells.
+        let idx = ((j.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) % per_map) as usize;
+        let (row, col) = cell_at(plan, idx);
+        let (x, v) = plan.grid.state(row, col);
+        ctx.classify(squeal_core::State { x, v });
+        done += 1;
+        if t1.elapsed() >= budget {
+            break;
+        }
     }
-    t.elapsed().as_secs_f64() / AUDIT_SAMPLES as f64
+    Ok(MapCost {
+        map,
+        prepare,
+        cell: t1.elapsed().as_secs_f64() / done.max(1) as f64,
+        cells: done,
+        audit: audit_seconds(plan, &ctx, audited),
+    })
 }
 
-/// Audited cells timed by the pilot.
-pub const AUDIT_SAMPLES: u64 = 3;
+/// Mean seconds of one audited cell of `ctx`'s map (its run to settlement; 0 where the
+/// map's audit does not apply), timed on the first [`AUDIT_SAMPLES`] cells of the map's own
+/// audited sample `audited`. Audited cells are too rare for the spread sample to meet them,
+/// and each can cost as much as thousands of early-stopped cells (a start near the unstable
+/// cycle runs long before it settles).
+fn audit_seconds(plan: &Plan, ctx: &MapContext, audited: &[usize]) -> f64 {
+    if !ctx.audits() || audited.is_empty() {
+        return 0.0;
+    }
+    let t = Instant::now();
+    let n = audited.len().min(AUDIT_SAMPLES);
+    for &idx in &audited[..n] {
+        let (row, col) = cell_at(plan, idx);
+        let (x, v) = plan.grid.state(row, col);
+        ctx.settle(squeal_core::State { x, v });
+    }
+    t.elapsed().as_secs_f64() / n as f64
+}
 
 /// At most this many atlas points are computed by an atlas's pilot (spread over the points).
 pub const ATLAS_PILOT_POINTS: usize = 4;
@@ -134,7 +263,7 @@ pub const ATLAS_PILOT_POINTS: usize = 4;
 /// An atlas's pilot: a few of its points computed as the atlas computes them (cold: no
 /// neighbour's crossing, so a little slower than a line's warm-started points), and the scan
 /// pilot of its basin maps, if it has any.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct AtlasEstimate {
     /// Points computed by the pilot.
     pub points: usize,
@@ -169,9 +298,7 @@ impl AtlasEstimate {
             / threads.max(1) as f64)
             .max(line);
         let maps = match (&self.maps, plan.map_plan()) {
-            (Some(e), Some(mp)) => {
-                e.seconds(mp.maps.len(), mp.grid.cells() * mp.maps.len(), threads)
-            }
+            (Some(e), Some(mp)) => e.seconds(mp.maps.len(), |_| mp.grid.cells(), threads),
             _ => 0.0,
         };
         units + maps
@@ -183,6 +310,7 @@ impl AtlasEstimate {
 /// of its basin maps.
 pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
     let t0 = Instant::now();
+    let core = CoreShare::start();
     let n = plan.n_points();
     let k = ATLAS_PILOT_POINTS.min(n).max(1);
     let mut points = 0usize;
@@ -194,7 +322,7 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
             break;
         }
     }
-    let point_seconds = t0.elapsed().as_secs_f64() / points as f64;
+    let point_seconds = t0.elapsed().as_secs_f64() * core.share() / points as f64;
     let maps = plan.map_plan().map(|mp| pilot(&mp)).transpose()?;
     Ok(AtlasEstimate {
         points,
@@ -208,17 +336,55 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
 mod tests {
     use super::*;
 
+    fn cost(map: usize, prepare: f64, cell: f64, audit: f64) -> MapCost {
+        MapCost {
+            map,
+            prepare,
+            cell,
+            cells: 10,
+            audit,
+        }
+    }
+
     #[test]
-    fn the_estimate_scales_with_cells_and_threads() {
+    fn the_estimate_scales_with_cells_threads_and_audits() {
         let e = Estimate {
-            maps: 1,
             cells: 10,
             pilot_seconds: 0.1,
-            prepare_seconds: 0.5,
-            cell_seconds: 1e-3,
+            per_map: vec![cost(0, 0.5, 1e-3, 0.0)],
+            audited_per_map: 0,
+            cells_per_map: 2000,
         };
-        // 4 maps prepared one at a time, 8000 cells over 2 threads.
-        assert!((e.seconds(4, 8000, 2) - (2.0 + 4.0)).abs() < 1e-12);
+        // 4 maps prepared one at a time (0.5 s each), 4 x 2000 cells at 1 ms over 2 threads.
+        assert!((e.seconds(4, |_| 2000, 2) - (2.0 + 4.0)).abs() < 1e-12);
+        // 10 of a map's 2000 cells audited at 0.1 s each: 1 s per map over 2 threads; half a
+        // map's cells pending: half its audits.
+        let e = Estimate {
+            audited_per_map: 10,
+            per_map: vec![cost(0, 0.5, 1e-3, 0.1)],
+            ..e
+        };
+        assert!((e.seconds(1, |_| 2000, 2) - (0.5 + 1.0 + 0.5)).abs() < 1e-12);
+        assert!((e.seconds(1, |_| 1000, 2) - (0.5 + 0.5 + 0.25)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn each_map_costs_as_its_nearest_prepared_map() {
+        // Two prepared maps of a 9-map sweep, the last 20 times dearer per cell (as above a
+        // fold of cycles): maps 0-3 cost as map 0, maps 5-8 as map 8 (map 4 is as near to
+        // both; either is a measured cost).
+        let e = Estimate {
+            cells: 20,
+            pilot_seconds: 0.1,
+            per_map: vec![cost(0, 0.0, 1e-3, 0.0), cost(8, 0.0, 2e-2, 0.0)],
+            audited_per_map: 0,
+            cells_per_map: 100,
+        };
+        assert_eq!(e.cost_of(3).map, 0);
+        assert_eq!(e.cost_of(5).map, 8);
+        let only = |k: usize| e.seconds(9, move |m| if m == k { 100 } else { 0 }, 1);
+        assert!((only(2) - 0.1).abs() < 1e-12);
+        assert!((only(7) - 2.0).abs() < 1e-12);
     }
 
     #[test]
@@ -239,8 +405,12 @@ path = "t.h5"
         .unwrap();
         let e = pilot(&plan).unwrap();
         // At most PILOT_MAPS maps (fewer when preparing them outlasts the budget).
-        assert!((1..=PILOT_MAPS).contains(&e.maps), "{e:?}");
-        assert!(e.cells >= e.maps, "{e:?}");
-        assert!(e.cell_seconds > 0.0 && e.prepare_seconds > 0.0);
+        assert!((1..=PILOT_MAPS).contains(&e.maps()), "{e:?}");
+        assert!(e.cells >= e.maps(), "{e:?}");
+        for c in &e.per_map {
+            assert!(c.cells >= 1 && c.cell > 0.0 && c.prepare > 0.0, "{c:?}");
+        }
+        // The picked maps are spread over the sweep with both ends.
+        assert_eq!(e.per_map[0].map, 0);
     }
 }

@@ -333,6 +333,22 @@ impl MapContext {
             .classify_with(&self.stepper, ic, self.shortcuts)
     }
 
+    /// Whether audited cells of this map are checked: only where an early decision could
+    /// apply (the cycle's trap or a certified shortcut).
+    pub fn audits(&self) -> bool {
+        self.classifier.trap.is_some() || self.shortcuts.any()
+    }
+
+    /// The audit's reference: the run from `ic` to settlement, without the trap or any
+    /// shortcut.
+    pub fn settle(&self, ic: State) -> Outcome {
+        Classifier {
+            trap: None,
+            ..self.classifier
+        }
+        .classify(&self.stepper, ic)
+    }
+
     /// Classifies one cell (and audits it when it is in the sample and an early decision
     /// could apply: the cycle's trap or a certified shortcut).
     pub fn cell(&self, plan: &Plan, row: usize, col: usize) -> Cell {
@@ -341,14 +357,8 @@ impl MapContext {
         let ic = State { x, v };
         let out = self.classify(ic);
         let mut cell = Cell::from(&out);
-        if (self.classifier.trap.is_some() || self.shortcuts.any())
-            && audited((row * g.x0.count + col) as u64, plan.audit_every)
-        {
-            let settle = Classifier {
-                trap: None,
-                ..self.classifier
-            };
-            let reference = settle.classify(&self.stepper, ic).regime;
+        if self.audits() && audited((row * g.x0.count + col) as u64, plan.audit_every) {
+            let reference = self.settle(ic).regime;
             cell.audit = match reference {
                 Regime::Undecided => Audit::Undecided,
                 r if r == out.regime => Audit::Agrees,

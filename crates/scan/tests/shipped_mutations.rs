@@ -70,7 +70,7 @@ fn names_it(path: &[Step], msg: &str) -> bool {
         || (keys.len() > 2 && msg.contains(&format!("`{parent}")))
         || msg.contains(&format!("{leaf} = "))
         // The nondimensional value a physical key sets, named with its formula
-        // (`physical.v_belt (lambda = v_B sqrt(k/m) / (mu_k g))`), or the box it scales.
+        // (`physical.v_belt (lambda = v_belt sqrt(k/m) / (mu_k g))`), or the box it scales.
         || (keys[0] == "physical" && msg.contains("physical") && word)
         // Too many parameter points: the swept keys are listed with their value counts.
         || (keys.len() > 1 && msg.contains("parameter points") && msg.contains(&format!("{}: ", keys[1])))

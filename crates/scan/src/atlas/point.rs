@@ -14,7 +14,7 @@
 //! the same as `squeal ulc` gives.
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Params, Setup, State};
+use squeal_core::{Params, Setup, State, units::Scales};
 
 use crate::error::ScanError;
 use crate::section::{self, Bracket, ReturnMap, Search, SectionCycles, search};
@@ -105,6 +105,29 @@ pub struct PointSettings {
     pub operating: State,
     /// The disturbance region (nondimensional).
     pub disturbance: Region,
+    /// The physical system's scales, in physical plans: notes then state amplitudes and
+    /// times in SI units (the computation itself is nondimensional).
+    #[serde(skip)]
+    pub units: Option<Scales>,
+}
+
+impl PointSettings {
+    /// A section amplitude `r` (x' at the section) in words: `r = 0.236000`, or in a
+    /// physical plan `x' = 2.950e-2 m/s (r = 0.236000)`.
+    pub fn amplitude_words(&self, r: f64) -> String {
+        match &self.units {
+            Some(s) => format!("x' = {:.3e} m/s (r = {r:.6})", r * s.velocity),
+            None => format!("r = {r:.6}"),
+        }
+    }
+
+    /// A time `t` in words: `t = 134.2`, or in a physical plan `t = 0.8491 s`.
+    pub fn time_words(&self, t: f64) -> String {
+        match &self.units {
+            Some(s) => format!("t = {:.4} s", t * s.time),
+            None => format!("t = {t:.1}"),
+        }
+    }
 }
 
 impl Default for PointSettings {
@@ -122,6 +145,7 @@ impl Default for PointSettings {
                 x: [-2.0, 4.0],
                 v: [-3.0, 3.0],
             },
+            units: None,
         }
     }
 }
@@ -361,13 +385,15 @@ pub fn compute_point(
             res.basin_fraction = 1.0;
             res.basin_fraction_err = 0.0;
             res.note = Some(format!(
-                "an unstable cycle at r = {:.6} but starts outside it fall back inside (t = {t:.1}): no stick-slip attractor",
-                res.cycle.map_or(f64::NAN, |c| c.r_section)
+                "an unstable cycle at {} but starts outside it fall back inside ({}): no stick-slip attractor",
+                ps.amplitude_words(res.cycle.map_or(f64::NAN, |c| c.r_section)),
+                ps.time_words(*t)
             ));
         }
         (_, Some(Err(StickFail::FellInside { t }))) => {
             res.note = Some(format!(
-                "D(r_min) > 0 but the run from outside reached the fixed point (t = {t:.1})"
+                "D(r_min) > 0 but the run from outside reached the fixed point ({})",
+                ps.time_words(*t)
             ));
         }
         (_, Some(Err(StickFail::Failed(e)))) => res.note = Some(e.clone()),
@@ -408,19 +434,20 @@ fn confirm_operating_point(
         // near the fixed point grows slowly): no evidence against the label, but it is not
         // confirmed either, and the note says so.
         res.note = Some(format!(
-            "unconfirmed: the operating point's own run did not settle by t = {:.0} ({})",
-            o.t_decision,
+            "unconfirmed: the operating point's own run did not settle by {} ({})",
+            ps.time_words(o.t_decision),
             o.reason.name()
         ));
     } else if o.regime != squeal_core::Regime::StickSlip {
         let band = res.stick_slip.map_or(f64::NAN, |s| s.r_band[1]);
         res.note = Some(format!(
-            "conflict: the section method says the operating point squeals (outside the unstable cycle at r = {:.6}, stick-slip band at r = {band:.6} for {} revolutions) but its own run ends {} ({} at t = {:.1})",
-            res.cycle.map_or(f64::NAN, |c| c.r_section),
+            "conflict: the section method says the operating point squeals (outside the unstable cycle at {}, stick-slip band at {} for {} revolutions) but its own run ends {} ({} at {})",
+            ps.amplitude_words(res.cycle.map_or(f64::NAN, |c| c.r_section)),
+            ps.amplitude_words(band),
             ps.transient + ps.window,
             o.regime.name(),
             o.reason.name(),
-            o.t_decision
+            ps.time_words(o.t_decision)
         ));
         res.regime = AtlasRegime::Undecided;
     }
@@ -542,10 +569,58 @@ mod tests {
         )
         .unwrap();
         assert_eq!(r.regime, AtlasRegime::Undecided, "{r:?}");
-        let note = r.note.unwrap();
+        let note = r.note.clone().unwrap();
         assert!(
             note.starts_with("conflict:") && note.contains("steady_slip"),
             "{note}"
+        );
+        assert!(!note.contains("m/s"), "{note}");
+        // The same point in a physical plan (issue 21: notes of physical files gave r and t
+        // nondimensionally): the note states the cycle's crossing in m/s and the time in s,
+        // each the nondimensional value times the system's scale (the brake of scans/
+        // brake.toml: 2 kg, 50 kN/m, mu_k 0.35).
+        let units = squeal_core::Physical {
+            m: 2.0,
+            k: 5.0e4,
+            c: 10.0,
+            v_belt: 0.05,
+            mu_k: 0.35,
+            mu_s: 0.45,
+            tau: 1e-3,
+            g: 9.80665,
+        }
+        .scales();
+        let ps = PointSettings {
+            units: Some(units),
+            ..PointSettings::default()
+        };
+        let si = compute_point(
+            Setup::new(p, 0.005, SolverConfig::default()),
+            &ps,
+            Some(0.526_863_078_829_873_4),
+        )
+        .unwrap();
+        let si_note = si.note.unwrap();
+        let r_cycle = r.cycle.unwrap().r_section;
+        let crossing = format!(
+            "x' = {:.3e} m/s (r = {r_cycle:.6})",
+            r_cycle * units.velocity
+        );
+        assert!(si_note.contains(&crossing), "{si_note} lacks {crossing}");
+        let t = note.rsplit("t = ").next().unwrap().trim_end_matches(')');
+        let t: f64 = t.parse().unwrap();
+        let t_si = format!("t = {:.4} s", t * units.time);
+        // The nondimensional note rounds t to 0.1: compare the SI time to that precision.
+        let t_si_got: f64 = si_note
+            .rsplit("t = ")
+            .next()
+            .unwrap()
+            .trim_end_matches(" s)")
+            .parse()
+            .unwrap();
+        assert!(
+            (t_si_got - t * units.time).abs() <= 0.05 * units.time,
+            "{si_note} vs {t_si}"
         );
         // Where the evidence agrees (paper Fig 9, nu = 1e-3: rest squeals), the label stands.
         let r = compute_point(

@@ -180,7 +180,7 @@ pub(crate) struct PhysicalFile {
 pub(crate) fn physical_key(name: &str) -> &str {
     match name {
         "nu" => "c (nu = c / (2 sqrt(m k)))",
-        "lambda" => "v_belt (lambda = v_B sqrt(k/m) / (mu_k g))",
+        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
         "phi" => "mu_s",
         n => n,
     }
@@ -1068,6 +1068,7 @@ impl AtlasPlan {
         let mut ps = self.point;
         if let Some(ph) = self.physical_at(i) {
             let s = ph.scales();
+            ps.units = Some(s);
             ps.operating = State {
                 x: ps.operating.x / s.length,
                 v: ps.operating.v / s.velocity,
@@ -1300,6 +1301,10 @@ path = "p.h5"
         assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
         assert_eq!(p.damping_axis(), ("c", Some(0)));
         assert_eq!(p.n_boundaries(), 1);
+        // Its points' notes speak SI (issue 21): the settings carry the point's scales.
+        let scales = p.physical_at(1).unwrap().scales();
+        assert_eq!(p.settings_at(1).units, Some(scales));
+        assert!(p.settings_at(1).time_words(2.0).ends_with(" s"));
     }
 
     #[test]
