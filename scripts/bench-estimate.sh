@@ -12,7 +12,9 @@
 # Two measures of that time: the wall clock, and the CPU seconds the run used after the
 # estimate divided by the threads (2). On an idle machine they agree; on a shared one the
 # wall clock depends on the other users' load, which no estimate can know, so the check is
-# on the CPU measure and the wall ratio is printed beside it.
+# on the CPU measure and the wall ratio is printed beside it. Atlas specs are run and
+# reported but not checked: their lines run points in sequence, so CPU / threads is not
+# their time (issue 21 asks the check of `squeal scan`'s estimate).
 #
 # Needs target/release/squeal (cargo build --release). Results: BENCHMARKS.md, "Scan time
 # estimates".
@@ -65,8 +67,13 @@ with tempfile.TemporaryDirectory() as tmp:
         floor = lambda x: max(x, 1.0)
         r_wall, r_cpu = floor(wall) / floor(est), floor(cpu) / floor(est)
         ok = 0.5 <= r_cpu <= 2.0
-        fail |= not ok
-        print(f"{name:<20} {est:>10.1f} {wall:>8.1f} {cpu:>8.1f} {r_wall:>8.2f} {r_cpu:>8.2f}"
-              + ("" if ok else "  OUTSIDE 2x"))
+        note = "" if ok else "  OUTSIDE 2x"
+        if atlas:
+            # An atlas's lines run their points in sequence, so its threads are not all busy
+            # and CPU / threads undercounts its time: reported, not checked.
+            note = "  (atlas: not checked)"
+        else:
+            fail |= not ok
+        print(f"{name:<20} {est:>10.1f} {wall:>8.1f} {cpu:>8.1f} {r_wall:>8.2f} {r_cpu:>8.2f}{note}")
 sys.exit(1 if fail else 0)
 PY
