@@ -183,24 +183,117 @@ pub fn bar_style(template: &str, unit: &'static str) -> indicatif::ProgressStyle
         .progress_chars("=> ")
 }
 
+/// [`bar_style`] whose `{avg_eta}` is the time left by `meter` (weighed units) instead of
+/// the bar's own count.
+pub fn metered_bar_style(
+    template: &str,
+    unit: &'static str,
+    meter: std::sync::Arc<WorkMeter>,
+) -> indicatif::ProgressStyle {
+    use indicatif::ProgressState;
+    bar_style(template, unit).with_key(
+        "avg_eta",
+        move |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+            let _ = w.write_str(&meter.eta_words(s.elapsed().as_secs_f64()));
+        },
+    )
+}
+
+/// The work done so far, each unit weighed by its expected cost: the time left is the rest at
+/// the rate so far. A sweep's maps above a fold of cycles cost 20-50 times those below it
+/// (`nu-sweep`: 10^4 times its first map's, per cell), so counting cells alone promised
+/// "5 s left" 80 s before the end; the scan's pilot gives each map's cost per cell.
+pub struct WorkMeter {
+    /// Expected cost of one unit of each kind (a map's cells), relative; empty: all alike.
+    weights: Vec<f64>,
+    total: f64,
+    units: u64,
+    /// Units done, and their expected cost (f64 bits).
+    done: std::sync::atomic::AtomicU64,
+    work: std::sync::atomic::AtomicU64,
+}
+
+impl WorkMeter {
+    /// `total` units, all alike.
+    pub fn uniform(total: u64) -> Self {
+        WorkMeter {
+            weights: Vec::new(),
+            total: total as f64,
+            units: total,
+            done: 0.into(),
+            work: 0f64.to_bits().into(),
+        }
+    }
+
+    /// `counts[k]` units of kind `k`, each weighing `weights[k]` (a weight that is not finite
+    /// and positive counts as the mean of the others).
+    pub fn weighted(weights: Vec<f64>, counts: &[u64]) -> Self {
+        let good = |w: &f64| *w > 0.0 && w.is_finite();
+        let known: Vec<f64> = weights.iter().copied().filter(good).collect();
+        let mean = known.iter().sum::<f64>() / known.len().max(1) as f64;
+        let weights: Vec<f64> = weights
+            .into_iter()
+            .map(|w| {
+                if good(&w) {
+                    w
+                } else {
+                    mean.max(f64::MIN_POSITIVE)
+                }
+            })
+            .collect();
+        WorkMeter {
+            total: counts
+                .iter()
+                .zip(&weights)
+                .map(|(n, w)| *n as f64 * w)
+                .sum(),
+            units: counts.iter().sum(),
+            weights,
+            done: 0.into(),
+            work: 0f64.to_bits().into(),
+        }
+    }
+
+    /// Counts one unit of kind `kind`; returns the units done.
+    pub fn add(&self, kind: usize) -> u64 {
+        use std::sync::atomic::Ordering;
+        let w = self.weights.get(kind).copied().unwrap_or(1.0);
+        let _ = self
+            .work
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
+                Some((f64::from_bits(b) + w).to_bits())
+            });
+        self.done.fetch_add(1, Ordering::Relaxed) + 1
+    }
+
+    /// Units done.
+    pub fn done(&self) -> u64 {
+        self.done.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Seconds left after `secs` seconds: the expected work left at the rate so far.
+    pub fn left_seconds(&self, secs: f64) -> f64 {
+        let work = f64::from_bits(self.work.load(std::sync::atomic::Ordering::Relaxed));
+        (self.total - work).max(0.0) * secs / work.max(f64::MIN_POSITIVE)
+    }
+
+    /// The time left in words ("estimating" before the first second and the first unit).
+    pub fn eta_words(&self, secs: f64) -> String {
+        if secs < 1.0 || self.done() == 0 {
+            return "estimating".into();
+        }
+        short_duration(self.left_seconds(secs))
+    }
+}
+
 /// Progress as plain lines on stderr when it is not a terminal (a batch or SLURM log, where
 /// a bar draws nothing): one line every 5 % of the work, with the average rate and the time
-/// left, and at least one a minute; none in the first second (a rate from a few units in a
-/// few milliseconds is noise: the line would say "19 s left" of a 0.3 s scan).
-///
-/// The time left weighs each unit by its expected cost when the pilot measured one (a sweep's
-/// maps above a fold of cycles cost 20-50 times those below it, so counting cells alone
-/// promised "1 s left" a minute before the end).
+/// left ([`WorkMeter`]), and at least one a minute; none in the first second (a rate from a
+/// few units in a few milliseconds is noise: the line said "19 s left" of a 0.3 s scan).
 pub struct PlainLines {
     what: &'static str,
     unit: &'static str,
-    total: u64,
-    done: std::sync::atomic::AtomicU64,
-    /// Expected cost of one unit of each kind (a map's cells), relative; empty: all alike.
-    weights: Vec<f64>,
-    /// Expected cost of all units, and of those done (in the weights' units, as f64 bits).
-    work_total: f64,
-    work_done: std::sync::atomic::AtomicU64,
+    meter: std::sync::Arc<WorkMeter>,
     /// The last 5 % step printed, and the elapsed second of the last line.
     printed: std::sync::Mutex<(u64, f64)>,
     started: std::time::Instant,
@@ -210,82 +303,56 @@ impl PlainLines {
     /// Lines for `total` units of `what` (e.g. "cells"), counted as `unit`; `None` with
     /// `--quiet`, on a terminal (the bar shows it) or for no work.
     pub fn new(what: &'static str, unit: &'static str, total: u64, quiet: bool) -> Option<Self> {
-        (!quiet && !std::io::stderr().is_terminal() && total > 0).then(|| PlainLines {
+        Self::with_meter(
             what,
             unit,
-            total,
-            done: 0.into(),
-            weights: Vec::new(),
-            work_total: total as f64,
-            work_done: 0f64.to_bits().into(),
+            std::sync::Arc::new(WorkMeter::uniform(total)),
+            quiet,
+        )
+    }
+
+    /// Lines that read `meter`, which the caller counts ([`WorkMeter::add`], then
+    /// [`PlainLines::report`]).
+    pub fn with_meter(
+        what: &'static str,
+        unit: &'static str,
+        meter: std::sync::Arc<WorkMeter>,
+        quiet: bool,
+    ) -> Option<Self> {
+        (!quiet && !std::io::stderr().is_terminal() && meter.units > 0).then(|| PlainLines {
+            what,
+            unit,
+            meter,
             printed: std::sync::Mutex::new((0, 0.0)),
             started: std::time::Instant::now(),
         })
     }
 
-    /// Weighs units of kind `k` by `weights[k]` for the time left; `counts[k]` units of kind
-    /// `k` are to be done (weights that are not finite and positive count as the mean).
-    pub fn weighted(mut self, weights: Vec<f64>, counts: &[u64]) -> Self {
-        let good: Vec<f64> = weights
-            .iter()
-            .copied()
-            .filter(|w| *w > 0.0 && w.is_finite())
-            .collect();
-        let mean = good.iter().sum::<f64>() / good.len().max(1) as f64;
-        let weights: Vec<f64> = weights
-            .into_iter()
-            .map(|w| {
-                if w > 0.0 && w.is_finite() {
-                    w
-                } else {
-                    mean.max(1.0)
-                }
-            })
-            .collect();
-        self.work_total = counts
-            .iter()
-            .zip(&weights)
-            .map(|(n, w)| *n as f64 * w)
-            .sum();
-        self.weights = weights;
-        self
-    }
-
-    /// Seconds left when `work` of the expected work was done in `secs`: the rest at the
-    /// rate so far.
-    fn left_seconds(&self, work: f64, secs: f64) -> f64 {
-        (self.work_total - work).max(0.0) * secs / work.max(f64::MIN_POSITIVE)
-    }
-
-    /// Counts one unit (of kind `kind` when weighted); prints a line at each 5 % step (or
-    /// after a minute without one), from the first second on.
+    /// Counts one unit (of kind `kind`) on its meter and reports.
     pub fn inc(&self, kind: usize) {
-        use std::sync::atomic::Ordering;
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        let w = self.weights.get(kind).copied().unwrap_or(1.0);
-        let work = f64::from_bits(
-            self.work_done
-                .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
-                    Some((f64::from_bits(b) + w).to_bits())
-                })
-                .unwrap_or(0),
-        ) + w;
-        let step = done * 20 / self.total;
+        self.meter.add(kind);
+        self.report();
+    }
+
+    /// Prints a line at each 5 % step of the meter's units (or after a minute without one),
+    /// from the first second on.
+    pub fn report(&self) {
+        let done = self.meter.done();
+        let total = self.meter.units.max(1);
+        let step = done * 20 / total;
         let secs = self.started.elapsed().as_secs_f64();
         let Ok(mut last) = self.printed.lock() else {
             return;
         };
         if secs >= 1.0 && (step > last.0 || secs - last.1 >= 60.0) {
             *last = (step, secs);
-            let left = self.left_seconds(work, secs);
             eprintln!(
-                "squeal: {:.0}% ({done}/{} {}) after {}, {}, about {} left",
-                100.0 * done as f64 / self.total as f64,
-                self.total,
+                "squeal: {:.0}% ({done}/{total} {}) after {}, {}, about {} left",
+                100.0 * done as f64 / total as f64,
                 self.what,
                 short_duration(secs),
                 rate_words(done, secs, self.unit),
-                short_duration(left),
+                short_duration(self.meter.left_seconds(secs)),
             );
         }
     }
@@ -705,32 +772,28 @@ pub fn duration(secs: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::PlainLines;
-
-    fn lines(total: u64) -> PlainLines {
-        PlainLines {
-            what: "cells",
-            unit: "cell",
-            total,
-            done: 0.into(),
-            weights: Vec::new(),
-            work_total: total as f64,
-            work_done: 0f64.to_bits().into(),
-            printed: std::sync::Mutex::new((0, 0.0)),
-            started: std::time::Instant::now(),
-        }
-    }
+    use super::WorkMeter;
 
     #[test]
     fn time_left_weighs_each_maps_cells_by_their_cost() {
         // Two maps of 100 cells, the second 20 times dearer per cell (above a fold): after
         // the first map in 10 s, 20 times that is left, not as much again.
-        let p = lines(200).weighted(vec![1.0, 20.0], &[100, 100]);
-        assert!((p.left_seconds(100.0, 10.0) - 200.0).abs() < 1e-9);
+        let m = WorkMeter::weighted(vec![1.0, 20.0], &[100, 100]);
+        for _ in 0..100 {
+            m.add(0);
+        }
+        assert_eq!(m.done(), 100);
+        assert!((m.left_seconds(10.0) - 200.0).abs() < 1e-9);
         // Unweighted, the same progress promises 10 s.
-        assert!((lines(200).left_seconds(100.0, 10.0) - 10.0).abs() < 1e-9);
+        let u = WorkMeter::uniform(200);
+        for _ in 0..100 {
+            u.add(0);
+        }
+        assert!((u.left_seconds(10.0) - 10.0).abs() < 1e-9);
         // A weight the pilot could not measure counts as the mean of the others.
-        let p = lines(300).weighted(vec![2.0, f64::NAN, 4.0], &[100, 100, 100]);
-        assert!((p.work_total - 900.0).abs() < 1e-9);
+        let m = WorkMeter::weighted(vec![2.0, f64::NAN, 4.0], &[100, 100, 100]);
+        assert!((m.total - 900.0).abs() < 1e-9);
+        // No estimate before the first second.
+        assert_eq!(m.eta_words(0.5), "estimating");
     }
 }

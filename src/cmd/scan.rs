@@ -40,14 +40,17 @@ pub struct Args {
 struct Bars {
     overall: ProgressBar,
     maps: Vec<ProgressBar>,
+    /// The cells done, each weighed by its map's cost per cell (the time left).
+    meter: Arc<common::WorkMeter>,
     plain: Option<common::PlainLines>,
 }
 
 impl Observer for Bars {
     fn cell_done(&self, map: usize) {
+        self.meter.add(map);
         self.overall.inc(1);
         if let Some(p) = &self.plain {
-            p.inc(map);
+            p.report();
         }
         if let Some(m) = self.maps.get(map) {
             m.inc(1);
@@ -175,9 +178,24 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
         "cell",
     );
+    let counts: Vec<u64> = (0..plan.maps.len())
+        .map(|m| pending.cells_of(&plan, m) as u64)
+        .collect();
+    let meter = Arc::new(match &pilot {
+        // The time left weighs each map's cells by the pilot's cost per cell there.
+        Some(e) => common::WorkMeter::weighted(
+            (0..plan.maps.len()).map(|m| e.cell_cost(m)).collect(),
+            &counts,
+        ),
+        None => common::WorkMeter::uniform(pending.cells as u64),
+    });
     let overall = multi.add(
         ProgressBar::new(pending.cells as u64)
-            .with_style(style.clone())
+            .with_style(common::metered_bar_style(
+                "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
+                "cell",
+                meter.clone(),
+            ))
             .with_prefix("all"),
     );
     let maps = if plan.maps.len() > 1 {
@@ -202,22 +220,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
-    let plain =
-        common::PlainLines::new("cells", "cell", pending.cells as u64, args.run.quiet).map(|p| {
-            match &pilot {
-                // The time left weighs each map's cells by the pilot's cost per cell there.
-                Some(e) => p.weighted(
-                    (0..plan.maps.len()).map(|m| e.cell_cost(m)).collect(),
-                    &(0..plan.maps.len())
-                        .map(|m| pending.cells_of(&plan, m) as u64)
-                        .collect::<Vec<_>>(),
-                ),
-                None => p,
-            }
-        });
+    let plain = common::PlainLines::with_meter("cells", "cell", meter.clone(), args.run.quiet);
     let bars = Bars {
         overall,
         maps,
+        meter,
         plain,
     };
 
