@@ -51,13 +51,16 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Classifier, FrictionLaw, Params, Scheme, Setup, SolverConfig, SolverKind};
+use squeal_core::{Classifier, FrictionLaw, Params, Setup, SolverConfig};
 
 use crate::error::ScanError;
 use crate::grid::{Axis, Grid, RandomSample};
 use crate::values::{Value, expand};
 
 mod physical;
+mod tables;
+
+pub(crate) use tables::{IntegrationTable, ModelTable, OutputTable, check_name};
 
 /// The spec version this build reads.
 pub const SPEC_VERSION: u32 = 1;
@@ -68,7 +71,7 @@ struct SpecFile {
     version: u32,
     #[serde(default)]
     name: Option<String>,
-    model: ModelSpec,
+    model: ModelTable,
     /// The physical system in SI units instead of `[model]`'s nondimensional keys.
     #[serde(default)]
     physical: Option<crate::atlas::spec::PhysicalFile>,
@@ -77,66 +80,12 @@ struct SpecFile {
     #[serde(default)]
     sample: Option<SampleSpec>,
     #[serde(default)]
-    integration: IntegrationSpec,
+    integration: IntegrationTable,
     #[serde(default)]
     classifier: ClassifierSpec,
     #[serde(default)]
     cycle: CycleSpec,
-    output: OutputSpec,
-}
-
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-struct ModelSpec {
-    law: FrictionLaw,
-    #[serde(default)]
-    nu: Option<Value>,
-    #[serde(default)]
-    lambda: Option<Value>,
-    #[serde(default)]
-    tau: Option<f64>,
-    #[serde(default)]
-    phi: Option<f64>,
-    // The Stribeck law's keys (law = "stribeck" only).
-    #[serde(default)]
-    xi: Option<Value>,
-    #[serde(default)]
-    v_d: Option<Value>,
-    #[serde(default)]
-    mu_d: Option<f64>,
-    #[serde(default)]
-    mu_sd: Option<f64>,
-    #[serde(default)]
-    v_0: Option<f64>,
-    #[serde(default)]
-    mu_v: Option<f64>,
-}
-
-impl ModelSpec {
-    /// The keys given that belong to the other parameterisation (McMillan's or Stribeck's).
-    fn foreign_key(&self) -> Option<&'static str> {
-        let given = |k: &'static str| -> bool {
-            match k {
-                "nu" => self.nu.is_some(),
-                "lambda" => self.lambda.is_some(),
-                "tau" => self.tau.is_some(),
-                "phi" => self.phi.is_some(),
-                "xi" => self.xi.is_some(),
-                "v_d" => self.v_d.is_some(),
-                "mu_d" => self.mu_d.is_some(),
-                "mu_sd" => self.mu_sd.is_some(),
-                "v_0" => self.v_0.is_some(),
-                "mu_v" => self.mu_v.is_some(),
-                _ => false,
-            }
-        };
-        let other = if self.law == FrictionLaw::Stribeck {
-            FrictionLaw::McMillan
-        } else {
-            FrictionLaw::Stribeck
-        };
-        other.keys().iter().copied().find(|k| given(k))
-    }
+    output: OutputTable,
 }
 
 #[derive(Deserialize, Debug)]
@@ -189,37 +138,6 @@ pub const DEFAULT_SAMPLE_BLOCK: i64 = 256;
 /// Largest number of random samples per map.
 pub const MAX_SAMPLES: i64 = 1 << 26;
 
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-struct IntegrationSpec {
-    #[serde(default = "default_dt")]
-    dt: f64,
-    #[serde(default)]
-    solver: SolverKind,
-    #[serde(default)]
-    scheme: Scheme,
-    #[serde(default = "default_max_iter")]
-    max_iter: i64,
-}
-
-fn default_dt() -> f64 {
-    squeal_core::defaults::DT
-}
-fn default_max_iter() -> i64 {
-    squeal_core::defaults::MAX_ITER as i64
-}
-
-impl Default for IntegrationSpec {
-    fn default() -> Self {
-        IntegrationSpec {
-            dt: default_dt(),
-            solver: SolverKind::Robust,
-            scheme: Scheme::default(),
-            max_iter: default_max_iter(),
-        }
-    }
-}
-
 /// Early stopping of the classifier.
 #[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[serde(rename_all = "lowercase")]
@@ -271,12 +189,6 @@ impl Default for CycleSpec {
     fn default() -> Self {
         CycleSpec { locate: true }
     }
-}
-
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-struct OutputSpec {
-    path: PathBuf,
 }
 
 /// Largest spec file read, in bytes. The shipped specs are under 3 kB; a spec is a few
@@ -566,15 +478,7 @@ impl Plan {
             None => (None, None),
         };
         let m = converted.as_ref().unwrap_or(&spec.model);
-        if let Some(k) = m.foreign_key() {
-            let expected = if m.law == FrictionLaw::Stribeck {
-                "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
-            } else {
-                "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
-                 mu_sd, v_0, mu_v)"
-            };
-            return Err(invalid(&format!("model.{k}"), "given".into(), expected));
-        }
+        m.check_law(&invalid)?;
         let stribeck = m.law == FrictionLaw::Stribeck;
         let (damping_key, speed_key) = if stribeck {
             ("xi", "v_d")
@@ -624,8 +528,19 @@ impl Plan {
         } else {
             None
         };
-        let tau = m.tau.unwrap_or(squeal_core::defaults::TAU);
-        let phi = m.phi.unwrap_or(squeal_core::defaults::PHI);
+        // A scan sweeps one of the damping and the belt speed; tau and phi are numbers.
+        let number = |key: &str, v: &Option<Value>, default: f64| match v {
+            None => Ok(default),
+            Some(Value::One(x)) => Ok(*x),
+            Some(_) => Err(invalid(
+                &format!("model.{key}"),
+                "a list or range".into(),
+                "a number: a scan sweeps only the damping or the belt speed (sweep the others \
+                 with squeal atlas)",
+            )),
+        };
+        let tau = number("tau", &m.tau, squeal_core::defaults::TAU)?;
+        let phi = number("phi", &m.phi, squeal_core::defaults::PHI)?;
         let d = squeal_core::Stribeck::default();
         let law_params = squeal_core::Stribeck {
             mu_d: m.mu_d.unwrap_or(d.mu_d),
@@ -718,49 +633,15 @@ impl Plan {
         if let Some(ph) = &physical {
             physical::grid_to_nondimensional(&mut grid, ph);
         }
-        let it = &spec.integration;
-        if !it.dt.is_finite() || it.dt <= 0.0 || it.dt > 1.0 {
-            return Err(invalid(
-                "integration.dt",
-                it.dt.to_string(),
-                "a finite step in (0, 1]",
-            ));
-        }
-        if it.max_iter < 1 || it.max_iter > 100_000 {
-            return Err(invalid(
-                "integration.max_iter",
-                it.max_iter.to_string(),
-                "an iteration cap in 1..=100000",
-            ));
-        }
+        let (dt, solver) = spec.integration.check(&invalid)?;
         let ClassifierPlan {
             classifier,
             early_stop,
             trap_margin,
             audit_every,
-        } = spec.classifier.check(it.dt, grid.cells(), &invalid)?;
-        if spec.output.path.as_os_str().is_empty() {
-            return Err(invalid(
-                "output.path",
-                "\"\"".into(),
-                "a file name ending in .h5",
-            ));
-        }
-        let name = spec.name.clone().unwrap_or_else(|| {
-            std::path::Path::new(path)
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default()
-        });
-        // The name goes into file attributes and picture titles: printable text only (an
-        // HDF5 string cannot hold a NUL, and the scan would be lost at the final write).
-        if name.chars().any(char::is_control) || name.chars().count() > 200 {
-            return Err(invalid(
-                "name",
-                format!("{name:?}"),
-                "printable text of at most 200 characters (no control characters such as NUL)",
-            ));
-        }
+        } = spec.classifier.check(dt, grid.cells(), &invalid)?;
+        let output = spec.output.check(&invalid)?;
+        let name = tables::check_name(spec.name.as_deref(), path, "", &invalid)?;
         Ok(Plan {
             spec_text: text.to_string(),
             spec_path: path.to_string(),
@@ -768,19 +649,14 @@ impl Plan {
             maps,
             sweep,
             grid,
-            dt: it.dt,
-            solver: SolverConfig {
-                kind: it.solver,
-                scheme: it.scheme,
-                max_iter: it.max_iter as u32,
-                ..Default::default()
-            },
+            dt,
+            solver,
             classifier,
             early_stop,
             trap_margin,
             audit_every,
             locate_cycle: spec.cycle.locate,
-            output: spec.output.path.clone(),
+            output,
             physical,
         })
     }

@@ -69,9 +69,7 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{
-    Classifier, FrictionLaw, Params, Physical, Scheme, Setup, SolverConfig, SolverKind, State,
-};
+use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig, State};
 
 use super::boundary::BoundaryParam;
 use super::geometry::Region;
@@ -92,11 +90,11 @@ struct AtlasFile {
     version: u32,
     #[serde(default)]
     name: Option<String>,
-    model: ModelFile,
+    model: crate::spec::ModelTable,
     #[serde(default)]
     physical: Option<PhysicalFile>,
     #[serde(default)]
-    integration: Option<IntegrationFile>,
+    integration: crate::spec::IntegrationTable,
     #[serde(default)]
     cycle: Option<CycleFile>,
     #[serde(default)]
@@ -112,50 +110,7 @@ struct AtlasFile {
     grid: Option<crate::spec::GridSpec>,
     #[serde(default)]
     classifier: Option<crate::spec::ClassifierSpec>,
-    output: OutputFile,
-}
-
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-struct ModelFile {
-    law: FrictionLaw,
-    nu: Option<Value>,
-    lambda: Option<Value>,
-    tau: Option<Value>,
-    phi: Option<Value>,
-    // The Stribeck law's keys (law = "stribeck" only): xi and v_d may be swept.
-    xi: Option<Value>,
-    v_d: Option<Value>,
-    mu_d: Option<f64>,
-    mu_sd: Option<f64>,
-    v_0: Option<f64>,
-    mu_v: Option<f64>,
-}
-
-impl ModelFile {
-    /// The first key given that belongs to the other parameterisation (McMillan's or
-    /// Stribeck's).
-    fn foreign_key(&self) -> Option<&'static str> {
-        let given = |k: &str| match k {
-            "nu" => self.nu.is_some(),
-            "lambda" => self.lambda.is_some(),
-            "tau" => self.tau.is_some(),
-            "phi" => self.phi.is_some(),
-            "xi" => self.xi.is_some(),
-            "v_d" => self.v_d.is_some(),
-            "mu_d" => self.mu_d.is_some(),
-            "mu_sd" => self.mu_sd.is_some(),
-            "v_0" => self.v_0.is_some(),
-            "mu_v" => self.mu_v.is_some(),
-            _ => false,
-        };
-        let other = if self.law.has_true_stick() {
-            FrictionLaw::McMillan
-        } else {
-            FrictionLaw::Stribeck
-        };
-        other.keys().iter().copied().find(|k| given(k))
-    }
+    output: crate::spec::OutputTable,
 }
 
 /// The `[physical]` table: the physical system in SI units (also read by the scan spec,
@@ -184,17 +139,6 @@ pub(crate) fn physical_key(name: &str) -> &str {
         "phi" => "mu_s",
         n => n,
     }
-}
-
-#[derive(Deserialize, Debug, Default)]
-#[serde(deny_unknown_fields)]
-struct IntegrationFile {
-    dt: Option<f64>,
-    #[serde(default)]
-    solver: SolverKind,
-    #[serde(default)]
-    scheme: Scheme,
-    max_iter: Option<i64>,
 }
 
 #[derive(Deserialize, Debug, Default)]
@@ -250,12 +194,6 @@ struct BoundariesFile {
     v_d_lo: Option<f64>,
     v_d_hi: Option<f64>,
     rtol: Option<f64>,
-}
-
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-struct OutputFile {
-    path: PathBuf,
 }
 
 /// Whether the spec describes the nondimensional model or the physical system.
@@ -457,44 +395,14 @@ impl AtlasPlan {
                 "1 (the atlas spec version this build reads)",
             ));
         }
+        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let m = &f.model;
         let stribeck = m.law.has_true_stick();
-        if let Some(k) = m.foreign_key() {
-            let expected = if stribeck {
-                "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
-            } else {
-                "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
-                 mu_sd, v_0, mu_v)"
-            };
-            return Err(invalid(path, &format!("model.{k}"), "given", expected));
-        }
-        if stribeck && f.physical.is_some() {
-            return Err(invalid(
-                path,
-                "physical",
-                "given with law = \"stribeck\"",
-                "a nondimensional Stribeck spec ([model] xi, v_d, mu_d, mu_sd, v_0, mu_v): the \
-                 physical units are McMillan's scaling (x scaled by mu_k g / omega_n^2, lambda = \
-                 v_B omega_n / (mu_k g), tau and Phi from the surfaces), which the Stribeck law \
-                 does not share",
-            ));
+        m.check_law(&inv)?;
+        if f.physical.is_some() {
+            m.check_physical(&inv)?;
         }
         let (units, params) = if let Some(ph) = &f.physical {
-            for (key, v) in [
-                ("nu", &m.nu),
-                ("lambda", &m.lambda),
-                ("tau", &m.tau),
-                ("phi", &m.phi),
-            ] {
-                if v.is_some() {
-                    return Err(invalid(
-                        path,
-                        &format!("model.{key}"),
-                        "given with [physical]",
-                        "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical system ([physical] m, k, c, v_belt, mu_k, mu_s, tau, g), not both",
-                    ));
-                }
-            }
             let g =
                 ph.g.clone()
                     .unwrap_or(Value::One(squeal_core::units::G_STANDARD));
@@ -584,34 +492,7 @@ impl AtlasPlan {
                 "at most 1000000 points (the product of the value counts)",
             ));
         }
-        let integ = f.integration.unwrap_or_default();
-        let dt = integ.dt.unwrap_or(squeal_core::defaults::DT);
-        if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
-            return Err(invalid(
-                path,
-                "integration.dt",
-                dt,
-                "a finite step in (0, 1]",
-            ));
-        }
-        let max_iter = integ
-            .max_iter
-            .unwrap_or(squeal_core::defaults::MAX_ITER as i64);
-        if !(1..=1_000_000).contains(&max_iter) {
-            return Err(invalid(
-                path,
-                "integration.max_iter",
-                max_iter,
-                "an iteration cap in 1..=1000000",
-            ));
-        }
-        let solver = SolverConfig {
-            kind: integ.solver,
-            scheme: integ.scheme,
-            max_iter: max_iter as u32,
-            ..SolverConfig::default()
-        };
-        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
+        let (dt, solver) = f.integration.check(&inv)?;
         let mut ps = PointSettings::default();
         let cy = f.cycle.unwrap_or_default();
         let c = &mut ps.cycle;
@@ -842,12 +723,7 @@ impl AtlasPlan {
             ));
         }
         let plan = AtlasPlan {
-            name: f.name.unwrap_or_else(|| {
-                std::path::Path::new(path)
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "atlas".into())
-            }),
+            name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
             law: m.law,
             units,
             params,
@@ -862,7 +738,7 @@ impl AtlasPlan {
             lambda_range,
             boundary_rtol,
             maps,
-            out: f.output.path,
+            out: f.output.check(&inv)?,
             spec_text: text.to_string(),
             spec_path: path.to_string(),
         };
@@ -1511,10 +1387,10 @@ path = "s.h5"
             "t.toml",
         )
         .unwrap();
-        assert_eq!(z.solver.scheme, Scheme::Zoh);
+        assert_eq!(z.solver.scheme, squeal_core::Scheme::Zoh);
         assert_eq!(
             AtlasPlan::from_toml(GOOD, "t.toml").unwrap().solver.scheme,
-            Scheme::default()
+            squeal_core::Scheme::default()
         );
     }
 

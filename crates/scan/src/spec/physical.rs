@@ -6,7 +6,7 @@
 
 use squeal_core::{Physical, units::G_STANDARD};
 
-use super::{Invalid, MAX_MAPS, ModelSpec};
+use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::atlas::spec::{PhysicalFile, physical_key};
 use crate::error::ScanError;
 use crate::grid::Grid;
@@ -15,32 +15,10 @@ use crate::values::{Value, expand};
 /// The physical system of the first map and the `[model]` table it stands for.
 pub(super) fn model(
     ph: &PhysicalFile,
-    m: &ModelSpec,
+    m: &ModelTable,
     invalid: Invalid,
-) -> Result<(Physical, ModelSpec), ScanError> {
-    if m.law.has_true_stick() {
-        return Err(invalid(
-            "physical",
-            "given with law = \"stribeck\"".into(),
-            "a McMillan law: the physical units are McMillan's scaling, which the Stribeck \
-             law does not share (give its nondimensional keys in [model])",
-        ));
-    }
-    for (key, given) in [
-        ("nu", m.nu.is_some()),
-        ("lambda", m.lambda.is_some()),
-        ("tau", m.tau.is_some()),
-        ("phi", m.phi.is_some()),
-    ] {
-        if given {
-            return Err(invalid(
-                &format!("model.{key}"),
-                "given with [physical]".into(),
-                "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical \
-                 system ([physical] m, k, c, v_belt, mu_k, mu_s, tau, g), not both",
-            ));
-        }
-    }
+) -> Result<(Physical, ModelTable), ScanError> {
+    m.check_physical(invalid)?;
     let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
         match v {
             Value::One(x) => Ok(*x),
@@ -103,12 +81,12 @@ pub(super) fn model(
             Value::One(xs[0] / unit)
         }
     };
-    let model = ModelSpec {
+    let model = ModelTable {
         law: m.law,
         nu: Some(scaled(&ph.c, &cs, s.damping)),
         lambda: Some(scaled(&ph.v_belt, &vs, s.velocity)),
-        tau: Some(p0.tau),
-        phi: Some(p0.phi),
+        tau: Some(Value::One(p0.tau)),
+        phi: Some(Value::One(p0.phi)),
         xi: None,
         v_d: None,
         mu_d: None,

@@ -1,0 +1,274 @@
+//! The tables a scan spec and an atlas spec share, each parsed and checked here once:
+//! `[integration]`, `[output]`, the spec's `name`, and the key rules of `[model]` (a law's
+//! own keys only; the nondimensional model or `[physical]`, not both). The scan
+//! ([`crate::spec`]) and the atlas ([`crate::atlas::spec`]) read them into their own shapes.
+
+use std::path::PathBuf;
+
+use serde::Deserialize;
+use squeal_core::{FrictionLaw, Scheme, SolverConfig, SolverKind};
+
+use super::Invalid;
+use crate::error::ScanError;
+use crate::values::Value;
+
+/// The `[model]` table: the law and its own keys. A scan sweeps one of the damping and the
+/// belt speed (`nu` or `lambda`; `xi` or `v_d`); an atlas sweeps any of them.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ModelTable {
+    pub(crate) law: FrictionLaw,
+    #[serde(default)]
+    pub(crate) nu: Option<Value>,
+    #[serde(default)]
+    pub(crate) lambda: Option<Value>,
+    #[serde(default)]
+    pub(crate) tau: Option<Value>,
+    #[serde(default)]
+    pub(crate) phi: Option<Value>,
+    // The Stribeck law's keys (law = "stribeck" only): xi and v_d may be swept.
+    #[serde(default)]
+    pub(crate) xi: Option<Value>,
+    #[serde(default)]
+    pub(crate) v_d: Option<Value>,
+    #[serde(default)]
+    pub(crate) mu_d: Option<f64>,
+    #[serde(default)]
+    pub(crate) mu_sd: Option<f64>,
+    #[serde(default)]
+    pub(crate) v_0: Option<f64>,
+    #[serde(default)]
+    pub(crate) mu_v: Option<f64>,
+}
+
+impl ModelTable {
+    /// Whether the spec gives `key`.
+    fn has(&self, key: &str) -> bool {
+        match key {
+            "nu" => self.nu.is_some(),
+            "lambda" => self.lambda.is_some(),
+            "tau" => self.tau.is_some(),
+            "phi" => self.phi.is_some(),
+            "xi" => self.xi.is_some(),
+            "v_d" => self.v_d.is_some(),
+            "mu_d" => self.mu_d.is_some(),
+            "mu_sd" => self.mu_sd.is_some(),
+            "v_0" => self.v_0.is_some(),
+            "mu_v" => self.mu_v.is_some(),
+            _ => false,
+        }
+    }
+
+    /// Refuses a key of the other law's parameterisation (McMillan's or Stribeck's).
+    pub(crate) fn check_law(&self, invalid: Invalid) -> Result<(), ScanError> {
+        let other = if self.law.has_true_stick() {
+            FrictionLaw::McMillan
+        } else {
+            FrictionLaw::Stribeck
+        };
+        match other.keys().iter().copied().find(|k| self.has(k)) {
+            None => Ok(()),
+            Some(k) => Err(invalid(
+                &format!("model.{k}"),
+                "given".into(),
+                if self.law.has_true_stick() {
+                    "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
+                } else {
+                    "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
+                     mu_sd, v_0, mu_v)"
+                },
+            )),
+        }
+    }
+
+    /// With `[physical]`: refuses a Stribeck law (the physical units are McMillan's scaling)
+    /// and any of McMillan's nondimensional keys (the model or the physical system, not both).
+    pub(crate) fn check_physical(&self, invalid: Invalid) -> Result<(), ScanError> {
+        if self.law.has_true_stick() {
+            return Err(invalid(
+                "physical",
+                "given with law = \"stribeck\"".into(),
+                "a McMillan law: the physical units are McMillan's scaling (x scaled by mu_k g / \
+                 omega_n^2, lambda = v_belt omega_n / (mu_k g), tau and Phi from the surfaces), \
+                 which the Stribeck law does not share (give its nondimensional keys in [model])",
+            ));
+        }
+        match ["nu", "lambda", "tau", "phi"]
+            .into_iter()
+            .find(|k| self.has(k))
+        {
+            None => Ok(()),
+            Some(k) => Err(invalid(
+                &format!("model.{k}"),
+                "given with [physical]".into(),
+                "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical \
+                 system ([physical] m, k, c, v_belt, mu_k, mu_s, tau, g), not both",
+            )),
+        }
+    }
+}
+
+/// The `[integration]` table.
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct IntegrationTable {
+    dt: Option<f64>,
+    #[serde(default)]
+    solver: SolverKind,
+    #[serde(default)]
+    scheme: Scheme,
+    max_iter: Option<i64>,
+}
+
+/// Largest iteration cap of the `paper` solver.
+pub const MAX_ITER_CAP: i64 = 100_000;
+
+impl IntegrationTable {
+    /// The step and the solver, checked: `0 < dt <= 1`, `max_iter` in `1..=100000`.
+    pub(crate) fn check(&self, invalid: Invalid) -> Result<(f64, SolverConfig), ScanError> {
+        let dt = self.dt.unwrap_or(squeal_core::defaults::DT);
+        if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
+            return Err(invalid(
+                "integration.dt",
+                dt.to_string(),
+                "a finite step in (0, 1]",
+            ));
+        }
+        let max_iter = self
+            .max_iter
+            .unwrap_or(squeal_core::defaults::MAX_ITER as i64);
+        if !(1..=MAX_ITER_CAP).contains(&max_iter) {
+            return Err(invalid(
+                "integration.max_iter",
+                max_iter.to_string(),
+                "an iteration cap in 1..=100000",
+            ));
+        }
+        let solver = SolverConfig {
+            kind: self.solver,
+            scheme: self.scheme,
+            max_iter: max_iter as u32,
+            ..SolverConfig::default()
+        };
+        Ok((dt, solver))
+    }
+}
+
+/// The `[output]` table.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct OutputTable {
+    path: PathBuf,
+}
+
+impl OutputTable {
+    /// The output path, checked not empty.
+    pub(crate) fn check(&self, invalid: Invalid) -> Result<PathBuf, ScanError> {
+        if self.path.as_os_str().is_empty() {
+            return Err(invalid(
+                "output.path",
+                "\"\"".into(),
+                "a file name ending in .h5",
+            ));
+        }
+        Ok(self.path.clone())
+    }
+}
+
+/// The spec's `name` (default: the spec file's name without `.toml`, or `fallback`), checked
+/// printable: it goes into file attributes and picture titles, an HDF5 string cannot hold a
+/// NUL, and the run would be lost at the final write.
+pub(crate) fn check_name(
+    name: Option<&str>,
+    spec_path: &str,
+    fallback: &str,
+    invalid: Invalid,
+) -> Result<String, ScanError> {
+    let name = name.map(str::to_string).unwrap_or_else(|| {
+        std::path::Path::new(spec_path)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .filter(|s| !s.is_empty())
+            .unwrap_or_else(|| fallback.to_string())
+    });
+    if name.chars().any(char::is_control) || name.chars().count() > 200 {
+        return Err(invalid(
+            "name",
+            format!("{name:?}"),
+            "printable text of at most 200 characters (no control characters such as NUL)",
+        ));
+    }
+    Ok(name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn invalid(key: &str, value: String, expected: &str) -> ScanError {
+        ScanError::Invalid {
+            path: "t.toml".into(),
+            key: key.into(),
+            value,
+            expected: expected.into(),
+        }
+    }
+
+    #[test]
+    fn one_integration_check_for_both_kinds_of_spec() {
+        // The scan refused max_iter above 100000 and the atlas accepted up to 1000000: one
+        // table, one rule now.
+        let t: IntegrationTable = toml::from_str("max_iter = 200000").unwrap();
+        let e = t.check(&invalid).unwrap_err().to_string();
+        assert!(e.contains("integration.max_iter"), "{e}");
+        let t: IntegrationTable = toml::from_str("dt = 0.0").unwrap();
+        assert!(
+            t.check(&invalid)
+                .unwrap_err()
+                .to_string()
+                .contains("integration.dt")
+        );
+        let (dt, s) = IntegrationTable::default().check(&invalid).unwrap();
+        assert_eq!(dt, squeal_core::defaults::DT);
+        assert_eq!(s.max_iter, squeal_core::defaults::MAX_ITER);
+    }
+
+    #[test]
+    fn names_are_printable_and_default_to_the_file() {
+        assert_eq!(
+            check_name(None, "dir/fig9.toml", "x", &invalid).unwrap(),
+            "fig9"
+        );
+        assert_eq!(check_name(None, "", "atlas", &invalid).unwrap(), "atlas");
+        let e = check_name(Some("a\0b"), "a.toml", "x", &invalid).unwrap_err();
+        assert!(e.to_string().contains("name"), "{e}");
+    }
+
+    #[test]
+    fn both_kinds_of_spec_share_the_checks() {
+        // An atlas took any name (a NUL was refused only by the scan) and any max_iter up
+        // to 1e6; a scan read `tau = [...]` as a type error of the TOML parser. One table
+        // each now, one rule, the key named.
+        let atlas = |extra: &str| {
+            format!(
+                "version = 1\n{extra}\n[model]\nlaw = \"mcmillan\"\nnu = 0.01\n[output]\npath = \"a.h5\"\n"
+            )
+        };
+        let e = crate::atlas::AtlasPlan::from_toml(&atlas("name = \"a\\u0000b\""), "a.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`name`"), "{e}");
+        let text = atlas("").replace("[output]", "[integration]\nmax_iter = 500000\n[output]");
+        let e = crate::atlas::AtlasPlan::from_toml(&text, "a.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("integration.max_iter"), "{e}");
+        let scan = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.01\ntau = [0.1, 0.2]\n\
+                    [grid]\nx0 = { min = -1.0, max = 1.0, count = 2 }\n\
+                    v0 = { min = -1.0, max = 1.0, count = 2 }\n[output]\npath = \"s.h5\"\n";
+        let e = crate::Plan::from_toml(scan, "s.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("model.tau") && e.contains("squeal atlas"), "{e}");
+    }
+}
