@@ -440,6 +440,178 @@ pub const MAX_CELLS: i64 = 1 << 26;
 /// Largest number of maps in a sweep.
 pub const MAX_MAPS: i64 = 10_000;
 
+/// The model's keys a scan does not sweep: McMillan's `tau` and `phi`, Stribeck's `mu_d`,
+/// `mu_sd`, `v_0`, `mu_v` (each its default when left out).
+fn fixed_params(
+    m: &ModelTable,
+    invalid: Invalid,
+) -> Result<(f64, f64, squeal_core::Stribeck), ScanError> {
+    // A scan sweeps one of the damping and the belt speed; tau and phi are numbers.
+    let number = |key: &str, v: &Option<Value>, default: f64| match v {
+        None => Ok(default),
+        Some(Value::One(x)) => Ok(*x),
+        Some(_) => Err(invalid(
+            &format!("model.{key}"),
+            "a list or range".into(),
+            "a number: a scan sweeps only the damping or the belt speed (sweep the others \
+             with squeal atlas)",
+        )),
+    };
+    let tau = number("tau", &m.tau, squeal_core::defaults::TAU)?;
+    let phi = number("phi", &m.phi, squeal_core::defaults::PHI)?;
+    let d = squeal_core::Stribeck::default();
+    let law_params = squeal_core::Stribeck {
+        mu_d: m.mu_d.unwrap_or(d.mu_d),
+        mu_sd: m.mu_sd.unwrap_or(d.mu_sd),
+        v_0: m.v_0.unwrap_or(d.v_0),
+        mu_v: m.mu_v.unwrap_or(d.mu_v),
+    };
+    Ok((tau, phi, law_params))
+}
+
+/// The maps of a `[model]` table: one parameter set per value of the swept key (the damping
+/// or the belt speed, not both), each checked.
+fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
+    let stribeck = m.law == FrictionLaw::Stribeck;
+    let (damping_key, speed_key) = if stribeck {
+        ("xi", "v_d")
+    } else {
+        ("nu", "lambda")
+    };
+    let (damping, speed) = if stribeck {
+        (m.xi.as_ref(), m.v_d.as_ref())
+    } else {
+        (m.nu.as_ref(), m.lambda.as_ref())
+    };
+    let nus = match damping {
+        Some(v) => expand(v, &format!("model.{damping_key}"), MAX_MAPS, &invalid)?,
+        None if stribeck => vec![squeal_core::defaults::XI],
+        None => {
+            return Err(invalid(
+                "model.nu",
+                "missing".into(),
+                "a damping ratio (a number, a list or a range)",
+            ));
+        }
+    };
+    let lambdas = match speed {
+        Some(v) => expand(v, &format!("model.{speed_key}"), MAX_MAPS, &invalid)?,
+        None if stribeck => vec![squeal_core::defaults::V_D],
+        None => vec![squeal_core::defaults::LAMBDA],
+    };
+    if nus.len() > 1 && lambdas.len() > 1 {
+        return Err(invalid(
+            &format!("model.{speed_key}"),
+            format!("{} values", lambdas.len()),
+            &format!(
+                "only one of model.{damping_key} and model.{speed_key} may be swept in one spec"
+            ),
+        ));
+    }
+    let sweep = if nus.len() > 1 || damping.is_some_and(Value::is_sweep) {
+        Some(Sweep {
+            name: damping_key,
+            values: nus.clone(),
+        })
+    } else if lambdas.len() > 1 || speed.is_some_and(Value::is_sweep) {
+        Some(Sweep {
+            name: speed_key,
+            values: lambdas.clone(),
+        })
+    } else {
+        None
+    };
+    let (tau, phi, law_params) = fixed_params(m, invalid)?;
+    let mut maps = Vec::new();
+    for &nu in &nus {
+        for &lambda in &lambdas {
+            let p = if stribeck {
+                Params::stribeck(nu, lambda, law_params)
+            } else {
+                Params {
+                    law: m.law,
+                    nu,
+                    lambda,
+                    tau,
+                    phi,
+                    stribeck: None,
+                }
+            };
+            p.validate().map_err(|e| match e {
+                squeal_core::CoreError::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                } => invalid(&format!("model.{name}"), value.to_string(), expected),
+                other => invalid("model", String::new(), &other.to_string()),
+            })?;
+            maps.push(p);
+        }
+    }
+    Ok((maps, sweep))
+}
+
+/// The initial conditions: `[grid]` or `[sample]`, exactly one of them.
+fn initial_conditions(
+    grid: Option<&GridSpec>,
+    sample: Option<&SampleSpec>,
+    invalid: Invalid,
+) -> Result<Grid, ScanError> {
+    let grid = match (grid, sample) {
+        (Some(_), Some(_)) => {
+            return Err(invalid(
+                "sample",
+                "both [grid] and [sample]".into(),
+                "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
+            ));
+        }
+        (None, None) => {
+            return Err(invalid(
+                "grid",
+                "neither [grid] nor [sample]".into(),
+                "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
+            ));
+        }
+        (Some(gs), None) => gs.check(&invalid)?,
+        (None, Some(ss)) => {
+            let SampleKind::Random = ss.kind;
+            if !(1..=MAX_SAMPLES).contains(&ss.n) {
+                return Err(invalid(
+                    "sample.n",
+                    ss.n.to_string(),
+                    "a sample count in 1..=2^26",
+                ));
+            }
+            let bound = |b: &[f64], key: &str| -> Result<Axis, ScanError> {
+                let [min, max] =
+                    crate::bounds::state_range(key, b, crate::bounds::Width::MayBeEmpty, &invalid)?;
+                Ok(Axis { min, max, count: 1 })
+            };
+            let x0 = bound(&ss.region.x0, "sample.region.x0")?;
+            let mut v0 = bound(&ss.region.v0, "sample.region.v0")?;
+            v0.count = ss.n as usize;
+            let block = ss.block.unwrap_or(DEFAULT_SAMPLE_BLOCK);
+            if !(1..=MAX_AXIS).contains(&block) {
+                return Err(invalid(
+                    "sample.block",
+                    block.to_string(),
+                    "a sample count per stored block in 1..=65536",
+                ));
+            }
+            Grid {
+                x0,
+                v0,
+                block_rows: block as usize,
+                sample: Some(RandomSample {
+                    n: ss.n as usize,
+                    seed: ss.seed,
+                }),
+            }
+        }
+    };
+    Ok(grid)
+}
+
 impl Plan {
     /// The integration setting of map `map`: its parameters with the plan's step and solver.
     pub fn setup(&self, map: usize) -> Setup {
@@ -479,157 +651,8 @@ impl Plan {
         };
         let m = converted.as_ref().unwrap_or(&spec.model);
         m.check_law(&invalid)?;
-        let stribeck = m.law == FrictionLaw::Stribeck;
-        let (damping_key, speed_key) = if stribeck {
-            ("xi", "v_d")
-        } else {
-            ("nu", "lambda")
-        };
-        let (damping, speed) = if stribeck {
-            (m.xi.as_ref(), m.v_d.as_ref())
-        } else {
-            (m.nu.as_ref(), m.lambda.as_ref())
-        };
-        let nus = match damping {
-            Some(v) => expand(v, &format!("model.{damping_key}"), MAX_MAPS, &invalid)?,
-            None if stribeck => vec![squeal_core::defaults::XI],
-            None => {
-                return Err(invalid(
-                    "model.nu",
-                    "missing".into(),
-                    "a damping ratio (a number, a list or a range)",
-                ));
-            }
-        };
-        let lambdas = match speed {
-            Some(v) => expand(v, &format!("model.{speed_key}"), MAX_MAPS, &invalid)?,
-            None if stribeck => vec![squeal_core::defaults::V_D],
-            None => vec![squeal_core::defaults::LAMBDA],
-        };
-        if nus.len() > 1 && lambdas.len() > 1 {
-            return Err(invalid(
-                &format!("model.{speed_key}"),
-                format!("{} values", lambdas.len()),
-                &format!(
-                    "only one of model.{damping_key} and model.{speed_key} may be swept in one spec"
-                ),
-            ));
-        }
-        let sweep = if nus.len() > 1 || damping.is_some_and(Value::is_sweep) {
-            Some(Sweep {
-                name: damping_key,
-                values: nus.clone(),
-            })
-        } else if lambdas.len() > 1 || speed.is_some_and(Value::is_sweep) {
-            Some(Sweep {
-                name: speed_key,
-                values: lambdas.clone(),
-            })
-        } else {
-            None
-        };
-        // A scan sweeps one of the damping and the belt speed; tau and phi are numbers.
-        let number = |key: &str, v: &Option<Value>, default: f64| match v {
-            None => Ok(default),
-            Some(Value::One(x)) => Ok(*x),
-            Some(_) => Err(invalid(
-                &format!("model.{key}"),
-                "a list or range".into(),
-                "a number: a scan sweeps only the damping or the belt speed (sweep the others \
-                 with squeal atlas)",
-            )),
-        };
-        let tau = number("tau", &m.tau, squeal_core::defaults::TAU)?;
-        let phi = number("phi", &m.phi, squeal_core::defaults::PHI)?;
-        let d = squeal_core::Stribeck::default();
-        let law_params = squeal_core::Stribeck {
-            mu_d: m.mu_d.unwrap_or(d.mu_d),
-            mu_sd: m.mu_sd.unwrap_or(d.mu_sd),
-            v_0: m.v_0.unwrap_or(d.v_0),
-            mu_v: m.mu_v.unwrap_or(d.mu_v),
-        };
-        let mut maps = Vec::new();
-        for &nu in &nus {
-            for &lambda in &lambdas {
-                let p = if stribeck {
-                    Params::stribeck(nu, lambda, law_params)
-                } else {
-                    Params {
-                        law: m.law,
-                        nu,
-                        lambda,
-                        tau,
-                        phi,
-                        stribeck: None,
-                    }
-                };
-                p.validate().map_err(|e| match e {
-                    squeal_core::CoreError::InvalidParameter {
-                        name,
-                        value,
-                        expected,
-                    } => invalid(&format!("model.{name}"), value.to_string(), expected),
-                    other => invalid("model", String::new(), &other.to_string()),
-                })?;
-                maps.push(p);
-            }
-        }
-        let mut grid = match (&spec.grid, &spec.sample) {
-            (Some(_), Some(_)) => {
-                return Err(invalid(
-                    "sample",
-                    "both [grid] and [sample]".into(),
-                    "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
-                ));
-            }
-            (None, None) => {
-                return Err(invalid(
-                    "grid",
-                    "neither [grid] nor [sample]".into(),
-                    "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
-                ));
-            }
-            (Some(gs), None) => gs.check(&invalid)?,
-            (None, Some(ss)) => {
-                let SampleKind::Random = ss.kind;
-                if !(1..=MAX_SAMPLES).contains(&ss.n) {
-                    return Err(invalid(
-                        "sample.n",
-                        ss.n.to_string(),
-                        "a sample count in 1..=2^26",
-                    ));
-                }
-                let bound = |b: &[f64], key: &str| -> Result<Axis, ScanError> {
-                    let [min, max] = crate::bounds::state_range(
-                        key,
-                        b,
-                        crate::bounds::Width::MayBeEmpty,
-                        &invalid,
-                    )?;
-                    Ok(Axis { min, max, count: 1 })
-                };
-                let x0 = bound(&ss.region.x0, "sample.region.x0")?;
-                let mut v0 = bound(&ss.region.v0, "sample.region.v0")?;
-                v0.count = ss.n as usize;
-                let block = ss.block.unwrap_or(DEFAULT_SAMPLE_BLOCK);
-                if !(1..=MAX_AXIS).contains(&block) {
-                    return Err(invalid(
-                        "sample.block",
-                        block.to_string(),
-                        "a sample count per stored block in 1..=65536",
-                    ));
-                }
-                Grid {
-                    x0,
-                    v0,
-                    block_rows: block as usize,
-                    sample: Some(RandomSample {
-                        n: ss.n as usize,
-                        seed: ss.seed,
-                    }),
-                }
-            }
-        };
+        let (maps, sweep) = model_maps(m, &invalid)?;
+        let mut grid = initial_conditions(spec.grid.as_ref(), spec.sample.as_ref(), &invalid)?;
         if let Some(ph) = &physical {
             physical::grid_to_nondimensional(&mut grid, ph);
         }

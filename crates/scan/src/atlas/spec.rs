@@ -68,6 +68,8 @@
 
 use std::path::PathBuf;
 
+mod parse;
+
 use serde::{Deserialize, Serialize};
 use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig, State};
 
@@ -141,7 +143,7 @@ pub(crate) fn physical_key(name: &str) -> &str {
     }
 }
 
-#[derive(Deserialize, Debug, Default)]
+#[derive(Deserialize, Debug, Default, Clone)]
 #[serde(deny_unknown_fields)]
 struct CycleFile {
     r_min: Option<f64>,
@@ -153,7 +155,7 @@ struct CycleFile {
     tangency_iters: Option<i64>,
 }
 
-#[derive(Deserialize, Debug, Default)]
+#[derive(Deserialize, Debug, Default, Clone)]
 #[serde(deny_unknown_fields)]
 struct AttractorFile {
     transient: Option<i64>,
@@ -177,7 +179,7 @@ struct BoxFile {
     v: Option<Vec<f64>>,
 }
 
-#[derive(Deserialize, Debug, Default)]
+#[derive(Deserialize, Debug, Default, Clone)]
 #[serde(deny_unknown_fields)]
 struct BoundariesFile {
     #[serde(rename = "in")]
@@ -341,39 +343,6 @@ fn expand(path: &str, key: &str, v: &Value) -> Result<Vec<f64>, ScanError> {
     })
 }
 
-/// A boundary's bisection range `[lo, hi]` of parameter `key`: `0 < lo < hi <= top`. The
-/// error names the key that breaks it (`boundaries.nu_hi` for a bad upper end).
-fn bisection_range(
-    inv: crate::spec::Invalid,
-    key: &str,
-    [lo, hi]: [f64; 2],
-    top: f64,
-) -> Result<(), ScanError> {
-    let expected = format!("0 < {key}_lo < {key}_hi <= {top}");
-    if !(lo.is_finite() && lo > 0.0 && lo < top) {
-        return Err(inv(
-            &format!("boundaries.{key}_lo"),
-            lo.to_string(),
-            &expected,
-        ));
-    }
-    if !(hi.is_finite() && hi > 0.0 && hi <= top) {
-        return Err(inv(
-            &format!("boundaries.{key}_hi"),
-            hi.to_string(),
-            &expected,
-        ));
-    }
-    if hi <= lo {
-        return Err(inv(
-            &format!("boundaries.{key}_lo/{key}_hi"),
-            format!("[{lo}, {hi}]"),
-            &expected,
-        ));
-    }
-    Ok(())
-}
-
 impl AtlasPlan {
     /// Reads and checks a spec file.
     pub fn from_file(path: &std::path::Path) -> Result<AtlasPlan, ScanError> {
@@ -397,331 +366,16 @@ impl AtlasPlan {
         }
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let m = &f.model;
-        let stribeck = m.law.has_true_stick();
         m.check_law(&inv)?;
         if f.physical.is_some() {
             m.check_physical(&inv)?;
         }
-        let (units, params) = if let Some(ph) = &f.physical {
-            let g =
-                ph.g.clone()
-                    .unwrap_or(Value::One(squeal_core::units::G_STANDARD));
-            let vals = [
-                &ph.m, &ph.k, &ph.c, &ph.v_belt, &ph.mu_k, &ph.mu_s, &ph.tau, &g,
-            ];
-            let mut axes = Vec::new();
-            for ((key, long, u), v) in PHYSICAL.iter().zip(vals) {
-                axes.push(AtlasAxis {
-                    key,
-                    long_name: long,
-                    units: u,
-                    values: expand(path, &format!("physical.{key}"), v)?,
-                });
-            }
-            (Units::Physical, axes)
-        } else if stribeck {
-            let fixed = |v: Option<f64>, d: f64| Value::One(v.unwrap_or(d));
-            let d = squeal_core::Stribeck::default();
-            let vals = [
-                m.xi.clone()
-                    .unwrap_or(Value::One(squeal_core::defaults::XI)),
-                m.v_d
-                    .clone()
-                    .unwrap_or(Value::One(squeal_core::defaults::V_D)),
-                fixed(m.mu_d, d.mu_d),
-                fixed(m.mu_sd, d.mu_sd),
-                fixed(m.v_0, d.v_0),
-                fixed(m.mu_v, d.mu_v),
-            ];
-            let mut axes = Vec::new();
-            for ((key, long, u), v) in stribeck_params().into_iter().zip(vals.iter()) {
-                axes.push(AtlasAxis {
-                    key,
-                    long_name: long,
-                    units: u,
-                    values: expand(path, &format!("model.{key}"), v)?,
-                });
-            }
-            (Units::Nondimensional, axes)
-        } else {
-            let nu = m.nu.clone().ok_or_else(|| {
-                invalid(
-                    path,
-                    "model.nu",
-                    "missing",
-                    "a damping ratio (or a [physical] table instead)",
-                )
-            })?;
-            let d = squeal_core::defaults::LAMBDA;
-            let vals = [
-                nu,
-                m.lambda.clone().unwrap_or(Value::One(d)),
-                m.tau
-                    .clone()
-                    .unwrap_or(Value::One(squeal_core::defaults::TAU)),
-                m.phi
-                    .clone()
-                    .unwrap_or(Value::One(squeal_core::defaults::PHI)),
-            ];
-            let mut axes = Vec::new();
-            for ((key, long, u), v) in NONDIMENSIONAL.iter().zip(vals.iter()) {
-                axes.push(AtlasAxis {
-                    key,
-                    long_name: long,
-                    units: u,
-                    values: expand(path, &format!("model.{key}"), v)?,
-                });
-            }
-            (Units::Nondimensional, axes)
-        };
-        let n: usize = params
-            .iter()
-            .map(|a| a.values.len())
-            .try_fold(1usize, |acc, n| acc.checked_mul(n))
-            .unwrap_or(usize::MAX);
-        if n > MAX_POINTS {
-            let counts: Vec<String> = params
-                .iter()
-                .filter(|a| a.values.len() > 1)
-                .map(|a| format!("{}: {} values", a.key, a.values.len()))
-                .collect();
-            return Err(invalid(
-                path,
-                "model",
-                format!("{n} parameter points ({})", counts.join(", ")),
-                "at most 1000000 points (the product of the value counts)",
-            ));
-        }
+        let (units, params) = parse::model_axes(&f, path)?;
         let (dt, solver) = f.integration.check(&inv)?;
-        let mut ps = PointSettings::default();
-        let cy = f.cycle.unwrap_or_default();
-        let c = &mut ps.cycle;
-        c.r_min = cy.r_min.unwrap_or(c.r_min);
-        c.r_max = cy.r_max.unwrap_or(c.r_max);
-        c.rtol = cy.rtol.unwrap_or(c.rtol);
-        c.t_return = cy.t_return.unwrap_or(c.t_return);
-        c.check_half_dt = cy.half_dt.unwrap_or(true);
-        let samples = cy.samples.unwrap_or(c.samples as i64);
-        if !(3..=100_000).contains(&samples) {
-            return Err(invalid(
-                path,
-                "cycle.samples",
-                samples,
-                "a count in 3..=100000",
-            ));
-        }
-        c.samples = samples as usize;
-        crate::bounds::cycle_search(c, &|k| format!("cycle.{k}"), &inv)?;
-        let ti = cy.tangency_iters.unwrap_or(ps.tangency_iters as i64);
-        if !(0..=200).contains(&ti) {
-            return Err(invalid(
-                path,
-                "cycle.tangency_iters",
-                ti,
-                "a count in 0..=200",
-            ));
-        }
-        ps.tangency_iters = ti as u32;
-        let at = f.attractor.unwrap_or_default();
-        for (key, v, slot) in [
-            ("attractor.transient", at.transient, &mut ps.transient),
-            ("attractor.window", at.window, &mut ps.window),
-        ] {
-            if let Some(v) = v {
-                if !(4..=100_000).contains(&v) {
-                    return Err(invalid(
-                        path,
-                        key,
-                        v,
-                        "a count of revolutions in 4..=100000",
-                    ));
-                }
-                *slot = v as u32;
-            }
-        }
-        if let Some(op) = f.operating_point {
-            let d = ps.operating;
-            ps.operating = State {
-                x: crate::bounds::state("operating_point.x", op.x.unwrap_or(d.x), &inv)?,
-                v: crate::bounds::state("operating_point.v", op.v.unwrap_or(d.v), &inv)?,
-            };
-        }
+        let mut ps = parse::point_settings(&f, path, &inv)?;
+        let maps = parse::map_settings(&f, path, units, dt, &mut ps, &inv)?;
+        let b = parse::boundaries(&f, path, units, &params, &inv)?;
         let has_disturbance = f.disturbance.is_some();
-        if let Some(b) = f.disturbance {
-            let d = ps.disturbance;
-            let range = |key: &str, given: Option<Vec<f64>>, default: [f64; 2]| match given {
-                Some(list) => {
-                    crate::bounds::state_range(key, &list, crate::bounds::Width::Positive, &inv)
-                }
-                None => Ok(default),
-            };
-            ps.disturbance = Region {
-                x: range("disturbance.x", b.x, d.x)?,
-                v: range("disturbance.v", b.v, d.v)?,
-            };
-        }
-        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
-        let maps = match (&f.grid, &f.classifier) {
-            (None, Some(_)) => {
-                return Err(invalid(
-                    path,
-                    "classifier",
-                    "given without [grid]",
-                    "a [grid] table: the classifier settings are for basin maps",
-                ));
-            }
-            (None, None) => None,
-            (Some(g), c) => {
-                if units == Units::Physical {
-                    return Err(invalid(
-                        path,
-                        "grid",
-                        "given with [physical]",
-                        "a nondimensional spec ([model] nu, lambda, tau, phi): basin maps are on the nondimensional grid",
-                    ));
-                }
-                let grid = g.check(&inv)?;
-                // The cells' box is the disturbance box: each axis needs two points or more
-                // to span one (a single point has no spacing and so no box).
-                for (key, a) in [("grid.x0.count", grid.x0), ("grid.v0.count", grid.v0)] {
-                    if a.count < 2 {
-                        return Err(inv(
-                            key,
-                            a.count.to_string(),
-                            "a count >= 2 (an atlas map's cells tile the disturbance box)",
-                        ));
-                    }
-                }
-                let c = match c {
-                    Some(c) => c.check(dt, grid.cells(), &inv)?,
-                    None => crate::spec::ClassifierSpec::default().check(dt, grid.cells(), &inv)?,
-                };
-                // One box: the basin fraction from the map and from the cycle cover the
-                // same initial conditions, the area the cells tile (each cell centred on
-                // its grid point, half a spacing beyond the first and last).
-                let (hx, hv) = (0.5 * grid.x0.spacing(), 0.5 * grid.v0.spacing());
-                let gbox = Region {
-                    x: [grid.x0.min - hx, grid.x0.max + hx],
-                    v: [grid.v0.min - hv, grid.v0.max + hv],
-                };
-                if has_disturbance {
-                    return Err(invalid(
-                        path,
-                        "disturbance",
-                        format!("x {:?}, v {:?}", ps.disturbance.x, ps.disturbance.v),
-                        "no [disturbance] with [grid]: the box the grid's cells cover is the disturbance box",
-                    ));
-                }
-                if gbox.area() <= 0.0 {
-                    return Err(invalid(
-                        path,
-                        "grid",
-                        format!("x0 {:?}, v0 {:?}", gbox.x, gbox.v),
-                        "a box of positive area (x0 and v0 each with min < max)",
-                    ));
-                }
-                ps.disturbance = gbox;
-                Some(MapSettings {
-                    grid,
-                    classifier: c.classifier,
-                    early_stop: c.early_stop,
-                    trap_margin: c.trap_margin,
-                    audit_every: c.audit_every,
-                })
-            }
-        };
-        let bd = f.boundaries.unwrap_or_default();
-        // The bisection ranges under the law's own names (`nu_lo` or `xi_lo`, ...); the other
-        // law's names are refused.
-        let (dk, sk) = (m.law.keys()[0], m.law.keys()[1]);
-        let (own, foreign) = if stribeck {
-            (
-                [bd.xi_lo, bd.xi_hi, bd.v_d_lo, bd.v_d_hi],
-                [
-                    ("nu_lo", bd.nu_lo),
-                    ("nu_hi", bd.nu_hi),
-                    ("lambda_lo", bd.lambda_lo),
-                    ("lambda_hi", bd.lambda_hi),
-                ],
-            )
-        } else {
-            (
-                [bd.nu_lo, bd.nu_hi, bd.lambda_lo, bd.lambda_hi],
-                [
-                    ("xi_lo", bd.xi_lo),
-                    ("xi_hi", bd.xi_hi),
-                    ("v_d_lo", bd.v_d_lo),
-                    ("v_d_hi", bd.v_d_hi),
-                ],
-            )
-        };
-        if let Some((k, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
-            return Err(invalid(
-                path,
-                &format!("boundaries.{k}"),
-                "given",
-                &format!(
-                    "the bisection range under law {}'s names: {dk}_lo, {dk}_hi, {sk}_lo, {sk}_hi",
-                    m.law
-                ),
-            ));
-        }
-        let nu_range = [
-            own[0].unwrap_or(DAMPING_RANGE[0]),
-            own[1].unwrap_or(DAMPING_RANGE[1]),
-        ];
-        bisection_range(&inv, dk, nu_range, 10.0)?;
-        let lambda_range = [
-            own[2].unwrap_or(SPEED_RANGE[0]),
-            own[3].unwrap_or(SPEED_RANGE[1]),
-        ];
-        bisection_range(&inv, sk, lambda_range, 1e3)?;
-        let swept = |k: &str| params.iter().any(|a| a.key == k && a.values.len() > 1);
-        let boundary_in = match bd.in_.as_deref() {
-            Some(k) if k == dk => BoundaryParam::Nu,
-            Some(k) if k == sk => BoundaryParam::Lambda,
-            Some(k) => {
-                return Err(invalid(
-                    path,
-                    "boundaries.in",
-                    k,
-                    &format!("\"{dk}\" or \"{sk}\" (law {})", m.law),
-                ));
-            }
-            None if swept(dk) || swept("c") => BoundaryParam::Nu,
-            None if swept(sk) || swept("v_belt") => BoundaryParam::Lambda,
-            None => BoundaryParam::Nu,
-        };
-        if units == Units::Physical {
-            // The bisected parameter must be swept alone along its axis: lambda also moves
-            // with k, m, mu_k, g and nu with k and m.
-            let others: &[&str] = match boundary_in {
-                BoundaryParam::Nu => &["m", "k"],
-                BoundaryParam::Lambda => &["m", "k", "mu_k", "g"],
-            };
-            if let Some(k) = others.iter().find(|k| swept(k)) {
-                if bd.fold.unwrap_or(true) || bd.critical.unwrap_or(true) {
-                    return Err(invalid(
-                        path,
-                        "boundaries.in",
-                        boundary_in.key(),
-                        &format!(
-                            "a parameter that only {} moves: {k} is swept too (set [boundaries] fold = false, critical = false, or bisect in the other one)",
-                            boundary_in.physical_key()
-                        ),
-                    ));
-                }
-            }
-        }
-        let boundary_rtol = bd.rtol.unwrap_or(1e-3);
-        if !(boundary_rtol > 0.0 && boundary_rtol < 0.5) {
-            return Err(invalid(
-                path,
-                "boundaries.rtol",
-                boundary_rtol,
-                "a relative width in (0, 0.5)",
-            ));
-        }
         let plan = AtlasPlan {
             name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
             law: m.law,
@@ -731,12 +385,12 @@ impl AtlasPlan {
             solver,
             point: ps,
             disturbance_nondimensional: units == Units::Physical && !has_disturbance,
-            fold: bd.fold.unwrap_or(true),
-            critical: bd.critical.unwrap_or(true),
-            nu_range,
-            boundary_in,
-            lambda_range,
-            boundary_rtol,
+            fold: b.fold,
+            critical: b.critical,
+            nu_range: b.nu_range,
+            boundary_in: b.boundary_in,
+            lambda_range: b.lambda_range,
+            boundary_rtol: b.boundary_rtol,
             maps,
             out: f.output.check(&inv)?,
             spec_text: text.to_string(),
