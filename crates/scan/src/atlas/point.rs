@@ -121,11 +121,12 @@ impl PointSettings {
         }
     }
 
-    /// A time `t` in words: `t = 134.2`, or in a physical plan `t = 0.8491 s`.
-    pub fn time_words(&self, t: f64) -> String {
+    /// A time `t` in words: `t = 134.2` (`decimals` after the point), or in a physical plan
+    /// `t = 0.8491 s`.
+    pub fn time_words(&self, t: f64, decimals: usize) -> String {
         match &self.units {
             Some(s) => format!("t = {:.4} s", t * s.time),
-            None => format!("t = {t:.1}"),
+            None => format!("t = {t:.decimals$}"),
         }
     }
 }
@@ -387,13 +388,13 @@ pub fn compute_point(
             res.note = Some(format!(
                 "an unstable cycle at {} but starts outside it fall back inside ({}): no stick-slip attractor",
                 ps.amplitude_words(res.cycle.map_or(f64::NAN, |c| c.r_section)),
-                ps.time_words(*t)
+                ps.time_words(*t, 1)
             ));
         }
         (_, Some(Err(StickFail::FellInside { t }))) => {
             res.note = Some(format!(
                 "D(r_min) > 0 but the run from outside reached the fixed point ({})",
-                ps.time_words(*t)
+                ps.time_words(*t, 1)
             ));
         }
         (_, Some(Err(StickFail::Failed(e)))) => res.note = Some(e.clone()),
@@ -435,7 +436,7 @@ fn confirm_operating_point(
         // confirmed either, and the note says so.
         res.note = Some(format!(
             "unconfirmed: the operating point's own run did not settle by {} ({})",
-            ps.time_words(o.t_decision),
+            ps.time_words(o.t_decision, 0),
             o.reason.name()
         ));
     } else if o.regime != squeal_core::Regime::StickSlip {
@@ -447,7 +448,7 @@ fn confirm_operating_point(
             ps.transient + ps.window,
             o.regime.name(),
             o.reason.name(),
-            ps.time_words(o.t_decision)
+            ps.time_words(o.t_decision, 1)
         ));
         res.regime = AtlasRegime::Undecided;
     }

@@ -834,7 +834,7 @@ path = "p.h5"
         // Its points' notes speak SI (issue 21): the settings carry the point's scales.
         let scales = p.physical_at(1).unwrap().scales();
         assert_eq!(p.settings_at(1).units, Some(scales));
-        assert!(p.settings_at(1).time_words(2.0).ends_with(" s"));
+        assert!(p.settings_at(1).time_words(2.0, 1).ends_with(" s"));
     }
 
     #[test]
