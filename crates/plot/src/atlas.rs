@@ -5,10 +5,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::{
-    Area, Curve, DrawResult, LegendItem, PlotError, Rgb, bold, check_curve, draw_legend, fmt_sig,
-    font, render,
-};
+use super::{Area, Curve, DrawResult, PlotError, Rgb, bold, check_curve, fmt_sig, font, render};
+use crate::legend::{LegendItem, draw_legend};
 
 /// A stability chart over two parameters.
 ///
