@@ -663,6 +663,7 @@ fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
     let flat = |idx: &[usize]| idx.iter().zip(&shape).fold(0, |acc, (i, n)| acc * n + i);
     let x0 = g.x0.values();
     let v0 = g.v0.values();
+    let scale = squeal_plot::StateScale::of_law(plan.law.name());
     let data: Vec<(usize, Vec<u8>)> = points
         .iter()
         .map(|idx| {
@@ -693,25 +694,14 @@ fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 .map(|(_, (a, v))| value_text(a, *v))
                 .collect::<Vec<_>>()
                 .join(", ");
-            let mut overlays = Vec::new();
-            if let Some(r) = res.map_cycle(*i) {
-                let mut xs = r.curve.x.clone();
-                let mut vs = r.curve.v.clone();
-                if let (Some(&a), Some(&b)) = (xs.first(), vs.first()) {
-                    xs.push(a);
-                    vs.push(b);
-                }
-                overlays.push(Curve {
-                    label: "unstable limit cycle".into(),
-                    xs,
-                    ys: vs,
-                    color: squeal_plot::CYCLE,
-                    points_only: false,
-                });
-            }
+            let overlays = res
+                .map_cycle(*i)
+                .map(|r| squeal_plot::cycle_overlay(&r.curve.x, &r.curve.v))
+                .into_iter()
+                .collect();
             let fp = plan.params_at(*i).fixed_point();
             squeal_plot::BasinPanel {
-                axis_labels: None,
+                axis_labels: Some(scale.initial_labels().map(String::from)),
                 title: if title.is_empty() {
                     plan.name.clone()
                 } else {
@@ -721,12 +711,7 @@ fn draw_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 v0: &v0,
                 labels,
                 overlays,
-                markers: vec![squeal_plot::Marker {
-                    label: "steady-slip fixed point".into(),
-                    x: fp.x,
-                    y: fp.v,
-                    color: squeal_plot::FIXED_POINT,
-                }],
+                markers: squeal_plot::state_markers((fp.x, fp.v), &x0, &v0),
             }
         })
         .collect();
@@ -822,6 +807,7 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 })
                 .collect();
             let mut curves = Vec::new();
+            let mut marks = Vec::new();
             if dpos.is_some() {
                 for (label, color, bs) in [
                     (
@@ -871,12 +857,13 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                     } else {
                         (moved, ya.values.clone())
                     };
-                    curves.push(Curve {
+                    // A diamond, not a line: the fold's own line runs under these points.
+                    marks.push(squeal_plot::Marks {
                         label: "fold: bracket moves at dt/2".into(),
                         xs,
                         ys,
-                        color: Rgb(250, 220, 0),
-                        points_only: true,
+                        glyph: squeal_plot::Glyph::Diamond,
+                        fill: Rgb(250, 220, 0),
                     });
                 }
             }
@@ -908,6 +895,7 @@ fn draw_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> anyhow::Resul
                 levels: vec![0.25, 0.5, 0.75, 0.9],
                 field_name: "basin fraction of steady slip".into(),
                 curves,
+                marks,
             };
             squeal_plot::stability_chart(png, &chart)
                 .with_context(|| format!("drawing {}", png.display()))?;

@@ -382,6 +382,49 @@ pub(crate) fn clip_segment(
     Some((at(t0), at(t1)))
 }
 
+/// The located unstable cycle `(x, v)` as a closed overlay curve of a basin map (the first
+/// point repeated at the end), in [`CYCLE`] colour.
+pub fn cycle_overlay(x: &[f64], v: &[f64]) -> Curve {
+    let mut xs = x.to_vec();
+    let mut ys = v.to_vec();
+    if let (Some(&a), Some(&b)) = (x.first(), v.first()) {
+        xs.push(a);
+        ys.push(b);
+    }
+    Curve {
+        label: "unstable limit cycle".into(),
+        xs,
+        ys,
+        color: CYCLE,
+        points_only: false,
+    }
+}
+
+/// The marks of a basin map over the grid `(x0, v0)`: the steady-slip fixed point, and the
+/// state at rest `(0, 0)`, the start most engineers ask about, where the grid covers it.
+pub fn state_markers(fixed_point: (f64, f64), x0: &[f64], v0: &[f64]) -> Vec<Marker> {
+    let mut markers = vec![Marker {
+        label: "steady-slip fixed point".into(),
+        x: fixed_point.0,
+        y: fixed_point.1,
+        color: FIXED_POINT,
+    }];
+    let covers = |axis: &[f64]| {
+        axis.first()
+            .zip(axis.last())
+            .is_some_and(|(a, b)| a.min(*b) <= 0.0 && a.max(*b) >= 0.0)
+    };
+    if covers(x0) && covers(v0) {
+        markers.push(Marker {
+            label: "state at rest (0, 0)".into(),
+            x: 0.0,
+            y: 0.0,
+            color: REST,
+        });
+    }
+    markers
+}
+
 /// One basin map: a categorical image of `panel.labels` over the grid `(x0, v0)`.
 ///
 /// Each cell value is looked up in `classes` (value, name, colour); a value not in `classes` is

@@ -18,6 +18,12 @@ pub(crate) enum LegendItem {
     },
     /// A marker sample.
     Marker { name: String, color: Rgb },
+    /// A glyph sample: the shape filled with `fill`, outlined in black.
+    Glyph {
+        name: String,
+        glyph: Glyph,
+        fill: Rgb,
+    },
 }
 
 /// Draws a vertical legend into `area`, starting at the top.
@@ -63,6 +69,11 @@ pub(crate) fn draw_legend(area: &Area<'_>, heading: &str, items: &[LegendItem]) 
             }
             LegendItem::Marker { name, color } => {
                 draw_marker_at(area, (x + 11, y + 11), *color, 7)?;
+                area.draw_text(name, &font(17), (x + 32, y + 2))?;
+                y += 34;
+            }
+            LegendItem::Glyph { name, glyph, fill } => {
+                area.draw(&glyph_element(*glyph, *fill, (x + 11, y + 11)))?;
                 area.draw_text(name, &font(17), (x + 32, y + 2))?;
                 y += 34;
             }

@@ -10,7 +10,7 @@
 //! * [`line_plot`]: curves (polylines or scatter) plus labelled [`Marker`]s, with axes, tick
 //!   values, axis labels, a title and a legend; optionally a logarithmic x axis.
 //! * [`phase_plot`]: a phase plane `(x, x')` with equal scales on both axes (a circle is drawn
-//!   as a circle) and the axis labels [`X_LABEL`] and [`V_LABEL`].
+//!   as a circle) and the axis labels of the law's [`StateScale`].
 //! * [`sweep_chart`]: a quantity against a swept parameter, with the values where it does not
 //!   exist (e.g. no unstable cycle) marked on the axis and listed in the legend.
 //! * [`basin_map`]: one categorical image of a grid of initial conditions `(x0, x'0)`, each cell
@@ -24,10 +24,11 @@
 //! [`ModelParams`]; numbers are written by [`fmt_number`] (four significant digits). A title
 //! may hold several lines separated by `\n`.
 //!
-//! Units: squeal's variables are nondimensional (crates/core/MODEL.md, "Units"): a
-//! displacement is measured in units of `mu_k m g / k` (the spring's stretch under the
-//! kinetic friction force) and a velocity in units of `mu_k g sqrt(m/k)`; the axis labels say
-//! so.
+//! Units: squeal's variables are nondimensional, each law in its own scale ([`StateScale`]):
+//! under McMillan's laws (crates/core/MODEL.md, "Units") a displacement is measured in units of
+//! `mu_k m g / k` (the spring's stretch under the kinetic friction force) and a velocity in
+//! units of `mu_k g sqrt(m/k)`; under the Stribeck law in `m g / k` and `g sqrt(m/k)`. The
+//! axis labels say so; a basin map of a physical scan is drawn in um and mm/s.
 //!
 //! The output format follows the file extension of `path` (use `.png`); the parent directory must
 //! exist. All input is validated before anything is drawn: bad shapes or empty data give a
@@ -41,9 +42,9 @@ mod basin;
 mod legend;
 mod line;
 
-pub use atlas::{StabilityChart, contour_segments, fmt_value, stability_chart};
-pub use basin::{basin_map, basin_sheet};
-pub use line::{line_plot, phase_plot, sweep_chart};
+pub use atlas::{Marks, StabilityChart, contour_segments, fmt_value, stability_chart};
+pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
+pub use line::{Gap, line_plot, missing_values, phase_plot, sweep_chart};
 
 use std::error::Error as StdError;
 use std::ops::Range;
@@ -52,6 +53,7 @@ use std::sync::OnceLock;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
@@ -135,6 +137,53 @@ pub struct Curve {
     pub points_only: bool,
 }
 
+/// The shape of a mark that is not a curve (the gaps of a [`sweep_chart`], flagged points of a
+/// [`stability_chart`]): marks for different reasons get different shapes, so they are told
+/// apart without relying on colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Glyph {
+    /// A triangle pointing up.
+    TriangleUp,
+    /// A triangle pointing down.
+    TriangleDown,
+    /// A diamond.
+    Diamond,
+}
+
+impl Glyph {
+    /// The outline in pixels about the mark's centre (y grows downwards).
+    pub(crate) fn outline(self) -> Vec<(i32, i32)> {
+        match self {
+            Glyph::TriangleUp => vec![(0, -7), (-7, 6), (7, 6)],
+            Glyph::TriangleDown => vec![(0, 7), (-7, -6), (7, -6)],
+            Glyph::Diamond => vec![(0, -8), (-7, 0), (0, 8), (7, 0)],
+        }
+    }
+
+    /// The outline closed (its first vertex repeated), for drawing it as a path.
+    pub(crate) fn closed(self) -> Vec<(i32, i32)> {
+        let mut v = self.outline();
+        v.push(v[0]);
+        v
+    }
+}
+
+/// A glyph at a point: its fill, then its outline, in pixels about the point.
+pub(crate) type GlyphElement<C, DB> =
+    plotters::element::ComposedElement<C, DB, Polygon<(i32, i32)>, PathElement<(i32, i32)>>;
+
+/// A glyph filled with `fill` and outlined in black, centred at `at` (of any coordinate
+/// system: the shape itself is in pixels).
+pub(crate) fn glyph_element<DB: DrawingBackend, C>(
+    glyph: Glyph,
+    fill: Rgb,
+    at: C,
+) -> GlyphElement<C, DB> {
+    EmptyElement::at(at)
+        + Polygon::new(glyph.outline(), fill.color().filled())
+        + PathElement::new(glyph.closed(), BLACK.stroke_width(2))
+}
+
 /// A marked point (e.g. the fixed point (1,0)), drawn as a cross in a circle with a legend label.
 ///
 /// Markers with a non-finite coordinate are not drawn. An empty `label` gives no legend entry.
@@ -188,6 +237,51 @@ pub const V_LABEL: &str = "velocity x' (unit: μk g √(m/k))";
 pub const X0_LABEL: &str = "initial displacement x0 (unit: μk m g / k)";
 /// Vertical axis of a basin map.
 pub const V0_LABEL: &str = "initial velocity x'0 (unit: μk g √(m/k))";
+
+/// The unit of a picture's state axes: each friction law is written in its own
+/// nondimensional variables, so the axis words follow the law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StateScale {
+    /// McMillan's laws (crates/core/MODEL.md, section 2): the equation is divided by the
+    /// kinetic friction force `μk m g`, so `x` is in `μk m g / k` and `x'` in `μk g √(m/k)`.
+    KineticFriction,
+    /// The Stribeck law (bSTAB's friction case, MODEL.md section 8): the friction
+    /// coefficient itself is the force, i.e. the equation is divided by the normal load `m g`,
+    /// so `x` is in `m g / k` and `x'` in `g √(m/k)` (no `μk`: there is no kinetic scale).
+    NormalLoad,
+}
+
+impl StateScale {
+    /// The scale of the law named `law` (the spec's `law` key).
+    pub fn of_law(law: &str) -> StateScale {
+        match law {
+            "stribeck" => StateScale::NormalLoad,
+            _ => StateScale::KineticFriction,
+        }
+    }
+
+    /// Horizontal and vertical axis words of a phase plane `(x, x')`.
+    pub fn phase_labels(self) -> [&'static str; 2] {
+        match self {
+            StateScale::KineticFriction => [X_LABEL, V_LABEL],
+            StateScale::NormalLoad => [
+                "displacement x (unit: m g / k)",
+                "velocity x' (unit: g √(m/k))",
+            ],
+        }
+    }
+
+    /// Horizontal and vertical axis words of a basin map `(x0, x'0)`.
+    pub fn initial_labels(self) -> [&'static str; 2] {
+        match self {
+            StateScale::KineticFriction => [X0_LABEL, V0_LABEL],
+            StateScale::NormalLoad => [
+                "initial displacement x0 (unit: m g / k)",
+                "initial velocity x'0 (unit: g √(m/k))",
+            ],
+        }
+    }
+}
 
 /// The nondimensional model parameters and step shown in titles (the names of the spec keys
 /// and of the HDF5 attributes). The plot crate does not depend on squeal-core: callers fill
