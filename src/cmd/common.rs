@@ -234,16 +234,6 @@ impl PlainLines {
     }
 }
 
-/// The label classes in the pictures, in the order of the HDF5 enum.
-pub fn classes() -> Vec<(u8, &'static str, Rgb)> {
-    vec![
-        (1, "steady slip", squeal_plot::STEADY),
-        (2, "stick-slip", squeal_plot::STICK),
-        (0, "undecided", squeal_plot::UNDECIDED),
-        (255, "not computed", squeal_plot::NOT_COMPUTED),
-    ]
-}
-
 /// The model parameters of map `map` of a file, for picture titles (root attributes, with the
 /// swept parameter's value of that map).
 pub fn model_params(info: &squeal_store::FileInfo, map: usize) -> squeal_plot::ModelParams {
@@ -320,7 +310,8 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
             "{name}: {}{system}",
             squeal_plot::map_title(&model_params(&info, 0))
         );
-        squeal_plot::basin_map(png, &one, &classes()).map_err(|e| discard(png, e))?;
+        squeal_plot::basin_map(png, &one, &squeal_plot::label_classes())
+            .map_err(|e| discard(png, e))?;
         return Ok(vec![png.to_path_buf()]);
     }
     let size = sibling(png, "-cycle", "png");
@@ -367,7 +358,8 @@ fn render_sheet(
         &param,
     ) + &physical_line(info);
     let ncols = (n as f64).sqrt().ceil() as usize;
-    squeal_plot::basin_sheet(png, &title, &panels, &classes(), ncols).map_err(|e| discard(png, e))
+    squeal_plot::basin_sheet(png, &title, &panels, &squeal_plot::label_classes(), ncols)
+        .map_err(|e| discard(png, e))
 }
 
 /// The swept parameter of a sweep file.

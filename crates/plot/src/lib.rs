@@ -18,6 +18,10 @@
 //!   unstable limit cycle) and markers (e.g. the fixed point) drawn on top. Equal scales on
 //!   both axes.
 //! * [`basin_sheet`]: several basin maps in a grid of panels with one shared legend.
+//! * [`stability_chart`]: parameter-plane cells coloured by regime, with contours and
+//!   boundary curves; [`atlas_chart`] and [`atlas_sheet`] draw an atlas's chart and its sheet
+//!   of maps from its plan and results (`squeal_scan::atlas`), the only pictures that know
+//!   squeal's types; the others take plain numbers.
 //!
 //! Titles are built by functions that return strings, so callers and tests see the text:
 //! [`map_title`], [`sheet_title`], [`panel_title`] and [`phase_title`] from a
@@ -38,11 +42,15 @@
 //! [`CYCLE`] and [`FIXED_POINT`] are suggestions for the classes and overlays of a basin map.
 
 mod atlas;
+mod atlas_chart;
+mod atlas_sheet;
 mod basin;
 mod legend;
 mod line;
 
 pub use atlas::{Marks, StabilityChart, contour_segments, fmt_value, stability_chart};
+pub use atlas_chart::atlas_chart;
+pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
 pub use line::{Gap, line_plot, missing_values, phase_plot, sweep_chart};
 
@@ -85,6 +93,17 @@ pub const FIXED_POINT: Rgb = Rgb(0, 0, 0);
 pub const REST: Rgb = Rgb(190, 0, 30);
 /// Marks of swept values without data in a [`sweep_chart`]: dark red.
 pub const MISSING: Rgb = Rgb(180, 20, 40);
+
+/// The classes of a basin map's labels (value, name, colour), in the order of the HDF5 enum
+/// of the files: steady slip, stick-slip, undecided, not computed.
+pub fn label_classes() -> Vec<(u8, &'static str, Rgb)> {
+    vec![
+        (1, "steady slip", STEADY),
+        (2, "stick-slip", STICK),
+        (0, "undecided", UNDECIDED),
+        (255, "not computed", NOT_COMPUTED),
+    ]
+}
 
 /// Errors from the plotting functions.
 #[derive(Debug, thiserror::Error)]
@@ -284,8 +303,8 @@ impl StateScale {
 }
 
 /// The nondimensional model parameters and step shown in titles (the names of the spec keys
-/// and of the HDF5 attributes). The plot crate does not depend on squeal-core: callers fill
-/// this in from `Params` and the step.
+/// and of the HDF5 attributes). Callers fill this in from `Params` and the step, so the
+/// drawing functions stay free of the model's types.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelParams {
     /// The friction law's name (`mcmillan`, `mcmillan-nonhysteretic`, `coulomb`, `stribeck`).

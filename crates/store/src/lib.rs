@@ -116,6 +116,7 @@
 //! `DIMENSION_LIST`.
 
 pub mod atlas;
+mod atlas_json;
 mod atlas_run;
 mod cycle;
 mod error;
@@ -134,6 +135,7 @@ use squeal_scan::scanner::{BlockResult, Cell};
 use squeal_scan::{MapChecks, Plan};
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
+pub use atlas_json::atlas_json;
 pub use atlas_run::{AtlasRunError, run_atlas};
 pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
