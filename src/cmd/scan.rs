@@ -224,7 +224,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
-    let finished = writer.finish()?;
+    // The landscape of each map (laws with true stick) is computed here, before the writer.
+    let landscapes = squeal_scan::landscape::of_plan(&plan)?;
+    let finished = writer.finish_with(&landscapes)?;
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
     let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
     let written = if shard.is_none() && !sample {

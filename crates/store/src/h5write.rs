@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
+use crate::LandscapeInfo;
 use hdf5::types::{FixedAscii, VarLenArray, VarLenUnicode};
 use hdf5::{Dataset, File, Group, H5Type, Location, ObjectReference1};
 use ndarray::{Array1, Array2};
-use squeal_core::LandscapeEvidence;
 use squeal_scan::cell::{COLUMNS, Cell, Column, Kind};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
@@ -483,9 +483,10 @@ pub(crate) fn assemble(
     plan: &Plan,
     meta: &Meta,
     src: &mut dyn Source,
+    landscapes: &[Option<LandscapeInfo>],
 ) -> Result<Vec<MapChecks>, StoreError> {
     let file = File::create_excl(path).h5(path)?;
-    let out = write_all(&file, plan, meta, src, path);
+    let out = write_all(&file, plan, meta, src, path, landscapes);
     let closed = file.close().h5(path);
     let out = out?;
     closed?;
@@ -498,6 +499,7 @@ fn write_all(
     meta: &Meta,
     src: &mut dyn Source,
     path: &Path,
+    landscapes: &[Option<LandscapeInfo>],
 ) -> Result<Vec<MapChecks>, StoreError> {
     let g = &plan.grid;
     let (nx, nv, nmaps, nblocks) = (g.x0.count, g.v0.count, plan.maps.len(), g.blocks());
@@ -611,15 +613,9 @@ fn write_all(
         dims.attach(file, v, &d).h5(path)?;
     }
 
-    // The landscape of each map (laws with true stick): a function of the plan alone, so
-    // a merge states the same as the scan.
-    let landscapes: Vec<Option<LandscapeEvidence>> = (0..nmaps)
-        .map(|m| squeal_scan::landscape::of_map(plan, m))
-        .collect::<Result<_, _>>()
-        .map_err(|e| StoreError::Landscape {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        })?;
+    // The landscape of each map (laws with true stick), computed before the writer: one
+    // per map, or none at all for laws without it.
+    let landscape = |m: usize| landscapes.get(m).and_then(Option::as_ref);
 
     let mut done = vec![0u8; nmaps * nblocks];
     let mut checks = Vec::with_capacity(nmaps);
@@ -629,7 +625,7 @@ fn write_all(
         let cyc = src.cycle(m)?;
         let curve = report_of(&cyc).map(|r| &r.curve);
         let escapes = report_of(&cyc).is_some_and(|r| r.escape.is_some());
-        let mut ck = MapChecks::new(curve, landscapes[m].map(|l| l.landscape), escapes);
+        let mut ck = MapChecks::new(curve, landscape(m).map(|l| l.landscape), escapes);
         let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
@@ -695,9 +691,8 @@ fn write_all(
         // The landscape and its evidence, for laws with true stick.
         if plan.maps[0].law.has_true_stick() {
             let (name, long) = squeal_scan::landscape::LANDSCAPE;
-            let vals: Array1<LandscapeH5> = landscapes
-                .iter()
-                .map(|l| LandscapeH5::of(l.map(|l| l.landscape)))
+            let vals: Array1<LandscapeH5> = (0..nmaps)
+                .map(|m| LandscapeH5::of(landscape(m).map(|l| l.landscape)))
                 .collect();
             let ds = file
                 .new_dataset_builder()
@@ -714,10 +709,11 @@ fn write_all(
             let names: Vec<&str> = flags.iter().map(|(_, n)| *n).collect();
             str_attr(&ds, "flag_meanings", &names.join(" "))?;
             dims.attach(file, &ds, &[&map_dim])?;
-            for (name, long, units, get) in squeal_scan::landscape::LANDSCAPE_FIELDS {
-                let vals: Array1<f64> = landscapes
-                    .iter()
-                    .map(|l| l.as_ref().map_or(f64::NAN, get))
+            for (k, (name, long, units, _)) in
+                squeal_scan::landscape::LANDSCAPE_FIELDS.iter().enumerate()
+            {
+                let vals: Array1<f64> = (0..nmaps)
+                    .map(|m| landscape(m).map_or(f64::NAN, |l| l.evidence[k].1))
                     .collect();
                 per_map(file, &mut dims, &map_dim, name, &vals, long, units)?;
             }
