@@ -120,6 +120,7 @@ mod atlas_json;
 mod atlas_run;
 mod cycle;
 mod error;
+mod h5columns;
 mod h5types;
 mod h5write;
 mod journal;
