@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use anyhow::bail;
 use indicatif::{ProgressBar, ProgressDrawTarget};
-use squeal_scan::atlas::{AtlasPlan, AtlasRegime, BoundaryStatus};
+use squeal_scan::atlas::AtlasPlan;
 use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
 
 use super::common;
@@ -70,14 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     if !args.run.resume {
-        for p in &pics {
-            let what = if *p == png {
-                "chart of the atlas"
-            } else {
-                "sheet of basin maps"
-            };
-            common::check_new(p, args.run.force, what)?;
-        }
+        check_pictures(&pics, &png, args.run.force)?;
     }
     squeal_store::OutputLock::check_free(&out)?;
     estimate(&args, &plan)?;
@@ -132,6 +125,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     report(&args, &plan, &res, &out, computed, &pictures)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Refuses to start a run over existing pictures without `--force` (the chart `png` and
+/// the sheet of maps).
+fn check_pictures(pics: &[PathBuf], png: &Path, force: bool) -> anyhow::Result<()> {
+    for p in pics {
+        let what = if p == png {
+            "chart of the atlas"
+        } else {
+            "sheet of basin maps"
+        };
+        common::check_new(p, force, what)?;
+    }
+    Ok(())
 }
 
 /// The work, estimated from a pilot before anything is created (printed unless quiet); over
@@ -223,114 +230,12 @@ fn report(
     } else {
         let ran =
             (computed.units + computed.blocks > 0).then_some((computed.seconds, computed.units));
-        print_summary(plan, res, out, ran);
+        super::atlas_words::print_summary(plan, res, out, ran);
         for p in pictures {
             println!("{}", p.display());
         }
     }
     Ok(())
-}
-
-/// The atlas in words: its axes, the points per regime, the maps and the boundaries found,
-/// then the file. `computed` is what this run computed (none: the line says nothing of it).
-pub fn print_summary(
-    plan: &AtlasPlan,
-    res: &AtlasResults,
-    out: &Path,
-    computed: Option<(f64, usize)>,
-) {
-    let axes = plan.axes();
-    let over = if axes.is_empty() {
-        "1 parameter point (nothing swept: no chart; the figures are below and in the file)"
-            .to_string()
-    } else {
-        format!(
-            "{} points over {}",
-            plan.n_points(),
-            axes.iter()
-                .map(|a| format!("{} ({} values)", a.key, a.values.len()))
-                .collect::<Vec<_>>()
-                .join(" x ")
-        )
-    };
-    println!(
-        "atlas {}: {} law, {over}{}",
-        plan.name,
-        plan.law,
-        computed.map_or(String::new(), |(seconds, units)| format!(
-            ", {units} units computed in {seconds:.1} s"
-        ))
-    );
-    for r in AtlasRegime::ALL {
-        let n = res
-            .points
-            .iter()
-            .filter(|p| p.as_ref().is_some_and(|p| p.regime == r))
-            .count();
-        if n > 0 {
-            println!("  {:>6} points: {}", n, r.description());
-        }
-    }
-    if let Some(m) = &plan.maps {
-        println!(
-            "  basin maps: {} x {} cells per point; basin fraction of steady slip from the maps",
-            m.grid.x0.count, m.grid.v0.count
-        );
-    }
-    let (dkey, _) = plan.boundary_axis();
-    let bkey = plan.boundary_key();
-    let shown = res.boundaries.len().min(12);
-    if shown > 0 {
-        println!(
-            "  boundaries in the {} (first {shown} of {}):",
-            plan.boundary_words(),
-            res.boundaries.len()
-        );
-    }
-    for (j, b) in res.boundaries.iter().enumerate().take(shown) {
-        let Some(b) = b else { continue };
-        let (i, _) = plan.boundary_setup(j);
-        let at: Vec<String> = plan
-            .params
-            .iter()
-            .zip(plan.values_at(i))
-            .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
-            .map(|(a, v)| {
-                format!(
-                    "{} = {v:.4} {}",
-                    a.key,
-                    if a.units == "1" { "" } else { a.units }
-                )
-            })
-            .collect();
-        let show = |bd: &squeal_scan::atlas::Boundary| {
-            let half = match bd.half_dt_holds {
-                Some(true) => "",
-                Some(false) => " [moves at dt/2]",
-                None => " [dt/2 not checked]",
-            };
-            match bd.status {
-                BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
-                    Some((v, u)) => {
-                        format!("{bkey} = {:.5} ({dkey} = {v:.4} {u}){half}", bd.nu)
-                    }
-                    None => format!("{bkey} = {:.5}{half}", bd.nu),
-                },
-                s => s.name().to_string(),
-            }
-        };
-        println!(
-            "    {}: fold {}, critical {}",
-            if at.is_empty() {
-                "here".into()
-            } else {
-                at.join(", ")
-            },
-            show(&b.fold),
-            show(&b.critical)
-        );
-    }
-    println!("{}", out.display());
 }
 
 /// The sheet of basin maps of an atlas whose chart is `png`: `<stem>-maps.png`.

@@ -70,7 +70,7 @@ fn atlas(args: &Args) -> anyhow::Result<()> {
         attr("git_revision").unwrap_or_default()
     );
     print_attrs(&a.attrs);
-    super::atlas::print_summary(&a.plan, &a.results, &args.file, None);
+    super::atlas_words::print_summary(&a.plan, &a.results, &args.file, None);
     if let Some(s) = a.shard {
         println!("  shard {s} (join the shards with squeal merge)");
     }
