@@ -4,7 +4,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use squeal_plot::{BasinPanel, Curve, Marker, Rgb};
+use squeal_plot::{BasinPanel, Curve, Rgb};
 
 /// Version and git revision recorded in every output.
 pub fn provenance() -> squeal_store::Provenance {
@@ -358,16 +358,6 @@ impl PlainLines {
     }
 }
 
-/// The label classes in the pictures, in the order of the HDF5 enum.
-pub fn classes() -> Vec<(u8, &'static str, Rgb)> {
-    vec![
-        (1, "steady slip", squeal_plot::STEADY),
-        (2, "stick-slip", squeal_plot::STICK),
-        (0, "undecided", squeal_plot::UNDECIDED),
-        (255, "not computed", squeal_plot::NOT_COMPUTED),
-    ]
-}
-
 /// The model parameters of map `map` of a file, for picture titles (root attributes, with the
 /// swept parameter's value of that map).
 pub fn model_params(info: &squeal_store::FileInfo, map: usize) -> squeal_plot::ModelParams {
@@ -405,52 +395,21 @@ pub fn plot_params(p: &squeal_core::Params, dt: f64) -> squeal_plot::ModelParams
     }
 }
 
-/// A basin panel for one map of a file.
-pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
-    let mut overlays = Vec::new();
-    if let Some((x, v)) = &m.cycle {
-        let mut xs = x.clone();
-        let mut vs = v.clone();
-        if let (Some(&x0), Some(&v0)) = (x.first(), v.first()) {
-            xs.push(x0);
-            vs.push(v0);
-        }
-        overlays.push(Curve {
-            label: "unstable limit cycle".into(),
-            xs,
-            ys: vs,
-            color: squeal_plot::CYCLE,
-            points_only: false,
-        });
-    }
-    let mut markers = vec![Marker {
-        label: "steady-slip fixed point".into(),
-        x: m.fixed_point.0,
-        y: m.fixed_point.1,
-        color: squeal_plot::FIXED_POINT,
-    }];
-    // The state at rest, the start most engineers ask about, where the map covers it.
-    let covers = |axis: &[f64]| {
-        axis.first()
-            .zip(axis.last())
-            .is_some_and(|(a, b)| a.min(*b) <= 0.0 && a.max(*b) >= 0.0)
-    };
-    if covers(&m.x0) && covers(&m.v0) {
-        markers.push(Marker {
-            label: "state at rest (0, 0)".into(),
-            x: 0.0,
-            y: 0.0,
-            color: squeal_plot::REST,
-        });
-    }
+/// A basin panel for one map of a file, its axes in the law's units (`scale`).
+pub fn panel(m: &squeal_store::MapData, scale: squeal_plot::StateScale) -> BasinPanel<'_> {
+    let overlays = m
+        .cycle
+        .iter()
+        .map(|(x, v)| squeal_plot::cycle_overlay(x, v))
+        .collect();
     BasinPanel {
-        axis_labels: None,
+        axis_labels: Some(scale.initial_labels().map(String::from)),
         title: m.title.clone(),
         x0: &m.x0,
         v0: &m.v0,
         labels: &m.labels,
         overlays,
-        markers,
+        markers: squeal_plot::state_markers(m.fixed_point, &m.x0, &m.v0),
     }
 }
 
@@ -458,48 +417,57 @@ pub fn panel(m: &squeal_store::MapData) -> BasinPanel<'_> {
 /// maps and the cycle size against the swept parameter (sweeps). Returns the files written.
 pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
     let n = squeal_store::map_count(h5)?;
-    let classes = classes();
+    let info = squeal_store::read_info(h5)?;
+    let scale = squeal_plot::StateScale::of_law(attr(&info, "law").unwrap_or("?"));
+    let name = attr(&info, "name").unwrap_or("squeal");
     if n == 1 {
         check_new(png, force, "picture")?;
         let m = squeal_store::read_map(h5, 0)?;
-        let info = squeal_store::read_info(h5)?;
         let units = physical_units(&info);
         let scaled = units.map(|u| scaled_axes(&m, u));
-        let mut one = panel(&m);
+        let mut one = panel(&m, scale);
         if let (Some(u), Some((xs, vs))) = (units, &scaled) {
             to_si(&mut one, xs, vs, u);
         }
         let system = physical_line(&info);
         one.title = format!(
-            "{}: {}{system}",
-            attr(&info, "name").unwrap_or("squeal"),
+            "{name}: {}{system}",
             squeal_plot::map_title(&model_params(&info, 0))
         );
-        squeal_plot::basin_map(png, &one, &classes).map_err(|e| discard(png, e))?;
+        squeal_plot::basin_map(png, &one, &squeal_plot::label_classes())
+            .map_err(|e| discard(png, e))?;
         return Ok(vec![png.to_path_buf()]);
     }
     let size = sibling(png, "-cycle", "png");
     check_new(png, force, "picture")?;
     check_new(&size, force, "picture")?;
+    render_sheet(h5, png, &info, scale)?;
+    render_cycle_sizes(h5, &size, &info)?;
+    Ok(vec![png.to_path_buf(), size])
+}
+
+/// The sheet of a sweep's maps, one panel per swept value.
+fn render_sheet(
+    h5: &Path,
+    png: &Path,
+    info: &squeal_store::FileInfo,
+    scale: squeal_plot::StateScale,
+) -> anyhow::Result<()> {
+    let n = info.counts.len();
     let maps: Vec<_> = (0..n)
         .map(|i| squeal_store::read_map(h5, i))
         .collect::<Result<_, _>>()?;
-    let info = squeal_store::read_info(h5)?;
-    let units = physical_units(&info);
+    let units = physical_units(info);
     let scaled: Vec<_> = maps
         .iter()
         .map(|m| units.map(|u| scaled_axes(m, u)))
         .collect();
-    let param = info
-        .sweep
-        .as_ref()
-        .map(|s| s.0.clone())
-        .unwrap_or_else(|| "nu".into());
+    let param = swept(info);
     let panels: Vec<_> = maps
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            let mut p = panel(m);
+            let mut p = panel(m, scale);
             if let (Some(u), Some((xs, vs))) = (units, &scaled[i]) {
                 to_si(&mut p, xs, vs, u);
             }
@@ -509,12 +477,26 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         })
         .collect();
     let title = squeal_plot::sheet_title(
-        attr(&info, "name").unwrap_or("squeal"),
-        &model_params(&info, 0),
+        attr(info, "name").unwrap_or("squeal"),
+        &model_params(info, 0),
         &param,
-    ) + &physical_line(&info);
+    ) + &physical_line(info);
     let ncols = (n as f64).sqrt().ceil() as usize;
-    squeal_plot::basin_sheet(png, &title, &panels, &classes, ncols).map_err(|e| discard(png, e))?;
+    squeal_plot::basin_sheet(png, &title, &panels, &squeal_plot::label_classes(), ncols)
+        .map_err(|e| discard(png, e))
+}
+
+/// The swept parameter of a sweep file.
+fn swept(info: &squeal_store::FileInfo) -> String {
+    info.sweep
+        .as_ref()
+        .map(|s| s.0.clone())
+        .unwrap_or_else(|| "nu".into())
+}
+
+/// The unstable cycle's size against the swept parameter; values without a cycle marked by
+/// what the map found instead (every start squeals, none does, or neither).
+fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> anyhow::Result<()> {
     let summary = squeal_store::read_cycle_summary(h5)?;
     let xs: Vec<f64> = summary.iter().map(|s| s.0).collect();
     let curves = vec![
@@ -527,31 +509,76 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         },
         Curve {
             label: "velocity x' where the cycle crosses x = x*".into(),
-            xs,
+            xs: xs.clone(),
             ys: summary.iter().map(|s| s.1).collect(),
             color: Rgb(30, 90, 200),
             points_only: false,
         },
     ];
-    let mut shared = squeal_plot::params_line(&model_params(&info, 0), Some(&param));
+    let param = swept(info);
+    let log_x = param == "nu" || param == "xi";
+    let missing = squeal_plot::missing_values(&curves, log_x);
+    let gaps = cycle_gaps(&missing, &xs, &info.counts);
+    let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&param));
     shared.insert_str(
         0,
         &format!(
             "{}, ",
-            squeal_plot::law_title(attr(&info, "law").unwrap_or("?"))
+            squeal_plot::law_title(attr(info, "law").unwrap_or("?"))
         ),
     );
+    let name = attr(info, "name").unwrap_or("squeal");
     squeal_plot::sweep_chart(
-        &size,
-        &format!("Unstable limit cycle size against {param}\n{shared}"),
+        size,
+        &format!("{name}: unstable limit cycle size against {param}\n{shared}"),
         &format!("{param} (swept parameter)"),
         "size of the unstable cycle (nondimensional)",
         &curves,
-        param == "nu" || param == "xi",
-        "no unstable cycle located",
+        log_x,
+        &gaps,
     )
-    .map_err(|e| discard(&size, e))?;
-    Ok(vec![png.to_path_buf(), size])
+    .map_err(|e| discard(size, e))
+}
+
+/// The swept values without a cycle (`missing`), grouped by what map `i` (at `xs[i]`, cell
+/// counts `[undecided, steady, stick, not computed]`) found: only stick-slip, only steady
+/// slip, or neither alone. Each group has its own glyph (issue 21: one triangle for "every
+/// start squeals" and "no start squeals" could not be told apart).
+pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 4]]) -> Vec<squeal_plot::Gap> {
+    use squeal_plot::{Gap, Glyph};
+    let mut gaps = [
+        (
+            "no unstable cycle: every start squeals",
+            Glyph::TriangleUp,
+            Rgb(200, 40, 40),
+        ),
+        (
+            "no unstable cycle: no start squeals",
+            Glyph::TriangleDown,
+            squeal_plot::STEADY,
+        ),
+        (
+            "no unstable cycle located (both basins or undecided)",
+            Glyph::Diamond,
+            squeal_plot::MISSING,
+        ),
+    ]
+    .map(|(label, glyph, color)| Gap {
+        label: label.into(),
+        xs: Vec::new(),
+        glyph,
+        color,
+    });
+    for &x in missing {
+        let c = xs.iter().position(|&v| v == x).and_then(|i| counts.get(i));
+        let group = match c {
+            Some([_, 0, stick, _]) if *stick > 0 => 0,
+            Some([_, steady, 0, _]) if *steady > 0 => 1,
+            _ => 2,
+        };
+        gaps[group].xs.push(x);
+    }
+    gaps.into_iter().filter(|g| !g.xs.is_empty()).collect()
 }
 
 /// Micrometres and mm/s per nondimensional length and velocity unit of a physical scan file
@@ -773,6 +800,8 @@ pub fn duration(secs: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::WorkMeter;
+    use super::cycle_gaps;
+    use squeal_plot::Glyph;
 
     #[test]
     fn time_left_weighs_each_maps_cells_by_their_cost() {
@@ -795,5 +824,27 @@ mod tests {
         assert!((m.total - 900.0).abs() < 1e-9);
         // No estimate before the first second.
         assert_eq!(m.eta_words(0.5), "estimating");
+    }
+
+    /// Issue 21: a sweep's values without a cycle were one triangle whatever the map found.
+    /// Counts are `[undecided, steady, stick, not computed]` per map (as `FileInfo::counts`).
+    #[test]
+    fn values_without_a_cycle_are_grouped_by_what_the_map_found() {
+        let xs = [0.8, 1.0, 1.5, 2.0, 2.2];
+        let counts = [
+            [0, 0, 100, 0], // stick-slip only: the fixed point repels
+            [3, 0, 97, 0],  // stick-slip and undecided cells: still no steady start
+            [0, 40, 60, 0], // both basins (has a cycle: not among `missing`)
+            [0, 100, 0, 0], // steady slip only: above the fold
+            [10, 45, 45, 0],
+        ];
+        let missing = [0.8, 1.0, 2.0, 2.2];
+        let gaps = cycle_gaps(&missing, &xs, &counts);
+        let of = |g: Glyph| gaps.iter().find(|x| x.glyph == g).map(|x| x.xs.clone());
+        assert_eq!(of(Glyph::TriangleUp), Some(vec![0.8, 1.0]));
+        assert_eq!(of(Glyph::TriangleDown), Some(vec![2.0]));
+        assert_eq!(of(Glyph::Diamond), Some(vec![2.2]));
+        assert!(gaps[0].label.contains("every start squeals"));
+        assert!(gaps[1].label.contains("no start squeals"));
     }
 }

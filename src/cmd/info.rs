@@ -53,7 +53,7 @@ fn atlas(args: &Args) -> anyhow::Result<()> {
     let a = squeal_store::read_atlas_info(&args.file)?;
     let attr = |k: &str| a.attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
     if args.json {
-        let mut v = super::atlas::atlas_json(&a.plan, &a.results);
+        let mut v = squeal_store::atlas_json(&a.plan, &a.results);
         v["path"] = args.file.display().to_string().into();
         v["squeal_version"] = attr("squeal_version").into();
         v["git_revision"] = attr("git_revision").into();
@@ -70,7 +70,7 @@ fn atlas(args: &Args) -> anyhow::Result<()> {
         attr("git_revision").unwrap_or_default()
     );
     print_attrs(&a.attrs);
-    super::atlas::print_summary(&a.plan, &a.results, &args.file, None);
+    super::atlas_words::print_summary(&a.plan, &a.results, &args.file, None);
     if let Some(s) = a.shard {
         println!("  shard {s} (join the shards with squeal merge)");
     }

@@ -1,6 +1,8 @@
-//! One module per subcommand; `model` holds the flags shared by several.
+//! One module per subcommand; `model` holds the flags shared by several, `common` the run
+//! flags and helpers, `atlas_words` the atlas summary that `atlas` and `info` print.
 
 pub mod atlas;
+pub mod atlas_words;
 pub mod classify;
 pub mod common;
 pub mod compare;

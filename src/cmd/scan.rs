@@ -247,7 +247,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
-    let finished = writer.finish()?;
+    // The landscape of each map (laws with true stick) is computed here, before the writer.
+    let landscapes = squeal_scan::landscape::of_plan(&plan)?;
+    let finished = writer.finish_with(&landscapes)?;
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
     let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
     let written = if shard.is_none() && !sample {
@@ -525,4 +527,36 @@ fn report(
         println!("  picture: {}", p.display());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_words;
+
+    /// Issue 21: "wrong side of cycle: N (M beyond a pixel)" was printed for random samples,
+    /// where there is no pixel. The values follow `checks::CHECK_FIELDS`: 3 wrong-side cells,
+    /// 1 of them beyond a pixel, every other check -1 (not applicable).
+    #[test]
+    fn random_samples_have_no_pixel() {
+        let fields = squeal_scan::checks::CHECK_FIELDS;
+        let values: Vec<i64> = fields
+            .iter()
+            .map(|(name, _)| match *name {
+                "wrong_side_cells" => 3,
+                "wrong_side_beyond_pixel" => 1,
+                _ => -1,
+            })
+            .collect();
+        let grid = check_words(&values, false).join("\n");
+        assert!(
+            grid.contains("wrong side of cycle: 3 (1 beyond a pixel)"),
+            "{grid}"
+        );
+        let sample = check_words(&values, true).join("\n");
+        assert!(
+            sample.contains("wrong side of cycle: 3 samples"),
+            "{sample}"
+        );
+        assert!(!sample.contains("pixel"), "{sample}");
+    }
 }

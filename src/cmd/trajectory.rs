@@ -598,7 +598,8 @@ fn plot_phase_plane(
             color: Rgb(238, 118, 22),
         },
     ];
-    squeal_plot::phase_plot(path, &title, &curves, &markers)?;
+    let scale = squeal_plot::StateScale::of_law(p.law.name());
+    squeal_plot::phase_plot(path, &title, scale, &curves, &markers)?;
     Ok(())
 }
 

@@ -125,7 +125,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "Unstable limit cycle",
             &super::common::plot_params(&params, plan.dt),
         );
-        squeal_plot::phase_plot(p, &title, &[curve], &marks)
+        let scale = squeal_plot::StateScale::of_law(params.law.name());
+        squeal_plot::phase_plot(p, &title, scale, &[curve], &marks)
             .with_context(|| format!("drawing {}", p.display()))?;
     }
     if args.json {

@@ -6,9 +6,10 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::{
-    Area, Curve, DrawResult, LegendItem, PlotError, Rgb, bold, check_curve, draw_legend, fmt_sig,
-    font, render,
+    Area, Curve, DrawResult, Glyph, PlotError, Rgb, bold, check_curve, fmt_sig, font,
+    glyph_element, render,
 };
+use crate::legend::{LegendItem, draw_legend};
 
 /// A stability chart over two parameters.
 ///
@@ -45,6 +46,25 @@ pub struct StabilityChart<'a> {
     pub field_name: String,
     /// Curves on top (in data coordinates; NaN breaks a curve).
     pub curves: Vec<Curve>,
+    /// Flagged points on top of the curves, each set with its own glyph.
+    pub marks: Vec<Marks>,
+}
+
+/// Flagged points of a [`StabilityChart`] (e.g. fold values whose bracket moves at dt/2),
+/// drawn as a glyph filled with `fill` and outlined in black, never joined: a shape, not a
+/// line, so they cannot be mistaken for a boundary curve.
+#[derive(Clone, Debug)]
+pub struct Marks {
+    /// Legend label.
+    pub label: String,
+    /// x coordinates (NaN: no mark).
+    pub xs: Vec<f64>,
+    /// y coordinates, as many as `xs`.
+    pub ys: Vec<f64>,
+    /// The shape.
+    pub glyph: Glyph,
+    /// The fill colour.
+    pub fill: Rgb,
 }
 
 /// Formats a value with about four significant digits (titles, legends).
@@ -154,6 +174,15 @@ pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), Pl
     for c in &chart.curves {
         check_curve(c)?;
     }
+    for m in &chart.marks {
+        if m.xs.len() != m.ys.len() {
+            return Err(PlotError::ShapeMismatch {
+                what: format!("marks {:?}: ys vs xs", m.label),
+                expected: m.xs.len(),
+                found: m.ys.len(),
+            });
+        }
+    }
     for (name, v, log) in [("xs", chart.xs, chart.log_x), ("ys", chart.ys, chart.log_y)] {
         if v.iter().any(|x| !x.is_finite() || (log && *x <= 0.0)) {
             return Err(PlotError::InvalidGrid(format!(
@@ -201,6 +230,17 @@ pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), Pl
                 name: c.label.clone(),
                 color: c.color,
                 dots: c.points_only,
+            });
+        }
+        for m in chart
+            .marks
+            .iter()
+            .filter(|m| m.xs.iter().any(|x| x.is_finite()))
+        {
+            items.push(LegendItem::Glyph {
+                name: m.label.clone(),
+                glyph: m.glyph,
+                fill: m.fill,
             });
         }
         if chart.field.is_some() && !chart.levels.is_empty() {
@@ -308,6 +348,12 @@ fn draw_plot(
             }
         }
     }
+    for m in &chart.marks {
+        let ok =
+            |x: f64, y: f64| x.is_finite() && y.is_finite() && (!lx || x > 0.0) && (!ly || y > 0.0);
+        let points = m.xs.iter().zip(&m.ys).filter(|(x, y)| ok(**x, **y));
+        c.draw_series(points.map(|(&x, &y)| glyph_element(m.glyph, m.fill, (tx(x), ty(y)))))?;
+    }
     let (bx, by) = area.get_base_pixel();
     let at = |u: f64, v: f64| {
         let p = c.backend_coord(&(u, v));
@@ -385,6 +431,7 @@ mod tests {
             levels: vec![0.25],
             field_name: "f".into(),
             curves: vec![],
+            marks: vec![],
         };
         stability_chart(&p, &chart).unwrap();
         assert!(std::fs::metadata(&p).unwrap().len() > 1000);

@@ -163,7 +163,11 @@ pub fn scan(
         squeal_scan::DriveError::Scan(e) => value_error(e),
         squeal_scan::DriveError::Sink(e) => store_error(e),
     })?;
-    py.detach(|| writer.finish()).map_err(store_error)?;
+    let landscapes = py
+        .detach(|| squeal_scan::landscape::of_plan(&plan))
+        .map_err(value_error)?;
+    py.detach(|| writer.finish_with(&landscapes))
+        .map_err(store_error)?;
     Ok(report.cells)
 }
 

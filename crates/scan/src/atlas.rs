@@ -40,6 +40,7 @@ pub mod driver;
 pub mod geometry;
 pub mod maps;
 pub mod point;
+mod results;
 pub mod spec;
 pub mod stribeck;
 
@@ -48,4 +49,5 @@ pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
 pub use geometry::Region;
 pub use maps::{MapFraction, map_fraction};
 pub use point::{AtlasRegime, PointResult, PointSettings};
+pub use results::AtlasResults;
 pub use spec::{AtlasAxis, AtlasPlan, MapSettings, Units};

@@ -345,7 +345,7 @@ pub const COLUMNS: &[Column] = &[
     col!(evaluations, "friction-law evaluations", "1", U64, &[], 0, u),
     col!(
         fallbacks,
-        "bisection fallbacks and bracket expansions of the robust solver",
+        "bisection steps and bracket expansions of the robust solver",
         "1",
         U32,
         &[],

@@ -33,6 +33,12 @@ pub fn of_params(plan: &Plan, params: Params) -> Result<Option<LandscapeEvidence
     ))
 }
 
+/// The landscape of every map of `plan` (`None` per map for laws without true stick),
+/// computed before the scan's file is written: the writer only stores it.
+pub fn of_plan(plan: &Plan) -> Result<Vec<Option<LandscapeEvidence>>, ScanError> {
+    (0..plan.maps.len()).map(|m| of_map(plan, m)).collect()
+}
+
 /// The landscape of map `map` of `plan`.
 pub fn of_map(plan: &Plan, map: usize) -> Result<Option<LandscapeEvidence>, ScanError> {
     of_params(plan, plan.maps[map])

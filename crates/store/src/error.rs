@@ -120,7 +120,7 @@ pub enum StoreError {
         /// Maps in the file.
         count: usize,
     },
-    /// A per-map statement of the model (the landscape) could not be computed.
+    /// A per-map statement of the model (the landscape) was not given for every map.
     #[error("{}: cannot state the landscape: {why}", path.display())]
     Landscape {
         /// The output.

@@ -2,11 +2,11 @@
 
 use std::path::Path;
 
+use crate::LandscapeInfo;
 use hdf5::types::{FixedAscii, VarLenArray, VarLenUnicode};
 use hdf5::{Dataset, File, Group, H5Type, Location, ObjectReference1};
 use ndarray::{Array1, Array2};
-use squeal_core::LandscapeEvidence;
-use squeal_scan::cell::{COLUMNS, Cell, Column, Kind};
+use squeal_scan::cell::{COLUMNS, Cell};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
@@ -14,7 +14,7 @@ use squeal_scan::{MapChecks, Plan};
 
 use crate::cycle::Flat;
 use crate::error::H5Ctx;
-use crate::h5types::{AuditH5, EnumColumn, Label, LandscapeH5, ReasonH5, RefEntry};
+use crate::h5types::{LandscapeH5, RefEntry};
 use crate::journal::CycleRecord;
 use crate::{SCHEMA, StoreError};
 
@@ -204,159 +204,7 @@ fn index_coord(
     Ok(ds)
 }
 
-/// Creates the dataset of one column of [`COLUMNS`] with its CF attributes (also the atlas's
-/// maps, with the parameter dimensions in front).
-pub(crate) fn column_dataset(
-    file: &File,
-    col: &Column,
-    name: &str,
-    shape: &[usize],
-    chunk: &[usize],
-) -> hdf5::Result<Dataset> {
-    fn make<T: H5Type>(
-        file: &File,
-        name: &str,
-        shape: &[usize],
-        chunk: &[usize],
-        fill: T,
-    ) -> hdf5::Result<Dataset> {
-        file.new_dataset_builder()
-            .obj_track_times(false)
-            .empty::<T>()
-            .shape(shape)
-            .chunk(chunk)
-            .deflate(4)
-            .fill_value(fill)
-            .create(name)
-    }
-    let (f, n) = (col.fill, name);
-    let bad = || hdf5::Error::from(format!("{n}: fill value is not a member"));
-    let ds = match (EnumColumn::of(col), col.kind) {
-        (Some(EnumColumn::Label), _) => make(
-            file,
-            n,
-            shape,
-            chunk,
-            Label::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
-        )?,
-        (Some(EnumColumn::Reason), _) => make(
-            file,
-            n,
-            shape,
-            chunk,
-            ReasonH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
-        )?,
-        (Some(EnumColumn::Audit), _) => make(
-            file,
-            n,
-            shape,
-            chunk,
-            AuditH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
-        )?,
-        (None, Kind::U8 | Kind::Enum) => make(file, n, shape, chunk, f.as_u64() as u8)?,
-        (None, Kind::U32) => make(file, n, shape, chunk, f.as_u64() as u32)?,
-        (None, Kind::U64) => make(file, n, shape, chunk, f.as_u64())?,
-        (None, Kind::F64) => make(file, n, shape, chunk, f.as_f64())?,
-    };
-    str_attr(&ds, "long_name", col.long_name)?;
-    if !col.units.is_empty() {
-        str_attr(&ds, "units", col.units)?;
-    }
-    if col.kind == Kind::Enum {
-        let values: Vec<u8> = col.flags.iter().map(|(v, _)| *v).collect();
-        ds.new_attr::<u8>()
-            .shape(values.len())
-            .create("flag_values")?
-            .write_raw(&values)?;
-        let names: Vec<&str> = col.flags.iter().map(|(_, n)| *n).collect();
-        str_attr(&ds, "flag_meanings", &names.join(" "))?;
-    }
-    Ok(ds)
-}
-
-/// Writes one column of a block's cells at `prefix` (the indices of the leading dimensions:
-/// none for one map, the map of a sweep, an atlas point's indices).
-pub(crate) fn write_column(
-    ds: &Dataset,
-    col: &Column,
-    cells: &[Cell],
-    prefix: &[usize],
-    rows: std::ops::Range<usize>,
-    nx: usize,
-) -> hdf5::Result<()> {
-    let u = || cells.iter().map(|c| (col.get)(c).as_u64());
-    fn enum_of<T>(col: &Column, cells: &[Cell], f: fn(u8) -> Option<T>) -> hdf5::Result<Vec<T>> {
-        cells
-            .iter()
-            .map(|c| {
-                let v = (col.get)(c).as_u64();
-                f(v as u8)
-                    .filter(|_| v <= u8::MAX as u64)
-                    .ok_or_else(|| hdf5::Error::from(format!("{}: unknown value {v}", col.name)))
-            })
-            .collect()
-    }
-    match (EnumColumn::of(col), col.kind) {
-        (Some(EnumColumn::Label), _) => {
-            write_rows(ds, enum_of(col, cells, Label::from_u8)?, prefix, rows, nx)
-        }
-        (Some(EnumColumn::Reason), _) => write_rows(
-            ds,
-            enum_of(col, cells, ReasonH5::from_u8)?,
-            prefix,
-            rows,
-            nx,
-        ),
-        (Some(EnumColumn::Audit), _) => {
-            write_rows(ds, enum_of(col, cells, AuditH5::from_u8)?, prefix, rows, nx)
-        }
-        (None, Kind::U8 | Kind::Enum) => {
-            write_rows(ds, u().map(|v| v as u8).collect(), prefix, rows, nx)
-        }
-        (None, Kind::U32) => write_rows(ds, u().map(|v| v as u32).collect(), prefix, rows, nx),
-        (None, Kind::U64) => write_rows(ds, u().collect(), prefix, rows, nx),
-        (None, Kind::F64) => write_rows(
-            ds,
-            cells.iter().map(|c| (col.get)(c).as_f64()).collect(),
-            prefix,
-            rows,
-            nx,
-        ),
-    }
-}
-
-/// The rows `rows` after the leading indices `prefix` (a sweep's map, an atlas point's
-/// parameter indices; none for a single map): a hyperslab over `(.., v0, x0)`, or over
-/// `(.., sample)` for a `list` (random samples).
-pub(crate) fn sel(prefix: &[usize], rows: std::ops::Range<usize>, list: bool) -> hdf5::Hyperslab {
-    let mut v: Vec<hdf5::SliceOrIndex> = prefix.iter().map(|&i| i.into()).collect();
-    v.push(rows.into());
-    if !list {
-        v.push((..).into());
-    }
-    hdf5::Hyperslab::from(v)
-}
-
-/// Whether `ds` is a list over random samples: after its `leading` indices (sweep or
-/// parameter dimensions) one dimension, where a grid variable has two.
-pub(crate) fn is_list(ds: &Dataset, leading: usize) -> bool {
-    ds.ndim() == leading + 1
-}
-
-fn write_rows<T: H5Type>(
-    ds: &Dataset,
-    data: Vec<T>,
-    prefix: &[usize],
-    rows: std::ops::Range<usize>,
-    nx: usize,
-) -> hdf5::Result<()> {
-    if is_list(ds, prefix.len()) {
-        return ds.write_slice(&Array1::from(data), sel(prefix, rows, true));
-    }
-    let a = Array2::from_shape_vec((rows.len(), nx), data)
-        .map_err(|e| hdf5::Error::from(e.to_string()))?;
-    ds.write_slice(&a, sel(prefix, rows, false))
-}
+pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
 
 /// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
@@ -483,9 +331,10 @@ pub(crate) fn assemble(
     plan: &Plan,
     meta: &Meta,
     src: &mut dyn Source,
+    landscapes: &[Option<LandscapeInfo>],
 ) -> Result<Vec<MapChecks>, StoreError> {
     let file = File::create_excl(path).h5(path)?;
-    let out = write_all(&file, plan, meta, src, path);
+    let out = write_all(&file, plan, meta, src, path, landscapes);
     let closed = file.close().h5(path);
     let out = out?;
     closed?;
@@ -498,6 +347,7 @@ fn write_all(
     meta: &Meta,
     src: &mut dyn Source,
     path: &Path,
+    landscapes: &[Option<LandscapeInfo>],
 ) -> Result<Vec<MapChecks>, StoreError> {
     let g = &plan.grid;
     let (nx, nv, nmaps, nblocks) = (g.x0.count, g.v0.count, plan.maps.len(), g.blocks());
@@ -611,15 +461,9 @@ fn write_all(
         dims.attach(file, v, &d).h5(path)?;
     }
 
-    // The landscape of each map (laws with true stick): a function of the plan alone, so
-    // a merge states the same as the scan.
-    let landscapes: Vec<Option<LandscapeEvidence>> = (0..nmaps)
-        .map(|m| squeal_scan::landscape::of_map(plan, m))
-        .collect::<Result<_, _>>()
-        .map_err(|e| StoreError::Landscape {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        })?;
+    // The landscape of each map (laws with true stick), computed before the writer: one
+    // per map, or none at all for laws without it.
+    let landscape = |m: usize| landscapes.get(m).and_then(Option::as_ref);
 
     let mut done = vec![0u8; nmaps * nblocks];
     let mut checks = Vec::with_capacity(nmaps);
@@ -629,7 +473,7 @@ fn write_all(
         let cyc = src.cycle(m)?;
         let curve = report_of(&cyc).map(|r| &r.curve);
         let escapes = report_of(&cyc).is_some_and(|r| r.escape.is_some());
-        let mut ck = MapChecks::new(curve, landscapes[m].map(|l| l.landscape), escapes);
+        let mut ck = MapChecks::new(curve, landscape(m).map(|l| l.landscape), escapes);
         let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
@@ -695,9 +539,8 @@ fn write_all(
         // The landscape and its evidence, for laws with true stick.
         if plan.maps[0].law.has_true_stick() {
             let (name, long) = squeal_scan::landscape::LANDSCAPE;
-            let vals: Array1<LandscapeH5> = landscapes
-                .iter()
-                .map(|l| LandscapeH5::of(l.map(|l| l.landscape)))
+            let vals: Array1<LandscapeH5> = (0..nmaps)
+                .map(|m| LandscapeH5::of(landscape(m).map(|l| l.landscape)))
                 .collect();
             let ds = file
                 .new_dataset_builder()
@@ -714,10 +557,11 @@ fn write_all(
             let names: Vec<&str> = flags.iter().map(|(_, n)| *n).collect();
             str_attr(&ds, "flag_meanings", &names.join(" "))?;
             dims.attach(file, &ds, &[&map_dim])?;
-            for (name, long, units, get) in squeal_scan::landscape::LANDSCAPE_FIELDS {
-                let vals: Array1<f64> = landscapes
-                    .iter()
-                    .map(|l| l.as_ref().map_or(f64::NAN, get))
+            for (k, (name, long, units, _)) in
+                squeal_scan::landscape::LANDSCAPE_FIELDS.iter().enumerate()
+            {
+                let vals: Array1<f64> = (0..nmaps)
+                    .map(|m| landscape(m).map_or(f64::NAN, |l| l.evidence[k].1))
                     .collect();
                 per_map(file, &mut dims, &map_dim, name, &vals, long, units)?;
             }

@@ -116,9 +116,11 @@
 //! `DIMENSION_LIST`.
 
 pub mod atlas;
+mod atlas_json;
 mod atlas_run;
 mod cycle;
 mod error;
+mod h5columns;
 mod h5types;
 mod h5write;
 mod journal;
@@ -134,6 +136,7 @@ use squeal_scan::scanner::{BlockResult, Cell};
 use squeal_scan::{MapChecks, Plan};
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
+pub use atlas_json::atlas_json;
 pub use atlas_run::{AtlasRunError, run_atlas};
 pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
@@ -423,9 +426,35 @@ impl ScanWriter {
         &self.plan
     }
 
-    /// Writes the HDF5 file once every owned block is stored; returns each map's
-    /// consistency checks.
-    pub fn finish(mut self) -> Result<Vec<MapChecks>, StoreError> {
+    /// [`ScanWriter::finish_with`] for a plan whose law states no landscape (McMillan's
+    /// laws); a law with true stick is refused here, its landscape must be given.
+    pub fn finish(self) -> Result<Vec<MapChecks>, StoreError> {
+        self.finish_with(&[])
+    }
+
+    /// Writes the HDF5 file once every owned block is stored, with the landscape of each map
+    /// (laws with true stick: [`squeal_scan::landscape::of_plan`], computed by the caller:
+    /// the writer runs no model); returns each map's consistency checks.
+    pub fn finish_with(
+        mut self,
+        landscapes: &[Option<squeal_core::LandscapeEvidence>],
+    ) -> Result<Vec<MapChecks>, StoreError> {
+        let stated = self.plan.maps.iter().all(|p| !p.law.has_true_stick())
+            || landscapes.len() == self.plan.maps.len();
+        if !stated {
+            return Err(StoreError::Landscape {
+                path: self.out.clone(),
+                why: format!(
+                    "{} landscapes given for {} maps of a law with true stick",
+                    landscapes.len(),
+                    self.plan.maps.len()
+                ),
+            });
+        }
+        let landscapes: Vec<Option<LandscapeInfo>> = landscapes
+            .iter()
+            .map(|l| l.as_ref().map(LandscapeInfo::of))
+            .collect();
         let total = self.owned_blocks();
         if self.blocks.len() < total {
             return Err(StoreError::Incomplete {
@@ -447,7 +476,7 @@ impl ScanWriter {
             blocks: &self.blocks,
             cycles: &self.cycles,
         };
-        let wrong = match h5write::assemble(&tmp, &plan, &meta, &mut src) {
+        let wrong = match h5write::assemble(&tmp, &plan, &meta, &mut src, &landscapes) {
             Ok(w) => w,
             Err(e) => {
                 let _ = std::fs::remove_file(&tmp);
@@ -710,6 +739,9 @@ pub fn merge(
             });
         }
     }
+    // The landscapes as the shards stored them (one plan: the same in every shard).
+    let (p0, f0) = (&files[0].0, &files[0].1);
+    let landscapes = read::read_landscapes(f0, plan.maps.len()).h5(p0)?;
     let tmp = tmp_path(out);
     remove_if_exists(&tmp)?;
     let meta = Meta {
@@ -721,7 +753,7 @@ pub fn merge(
         plan: plan.clone(),
         files,
     };
-    if let Err(e) = h5write::assemble(&tmp, &plan, &meta, &mut src) {
+    if let Err(e) = h5write::assemble(&tmp, &plan, &meta, &mut src, &landscapes) {
         let _ = std::fs::remove_file(&tmp);
         return Err(e);
     }

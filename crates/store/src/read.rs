@@ -157,8 +157,24 @@ pub struct LandscapeInfo {
     pub evidence: Vec<(&'static str, f64)>,
 }
 
+impl LandscapeInfo {
+    /// A computed landscape as stored: its verdict and [`squeal_scan::landscape::LANDSCAPE_FIELDS`].
+    pub fn of(e: &squeal_core::LandscapeEvidence) -> LandscapeInfo {
+        LandscapeInfo {
+            landscape: e.landscape,
+            evidence: squeal_scan::landscape::LANDSCAPE_FIELDS
+                .iter()
+                .map(|(name, _, _, get)| (*name, get(e)))
+                .collect(),
+        }
+    }
+}
+
 /// The stored landscapes of a file's maps (empty for files without them).
-fn read_landscapes(file: &File, nmaps: usize) -> hdf5::Result<Vec<Option<LandscapeInfo>>> {
+pub(crate) fn read_landscapes(
+    file: &File,
+    nmaps: usize,
+) -> hdf5::Result<Vec<Option<LandscapeInfo>>> {
     let (name, _) = squeal_scan::landscape::LANDSCAPE;
     if !file.link_exists(name) {
         return Ok(Vec::new());

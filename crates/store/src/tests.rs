@@ -631,3 +631,46 @@ fn a_plan_the_file_cannot_hold_is_refused_before_any_computing() {
 
 #[cfg(test)]
 mod journal_fuzz;
+
+/// Issue 16: the store ran the model (`landscape::of_map`) while writing. The landscape is
+/// now computed by the caller and only stored: a Stribeck scan finished without it is refused,
+/// and what the caller gives is what the file holds (the damping 0.125 and period 7.5 below
+/// are made up; no run of the model gives them at these parameters).
+#[test]
+fn the_landscape_is_given_to_the_writer_not_computed_by_it() {
+    let spec = SPEC.replace(
+        "law = \"mcmillan\"\nnu = 1e-3",
+        "law = \"stribeck\"\nv_d = 1.5",
+    );
+    let plan = Plan::from_toml(&spec, "t.toml").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let run = |out: &Path| {
+        let mut w = ScanWriter::create(out, &plan, None, &prov(), false).unwrap();
+        w.write_cycle(0, Some(&Ok(cycle()))).unwrap();
+        for b in 0..plan.grid.blocks() {
+            w.write_block(&block(&plan, 0, b)).unwrap();
+        }
+        w
+    };
+    let out = dir.path().join("refused.h5");
+    assert!(matches!(
+        run(&out).finish(),
+        Err(StoreError::Landscape { .. })
+    ));
+    let given = squeal_core::LandscapeEvidence {
+        landscape: squeal_core::Landscape::Bistable,
+        damping: 0.125,
+        cycle: squeal_core::stick::StickCycle::Exists {
+            period: 7.5,
+            stuck: 1.0,
+        },
+    };
+    let out = dir.path().join("given.h5");
+    run(&out).finish_with(&[Some(given)]).unwrap();
+    let info = read_info(&out).unwrap();
+    let l = info.landscapes[0].as_ref().expect("a landscape is stored");
+    assert_eq!(l.landscape, squeal_core::Landscape::Bistable);
+    let value = |name: &str| l.evidence.iter().find(|(n, _)| *n == name).unwrap().1;
+    assert_eq!(value("fixed_point_damping"), 0.125);
+    assert_eq!(value("stick_cycle_period"), 7.5);
+}

@@ -1,0 +1,178 @@
+//! Marks that tell reasons apart, legends clear of data, and each law's axis units.
+
+use super::*;
+use crate::line::{Corner, densify, place_legend};
+
+/// Issue 21: "every start squeals" and "no start squeals" were one hollow triangle. Two gap
+/// groups of one colour each are drawn as two shapes: a triangle up has its widest row at
+/// the bottom, a triangle down at the top.
+#[test]
+fn sweep_chart_gap_groups_have_their_own_glyph() {
+    assert_ne!(Glyph::TriangleUp.outline(), Glyph::TriangleDown.outline());
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("gaps.png");
+    let xs = [1.0, 2.0, 3.0, 4.0];
+    let size = Curve {
+        label: "size".into(),
+        xs: xs.to_vec(),
+        ys: vec![f64::NAN, 0.5, 0.6, f64::NAN],
+        color: CYCLE,
+        points_only: false,
+    };
+    let (up, down) = (Rgb(0, 200, 0), Rgb(0, 0, 230));
+    let gaps = [
+        Gap {
+            label: "every start squeals".into(),
+            xs: vec![1.0],
+            glyph: Glyph::TriangleUp,
+            color: up,
+        },
+        Gap {
+            label: "no start squeals".into(),
+            xs: vec![4.0],
+            glyph: Glyph::TriangleDown,
+            color: down,
+        },
+    ];
+    sweep_chart(&path, "t", "x", "size", &[size], false, &gaps).unwrap();
+    let pic = decode(&path, (900, 700));
+    // Widest fill rows of the lowest mark of that colour (the legend's sample lies far
+    // above it), in the upper and the lower half of the 16 rows above its lowest pixel.
+    let widths = |c: Rgb| -> (u32, u32) {
+        let (x0, _, x1, y1) = pic.bbox(c).unwrap();
+        let row = |y: u32| (x0..=x1).filter(|&x| pic.pixel(x, y) == c).count() as u32;
+        let rows: Vec<u32> = (y1 - 15..=y1).map(row).collect();
+        let filled = rows.iter().filter(|&&w| w > 0).count();
+        assert!(filled >= 6, "a mark, not a dot: {filled} rows");
+        let widest = |r: &[u32]| r.iter().copied().max().unwrap_or(0);
+        (widest(&rows[..8]), widest(&rows[8..]))
+    };
+    let (top, bottom) = widths(up);
+    assert!(
+        bottom > top,
+        "triangle up: wide at the bottom ({top} vs {bottom})"
+    );
+    let (top, bottom) = widths(down);
+    assert!(
+        top > bottom,
+        "triangle down: wide at the top ({top} vs {bottom})"
+    );
+}
+
+/// Issue 21: the legend of `stribeck-vd.png` covered a vertical line whose ends lie outside
+/// the legend's corner. Every corner holds data here: the vertical line at x = 0.1 crosses the
+/// upper left, a curve runs through the upper right and points sit in the lower corners. The
+/// legend must then go where no data is, which takes room above the data.
+#[test]
+fn the_legend_covers_no_data() {
+    let mut points = Vec::new();
+    // A vertical line from the bottom to the top at x = 0.1: only its ends are vertices.
+    densify(&[(0.1, 0.0), (0.1, 0.95)], &mut points);
+    densify(&[(0.5, 0.5), (0.95, 0.95)], &mut points);
+    points.extend([(0.05, 0.05), (0.95, 0.05)]);
+    let size = (0.45, 0.3);
+    let (corner, stretch) = place_legend(&points, size);
+    assert!(
+        stretch > 1.0,
+        "no corner is free: room is made above the data"
+    );
+    // After stretching the y range, no point lies in the legend's box.
+    let (wx, wy) = corner.window(size);
+    let covered = points
+        .iter()
+        .filter(|(x, y)| wx.contains(x) && wy.contains(&(y / stretch)))
+        .count();
+    assert_eq!(covered, 0, "{corner:?} x {stretch}");
+    // A free corner is taken as it is.
+    let free = [(0.1, 0.1), (0.9, 0.1), (0.1, 0.9)];
+    assert_eq!(place_legend(&free, size), (Corner::UpperRight, 1.0));
+}
+
+/// Issue 21: Stribeck pictures said "(unit: μk m g / k)". The Stribeck law is divided by the
+/// normal load (MODEL.md section 8: the friction coefficient is the force), so its axes
+/// carry no μk; McMillan's keep it.
+#[test]
+fn each_law_has_its_own_axis_units() {
+    let stribeck = StateScale::of_law("stribeck");
+    assert_eq!(stribeck, StateScale::NormalLoad);
+    for label in stribeck
+        .phase_labels()
+        .iter()
+        .chain(&stribeck.initial_labels())
+    {
+        assert!(!label.contains("μk"), "{label}");
+        assert!(label.contains("(unit: m g / k)") || label.contains("(unit: g √(m/k))"));
+    }
+    for law in ["mcmillan", "mcmillan-nonhysteretic", "coulomb"] {
+        let s = StateScale::of_law(law);
+        assert_eq!(s.initial_labels(), [X0_LABEL, V0_LABEL], "{law}");
+        assert_eq!(s.phase_labels(), [X_LABEL, V_LABEL], "{law}");
+    }
+}
+
+/// Issue 21: the fold and its "bracket moves at dt/2" points were a black line and small
+/// yellow dots on it (a run of them a yellow line). Marks are now glyphs: a yellow diamond
+/// (`Glyph::Diamond`'s outline spans y = -8..8, its fill at least 11 px of it inside the
+/// black border) on the black line, never joined.
+#[test]
+fn stability_chart_marks_are_glyphs_apart_from_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("marks.png");
+    let (xs, ys) = ([1.0, 2.0, 3.0, 4.0], [1.0, 2.0]);
+    let yellow = Rgb(250, 220, 0);
+    let fold = Curve {
+        label: "fold".into(),
+        xs: xs.to_vec(),
+        ys: vec![1.5; 4],
+        color: CYCLE,
+        points_only: false,
+    };
+    // Two neighbouring moved points: a curve would join them into a yellow line.
+    let chart = StabilityChart {
+        title: "t".into(),
+        subtitle: "s".into(),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        xs: &xs,
+        ys: &ys,
+        log_x: false,
+        log_y: false,
+        classes: &[1; 8],
+        palette: vec![(1, "a", STEADY)],
+        field: None,
+        levels: vec![],
+        field_name: String::new(),
+        curves: vec![fold],
+        marks: vec![Marks {
+            label: "fold: bracket moves at dt/2".into(),
+            xs: vec![f64::NAN, 2.0, 3.0, f64::NAN],
+            ys: vec![f64::NAN, 1.5, 1.5, f64::NAN],
+            glyph: Glyph::Diamond,
+            fill: yellow,
+        }],
+    };
+    stability_chart(&p, &chart).unwrap();
+    let pic = decode(&p, (1300, 900));
+    // The plot is the left 900 px; the legend's sample lies right of it.
+    let plot: Vec<(u32, u32)> = (0..pic.height)
+        .flat_map(|y| (0..900).map(move |x| (x, y)))
+        .filter(|&(x, y)| pic.pixel(x, y) == yellow)
+        .collect();
+    let (y0, y1) = plot
+        .iter()
+        .fold((u32::MAX, 0), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    assert!(
+        y1 - y0 >= 10,
+        "a diamond, taller than a dot: {} px",
+        y1 - y0 + 1
+    );
+    // Between the two marks the line stays black: along the row through them, the yellow
+    // pixels form two groups far apart.
+    let row = (y0 + y1) / 2;
+    let yellow_xs: Vec<u32> = (0..900).filter(|&x| pic.pixel(x, row) == yellow).collect();
+    let (first, last) = (yellow_xs[0], *yellow_xs.last().unwrap());
+    let gap = (first..=last)
+        .filter(|&x| pic.pixel(x, row) != yellow)
+        .count();
+    assert!(gap > 50, "the marks are not joined ({gap} px apart)");
+}

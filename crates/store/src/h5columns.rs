@@ -1,0 +1,164 @@
+//! One per-cell column of [`squeal_scan::cell::COLUMNS`] in a file: its dataset with CF attributes, and the
+//! writing and selecting of a block's rows (grids over `(.., v0, x0)`, random samples over
+//! `(.., sample)`).
+
+use hdf5::{Dataset, File, H5Type};
+use ndarray::{Array1, Array2};
+use squeal_scan::cell::{Cell, Column, Kind};
+
+use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5};
+use crate::h5write::str_attr;
+
+/// Creates the dataset of one column of [`COLUMNS`] with its CF attributes (also the atlas's
+/// maps, with the parameter dimensions in front).
+pub(crate) fn column_dataset(
+    file: &File,
+    col: &Column,
+    name: &str,
+    shape: &[usize],
+    chunk: &[usize],
+) -> hdf5::Result<Dataset> {
+    fn make<T: H5Type>(
+        file: &File,
+        name: &str,
+        shape: &[usize],
+        chunk: &[usize],
+        fill: T,
+    ) -> hdf5::Result<Dataset> {
+        file.new_dataset_builder()
+            .obj_track_times(false)
+            .empty::<T>()
+            .shape(shape)
+            .chunk(chunk)
+            .deflate(4)
+            .fill_value(fill)
+            .create(name)
+    }
+    let (f, n) = (col.fill, name);
+    let bad = || hdf5::Error::from(format!("{n}: fill value is not a member"));
+    let ds = match (EnumColumn::of(col), col.kind) {
+        (Some(EnumColumn::Label), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            Label::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (Some(EnumColumn::Reason), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            ReasonH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (Some(EnumColumn::Audit), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            AuditH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (None, Kind::U8 | Kind::Enum) => make(file, n, shape, chunk, f.as_u64() as u8)?,
+        (None, Kind::U32) => make(file, n, shape, chunk, f.as_u64() as u32)?,
+        (None, Kind::U64) => make(file, n, shape, chunk, f.as_u64())?,
+        (None, Kind::F64) => make(file, n, shape, chunk, f.as_f64())?,
+    };
+    str_attr(&ds, "long_name", col.long_name)?;
+    if !col.units.is_empty() {
+        str_attr(&ds, "units", col.units)?;
+    }
+    if col.kind == Kind::Enum {
+        let values: Vec<u8> = col.flags.iter().map(|(v, _)| *v).collect();
+        ds.new_attr::<u8>()
+            .shape(values.len())
+            .create("flag_values")?
+            .write_raw(&values)?;
+        let names: Vec<&str> = col.flags.iter().map(|(_, n)| *n).collect();
+        str_attr(&ds, "flag_meanings", &names.join(" "))?;
+    }
+    Ok(ds)
+}
+
+/// Writes one column of a block's cells at `prefix` (the indices of the leading dimensions:
+/// none for one map, the map of a sweep, an atlas point's indices).
+pub(crate) fn write_column(
+    ds: &Dataset,
+    col: &Column,
+    cells: &[Cell],
+    prefix: &[usize],
+    rows: std::ops::Range<usize>,
+    nx: usize,
+) -> hdf5::Result<()> {
+    let u = || cells.iter().map(|c| (col.get)(c).as_u64());
+    fn enum_of<T>(col: &Column, cells: &[Cell], f: fn(u8) -> Option<T>) -> hdf5::Result<Vec<T>> {
+        cells
+            .iter()
+            .map(|c| {
+                let v = (col.get)(c).as_u64();
+                f(v as u8)
+                    .filter(|_| v <= u8::MAX as u64)
+                    .ok_or_else(|| hdf5::Error::from(format!("{}: unknown value {v}", col.name)))
+            })
+            .collect()
+    }
+    match (EnumColumn::of(col), col.kind) {
+        (Some(EnumColumn::Label), _) => {
+            write_rows(ds, enum_of(col, cells, Label::from_u8)?, prefix, rows, nx)
+        }
+        (Some(EnumColumn::Reason), _) => write_rows(
+            ds,
+            enum_of(col, cells, ReasonH5::from_u8)?,
+            prefix,
+            rows,
+            nx,
+        ),
+        (Some(EnumColumn::Audit), _) => {
+            write_rows(ds, enum_of(col, cells, AuditH5::from_u8)?, prefix, rows, nx)
+        }
+        (None, Kind::U8 | Kind::Enum) => {
+            write_rows(ds, u().map(|v| v as u8).collect(), prefix, rows, nx)
+        }
+        (None, Kind::U32) => write_rows(ds, u().map(|v| v as u32).collect(), prefix, rows, nx),
+        (None, Kind::U64) => write_rows(ds, u().collect(), prefix, rows, nx),
+        (None, Kind::F64) => write_rows(
+            ds,
+            cells.iter().map(|c| (col.get)(c).as_f64()).collect(),
+            prefix,
+            rows,
+            nx,
+        ),
+    }
+}
+
+/// The rows `rows` after the leading indices `prefix` (a sweep's map, an atlas point's
+/// parameter indices; none for a single map): a hyperslab over `(.., v0, x0)`, or over
+/// `(.., sample)` for a `list` (random samples).
+pub(crate) fn sel(prefix: &[usize], rows: std::ops::Range<usize>, list: bool) -> hdf5::Hyperslab {
+    let mut v: Vec<hdf5::SliceOrIndex> = prefix.iter().map(|&i| i.into()).collect();
+    v.push(rows.into());
+    if !list {
+        v.push((..).into());
+    }
+    hdf5::Hyperslab::from(v)
+}
+
+/// Whether `ds` is a list over random samples: after its `leading` indices (sweep or
+/// parameter dimensions) one dimension, where a grid variable has two.
+pub(crate) fn is_list(ds: &Dataset, leading: usize) -> bool {
+    ds.ndim() == leading + 1
+}
+
+fn write_rows<T: H5Type>(
+    ds: &Dataset,
+    data: Vec<T>,
+    prefix: &[usize],
+    rows: std::ops::Range<usize>,
+    nx: usize,
+) -> hdf5::Result<()> {
+    if is_list(ds, prefix.len()) {
+        return ds.write_slice(&Array1::from(data), sel(prefix, rows, true));
+    }
+    let a = Array2::from_shape_vec((rows.len(), nx), data)
+        .map_err(|e| hdf5::Error::from(e.to_string()))?;
+    ds.write_slice(&a, sel(prefix, rows, false))
+}
