@@ -45,9 +45,10 @@ fn cells(plan: &Plan) -> Vec<(u8, u8)> {
 /// At v_d = 2.0 (no stick-slip cycle: the orbit from breakaway decays) and v_d = 1.0 (the
 /// fixed point repels: the orbit from breakaway sticks again), every cell of a 12 x 12 grid
 /// gets the label of its run taken to settlement (`early_stop = "none"`, no shortcut), and
-/// the shortcuts are what decided them: at 2.0 starts inside the region, runs entering it
-/// and runs that stuck; at 1.0 runs that stuck. Before the shortcuts, no cell had these
-/// reasons (values 11-14 did not exist).
+/// the shortcuts are what decided them: at 2.0 starts inside the region, runs crossing the
+/// section below a start that settles, and runs that stuck; at 1.0 runs that stuck and runs
+/// crossing the section between two starts that stuck. Before the shortcuts, no cell had
+/// these reasons (values 11-16 did not exist).
 #[test]
 fn shortcuts_give_the_labels_of_runs_to_settlement() {
     for (v_d, want) in [
@@ -55,11 +56,14 @@ fn shortcuts_give_the_labels_of_runs_to_settlement() {
             2.0,
             vec![
                 Reason::StartInRegion,
-                Reason::EnteredRegion,
+                Reason::BelowSettlingStart,
                 Reason::StuckThenSettles,
             ],
         ),
-        (1.0, vec![Reason::StuckOntoCycle]),
+        (
+            1.0,
+            vec![Reason::StuckOntoCycle, Reason::BetweenStickingStarts],
+        ),
     ] {
         let fast = cells(&plan(v_d, 12, "cycle"));
         let slow = cells(&plan(v_d, 12, "none"));
@@ -75,6 +79,45 @@ fn shortcuts_give_the_labels_of_runs_to_settlement() {
         }
         // Runs to settlement never use a shortcut.
         assert!(slow.iter().all(|c| c.1 <= Reason::StickCycle as u8));
+    }
+}
+
+/// The monotone return map (crates/core/MODEL.md section 9) decides a run at its first
+/// crossing of the section. At v_d = 1.0, a start 0.01 from the repelling fixed point spirals
+/// out at the rate -(2 xi + mu'(v_d)) / 2 = (e^{-2} - 0.1) / 2 = 0.0177 (closed form), about
+/// ln(100) / 0.0177 = 260 time units before it reaches amplitudes where it sticks. At
+/// v_d = 2.0, a start 1.8 left of the fixed point decays at about k0 / 2 = (0.1 - e^{-4}) / 2
+/// = 0.041 per time unit and needs about ln(1.8 / 0.7357) / 0.041 = 22 to reach the region
+/// (radius 0.7357). Both are now decided within two revolutions (natural period 2 pi, so
+/// t < 4 pi) with the label of their runs to settlement; with every other shortcut but
+/// without this one they are decided later than that (the test checks it).
+#[test]
+fn monotone_map_decides_runs_at_their_first_crossing() {
+    for (v_d, dx, regime, reason) in [
+        (1.0, 0.01, Regime::StickSlip, Reason::BetweenStickingStarts),
+        (2.0, -1.8, Regime::SteadySlip, Reason::BelowSettlingStart),
+    ] {
+        let plan = plan(v_d, 2, "cycle");
+        let ctx = squeal_scan::MapContext::prepare(&plan, 0).unwrap();
+        let fp = plan.maps[0].fixed_point();
+        let ic = State {
+            x: fp.x + dx,
+            v: 0.0,
+        };
+        let fast = ctx.classify(ic);
+        let settled = Classifier::default().classify(&ctx.stepper, ic);
+        assert_eq!(fast.regime, regime, "v_d {v_d}: {fast:?}");
+        assert_eq!(settled.regime, regime, "v_d {v_d}: {settled:?}");
+        assert_eq!(fast.reason, reason, "v_d {v_d}: {fast:?}");
+        let two_turns = 4.0 * std::f64::consts::PI;
+        assert!(fast.t_decision < two_turns, "v_d {v_d}: {fast:?}");
+        let without = squeal_core::Shortcuts {
+            section: None,
+            ..ctx.shortcuts
+        };
+        let before = ctx.classifier.classify_with(&ctx.stepper, ic, without);
+        assert_eq!(before.regime, regime, "v_d {v_d}: {before:?}");
+        assert!(before.t_decision > two_turns, "v_d {v_d}: {before:?}");
     }
 }
 
