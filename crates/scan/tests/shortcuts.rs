@@ -90,7 +90,8 @@ fn shortcuts_give_the_labels_of_runs_to_settlement() {
 /// = 0.041 per time unit and needs about ln(1.8 / 0.7357) / 0.041 = 22 to reach the region
 /// (radius 0.7357). Both are now decided within two revolutions (natural period 2 pi, so
 /// t < 4 pi) with the label of their runs to settlement; with every other shortcut but
-/// without this one they are decided later than that (the test checks it).
+/// without this one they are decided later than that (the test checks it; measured:
+/// t = 4.7 against 230.7 at v_d = 1.0, t = 1.6 against 33.8 at v_d = 2.0).
 #[test]
 fn monotone_map_decides_runs_at_their_first_crossing() {
     for (v_d, dx, regime, reason) in [
@@ -118,6 +119,10 @@ fn monotone_map_decides_runs_at_their_first_crossing() {
         let before = ctx.classifier.classify_with(&ctx.stepper, ic, without);
         assert_eq!(before.regime, regime, "v_d {v_d}: {before:?}");
         assert!(before.t_decision > two_turns, "v_d {v_d}: {before:?}");
+        eprintln!(
+            "v_d {v_d}: decided at t = {} ({:?}), before at t = {} ({:?})",
+            fast.t_decision, fast.reason, before.t_decision, before.reason
+        );
     }
 }
 
