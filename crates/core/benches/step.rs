@@ -12,6 +12,11 @@
 //! along that revolution. Coulomb's solve is closed form whatever the solver setting. Before
 //! timing, each case prints its law evaluations per step (from the solver's counters).
 //!
+//! `stribeck/*`: the event stepper of the law with true stick (bSTAB's friction case) along
+//! one revolution of its stick-slip cycle (`v_d = 1.0`, after 200 time units from rest: each
+//! revolution sticks, breaks away and slips) and of a slip-only decay (`v_d = 2.0`, from 0.5
+//! right of the fixed point after 10 time units), robust solver, first-order hold.
+//!
 //! `cargo bench -p squeal-core --bench step -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
@@ -37,14 +42,21 @@ fn stepper(law: FrictionLaw, kind: SolverKind, scheme: Scheme) -> Stepper {
 /// The samples of one revolution after `settle` time units from `ic` (robust solver).
 fn revolution(law: FrictionLaw, ic: State, settle: f64) -> Vec<Sample> {
     let st = stepper(law, SolverKind::Robust, Scheme::default());
-    let mut run = Run::new(&st, ic);
+    revolution_of(&st, ic, settle)
+}
+
+/// The samples of one revolution of `st`'s run from `ic` after `settle` time units (between
+/// two crossings of the section through its fixed point).
+fn revolution_of(st: &Stepper, ic: State, settle: f64) -> Vec<Sample> {
+    let x_star = st.params().fixed_point().x;
+    let mut run = Run::new(st, ic);
     run.by_ref()
         .take((settle / DT).round() as usize)
         .for_each(drop);
     let mut out = Vec::new();
     let mut crossings = 0;
     for step in run {
-        if crossing(1.0, &step.prev, &step.next).is_some() {
+        if crossing(x_star, &step.prev, &step.next).is_some() {
             crossings += 1;
         }
         match crossings {
@@ -94,9 +106,47 @@ fn bench_case(c: &mut Criterion, name: &str, ic: State, settle: f64) {
     group.finish();
 }
 
+/// The event stepper (`Stepper::advance`) along one revolution of bSTAB's friction case.
+fn bench_stribeck(c: &mut Criterion) {
+    let mut group = c.benchmark_group("stribeck");
+    // (name, belt speed, start relative to the fixed point or absolute, settling time)
+    for (name, v_d, from_fp, settle) in [
+        ("stick_slip", 1.0, None, 200.0),
+        ("decay", 2.0, Some(0.5), 10.0),
+    ] {
+        let p = squeal_core::Params::stribeck(0.05, v_d, squeal_core::Stribeck::default());
+        let st = Stepper::new(p, DT, SolverConfig::default()).expect("valid parameters");
+        let fp = p.fixed_point();
+        let x = from_fp.map_or(0.0, |dx| fp.x + dx);
+        let samples = revolution_of(&st, State { x, v: 0.0 }, settle);
+        let mut stats = SolverStats::default();
+        for s in &samples {
+            st.advance(s, &mut stats);
+        }
+        eprintln!(
+            "stribeck/{name}: {:.2} law evaluations per step, {} stick onsets, {} breakaways in {} steps",
+            stats.evaluations as f64 / samples.len() as f64,
+            stats.stick_onsets,
+            stats.breakaways,
+            samples.len()
+        );
+        group.throughput(Throughput::Elements(samples.len() as u64));
+        group.bench_function(name, |b| {
+            let mut stats = SolverStats::default();
+            b.iter(|| {
+                for s in &samples {
+                    black_box(st.advance(black_box(s), &mut stats));
+                }
+            });
+        });
+    }
+    group.finish();
+}
+
 fn steps(c: &mut Criterion) {
     bench_case(c, "decay", State { x: 1.2, v: 0.0 }, 100.0);
     bench_case(c, "stick_slip", State { x: 0.0, v: 0.0 }, 1000.0);
+    bench_stribeck(c);
 }
 
 criterion_group!(benches, steps);

@@ -104,11 +104,18 @@ pub enum Reason {
     /// A law with true stick: the block stuck, so it breaks away from the one breakaway
     /// state, whose orbit decays to the fixed point without sticking (the landscape).
     StuckThenSettles = 14,
+    /// A law of the slip velocity only: the run crossed the section at or below a start whose
+    /// run reached the certified region; the return map is monotone, so it settles too
+    /// ([`crate::witness`], MODEL.md section 9).
+    BelowSettlingStart = 15,
+    /// A law of the slip velocity only: the run crossed the section between two starts whose
+    /// runs stuck onto the stick-slip cycle; the return map is monotone, so it does too.
+    BetweenStickingStarts = 16,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 15] = [
+    pub const ALL: [Reason; 17] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -124,6 +131,8 @@ impl Reason {
         Reason::StartInRegion,
         Reason::StuckOntoCycle,
         Reason::StuckThenSettles,
+        Reason::BelowSettlingStart,
+        Reason::BetweenStickingStarts,
     ];
 
     /// The reason's name in files and output.
@@ -144,6 +153,8 @@ impl Reason {
             Reason::StartInRegion => "start_in_region",
             Reason::StuckOntoCycle => "stuck_onto_cycle",
             Reason::StuckThenSettles => "stuck_then_settles",
+            Reason::BelowSettlingStart => "below_settling_start",
+            Reason::BetweenStickingStarts => "between_sticking_starts",
         }
     }
 }
@@ -171,6 +182,9 @@ pub struct Shortcuts {
     /// that state, so a run that sticks ends there too ([`Reason::StuckOntoCycle`],
     /// [`Reason::StuckThenSettles`]).
     pub breakaway: Option<Regime>,
+    /// A law of the slip velocity only: stretches of the section whose fate followed starts
+    /// certify ([`crate::witness`]); a run is decided at its first crossing inside one.
+    pub section: Option<crate::witness::SectionFates>,
 }
 
 impl Shortcuts {
@@ -178,11 +192,12 @@ impl Shortcuts {
     pub const NONE: Shortcuts = Shortcuts {
         region: None,
         breakaway: None,
+        section: None,
     };
 
     /// Whether any shortcut applies.
     pub fn any(&self) -> bool {
-        self.region.is_some() || self.breakaway.is_some()
+        self.region.is_some() || self.breakaway.is_some() || self.section.is_some()
     }
 
     /// The decision for a run that stuck, from the fate of the orbit from breakaway.
@@ -519,6 +534,9 @@ impl Watch<'_> {
         }
         self.last_t = c.t;
         self.amplitude = c.r;
+        if let Some(d) = self.shortcuts.section.and_then(|s| s.decide(c.r)) {
+            return Some(d);
+        }
         if let Some(trap) = self.cl.trap {
             if c.r < trap.r_inner {
                 return Some((Regime::SteadySlip, Reason::InsideCycle));

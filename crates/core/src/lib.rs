@@ -20,6 +20,8 @@
 //!   loop that advances a run, yielding [`Step`]s to its observers.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
 //! * [`region`]: a certified region of attraction of the fixed point ([`Region`]).
+//! * [`witness`]: certified fates of stretches of the section from a few followed starts
+//!   (laws of the slip velocity only: the return map is monotone).
 //! * [`units`]: the paper's scaling between a [`Physical`] system and [`Params`].
 //! * [`model`]: the model itself, in words and equations: units, the laws with the paper's
 //!   two misprints corrected, the schemes, the conventions and the labels
@@ -51,6 +53,7 @@ pub mod solver;
 pub mod stepper;
 pub mod stick;
 pub mod units;
+pub mod witness;
 
 pub use classify::{Classifier, Outcome, Reason, Regime, Shortcuts, Trap};
 pub use error::CoreError;

@@ -253,6 +253,8 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (12, "start_in_region"),
     (13, "stuck_onto_cycle"),
     (14, "stuck_then_settles"),
+    (15, "below_settling_start"),
+    (16, "between_sticking_starts"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

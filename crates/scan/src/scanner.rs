@@ -150,6 +150,25 @@ pub fn shortcuts(plan: &Plan, params: &Params, landscape: Option<&LandscapeEvide
     Shortcuts {
         region: Region::of(params),
         breakaway,
+        section: None,
+    }
+}
+
+/// `base` with the certified fates of stretches of the section
+/// ([`squeal_core::witness`]) where they apply: early stopping on (some shortcut), a law of the
+/// slip velocity only, and no located unstable cycle (where one is, its trap decides sooner).
+fn with_section_fates(
+    base: Shortcuts,
+    stepper: &Stepper,
+    classifier: &Classifier,
+    r_max: f64,
+) -> Shortcuts {
+    if !base.any() || classifier.trap.is_some() {
+        return base;
+    }
+    Shortcuts {
+        section: squeal_core::witness::section_fates(stepper, classifier, base, r_max),
+        ..base
     }
 }
 
@@ -304,6 +323,12 @@ impl MapContext {
             section = Some(found);
         }
         let landscape = crate::landscape::of_params(plan, params)?;
+        let shortcuts = with_section_fates(
+            shortcuts(plan, &params, landscape.as_ref()),
+            &stepper,
+            &classifier,
+            cs.r_max,
+        );
         Ok(MapContext {
             map,
             params,
@@ -312,7 +337,7 @@ impl MapContext {
             section,
             cycle,
             start_rule,
-            shortcuts: shortcuts(plan, &params, landscape.as_ref()),
+            shortcuts,
             landscape,
             outside,
         })

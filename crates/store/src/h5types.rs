@@ -63,6 +63,10 @@ pub(crate) enum ReasonH5 {
     StuckOntoCycle = 13,
     #[hdf5(rename = "stuck_then_settles")]
     StuckThenSettles = 14,
+    #[hdf5(rename = "below_settling_start")]
+    BelowSettlingStart = 15,
+    #[hdf5(rename = "between_sticking_starts")]
+    BetweenStickingStarts = 16,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -85,6 +89,8 @@ impl ReasonH5 {
             12 => ReasonH5::StartInRegion,
             13 => ReasonH5::StuckOntoCycle,
             14 => ReasonH5::StuckThenSettles,
+            15 => ReasonH5::BelowSettlingStart,
+            16 => ReasonH5::BetweenStickingStarts,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })
