@@ -243,6 +243,86 @@ pub enum SectionCycles {
     FixedPointUnstable { r_min: f64 },
 }
 
+/// Relative width (of `r`) below which [`adaptive_samples`] stops refining an interval: the
+/// search's resolution. A window of `D > 0` narrower than `RESOLUTION r` can be missed.
+pub const RESOLUTION: f64 = 1e-3;
+
+/// How much faster than over the sampled interval to its left `D / r` may rise (per unit of
+/// `ln r`) before [`adaptive_samples`] looks inside an interval.
+pub const RISE_FACTOR: f64 = 3.0;
+
+/// The samples of `D` a search rests on, sorted by amplitude.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SectionSamples {
+    /// Amplitudes, increasing.
+    pub rs: Vec<f64>,
+    /// `D` at each.
+    pub ds: Vec<f64>,
+    /// Intervals left unrefined because the refinement budget ran out (0: every interval
+    /// meets the resolution statement of [`adaptive_samples`]).
+    pub unresolved: usize,
+}
+
+impl SectionSamples {
+    /// Every sampled sign change of `D`: `(lo, hi, rising)` with `rising` for `-` to `+`
+    /// (an unstable cycle) and not for `+` to `-` (a stable crossing, or a drop where
+    /// orbits begin to stick).
+    pub fn sign_changes(&self) -> Vec<(f64, f64, bool)> {
+        (0..self.rs.len().saturating_sub(1))
+            .filter(|&i| (self.ds[i] > 0.0) != (self.ds[i + 1] > 0.0))
+            .map(|i| (self.rs[i], self.rs[i + 1], self.ds[i + 1] > 0.0))
+            .collect()
+    }
+}
+
+/// Samples `D` on `[r_min, r_max]`: `samples` log-spaced amplitudes, then refined where a
+/// window of `D > 0` could hide between two samples of `D <= 0`.
+///
+/// Why: `D` is smooth on the slip branch, but where orbits begin to stick it drops steeply.
+/// Near the fold of cycles the window where `D > 0`, between the unstable cycle and that
+/// drop, is narrow (at Table 1, nu = 0.024, `r` in `[2.626, 2.77]`, a ratio of 1.055), and
+/// fixed log samples step over it or not depending on `r_max`: `squeal ulc --nu 0.024` found
+/// the cycle with `--r-max 6` and 20 and not with 11.38 and 50. In `u = ln r` write `g =
+/// D / r`; a window needs `g` to rise to 0 from a negative sample. The interval `[r_i,
+/// r_{i+1}]` (both `D <= 0`) is excluded when `|g_i| >= RISE_FACTOR * s * (u_{i+1} - u_i)`,
+/// `s` the rise rate of `g` over the interval to its left (smooth rises continue at a
+/// similar rate); otherwise it is halved, down to the relative width [`RESOLUTION`]. So
+/// the statement is: every sign change of `D` is found unless it lies in a window
+/// narrower than `RESOLUTION r`, or is reached by a rise of `g` steeper than `RISE_FACTOR`
+/// times its sampled rate to the left. At most `4 samples` extra returns are spent;
+/// intervals left over are counted in [`SectionSamples::unresolved`].
+pub fn adaptive_samples(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionSamples {
+    let n = cs.samples.max(2);
+    let mut rs = log_samples(cs.r_min, cs.r_max, n);
+    let mut ds = map.sample(&rs, w);
+    let (mut extra, mut unresolved) = (0usize, 0usize);
+    let g = |r: f64, d: f64| d / r;
+    let mut i = 1;
+    while i + 1 < rs.len() {
+        let (r0, r1) = (rs[i], rs[i + 1]);
+        let du = r1.ln() - r0.ln();
+        let rise = (g(r0, ds[i]) - g(rs[i - 1], ds[i - 1])) / (r0.ln() - rs[i - 1].ln());
+        let hidden = ds[i] <= 0.0
+            && ds[i + 1] <= 0.0
+            && r1 - r0 > RESOLUTION * r0
+            && -g(r0, ds[i]) < RISE_FACTOR * rise.max(0.0) * du;
+        if !hidden {
+            i += 1;
+            continue;
+        }
+        if extra >= 4 * n {
+            unresolved += 1;
+            i += 1;
+            continue;
+        }
+        let mid = (0.5 * (r0.ln() + r1.ln())).exp();
+        extra += 1;
+        rs.insert(i + 1, mid);
+        ds.insert(i + 1, map.d(mid, w));
+    }
+    SectionSamples { rs, ds, unresolved }
+}
+
 /// Finds the sign changes of `D` on the section and bisects the first unstable one.
 pub fn section_cycles(
     st: &Stepper,
@@ -257,12 +337,11 @@ pub fn section_cycles(
     found
 }
 
-/// [`section_cycles`] on a return map, counted in `w`: every sample of `D`, the first
-/// `-` to `+` sign change bisected to `rtol`.
+/// [`section_cycles`] on a return map, counted in `w`: the samples of [`adaptive_samples`],
+/// the first `-` to `+` sign change bisected to `rtol`.
 pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
-    let n = cs.samples.max(2);
-    let rs = log_samples(cs.r_min, cs.r_max, n);
-    let ds = map.sample(&rs, w);
+    let SectionSamples { rs, ds, .. } = adaptive_samples(map, cs, w);
+    let n = rs.len();
     if ds[0] > 0.0 {
         return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
     }
