@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::bail;
 use squeal_core::State;
-use squeal_scan::section::ParamRange;
+use squeal_scan::section::{Change, ParamRange, coarse_changes};
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::model::SetupArgs;
@@ -107,10 +107,49 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             e
         }
     })?;
+    let base = plan.setup(setup.map);
+    let changes = coarse_changes(
+        |nu| {
+            let p = squeal_core::Params { nu, ..base.params };
+            ulc::point_enclosed(base.with_params(p), &cs, point)
+        },
+        (args.nu_lo, args.nu_hi),
+        COARSE,
+    )?;
     let seconds = t0.elapsed().as_secs_f64();
     let key = plan.maps[setup.map].damping_key();
-    report(&args, &rep, point, key, scales, seconds)?;
+    report(&args, &rep, point, key, scales, seconds, &changes)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Steps of the coarse scan along the parameter before the bisection is trusted.
+const COARSE: usize = 64;
+
+/// The coarse scan's changes in words, when there is more than one: the bisection assumes a
+/// single change of regime, so several are said loudly (on stdout with the result, and on
+/// stderr).
+fn warn_changes(changes: &[Change], name: &str) -> Option<String> {
+    if changes.len() < 2 {
+        return None;
+    }
+    let list: Vec<String> = changes
+        .iter()
+        .map(|c| {
+            format!(
+                "{} in [{:.6e}, {:.6e}]",
+                if c.to { "quiet" } else { "squeals" },
+                c.lo,
+                c.hi
+            )
+        })
+        .collect();
+    let w = format!(
+        "WARNING: the regime changes {} times along {name} ({COARSE} geometric steps over the range): {}; the bisection found one of them",
+        changes.len(),
+        list.join(", ")
+    );
+    eprintln!("{w}");
+    Some(w)
 }
 
 /// Prints the critical damping (JSON with `--json`), in SI units too for a physical system.
@@ -121,10 +160,13 @@ fn report(
     key: &str,
     scales: Option<squeal_core::Scales>,
     seconds: f64,
+    changes: &[Change],
 ) -> anyhow::Result<()> {
+    let warning = warn_changes(changes, key);
     if args.json {
         let mut v = serde_json::to_value(rep)?;
         v["seconds"] = seconds.into();
+        v["coarse_changes"] = serde_json::to_value(changes)?;
         if let Some(s) = scales {
             v["c"] = (rep.nu * s.damping).into();
             v["c_bracket"] = serde_json::json!(rep.bracket.map(|b| b * s.damping));
@@ -142,6 +184,9 @@ fn report(
             "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",
             point.x, point.v
         );
+        if let Some(w) = warning {
+            println!("  {w}");
+        }
         if let Some(s) = scales {
             println!(
                 "  in SI units: c = {:.4} N s/m, bracket [{:.4}, {:.4}] N s/m, for the start x0 = {} m, v0 = {} m/s",
@@ -203,6 +248,19 @@ fn boundary(
         Some(r) => r?,
         None => bail!("no boundary asked for"),
     };
+    let base = plan.setup(map);
+    let changes = coarse_changes(
+        |v| {
+            let setup = base.with_params(param.with(base.params, v));
+            match args.fold {
+                true => boundary::quiet_everywhere(setup, &ps),
+                false => boundary::point_quiet(setup, &ps, point),
+            }
+        },
+        (lo, hi),
+        COARSE,
+    )?;
+    let warning = warn_changes(&changes, name);
     let seconds = t0.elapsed().as_secs_f64();
     // A physical system: the boundary in N s/m (c) or m/s (v_belt) too.
     let si = plan.physical.map(|ph| {
@@ -217,6 +275,7 @@ fn boundary(
         v["in"] = name.into();
         v[name] = v["nu"].clone();
         v["seconds"] = seconds.into();
+        v["coarse_changes"] = serde_json::to_value(&changes)?;
         if let Some((key, unit, units)) = si {
             v[key] = (b.nu * unit).into();
             v[format!("{key}_bracket")] = serde_json::json!(b.bracket.map(|x| x * unit));
@@ -264,6 +323,9 @@ fn boundary(
             None => "at dt/2: not checked (a run failed)",
         }
     );
+    if let Some(w) = warning {
+        println!("  {w}");
+    }
     if let Some((key, unit, units)) = si {
         println!(
             "  in SI units: {key} = {:.4} {units}, bracket [{:.4}, {:.4}] {units}",

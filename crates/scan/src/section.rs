@@ -223,6 +223,45 @@ pub fn geometric_bisection<E>(
     Ok(((lo, hi), evaluations))
 }
 
+/// One change of a boolean predicate between two neighbouring values of a coarse scan.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Change {
+    /// The lower value.
+    pub lo: f64,
+    /// The upper value.
+    pub hi: f64,
+    /// The predicate at `hi` (so `!to` at `lo`).
+    pub to: bool,
+}
+
+/// Every change of `pred` between neighbours of `n` geometric steps over `[lo, hi]` (`n +
+/// 1` values, both ends included). A bisection assumes one change; where the coarse scan
+/// finds more, the regime flips back and forth along the parameter and the bisected value
+/// is one of several (issue 17: along the damping of one brake it did, and nothing warned).
+/// Changes closer together than a step can still hide between two values.
+pub fn coarse_changes<E>(
+    mut pred: impl FnMut(f64) -> Result<bool, E>,
+    (lo, hi): (f64, f64),
+    n: usize,
+) -> Result<Vec<Change>, E> {
+    let n = n.max(1);
+    let vs: Vec<f64> = (0..=n)
+        .map(|i| (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / n as f64).exp())
+        .collect();
+    let mut at = Vec::with_capacity(vs.len());
+    for &v in &vs {
+        at.push(pred(v)?);
+    }
+    Ok((0..n)
+        .filter(|&i| at[i] != at[i + 1])
+        .map(|i| Change {
+            lo: vs[i],
+            hi: vs[i + 1],
+            to: at[i + 1],
+        })
+        .collect())
+}
+
 /// Where the return map changes sign.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -525,6 +564,17 @@ mod tests {
         // Log-spaced: constant ratio (6 / 0.01)^(1/95).
         let q = (6.0f64 / 1e-2).powf(1.0 / 95.0);
         assert!(rs.windows(2).all(|p| (p[1] / p[0] / q - 1.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn coarse_changes_finds_every_flip() {
+        // True on [2, 3) and from 5 on: three changes over [1, 8] in 7 geometric steps
+        // (values 1, 1.346, 1.811, 2.438, 3.281, 4.416, 5.944, 8).
+        let pred = |v: f64| Ok::<_, ()>((2.0..3.0).contains(&v) || v >= 5.0);
+        let c = coarse_changes(pred, (1.0, 8.0), 7).unwrap();
+        let to: Vec<bool> = c.iter().map(|c| c.to).collect();
+        assert_eq!(to, [true, false, true]);
+        assert!(c[0].lo < 2.0 && c[0].hi >= 2.0 && c[2].lo < 5.0 && c[2].hi >= 5.0);
     }
 
     #[test]
