@@ -36,6 +36,11 @@ pub struct Args {
     /// Find the fold of cycles instead: the damping above which no start squeals.
     #[arg(long)]
     pub fold: bool,
+    /// Find the crisis of the stick-slip band instead: the damping above which no start
+    /// squeals for good (the band above the unstable cycle leaks), bisected at dt and
+    /// dt/2, with an uncertainty that covers both (crates/core/MODEL.md, section 6).
+    #[arg(long, conflicts_with = "fold")]
+    pub crisis: bool,
     /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the
     /// Stribeck law xi and v_d (nu and lambda are taken there too). The bracket flags keep
     /// the names --nu-lo ... --lambda-hi.
@@ -89,6 +94,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         },
         _ => args,
     };
+    if args.crisis {
+        return crisis(&args, plan, setup.map, t0);
+    }
     if args.fold || args.in_ == "lambda" {
         return boundary(&args, plan, setup.map, point, t0);
     }
@@ -334,5 +342,42 @@ fn boundary(
             b.bracket[1] * unit
         );
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--crisis`: where squeal stops lasting ([`squeal_scan::band::crisis_nu`]).
+fn crisis(
+    args: &Args,
+    plan: &squeal_scan::Plan,
+    map: usize,
+    t0: std::time::Instant,
+) -> anyhow::Result<ExitCode> {
+    if args.in_ != "nu" {
+        bail!("--crisis: only in the damping (--in nu)");
+    }
+    if plan.maps[map].law.has_true_stick() {
+        bail!("--crisis: McMillan's laws only (a law with true stick has no band to leak)");
+    }
+    let range = ParamRange {
+        lo: args.nu_lo,
+        hi: args.nu_hi,
+        rtol: args.rtol,
+    };
+    let c = squeal_scan::band::crisis_nu(plan.setup(map), &CycleSettings::default(), range)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if args.json {
+        let mut v = serde_json::to_value(c)?;
+        v["seconds"] = seconds.into();
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "crisis of the stick-slip band: nu = {:.6e} +- {:.2e} ({} verdicts, {:.2} s)",
+        c.nu, c.uncertainty, c.evaluations, seconds
+    );
+    println!(
+        "  squeal lasts up to nu = {:.6e} and no start squeals for good from {:.6e} at dt; {:.6e} and {:.6e} at dt/2 (between them the band's verdict is marginal: undecided)",
+        c.interval[0], c.interval[1], c.half_dt[0], c.half_dt[1]
+    );
     Ok(ExitCode::SUCCESS)
 }

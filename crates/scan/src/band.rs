@@ -34,7 +34,15 @@
 
 use serde::Serialize;
 
-use crate::section::{RESOLUTION, RISE_FACTOR, ReturnMap, Work};
+use squeal_core::{Params, Setup};
+
+use crate::error::ScanError;
+use crate::scanner::{Outside, outside_of};
+use crate::section::{
+    ParamRange, RESOLUTION, RISE_FACTOR, ReturnMap, SectionCycles, Work, geometric_bisection,
+    section_cycles,
+};
+use crate::ulc::CycleSettings;
 
 /// Uniform samples of `P` over the band.
 pub const NSAMPLES: usize = 128;
@@ -210,4 +218,99 @@ fn golden(map: &ReturnMap, mut lo: f64, mut hi: f64, sign: f64, w: &mut Work) ->
         }
     }
     best
+}
+
+/// What the section says of lasting squeal at one parameter set (the scan's rule,
+/// [`crate::scanner::outside_of`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Lasting {
+    /// Some start squeals for good: the fixed point repels, or the outside of the unstable
+    /// cycle is invariant, or the band above it is trapped.
+    Squeals,
+    /// The band's verdict is marginal (or its top was not seen): not decided.
+    Undecided,
+    /// No start squeals for good: no unstable cycle, or the band above it leaks.
+    Quiet,
+}
+
+/// [`Lasting`] at `setup`, from the section searched with `cs`.
+pub fn lasting(setup: Setup, cs: &CycleSettings) -> Result<Lasting, ScanError> {
+    let st = setup.stepper()?;
+    let (mut stats, mut returns) = (Default::default(), 0);
+    let found = section_cycles(&st, cs, &mut stats, &mut returns);
+    Ok(match found {
+        SectionCycles::FixedPointUnstable { .. } => Lasting::Squeals,
+        SectionCycles::NoneBelow { .. } => Lasting::Quiet,
+        SectionCycles::Unstable { .. } => match outside_of(&st, cs, &found) {
+            Some(Outside::Escapes { band, .. }) => match band {
+                Band::Trapped { .. } => Lasting::Squeals,
+                Band::Leaks { .. } => Lasting::Quiet,
+                Band::Marginal { .. } | Band::NoTop => Lasting::Undecided,
+            },
+            _ => Lasting::Squeals,
+        },
+    })
+}
+
+/// The crisis of the stick-slip band in the damping: where squeal stops lasting.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Crisis {
+    /// The bisected interval at the setup's `dt`: squeal lasts at its lower end (the last
+    /// value seen [`Lasting::Squeals`]) and no longer at its upper end (the first seen
+    /// [`Lasting::Quiet`]); in between the verdict is undecided or the bracket's width.
+    pub interval: [f64; 2],
+    /// The same at `dt / 2`.
+    pub half_dt: [f64; 2],
+    /// The fold: the middle of the union of both intervals (so `nu -+ uncertainty` is that
+    /// union).
+    pub nu: f64,
+    /// Half the union's width: the stated uncertainty, covering both steps.
+    pub uncertainty: f64,
+    /// Verdicts computed.
+    pub evaluations: u32,
+}
+
+/// The crisis in `nu` over `range`: two geometric bisections at `dt` (the last value where
+/// squeal lasts, the first where it is quiet) and the same at `dt / 2`. The fold is stated
+/// as the union of the four brackets, so its uncertainty covers the step's effect and the
+/// marginal zone. The verdicts are properties of the return map, not of a run's horizon,
+/// so a longer horizon does not move them (only `t_return`, the longest single
+/// revolution, enters).
+pub fn crisis_nu(setup: Setup, cs: &CycleSettings, range: ParamRange) -> Result<Crisis, ScanError> {
+    let mut evaluations = 0;
+    let mut one = |setup: Setup| -> Result<[f64; 2], ScanError> {
+        let at = |nu: f64| lasting(setup.with_params(Params { nu, ..setup.params }), cs);
+        let ends = [at(range.lo)?, at(range.hi)?];
+        if ends[0] != Lasting::Squeals || ends[1] != Lasting::Quiet {
+            return Err(ScanError::Undetermined(format!(
+                "the crisis needs squeal lasting at nu = {} and quiet at {}: found {:?}",
+                range.lo, range.hi, ends
+            )));
+        }
+        let (lo, n1) = geometric_bisection(
+            |nu| Ok::<_, ScanError>(at(nu)? != Lasting::Squeals),
+            (range.lo, range.hi),
+            range.rtol,
+            200,
+        )?;
+        let (hi, n2) = geometric_bisection(
+            |nu| Ok::<_, ScanError>(at(nu)? == Lasting::Quiet),
+            (lo.0, range.hi),
+            range.rtol,
+            200,
+        )?;
+        evaluations += n1 + n2;
+        Ok([lo.0, hi.1])
+    };
+    let interval = one(setup)?;
+    let half_dt = one(setup.half_dt())?;
+    let (a, b) = (interval[0].min(half_dt[0]), interval[1].max(half_dt[1]));
+    Ok(Crisis {
+        interval,
+        half_dt,
+        nu: 0.5 * (a + b),
+        uncertainty: 0.5 * (b - a),
+        evaluations,
+    })
 }
