@@ -249,3 +249,23 @@ fn the_crisis_lies_where_long_runs_put_it_and_far_starts_stop_below_it() {
         assert!(crit.bracket[0] <= hi, "({x}, {v}): {crit:?} against {c:?}");
     }
 }
+
+/// The labels of issue 17's two grids at nu = 0.025 (14 x 7 cells, runs to settlement):
+/// the issue measured on 6685246 that `x0 in [-3, 10]` found no cycle and labelled 28 of 98
+/// cells `stick_slip` (`sticking_band`) while `[-3, 5]` labelled all 98 steady slip; on
+/// 793d9b4 these two plans give the reverse (`[-3, 5]`: no cycle, 15 of 98 stick-slip;
+/// `[-3, 10]`: 98 steady slip): which extent fails depends on where the fixed samples fall. Every start there ends at
+/// the fixed point (all ten far starts of `tests/data/edge_long_runs.csv` at nu = 0.025 are
+/// there at t = 40000), so no cell of either grid may be labelled stick-slip.
+#[test]
+fn neither_grid_extent_labels_a_transient_stick_slip() {
+    for x_max in [10.0, 5.0] {
+        let p = plan(0.025, x_max, "none");
+        let ctx = MapContext::prepare(&p, 0).unwrap();
+        let stick = (0..p.grid.v0.count)
+            .flat_map(|row| (0..p.grid.x0.count).map(move |col| (row, col)))
+            .filter(|&(row, col)| ctx.cell(&p, row, col).regime == Regime::StickSlip as u8)
+            .count();
+        assert_eq!(stick, 0, "x0 in [-3, {x_max}]");
+    }
+}
