@@ -189,7 +189,7 @@ fn report(
             point.x, point.v, key, rep.nu, rep.bracket[0], rep.bracket[1], rep.evaluations, seconds
         );
         println!(
-            "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",
+            "  below it the unstable cycle leaves ({}, {}) outside and the band above the cycle does not leak: that start squeals (or, where the band's verdict is marginal, may); above it the start is inside the cycle or the band leaks: steady slip",
             point.x, point.v
         );
         if let Some(w) = warning {
