@@ -19,8 +19,9 @@
 //! inside the cycle, and the band is an attractor. If `a < r_u`, part of the band maps
 //! inside the cycle: the band has a hole, and (a chaotic band visiting its whole interval)
 //! every run on it leaves sooner or later. That is a boundary crisis: `a - r_u` changes sign
-//! between nu = 0.0240 (+0.0016) and 0.0242 (-0.0034) at Table 1's values (400 samples on
-//! `[r_u, 3]`; `crates/scan/tests/edge.rs`).
+//! between nu = 0.0240 (+0.0016) and 0.0242 (-0.0034) at Table 1's values (400 uniform
+//! samples on `(r_u, 3]`: `cargo run --release -p squeal-scan --example band_margin -- 400
+//! 0.0240 0.0242`).
 //!
 //! **What is sampled, and the margin.** `P` is known at samples only: [`NSAMPLES`] uniform
 //! samples on `(r_u, top]` (`top` 1.1 times the search's first crossing with `D <= 0`

@@ -199,8 +199,9 @@ fn critical_from_a_far_start_counts_a_leaking_band_as_quiet() {
 }
 
 /// The band verdicts around the crisis at Table 1's lambda, tau, phi: trapped at nu =
-/// 0.0236 (its lowest return clears the cycle by 0.0145, 400 samples on [r_u, 3]), too
-/// close to call at 0.0240 (+0.0016), leaking from 0.0242 (-0.0034) on.
+/// 0.0236 (its lowest return clears the cycle by 0.0145), too close to call at 0.0240
+/// (+0.0016), leaking from 0.0242 (-0.0034) on; the margins from 400 uniform samples on
+/// `(r_u, 3]`, `examples/band_margin.rs` (the command is in its header).
 #[test]
 fn the_band_is_trapped_below_the_crisis_and_leaks_above() {
     let verdict = |nu: f64| {
