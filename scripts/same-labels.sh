@@ -16,6 +16,8 @@ echo "date: $(date -u +%Y-%m-%dT%H:%MZ)  load: $(cut -d' ' -f1-3 /proc/loadavg) 
 for spec in scans/*.toml; do
   name=$(basename "$spec" .toml)
   case $name in atlas-*) continue ;; esac
+  # An atlas spec without the prefix (scans/brake.toml): neither [grid] nor [sample].
+  grep -qE "^\[(grid|sample)\]" "$spec" || continue
   if [ -n "${COUNT:-}" ]; then
     sed -E "/^(x0|v0) = /s/count = [0-9]+/count = $COUNT/" "$spec" >"$tmp/$name.toml"
   else

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::bail;
 use squeal_core::State;
-use squeal_scan::section::ParamRange;
+use squeal_scan::section::{Change, ParamRange, coarse_changes};
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::model::SetupArgs;
@@ -36,6 +36,11 @@ pub struct Args {
     /// Find the fold of cycles instead: the damping above which no start squeals.
     #[arg(long)]
     pub fold: bool,
+    /// Find the crisis of the stick-slip band instead: the damping above which no start
+    /// squeals for good (the band above the unstable cycle leaks), bisected at dt and
+    /// dt/2, with an uncertainty that covers both (crates/core/MODEL.md, section 6).
+    #[arg(long, conflicts_with = "fold")]
+    pub crisis: bool,
     /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the
     /// Stribeck law xi and v_d (nu and lambda are taken there too). The bracket flags keep
     /// the names --nu-lo ... --lambda-hi.
@@ -89,6 +94,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         },
         _ => args,
     };
+    if args.crisis {
+        return crisis(&args, plan, setup.map, t0);
+    }
     if args.fold || args.in_ == "lambda" {
         return boundary(&args, plan, setup.map, point, t0);
     }
@@ -107,10 +115,49 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             e
         }
     })?;
+    let base = plan.setup(setup.map);
+    let changes = coarse_changes(
+        |nu| {
+            let p = squeal_core::Params { nu, ..base.params };
+            ulc::point_enclosed(base.with_params(p), &cs, point)
+        },
+        (args.nu_lo, args.nu_hi),
+        COARSE,
+    )?;
     let seconds = t0.elapsed().as_secs_f64();
     let key = plan.maps[setup.map].damping_key();
-    report(&args, &rep, point, key, scales, seconds)?;
+    report(&args, &rep, point, key, scales, seconds, &changes)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Steps of the coarse scan along the parameter before the bisection is trusted.
+const COARSE: usize = 64;
+
+/// The coarse scan's changes in words, when there is more than one: the bisection assumes a
+/// single change of regime, so several are said loudly (on stdout with the result, and on
+/// stderr).
+fn warn_changes(changes: &[Change], name: &str) -> Option<String> {
+    if changes.len() < 2 {
+        return None;
+    }
+    let list: Vec<String> = changes
+        .iter()
+        .map(|c| {
+            format!(
+                "{} in [{:.6e}, {:.6e}]",
+                if c.to { "quiet" } else { "squeals" },
+                c.lo,
+                c.hi
+            )
+        })
+        .collect();
+    let w = format!(
+        "WARNING: the regime changes {} times along {name} ({COARSE} geometric steps over the range): {}; the bisection found one of them",
+        changes.len(),
+        list.join(", ")
+    );
+    eprintln!("{w}");
+    Some(w)
 }
 
 /// Prints the critical damping (JSON with `--json`), in SI units too for a physical system.
@@ -121,10 +168,13 @@ fn report(
     key: &str,
     scales: Option<squeal_core::Scales>,
     seconds: f64,
+    changes: &[Change],
 ) -> anyhow::Result<()> {
+    let warning = warn_changes(changes, key);
     if args.json {
         let mut v = serde_json::to_value(rep)?;
         v["seconds"] = seconds.into();
+        v["coarse_changes"] = serde_json::to_value(changes)?;
         if let Some(s) = scales {
             v["c"] = (rep.nu * s.damping).into();
             v["c_bracket"] = serde_json::json!(rep.bracket.map(|b| b * s.damping));
@@ -139,9 +189,12 @@ fn report(
             point.x, point.v, key, rep.nu, rep.bracket[0], rep.bracket[1], rep.evaluations, seconds
         );
         println!(
-            "  below it the unstable cycle leaves ({}, {}) outside: that start squeals; above it, steady slip",
+            "  below it the unstable cycle leaves ({}, {}) outside and the band above the cycle does not leak: that start squeals (or, where the band's verdict is marginal, may); above it the start is inside the cycle or the band leaks: steady slip",
             point.x, point.v
         );
+        if let Some(w) = warning {
+            println!("  {w}");
+        }
         if let Some(s) = scales {
             println!(
                 "  in SI units: c = {:.4} N s/m, bracket [{:.4}, {:.4}] N s/m, for the start x0 = {} m, v0 = {} m/s",
@@ -203,6 +256,19 @@ fn boundary(
         Some(r) => r?,
         None => bail!("no boundary asked for"),
     };
+    let base = plan.setup(map);
+    let changes = coarse_changes(
+        |v| {
+            let setup = base.with_params(param.with(base.params, v));
+            match args.fold {
+                true => boundary::quiet_everywhere(setup, &ps),
+                false => boundary::point_quiet(setup, &ps, point),
+            }
+        },
+        (lo, hi),
+        COARSE,
+    )?;
+    let warning = warn_changes(&changes, name);
     let seconds = t0.elapsed().as_secs_f64();
     // A physical system: the boundary in N s/m (c) or m/s (v_belt) too.
     let si = plan.physical.map(|ph| {
@@ -217,6 +283,7 @@ fn boundary(
         v["in"] = name.into();
         v[name] = v["nu"].clone();
         v["seconds"] = seconds.into();
+        v["coarse_changes"] = serde_json::to_value(&changes)?;
         if let Some((key, unit, units)) = si {
             v[key] = (b.nu * unit).into();
             v[format!("{key}_bracket")] = serde_json::json!(b.bracket.map(|x| x * unit));
@@ -264,6 +331,9 @@ fn boundary(
             None => "at dt/2: not checked (a run failed)",
         }
     );
+    if let Some(w) = warning {
+        println!("  {w}");
+    }
     if let Some((key, unit, units)) = si {
         println!(
             "  in SI units: {key} = {:.4} {units}, bracket [{:.4}, {:.4}] {units}",
@@ -272,5 +342,42 @@ fn boundary(
             b.bracket[1] * unit
         );
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--crisis`: where squeal stops lasting ([`squeal_scan::band::crisis_nu`]).
+fn crisis(
+    args: &Args,
+    plan: &squeal_scan::Plan,
+    map: usize,
+    t0: std::time::Instant,
+) -> anyhow::Result<ExitCode> {
+    if args.in_ != "nu" {
+        bail!("--crisis: only in the damping (--in nu)");
+    }
+    if plan.maps[map].law.has_true_stick() {
+        bail!("--crisis: McMillan's laws only (a law with true stick has no band to leak)");
+    }
+    let range = ParamRange {
+        lo: args.nu_lo,
+        hi: args.nu_hi,
+        rtol: args.rtol,
+    };
+    let c = squeal_scan::band::crisis_nu(plan.setup(map), &CycleSettings::default(), range)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if args.json {
+        let mut v = serde_json::to_value(c)?;
+        v["seconds"] = seconds.into();
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "crisis of the stick-slip band: nu = {:.6e} +- {:.2e} ({} verdicts, {:.2} s)",
+        c.nu, c.uncertainty, c.evaluations, seconds
+    );
+    println!(
+        "  squeal lasts up to nu = {:.6e} and no start squeals for good from {:.6e} at dt; {:.6e} and {:.6e} at dt/2 (between them the band's verdict is marginal: undecided)",
+        c.interval[0], c.interval[1], c.half_dt[0], c.half_dt[1]
+    );
     Ok(ExitCode::SUCCESS)
 }

@@ -309,7 +309,7 @@ pub fn landscape_json(l: Option<&squeal_store::LandscapeInfo>) -> serde_json::Va
 /// [`squeal_scan::scanner::Outside::Escapes`]).
 pub fn escape_words(r: f64) -> String {
     format!(
-        "the return map jumps past the cycle (the start r = {r:.4} on the section returns inside): starts outside may end in steady slip, so none is labelled stick-slip for lying outside, and none by its band unless a stick-slip attractor was found outside"
+        "the return map jumps past the cycle (the start r = {r:.4} on the section returns inside): starts outside may end in steady slip, so none is labelled stick-slip for lying outside, and none by its band unless the band above the cycle is trapped (its returns never fall inside)"
     )
 }
 

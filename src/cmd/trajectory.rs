@@ -295,10 +295,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let p = *stepper.params();
     let fp = p.fixed_point();
     let mut cols = Samples::default();
-    let classifier = Classifier {
-        t_max: args.t_end,
-        ..Default::default()
-    };
+    // The band rules as the scan sets them for this model (a band that may still leak is
+    // not stick-slip): one rule for every path, searched out to beyond the start.
+    let classifier = squeal_scan::scanner::classifier_for(
+        &stepper,
+        Classifier {
+            t_max: args.t_end,
+            ..Default::default()
+        },
+        1.2 * (ic.x - fp.x).hypot(ic.v - fp.v),
+    );
     let mut watch = classifier.watch(&p);
     let mut outcome = None;
     let mut run = Run::new(&stepper, ic);

@@ -84,6 +84,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let t0 = std::time::Instant::now();
     let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
     let seconds = t0.elapsed().as_secs_f64();
+    // Every sign change the search's samples show (the same samples as the search's own).
+    let samples = {
+        let st = Setup::new(params, plan.dt, plan.solver).stepper()?;
+        let map = squeal_scan::section::ReturnMap::new(&st, cs.t_return);
+        squeal_scan::section::adaptive_samples(&map, &cs, &mut Default::default())
+    };
+    let changes = samples.sign_changes();
     let rays = if args.verify_rays > 0 {
         Some(ulc::verify_rays(
             &rep,
@@ -135,6 +142,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v["bracket_width"] = (rep.bracket[1] - rep.bracket[0]).into();
         v["rays"] = serde_json::to_value(&rays)?;
         v["verified"] = rays.as_ref().map(|r| r.passed()).into();
+        v["sign_changes"] = serde_json::json!(
+            changes
+                .iter()
+                .map(|&(lo, hi, rising)| serde_json::json!({"lo": lo, "hi": hi, "rising": rising}))
+                .collect::<Vec<_>>()
+        );
+        v["resolution"] = squeal_scan::section::RESOLUTION.into();
+        v["unresolved"] = samples.unresolved.into();
         if let Some(ph) = plan.physical {
             v["si"] = si_json(&rep, &ph.scales());
         }
@@ -193,6 +208,24 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     println!(
         "  {} section returns, {} friction evaluations, {:.3} s",
         rep.returns, rep.solver.evaluations, seconds
+    );
+    let words: Vec<String> = changes
+        .iter()
+        .map(|&(lo, hi, rising)| {
+            let kind = if rising { "- to +" } else { "+ to -" };
+            format!("{kind} in [{lo:.4}, {hi:.4}]")
+        })
+        .collect();
+    println!(
+        "  sign changes of D = P(r) - r sampled up to r = {}: {} ({} samples, refined where a window could hide down to a relative width of {}{})",
+        cs.r_max,
+        words.join(", "),
+        samples.rs.len(),
+        squeal_scan::section::RESOLUTION,
+        match samples.unresolved {
+            0 => String::new(),
+            n => format!("; {n} intervals left unrefined: budget spent"),
+        }
     );
     if let Some(rays) = &rays {
         println!(

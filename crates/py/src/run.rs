@@ -30,10 +30,16 @@ fn integrate(
     stop: &AtomicBool,
 ) -> (Samples, (&'static str, &'static str, f64)) {
     let p = *stepper.params();
-    let cl = Classifier {
-        t_max: t_end,
-        ..*classifier
-    };
+    // The band rules as every other path sets them (squeal_scan::scanner::classifier_for).
+    let fp = p.fixed_point();
+    let cl = squeal_scan::scanner::classifier_for(
+        stepper,
+        Classifier {
+            t_max: t_end,
+            ..*classifier
+        },
+        1.2 * (ic.x - fp.x).hypot(ic.v - fp.v),
+    );
     let mut watch = cl.watch(&p);
     let mut run = Run::new(stepper, ic);
     let mut cols = Samples::default();

@@ -53,6 +53,7 @@
 //! ```
 
 pub mod atlas;
+pub mod band;
 pub mod basin;
 pub mod bounds;
 pub mod cell;

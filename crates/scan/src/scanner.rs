@@ -10,6 +10,7 @@ use squeal_core::{
     State, Stepper, Trap,
 };
 
+use crate::band::Band;
 use crate::cell::Audit;
 pub use crate::cell::Cell;
 use crate::curve::{ClosedCurve, CurveLocator};
@@ -206,11 +207,68 @@ pub enum Outside {
     /// and the trap and the start rule may say so without a run.
     Invariant,
     /// The start `r_escape` (and maybe others) returns inside ([`crate::section::escape_above`]):
-    /// the trap and the start rule decide only inside the cycle. `attractor`: whether runs
-    /// from far starts stayed outside for 80 revolutions (the atlas's stick-slip test,
-    /// [`crate::atlas::attractor::find_stick_slip`]); if not, no run is labelled stick-slip
-    /// by its section band either (runs end at the fixed point or undecided at `t_max`).
-    Escapes { r_escape: f64, attractor: bool },
+    /// the trap and the start rule decide only inside the cycle. `band`: whether the
+    /// stick-slip band above the cycle is trapped ([`crate::band::band_above`]); if not,
+    /// no run is labelled stick-slip by its section band either (runs end at the fixed
+    /// point or undecided at `t_max`).
+    Escapes { r_escape: f64, band: Band },
+}
+
+impl Outside {
+    /// Whether a run may be labelled stick-slip by its section band
+    /// ([`squeal_core::Classifier::band_rules`]).
+    pub fn band_rules(&self) -> bool {
+        match self {
+            Outside::Invariant => true,
+            Outside::Escapes { band, .. } => band.attracts(),
+        }
+    }
+}
+
+/// What the section search `found` on `stepper` says of the outside of the unstable cycle
+/// (`None`: no unstable cycle found). The one rule of every path that labels a run: the
+/// scan's maps, `classify`, `trajectory` ([`classifier_for`]) and the atlas's confirmation
+/// runs.
+pub fn outside_of(stepper: &Stepper, cs: &CycleSettings, found: &SectionCycles) -> Option<Outside> {
+    let SectionCycles::Unstable {
+        r,
+        stable_above,
+        escape,
+        ..
+    } = *found
+    else {
+        return None;
+    };
+    Some(match escape {
+        None => Outside::Invariant,
+        Some(r_escape) => {
+            let map = section::ReturnMap::new(stepper, cs.t_return);
+            let top = stable_above.unwrap_or(2.0 * r);
+            Outside::Escapes {
+                r_escape,
+                band: crate::band::band_above(&map, r, top, &mut section::Work::default()),
+            }
+        }
+    })
+}
+
+/// The classifier `base` with its band rules set by the section of `stepper` searched up
+/// to `r_max` ([`outside_of`]; the search does not depend on `r_max` beyond its stated
+/// resolution, [`crate::section::adaptive_samples`]): what a run from a single start
+/// (`squeal trajectory`, the atlas's confirmation run) uses, so that it labels as the scan
+/// does. Laws with true stick are returned unchanged (their band rules are not used).
+pub fn classifier_for(stepper: &Stepper, base: Classifier, r_max: f64) -> Classifier {
+    if stepper.params().law.has_true_stick() {
+        return base;
+    }
+    let cs = CycleSettings {
+        r_max: r_max.max(CycleSettings::default().r_max),
+        ..CycleSettings::default()
+    };
+    let (mut stats, mut returns) = (SolverStats::default(), 0);
+    let found = section::section_cycles(stepper, &cs, &mut stats, &mut returns);
+    let band_rules = outside_of(stepper, &cs, &found).is_none_or(|o| o.band_rules());
+    Classifier { band_rules, ..base }
 }
 
 /// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
@@ -263,32 +321,11 @@ impl MapContext {
             // Outside the unstable cycle a run ends on a self-excited oscillation (bounded
             // friction, nu > 0: nothing escapes to infinity, and an attracting cycle out
             // there is stick-slip) unless it falls back inside: where a sampled start does
-            // ([`Outside::Escapes`]) no outside rule applies. (The sampled return map also
-            // changes sign inside the quasi-periodic stick-slip band; those are not further
-            // unstable cycles.)
-            if let SectionCycles::Unstable { r, escape, .. } = found {
-                outside = Some(match escape {
-                    None => Outside::Invariant,
-                    Some(r_escape) => {
-                        let ps = crate::atlas::point::PointSettings {
-                            cycle: cs,
-                            ..Default::default()
-                        };
-                        let attractor = crate::atlas::attractor::find_stick_slip(
-                            &stepper,
-                            r,
-                            &ps,
-                            cs.t_return,
-                            &mut SolverStats::default(),
-                        )
-                        .is_ok();
-                        classifier.band_rules = attractor;
-                        Outside::Escapes {
-                            r_escape,
-                            attractor,
-                        }
-                    }
-                });
+            // ([`Outside::Escapes`]) no outside rule applies, and the band rules only where
+            // the band is trapped ([`crate::band`]).
+            outside = outside_of(&stepper, &cs, &found);
+            if let Some(o) = outside {
+                classifier.band_rules = o.band_rules();
             }
             if plan.early_stop == EarlyStop::Cycle {
                 if let SectionCycles::Unstable { lo, hi, escape, .. } = found {

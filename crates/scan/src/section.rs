@@ -223,6 +223,45 @@ pub fn geometric_bisection<E>(
     Ok(((lo, hi), evaluations))
 }
 
+/// One change of a boolean predicate between two neighbouring values of a coarse scan.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Change {
+    /// The lower value.
+    pub lo: f64,
+    /// The upper value.
+    pub hi: f64,
+    /// The predicate at `hi` (so `!to` at `lo`).
+    pub to: bool,
+}
+
+/// Every change of `pred` between neighbours of `n` geometric steps over `[lo, hi]` (`n +
+/// 1` values, both ends included). A bisection assumes one change; where the coarse scan
+/// finds more, the regime flips back and forth along the parameter and the bisected value
+/// is one of several (issue 17: along the damping of one brake it did, and nothing warned).
+/// Changes closer together than a step can still hide between two values.
+pub fn coarse_changes<E>(
+    mut pred: impl FnMut(f64) -> Result<bool, E>,
+    (lo, hi): (f64, f64),
+    n: usize,
+) -> Result<Vec<Change>, E> {
+    let n = n.max(1);
+    let vs: Vec<f64> = (0..=n)
+        .map(|i| (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / n as f64).exp())
+        .collect();
+    let mut at = Vec::with_capacity(vs.len());
+    for &v in &vs {
+        at.push(pred(v)?);
+    }
+    Ok((0..n)
+        .filter(|&i| at[i] != at[i + 1])
+        .map(|i| Change {
+            lo: vs[i],
+            hi: vs[i + 1],
+            to: at[i + 1],
+        })
+        .collect())
+}
+
 /// Where the return map changes sign.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -243,6 +282,86 @@ pub enum SectionCycles {
     FixedPointUnstable { r_min: f64 },
 }
 
+/// Relative width (of `r`) below which [`adaptive_samples`] stops refining an interval: the
+/// search's resolution. A window of `D > 0` narrower than `RESOLUTION r` can be missed.
+pub const RESOLUTION: f64 = 1e-3;
+
+/// How much faster than over the sampled interval to its left `D / r` may rise (per unit of
+/// `ln r`) before [`adaptive_samples`] looks inside an interval.
+pub const RISE_FACTOR: f64 = 3.0;
+
+/// The samples of `D` a search rests on, sorted by amplitude.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SectionSamples {
+    /// Amplitudes, increasing.
+    pub rs: Vec<f64>,
+    /// `D` at each.
+    pub ds: Vec<f64>,
+    /// Intervals left unrefined because the refinement budget ran out (0: every interval
+    /// meets the resolution statement of [`adaptive_samples`]).
+    pub unresolved: usize,
+}
+
+impl SectionSamples {
+    /// Every sampled sign change of `D`: `(lo, hi, rising)` with `rising` for `-` to `+`
+    /// (an unstable cycle) and not for `+` to `-` (a stable crossing, or a drop where
+    /// orbits begin to stick).
+    pub fn sign_changes(&self) -> Vec<(f64, f64, bool)> {
+        (0..self.rs.len().saturating_sub(1))
+            .filter(|&i| (self.ds[i] > 0.0) != (self.ds[i + 1] > 0.0))
+            .map(|i| (self.rs[i], self.rs[i + 1], self.ds[i + 1] > 0.0))
+            .collect()
+    }
+}
+
+/// Samples `D` on `[r_min, r_max]`: `samples` log-spaced amplitudes, then refined where a
+/// window of `D > 0` could hide between two samples of `D <= 0`.
+///
+/// Why: `D` is smooth on the slip branch, but where orbits begin to stick it drops steeply.
+/// Near the fold of cycles the window where `D > 0`, between the unstable cycle and that
+/// drop, is narrow (at Table 1, nu = 0.024, `r` in `[2.626, 2.77]`, a ratio of 1.055), and
+/// fixed log samples step over it or not depending on `r_max`: `squeal ulc --nu 0.024` found
+/// the cycle with `--r-max 6` and 20 and not with 11.38 and 50. In `u = ln r` write `g =
+/// D / r`; a window needs `g` to rise to 0 from a negative sample. The interval `[r_i,
+/// r_{i+1}]` (both `D <= 0`) is excluded when `|g_i| >= RISE_FACTOR * s * (u_{i+1} - u_i)`,
+/// `s` the rise rate of `g` over the interval to its left (smooth rises continue at a
+/// similar rate); otherwise it is halved, down to the relative width [`RESOLUTION`]. So
+/// the statement is: every sign change of `D` is found unless it lies in a window
+/// narrower than `RESOLUTION r`, or is reached by a rise of `g` steeper than `RISE_FACTOR`
+/// times its sampled rate to the left. At most `4 samples` extra returns are spent;
+/// intervals left over are counted in [`SectionSamples::unresolved`].
+pub fn adaptive_samples(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionSamples {
+    let n = cs.samples.max(2);
+    let mut rs = log_samples(cs.r_min, cs.r_max, n);
+    let mut ds = map.sample(&rs, w);
+    let (mut extra, mut unresolved) = (0usize, 0usize);
+    let g = |r: f64, d: f64| d / r;
+    let mut i = 1;
+    while i + 1 < rs.len() {
+        let (r0, r1) = (rs[i], rs[i + 1]);
+        let du = r1.ln() - r0.ln();
+        let rise = (g(r0, ds[i]) - g(rs[i - 1], ds[i - 1])) / (r0.ln() - rs[i - 1].ln());
+        let hidden = ds[i] <= 0.0
+            && ds[i + 1] <= 0.0
+            && r1 - r0 > RESOLUTION * r0
+            && -g(r0, ds[i]) < RISE_FACTOR * rise.max(0.0) * du;
+        if !hidden {
+            i += 1;
+            continue;
+        }
+        if extra >= 4 * n {
+            unresolved += 1;
+            i += 1;
+            continue;
+        }
+        let mid = (0.5 * (r0.ln() + r1.ln())).exp();
+        extra += 1;
+        rs.insert(i + 1, mid);
+        ds.insert(i + 1, map.d(mid, w));
+    }
+    SectionSamples { rs, ds, unresolved }
+}
+
 /// Finds the sign changes of `D` on the section and bisects the first unstable one.
 pub fn section_cycles(
     st: &Stepper,
@@ -257,12 +376,11 @@ pub fn section_cycles(
     found
 }
 
-/// [`section_cycles`] on a return map, counted in `w`: every sample of `D`, the first
-/// `-` to `+` sign change bisected to `rtol`.
+/// [`section_cycles`] on a return map, counted in `w`: the samples of [`adaptive_samples`],
+/// the first `-` to `+` sign change bisected to `rtol`.
 pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
-    let n = cs.samples.max(2);
-    let rs = log_samples(cs.r_min, cs.r_max, n);
-    let ds = map.sample(&rs, w);
+    let SectionSamples { rs, ds, .. } = adaptive_samples(map, cs, w);
+    let n = rs.len();
     if ds[0] > 0.0 {
         return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
     }
@@ -446,6 +564,17 @@ mod tests {
         // Log-spaced: constant ratio (6 / 0.01)^(1/95).
         let q = (6.0f64 / 1e-2).powf(1.0 / 95.0);
         assert!(rs.windows(2).all(|p| (p[1] / p[0] / q - 1.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn coarse_changes_finds_every_flip() {
+        // True on [2, 3) and from 5 on: three changes over [1, 8] in 7 geometric steps
+        // (values 1, 1.346, 1.811, 2.438, 3.281, 4.416, 5.944, 8).
+        let pred = |v: f64| Ok::<_, ()>((2.0..3.0).contains(&v) || v >= 5.0);
+        let c = coarse_changes(pred, (1.0, 8.0), 7).unwrap();
+        let to: Vec<bool> = c.iter().map(|c| c.to).collect();
+        assert_eq!(to, [true, false, true]);
+        assert!(c[0].lo < 2.0 && c[0].hi >= 2.0 && c[2].lo < 5.0 && c[2].hi >= 5.0);
     }
 
     #[test]

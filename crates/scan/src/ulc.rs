@@ -494,6 +494,10 @@ pub enum PointSide {
     Inside,
     /// Outside the cycle: that start squeals.
     Outside,
+    /// Outside the cycle, but the stick-slip band above it leaks
+    /// ([`crate::band::Band::Leaks`]): runs from outside fall back inside sooner or later,
+    /// so that start does not squeal for good (the scan labels no run there stick-slip).
+    OutsideBandLeaks,
     /// No unstable cycle below `r_max`: the return map decays at every sampled amplitude.
     NoCycle,
     /// The return map grows already at `r_min`: the fixed point repels.
@@ -504,7 +508,8 @@ pub enum PointSide {
 pub fn point_side(setup: Setup, cs: &CycleSettings, point: State) -> Result<PointSide, ScanError> {
     let st = setup.stepper()?;
     let (mut stats, mut returns) = (SolverStats::default(), 0u64);
-    match section_cycles(&st, cs, &mut stats, &mut returns) {
+    let found = section_cycles(&st, cs, &mut stats, &mut returns);
+    match found {
         SectionCycles::NoneBelow { .. } => return Ok(PointSide::NoCycle),
         SectionCycles::FixedPointUnstable { .. } => return Ok(PointSide::FixedPointRepels),
         SectionCycles::Unstable { .. } => {}
@@ -514,8 +519,19 @@ pub fn point_side(setup: Setup, cs: &CycleSettings, point: State) -> Result<Poin
         ..*cs
     };
     let rep = locate(setup, &cs1)?;
-    Ok(if rep.encloses(point.x, point.v) {
-        PointSide::Inside
+    if rep.encloses(point.x, point.v) {
+        return Ok(PointSide::Inside);
+    }
+    // The scan's rule for the band ([`crate::scanner::outside_of`]): the same verdict here.
+    let leaks = matches!(
+        crate::scanner::outside_of(&st, cs, &found),
+        Some(crate::scanner::Outside::Escapes {
+            band: crate::band::Band::Leaks { .. },
+            ..
+        })
+    );
+    Ok(if leaks {
+        PointSide::OutsideBandLeaks
     } else {
         PointSide::Outside
     })
@@ -527,7 +543,7 @@ pub fn point_side(setup: Setup, cs: &CycleSettings, point: State) -> Result<Poin
 pub fn point_enclosed(setup: Setup, cs: &CycleSettings, point: State) -> Result<bool, ScanError> {
     Ok(matches!(
         point_side(setup, cs, point)?,
-        PointSide::Inside | PointSide::NoCycle
+        PointSide::Inside | PointSide::NoCycle | PointSide::OutsideBandLeaks
     ))
 }
 
@@ -546,7 +562,10 @@ pub fn critical_nu(
     } = range;
     let side = |nu: f64| point_side(setup.with_params(Params { nu, ..base }), cs, point);
     let at = |nu: f64| -> Result<bool, ScanError> {
-        Ok(matches!(side(nu)?, PointSide::Inside | PointSide::NoCycle))
+        Ok(matches!(
+            side(nu)?,
+            PointSide::Inside | PointSide::NoCycle | PointSide::OutsideBandLeaks
+        ))
     };
     let bracket = |problem| ScanError::Bracket {
         nu_lo,
@@ -567,7 +586,9 @@ pub fn critical_nu(
         )));
     }
     match side(nu_lo)? {
-        PointSide::Inside => return Err(bracket(BracketProblem::EnclosedAtLow)),
+        PointSide::Inside | PointSide::OutsideBandLeaks => {
+            return Err(bracket(BracketProblem::EnclosedAtLow));
+        }
         PointSide::NoCycle => {
             return Err(ScanError::NoCriticalDamping(format!(
                 "at the lower bound nu = {nu_lo}: {} has no unstable limit cycle there (the return map decays at \

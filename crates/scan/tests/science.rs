@@ -309,7 +309,7 @@ fn starts_outside_a_cycle_the_return_map_jumps_past_are_not_guessed() {
             matches!(
                 ctx.outside,
                 Some(Outside::Escapes {
-                    attractor: false,
+                    band: squeal_scan::band::Band::Leaks { .. },
                     ..
                 })
             ),
@@ -328,14 +328,14 @@ fn starts_outside_a_cycle_the_return_map_jumps_past_are_not_guessed() {
     }
     // Just below the fold at lambda = 0.5 (0.0199) the return map also jumps past the
     // cycle (at nu = 0.0195 a sampled start returns inside; measured with this plan's
-    // samples), but runs from far starts stay outside for 80 revolutions: the band rules
-    // stay, the outside rules go.
+    // samples), but the band above the cycle is trapped (squeal_scan::band): the band
+    // rules stay, the outside rules go.
     let ctx = MapContext::prepare(&point_plan(0.0195, 0.5, "cycle"), 0).unwrap();
     assert!(
         matches!(
             ctx.outside,
             Some(Outside::Escapes {
-                attractor: true,
+                band: squeal_scan::band::Band::Trapped { .. },
                 ..
             })
         ),

@@ -428,7 +428,11 @@ fn confirm_operating_point(
     w: &mut Work,
 ) -> Result<(), ScanError> {
     let st = setup.stepper()?;
-    let o = squeal_core::Classifier::default().classify(&st, ps.operating);
+    // Band rules as every other path sets them (crate::scanner::classifier_for).
+    let fp = setup.params.fixed_point();
+    let far = 1.2 * (ps.operating.x - fp.x).hypot(ps.operating.v - fp.v);
+    let o = crate::scanner::classifier_for(&st, squeal_core::Classifier::default(), far)
+        .classify(&st, ps.operating);
     w.stats.merge(&o.stats);
     if o.regime == squeal_core::Regime::Undecided {
         // No verdict within the classifier's t_max (seen at low damping, where the run from
