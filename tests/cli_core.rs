@@ -777,6 +777,25 @@ fn physical_flags_give_si_answers() {
     let u: serde_json::Value = serde_json::from_str(&ok(squeal(d.path(), &ulc))).unwrap();
     let r = u["r_section"].as_f64().unwrap();
     assert!((u["si"]["r_section_m_per_s"].as_f64().unwrap() - r * vel).abs() < 1e-12);
+    // The crisis too (it answered in nu alone): c and its uncertainty in N s/m. A narrow
+    // range around the brake's crisis (nu about 0.0289, README) keeps the test short.
+    let mut crisis = vec![
+        "critical", "--crisis", "--nu-lo", "0.027", "--nu-hi", "0.031",
+    ];
+    crisis.extend(BRAKE);
+    crisis.extend(["--rtol", "1e-2", "--json"]);
+    let k: serde_json::Value = serde_json::from_str(&ok(squeal(d.path(), &crisis))).unwrap();
+    let damping = 2.0 * 1e5f64.sqrt();
+    let (nu, err) = (
+        k["nu"].as_f64().unwrap(),
+        k["uncertainty"].as_f64().unwrap(),
+    );
+    assert!(
+        (k["si"]["c"].as_f64().unwrap() - nu * damping).abs() < 1e-9,
+        "{k}"
+    );
+    assert!((k["si"]["c_uncertainty"].as_f64().unwrap() - err * damping).abs() < 1e-9);
+    assert_eq!(k["si"]["units"], "N s/m");
 }
 
 #[test]

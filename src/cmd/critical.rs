@@ -365,9 +365,18 @@ fn crisis(
     };
     let c = squeal_scan::band::crisis_nu(plan.setup(map), &CycleSettings::default(), range)?;
     let seconds = t0.elapsed().as_secs_f64();
+    // A physical system: the damping also as the dashpot coefficient c = nu 2 sqrt(m k).
+    let damping = plan.physical.map(|ph| ph.scales().damping);
     if args.json {
         let mut v = serde_json::to_value(c)?;
         v["seconds"] = seconds.into();
+        if let Some(d) = damping {
+            v["si"] = serde_json::json!({
+                "c": c.nu * d,
+                "c_uncertainty": c.uncertainty * d,
+                "units": "N s/m",
+            });
+        }
         println!("{}", serde_json::to_string(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
@@ -379,5 +388,14 @@ fn crisis(
         "  squeal lasts up to nu = {:.6e} and no start squeals for good from {:.6e} at dt; {:.6e} and {:.6e} at dt/2 (between them the band's verdict is marginal: undecided)",
         c.interval[0], c.interval[1], c.half_dt[0], c.half_dt[1]
     );
+    if let Some(d) = damping {
+        println!(
+            "  in SI units: c = {:.4} +- {:.4} N s/m (squeal lasts up to {:.4}, none for good from {:.4} N s/m at dt)",
+            c.nu * d,
+            c.uncertainty * d,
+            c.interval[0] * d,
+            c.interval[1] * d
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
