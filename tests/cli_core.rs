@@ -799,6 +799,30 @@ fn physical_flags_give_si_answers() {
 }
 
 #[test]
+fn a_physical_runs_file_keeps_its_start_in_the_samples_units() {
+    // The samples of a trajectory file are nondimensional; with the physical flags the file
+    // stored the start as given (x0 = 1e-4, in m) beside x[0] = 0.728 (units of 137 um). The
+    // start is now stored as run: x0 / length unit (length = mu_k g / omega_0^2, with
+    // squeal's default g = 9.81, crates/core/src/units.rs).
+    let d = tmp();
+    let mut args = vec!["trajectory"];
+    args.extend(BRAKE);
+    args.extend(["--x0", "1e-4", "--v0", "0", "--t-end", "5", "--out", "r.h5"]);
+    ok(squeal(d.path(), &args));
+    let f = hdf5::File::open(d.path().join("r.h5")).unwrap();
+    let x0: f64 = f.attr("x0").unwrap().read_scalar().unwrap();
+    let length = 0.35 * 9.81 / (5e4 / 2.0);
+    assert!((x0 - 1e-4 / length).abs() < 1e-9 * x0.abs(), "x0 = {x0}");
+    let t: Vec<f64> = f.dataset("t").unwrap().read_raw().unwrap();
+    let x: Vec<f64> = f.dataset("x").unwrap().read_raw().unwrap();
+    assert_eq!(t[0], 0.0);
+    assert!(
+        (x[0] - x0).abs() < 1e-12,
+        "the first sample is the stored start"
+    );
+}
+
+#[test]
 fn physical_flags_are_checked_naming_the_flag() {
     let d = tmp();
     // A missing one, a bad value, a mix with the nondimensional flags, the Stribeck law.

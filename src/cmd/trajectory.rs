@@ -17,12 +17,9 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use serde::Serialize;
-use squeal_core::classify::crossing;
-use squeal_core::{
-    Classifier, Named, Reason, Regime, Run, Sample, Samples, SolverKind, SolverStats, State,
-    Stepper,
-};
+use squeal_core::{Classifier, Named, Sample, Samples, SolverKind, SolverStats, State, Stepper};
 use squeal_plot::{Curve, Marker, Rgb};
+use squeal_scan::trajectory::{Oscillation, Span, StickPhases};
 
 use super::model::ModelArgs;
 
@@ -30,10 +27,6 @@ use super::model::ModelArgs;
 const MAX_ROWS: u64 = 20_000_000;
 /// At most this many points are drawn in the phase plane (further decimated if more).
 const MAX_PLOT_POINTS: usize = 200_000;
-/// How many times of unconverged paper-iteration steps are reported.
-const FIRST_UNCONVERGED: usize = 5;
-/// How many stick onset and breakaway times are reported from the start of the run.
-const FIRST_EVENTS: usize = 5;
 
 /// Flags of `squeal trajectory`.
 #[derive(clap::Args, Debug)]
@@ -112,51 +105,6 @@ impl Serialize for RunParams {
     }
 }
 
-/// The stick phases of a law with true stick, from the events located inside the steps.
-#[derive(Serialize, Default)]
-struct StickPhases {
-    /// Stick onsets.
-    onsets: u64,
-    /// Breakaways.
-    breakaways: u64,
-    /// Passages through zero slip without sticking.
-    reversals: u64,
-    /// Times of the first few onsets.
-    first_onsets: Vec<f64>,
-    /// Times of the first few breakaways.
-    first_breakaways: Vec<f64>,
-    /// Time of the last onset located (`null` if none; the first onset of its step).
-    last_onset: Option<f64>,
-    /// Time of the last breakaway located (`null` if none; the first of its step).
-    last_breakaway: Option<f64>,
-    /// Whether the block is stuck at the end of the run.
-    stuck_at_end: bool,
-}
-
-impl StickPhases {
-    fn observe(&mut self, step: &squeal_core::Step) {
-        let e = &step.events;
-        self.stuck_at_end = step.solution.branch == squeal_core::friction::Branch::Stick;
-        self.onsets += u64::from(e.onsets);
-        self.breakaways += u64::from(e.breakaways);
-        self.reversals += u64::from(e.reversals);
-        if e.onsets > 0 {
-            let t = step.prev.t + e.onset_at;
-            if self.first_onsets.len() < FIRST_EVENTS {
-                self.first_onsets.push(t);
-            }
-            self.last_onset = Some(t);
-        }
-        if e.breakaways > 0 {
-            let t = step.prev.t + e.breakaway_at;
-            if self.first_breakaways.len() < FIRST_EVENTS {
-                self.first_breakaways.push(t);
-            }
-            self.last_breakaway = Some(t);
-        }
-    }
-}
-
 /// The classifier's verdict on the same run.
 #[derive(Serialize)]
 struct Classification {
@@ -166,19 +114,6 @@ struct Classification {
     reason: &'static str,
     /// Time of the decision (`t_end` if undecided by the time limit).
     t_decision: f64,
-}
-
-/// The final oscillation, from the last section crossings.
-#[derive(Serialize)]
-struct Oscillation {
-    /// Section crossings over the whole run.
-    crossings: u64,
-    /// `2 pi / (t_k - t_{k-1})` of the last two crossings; `null` if fewer than two.
-    omega: Option<f64>,
-    /// `x'` at the last crossing; `null` if none.
-    amplitude: Option<f64>,
-    /// Time of the last crossing; `null` if none.
-    t_last_crossing: Option<f64>,
 }
 
 /// Everything `squeal trajectory` reports.
@@ -292,113 +227,55 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             v: args.v0,
         },
     };
-    let p = *stepper.params();
-    let fp = p.fixed_point();
-    let mut cols = Samples::default();
-    // The band rules as the scan sets them for this model (a band that may still leak is
-    // not stick-slip): one rule for every path, searched out to beyond the start.
-    let classifier = squeal_scan::scanner::classifier_for(
-        &stepper,
-        Classifier {
-            t_max: args.t_end,
-            ..Default::default()
-        },
-        1.2 * (ic.x - fp.x).hypot(ic.v - fp.v),
-    );
-    let mut watch = classifier.watch(&p);
-    let mut outcome = None;
-    let mut run = Run::new(&stepper, ic);
-    let mut unconverged_times = Vec::new();
-    let mut unconverged = 0u64;
-    if run.initial().is_some_and(|sol| !sol.converged) {
-        unconverged += 1;
-        unconverged_times.push(0.0);
-    }
-    if keep {
-        cols.push(run.sample());
-    }
-    let mut stick = p.law.has_true_stick().then(StickPhases::default);
-    let mut crossings = 0u64;
-    let (mut t_prev_cross, mut t_last_cross, mut amplitude) = (f64::NAN, f64::NAN, f64::NAN);
-    for k in 1..=steps {
-        let step = run.step();
-        let n = step.next;
-        if !step.solution.converged {
-            unconverged += 1;
-            if unconverged_times.len() < FIRST_UNCONVERGED {
-                unconverged_times.push(n.t);
-            }
-        }
-        if let Some(sp) = stick.as_mut() {
-            sp.observe(&step);
-        }
-        if outcome.is_none() {
-            if let Some(decision) = watch.observe(&run, &step) {
-                outcome = Some(watch.finish(decision, &run));
-            }
-        }
-        if let Some(c) = crossing(fp.x, &step.prev, &n) {
-            crossings += 1;
-            t_prev_cross = t_last_cross;
-            t_last_cross = c.t;
-            amplitude = c.r;
-        }
-        if keep && k % args.every == 0 {
-            cols.push(&n);
-        }
-        if !n.x.is_finite() || !n.v.is_finite() {
-            break;
-        }
-    }
-    let outcome =
-        outcome.unwrap_or_else(|| watch.finish((Regime::Undecided, Reason::TimeLimit), &run));
-    let s = *run.sample();
-    let stats = *run.stats();
-    let max_residual = run.max_residual();
-    let steps_taken = run.steps();
-
-    let finite = |x: f64| x.is_finite().then_some(x);
+    let span = Span {
+        ic,
+        t_end: args.t_end,
+        every: if keep { args.every } else { 0 },
+    };
+    let t = squeal_scan::trajectory::run(&stepper, &Classifier::default(), span, None);
+    let fp = t.fixed_point;
+    let cols = &t.samples;
 
     if let (Some(path), Some(format)) = (&args.out, format) {
         let written = match format {
-            Format::Csv => write_csv(path, &cols, args.force),
-            Format::Hdf5 => write_h5(
+            Format::Csv => write_csv(path, cols, args.force),
+            Format::Hdf5 => squeal_store::write_run(
                 path,
-                &cols,
-                &run_params(&args, &stepper),
-                stick.as_ref(),
                 args.force,
-            ),
+                &super::common::provenance(),
+                &stepper,
+                Span {
+                    every: args.every,
+                    ..span
+                },
+                &t,
+            )
+            .map_err(anyhow::Error::from),
         };
         written.with_context(|| format!("--out: cannot write {}", path.display()))?;
     }
     if let Some(path) = &args.plot {
-        plot_phase_plane(path, &cols, &stepper, ic, fp)
+        plot_phase_plane(path, cols, &stepper, ic, fp)
             .with_context(|| format!("--plot: cannot draw {}", path.display()))?;
     }
 
     let summary = Summary {
         squeal_version: env!("CARGO_PKG_VERSION"),
         params: run_params(&args, &stepper),
-        steps: steps_taken,
+        steps: t.steps,
         fixed_point: fp,
         classification: Classification {
-            regime: outcome.regime.name(),
-            reason: outcome.reason.name(),
-            t_decision: outcome.t_decision,
+            regime: t.outcome.regime.name(),
+            reason: t.outcome.reason.name(),
+            t_decision: t.outcome.t_decision,
         },
-        final_state: s,
-        oscillation: Oscillation {
-            crossings,
-            omega: finite(std::f64::consts::TAU / (t_last_cross - t_prev_cross)),
-            amplitude: finite(amplitude),
-            t_last_crossing: finite(t_last_cross),
-        },
-        stick,
-        stats,
-        max_residual,
-        unconverged_steps: unconverged,
-        first_unconverged_times: unconverged_times,
+        final_state: t.final_state,
+        oscillation: t.oscillation,
+        stick: t.stick.clone(),
+        stats: t.stats,
+        max_residual: t.max_residual,
+        unconverged_steps: t.unconverged_steps,
+        first_unconverged_times: t.first_unconverged_times.clone(),
         rows: if keep { cols.len() as u64 } else { 0 },
         out: args.out.clone(),
         plot: args.plot.clone(),
@@ -494,64 +371,6 @@ fn write_csv(path: &Path, cols: &Samples, force: bool) -> anyhow::Result<()> {
         )?;
     }
     w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-    Ok(())
-}
-
-fn write_h5(
-    path: &Path,
-    cols: &Samples,
-    rp: &RunParams,
-    stick: Option<&StickPhases>,
-    force: bool,
-) -> anyhow::Result<()> {
-    // Self-describing: t is the coordinate, every variable has units and a long name,
-    // the run's settings and provenance are root attributes (squeal-store's trajectory
-    // schema), and `squeal info` reads it back. A law with true stick also names its
-    // parameters (`xi_long_name`, `xi_units`, ...), as the scan files do.
-    let described: Vec<(String, String, &Named)> = if stick.is_some() {
-        rp.named
-            .iter()
-            .map(|n| {
-                (
-                    format!("{}_long_name", n.name),
-                    format!("{}_units", n.name),
-                    n,
-                )
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let mut text = vec![
-        ("law", rp.law),
-        ("solver", rp.solver),
-        ("scheme", rp.scheme),
-    ];
-    for (long, units, n) in &described {
-        text.push((long.as_str(), n.long_name));
-        text.push((units.as_str(), n.units));
-    }
-    let mut numbers: Vec<(&str, f64)> = rp.named.iter().map(|n| (n.name, n.value)).collect();
-    numbers.extend([
-        ("dt", rp.dt),
-        ("x0", rp.x0),
-        ("v0", rp.v0),
-        ("t_end", rp.t_end),
-    ]);
-    let mut counts = vec![("every", rp.every)];
-    if let Some(sp) = stick {
-        counts.extend([
-            ("stick_onsets", sp.onsets),
-            ("breakaways", sp.breakaways),
-            ("slip_reversals", sp.reversals),
-        ]);
-    }
-    let attrs = squeal_store::RunAttrs {
-        text,
-        numbers,
-        counts,
-    };
-    squeal_store::write_samples(path, force, &super::common::provenance(), &attrs, cols)?;
     Ok(())
 }
 

@@ -14,6 +14,8 @@
 //!   cold and warm brackets, bisection and Illinois, counted where they run ([`section::Work`]);
 //!   `ulc`, a map's preparation, atlas points and boundary predicates all use it.
 //! * [`estimate`]: how long a scan or an atlas will take, from a pilot of its own work.
+//! * [`trajectory`]: one run to `t_end` with its samples, verdict, final oscillation and
+//!   stick phases: the loop behind `squeal trajectory` and Python's `squeal.trajectory`.
 //! * [`atlas`]: design-space scans with figures of merit per parameter point, regimes, the
 //!   fold of cycles and critical damping by bisection, physical units.
 //! * [`ulc`]: the unstable limit cycle located as a fixed point of the Poincare return map
@@ -69,6 +71,7 @@ pub mod landscape;
 pub mod scanner;
 pub mod section;
 pub mod spec;
+pub mod trajectory;
 pub mod ulc;
 mod values;
 

@@ -149,7 +149,7 @@ pub use read::{
     read_atlas_info, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
-    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_samples,
+    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,
     write_trajectory,
 };
 

@@ -153,3 +153,56 @@ pub fn write_samples(
         ],
     )
 }
+
+/// Writes the run `traj` of `stepper` over `span` ([`squeal_scan::trajectory::run`]): its
+/// samples with the settings as root attributes (the law and its parameters, the solver, the
+/// step, the start, the end, the stride; under a law with true stick the parameters' long
+/// names and units and the counts of stick onsets, breakaways and slip reversals). One place
+/// for `squeal trajectory --out` and the Python `squeal.trajectory`.
+pub fn write_run(
+    path: &Path,
+    force: bool,
+    prov: &Provenance,
+    stepper: &squeal_core::Stepper,
+    span: squeal_scan::trajectory::Span,
+    traj: &squeal_scan::trajectory::Trajectory,
+) -> Result<(), StoreError> {
+    let p = stepper.params();
+    let named = p.named();
+    let keys: Vec<(String, String)> = named
+        .iter()
+        .map(|n| (format!("{}_long_name", n.name), format!("{}_units", n.name)))
+        .collect();
+    let mut text = vec![
+        ("law", p.law.name()),
+        ("solver", stepper.solver().kind.name()),
+        ("scheme", stepper.scheme().name()),
+    ];
+    if traj.stick.is_some() {
+        for ((long, units), n) in keys.iter().zip(&named) {
+            text.push((long.as_str(), n.long_name));
+            text.push((units.as_str(), n.units));
+        }
+    }
+    let mut numbers: Vec<(&str, f64)> = named.iter().map(|n| (n.name, n.value)).collect();
+    numbers.extend([
+        ("dt", stepper.dt()),
+        ("x0", span.ic.x),
+        ("v0", span.ic.v),
+        ("t_end", span.t_end),
+    ]);
+    let mut counts = vec![("every", span.every)];
+    if let Some(sp) = &traj.stick {
+        counts.extend([
+            ("stick_onsets", sp.onsets),
+            ("breakaways", sp.breakaways),
+            ("slip_reversals", sp.reversals),
+        ]);
+    }
+    let attrs = RunAttrs {
+        text,
+        numbers,
+        counts,
+    };
+    write_samples(path, force, prov, &attrs, &traj.samples)
+}

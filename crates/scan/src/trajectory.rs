@@ -1,0 +1,213 @@
+//! One run from a start to `t_end`, integrated once, with everything `squeal trajectory` and
+//! the Python `squeal.trajectory` report about it: the kept samples, the classifier's
+//! verdict (taken at its decision while the run goes on to `t_end`, with the band rules every
+//! path uses, [`crate::scanner::classifier_for`]), the final oscillation from the last
+//! crossings of the section `x = x*, x' > 0`, the stick phases of a law with true stick and
+//! the solver's counts. Both front ends call [`run`]; neither has a stepping loop of its own.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use serde::Serialize;
+use squeal_core::classify::crossing;
+use squeal_core::{
+    Classifier, Outcome, Reason, Regime, Run, Sample, Samples, SolverStats, State, Step, Stepper,
+};
+
+/// How many times of unconverged paper-iteration steps are kept.
+pub const FIRST_UNCONVERGED: usize = 5;
+/// How many stick onset and breakaway times are kept from the start of the run.
+pub const FIRST_EVENTS: usize = 5;
+
+/// The stick phases of a law with true stick, from the events located inside the steps.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct StickPhases {
+    /// Stick onsets.
+    pub onsets: u64,
+    /// Breakaways.
+    pub breakaways: u64,
+    /// Passages through zero slip without sticking.
+    pub reversals: u64,
+    /// Times of the first few onsets.
+    pub first_onsets: Vec<f64>,
+    /// Times of the first few breakaways.
+    pub first_breakaways: Vec<f64>,
+    /// Time of the last onset located (`null` if none; the first onset of its step).
+    pub last_onset: Option<f64>,
+    /// Time of the last breakaway located (`null` if none; the first of its step).
+    pub last_breakaway: Option<f64>,
+    /// Whether the block is stuck at the end of the run.
+    pub stuck_at_end: bool,
+}
+
+impl StickPhases {
+    fn observe(&mut self, step: &Step) {
+        let e = &step.events;
+        self.stuck_at_end = step.solution.branch == squeal_core::friction::Branch::Stick;
+        self.onsets += u64::from(e.onsets);
+        self.breakaways += u64::from(e.breakaways);
+        self.reversals += u64::from(e.reversals);
+        if e.onsets > 0 {
+            let t = step.prev.t + e.onset_at;
+            if self.first_onsets.len() < FIRST_EVENTS {
+                self.first_onsets.push(t);
+            }
+            self.last_onset = Some(t);
+        }
+        if e.breakaways > 0 {
+            let t = step.prev.t + e.breakaway_at;
+            if self.first_breakaways.len() < FIRST_EVENTS {
+                self.first_breakaways.push(t);
+            }
+            self.last_breakaway = Some(t);
+        }
+    }
+}
+
+/// The final oscillation, from the last section crossings.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Oscillation {
+    /// Section crossings over the whole run.
+    pub crossings: u64,
+    /// `2 pi / (t_k - t_{k-1})` of the last two crossings; `null` if fewer than two.
+    pub omega: Option<f64>,
+    /// `x'` at the last crossing; `null` if none.
+    pub amplitude: Option<f64>,
+    /// Time of the last crossing; `null` if none.
+    pub t_last_crossing: Option<f64>,
+}
+
+/// What to run: the start, the end, and which samples to keep.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Span {
+    /// The start (nondimensional).
+    pub ic: State,
+    /// The end of the run (`t_max` of the classifier too).
+    pub t_end: f64,
+    /// Keep every `every`-th sample (and the start); 0 keeps none.
+    pub every: u64,
+}
+
+/// One run and what was seen on it.
+#[derive(Clone, Debug)]
+pub struct Trajectory {
+    /// The kept samples.
+    pub samples: Samples,
+    /// The classifier's verdict (`time_limit` if undecided by `t_end`).
+    pub outcome: Outcome,
+    /// The steady-slip fixed point.
+    pub fixed_point: State,
+    /// The final oscillation.
+    pub oscillation: Oscillation,
+    /// Stick phases (laws with true stick only).
+    pub stick: Option<StickPhases>,
+    /// Steps (the initial solve included) whose solve did not converge.
+    pub unconverged_steps: u64,
+    /// Times of the first few of them.
+    pub first_unconverged_times: Vec<f64>,
+    /// The state at the end.
+    pub final_state: Sample,
+    /// The solver's counts.
+    pub stats: SolverStats,
+    /// Largest residual of a solve.
+    pub max_residual: f64,
+    /// Steps taken.
+    pub steps: u64,
+}
+
+/// The band rules and limits every path sets for a run from `ic` to `t_end`
+/// ([`crate::scanner::classifier_for`], its section searched out to beyond the start).
+fn classifier(stepper: &Stepper, base: &Classifier, span: &Span) -> Classifier {
+    let fp = stepper.params().fixed_point();
+    crate::scanner::classifier_for(
+        stepper,
+        Classifier {
+            t_max: span.t_end,
+            ..*base
+        },
+        1.2 * (span.ic.x - fp.x).hypot(span.ic.v - fp.v),
+    )
+}
+
+/// Runs `span` with `stepper` to its end (or until `stop` is raised, checked every 4096
+/// steps, or the state is no longer finite), the classifier `base` watching.
+pub fn run(
+    stepper: &Stepper,
+    base: &Classifier,
+    span: Span,
+    stop: Option<&AtomicBool>,
+) -> Trajectory {
+    let p = *stepper.params();
+    let fp = p.fixed_point();
+    let cl = classifier(stepper, base, &span);
+    let mut watch = cl.watch(&p);
+    let mut outcome = None;
+    let mut run = Run::new(stepper, span.ic);
+    let mut samples = Samples::default();
+    let mut unconverged_times = Vec::new();
+    let mut unconverged = u64::from(run.initial().is_some_and(|sol| !sol.converged));
+    if unconverged > 0 {
+        unconverged_times.push(0.0);
+    }
+    if span.every > 0 {
+        samples.push(run.sample());
+    }
+    let mut stick = p.law.has_true_stick().then(StickPhases::default);
+    let mut osc = Oscillation {
+        crossings: 0,
+        omega: None,
+        amplitude: None,
+        t_last_crossing: None,
+    };
+    let steps = (span.t_end / stepper.dt()).ceil() as u64;
+    for k in 1..=steps {
+        let step = run.step();
+        let n = step.next;
+        if !step.solution.converged {
+            unconverged += 1;
+            if unconverged_times.len() < FIRST_UNCONVERGED {
+                unconverged_times.push(n.t);
+            }
+        }
+        if let Some(sp) = stick.as_mut() {
+            sp.observe(&step);
+        }
+        if outcome.is_none() {
+            if let Some(decision) = watch.observe(&run, &step) {
+                outcome = Some(watch.finish(decision, &run));
+            }
+        }
+        if let Some(c) = crossing(fp.x, &step.prev, &n) {
+            osc.crossings += 1;
+            let finite = |x: f64| x.is_finite().then_some(x);
+            osc.omega = osc
+                .t_last_crossing
+                .and_then(|t| finite(std::f64::consts::TAU / (c.t - t)));
+            osc.t_last_crossing = finite(c.t);
+            osc.amplitude = finite(c.r);
+        }
+        if span.every > 0 && k % span.every == 0 {
+            samples.push(&n);
+        }
+        if !n.x.is_finite() || !n.v.is_finite() {
+            break;
+        }
+        if k % 4096 == 0 && stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            break;
+        }
+    }
+    let outcome =
+        outcome.unwrap_or_else(|| watch.finish((Regime::Undecided, Reason::TimeLimit), &run));
+    Trajectory {
+        samples,
+        outcome,
+        fixed_point: fp,
+        oscillation: osc,
+        stick,
+        unconverged_steps: unconverged,
+        first_unconverged_times: unconverged_times,
+        final_state: *run.sample(),
+        stats: *run.stats(),
+        max_residual: run.max_residual(),
+        steps: run.steps(),
+    }
+}
