@@ -77,6 +77,14 @@ pub struct MapCost {
     pub audit: f64,
 }
 
+impl MapCost {
+    /// Seconds (one thread) of one cell, its share of `audited` audited cells in a map of
+    /// `cells` included.
+    pub fn per_cell(&self, audited: usize, cells: usize) -> f64 {
+        self.cell + self.audit * audited as f64 / cells.max(1) as f64
+    }
+}
+
 /// A pilot's measurements and the estimate they give.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Estimate {
@@ -111,8 +119,8 @@ impl Estimate {
     /// Expected seconds (one thread) of one cell of map `map`, its share of the map's audits
     /// included.
     pub fn cell_cost(&self, map: usize) -> f64 {
-        let c = self.cost_of(map);
-        c.cell + c.audit * self.audited_per_map as f64 / self.cells_per_map.max(1) as f64
+        self.cost_of(map)
+            .per_cell(self.audited_per_map, self.cells_per_map)
     }
 
     /// Wall seconds on `threads` threads for the maps `0..maps`, `cells_of(m)` cells of map
@@ -173,7 +181,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         costs.push(measure(plan, m, cells, budget, &audited)?);
     }
     while costs.len() < 2 * PILOT_MAPS && t0.elapsed() < 2 * PILOT_BUDGET {
-        let per_cell = |c: &MapCost| c.cell + c.audit * audited.len() as f64 / per_map as f64;
+        let per_cell = |c: &MapCost| c.per_cell(audited.len(), per_map);
         let jump = costs
             .windows(2)
             .filter(|w| w[1].map - w[0].map > 1)

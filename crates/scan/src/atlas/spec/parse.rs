@@ -25,16 +25,7 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
         let vals = [
             &ph.m, &ph.k, &ph.c, &ph.v_belt, &ph.mu_k, &ph.mu_s, &ph.tau, &g,
         ];
-        let mut axes = Vec::new();
-        for ((key, long, u), v) in PHYSICAL.iter().zip(vals) {
-            axes.push(AtlasAxis {
-                key,
-                long_name: long,
-                units: u,
-                values: expand(path, &format!("physical.{key}"), v)?,
-            });
-        }
-        (Units::Physical, axes)
+        (Units::Physical, axes(path, "physical", &PHYSICAL, vals)?)
     } else if stribeck {
         let fixed = |v: Option<f64>, d: f64| Value::One(v.unwrap_or(d));
         let d = squeal_core::Stribeck::default();
@@ -49,16 +40,8 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
             fixed(m.v_0, d.v_0),
             fixed(m.mu_v, d.mu_v),
         ];
-        let mut axes = Vec::new();
-        for ((key, long, u), v) in stribeck_params().into_iter().zip(vals.iter()) {
-            axes.push(AtlasAxis {
-                key,
-                long_name: long,
-                units: u,
-                values: expand(path, &format!("model.{key}"), v)?,
-            });
-        }
-        (Units::Nondimensional, axes)
+        let names = stribeck_params();
+        (Units::Nondimensional, axes(path, "model", &names, &vals)?)
     } else {
         let nu = m.nu.clone().ok_or_else(|| {
             invalid(
@@ -79,16 +62,10 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
                 .clone()
                 .unwrap_or(Value::One(squeal_core::defaults::PHI)),
         ];
-        let mut axes = Vec::new();
-        for ((key, long, u), v) in NONDIMENSIONAL.iter().zip(vals.iter()) {
-            axes.push(AtlasAxis {
-                key,
-                long_name: long,
-                units: u,
-                values: expand(path, &format!("model.{key}"), v)?,
-            });
-        }
-        (Units::Nondimensional, axes)
+        (
+            Units::Nondimensional,
+            axes(path, "model", &NONDIMENSIONAL, &vals)?,
+        )
     };
     let n: usize = params
         .iter()
@@ -109,6 +86,28 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
         ));
     }
     Ok((units, params))
+}
+
+/// The axes named `names` (key, long name, units) with the values `vals` of table `table`,
+/// each expanded (a number, a list or a range; errors name `table.key`).
+fn axes<'a>(
+    path: &str,
+    table: &str,
+    names: &[(&'static str, &'static str, &'static str)],
+    vals: impl IntoIterator<Item = &'a Value>,
+) -> Result<Vec<AtlasAxis>, ScanError> {
+    names
+        .iter()
+        .zip(vals)
+        .map(|(&(key, long_name, units), v)| {
+            Ok(AtlasAxis {
+                key,
+                long_name,
+                units,
+                values: expand(path, &format!("{table}.{key}"), v)?,
+            })
+        })
+        .collect()
 }
 
 /// The point settings: `[cycle]`, `[attractor]`, `[operating_point]`, `[disturbance]`.
