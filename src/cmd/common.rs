@@ -200,9 +200,10 @@ pub fn metered_bar_style(
 }
 
 /// The work done so far, each unit weighed by its expected cost: the time left is the rest at
-/// the rate so far. A sweep's maps above a fold of cycles cost 20-50 times those below it
-/// (`nu-sweep`: 10^4 times its first map's, per cell), so counting cells alone promised
-/// "5 s left" 80 s before the end; the scan's pilot gives each map's cost per cell.
+/// the rate so far. A sweep's maps above a fold of cycles cost far more per cell than those
+/// below it (`nu-sweep`'s last two maps took about 80 s of its 100 s), so counting cells
+/// alone promised "5 s left" 80 s before the end; the scan's pilot gives each map's cost per
+/// cell.
 pub struct WorkMeter {
     /// Expected cost of one unit of each kind (a map's cells), relative; empty: all alike.
     weights: Vec<f64>,
