@@ -111,11 +111,20 @@ pub enum Reason {
     /// A law of the slip velocity only: the run crossed the section between two starts whose
     /// runs stuck onto the stick-slip cycle; the return map is monotone, so it does too.
     BetweenStickingStarts = 16,
+    /// No unstable cycle was found on the section: every sampled amplitude up to the
+    /// search's top returns lower, so a run crossing below that top (less the trap's margin)
+    /// goes on down to the fixed point ([`Shortcuts::decay_below`], MODEL.md section 9).
+    BelowDecayingSection = 17,
+    /// No unstable cycle was found on the section and the start lies inside the first turn
+    /// of the orbit from the top of the decaying stretch, farther from it than the margin:
+    /// steady slip without a run (same argument as [`Reason::BelowDecayingSection`], with the
+    /// planar one of [`Reason::StartInsideCycle`]).
+    StartInsideDecayingTurn = 18,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 17] = [
+    pub const ALL: [Reason; 19] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -133,6 +142,8 @@ impl Reason {
         Reason::StuckThenSettles,
         Reason::BelowSettlingStart,
         Reason::BetweenStickingStarts,
+        Reason::BelowDecayingSection,
+        Reason::StartInsideDecayingTurn,
     ];
 
     /// The reason's name in files and output.
@@ -155,6 +166,8 @@ impl Reason {
             Reason::StuckThenSettles => "stuck_then_settles",
             Reason::BelowSettlingStart => "below_settling_start",
             Reason::BetweenStickingStarts => "between_sticking_starts",
+            Reason::BelowDecayingSection => "below_decaying_section",
+            Reason::StartInsideDecayingTurn => "start_inside_decaying_turn",
         }
     }
 }
@@ -185,6 +198,13 @@ pub struct Shortcuts {
     /// A law of the slip velocity only: stretches of the section whose fate followed starts
     /// certify ([`crate::witness`]); a run is decided at its first crossing inside one.
     pub section: Option<crate::witness::SectionFates>,
+    /// No unstable cycle on the section: `D(r) = P(r) - r < 0` at every sample of the
+    /// adaptive search up to its top `r_top`, which resolves any window of growth wider than
+    /// its stated resolution. A crossing below this value (`r_top` less the trap's margin)
+    /// returns lower, and so does every later one: steady slip
+    /// ([`Reason::BelowDecayingSection`]). It rests on the same sampled return map as the
+    /// cycle's trap and is audited the same way.
+    pub decay_below: Option<f64>,
 }
 
 impl Shortcuts {
@@ -193,11 +213,15 @@ impl Shortcuts {
         region: None,
         breakaway: None,
         section: None,
+        decay_below: None,
     };
 
     /// Whether any shortcut applies.
     pub fn any(&self) -> bool {
-        self.region.is_some() || self.breakaway.is_some() || self.section.is_some()
+        self.region.is_some()
+            || self.breakaway.is_some()
+            || self.section.is_some()
+            || self.decay_below.is_some()
     }
 
     /// The decision for a run that stuck, from the fate of the orbit from breakaway.
@@ -420,6 +444,7 @@ impl Classifier {
             stuck: VecDeque::with_capacity(self.settle_cycles as usize),
             stuck_now: false,
             sticks: 0,
+            multi_root: 0,
             true_stick: p.law.has_true_stick(),
             broke_away: false,
             fp_repels: p.fixed_point_damping().is_some_and(|d| d < 0.0),
@@ -486,6 +511,8 @@ pub struct Watch<'c> {
     stuck_now: bool,
     /// The run's Coulomb stick count at the last step.
     sticks: u64,
+    /// The run's count of steps with several roots, at the last step.
+    multi_root: u64,
     /// The law sticks with located events ([`Reason::StickCycle`] applies).
     true_stick: bool,
     /// The run has broken away from a stick phase.
@@ -527,6 +554,9 @@ impl Watch<'_> {
         let sticks = run.stats().sticks;
         self.stuck_now |= step.solution.branch == Branch::QuasiStatic || sticks > self.sticks;
         self.sticks = sticks;
+        let multi_root = run.stats().multi_root;
+        let one_root = multi_root == self.multi_root;
+        self.multi_root = multi_root;
         let c = crossing(self.fp.x, &step.prev, n)?;
         self.crossings += 1;
         if self.last_t.is_finite() {
@@ -536,6 +566,11 @@ impl Watch<'_> {
         self.amplitude = c.r;
         if let Some(d) = self.shortcuts.section.and_then(|s| s.decide(c.r)) {
             return Some(d);
+        }
+        // The crossing's state determines its future only where its force is the one root
+        // there (with several, the branch is history): then it is the sampled start at `r`.
+        if one_root && self.shortcuts.decay_below.is_some_and(|top| c.r < top) {
+            return Some((Regime::SteadySlip, Reason::BelowDecayingSection));
         }
         if let Some(trap) = self.cl.trap {
             if c.r < trap.r_inner {

@@ -255,6 +255,8 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (14, "stuck_then_settles"),
     (15, "below_settling_start"),
     (16, "between_sticking_starts"),
+    (17, "below_decaying_section"),
+    (18, "start_inside_decaying_turn"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

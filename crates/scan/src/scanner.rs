@@ -54,18 +54,30 @@ pub struct BlockResult {
 /// assumption (one unstable cycle, found as the first sign change of the sampled return
 /// map), and the same audit checks it: audited cells are also run to settlement.
 ///
+/// Where no unstable cycle was found and the whole sampled section decays
+/// ([`Shortcuts::decay_below`]), the curve is the first turn of the orbit from the top of
+/// that stretch, closed by the piece of the section between its start and its return
+/// ([`StartRule::decaying`]). A start inside it cannot cross the orbit, so it either
+/// crosses that piece of the section, below the top, where the return map decays, or stays
+/// inside for ever without crossing the section, where the only limit set is the fixed
+/// point (every closed orbit around it crosses the section, at a fixed point of the return
+/// map, and there is none): steady slip ([`Reason::StartInsideDecayingTurn`]).
+///
 /// The margin is the trap's band at the section, `trap_margin r_u`, plus a bound on how far
-/// the polygon of one revolution's steps strays from the smooth cycle between its points:
+/// the polygon of one revolution's steps strays from the smooth curve between its points:
 /// for each segment, its length times the larger turning angle at its ends (for a circle
-/// of `N` points this is 8 times the true sagitta `L theta / 8`). Starts within the
-/// margin are run as before.
+/// of `N` points this is 8 times the true sagitta `L theta / 8`). The closing piece of a
+/// decaying turn lies on the section itself, so it and its corners add nothing. Starts
+/// within the margin are run as before.
 #[derive(Clone, Debug)]
 pub struct StartRule {
     curve: CurveLocator,
     margin: f64,
     centre: State,
+    /// The reason for a start inside the curve.
+    inside: Reason,
     /// Whether starts outside the cycle are decided (off where the return map jumps past
-    /// the cycle: [`crate::section::escape_above`]).
+    /// the cycle: [`crate::section::escape_above`], and for a decaying turn).
     outside: bool,
 }
 
@@ -80,27 +92,41 @@ impl StartRule {
         outside: bool,
     ) -> StartRule {
         let n = curve.len();
-        let seg = |i: usize| {
-            let j = (i + 1) % n;
-            (curve.x[j] - curve.x[i], curve.v[j] - curve.v[i])
-        };
-        // Turning angle at vertex i, between segments i - 1 and i.
-        let turn = |i: usize| {
-            let (a, b) = (seg((i + n - 1) % n), seg(i));
-            (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).abs()
-        };
-        let sag = (0..n)
-            .map(|i| {
-                let (dx, dv) = seg(i);
-                dx.hypot(dv) * turn(i).max(turn((i + 1) % n))
-            })
-            .fold(0.0f64, f64::max);
+        let margin = trap_margin * r_section + polygon_sag(&curve, 0..n, |_| true);
         StartRule {
-            margin: trap_margin * r_section + sag,
+            margin,
             curve: CurveLocator::new(curve),
             centre,
+            inside: Reason::StartInsideCycle,
             outside,
         }
+    }
+
+    /// The rule for a decaying section below `top` ([`Shortcuts::decay_below`]): the first
+    /// turn from the highest of `top, 0.85 top, 0.85^2 top, ...` (16 tries) whose states all
+    /// have one root on the slip branch ([`ulc::Turn::slip_only`]: where the force's branch
+    /// is history the flow is not planar and the argument fails), closed by the section
+    /// between its return and its start; only starts inside are decided. `None` if no try
+    /// qualifies.
+    pub fn decaying(st: &Stepper, top: f64, t_return: f64, trap_margin: f64) -> Option<StartRule> {
+        let turn = std::iter::successors(Some(top), |r| Some(0.85 * r))
+            .take(16)
+            .find_map(|r| {
+                let t = ulc::turn(st, r, t_return, &mut SolverStats::default())?;
+                t.slip_only.then_some((r, t.curve))
+            });
+        let (r, curve) = turn?;
+        let n = curve.len();
+        // Segments 0..n-1 are steps of the orbit; the closing one lies on the section, and
+        // its two corners are not turns of the orbit.
+        let sag = polygon_sag(&curve, 0..n - 1, |i| i > 0 && i < n - 1);
+        Some(StartRule {
+            margin: trap_margin * r + sag,
+            curve: CurveLocator::new(curve),
+            centre: st.params().fixed_point(),
+            inside: Reason::StartInsideDecayingTurn,
+            outside: false,
+        })
     }
 
     /// The margin: starts closer than this to the curve are run.
@@ -111,11 +137,39 @@ impl StartRule {
     /// The label of start `p`, if it lies farther than the margin from the curve.
     pub fn decide(&self, p: State) -> Option<(Regime, Reason)> {
         Some(match self.curve.side(p, self.margin)? {
-            true => (Regime::SteadySlip, Reason::StartInsideCycle),
+            true => (Regime::SteadySlip, self.inside),
             false if self.outside => (Regime::StickSlip, Reason::StartOutsideCycle),
             false => return None,
         })
     }
+}
+
+/// The largest of `segment length x larger turning angle at its ends` over the segments
+/// `segs` of the closed polygon `curve`, counting the turn at vertex `i` only where
+/// `is_turn(i)`.
+fn polygon_sag(
+    curve: &ClosedCurve,
+    segs: std::ops::Range<usize>,
+    is_turn: impl Fn(usize) -> bool,
+) -> f64 {
+    let n = curve.len();
+    let seg = |i: usize| {
+        let j = (i + 1) % n;
+        (curve.x[j] - curve.x[i], curve.v[j] - curve.v[i])
+    };
+    // Turning angle at vertex i, between segments i - 1 and i.
+    let turn = |i: usize| {
+        if !is_turn(i) {
+            return 0.0;
+        }
+        let (a, b) = (seg((i + n - 1) % n), seg(i));
+        (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).abs()
+    };
+    segs.map(|i| {
+        let (dx, dv) = seg(i);
+        dx.hypot(dv) * turn(i).max(turn((i + 1) % n))
+    })
+    .fold(0.0f64, f64::max)
 }
 
 /// The outcome of start `p` decided without a run (fixed point `centre`): at `t = 0`, no
@@ -135,12 +189,30 @@ fn at_start(p: State, centre: State, (regime, reason): (Regime, Reason)) -> Outc
     }
 }
 
-/// The certified shortcuts of a map with parameters `params` and landscape `landscape`
-/// (MODEL.md section 9); none without early stopping (every run goes to settlement).
-pub fn shortcuts(plan: &Plan, params: &Params, landscape: Option<&LandscapeEvidence>) -> Shortcuts {
+/// The certified shortcuts of a map with parameters `params`, landscape `landscape` and
+/// section search `found` (MODEL.md section 9); none without early stopping (every run goes
+/// to settlement).
+pub fn shortcuts(
+    plan: &Plan,
+    params: &Params,
+    landscape: Option<&LandscapeEvidence>,
+    found: Option<&SectionCycles>,
+) -> Shortcuts {
     if plan.early_stop != EarlyStop::Cycle {
         return Shortcuts::NONE;
     }
+    // No unstable cycle, and the search's resolution statement holds over its whole range:
+    // every crossing below its top returns lower ([`squeal_core::Reason::BelowDecayingSection`]).
+    // It rests on the sampled return map, so it serves only McMillan's laws: a law with true
+    // stick has the exact shortcuts of the orbit from breakaway and, where it depends on the
+    // slip velocity only, of the monotone return map ([`squeal_core::witness`]).
+    let decay_below = match found {
+        Some(&SectionCycles::NoneBelow {
+            r_max,
+            unresolved: 0,
+        }) if !params.law.has_true_stick() => Some(r_max * (1.0 - plan.trap_margin)),
+        _ => None,
+    };
     // The orbit from breakaway decides every run that sticks: a stick-slip cycle where it
     // sticks again, steady slip where it reaches the attracting fixed point first.
     let breakaway = landscape.and_then(|e| match e.cycle {
@@ -152,6 +224,7 @@ pub fn shortcuts(plan: &Plan, params: &Params, landscape: Option<&LandscapeEvide
         region: Region::of(params),
         breakaway,
         section: None,
+        decay_below,
     }
 }
 
@@ -361,11 +434,14 @@ impl MapContext {
         }
         let landscape = crate::landscape::of_params(plan, params)?;
         let shortcuts = with_section_fates(
-            shortcuts(plan, &params, landscape.as_ref()),
+            shortcuts(plan, &params, landscape.as_ref(), section.as_ref()),
             &stepper,
             &classifier,
             cs.r_max,
         );
+        if let (None, Some(top)) = (&start_rule, shortcuts.decay_below) {
+            start_rule = StartRule::decaying(&stepper, top, cs.t_return, plan.trap_margin);
+        }
         Ok(MapContext {
             map,
             params,

@@ -276,8 +276,10 @@ pub enum SectionCycles {
         stable_above: Option<f64>,
         escape: Option<f64>,
     },
-    /// `D < 0` at every sample: no unstable cycle below `r_max` was seen.
-    NoneBelow { r_max: f64 },
+    /// `D <= 0` at every sample: no unstable cycle below `r_max` was seen. `unresolved`:
+    /// intervals the refinement budget left wider than the stated resolution
+    /// ([`SectionSamples::unresolved`]); 0 where the resolution statement holds.
+    NoneBelow { r_max: f64, unresolved: usize },
     /// `D > 0` already at `r_min`: the fixed point repels.
     FixedPointUnstable { r_min: f64 },
 }
@@ -379,7 +381,9 @@ pub fn section_cycles(
 /// [`section_cycles`] on a return map, counted in `w`: the samples of [`adaptive_samples`],
 /// the first `-` to `+` sign change bisected to `rtol`.
 pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
-    let SectionSamples { rs, ds, .. } = adaptive_samples(map, cs, w);
+    let SectionSamples {
+        rs, ds, unresolved, ..
+    } = adaptive_samples(map, cs, w);
     let n = rs.len();
     if ds[0] > 0.0 {
         return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
@@ -388,7 +392,10 @@ pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> Sect
         .filter(|&i| ds[i] <= 0.0 && ds[i + 1] > 0.0)
         .collect();
     let Some(&i) = up.first() else {
-        return SectionCycles::NoneBelow { r_max: cs.r_max };
+        return SectionCycles::NoneBelow {
+            r_max: cs.r_max,
+            unresolved,
+        };
     };
     let stable_above = (i + 1..n - 1)
         .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)

@@ -131,14 +131,43 @@ pub fn cycle_curve(
     t_return: f64,
     stats: &mut SolverStats,
 ) -> Option<(ClosedCurve, f64)> {
-    let (mut xs, mut vs) = (Vec::new(), Vec::new());
-    let c = section_return(st, r, t_return, stats, |s| {
+    turn(st, r, t_return, stats).map(|t| (t.curve, t.period))
+}
+
+/// One revolution of the run from `(x*, r)` on the section ([`cycle_curve`]).
+#[derive(Clone, Debug)]
+pub struct Turn {
+    /// Its states, the step past the section dropped: closed by the section between the
+    /// return and `r`.
+    pub curve: ClosedCurve,
+    /// Its duration.
+    pub period: f64,
+    /// Whether every step had one root on the slip branch: no state of the turn is one
+    /// where the force's branch is history ([`squeal_core::friction::on_quasi_static_branch`],
+    /// crates/core/MODEL.md section 4), so two orbits meeting it cannot pass each other.
+    pub slip_only: bool,
+}
+
+/// The revolution from `(x*, r)`, counted in `stats`; `None` if the run does not return
+/// within `t_return`.
+pub fn turn(st: &Stepper, r: f64, t_return: f64, stats: &mut SolverStats) -> Option<Turn> {
+    let p = *st.params();
+    let (mut xs, mut vs, mut quasi) = (Vec::new(), Vec::new(), false);
+    let mut own = SolverStats::default();
+    let c = section_return(st, r, t_return, &mut own, |s| {
         xs.push(s.x);
         vs.push(s.v);
-    })?;
+        quasi |= squeal_core::friction::on_quasi_static_branch(&p, s.v - p.lambda, s.a);
+    });
+    stats.merge(&own);
+    let c = c?;
     xs.pop();
     vs.pop();
-    Some((ClosedCurve::new(xs, vs), c.t))
+    Some(Turn {
+        curve: ClosedCurve::new(xs, vs),
+        period: c.t,
+        slip_only: !quasi && own.multi_root == 0,
+    })
 }
 
 /// A map's cycle search result: the cycle, or why there is none.
@@ -173,7 +202,7 @@ pub fn locate_from(
             stable_above,
             escape,
         } => (r, lo, hi, stable_above, escape),
-        SectionCycles::NoneBelow { r_max } => {
+        SectionCycles::NoneBelow { r_max, .. } => {
             return Err(NoCycle::Decays {
                 r_max,
                 damping: crate::error::Damping::of(&params),

@@ -207,25 +207,28 @@ fn runs_from_the_region_edge_stay_inside_and_settle() {
     }
 }
 
-/// McMillan's hysteretic law above the fold (nu = 0.035 at Table 1's lambda, tau and phi: no
-/// unstable cycle, `critical --fold` gives about 0.024): on a 10 x 10 grid over Fig. 10's
-/// window every cell gets the label of its run to settlement, and runs entering the
-/// certified region decided some of them. (This test ran at nu = 0.03 until the section
-/// search refined its samples: there the return map has a narrow window `D > 0` at `r` in
-/// about [2.715, 2.765] that the fixed samples of the grid's `r_max` stepped over, so an
-/// unstable cycle does exist and the trap decides those runs first.)
+/// McMillan's hysteretic law above the fold (nu = 0.035 and 0.1 at Table 1's lambda, tau and
+/// phi: no unstable cycle, `critical --crisis` gives about 0.024): on a
+/// 12 x 12 grid over Fig. 10's window every cell gets the label of its run to settlement,
+/// and the decaying section decided most of them: starts inside the first turn of the orbit
+/// from its top without a run, and runs at their first crossing below that top (crates/core/
+/// MODEL.md section 9). Before that shortcut (reasons 17 and 18 did not exist) these runs
+/// went on to the certified region. (This test ran at nu = 0.03 until the section search
+/// refined its samples: there the return map has a narrow window `D > 0` at `r` in about
+/// [2.715, 2.765] that the fixed samples of the grid's `r_max` stepped over, so an unstable
+/// cycle does exist and the trap decides those runs first.)
 #[test]
-fn mcmillan_region_gives_the_labels_of_runs_to_settlement_above_the_fold() {
-    let spec = |early_stop: &str| {
+fn mcmillan_maps_above_the_fold_give_the_labels_of_runs_to_settlement() {
+    let spec = |nu: f64, early_stop: &str| {
         Plan::from_toml(
             &format!(
                 r#"version = 1
 [model]
 law = "mcmillan"
-nu = 0.035
+nu = {nu}
 [grid]
-x0 = {{ min = -3.0, max = 5.0, count = 10 }}
-v0 = {{ min = -4.0, max = 4.0, count = 10 }}
+x0 = {{ min = -3.0, max = 5.0, count = 12 }}
+v0 = {{ min = -4.0, max = 4.0, count = 12 }}
 [classifier]
 early_stop = "{early_stop}"
 [output]
@@ -236,12 +239,24 @@ path = "t.h5"
         )
         .unwrap()
     };
-    let fast = cells(&spec("cycle"));
-    let slow = cells(&spec("none"));
-    for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
-        assert_eq!(f.0, s.0, "cell {k}: {f:?} vs settled {s:?}");
+    for nu in [0.035, 0.1] {
+        let fast = cells(&spec(nu, "cycle"));
+        let slow = cells(&spec(nu, "none"));
+        for (k, (f, s)) in fast.iter().zip(&slow).enumerate() {
+            assert_eq!(f.0, s.0, "{nu} cell {k}: {f:?} vs settled {s:?}");
+            assert_ne!(f.0, Regime::Undecided as u8, "{nu} cell {k}");
+        }
+        let share = |r: Reason| fast.iter().filter(|c| c.1 == r as u8).count();
+        let (inside, below) = (
+            share(Reason::StartInsideDecayingTurn),
+            share(Reason::BelowDecayingSection),
+        );
+        assert!(
+            inside > 0 && below > 0 && inside + below > fast.len() / 2,
+            "{nu}: {inside} inside the turn, {below} below the top of {}",
+            fast.len()
+        );
     }
-    assert!(fast.iter().any(|c| c.1 == Reason::EnteredRegion as u8));
 }
 
 /// Runs from 32 states just inside the edge of McMillan's certified ellipse (0.999 of each
@@ -274,4 +289,33 @@ fn runs_from_mcmillans_region_edge_settle() {
             }
         }
     }
+}
+
+/// The decaying-section rule rests on the sampled return map, so it is given only where the
+/// search's resolution statement holds over its whole range (no interval left unrefined by
+/// the budget), and only to McMillan's laws (a law with true stick has exact shortcuts
+/// instead). Its top is the search's `r_max` less the trap's margin.
+#[test]
+fn the_decaying_section_needs_a_resolved_search_and_mcmillans_laws() {
+    use squeal_scan::section::SectionCycles;
+    let mcmillan = Plan::from_toml(
+        "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.05\n\
+         [grid]\nx0 = { min = 0.0, max = 1.0, count = 2 }\nv0 = { min = 0.0, max = 1.0, count = 2 }\n\
+         [output]\npath = \"t.h5\"\n",
+        "t.toml",
+    )
+    .unwrap();
+    let p = mcmillan.maps[0];
+    let found = |unresolved| SectionCycles::NoneBelow {
+        r_max: 8.0,
+        unresolved,
+    };
+    let top = squeal_scan::scanner::shortcuts(&mcmillan, &p, None, Some(&found(0))).decay_below;
+    assert_eq!(top, Some(8.0 * (1.0 - mcmillan.trap_margin)));
+    let unresolved = squeal_scan::scanner::shortcuts(&mcmillan, &p, None, Some(&found(1)));
+    assert_eq!(unresolved.decay_below, None);
+    let stribeck = plan(2.0, 2, "cycle");
+    let q = stribeck.maps[0];
+    let with_stick = squeal_scan::scanner::shortcuts(&stribeck, &q, None, Some(&found(0)));
+    assert_eq!(with_stick.decay_below, None);
 }

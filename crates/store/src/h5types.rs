@@ -67,6 +67,10 @@ pub(crate) enum ReasonH5 {
     BelowSettlingStart = 15,
     #[hdf5(rename = "between_sticking_starts")]
     BetweenStickingStarts = 16,
+    #[hdf5(rename = "below_decaying_section")]
+    BelowDecayingSection = 17,
+    #[hdf5(rename = "start_inside_decaying_turn")]
+    StartInsideDecayingTurn = 18,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -91,6 +95,8 @@ impl ReasonH5 {
             14 => ReasonH5::StuckThenSettles,
             15 => ReasonH5::BelowSettlingStart,
             16 => ReasonH5::BetweenStickingStarts,
+            17 => ReasonH5::BelowDecayingSection,
+            18 => ReasonH5::StartInsideDecayingTurn,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

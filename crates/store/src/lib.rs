@@ -76,6 +76,7 @@
 //!                stick_cycle=10, entered_region=11, start_in_region=12,
 //!                stuck_onto_cycle=13, stuck_then_settles=14,
 //!                below_settling_start=15, between_sticking_starts=16,
+//!                below_decaying_section=17, start_inside_decaying_turn=18,
 //!                not_computed=255}, fill 255
 //!   t_decision, amplitude, omega, max_residual    f64, fill NaN, units "1"
 //!   quasi_static u8, evaluations u64, fallbacks, multi_root, unconverged u32, fill 0
