@@ -12,9 +12,12 @@
 # SUITE=decisions (issue 18, BASE default 6685246): the certified early decisions, old and
 # new alternating on the same specs, each pair compared cell by cell with `squeal compare`:
 # bSTAB's friction case at v_d = 2.0 (steady_slip_only), 1.0 (stick_slip_only), both
-# 128 x 128, and 1.5 (bistable, 256 x 128); scans/fig10.toml at nu = 0.03 (McMillan above
-# the fold, 128 x 128); the 20-speed study scans/bstab-friction.toml at 64 x 32 per speed,
-# or with FULL=1 at its own 256 x 128 (about 470 s for the old binary on a quiet machine).
+# 128 x 128, and 1.5 (bistable, 256 x 128); scans/fig10.toml above the fold at nu = 0.026,
+# 0.03, 0.05, 0.1 and 0.3 (cases above-NU, any NU; mcmillan-above-fold is above-0.03;
+# 128 x 128); the 20-speed study scans/bstab-friction.toml at 64 x 32 per speed, or with
+# FULL=1 at its own 256 x 128 (about 470 s for the old binary on a quiet machine). Its
+# times are wall clock of the whole command (map preparation, cycle search and writing
+# included; they were the summary's "cells in" time before 2026-11-24).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 suite=${SUITE:-fig9}
@@ -32,19 +35,26 @@ new=target/release/squeal
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 rate() { "$@" --threads 2 --force --quiet | grep -o '[0-9]* cells/s' | cut -d' ' -f1; }
-secs() { "$@" --threads 2 --force --quiet | grep -o 'cells in [0-9.]* s' | cut -d' ' -f3; }
+secs() {
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$@" --threads 2 --force --quiet >/dev/null
+  t1=$(date +%s.%N)
+  echo "scale=2; ($t1 - $t0) / 1" | bc
+}
 if [ "$suite" = decisions ]; then
   echo "date: $(date -u +%Y-%m-%dT%H:%MZ)  machine: $(lscpu | grep 'Model name' | sed 's/  */ /g')  cpus: $(nproc)  load: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "| spec (2 threads) | round | old s | new s | old/new | agreement (new vs old) |"
   echo "|---|---|---:|---:|---:|---|"
   bstab() { sed -e "s/^v_d = .*/v_d = $1/" -e "s/count = 256 }/count = $2 }/" -e "s/count = 128 }/count = $3 }/" scans/bstab-friction.toml; }
-  cases=${CASES:-steady-2.0 stick-1.0 bistable-1.5 mcmillan-above-fold bstab-friction}
+  cases=${CASES:-steady-2.0 stick-1.0 bistable-1.5 above-0.026 above-0.03 above-0.05 above-0.1 above-0.3 bstab-friction}
   for c in $cases; do
     case $c in
       steady-2.0) bstab 2.0 128 128 ;;
       stick-1.0) bstab 1.0 128 128 ;;
       bistable-1.5) bstab 1.5 256 128 ;;
       mcmillan-above-fold) sed -e 's/^nu = .*/nu = 0.03/' -e 's/count = 256/count = 128/g' scans/fig10.toml ;;
+      above-*) sed -e "s/^nu = .*/nu = ${c#above-}/" -e 's/count = 256/count = 128/g' scans/fig10.toml ;;
       bstab-friction) if [ "${FULL:-0}" = 1 ]; then cat scans/bstab-friction.toml; else
         sed -e 's/count = 256 }/count = 64 }/' -e 's/count = 128 }/count = 32 }/' scans/bstab-friction.toml; fi ;;
     esac >"$tmp/$c.toml"
