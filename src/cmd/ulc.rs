@@ -4,7 +4,6 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use squeal_core::Setup;
-use squeal_plot::{Curve, Marker};
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::{common, model::SetupArgs};
@@ -47,6 +46,52 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
     let plan = &setup.plan;
     let params = plan.maps[setup.map];
+    let cs = checked_settings(&args)?;
+    if let Some(p) = &args.plot {
+        common::check_new(p, args.force, "picture")?;
+    }
+    let t0 = std::time::Instant::now();
+    let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    // Every sign change the search's samples show (the same samples as the search's own).
+    let samples = {
+        let st = Setup::new(params, plan.dt, plan.solver).stepper()?;
+        let map = squeal_scan::section::ReturnMap::new(&st, cs.t_return);
+        squeal_scan::section::adaptive_samples(&map, &cs, &mut Default::default())
+    };
+    let rays = match args.verify_rays {
+        0 => None,
+        n => Some(ulc::verify_rays(&rep, n, args.verify_eps, plan.solver)?),
+    };
+    if let Some(p) = &args.plot {
+        let fp = params.fixed_point();
+        let scale = squeal_plot::StateScale::of_law(params.law.name());
+        let model = common::plot_params(&params, plan.dt);
+        squeal_plot::cycle_plot(p, (&rep.curve.x, &rep.curve.v), (fp.x, fp.v), &model, scale)
+            .with_context(|| format!("drawing {}", p.display()))?;
+    }
+    let found = Found {
+        rep: &rep,
+        samples: &samples,
+        rays: rays.as_ref(),
+        seconds,
+        r_max: cs.r_max,
+        si: plan.physical.map(|ph| rep.si(&ph.scales())),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&found.json()?)?);
+    } else {
+        found.print(plan.dt, plan.solver.kind);
+        if let Some(rays) = &rays {
+            print_rays(rays);
+        }
+    }
+    Ok(verdict(rays.as_ref()))
+}
+
+/// The flags' search settings, checked by the atlas spec's `[cycle]` rules (naming the
+/// flags) before any computing.
+fn checked_settings(args: &Args) -> anyhow::Result<CycleSettings> {
     if args.verify_rays > squeal_scan::bounds::MAX_RAYS {
         bail!(
             "--verify-rays {}: expected at most {} rays (one every 0.036 degrees, finer than \
@@ -61,16 +106,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             args.verify_eps
         );
     }
-    if let Some(p) = &args.plot {
-        common::check_new(p, args.force, "picture")?;
-    }
     let cs = CycleSettings {
         r_max: args.r_max,
         rtol: args.rtol,
         check_half_dt: !args.no_half_dt,
         ..Default::default()
     };
-    // The atlas spec's `[cycle]` rules, naming the flags.
     squeal_scan::bounds::cycle_search(
         &cs,
         &|k| format!("--{}", k.replace('_', "-")),
@@ -81,182 +122,153 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             expected: expected.into(),
         },
     )?;
-    let t0 = std::time::Instant::now();
-    let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
-    let seconds = t0.elapsed().as_secs_f64();
-    // Every sign change the search's samples show (the same samples as the search's own).
-    let samples = {
-        let st = Setup::new(params, plan.dt, plan.solver).stepper()?;
-        let map = squeal_scan::section::ReturnMap::new(&st, cs.t_return);
-        squeal_scan::section::adaptive_samples(&map, &cs, &mut Default::default())
-    };
-    let changes = samples.sign_changes();
-    let rays = if args.verify_rays > 0 {
-        Some(ulc::verify_rays(
-            &rep,
-            args.verify_rays,
-            args.verify_eps,
-            plan.solver,
-        )?)
-    } else {
-        None
-    };
-    if let Some(p) = &args.plot {
-        let fp = params.fixed_point();
-        let mut xs = rep.curve.x.clone();
-        let mut vs = rep.curve.v.clone();
-        xs.push(xs[0]);
-        vs.push(vs[0]);
-        let curve = Curve {
-            label: "unstable limit cycle".into(),
-            xs,
-            ys: vs,
-            color: squeal_plot::CYCLE,
-            points_only: false,
-        };
-        let marks = [
-            Marker {
-                label: "fixed point".into(),
-                x: fp.x,
-                y: fp.v,
-                color: squeal_plot::FIXED_POINT,
-            },
-            Marker {
-                label: "rest (0, 0)".into(),
-                x: 0.0,
-                y: 0.0,
-                color: squeal_plot::STICK,
-            },
-        ];
-        let title = squeal_plot::phase_title(
-            "Unstable limit cycle",
-            &super::common::plot_params(&params, plan.dt),
-        );
-        let scale = squeal_plot::StateScale::of_law(params.law.name());
-        squeal_plot::phase_plot(p, &title, scale, &[curve], &marks)
-            .with_context(|| format!("drawing {}", p.display()))?;
-    }
-    if args.json {
-        let mut v = serde_json::to_value(&rep)?;
-        v["seconds"] = seconds.into();
+    Ok(cs)
+}
+
+/// What `squeal ulc` found, for its two reports.
+struct Found<'a> {
+    rep: &'a ulc::CycleReport,
+    samples: &'a squeal_scan::section::SectionSamples,
+    rays: Option<&'a ulc::RayVerification>,
+    seconds: f64,
+    r_max: f64,
+    si: Option<ulc::CycleSi>,
+}
+
+impl Found<'_> {
+    /// The report as one JSON object: the cycle's record and the search's facts.
+    fn json(&self) -> anyhow::Result<serde_json::Value> {
+        let rep = self.rep;
+        let mut v = serde_json::to_value(rep)?;
+        v["seconds"] = self.seconds.into();
         v["bracket_width"] = (rep.bracket[1] - rep.bracket[0]).into();
-        v["rays"] = serde_json::to_value(&rays)?;
-        v["verified"] = rays.as_ref().map(|r| r.passed()).into();
+        v["rays"] = serde_json::to_value(self.rays)?;
+        v["verified"] = self.rays.map(|r| r.passed()).into();
         v["sign_changes"] = serde_json::json!(
-            changes
+            self.samples
+                .sign_changes()
                 .iter()
                 .map(|&(lo, hi, rising)| serde_json::json!({"lo": lo, "hi": hi, "rising": rising}))
                 .collect::<Vec<_>>()
         );
         v["resolution"] = squeal_scan::section::RESOLUTION.into();
-        v["unresolved"] = samples.unresolved.into();
-        if let Some(ph) = plan.physical {
-            v["si"] = si_json(&rep, &ph.scales());
+        v["unresolved"] = self.samples.unresolved.into();
+        if let Some(si) = &self.si {
+            v["si"] = serde_json::to_value(si)?;
         }
-        println!("{}", serde_json::to_string(&v)?);
-        return Ok(verdict(rays.as_ref()));
+        Ok(v)
     }
-    println!(
-        "unstable limit cycle: {} {} = {} {} = {} (dt = {}, {} solver)",
-        params.law,
-        params.damping_key(),
-        params.nu,
-        params.speed_key(),
-        params.lambda,
-        plan.dt,
-        plan.solver.kind
-    );
-    println!(
-        "  section x = {:.6}, x' = {:.10} (bracket width {:.2e})",
-        params.fixed_point().x,
-        rep.r_section,
-        rep.bracket[1] - rep.bracket[0]
-    );
-    println!(
-        "  period {:.6}, angular frequency {:.6}",
-        rep.period, rep.omega
-    );
-    println!(
-        "  extent x in [{:.6}, {:.6}], x' in [{:.6}, {:.6}]",
-        rep.x_range[0], rep.x_range[1], rep.v_range[0], rep.v_range[1]
-    );
-    println!(
-        "  distance from the fixed point along +x {:.6}, enclosed area {:.6}",
-        rep.distance_plus_x, rep.area
-    );
-    println!(
-        "  Floquet multiplier (growth per revolution) {:.6}",
-        rep.multiplier
-    );
-    println!(
-        "  encloses the state at rest (0, 0): {}",
-        if rep.encloses_origin {
-            "yes: from rest, steady slip"
-        } else {
-            "no: from rest, squeal"
-        }
-    );
-    if let Some(h) = rep.half_dt {
+
+    /// The report in words.
+    fn print(&self, dt: f64, solver: squeal_core::SolverKind) {
+        let (rep, p) = (self.rep, &self.rep.params);
         println!(
-            "  with dt/2: x' at the section {:.8} (shift {:+.2e})",
-            h.r_section, h.shift
+            "unstable limit cycle: {} {} = {} {} = {} (dt = {dt}, {solver} solver)",
+            p.law,
+            p.damping_key(),
+            p.nu,
+            p.speed_key(),
+            p.lambda,
         );
-    }
-    if let Some(ph) = plan.physical {
-        println!("{}", si_words(&rep, &ph.scales()));
-    }
-    println!(
-        "  {} section returns, {} friction evaluations, {:.3} s",
-        rep.returns, rep.solver.evaluations, seconds
-    );
-    let words: Vec<String> = changes
-        .iter()
-        .map(|&(lo, hi, rising)| {
-            let kind = if rising { "- to +" } else { "+ to -" };
-            format!("{kind} in [{lo:.4}, {hi:.4}]")
-        })
-        .collect();
-    println!(
-        "  sign changes of D = P(r) - r sampled up to r = {}: {} ({} samples, refined where a window could hide down to a relative width of {}{})",
-        cs.r_max,
-        words.join(", "),
-        samples.rs.len(),
-        squeal_scan::section::RESOLUTION,
-        match samples.unresolved {
-            0 => String::new(),
-            n => format!("; {n} intervals left unrefined: budget spent"),
-        }
-    );
-    if let Some(rays) = &rays {
         println!(
-            "  rays: {} of {} have the start just inside moving inward and the one just outside \
-             moving outward (eps {}; a deviation must grow {}-fold within {} revolutions, \
-             from the one-sided multipliers {:.6} inside and {:.6} outside)",
-            rays.agreeing(),
-            rays.rays.len(),
-            rays.eps,
-            rays.growth,
-            rays.revolutions_max,
-            rays.multipliers[0],
-            rays.multipliers[1]
+            "  section x = {:.6}, x' = {:.10} (bracket width {:.2e})",
+            p.fixed_point().x,
+            rep.r_section,
+            rep.bracket[1] - rep.bracket[0]
         );
-        for r in &rays.rays {
-            let show = |s: &ulc::RayStart| match s.drift {
-                ulc::Drift::Inward => format!("inward after {} revolutions", s.revolutions),
-                ulc::Drift::Outward => format!("outward after {} revolutions", s.revolutions),
-                ulc::Drift::Undecided => format!("UNDECIDED after {} revolutions", s.revolutions),
-            };
+        println!(
+            "  period {:.6}, angular frequency {:.6}",
+            rep.period, rep.omega
+        );
+        println!(
+            "  extent x in [{:.6}, {:.6}], x' in [{:.6}, {:.6}]",
+            rep.x_range[0], rep.x_range[1], rep.v_range[0], rep.v_range[1]
+        );
+        println!(
+            "  distance from the fixed point along +x {:.6}, enclosed area {:.6}",
+            rep.distance_plus_x, rep.area
+        );
+        println!(
+            "  Floquet multiplier (growth per revolution) {:.6}",
+            rep.multiplier
+        );
+        println!(
+            "  encloses the state at rest (0, 0): {}",
+            match rep.encloses_origin {
+                true => "yes: from rest, steady slip",
+                false => "no: from rest, squeal",
+            }
+        );
+        if let Some(h) = rep.half_dt {
             println!(
-                "    angle {:6.3} radius {:.5}: inside {}, outside {}{}",
-                r.angle,
-                r.radius,
-                show(&r.inner),
-                show(&r.outer),
-                if r.agrees() { "" } else { "  <- disagrees" }
+                "  with dt/2: x' at the section {:.8} (shift {:+.2e})",
+                h.r_section, h.shift
             );
         }
+        if let Some(si) = &self.si {
+            println!("  in SI units: {si}");
+        }
+        println!(
+            "  {} section returns, {} friction evaluations, {:.3} s",
+            rep.returns, rep.solver.evaluations, self.seconds
+        );
+        self.print_sign_changes();
     }
-    Ok(verdict(rays.as_ref()))
+
+    /// Every sign change of the sampled `D`, and the search's resolution.
+    fn print_sign_changes(&self) {
+        let words: Vec<String> = self
+            .samples
+            .sign_changes()
+            .iter()
+            .map(|&(lo, hi, rising)| {
+                let kind = if rising { "- to +" } else { "+ to -" };
+                format!("{kind} in [{lo:.4}, {hi:.4}]")
+            })
+            .collect();
+        println!(
+            "  sign changes of D = P(r) - r sampled up to r = {}: {} ({} samples, refined where a window could hide down to a relative width of {}{})",
+            self.r_max,
+            words.join(", "),
+            self.samples.rs.len(),
+            squeal_scan::section::RESOLUTION,
+            match self.samples.unresolved {
+                0 => String::new(),
+                n => format!("; {n} intervals left unrefined: budget spent"),
+            }
+        );
+    }
+}
+
+/// The ray checks, one line each.
+fn print_rays(rays: &ulc::RayVerification) {
+    println!(
+        "  rays: {} of {} have the start just inside moving inward and the one just outside \
+         moving outward (eps {}; a deviation must grow {}-fold within {} revolutions, \
+         from the one-sided multipliers {:.6} inside and {:.6} outside)",
+        rays.agreeing(),
+        rays.rays.len(),
+        rays.eps,
+        rays.growth,
+        rays.revolutions_max,
+        rays.multipliers[0],
+        rays.multipliers[1]
+    );
+    for r in &rays.rays {
+        let show = |s: &ulc::RayStart| match s.drift {
+            ulc::Drift::Inward => format!("inward after {} revolutions", s.revolutions),
+            ulc::Drift::Outward => format!("outward after {} revolutions", s.revolutions),
+            ulc::Drift::Undecided => format!("UNDECIDED after {} revolutions", s.revolutions),
+        };
+        println!(
+            "    angle {:6.3} radius {:.5}: inside {}, outside {}{}",
+            r.angle,
+            r.radius,
+            show(&r.inner),
+            show(&r.outer),
+            if r.agrees() { "" } else { "  <- disagrees" }
+        );
+    }
 }
 
 /// Exit status: 1 when a ray check was asked for and did not pass.
@@ -272,35 +284,4 @@ fn verdict(rays: Option<&ulc::RayVerification>) -> ExitCode {
         }
         _ => ExitCode::SUCCESS,
     }
-}
-
-/// The cycle's figures in SI units (a physical system): lengths in m, velocities in m/s,
-/// the period in s and the frequency in Hz.
-fn si_json(rep: &ulc::CycleReport, s: &squeal_core::Scales) -> serde_json::Value {
-    serde_json::json!({
-        "r_section_m_per_s": rep.r_section * s.velocity,
-        "x_range_m": rep.x_range.map(|x| x * s.length),
-        "v_range_m_per_s": rep.v_range.map(|v| v * s.velocity),
-        "distance_plus_x_m": rep.distance_plus_x * s.length,
-        "period_s": rep.period * s.time,
-        "frequency_hz": s.hz(rep.omega),
-        "area_m2_per_s": rep.area * s.area(),
-    })
-}
-
-/// [`si_json`] in words.
-fn si_words(rep: &ulc::CycleReport, s: &squeal_core::Scales) -> String {
-    format!(
-        "  in SI units: section x' = {:.4e} m/s; extent x in [{:.4e}, {:.4e}] m, x' in \
-         [{:.4e}, {:.4e}] m/s; {:.4e} m beyond the fixed point along +x; period {:.4e} s \
-         ({:.2} Hz)",
-        rep.r_section * s.velocity,
-        rep.x_range[0] * s.length,
-        rep.x_range[1] * s.length,
-        rep.v_range[0] * s.velocity,
-        rep.v_range[1] * s.velocity,
-        rep.distance_plus_x * s.length,
-        rep.period * s.time,
-        s.hz(rep.omega)
-    )
 }

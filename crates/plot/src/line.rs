@@ -34,6 +34,41 @@ pub fn line_plot(
     )
 }
 
+/// The unstable limit cycle `(xs, vs)` (one revolution; closed here) in its phase plane,
+/// with the fixed point `fp` and the state at rest marked, titled with the model `p`.
+pub fn cycle_plot(
+    path: &Path,
+    (xs, vs): (&[f64], &[f64]),
+    fp: (f64, f64),
+    p: &ModelParams,
+    scale: StateScale,
+) -> Result<(), PlotError> {
+    let close = |a: &[f64]| a.iter().chain(a.first()).copied().collect::<Vec<_>>();
+    let curve = Curve {
+        label: "unstable limit cycle".into(),
+        xs: close(xs),
+        ys: close(vs),
+        color: CYCLE,
+        points_only: false,
+    };
+    let marks = [
+        Marker {
+            label: "fixed point".into(),
+            x: fp.0,
+            y: fp.1,
+            color: FIXED_POINT,
+        },
+        Marker {
+            label: "rest (0, 0)".into(),
+            x: 0.0,
+            y: 0.0,
+            color: STICK,
+        },
+    ];
+    let title = phase_title("Unstable limit cycle", p);
+    phase_plot(path, &title, scale, &[curve], &marks)
+}
+
 /// A phase plane `(x, x')`: as [`line_plot`] with the axis labels of `scale` (the law's
 /// own units, [`StateScale::phase_labels`]) and equal scales on both axes (the shorter range
 /// is widened about its centre, so a circle is drawn as a circle). Size 900x800.

@@ -110,7 +110,58 @@ pub struct CycleReport {
     pub curve: ClosedCurve,
 }
 
+/// A located cycle's figures in SI units (a physical system): lengths in m, velocities in
+/// m/s, the period in s, the frequency in Hz.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CycleSi {
+    /// The crossing of the section, m/s.
+    pub r_section_m_per_s: f64,
+    /// Extent in `x`, m.
+    pub x_range_m: [f64; 2],
+    /// Extent in `x'`, m/s.
+    pub v_range_m_per_s: [f64; 2],
+    /// Distance beyond the fixed point along `+x`, m.
+    pub distance_plus_x_m: f64,
+    /// Period, s.
+    pub period_s: f64,
+    /// Frequency, Hz.
+    pub frequency_hz: f64,
+    /// Enclosed phase-plane area, m^2/s.
+    pub area_m2_per_s: f64,
+}
+
+impl std::fmt::Display for CycleSi {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "section x' = {:.4e} m/s; extent x in [{:.4e}, {:.4e}] m, x' in [{:.4e}, {:.4e}] \
+             m/s; {:.4e} m beyond the fixed point along +x; period {:.4e} s ({:.2} Hz)",
+            self.r_section_m_per_s,
+            self.x_range_m[0],
+            self.x_range_m[1],
+            self.v_range_m_per_s[0],
+            self.v_range_m_per_s[1],
+            self.distance_plus_x_m,
+            self.period_s,
+            self.frequency_hz
+        )
+    }
+}
+
 impl CycleReport {
+    /// The figures in SI units with the scales `s` of a physical system.
+    pub fn si(&self, s: &squeal_core::Scales) -> CycleSi {
+        CycleSi {
+            r_section_m_per_s: self.r_section * s.velocity,
+            x_range_m: self.x_range.map(|x| x * s.length),
+            v_range_m_per_s: self.v_range.map(|v| v * s.velocity),
+            distance_plus_x_m: self.distance_plus_x * s.length,
+            period_s: self.period * s.time,
+            frequency_hz: s.hz(self.omega),
+            area_m2_per_s: self.area * s.area(),
+        }
+    }
+
     /// Whether `(x, v)` lies inside the closed curve.
     pub fn encloses(&self, x: f64, v: f64) -> bool {
         self.curve.encloses(State { x, v })
