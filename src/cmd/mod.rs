@@ -1,5 +1,6 @@
-//! One module per subcommand; `model` holds the flags shared by several, `common` the run
-//! flags and helpers, `atlas_words` the atlas summary that `atlas` and `info` print.
+//! One module per subcommand; `model` and `physical` hold the flags shared by several,
+//! `common` the run flags and helpers, `atlas_words` the atlas summary that `atlas` and
+//! `info` print.
 
 pub mod atlas;
 pub mod atlas_words;
@@ -11,6 +12,7 @@ pub mod friction;
 pub mod info;
 pub mod merge;
 pub mod model;
+pub mod physical;
 pub mod render;
 pub mod scan;
 pub mod trajectory;

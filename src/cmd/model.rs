@@ -5,17 +5,7 @@ use squeal_core::{
     CoreError, FrictionLaw, Params, Physical, Scheme, SolverConfig, SolverKind, Stepper,
 };
 
-/// The physical flags with their spec key, in the order of [`Physical`]'s fields.
-pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
-    ("--m", "m"),
-    ("--k", "k"),
-    ("--c", "c"),
-    ("--v-belt", "v_belt"),
-    ("--mu-k", "mu_k"),
-    ("--mu-s", "mu_s"),
-    ("--tau-s", "tau"),
-    ("--g", "g"),
-];
+use super::physical::PhysicalArgs;
 
 /// Model flags (nondimensional, paper Section 4; defaults are the paper's Table 1, or
 /// bSTAB's friction case for `--law stribeck`).
@@ -54,32 +44,9 @@ pub struct ModelArgs {
     /// Viscous strengthening mu_v >= 0 (--law stribeck; default 0).
     #[arg(long = "mu-v", allow_negative_numbers = true)]
     pub mu_v: Option<f64>,
-    /// Mass m (kg). The physical system in SI units instead of --nu --lambda --tau --phi
-    /// (McMillan's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g optional);
-    /// then --x0/--v0 are in m and m/s and the results are printed in SI units too.
-    #[arg(long, allow_negative_numbers = true)]
-    pub m: Option<f64>,
-    /// Spring stiffness k (N/m; physical system, see --m).
-    #[arg(long, allow_negative_numbers = true)]
-    pub k: Option<f64>,
-    /// Dashpot coefficient c (N s/m; physical system, see --m).
-    #[arg(long, allow_negative_numbers = true)]
-    pub c: Option<f64>,
-    /// Belt speed v_belt (m/s; physical system, see --m).
-    #[arg(long = "v-belt", allow_negative_numbers = true)]
-    pub v_belt: Option<f64>,
-    /// Kinetic friction coefficient mu_k (physical system, see --m).
-    #[arg(long = "mu-k", allow_negative_numbers = true)]
-    pub mu_k: Option<f64>,
-    /// Static friction coefficient mu_s > mu_k (physical system, see --m).
-    #[arg(long = "mu-s", allow_negative_numbers = true)]
-    pub mu_s: Option<f64>,
-    /// Characteristic time of the surfaces tau (s; physical system, see --m).
-    #[arg(long = "tau-s", allow_negative_numbers = true)]
-    pub tau_s: Option<f64>,
-    /// Gravitational acceleration g (m/s^2; physical system, default 9.81).
-    #[arg(long, allow_negative_numbers = true)]
-    pub g: Option<f64>,
+    /// The physical system's flags (McMillan's laws, instead of --nu --lambda --tau --phi).
+    #[command(flatten)]
+    pub system: PhysicalArgs,
     /// Time step (see BENCHMARKS.md for the convergence study behind the default).
     #[arg(long, default_value_t = squeal_core::defaults::DT, allow_negative_numbers = true)]
     pub dt: f64,
@@ -109,62 +76,20 @@ impl ModelArgs {
     }
 
     /// The physical system of `--m --k --c --v-belt --mu-k --mu-s --tau-s [--g]`, if any of
-    /// them is given (all but `--g` are then required); errors name the flag.
+    /// them is given (all but `--g` are then required, and no nondimensional law flag);
+    /// errors name the flag.
     pub fn physical(&self) -> anyhow::Result<Option<Physical>> {
-        let values = [
-            self.m,
-            self.k,
-            self.c,
-            self.v_belt,
-            self.mu_k,
-            self.mu_s,
-            self.tau_s,
-            self.g,
-        ];
-        if values.iter().all(Option::is_none) {
-            return Ok(None);
-        }
-        let all = "--m --k --c --v-belt --mu-k --mu-s --tau-s (and optionally --g)";
-        if let Some((flag, _)) = PHYSICAL_FLAGS[..7]
-            .iter()
-            .zip(values)
-            .find(|(_, v)| v.is_none())
-            .map(|(f, _)| *f)
-        {
-            bail!("{flag}: missing (the physical system takes {all})");
-        }
         let law: FrictionLaw = self.law.parse().context("--law")?;
-        if law.has_true_stick() {
-            bail!(
-                "--law {law}: the physical flags use McMillan's scaling, which the Stribeck law \
-                 does not share (give --xi, --v-d, ... instead)"
-            );
-        }
-        if let Some((k, _)) = self.given().iter().find(|(_, v)| v.is_some()) {
-            bail!(
-                "--{}: not with the physical system ({all}): give one or the other",
-                k.replace('_', "-")
-            );
-        }
-        let ph = Physical {
-            m: values[0].unwrap_or_default(),
-            k: values[1].unwrap_or_default(),
-            c: values[2].unwrap_or_default(),
-            v_belt: values[3].unwrap_or_default(),
-            mu_k: values[4].unwrap_or_default(),
-            mu_s: values[5].unwrap_or_default(),
-            tau: values[6].unwrap_or_default(),
-            g: values[7].unwrap_or(squeal_core::units::G_STANDARD),
-        };
-        ph.params(law).map_err(physical_flag_error)?;
-        Ok(Some(ph))
+        let given = self.given();
+        let other = given.iter().find(|(_, v)| v.is_some()).map(|(k, _)| *k);
+        self.system.system(law, other)
     }
 
     /// Checked parameters; errors name the flag.
     pub fn params(&self) -> anyhow::Result<Params> {
         let law: FrictionLaw = self.law.parse().context("--law")?;
         if let Some(ph) = self.physical()? {
-            return ph.params(law).map_err(physical_flag_error);
+            return ph.params(law).map_err(super::physical::flag_error);
         }
         let given = self.given();
         let own = law.keys();
@@ -202,11 +127,7 @@ impl ModelArgs {
         let p = self.params()?;
         let mut t = format!("law = \"{}\"\n", p.law);
         if let Some(ph) = self.physical()? {
-            let v = [ph.m, ph.k, ph.c, ph.v_belt, ph.mu_k, ph.mu_s, ph.tau, ph.g];
-            t.push_str("[physical]\n");
-            for ((_, key), v) in PHYSICAL_FLAGS.iter().zip(v) {
-                t.push_str(&format!("{key} = {v:?}\n"));
-            }
+            t.push_str(&super::physical::spec_table(&ph));
             return Ok(t);
         }
         for n in p.named() {
@@ -244,26 +165,6 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
     match &e {
         CoreError::InvalidParameter { name, .. } => {
             anyhow::anyhow!("--{}: {e}", name.replace('_', "-"))
-        }
-        _ => anyhow::anyhow!(e),
-    }
-}
-
-/// A physical-system error naming the flag: derived values name the flags they come from.
-fn physical_flag_error(e: CoreError) -> anyhow::Error {
-    match &e {
-        CoreError::InvalidParameter { name, .. } => {
-            let flag = match *name {
-                "nu" => "--c (nu = c / (2 sqrt(m k)))",
-                "lambda" => "--v-belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
-                "phi" => "--mu-s",
-                "tau" => "--tau-s",
-                n => PHYSICAL_FLAGS
-                    .iter()
-                    .find(|(_, k)| *k == n)
-                    .map_or(n, |(f, _)| *f),
-            };
-            anyhow::anyhow!("{flag}: {e}")
         }
         _ => anyhow::anyhow!(e),
     }

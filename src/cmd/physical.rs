@@ -1,0 +1,135 @@
+//! The physical system's flags (`--m --k --c --v-belt --mu-k --mu-s --tau-s [--g]`), shared
+//! by every command that takes the model flags.
+
+use anyhow::bail;
+use squeal_core::{CoreError, FrictionLaw, Physical};
+
+/// The physical flags with their spec key, in the order of [`Physical`]'s fields.
+pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
+    ("--m", "m"),
+    ("--k", "k"),
+    ("--c", "c"),
+    ("--v-belt", "v_belt"),
+    ("--mu-k", "mu_k"),
+    ("--mu-s", "mu_s"),
+    ("--tau-s", "tau"),
+    ("--g", "g"),
+];
+
+/// The physical system in SI units instead of --nu --lambda --tau --phi (McMillan's laws).
+#[derive(clap::Args, Debug, Clone)]
+pub struct PhysicalArgs {
+    /// Mass m (kg). The physical system in SI units instead of --nu --lambda --tau --phi
+    /// (McMillan's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g optional);
+    /// then --x0/--v0 are in m and m/s and the results are printed in SI units too.
+    #[arg(long, allow_negative_numbers = true)]
+    pub m: Option<f64>,
+    /// Spring stiffness k (N/m; physical system, see --m).
+    #[arg(long, allow_negative_numbers = true)]
+    pub k: Option<f64>,
+    /// Dashpot coefficient c (N s/m; physical system, see --m).
+    #[arg(long, allow_negative_numbers = true)]
+    pub c: Option<f64>,
+    /// Belt speed v_belt (m/s; physical system, see --m).
+    #[arg(long = "v-belt", allow_negative_numbers = true)]
+    pub v_belt: Option<f64>,
+    /// Kinetic friction coefficient mu_k (physical system, see --m).
+    #[arg(long = "mu-k", allow_negative_numbers = true)]
+    pub mu_k: Option<f64>,
+    /// Static friction coefficient mu_s > mu_k (physical system, see --m).
+    #[arg(long = "mu-s", allow_negative_numbers = true)]
+    pub mu_s: Option<f64>,
+    /// Characteristic time of the surfaces tau (s; physical system, see --m).
+    #[arg(long = "tau-s", allow_negative_numbers = true)]
+    pub tau_s: Option<f64>,
+    /// Gravitational acceleration g (m/s^2; physical system, default 9.81).
+    #[arg(long, allow_negative_numbers = true)]
+    pub g: Option<f64>,
+}
+
+impl PhysicalArgs {
+    /// The system under `law`, if any flag is given (all but `--g` are then required);
+    /// `other`: a nondimensional law flag also given (refused). Errors name the flag.
+    pub fn system(
+        &self,
+        law: FrictionLaw,
+        other: Option<&str>,
+    ) -> anyhow::Result<Option<Physical>> {
+        let values = [
+            self.m,
+            self.k,
+            self.c,
+            self.v_belt,
+            self.mu_k,
+            self.mu_s,
+            self.tau_s,
+            self.g,
+        ];
+        if values.iter().all(Option::is_none) {
+            return Ok(None);
+        }
+        let all = "--m --k --c --v-belt --mu-k --mu-s --tau-s (and optionally --g)";
+        if let Some((flag, _)) = PHYSICAL_FLAGS[..7]
+            .iter()
+            .zip(values)
+            .find(|(_, v)| v.is_none())
+        {
+            bail!("{}: missing (the physical system takes {all})", flag.0);
+        }
+        if law.has_true_stick() {
+            bail!(
+                "--law {law}: the physical flags use McMillan's scaling, which the Stribeck law \
+                 does not share (give --xi, --v-d, ... instead)"
+            );
+        }
+        if let Some(k) = other {
+            bail!(
+                "--{}: not with the physical system ({all}): give one or the other",
+                k.replace('_', "-")
+            );
+        }
+        let v = |i: usize| values[i].unwrap_or_default();
+        let ph = Physical {
+            m: v(0),
+            k: v(1),
+            c: v(2),
+            v_belt: v(3),
+            mu_k: v(4),
+            mu_s: v(5),
+            tau: v(6),
+            g: values[7].unwrap_or(squeal_core::units::G_STANDARD),
+        };
+        ph.params(law).map_err(flag_error)?;
+        Ok(Some(ph))
+    }
+}
+
+/// The `[physical]` table of a scan spec for the system `ph`.
+pub fn spec_table(ph: &Physical) -> String {
+    let v = [ph.m, ph.k, ph.c, ph.v_belt, ph.mu_k, ph.mu_s, ph.tau, ph.g];
+    let mut t = String::from("[physical]\n");
+    for ((_, key), v) in PHYSICAL_FLAGS.iter().zip(v) {
+        t.push_str(&format!("{key} = {v:?}\n"));
+    }
+    t
+}
+
+/// A physical-system error naming the flag: derived values name the flags they come from.
+pub fn flag_error(e: CoreError) -> anyhow::Error {
+    match &e {
+        CoreError::InvalidParameter { name, .. } => {
+            let flag = match *name {
+                "nu" => "--c (nu = c / (2 sqrt(m k)))",
+                "lambda" => "--v-belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
+                "phi" => "--mu-s",
+                "tau" => "--tau-s",
+                n => PHYSICAL_FLAGS
+                    .iter()
+                    .find(|(_, k)| *k == n)
+                    .map_or(n, |(f, _)| *f),
+            };
+            anyhow::anyhow!("{flag}: {e}")
+        }
+        _ => anyhow::anyhow!(e),
+    }
+}
