@@ -22,6 +22,13 @@ pub struct Args {
     pub json: bool,
 }
 
+/// One map's comparison: its title, the agreement and the first disagreeing starts.
+struct MapAgreement {
+    title: String,
+    agreement: Agreement,
+    listed: Vec<[f64; 2]>,
+}
+
 /// Compares the two files map by map.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(m) = args.min_agreement {
@@ -38,79 +45,100 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             args.second.display()
         );
     }
-    let mut maps = Vec::new();
-    let mut pass = true;
-    for m in 0..n {
-        let a = squeal_store::read_map(&args.first, m)?;
-        let b = squeal_store::read_map(&args.second, m)?;
-        for (name, p, q) in [("x0", &a.x0, &b.x0), ("v0", &a.v0, &b.v0)] {
-            let same = p.len() == q.len()
-                && p.iter()
-                    .zip(q.iter())
-                    .all(|(s, t)| (s - t).abs() <= 1e-12 * s.abs().max(t.abs()).max(1.0));
-            if !same {
-                bail!(
-                    "map {m}: the {name} axes of {} and {} differ: not the same grid",
-                    args.first.display(),
-                    args.second.display()
-                );
-            }
-        }
-        let g = Agreement::of(&a.labels, &b.labels);
-        let nx = a.x0.len();
-        let listed: Vec<[f64; 2]> = g
-            .first_disagreements
-            .iter()
-            .map(|&k| [a.x0[k % nx], a.v0[k / nx]])
-            .collect();
-        pass &= args.min_agreement.is_none_or(|m| g.share() >= m);
-        maps.push((a.title, g, listed));
-    }
+    let maps = (0..n)
+        .map(|m| compare_map(&args, m))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let pass = args
+        .min_agreement
+        .is_none_or(|min| maps.iter().all(|m| m.agreement.share() >= min));
     if args.json {
-        let v: Vec<serde_json::Value> = maps
-            .iter()
-            .map(|(title, g, listed)| {
-                let mut o = serde_json::to_value(g).expect("serialisable");
-                o["title"] = title.clone().into();
-                o["share"] = g.share().into();
-                o["disagreeing_starts"] = serde_json::to_value(listed).expect("serialisable");
-                o
-            })
-            .collect();
-        println!("{}", serde_json::json!({ "maps": v, "pass": pass }));
+        print_json(&maps, pass);
     } else {
-        println!(
-            "{} against {}:",
-            args.first.display(),
-            args.second.display()
-        );
-        for (title, g, listed) in &maps {
-            println!(
-                "  {title}: {} of {} cells agree ({:.4}%), {} disagree; undecided: {} in the first only, {} in the second only, {} in both; {} not computed",
-                g.agree,
-                g.cells,
-                100.0 * g.share(),
-                g.disagree,
-                g.undecided_first,
-                g.undecided_second,
-                g.undecided_both,
-                g.not_computed
-            );
-            for [x, v] in listed {
-                println!("    disagrees at x0 = {x}, v0 = {v}");
-            }
-        }
-        if let Some(m) = args.min_agreement {
-            println!(
-                "  {} (every map at least {:.4}% agreeing)",
-                if pass { "pass" } else { "FAIL" },
-                100.0 * m
-            );
-        }
+        print_words(&args, &maps, pass);
     }
     Ok(if pass {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     })
+}
+
+/// Map `m` of both files, refused unless their grids are the same.
+fn compare_map(args: &Args, m: usize) -> anyhow::Result<MapAgreement> {
+    let a = squeal_store::read_map(&args.first, m)?;
+    let b = squeal_store::read_map(&args.second, m)?;
+    for (name, p, q) in [("x0", &a.x0, &b.x0), ("v0", &a.v0, &b.v0)] {
+        let same = p.len() == q.len()
+            && p.iter()
+                .zip(q.iter())
+                .all(|(s, t)| (s - t).abs() <= 1e-12 * s.abs().max(t.abs()).max(1.0));
+        if !same {
+            bail!(
+                "map {m}: the {name} axes of {} and {} differ: not the same grid",
+                args.first.display(),
+                args.second.display()
+            );
+        }
+    }
+    let agreement = Agreement::of(&a.labels, &b.labels);
+    let nx = a.x0.len();
+    let listed = agreement
+        .first_disagreements
+        .iter()
+        .map(|&k| [a.x0[k % nx], a.v0[k / nx]])
+        .collect();
+    Ok(MapAgreement {
+        title: a.title,
+        agreement,
+        listed,
+    })
+}
+
+/// The comparison as one JSON object.
+fn print_json(maps: &[MapAgreement], pass: bool) {
+    let v: Vec<serde_json::Value> = maps
+        .iter()
+        .map(|m| {
+            let mut o = serde_json::to_value(&m.agreement).expect("serialisable");
+            o["title"] = m.title.clone().into();
+            o["share"] = m.agreement.share().into();
+            o["disagreeing_starts"] = serde_json::to_value(&m.listed).expect("serialisable");
+            o
+        })
+        .collect();
+    println!("{}", serde_json::json!({ "maps": v, "pass": pass }));
+}
+
+/// The comparison in words, one line per map and one per listed disagreement.
+fn print_words(args: &Args, maps: &[MapAgreement], pass: bool) {
+    println!(
+        "{} against {}:",
+        args.first.display(),
+        args.second.display()
+    );
+    for m in maps {
+        let g = &m.agreement;
+        println!(
+            "  {}: {} of {} cells agree ({:.4}%), {} disagree; undecided: {} in the first only, {} in the second only, {} in both; {} not computed",
+            m.title,
+            g.agree,
+            g.cells,
+            100.0 * g.share(),
+            g.disagree,
+            g.undecided_first,
+            g.undecided_second,
+            g.undecided_both,
+            g.not_computed
+        );
+        for [x, v] in &m.listed {
+            println!("    disagrees at x0 = {x}, v0 = {v}");
+        }
+    }
+    if let Some(min) = args.min_agreement {
+        println!(
+            "  {} (every map at least {:.4}% agreeing)",
+            if pass { "pass" } else { "FAIL" },
+            100.0 * min
+        );
+    }
 }
