@@ -350,7 +350,19 @@ impl ClassifierSpec {
                 ),
             ));
         }
-        let trap_margin = c.trap_margin.unwrap_or(squeal_core::defaults::TRAP_MARGIN);
+        Ok(ClassifierPlan {
+            classifier,
+            early_stop: c.early_stop,
+            trap_margin: self.trap_margin(invalid)?,
+            audit_every: self.audit_every(cells, invalid)?,
+        })
+    }
+
+    /// The checked `classifier.trap_margin`.
+    fn trap_margin(&self, invalid: Invalid) -> Result<f64, ScanError> {
+        let trap_margin = self
+            .trap_margin
+            .unwrap_or(squeal_core::defaults::TRAP_MARGIN);
         if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
             return Err(invalid(
                 "classifier.trap_margin",
@@ -358,11 +370,16 @@ impl ClassifierSpec {
                 "a relative margin in (0, 0.5)",
             ));
         }
+        Ok(trap_margin)
+    }
+
+    /// The checked `classifier.audit_every` for maps of `cells` cells.
+    fn audit_every(&self, cells: usize, invalid: Invalid) -> Result<u64, ScanError> {
         // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
         // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
         // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
         // as its 16384 early-stopped cells.
-        let audit_every = c.audit_every.unwrap_or_else(|| {
+        let audit_every = self.audit_every.unwrap_or_else(|| {
             let cells = cells as i64;
             (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
         });
@@ -373,12 +390,7 @@ impl ClassifierSpec {
                 "0 (no audit) or a sampling interval in 1..=2^40 cells",
             ));
         }
-        Ok(ClassifierPlan {
-            classifier,
-            early_stop: c.early_stop,
-            trap_margin,
-            audit_every: audit_every as u64,
-        })
+        Ok(audit_every as u64)
     }
 }
 

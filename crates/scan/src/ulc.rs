@@ -245,6 +245,7 @@ pub fn locate_from(
 ) -> Result<CycleReport, ScanError> {
     let setup = st.setup();
     let (params, dt) = (setup.params, setup.dt);
+    let damping = crate::error::Damping::of(&params);
     let (r, lo, hi, stable_above, escape) = match found {
         SectionCycles::Unstable {
             r,
@@ -254,18 +255,10 @@ pub fn locate_from(
             escape,
         } => (r, lo, hi, stable_above, escape),
         SectionCycles::NoneBelow { r_max, .. } => {
-            return Err(NoCycle::Decays {
-                r_max,
-                damping: crate::error::Damping::of(&params),
-            }
-            .into());
+            return Err(NoCycle::Decays { r_max, damping }.into());
         }
         SectionCycles::FixedPointUnstable { r_min } => {
-            return Err(NoCycle::FixedPointRepels {
-                r_min,
-                damping: crate::error::Damping::of(&params),
-            }
-            .into());
+            return Err(NoCycle::FixedPointRepels { r_min, damping }.into());
         }
     };
     returns += 1;
@@ -286,17 +279,9 @@ pub fn locate_from(
     let distance_plus_x = curve
         .distance_along_ray(State { x: fp.x, v: 0.0 }, 0.0)
         .unwrap_or(f64::NAN);
-    let half_dt = if cs.check_half_dt {
-        let st2 = setup.half_dt().stepper()?;
-        match section_cycles(&st2, cs, &mut stats, &mut returns) {
-            SectionCycles::Unstable { r: r2, .. } => Some(HalfStepCheck {
-                r_section: r2,
-                shift: r2 - r,
-            }),
-            _ => None,
-        }
-    } else {
-        None
+    let half_dt = match cs.check_half_dt {
+        true => half_step_check(&setup, cs, r, &mut stats, &mut returns)?,
+        false => None,
     };
     Ok(CycleReport {
         params,
@@ -317,6 +302,25 @@ pub fn locate_from(
         stable_above,
         escape,
         curve,
+    })
+}
+
+/// The cycle found again with `dt / 2` (counted in `stats` and `returns`): its crossing and
+/// the shift from `r`; `None` where that search finds no unstable cycle.
+fn half_step_check(
+    setup: &Setup,
+    cs: &CycleSettings,
+    r: f64,
+    stats: &mut SolverStats,
+    returns: &mut u64,
+) -> Result<Option<HalfStepCheck>, ScanError> {
+    let st2 = setup.half_dt().stepper()?;
+    Ok(match section_cycles(&st2, cs, stats, returns) {
+        SectionCycles::Unstable { r: r2, .. } => Some(HalfStepCheck {
+            r_section: r2,
+            shift: r2 - r,
+        }),
+        _ => None,
     })
 }
 

@@ -52,27 +52,7 @@ pub(super) fn model(
         tau: one("tau", &ph.tau)?,
         g,
     };
-    let mut first = None;
-    for &c in &cs {
-        for &v_belt in &vs {
-            let p = Physical { c, v_belt, ..base }
-                .params(m.law)
-                .map_err(|e| match e {
-                    squeal_core::CoreError::InvalidParameter {
-                        name,
-                        value,
-                        expected,
-                    } => invalid(
-                        &format!("physical.{}", physical_key(name)),
-                        value.to_string(),
-                        expected,
-                    ),
-                    e => invalid("physical", String::new(), &e.to_string()),
-                })?;
-            first.get_or_insert(p);
-        }
-    }
-    let p0 = first.expect("at least one value of c and v_belt");
+    let p0 = check_each(&base, (&cs, &vs), m.law, invalid)?;
     let s = base.scales();
     let scaled = |given: &Value, xs: &[f64], unit: f64| {
         if given.is_sweep() {
@@ -95,6 +75,37 @@ pub(super) fn model(
         mu_v: None,
     };
     Ok((base, model))
+}
+
+/// Checks the system `base` at every swept damping `cs` and belt speed `vs` under `law`,
+/// naming the physical key a derived value comes from; the first map's parameters.
+fn check_each(
+    base: &Physical,
+    (cs, vs): (&[f64], &[f64]),
+    law: squeal_core::FrictionLaw,
+    invalid: Invalid,
+) -> Result<squeal_core::Params, ScanError> {
+    let mut first = None;
+    for &c in cs {
+        for &v_belt in vs {
+            let p = Physical { c, v_belt, ..*base }
+                .params(law)
+                .map_err(|e| match e {
+                    squeal_core::CoreError::InvalidParameter {
+                        name,
+                        value,
+                        expected,
+                    } => invalid(
+                        &format!("physical.{}", physical_key(name)),
+                        value.to_string(),
+                        expected,
+                    ),
+                    e => invalid("physical", String::new(), &e.to_string()),
+                })?;
+            first.get_or_insert(p);
+        }
+    }
+    Ok(first.expect("at least one value of c and v_belt"))
 }
 
 /// The grid (or sample region) given in metres and m/s, in nondimensional units.
