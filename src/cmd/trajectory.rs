@@ -114,6 +114,9 @@ struct Classification {
     reason: &'static str,
     /// Time of the decision (`t_end` if undecided by the time limit).
     t_decision: f64,
+    /// Time on stick-slip before the run settled, as a scan stores it per cell
+    /// (`squeal_core::classify::t_squeal`; JSON has no infinity, so by kind).
+    squeal: squeal_core::Squeal,
 }
 
 /// Everything `squeal trajectory` reports.
@@ -268,6 +271,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             regime: t.outcome.regime.name(),
             reason: t.outcome.reason.name(),
             t_decision: t.outcome.t_decision,
+            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
         },
         final_state: t.final_state,
         oscillation: t.oscillation,
@@ -457,6 +461,7 @@ fn print_summary(s: &Summary, kind: SolverKind) {
         "ended: {label} (classifier: {}, {} at t = {:.6})",
         c.regime, c.reason, c.t_decision
     );
+    println!("squeal: {}", c.squeal.words());
     let f = &s.final_state;
     println!(
         "final state: t = {} x = {:.9} x' = {:.9} x'' = {:.9} F = {:.9}",

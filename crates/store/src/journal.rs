@@ -31,7 +31,8 @@ use crate::StoreError;
 use crate::error::io;
 
 const MAGIC: &[u8; 4] = b"SQJR";
-const FORMAT: u32 = 2;
+// 3: cells carry t_squeal (an older journal's records have another width).
+const FORMAT: u32 = 3;
 pub(crate) const KIND_HEADER: u8 = b'H';
 pub(crate) const KIND_ATLAS_HEADER: u8 = b'A';
 pub(crate) const KIND_UNIT: u8 = b'U';
