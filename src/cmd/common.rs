@@ -437,7 +437,10 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         );
         squeal_plot::basin_map(png, &one, &squeal_plot::label_classes())
             .map_err(|e| discard(png, e))?;
-        return Ok(vec![png.to_path_buf()]);
+        let transient = super::transient::draw(png, force, &info, &m, &one)?;
+        return Ok(std::iter::once(png.to_path_buf())
+            .chain(transient)
+            .collect());
     }
     let size = sibling(png, "-cycle", "png");
     check_new(png, force, "picture")?;

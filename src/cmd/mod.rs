@@ -14,4 +14,5 @@ pub mod model;
 pub mod render;
 pub mod scan;
 pub mod trajectory;
+pub mod transient;
 pub mod ulc;
