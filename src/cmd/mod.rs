@@ -9,6 +9,7 @@ pub mod compare;
 pub mod critical;
 pub mod friction;
 pub mod info;
+pub mod lifetimes;
 pub mod merge;
 pub mod model;
 pub mod render;

@@ -101,3 +101,62 @@ fn the_trap_keeps_the_runs_t_squeal() {
     assert_eq!(g.state(row, col), (10.0, 0.0));
     assert_eq!(early.cell(&plan("cycle"), row, col).t_squeal, b.t_squeal);
 }
+
+/// The band's mean lifetime (runs stopped by the cycle's trap) against direct runs from the
+/// same starts taken on to the fixed point with `squeal_scan::trajectory::run` (no trap,
+/// to t = 40000): the same lifetimes, start by start, so the same mean. This checks the
+/// argument the lifetimes rest on: inside the cycle nothing sticks, so the trap stops a run
+/// after its last stuck step. At nu = 0.025 every start leaves the band long before 40000
+/// (mean lifetime about 40, longest under 300: `squeal critical --crisis --lifetimes`).
+#[test]
+fn band_lifetimes_match_direct_long_runs() {
+    use squeal_core::Setup;
+    use squeal_scan::band::band_span;
+    use squeal_scan::lifetime::{LifetimeSettings, band_lifetime, mean_lifetime};
+    use squeal_scan::section::{ReturnMap, SectionCycles, Work, section_cycles};
+    use squeal_scan::ulc::CycleSettings;
+
+    let st = stepper();
+    let setup = Setup::new(*st.params(), 0.005, SolverConfig::default());
+    let cs = CycleSettings::default();
+    let ls = LifetimeSettings {
+        starts: 12,
+        ..LifetimeSettings::default()
+    };
+    let band = band_lifetime(setup, &cs, &ls).unwrap();
+    assert_eq!(band.lifetime.censored, 0, "{band:?}");
+    // The same starts, rebuilt from the same section search.
+    let (mut stats, mut returns) = (Default::default(), 0);
+    let SectionCycles::Unstable {
+        r, stable_above, ..
+    } = section_cycles(&st, &cs, &mut stats, &mut returns)
+    else {
+        panic!("no cycle at nu = {NU}");
+    };
+    let map = ReturnMap::new(&st, cs.t_return);
+    let (s, b) = band_span(
+        &map,
+        r,
+        stable_above.unwrap_or(2.0 * r),
+        &mut Work::default(),
+    )
+    .unwrap();
+    assert_eq!([s, b], band.span);
+    let fp = st.params().fixed_point();
+    let times: Vec<f64> = (0..ls.starts)
+        .map(|k| {
+            let v = s + (b - s) * (k as f64 + 0.5) / ls.starts as f64;
+            let span = Span {
+                ic: State { x: fp.x, v },
+                t_end: 40_000.0,
+                every: 0,
+            };
+            let o = run(&st, &Classifier::default(), span, None).outcome;
+            assert_eq!(o.reason, Reason::NearFixedPoint, "{o:?}");
+            o.t_squeal
+        })
+        .collect();
+    let direct = mean_lifetime(&times, 0, ls.t_max);
+    assert_eq!(direct, band.lifetime);
+    assert!(direct.mean.unwrap() > 1.0, "{direct:?}");
+}
