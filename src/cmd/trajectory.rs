@@ -162,6 +162,13 @@ fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::Value {
         "fixed_point_x_m": s.fixed_point.x * sc.length,
         "frequency_hz": s.oscillation.omega.map(|w| sc.hz(w)),
         "amplitude_m_per_s": s.oscillation.amplitude.map(|r| r * sc.velocity),
+        // Only a finite time on stick-slip has seconds (0 too); `classification.squeal`
+        // says which kind it is.
+        "t_squeal_s": match s.classification.squeal {
+            squeal_core::Squeal::Never => Some(0.0),
+            squeal_core::Squeal::Transient { t_squeal } => Some(t_squeal * sc.time),
+            _ => None,
+        },
         "length_unit_m": sc.length,
         "velocity_unit_m_per_s": sc.velocity,
         "time_unit_s": sc.time,
