@@ -707,3 +707,24 @@ fn t_squeal_survives_a_journal_resume() {
         assert!(g == w, "{g} != {w}");
     }
 }
+
+/// A journal of format 2 (cells without `t_squeal`, another record width) is refused on
+/// resume with words that say why, instead of "unknown journal format".
+#[test]
+fn an_older_journal_format_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let out = dir.path().join("o.h5");
+    drop(ScanWriter::create(&out, &p, None, &prov(), false).unwrap());
+    let j = journal_of(&out);
+    let mut bytes = std::fs::read(&j).unwrap();
+    // The header record: "SQJR", kind, len (u32), payload (format u32 first), checksum.
+    let len = u32::from_le_bytes(bytes[5..9].try_into().unwrap()) as usize;
+    bytes[9..13].copy_from_slice(&2u32.to_le_bytes());
+    let sum = crate::journal::fnv64(&[&bytes[4..5], &bytes[9..9 + len]]);
+    bytes[9 + len..17 + len].copy_from_slice(&sum.to_le_bytes());
+    std::fs::write(&j, &bytes).unwrap();
+    let e = ScanWriter::resume(&out, &p, None, &prov()).unwrap_err();
+    assert!(e.to_string().contains("journal format 2"), "{e}");
+    assert!(e.to_string().contains("older squeal"), "{e}");
+}
