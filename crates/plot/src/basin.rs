@@ -154,7 +154,21 @@ pub(crate) const MAP_LAYOUT: BasinLayout = BasinLayout {
     ticks: 10,
 };
 
-const SHEET_LAYOUT: BasinLayout = BasinLayout {
+/// Pixels of one panel of a sheet.
+pub(crate) const SHEET_PANEL: (u32, u32) = (440, 420);
+
+/// [`draw_title`]'s height for a sheet's title at size 26 (first line 26, others 21, x 1.3,
+/// + 10).
+pub(crate) fn sheet_title_height(title: &str) -> u32 {
+    let nlines = title.lines().filter(|l| !l.trim().is_empty()).count() as u32;
+    if nlines == 0 {
+        0
+    } else {
+        26 * 13 / 10 + (nlines - 1) * (21 * 13 / 10) + 10
+    }
+}
+
+pub(crate) const SHEET_LAYOUT: BasinLayout = BasinLayout {
     title: 18,
     axis_desc: 14,
     tick: 13,
@@ -504,14 +518,8 @@ pub fn basin_sheet(
     let lookup = Classes::new(classes);
     let ncols = ncols.clamp(1, panels.len());
     let nrows = panels.len().div_ceil(ncols);
-    let (panel_w, panel_h) = (440u32, 420u32);
-    // draw_title's height for this title at size 26 (first line 26, others 21, x 1.3, + 10).
-    let nlines = title.lines().filter(|l| !l.trim().is_empty()).count() as u32;
-    let title_h = if nlines == 0 {
-        0
-    } else {
-        26 * 13 / 10 + (nlines - 1) * (21 * 13 / 10) + 10
-    };
+    let (panel_w, panel_h) = SHEET_PANEL;
+    let title_h = sheet_title_height(title);
     let width = ncols as u32 * panel_w + LEGEND_WIDTH;
     let height = title_h + nrows as u32 * panel_h;
 

@@ -4,7 +4,10 @@
 //! picture shows; every other cell is drawn in one of four neutral classes.
 
 use super::*;
-use crate::basin::{Classes, MAP_LAYOUT, check_panel, draw_basin_chart};
+use crate::basin::{
+    Classes, MAP_LAYOUT, SHEET_LAYOUT, SHEET_PANEL, check_panel, draw_basin_chart,
+    sheet_title_height,
+};
 use crate::legend::{LEGEND_WIDTH, LegendItem, draw_legend, overlay_items};
 
 /// Colour steps of the ramp.
@@ -115,6 +118,66 @@ fn codes(labels: &[u8], t_squeal: &[f64], scale: &Scale) -> Vec<u8> {
         .collect()
 }
 
+/// The colour classes: the fixed ones, then the ramp.
+fn all_classes() -> Vec<(u8, &'static str, Rgb)> {
+    let mut classes: Vec<(u8, &str, Rgb)> = FIXED.to_vec();
+    classes.extend((0..LEVELS).map(|k| (RAMP + k as u8, "", ramp(k as f64 / (LEVELS - 1) as f64))));
+    classes
+}
+
+/// The shared colour scale and each panel's cell codes.
+type Coded = (Scale, Vec<Vec<u8>>);
+
+/// The shared scale of the transients of every panel, and each panel's cell codes; `None`
+/// if no cell squealed before settling.
+fn coded(panels: &[BasinPanel<'_>], t_squeal: &[&[f64]]) -> Result<Option<Coded>, PlotError> {
+    for (p, t) in panels.iter().zip(t_squeal) {
+        if t.len() != p.labels.len() {
+            return Err(PlotError::ShapeMismatch {
+                what: format!("t_squeal of the transient map {:?}", p.title),
+                expected: p.labels.len(),
+                found: t.len(),
+            });
+        }
+    }
+    if !panels
+        .iter()
+        .zip(t_squeal)
+        .any(|(p, t)| has_transients(p.labels, t))
+    {
+        return Ok(None);
+    }
+    let scale = Scale::of(panels.iter().zip(t_squeal).flat_map(|(p, t)| {
+        p.labels
+            .iter()
+            .zip(t.iter())
+            .filter(|&(&l, &t)| transient(l, t))
+            .map(|(_, &t)| t)
+    }));
+    let codes = panels
+        .iter()
+        .zip(t_squeal)
+        .map(|(p, t)| codes(p.labels, t, &scale))
+        .collect();
+    Ok(Some((scale, codes)))
+}
+
+/// The legend rows of the fixed classes present (with their counts) and the overlays.
+fn other_items(counts: &[usize], panels: &[BasinPanel<'_>]) -> Vec<LegendItem> {
+    let mut items: Vec<LegendItem> = FIXED
+        .iter()
+        .zip(counts)
+        .filter(|(_, n)| **n > 0)
+        .map(|(&(_, name, color), &n)| LegendItem::Swatch {
+            name: name.into(),
+            color,
+            detail: Some(format!("{n} cells")),
+        })
+        .collect();
+    items.extend(overlay_items(panels));
+    items
+}
+
 /// One transient map: `panel` gives the grid, title, overlays and markers (its `labels`
 /// are the stored label values), `t_squeal` the stored column in the same order, and
 /// `bar` the colour bar's words: its quantity and unit lines (e.g. `["t_squeal",
@@ -130,49 +193,77 @@ pub fn transient_map(
     bar: &[&str],
 ) -> Result<bool, PlotError> {
     let axes = check_panel(panel)?;
-    if t_squeal.len() != panel.labels.len() {
-        return Err(PlotError::ShapeMismatch {
-            what: "t_squeal of the transient map".into(),
-            expected: panel.labels.len(),
-            found: t_squeal.len(),
-        });
-    }
-    if !has_transients(panel.labels, t_squeal) {
+    let panels = std::slice::from_ref(panel);
+    let Some((scale, codes)) = coded(panels, &[t_squeal])? else {
         return Ok(false);
-    }
-    let scale = Scale::of(
-        panel
-            .labels
-            .iter()
-            .zip(t_squeal)
-            .filter(|&(&l, &t)| transient(l, t))
-            .map(|(_, &t)| t),
-    );
-    let codes = codes(panel.labels, t_squeal, &scale);
-    let mut classes: Vec<(u8, &str, Rgb)> = FIXED.to_vec();
-    classes.extend((0..LEVELS).map(|k| (RAMP + k as u8, "", ramp(k as f64 / (LEVELS - 1) as f64))));
+    };
+    let classes = all_classes();
     let lookup = Classes::new(&classes);
-    let counts = lookup.counts(&codes);
+    let counts = lookup.counts(&codes[0]);
     let squealed: usize = counts[FIXED.len()..classes.len()].iter().sum();
-    let mut items: Vec<LegendItem> = FIXED
-        .iter()
-        .zip(&counts)
-        .filter(|(_, n)| **n > 0)
-        .map(|(&(_, name, color), &n)| LegendItem::Swatch {
-            name: name.into(),
-            color,
-            detail: Some(format!("{n} cells")),
-        })
-        .collect();
-    items.extend(overlay_items([panel]));
+    let items = other_items(&counts, panels);
     let coded = BasinPanel {
-        labels: &codes,
+        labels: &codes[0],
         ..panel.clone()
     };
     render(path, (900 + 40, 800), |root| {
         let (left, right) = root.split_horizontally(900 + 40 - LEGEND_WIDTH);
         draw_basin_chart(&left, &coded, axes, &lookup, MAP_LAYOUT)?;
         let (top, bottom) = right.split_vertically(470);
+        draw_bar(&top, &scale, bar, squealed)?;
+        draw_legend(&bottom, "Other cells", &items)
+    })?;
+    Ok(true)
+}
+
+/// A sheet of transient maps (one per map of a sweep) with one shared colour scale, laid out
+/// as [`crate::basin_sheet`] (`ncols` columns, `title` over all); the arguments as for
+/// [`transient_map`], one `t_squeal` per panel. `false` (nothing written) if no cell of any
+/// panel squealed before settling.
+pub fn transient_sheet(
+    path: &Path,
+    title: &str,
+    panels: &[BasinPanel<'_>],
+    t_squeal: &[&[f64]],
+    (bar, ncols): (&[&str], usize),
+) -> Result<bool, PlotError> {
+    if panels.is_empty() || panels.len() != t_squeal.len() {
+        return Err(PlotError::EmptyData(
+            "transient sheet: one t_squeal per panel",
+        ));
+    }
+    let axes = panels
+        .iter()
+        .map(check_panel)
+        .collect::<Result<Vec<_>, _>>()?;
+    let Some((scale, codes)) = coded(panels, t_squeal)? else {
+        return Ok(false);
+    };
+    let classes = all_classes();
+    let lookup = Classes::new(&classes);
+    let all: Vec<u8> = codes.iter().flatten().copied().collect();
+    let counts = lookup.counts(&all);
+    let squealed: usize = counts[FIXED.len()..classes.len()].iter().sum();
+    let items = other_items(&counts, panels);
+    let ncols = ncols.clamp(1, panels.len());
+    let nrows = panels.len().div_ceil(ncols);
+    let (pw, ph) = SHEET_PANEL;
+    let size = (
+        ncols as u32 * pw + LEGEND_WIDTH + 40,
+        (sheet_title_height(title) + nrows as u32 * ph).max(800),
+    );
+    render(path, size, |root| {
+        let body = draw_title(root, title, 26)?;
+        let (grid, side) = body.split_horizontally(ncols as u32 * pw);
+        let cells = grid.split_evenly((nrows, ncols));
+        for (((p, ax), c), cell) in panels.iter().zip(axes).zip(&codes).zip(&cells) {
+            let coded = BasinPanel {
+                labels: c,
+                ..p.clone()
+            };
+            draw_basin_chart(cell, &coded, ax, &lookup, SHEET_LAYOUT)?;
+        }
+        let (top, bottom) = side.split_vertically(470);
         draw_bar(&top, &scale, bar, squealed)?;
         draw_legend(&bottom, "Other cells", &items)
     })?;
@@ -249,6 +340,25 @@ mod tests {
         let short = [1.0];
         let e = transient_map(&path, &panel(&x0, &v0, &labels), &short, &["t"]).unwrap_err();
         assert!(matches!(e, PlotError::ShapeMismatch { .. }), "{e}");
+    }
+
+    /// A sweep's sheet: drawn when one panel of two has a transient, not when none has;
+    /// one `t_squeal` per panel.
+    #[test]
+    fn a_sheet_is_drawn_where_any_panel_squealed_first() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.png");
+        let (x0, v0) = ([0.0, 1.0], [0.0, 1.0]);
+        let labels = [1, 2, 0, 1];
+        let panels = [panel(&x0, &v0, &labels), panel(&x0, &v0, &labels)];
+        let none = [0.0, f64::INFINITY, -1.0, 0.0];
+        let some = [0.0, f64::INFINITY, -1.0, 30.0];
+        let draw = |ts: &[&[f64]]| transient_sheet(&path, "s", &panels, ts, (&["t"], 2));
+        assert!(!draw(&[&none, &none]).unwrap());
+        assert!(!path.exists());
+        assert!(draw(&[&none, &some]).unwrap());
+        assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+        assert!(draw(&[&none]).is_err());
     }
 
     /// The codes: a log scale over two decades puts the shortest transient at the ramp's
