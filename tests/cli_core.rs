@@ -845,3 +845,27 @@ fn physical_flags_are_checked_naming_the_flag() {
     stribeck.extend(BRAKE);
     refused(squeal(d.path(), &stribeck), "--law stribeck");
 }
+
+/// `critical --crisis --lifetimes` refuses a bad count of starts or time limit by flag and
+/// value, and `--lifetimes` asks for `--crisis`.
+#[test]
+fn lifetime_flags_are_checked_before_computing() {
+    let d = tempfile::tempdir().unwrap();
+    for (args, flag) in [
+        (&["--starts", "1"][..], "--starts 1"),
+        (&["--lifetime-t-max=-5"][..], "--lifetime-t-max -5"),
+        (&["--lifetime-t-max", "inf"][..], "--lifetime-t-max inf"),
+    ] {
+        let mut a = vec!["critical", "--crisis", "--lifetimes"];
+        a.extend(args);
+        let o = squeal(d.path(), &a);
+        assert!(!o.status.success(), "{args:?}");
+        assert!(stderr(&o).contains(flag), "{args:?}: {}", stderr(&o));
+    }
+    let o = squeal(d.path(), &["critical", "--lifetimes"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("--crisis"),
+        "{}",
+        stderr(&o)
+    );
+}

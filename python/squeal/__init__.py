@@ -371,7 +371,9 @@ def trajectory(
     """One run from ``(x0, v0)`` to ``t_end`` (``squeal trajectory``) as a Dataset over the
     time ``t``: ``x``, ``v``, ``a`` and the friction ``force``, every ``every``-th step, with
     the run's settings as attributes and the classifier's verdict on the run in
-    ``regime``, ``reason`` and ``t_decision``. The model as for :func:`ulc`; ``out`` keeps
+    ``regime``, ``reason``, ``t_decision`` and ``t_squeal`` (the time on stick-slip before
+    the run settled, as scans store it per cell: 0 never stuck, ``inf`` stick-slip for good,
+    -1 not known). The model as for :func:`ulc`; ``out`` keeps
     the file (the schema of ``squeal trajectory --out run.h5``)."""
     name, text = _spec(_model_spec(spec, model, {"integration": integration}))
 
@@ -380,7 +382,7 @@ def trajectory(
             name, text, map, (x0, v0), (float(t_end), int(every)), str(path)
         )
         ds = open(path)
-        ds.attrs.update(zip(("regime", "reason", "t_decision"), verdict))
+        ds.attrs.update(zip(("regime", "reason", "t_decision", "t_squeal"), verdict))
         return ds
 
     if out is not None:

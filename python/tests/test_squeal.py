@@ -240,6 +240,10 @@ def test_trajectory_is_a_dataset_over_time_with_the_cli_verdict(tmp_path):
     verdict = json.loads(r.stdout)["classification"]
     assert ds.attrs["regime"] == verdict["regime"]
     assert ds.attrs["t_decision"] == verdict["t_decision"]
+    # t_squeal as the CLI states it (JSON has no infinity, so by kind).
+    sq = verdict["squeal"]
+    fixed = {"never": 0.0, "lasting": float("inf"), "unknown": -1.0}
+    assert ds.attrs["t_squeal"] == fixed.get(sq["kind"], sq.get("t_squeal"))
 
 
 def test_atlas_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):

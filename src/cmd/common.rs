@@ -437,23 +437,30 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         );
         squeal_plot::basin_map(png, &one, &squeal_plot::label_classes())
             .map_err(|e| discard(png, e))?;
-        return Ok(vec![png.to_path_buf()]);
+        let transient = super::transient::draw(png, force, &info, &m, &one)?;
+        return Ok(std::iter::once(png.to_path_buf())
+            .chain(transient)
+            .collect());
     }
     let size = sibling(png, "-cycle", "png");
     check_new(png, force, "picture")?;
     check_new(&size, force, "picture")?;
-    render_sheet(h5, png, &info, scale)?;
+    let transient = render_sheet(h5, (png, force), &info, scale)?;
     render_cycle_sizes(h5, &size, &info)?;
-    Ok(vec![png.to_path_buf(), size])
+    Ok([png.to_path_buf(), size]
+        .into_iter()
+        .chain(transient)
+        .collect())
 }
 
-/// The sheet of a sweep's maps, one panel per swept value.
+/// The sheet of a sweep's maps, one panel per swept value, and beside it their transient
+/// squeal where some start squealed first (returned).
 fn render_sheet(
     h5: &Path,
-    png: &Path,
+    (png, force): (&Path, bool),
     info: &squeal_store::FileInfo,
     scale: squeal_plot::StateScale,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Option<PathBuf>> {
     let n = info.counts.len();
     let maps: Vec<_> = (0..n)
         .map(|i| squeal_store::read_map(h5, i))
@@ -484,7 +491,8 @@ fn render_sheet(
     ) + &physical_line(info);
     let ncols = (n as f64).sqrt().ceil() as usize;
     squeal_plot::basin_sheet(png, &title, &panels, &squeal_plot::label_classes(), ncols)
-        .map_err(|e| discard(png, e))
+        .map_err(|e| discard(png, e))?;
+    super::transient::draw_sheet((png, force), info, &maps, &panels, (&title, ncols))
 }
 
 /// The swept parameter of a sweep file.

@@ -41,6 +41,17 @@ pub struct Args {
     /// dt/2, with an uncertainty that covers both (crates/core/MODEL.md, section 6).
     #[arg(long, conflicts_with = "fold")]
     pub crisis: bool,
+    /// With --crisis: the mean transient lifetime of the leaking band (t_squeal of starts
+    /// spread over the band) at nu_c (1 + f), f from 0.01 by factors 1.25 to 0.075, with its standard
+    /// error, and its power law in nu - nu_c (crates/scan/src/lifetime.rs).
+    #[arg(long, requires = "crisis")]
+    pub lifetimes: bool,
+    /// Starts on the band per damping (--lifetimes).
+    #[arg(long, default_value_t = 128)]
+    pub starts: usize,
+    /// Runs still squealing at this time are censored (--lifetimes; nondimensional).
+    #[arg(long, default_value_t = 40_000.0)]
+    pub lifetime_t_max: f64,
     /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the
     /// Stribeck law xi and v_d (nu and lambda are taken there too). The bracket flags keep
     /// the names --nu-lo ... --lambda-hi.
@@ -358,18 +369,34 @@ fn crisis(
     if plan.maps[map].law.has_true_stick() {
         bail!("--crisis: McMillan's laws only (a law with true stick has no band to leak)");
     }
+    if args.lifetimes && args.starts < 2 {
+        bail!("--starts {}: expected at least 2 starts", args.starts);
+    }
+    if args.lifetimes && !(args.lifetime_t_max.is_finite() && args.lifetime_t_max > 0.0) {
+        bail!(
+            "--lifetime-t-max {}: expected a finite time > 0",
+            args.lifetime_t_max
+        );
+    }
     let range = ParamRange {
         lo: args.nu_lo,
         hi: args.nu_hi,
         rtol: args.rtol,
     };
     let c = squeal_scan::band::crisis_nu(plan.setup(map), &CycleSettings::default(), range)?;
+    let table = match args.lifetimes {
+        true => Some(super::lifetimes::table(args, plan, map, &c)?),
+        false => None,
+    };
     let seconds = t0.elapsed().as_secs_f64();
     // A physical system: the damping also as the dashpot coefficient c = nu 2 sqrt(m k).
     let damping = plan.physical.map(|ph| ph.scales().damping);
     if args.json {
         let mut v = serde_json::to_value(c)?;
         v["seconds"] = seconds.into();
+        if let Some(t) = &table {
+            v["lifetimes"] = super::lifetimes::json(t, plan)?;
+        }
         if let Some(d) = damping {
             v["si"] = serde_json::json!({
                 "c": c.nu * d,
@@ -396,6 +423,9 @@ fn crisis(
             c.interval[0] * d,
             c.interval[1] * d
         );
+    }
+    if let Some(t) = &table {
+        super::lifetimes::print(t, plan);
     }
     Ok(ExitCode::SUCCESS)
 }

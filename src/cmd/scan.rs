@@ -95,6 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let tallies = Tallies {
             checks: &info.checks,
             reasons: &[],
+            transient: &[],
         };
         report(&args, &plan, &info, tallies, &shown, 0, 0.0)?;
         return Ok(ExitCode::SUCCESS);
@@ -252,6 +253,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let finished = writer.finish_with(&landscapes)?;
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
     let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
+    let transient: Vec<_> = finished.iter().map(|c| c.transient).collect();
     let written = if shard.is_none() && !sample {
         common::render_file(&out, &pics[0], true)?
     } else {
@@ -261,6 +263,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let tallies = Tallies {
         checks: &checks,
         reasons: &reasons,
+        transient: &transient,
     };
     report(&args, &plan, &info, tallies, &written, done.cells, secs)?;
     Ok(ExitCode::SUCCESS)
@@ -385,6 +388,8 @@ pub fn check_words(values: &[i64], sample: bool) -> Vec<String> {
 struct Tallies<'a> {
     checks: &'a [Vec<i64>],
     reasons: &'a [[u64; squeal_core::Reason::ALL.len()]],
+    /// Steady-slip cells with `t_squeal > 0`, per map.
+    transient: &'a [u64],
 }
 
 /// Each reason's share of a map's cells, largest first ("start_in_region 61.2%, ...").
@@ -444,6 +449,9 @@ fn report(
                         .map(|(r, n)| (r.name().to_string(), (*n).into()))
                         .collect();
                     o.insert("reasons".into(), by_name.into());
+                }
+                if let Some(n) = tallies.transient.get(i) {
+                    o.insert("transient_squeal_cells".into(), (*n).into());
                 }
                 if let Some(Some(why)) = info.no_cycle.get(i) {
                     o.insert("no_cycle".into(), why.clone().into());
@@ -518,6 +526,11 @@ fn report(
         }
         if let Some(counts) = tallies.reasons.get(i) {
             println!("    {}", reason_words(counts));
+        }
+        if let Some(n) = tallies.transient.get(i).filter(|n| **n > 0) {
+            println!(
+                "    transient squeal: {n} steady-slip cells stuck before they settled (t_squeal > 0)"
+            );
         }
     }
     if computed > 0 {

@@ -114,6 +114,9 @@ struct Classification {
     reason: &'static str,
     /// Time of the decision (`t_end` if undecided by the time limit).
     t_decision: f64,
+    /// Time on stick-slip before the run settled, as a scan stores it per cell
+    /// (`squeal_core::classify::t_squeal`; JSON has no infinity, so by kind).
+    squeal: squeal_core::Squeal,
 }
 
 /// Everything `squeal trajectory` reports.
@@ -159,6 +162,13 @@ fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::Value {
         "fixed_point_x_m": s.fixed_point.x * sc.length,
         "frequency_hz": s.oscillation.omega.map(|w| sc.hz(w)),
         "amplitude_m_per_s": s.oscillation.amplitude.map(|r| r * sc.velocity),
+        // Only a finite time on stick-slip has seconds (0 too); `classification.squeal`
+        // says which kind it is.
+        "t_squeal_s": match s.classification.squeal {
+            squeal_core::Squeal::Never => Some(0.0),
+            squeal_core::Squeal::Transient { t_squeal } => Some(t_squeal * sc.time),
+            _ => None,
+        },
         "length_unit_m": sc.length,
         "velocity_unit_m_per_s": sc.velocity,
         "time_unit_s": sc.time,
@@ -268,6 +278,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             regime: t.outcome.regime.name(),
             reason: t.outcome.reason.name(),
             t_decision: t.outcome.t_decision,
+            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
         },
         final_state: t.final_state,
         oscillation: t.oscillation,
@@ -457,6 +468,7 @@ fn print_summary(s: &Summary, kind: SolverKind) {
         "ended: {label} (classifier: {}, {} at t = {:.6})",
         c.regime, c.reason, c.t_decision
     );
+    println!("squeal: {}", c.squeal.words());
     let f = &s.final_state;
     println!(
         "final state: t = {} x = {:.9} x' = {:.9} x'' = {:.9} F = {:.9}",

@@ -293,6 +293,82 @@ pub struct Outcome {
     pub stats: SolverStats,
     /// Largest residual `|G(F)|` of any solve.
     pub max_residual: f64,
+    /// Time spent on stick-slip before the run settled ([`t_squeal`]): the end of the last
+    /// step on which the block stuck, 0 if it never stuck; infinite for stick-slip;
+    /// [`T_SQUEAL_UNKNOWN`] where it is not known.
+    pub t_squeal: f64,
+}
+
+/// The stored `t_squeal` of a run whose time on stick-slip before settling is not known: it
+/// did not settle (undecided), or an early decision does not bound its later sticking
+/// ([`Reason::StuckThenSettles`], [`Reason::BelowSettlingStart`]). Negative, so no time.
+pub const T_SQUEAL_UNKNOWN: f64 = -1.0;
+
+/// A run's time on stick-slip before it settled, from its decision and the end `last_stuck`
+/// of the last step on which it stuck (0 if none), as stored per cell (crates/core/MODEL.md,
+/// section 6, "t_squeal"):
+/// * stick-slip: infinite. The label is an attractor the run never leaves (a trapped band,
+///   the located cycle's outside, a stick-slip cycle).
+/// * steady slip: `last_stuck`, where no revolution can stick after the decision. Near the
+///   fixed point, inside the unstable cycle and in the certified region the run stays in a
+///   slip region of the plane (the cycle lies on the slip branch; the region's box keeps
+///   `x'` below the belt speed); nothing more is to come. Starts decided there without a run
+///   have 0.
+/// * [`T_SQUEAL_UNKNOWN`] for undecided runs and for the shortcuts that stop a run before
+///   its last stick is seen: [`Reason::StuckThenSettles`] decides at a stick onset (the
+///   stick phase, and its breakaway, are still to come); [`Reason::BelowSettlingStart`] and
+///   [`Reason::BelowDecayingSection`] bound the run's amplitudes, not its sticking (a
+///   crossing below the decaying section's top may still be above the belt speed); and
+///   [`Reason::StartInsideDecayingTurn`] knows that the turn around the start never sticks,
+///   not that the states inside it cannot.
+pub fn t_squeal(regime: Regime, reason: Reason, last_stuck: f64) -> f64 {
+    match (regime, reason) {
+        (Regime::StickSlip, _) => f64::INFINITY,
+        (Regime::Undecided, _)
+        | (_, Reason::StuckThenSettles)
+        | (_, Reason::BelowSettlingStart)
+        | (_, Reason::BelowDecayingSection)
+        | (_, Reason::StartInsideDecayingTurn) => T_SQUEAL_UNKNOWN,
+        (Regime::SteadySlip, _) => last_stuck,
+    }
+}
+
+/// What a stored `t_squeal` says, for output (JSON has no infinity).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Squeal {
+    /// The run never stuck before it settled (`t_squeal = 0`).
+    Never,
+    /// It squealed until `t_squeal` and then settled in steady slip.
+    Transient { t_squeal: f64 },
+    /// It squeals for good (stick-slip).
+    Lasting,
+    /// Not known ([`T_SQUEAL_UNKNOWN`], or not computed).
+    Unknown,
+}
+
+impl Squeal {
+    /// From a stored `t_squeal`.
+    pub fn of(t_squeal: f64) -> Squeal {
+        match t_squeal {
+            t if t == f64::INFINITY => Squeal::Lasting,
+            0.0 => Squeal::Never,
+            t if t > 0.0 && t.is_finite() => Squeal::Transient { t_squeal: t },
+            _ => Squeal::Unknown,
+        }
+    }
+
+    /// In words (nondimensional time).
+    pub fn words(self) -> String {
+        match self {
+            Squeal::Never => "never stuck before settling (t_squeal = 0)".into(),
+            Squeal::Transient { t_squeal } => {
+                format!("squealed until t_squeal = {t_squeal:.6}, then settled")
+            }
+            Squeal::Lasting => "squeals for good (t_squeal = inf)".into(),
+            Squeal::Unknown => "time on stick-slip not known (t_squeal = -1)".into(),
+        }
+    }
 }
 
 /// A crossing of the section `x = x*` going right.
@@ -452,6 +528,7 @@ impl Classifier {
             last_t: f64::NAN,
             omega: f64::NAN,
             amplitude: f64::NAN,
+            last_stuck: 0.0,
         }
     }
 
@@ -524,6 +601,8 @@ pub struct Watch<'c> {
     last_t: f64,
     omega: f64,
     amplitude: f64,
+    /// End of the last step on which the block stuck (0 if none yet).
+    last_stuck: f64,
 }
 
 impl Watch<'_> {
@@ -546,14 +625,21 @@ impl Watch<'_> {
         if n.x.abs() > self.cl.max_radius || n.v.abs() > self.cl.max_radius {
             return Some((Regime::Undecided, Reason::Diverged));
         }
+        // Stuck on this step: the quasi-static branch of McMillan's laws, a Coulomb stick
+        // counted by the solver, or a located stick phase of a law with true stick.
+        // (The band rules' "revolution stuck" keeps its own test, the first two.)
+        let sticks = run.stats().sticks;
+        let slip_stuck = step.solution.branch == Branch::QuasiStatic || sticks > self.sticks;
+        self.sticks = sticks;
+        if slip_stuck || step.events.stuck || step.events.onsets > 0 {
+            self.last_stuck = n.t;
+        }
         if self.true_stick {
             if let Some(decision) = self.stick_events(&step.events) {
                 return Some(decision);
             }
         }
-        let sticks = run.stats().sticks;
-        self.stuck_now |= step.solution.branch == Branch::QuasiStatic || sticks > self.sticks;
-        self.sticks = sticks;
+        self.stuck_now |= slip_stuck;
         let multi_root = run.stats().multi_root;
         let one_root = multi_root == self.multi_root;
         self.multi_root = multi_root;
@@ -627,6 +713,7 @@ impl Watch<'_> {
             quasi_static: run.quasi_static(),
             stats: *run.stats(),
             max_residual: run.max_residual(),
+            t_squeal: t_squeal(regime, reason, self.last_stuck),
         }
     }
 }

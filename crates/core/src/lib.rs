@@ -55,7 +55,9 @@ pub mod stick;
 pub mod units;
 pub mod witness;
 
-pub use classify::{Classifier, Outcome, Reason, Regime, Shortcuts, Trap};
+pub use classify::{
+    Classifier, Outcome, Reason, Regime, Shortcuts, Squeal, T_SQUEAL_UNKNOWN, Trap,
+};
 pub use error::CoreError;
 pub use friction::Law;
 pub use params::{FrictionLaw, Named, Params, Stribeck};

@@ -5,7 +5,7 @@ use crate::legend::{LEGEND_WIDTH, LegendItem, draw_legend, overlay_items};
 
 /// A validated grid axis: cell centres `first + i * step`.
 #[derive(Clone, Copy, Debug)]
-struct Axis {
+pub(crate) struct Axis {
     first: f64,
     step: f64,
     n: usize,
@@ -62,7 +62,7 @@ impl Axis {
 }
 
 /// Validates a panel's shapes and grid.
-fn check_panel(panel: &BasinPanel<'_>) -> Result<(Axis, Axis), PlotError> {
+pub(crate) fn check_panel(panel: &BasinPanel<'_>) -> Result<(Axis, Axis), PlotError> {
     let sx = Axis::spacing("x0", panel.x0)?;
     let sv = Axis::spacing("v0", panel.v0)?;
     let expected = panel.x0.len() * panel.v0.len();
@@ -95,13 +95,13 @@ fn check_panel(panel: &BasinPanel<'_>) -> Result<(Axis, Axis), PlotError> {
 }
 
 /// Value-to-class lookup: the first entry of `classes` with a given value wins.
-struct Classes<'c> {
+pub(crate) struct Classes<'c> {
     classes: &'c [(u8, &'c str, Rgb)],
     index: [Option<usize>; 256],
 }
 
 impl<'c> Classes<'c> {
-    fn new(classes: &'c [(u8, &'c str, Rgb)]) -> Self {
+    pub(crate) fn new(classes: &'c [(u8, &'c str, Rgb)]) -> Self {
         let mut index = [None; 256];
         for (k, &(value, _, _)) in classes.iter().enumerate() {
             index[value as usize].get_or_insert(k);
@@ -114,7 +114,7 @@ impl<'c> Classes<'c> {
     }
 
     /// Cell counts per class, plus the count of cells with other values (last entry).
-    fn counts(&self, labels: &[u8]) -> Vec<usize> {
+    pub(crate) fn counts(&self, labels: &[u8]) -> Vec<usize> {
         let mut per_value = [0usize; 256];
         for &l in labels {
             per_value[l as usize] += 1;
@@ -132,7 +132,7 @@ impl<'c> Classes<'c> {
 
 /// Font sizes and label areas of a basin chart.
 #[derive(Clone, Copy)]
-struct BasinLayout {
+pub(crate) struct BasinLayout {
     title: u32,
     axis_desc: u32,
     tick: u32,
@@ -143,7 +143,7 @@ struct BasinLayout {
     ticks: usize,
 }
 
-const MAP_LAYOUT: BasinLayout = BasinLayout {
+pub(crate) const MAP_LAYOUT: BasinLayout = BasinLayout {
     title: 24,
     axis_desc: 21,
     tick: 15,
@@ -154,7 +154,21 @@ const MAP_LAYOUT: BasinLayout = BasinLayout {
     ticks: 10,
 };
 
-const SHEET_LAYOUT: BasinLayout = BasinLayout {
+/// Pixels of one panel of a sheet.
+pub(crate) const SHEET_PANEL: (u32, u32) = (440, 420);
+
+/// [`draw_title`]'s height for a sheet's title at size 26 (first line 26, others 21, x 1.3,
+/// + 10).
+pub(crate) fn sheet_title_height(title: &str) -> u32 {
+    let nlines = title.lines().filter(|l| !l.trim().is_empty()).count() as u32;
+    if nlines == 0 {
+        0
+    } else {
+        26 * 13 / 10 + (nlines - 1) * (21 * 13 / 10) + 10
+    }
+}
+
+pub(crate) const SHEET_LAYOUT: BasinLayout = BasinLayout {
     title: 18,
     axis_desc: 14,
     tick: 13,
@@ -166,7 +180,7 @@ const SHEET_LAYOUT: BasinLayout = BasinLayout {
 };
 
 /// Draws the image, axes, overlays and markers of one panel into `area`.
-fn draw_basin_chart(
+pub(crate) fn draw_basin_chart(
     area: &Area<'_>,
     panel: &BasinPanel<'_>,
     (ax, av): (Axis, Axis),
@@ -504,14 +518,8 @@ pub fn basin_sheet(
     let lookup = Classes::new(classes);
     let ncols = ncols.clamp(1, panels.len());
     let nrows = panels.len().div_ceil(ncols);
-    let (panel_w, panel_h) = (440u32, 420u32);
-    // draw_title's height for this title at size 26 (first line 26, others 21, x 1.3, + 10).
-    let nlines = title.lines().filter(|l| !l.trim().is_empty()).count() as u32;
-    let title_h = if nlines == 0 {
-        0
-    } else {
-        26 * 13 / 10 + (nlines - 1) * (21 * 13 / 10) + 10
-    };
+    let (panel_w, panel_h) = SHEET_PANEL;
+    let title_h = sheet_title_height(title);
     let width = ncols as u32 * panel_w + LEGEND_WIDTH;
     let height = title_h + nrows as u32 * panel_h;
 

@@ -16,7 +16,8 @@ use crate::{interruptible, plan_of, provenance, setup_of, store_error, value_err
 /// Runs map `map` of `spec` from `point = (x0, v0)`, `run = (t_end, every)`, to `t_end` and
 /// writes every `every`-th
 /// sample (t, x, v, a, force) to the trajectory file `out`. Returns the classifier's
-/// `(regime, reason, t_decision)`.
+/// `(regime, reason, t_decision, t_squeal)` (`t_squeal` as a scan stores it per cell:
+/// infinite for stick-slip, -1 where not known).
 #[pyfunction]
 #[pyo3(signature = (spec, text, map, point, run, out))]
 pub fn trajectory(
@@ -27,7 +28,7 @@ pub fn trajectory(
     point: (f64, f64),
     run: (f64, u64),
     out: PathBuf,
-) -> PyResult<(&'static str, &'static str, f64)> {
+) -> PyResult<(&'static str, &'static str, f64, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
     let stepper = setup_of(&plan, map)?.stepper().map_err(value_error)?;
@@ -58,6 +59,6 @@ pub fn trajectory(
     })?;
     write_run(&out, true, &provenance(), &stepper, span, &t).map_err(store_error)?;
     let o = &t.outcome;
-    let verdict = (o.regime.name(), o.reason.name(), o.t_decision);
+    let verdict = (o.regime.name(), o.reason.name(), o.t_decision, o.t_squeal);
     Ok(verdict)
 }

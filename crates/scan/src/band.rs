@@ -315,3 +315,15 @@ pub fn crisis_nu(setup: Setup, cs: &CycleSettings, range: ParamRange) -> Result<
         evaluations,
     })
 }
+
+/// The stick-slip band above the unstable cycle crossing at `r_u`, as the sampled interval
+/// `[s, b]` of the section ([`band_above`]'s samples): `s` the first sampled start above the
+/// cycle that does not rise (`P(s) <= s`, the drop where orbits begin to stick), `b` the
+/// largest sampled return (the band's top). `None` if every sample rises. The starts of the
+/// transient lifetimes ([`crate::lifetime`]).
+pub fn band_span(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> Option<(f64, f64)> {
+    let (rs, ps) = uniform(map, r_u, top, w);
+    let s = (0..rs.len()).find(|&i| ps[i] <= rs[i])?;
+    let b = ps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (b > rs[s]).then_some((rs[s], b))
+}

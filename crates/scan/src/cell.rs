@@ -36,6 +36,9 @@ pub struct Cell {
     pub max_residual: f64,
     /// [`Audit`] value: how the run-to-settlement rule labels this cell, if audited.
     pub audit: u8,
+    /// Time on stick-slip before the run settled ([`squeal_core::classify::t_squeal`]):
+    /// infinite for stick-slip, [`squeal_core::T_SQUEAL_UNKNOWN`] where not known.
+    pub t_squeal: f64,
 }
 
 impl Cell {
@@ -60,6 +63,7 @@ impl Cell {
             unconverged: 0,
             max_residual: 0.0,
             audit: 0,
+            t_squeal: 0.0,
         };
         for col in COLUMNS {
             (col.set)(&mut c, col.fill);
@@ -85,6 +89,7 @@ impl From<&Outcome> for Cell {
             unconverged: sat(s.unconverged + s.failures + s.discontinuities),
             max_residual: o.max_residual,
             audit: Audit::NotAudited as u8,
+            t_squeal: o.t_squeal,
         }
     }
 }
@@ -389,6 +394,15 @@ pub const COLUMNS: &[Column] = &[
         AUDIT_FLAGS,
         0,
         u
+    ),
+    col!(
+        t_squeal,
+        "time on stick-slip before the run settled: end of its last stuck step (nondimensional \
+         time, natural period 2 pi; seconds: times the file's time_unit); 0 never stuck, inf \
+         stick-slip for good, -1 not known (undecided, or stopped before its last stick)",
+        "1",
+        F64,
+        f
     ),
 ];
 

@@ -101,6 +101,10 @@ pub struct MapChecks {
     /// Cells per reason, indexed by [`Reason`] value (for summaries; not stored per map).
     #[serde(default)]
     pub reasons: [u64; Reason::ALL.len()],
+    /// Steady-slip cells that stuck before they settled (`0 < t_squeal < inf`): transient
+    /// squeal (for summaries; the per-cell `t_squeal` is stored).
+    #[serde(default)]
+    pub transient: u64,
 }
 
 /// The checks as stored per map (datasets over the map dimension): name, long name. The
@@ -226,6 +230,12 @@ impl MapChecks {
             self.settled.add(cell);
             if let Some(n) = self.reasons.get_mut(cell.reason as usize) {
                 *n += 1;
+            }
+            if cell.regime() == Some(Regime::SteadySlip)
+                && cell.t_squeal > 0.0
+                && cell.t_squeal.is_finite()
+            {
+                self.transient += 1;
             }
             if let (Some(l), Some(r)) = (self.landscape.as_mut(), cell.regime()) {
                 if r != Regime::Undecided && r != l.regime {

@@ -68,6 +68,7 @@ pub mod estimate;
 pub mod executor;
 pub mod grid;
 pub mod landscape;
+pub mod lifetime;
 pub mod scanner;
 pub mod section;
 pub mod spec;

@@ -186,6 +186,10 @@ fn at_start(p: State, centre: State, (regime, reason): (Regime, Reason)) -> Outc
         quasi_static: false,
         stats: SolverStats::default(),
         max_residual: 0.0,
+        // Inside the cycle or the certified region no revolution sticks (both lie in a slip
+        // region of the plane, [`squeal_core::classify::t_squeal`]): 0; outside the cycle
+        // the run squeals for good: infinite.
+        t_squeal: squeal_core::classify::t_squeal(regime, reason, 0.0),
     }
 }
 

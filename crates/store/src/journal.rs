@@ -31,7 +31,8 @@ use crate::StoreError;
 use crate::error::io;
 
 const MAGIC: &[u8; 4] = b"SQJR";
-const FORMAT: u32 = 2;
+// 3: cells carry t_squeal (an older journal's records have another width).
+const FORMAT: u32 = 3;
 pub(crate) const KIND_HEADER: u8 = b'H';
 pub(crate) const KIND_ATLAS_HEADER: u8 = b'A';
 pub(crate) const KIND_UNIT: u8 = b'U';
@@ -432,8 +433,16 @@ fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, Strin
         return Err(format!("{} journal, not {}", found.words(), owner.words()));
     }
     let mut d = Dec::new(&bytes[first.offset as usize..][..first.len as usize]);
-    if d.u32() != Some(FORMAT) {
-        return Err("unknown journal format".into());
+    match d.u32() {
+        Some(FORMAT) => {}
+        // Format 2 cells had no t_squeal: its records have another width.
+        Some(f) if f < FORMAT => {
+            return Err(format!(
+                "journal format {f}, written by an older squeal (this one writes {FORMAT}): \
+                 finish it with that version, or use --force to start over"
+            ));
+        }
+        _ => return Err("unknown journal format".into()),
     }
     let (Some(spec), Some(shard)) = (d.str(), d.str()) else {
         return Err("the journal header is malformed".into());

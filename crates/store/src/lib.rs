@@ -83,6 +83,9 @@
 //!   audit        u8 enum {not_audited=0, agrees=1, disagrees=2, undecided=3}: the label of
 //!                the same run taken to settlement, on about 1 cell in audit_every
 //!                (spec classifier.audit_every, default 1024) of early-stopped scans
+//!   t_squeal     f64, fill NaN, units "1": time on stick-slip before the run settled
+//!                (end of its last stuck step; 0 never stuck, inf stick-slip, -1 not known;
+//!                squeal_core::classify::t_squeal)
 //! blocks_done    u8 (map|nu|lambda, block): 1 where the block is stored
 //! per map (map|nu|lambda), i64, -1 where not applicable (squeal_scan::checks::CHECK_FIELDS):
 //!   wrong_side_cells, wrong_side_beyond_pixel, audit_cells, audit_agrees,

@@ -329,17 +329,22 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
 }
 
 fn read_labels(labels: &Dataset, map: usize, sweep: bool) -> hdf5::Result<Vec<u8>> {
-    let rows = 0..labels.shape().get(sweep as usize).copied().unwrap_or(0);
+    read_cells(labels, map, sweep)
+}
+
+/// One map's values of a per-cell dataset, row-major.
+fn read_cells<T: hdf5::H5Type>(ds: &Dataset, map: usize, sweep: bool) -> hdf5::Result<Vec<T>> {
+    let rows = 0..ds.shape().get(sweep as usize).copied().unwrap_or(0);
     if !sweep {
-        labels.read_raw::<u8>()
-    } else if crate::h5write::is_list(labels, 1) {
-        Ok(labels
-            .read_slice_1d::<u8, _>(crate::h5write::sel(&[map], rows, true))?
+        ds.read_raw::<T>()
+    } else if crate::h5write::is_list(ds, 1) {
+        Ok(ds
+            .read_slice_1d::<T, _>(crate::h5write::sel(&[map], rows, true))?
             .into_iter()
             .collect())
     } else {
-        Ok(labels
-            .read_slice_2d::<u8, _>(crate::h5write::sel(&[map], rows, false))?
+        Ok(ds
+            .read_slice_2d::<T, _>(crate::h5write::sel(&[map], rows, false))?
             .into_iter()
             .collect())
     }
@@ -361,6 +366,8 @@ pub struct MapData {
     pub v0: Vec<f64>,
     /// Labels, row-major `(v0, x0)`; 255 = not computed.
     pub labels: Vec<u8>,
+    /// The `t_squeal` column in the same order (`None` in files written before it).
+    pub t_squeal: Option<Vec<f64>>,
     /// The located cycle's curve `(x, v)`.
     pub cycle: Option<(Vec<f64>, Vec<f64>)>,
     /// The steady-slip fixed point `(x*, 0)`.
@@ -429,6 +436,10 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
             x0: file.dataset("x0")?.read_raw()?,
             v0: file.dataset("v0")?.read_raw()?,
             labels: read_labels(&file.dataset("labels")?, map, sweep.is_some())?,
+            t_squeal: match file.dataset("t_squeal") {
+                Ok(ds) => Some(read_cells(&ds, map, sweep.is_some())?),
+                Err(_) => None,
+            },
             cycle,
             fixed_point: (fp.x, fp.v),
         })

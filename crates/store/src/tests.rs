@@ -69,6 +69,7 @@ fn block(plan: &Plan, map: usize, block: usize) -> BlockResult {
                 unconverged: (i % 4) as u32,
                 max_residual: 1e-12 * i as f64,
                 audit: (i % 4) as u8,
+                t_squeal: [0.0, f64::INFINITY, -1.0, i as f64 * 0.25][(i % 4) as usize],
             }
         })
         .collect();
@@ -673,4 +674,57 @@ fn the_landscape_is_given_to_the_writer_not_computed_by_it() {
     let value = |name: &str| l.evidence.iter().find(|(n, _)| *n == name).unwrap().1;
     assert_eq!(value("fixed_point_damping"), 0.125);
     assert_eq!(value("stick_cycle_period"), 7.5);
+}
+
+/// `t_squeal` (a finite time, 0, inf for stick-slip, -1 unknown) of blocks written before an
+/// interruption comes back from the journal into the finished file unchanged, beside the
+/// blocks written after the resume. (Before the column existed a cell had no `t_squeal`.)
+#[test]
+fn t_squeal_survives_a_journal_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let out = dir.path().join("t.h5");
+    let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
+    w.write_block(&block(&p, 0, 0)).unwrap();
+    w.write_block(&block(&p, 0, 1)).unwrap();
+    drop(w);
+    let mut w = ScanWriter::resume(&out, &p, None, &prov()).unwrap();
+    assert!(w.is_done(0, 1) && !w.is_done(0, 2));
+    for b in 2..p.grid.blocks() {
+        w.write_block(&block(&p, 0, b)).unwrap();
+    }
+    w.finish().unwrap();
+    let want: Vec<f64> = (0..p.grid.blocks())
+        .flat_map(|b| block(&p, 0, b).cells.into_iter().map(|c| c.t_squeal))
+        .collect();
+    assert!(want.iter().any(|t| t.is_infinite()) && want.contains(&-1.0));
+    let f = hdf5::File::open(&out).unwrap();
+    let ds = f.dataset("t_squeal").unwrap();
+    assert_eq!(read::str_attr(&ds, "units").unwrap(), "1");
+    let got: Vec<f64> = ds.read_raw().unwrap();
+    assert_eq!(got.len(), want.len());
+    for (g, w) in got.iter().zip(&want) {
+        assert!(g == w, "{g} != {w}");
+    }
+}
+
+/// A journal of format 2 (cells without `t_squeal`, another record width) is refused on
+/// resume with words that say why, instead of "unknown journal format".
+#[test]
+fn an_older_journal_format_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let out = dir.path().join("o.h5");
+    drop(ScanWriter::create(&out, &p, None, &prov(), false).unwrap());
+    let j = journal_of(&out);
+    let mut bytes = std::fs::read(&j).unwrap();
+    // The header record: "SQJR", kind, len (u32), payload (format u32 first), checksum.
+    let len = u32::from_le_bytes(bytes[5..9].try_into().unwrap()) as usize;
+    bytes[9..13].copy_from_slice(&2u32.to_le_bytes());
+    let sum = crate::journal::fnv64(&[&bytes[4..5], &bytes[9..9 + len]]);
+    bytes[9 + len..17 + len].copy_from_slice(&sum.to_le_bytes());
+    std::fs::write(&j, &bytes).unwrap();
+    let e = ScanWriter::resume(&out, &p, None, &prov()).unwrap_err();
+    assert!(e.to_string().contains("journal format 2"), "{e}");
+    assert!(e.to_string().contains("older squeal"), "{e}");
 }
