@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 use squeal_core::stick::StickCycle;
 use squeal_core::{
-    Classifier, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts, SolverStats,
+    Classifier, FrictionLaw, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts, SolverStats,
     State, Stepper, Trap,
 };
 
@@ -207,14 +207,20 @@ pub fn shortcuts(
     }
     // No unstable cycle, and the search's resolution statement holds over its whole range:
     // every crossing below its top returns lower ([`squeal_core::Reason::BelowDecayingSection`]).
-    // It rests on the sampled return map, so it serves only McMillan's laws: a law with true
+    // It rests on the sampled return map and on the force being the one root of a smooth
+    // equation at the crossing, so it serves only McMillan's two smooth laws: a law with true
     // stick has the exact shortcuts of the orbit from breakaway and, where it depends on the
-    // slip velocity only, of the monotone return map ([`squeal_core::witness`]).
+    // slip velocity only, of the monotone return map ([`squeal_core::witness`]); Coulomb's
+    // set-valued law has no such root, and its runs keep their exact decay to `fp_radius`.
+    let smooth = matches!(
+        params.law,
+        FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic
+    );
     let decay_below = match found {
         Some(&SectionCycles::NoneBelow {
             r_max,
             unresolved: 0,
-        }) if !params.law.has_true_stick() => Some(r_max * (1.0 - plan.trap_margin)),
+        }) if smooth => Some(r_max * (1.0 - plan.trap_margin)),
         _ => None,
     };
     // The orbit from breakaway decides every run that sticks: a stick-slip cycle where it
