@@ -20,6 +20,7 @@
 
 use std::f64::consts::{FRAC_2_PI, PI};
 
+use crate::atan::atan_ratio;
 use crate::params::{FrictionLaw, Params, PerV0, Stribeck};
 
 /// Which piece of the law was used.
@@ -360,7 +361,7 @@ fn mcmillan_k(
     let s = if a > 0.0 { 1.0 } else { -1.0 };
     let b = a.abs() * tau;
     let den1 = b * b + v * v;
-    let f1 = -FRAC_2_PI * (v / b).atan();
+    let f1 = -FRAC_2_PI * atan_ratio(v, b);
     let f1_dv = -FRAC_2_PI * b / den1;
     let f1_da = FRAC_2_PI * v * s * tau / den1;
     let sv = s * v;
@@ -401,7 +402,7 @@ fn nonhysteretic_k(v: f64, a: f64, tau: f64, inv_sin_phi: f64, pi_minus_phi: f64
     let s = if a > 0.0 { 1.0 } else { -1.0 };
     let b = a.abs() * tau;
     let den1 = b * b + v * v;
-    let f1 = -FRAC_2_PI * (v / b).atan();
+    let f1 = -FRAC_2_PI * atan_ratio(v, b);
     let f1_dv = -FRAC_2_PI * b / den1;
     let f1_da = FRAC_2_PI * v * s * tau / den1;
     if v.abs() > b {
