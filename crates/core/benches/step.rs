@@ -17,6 +17,8 @@
 //! revolution sticks, breaks away and slips) and of a slip-only decay (`v_d = 2.0`, from 0.5
 //! right of the fixed point after 10 time units), robust solver, first-order hold.
 //!
+//! `atan/*`: the latency of the arctangent of McMillan's laws (a chain of dependent calls).
+//!
 //! `cargo bench -p squeal-core --bench step -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
@@ -143,7 +145,35 @@ fn bench_stribeck(c: &mut Criterion) {
     group.finish();
 }
 
+/// Latency of the arctangent in McMillan's laws: a chain of 1000 calls, each argument from the
+/// last result (as the Newton iterates of a solve), the C library's `atan` against
+/// [`squeal_core::atan::atan_ratio`].
+fn bench_atan(c: &mut Criterion) {
+    let mut group = c.benchmark_group("atan");
+    group.throughput(Throughput::Elements(1000));
+    group.bench_function("library", |b| {
+        b.iter(|| {
+            let mut y = black_box(0.3f64);
+            for _ in 0..1000 {
+                y = (y / 0.7).atan() * 1.5 - 0.2;
+            }
+            y
+        });
+    });
+    group.bench_function("atan_ratio", |b| {
+        b.iter(|| {
+            let mut y = black_box(0.3f64);
+            for _ in 0..1000 {
+                y = squeal_core::atan::atan_ratio(y, 0.7) * 1.5 - 0.2;
+            }
+            y
+        });
+    });
+    group.finish();
+}
+
 fn steps(c: &mut Criterion) {
+    bench_atan(c);
     bench_case(c, "decay", State { x: 1.2, v: 0.0 }, 100.0);
     bench_case(c, "stick_slip", State { x: 0.0, v: 0.0 }, 1000.0);
     bench_stribeck(c);

@@ -20,7 +20,8 @@
 
 use std::f64::consts::{FRAC_2_PI, PI};
 
-use crate::params::{FrictionLaw, Params, Stribeck};
+use crate::atan::atan_ratio;
+use crate::params::{FrictionLaw, Params, PerV0, Stribeck};
 
 /// Which piece of the law was used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -135,7 +136,28 @@ pub struct Coulomb;
 /// The Stribeck law with true stick: `F = -sgn(v) mu(|v|)` while slipping, any value in
 /// `[-mu_s, mu_s]` while stuck.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StribeckLaw(pub Stribeck);
+pub struct StribeckLaw {
+    /// Its parameters.
+    pub params: Stribeck,
+    /// The division by `v_0`, built once (see [`PerV0`]).
+    per_v0: PerV0,
+}
+
+impl StribeckLaw {
+    /// The law of `params`.
+    pub fn new(params: Stribeck) -> StribeckLaw {
+        StribeckLaw {
+            params,
+            per_v0: PerV0::new(params.v_0),
+        }
+    }
+
+    /// `mu(s)` and `mu'(s)` ([`Stribeck::mu`], the same bits).
+    #[inline]
+    fn mu(&self, s: f64) -> (f64, f64) {
+        self.params.mu_by(s, &self.per_v0)
+    }
+}
 
 impl FrictionModel for Hysteretic {
     #[inline]
@@ -181,7 +203,7 @@ impl FrictionModel for StribeckLaw {
                 branch: Branch::Stick,
             };
         }
-        let (mu, dmu) = self.0.mu(v.abs());
+        let (mu, dmu) = self.mu(v.abs());
         ForceEval {
             force: -sgn0(v) * mu,
             dv: -dmu,
@@ -190,16 +212,16 @@ impl FrictionModel for StribeckLaw {
         }
     }
     fn static_limit(&self) -> Option<f64> {
-        Some(self.0.mu_s())
+        Some(self.params.mu_s())
     }
     #[inline]
     fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
         let s = sigma * v;
         if s > 0.0 {
-            let (mu, dmu) = self.0.mu(s);
+            let (mu, dmu) = self.mu(s);
             (-sigma * mu, -dmu)
         } else {
-            (-sigma * self.0.mu_s(), 0.0)
+            (-sigma * self.params.mu_s(), 0.0)
         }
     }
 }
@@ -232,7 +254,9 @@ impl Law {
             FrictionLaw::McMillan => Kind::McMillan(Hysteretic(mc())),
             FrictionLaw::McMillanNonHysteretic => Kind::NonHysteretic(NonHysteretic(mc())),
             FrictionLaw::Coulomb => Kind::Coulomb(Coulomb),
-            FrictionLaw::Stribeck => Kind::Stribeck(StribeckLaw(p.stribeck.unwrap_or_default())),
+            FrictionLaw::Stribeck => {
+                Kind::Stribeck(StribeckLaw::new(p.stribeck.unwrap_or_default()))
+            }
         };
         Law {
             kind,
@@ -337,7 +361,7 @@ fn mcmillan_k(
     let s = if a > 0.0 { 1.0 } else { -1.0 };
     let b = a.abs() * tau;
     let den1 = b * b + v * v;
-    let f1 = -FRAC_2_PI * (v / b).atan();
+    let f1 = -FRAC_2_PI * atan_ratio(v, b);
     let f1_dv = -FRAC_2_PI * b / den1;
     let f1_da = FRAC_2_PI * v * s * tau / den1;
     let sv = s * v;
@@ -378,7 +402,7 @@ fn nonhysteretic_k(v: f64, a: f64, tau: f64, inv_sin_phi: f64, pi_minus_phi: f64
     let s = if a > 0.0 { 1.0 } else { -1.0 };
     let b = a.abs() * tau;
     let den1 = b * b + v * v;
-    let f1 = -FRAC_2_PI * (v / b).atan();
+    let f1 = -FRAC_2_PI * atan_ratio(v, b);
     let f1_dv = -FRAC_2_PI * b / den1;
     let f1_da = FRAC_2_PI * v * s * tau / den1;
     if v.abs() > b {

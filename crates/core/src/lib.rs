@@ -38,6 +38,7 @@
 //! assert_eq!(out.regime, Regime::StickSlip); // Fig. 9: from rest the block squeals
 //! ```
 
+pub mod atan;
 pub mod classify;
 pub mod defaults;
 pub mod error;

@@ -122,12 +122,55 @@ impl Stribeck {
     /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
     #[inline]
     pub fn mu(&self, s: f64) -> (f64, f64) {
+        self.mu_by(s, &PerV0::new(self.v_0))
+    }
+
+    /// [`Stribeck::mu`] with the divisions by `v_0` done by `per` (built once per law: the
+    /// stepper's hot path).
+    #[inline]
+    pub fn mu_by(&self, s: f64, per: &PerV0) -> (f64, f64) {
         let amp = self.mu_d * (self.mu_sd - 1.0);
-        let e = (-s / self.v_0).exp();
+        let e = per.of(-s).exp();
         (
-            self.mu_d + amp * e + self.mu_v * s / self.v_0,
-            (self.mu_v - amp * e) / self.v_0,
+            self.mu_d + amp * e + per.of(self.mu_v * s),
+            per.of(self.mu_v - amp * e),
         )
+    }
+}
+
+/// Division by `v_0`, as a multiplication by `1 / v_0` where that gives the same bits: when
+/// `v_0` is a power of two its reciprocal is exact, and `x / v_0` and `x * (1 / v_0)` are then
+/// both the correctly rounded value of the same real number (IEEE 754 rounds each operation
+/// correctly, overflow and subnormal results included). For any other `v_0` the reciprocal is
+/// rounded and the product could differ in the last bit, so it divides. A division sits on
+/// the critical path of every slip solve (before the `exp`); bSTAB's `v_0 = 0.5` takes the
+/// multiplication.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PerV0 {
+    v_0: f64,
+    /// `1 / v_0` when it is exact.
+    recip: Option<f64>,
+}
+
+impl PerV0 {
+    /// The division by `v_0`.
+    pub fn new(v_0: f64) -> PerV0 {
+        const MANTISSA: u64 = (1 << 52) - 1;
+        let r = 1.0 / v_0;
+        let exact = v_0.is_normal() && r.is_normal() && v_0.to_bits() & MANTISSA == 0;
+        PerV0 {
+            v_0,
+            recip: exact.then_some(r),
+        }
+    }
+
+    /// `x / v_0`.
+    #[inline]
+    pub fn of(&self, x: f64) -> f64 {
+        match self.recip {
+            Some(r) => x * r,
+            None => x / self.v_0,
+        }
     }
 }
 
@@ -503,6 +546,41 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `PerV0` multiplies only where that is the division bit for bit: powers of two (bSTAB's
+    /// 0.5, and 1, 2, 2^-10) take the exact reciprocal, other values (0.3, 0.75) divide.
+    #[test]
+    fn per_v0_is_the_division_bit_for_bit() {
+        for v_0 in [0.5, 1.0, 2.0, 0.0009765625, 0.3, 0.75] {
+            let per = PerV0::new(v_0);
+            assert_eq!(
+                per.recip.is_some(),
+                [0.5, 1.0, 2.0, 0.0009765625].contains(&v_0)
+            );
+            // Values over many binades, both signs, and the ends of the range.
+            let mut x = 1e-300f64;
+            while x < 1e300 {
+                for y in [x, -x, x * 1.234_567_891, f64::MIN_POSITIVE * 0.75] {
+                    assert_eq!(per.of(y).to_bits(), (y / v_0).to_bits(), "{y} / {v_0}");
+                }
+                x *= 3.7;
+            }
+        }
+        let s = Stribeck::default();
+        for slip in [0.0, 1e-9, 0.3, 1.7, 40.0] {
+            let (mu, dmu) = s.mu(slip);
+            let amp = s.mu_d * (s.mu_sd - 1.0);
+            let e = (-slip / s.v_0).exp();
+            let want = (
+                s.mu_d + amp * e + s.mu_v * slip / s.v_0,
+                (s.mu_v - amp * e) / s.v_0,
+            );
+            assert_eq!(
+                (mu.to_bits(), dmu.to_bits()),
+                (want.0.to_bits(), want.1.to_bits())
+            );
+        }
+    }
 
     /// lambda <= 0 is refused with the reason; the smallest positive speeds are accepted.
     #[test]
