@@ -130,8 +130,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Steps of the coarse scan along the parameter before the bisection is trusted.
-const COARSE: usize = 64;
+/// Steps of the coarse scan along the parameter before the bisection is trusted (the
+/// crisis's own, [`squeal_scan::band::COARSE`]).
+const COARSE: usize = squeal_scan::band::COARSE;
 
 /// The coarse scan's changes in words, when there is more than one: the bisection assumes a
 /// single change of regime, so several are said loudly (on stdout with the result, and on
@@ -237,6 +238,15 @@ fn boundary(
         operating: point,
         ..PointSettings::default()
     };
+    if args.fold && !plan.maps[map].law.has_true_stick() {
+        let range = ParamRange {
+            lo,
+            hi,
+            rtol: args.rtol,
+        };
+        let c = boundary::fold_crisis(param, plan.setup(map), &ps, range, COARSE)?;
+        return crisis_report(args, plan, (param, name, flag), &c, t0);
+    }
     // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
     // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
     let range = ParamRange {
@@ -345,56 +355,116 @@ fn boundary(
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--crisis`: where squeal stops lasting ([`squeal_scan::band::crisis_nu`]).
+/// `--crisis`: where squeal stops lasting, in the damping: the fold of `--fold`.
 fn crisis(
     args: &Args,
     plan: &squeal_scan::Plan,
     map: usize,
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary};
     if args.in_ != "nu" {
-        bail!("--crisis: only in the damping (--in nu)");
+        bail!("--crisis: only in the damping (--in nu); --fold --in lambda bisects the belt speed");
     }
     if plan.maps[map].law.has_true_stick() {
         bail!("--crisis: McMillan's laws only (a law with true stick has no band to leak)");
+    }
+    if !(args.nu_lo > 0.0 && args.nu_hi > args.nu_lo && args.nu_hi.is_finite()) {
+        bail!(
+            "--nu-lo {} / --nu-hi {}: expected 0 < lo < hi",
+            args.nu_lo,
+            args.nu_hi
+        );
     }
     let range = ParamRange {
         lo: args.nu_lo,
         hi: args.nu_hi,
         rtol: args.rtol,
     };
-    let c = squeal_scan::band::crisis_nu(plan.setup(map), &CycleSettings::default(), range)?;
+    let ps = PointSettings::default();
+    let c = boundary::fold_crisis(BoundaryParam::Nu, plan.setup(map), &ps, range, COARSE)?;
+    crisis_report(args, plan, (BoundaryParam::Nu, "nu", "nu"), &c, t0)
+}
+
+/// Prints the crisis `c` (`--crisis`, `--fold` of McMillan's laws): the fold with its
+/// uncertainty, the bracket at dt, whether it held at dt/2 and with the longer horizon, and
+/// loudly every change of regime the coarse scan found when there is more than one.
+fn crisis_report(
+    args: &Args,
+    plan: &squeal_scan::Plan,
+    (param, name, flag): (squeal_scan::atlas::BoundaryParam, &str, &str),
+    c: &squeal_scan::band::Crisis,
+    t0: std::time::Instant,
+) -> anyhow::Result<ExitCode> {
+    use squeal_scan::atlas::BoundaryParam;
+    use squeal_scan::band::CrisisStatus;
+    let (lo, hi) = match param {
+        BoundaryParam::Nu => (args.nu_lo, args.nu_hi),
+        BoundaryParam::Lambda => (args.lambda_lo, args.lambda_hi),
+    };
+    match c.status {
+        CrisisStatus::Found => {}
+        CrisisStatus::BelowRange => {
+            bail!("--{flag}-lo {lo}: squeal lasts nowhere in the range; lower --{flag}-lo")
+        }
+        CrisisStatus::AboveRange => {
+            bail!(
+                "--{flag}-hi {hi}: squeal still lasts there (or never turns quiet above it); raise --{flag}-hi"
+            )
+        }
+    }
+    let warning = warn_changes(&c.changes, name);
     let seconds = t0.elapsed().as_secs_f64();
-    // A physical system: the damping also as the dashpot coefficient c = nu 2 sqrt(m k).
-    let damping = plan.physical.map(|ph| ph.scales().damping);
+    // A physical system: the fold in N s/m (c) or m/s (v_belt) too.
+    let si = plan.physical.map(|ph| {
+        let s = ph.scales();
+        match param {
+            BoundaryParam::Nu => ("c", s.damping, "N s/m"),
+            BoundaryParam::Lambda => ("v_belt", s.velocity, "m/s"),
+        }
+    });
     if args.json {
         let mut v = serde_json::to_value(c)?;
+        v["in"] = name.into();
         v["seconds"] = seconds.into();
-        if let Some(d) = damping {
+        if let Some((key, unit, units)) = si {
             v["si"] = serde_json::json!({
-                "c": c.nu * d,
-                "c_uncertainty": c.uncertainty * d,
-                "units": "N s/m",
+                key: c.nu * unit,
+                format!("{key}_uncertainty"): c.uncertainty * unit,
+                "units": units,
             });
         }
         println!("{}", serde_json::to_string(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
+    let holds = |h: bool| {
+        if h {
+            "holds"
+        } else {
+            "moves (the uncertainty was widened)"
+        }
+    };
     println!(
-        "crisis of the stick-slip band: nu = {:.6e} +- {:.2e} ({} verdicts, {:.2} s)",
+        "fold (crisis of the stick-slip band): {name} = {:.6e} +- {:.2e} ({} verdicts, {:.2} s)",
         c.nu, c.uncertainty, c.evaluations, seconds
     );
     println!(
-        "  squeal lasts up to nu = {:.6e} and no start squeals for good from {:.6e} at dt; {:.6e} and {:.6e} at dt/2 (between them the band's verdict is marginal: undecided)",
-        c.interval[0], c.interval[1], c.half_dt[0], c.half_dt[1]
+        "  at dt squeal lasts up to {name} = {:.6e} and no start squeals for good from {:.6e} (between them the band's verdict is marginal: undecided); that bracket {} at dt/2 and {} with the longer horizon; the uncertainty covers all three",
+        c.interval[0],
+        c.interval[1],
+        holds(c.half_dt_holds),
+        holds(c.longer_holds)
     );
-    if let Some(d) = damping {
+    if let Some(w) = warning {
+        println!("  {w}");
+    }
+    if let Some((key, unit, units)) = si {
         println!(
-            "  in SI units: c = {:.4} +- {:.4} N s/m (squeal lasts up to {:.4}, none for good from {:.4} N s/m at dt)",
-            c.nu * d,
-            c.uncertainty * d,
-            c.interval[0] * d,
-            c.interval[1] * d
+            "  in SI units: {key} = {:.4} +- {:.4} {units} (squeal lasts up to {:.4}, none for good from {:.4} {units} at dt)",
+            c.nu * unit,
+            c.uncertainty * unit,
+            c.interval[0] * unit,
+            c.interval[1] * unit
         );
     }
     Ok(ExitCode::SUCCESS)

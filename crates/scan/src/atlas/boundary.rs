@@ -43,6 +43,7 @@ use squeal_core::{Params, Setup, State};
 
 use super::attractor::{StickFail, find_stick_slip};
 use super::point::{PointSettings, analyse, settings_for};
+use crate::band::{Crisis, CrisisStatus, Variant, crisis_in};
 use crate::error::ScanError;
 use crate::section::{ParamRange, Search};
 
@@ -161,6 +162,20 @@ pub struct Boundary {
     /// `Some(false)` when it moved out, `None` when not checked (not found, a failed run).
     #[serde(default)]
     pub half_dt_holds: Option<bool>,
+    /// Half the width of the interval that holds the boundary at dt, at dt / 2 and with the
+    /// longer horizon (the fold of McMillan's laws, [`crate::band::crisis_in`]: `nu -+
+    /// uncertainty`); NaN where not estimated.
+    #[serde(default = "nan")]
+    pub uncertainty: f64,
+    /// Changes of regime the coarse scan before the bisection found along the parameter (0:
+    /// no coarse scan); more than one: the regime flips back and forth, and this boundary is
+    /// the last of them.
+    #[serde(default)]
+    pub changes: u32,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 impl Boundary {
@@ -172,6 +187,27 @@ impl Boundary {
             bracket: [f64::NAN; 2],
             evaluations: 0,
             half_dt_holds: None,
+            uncertainty: f64::NAN,
+            changes: 0,
+        }
+    }
+
+    /// The fold as the crisis `c` found over `range` (its status as the bisection's).
+    pub fn from_crisis(c: &Crisis) -> Boundary {
+        let status = match c.status {
+            CrisisStatus::Found => BoundaryStatus::Found,
+            CrisisStatus::BelowRange => BoundaryStatus::BelowRange,
+            CrisisStatus::AboveRange => BoundaryStatus::AboveRange,
+        };
+        let found = status == BoundaryStatus::Found;
+        Boundary {
+            status,
+            nu: c.nu,
+            bracket: c.interval,
+            evaluations: c.evaluations,
+            half_dt_holds: found.then_some(c.half_dt_holds),
+            uncertainty: c.uncertainty,
+            changes: c.changes.len() as u32,
         }
     }
 }
@@ -198,6 +234,8 @@ pub fn bisect_nu(
         bracket: [nu_lo, nu_hi],
         evaluations: 2,
         half_dt_holds: None,
+        uncertainty: f64::NAN,
+        changes: 0,
     };
     if pred(nu_lo)? {
         b.status = BoundaryStatus::BelowRange;
@@ -263,15 +301,46 @@ pub fn point_quiet(setup: Setup, ps: &PointSettings, point: State) -> Result<boo
     Evaluator::new(BoundaryParam::Nu, setup, ps, point).answer(setup.params.nu, Which::Critical)
 }
 
-/// The fold of cycles in `param`: the value above which no start squeals.
+/// The fold in `param`: the value above which no start squeals for good. For McMillan's
+/// laws the crisis of the stick-slip band ([`fold_crisis`], with [`crate::band::COARSE`]
+/// coarse steps); for laws with true stick (no band to leak) the bisection of "no start
+/// stays on stick-slip for the attractor's window" ([`quiet_everywhere`]).
 pub fn fold_in(
     param: BoundaryParam,
     setup: Setup,
     ps: &PointSettings,
     range: ParamRange,
 ) -> Result<Boundary, ScanError> {
+    if !setup.params.law.has_true_stick() {
+        let c = fold_crisis(param, setup, ps, range, crate::band::COARSE)?;
+        return Ok(Boundary::from_crisis(&c));
+    }
     let e = Evaluator::new(param, setup, ps, State { x: 0.0, v: 0.0 });
     bisect_nu(|v| e.answer(v, Which::Fold), range)
+}
+
+/// The crisis of the stick-slip band in `param` over `range` ([`crate::band::crisis_in`]:
+/// a coarse scan of `coarse` steps, the bisections, the uncertainty covering dt/2 and the
+/// longer horizon), the section searched with the point's settings at each value
+/// ([`settings_for`]: `r_max` at least `2 lambda`).
+pub fn fold_crisis(
+    param: BoundaryParam,
+    setup: Setup,
+    ps: &PointSettings,
+    range: ParamRange,
+    coarse: usize,
+) -> Result<Crisis, ScanError> {
+    if !(range.lo > 0.0 && range.hi > range.lo && range.hi.is_finite() && range.rtol > 0.0) {
+        return Err(ScanError::Undetermined(format!(
+            "bracket [{}, {}] / rtol {}: need 0 < lo < hi, rtol > 0",
+            range.lo, range.hi, range.rtol
+        )));
+    }
+    let verdict = |v: f64, which: Variant| {
+        let s = setup.with_params(param.with(setup.params, v));
+        which.lasting(s, &settings_for(&s.params, &ps.cycle))
+    };
+    crisis_in(verdict, range, coarse)
 }
 
 /// The critical value of `param` for `point`: above it the point does not squeal.
@@ -302,19 +371,46 @@ pub fn both_in(
     range: ParamRange,
     [fold, critical]: [bool; 2],
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
+    both_with(
+        param,
+        setup,
+        (ps, point),
+        range,
+        [fold, critical],
+        crate::band::COARSE,
+    )
+}
+
+/// [`both_in`] with `coarse` steps of the fold's coarse scan (the atlas's
+/// `[boundaries] coarse`).
+pub fn both_with(
+    param: BoundaryParam,
+    setup: Setup,
+    (ps, point): (&PointSettings, State),
+    range: ParamRange,
+    [fold, critical]: [bool; 2],
+    coarse: usize,
+) -> [Option<Result<Boundary, ScanError>>; 2] {
     let at_dt = Evaluator::new(param, setup, ps, point);
     let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), range);
-    let mut out = [
-        fold.then(|| run(Which::Fold)),
-        critical.then(|| run(Which::Critical)),
-    ];
+    // The fold of McMillan's laws is the crisis, its uncertainty covering dt/2 already.
+    let crisis = !setup.params.law.has_true_stick();
+    let fold_of = || match crisis {
+        true => fold_crisis(param, setup, ps, range, coarse).map(|c| Boundary::from_crisis(&c)),
+        false => run(Which::Fold),
+    };
+    let mut out = [fold.then(fold_of), critical.then(|| run(Which::Critical))];
     // The accuracy of each bracket: its predicate again at its ends with dt / 2. Near the
     // fold the stick-slip test is a finite run beside a boundary crisis (runs outside the
     // cycle can linger for many revolutions and then fall inside), so the bracket at dt can
     // be off by far more than its width; this says where it holds.
     let half = Evaluator::new(param, setup.half_dt(), ps, point);
     let which = [Which::Fold, Which::Critical];
-    check_half_dt(&mut out, |i, v| half.answer(v, which[i]).ok());
+    check_half_dt(&mut out, |i, v| match (i, crisis) {
+        // The crisis checked its own bracket at dt / 2.
+        (0, true) => None,
+        _ => half.answer(v, which[i]).ok(),
+    });
     out
 }
 
@@ -328,7 +424,7 @@ pub fn check_half_dt(
 ) {
     for (i, b) in out.iter_mut().enumerate() {
         let Some(Ok(b)) = b else { continue };
-        if b.status != BoundaryStatus::Found {
+        if b.status != BoundaryStatus::Found || b.half_dt_holds.is_some() {
             continue;
         }
         b.half_dt_holds = match (at_half_dt(i, b.bracket[0]), at_half_dt(i, b.bracket[1])) {
