@@ -41,6 +41,11 @@ pub struct Args {
     /// dt/2, with an uncertainty that covers both (crates/core/MODEL.md, section 6).
     #[arg(long, conflicts_with = "fold")]
     pub crisis: bool,
+    /// With --fold or --crisis of McMillan's laws: every verdict with the longer horizon
+    /// (twice the band's samples and t_return), the computation whose crisis the stated
+    /// uncertainty also covers (scripts/fold-coverage.sh checks it).
+    #[arg(long)]
+    pub longer_horizon: bool,
     /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the
     /// Stribeck law xi and v_d (nu and lambda are taken there too). The bracket flags keep
     /// the names --nu-lo ... --lambda-hi.
@@ -52,6 +57,16 @@ pub struct Args {
     /// Upper end of the bracket in lambda (with --in lambda).
     #[arg(long, default_value_t = 6.0)]
     pub lambda_hi: f64,
+}
+
+impl Args {
+    /// The band's budget of the crisis's verdicts at dt and dt/2.
+    fn budget(&self) -> squeal_scan::band::Budget {
+        match self.longer_horizon {
+            true => squeal_scan::band::Budget::Longer,
+            false => squeal_scan::band::Budget::Standard,
+        }
+    }
 }
 
 /// Bisects in nu.
@@ -244,7 +259,7 @@ fn boundary(
             hi,
             rtol: args.rtol,
         };
-        let c = boundary::fold_crisis(param, plan.setup(map), &ps, range, COARSE)?;
+        let c = boundary::fold_crisis(param, plan.setup(map), &ps, range, (COARSE, args.budget()))?;
         return crisis_report(args, plan, (param, name, flag), &c, t0);
     }
     // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
@@ -382,7 +397,13 @@ fn crisis(
         rtol: args.rtol,
     };
     let ps = PointSettings::default();
-    let c = boundary::fold_crisis(BoundaryParam::Nu, plan.setup(map), &ps, range, COARSE)?;
+    let c = boundary::fold_crisis(
+        BoundaryParam::Nu,
+        plan.setup(map),
+        &ps,
+        range,
+        (COARSE, args.budget()),
+    )?;
     crisis_report(args, plan, (BoundaryParam::Nu, "nu", "nu"), &c, t0)
 }
 

@@ -43,7 +43,7 @@ use squeal_core::{Params, Setup, State};
 
 use super::attractor::{StickFail, find_stick_slip};
 use super::point::{PointSettings, analyse, settings_for};
-use crate::band::{Crisis, CrisisStatus, Variant, crisis_in};
+use crate::band::{Budget, Crisis, CrisisStatus, Variant, crisis_in};
 use crate::error::ScanError;
 use crate::section::{ParamRange, Search};
 
@@ -312,7 +312,13 @@ pub fn fold_in(
     range: ParamRange,
 ) -> Result<Boundary, ScanError> {
     if !setup.params.law.has_true_stick() {
-        let c = fold_crisis(param, setup, ps, range, crate::band::COARSE)?;
+        let c = fold_crisis(
+            param,
+            setup,
+            ps,
+            range,
+            (crate::band::COARSE, Budget::Standard),
+        )?;
         return Ok(Boundary::from_crisis(&c));
     }
     let e = Evaluator::new(param, setup, ps, State { x: 0.0, v: 0.0 });
@@ -321,14 +327,15 @@ pub fn fold_in(
 
 /// The crisis of the stick-slip band in `param` over `range` ([`crate::band::crisis_in`]:
 /// a coarse scan of `coarse` steps, the bisections, the uncertainty covering dt/2 and the
-/// longer horizon), the section searched with the point's settings at each value
-/// ([`settings_for`]: `r_max` at least `2 lambda`).
+/// longer horizon; `base` the budget at dt and dt/2, [`Budget::Standard`] but for the
+/// longer horizon's own crisis), the section searched with the point's settings at each
+/// value ([`settings_for`]: `r_max` at least `2 lambda`).
 pub fn fold_crisis(
     param: BoundaryParam,
     setup: Setup,
     ps: &PointSettings,
     range: ParamRange,
-    coarse: usize,
+    (coarse, base): (usize, Budget),
 ) -> Result<Crisis, ScanError> {
     if !(range.lo > 0.0 && range.hi > range.lo && range.hi.is_finite() && range.rtol > 0.0) {
         return Err(ScanError::Undetermined(format!(
@@ -338,7 +345,7 @@ pub fn fold_crisis(
     }
     let verdict = |v: f64, which: Variant| {
         let s = setup.with_params(param.with(setup.params, v));
-        which.lasting(s, &settings_for(&s.params, &ps.cycle))
+        which.lasting(s, &settings_for(&s.params, &ps.cycle), base)
     };
     crisis_in(verdict, range, coarse)
 }
@@ -396,7 +403,8 @@ pub fn both_with(
     // The fold of McMillan's laws is the crisis, its uncertainty covering dt/2 already.
     let crisis = !setup.params.law.has_true_stick();
     let fold_of = || match crisis {
-        true => fold_crisis(param, setup, ps, range, coarse).map(|c| Boundary::from_crisis(&c)),
+        true => fold_crisis(param, setup, ps, range, (coarse, Budget::Standard))
+            .map(|c| Boundary::from_crisis(&c)),
         false => run(Which::Fold),
     };
     let mut out = [fold.then(fold_of), critical.then(|| run(Which::Critical))];
@@ -493,10 +501,15 @@ impl<'a> Evaluator<'a> {
             .cycle
             .as_ref()
             .is_some_and(|rep| rep.encloses(self.point.x, self.point.v));
+        // McMillan's laws: outside the cycle the operating point squeals unless the band
+        // above the cycle leaks (the rule of `squeal critical` from a start,
+        // `crate::ulc::point_side`, and of the fold's crisis), not by a stick-slip run that
+        // may sit on a leaking band for its whole window.
+        let band_rule = !p.law.has_true_stick();
         let needs_stick = match (which, &a.search) {
             (_, Search::NoneBelow { .. }) => false,
             (Which::Critical, Search::FixedPointUnstable { .. }) => false,
-            (Which::Critical, _) => !encloses,
+            (Which::Critical, _) => !encloses && !band_rule,
             (Which::Fold, _) => true,
         };
         if needs_stick && a.stick.is_none() {
@@ -521,6 +534,10 @@ impl<'a> Evaluator<'a> {
                 (Search::NoneBelow { .. }, _, _) => Ok(true),
                 (Search::FixedPointUnstable { .. }, _, _) => Ok(false),
                 (_, Some(_), _) if encloses => Ok(true),
+                (_, Some(_), _) if band_rule => {
+                    let cs = settings_for(&p, &self.ps.cycle);
+                    Ok(crate::band::lasting(setup, &cs)? == crate::band::Lasting::Quiet)
+                }
                 (_, Some(_), Some(Ok(_))) => Ok(false),
                 (_, Some(_), Some(Err(StickFail::FellInside { .. }))) => Ok(true),
                 (_, Some(_), Some(Err(StickFail::Failed(e)))) => Err(here(e.clone())),

@@ -51,11 +51,19 @@ impl Variant {
     /// All three.
     pub const ALL: [Variant; 3] = [Variant::Dt, Variant::HalfDt, Variant::Longer];
 
-    /// The verdict at `setup` (the step of [`Variant::Dt`]) with cycle settings `cs`.
-    pub fn lasting(self, setup: Setup, cs: &CycleSettings) -> Result<Lasting, ScanError> {
+    /// The verdict at `setup` (the step of [`Variant::Dt`]) with cycle settings `cs`, the
+    /// budget of [`Variant::Dt`] and [`Variant::HalfDt`] being `base` (a whole search with
+    /// [`Budget::Longer`] as its base is the longer horizon's own crisis, what
+    /// `scripts/fold-coverage.sh` checks the uncertainty against).
+    pub fn lasting(
+        self,
+        setup: Setup,
+        cs: &CycleSettings,
+        base: Budget,
+    ) -> Result<Lasting, ScanError> {
         match self {
-            Variant::Dt => lasting_with(setup, cs, Budget::Standard),
-            Variant::HalfDt => lasting_with(setup.half_dt(), cs, Budget::Standard),
+            Variant::Dt => lasting_with(setup, cs, base),
+            Variant::HalfDt => lasting_with(setup.half_dt(), cs, base),
             Variant::Longer => lasting_with(setup, cs, Budget::Longer),
         }
     }
@@ -151,7 +159,11 @@ pub fn crisis_nu(
     coarse: usize,
 ) -> Result<Crisis, ScanError> {
     let at = |nu: f64| setup.with_params(Params { nu, ..setup.params });
-    crisis_in(|v, which| which.lasting(at(v), cs), range, coarse)
+    crisis_in(
+        |v, which| which.lasting(at(v), cs, Budget::Standard),
+        range,
+        coarse,
+    )
 }
 
 /// The crisis over `range` of the parameter that `verdict(v, variant)` moves: see the
@@ -273,4 +285,88 @@ fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
         step *= 2.0;
     }
     Ok(([x, y], held))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A verdict with known thresholds: squeal lasts below `s`, is quiet from `q`, undecided
+    /// between; at dt/2 both thresholds are `shift` times higher, with the longer horizon
+    /// `shift` times lower.
+    fn verdict(s: f64, q: f64, shift: f64) -> impl Fn(f64, Variant) -> Result<Lasting, ScanError> {
+        move |v, which| {
+            let f = match which {
+                Variant::Dt => 1.0,
+                Variant::HalfDt => shift,
+                Variant::Longer => 1.0 / shift,
+            };
+            Ok(if v < s * f {
+                Lasting::Squeals
+            } else if v >= q * f {
+                Lasting::Quiet
+            } else {
+                Lasting::Undecided
+            })
+        }
+    }
+
+    #[test]
+    fn the_uncertainty_covers_every_computations_crisis() {
+        // Thresholds 0.024 and 0.0242 at dt, 1% higher at dt/2 and 1% lower with the
+        // longer horizon: the stated interval must hold all three [s, q] brackets, and the
+        // bracket at dt is the bisected one, to rtol.
+        let c = crisis_in(
+            verdict(0.024, 0.0242, 1.01),
+            ParamRange::new(1e-3, 0.05, 1e-4),
+            64,
+        )
+        .unwrap();
+        assert_eq!(c.status, CrisisStatus::Found);
+        assert!(c.interval[0] < 0.024 && 0.024 / c.interval[0] - 1.0 <= 1e-4);
+        assert!(c.interval[1] >= 0.0242 && c.interval[1] / 0.0242 - 1.0 <= 1e-4);
+        assert!(!c.half_dt_holds && !c.longer_holds, "{c:?}");
+        let (lo, hi) = (c.nu - c.uncertainty, c.nu + c.uncertainty);
+        for f in [1.0, 1.01, 1.0 / 1.01] {
+            assert!(lo < 0.024 * f && 0.0242 * f <= hi, "{f}: {c:?}");
+        }
+        assert_eq!(c.changes.len(), 1);
+        // Where all three agree the interval is the bracket at dt.
+        let c = crisis_in(
+            verdict(0.024, 0.0242, 1.0),
+            ParamRange::new(1e-3, 0.05, 1e-4),
+            64,
+        )
+        .unwrap();
+        assert!(c.half_dt_holds && c.longer_holds);
+        assert_eq!([c.nu - c.uncertainty, c.nu + c.uncertainty], c.interval);
+    }
+
+    #[test]
+    fn every_change_of_regime_is_reported_and_the_fold_is_the_last() {
+        // Squeals below 0.01, undecided on [0.01, 0.015), squeals again on [0.015, 0.02),
+        // quiet from 0.02: three changes of "squeal does not last" over [1e-3, 0.05] in 64
+        // geometric steps (ratio 1.063 per step: each piece spans several), the fold at 0.02.
+        let v = |x: f64, _: Variant| {
+            Ok(if x < 0.01 || (0.015..0.02).contains(&x) {
+                Lasting::Squeals
+            } else if x >= 0.02 {
+                Lasting::Quiet
+            } else {
+                Lasting::Undecided
+            })
+        };
+        let c = crisis_in(v, ParamRange::new(1e-3, 0.05, 1e-4), 64).unwrap();
+        let to: Vec<bool> = c.changes.iter().map(|c| c.to).collect();
+        assert_eq!(to, [true, false, true], "{c:?}");
+        assert!(c.interval[0] < 0.02 && 0.02 <= c.interval[1], "{c:?}");
+        assert!(c.interval[1] / c.interval[0] - 1.0 <= 1e-4);
+        // No squeal anywhere, or squeal up to the top: not found, said so.
+        let quiet = |_: f64, _: Variant| Ok(Lasting::Quiet);
+        let c = crisis_in(quiet, ParamRange::new(1e-3, 0.05, 1e-4), 8).unwrap();
+        assert_eq!(c.status, CrisisStatus::BelowRange);
+        let loud = |_: f64, _: Variant| Ok(Lasting::Squeals);
+        let c = crisis_in(loud, ParamRange::new(1e-3, 0.05, 1e-4), 8).unwrap();
+        assert_eq!(c.status, CrisisStatus::AboveRange);
+    }
 }
