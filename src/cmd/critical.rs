@@ -253,7 +253,7 @@ fn boundary(
         operating: point,
         ..PointSettings::default()
     };
-    if args.fold && !plan.maps[map].law.has_true_stick() {
+    if args.fold && boundary::crisis_applies(plan.maps[map].law) {
         let range = ParamRange {
             lo,
             hi,
@@ -381,8 +381,10 @@ fn crisis(
     if args.in_ != "nu" {
         bail!("--crisis: only in the damping (--in nu); --fold --in lambda bisects the belt speed");
     }
-    if plan.maps[map].law.has_true_stick() {
-        bail!("--crisis: McMillan's laws only (a law with true stick has no band to leak)");
+    if !squeal_scan::atlas::boundary::crisis_applies(plan.maps[map].law) {
+        bail!(
+            "--crisis: McMillan's hysteretic law only (a law with true stick has no band to leak; for the non-hysteretic law the section map misses a stick-slip orbit that runs keep, see crates/core/MODEL.md)"
+        );
     }
     if !(args.nu_lo > 0.0 && args.nu_hi > args.nu_lo && args.nu_hi.is_finite()) {
         bail!(
