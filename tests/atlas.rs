@@ -101,21 +101,23 @@ fn atlas_reproduces_the_single_point_commands() {
     assert!(lo <= chi && clo <= hi, "[{lo}, {hi}] vs [{clo}, {chi}]");
     let fold = a["boundaries"][0]["fold"]["nu"].as_f64().unwrap();
     assert!(fold > 0.019 && fold < 0.031, "fold {fold}");
-    // `squeal critical --fold` finds the same fold (same bisection, its own rtol 1e-4).
+    // `squeal critical --fold` finds the same fold (the same crisis search, over its own
+    // range, rtol 1e-4 and 64 coarse steps): each value inside the other's stated
+    // uncertainty (issue 17, item 5).
     let cf = json(&ok(squeal(
         dir.path(),
         &[
             "critical", "--fold", "--json", "--nu-lo", "1e-3", "--nu-hi", "5e-2",
         ],
     )));
-    let (flo, fhi) = (
-        cf["bracket"][0].as_f64().unwrap(),
-        cf["bracket"][1].as_f64().unwrap(),
+    let (cn, ce) = (
+        cf["nu"].as_f64().unwrap(),
+        cf["uncertainty"].as_f64().unwrap(),
     );
-    let fb = &a["boundaries"][0]["fold"]["bracket"];
+    let fe = a["boundaries"][0]["fold"]["uncertainty"].as_f64().unwrap();
     assert!(
-        fb[0].as_f64().unwrap() <= fhi && flo <= fb[1].as_f64().unwrap(),
-        "{fb} vs [{flo}, {fhi}]"
+        (fold - cn).abs() <= ce.min(fe),
+        "{fold} +- {fe} vs {cn} +- {ce}"
     );
 
     // The file: a coordinate nu (dimension scale, long name, units), datasets over it.

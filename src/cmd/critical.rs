@@ -448,6 +448,8 @@ fn crisis_report(
     });
     if args.json {
         let mut v = serde_json::to_value(c)?;
+        // The bracket at dt under the name `--fold` gave it before (the atlas's fold_nu_lo/hi).
+        v["bracket"] = serde_json::to_value(c.interval)?;
         v["in"] = name.into();
         v["seconds"] = seconds.into();
         if let Some((key, unit, units)) = si {
