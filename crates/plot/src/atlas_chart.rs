@@ -141,7 +141,8 @@ fn boundary_lines(
         .iter()
         .zip(&res.boundaries)
         .map(|(v, b)| match b {
-            Some(b) if b.fold.half_dt_holds == Some(false) => *v,
+            // A fold with an uncertainty has it drawn as an error bar that covers dt/2.
+            Some(b) if b.fold.half_dt_holds == Some(false) && !b.fold.uncertainty.is_finite() => *v,
             _ => f64::NAN,
         })
         .collect();

@@ -1,12 +1,15 @@
 //! Boundaries in the damping `nu` or the belt speed `lambda` ([`BoundaryParam`]), located
 //! by bisection (not read off pixels):
 //!
-//! * the **fold of cycles** [`fold_nu`]: the damping above which no start squeals. Below it
-//!   the return map `D(r) = P(r) - r` has a positive window between the unstable cycle and
-//!   the stick-slip oscillation; at the fold they meet and the window closes. The predicate
-//!   "some `D > 0`" uses the tangency check of [`crate::section::search_cold`].
+//! * the **fold** [`fold_nu`]: the damping above which no start squeals for good. For
+//!   McMillan's hysteretic law it is the crisis of the stick-slip band ([`fold_crisis`],
+//!   [`crate::band::crisis_in`]: a coarse scan for every change of regime, bisections at
+//!   dt, an uncertainty covering dt/2 and a longer horizon). For the non-hysteretic law and
+//!   laws with true stick it is the bisection of "some start stays on stick-slip for the
+//!   attractor's window" ([`quiet_everywhere`]; why: [`crisis_applies`]).
 //! * the **critical damping** [`critical_nu`] of the operating point: the damping at which
-//!   the unstable cycle first encloses it (from then on it does not squeal). Above the fold
+//!   the unstable cycle first encloses it, or (hysteretic law) the band above the cycle
+//!   leaks (from then on it does not squeal). Above the fold
 //!   there is no cycle and nothing squeals, which counts as enclosed (as in
 //!   [`crate::ulc::point_enclosed`]), so the critical damping never exceeds the fold.
 //!
@@ -14,18 +17,18 @@
 //! the value. When the predicate does not change sign over `[lo, hi]`, the status says on
 //! which side the boundary lies. In `lambda` the same predicates are bisected: the
 //! operating point is quiet above the **critical belt speed** ([`critical_in`]) and no
-//! start squeals above the **fold in lambda** ([`fold_in`]). That each predicate changes
-//! sign once in the range is an assumption (true of the 64 x 64 chart at Table 1's tau and
-//! phi, `scans/atlas-lambda-nu.toml`: the critical damping falls with lambda, the fold
-//! rises then falls); a second crossing is not looked for.
+//! start squeals above the **fold in lambda** ([`fold_in`]). The crisis's coarse scan finds
+//! every change of regime along the parameter (more than one: `Boundary::changes`); the
+//! other bisections assume one change in the range, and a second crossing is not looked
+//! for there.
 //!
 //! Each bisection step warm-starts its cycle search from the crossing at the nearest value
 //! already analysed ([`Crossings`]; the warm bracket is kept only once checked, as for the
 //! points along a line), and the shared search ([`both_in`]) runs the stick-slip attractor
 //! only where a predicate needs it.
 //!
-//! **Accuracy of the fold (known limitation, measured per boundary).** Near the fold the
-//! predicate is not a clean step: whether a start outside the cycle stays on stick-slip for
+//! **Accuracy of the window predicate (why the hysteretic fold is now the crisis).** Near
+//! the fold the predicate is not a clean step: whether a start outside the cycle stays on stick-slip for
 //! the attractor window depends on digits far below any tolerance (runs linger on the ghost
 //! of the vanished stable cycle, or in a band the return map can jump out of, and then fall
 //! inside). A change of the cycle's crossing by 1e-10 (false position instead of bisection,
