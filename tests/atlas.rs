@@ -130,6 +130,19 @@ fn atlas_reproduces_the_single_point_commands() {
     let reg = f.dataset("regime").unwrap().read_raw::<u8>().unwrap();
     assert_eq!(reg, vec![3, 2, 1]);
     assert!(f.dataset("fold_nu").is_ok() && f.dataset("critical_nu_hi").is_ok());
+    // The fold's uncertainty and the coarse scan's count of regime changes, each with its
+    // units and long name (issue 17, items 4 and 5).
+    for name in ["fold_nu_err", "fold_changes"] {
+        let d = f.dataset(name).unwrap();
+        let attr = |a: &str| -> String {
+            let v: hdf5::types::VarLenUnicode = d.attr(a).unwrap().read_scalar().unwrap();
+            v.as_str().to_string()
+        };
+        assert_eq!(attr("units"), "1", "{name}");
+        assert!(!attr("long_name").is_empty(), "{name}");
+    }
+    let err = f.dataset("fold_nu_err").unwrap().read_raw::<f64>().unwrap();
+    assert!(err[0] > 0.0 && err[0] < fold, "{err:?}");
     assert!(dir.path().join("paper.png").exists());
 }
 

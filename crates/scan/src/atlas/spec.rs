@@ -895,6 +895,11 @@ path = "p.h5"
                 GOOD.replace("[output]", "[cycle]\nrtol = 0.0\n[output]"),
                 "cycle.rtol",
             ),
+            // One coarse step cannot see a second change of regime.
+            (
+                GOOD.replace("[output]", "[boundaries]\ncoarse = 1\n[output]"),
+                "boundaries.coarse",
+            ),
             (
                 GOOD.replace(
                     "[output]",
