@@ -409,6 +409,29 @@ fn crisis(
     crisis_report(args, plan, (BoundaryParam::Nu, "nu", "nu"), &c, t0)
 }
 
+/// An error naming the flag of the range's end when the crisis `c` was not found in it.
+fn found(
+    args: &Args,
+    (param, flag): (squeal_scan::atlas::BoundaryParam, &str),
+    c: &squeal_scan::band::Crisis,
+) -> anyhow::Result<()> {
+    use squeal_scan::atlas::BoundaryParam;
+    use squeal_scan::band::CrisisStatus;
+    let (lo, hi) = match param {
+        BoundaryParam::Nu => (args.nu_lo, args.nu_hi),
+        BoundaryParam::Lambda => (args.lambda_lo, args.lambda_hi),
+    };
+    match c.status {
+        CrisisStatus::Found => Ok(()),
+        CrisisStatus::BelowRange => {
+            bail!("--{flag}-lo {lo}: squeal lasts nowhere in the range; lower --{flag}-lo")
+        }
+        CrisisStatus::AboveRange => bail!(
+            "--{flag}-hi {hi}: squeal still lasts there (or never turns quiet above it); raise --{flag}-hi"
+        ),
+    }
+}
+
 /// Prints the crisis `c` (`--crisis`, `--fold` of McMillan's laws): the fold with its
 /// uncertainty, the bracket at dt, whether it held at dt/2 and with the longer horizon, and
 /// loudly every change of regime the coarse scan found when there is more than one.
@@ -420,22 +443,7 @@ fn crisis_report(
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
     use squeal_scan::atlas::BoundaryParam;
-    use squeal_scan::band::CrisisStatus;
-    let (lo, hi) = match param {
-        BoundaryParam::Nu => (args.nu_lo, args.nu_hi),
-        BoundaryParam::Lambda => (args.lambda_lo, args.lambda_hi),
-    };
-    match c.status {
-        CrisisStatus::Found => {}
-        CrisisStatus::BelowRange => {
-            bail!("--{flag}-lo {lo}: squeal lasts nowhere in the range; lower --{flag}-lo")
-        }
-        CrisisStatus::AboveRange => {
-            bail!(
-                "--{flag}-hi {hi}: squeal still lasts there (or never turns quiet above it); raise --{flag}-hi"
-            )
-        }
-    }
+    found(args, (param, flag), c)?;
     let warning = warn_changes(&c.changes, name);
     let seconds = t0.elapsed().as_secs_f64();
     // A physical system: the fold in N s/m (c) or m/s (v_belt) too.
