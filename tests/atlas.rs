@@ -101,21 +101,23 @@ fn atlas_reproduces_the_single_point_commands() {
     assert!(lo <= chi && clo <= hi, "[{lo}, {hi}] vs [{clo}, {chi}]");
     let fold = a["boundaries"][0]["fold"]["nu"].as_f64().unwrap();
     assert!(fold > 0.019 && fold < 0.031, "fold {fold}");
-    // `squeal critical --fold` finds the same fold (same bisection, its own rtol 1e-4).
+    // `squeal critical --fold` finds the same fold (the same crisis search, over its own
+    // range, rtol 1e-4 and 64 coarse steps): each value inside the other's stated
+    // uncertainty (issue 17, item 5).
     let cf = json(&ok(squeal(
         dir.path(),
         &[
             "critical", "--fold", "--json", "--nu-lo", "1e-3", "--nu-hi", "5e-2",
         ],
     )));
-    let (flo, fhi) = (
-        cf["bracket"][0].as_f64().unwrap(),
-        cf["bracket"][1].as_f64().unwrap(),
+    let (cn, ce) = (
+        cf["nu"].as_f64().unwrap(),
+        cf["uncertainty"].as_f64().unwrap(),
     );
-    let fb = &a["boundaries"][0]["fold"]["bracket"];
+    let fe = a["boundaries"][0]["fold"]["uncertainty"].as_f64().unwrap();
     assert!(
-        fb[0].as_f64().unwrap() <= fhi && flo <= fb[1].as_f64().unwrap(),
-        "{fb} vs [{flo}, {fhi}]"
+        (fold - cn).abs() <= ce.min(fe),
+        "{fold} +- {fe} vs {cn} +- {ce}"
     );
 
     // The file: a coordinate nu (dimension scale, long name, units), datasets over it.
@@ -128,6 +130,19 @@ fn atlas_reproduces_the_single_point_commands() {
     let reg = f.dataset("regime").unwrap().read_raw::<u8>().unwrap();
     assert_eq!(reg, vec![3, 2, 1]);
     assert!(f.dataset("fold_nu").is_ok() && f.dataset("critical_nu_hi").is_ok());
+    // The fold's uncertainty and the coarse scan's count of regime changes, each with its
+    // units and long name (issue 17, items 4 and 5).
+    for name in ["fold_nu_err", "fold_changes"] {
+        let d = f.dataset(name).unwrap();
+        let attr = |a: &str| -> String {
+            let v: hdf5::types::VarLenUnicode = d.attr(a).unwrap().read_scalar().unwrap();
+            v.as_str().to_string()
+        };
+        assert_eq!(attr("units"), "1", "{name}");
+        assert!(!attr("long_name").is_empty(), "{name}");
+    }
+    let err = f.dataset("fold_nu_err").unwrap().read_raw::<f64>().unwrap();
+    assert!(err[0] > 0.0 && err[0] < fold, "{err:?}");
     assert!(dir.path().join("paper.png").exists());
 }
 

@@ -52,7 +52,91 @@ pub fn print_summary(
         );
     }
     print_boundaries(plan, res);
+    print_fold_warnings(plan, res);
     println!("{}", out.display());
+}
+
+/// Loud lines where the fold is less than one clean change: boundaries whose coarse scan
+/// found the regime changing more than once along the bisected parameter, and points whose
+/// label says some start squeals although they lie above their fold's uncertainty (their
+/// stick-slip run stayed for the attractor's window on a band the crisis finds leaking: a
+/// long transient).
+fn print_fold_warnings(plan: &AtlasPlan, res: &AtlasResults) {
+    let flips = res
+        .boundaries
+        .iter()
+        .flatten()
+        .filter(|b| b.fold.changes > 1)
+        .count();
+    if flips > 0 {
+        println!(
+            "  WARNING: at {flips} of {} boundaries the regime changes more than once along the {} before bisecting (fold_changes; squares on the chart): the fold is the last change",
+            res.boundaries.len(),
+            plan.boundary_words()
+        );
+    }
+    // The critical value of the operating point should not exceed the fold (above the fold
+    // nothing squeals for good). Where it does the two predicates disagree above the fold:
+    // the critical one counts a marginal band as squealing and reads the cycle from the
+    // points' own search, and a bisection finds one change of its predicate, not the last.
+    let crit_above = res
+        .boundaries
+        .iter()
+        .flatten()
+        .filter(|b| {
+            let (f, c) = (b.fold, b.critical);
+            f.status == BoundaryStatus::Found
+                && c.status == BoundaryStatus::Found
+                && c.bracket[0] > f.nu + f.uncertainty.max(0.5 * (f.bracket[1] - f.bracket[0]))
+        })
+        .count();
+    if crit_above > 0 {
+        println!(
+            "  WARNING: at {crit_above} of {} boundaries the critical value lies above the fold's uncertainty: its predicate (a marginal band counts as squealing) still changes above the fold there, and the bisection found that change",
+            res.boundaries.len()
+        );
+    }
+    let (above, checked) = squeal_above_fold(plan, res);
+    if above > 0 {
+        println!(
+            "  WARNING: {above} of {checked} points above their fold's uncertainty are labelled bistable or squealing: their stick-slip run stayed for the attractor's window on a band that leaks past the crisis (a long transient), or the regime flips there"
+        );
+    }
+}
+
+/// Points above `fold + uncertainty` along the bisected axis whose label says some start
+/// squeals, and the points checked (those with a found fold and an uncertainty).
+fn squeal_above_fold(plan: &AtlasPlan, res: &AtlasResults) -> (usize, usize) {
+    let (_, Some(dk)) = plan.boundary_axis() else {
+        return (0, 0);
+    };
+    let shape = plan.shape();
+    let stride: usize = shape[dk + 1..].iter().product();
+    let (mut above, mut checked) = (0, 0);
+    for (j, b) in res.boundaries.iter().enumerate() {
+        let Some(f) = b.as_ref().map(|b| b.fold) else {
+            continue;
+        };
+        if f.status != BoundaryStatus::Found || !f.uncertainty.is_finite() {
+            continue;
+        }
+        let (i0, _) = plan.boundary_setup(j);
+        for k in 0..shape[dk] {
+            let i = i0 + k * stride;
+            let v = plan.boundary_in.get(&plan.params_at(i));
+            let Some(p) = res.points[i].as_ref().filter(|_| v > f.nu + f.uncertainty) else {
+                continue;
+            };
+            checked += 1;
+            above += usize::from(matches!(
+                p.regime,
+                AtlasRegime::BistableQuiet
+                    | AtlasRegime::BistableSqueals
+                    | AtlasRegime::FixedPointUnstable
+            ));
+        }
+    }
+    (above, checked)
 }
 
 /// The first 12 boundary searches: where each searched, and the fold and the critical value
@@ -90,6 +174,15 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
                 Some(false) => " [moves at dt/2]",
                 None => " [dt/2 not checked]",
             };
+            let err = match bd.uncertainty.is_finite() {
+                true => format!(" +- {:.5}", bd.uncertainty),
+                false => String::new(),
+            };
+            let flips = match bd.changes > 1 {
+                true => format!(" [REGIME CHANGES {} TIMES]", bd.changes),
+                false => String::new(),
+            };
+            let half = format!("{err}{half}{flips}");
             match bd.status {
                 BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
                     Some((v, u)) => {

@@ -41,10 +41,10 @@ pub struct Args {
     /// dt/2, with an uncertainty that covers both (crates/core/MODEL.md, section 6).
     #[arg(long, conflicts_with = "fold")]
     pub crisis: bool,
-    /// With --crisis: the mean transient lifetime of the leaking band (t_squeal of starts
+    /// With --crisis or --fold (in nu): the mean transient lifetime of the leaking band (t_squeal of starts
     /// spread over the band) at nu_c (1 + f), f from 0.01 by factors 1.25 to 0.075, with its standard
     /// error, and its power law in nu - nu_c (crates/scan/src/lifetime.rs).
-    #[arg(long, requires = "crisis")]
+    #[arg(long)]
     pub lifetimes: bool,
     /// Starts on the band per damping (--lifetimes).
     #[arg(long, default_value_t = 128)]
@@ -52,6 +52,11 @@ pub struct Args {
     /// Runs still squealing at this time are censored (--lifetimes; nondimensional).
     #[arg(long, default_value_t = 40_000.0)]
     pub lifetime_t_max: f64,
+    /// With --fold or --crisis of McMillan's laws: every verdict with the longer horizon
+    /// (twice the band's samples and t_return), the computation whose crisis the stated
+    /// uncertainty also covers (scripts/fold-coverage.sh checks it).
+    #[arg(long)]
+    pub longer_horizon: bool,
     /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the
     /// Stribeck law xi and v_d (nu and lambda are taken there too). The bracket flags keep
     /// the names --nu-lo ... --lambda-hi.
@@ -65,6 +70,16 @@ pub struct Args {
     pub lambda_hi: f64,
 }
 
+impl Args {
+    /// The band's budget of the crisis's verdicts at dt and dt/2.
+    fn budget(&self) -> squeal_scan::band::Budget {
+        match self.longer_horizon {
+            true => squeal_scan::band::Budget::Longer,
+            false => squeal_scan::band::Budget::Standard,
+        }
+    }
+}
+
 /// Bisects in nu.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
@@ -75,6 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !(args.rtol > 0.0 && args.rtol < 1.0) {
         bail!("--rtol {}: expected a value in (0, 1)", args.rtol);
     }
+    check_lifetimes(&args)?;
     let t0 = std::time::Instant::now();
     // A physical system: --x0/--v0 are in m and m/s, results also in SI units.
     let scales = plan.physical.map(|ph| ph.scales());
@@ -141,8 +157,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Steps of the coarse scan along the parameter before the bisection is trusted.
-const COARSE: usize = 64;
+/// Steps of the coarse scan along the parameter before the bisection is trusted (the
+/// crisis's own, [`squeal_scan::band::COARSE`]).
+const COARSE: usize = squeal_scan::band::COARSE;
 
 /// The coarse scan's changes in words, when there is more than one: the bisection assumes a
 /// single change of regime, so several are said loudly (on stdout with the result, and on
@@ -248,6 +265,15 @@ fn boundary(
         operating: point,
         ..PointSettings::default()
     };
+    if args.fold && boundary::crisis_applies(plan.maps[map].law) {
+        let range = ParamRange {
+            lo,
+            hi,
+            rtol: args.rtol,
+        };
+        let c = boundary::fold_crisis(param, plan.setup(map), &ps, range, (COARSE, args.budget()))?;
+        return crisis_report(args, (plan, map), (param, name, flag), &c, t0);
+    }
     // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
     // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
     let range = ParamRange {
@@ -356,26 +382,48 @@ fn boundary(
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--crisis`: where squeal stops lasting ([`squeal_scan::band::crisis_nu`]).
+/// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in
+/// the damping (`--crisis`, or `--fold` in nu).
+fn check_lifetimes(args: &Args) -> anyhow::Result<()> {
+    if !args.lifetimes {
+        return Ok(());
+    }
+    if !(args.crisis || (args.fold && args.in_ == "nu")) {
+        bail!("--lifetimes: with --crisis or --fold in the damping (--in nu)");
+    }
+    if args.starts < 2 {
+        bail!("--starts {}: expected at least 2 starts", args.starts);
+    }
+    if !(args.lifetime_t_max.is_finite() && args.lifetime_t_max > 0.0) {
+        bail!(
+            "--lifetime-t-max {}: expected a finite time > 0",
+            args.lifetime_t_max
+        );
+    }
+    Ok(())
+}
+
+/// `--crisis`: where squeal stops lasting, in the damping: the fold of `--fold`.
 fn crisis(
     args: &Args,
     plan: &squeal_scan::Plan,
     map: usize,
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary};
     if args.in_ != "nu" {
-        bail!("--crisis: only in the damping (--in nu)");
+        bail!("--crisis: only in the damping (--in nu); --fold --in lambda bisects the belt speed");
     }
-    if plan.maps[map].law.has_true_stick() {
-        bail!("--crisis: McMillan's laws only (a law with true stick has no band to leak)");
-    }
-    if args.lifetimes && args.starts < 2 {
-        bail!("--starts {}: expected at least 2 starts", args.starts);
-    }
-    if args.lifetimes && !(args.lifetime_t_max.is_finite() && args.lifetime_t_max > 0.0) {
+    if !squeal_scan::atlas::boundary::crisis_applies(plan.maps[map].law) {
         bail!(
-            "--lifetime-t-max {}: expected a finite time > 0",
-            args.lifetime_t_max
+            "--crisis: McMillan's hysteretic law only (a law with true stick has no band to leak; for the non-hysteretic law the section map misses a stick-slip orbit that runs keep, see crates/core/MODEL.md)"
+        );
+    }
+    if !(args.nu_lo > 0.0 && args.nu_hi > args.nu_lo && args.nu_hi.is_finite()) {
+        bail!(
+            "--nu-lo {} / --nu-hi {}: expected 0 < lo < hi",
+            args.nu_lo,
+            args.nu_hi
         );
     }
     let range = ParamRange {
@@ -383,45 +431,114 @@ fn crisis(
         hi: args.nu_hi,
         rtol: args.rtol,
     };
-    let c = squeal_scan::band::crisis_nu(plan.setup(map), &CycleSettings::default(), range)?;
+    let ps = PointSettings::default();
+    let c = boundary::fold_crisis(
+        BoundaryParam::Nu,
+        plan.setup(map),
+        &ps,
+        range,
+        (COARSE, args.budget()),
+    )?;
+    crisis_report(args, (plan, map), (BoundaryParam::Nu, "nu", "nu"), &c, t0)
+}
+
+/// An error naming the flag of the range's end when the crisis `c` was not found in it.
+fn found(
+    args: &Args,
+    (param, flag): (squeal_scan::atlas::BoundaryParam, &str),
+    c: &squeal_scan::band::Crisis,
+) -> anyhow::Result<()> {
+    use squeal_scan::atlas::BoundaryParam;
+    use squeal_scan::band::CrisisStatus;
+    let (lo, hi) = match param {
+        BoundaryParam::Nu => (args.nu_lo, args.nu_hi),
+        BoundaryParam::Lambda => (args.lambda_lo, args.lambda_hi),
+    };
+    match c.status {
+        CrisisStatus::Found => Ok(()),
+        CrisisStatus::BelowRange => {
+            bail!("--{flag}-lo {lo}: squeal lasts nowhere in the range; lower --{flag}-lo")
+        }
+        CrisisStatus::AboveRange => bail!(
+            "--{flag}-hi {hi}: squeal still lasts there (or never turns quiet above it); raise --{flag}-hi"
+        ),
+    }
+}
+
+/// Prints the crisis `c` (`--crisis`, `--fold` of McMillan's laws): the fold with its
+/// uncertainty, the bracket at dt, whether it held at dt/2 and with the longer horizon, and
+/// loudly every change of regime the coarse scan found when there is more than one.
+fn crisis_report(
+    args: &Args,
+    (plan, map): (&squeal_scan::Plan, usize),
+    (param, name, flag): (squeal_scan::atlas::BoundaryParam, &str, &str),
+    c: &squeal_scan::band::Crisis,
+    t0: std::time::Instant,
+) -> anyhow::Result<ExitCode> {
+    use squeal_scan::atlas::BoundaryParam;
+    found(args, (param, flag), c)?;
+    let warning = warn_changes(&c.changes, name);
+    // The band's transient lifetimes above the crisis (in the damping only).
     let table = match args.lifetimes {
-        true => Some(super::lifetimes::table(args, plan, map, &c)?),
+        true => Some(super::lifetimes::table(args, plan, map, c)?),
         false => None,
     };
     let seconds = t0.elapsed().as_secs_f64();
-    // A physical system: the damping also as the dashpot coefficient c = nu 2 sqrt(m k).
-    let damping = plan.physical.map(|ph| ph.scales().damping);
+    // A physical system: the fold in N s/m (c) or m/s (v_belt) too.
+    let si = plan.physical.map(|ph| {
+        let s = ph.scales();
+        match param {
+            BoundaryParam::Nu => ("c", s.damping, "N s/m"),
+            BoundaryParam::Lambda => ("v_belt", s.velocity, "m/s"),
+        }
+    });
     if args.json {
         let mut v = serde_json::to_value(c)?;
+        // The bracket at dt under the name `--fold` gave it before (the atlas's fold_nu_lo/hi).
+        v["bracket"] = serde_json::to_value(c.interval)?;
+        v["in"] = name.into();
         v["seconds"] = seconds.into();
         if let Some(t) = &table {
             v["lifetimes"] = super::lifetimes::json(t, plan)?;
         }
-        if let Some(d) = damping {
+        if let Some((key, unit, units)) = si {
             v["si"] = serde_json::json!({
-                "c": c.nu * d,
-                "c_uncertainty": c.uncertainty * d,
-                "units": "N s/m",
+                key: c.nu * unit,
+                format!("{key}_uncertainty"): c.uncertainty * unit,
+                "units": units,
             });
         }
         println!("{}", serde_json::to_string(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
+    let holds = |h: bool| {
+        if h {
+            "holds"
+        } else {
+            "moves (the uncertainty was widened)"
+        }
+    };
     println!(
-        "crisis of the stick-slip band: nu = {:.6e} +- {:.2e} ({} verdicts, {:.2} s)",
+        "fold (crisis of the stick-slip band): {name} = {:.6e} +- {:.2e} ({} verdicts, {:.2} s)",
         c.nu, c.uncertainty, c.evaluations, seconds
     );
     println!(
-        "  squeal lasts up to nu = {:.6e} and no start squeals for good from {:.6e} at dt; {:.6e} and {:.6e} at dt/2 (between them the band's verdict is marginal: undecided)",
-        c.interval[0], c.interval[1], c.half_dt[0], c.half_dt[1]
+        "  at dt squeal lasts up to {name} = {:.6e} and no start squeals for good from {:.6e} (between them the band's verdict is marginal: undecided); that bracket {} at dt/2 and {} with the longer horizon; the uncertainty covers all three",
+        c.interval[0],
+        c.interval[1],
+        holds(c.half_dt_holds),
+        holds(c.longer_holds)
     );
-    if let Some(d) = damping {
+    if let Some(w) = warning {
+        println!("  {w}");
+    }
+    if let Some((key, unit, units)) = si {
         println!(
-            "  in SI units: c = {:.4} +- {:.4} N s/m (squeal lasts up to {:.4}, none for good from {:.4} N s/m at dt)",
-            c.nu * d,
-            c.uncertainty * d,
-            c.interval[0] * d,
-            c.interval[1] * d
+            "  in SI units: {key} = {:.4} +- {:.4} {units} (squeal lasts up to {:.4}, none for good from {:.4} {units} at dt)",
+            c.nu * unit,
+            c.uncertainty * unit,
+            c.interval[0] * unit,
+            c.interval[1] * unit
         );
     }
     if let Some(t) = &table {

@@ -141,11 +141,47 @@ fn boundary_lines(
         .iter()
         .zip(&res.boundaries)
         .map(|(v, b)| match b {
-            Some(b) if b.fold.half_dt_holds == Some(false) => *v,
+            // A fold with an uncertainty has it drawn as an error bar that covers dt/2.
+            Some(b) if b.fold.half_dt_holds == Some(false) && !b.fold.uncertainty.is_finite() => *v,
             _ => f64::NAN,
         })
         .collect();
+    if let Some(bars) = fold_error_bars(plan, res, &fold) {
+        let (xs, ys) = place(bars);
+        // The bars run along the bisected axis: the other coordinate repeats each point's.
+        let (xs, ys) = match dpos {
+            Some(0) => (repeat3(&xs), ys),
+            _ => (xs, repeat3(&ys)),
+        };
+        curves.push(Curve {
+            label: "fold uncertainty (covers dt, dt/2, longer horizon)".into(),
+            xs,
+            ys,
+            color: Rgb(90, 90, 90),
+            points_only: false,
+        });
+    }
     let mut marks = Vec::new();
+    let flips: Vec<f64> = fold
+        .iter()
+        .zip(&res.boundaries)
+        .map(|(v, b)| match b {
+            Some(b) if b.fold.changes > 1 => *v,
+            _ => f64::NAN,
+        })
+        .collect();
+    if flips.iter().any(|v| v.is_finite()) {
+        let (xs, ys) = place(flips);
+        marks.push(Marks {
+            label:
+                "fold: the regime changes more than once along the damping (the last change shown)"
+                    .into(),
+            xs,
+            ys,
+            glyph: Glyph::Square,
+            fill: Rgb(230, 60, 60),
+        });
+    }
     if moved.iter().any(|v| v.is_finite()) {
         let (xs, ys) = place(moved);
         // A diamond, not a line: the fold's own line runs under these points.
@@ -158,6 +194,30 @@ fn boundary_lines(
         });
     }
     (curves, marks)
+}
+
+/// The fold's error bars, `fold -+ uncertainty` per boundary, as one list of values along
+/// the bisected axis: `[lo, hi, NaN]` per boundary (the NaN breaks the line between bars);
+/// `None` when no fold has an uncertainty.
+fn fold_error_bars(plan: &AtlasPlan, res: &AtlasResults, fold: &[f64]) -> Option<Vec<f64>> {
+    let errs = boundary_values(plan, res, |b| Boundary {
+        nu: b.fold.uncertainty,
+        ..b.fold
+    });
+    if !errs.iter().any(|e| e.is_finite() && *e > 0.0) {
+        return None;
+    }
+    Some(
+        fold.iter()
+            .zip(&errs)
+            .flat_map(|(&v, &e)| [v - e, v + e, f64::NAN])
+            .collect(),
+    )
+}
+
+/// Each value three times (the other coordinate of [`fold_error_bars`]' triples).
+fn repeat3(v: &[f64]) -> Vec<f64> {
+    v.iter().flat_map(|&x| [x, x, x]).collect()
 }
 
 /// The operating point and the disturbance box of the basin fraction, with their units.
@@ -306,5 +366,25 @@ fn boundary_verticals(plan: &AtlasPlan, res: &AtlasResults, a: &AtlasAxis, top: 
             points_only: false,
         })
     })
+    .chain(fold_bar(plan, res, &units, top))
     .collect()
+}
+
+/// The fold's uncertainty in a bifurcation diagram: a horizontal bar `fold -+ uncertainty`
+/// just above the drawn values, its width in the legend.
+fn fold_bar(plan: &AtlasPlan, res: &AtlasResults, units: &str, top: f64) -> Option<Curve> {
+    let fold = *boundary_values(plan, res, |b| b.fold).first()?;
+    let bars = fold_error_bars(plan, res, &[fold])?;
+    let e = 0.5 * (bars[1] - bars[0]);
+    let y = 1.02 * top.max(1e-12);
+    Some(Curve {
+        label: format!(
+            "fold uncertainty (covers dt, dt/2, longer horizon): +- {}{units}",
+            crate::fmt_value(e)
+        ),
+        xs: bars[..2].to_vec(),
+        ys: vec![y, y],
+        color: Rgb(90, 90, 90),
+        points_only: false,
+    })
 }

@@ -169,6 +169,8 @@ pub enum Glyph {
     TriangleDown,
     /// A diamond.
     Diamond,
+    /// A square.
+    Square,
 }
 
 impl Glyph {
@@ -178,6 +180,7 @@ impl Glyph {
             Glyph::TriangleUp => vec![(0, -7), (-7, 6), (7, 6)],
             Glyph::TriangleDown => vec![(0, 7), (-7, -6), (7, -6)],
             Glyph::Diamond => vec![(0, -8), (-7, 0), (0, 8), (7, 0)],
+            Glyph::Square => vec![(-6, -6), (6, -6), (6, 6), (-6, 6)],
         }
     }
 

@@ -35,14 +35,11 @@
 
 use serde::Serialize;
 
-use squeal_core::{Params, Setup};
+use squeal_core::Setup;
 
 use crate::error::ScanError;
-use crate::scanner::{Outside, outside_of};
-use crate::section::{
-    ParamRange, RESOLUTION, RISE_FACTOR, ReturnMap, SectionCycles, Work, geometric_bisection,
-    section_cycles,
-};
+use crate::scanner::{Outside, outside_with};
+use crate::section::{RESOLUTION, RISE_FACTOR, ReturnMap, SectionCycles, Work, section_cycles};
 use crate::ulc::CycleSettings;
 
 /// Uniform samples of `P` over the band.
@@ -83,7 +80,13 @@ impl Band {
 /// search's first crossing with `D <= 0` above the cycle, say) and further out while the
 /// largest return exceeds the sampled range. Counted in `w`.
 pub fn band_above(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> Band {
-    let (mut rs, mut ps) = uniform(map, r_u, top, w);
+    band_above_n(map, r_u, top, NSAMPLES, w)
+}
+
+/// [`band_above`] with `n` uniform samples instead of [`NSAMPLES`] (the longer horizon of
+/// [`Budget::Longer`]).
+pub fn band_above_n(map: &ReturnMap, r_u: f64, top: f64, n: usize, w: &mut Work) -> Band {
+    let (mut rs, mut ps) = uniform(map, r_u, top, n, w);
     let Some(s) = (0..rs.len()).find(|&i| ps[i] <= rs[i]) else {
         return Band::NoTop;
     };
@@ -99,7 +102,7 @@ pub fn band_above(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> Band {
     rs.truncate(end + 1);
     ps.truncate(end + 1);
     let (mut rs, mut ps) = (rs.split_off(s), ps.split_off(s));
-    let unresolved = refine_dips(map, r_u, (&mut rs, &mut ps), w);
+    let unresolved = refine_dips(map, r_u, (&mut rs, &mut ps), 4 * n, w);
     let m = (0..rs.len())
         .min_by(|&i, &j| ps[i].total_cmp(&ps[j]))
         .unwrap_or(0);
@@ -121,13 +124,13 @@ pub fn band_above(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> Band {
     }
 }
 
-/// [`NSAMPLES`] returns `(r, P(r))` uniform on `(r_u, 1.1 top]`, widened (twice at most)
-/// while the largest return lies above the range.
-fn uniform(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> (Vec<f64>, Vec<f64>) {
+/// `n` returns `(r, P(r))` uniform on `(r_u, 1.1 top]`, widened (twice at most) while the
+/// largest return lies above the range.
+fn uniform(map: &ReturnMap, r_u: f64, top: f64, n: usize, w: &mut Work) -> (Vec<f64>, Vec<f64>) {
     let mut top = 1.1 * top.max(r_u);
     for _ in 0..3 {
-        let h = (top - r_u) / NSAMPLES as f64;
-        let rs: Vec<f64> = (1..=NSAMPLES).map(|i| r_u + h * i as f64).collect();
+        let h = (top - r_u) / n as f64;
+        let rs: Vec<f64> = (1..=n).map(|i| r_u + h * i as f64).collect();
         let ps: Vec<f64> = rs.iter().map(|&r| r + map.d(r, w)).collect();
         let b = ps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         if b <= top {
@@ -135,15 +138,15 @@ fn uniform(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> (Vec<f64>, Vec<
         }
         top = 1.1 * b;
     }
-    let h = (top - r_u) / NSAMPLES as f64;
-    let rs: Vec<f64> = (1..=NSAMPLES).map(|i| r_u + h * i as f64).collect();
+    let h = (top - r_u) / n as f64;
+    let rs: Vec<f64> = (1..=n).map(|i| r_u + h * i as f64).collect();
     let ps = rs.iter().map(|&r| r + map.d(r, w)).collect();
     (rs, ps)
 }
 
 /// Halves the intervals of the band's samples where `P` could dip below `r_u` between two
-/// samples, down to the relative width [`RESOLUTION`]; returns how many such intervals are
-/// left (budget spent, or at the resolution).
+/// samples, down to the relative width [`RESOLUTION`] or `budget` extra returns; returns how
+/// many such intervals are left (budget spent, or at the resolution).
 ///
 /// `P` jumps where orbits begin to stick, so no slope bounds it across an interval with a
 /// jump; between jumps it is smooth. An interval is cleared when
@@ -154,6 +157,7 @@ fn refine_dips(
     map: &ReturnMap,
     r_u: f64,
     (rs, ps): (&mut Vec<f64>, &mut Vec<f64>),
+    budget: usize,
     w: &mut Work,
 ) -> usize {
     let slope = |rs: &[f64], ps: &[f64], j: usize| (ps[j + 1] - ps[j]).abs() / (rs[j + 1] - rs[j]);
@@ -172,7 +176,7 @@ fn refine_dips(
             i += 1;
             continue;
         }
-        if h <= RESOLUTION * rs[i] || extra >= 4 * NSAMPLES {
+        if h <= RESOLUTION * rs[i] || extra >= budget {
             unresolved += 1;
             i += 1;
             continue;
@@ -235,15 +239,58 @@ pub enum Lasting {
     Quiet,
 }
 
+/// How hard the band's verdict looks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Budget {
+    /// [`NSAMPLES`] uniform samples of the band, the settings' `t_return`.
+    Standard,
+    /// The longer horizon: twice the samples (and twice the refinement budget) and twice
+    /// `t_return` (the longest single revolution). The verdict is a property of the return
+    /// map, not of a run's length; these are what it does depend on.
+    Longer,
+}
+
+impl Budget {
+    /// Uniform samples of the band.
+    pub fn samples(self) -> usize {
+        match self {
+            Budget::Standard => NSAMPLES,
+            Budget::Longer => 2 * NSAMPLES,
+        }
+    }
+
+    /// The cycle settings `cs` with this budget's `t_return`.
+    pub fn settings(self, cs: &CycleSettings) -> CycleSettings {
+        match self {
+            Budget::Standard => *cs,
+            Budget::Longer => CycleSettings {
+                t_return: 2.0 * cs.t_return,
+                ..*cs
+            },
+        }
+    }
+}
+
 /// [`Lasting`] at `setup`, from the section searched with `cs`.
 pub fn lasting(setup: Setup, cs: &CycleSettings) -> Result<Lasting, ScanError> {
+    lasting_with(setup, cs, Budget::Standard)
+}
+
+/// [`lasting`] with the band looked at with `budget`.
+pub fn lasting_with(
+    setup: Setup,
+    cs: &CycleSettings,
+    budget: Budget,
+) -> Result<Lasting, ScanError> {
     let st = setup.stepper()?;
+    let cs = &budget.settings(cs);
     let (mut stats, mut returns) = (Default::default(), 0);
     let found = section_cycles(&st, cs, &mut stats, &mut returns);
     Ok(match found {
         SectionCycles::FixedPointUnstable { .. } => Lasting::Squeals,
         SectionCycles::NoneBelow { .. } => Lasting::Quiet,
-        SectionCycles::Unstable { .. } => match outside_of(&st, cs, &found) {
+        SectionCycles::Unstable { .. } => match outside_with(&st, cs, &found, budget.samples()) {
             Some(Outside::Escapes { band, .. }) => match band {
                 Band::Trapped { .. } => Lasting::Squeals,
                 Band::Leaks { .. } => Lasting::Quiet,
@@ -254,67 +301,8 @@ pub fn lasting(setup: Setup, cs: &CycleSettings) -> Result<Lasting, ScanError> {
     })
 }
 
-/// The crisis of the stick-slip band in the damping: where squeal stops lasting.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Crisis {
-    /// The bisected interval at the setup's `dt`: squeal lasts at its lower end (the last
-    /// value seen [`Lasting::Squeals`]) and no longer at its upper end (the first seen
-    /// [`Lasting::Quiet`]); in between the verdict is undecided or the bracket's width.
-    pub interval: [f64; 2],
-    /// The same at `dt / 2`.
-    pub half_dt: [f64; 2],
-    /// The fold: the middle of the union of both intervals (so `nu -+ uncertainty` is that
-    /// union).
-    pub nu: f64,
-    /// Half the union's width: the stated uncertainty, covering both steps.
-    pub uncertainty: f64,
-    /// Verdicts computed.
-    pub evaluations: u32,
-}
-
-/// The crisis in `nu` over `range`: two geometric bisections at `dt` (the last value where
-/// squeal lasts, the first where it is quiet) and the same at `dt / 2`. The fold is stated
-/// as the union of the four brackets, so its uncertainty covers the step's effect and the
-/// marginal zone. The verdicts are properties of the return map, not of a run's horizon,
-/// so a longer horizon does not move them (only `t_return`, the longest single
-/// revolution, enters).
-pub fn crisis_nu(setup: Setup, cs: &CycleSettings, range: ParamRange) -> Result<Crisis, ScanError> {
-    let mut evaluations = 0;
-    let mut one = |setup: Setup| -> Result<[f64; 2], ScanError> {
-        let at = |nu: f64| lasting(setup.with_params(Params { nu, ..setup.params }), cs);
-        let ends = [at(range.lo)?, at(range.hi)?];
-        if ends[0] != Lasting::Squeals || ends[1] != Lasting::Quiet {
-            return Err(ScanError::Undetermined(format!(
-                "the crisis needs squeal lasting at nu = {} and quiet at {}: found {:?}",
-                range.lo, range.hi, ends
-            )));
-        }
-        let (lo, n1) = geometric_bisection(
-            |nu| Ok::<_, ScanError>(at(nu)? != Lasting::Squeals),
-            (range.lo, range.hi),
-            range.rtol,
-            200,
-        )?;
-        let (hi, n2) = geometric_bisection(
-            |nu| Ok::<_, ScanError>(at(nu)? == Lasting::Quiet),
-            (lo.0, range.hi),
-            range.rtol,
-            200,
-        )?;
-        evaluations += n1 + n2;
-        Ok([lo.0, hi.1])
-    };
-    let interval = one(setup)?;
-    let half_dt = one(setup.half_dt())?;
-    let (a, b) = (interval[0].min(half_dt[0]), interval[1].max(half_dt[1]));
-    Ok(Crisis {
-        interval,
-        half_dt,
-        nu: 0.5 * (a + b),
-        uncertainty: 0.5 * (b - a),
-        evaluations,
-    })
-}
+mod crisis;
+pub use crisis::{COARSE, Crisis, CrisisStatus, Variant, crisis_in, crisis_nu};
 
 /// The stick-slip band above the unstable cycle crossing at `r_u`, as the sampled interval
 /// `[s, b]` of the section ([`band_above`]'s samples): `s` the first sampled start above the
@@ -322,7 +310,7 @@ pub fn crisis_nu(setup: Setup, cs: &CycleSettings, range: ParamRange) -> Result<
 /// largest sampled return (the band's top). `None` if every sample rises. The starts of the
 /// transient lifetimes ([`crate::lifetime`]).
 pub fn band_span(map: &ReturnMap, r_u: f64, top: f64, w: &mut Work) -> Option<(f64, f64)> {
-    let (rs, ps) = uniform(map, r_u, top, w);
+    let (rs, ps) = uniform(map, r_u, top, NSAMPLES, w);
     let s = (0..rs.len()).find(|&i| ps[i] <= rs[i])?;
     let b = ps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     (b > rs[s]).then_some((rs[s], b))

@@ -6,8 +6,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 use squeal_core::stick::StickCycle;
 use squeal_core::{
-    Classifier, FrictionLaw, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts, SolverStats,
-    State, Stepper, Trap,
+    Classifier, FrictionLaw, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts,
+    SolverStats, State, Stepper, Trap,
 };
 
 use crate::band::Band;
@@ -313,6 +313,17 @@ impl Outside {
 /// scan's maps, `classify`, `trajectory` ([`classifier_for`]) and the atlas's confirmation
 /// runs.
 pub fn outside_of(stepper: &Stepper, cs: &CycleSettings, found: &SectionCycles) -> Option<Outside> {
+    outside_with(stepper, cs, found, crate::band::NSAMPLES)
+}
+
+/// [`outside_of`] with the band sampled at `samples` uniform points
+/// ([`crate::band::band_above_n`]).
+pub fn outside_with(
+    stepper: &Stepper,
+    cs: &CycleSettings,
+    found: &SectionCycles,
+    samples: usize,
+) -> Option<Outside> {
     let SectionCycles::Unstable {
         r,
         stable_above,
@@ -329,7 +340,13 @@ pub fn outside_of(stepper: &Stepper, cs: &CycleSettings, found: &SectionCycles) 
             let top = stable_above.unwrap_or(2.0 * r);
             Outside::Escapes {
                 r_escape,
-                band: crate::band::band_above(&map, r, top, &mut section::Work::default()),
+                band: crate::band::band_above_n(
+                    &map,
+                    r,
+                    top,
+                    samples,
+                    &mut section::Work::default(),
+                ),
             }
         }
     })

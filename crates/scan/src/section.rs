@@ -245,9 +245,7 @@ pub fn coarse_changes<E>(
     n: usize,
 ) -> Result<Vec<Change>, E> {
     let n = n.max(1);
-    let vs: Vec<f64> = (0..=n)
-        .map(|i| (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / n as f64).exp())
-        .collect();
+    let vs = geometric_steps((lo, hi), n);
     let mut at = Vec::with_capacity(vs.len());
     for &v in &vs {
         at.push(pred(v)?);
@@ -260,6 +258,14 @@ pub fn coarse_changes<E>(
             to: at[i + 1],
         })
         .collect())
+}
+
+/// `n + 1` values over `[lo, hi]` in `n` equal steps of `ln v`, both ends included: the
+/// values [`coarse_changes`] evaluates.
+pub fn geometric_steps((lo, hi): (f64, f64), n: usize) -> Vec<f64> {
+    (0..=n)
+        .map(|i| (lo.ln() + (hi.ln() - lo.ln()) * i as f64 / n as f64).exp())
+        .collect()
 }
 
 /// Where the return map changes sign.

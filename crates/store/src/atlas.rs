@@ -45,6 +45,10 @@
 //!                 fold_v_d, ...)
 //!   fold_half_dt, critical_half_dt  u8 {moves=0, holds=1, not_checked=255}: the
 //!                 bracket's predicate again at dt/2 at both ends
+//!   fold_nu_err   f64: the fold's uncertainty (McMillan's laws: the crisis of the band,
+//!                 the fold is fold_nu -+ fold_nu_err at dt, dt/2 and the longer horizon)
+//!   fold_changes  u32: changes of regime the coarse scan found before bisecting (> 1:
+//!                 the regime flips along the parameter; the note lists it)
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m
 //!   boundary_note                 string: why a search was not computed
 //!   boundaries_done               u8
@@ -263,6 +267,7 @@ pub fn unit_json(r: &UnitResult) -> Value {
             "critical_evaluations": b.critical.evaluations,
             "fold_half_dt": b.fold.half_dt_holds,
             "critical_half_dt": b.critical.half_dt_holds,
+            "fold_changes": b.fold.changes,
             "note": b.note,
             "v": BOUNDARY_COLUMNS.iter().map(|c| num((c.get)(b))).collect::<Vec<_>>(),
         }),
@@ -290,6 +295,7 @@ fn unit_from_json(v: &Value) -> Option<UnitResult> {
     b.critical.evaluations = v.get("critical_evaluations")?.as_u64()? as u32;
     b.fold.half_dt_holds = v.get("fold_half_dt").and_then(Value::as_bool);
     b.critical.half_dt_holds = v.get("critical_half_dt").and_then(Value::as_bool);
+    b.fold.changes = v.get("fold_changes").and_then(Value::as_u64).unwrap_or(0) as u32;
     b.note = v.get("note").and_then(|n| n.as_str()).map(str::to_string);
     let vals = v.get("v")?.as_array()?;
     if vals.len() != BOUNDARY_COLUMNS.len() {
@@ -579,6 +585,8 @@ fn flags(ds: &Dataset, meanings: &str, values: &[u8]) -> hdf5::Result<()> {
 /// Long names of the boundaries' dt/2 checks.
 const HALF_DT_FOLD: &str = "fold of cycles: 1 if at dt/2 the predicate still holds at both ends of the bracket (the fold at dt/2 lies in it), 0 if it moved out, 255 not checked";
 const HALF_DT_CRITICAL: &str = "critical value: 1 if at dt/2 the operating point still squeals at the lower end and is quiet at the upper, 0 if the boundary moved out, 255 not checked";
+
+const FOLD_CHANGES: &str = "fold: changes of regime (squeal lasting or not) the coarse scan found along the bisected parameter before bisecting; more than 1: the regime flips back and forth and the fold is the last change (0: no coarse scan)";
 
 /// The stored value of a dt/2 check.
 fn half_dt_u8(h: Option<bool>) -> u8 {
@@ -1003,6 +1011,18 @@ fn write_all(
             notes,
             &bscales,
         )?;
+        let changes: Vec<u32> = bs
+            .iter()
+            .map(|b| b.as_ref().map_or(0, |b| b.fold.changes))
+            .collect();
+        put(
+            file,
+            dims,
+            ("fold_changes", FOLD_CHANGES, Some("1")),
+            &bshape,
+            changes,
+            &bscales,
+        )?;
         let done: Vec<u8> = bs.iter().map(|b| u8::from(b.is_some())).collect();
         put(
             file,
@@ -1403,6 +1423,14 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             }
         };
         let (fh, ch) = (half("fold_half_dt")?, half("critical_half_dt")?);
+        // Files written before the coarse scan lack it: 0, none.
+        let fold_changes: Vec<u32> = if file.link_exists("fold_changes") {
+            file.dataset("fold_changes")
+                .and_then(|d| d.read_raw())
+                .h5(path)?
+        } else {
+            Vec::new()
+        };
         let holds = |v: &[u8], j: usize| match v.get(j) {
             Some(1) => Some(true),
             Some(0) => Some(false),
@@ -1412,9 +1440,16 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
             .dataset("boundary_note")
             .and_then(|d| d.read_raw())
             .h5(path)?;
+        // Files written before the fold's uncertainty lack fold_nu_err: NaN, not estimated.
         let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
             .iter()
-            .map(|c| rd_f64(&plan.boundary_dataset(c.name, c.long_name).0))
+            .map(|c| {
+                let name = plan.boundary_dataset(c.name, c.long_name).0;
+                match file.link_exists(&name) {
+                    true => rd_f64(&name),
+                    false => Ok(vec![f64::NAN; plan.n_boundaries()]),
+                }
+            })
             .collect::<Result<_, _>>()?;
         for j in 0..plan.n_boundaries() {
             if done.get(j) != Some(&1) {
@@ -1426,6 +1461,7 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
                 BoundaryStatus::from_u8(cs[j]).unwrap_or(BoundaryStatus::NotComputed);
             b.fold.half_dt_holds = holds(&fh, j);
             b.critical.half_dt_holds = holds(&ch, j);
+            b.fold.changes = fold_changes.get(j).copied().unwrap_or(0);
             for (c, v) in BOUNDARY_COLUMNS.iter().zip(&cols) {
                 (c.set)(&mut b, v[j]);
             }

@@ -128,11 +128,14 @@ fn boundary_json(plan: &AtlasPlan, j: usize, b: Option<&BoundaryResult>) -> Valu
                 "bracket": [num(bd.bracket[0]), num(bd.bracket[1])],
                 "evaluations": bd.evaluations,
                 "half_dt_holds": bd.half_dt_holds,
+                "uncertainty": num(bd.uncertainty),
+                "changes": bd.changes,
             });
             if let Some((v, units)) = plan.boundary_si(i, bd.nu) {
                 let si = |x| plan.boundary_si(i, x).map_or(f64::NAN, |(y, _)| y);
                 e[format!("{dkey}_si")] = json!({"value": num(v), "units": units,
-                    "bracket": [num(si(bd.bracket[0])), num(si(bd.bracket[1]))]});
+                    "bracket": [num(si(bd.bracket[0])), num(si(bd.bracket[1]))],
+                    "uncertainty": num(si(bd.uncertainty))});
             }
             o[name] = e;
         }

@@ -1,12 +1,15 @@
 //! Boundaries in the damping `nu` or the belt speed `lambda` ([`BoundaryParam`]), located
 //! by bisection (not read off pixels):
 //!
-//! * the **fold of cycles** [`fold_nu`]: the damping above which no start squeals. Below it
-//!   the return map `D(r) = P(r) - r` has a positive window between the unstable cycle and
-//!   the stick-slip oscillation; at the fold they meet and the window closes. The predicate
-//!   "some `D > 0`" uses the tangency check of [`crate::section::search_cold`].
+//! * the **fold** [`fold_nu`]: the damping above which no start squeals for good. For
+//!   McMillan's hysteretic law it is the crisis of the stick-slip band ([`fold_crisis`],
+//!   [`crate::band::crisis_in`]: a coarse scan for every change of regime, bisections at
+//!   dt, an uncertainty covering dt/2 and a longer horizon). For the non-hysteretic law and
+//!   laws with true stick it is the bisection of "some start stays on stick-slip for the
+//!   attractor's window" ([`quiet_everywhere`]; why: [`crisis_applies`]).
 //! * the **critical damping** [`critical_nu`] of the operating point: the damping at which
-//!   the unstable cycle first encloses it (from then on it does not squeal). Above the fold
+//!   the unstable cycle first encloses it, or (hysteretic law) the band above the cycle
+//!   leaks (from then on it does not squeal). Above the fold
 //!   there is no cycle and nothing squeals, which counts as enclosed (as in
 //!   [`crate::ulc::point_enclosed`]), so the critical damping never exceeds the fold.
 //!
@@ -14,18 +17,18 @@
 //! the value. When the predicate does not change sign over `[lo, hi]`, the status says on
 //! which side the boundary lies. In `lambda` the same predicates are bisected: the
 //! operating point is quiet above the **critical belt speed** ([`critical_in`]) and no
-//! start squeals above the **fold in lambda** ([`fold_in`]). That each predicate changes
-//! sign once in the range is an assumption (true of the 64 x 64 chart at Table 1's tau and
-//! phi, `scans/atlas-lambda-nu.toml`: the critical damping falls with lambda, the fold
-//! rises then falls); a second crossing is not looked for.
+//! start squeals above the **fold in lambda** ([`fold_in`]). The crisis's coarse scan finds
+//! every change of regime along the parameter (more than one: `Boundary::changes`); the
+//! other bisections assume one change in the range, and a second crossing is not looked
+//! for there.
 //!
 //! Each bisection step warm-starts its cycle search from the crossing at the nearest value
 //! already analysed ([`Crossings`]; the warm bracket is kept only once checked, as for the
 //! points along a line), and the shared search ([`both_in`]) runs the stick-slip attractor
 //! only where a predicate needs it.
 //!
-//! **Accuracy of the fold (known limitation, measured per boundary).** Near the fold the
-//! predicate is not a clean step: whether a start outside the cycle stays on stick-slip for
+//! **Accuracy of the window predicate (why the hysteretic fold is now the crisis).** Near
+//! the fold the predicate is not a clean step: whether a start outside the cycle stays on stick-slip for
 //! the attractor window depends on digits far below any tolerance (runs linger on the ghost
 //! of the vanished stable cycle, or in a band the return map can jump out of, and then fall
 //! inside). A change of the cycle's crossing by 1e-10 (false position instead of bisection,
@@ -43,6 +46,7 @@ use squeal_core::{Params, Setup, State};
 
 use super::attractor::{StickFail, find_stick_slip};
 use super::point::{PointSettings, analyse, settings_for};
+use crate::band::{Budget, Crisis, CrisisStatus, Variant, crisis_in};
 use crate::error::ScanError;
 use crate::section::{ParamRange, Search};
 
@@ -161,6 +165,20 @@ pub struct Boundary {
     /// `Some(false)` when it moved out, `None` when not checked (not found, a failed run).
     #[serde(default)]
     pub half_dt_holds: Option<bool>,
+    /// Half the width of the interval that holds the boundary at dt, at dt / 2 and with the
+    /// longer horizon (the fold of McMillan's laws, [`crate::band::crisis_in`]: `nu -+
+    /// uncertainty`); NaN where not estimated.
+    #[serde(default = "nan")]
+    pub uncertainty: f64,
+    /// Changes of regime the coarse scan before the bisection found along the parameter (0:
+    /// no coarse scan); more than one: the regime flips back and forth, and this boundary is
+    /// the last of them.
+    #[serde(default)]
+    pub changes: u32,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 impl Boundary {
@@ -172,6 +190,27 @@ impl Boundary {
             bracket: [f64::NAN; 2],
             evaluations: 0,
             half_dt_holds: None,
+            uncertainty: f64::NAN,
+            changes: 0,
+        }
+    }
+
+    /// The fold as the crisis `c` found over `range` (its status as the bisection's).
+    pub fn from_crisis(c: &Crisis) -> Boundary {
+        let status = match c.status {
+            CrisisStatus::Found => BoundaryStatus::Found,
+            CrisisStatus::BelowRange => BoundaryStatus::BelowRange,
+            CrisisStatus::AboveRange => BoundaryStatus::AboveRange,
+        };
+        let found = status == BoundaryStatus::Found;
+        Boundary {
+            status,
+            nu: c.nu,
+            bracket: c.interval,
+            evaluations: c.evaluations,
+            half_dt_holds: found.then_some(c.half_dt_holds),
+            uncertainty: c.uncertainty,
+            changes: c.changes.len() as u32,
         }
     }
 }
@@ -198,6 +237,8 @@ pub fn bisect_nu(
         bracket: [nu_lo, nu_hi],
         evaluations: 2,
         half_dt_holds: None,
+        uncertainty: f64::NAN,
+        changes: 0,
     };
     if pred(nu_lo)? {
         b.status = BoundaryStatus::BelowRange;
@@ -263,15 +304,66 @@ pub fn point_quiet(setup: Setup, ps: &PointSettings, point: State) -> Result<boo
     Evaluator::new(BoundaryParam::Nu, setup, ps, point).answer(setup.params.nu, Which::Critical)
 }
 
-/// The fold of cycles in `param`: the value above which no start squeals.
+/// The fold in `param`: the value above which no start squeals for good. For McMillan's
+/// laws the crisis of the stick-slip band ([`fold_crisis`], with [`crate::band::COARSE`]
+/// coarse steps); for laws with true stick (no band to leak) the bisection of "no start
+/// stays on stick-slip for the attractor's window" ([`quiet_everywhere`]).
 pub fn fold_in(
     param: BoundaryParam,
     setup: Setup,
     ps: &PointSettings,
     range: ParamRange,
 ) -> Result<Boundary, ScanError> {
+    if crisis_applies(setup.params.law) {
+        let c = fold_crisis(
+            param,
+            setup,
+            ps,
+            range,
+            (crate::band::COARSE, Budget::Standard),
+        )?;
+        return Ok(Boundary::from_crisis(&c));
+    }
     let e = Evaluator::new(param, setup, ps, State { x: 0.0, v: 0.0 });
     bisect_nu(|v| e.answer(v, Which::Fold), range)
+}
+
+/// Whether the fold of `law` is the crisis of the band ([`fold_crisis`]): McMillan's
+/// hysteretic law only. Laws with true stick have no band to leak. For the non-hysteretic
+/// law the section's return map misses a stick-slip orbit that runs keep: at Table 1's
+/// lambda, tau, phi and nu = 0.0403 (dt 0.01) the section search finds `D < 0` up to r = 6
+/// (`squeal ulc --law mcmillan-nonhysteretic --nu 0.0403 --dt 0.01`), so the band's verdict
+/// says quiet, while `squeal trajectory` with the same flags from (1, 3) still oscillates at
+/// t = 20000 with section amplitude 2.946; its crisis would lie at 0.0390, below that run.
+/// There the fold stays the bisection of "no start stays on stick-slip for the attractor's
+/// window" (0.04106 at dt 0.01, above the run), until the section map sees that orbit.
+pub fn crisis_applies(law: squeal_core::FrictionLaw) -> bool {
+    law == squeal_core::FrictionLaw::McMillan
+}
+
+/// The crisis of the stick-slip band in `param` over `range` ([`crate::band::crisis_in`]:
+/// a coarse scan of `coarse` steps, the bisections, the uncertainty covering dt/2 and the
+/// longer horizon; `base` the budget at dt and dt/2, [`Budget::Standard`] but for the
+/// longer horizon's own crisis), the section searched with the point's settings at each
+/// value ([`settings_for`]: `r_max` at least `2 lambda`).
+pub fn fold_crisis(
+    param: BoundaryParam,
+    setup: Setup,
+    ps: &PointSettings,
+    range: ParamRange,
+    (coarse, base): (usize, Budget),
+) -> Result<Crisis, ScanError> {
+    if !(range.lo > 0.0 && range.hi > range.lo && range.hi.is_finite() && range.rtol > 0.0) {
+        return Err(ScanError::Undetermined(format!(
+            "bracket [{}, {}] / rtol {}: need 0 < lo < hi, rtol > 0",
+            range.lo, range.hi, range.rtol
+        )));
+    }
+    let verdict = |v: f64, which: Variant| {
+        let s = setup.with_params(param.with(setup.params, v));
+        which.lasting(s, &settings_for(&s.params, &ps.cycle), base)
+    };
+    crisis_in(verdict, range, coarse)
 }
 
 /// The critical value of `param` for `point`: above it the point does not squeal.
@@ -302,19 +394,47 @@ pub fn both_in(
     range: ParamRange,
     [fold, critical]: [bool; 2],
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
+    both_with(
+        param,
+        setup,
+        (ps, point),
+        range,
+        [fold, critical],
+        crate::band::COARSE,
+    )
+}
+
+/// [`both_in`] with `coarse` steps of the fold's coarse scan (the atlas's
+/// `[boundaries] coarse`).
+pub fn both_with(
+    param: BoundaryParam,
+    setup: Setup,
+    (ps, point): (&PointSettings, State),
+    range: ParamRange,
+    [fold, critical]: [bool; 2],
+    coarse: usize,
+) -> [Option<Result<Boundary, ScanError>>; 2] {
     let at_dt = Evaluator::new(param, setup, ps, point);
     let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), range);
-    let mut out = [
-        fold.then(|| run(Which::Fold)),
-        critical.then(|| run(Which::Critical)),
-    ];
+    // The fold of McMillan's laws is the crisis, its uncertainty covering dt/2 already.
+    let crisis = crisis_applies(setup.params.law);
+    let fold_of = || match crisis {
+        true => fold_crisis(param, setup, ps, range, (coarse, Budget::Standard))
+            .map(|c| Boundary::from_crisis(&c)),
+        false => run(Which::Fold),
+    };
+    let mut out = [fold.then(fold_of), critical.then(|| run(Which::Critical))];
     // The accuracy of each bracket: its predicate again at its ends with dt / 2. Near the
     // fold the stick-slip test is a finite run beside a boundary crisis (runs outside the
     // cycle can linger for many revolutions and then fall inside), so the bracket at dt can
     // be off by far more than its width; this says where it holds.
     let half = Evaluator::new(param, setup.half_dt(), ps, point);
     let which = [Which::Fold, Which::Critical];
-    check_half_dt(&mut out, |i, v| half.answer(v, which[i]).ok());
+    check_half_dt(&mut out, |i, v| match (i, crisis) {
+        // The crisis checked its own bracket at dt / 2.
+        (0, true) => None,
+        _ => half.answer(v, which[i]).ok(),
+    });
     out
 }
 
@@ -328,7 +448,7 @@ pub fn check_half_dt(
 ) {
     for (i, b) in out.iter_mut().enumerate() {
         let Some(Ok(b)) = b else { continue };
-        if b.status != BoundaryStatus::Found {
+        if b.status != BoundaryStatus::Found || b.half_dt_holds.is_some() {
             continue;
         }
         b.half_dt_holds = match (at_half_dt(i, b.bracket[0]), at_half_dt(i, b.bracket[1])) {
@@ -397,10 +517,15 @@ impl<'a> Evaluator<'a> {
             .cycle
             .as_ref()
             .is_some_and(|rep| rep.encloses(self.point.x, self.point.v));
+        // McMillan's laws: outside the cycle the operating point squeals unless the band
+        // above the cycle leaks (the rule of `squeal critical` from a start,
+        // `crate::ulc::point_side`, and of the fold's crisis), not by a stick-slip run that
+        // may sit on a leaking band for its whole window.
+        let band_rule = crisis_applies(p.law);
         let needs_stick = match (which, &a.search) {
             (_, Search::NoneBelow { .. }) => false,
             (Which::Critical, Search::FixedPointUnstable { .. }) => false,
-            (Which::Critical, _) => !encloses,
+            (Which::Critical, _) => !encloses && !band_rule,
             (Which::Fold, _) => true,
         };
         if needs_stick && a.stick.is_none() {
@@ -425,6 +550,10 @@ impl<'a> Evaluator<'a> {
                 (Search::NoneBelow { .. }, _, _) => Ok(true),
                 (Search::FixedPointUnstable { .. }, _, _) => Ok(false),
                 (_, Some(_), _) if encloses => Ok(true),
+                (_, Some(_), _) if band_rule => {
+                    let cs = settings_for(&p, &self.ps.cycle);
+                    Ok(crate::band::lasting(setup, &cs)? == crate::band::Lasting::Quiet)
+                }
                 (_, Some(_), Some(Ok(_))) => Ok(false),
                 (_, Some(_), Some(Err(StickFail::FellInside { .. }))) => Ok(true),
                 (_, Some(_), Some(Err(StickFail::Failed(e)))) => Err(here(e.clone())),
@@ -450,283 +579,4 @@ pub fn critical_nu(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use squeal_core::FrictionLaw;
-
-    use squeal_core::{SolverConfig, Stepper};
-
-    use super::super::point::AtlasRegime;
-    use crate::ulc::CycleSettings;
-
-    fn setup(p: Params, dt: f64) -> Setup {
-        Setup::new(p, dt, SolverConfig::default())
-    }
-
-    #[test]
-    fn bisection_finds_a_known_threshold() {
-        // Predicate nu >= 0.0123: the bracket must hold it to rtol.
-        let b = bisect_nu(|nu| Ok(nu >= 0.0123), ParamRange::new(1e-3, 1e-1, 1e-6)).unwrap();
-        assert_eq!(b.status, BoundaryStatus::Found);
-        assert!(b.bracket[0] < 0.0123 && b.bracket[1] >= 0.0123);
-        assert!(b.bracket[1] / b.bracket[0] - 1.0 <= 1e-6);
-        let b = bisect_nu(|nu| Ok(nu >= 0.5), ParamRange::new(1e-3, 1e-1, 1e-6)).unwrap();
-        assert_eq!(b.status, BoundaryStatus::AboveRange);
-        let b = bisect_nu(|_| Ok(true), ParamRange::new(1e-3, 1e-1, 1e-6)).unwrap();
-        assert_eq!(b.status, BoundaryStatus::BelowRange);
-    }
-
-    #[test]
-    fn fold_lies_where_the_nu_sweep_says_for_both_laws() {
-        for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
-            let base = Params::paper(law, 0.0);
-            let b = fold_nu(
-                setup(base, 0.01),
-                &PointSettings::default(),
-                ParamRange::new(1e-3, 0.1, 1e-3),
-            )
-            .unwrap();
-            assert_eq!(b.status, BoundaryStatus::Found, "{law}");
-            if law == FrictionLaw::McMillan {
-                // MODEL.md (the hysteretic nu-sweep, scans/nu-sweep.toml): all squeal
-                // vanishes between nu = 0.019 and 0.031.
-                assert!(b.nu > 0.019 && b.nu < 0.031, "{law}: fold at {}", b.nu);
-            } else {
-                // MODEL.md: hysteresis moves the fold a lot. `squeal trajectory --law
-                // mcmillan-nonhysteretic --nu 0.039 --x0 -4 --t-end 3000` still ends on
-                // stick-slip (section amplitude 2.96), so the fold lies above 0.031 here.
-                assert!(b.nu > 0.031 && b.nu < 0.06, "{law}: fold at {}", b.nu);
-            }
-            // Independent check by runs without early stopping or section map: 10% below the
-            // fold a start at (x*, lambda) on the section stays on stick-slip (classified by
-            // the run-to-settlement rules); 3% above it, that start and a big one at (-4, 0)
-            // return to steady slip. The fold is an upper bound of where squeal ends, not
-            // the place itself: just below it the stick-slip band can already touch the
-            // unstable cycle, and big starts squeal for a while, then decay. Measured with
-            // Hermite crossings (`squeal trajectory --x0 1 --v0 3 --t-end 5000`): the fold is
-            // 2.459e-2 at dt = 0.01 and 2.438e-2 at dt = 0.005 (`squeal critical --fold`),
-            // and at dt = 0.005 the start (1, 3) reaches the fixed point by t = 410 at
-            // nu = 0.0236, 0.02365 and 0.02385 (0.97 x the fold: the check this test made
-            // before), while at nu = 0.0221, 0.0227 and 0.0230 it stays on stick-slip. Near the fold not every big start squeals: the return
-            // map jumps where the orbit starts to stick, so with the first-order hold at
-            // dt = 0.01, nu = 0.0236 (3% below this fold), `squeal trajectory --nu 0.0236
-            // --dt 0.01 --x0 1 --v0 3 --t-end 6000` still oscillates at t = 6000 while
-            // `--x0 -4 --v0 0` reaches the fixed point at t = 399: the check uses the start
-            // the fold search itself tries first.
-            let cl = squeal_core::Classifier::default();
-            for f in [0.9, 1.03] {
-                let st = Stepper::new(
-                    Params {
-                        nu: f * b.nu,
-                        ..base
-                    },
-                    0.01,
-                    SolverConfig::default(),
-                )
-                .unwrap();
-                let starts: &[State] = if f < 1.0 {
-                    &[State {
-                        x: 1.0,
-                        v: base.lambda,
-                    }]
-                } else {
-                    &[
-                        State {
-                            x: 1.0,
-                            v: base.lambda,
-                        },
-                        State { x: -4.0, v: 0.0 },
-                    ]
-                };
-                for &start in starts {
-                    // Below the fold the non-hysteretic band is irregular enough that the
-                    // classifier may leave it undecided at t_max (still 3 from the fixed
-                    // point after ~800 revolutions): what must hold is that it does not
-                    // return to steady slip.
-                    let o = cl.classify(&st, start);
-                    let steady = o.regime == squeal_core::Regime::SteadySlip;
-                    assert_eq!(
-                        steady,
-                        f > 1.0,
-                        "{law} at {f} x fold {} from {start:?}: {o:?}",
-                        b.nu
-                    );
-                }
-            }
-            // Below the fold the unstable cycle exists and grows with nu (MODEL.md).
-            let r = |nu: f64| {
-                analyse(
-                    setup(Params { nu, ..base }, 0.01),
-                    &PointSettings::default(),
-                    None,
-                    false,
-                )
-                .unwrap()
-                .cycle
-                .unwrap()
-                .r_section
-            };
-            let (r1, r2, r3) = (r(0.25 * b.nu), r(0.5 * b.nu), r(0.95 * b.nu));
-            assert!(r1 < r2 && r2 < r3, "{law}: {r1} {r2} {r3}");
-        }
-    }
-
-    #[test]
-    fn critical_matches_the_single_point_command() {
-        // `squeal critical` (ulc::critical_nu) at Table 1, rest, rtol 1e-4.
-        let base = Params::paper(FrictionLaw::McMillan, 0.0);
-        let rest = State { x: 0.0, v: 0.0 };
-        let range = ParamRange::new(1e-3, 5e-2, 1e-4);
-        let ours = critical_nu(setup(base, 0.01), &PointSettings::default(), rest, range).unwrap();
-        let theirs =
-            crate::ulc::critical_nu(setup(base, 0.01), &CycleSettings::default(), rest, range)
-                .unwrap();
-        assert_eq!(ours.status, BoundaryStatus::Found);
-        // Both brackets are 1e-4 wide (relative) and must overlap.
-        assert!(
-            ours.bracket[0] <= theirs.bracket[1] && theirs.bracket[0] <= ours.bracket[1],
-            "{:?} vs {:?}",
-            ours.bracket,
-            theirs.bracket
-        );
-        // Between the paper's two points: encloses at 1e-2, not at 1e-3.
-        assert!(ours.nu > 1e-3 && ours.nu < 1e-2);
-    }
-
-    #[test]
-    fn critical_belt_speed_flips_the_label_of_rest() {
-        // Fig 10's damping nu = 1e-2: rest squeals at low belt speed and is quiet at
-        // Table 1's lambda = 3 (paper Fig 10), so a critical belt speed lies between.
-        let base = Params::paper(FrictionLaw::McMillan, 1e-2);
-        let rest = State { x: 0.0, v: 0.0 };
-        let ps = PointSettings::default();
-        let dt = 0.01;
-        let b = critical_in(
-            BoundaryParam::Lambda,
-            setup(base, dt),
-            &ps,
-            rest,
-            ParamRange::new(1.0, 3.0, 1e-3),
-        )
-        .unwrap();
-        assert_eq!(b.status, BoundaryStatus::Found);
-        assert!(b.bracket[1] / b.bracket[0] - 1.0 <= 1e-3);
-        // Independent evidence: runs to settlement from rest (the classifier's rules, no
-        // section map), 2% below and above the bracket.
-        let cl = squeal_core::Classifier::default();
-        for (f, steady) in [(0.98 * b.bracket[0], false), (1.02 * b.bracket[1], true)] {
-            let st = Stepper::new(
-                BoundaryParam::Lambda.with(base, f),
-                dt,
-                SolverConfig::default(),
-            )
-            .unwrap();
-            let o = cl.classify(&st, rest);
-            assert_eq!(
-                o.regime == squeal_core::Regime::SteadySlip,
-                steady,
-                "lambda = {f} (critical {:?}): {o:?}",
-                b.bracket
-            );
-            // And the atlas's own label of the point.
-            let p = super::super::point::compute_point(
-                setup(BoundaryParam::Lambda.with(base, f), dt),
-                &ps,
-                None,
-            )
-            .unwrap();
-            assert_eq!(p.regime.operating_point_squeals(), Some(!steady), "{f}");
-        }
-    }
-
-    #[test]
-    fn warm_and_cold_starts_agree_across_the_fold() {
-        // A line in nu across the fold at Table 1 (MODEL.md: between 0.019 and 0.031),
-        // each point warm-started from the previous one as the atlas's lines are, against
-        // the same points searched cold.
-        let base = Params::paper(FrictionLaw::McMillan, 0.0);
-        let ps = PointSettings::default();
-        let (dt, solver) = (0.01, SolverConfig::default());
-        let nus: Vec<f64> = (0..8).map(|k| 0.012 * 1.16f64.powi(k)).collect();
-        let mut warm = None;
-        let mut n_warm = 0;
-        let mut crossed = (false, false);
-        let mut line = Vec::new();
-        for &nu in &nus {
-            let p = Setup::new(Params { nu, ..base }, dt, solver);
-            let w = super::super::point::compute_point(p, &ps, warm).unwrap();
-            let c = super::super::point::compute_point(p, &ps, None).unwrap();
-            assert_eq!(w.regime, c.regime, "nu = {nu}");
-            n_warm += usize::from(w.warm_started);
-            match (w.cycle, c.cycle) {
-                (Some(a), Some(b)) => {
-                    // Both brackets are narrower than rtol = 1e-9 (relative).
-                    let tol = 2.0 * ps.cycle.rtol * b.r_section;
-                    assert!((a.r_section - b.r_section).abs() <= tol, "nu = {nu}");
-                }
-                (None, None) => {}
-                (a, b) => panic!("nu = {nu}: warm {a:?} vs cold {b:?}"),
-            }
-            crossed.0 |= w.regime != AtlasRegime::SteadySlipOnly;
-            crossed.1 |= w.regime == AtlasRegime::SteadySlipOnly;
-            line.push(w.regime == AtlasRegime::SteadySlipOnly);
-            warm = w.cycle.map(|c| c.r_section);
-        }
-        // The line does cross the fold, and the warm starts were used.
-        assert!(crossed.0 && crossed.1, "the line should cross the fold");
-        assert!(n_warm >= 3, "{n_warm} warm starts");
-        // The bisected fold agrees with both lines: every point below its bracket has
-        // some start that squeals, every point above it none.
-        let fold = fold_nu(
-            Setup::new(base, dt, solver),
-            &ps,
-            ParamRange::new(0.012, 0.04, 1e-3),
-        )
-        .unwrap();
-        assert_eq!(fold.status, BoundaryStatus::Found);
-        for (&nu, &steady) in nus.iter().zip(&line) {
-            if nu < fold.bracket[0] {
-                assert!(!steady, "nu = {nu} below the fold {:?}", fold.bracket);
-            } else if nu > fold.bracket[1] {
-                assert!(steady, "nu = {nu} above the fold {:?}", fold.bracket);
-            }
-        }
-    }
-
-    #[test]
-    fn shared_boundaries_equal_separate_ones() {
-        // At lambda = 1 (the chart's fold and critical damping coincide below lambda ~ 1.3)
-        // and at Table 1's lambda = 3 (they differ): bit-identical to separate bisections.
-        let ps = PointSettings::default();
-        let (dt, solver) = (0.01, SolverConfig::default());
-        let rest = State { x: 0.0, v: 0.0 };
-        for lambda in [1.0, 3.0] {
-            let base = Params {
-                lambda,
-                ..Params::paper(FrictionLaw::McMillan, 0.0)
-            };
-            let (s, range) = (
-                Setup::new(base, dt, solver),
-                ParamRange::new(1e-3, 0.05, 1e-2),
-            );
-            let [f, c] = both_in(BoundaryParam::Nu, s, &ps, rest, range, [true, true]);
-            let fold = fold_nu(s, &ps, range).unwrap();
-            let crit = critical_nu(s, &ps, rest, range).unwrap();
-            let (f, c) = (f.unwrap().unwrap(), c.unwrap().unwrap());
-            // The shared search also checks each bracket at dt / 2 (the separate ones do not).
-            let unchecked = |b: Boundary| Boundary {
-                half_dt_holds: None,
-                ..b
-            };
-            assert_eq!(unchecked(f), fold, "lambda = {lambda}");
-            assert_eq!(unchecked(c), crit, "lambda = {lambda}");
-            assert!(f.half_dt_holds.is_some() && c.half_dt_holds.is_some());
-            if lambda == 3.0 {
-                // At lambda = 3 the critical damping is where the cycle comes to enclose
-                // rest: the cycle moves by about 1e-6 when dt halves (`squeal ulc`), far
-                // inside the 1% bracket, so the bracket holds at dt / 2.
-                assert_eq!(c.half_dt_holds, Some(true), "{c:?}");
-            }
-        }
-    }
-}
+mod tests;

@@ -433,6 +433,12 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         set: |b, v| b.fold.bracket[1] = v,
     },
     BoundaryColumn {
+        name: "fold_nu_err",
+        long_name: "fold of cycles: uncertainty, half the width of the interval that holds the fold at dt, dt/2 and the longer horizon (fold_nu -+ fold_nu_err; NaN: not estimated)",
+        get: |b| b.fold.uncertainty,
+        set: |b, v| b.fold.uncertainty = v,
+    },
+    BoundaryColumn {
         name: "critical_nu",
         long_name: "critical damping ratio: the operating point stops squealing above it",
         get: |b| b.critical.nu,

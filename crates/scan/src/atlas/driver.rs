@@ -133,26 +133,32 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
                     Boundary::none()
                 }
             };
-            let both = if plan.law.has_true_stick() {
-                super::stribeck::both_in
-            } else {
-                boundary::both_in
-            };
             let range = ParamRange {
                 lo: range[0],
                 hi: range[1],
                 rtol: plan.boundary_rtol,
             };
-            let [fold, critical] = both(
+            let (param, setup, which) = (
                 plan.boundary_in,
                 plan.setup_at(i),
-                &ps,
-                ps.operating,
-                range,
                 [plan.fold, plan.critical],
             );
+            let [fold, critical] = if plan.law.has_true_stick() {
+                super::stribeck::both_in(param, setup, &ps, ps.operating, range, which)
+            } else {
+                let coarse = plan.boundary_coarse;
+                boundary::both_with(param, setup, (&ps, ps.operating), range, which, coarse)
+            };
             let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));
             let critical = critical.map_or_else(Boundary::none, |r| keep("critical", r));
+            if fold.changes > 1 {
+                notes.push(format!(
+                    "fold: the regime changes {} times along {} in the coarse scan ({} steps): the fold is the last change",
+                    fold.changes,
+                    plan.boundary_words(),
+                    plan.boundary_coarse
+                ));
+            }
             let note = (!notes.is_empty()).then(|| notes.join("; "));
             Ok(UnitResult::Boundary(BoundaryResult {
                 index: j,

@@ -196,6 +196,7 @@ struct BoundariesFile {
     v_d_lo: Option<f64>,
     v_d_hi: Option<f64>,
     rtol: Option<f64>,
+    coarse: Option<i64>,
 }
 
 /// Whether the spec describes the nondimensional model or the physical system.
@@ -302,6 +303,8 @@ pub struct AtlasPlan {
     pub lambda_range: [f64; 2],
     /// Relative bracket width of the boundaries.
     pub boundary_rtol: f64,
+    /// Steps of the fold's coarse scan along the bisected parameter (`[boundaries] coarse`).
+    pub boundary_coarse: usize,
     /// Output file.
     pub out: PathBuf,
     /// Basin maps, one per point (the spec's `[grid]`), if asked for.
@@ -391,6 +394,7 @@ impl AtlasPlan {
             boundary_in: b.boundary_in,
             lambda_range: b.lambda_range,
             boundary_rtol: b.boundary_rtol,
+            boundary_coarse: b.boundary_coarse,
             maps,
             out: f.output.check(&inv)?,
             spec_text: text.to_string(),
@@ -890,6 +894,11 @@ path = "p.h5"
             (
                 GOOD.replace("[output]", "[cycle]\nrtol = 0.0\n[output]"),
                 "cycle.rtol",
+            ),
+            // One coarse step cannot see a second change of regime.
+            (
+                GOOD.replace("[output]", "[boundaries]\ncoarse = 1\n[output]"),
+                "boundaries.coarse",
             ),
             (
                 GOOD.replace(

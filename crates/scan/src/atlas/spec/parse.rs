@@ -268,6 +268,12 @@ pub(super) fn map_settings(
     Ok(maps)
 }
 
+/// Steps of the atlas's coarse scan along the bisected parameter before the fold's
+/// bisection, by default: fewer than `squeal critical`'s [`crate::band::COARSE`] (64) to keep
+/// the 64 boundaries of the shipped chart affordable (BENCHMARKS.md); flips of the regime
+/// closer together than one step (a factor 1.24 over the chart's 1e-4 to 0.1) can hide.
+pub const FOLD_COARSE: usize = 32;
+
 /// The boundaries' settings (`[boundaries]`).
 pub(super) struct BoundaryPlan {
     pub fold: bool,
@@ -276,6 +282,7 @@ pub(super) struct BoundaryPlan {
     pub lambda_range: [f64; 2],
     pub boundary_in: BoundaryParam,
     pub boundary_rtol: f64,
+    pub boundary_coarse: usize,
 }
 
 /// Reads `[boundaries]`: the bisected parameter, its ranges under the law's own names, the
@@ -381,7 +388,19 @@ pub(super) fn boundaries(
             "a relative width in (0, 0.5)",
         ));
     }
+    // The fold's coarse scan before bisecting: one step would see no change of regime it
+    // could not bisect; more than 1000 is more verdicts than the chart's whole boundary.
+    let coarse = bd.coarse.unwrap_or(FOLD_COARSE as i64);
+    if !(2..=1000).contains(&coarse) {
+        return Err(invalid(
+            path,
+            "boundaries.coarse",
+            coarse,
+            "a number of steps in [2, 1000]",
+        ));
+    }
     Ok(BoundaryPlan {
+        boundary_coarse: coarse as usize,
         fold: bd.fold.unwrap_or(true),
         critical: bd.critical.unwrap_or(true),
         nu_range,

@@ -1,0 +1,372 @@
+//! The fold as the crisis of the stick-slip band along one parameter (the damping or the
+//! belt speed): where squeal stops lasting ([`super::Lasting`]), with an uncertainty that
+//! covers the step and the band's budget. One search for `squeal critical --crisis`,
+//! `critical --fold` and the atlas's fold (issue 17, items 4 and 5).
+//!
+//! **The search.**
+//! 1. A coarse scan: the verdict at `coarse + 1` geometric steps over the range
+//!    ([`crate::section::coarse_changes`] of "squeal does not last"). A bisection assumes
+//!    one change; every change the scan sees is returned, and more than one is for the
+//!    caller to say loudly. The fold is the *last* change: above it no coarse value squeals
+//!    for good (changes closer together than a step can still hide between two values).
+//! 2. Two geometric bisections in the last coarse step where squeal lasts and the first one
+//!    above it that is quiet: the last value where squeal lasts and the first where it is
+//!    quiet (between them the band's verdict is marginal: undecided). Verdicts are
+//!    remembered, so the second bisection starts from the tightest bracket the first left.
+//! 3. The uncertainty: the verdicts at that bracket's ends again at `dt / 2` and with the
+//!    longer horizon ([`super::Budget::Longer`]); an end where any of the three computations
+//!    disagrees is moved outwards (steps of a quarter of the bracket's log-width, doubled
+//!    each time, at most to the range's end) until all three agree there. The fold is the middle of that interval, the uncertainty
+//!    half its width: every one of the three computations has its last squealing value below
+//!    the interval's top and its first quiet value above its bottom, if each changes once
+//!    inside it (checked on the shipped chart by `scripts/fold-coverage.sh`).
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use serde::Serialize;
+use squeal_core::{Params, Setup};
+
+use super::{Budget, Lasting, lasting_with};
+use crate::error::ScanError;
+use crate::section::{Change, ParamRange, coarse_changes, geometric_bisection, geometric_steps};
+use crate::ulc::CycleSettings;
+
+/// Steps of the coarse scan along the parameter before bisecting (`squeal critical`).
+pub const COARSE: usize = 64;
+
+/// One of the computations whose crisis the uncertainty covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Variant {
+    /// The setup's step, the standard budget.
+    Dt,
+    /// Half the step.
+    HalfDt,
+    /// The setup's step, the longer horizon ([`Budget::Longer`]).
+    Longer,
+}
+
+impl Variant {
+    /// All three.
+    pub const ALL: [Variant; 3] = [Variant::Dt, Variant::HalfDt, Variant::Longer];
+
+    /// The verdict at `setup` (the step of [`Variant::Dt`]) with cycle settings `cs`, the
+    /// budget of [`Variant::Dt`] and [`Variant::HalfDt`] being `base` (a whole search with
+    /// [`Budget::Longer`] as its base is the longer horizon's own crisis, what
+    /// `scripts/fold-coverage.sh` checks the uncertainty against).
+    pub fn lasting(
+        self,
+        setup: Setup,
+        cs: &CycleSettings,
+        base: Budget,
+    ) -> Result<Lasting, ScanError> {
+        match self {
+            Variant::Dt => lasting_with(setup, cs, base),
+            Variant::HalfDt => lasting_with(setup.half_dt(), cs, base),
+            Variant::Longer => lasting_with(setup, cs, Budget::Longer),
+        }
+    }
+}
+
+/// How the search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrisisStatus {
+    /// Located.
+    Found,
+    /// Squeal lasts at no coarse value: the crisis lies below the range.
+    BelowRange,
+    /// Squeal still lasts at the range's top, or no value above the last squealing one is
+    /// quiet: the crisis lies above the range.
+    AboveRange,
+}
+
+/// The crisis along one parameter.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Crisis {
+    /// How the search ended.
+    pub status: CrisisStatus,
+    /// At the setup's step: the last value where squeal lasts and the first where it is
+    /// quiet (NaN unless found).
+    pub interval: [f64; 2],
+    /// The middle of the interval where all three computations agree at both ends.
+    pub nu: f64,
+    /// Half that interval's width: the stated uncertainty.
+    pub uncertainty: f64,
+    /// Whether `interval`'s ends get the same verdicts at `dt / 2`.
+    pub half_dt_holds: bool,
+    /// ... and with the longer horizon.
+    pub longer_holds: bool,
+    /// Every change of "squeal does not last" the coarse scan found.
+    pub changes: Vec<Change>,
+    /// Verdicts computed (each computation once per value).
+    pub evaluations: u32,
+}
+
+impl Crisis {
+    fn not_found(status: CrisisStatus, changes: Vec<Change>, evaluations: u32) -> Crisis {
+        Crisis {
+            status,
+            interval: [f64::NAN; 2],
+            nu: f64::NAN,
+            uncertainty: f64::NAN,
+            half_dt_holds: false,
+            longer_holds: false,
+            changes,
+            evaluations,
+        }
+    }
+}
+
+/// Remembered verdicts: `verdict(v, variant)` computed once per value and variant.
+struct Verdicts<F> {
+    verdict: F,
+    memo: RefCell<HashMap<(u64, Variant), Lasting>>,
+}
+
+impl<F: Fn(f64, Variant) -> Result<Lasting, ScanError>> Verdicts<F> {
+    fn at(&self, v: f64, which: Variant) -> Result<Lasting, ScanError> {
+        if let Some(l) = self.memo.borrow().get(&(v.to_bits(), which)) {
+            return Ok(*l);
+        }
+        let l = (self.verdict)(v, which)?;
+        self.memo.borrow_mut().insert((v.to_bits(), which), l);
+        Ok(l)
+    }
+
+    /// The values already seen at the setup's step with verdict `pred`, in `(lo, hi)`.
+    fn seen(&self, (lo, hi): (f64, f64), pred: impl Fn(Lasting) -> bool) -> Vec<f64> {
+        self.memo
+            .borrow()
+            .iter()
+            .filter(|((_, w), l)| *w == Variant::Dt && pred(**l))
+            .map(|((b, _), _)| f64::from_bits(*b))
+            .filter(|v| *v > lo && *v < hi)
+            .collect()
+    }
+
+    fn count(&self) -> u32 {
+        self.memo.borrow().len() as u32
+    }
+}
+
+/// The crisis in `nu` at `setup` over `range` (cycle settings `cs`, `coarse` steps).
+pub fn crisis_nu(
+    setup: Setup,
+    cs: &CycleSettings,
+    range: ParamRange,
+    coarse: usize,
+) -> Result<Crisis, ScanError> {
+    let at = |nu: f64| setup.with_params(Params { nu, ..setup.params });
+    crisis_in(
+        |v, which| which.lasting(at(v), cs, Budget::Standard),
+        range,
+        coarse,
+    )
+}
+
+/// The crisis over `range` of the parameter that `verdict(v, variant)` moves: see the
+/// module's comment. `coarse` steps of the coarse scan; the bisections stop at
+/// `range.rtol`.
+pub fn crisis_in(
+    verdict: impl Fn(f64, Variant) -> Result<Lasting, ScanError>,
+    range: ParamRange,
+    coarse: usize,
+) -> Result<Crisis, ScanError> {
+    let v = Verdicts {
+        verdict,
+        memo: RefCell::new(HashMap::new()),
+    };
+    let (lo, hi) = (range.lo, range.hi);
+    let coarse = coarse.max(1);
+    let changes = coarse_changes(
+        |x| Ok::<_, ScanError>(v.at(x, Variant::Dt)? != Lasting::Squeals),
+        (lo, hi),
+        coarse,
+    )?;
+    let vs = geometric_steps((lo, hi), coarse);
+    let ls: Vec<Lasting> = vs
+        .iter()
+        .map(|&x| v.at(x, Variant::Dt))
+        .collect::<Result<_, _>>()?;
+    let Some(k) = ls.iter().rposition(|l| *l == Lasting::Squeals) else {
+        return Ok(Crisis::not_found(
+            CrisisStatus::BelowRange,
+            changes,
+            v.count(),
+        ));
+    };
+    let Some(m) = (k + 1..ls.len()).find(|&i| ls[i] == Lasting::Quiet) else {
+        return Ok(Crisis::not_found(
+            CrisisStatus::AboveRange,
+            changes,
+            v.count(),
+        ));
+    };
+    let interval = bisect_both(&v, (vs[k], vs[k + 1], vs[m]), range.rtol)?;
+    let (outer, holds) = widen(&v, interval, (lo, hi, range.rtol))?;
+    Ok(Crisis {
+        status: CrisisStatus::Found,
+        interval,
+        nu: 0.5 * (outer[0] + outer[1]),
+        uncertainty: 0.5 * (outer[1] - outer[0]),
+        half_dt_holds: holds[0],
+        longer_holds: holds[1],
+        changes,
+        evaluations: v.count(),
+    })
+}
+
+/// The last value where squeal lasts (bisected in `(s, next)`, squeal lasting at `s` and
+/// not at `next`) and the first where it is quiet (below `quiet`, where it is).
+fn bisect_both<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
+    v: &Verdicts<F>,
+    (s, next, quiet): (f64, f64, f64),
+    rtol: f64,
+) -> Result<[f64; 2], ScanError> {
+    let ((a, _), _) = geometric_bisection(
+        |x| Ok::<_, ScanError>(v.at(x, Variant::Dt)? != Lasting::Squeals),
+        (s, next),
+        rtol,
+        200,
+    )?;
+    // The tightest bracket of "quiet" already seen: the first quiet value above `a`, and
+    // below it the last value that is not.
+    let hi = v
+        .seen((a, quiet), |l| l == Lasting::Quiet)
+        .into_iter()
+        .fold(quiet, f64::min);
+    let lo = v
+        .seen((a, hi), |l| l != Lasting::Quiet)
+        .into_iter()
+        .fold(a, f64::max);
+    let ((_, b), _) = geometric_bisection(
+        |x| Ok::<_, ScanError>(v.at(x, Variant::Dt)? == Lasting::Quiet),
+        (lo, hi),
+        rtol,
+        200,
+    )?;
+    Ok([a, b])
+}
+
+/// Widens `[a, b]` until every [`Variant`] says squeal lasts at its lower end and is quiet
+/// at its upper end (at most to the range's ends); returns it and whether `[a, b]` held at
+/// dt/2 and with the longer horizon as it was.
+fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
+    v: &Verdicts<F>,
+    [a, b]: [f64; 2],
+    (lo, hi, rtol): (f64, f64, f64),
+) -> Result<([f64; 2], [bool; 2]), ScanError> {
+    let agree = |x: f64, want: Lasting| -> Result<bool, ScanError> {
+        for w in Variant::ALL {
+            if v.at(x, w)? != want {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    };
+    let holds = |w: Variant| -> Result<bool, ScanError> {
+        Ok(v.at(a, w)? == Lasting::Squeals && v.at(b, w)? == Lasting::Quiet)
+    };
+    let held = [holds(Variant::HalfDt)?, holds(Variant::Longer)?];
+    // Outward in steps of a quarter of the bracket's log-width (at least rtol), doubled each
+    // time: a few verdicts where the computations nearly agree, the range's end at worst.
+    let first = ((b / a).ln() / 4.0).max(rtol.ln_1p());
+    let (mut x, mut y) = (a, b);
+    let mut step = first;
+    while x > lo && !agree(x, Lasting::Squeals)? {
+        x = (x * (-step).exp()).max(lo);
+        step *= 2.0;
+    }
+    step = first;
+    while y < hi && !agree(y, Lasting::Quiet)? {
+        y = (y * step.exp()).min(hi);
+        step *= 2.0;
+    }
+    Ok(([x, y], held))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A verdict with known thresholds: squeal lasts below `s`, is quiet from `q`, undecided
+    /// between; at dt/2 both thresholds are `shift` times higher, with the longer horizon
+    /// `shift` times lower.
+    fn verdict(s: f64, q: f64, shift: f64) -> impl Fn(f64, Variant) -> Result<Lasting, ScanError> {
+        move |v, which| {
+            let f = match which {
+                Variant::Dt => 1.0,
+                Variant::HalfDt => shift,
+                Variant::Longer => 1.0 / shift,
+            };
+            Ok(if v < s * f {
+                Lasting::Squeals
+            } else if v >= q * f {
+                Lasting::Quiet
+            } else {
+                Lasting::Undecided
+            })
+        }
+    }
+
+    #[test]
+    fn the_uncertainty_covers_every_computations_crisis() {
+        // Thresholds 0.024 and 0.0242 at dt, 1% higher at dt/2 and 1% lower with the
+        // longer horizon: the stated interval must hold all three [s, q] brackets, and the
+        // bracket at dt is the bisected one, to rtol.
+        let c = crisis_in(
+            verdict(0.024, 0.0242, 1.01),
+            ParamRange::new(1e-3, 0.05, 1e-4),
+            64,
+        )
+        .unwrap();
+        assert_eq!(c.status, CrisisStatus::Found);
+        assert!(c.interval[0] < 0.024 && 0.024 / c.interval[0] - 1.0 <= 1e-4);
+        assert!(c.interval[1] >= 0.0242 && c.interval[1] / 0.0242 - 1.0 <= 1e-4);
+        assert!(!c.half_dt_holds && !c.longer_holds, "{c:?}");
+        let (lo, hi) = (c.nu - c.uncertainty, c.nu + c.uncertainty);
+        for f in [1.0, 1.01, 1.0 / 1.01] {
+            assert!(lo < 0.024 * f && 0.0242 * f <= hi, "{f}: {c:?}");
+        }
+        assert_eq!(c.changes.len(), 1);
+        // Where all three agree the interval is the bracket at dt.
+        let c = crisis_in(
+            verdict(0.024, 0.0242, 1.0),
+            ParamRange::new(1e-3, 0.05, 1e-4),
+            64,
+        )
+        .unwrap();
+        assert!(c.half_dt_holds && c.longer_holds);
+        assert_eq!([c.nu - c.uncertainty, c.nu + c.uncertainty], c.interval);
+    }
+
+    #[test]
+    fn every_change_of_regime_is_reported_and_the_fold_is_the_last() {
+        // Squeals below 0.01, undecided on [0.01, 0.015), squeals again on [0.015, 0.02),
+        // quiet from 0.02: three changes of "squeal does not last" over [1e-3, 0.05] in 64
+        // geometric steps (ratio 1.063 per step: each piece spans several), the fold at 0.02.
+        let v = |x: f64, _: Variant| {
+            Ok(if x < 0.01 || (0.015..0.02).contains(&x) {
+                Lasting::Squeals
+            } else if x >= 0.02 {
+                Lasting::Quiet
+            } else {
+                Lasting::Undecided
+            })
+        };
+        let c = crisis_in(v, ParamRange::new(1e-3, 0.05, 1e-4), 64).unwrap();
+        let to: Vec<bool> = c.changes.iter().map(|c| c.to).collect();
+        assert_eq!(to, [true, false, true], "{c:?}");
+        assert!(c.interval[0] < 0.02 && 0.02 <= c.interval[1], "{c:?}");
+        assert!(c.interval[1] / c.interval[0] - 1.0 <= 1e-4);
+        // No squeal anywhere, or squeal up to the top: not found, said so.
+        let quiet = |_: f64, _: Variant| Ok(Lasting::Quiet);
+        let c = crisis_in(quiet, ParamRange::new(1e-3, 0.05, 1e-4), 8).unwrap();
+        assert_eq!(c.status, CrisisStatus::BelowRange);
+        let loud = |_: f64, _: Variant| Ok(Lasting::Squeals);
+        let c = crisis_in(loud, ParamRange::new(1e-3, 0.05, 1e-4), 8).unwrap();
+        assert_eq!(c.status, CrisisStatus::AboveRange);
+    }
+}
