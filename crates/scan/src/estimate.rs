@@ -277,6 +277,8 @@ pub struct AtlasEstimate {
     pub points: usize,
     /// Mean seconds per point (one thread).
     pub point_seconds: f64,
+    /// Seconds of the one boundary unit measured (one thread; 0 without boundaries).
+    pub boundary_seconds: f64,
     /// Seconds the pilot took (points and maps).
     pub pilot_seconds: f64,
     /// The pilot of the basin maps.
@@ -285,26 +287,17 @@ pub struct AtlasEstimate {
 
 impl AtlasEstimate {
     /// Wall seconds for the whole `plan` on `threads` threads (a lower bound: the writing of
-    /// very large maps is not counted): its points; its boundary
-    /// searches, each two bisections of `log2(ln(hi / lo) / rtol) + 2` evaluations that
-    /// share their first ones, plus the dt/2 check of both brackets (4 evaluations at half
-    /// the step, about twice the cost), every evaluation costed as one point; and its maps.
+    /// very large maps is not counted): its points; its boundary units, each costed as the
+    /// one the pilot ran; and its maps.
     pub fn seconds(&self, plan: &AtlasPlan, threads: usize) -> f64 {
-        let evaluations = |j: usize| {
-            let (_, [lo, hi]) = plan.boundary_setup(j);
-            let steps = ((hi / lo).ln() / plan.boundary_rtol.max(1e-12))
-                .log2()
-                .ceil()
-                .max(0.0);
-            2.0 * (steps + 2.0) + 8.0
-        };
-        let boundaries: f64 = (0..plan.n_boundaries()).map(evaluations).sum();
-        // A line's points run one after another (each warm-starts the next): one line is
-        // never shared between threads.
+        let boundaries = plan.n_boundaries() as f64 * self.boundary_seconds;
+        // A line's points run one after another (each warm-starts the next), and so does a
+        // boundary unit: neither is shared between threads.
         let line = plan.line_len() as f64 * self.point_seconds;
-        let units = ((plan.n_points() as f64 + boundaries) * self.point_seconds
+        let units = ((plan.n_points() as f64 * self.point_seconds + boundaries)
             / threads.max(1) as f64)
-            .max(line);
+            .max(line)
+            .max(self.boundary_seconds);
         let maps = match (&self.maps, plan.map_plan()) {
             (Some(e), Some(mp)) => e.seconds(mp.maps.len(), |_| mp.grid.cells(), threads),
             _ => 0.0,
@@ -313,9 +306,37 @@ impl AtlasEstimate {
     }
 }
 
+/// Mean seconds (one thread) of up to three boundary units spread over the plan's (the
+/// middle, the first and the last), run as the atlas runs them, stopping once
+/// [`PILOT_BUDGET`] is spent (at least one); 0 without boundaries. A unit's cost varies
+/// with its crisis's coarse scan and checks far more than a point's, so it is measured,
+/// not costed in points.
+fn boundary_pilot(plan: &AtlasPlan) -> Result<f64, ScanError> {
+    let nb = plan.n_boundaries();
+    if nb == 0 {
+        return Ok(0.0);
+    }
+    let (t0, core) = (Instant::now(), CoreShare::start());
+    let mut picks = Vec::new();
+    for j in [nb / 2, 0, nb - 1] {
+        if !picks.contains(&j) {
+            picks.push(j);
+        }
+    }
+    let mut done = 0usize;
+    for j in picks {
+        crate::atlas::driver::run_unit(plan, crate::atlas::driver::Unit::Boundary(j))?;
+        done += 1;
+        if t0.elapsed() >= PILOT_BUDGET {
+            break;
+        }
+    }
+    Ok(t0.elapsed().as_secs_f64() * core.share() / done as f64)
+}
+
 /// Runs an atlas's pilot (single-threaded): up to [`ATLAS_PILOT_POINTS`] spread points,
-/// stopping early once [`PILOT_BUDGET`] is spent (at least one point), then the scan pilot
-/// of its basin maps.
+/// stopping early once [`PILOT_BUDGET`] is spent (at least one point); its boundary units
+/// ([`boundary_pilot`]); then the scan pilot of its basin maps.
 pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
     let t0 = Instant::now();
     let core = CoreShare::start();
@@ -331,10 +352,12 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
         }
     }
     let point_seconds = t0.elapsed().as_secs_f64() * core.share() / points as f64;
+    let boundary_seconds = boundary_pilot(plan)?;
     let maps = plan.map_plan().map(|mp| pilot(&mp)).transpose()?;
     Ok(AtlasEstimate {
         points,
         point_seconds,
+        boundary_seconds,
         pilot_seconds: t0.elapsed().as_secs_f64(),
         maps,
     })
