@@ -393,6 +393,21 @@ pub fn audited(index: u64, every: u64) -> bool {
     every > 0 && (index.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 24) % every == 0
 }
 
+/// The trap of the unstable cycle `found` on the section, with the relative `margin`: its
+/// outside only where no sampled start outside returns inside ([`Outside`]).
+fn trap_of(found: &SectionCycles, margin: f64) -> Option<Trap> {
+    let SectionCycles::Unstable { lo, hi, escape, .. } = *found else {
+        return None;
+    };
+    Some(Trap {
+        r_inner: lo * (1.0 - margin),
+        r_outer: match escape {
+            None => hi * (1.0 + margin),
+            Some(_) => f64::INFINITY,
+        },
+    })
+}
+
 impl MapContext {
     /// Builds the stepper and, as the plan asks, searches the section once: the trap for
     /// early stopping and the located cycle both come from that one search.
@@ -428,15 +443,7 @@ impl MapContext {
                 classifier.band_rules = o.band_rules();
             }
             if plan.early_stop == EarlyStop::Cycle {
-                if let SectionCycles::Unstable { lo, hi, escape, .. } = found {
-                    classifier.trap = Some(Trap {
-                        r_inner: lo * (1.0 - plan.trap_margin),
-                        r_outer: match escape {
-                            None => hi * (1.0 + plan.trap_margin),
-                            Some(_) => f64::INFINITY,
-                        },
-                    });
-                }
+                classifier.trap = trap_of(&found, plan.trap_margin);
             }
             if plan.locate_cycle {
                 cycle = Some(
