@@ -17,6 +17,7 @@ use squeal_scan::atlas::AtlasPlan;
 use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
 
 use super::common;
+use super::progress;
 
 /// Flags of `squeal atlas`.
 #[derive(clap::Args, Debug)]
@@ -37,7 +38,7 @@ pub struct Args {
 }
 
 /// Counts finished map blocks on the progress bar (and the plain lines off a terminal).
-struct BarObserver<'a>(&'a ProgressBar, &'a Option<common::PlainLines>);
+struct BarObserver<'a>(&'a ProgressBar, &'a Option<progress::PlainLines>);
 
 impl squeal_scan::Observer for BarObserver<'_> {
     fn block_done(&self, _map: usize, _block: usize) {
@@ -87,7 +88,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     common::install_signals(&stop, "units and map blocks")?;
     let total = (todo.len() + todo_blocks) as u64;
     let bar = progress(total, args.run.quiet);
-    let plain = common::PlainLines::new("units and map blocks", "unit", total, args.run.quiet);
+    let plain = progress::PlainLines::new("units and map blocks", "unit", total, args.run.quiet);
     let t0 = Instant::now();
     let result = squeal_store::run_atlas(
         &plan,
@@ -177,13 +178,13 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
 fn progress(total: u64, quiet: bool) -> ProgressBar {
     ProgressBar::with_draw_target(
         Some(total),
-        if common::show_progress(quiet) {
+        if progress::show_progress(quiet) {
             ProgressDrawTarget::stderr()
         } else {
             ProgressDrawTarget::hidden()
         },
     )
-    .with_style(common::bar_style(
+    .with_style(progress::bar_style(
         "atlas [{bar:40}] {pos}/{len} units and map blocks  {avg_rate}  ETA {avg_eta}",
         "unit",
     ))

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use super::common;
+use super::pictures;
 
 /// Flags of `squeal merge`.
 #[derive(clap::Args, Debug)]
@@ -47,7 +48,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let drawn = if atlas {
             super::atlas::render_atlas(&args.out, &png, true)?
         } else {
-            common::render_file(&args.out, &png, true)?
+            pictures::render_file(&args.out, &png, true)?
         };
         for p in drawn {
             println!("{}", p.display());

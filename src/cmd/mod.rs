@@ -14,6 +14,8 @@ pub mod lifetimes;
 pub mod merge;
 pub mod model;
 pub mod physical;
+pub mod pictures;
+pub mod progress;
 pub mod render;
 pub mod scan;
 pub mod trajectory;

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use super::common;
+use super::pictures;
 
 /// Flags of `squeal render`.
 #[derive(clap::Args, Debug)]
@@ -30,7 +31,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let drawn = if squeal_store::atlas::is_atlas_file(&args.file) {
         super::atlas::render_atlas(&args.file, &png, args.force)?
     } else {
-        common::render_file(&args.file, &png, args.force)?
+        pictures::render_file(&args.file, &png, args.force)?
     };
     for p in drawn {
         println!("{}", p.display());

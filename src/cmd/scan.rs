@@ -21,6 +21,7 @@ use squeal_scan::{Observer, Pending, Plan, drive};
 use squeal_store::ScanWriter;
 
 use super::common;
+use super::{pictures, progress};
 
 /// Flags of `squeal scan`.
 #[derive(clap::Args, Debug)]
@@ -41,8 +42,8 @@ struct Bars {
     overall: ProgressBar,
     maps: Vec<ProgressBar>,
     /// The cells done, each weighed by its map's cost per cell (the time left).
-    meter: Arc<common::WorkMeter>,
-    plain: Option<common::PlainLines>,
+    meter: Arc<progress::WorkMeter>,
+    plain: Option<progress::PlainLines>,
 }
 
 impl Observer for Bars {
@@ -88,7 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let state = squeal_store::output_state(&out, &plan, shard)?;
     if common::up_to_date(&out, state, &args.run, &shown, || {
-        common::render_file(&out, &pics[0], true)
+        pictures::render_file(&out, &pics[0], true)
     })? {
         let info = squeal_store::read_info(&out)?;
         // Nothing computed: the file holds the checks, no per-reason tally.
@@ -170,12 +171,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
 
-    let multi = MultiProgress::with_draw_target(if common::show_progress(args.run.quiet) {
+    let multi = MultiProgress::with_draw_target(if progress::show_progress(args.run.quiet) {
         ProgressDrawTarget::stderr()
     } else {
         ProgressDrawTarget::hidden()
     });
-    let style = common::bar_style(
+    let style = progress::bar_style(
         "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
         "cell",
     );
@@ -184,15 +185,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .collect();
     let meter = Arc::new(match &pilot {
         // The time left weighs each map's cells by the pilot's cost per cell there.
-        Some(e) => common::WorkMeter::weighted(
+        Some(e) => progress::WorkMeter::weighted(
             (0..plan.maps.len()).map(|m| e.cell_cost(m)).collect(),
             &counts,
         ),
-        None => common::WorkMeter::uniform(pending.cells as u64),
+        None => progress::WorkMeter::uniform(pending.cells as u64),
     });
     let overall = multi.add(
         ProgressBar::new(pending.cells as u64)
-            .with_style(common::metered_bar_style(
+            .with_style(progress::metered_bar_style(
                 "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
                 "cell",
                 meter.clone(),
@@ -221,7 +222,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
-    let plain = common::PlainLines::with_meter("cells", "cell", meter.clone(), args.run.quiet);
+    let plain = progress::PlainLines::with_meter("cells", "cell", meter.clone(), args.run.quiet);
     let bars = Bars {
         overall,
         maps,
@@ -255,7 +256,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
     let transient: Vec<_> = finished.iter().map(|c| c.transient).collect();
     let written = if shard.is_none() && !sample {
-        common::render_file(&out, &pics[0], true)?
+        pictures::render_file(&out, &pics[0], true)?
     } else {
         Vec::new()
     };

@@ -411,7 +411,7 @@ fn plot_phase_plane(
             squeal_plot::fmt_number(ic.x),
             squeal_plot::fmt_number(ic.v)
         ),
-        &super::common::plot_params(p, stepper.dt()),
+        &super::pictures::plot_params(p, stepper.dt()),
     );
     let curves = [Curve {
         label: format!("trajectory, t in [0, {}]", cols.t.last().unwrap_or(&0.0)),

@@ -6,6 +6,7 @@ use anyhow::{Context, bail};
 use squeal_core::Setup;
 use squeal_scan::ulc::{self, CycleSettings};
 
+use super::pictures;
 use super::{common, model::SetupArgs};
 
 /// Flags of `squeal ulc`.
@@ -66,7 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(p) = &args.plot {
         let fp = params.fixed_point();
         let scale = squeal_plot::StateScale::of_law(params.law.name());
-        let model = common::plot_params(&params, plan.dt);
+        let model = pictures::plot_params(&params, plan.dt);
         squeal_plot::cycle_plot(p, (&rep.curve.x, &rep.curve.v), (fp.x, fp.v), &model, scale)
             .with_context(|| format!("drawing {}", p.display()))?;
     }

@@ -1,0 +1,324 @@
+//! Pictures of the files squeal writes (`squeal render`, and each command after writing):
+//! basin maps and sheets, cycle sizes, with the model in the titles.
+
+use std::path::{Path, PathBuf};
+
+use squeal_plot::{BasinPanel, Curve, Rgb};
+
+use super::common::{attr, check_new, discard, sibling};
+
+/// The model parameters of map `map` of a file, for picture titles (root attributes, with the
+/// swept parameter's value of that map).
+pub fn model_params(info: &squeal_store::FileInfo, map: usize) -> squeal_plot::ModelParams {
+    let num = |key: &str| -> f64 {
+        match &info.sweep {
+            Some((name, values)) if name == key => values.get(map).copied().unwrap_or(f64::NAN),
+            _ => attr(info, key)
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(f64::NAN),
+        }
+    };
+    let law = attr(info, "law").unwrap_or("?");
+    // The law's own keys (files of an unknown law: McMillan's, as files before the
+    // Stribeck law).
+    let keys = law
+        .parse::<squeal_core::FrictionLaw>()
+        .map_or(squeal_core::FrictionLaw::McMillan.keys(), |l| l.keys());
+    squeal_plot::ModelParams {
+        law: law.to_string(),
+        params: keys.iter().map(|k| (k.to_string(), num(k))).collect(),
+        dt: num("dt"),
+    }
+}
+
+/// The parameters of a run for picture titles, by the law's own names.
+pub fn plot_params(p: &squeal_core::Params, dt: f64) -> squeal_plot::ModelParams {
+    squeal_plot::ModelParams {
+        law: p.law.name().into(),
+        params: p
+            .named()
+            .iter()
+            .map(|n| (n.name.to_string(), n.value))
+            .collect(),
+        dt,
+    }
+}
+
+/// A basin panel for one map of a file, its axes in the law's units (`scale`).
+pub fn panel(m: &squeal_store::MapData, scale: squeal_plot::StateScale) -> BasinPanel<'_> {
+    let overlays = m
+        .cycle
+        .iter()
+        .map(|(x, v)| squeal_plot::cycle_overlay(x, v))
+        .collect();
+    BasinPanel {
+        axis_labels: Some(scale.initial_labels().map(String::from)),
+        title: m.title.clone(),
+        x0: &m.x0,
+        v0: &m.v0,
+        labels: &m.labels,
+        overlays,
+        markers: squeal_plot::state_markers(m.fixed_point, &m.x0, &m.v0),
+    }
+}
+
+/// Draws the pictures of a finished scan file: the basin map (one map), or a sheet of the
+/// maps and the cycle size against the swept parameter (sweeps). Returns the files written.
+pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
+    let n = squeal_store::map_count(h5)?;
+    let info = squeal_store::read_info(h5)?;
+    let scale = squeal_plot::StateScale::of_law(attr(&info, "law").unwrap_or("?"));
+    let name = attr(&info, "name").unwrap_or("squeal");
+    if n == 1 {
+        check_new(png, force, "picture")?;
+        let m = squeal_store::read_map(h5, 0)?;
+        let units = physical_units(&info);
+        let scaled = units.map(|u| scaled_axes(&m, u));
+        let mut one = panel(&m, scale);
+        if let (Some(u), Some((xs, vs))) = (units, &scaled) {
+            to_si(&mut one, xs, vs, u);
+        }
+        let system = physical_line(&info);
+        one.title = format!(
+            "{name}: {}{system}",
+            squeal_plot::map_title(&model_params(&info, 0))
+        );
+        squeal_plot::basin_map(png, &one, &squeal_plot::label_classes())
+            .map_err(|e| discard(png, e))?;
+        let transient = super::transient::draw(png, force, &info, &m, &one)?;
+        return Ok(std::iter::once(png.to_path_buf())
+            .chain(transient)
+            .collect());
+    }
+    let size = sibling(png, "-cycle", "png");
+    check_new(png, force, "picture")?;
+    check_new(&size, force, "picture")?;
+    let transient = render_sheet(h5, (png, force), &info, scale)?;
+    render_cycle_sizes(h5, &size, &info)?;
+    Ok([png.to_path_buf(), size]
+        .into_iter()
+        .chain(transient)
+        .collect())
+}
+
+/// The sheet of a sweep's maps, one panel per swept value, and beside it their transient
+/// squeal where some start squealed first (returned).
+fn render_sheet(
+    h5: &Path,
+    (png, force): (&Path, bool),
+    info: &squeal_store::FileInfo,
+    scale: squeal_plot::StateScale,
+) -> anyhow::Result<Option<PathBuf>> {
+    let n = info.counts.len();
+    let maps: Vec<_> = (0..n)
+        .map(|i| squeal_store::read_map(h5, i))
+        .collect::<Result<_, _>>()?;
+    let units = physical_units(info);
+    let scaled: Vec<_> = maps
+        .iter()
+        .map(|m| units.map(|u| scaled_axes(m, u)))
+        .collect();
+    let param = swept(info);
+    let panels: Vec<_> = maps
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let mut p = panel(m, scale);
+            if let (Some(u), Some((xs, vs))) = (units, &scaled[i]) {
+                to_si(&mut p, xs, vs, u);
+            }
+            let value = info.sweep.as_ref().map_or(f64::NAN, |s| s.1[i]);
+            p.title = squeal_plot::panel_title(&param, value);
+            p
+        })
+        .collect();
+    let title = squeal_plot::sheet_title(
+        attr(info, "name").unwrap_or("squeal"),
+        &model_params(info, 0),
+        &param,
+    ) + &physical_line(info);
+    let ncols = (n as f64).sqrt().ceil() as usize;
+    squeal_plot::basin_sheet(png, &title, &panels, &squeal_plot::label_classes(), ncols)
+        .map_err(|e| discard(png, e))?;
+    super::transient::draw_sheet((png, force), info, &maps, &panels, (&title, ncols))
+}
+
+/// The swept parameter of a sweep file.
+fn swept(info: &squeal_store::FileInfo) -> String {
+    info.sweep
+        .as_ref()
+        .map(|s| s.0.clone())
+        .unwrap_or_else(|| "nu".into())
+}
+
+/// The unstable cycle's size against the swept parameter; values without a cycle marked by
+/// what the map found instead (every start squeals, none does, or neither).
+fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> anyhow::Result<()> {
+    let summary = squeal_store::read_cycle_summary(h5)?;
+    let xs: Vec<f64> = summary.iter().map(|s| s.0).collect();
+    let curves = vec![
+        Curve {
+            label: "distance from the fixed point along +x".into(),
+            xs: xs.clone(),
+            ys: summary.iter().map(|s| s.2).collect(),
+            color: Rgb(200, 60, 20),
+            points_only: false,
+        },
+        Curve {
+            label: "velocity x' where the cycle crosses x = x*".into(),
+            xs: xs.clone(),
+            ys: summary.iter().map(|s| s.1).collect(),
+            color: Rgb(30, 90, 200),
+            points_only: false,
+        },
+    ];
+    let param = swept(info);
+    let log_x = param == "nu" || param == "xi";
+    let missing = squeal_plot::missing_values(&curves, log_x);
+    let gaps = cycle_gaps(&missing, &xs, &info.counts);
+    let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&param));
+    shared.insert_str(
+        0,
+        &format!(
+            "{}, ",
+            squeal_plot::law_title(attr(info, "law").unwrap_or("?"))
+        ),
+    );
+    let name = attr(info, "name").unwrap_or("squeal");
+    squeal_plot::sweep_chart(
+        size,
+        &format!("{name}: unstable limit cycle size against {param}\n{shared}"),
+        &format!("{param} (swept parameter)"),
+        "size of the unstable cycle (nondimensional)",
+        &curves,
+        log_x,
+        &gaps,
+    )
+    .map_err(|e| discard(size, e))
+}
+
+/// The swept values without a cycle (`missing`), grouped by what map `i` (at `xs[i]`, cell
+/// counts `[undecided, steady, stick, not computed]`) found: only stick-slip, only steady
+/// slip, or neither alone. Each group has its own glyph (issue 21: one triangle for "every
+/// start squeals" and "no start squeals" could not be told apart).
+pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 4]]) -> Vec<squeal_plot::Gap> {
+    use squeal_plot::{Gap, Glyph};
+    let mut gaps = [
+        (
+            "no unstable cycle: every start squeals",
+            Glyph::TriangleUp,
+            Rgb(200, 40, 40),
+        ),
+        (
+            "no unstable cycle: no start squeals",
+            Glyph::TriangleDown,
+            squeal_plot::STEADY,
+        ),
+        (
+            "no unstable cycle located (both basins or undecided)",
+            Glyph::Diamond,
+            squeal_plot::MISSING,
+        ),
+    ]
+    .map(|(label, glyph, color)| Gap {
+        label: label.into(),
+        xs: Vec::new(),
+        glyph,
+        color,
+    });
+    for &x in missing {
+        let c = xs.iter().position(|&v| v == x).and_then(|i| counts.get(i));
+        let group = match c {
+            Some([_, 0, stick, _]) if *stick > 0 => 0,
+            Some([_, steady, 0, _]) if *steady > 0 => 1,
+            _ => 2,
+        };
+        gaps[group].xs.push(x);
+    }
+    gaps.into_iter().filter(|g| !g.xs.is_empty()).collect()
+}
+
+/// Micrometres and mm/s per nondimensional length and velocity unit of a physical scan file
+/// (its `length_unit`, `velocity_unit` attributes); `None` for nondimensional files.
+fn physical_units(info: &squeal_store::FileInfo) -> Option<(f64, f64)> {
+    let num = |k: &str| attr(info, k).and_then(|v| v.parse::<f64>().ok());
+    Some((num("length_unit")? * 1e6, num("velocity_unit")? * 1e3))
+}
+
+/// The physical system of a physical scan file as a title line ("\nm = 2 kg, k = ..."; empty
+/// for nondimensional files), from its `physical_<key>` and `physical_<key>_units` attributes.
+fn physical_line(info: &squeal_store::FileInfo) -> String {
+    let parts: Vec<String> = squeal_scan::atlas::spec::PHYSICAL
+        .iter()
+        .filter_map(|(key, _, _)| {
+            let v: f64 = attr(info, &format!("physical_{key}"))?.parse().ok()?;
+            let u = attr(info, &format!("physical_{key}_units")).unwrap_or("1");
+            let u = if u == "1" {
+                String::new()
+            } else {
+                format!(" {u}")
+            };
+            Some(format!("{key} = {}{u}", squeal_plot::fmt_value(v)))
+        })
+        .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!("\n{}", parts.join(", "))
+    }
+}
+
+/// A map's grid in um and mm/s.
+fn scaled_axes(m: &squeal_store::MapData, (l, v): (f64, f64)) -> (Vec<f64>, Vec<f64>) {
+    (
+        m.x0.iter().map(|x| x * l).collect(),
+        m.v0.iter().map(|y| y * v).collect(),
+    )
+}
+
+/// A panel of a physical scan drawn in um and mm/s: the grid `xs`, `vs` (from
+/// [`scaled_axes`]), the overlays and markers scaled alike, the axes saying so.
+fn to_si<'a>(p: &mut BasinPanel<'a>, xs: &'a [f64], vs: &'a [f64], (l, v): (f64, f64)) {
+    p.x0 = xs;
+    p.v0 = vs;
+    for c in &mut p.overlays {
+        c.xs.iter_mut().for_each(|x| *x *= l);
+        c.ys.iter_mut().for_each(|y| *y *= v);
+    }
+    for m in &mut p.markers {
+        m.x *= l;
+        m.y *= v;
+    }
+    p.axis_labels = Some([
+        "initial displacement x0 (um)".into(),
+        "initial velocity x'0 (mm/s)".into(),
+    ]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cycle_gaps;
+    use squeal_plot::Glyph;
+
+    /// Issue 21: a sweep's values without a cycle were one triangle whatever the map found.
+    /// Counts are `[undecided, steady, stick, not computed]` per map (as `FileInfo::counts`).
+    #[test]
+    fn values_without_a_cycle_are_grouped_by_what_the_map_found() {
+        let xs = [0.8, 1.0, 1.5, 2.0, 2.2];
+        let counts = [
+            [0, 0, 100, 0], // stick-slip only: the fixed point repels
+            [3, 0, 97, 0],  // stick-slip and undecided cells: still no steady start
+            [0, 40, 60, 0], // both basins (has a cycle: not among `missing`)
+            [0, 100, 0, 0], // steady slip only: above the fold
+            [10, 45, 45, 0],
+        ];
+        let missing = [0.8, 1.0, 2.0, 2.2];
+        let gaps = cycle_gaps(&missing, &xs, &counts);
+        let of = |g: Glyph| gaps.iter().find(|x| x.glyph == g).map(|x| x.xs.clone());
+        assert_eq!(of(Glyph::TriangleUp), Some(vec![0.8, 1.0]));
+        assert_eq!(of(Glyph::TriangleDown), Some(vec![2.0]));
+        assert_eq!(of(Glyph::Diamond), Some(vec![2.2]));
+        assert!(gaps[0].label.contains("every start squeals"));
+        assert!(gaps[1].label.contains("no start squeals"));
+    }
+}
