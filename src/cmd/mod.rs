@@ -19,5 +19,6 @@ pub mod progress;
 pub mod render;
 pub mod scan;
 pub mod trajectory;
+pub mod trajectory_report;
 pub mod transient;
 pub mod ulc;

@@ -1,0 +1,248 @@
+//! What `squeal trajectory` reports: its summary (JSON and words) and the run's parameters.
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+use squeal_core::{Named, Sample, SolverKind, SolverStats, State};
+use squeal_scan::trajectory::{Oscillation, StickPhases};
+
+/// Model and run parameters, as printed and stored: the law, its own parameters by name
+/// (`nu, lambda, tau, phi` or `xi, v_d, mu_d, mu_sd, v_0, mu_v`), then the run's settings.
+pub(super) struct RunParams {
+    pub(super) law: &'static str,
+    pub(super) named: Vec<Named>,
+    pub(super) dt: f64,
+    pub(super) solver: &'static str,
+    pub(super) scheme: &'static str,
+    pub(super) x0: f64,
+    pub(super) v0: f64,
+    pub(super) t_end: f64,
+    pub(super) every: u64,
+}
+
+impl Serialize for RunParams {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = ser.serialize_map(None)?;
+        m.serialize_entry("law", self.law)?;
+        for n in &self.named {
+            m.serialize_entry(n.name, &n.value)?;
+        }
+        m.serialize_entry("dt", &self.dt)?;
+        m.serialize_entry("solver", self.solver)?;
+        m.serialize_entry("scheme", self.scheme)?;
+        m.serialize_entry("x0", &self.x0)?;
+        m.serialize_entry("v0", &self.v0)?;
+        m.serialize_entry("t_end", &self.t_end)?;
+        m.serialize_entry("every", &self.every)?;
+        m.end()
+    }
+}
+
+/// The classifier's verdict on the same run.
+#[derive(Serialize)]
+pub(super) struct Classification {
+    /// `steady_slip`, `stick_slip` or `undecided`.
+    pub(super) regime: &'static str,
+    /// Why the classifier stopped.
+    pub(super) reason: &'static str,
+    /// Time of the decision (`t_end` if undecided by the time limit).
+    pub(super) t_decision: f64,
+    /// Time on stick-slip before the run settled, as a scan stores it per cell
+    /// (`squeal_core::classify::t_squeal`; JSON has no infinity, so by kind).
+    pub(super) squeal: squeal_core::Squeal,
+}
+
+/// Everything `squeal trajectory` reports.
+#[derive(Serialize)]
+pub(super) struct Summary {
+    pub(super) squeal_version: &'static str,
+    pub(super) params: RunParams,
+    pub(super) steps: u64,
+    pub(super) fixed_point: State,
+    pub(super) classification: Classification,
+    pub(super) final_state: Sample,
+    pub(super) oscillation: Oscillation,
+    /// Stick phases (laws with true stick only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) stick: Option<StickPhases>,
+    pub(super) stats: SolverStats,
+    pub(super) max_residual: f64,
+    /// Steps (including the initial solve) whose solve did not converge: the paper's
+    /// iteration hitting its cap, or a robust failure.
+    pub(super) unconverged_steps: u64,
+    /// Times of the first few of them.
+    pub(super) first_unconverged_times: Vec<f64>,
+    /// Rows written to `--out` (and drawn, before any further decimation, in `--plot`).
+    pub(super) rows: u64,
+    pub(super) out: Option<PathBuf>,
+    pub(super) plot: Option<PathBuf>,
+    /// A physical system (`--m ...`): the start, the end and the oscillation in SI units.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) si: Option<serde_json::Value>,
+}
+
+/// The start, final state and final oscillation in SI units (lengths in m, velocities in
+/// m/s, times in s, frequencies in Hz).
+pub(super) fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::Value {
+    let f = &s.final_state;
+    serde_json::json!({
+        "x0_m": s.params.x0 * sc.length,
+        "v0_m_per_s": s.params.v0 * sc.velocity,
+        "t_end_s": s.params.t_end * sc.time,
+        "final_t_s": f.t * sc.time,
+        "final_x_m": f.x * sc.length,
+        "final_v_m_per_s": f.v * sc.velocity,
+        "fixed_point_x_m": s.fixed_point.x * sc.length,
+        "frequency_hz": s.oscillation.omega.map(|w| sc.hz(w)),
+        "amplitude_m_per_s": s.oscillation.amplitude.map(|r| r * sc.velocity),
+        // Only a finite time on stick-slip has seconds (0 too); `classification.squeal`
+        // says which kind it is.
+        "t_squeal_s": match s.classification.squeal {
+            squeal_core::Squeal::Never => Some(0.0),
+            squeal_core::Squeal::Transient { t_squeal } => Some(t_squeal * sc.time),
+            _ => None,
+        },
+        "length_unit_m": sc.length,
+        "velocity_unit_m_per_s": sc.velocity,
+        "time_unit_s": sc.time,
+    })
+}
+
+/// The summary in words.
+pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
+    let p = &s.params;
+    let named: Vec<String> = p
+        .named
+        .iter()
+        .map(|n| format!("{}={}", n.name, n.value))
+        .collect();
+    println!(
+        "run: {} {} dt={} solver={} scheme={} from (x0, x'0) = ({}, {}) to t = {} ({} steps)",
+        p.law,
+        named.join(" "),
+        p.dt,
+        p.solver,
+        p.scheme,
+        p.x0,
+        p.v0,
+        p.t_end,
+        s.steps
+    );
+    let c = &s.classification;
+    let label = match c.regime {
+        "steady_slip" => "steady slip",
+        "stick_slip" => "stick-slip",
+        _ => "not yet settled",
+    };
+    println!(
+        "ended: {label} (classifier: {}, {} at t = {:.6})",
+        c.regime, c.reason, c.t_decision
+    );
+    println!("squeal: {}", c.squeal.words());
+    let f = &s.final_state;
+    println!(
+        "final state: t = {} x = {:.9} x' = {:.9} x'' = {:.9} F = {:.9}",
+        f.t, f.x, f.v, f.a, f.force
+    );
+    let o = &s.oscillation;
+    match (o.omega, o.amplitude) {
+        (Some(w), Some(r)) => println!(
+            "final oscillation: omega = {w:.6} (last revolution), section amplitude x' = {r:.6} \
+             at t = {:.4}, {} crossings of x = {}",
+            o.t_last_crossing.unwrap_or(f64::NAN),
+            o.crossings,
+            s.fixed_point.x
+        ),
+        _ => println!(
+            "final oscillation: none ({} crossings of x = {}, x' > 0)",
+            o.crossings, s.fixed_point.x
+        ),
+    }
+    if let Some(sp) = &s.stick {
+        print_stick_phases(sp);
+    }
+    let st = &s.stats;
+    println!(
+        "solver: solves={} evaluations={} newton_steps={} bisections={} expansions={} \
+         multi_root={} discontinuities={} failures={} iterations={} unconverged={} sticks={} \
+         bracket_fallbacks={}",
+        st.solves,
+        st.evaluations,
+        st.newton_steps,
+        st.bisections,
+        st.expansions,
+        st.multi_root,
+        st.discontinuities,
+        st.failures,
+        st.iterations,
+        st.unconverged,
+        st.sticks,
+        st.fallbacks
+    );
+    println!("max residual |G(F)| = {:.3e}", s.max_residual);
+    if kind == SolverKind::Paper || s.unconverged_steps > 0 {
+        let times: Vec<String> = s
+            .first_unconverged_times
+            .iter()
+            .map(|t| format!("{}", (t * 1e9).round() / 1e9))
+            .collect();
+        println!(
+            "unconverged steps: {} of {} ({:.2}%){}",
+            s.unconverged_steps,
+            st.solves,
+            100.0 * s.unconverged_steps as f64 / st.solves.max(1) as f64,
+            if times.is_empty() {
+                String::new()
+            } else {
+                format!(", first at t = {}", times.join(", "))
+            }
+        );
+    }
+    if let Some(out) = &s.out {
+        println!("wrote {} ({} rows)", out.display(), s.rows);
+    }
+    if let Some(plot) = &s.plot {
+        println!("wrote {}", plot.display());
+    }
+}
+
+/// The stick phases of a law with true stick.
+fn print_stick_phases(sp: &StickPhases) {
+    let times = |v: &[f64]| {
+        v.iter()
+            .map(|t| format!("{t:.6}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let last = |t: Option<f64>| t.map_or("none".to_string(), |t| format!("{t:.6}"));
+    println!(
+        "stick phases: {} onsets, {} breakaways, {} passages through zero slip without sticking; {} at the end",
+        sp.onsets,
+        sp.breakaways,
+        sp.reversals,
+        if sp.stuck_at_end { "stuck" } else { "slipping" }
+    );
+    if sp.onsets + sp.breakaways > 0 {
+        println!(
+            "  onsets at t = {}{}; last at t = {}",
+            times(&sp.first_onsets),
+            if sp.onsets as usize > sp.first_onsets.len() {
+                ", ..."
+            } else {
+                ""
+            },
+            last(sp.last_onset)
+        );
+        println!(
+            "  breakaways at t = {}{}; last at t = {}",
+            times(&sp.first_breakaways),
+            if sp.breakaways as usize > sp.first_breakaways.len() {
+                ", ..."
+            } else {
+                ""
+            },
+            last(sp.last_breakaway)
+        );
+    }
+}
