@@ -246,7 +246,7 @@ fn boundary(
     point: State,
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
-    use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary};
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary};
     let param = BoundaryParam::from_key(&args.in_).unwrap_or_default();
     let (lo, hi, flag) = match param {
         BoundaryParam::Nu => (args.nu_lo, args.nu_hi, "nu"),
@@ -305,81 +305,126 @@ fn boundary(
         (lo, hi),
         COARSE,
     )?;
-    let warning = warn_changes(&changes, name);
-    let seconds = t0.elapsed().as_secs_f64();
-    // A physical system: the boundary in N s/m (c) or m/s (v_belt) too.
-    let si = plan.physical.map(|ph| {
+    let found = BoundaryFound {
+        b: &b,
+        name,
+        flag,
+        range: (lo, hi),
+        seconds: t0.elapsed().as_secs_f64(),
+        changes: &changes,
+        si: si_unit(plan, param),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&found.json()?)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    found.print(args, point)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A physical system's name, scale and units for a boundary in `param`: the damping in
+/// N s/m (c), the belt speed in m/s (v_belt).
+fn si_unit(
+    plan: &squeal_scan::Plan,
+    param: squeal_scan::atlas::BoundaryParam,
+) -> Option<(&'static str, f64, &'static str)> {
+    use squeal_scan::atlas::BoundaryParam;
+    plan.physical.map(|ph| {
         let s = ph.scales();
         match param {
             BoundaryParam::Nu => ("c", s.damping, "N s/m"),
             BoundaryParam::Lambda => ("v_belt", s.velocity, "m/s"),
         }
-    });
-    if args.json {
+    })
+}
+
+/// A boundary found by `critical` (the critical value, or the fold of a law without a crisis),
+/// for its two reports.
+struct BoundaryFound<'a> {
+    b: &'a squeal_scan::atlas::Boundary,
+    /// The bisected parameter's name and flag.
+    name: &'a str,
+    flag: &'a str,
+    range: (f64, f64),
+    seconds: f64,
+    changes: &'a [Change],
+    si: Option<(&'static str, f64, &'static str)>,
+}
+
+impl BoundaryFound<'_> {
+    /// The boundary as one JSON object.
+    fn json(&self) -> anyhow::Result<serde_json::Value> {
+        let (b, name) = (self.b, self.name);
         let mut v = serde_json::to_value(b)?;
         v["in"] = name.into();
         v[name] = v["nu"].clone();
-        v["seconds"] = seconds.into();
-        v["coarse_changes"] = serde_json::to_value(&changes)?;
-        if let Some((key, unit, units)) = si {
+        v["seconds"] = self.seconds.into();
+        v["coarse_changes"] = serde_json::to_value(self.changes)?;
+        if let Some((key, unit, units)) = self.si {
             v[key] = (b.nu * unit).into();
             v[format!("{key}_bracket")] = serde_json::json!(b.bracket.map(|x| x * unit));
             v[format!("{key}_units")] = units.into();
         }
-        println!("{}", serde_json::to_string(&v)?);
-        return Ok(ExitCode::SUCCESS);
+        Ok(v)
     }
-    let (what, meaning) = if args.fold {
-        (
-            "fold of cycles",
-            "below it a stick-slip oscillation exists beside steady slip; above it no start squeals"
-                .to_string(),
-        )
-    } else {
-        (
-            "critical value",
-            format!(
-                "below it ({}, {}) squeals; above it, steady slip",
-                point.x, point.v
-            ),
-        )
-    };
-    let nothing = if args.fold {
-        "nothing squeals there already".to_string()
-    } else {
-        format!("({}, {}) is quiet there already", point.x, point.v)
-    };
-    match b.status {
-        BoundaryStatus::Found => {}
-        BoundaryStatus::BelowRange => bail!("--{flag}-lo {lo}: {nothing}; lower --{flag}-lo"),
-        _ => bail!("--{flag}-hi {hi}: it still squeals there; raise --{flag}-hi"),
-    }
-    println!(
-        "{what}: {name} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
-        b.nu,
-        b.bracket[0],
-        b.bracket[1],
-        b.evaluations,
-        seconds,
-        match b.half_dt_holds {
-            Some(true) => "at dt/2 the bracket holds (the predicate is the same at both ends)",
-            Some(false) =>
-                "at dt/2 the boundary moves out of the bracket: its error is larger than the bracket",
-            None => "at dt/2: not checked (a run failed)",
+
+    /// The boundary in words; an error naming the flag when it lies outside the range.
+    fn print(&self, args: &Args, point: State) -> anyhow::Result<()> {
+        use squeal_scan::atlas::BoundaryStatus;
+        let (b, name, flag) = (self.b, self.name, self.flag);
+        let (lo, hi) = self.range;
+        let (what, meaning) = if args.fold {
+            (
+                "fold of cycles",
+                "below it a stick-slip oscillation exists beside steady slip; above it no start squeals"
+                    .to_string(),
+            )
+        } else {
+            (
+                "critical value",
+                format!(
+                    "below it ({}, {}) squeals; above it, steady slip",
+                    point.x, point.v
+                ),
+            )
+        };
+        let nothing = if args.fold {
+            "nothing squeals there already".to_string()
+        } else {
+            format!("({}, {}) is quiet there already", point.x, point.v)
+        };
+        match b.status {
+            BoundaryStatus::Found => {}
+            BoundaryStatus::BelowRange => bail!("--{flag}-lo {lo}: {nothing}; lower --{flag}-lo"),
+            _ => bail!("--{flag}-hi {hi}: it still squeals there; raise --{flag}-hi"),
         }
-    );
-    if let Some(w) = warning {
-        println!("  {w}");
-    }
-    if let Some((key, unit, units)) = si {
         println!(
-            "  in SI units: {key} = {:.4} {units}, bracket [{:.4}, {:.4}] {units}",
-            b.nu * unit,
-            b.bracket[0] * unit,
-            b.bracket[1] * unit
+            "{what}: {name} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",
+            b.nu,
+            b.bracket[0],
+            b.bracket[1],
+            b.evaluations,
+            self.seconds,
+            match b.half_dt_holds {
+                Some(true) => "at dt/2 the bracket holds (the predicate is the same at both ends)",
+                Some(false) =>
+                    "at dt/2 the boundary moves out of the bracket: its error is larger than the bracket",
+                None => "at dt/2: not checked (a run failed)",
+            }
         );
+        if let Some(w) = warn_changes(self.changes, name) {
+            println!("  {w}");
+        }
+        if let Some((key, unit, units)) = self.si {
+            println!(
+                "  in SI units: {key} = {:.4} {units}, bracket [{:.4}, {:.4}] {units}",
+                b.nu * unit,
+                b.bracket[0] * unit,
+                b.bracket[1] * unit
+            );
+        }
+        Ok(())
     }
-    Ok(ExitCode::SUCCESS)
 }
 
 /// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in
@@ -475,7 +520,6 @@ fn crisis_report(
     c: &squeal_scan::band::Crisis,
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
-    use squeal_scan::atlas::BoundaryParam;
     found(args, (param, flag), c)?;
     let warning = warn_changes(&c.changes, name);
     // The band's transient lifetimes above the crisis (in the damping only).
@@ -485,13 +529,7 @@ fn crisis_report(
     };
     let seconds = t0.elapsed().as_secs_f64();
     // A physical system: the fold in N s/m (c) or m/s (v_belt) too.
-    let si = plan.physical.map(|ph| {
-        let s = ph.scales();
-        match param {
-            BoundaryParam::Nu => ("c", s.damping, "N s/m"),
-            BoundaryParam::Lambda => ("v_belt", s.velocity, "m/s"),
-        }
-    });
+    let si = si_unit(plan, param);
     if args.json {
         let mut v = serde_json::to_value(c)?;
         // The bracket at dt under the name `--fold` gave it before (the atlas's fold_nu_lo/hi).
