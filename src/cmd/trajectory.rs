@@ -75,6 +75,76 @@ enum Format {
 /// Runs `squeal trajectory`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let stepper = args.model.stepper()?;
+    let (format, keep) = checked_outputs(&args, &stepper)?;
+
+    // A physical system: --x0/--v0 are in m and m/s.
+    let scales = args.model.physical()?.map(|ph| ph.scales());
+    let ic = match scales {
+        Some(s) => State {
+            x: args.x0 / s.length,
+            v: args.v0 / s.velocity,
+        },
+        None => State {
+            x: args.x0,
+            v: args.v0,
+        },
+    };
+    let span = Span {
+        ic,
+        t_end: args.t_end,
+        every: if keep { args.every } else { 0 },
+    };
+    let t = squeal_scan::trajectory::run(&stepper, &Classifier::default(), span, None);
+    let fp = t.fixed_point;
+    let cols = &t.samples;
+
+    write_outputs(&args, &stepper, (format, span), &t)?;
+
+    let summary = Summary {
+        squeal_version: env!("CARGO_PKG_VERSION"),
+        params: run_params(&args, &stepper),
+        steps: t.steps,
+        fixed_point: fp,
+        classification: Classification {
+            regime: t.outcome.regime.name(),
+            reason: t.outcome.reason.name(),
+            t_decision: t.outcome.t_decision,
+            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
+        },
+        final_state: t.final_state,
+        oscillation: t.oscillation,
+        stick: t.stick.clone(),
+        stats: t.stats,
+        max_residual: t.max_residual,
+        unconverged_steps: t.unconverged_steps,
+        first_unconverged_times: t.first_unconverged_times.clone(),
+        rows: if keep { cols.len() as u64 } else { 0 },
+        out: args.out.clone(),
+        plot: args.plot.clone(),
+        si: None,
+    };
+    let mut summary = summary;
+    summary.params.x0 = ic.x;
+    summary.params.v0 = ic.v;
+    if let Some(sc) = scales {
+        summary.si = Some(si_summary(&summary, &sc));
+    }
+    if args.json {
+        let text = serde_json::to_string_pretty(&summary).context("cannot encode the summary")?;
+        println!("{text}");
+    } else {
+        print_summary(&summary, stepper.solver().kind);
+        if let Some(si) = &summary.si {
+            println!("in SI units: {si}");
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The run's flags checked before any computing: the start, the end, the decimation and
+/// the output files (refused if present without `--force`); the `--out` format and whether
+/// samples are kept.
+fn checked_outputs(args: &Args, stepper: &Stepper) -> anyhow::Result<(Option<Format>, bool)> {
     check_finite("--x0", args.x0)?;
     check_finite("--v0", args.v0)?;
     if !args.t_end.is_finite() || args.t_end <= 0.0 {
@@ -121,28 +191,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         refuse_existing("--plot", path, args.force)?;
     }
+    Ok((format, keep))
+}
 
-    // A physical system: --x0/--v0 are in m and m/s.
-    let scales = args.model.physical()?.map(|ph| ph.scales());
-    let ic = match scales {
-        Some(s) => State {
-            x: args.x0 / s.length,
-            v: args.v0 / s.velocity,
-        },
-        None => State {
-            x: args.x0,
-            v: args.v0,
-        },
-    };
-    let span = Span {
-        ic,
-        t_end: args.t_end,
-        every: if keep { args.every } else { 0 },
-    };
-    let t = squeal_scan::trajectory::run(&stepper, &Classifier::default(), span, None);
-    let fp = t.fixed_point;
+/// The samples to `--out` (CSV or HDF5) and the phase plane to `--plot`, as asked.
+fn write_outputs(
+    args: &Args,
+    stepper: &Stepper,
+    (format, span): (Option<Format>, Span),
+    t: &squeal_scan::trajectory::Trajectory,
+) -> anyhow::Result<()> {
     let cols = &t.samples;
-
     if let (Some(path), Some(format)) = (&args.out, format) {
         let written = match format {
             Format::Csv => write_csv(path, cols, args.force),
@@ -150,61 +209,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 path,
                 args.force,
                 &super::common::provenance(),
-                &stepper,
+                stepper,
                 Span {
                     every: args.every,
                     ..span
                 },
-                &t,
+                t,
             )
             .map_err(anyhow::Error::from),
         };
         written.with_context(|| format!("--out: cannot write {}", path.display()))?;
     }
     if let Some(path) = &args.plot {
-        plot_phase_plane(path, cols, &stepper, ic, fp)
+        plot_phase_plane(path, cols, stepper, span.ic, t.fixed_point)
             .with_context(|| format!("--plot: cannot draw {}", path.display()))?;
     }
-
-    let summary = Summary {
-        squeal_version: env!("CARGO_PKG_VERSION"),
-        params: run_params(&args, &stepper),
-        steps: t.steps,
-        fixed_point: fp,
-        classification: Classification {
-            regime: t.outcome.regime.name(),
-            reason: t.outcome.reason.name(),
-            t_decision: t.outcome.t_decision,
-            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
-        },
-        final_state: t.final_state,
-        oscillation: t.oscillation,
-        stick: t.stick.clone(),
-        stats: t.stats,
-        max_residual: t.max_residual,
-        unconverged_steps: t.unconverged_steps,
-        first_unconverged_times: t.first_unconverged_times.clone(),
-        rows: if keep { cols.len() as u64 } else { 0 },
-        out: args.out.clone(),
-        plot: args.plot.clone(),
-        si: None,
-    };
-    let mut summary = summary;
-    summary.params.x0 = ic.x;
-    summary.params.v0 = ic.v;
-    if let Some(sc) = scales {
-        summary.si = Some(si_summary(&summary, &sc));
-    }
-    if args.json {
-        let text = serde_json::to_string_pretty(&summary).context("cannot encode the summary")?;
-        println!("{text}");
-    } else {
-        print_summary(&summary, stepper.solver().kind);
-        if let Some(si) = &summary.si {
-            println!("in SI units: {si}");
-        }
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 fn check_finite(flag: &str, value: f64) -> anyhow::Result<()> {
