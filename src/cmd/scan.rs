@@ -46,6 +46,76 @@ struct Bars {
     plain: Option<progress::PlainLines>,
 }
 
+impl Bars {
+    /// The terminal bars (the whole scan, and each map of a sweep) and the plain lines off a
+    /// terminal for the `pending` cells, the time left weighed by the pilot's cost per cell.
+    fn new(
+        plan: &Plan,
+        pending: &Pending,
+        pilot: Option<&squeal_scan::estimate::Estimate>,
+        quiet: bool,
+    ) -> Bars {
+        let multi = MultiProgress::with_draw_target(if progress::show_progress(quiet) {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        });
+        let style = progress::bar_style(
+            "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
+            "cell",
+        );
+        let counts: Vec<u64> = (0..plan.maps.len())
+            .map(|m| pending.cells_of(plan, m) as u64)
+            .collect();
+        let meter = Arc::new(match pilot {
+            // The time left weighs each map's cells by the pilot's cost per cell there.
+            Some(e) => progress::WorkMeter::weighted(
+                (0..plan.maps.len()).map(|m| e.cell_cost(m)).collect(),
+                &counts,
+            ),
+            None => progress::WorkMeter::uniform(pending.cells as u64),
+        });
+        let overall = multi.add(
+            ProgressBar::new(pending.cells as u64)
+                .with_style(progress::metered_bar_style(
+                    "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
+                    "cell",
+                    meter.clone(),
+                ))
+                .with_prefix("all"),
+        );
+        let maps = if plan.maps.len() > 1 {
+            (0..plan.maps.len())
+                .map(|m| {
+                    let label = plan
+                        .sweep
+                        .as_ref()
+                        .map_or(String::new(), |s| format!("{}={:.3e}", s.name, s.values[m]));
+                    let n = pending.cells_of(plan, m) as u64;
+                    if n == 0 {
+                        ProgressBar::hidden()
+                    } else {
+                        multi.add(
+                            ProgressBar::new(n)
+                                .with_style(style.clone())
+                                .with_prefix(label),
+                        )
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let plain = progress::PlainLines::with_meter("cells", "cell", meter.clone(), quiet);
+        Bars {
+            overall,
+            maps,
+            meter,
+            plain,
+        }
+    }
+}
+
 impl Observer for Bars {
     fn cell_done(&self, map: usize) {
         self.meter.add(map);
@@ -171,64 +241,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
 
-    let multi = MultiProgress::with_draw_target(if progress::show_progress(args.run.quiet) {
-        ProgressDrawTarget::stderr()
-    } else {
-        ProgressDrawTarget::hidden()
-    });
-    let style = progress::bar_style(
-        "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
-        "cell",
-    );
-    let counts: Vec<u64> = (0..plan.maps.len())
-        .map(|m| pending.cells_of(&plan, m) as u64)
-        .collect();
-    let meter = Arc::new(match &pilot {
-        // The time left weighs each map's cells by the pilot's cost per cell there.
-        Some(e) => progress::WorkMeter::weighted(
-            (0..plan.maps.len()).map(|m| e.cell_cost(m)).collect(),
-            &counts,
-        ),
-        None => progress::WorkMeter::uniform(pending.cells as u64),
-    });
-    let overall = multi.add(
-        ProgressBar::new(pending.cells as u64)
-            .with_style(progress::metered_bar_style(
-                "{prefix:>8} [{bar:40}] {pos}/{len} cells  {avg_rate}  ETA {avg_eta}",
-                "cell",
-                meter.clone(),
-            ))
-            .with_prefix("all"),
-    );
-    let maps = if plan.maps.len() > 1 {
-        (0..plan.maps.len())
-            .map(|m| {
-                let label = plan
-                    .sweep
-                    .as_ref()
-                    .map_or(String::new(), |s| format!("{}={:.3e}", s.name, s.values[m]));
-                let n = pending.cells_of(&plan, m) as u64;
-                if n == 0 {
-                    ProgressBar::hidden()
-                } else {
-                    multi.add(
-                        ProgressBar::new(n)
-                            .with_style(style.clone())
-                            .with_prefix(label),
-                    )
-                }
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let plain = progress::PlainLines::with_meter("cells", "cell", meter.clone(), args.run.quiet);
-    let bars = Bars {
-        overall,
-        maps,
-        meter,
-        plain,
-    };
+    let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
 
     let started = Instant::now();
     let done = drive(&plan, shard, &mut writer, &bars, &stop).map_err(|e| match e {
