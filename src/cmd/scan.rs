@@ -422,6 +422,107 @@ fn reason_words(counts: &[u64]) -> String {
     format!("reasons: {}", parts.join(", "))
 }
 
+/// Map `i` of a finished scan as one JSON object: its counts, checks, reasons, transient
+/// squeal, cycle, landscape and basin stability.
+fn map_json(
+    info: &squeal_store::FileInfo,
+    tallies: &Tallies,
+    i: usize,
+) -> anyhow::Result<serde_json::Value> {
+    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    let (c, checks) = (&info.counts[i], tallies.checks);
+    let mut o = serde_json::Map::new();
+    if let Some((name, vals)) = &info.sweep {
+        o.insert(name.clone(), vals[i].into());
+    }
+    for (k, n) in names.iter().zip(c) {
+        o.insert((*k).into(), (*n).into());
+    }
+    let vals = checks.get(i).cloned().unwrap_or_default();
+    let ws = (vals.first().copied().unwrap_or(-1) >= 0)
+        .then(|| serde_json::json!({"cells": vals[0], "beyond_pixel": vals[1]}));
+    o.insert("wrong_side".into(), serde_json::to_value(ws)?);
+    let mut ck = serde_json::Map::new();
+    for ((name, _), v) in squeal_scan::checks::CHECK_FIELDS.iter().zip(&vals) {
+        ck.insert((*name).into(), (*v).into());
+    }
+    o.insert("checks".into(), ck.into());
+    if let Some(counts) = tallies.reasons.get(i) {
+        let by_name: serde_json::Map<_, _> = squeal_core::Reason::ALL
+            .iter()
+            .zip(counts)
+            .map(|(r, n)| (r.name().to_string(), (*n).into()))
+            .collect();
+        o.insert("reasons".into(), by_name.into());
+    }
+    if let Some(n) = tallies.transient.get(i) {
+        o.insert("transient_squeal_cells".into(), (*n).into());
+    }
+    if let Some(Some(why)) = info.no_cycle.get(i) {
+        o.insert("no_cycle".into(), why.clone().into());
+    }
+    if let Some(Some(r)) = info.escape.get(i) {
+        o.insert("escape".into(), (*r).into());
+    }
+    if !info.landscapes.is_empty() {
+        o.insert(
+            "landscape".into(),
+            landscape_json(info.landscapes.get(i).and_then(Option::as_ref)),
+        );
+    }
+    if let Some(b) = info.basin.get(i) {
+        o.insert("basin_stability".into(), common::basin_json(b));
+    }
+    Ok(serde_json::Value::Object(o))
+}
+
+/// Map `i` of a finished scan in words.
+fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: usize) {
+    let (c, checks) = (&info.counts[i], tallies.checks);
+    let label = info
+        .sweep
+        .as_ref()
+        .map_or(String::new(), |(n, v)| format!("{n} = {:<10.4e} ", v[i]));
+    let mut line = format!(
+        "  {label}steady_slip {:>7}  stick_slip {:>7}  undecided {:>5}",
+        c[1], c[2], c[0]
+    );
+    if c[3] > 0 {
+        line += &format!("  not_computed {}", c[3]);
+    }
+    println!("{line}");
+    if let Some(b) = info.basin.get(i) {
+        println!("    {}", common::basin_words(b));
+    }
+    if let Some(Some(why)) = info.no_cycle.get(i) {
+        println!("    no unstable cycle: {why}");
+    }
+    if let Some(Some(r)) = info.escape.get(i) {
+        println!("    {}", escape_words(*r));
+    }
+    if let Some(Some(l)) = info.landscapes.get(i) {
+        for w in landscape_words(l) {
+            println!("    {w}");
+        }
+    }
+    let sample = plan.grid.is_sample();
+    for w in checks
+        .get(i)
+        .map(|c| check_words(c, sample))
+        .unwrap_or_default()
+    {
+        println!("    {w}");
+    }
+    if let Some(counts) = tallies.reasons.get(i) {
+        println!("    {}", reason_words(counts));
+    }
+    if let Some(n) = tallies.transient.get(i).filter(|n| **n > 0) {
+        println!(
+            "    transient squeal: {n} steady-slip cells stuck before they settled (t_squeal > 0)"
+        );
+    }
+}
+
 fn report(
     args: &Args,
     plan: &Plan,
@@ -431,59 +532,10 @@ fn report(
     computed: usize,
     secs: f64,
 ) -> anyhow::Result<()> {
-    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
-    let checks = tallies.checks;
     let rate = computed as f64 / secs.max(1e-9);
     if args.json {
-        let maps: Vec<_> = info
-            .counts
-            .iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let mut o = serde_json::Map::new();
-                if let Some((name, vals)) = &info.sweep {
-                    o.insert(name.clone(), vals[i].into());
-                }
-                for (k, n) in names.iter().zip(c) {
-                    o.insert((*k).into(), (*n).into());
-                }
-                let vals = checks.get(i).cloned().unwrap_or_default();
-                let ws = (vals.first().copied().unwrap_or(-1) >= 0)
-                    .then(|| serde_json::json!({"cells": vals[0], "beyond_pixel": vals[1]}));
-                o.insert("wrong_side".into(), serde_json::to_value(ws)?);
-                let mut ck = serde_json::Map::new();
-                for ((name, _), v) in squeal_scan::checks::CHECK_FIELDS.iter().zip(&vals) {
-                    ck.insert((*name).into(), (*v).into());
-                }
-                o.insert("checks".into(), ck.into());
-                if let Some(counts) = tallies.reasons.get(i) {
-                    let by_name: serde_json::Map<_, _> = squeal_core::Reason::ALL
-                        .iter()
-                        .zip(counts)
-                        .map(|(r, n)| (r.name().to_string(), (*n).into()))
-                        .collect();
-                    o.insert("reasons".into(), by_name.into());
-                }
-                if let Some(n) = tallies.transient.get(i) {
-                    o.insert("transient_squeal_cells".into(), (*n).into());
-                }
-                if let Some(Some(why)) = info.no_cycle.get(i) {
-                    o.insert("no_cycle".into(), why.clone().into());
-                }
-                if let Some(Some(r)) = info.escape.get(i) {
-                    o.insert("escape".into(), (*r).into());
-                }
-                if !info.landscapes.is_empty() {
-                    o.insert(
-                        "landscape".into(),
-                        landscape_json(info.landscapes.get(i).and_then(Option::as_ref)),
-                    );
-                }
-                if let Some(b) = info.basin.get(i) {
-                    o.insert("basin_stability".into(), common::basin_json(b));
-                }
-                Ok(serde_json::Value::Object(o))
-            })
+        let maps: Vec<_> = (0..info.counts.len())
+            .map(|i| map_json(info, &tallies, i))
             .collect::<anyhow::Result<_>>()?;
         let v = serde_json::json!({
             "output": info.path,
@@ -503,49 +555,8 @@ fn report(
         layout(plan),
         info.path.display()
     );
-    for (i, c) in info.counts.iter().enumerate() {
-        let label = info
-            .sweep
-            .as_ref()
-            .map_or(String::new(), |(n, v)| format!("{n} = {:<10.4e} ", v[i]));
-        let mut line = format!(
-            "  {label}steady_slip {:>7}  stick_slip {:>7}  undecided {:>5}",
-            c[1], c[2], c[0]
-        );
-        if c[3] > 0 {
-            line += &format!("  not_computed {}", c[3]);
-        }
-        println!("{line}");
-        if let Some(b) = info.basin.get(i) {
-            println!("    {}", common::basin_words(b));
-        }
-        if let Some(Some(why)) = info.no_cycle.get(i) {
-            println!("    no unstable cycle: {why}");
-        }
-        if let Some(Some(r)) = info.escape.get(i) {
-            println!("    {}", escape_words(*r));
-        }
-        if let Some(Some(l)) = info.landscapes.get(i) {
-            for w in landscape_words(l) {
-                println!("    {w}");
-            }
-        }
-        let sample = plan.grid.is_sample();
-        for w in checks
-            .get(i)
-            .map(|c| check_words(c, sample))
-            .unwrap_or_default()
-        {
-            println!("    {w}");
-        }
-        if let Some(counts) = tallies.reasons.get(i) {
-            println!("    {}", reason_words(counts));
-        }
-        if let Some(n) = tallies.transient.get(i).filter(|n| **n > 0) {
-            println!(
-                "    transient squeal: {n} steady-slip cells stuck before they settled (t_squeal > 0)"
-            );
-        }
+    for i in 0..info.counts.len() {
+        print_map(plan, info, &tallies, i);
     }
     if computed > 0 {
         println!("  {computed} cells in {secs:.2} s: {rate:.0} cells/s");
