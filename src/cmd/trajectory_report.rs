@@ -162,6 +162,17 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     if let Some(sp) = &s.stick {
         print_stick_phases(sp);
     }
+    print_solver(s, kind);
+    if let Some(out) = &s.out {
+        println!("wrote {} ({} rows)", out.display(), s.rows);
+    }
+    if let Some(plot) = &s.plot {
+        println!("wrote {}", plot.display());
+    }
+}
+
+/// The solver's counts, the largest residual and the unconverged steps.
+fn print_solver(s: &Summary, kind: SolverKind) {
     let st = &s.stats;
     println!(
         "solver: solves={} evaluations={} newton_steps={} bisections={} expansions={} \
@@ -198,12 +209,6 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
                 format!(", first at t = {}", times.join(", "))
             }
         );
-    }
-    if let Some(out) = &s.out {
-        println!("wrote {} ({} rows)", out.display(), s.rows);
-    }
-    if let Some(plot) = &s.plot {
-        println!("wrote {}", plot.display());
     }
 }
 
