@@ -184,33 +184,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // The work, estimated before anything is created or computed.
     let threads = rayon::current_num_threads();
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default());
-    // A pilot measures the time per cell with this plan's law, landscape and early
-    // stopping (squeal_scan::estimate); --quiet skips it and uses the documented rate.
-    let rough = plan.estimate_seconds(owned.cells, threads);
-    if rough > common::LONG_RUN && !args.allow_long {
-        bail!(
-            "{} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
-            owned.cells,
-            common::duration(rough)
-        );
-    }
-    let pilot = if args.run.quiet {
-        None
-    } else {
-        Some(squeal_scan::estimate::pilot(&plan)?)
-    };
-    let seconds_for = |p: &Pending| match &pilot {
-        Some(e) => e.seconds(plan.maps.len(), |m| p.cells_of(&plan, m), threads),
-        None => plan.estimate_seconds(p.cells, threads),
-    };
-    let estimate = seconds_for(&owned);
-    if estimate > common::LONG_RUN && !args.allow_long {
-        bail!(
-            "{} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
-            owned.cells,
-            common::duration(estimate)
-        );
-    }
+    let pilot = checked_estimate(&args, &plan, &owned, threads)?;
     let prov = common::provenance();
     let mut writer = if args.run.resume {
         ScanWriter::resume(&out, &plan, shard, &prov)?
@@ -224,7 +198,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
-        let secs = seconds_for(&pending);
+        let secs = seconds_for(&plan, pilot.as_ref(), &pending, threads);
         eprintln!(
             "squeal: {} cells to compute ({} map(s) of {}{}) on {threads} thread(s): roughly {} ({secs:.1} s){}",
             pending.cells,
@@ -281,6 +255,53 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     report(&args, &plan, &info, tallies, &written, done.cells, secs)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Seconds for the `p` cells on `threads` threads: from the pilot, or at the documented rate
+/// without one (`--quiet`).
+fn seconds_for(
+    plan: &Plan,
+    pilot: Option<&squeal_scan::estimate::Estimate>,
+    p: &Pending,
+    threads: usize,
+) -> f64 {
+    match pilot {
+        Some(e) => e.seconds(plan.maps.len(), |m| p.cells_of(plan, m), threads),
+        None => plan.estimate_seconds(p.cells, threads),
+    }
+}
+
+/// The pilot (none with `--quiet`), after refusing work estimated over
+/// [`common::LONG_RUN`] without `--allow-long`: first at the documented rate (before the
+/// pilot runs), then from the pilot, which measures the time per cell with this plan's law,
+/// landscape and early stopping ([`squeal_scan::estimate`]).
+fn checked_estimate(
+    args: &Args,
+    plan: &Plan,
+    owned: &Pending,
+    threads: usize,
+) -> anyhow::Result<Option<squeal_scan::estimate::Estimate>> {
+    let rough = plan.estimate_seconds(owned.cells, threads);
+    if rough > common::LONG_RUN && !args.allow_long {
+        bail!(
+            "{} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            owned.cells,
+            common::duration(rough)
+        );
+    }
+    let pilot = match args.run.quiet {
+        true => None,
+        false => Some(squeal_scan::estimate::pilot(plan)?),
+    };
+    let estimate = seconds_for(plan, pilot.as_ref(), owned, threads);
+    if estimate > common::LONG_RUN && !args.allow_long {
+        bail!(
+            "{} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            owned.cells,
+            common::duration(estimate)
+        );
+    }
+    Ok(pilot)
 }
 
 /// "256 x 128 cells" or "5000 random samples in [-2, 2] x [0, 2] (seed 1)".
