@@ -176,3 +176,58 @@ fn stability_chart_marks_are_glyphs_apart_from_the_line() {
         .count();
     assert!(gap > 50, "the marks are not joined ({gap} px apart)");
 }
+
+/// Issue 17, item 5: a fold whose coarse scan found more than one change of regime along the
+/// damping is marked on the atlas's chart with its own glyph (a red square, in the chart and
+/// its legend); the same chart with one change per fold has no red at all.
+#[test]
+fn a_fold_that_flips_is_marked_on_the_atlas_chart() {
+    use squeal_scan::atlas::driver::{BoundaryResult, UnitResult};
+    use squeal_scan::atlas::{AtlasPlan, AtlasResults, Boundary, BoundaryStatus};
+    let plan = AtlasPlan::from_toml(
+        "version = 1\nname = \"flip\"\n[model]\nlaw = \"mcmillan\"\n\
+         nu = { from = 1e-3, to = 0.05, count = 4, spacing = \"log\" }\n\
+         lambda = { from = 1.0, to = 4.0, count = 3 }\n[output]\npath = \"flip.h5\"\n",
+        "flip.toml",
+    )
+    .unwrap();
+    assert_eq!(plan.n_boundaries(), 3);
+    let red = Rgb(230, 60, 60);
+    let draw = |flips: u32| {
+        let mut res = AtlasResults::new(&plan);
+        for j in 0..plan.n_boundaries() {
+            let fold = Boundary {
+                status: BoundaryStatus::Found,
+                nu: 0.02,
+                bracket: [0.019, 0.021],
+                evaluations: 10,
+                half_dt_holds: Some(true),
+                uncertainty: 0.001,
+                changes: if j == 1 { flips } else { 1 },
+            };
+            let b = BoundaryResult {
+                index: j,
+                fold,
+                critical: Boundary::none(),
+                note: None,
+            };
+            res.add(&plan, UnitResult::Boundary(b));
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("flip.png");
+        atlas_chart(&plan, &res, &p).unwrap();
+        let file = std::fs::File::open(&p).unwrap();
+        let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+            .read_info()
+            .unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(info.buffer_size());
+        buf.chunks_exact(3)
+            .filter(|px| px == &[red.0, red.1, red.2])
+            .count()
+    };
+    let (flipping, plain) = (draw(3), draw(1));
+    assert!(flipping > 20, "a square glyph: {flipping} red pixels");
+    assert_eq!(plain, 0);
+}
