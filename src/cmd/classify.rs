@@ -82,13 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // A physical system: the file's x0, v0 are in m and m/s (written back as given).
     let scales = setup.plan.physical.map(|ph| ph.scales());
     let ics: Vec<State> = match scales {
-        Some(s) => given
-            .iter()
-            .map(|ic| State {
-                x: ic.x / s.length,
-                v: ic.v / s.velocity,
-            })
-            .collect(),
+        Some(s) => given.iter().map(|&ic| s.state(ic)).collect(),
         None => given.clone(),
     };
     if args.out.extension().is_some_and(|e| e == "h5") {

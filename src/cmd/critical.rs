@@ -94,16 +94,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let t0 = std::time::Instant::now();
     // A physical system: --x0/--v0 are in m and m/s, results also in SI units.
     let scales = plan.physical.map(|ph| ph.scales());
-    let point = match scales {
-        Some(s) => State {
-            x: args.x0 / s.length,
-            v: args.v0 / s.velocity,
-        },
-        None => State {
-            x: args.x0,
-            v: args.v0,
-        },
+    let given = State {
+        x: args.x0,
+        v: args.v0,
     };
+    let point = scales.map_or(given, |s| s.state(given));
     let stribeck = plan.maps[setup.map].law.has_true_stick();
     let args = match (args.in_.as_str(), stribeck) {
         ("xi" | "v_d", false) => bail!(

@@ -79,16 +79,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     // A physical system: --x0/--v0 are in m and m/s.
     let scales = args.model.physical()?.map(|ph| ph.scales());
-    let ic = match scales {
-        Some(s) => State {
-            x: args.x0 / s.length,
-            v: args.v0 / s.velocity,
-        },
-        None => State {
-            x: args.x0,
-            v: args.v0,
-        },
+    let given = State {
+        x: args.x0,
+        v: args.v0,
     };
+    let ic = scales.map_or(given, |s| s.state(given));
     let span = Span {
         ic,
         t_end: args.t_end,

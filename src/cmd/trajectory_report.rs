@@ -229,25 +229,25 @@ fn print_stick_phases(sp: &StickPhases) {
         if sp.stuck_at_end { "stuck" } else { "slipping" }
     );
     if sp.onsets + sp.breakaways > 0 {
-        println!(
-            "  onsets at t = {}{}; last at t = {}",
-            times(&sp.first_onsets),
-            if sp.onsets as usize > sp.first_onsets.len() {
+        for (what, count, first, latest) in [
+            ("onsets", sp.onsets, &sp.first_onsets, sp.last_onset),
+            (
+                "breakaways",
+                sp.breakaways,
+                &sp.first_breakaways,
+                sp.last_breakaway,
+            ),
+        ] {
+            let more = if count as usize > first.len() {
                 ", ..."
             } else {
                 ""
-            },
-            last(sp.last_onset)
-        );
-        println!(
-            "  breakaways at t = {}{}; last at t = {}",
-            times(&sp.first_breakaways),
-            if sp.breakaways as usize > sp.first_breakaways.len() {
-                ", ..."
-            } else {
-                ""
-            },
-            last(sp.last_breakaway)
-        );
+            };
+            println!(
+                "  {what} at t = {}{more}; last at t = {}",
+                times(first),
+                last(latest)
+            );
+        }
     }
 }

@@ -69,6 +69,13 @@ impl Scales {
     pub fn area(&self) -> f64 {
         self.length * self.velocity
     }
+    /// The nondimensional state of a phase-plane point `s` given in m and m/s.
+    pub fn state(&self, s: crate::State) -> crate::State {
+        crate::State {
+            x: s.x / self.length,
+            v: s.v / self.velocity,
+        }
+    }
 }
 
 impl Physical {

@@ -71,7 +71,7 @@ use std::path::PathBuf;
 mod parse;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig, State};
+use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
 
 use super::boundary::BoundaryParam;
 use super::geometry::Region;
@@ -603,10 +603,7 @@ impl AtlasPlan {
         if let Some(ph) = self.physical_at(i) {
             let s = ph.scales();
             ps.units = Some(s);
-            ps.operating = State {
-                x: ps.operating.x / s.length,
-                v: ps.operating.v / s.velocity,
-            };
+            ps.operating = s.state(ps.operating);
             if !self.disturbance_nondimensional {
                 ps.disturbance = Region {
                     x: ps.disturbance.x.map(|x| x / s.length),
