@@ -38,8 +38,11 @@ use serde::Serialize;
 use squeal_core::Setup;
 
 use crate::error::ScanError;
-use crate::scanner::{Outside, outside_with};
-use crate::section::{RESOLUTION, RISE_FACTOR, ReturnMap, SectionCycles, Work, section_cycles};
+use crate::scanner::{Outside, outside_on};
+use crate::section::{
+    Precision, RESOLUTION, RISE_FACTOR, ReturnCache, ReturnMap, SectionCycles, Work,
+    search_section_to,
+};
 use crate::ulc::CycleSettings;
 
 /// Uniform samples of `P` over the band.
@@ -283,14 +286,27 @@ pub fn lasting_with(
     cs: &CycleSettings,
     budget: Budget,
 ) -> Result<Lasting, ScanError> {
+    lasting_on(setup, cs, budget, &ReturnCache::default())
+}
+
+/// [`lasting_with`] reading and filling `cache`, the returns of `setup`'s stepper (the
+/// verdict with the longer horizon reuses those of the verdict at the same step). The
+/// cycle's crossing is bisected only as far as the verdict needs ([`Precision::Escape`]):
+/// the verdict is the one [`Precision::Rtol`] gives.
+pub fn lasting_on(
+    setup: Setup,
+    cs: &CycleSettings,
+    budget: Budget,
+    cache: &ReturnCache,
+) -> Result<Lasting, ScanError> {
     let st = setup.stepper()?;
     let cs = &budget.settings(cs);
-    let (mut stats, mut returns) = (Default::default(), 0);
-    let found = section_cycles(&st, cs, &mut stats, &mut returns);
+    let map = ReturnMap::cached(&st, cs.t_return, cache);
+    let found = search_section_to(&map, cs, Precision::Escape, &mut Work::default());
     Ok(match found {
         SectionCycles::FixedPointUnstable { .. } => Lasting::Squeals,
         SectionCycles::NoneBelow { .. } => Lasting::Quiet,
-        SectionCycles::Unstable { .. } => match outside_with(&st, cs, &found, budget.samples()) {
+        SectionCycles::Unstable { .. } => match outside_on(&map, &found, budget.samples()) {
             Some(Outside::Escapes { band, .. }) => match band {
                 Band::Trapped { .. } => Lasting::Squeals,
                 Band::Leaks { .. } => Lasting::Quiet,
@@ -302,7 +318,7 @@ pub fn lasting_with(
 }
 
 mod crisis;
-pub use crisis::{COARSE, Crisis, CrisisStatus, Variant, crisis_in, crisis_nu};
+pub use crisis::{COARSE, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in, crisis_nu};
 
 /// The stick-slip band above the unstable cycle crossing at `r_u`, as the sampled interval
 /// `[s, b]` of the section ([`band_above`]'s samples): `s` the first sampled start above the

@@ -324,6 +324,19 @@ pub fn outside_with(
     found: &SectionCycles,
     samples: usize,
 ) -> Option<Outside> {
+    outside_on(
+        &section::ReturnMap::new(stepper, cs.t_return),
+        found,
+        samples,
+    )
+}
+
+/// [`outside_with`] on the return map `map` (its stepper and return time).
+pub fn outside_on(
+    map: &section::ReturnMap,
+    found: &SectionCycles,
+    samples: usize,
+) -> Option<Outside> {
     let SectionCycles::Unstable {
         r,
         stable_above,
@@ -336,12 +349,11 @@ pub fn outside_with(
     Some(match escape {
         None => Outside::Invariant,
         Some(r_escape) => {
-            let map = section::ReturnMap::new(stepper, cs.t_return);
             let top = stable_above.unwrap_or(2.0 * r);
             Outside::Escapes {
                 r_escape,
                 band: crate::band::band_above_n(
-                    &map,
+                    map,
                     r,
                     top,
                     samples,
@@ -366,7 +378,9 @@ pub fn classifier_for(stepper: &Stepper, base: Classifier, r_max: f64) -> Classi
         ..CycleSettings::default()
     };
     let (mut stats, mut returns) = (SolverStats::default(), 0);
-    let found = section::section_cycles(stepper, &cs, &mut stats, &mut returns);
+    // Only the band rules are read: the crossing to `rtol` only where something escapes.
+    let precision = section::Precision::Escape;
+    let found = section::section_cycles_to(stepper, &cs, precision, &mut stats, &mut returns);
     let band_rules = outside_of(stepper, &cs, &found).is_none_or(|o| o.band_rules());
     Classifier { band_rules, ..base }
 }

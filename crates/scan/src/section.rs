@@ -69,17 +69,70 @@ pub fn log_samples(r_min: f64, r_max: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Returns already computed on one stepper, by start amplitude, for reuse by a later search
+/// on the same stepper: the crisis's verdict with the longer horizon ([`crate::band::Budget`])
+/// samples the section at the same amplitudes as the verdict at the same step, and half of
+/// its band's samples too, with twice the return time.
+///
+/// A run to the section does not depend on its time limit until it stops (the limit only
+/// counts its steps), so a return found within one limit is the same return under any
+/// longer limit, bit for bit; one not found counts as decay under that same limit only.
+/// Never share one between steppers (another step, law or parameter set).
+#[derive(Debug, Default)]
+pub struct ReturnCache(std::cell::RefCell<std::collections::HashMap<u64, Cached>>);
+
+/// One cached return: the time limit it ran under, and the returned amplitude (`None`: no
+/// return within that limit).
+#[derive(Clone, Copy, Debug)]
+struct Cached {
+    t_return: f64,
+    p: Option<f64>,
+}
+
+impl ReturnCache {
+    /// The return from `r` under the limit `t_return`, if known: `Some(None)` for no return.
+    fn get(&self, r: f64, t_return: f64) -> Option<Option<f64>> {
+        let c = *self.0.borrow().get(&r.to_bits())?;
+        match c.p {
+            Some(_) if t_return >= c.t_return => Some(c.p),
+            None if t_return == c.t_return => Some(None),
+            _ => None,
+        }
+    }
+
+    fn put(&self, r: f64, t_return: f64, p: Option<f64>) {
+        self.0
+            .borrow_mut()
+            .insert(r.to_bits(), Cached { t_return, p });
+    }
+}
+
 /// The return map of one stepper (one law, parameter set, step and solver).
 #[derive(Clone, Copy)]
 pub struct ReturnMap<'a> {
     st: &'a Stepper,
     t_return: f64,
+    cache: Option<&'a ReturnCache>,
 }
 
 impl<'a> ReturnMap<'a> {
     /// The return map of `st`; a return that takes longer than `t_return` counts as decay.
     pub fn new(st: &'a Stepper, t_return: f64) -> Self {
-        ReturnMap { st, t_return }
+        ReturnMap {
+            st,
+            t_return,
+            cache: None,
+        }
+    }
+
+    /// [`ReturnMap::new`] reading and filling `cache` (which must be `st`'s alone): a
+    /// cached return is not run again, nor counted.
+    pub fn cached(st: &'a Stepper, t_return: f64, cache: &'a ReturnCache) -> Self {
+        ReturnMap {
+            st,
+            t_return,
+            cache: Some(cache),
+        }
     }
 
     /// The stepper.
@@ -90,9 +143,17 @@ impl<'a> ReturnMap<'a> {
     /// `D(r) = P(r) - r`, counted in `w`; no return within `t_return` counts as decay
     /// (`D = -r`).
     pub fn d(&self, r: f64, w: &mut Work) -> f64 {
-        w.returns += 1;
-        match section_return(self.st, r, self.t_return, &mut w.stats, |_| {}) {
-            Some(c) => c.r - r,
+        let known = self.cache.and_then(|c| c.get(r, self.t_return));
+        let p = known.unwrap_or_else(|| {
+            w.returns += 1;
+            let p = section_return(self.st, r, self.t_return, &mut w.stats, |_| {}).map(|c| c.r);
+            if let Some(c) = self.cache {
+                c.put(r, self.t_return, p);
+            }
+            p
+        });
+        match p {
+            Some(p) => p - r,
             None => -r,
         }
     }
@@ -104,9 +165,22 @@ impl<'a> ReturnMap<'a> {
 
     /// Bisects `[lo, hi]` (`D(lo) <= 0 < D(hi)`) to the relative width `rtol` (at most
     /// 200 halvings); returns the final bracket.
-    pub fn bisect(&self, mut lo: f64, mut hi: f64, rtol: f64, w: &mut Work) -> (f64, f64) {
+    pub fn bisect(&self, lo: f64, hi: f64, rtol: f64, w: &mut Work) -> (f64, f64) {
+        self.bisect_while(lo, hi, rtol, w, |_, _| true)
+    }
+
+    /// [`ReturnMap::bisect`], stopping early, before each halving, where `go_on(lo, hi)` is
+    /// false.
+    pub fn bisect_while(
+        &self,
+        mut lo: f64,
+        mut hi: f64,
+        rtol: f64,
+        w: &mut Work,
+        go_on: impl Fn(f64, f64) -> bool,
+    ) -> (f64, f64) {
         for _ in 0..200 {
-            if hi - lo <= rtol * hi {
+            if hi - lo <= rtol * hi || !go_on(lo, hi) {
                 break;
             }
             let mid = 0.5 * (lo + hi);
@@ -377,8 +451,19 @@ pub fn section_cycles(
     stats: &mut SolverStats,
     returns: &mut u64,
 ) -> SectionCycles {
+    section_cycles_to(st, cs, Precision::Rtol, stats, returns)
+}
+
+/// [`section_cycles`] with the crossing bisected to `precision`.
+pub fn section_cycles_to(
+    st: &Stepper,
+    cs: &CycleSettings,
+    precision: Precision,
+    stats: &mut SolverStats,
+    returns: &mut u64,
+) -> SectionCycles {
     let mut w = Work::default();
-    let found = search_section(&ReturnMap::new(st, cs.t_return), cs, &mut w);
+    let found = search_section_to(&ReturnMap::new(st, cs.t_return), cs, precision, &mut w);
     stats.merge(&w.stats);
     *returns += w.returns;
     found
@@ -387,6 +472,33 @@ pub fn section_cycles(
 /// [`section_cycles`] on a return map, counted in `w`: the samples of [`adaptive_samples`],
 /// the first `-` to `+` sign change bisected to `rtol`.
 pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionCycles {
+    search_section_to(map, cs, Precision::Rtol, w)
+}
+
+/// How far a section search bisects the unstable cycle's crossing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    /// To the settings' `rtol`: the crossing itself is wanted.
+    Rtol,
+    /// Only as far as [`escape_above`] needs: while some sampled return above the cycle
+    /// lies below the bracket's upper end (it could fall below the crossing), and to `rtol`
+    /// once one lies below its lower end (an escape: the band above is then sampled from
+    /// the crossing). Where every sampled return above lies at or above the upper end, no
+    /// narrower bracket can give an escape (the crossing's lower end only rises toward
+    /// it): the outside is invariant whatever the crossing to `rtol` is, and the bisection
+    /// stops there, `r`, `lo` and `hi` then being that wider bracket. For callers that use
+    /// only the kind of the answer where nothing escapes ([`crate::band::lasting`],
+    /// [`crate::scanner::classifier_for`]'s band rules).
+    Escape,
+}
+
+/// [`search_section`] with the bisection of the crossing to `precision`.
+pub fn search_section_to(
+    map: &ReturnMap,
+    cs: &CycleSettings,
+    precision: Precision,
+    w: &mut Work,
+) -> SectionCycles {
     let SectionSamples {
         rs, ds, unresolved, ..
     } = adaptive_samples(map, cs, w);
@@ -406,7 +518,15 @@ pub fn search_section(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> Sect
     let stable_above = (i + 1..n - 1)
         .find(|&j| ds[j] > 0.0 && ds[j + 1] <= 0.0)
         .map(|j| rs[j + 1]);
-    let (lo, hi) = map.bisect(rs[i], rs[i + 1], cs.rtol, w);
+    // The lowest sampled return from above the cycle.
+    let lowest = (i + 1..n)
+        .map(|j| rs[j] + ds[j])
+        .fold(f64::INFINITY, f64::min);
+    let go_on = |_lo: f64, hi: f64| match precision {
+        Precision::Rtol => true,
+        Precision::Escape => lowest < hi,
+    };
+    let (lo, hi) = map.bisect_while(rs[i], rs[i + 1], cs.rtol, w, go_on);
     SectionCycles::Unstable {
         r: 0.5 * (lo + hi),
         lo,
@@ -567,6 +687,94 @@ pub fn search(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn table1(nu: f64) -> Stepper {
+        let p = squeal_core::Params::paper(squeal_core::FrictionLaw::McMillan, nu);
+        Stepper::new(p, 0.005, squeal_core::SolverConfig::default()).unwrap()
+    }
+
+    #[test]
+    fn a_cached_return_is_the_same_return_under_a_longer_limit() {
+        // Table 1 near the crisis: a small start (a slip revolution, period about 2 pi), one
+        // on the band and one far out; each return cached under the limit 200 is the return
+        // an uncached map gives under 400, bit for bit, and is not run (nor counted) again.
+        let st = table1(0.024);
+        let cache = ReturnCache::default();
+        let (mut w, mut w_cached) = (Work::default(), Work::default());
+        for r in [0.5, 2.7, 5.0] {
+            let short = ReturnMap::cached(&st, 200.0, &cache).d(r, &mut w_cached);
+            let long = ReturnMap::cached(&st, 400.0, &cache).d(r, &mut w_cached);
+            let plain = ReturnMap::new(&st, 400.0).d(r, &mut w);
+            assert!(short > -r, "{r}: a return within 200");
+            assert_eq!(long.to_bits(), plain.to_bits(), "{r}");
+            assert_eq!(short.to_bits(), plain.to_bits(), "{r}");
+        }
+        assert_eq!(w_cached.returns, 3);
+        // No return within 1 time unit (a revolution takes about 2 pi): decay under that
+        // limit only; under 200 the run is made again and returns.
+        let r = 0.5;
+        let cut = ReturnMap::cached(&st, 1.0, &cache);
+        let cache_cut = ReturnCache::default();
+        assert_eq!(ReturnMap::cached(&st, 1.0, &cache_cut).d(r, &mut w), -r);
+        assert_eq!(
+            cut.d(r, &mut w_cached),
+            -r,
+            "the return cached under 200 is not reused"
+        );
+        let again = ReturnMap::cached(&st, 200.0, &cache_cut).d(r, &mut w_cached);
+        assert_eq!(
+            again.to_bits(),
+            ReturnMap::new(&st, 200.0).d(r, &mut w).to_bits()
+        );
+    }
+
+    #[test]
+    fn the_escape_precision_keeps_the_answer_of_the_full_bisection() {
+        // Table 1 at nu = 0.01 (paper Fig 10: every sampled start above the cycle returns
+        // above it) and at 0.0242 (past the crisis, crates/scan/src/band.rs: the band leaks,
+        // so some start escapes): the same kind, stable crossing and escape; the crossing
+        // bit for bit where something escapes, else a wider bracket holding it, for fewer
+        // returns.
+        for (nu, escapes) in [(0.01, false), (0.0242, true)] {
+            let st = table1(nu);
+            let cs = CycleSettings::default();
+            let map = ReturnMap::new(&st, cs.t_return);
+            let (mut wf, mut we) = (Work::default(), Work::default());
+            let full = search_section(&map, &cs, &mut wf);
+            let lazy = search_section_to(&map, &cs, Precision::Escape, &mut we);
+            let (
+                SectionCycles::Unstable {
+                    r,
+                    stable_above,
+                    escape,
+                    ..
+                },
+                SectionCycles::Unstable {
+                    r: r2,
+                    lo: lo2,
+                    hi: hi2,
+                    stable_above: s2,
+                    escape: e2,
+                },
+            ) = (full, lazy)
+            else {
+                panic!("{nu}: {full:?} {lazy:?}");
+            };
+            assert_eq!(escape.is_some(), escapes, "{nu}: {full:?}");
+            assert_eq!((stable_above, escape), (s2, e2), "{nu}");
+            if escapes {
+                assert_eq!((r.to_bits(), wf.returns), (r2.to_bits(), we.returns));
+            } else {
+                assert!(lo2 <= r && r <= hi2, "{nu}: {r} outside [{lo2}, {hi2}]");
+                assert!(
+                    we.returns < wf.returns,
+                    "{nu}: {} vs {}",
+                    we.returns,
+                    wf.returns
+                );
+            }
+        }
+    }
 
     #[test]
     fn log_samples_hit_both_ends() {

@@ -46,7 +46,7 @@ use squeal_core::{Params, Setup, State};
 
 use super::attractor::{StickFail, find_stick_slip};
 use super::point::{PointSettings, analyse, settings_for};
-use crate::band::{Budget, Crisis, CrisisStatus, Variant, crisis_in};
+use crate::band::{Budget, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in};
 use crate::error::ScanError;
 use crate::section::{ParamRange, Search};
 
@@ -359,9 +359,10 @@ pub fn fold_crisis(
             range.lo, range.hi, range.rtol
         )));
     }
+    let shared = SharedReturns::default();
     let verdict = |v: f64, which: Variant| {
         let s = setup.with_params(param.with(setup.params, v));
-        which.lasting(s, &settings_for(&s.params, &ps.cycle), base)
+        which.lasting_sharing(s, &settings_for(&s.params, &ps.cycle), base, &shared.at(v))
     };
     crisis_in(verdict, range, coarse)
 }

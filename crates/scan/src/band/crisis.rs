@@ -27,8 +27,9 @@ use std::collections::HashMap;
 use serde::Serialize;
 use squeal_core::{Params, Setup};
 
-use super::{Budget, Lasting, lasting_with};
+use super::{Budget, Lasting, lasting_on, lasting_with};
 use crate::error::ScanError;
+use crate::section::ReturnCache;
 use crate::section::{Change, ParamRange, coarse_changes, geometric_bisection, geometric_steps};
 use crate::ulc::CycleSettings;
 
@@ -61,11 +62,36 @@ impl Variant {
         cs: &CycleSettings,
         base: Budget,
     ) -> Result<Lasting, ScanError> {
+        self.lasting_sharing(setup, cs, base, &ReturnCache::default())
+    }
+
+    /// [`Variant::lasting`], the verdicts at the setup's step ([`Variant::Dt`],
+    /// [`Variant::Longer`]) reading and filling `shared`, the returns of `setup`'s stepper
+    /// (the same verdicts, [`crate::section::ReturnCache`]); the one at dt/2 has its own.
+    pub fn lasting_sharing(
+        self,
+        setup: Setup,
+        cs: &CycleSettings,
+        base: Budget,
+        shared: &ReturnCache,
+    ) -> Result<Lasting, ScanError> {
         match self {
-            Variant::Dt => lasting_with(setup, cs, base),
+            Variant::Dt => lasting_on(setup, cs, base, shared),
             Variant::HalfDt => lasting_with(setup.half_dt(), cs, base),
-            Variant::Longer => lasting_with(setup, cs, Budget::Longer),
+            Variant::Longer => lasting_on(setup, cs, Budget::Longer, shared),
         }
+    }
+}
+
+/// One [`ReturnCache`] per parameter value: what a verdict function passed to [`crisis_in`]
+/// shares between the verdicts at one value ([`Variant::lasting_sharing`]).
+#[derive(Debug, Default)]
+pub struct SharedReturns(RefCell<HashMap<u64, std::rc::Rc<ReturnCache>>>);
+
+impl SharedReturns {
+    /// The returns at value `v`.
+    pub fn at(&self, v: f64) -> std::rc::Rc<ReturnCache> {
+        self.0.borrow_mut().entry(v.to_bits()).or_default().clone()
     }
 }
 
@@ -159,8 +185,9 @@ pub fn crisis_nu(
     coarse: usize,
 ) -> Result<Crisis, ScanError> {
     let at = |nu: f64| setup.with_params(Params { nu, ..setup.params });
+    let shared = SharedReturns::default();
     crisis_in(
-        |v, which| which.lasting(at(v), cs, Budget::Standard),
+        |v, which| which.lasting_sharing(at(v), cs, Budget::Standard, &shared.at(v)),
         range,
         coarse,
     )
