@@ -359,6 +359,19 @@ pub fn compute_point(
         res.basin_fraction = f;
         res.basin_fraction_err = e;
     }
+    label(&mut res, &a, ps);
+    if res.regime == AtlasRegime::BistableSqueals {
+        confirm_operating_point(setup, ps, &mut res, &mut a.work)?;
+    }
+    res.returns = a.work.returns;
+    res.evaluations = a.work.stats.evaluations;
+    res.failures = a.work.stats.failures;
+    Ok(res)
+}
+
+/// The regime of a point from its section search and stick-slip runs, with the note where
+/// they leave it undecided (the cycle's figures already in `res`).
+fn label(res: &mut PointResult, a: &Analysis, ps: &PointSettings) {
     match (&a.search, &a.stick) {
         (Search::NoneBelow { .. }, _) => {
             res.regime = AtlasRegime::SteadySlipOnly;
@@ -400,13 +413,6 @@ pub fn compute_point(
         (_, Some(Err(StickFail::Failed(e)))) => res.note = Some(e.clone()),
         (_, None) => res.note = Some("no stick-slip run".into()),
     }
-    if res.regime == AtlasRegime::BistableSqueals {
-        confirm_operating_point(setup, ps, &mut res, &mut a.work)?;
-    }
-    res.returns = a.work.returns;
-    res.evaluations = a.work.stats.evaluations;
-    res.failures = a.work.stats.failures;
-    Ok(res)
 }
 
 /// Checks a "bistable, operating point squeals" label by running the operating point
