@@ -112,6 +112,19 @@ pub fn stick_slip(
     }
     // The window is the revolutions between crossing transient+1 and the last one.
     rs.pop();
+    let share = qs as f64 / steps.max(1) as f64;
+    Ok(figures(&rs, &omegas, [x_range, v_range], p.lambda, share))
+}
+
+/// The figures of the window's section amplitudes `rs`, angular frequencies `omegas` and
+/// extents `[x_range, v_range]` at belt speed `lambda`, `share` of its steps quasi-static.
+fn figures(
+    rs: &[f64],
+    omegas: &[f64],
+    [x_range, v_range]: [[f64; 2]; 2],
+    lambda: f64,
+    share: f64,
+) -> StickSlipFigures {
     let m = rs.len().max(1) as f64;
     let mean = rs.iter().sum::<f64>() / m;
     let half = rs.len() / 2;
@@ -120,7 +133,7 @@ pub fn stick_slip(
     let no = omegas.len().max(1) as f64;
     let om = omegas.iter().sum::<f64>() / no;
     let var = omegas.iter().map(|o| (o - om).powi(2)).sum::<f64>() / no;
-    Ok(StickSlipFigures {
+    StickSlipFigures {
         r_band: [
             rs.iter().copied().fold(f64::INFINITY, f64::min),
             mean,
@@ -129,11 +142,11 @@ pub fn stick_slip(
         drift: (m2 - m1) / mean,
         x_range,
         v_range,
-        overshoot: v_range[1] - p.lambda,
+        overshoot: v_range[1] - lambda,
         omega_mean: om,
         omega_std: var.sqrt(),
-        quasi_static_share: qs as f64 / steps.max(1) as f64,
-    })
+        quasi_static_share: share,
+    }
 }
 
 /// The starts tried for stick-slip outside a cycle crossing `r_u` (upper end `hi` of the
