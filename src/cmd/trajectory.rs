@@ -3,8 +3,10 @@
 //!
 //! The run is integrated to `--t-end` whatever happens on the way, so the samples and the
 //! phase plane show the whole run. The label ("steady slip", "stick-slip", "not yet settled")
-//! comes from the classifier watching the same run (integrated once) with `t_max = t_end`:
-//! its verdict is taken at its decision and the run goes on to `t_end`.
+//! is the one `squeal scan` and `classify` give the start
+//! ([`squeal_scan::trajectory::run_in`]): decided at the start where the unstable cycle's
+//! side decides it, else by the classifier watching the same run (integrated once) with
+//! `t_max = t_end`, its verdict taken at its decision while the run goes on to `t_end`.
 //!
 //! The frequency of the final oscillation is `2 pi / (t_k - t_{k-1})` from the last two
 //! crossings of the Poincare section `x = x*, x' > 0` (as in the classifier), absent if the
@@ -16,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use squeal_core::{Classifier, Samples, State, Stepper};
+use squeal_core::{Samples, State, Stepper};
 use squeal_plot::{Curve, Marker, Rgb};
 use squeal_scan::trajectory::Span;
 
@@ -89,7 +91,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         t_end: args.t_end,
         every: if keep { args.every } else { 0 },
     };
-    let t = squeal_scan::trajectory::run(&stepper, &Classifier::default(), span, None);
+    // The map's context (its section searched once, as `squeal classify` prepares it), so
+    // the label is the one every path gives this start.
+    let plan = args.model.plan(args.t_end, "--t-end")?;
+    let ctx = squeal_scan::scanner::MapContext::prepare(&plan, 0)?;
+    let t = squeal_scan::trajectory::run_in(&ctx, span, None);
     let fp = t.fixed_point;
     let cols = &t.samples;
 
@@ -100,12 +106,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         params: run_params(&args, &stepper),
         steps: t.steps,
         fixed_point: fp,
-        classification: Classification {
-            regime: t.outcome.regime.name(),
-            reason: t.outcome.reason.name(),
-            t_decision: t.outcome.t_decision,
-            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
-        },
+        classification: Classification::of(&t),
         final_state: t.final_state,
         oscillation: t.oscillation,
         stick: t.stick.clone(),

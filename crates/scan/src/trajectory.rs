@@ -13,6 +13,8 @@ use squeal_core::{
     Classifier, Outcome, Reason, Regime, Run, Sample, Samples, SolverStats, State, Step, Stepper,
 };
 
+use crate::scanner::MapContext;
+
 /// How many times of unconverged paper-iteration steps are kept.
 pub const FIRST_UNCONVERGED: usize = 5;
 /// How many stick onset and breakaway times are kept from the start of the run.
@@ -92,8 +94,17 @@ pub struct Span {
 pub struct Trajectory {
     /// The kept samples.
     pub samples: Samples,
-    /// The classifier's verdict (`time_limit` if undecided by `t_end`).
+    /// The label of the start, as every path gives it ([`run_in`]: the map's start rule
+    /// where it decides, as `squeal scan` and `squeal classify` do; else, and with
+    /// [`run`], the run's own verdict).
     pub outcome: Outcome,
+    /// The classifier's verdict on this run (`time_limit` if undecided by `t_end`).
+    pub own: Outcome,
+    /// The label was decided at the start, without the run ([`run_in`]).
+    pub at_start: bool,
+    /// The start rule decided the label and the run's own verdict is decided the other
+    /// way: the label is then undecided (never one of the two guessed).
+    pub conflict: bool,
     /// The steady-slip fixed point.
     pub fixed_point: State,
     /// The final oscillation.
@@ -200,6 +211,9 @@ pub fn run(
     Trajectory {
         samples,
         outcome,
+        own: outcome,
+        at_start: false,
+        conflict: false,
         fixed_point: fp,
         oscillation: osc,
         stick,
@@ -210,4 +224,35 @@ pub fn run(
         max_residual: run.max_residual(),
         steps: run.steps(),
     }
+}
+
+/// [`run`] in the map context `ctx` (its stepper and classifier, [`MapContext::prepare`]):
+/// the label is the one [`MapContext::classify`] gives the start, so `squeal trajectory`,
+/// `classify` and `scan` agree. Where the start rule or the certified region decides the
+/// start without a run, that is the label and the run's own verdict is kept beside it in
+/// [`Trajectory::own`]; if the run then ends the other way, the two findings conflict and
+/// the label is undecided. Elsewhere the label is the run's own verdict (the band rules
+/// every path sets; the trap and the shortcuts of a scan only decide earlier, never
+/// otherwise, and the run watched here has neither: it goes to settlement).
+pub fn run_in(ctx: &MapContext, span: Span, stop: Option<&AtomicBool>) -> Trajectory {
+    // The run's own verdict without the trap (as the scan's audit, [`MapContext::settle`]):
+    // evidence apart from the planar argument the start rule rests on.
+    let own = Classifier {
+        trap: None,
+        ..ctx.classifier
+    };
+    let mut t = run(&ctx.stepper, &own, span, stop);
+    if let Some(at) = ctx.decide_at_start(span.ic) {
+        t.at_start = true;
+        t.conflict = t.own.regime != Regime::Undecided && t.own.regime != at.regime;
+        t.outcome = match t.conflict {
+            true => Outcome {
+                regime: Regime::Undecided,
+                t_squeal: squeal_core::classify::t_squeal(Regime::Undecided, at.reason, 0.0),
+                ..at
+            },
+            false => at,
+        };
+    }
+    t
 }

@@ -1,11 +1,14 @@
 //! Issue 17, truth at the edge of squeal: near the fold of cycles (Table 1's lambda, tau
 //! and phi, hysteretic law) the answers must not follow incidental settings.
 
-use squeal_core::{Classifier, FrictionLaw, Params, Regime, Setup, SolverConfig, State, Stepper};
+use squeal_core::{
+    Classifier, FrictionLaw, Params, Reason, Regime, Setup, SolverConfig, State, Stepper,
+};
 use squeal_scan::Plan;
 use squeal_scan::band::Band;
 use squeal_scan::scanner::{MapContext, Outside, classifier_for};
 use squeal_scan::section::{ReturnMap, SectionCycles, Work, search_section};
+use squeal_scan::trajectory::{Span, run, run_in};
 use squeal_scan::ulc::CycleSettings;
 
 /// The section search finds the same unstable cycle whatever `r_max`. Before the adaptive
@@ -269,4 +272,59 @@ fn neither_grid_extent_labels_a_transient_stick_slip() {
             .count();
         assert_eq!(stick, 0, "x0 in [-3, {x_max}]");
     }
+}
+
+/// Item 2 of issue 17 for a run that never sticks: McMillan's non-hysteretic law at
+/// nu = 1e-3, lambda = 4, tau = 0.5, phi = 1.2, from the issue's start (1.3529..,
+/// -0.2253..). The start lies outside the unstable cycle, whose outside is invariant, so a
+/// scan and `squeal classify` label it stick-slip at the start (`start_outside_cycle`); the
+/// run itself swings at a section amplitude of about the belt speed without a stick and is
+/// still undecided at t = 20000 (the issue), so before `run_in` `squeal trajectory` said
+/// "undecided" where the other paths said stick-slip. Now it gives their label, with the
+/// run's own verdict beside it.
+#[test]
+fn trajectory_gives_the_label_of_scan_and_classify_where_the_start_rule_decides() {
+    let p = Plan::from_toml(
+        r#"
+version = 1
+[model]
+law = "mcmillan-nonhysteretic"
+nu = 0.001
+lambda = 4.0
+tau = 0.5
+phi = 1.2
+[grid]
+x0 = { min = 0.0, max = 0.0, count = 1 }
+v0 = { min = 0.0, max = 0.0, count = 1 }
+[classifier]
+t_max = 200.0
+[output]
+path = "x.h5"
+"#,
+        "x.toml",
+    )
+    .unwrap();
+    let ctx = MapContext::prepare(&p, 0).unwrap();
+    let ic = State {
+        x: 1.3529160162888543,
+        v: -0.2252878635207893,
+    };
+    let scan = ctx.classify(ic);
+    assert_eq!(
+        (scan.regime, scan.reason),
+        (Regime::StickSlip, Reason::StartOutsideCycle)
+    );
+    let span = Span {
+        ic,
+        t_end: 200.0,
+        every: 0,
+    };
+    let t = run_in(&ctx, span, None);
+    assert_eq!(t.outcome.regime, scan.regime);
+    assert!(t.at_start && !t.conflict);
+    // The run alone cannot tell by t = 200: no stick, no settled band yet; so the old path
+    // (the run alone, as `squeal trajectory` set it up before) said undecided.
+    assert_eq!(t.own.regime, Regime::Undecided);
+    let alone = run(&ctx.stepper, &Classifier::default(), span, None);
+    assert_eq!(alone.outcome.regime, Regime::Undecided);
 }
