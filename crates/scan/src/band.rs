@@ -302,7 +302,7 @@ pub fn lasting_with(
 }
 
 mod crisis;
-pub use crisis::{COARSE, Crisis, CrisisStatus, Variant, crisis_in, crisis_nu};
+pub use crisis::{COARSE, Crisis, CrisisStatus, Variant, crisis_in, crisis_nu, raise_top};
 
 /// The stick-slip band above the unstable cycle crossing at `r_u`, as the sampled interval
 /// `[s, b]` of the section ([`band_above`]'s samples): `s` the first sampled start above the

@@ -11,7 +11,11 @@
 //!   the unstable cycle first encloses it, or (hysteretic law) the band above the cycle
 //!   leaks (from then on it does not squeal). Above the fold
 //!   there is no cycle and nothing squeals, which counts as enclosed (as in
-//!   [`crate::ulc::point_enclosed`]), so the critical damping never exceeds the fold.
+//!   [`crate::ulc::point_enclosed`]), so the critical damping never exceeds the fold. Its
+//!   bisection counts an undecided band as squealing; where it finds such a value above
+//!   the crisis's interval (a window the coarse scan stepped over), the fold's interval is
+//!   raised to cover it ([`cover_critical`]), so the critical damping lies at or below the
+//!   fold's upper end at every belt speed.
 //!
 //! Both bisect geometrically to a relative bracket width `rtol`; the bracket is stored with
 //! the value. When the predicate does not change sign over `[lo, hi]`, the status says on
@@ -435,7 +439,48 @@ pub fn both_with(
         (0, true) => None,
         _ => half.answer(v, which[i]).ok(),
     });
+    if crisis {
+        cover_critical(param, setup, ps, range, &mut out);
+    }
     out
+}
+
+/// Where the critical value of the operating point lies above the fold's stated interval
+/// (its predicate, counting an undecided band as squealing, changes once more above the
+/// crisis), the fold's interval is raised to cover it ([`crate::band::raise_top`]: above
+/// the crisis the band can be undecided again over narrow windows the crisis's coarse scan
+/// stepped over). Then the critical damping of the operating point never exceeds the fold
+/// beyond its uncertainty (issue 17, item 5). A failed verdict leaves the fold as it was
+/// and says so in its place ([`Boundary::none`] is not used: the crisis itself stands).
+fn cover_critical(
+    param: BoundaryParam,
+    setup: Setup,
+    ps: &PointSettings,
+    range: ParamRange,
+    out: &mut [Option<Result<Boundary, ScanError>>; 2],
+) {
+    let [Some(Ok(fold)), Some(Ok(critical))] = out else {
+        return;
+    };
+    let found = |b: &Boundary| b.status == BoundaryStatus::Found;
+    if !(found(fold) && found(critical)) || critical.bracket[0] <= fold.nu + fold.uncertainty {
+        return;
+    }
+    let verdict = |v: f64, which: Variant| {
+        let s = setup.with_params(param.with(setup.params, v));
+        which.lasting(s, &settings_for(&s.params, &ps.cycle), Budget::Standard)
+    };
+    let raised = crate::band::raise_top(
+        verdict,
+        (fold.nu, fold.uncertainty),
+        critical.bracket[1],
+        (range.hi, range.rtol),
+    );
+    if let Ok(((nu, u), evaluations)) = raised {
+        fold.nu = nu;
+        fold.uncertainty = u;
+        fold.evaluations += evaluations;
+    }
 }
 
 /// Fills [`Boundary::half_dt_holds`] of each found bracket in `[fold, critical]`:

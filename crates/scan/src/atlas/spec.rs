@@ -69,6 +69,7 @@
 use std::path::PathBuf;
 
 mod parse;
+pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
