@@ -203,5 +203,18 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
             show(&b.fold),
             show(&b.critical)
         );
+        let l = &b.lifetime;
+        if l.mean.is_finite() {
+            let period = std::f64::consts::TAU;
+            println!(
+                "      transient squeal at {bkey} = {:.5}: mean lifetime {:.1} +- {:.1} periods ({:.0}% censored), gamma = {:.2} +- {:.2}",
+                l.nu,
+                l.mean / period,
+                l.se / period,
+                100.0 * l.censored,
+                l.exponent,
+                l.exponent_se
+            );
+        }
     }
 }

@@ -46,6 +46,7 @@ mod atlas_chart;
 mod atlas_sheet;
 mod basin;
 mod legend;
+mod lifetime_chart;
 mod line;
 mod transient;
 
@@ -53,6 +54,7 @@ pub use atlas::{Marks, StabilityChart, contour_segments, fmt_value, stability_ch
 pub use atlas_chart::atlas_chart;
 pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
+pub use lifetime_chart::{fold_lifetime_charts, fold_lifetime_paths, has_fold_lifetimes};
 pub use line::{Gap, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart};
 pub use transient::{has_transients, transient_map, transient_sheet};
 

@@ -439,6 +439,42 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         set: |b, v| b.fold.uncertainty = v,
     },
     BoundaryColumn {
+        name: "fold_lifetime_nu",
+        long_name: "transient lifetimes above the fold: the damping ratio of the nearest measurement, about 1% above fold_nu ([boundaries] lifetime_starts; NaN: not measured)",
+        get: |b| b.lifetime.nu,
+        set: |b, v| b.lifetime.nu = v,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime",
+        long_name: "transient lifetimes above the fold: mean time a start on the leaking stick-slip band squeals before it settles, at fold_lifetime_nu (nondimensional time; the natural period is 2 pi)",
+        get: |b| b.lifetime.mean,
+        set: |b, v| b.lifetime.mean = v,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_err",
+        long_name: "transient lifetimes above the fold: standard error of fold_lifetime",
+        get: |b| b.lifetime.se,
+        set: |b, v| b.lifetime.se = v,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_censored",
+        long_name: "transient lifetimes above the fold: share of the starts at fold_lifetime_nu still squealing at the time limit (censored)",
+        get: |b| b.lifetime.censored,
+        set: |b, v| b.lifetime.censored = v,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_exponent",
+        long_name: "transient lifetimes above the fold: exponent gamma of mean lifetime ~ (nu - fold_nu)^(-gamma), fitted over 1% to 7.5% above the fold",
+        get: |b| b.lifetime.exponent,
+        set: |b, v| b.lifetime.exponent = v,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_exponent_err",
+        long_name: "transient lifetimes above the fold: standard error of fold_lifetime_exponent",
+        get: |b| b.lifetime.exponent_se,
+        set: |b, v| b.lifetime.exponent_se = v,
+    },
+    BoundaryColumn {
         name: "critical_nu",
         long_name: "critical damping ratio: the operating point stops squealing above it",
         get: |b| b.critical.nu,
@@ -464,6 +500,7 @@ pub fn empty_boundary(j: usize) -> BoundaryResult {
         index: j,
         fold: Boundary::none(),
         critical: Boundary::none(),
+        lifetime: Default::default(),
         note: None,
     }
 }

@@ -198,6 +198,7 @@ struct BoundariesFile {
     v_d_hi: Option<f64>,
     rtol: Option<f64>,
     coarse: Option<i64>,
+    lifetime_starts: Option<i64>,
 }
 
 /// Whether the spec describes the nondimensional model or the physical system.
@@ -306,6 +307,9 @@ pub struct AtlasPlan {
     pub boundary_rtol: f64,
     /// Steps of the fold's coarse scan along the bisected parameter (`[boundaries] coarse`).
     pub boundary_coarse: usize,
+    /// Starts on the band per damping for the transient lifetimes above each fold
+    /// (`[boundaries] lifetime_starts`; 0: not measured).
+    pub lifetime_starts: usize,
     /// Output file.
     pub out: PathBuf,
     /// Basin maps, one per point (the spec's `[grid]`), if asked for.
@@ -396,6 +400,7 @@ impl AtlasPlan {
             lambda_range: b.lambda_range,
             boundary_rtol: b.boundary_rtol,
             boundary_coarse: b.boundary_coarse,
+            lifetime_starts: b.lifetime_starts,
             maps,
             out: f.output.check(&inv)?,
             spec_text: text.to_string(),

@@ -1,10 +1,10 @@
 //! Reading an atlas spec's tables into the parts of an [`AtlasPlan`](super::AtlasPlan), one
 //! function per part, each checking its keys (errors name the key).
 
-use squeal_core::State;
+use squeal_core::{FrictionLaw, State};
 
 use super::{
-    AtlasAxis, AtlasFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings, NONDIMENSIONAL,
+    AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings, NONDIMENSIONAL,
     PHYSICAL, SPEED_RANGE, Units, expand, invalid, stribeck_params,
 };
 use crate::atlas::geometry::Region;
@@ -283,6 +283,7 @@ pub(super) struct BoundaryPlan {
     pub boundary_in: BoundaryParam,
     pub boundary_rtol: f64,
     pub boundary_coarse: usize,
+    pub lifetime_starts: usize,
 }
 
 /// Reads `[boundaries]`: the bisected parameter, its ranges under the law's own names, the
@@ -399,8 +400,10 @@ pub(super) fn boundaries(
             "a number of steps in [2, 1000]",
         ));
     }
+    let lifetime_starts = lifetime_starts(&bd, m.law, boundary_in, inv)?;
     Ok(BoundaryPlan {
         boundary_coarse: coarse as usize,
+        lifetime_starts,
         fold: bd.fold.unwrap_or(true),
         critical: bd.critical.unwrap_or(true),
         nu_range,
@@ -408,6 +411,38 @@ pub(super) fn boundaries(
         boundary_in,
         boundary_rtol,
     })
+}
+
+/// `[boundaries] lifetime_starts`: starts on the band per damping for the transient
+/// lifetimes above each fold, 0 (the default) for none. They follow the crisis of the band,
+/// so only McMillan's hysteretic law with boundaries in the damping (as `squeal critical
+/// --fold --lifetimes`), and the fold must be asked for.
+fn lifetime_starts(
+    bd: &BoundariesFile,
+    law: FrictionLaw,
+    boundary_in: BoundaryParam,
+    inv: Invalid,
+) -> Result<usize, ScanError> {
+    let key = "boundaries.lifetime_starts";
+    let n = bd.lifetime_starts.unwrap_or(0);
+    if !(0..=4096).contains(&n) {
+        return Err(inv(key, n.to_string(), "a number of starts in [0, 4096] (0: none)"));
+    }
+    if n > 0 && !crate::atlas::boundary::crisis_applies(law) {
+        return Err(inv(
+            key,
+            n.to_string(),
+            &format!("0 with law {law}: lifetimes follow the crisis of the band, McMillan's hysteretic law only"),
+        ));
+    }
+    if n > 0 && (boundary_in != BoundaryParam::Nu || bd.fold == Some(false)) {
+        return Err(inv(
+            key,
+            n.to_string(),
+            "0 unless the fold is bisected in the damping (in = \"nu\", fold = true)",
+        ));
+    }
+    Ok(n as usize)
 }
 
 /// A boundary's bisection range `[lo, hi]` of parameter `key`: `0 < lo < hi <= top`. The
