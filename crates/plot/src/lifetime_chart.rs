@@ -29,7 +29,11 @@ pub fn fold_lifetime_charts(
     let Some(axis) = plan.axes().into_iter().find(|a| a.key != dkey) else {
         return Ok(());
     };
-    let at = plan.params.iter().position(|a| a.key == axis.key).unwrap_or(0);
+    let at = plan
+        .params
+        .iter()
+        .position(|a| a.key == axis.key)
+        .unwrap_or(0);
     let xs: Vec<f64> = (0..res.boundaries.len())
         .map(|j| plan.values_at(plan.boundary_setup(j).0)[at])
         .collect();
@@ -59,7 +63,10 @@ pub fn fold_lifetime_charts(
         "mean lifetime about 1% above the fold",
         blue,
     );
-    let t = title(plan, Some("transient squeal just past the fold: mean lifetime"));
+    let t = title(
+        plan,
+        Some("transient squeal just past the fold: mean lifetime"),
+    );
     let y = "mean time squealing before settling (natural periods)";
     draw(paths[0], (&t, &x_label, y), &mean, log_x)?;
     let exponent = band(
@@ -68,8 +75,16 @@ pub fn fold_lifetime_charts(
         "gamma of <t> ~ (nu - nu_fold)^(-gamma)",
         Rgb(200, 60, 30),
     );
-    let t = title(plan, Some("transient squeal past the fold: divergence exponent"));
-    draw(paths[1], (&t, &x_label, "exponent gamma (1)"), &exponent, log_x)
+    let t = title(
+        plan,
+        Some("transient squeal past the fold: divergence exponent"),
+    );
+    draw(
+        paths[1],
+        (&t, &x_label, "exponent gamma (1)"),
+        &exponent,
+        log_x,
+    )
 }
 
 fn curve(label: &str, xs: &[f64], ys: Vec<f64>, color: Rgb) -> Curve {
@@ -101,6 +116,8 @@ fn draw(
 /// The two pictures' paths beside an atlas chart `png`: `<stem>-lifetimes.png` and
 /// `<stem>-lifetime-exponent.png`.
 pub fn fold_lifetime_paths(png: &Path) -> [PathBuf; 2] {
-    let stem = png.file_stem().map_or("atlas".into(), |s| s.to_string_lossy());
+    let stem = png
+        .file_stem()
+        .map_or("atlas".into(), |s| s.to_string_lossy());
     ["-lifetimes", "-lifetime-exponent"].map(|s| png.with_file_name(format!("{stem}{s}.png")))
 }

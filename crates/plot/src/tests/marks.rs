@@ -209,6 +209,7 @@ fn a_fold_that_flips_is_marked_on_the_atlas_chart() {
                 index: j,
                 fold,
                 critical: Boundary::none(),
+                lifetime: Default::default(),
                 note: None,
             };
             res.add(&plan, UnitResult::Boundary(b));

@@ -903,6 +903,34 @@ path = "p.h5"
                 GOOD.replace("[output]", "[boundaries]\ncoarse = 1\n[output]"),
                 "boundaries.coarse",
             ),
+            // Lifetimes: a count, above the crisis of the hysteretic law's fold in nu.
+            (
+                GOOD.replace("[output]", "[boundaries]\nlifetime_starts = -1\n[output]"),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace("[output]", "[boundaries]\nlifetime_starts = 5000\n[output]"),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace(
+                    "[output]",
+                    "[boundaries]\nlifetime_starts = 8\nfold = false\n[output]",
+                ),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace(
+                    "[output]",
+                    "[boundaries]\nlifetime_starts = 8\nin = \"lambda\"\n[output]",
+                ),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace("\"mcmillan\"", "\"mcmillan-nonhysteretic\"")
+                    .replace("[output]", "[boundaries]\nlifetime_starts = 8\n[output]"),
+                "boundaries.lifetime_starts",
+            ),
             (
                 GOOD.replace(
                     "[output]",

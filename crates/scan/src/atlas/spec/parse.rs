@@ -4,8 +4,8 @@
 use squeal_core::{FrictionLaw, State};
 
 use super::{
-    AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings, NONDIMENSIONAL,
-    PHYSICAL, SPEED_RANGE, Units, expand, invalid, stribeck_params,
+    AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings,
+    NONDIMENSIONAL, PHYSICAL, SPEED_RANGE, Units, expand, invalid, stribeck_params,
 };
 use crate::atlas::geometry::Region;
 use crate::atlas::point::PointSettings;
@@ -426,13 +426,19 @@ fn lifetime_starts(
     let key = "boundaries.lifetime_starts";
     let n = bd.lifetime_starts.unwrap_or(0);
     if !(0..=4096).contains(&n) {
-        return Err(inv(key, n.to_string(), "a number of starts in [0, 4096] (0: none)"));
+        return Err(inv(
+            key,
+            n.to_string(),
+            "a number of starts in [0, 4096] (0: none)",
+        ));
     }
     if n > 0 && !crate::atlas::boundary::crisis_applies(law) {
         return Err(inv(
             key,
             n.to_string(),
-            &format!("0 with law {law}: lifetimes follow the crisis of the band, McMillan's hysteretic law only"),
+            &format!(
+                "0 with law {law}: lifetimes follow the crisis of the band, McMillan's hysteretic law only"
+            ),
         ));
     }
     if n > 0 && (boundary_in != BoundaryParam::Nu || bd.fold == Some(false)) {
