@@ -46,6 +46,40 @@ fn the_cycle_search_does_not_depend_on_r_max() {
     }
 }
 
+/// The same for the non-hysteretic law, whose return map jumps where orbits begin to touch
+/// zero slip: at Table 1's lambda, tau, phi, nu = 0.0403, dt 0.01, `D` climbs from -0.17 at
+/// r = 2.915 to -0.058 at 2.92 and is positive on [2.93465, 2.93555] and again from
+/// 2.93790, with jumps at both ends (`cargo run --release -p squeal-scan --example
+/// return_map -- mcmillan-nonhysteretic 0.0403 0.01 2.930 2.940 40`), under the stick-slip
+/// orbit at 2.946 that runs keep. The rise rule alone (main at 52ff462) found no cycle
+/// with r_max 3.5, 6 or 10 and one with 20 (`squeal ulc --law mcmillan-nonhysteretic --nu
+/// 0.0403 --dt 0.01 --r-max R`). With the peaks refined every r_max finds an unstable
+/// crossing at one of the two jumps: the first window is narrower than the search's
+/// resolution (`RESOLUTION r`, 2.9e-3), so which one depends on the samples, as stated.
+#[test]
+fn the_cycle_search_finds_a_window_behind_a_jump_whatever_r_max() {
+    let st = Stepper::new(
+        Params::paper(FrictionLaw::McMillanNonHysteretic, 0.0403),
+        0.01,
+        SolverConfig::default(),
+    )
+    .unwrap();
+    let map = ReturnMap::new(&st, 200.0);
+    for r_max in [3.5, 6.0, 10.0, 20.0, 50.0] {
+        let cs = CycleSettings {
+            r_max,
+            ..CycleSettings::default()
+        };
+        match search_section(&map, &cs, &mut Work::default()) {
+            SectionCycles::Unstable { r, .. } => {
+                let at_a_jump = [2.93465, 2.9379].iter().any(|j| (r - j).abs() < 2.5e-4);
+                assert!(at_a_jump, "r_max {r_max}: {r}");
+            }
+            other => panic!("r_max {r_max}: {other:?}"),
+        }
+    }
+}
+
 /// A one-map plan of the hysteretic law at `nu` (Table 1's lambda, tau, phi) over
 /// `x0 in [-3, x_max]`, `v0 in [-4, 4]`.
 fn plan(nu: f64, x_max: f64, early_stop: &str) -> Plan {
