@@ -71,7 +71,6 @@
 //! ```
 
 mod maps;
-mod out;
 mod read;
 mod record;
 mod schema;

@@ -11,12 +11,12 @@ use squeal_scan::cell::{COLUMNS as CELLS, Cell, Kind as CellKind, Num};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{Grid, Plan};
 
-use super::out::{Out, Over};
 use super::read::rd;
 use super::schema::map_name;
 use crate::StoreError;
 use crate::error::H5Ctx;
-use crate::h5write::{column_dataset, num_attr, str_attr, write_column};
+use crate::h5out::{Out, Over, num_attr, str_attr};
+use crate::h5write::{column_dataset, write_column};
 
 /// The maps' datasets, over the points `over` (the maps' own dimensions after them).
 pub(super) fn write_maps(

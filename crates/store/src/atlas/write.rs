@@ -9,7 +9,6 @@ use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, COLUMNS, Column, Kind, Si, s
 use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, Units};
 
-use super::out::{Out, Over};
 use super::schema::{
     BOUNDARIES_DONE, BOUNDARY_NOTE, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
     LANDSCAPE_NOT_COMPUTED, NOTE, POINTS_DONE, REGIME, RegimeH5, SEARCHES, StatusH5, half_dt_u8,
@@ -17,7 +16,7 @@ use super::schema::{
 };
 use super::{ATLAS_SCHEMA, maps};
 use crate::error::{H5Ctx, io};
-use crate::h5write::{Dims, class_type, num_attr, str_attr};
+use crate::h5out::{Dims, Out, Over, class_type, num_attr, str_attr};
 use crate::{Provenance, Shard, StoreError};
 
 /// Writes the atlas file `out` (through `<out>.tmp`, then renamed).
