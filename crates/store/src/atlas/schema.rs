@@ -165,8 +165,8 @@ impl StatusH5 {
 /// The stored `landscape` of a point not computed.
 pub(super) const LANDSCAPE_NOT_COMPUTED: u8 = 255;
 
-/// The CF flag values and meanings of the per-point `landscape` enum.
-pub(super) fn landscape_flags() -> (Vec<u8>, String) {
+/// The CF flag meanings and values of the per-point `landscape` enum.
+pub(super) fn landscape_flags() -> (String, Vec<u8>) {
     let mut values: Vec<u8> = squeal_core::Landscape::ALL
         .iter()
         .map(|l| *l as u8)
@@ -177,7 +177,7 @@ pub(super) fn landscape_flags() -> (Vec<u8>, String) {
         .collect();
     values.push(LANDSCAPE_NOT_COMPUTED);
     names.push("not_computed");
-    (values, names.join(" "))
+    (names.join(" "), values)
 }
 
 /// Sets the stored landscape verdict of a point (laws with true stick).

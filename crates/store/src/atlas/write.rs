@@ -250,7 +250,7 @@ fn write_landscape(o: &mut Out, over: &Over, res: &AtlasResults) -> hdf5::Result
         .map(|p| p.as_ref().and_then(|p| p.landscape))
         .map(|l| l.map_or(LANDSCAPE_NOT_COMPUTED, |l| l.landscape))
         .collect();
-    let (values, meanings) = landscape_flags();
+    let (meanings, values) = landscape_flags();
     let landscape = squeal_scan::landscape::LANDSCAPE;
     o.put_flags(over, landscape, v, (&meanings, &values))?;
     for c in LANDSCAPE_COLUMNS {
