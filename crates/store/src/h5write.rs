@@ -10,7 +10,7 @@ use squeal_scan::cell::{COLUMNS, Cell};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
-use squeal_scan::{Grid, MapChecks, Plan};
+use squeal_scan::{Grid, MapChecks, MapTally, Plan};
 
 use crate::cycle::Flat;
 use crate::error::H5Ctx;
@@ -299,7 +299,7 @@ fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<Vec<Dataset>
 }
 
 /// Writes every stored block of every map into `vars`, one block in memory at a time, and
-/// gathers each map's checks, basin stability and cycle.
+/// hands each to the map's [`MapTally`] (its checks and basin stability).
 fn write_cells<'l>(
     plan: &Plan,
     src: &mut dyn Source,
@@ -308,7 +308,7 @@ fn write_cells<'l>(
     landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
 ) -> Result<Maps, StoreError> {
     let g = &plan.grid;
-    let (nx, nv, nmaps, nblocks) = (g.x0.count, g.v0.count, plan.maps.len(), g.blocks());
+    let (nx, nmaps, nblocks) = (g.x0.count, plan.maps.len(), g.blocks());
     let bad = |why: String| StoreError::BadBlock {
         path: path.to_path_buf(),
         why,
@@ -321,10 +321,7 @@ fn write_cells<'l>(
     };
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
-        let curve = report_of(&cyc).map(|r| &r.curve);
-        let escapes = report_of(&cyc).is_some_and(|r| r.escape.is_some());
-        let mut ck = MapChecks::new(curve, landscape(m).map(|l| l.landscape), escapes);
-        let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
+        let mut tally = MapTally::new(plan, report_of(&cyc), landscape(m).map(|l| l.landscape));
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;
@@ -338,21 +335,16 @@ fn write_cells<'l>(
                 )));
             }
             maps.done[m * nblocks + b] = 1;
-            ck.add_block(plan, curve, b, &cells);
-            for (k, c) in cells.iter().enumerate() {
-                labels[rows.start * nx + k] = c.regime;
-            }
+            tally.add_block(plan, b, &cells);
             let prefix: &[usize] = if plan.sweep.is_some() { &[m] } else { &[] };
             for (ds, col) in vars.iter().zip(COLUMNS) {
                 write_column(ds, col, &cells, prefix, rows.clone(), nx)
                     .map_err(|e| bad(format!("map {m} block {b}: {e}")))?;
             }
         }
-        maps.checks.push(ck);
-        maps.basins.push(match g.sample {
-            Some(_) => GridShares::random(&labels),
-            None => GridShares::of(&labels, nx),
-        });
+        let (checks, shares) = tally.finish(plan);
+        maps.checks.push(checks);
+        maps.basins.push(shares);
         maps.cycles.push(cyc);
     }
     Ok(maps)

@@ -9,7 +9,7 @@ use hdf5::{Dataset, File};
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, MapFraction};
 use squeal_scan::cell::{COLUMNS as CELLS, Cell, Kind as CellKind, Num};
 use squeal_scan::ulc::CycleReport;
-use squeal_scan::{Grid, Plan};
+use squeal_scan::{Grid, MapChecks, MapTally, Plan};
 
 use super::read::rd;
 use super::schema::map_name;
@@ -78,7 +78,7 @@ fn write_cells(
     (plan, mp): (&AtlasPlan, &Plan),
     res: &AtlasResults,
     [v0, x0]: [&Dataset; 2],
-) -> hdf5::Result<(Vec<u8>, Vec<squeal_scan::MapChecks>)> {
+) -> hdf5::Result<(Vec<u8>, Vec<MapChecks>)> {
     let g = mp.grid;
     let (nx, nv, nb) = (g.x0.count, g.v0.count, g.blocks());
     let cells = over.and(nv, v0).and(nx, x0);
@@ -102,26 +102,23 @@ fn write_cells(
             true => vec![0],
             false => plan.unravel(i),
         };
-        let cycle = res.map_cycle(i);
-        let curve = cycle.map(|r| &r.curve);
         // Laws with true stick: the map's cells are checked against the point's landscape
         // (every cell steady slip, or every cell stick-slip, where it says so).
         let landscape = (res.points[i].as_ref())
             .and_then(|p| p.landscape)
             .and_then(|l| l.verdict());
-        let escapes = cycle.is_some_and(|r| r.escape.is_some());
-        let mut ck = squeal_scan::MapChecks::new(curve, landscape, escapes);
+        let mut tally = MapTally::new(mp, res.map_cycle(i), landscape);
         for b in 0..nb {
             let Some(cells) = res.blocks.get(&(i, b)) else {
                 continue;
             };
             done[i * nb + b] = 1;
-            ck.add_block(mp, curve, b, cells);
+            tally.add_block(mp, b, cells);
             for (ds, col) in vars.iter().zip(CELLS) {
                 write_column(ds, col, cells, &prefix, g.block_rows(b), nx)?;
             }
         }
-        checks.push(ck);
+        checks.push(tally.finish(mp).0);
     }
     Ok((done, checks))
 }
