@@ -1,6 +1,14 @@
 //! Atlas files: the journal of finished units, the HDF5 file, reading it back, merging
 //! shards.
 //!
+//! Here: the [`AtlasWriter`] (create, resume, record, finish) and what is missing. Its
+//! parts: `record` (the journal's records), `schema` (the datasets that are not rows of the
+//! scan crate's column tables: names, long names, stored enums, the two boundary searches),
+//! `write` (root attributes, coordinates, points, boundaries), `maps` (the basin maps,
+//! written and read), `read` (reading back, merging shards). A new figure of a point or a
+//! boundary is a row of [`squeal_scan::atlas::columns`]: the writer, the reader and the
+//! journal walk those tables.
+//!
 //! ## Journal `<out>.journal`
 //! The scan's journal (`crate::journal`: checksummed binary records, fsynced after each,
 //! corrupt records skipped with a warning on resume) with an atlas header (kind `A`, the
