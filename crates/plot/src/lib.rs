@@ -559,6 +559,9 @@ fn padded(lo: f64, hi: f64, frac: f64) -> Range<f64> {
 
 type DrawResult<T> = Result<T, Box<dyn StdError>>;
 type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+/// A chart's plotting plane with linear f64 axes (log10 values where an axis is logarithmic).
+type Plane<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 fn draw_error(path: &Path, e: impl std::fmt::Display) -> PlotError {
     PlotError::Draw(format!("{}: {e}", path.display()))
