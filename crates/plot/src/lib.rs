@@ -53,7 +53,10 @@ pub use atlas::{Marks, StabilityChart, contour_segments, fmt_value, stability_ch
 pub use atlas_chart::atlas_chart;
 pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
-pub use line::{Gap, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart};
+pub use line::{
+    Gap, cycle_gaps, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart,
+    trajectory_plot,
+};
 pub use transient::{has_transients, transient_map, transient_sheet};
 
 use std::error::Error as StdError;
