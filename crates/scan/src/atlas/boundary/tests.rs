@@ -64,10 +64,10 @@ fn fold_lies_where_the_nu_sweep_says_for_both_laws() {
     }
 }
 
-/// Independent check of the fold `b` of `law` (parameters `base`) by runs to settlement.
+/// Independent check of the fold `b` of `law` (parameters `base`) by runs to settlement
+/// (the rule every path labels by, `crate::scanner::classifier_for`: a band that leaks labels
+/// nothing stick-slip).
 fn runs_agree_with_the_fold(law: FrictionLaw, base: Params, b: &Boundary) {
-    // Independent check by runs to settlement (the rule every path labels by,
-    // `crate::scanner::classifier_for`: a band that leaks labels nothing stick-slip):
     // 10% below the fold's interval a start at (x*, lambda) on the section does not
     // return to steady slip (the non-hysteretic band is irregular enough that the run
     // may stay undecided at t_max); 3% above it, neither that start nor a big one at
