@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryResult};
+use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryResult, Units};
 
 use crate::atlas_sheet::{axis_label, is_log, title};
 use crate::line::{missing_values, sweep_chart};
@@ -17,7 +17,8 @@ pub fn has_fold_lifetimes(plan: &AtlasPlan) -> bool {
     plan.lifetime_starts > 0 && plan.boundary_shape().len() == 1
 }
 
-/// Draws the mean lifetime about 1% above each fold (in natural periods, with its standard
+/// Draws the mean lifetime about 1% above each fold (in natural periods, or seconds for a
+/// physical plan, with its standard
 /// error) to `paths[0]` and the exponent of its power law in the distance from the fold
 /// (with its standard error) to `paths[1]`, against the swept parameter.
 pub fn fold_lifetime_charts(
@@ -38,11 +39,19 @@ pub fn fold_lifetime_charts(
         .map(|j| plan.values_at(plan.boundary_setup(j).0)[at])
         .collect();
     let log_x = is_log(&axis.values);
-    let period = std::f64::consts::TAU;
-    let pick = |f: fn(&BoundaryResult) -> f64, scale: f64| -> Vec<f64> {
-        res.boundaries
-            .iter()
-            .map(|b| b.as_ref().map_or(f64::NAN, |b| f(b) / scale))
+    // Times in natural periods, or in seconds for a physical plan (the time unit at each
+    // boundary's parameters).
+    let physical = plan.units == Units::Physical;
+    let per = |j: usize| match plan.physical_at(plan.boundary_setup(j).0) {
+        Some(ph) if physical => 1.0 / ph.scales().time,
+        _ => std::f64::consts::TAU,
+    };
+    let pick = |f: fn(&BoundaryResult) -> f64, time: bool| -> Vec<f64> {
+        (res.boundaries.iter().enumerate())
+            .map(|(j, b)| {
+                let scale = if time { per(j) } else { 1.0 };
+                b.as_ref().map_or(f64::NAN, |b| f(b) / scale)
+            })
             .collect()
     };
     let band = |mid: Vec<f64>, err: Vec<f64>, what: &str, color: Rgb| {
@@ -58,8 +67,8 @@ pub fn fold_lifetime_charts(
     let x_label = axis_label(axis);
     let blue = Rgb(30, 90, 200);
     let mean = band(
-        pick(|b| b.lifetime.mean, period),
-        pick(|b| b.lifetime.se, period),
+        pick(|b| b.lifetime.mean, true),
+        pick(|b| b.lifetime.se, true),
         "mean lifetime about 1% above the fold",
         blue,
     );
@@ -67,11 +76,14 @@ pub fn fold_lifetime_charts(
         plan,
         Some("transient squeal just past the fold: mean lifetime"),
     );
-    let y = "mean time squealing before settling (natural periods)";
+    let y = match physical {
+        true => "mean time squealing before settling (s)",
+        false => "mean time squealing before settling (natural periods)",
+    };
     draw(paths[0], (&t, &x_label, y), &mean, log_x)?;
     let exponent = band(
-        pick(|b| b.lifetime.exponent, 1.0),
-        pick(|b| b.lifetime.exponent_se, 1.0),
+        pick(|b| b.lifetime.exponent, false),
+        pick(|b| b.lifetime.exponent_se, false),
         "gamma of <t> ~ (nu - nu_fold)^(-gamma)",
         Rgb(200, 60, 30),
     );

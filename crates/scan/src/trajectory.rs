@@ -78,6 +78,45 @@ pub struct Oscillation {
     pub t_last_crossing: Option<f64>,
 }
 
+impl Oscillation {
+    /// No crossing yet.
+    const NONE: Oscillation = Oscillation {
+        crossings: 0,
+        omega: None,
+        amplitude: None,
+        t_last_crossing: None,
+    };
+
+    /// A crossing of the section at time `t` with `x' = r`.
+    fn observe(&mut self, t: f64, r: f64) {
+        self.crossings += 1;
+        let finite = |x: f64| x.is_finite().then_some(x);
+        self.omega = self
+            .t_last_crossing
+            .and_then(|t0| finite(std::f64::consts::TAU / (t - t0)));
+        self.t_last_crossing = finite(t);
+        self.amplitude = finite(r);
+    }
+}
+
+/// The steps whose solve did not converge: how many, and the times of the first few.
+#[derive(Default)]
+struct Unconverged {
+    steps: u64,
+    first: Vec<f64>,
+}
+
+impl Unconverged {
+    fn observe(&mut self, t: f64, converged: bool) {
+        if !converged {
+            self.steps += 1;
+            if self.first.len() < FIRST_UNCONVERGED {
+                self.first.push(t);
+            }
+        }
+    }
+}
+
 /// What to run: the start, the end, and which samples to keep.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Span {
@@ -154,31 +193,18 @@ pub fn run(
     let mut outcome = None;
     let mut run = Run::new(stepper, span.ic);
     let mut samples = Samples::default();
-    let mut unconverged_times = Vec::new();
-    let mut unconverged = u64::from(run.initial().is_some_and(|sol| !sol.converged));
-    if unconverged > 0 {
-        unconverged_times.push(0.0);
-    }
+    let mut unconverged = Unconverged::default();
+    unconverged.observe(0.0, run.initial().is_none_or(|sol| sol.converged));
     if span.every > 0 {
         samples.push(run.sample());
     }
     let mut stick = p.law.has_true_stick().then(StickPhases::default);
-    let mut osc = Oscillation {
-        crossings: 0,
-        omega: None,
-        amplitude: None,
-        t_last_crossing: None,
-    };
+    let mut osc = Oscillation::NONE;
     let steps = (span.t_end / stepper.dt()).ceil() as u64;
     for k in 1..=steps {
         let step = run.step();
         let n = step.next;
-        if !step.solution.converged {
-            unconverged += 1;
-            if unconverged_times.len() < FIRST_UNCONVERGED {
-                unconverged_times.push(n.t);
-            }
-        }
+        unconverged.observe(n.t, step.solution.converged);
         if let Some(sp) = stick.as_mut() {
             sp.observe(&step);
         }
@@ -188,13 +214,7 @@ pub fn run(
             }
         }
         if let Some(c) = crossing(fp.x, &step.prev, &n) {
-            osc.crossings += 1;
-            let finite = |x: f64| x.is_finite().then_some(x);
-            osc.omega = osc
-                .t_last_crossing
-                .and_then(|t| finite(std::f64::consts::TAU / (c.t - t)));
-            osc.t_last_crossing = finite(c.t);
-            osc.amplitude = finite(c.r);
+            osc.observe(c.t, c.r);
         }
         if span.every > 0 && k % span.every == 0 {
             samples.push(&n);
@@ -217,8 +237,8 @@ pub fn run(
         fixed_point: fp,
         oscillation: osc,
         stick,
-        unconverged_steps: unconverged,
-        first_unconverged_times: unconverged_times,
+        unconverged_steps: unconverged.steps,
+        first_unconverged_times: unconverged.first,
         final_state: *run.sample(),
         stats: *run.stats(),
         max_residual: run.max_residual(),

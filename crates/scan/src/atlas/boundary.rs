@@ -52,7 +52,7 @@ use super::attractor::{StickFail, find_stick_slip};
 use super::point::{PointSettings, analyse, settings_for};
 use crate::band::{Budget, Crisis, CrisisStatus, Variant, crisis_in};
 use crate::error::ScanError;
-use crate::section::{ParamRange, Search};
+use crate::section::{Change, ParamRange, Search, coarse_changes};
 
 /// The parameter a boundary is bisected in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -79,6 +79,15 @@ impl BoundaryParam {
         match self {
             BoundaryParam::Nu => "c",
             BoundaryParam::Lambda => "v_belt",
+        }
+    }
+
+    /// The SI value of one unit of the parameter, and its units: the damping c in N s/m per
+    /// unit of nu, the belt speed in m/s per unit of lambda.
+    pub fn si(self, s: &squeal_core::Scales) -> (f64, &'static str) {
+        match self {
+            BoundaryParam::Nu => (s.damping, "N s/m"),
+            BoundaryParam::Lambda => (s.velocity, "m/s"),
         }
     }
 
@@ -308,6 +317,30 @@ pub fn point_quiet(setup: Setup, ps: &PointSettings, point: State) -> Result<boo
     Evaluator::new(BoundaryParam::Nu, setup, ps, point).answer(setup.params.nu, Which::Critical)
 }
 
+/// The coarse scan `squeal critical` makes before trusting its one bisection in `param`
+/// over `(lo, hi)`: every change of [`quiet_everywhere`] (`which` the fold) or of
+/// [`point_quiet`] at `point` (the critical value) between [`crate::band::COARSE`]
+/// geometric steps ([`coarse_changes`]).
+pub fn coarse_scan(
+    param: BoundaryParam,
+    setup: Setup,
+    (ps, point): (&PointSettings, State),
+    which: Which,
+    (lo, hi): (f64, f64),
+) -> Result<Vec<Change>, ScanError> {
+    coarse_changes(
+        |v| {
+            let s = setup.with_params(param.with(setup.params, v));
+            match which {
+                Which::Fold => quiet_everywhere(s, ps),
+                Which::Critical => point_quiet(s, ps, point),
+            }
+        },
+        (lo, hi),
+        crate::band::COARSE,
+    )
+}
+
 /// The fold in `param`: the value above which no start squeals for good. For McMillan's
 /// laws the crisis of the stick-slip band ([`fold_crisis`], with [`crate::band::COARSE`]
 /// coarse steps); for laws with true stick (no band to leak) the bisection of "no start
@@ -505,7 +538,7 @@ pub fn check_half_dt(
 
 /// Which boundary's predicate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Which {
+pub enum Which {
     /// Quiet everywhere ([`quiet_everywhere`]).
     Fold,
     /// The operating point quiet ([`point_quiet`]).

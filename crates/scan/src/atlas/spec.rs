@@ -675,11 +675,8 @@ impl AtlasPlan {
     /// A boundary value `v` (nondimensional, in the bisected parameter) in SI units at point
     /// `i` of a physical plan, with the units; `None` in nondimensional plans.
     pub fn boundary_si(&self, i: usize, v: f64) -> Option<(f64, &'static str)> {
-        let s = self.physical_at(i)?.scales();
-        Some(match self.boundary_in {
-            BoundaryParam::Nu => (v * s.damping, "N s/m"),
-            BoundaryParam::Lambda => (v * s.velocity, "m/s"),
-        })
+        let (unit, units) = self.boundary_in.si(&self.physical_at(i)?.scales());
+        Some((v * unit, units))
     }
 
     /// The stored name of a boundary column (`fold_nu` -> `fold_lambda` when bisecting in

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use hdf5::File;
 use squeal_core::Scales;
-use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, COLUMNS, Column, Kind, Si, status_meanings};
+use squeal_scan::atlas::columns::{
+    BOUNDARY_COLUMNS, BoundarySi, COLUMNS, Column, Kind, Si, status_meanings,
+};
 use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, Units};
 
@@ -305,7 +307,11 @@ fn write_boundaries(
         let (name, long) = plan.boundary_dataset(c.name, c.long_name);
         o.put(over, (&name, &long), Some("1"), v.clone())?;
         if plan.units == Units::Physical {
-            write_boundary_si(o, over, plan, (&name, &long), &v)?;
+            match c.si {
+                BoundarySi::Bisected => write_boundary_si(o, over, plan, (&name, &long), &v)?,
+                BoundarySi::Time => write_boundary_seconds(o, over, plan, (&name, &long), &v)?,
+                BoundarySi::None => {}
+            }
         }
     }
     let notes = bs
@@ -348,5 +354,26 @@ fn write_boundary_si(
     };
     let name = name.replace(&format!("_{}", plan.boundary_in.key()), &format!("_{key}"));
     o.put(over, (&name, &long), Some(units), si)?;
+    Ok(())
+}
+
+/// A boundary figure of a physical spec that is a nondimensional time, in seconds:
+/// `<name>_s` (the time unit at each boundary's parameters).
+fn write_boundary_seconds(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    (name, long): (&str, &str),
+    v: &[f64],
+) -> hdf5::Result<()> {
+    let s: Vec<f64> = (v.iter().enumerate())
+        .map(|(j, &x)| {
+            let (i, _) = plan.boundary_setup(j);
+            plan.physical_at(i)
+                .map_or(f64::NAN, |ph| x * ph.scales().time)
+        })
+        .collect();
+    let long = long.replace("nondimensional time; the natural period is 2 pi", "seconds");
+    o.put(over, (&format!("{name}_s"), &long), Some("s"), s)?;
     Ok(())
 }
