@@ -251,7 +251,7 @@ fn crisis(
     }
     if !squeal_scan::atlas::boundary::crisis_applies(plan.maps[map].law) {
         bail!(
-            "--crisis: McMillan's hysteretic law only (a law with true stick has no band to leak; for the non-hysteretic law the section map misses a stick-slip orbit that runs keep, see crates/core/MODEL.md)"
+            "--crisis: McMillan's laws only (a law with true stick has no band to leak: its fold is --fold)"
         );
     }
     let (range, _) = args.range(BoundaryParam::Nu)?;

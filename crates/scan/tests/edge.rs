@@ -80,6 +80,66 @@ fn the_cycle_search_finds_a_window_behind_a_jump_whatever_r_max() {
     }
 }
 
+/// The fold of McMillan's non-hysteretic law as the crisis of its band (issue 17, item 4),
+/// checked against runs to t = 20000 at Table 1's lambda, tau, phi and dt 0.01: from (1, 3)
+/// and (-4, 0) the block still swings on stick-slip at nu = 0.0413 (section amplitude about
+/// 2.936 at the end) and is at the fixed point by t = 530 at 0.0420 (`squeal trajectory
+/// --law mcmillan-nonhysteretic --dt 0.01 --nu NU --x0 X --v0 V --t-end 20000`). The crisis
+/// must lie between; the window bisection it replaces gave 0.04106, below the runs that
+/// keep squealing at 0.0413.
+#[test]
+fn the_non_hysteretic_crisis_lies_where_runs_put_it() {
+    let setup = |nu: f64| {
+        Setup::new(
+            Params::paper(FrictionLaw::McMillanNonHysteretic, nu),
+            0.01,
+            SolverConfig::default(),
+        )
+    };
+    let c = squeal_scan::band::crisis_nu(
+        setup(0.04),
+        &CycleSettings::default(),
+        squeal_scan::section::ParamRange::new(0.02, 0.06, 1e-4),
+        64,
+    )
+    .unwrap();
+    assert_eq!(c.status, squeal_scan::band::CrisisStatus::Found, "{c:?}");
+    assert!(
+        c.nu - c.uncertainty > 0.0413 && c.nu + c.uncertainty < 0.0420,
+        "{c:?}"
+    );
+    for (x, v) in [(1.0, 3.0), (-4.0, 0.0)] {
+        let span = Span {
+            ic: State { x, v },
+            t_end: 20_000.0,
+            every: 0,
+        };
+        let below = run(
+            &setup(0.0413).stepper().unwrap(),
+            &Classifier::default(),
+            span,
+            None,
+        );
+        assert!(
+            below.oscillation.amplitude.unwrap() > 2.9,
+            "{:?}",
+            below.oscillation
+        );
+        let above = run(
+            &setup(0.0420).stepper().unwrap(),
+            &Classifier::default(),
+            span,
+            None,
+        );
+        assert_eq!(
+            above.outcome.regime,
+            Regime::SteadySlip,
+            "{:?}",
+            above.outcome
+        );
+    }
+}
+
 /// A one-map plan of the hysteretic law at `nu` (Table 1's lambda, tau, phi) over
 /// `x0 in [-3, x_max]`, `v0 in [-4, 4]`.
 fn plan(nu: f64, x_max: f64, early_stop: &str) -> Plan {

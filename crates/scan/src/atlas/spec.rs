@@ -924,8 +924,7 @@ path = "p.h5"
                 "boundaries.lifetime_starts",
             ),
             (
-                GOOD.replace("\"mcmillan\"", "\"mcmillan-nonhysteretic\"")
-                    .replace("[output]", "[boundaries]\nlifetime_starts = 8\n[output]"),
+                STRIBECK.replace("[output]", "[boundaries]\nlifetime_starts = 8\n[output]"),
                 "boundaries.lifetime_starts",
             ),
             (

@@ -348,7 +348,7 @@ pub(super) fn boundaries(
 
 /// `[boundaries] lifetime_starts`: starts on the band per damping for the transient
 /// lifetimes above each fold, 0 (the default) for none. They follow the crisis of the band,
-/// so only McMillan's hysteretic law with boundaries in the damping (as `squeal critical
+/// so only McMillan's laws with boundaries in the damping (as `squeal critical
 /// --fold --lifetimes`), and the fold must be asked for.
 fn lifetime_starts(
     bd: &BoundariesFile,
@@ -370,7 +370,7 @@ fn lifetime_starts(
             key,
             n.to_string(),
             &format!(
-                "0 with law {law}: lifetimes follow the crisis of the band, McMillan's hysteretic law only"
+                "0 with law {law}: lifetimes follow the crisis of the band, McMillan's laws only"
             ),
         ));
     }
