@@ -300,10 +300,13 @@ impl AtlasWriter {
                 total: self.plan.map_plan().map_or(0, |p| p.total_blocks()),
             });
         }
-        write_atlas(&self.out, &self.plan, &self.results, &self.prov, self.shard)?;
+        // The labels that contradict a fold, once every unit is in (computed in scan).
+        let mut results = self.results;
+        results.reconcile_folds(&self.plan);
+        write_atlas(&self.out, &self.plan, &results, &self.prov, self.shard)?;
         let path = self.journal.path.clone();
         std::fs::remove_file(&path).map_err(io(&path, "cannot remove"))?;
-        Ok(self.results)
+        Ok(results)
     }
 }
 

@@ -196,7 +196,7 @@ pub fn merge_atlas(
             path: out.to_path_buf(),
         });
     }
-    let (plan, res) = read_shards(shards)?;
+    let (plan, mut res) = read_shards(shards)?;
     let missing = missing_units(&plan, &res, None);
     if !missing.is_empty() {
         return Err(StoreError::Incomplete {
@@ -213,6 +213,8 @@ pub fn merge_atlas(
             total: plan.map_plan().map_or(0, |p| p.total_blocks()),
         });
     }
+    // A point and its fold may come from different shards: reconciled here (computed in scan).
+    res.reconcile_folds(&plan);
     write_atlas(out, &plan, &res, prov, None)
 }
 
