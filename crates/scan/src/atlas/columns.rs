@@ -6,6 +6,7 @@ use super::attractor::StickSlipFigures;
 use super::boundary::{Boundary, BoundaryStatus};
 use super::driver::BoundaryResult;
 use super::point::{AtlasRegime, CycleFigures, PointResult};
+use super::spec::AtlasPlan;
 use squeal_core::Scales;
 
 /// How a nondimensional figure converts to SI units.
@@ -411,6 +412,8 @@ pub struct BoundaryColumn {
     pub set: fn(&mut BoundaryResult, f64),
     /// Its SI twin in a physical plan.
     pub si: BoundarySi,
+    /// Whether a plan stores it (the lifetimes only where measured).
+    pub stored: fn(&AtlasPlan) -> bool,
 }
 
 /// The SI twin of a boundary figure in a physical plan.
@@ -434,6 +437,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.fold.nu,
         set: |b, v| b.fold.nu = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_nu_lo",
@@ -441,6 +445,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.fold.bracket[0],
         set: |b, v| b.fold.bracket[0] = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_nu_hi",
@@ -448,6 +453,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.fold.bracket[1],
         set: |b, v| b.fold.bracket[1] = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_nu_err",
@@ -455,6 +461,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.fold.uncertainty,
         set: |b, v| b.fold.uncertainty = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_lifetime_nu",
@@ -462,6 +469,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.lifetime.nu,
         set: |b, v| b.lifetime.nu = v,
         si: BoundarySi::Bisected,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "fold_lifetime",
@@ -469,6 +477,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.lifetime.mean,
         set: |b, v| b.lifetime.mean = v,
         si: BoundarySi::Time,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "fold_lifetime_err",
@@ -476,6 +485,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.lifetime.se,
         set: |b, v| b.lifetime.se = v,
         si: BoundarySi::Time,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "fold_lifetime_censored",
@@ -483,6 +493,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.lifetime.censored,
         set: |b, v| b.lifetime.censored = v,
         si: BoundarySi::None,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "fold_lifetime_exponent",
@@ -490,6 +501,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.lifetime.exponent,
         set: |b, v| b.lifetime.exponent = v,
         si: BoundarySi::None,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "fold_lifetime_exponent_err",
@@ -497,6 +509,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.lifetime.exponent_se,
         set: |b, v| b.lifetime.exponent_se = v,
         si: BoundarySi::None,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "critical_nu",
@@ -504,6 +517,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.critical.nu,
         set: |b, v| b.critical.nu = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "critical_nu_lo",
@@ -511,6 +525,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.critical.bracket[0],
         set: |b, v| b.critical.bracket[0] = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "critical_nu_hi",
@@ -518,6 +533,7 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         get: |b| b.critical.bracket[1],
         set: |b, v| b.critical.bracket[1] = v,
         si: BoundarySi::Bisected,
+        stored: |_| true,
     },
 ];
 

@@ -299,7 +299,7 @@ fn write_boundaries(
             HALF_DT_FLAGS,
         )?;
     }
-    for c in BOUNDARY_COLUMNS {
+    for c in BOUNDARY_COLUMNS.iter().filter(|c| (c.stored)(plan)) {
         let v: Vec<f64> = bs
             .iter()
             .map(|b| b.as_ref().map_or(f64::NAN, |b| (c.get)(b)))
