@@ -14,6 +14,8 @@ checks=(
   "--test bstab_friction squeal_matches_the_published_basin_stability"
   # Early stopping against runs to settlement off the paper's parameters, 4 x 2 scans of 64 x 64.
   "--test off_paper early_stopping_agrees_with_settlement_off_the_paper"
+  # The transient lifetimes above two folds of an atlas, 8 band starts at 10 dampings each.
+  "--test atlas an_atlas_measures_transient_lifetimes_above_each_fold"
 )
 if [ "${1:-}" = --list ]; then
   printf '%s\n' "${checks[@]}"

@@ -1271,3 +1271,71 @@ path = "huge.h5"
     assert!(!dir.path().join("huge.h5").exists());
     assert!(!dir.path().join("huge.h5.journal").exists());
 }
+
+/// Issue 17, item 3: the mean transient lifetime above each fold as an atlas figure, with
+/// its scaling. Two belt speeds at Table 1's tau and phi, 8 band starts per damping: each
+/// fold gets the table `squeal critical --fold --lifetimes` prints (`lifetime_table`),
+/// stored as its nearest row with a mean (`fold_lifetime_nu = (1 + f) fold_nu`, `f` one of
+/// `DISTANCE_FACTORS`, 1% to 7.5%), and the fitted exponent; the summary states them and the
+/// two charts are drawn. Without `lifetime_starts` nothing is measured, stored or drawn.
+/// About 100 s on a loaded 2-core machine, so a long check.
+#[test]
+#[ignore = "long physics check (minutes): run by scripts/long-checks.sh, which .ci/run calls"]
+fn an_atlas_measures_transient_lifetimes_above_each_fold() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = |starts: &str, out: &str| {
+        format!(
+            "version = 1\nname = \"life\"\n[model]\nlaw = \"mcmillan\"\nnu = [0.02, 0.03]\nlambda = [2.5, 3.0]\n[boundaries]\ncritical = false\n{starts}[output]\npath = \"{out}\"\n"
+        )
+    };
+    std::fs::write(
+        dir.path().join("l.toml"),
+        spec("lifetime_starts = 8\n", "l.h5"),
+    )
+    .unwrap();
+    let text = ok(squeal(dir.path(), &["atlas", "l.toml", "--threads", "2"]));
+    assert_eq!(
+        text.matches("transient squeal at nu = ").count(),
+        2,
+        "{text}"
+    );
+    let h5 = dir.path().join("l.h5");
+    let get = |name: &str| -> Vec<f64> {
+        read_f64(&h5, name)
+            .into_iter()
+            .map(f64::from_bits)
+            .collect()
+    };
+    let (fold, at) = (get("fold_nu"), get("fold_lifetime_nu"));
+    let (mean, se, gamma) = (
+        get("fold_lifetime"),
+        get("fold_lifetime_err"),
+        get("fold_lifetime_exponent"),
+    );
+    for j in 0..2 {
+        let f = at[j] / fold[j] - 1.0;
+        let factors = squeal_scan::lifetime::DISTANCE_FACTORS;
+        assert!(
+            factors.iter().any(|d| (d - f).abs() < 1e-12),
+            "{at:?} {fold:?}"
+        );
+        // Past the crisis every band start leaves (at Table 1, 1% above it, after about
+        // 2000 time units with 128 starts: README's table), well within t_max = 40000.
+        assert!(
+            mean[j] > 6.3 && mean[j] < 40_000.0 && se[j] > 0.0,
+            "{mean:?} {se:?}"
+        );
+        // Lifetimes grow towards the crisis: a positive exponent.
+        assert!(gamma[j] > 0.0, "{gamma:?}");
+    }
+    for p in ["l-lifetimes.png", "l-lifetime-exponent.png"] {
+        assert!(dir.path().join(p).exists(), "{p}");
+    }
+    std::fs::write(dir.path().join("n.toml"), spec("", "n.h5")).unwrap();
+    ok(squeal(dir.path(), &["atlas", "n.toml", "--threads", "2"]));
+    // Not measured: not stored.
+    let f = hdf5::File::open(dir.path().join("n.h5")).unwrap();
+    assert!(f.dataset("fold_lifetime").is_err());
+    assert!(f.dataset("fold_nu").is_ok());
+    assert!(!dir.path().join("n-lifetimes.png").exists());
+}

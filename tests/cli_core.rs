@@ -183,11 +183,15 @@ fn trajectory_json_summary_has_the_fields() {
     assert_eq!(j["params"]["solver"], "robust");
     assert_eq!(j["params"]["nu"], 1e-3);
     assert_eq!(j["steps"], 50_000);
-    // nu = 1e-3 from rest: stick-slip (paper Fig 9), decided well before t = 500.
+    // nu = 1e-3 from rest: stick-slip (paper Fig 9). Rest lies outside the unstable cycle,
+    // whose outside is invariant: labelled at the start, as a scan labels it (issue 17).
     assert_eq!(j["classification"]["regime"], "stick_slip");
-    // Decided by the attractor test: the quasi-periodic band with sticking (issue 9's wide-band
-    // rule fires first here; the 5% settling rule a few crossings later).
-    let reason = j["classification"]["reason"].as_str().unwrap();
+    assert_eq!(j["classification"]["reason"], "start_outside_cycle");
+    // The run's own verdict, well before t = 500, by the attractor test: the quasi-periodic
+    // band with sticking (issue 9's wide-band rule fires first here; the 5% settling rule a
+    // few crossings later).
+    assert_eq!(j["classification"]["run"]["regime"], "stick_slip");
+    let reason = j["classification"]["run"]["reason"].as_str().unwrap();
     assert!(
         ["sticking_band", "settled_stick_slip"].contains(&reason),
         "{reason}"
@@ -697,7 +701,10 @@ fn stribeck_trajectory_names_its_parameters_and_stick_phases() {
     let breaks = st["breakaways"].as_u64().unwrap();
     assert!(onsets >= 2 && breaks.abs_diff(onsets) <= 1, "{st}");
     assert_eq!(j["stats"]["stick_onsets"].as_u64(), Some(onsets));
-    assert_eq!(j["classification"]["reason"], "stick_cycle");
+    // Labelled at the start as a scan labels it (outside the unstable cycle, issue 17);
+    // the run's own verdict: it stuck again after a breakaway.
+    assert_eq!(j["classification"]["reason"], "start_outside_cycle");
+    assert_eq!(j["classification"]["run"]["reason"], "stick_cycle");
     // Text: the law's names, the stick phases.
     let text = ok(squeal(dir.path(), &args));
     assert!(

@@ -370,8 +370,10 @@ def trajectory(
 ):
     """One run from ``(x0, v0)`` to ``t_end`` (``squeal trajectory``) as a Dataset over the
     time ``t``: ``x``, ``v``, ``a`` and the friction ``force``, every ``every``-th step, with
-    the run's settings as attributes and the classifier's verdict on the run in
-    ``regime``, ``reason``, ``t_decision`` and ``t_squeal`` (the time on stick-slip before
+    the run's settings as attributes and the start's label (the one ``squeal scan`` and
+    ``squeal classify`` give it: decided at the start where the unstable cycle's side decides
+    it, else the classifier's verdict on the run) in ``regime``, ``reason``, ``t_decision``
+    and ``t_squeal`` (the time on stick-slip before
     the run settled, as scans store it per cell: 0 never stuck, ``inf`` stick-slip for good,
     -1 not known). The model as for :func:`ulc`; ``out`` keeps
     the file (the schema of ``squeal trajectory --out run.h5``)."""

@@ -201,6 +201,9 @@ fn pictures(plan: &AtlasPlan, png: &Path) -> Vec<PathBuf> {
     if plan.maps.is_some() {
         v.push(sheet_path(png));
     }
+    if squeal_plot::has_fold_lifetimes(plan) {
+        v.extend(squeal_plot::fold_lifetime_paths(png));
+    }
     v
 }
 
@@ -268,6 +271,18 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
         common::check_new(&sheet, force, "sheet of basin maps")?;
         squeal_plot::atlas_sheet(&plan, &res, &sheet).map_err(|e| common::discard(&sheet, e))?;
         drawn.push(sheet);
+    }
+    if squeal_plot::has_fold_lifetimes(&plan) {
+        let paths = squeal_plot::fold_lifetime_paths(png);
+        for p in &paths {
+            common::check_new(p, force, "chart of lifetimes")?;
+        }
+        let [a, b] = [&paths[0], &paths[1]];
+        squeal_plot::fold_lifetime_charts(&plan, &res, [a, b]).map_err(|e| {
+            let _ = std::fs::remove_file(b);
+            common::discard(a, e)
+        })?;
+        drawn.extend(paths);
     }
     Ok(drawn)
 }

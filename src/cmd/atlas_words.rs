@@ -96,47 +96,25 @@ fn print_fold_warnings(plan: &AtlasPlan, res: &AtlasResults) {
             res.boundaries.len()
         );
     }
-    let (above, checked) = squeal_above_fold(plan, res);
-    if above > 0 {
+    // Points above their fold labelled bistable by their run were made undecided
+    // (`AtlasResults::reconcile_folds`); any still saying squeal (a repelling fixed point)
+    // contradict the fold.
+    let above = res.above_fold(plan);
+    let conflict = |regime| {
+        (above.iter())
+            .filter(|&&i| res.points[i].as_ref().is_some_and(|p| p.regime == regime))
+            .count()
+    };
+    let (undecided, repelling) = (
+        conflict(AtlasRegime::Undecided),
+        conflict(AtlasRegime::FixedPointUnstable),
+    );
+    if undecided + repelling > 0 {
         println!(
-            "  WARNING: {above} of {checked} points above their fold's uncertainty are labelled bistable or squealing: their stick-slip run stayed for the attractor's window on a band that leaks past the crisis (a long transient), or the regime flips there"
+            "  WARNING: of {} points above their fold's uncertainty, {undecided} are undecided (a stick-slip run stayed for the attractor's window on a band the crisis finds leaking: a long transient, or the regime flips there; see their notes) and {repelling} have a repelling fixed point",
+            above.len()
         );
     }
-}
-
-/// Points above `fold + uncertainty` along the bisected axis whose label says some start
-/// squeals, and the points checked (those with a found fold and an uncertainty).
-fn squeal_above_fold(plan: &AtlasPlan, res: &AtlasResults) -> (usize, usize) {
-    let (_, Some(dk)) = plan.boundary_axis() else {
-        return (0, 0);
-    };
-    let shape = plan.shape();
-    let stride: usize = shape[dk + 1..].iter().product();
-    let (mut above, mut checked) = (0, 0);
-    for (j, b) in res.boundaries.iter().enumerate() {
-        let Some(f) = b.as_ref().map(|b| b.fold) else {
-            continue;
-        };
-        if f.status != BoundaryStatus::Found || !f.uncertainty.is_finite() {
-            continue;
-        }
-        let (i0, _) = plan.boundary_setup(j);
-        for k in 0..shape[dk] {
-            let i = i0 + k * stride;
-            let v = plan.boundary_in.get(&plan.params_at(i));
-            let Some(p) = res.points[i].as_ref().filter(|_| v > f.nu + f.uncertainty) else {
-                continue;
-            };
-            checked += 1;
-            above += usize::from(matches!(
-                p.regime,
-                AtlasRegime::BistableQuiet
-                    | AtlasRegime::BistableSqueals
-                    | AtlasRegime::FixedPointUnstable
-            ));
-        }
-    }
-    (above, checked)
 }
 
 /// The first 12 boundary searches: where each searched, and the fold and the critical value
@@ -203,5 +181,18 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
             show(&b.fold),
             show(&b.critical)
         );
+        let l = &b.lifetime;
+        if l.mean.is_finite() {
+            let period = std::f64::consts::TAU;
+            println!(
+                "      transient squeal at {bkey} = {:.5}: mean lifetime {:.1} +- {:.1} periods ({:.0}% censored), gamma = {:.2} +- {:.2}",
+                l.nu,
+                l.mean / period,
+                l.se / period,
+                100.0 * l.censored,
+                l.exponent,
+                l.exponent_se
+            );
+        }
     }
 }

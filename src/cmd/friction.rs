@@ -24,7 +24,7 @@ use anyhow::{Context, bail};
 use squeal_core::friction::dimensional;
 use squeal_plot::{Curve, Rgb};
 
-use super::trajectory::{create_file, refuse_existing};
+use super::out_files::{create_file, refuse_existing};
 
 /// Points per fixed-acceleration curve.
 const N_VELOCITY: usize = 4001;

@@ -121,14 +121,16 @@ fn scan(args: &Args) -> anyhow::Result<()> {
             println!("    no unstable cycle: {why}");
         }
         if let Some(Some(l)) = info.landscapes.get(i) {
-            for w in super::scan::landscape_words(l) {
+            for w in super::map_words::landscape_words(l) {
                 println!("    {w}");
             }
         }
         for w in info
             .checks
             .get(i)
-            .map(|c| super::scan::check_words(c, common::attr(&info, "sampling") == Some("random")))
+            .map(|c| {
+                super::map_words::check_words(c, common::attr(&info, "sampling") == Some("random"))
+            })
             .unwrap_or_default()
         {
             println!("    {w}");
@@ -201,7 +203,7 @@ fn scan_json(info: &squeal_store::FileInfo) -> serde_json::Value {
                 .collect::<serde_json::Map<_, _>>()
         }).collect::<Vec<_>>(),
         "no_cycle": info.no_cycle,
-        "landscape": info.landscapes.iter().map(|l| super::scan::landscape_json(l.as_ref())).collect::<Vec<_>>(),
+        "landscape": info.landscapes.iter().map(|l| super::map_words::landscape_json(l.as_ref())).collect::<Vec<_>>(),
         "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
         "shard": info.shard,
     })

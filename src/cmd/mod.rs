@@ -1,6 +1,9 @@
 //! One module per subcommand; `model` and `physical` hold the flags shared by several,
-//! `common` the run flags and helpers, `atlas_words` the atlas summary that `atlas` and
-//! `info` print.
+//! `common` the run flags and helpers, `out_files` the files `trajectory` and `friction`
+//! write, `atlas_words` the atlas summary that `atlas` and `info` print, `map_words` the
+//! words about a scan's maps that `scan` and `info` print. A command's progress and report
+//! have their own modules beside it (`scan_bars`, `scan_report`, `critical_report`,
+//! `trajectory_report`).
 
 pub mod atlas;
 pub mod atlas_words;
@@ -8,16 +11,21 @@ pub mod classify;
 pub mod common;
 pub mod compare;
 pub mod critical;
+pub mod critical_report;
 pub mod friction;
 pub mod info;
 pub mod lifetimes;
+pub mod map_words;
 pub mod merge;
 pub mod model;
+pub mod out_files;
 pub mod physical;
 pub mod pictures;
 pub mod progress;
 pub mod render;
 pub mod scan;
+pub mod scan_bars;
+pub mod scan_report;
 pub mod trajectory;
 pub mod trajectory_report;
 pub mod transient;

@@ -160,6 +160,31 @@ impl ModelArgs {
     }
 }
 
+impl ModelArgs {
+    /// The one-map scan plan of these flags with the classifier's time limit `t_max` (given
+    /// by `flag`): what `MapContext::prepare` needs to label a start as a scan does.
+    pub fn plan(&self, t_max: f64, flag: &str) -> anyhow::Result<squeal_scan::Plan> {
+        self.stepper()?;
+        // Checked here, not in the spec built below: a NaN would be written as `t_max =
+        // NaN`, which TOML refuses without naming the flag.
+        if !(t_max.is_finite() && t_max > 0.0) {
+            bail!("{flag} {t_max}: expected a finite time > 0");
+        }
+        let text = format!(
+            "version = 1\n[model]\n{}\
+             [grid]\nx0 = {{ min = 0.0, max = 0.0, count = 1 }}\nv0 = {{ min = 0.0, max = 0.0, count = 1 }}\n\
+             [integration]\ndt = {:?}\nsolver = \"{}\"\nscheme = \"{}\"\n[classifier]\nt_max = {:?}\n[output]\npath = \"unused.h5\"\n",
+            self.model_toml()?,
+            self.dt,
+            self.solver,
+            self.scheme,
+            t_max
+        );
+        squeal_scan::Plan::from_toml(&text, "command line")
+            .map_err(|e| anyhow::anyhow!("{}", e.to_string().replace("classifier.t_max", flag)))
+    }
+}
+
 /// Prefixes a core error with the flag it concerns: "--nu: invalid nu = -1: expected ...".
 pub fn flag_error(e: CoreError) -> anyhow::Error {
     match &e {
@@ -205,28 +230,7 @@ impl SetupArgs {
     pub fn setup(&self) -> anyhow::Result<Setup> {
         let plan = match &self.spec {
             Some(path) => squeal_scan::Plan::from_file(path)?,
-            None => {
-                let m = &self.model;
-                m.stepper()?;
-                // Checked here, not in the spec built below: a NaN would be written as
-                // `t_max = NaN`, which TOML refuses without naming the flag.
-                if !(self.t_max.is_finite() && self.t_max > 0.0) {
-                    bail!("--t-max {}: expected a finite time > 0", self.t_max);
-                }
-                let text = format!(
-                    "version = 1\n[model]\n{}\
-                     [grid]\nx0 = {{ min = 0.0, max = 0.0, count = 1 }}\nv0 = {{ min = 0.0, max = 0.0, count = 1 }}\n\
-                     [integration]\ndt = {:?}\nsolver = \"{}\"\nscheme = \"{}\"\n[classifier]\nt_max = {:?}\n[output]\npath = \"unused.h5\"\n",
-                    m.model_toml()?,
-                    m.dt,
-                    m.solver,
-                    m.scheme,
-                    self.t_max
-                );
-                squeal_scan::Plan::from_toml(&text, "command line").map_err(|e| {
-                    anyhow::anyhow!("{}", e.to_string().replace("classifier.t_max", "--t-max"))
-                })?
-            }
+            None => self.model.plan(self.t_max, "--t-max")?,
         };
         if self.map >= plan.maps.len() {
             anyhow::bail!(

@@ -175,7 +175,7 @@ fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> 
     let param = swept(info);
     let log_x = param == "nu" || param == "xi";
     let missing = squeal_plot::missing_values(&curves, log_x);
-    let gaps = cycle_gaps(&missing, &xs, &info.counts);
+    let gaps = squeal_plot::cycle_gaps(&missing, &xs, &info.counts);
     let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&param));
     shared.insert_str(
         0,
@@ -195,47 +195,6 @@ fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> 
         &gaps,
     )
     .map_err(|e| discard(size, e))
-}
-
-/// The swept values without a cycle (`missing`), grouped by what map `i` (at `xs[i]`, cell
-/// counts `[undecided, steady, stick, not computed]`) found: only stick-slip, only steady
-/// slip, or neither alone. Each group has its own glyph (issue 21: one triangle for "every
-/// start squeals" and "no start squeals" could not be told apart).
-pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 4]]) -> Vec<squeal_plot::Gap> {
-    use squeal_plot::{Gap, Glyph};
-    let mut gaps = [
-        (
-            "no unstable cycle: every start squeals",
-            Glyph::TriangleUp,
-            Rgb(200, 40, 40),
-        ),
-        (
-            "no unstable cycle: no start squeals",
-            Glyph::TriangleDown,
-            squeal_plot::STEADY,
-        ),
-        (
-            "no unstable cycle located (both basins or undecided)",
-            Glyph::Diamond,
-            squeal_plot::MISSING,
-        ),
-    ]
-    .map(|(label, glyph, color)| Gap {
-        label: label.into(),
-        xs: Vec::new(),
-        glyph,
-        color,
-    });
-    for &x in missing {
-        let c = xs.iter().position(|&v| v == x).and_then(|i| counts.get(i));
-        let group = match c {
-            Some([_, 0, stick, _]) if *stick > 0 => 0,
-            Some([_, steady, 0, _]) if *steady > 0 => 1,
-            _ => 2,
-        };
-        gaps[group].xs.push(x);
-    }
-    gaps.into_iter().filter(|g| !g.xs.is_empty()).collect()
 }
 
 /// Micrometres and mm/s per nondimensional length and velocity unit of a physical scan file
@@ -293,32 +252,4 @@ fn to_si<'a>(p: &mut BasinPanel<'a>, xs: &'a [f64], vs: &'a [f64], (l, v): (f64,
         "initial displacement x0 (um)".into(),
         "initial velocity x'0 (mm/s)".into(),
     ]);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::cycle_gaps;
-    use squeal_plot::Glyph;
-
-    /// Issue 21: a sweep's values without a cycle were one triangle whatever the map found.
-    /// Counts are `[undecided, steady, stick, not computed]` per map (as `FileInfo::counts`).
-    #[test]
-    fn values_without_a_cycle_are_grouped_by_what_the_map_found() {
-        let xs = [0.8, 1.0, 1.5, 2.0, 2.2];
-        let counts = [
-            [0, 0, 100, 0], // stick-slip only: the fixed point repels
-            [3, 0, 97, 0],  // stick-slip and undecided cells: still no steady start
-            [0, 40, 60, 0], // both basins (has a cycle: not among `missing`)
-            [0, 100, 0, 0], // steady slip only: above the fold
-            [10, 45, 45, 0],
-        ];
-        let missing = [0.8, 1.0, 2.0, 2.2];
-        let gaps = cycle_gaps(&missing, &xs, &counts);
-        let of = |g: Glyph| gaps.iter().find(|x| x.glyph == g).map(|x| x.xs.clone());
-        assert_eq!(of(Glyph::TriangleUp), Some(vec![0.8, 1.0]));
-        assert_eq!(of(Glyph::TriangleDown), Some(vec![2.0]));
-        assert_eq!(of(Glyph::Diamond), Some(vec![2.2]));
-        assert!(gaps[0].label.contains("every start squeals"));
-        assert!(gaps[1].label.contains("no start squeals"));
-    }
 }

@@ -3,31 +3,28 @@
 //!
 //! The run is integrated to `--t-end` whatever happens on the way, so the samples and the
 //! phase plane show the whole run. The label ("steady slip", "stick-slip", "not yet settled")
-//! comes from the classifier watching the same run (integrated once) with `t_max = t_end`:
-//! its verdict is taken at its decision and the run goes on to `t_end`.
+//! is the one `squeal scan` and `classify` give the start
+//! ([`squeal_scan::trajectory::run_in`]): decided at the start where the unstable cycle's
+//! side decides it, else by the classifier watching the same run (integrated once) with
+//! `t_max = t_end`, its verdict taken at its decision while the run goes on to `t_end`.
 //!
 //! The frequency of the final oscillation is `2 pi / (t_k - t_{k-1})` from the last two
 //! crossings of the Poincare section `x = x*, x' > 0` (as in the classifier), absent if the
 //! run crossed it fewer than twice.
 
-use std::fs::{File, OpenOptions};
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use squeal_core::{Classifier, Samples, State, Stepper};
-use squeal_plot::{Curve, Marker, Rgb};
+use squeal_core::{State, Stepper};
 use squeal_scan::trajectory::Span;
 
 use super::model::ModelArgs;
+use super::out_files::{refuse_existing, write_csv};
 use super::trajectory_report::{Classification, RunParams, Summary, print_summary, si_summary};
 
 /// At most this many rows are kept in memory for `--out` and `--plot` (40 bytes each).
 const MAX_ROWS: u64 = 20_000_000;
-/// At most this many points are drawn in the phase plane (further decimated if more).
-const MAX_PLOT_POINTS: usize = 200_000;
-
 /// Flags of `squeal trajectory`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -89,7 +86,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         t_end: args.t_end,
         every: if keep { args.every } else { 0 },
     };
-    let t = squeal_scan::trajectory::run(&stepper, &Classifier::default(), span, None);
+    // The map's context (its section searched once, as `squeal classify` prepares it), so
+    // the label is the one every path gives this start.
+    let plan = args.model.plan(args.t_end, "--t-end")?;
+    let ctx = squeal_scan::scanner::MapContext::prepare(&plan, 0)?;
+    let t = squeal_scan::trajectory::run_in(&ctx, span, None);
     let fp = t.fixed_point;
     let cols = &t.samples;
 
@@ -100,12 +101,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         params: run_params(&args, &stepper),
         steps: t.steps,
         fixed_point: fp,
-        classification: Classification {
-            regime: t.outcome.regime.name(),
-            reason: t.outcome.reason.name(),
-            t_decision: t.outcome.t_decision,
-            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
-        },
+        classification: Classification::of(&t),
         final_state: t.final_state,
         oscillation: t.oscillation,
         stick: t.stick.clone(),
@@ -216,8 +212,17 @@ fn write_outputs(
         written.with_context(|| format!("--out: cannot write {}", path.display()))?;
     }
     if let Some(path) = &args.plot {
-        plot_phase_plane(path, cols, stepper, span.ic, t.fixed_point)
-            .with_context(|| format!("--plot: cannot draw {}", path.display()))?;
+        let t_end = *cols.t.last().unwrap_or(&0.0);
+        let (ic, fp) = (span.ic, t.fixed_point);
+        let model = super::pictures::plot_params(stepper.params(), stepper.dt());
+        squeal_plot::trajectory_plot(
+            path,
+            (&cols.x, &cols.v),
+            t_end,
+            ((ic.x, ic.v), (fp.x, fp.v)),
+            &model,
+        )
+        .with_context(|| format!("--plot: cannot draw {}", path.display()))?;
     }
     Ok(())
 }
@@ -258,95 +263,4 @@ fn out_format(path: &Path) -> anyhow::Result<Format> {
             path.display()
         ),
     }
-}
-
-/// Refuses to overwrite `path` unless `force`.
-pub(crate) fn refuse_existing(flag: &str, path: &Path, force: bool) -> anyhow::Result<()> {
-    if !force && path.exists() {
-        bail!(
-            "{flag}: '{}' exists (use --force to overwrite it)",
-            path.display()
-        );
-    }
-    Ok(())
-}
-
-/// Opens `path` for writing; without `force` it must not exist (checked atomically).
-pub(crate) fn create_file(path: &Path, force: bool) -> std::io::Result<File> {
-    let mut o = OpenOptions::new();
-    o.write(true);
-    if force {
-        o.create(true).truncate(true);
-    } else {
-        o.create_new(true);
-    }
-    o.open(path)
-}
-
-fn write_csv(path: &Path, cols: &Samples, force: bool) -> anyhow::Result<()> {
-    let mut w = BufWriter::new(create_file(path, force)?);
-    writeln!(w, "t,x,v,a,force")?;
-    for i in 0..cols.len() {
-        writeln!(
-            w,
-            "{},{},{},{},{}",
-            cols.t[i], cols.x[i], cols.v[i], cols.a[i], cols.force[i]
-        )?;
-    }
-    w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-    Ok(())
-}
-
-fn plot_phase_plane(
-    path: &Path,
-    cols: &Samples,
-    stepper: &Stepper,
-    ic: State,
-    fp: State,
-) -> anyhow::Result<()> {
-    let stride = cols.len().div_ceil(MAX_PLOT_POINTS).max(1);
-    let (mut xs, mut ys): (Vec<f64>, Vec<f64>) = cols
-        .x
-        .iter()
-        .zip(&cols.v)
-        .step_by(stride)
-        .map(|(x, v)| (*x, *v))
-        .unzip();
-    if let (Some(x), Some(v)) = (cols.x.last(), cols.v.last()) {
-        xs.push(*x);
-        ys.push(*v);
-    }
-    let p = stepper.params();
-    let title = squeal_plot::phase_title(
-        &format!(
-            "Trajectory from (x0, x'0) = ({}, {})",
-            squeal_plot::fmt_number(ic.x),
-            squeal_plot::fmt_number(ic.v)
-        ),
-        &super::pictures::plot_params(p, stepper.dt()),
-    );
-    let curves = [Curve {
-        label: format!("trajectory, t in [0, {}]", cols.t.last().unwrap_or(&0.0)),
-        xs,
-        ys,
-        color: Rgb(49, 110, 198),
-        points_only: false,
-    }];
-    let markers = [
-        Marker {
-            label: format!("fixed point ({}, 0)", fp.x),
-            x: fp.x,
-            y: fp.v,
-            color: squeal_plot::FIXED_POINT,
-        },
-        Marker {
-            label: "start".to_string(),
-            x: ic.x,
-            y: ic.v,
-            color: Rgb(238, 118, 22),
-        },
-    ];
-    let scale = squeal_plot::StateScale::of_law(p.law.name());
-    squeal_plot::phase_plot(path, &title, scale, &curves, &markers)?;
-    Ok(())
 }

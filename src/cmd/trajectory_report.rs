@@ -51,6 +51,38 @@ pub(super) struct Classification {
     /// Time on stick-slip before the run settled, as a scan stores it per cell
     /// (`squeal_core::classify::t_squeal`; JSON has no infinity, so by kind).
     pub(super) squeal: squeal_core::Squeal,
+    /// The run's own verdict where the label was decided at the start (the start rule of
+    /// `squeal scan` and `classify`), else `null`: the label is the run's.
+    pub(super) run: Option<RunVerdict>,
+    /// The start rule and the run's own verdict disagree: the label is undecided.
+    pub(super) conflict: bool,
+}
+
+/// The classifier's verdict on the run itself.
+#[derive(Serialize)]
+pub(super) struct RunVerdict {
+    pub(super) regime: &'static str,
+    pub(super) reason: &'static str,
+    pub(super) t_decision: f64,
+}
+
+impl Classification {
+    /// The label of run `t` and, where the start rule gave it, the run's own verdict.
+    pub(super) fn of(t: &squeal_scan::trajectory::Trajectory) -> Classification {
+        let o = &t.outcome;
+        Classification {
+            regime: o.regime.name(),
+            reason: o.reason.name(),
+            t_decision: o.t_decision,
+            squeal: squeal_core::Squeal::of(o.t_squeal),
+            run: t.at_start.then(|| RunVerdict {
+                regime: t.own.regime.name(),
+                reason: t.own.reason.name(),
+                t_decision: t.own.t_decision,
+            }),
+            conflict: t.conflict,
+        }
+    }
 }
 
 /// Everything `squeal trajectory` reports.
@@ -135,10 +167,27 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
         "stick_slip" => "stick-slip",
         _ => "not yet settled",
     };
-    println!(
-        "ended: {label} (classifier: {}, {} at t = {:.6})",
-        c.regime, c.reason, c.t_decision
-    );
+    match &c.run {
+        None => println!(
+            "ended: {label} (classifier: {}, {} at t = {:.6})",
+            c.regime, c.reason, c.t_decision
+        ),
+        Some(r) => {
+            println!(
+                "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)",
+                c.reason
+            );
+            println!(
+                "the run itself: {} ({} at t = {:.6})",
+                r.regime, r.reason, r.t_decision
+            );
+        }
+    }
+    if c.conflict {
+        println!(
+            "  WARNING: the start rule and the run's own verdict disagree: the label is undecided"
+        );
+    }
     println!("squeal: {}", c.squeal.words());
     let f = &s.final_state;
     println!(

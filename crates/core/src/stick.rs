@@ -124,6 +124,7 @@ const MAX_PHASES: usize = 16;
 /// Residual below which the slip force equation counts as solved.
 const RESIDUAL_TOL: f64 = 4.0 * f64::EPSILON;
 
+#[derive(Clone, Copy)]
 enum Mode {
     Stick,
     Slip(f64),
@@ -277,7 +278,8 @@ impl StickStepper {
         (f, ax + sub.w_x1 * f, av + sub.w_v1 * f, r.abs(), ok)
     }
 
-    /// One step of length `h` from `s`, split at its events.
+    /// One step of length `h` from `s`, split at its events: a stick or slip phase at a
+    /// time until the step's end, each phase ending at the step's end or at an event.
     pub(crate) fn step(
         &self,
         law: &Law,
@@ -285,111 +287,155 @@ impl StickStepper {
         stats: &mut SolverStats,
     ) -> (Sample, Solution, StickEvents) {
         let lam = self.lambda;
-        let mut ev = StickEvents::NONE;
-        let (mut x, mut v, mut f) = (s.x, s.v, s.force);
-        let mut elapsed = 0.0;
-        let mut residual = 0.0f64;
-        let mut converged = true;
-        let mut mode = if v == lam {
-            self.at_zero_slip(x)
-        } else {
-            Mode::Slip((v - lam).signum())
+        let mut ph = Phases {
+            x: s.x,
+            v: s.v,
+            f: s.force,
+            elapsed: 0.0,
+            residual: 0.0,
+            converged: true,
+            mode: if s.v == lam {
+                self.at_zero_slip(s.x)
+            } else {
+                Mode::Slip((s.v - lam).signum())
+            },
+            ev: StickEvents::NONE,
         };
         let mut finished = false;
         for _ in 0..MAX_PHASES {
-            let left = self.h - elapsed;
-            if left <= 0.0 {
+            let left = self.h - ph.elapsed;
+            let end = left <= 0.0
+                || match ph.mode {
+                    Mode::Stick => self.stick_phase(&mut ph, left, stats),
+                    Mode::Slip(sigma) => self.slip_phase(law, &mut ph, (sigma, left), stats),
+                };
+            if end {
                 finished = true;
                 break;
             }
-            match mode {
-                Mode::Stick => {
-                    ev.stuck = true;
-                    f = self.hold(x);
-                    let t_b = (self.mu_s - f) / lam;
-                    if t_b >= left {
-                        // Stuck to the end of the step: x is linear in t.
-                        x += lam * left;
-                        f = self.hold(x);
-                        v = lam;
-                        finished = true;
-                        break;
-                    }
-                    // Breakaway at the exact time, from the breakaway state.
-                    elapsed += t_b;
-                    x = self.mu_s - 2.0 * self.nu * lam;
-                    v = lam;
-                    f = self.mu_s;
-                    ev.breakaways += 1;
-                    stats.breakaways += 1;
-                    if ev.breakaway_at.is_nan() {
-                        ev.breakaway_at = elapsed;
-                    }
-                    mode = Mode::Slip(-1.0);
+        }
+        self.step_end(s, ph, finished, stats)
+    }
+
+    /// A stick phase of at most `left`: stuck to the step's end (true), or up to the
+    /// breakaway at its exact time, from where the block slides back (false).
+    #[inline(always)]
+    fn stick_phase(&self, ph: &mut Phases, left: f64, stats: &mut SolverStats) -> bool {
+        let lam = self.lambda;
+        ph.ev.stuck = true;
+        ph.f = self.hold(ph.x);
+        let t_b = (self.mu_s - ph.f) / lam;
+        if t_b >= left {
+            // Stuck to the end of the step: x is linear in t.
+            ph.x += lam * left;
+            ph.f = self.hold(ph.x);
+            ph.v = lam;
+            return true;
+        }
+        // Breakaway at the exact time, from the breakaway state.
+        ph.elapsed += t_b;
+        ph.x = self.mu_s - 2.0 * self.nu * lam;
+        ph.v = lam;
+        ph.f = self.mu_s;
+        ph.ev.breakaways += 1;
+        stats.breakaways += 1;
+        if ph.ev.breakaway_at.is_nan() {
+            ph.ev.breakaway_at = ph.elapsed;
+        }
+        ph.mode = Mode::Slip(-1.0);
+        false
+    }
+
+    /// A slip phase on side `sigma` of at most `left`: slipping to the step's end (true, also
+    /// when the zero of the slip velocity cannot be located), or up to zero slip (false).
+    #[inline(always)]
+    fn slip_phase(
+        &self,
+        law: &Law,
+        ph: &mut Phases,
+        (sigma, left): (f64, f64),
+        stats: &mut SolverStats,
+    ) -> bool {
+        let lam = self.lambda;
+        let sub = if left == self.h {
+            self.full
+        } else {
+            SubStep::new(self.nu, left, self.scheme)
+        };
+        let (f1, x1, v1, r, ok) = self.slip(law, &sub, (ph.x, ph.v, ph.f), sigma, stats);
+        ph.residual = ph.residual.max(r);
+        ph.converged &= ok;
+        if sigma * (v1 - lam) > 0.0 {
+            (ph.x, ph.v, ph.f) = (x1, v1, f1);
+            return true;
+        }
+        // The slip velocity reaches zero inside (0, left]: locate it.
+        let start = (ph.x, ph.v, ph.f);
+        let mut side = |tau: f64, stats: &mut SolverStats| {
+            let sub = SubStep::new(self.nu, tau, self.scheme);
+            let (_, xe, ve, r, ok) = self.slip(law, &sub, start, sigma, stats);
+            (sigma * (ve - lam), xe, r, ok)
+        };
+        let Some((tau, xe, r, ok)) = locate(&mut side, left, stats) else {
+            stats.failures += 1;
+            ph.converged = false;
+            (ph.x, ph.v, ph.f) = (x1, v1, f1);
+            return true;
+        };
+        ph.residual = ph.residual.max(r);
+        ph.converged &= ok;
+        ph.elapsed += tau;
+        ph.x = xe;
+        ph.v = lam;
+        self.zero_slip_event(ph, sigma, stats);
+        false
+    }
+
+    /// At zero slip after slipping on side `sigma`: a stick onset if the static limit holds,
+    /// else a reversal to the other side.
+    #[inline(always)]
+    fn zero_slip_event(&self, ph: &mut Phases, sigma: f64, stats: &mut SolverStats) {
+        match self.at_zero_slip(ph.x) {
+            Mode::Stick => {
+                ph.ev.onsets += 1;
+                stats.stick_onsets += 1;
+                if ph.ev.onset_at.is_nan() {
+                    ph.ev.onset_at = ph.elapsed;
                 }
-                Mode::Slip(sigma) => {
-                    let sub = if left == self.h {
-                        self.full
-                    } else {
-                        SubStep::new(self.nu, left, self.scheme)
-                    };
-                    let (f1, x1, v1, r, ok) = self.slip(law, &sub, (x, v, f), sigma, stats);
-                    residual = residual.max(r);
-                    converged &= ok;
-                    if sigma * (v1 - lam) > 0.0 {
-                        (x, v, f) = (x1, v1, f1);
-                        finished = true;
-                        break;
-                    }
-                    // The slip velocity reaches zero inside (0, left]: locate it.
-                    let start = (x, v, f);
-                    let mut side = |tau: f64, stats: &mut SolverStats| {
-                        let sub = SubStep::new(self.nu, tau, self.scheme);
-                        let (_, xe, ve, r, ok) = self.slip(law, &sub, start, sigma, stats);
-                        (sigma * (ve - lam), xe, r, ok)
-                    };
-                    let Some((tau, xe, r, ok)) = locate(&mut side, left, stats) else {
-                        stats.failures += 1;
-                        converged = false;
-                        (x, v, f) = (x1, v1, f1);
-                        finished = true;
-                        break;
-                    };
-                    residual = residual.max(r);
-                    converged &= ok;
-                    elapsed += tau;
-                    x = xe;
-                    v = lam;
-                    match self.at_zero_slip(x) {
-                        Mode::Stick => {
-                            ev.onsets += 1;
-                            stats.stick_onsets += 1;
-                            if ev.onset_at.is_nan() {
-                                ev.onset_at = elapsed;
-                            }
-                            ev.onset_after_breakaway |= ev.breakaways > 0;
-                            ev.stuck = true;
-                            mode = Mode::Stick;
-                            f = self.hold(x);
-                        }
-                        Mode::Slip(_) => {
-                            ev.reversals += 1;
-                            stats.slip_reversals += 1;
-                            mode = Mode::Slip(-sigma);
-                            f = sigma * self.mu_s;
-                        }
-                    }
-                }
+                ph.ev.onset_after_breakaway |= ph.ev.breakaways > 0;
+                ph.ev.stuck = true;
+                ph.mode = Mode::Stick;
+                ph.f = self.hold(ph.x);
+            }
+            Mode::Slip(_) => {
+                ph.ev.reversals += 1;
+                stats.slip_reversals += 1;
+                ph.mode = Mode::Slip(-sigma);
+                ph.f = sigma * self.mu_s;
             }
         }
+    }
+
+    /// The step's end sample, solution and events from the last phase (`finished`: the
+    /// phases reached the step's end within [`MAX_PHASES`]).
+    #[inline(always)]
+    fn step_end(
+        &self,
+        s: &Sample,
+        ph: Phases,
+        finished: bool,
+        stats: &mut SolverStats,
+    ) -> (Sample, Solution, StickEvents) {
+        let mut converged = ph.converged;
         if !finished {
             stats.failures += 1;
             converged = false;
         }
-        if ev.stuck {
+        if ph.ev.stuck {
             stats.sticks += 1;
         }
-        let stuck_at_end = v == lam && matches!(mode, Mode::Stick);
+        let (x, v, f) = (ph.x, ph.v, ph.f);
+        let stuck_at_end = v == self.lambda && matches!(ph.mode, Mode::Stick);
         let a = if stuck_at_end {
             0.0
         } else {
@@ -405,7 +451,7 @@ impl StickStepper {
             },
             Solution {
                 force: f,
-                residual,
+                residual: ph.residual,
                 converged,
                 branch: if stuck_at_end {
                     Branch::Stick
@@ -413,9 +459,22 @@ impl StickStepper {
                     Branch::Slip
                 },
             },
-            ev,
+            ph.ev,
         )
     }
+}
+
+/// The state of a step between its phases: the state and force reached, the time elapsed,
+/// the largest residual, whether every solve converged, the current mode and the events.
+struct Phases {
+    x: f64,
+    v: f64,
+    f: f64,
+    elapsed: f64,
+    residual: f64,
+    converged: bool,
+    mode: Mode,
+    ev: StickEvents,
 }
 
 /// The zero of `side(tau)` in `(0, left]`, with `side(0+) > 0` and `side(left) <= 0`:

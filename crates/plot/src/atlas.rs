@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::{
-    Area, Curve, DrawResult, Glyph, PlotError, Rgb, bold, check_curve, fmt_sig, font,
+    Area, Curve, DrawResult, Glyph, Plane, PlotError, Rgb, bold, check_curve, fmt_sig, font,
     glyph_element, render,
 };
 use crate::legend::{LegendItem, draw_legend};
@@ -151,6 +151,38 @@ pub fn contour_segments(us: &[f64], vs: &[f64], f: &[f64], level: f64) -> Vec<[(
 
 /// Draws a stability chart to `path` (1300 x 900).
 pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), PlotError> {
+    check_chart(chart)?;
+    let (nx, ny) = (chart.xs.len(), chart.ys.len());
+    let tx = |x: f64| if chart.log_x { x.log10() } else { x };
+    let ty = |y: f64| if chart.log_y { y.log10() } else { y };
+    let us: Vec<f64> = chart.xs.iter().map(|&x| tx(x)).collect();
+    let vs: Vec<f64> = chart.ys.iter().map(|&y| ty(y)).collect();
+    let (ue, ve) = (edges(&us), edges(&vs));
+    let xr = ue[0].min(ue[nx])..ue[0].max(ue[nx]);
+    let yr = ve[0].min(ve[ny])..ve[0].max(ve[ny]);
+    render(path, (1300, 900), |root| {
+        // A title wider than the picture (every fixed parameter of a physical system) wraps
+        // after a comma onto a second line.
+        let (w, _) = root.dim_in_pixel();
+        let title = super::wrap_line(root, &chart.title, &bold(22), w.saturating_sub(40));
+        let (head, body) = root.split_vertically(54 + 28 * title.len() as u32);
+        for (i, line) in title.iter().enumerate() {
+            head.draw_text(line, &bold(22), (20, 12 + 28 * i as i32))?;
+        }
+        head.draw_text(
+            &chart.subtitle,
+            &font(16),
+            (20, 18 + 28 * title.len() as i32),
+        )?;
+        let (plot, legend) = body.split_horizontally(900);
+        draw_plot(&plot, chart, (&us, &vs), (&ue, &ve), (xr, yr))?;
+        draw_legend(&legend, "regime", &legend_items(chart))
+    })
+}
+
+/// A chart's data checked before drawing: the shapes of classes, field and marks, the curves,
+/// and finite coordinates (> 0 on a log axis).
+fn check_chart(chart: &StabilityChart<'_>) -> Result<(), PlotError> {
     let (nx, ny) = (chart.xs.len(), chart.ys.len());
     if nx == 0 || ny == 0 {
         return Err(PlotError::EmptyData("stability chart without points"));
@@ -190,73 +222,55 @@ pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), Pl
             )));
         }
     }
-    let tx = |x: f64| if chart.log_x { x.log10() } else { x };
-    let ty = |y: f64| if chart.log_y { y.log10() } else { y };
-    let us: Vec<f64> = chart.xs.iter().map(|&x| tx(x)).collect();
-    let vs: Vec<f64> = chart.ys.iter().map(|&y| ty(y)).collect();
-    let (ue, ve) = (edges(&us), edges(&vs));
-    let xr = ue[0].min(ue[nx])..ue[0].max(ue[nx]);
-    let yr = ve[0].min(ve[ny])..ve[0].max(ve[ny]);
-    render(path, (1300, 900), |root| {
-        // A title wider than the picture (every fixed parameter of a physical system) wraps
-        // after a comma onto a second line.
-        let (w, _) = root.dim_in_pixel();
-        let title = super::wrap_line(root, &chart.title, &bold(22), w.saturating_sub(40));
-        let (head, body) = root.split_vertically(54 + 28 * title.len() as u32);
-        for (i, line) in title.iter().enumerate() {
-            head.draw_text(line, &bold(22), (20, 12 + 28 * i as i32))?;
-        }
-        head.draw_text(
-            &chart.subtitle,
-            &font(16),
-            (20, 18 + 28 * title.len() as i32),
-        )?;
-        let (plot, legend) = body.split_horizontally(900);
-        draw_plot(&plot, chart, (&us, &vs), (&ue, &ve), (xr, yr))?;
-        let mut items = Vec::new();
-        let total = chart.classes.len();
-        for &(value, name, color) in &chart.palette {
-            let n = chart.classes.iter().filter(|&&c| c == value).count();
-            if n > 0 {
-                items.push(LegendItem::Swatch {
-                    name: name.to_string(),
-                    color,
-                    detail: Some(format!("{n} of {total} points")),
-                });
-            }
-        }
-        for c in &chart.curves {
-            items.push(LegendItem::Line {
-                name: c.label.clone(),
-                color: c.color,
-                dots: c.points_only,
+    Ok(())
+}
+
+/// The legend: the classes present (with their counts), the curves, the marks drawn and the
+/// field's contours.
+fn legend_items(chart: &StabilityChart<'_>) -> Vec<LegendItem> {
+    let mut items = Vec::new();
+    let total = chart.classes.len();
+    for &(value, name, color) in &chart.palette {
+        let n = chart.classes.iter().filter(|&&c| c == value).count();
+        if n > 0 {
+            items.push(LegendItem::Swatch {
+                name: name.to_string(),
+                color,
+                detail: Some(format!("{n} of {total} points")),
             });
         }
-        for m in chart
-            .marks
-            .iter()
-            .filter(|m| m.xs.iter().any(|x| x.is_finite()))
-        {
-            items.push(LegendItem::Glyph {
-                name: m.label.clone(),
-                glyph: m.glyph,
-                fill: m.fill,
-            });
-        }
-        if chart.field.is_some() && !chart.levels.is_empty() {
-            items.push(LegendItem::Line {
-                name: "white lines, labelled:".into(),
-                color: Rgb(255, 255, 255),
-                dots: false,
-            });
-            items.push(LegendItem::Line {
-                name: chart.field_name.clone(),
-                color: Rgb(255, 255, 255),
-                dots: false,
-            });
-        }
-        draw_legend(&legend, "regime", &items)
-    })
+    }
+    for c in &chart.curves {
+        items.push(LegendItem::Line {
+            name: c.label.clone(),
+            color: c.color,
+            dots: c.points_only,
+        });
+    }
+    for m in chart
+        .marks
+        .iter()
+        .filter(|m| m.xs.iter().any(|x| x.is_finite()))
+    {
+        items.push(LegendItem::Glyph {
+            name: m.label.clone(),
+            glyph: m.glyph,
+            fill: m.fill,
+        });
+    }
+    if chart.field.is_some() && !chart.levels.is_empty() {
+        items.push(LegendItem::Line {
+            name: "white lines, labelled:".into(),
+            color: Rgb(255, 255, 255),
+            dots: false,
+        });
+        items.push(LegendItem::Line {
+            name: chart.field_name.clone(),
+            color: Rgb(255, 255, 255),
+            dots: false,
+        });
+    }
+    items
 }
 
 fn draw_plot(
@@ -266,7 +280,6 @@ fn draw_plot(
     (ue, ve): (&[f64], &[f64]),
     (xr, yr): (std::ops::Range<f64>, std::ops::Range<f64>),
 ) -> DrawResult<()> {
-    let nx = us.len();
     let mut c = ChartBuilder::on(area)
         .margin(14)
         .x_label_area_size(60)
@@ -287,6 +300,23 @@ fn draw_plot(
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)
         .draw()?;
+    draw_cells(&mut c, chart, (ue, ve))?;
+    if let Some(f) = chart.field {
+        let mid = (0.5 * (xr.start + xr.end), 0.5 * (yr.start + yr.end));
+        draw_contours(&mut c, chart, (us, vs, f), mid)?;
+    }
+    draw_curves(&mut c, chart)?;
+    draw_marks(&mut c, chart)?;
+    draw_log_ticks(area, &c, chart, (xr, yr))
+}
+
+/// Each point's cell (between the edges `ue`, `ve`) filled in its class's colour.
+fn draw_cells(
+    c: &mut Plane,
+    chart: &StabilityChart<'_>,
+    (ue, ve): (&[f64], &[f64]),
+) -> DrawResult<()> {
+    let nx = chart.xs.len();
     let color_of = |v: u8| {
         chart
             .palette
@@ -302,37 +332,60 @@ fn draw_plot(
             RGBColor(r, g, b).filled(),
         )
     }))?;
-    if let Some(f) = chart.field {
-        for &level in &chart.levels {
-            let segs = contour_segments(us, vs, f, level);
-            c.draw_series(
-                segs.iter()
-                    .map(|s| PathElement::new(s.to_vec(), WHITE.stroke_width(2))),
-            )?;
-            // Label the level once, at the segment nearest the middle of the chart.
-            let mid = (0.5 * (xr.start + xr.end), 0.5 * (yr.start + yr.end));
-            if let Some(s) = segs.iter().min_by(|a, b| {
-                let d = |s: &[(f64, f64); 2]| (s[0].0 - mid.0).powi(2) + (s[0].1 - mid.1).powi(2);
-                d(a).total_cmp(&d(b))
-            }) {
-                c.draw_series(std::iter::once(Text::new(
-                    fmt_sig(level),
-                    s[0],
-                    font(14).color(&BLACK),
-                )))?;
-            }
+    Ok(())
+}
+
+/// The white contours of the field `f` on the grid `(us, vs)`, each level labelled once, at
+/// its segment nearest the chart's middle `mid`.
+fn draw_contours(
+    c: &mut Plane,
+    chart: &StabilityChart<'_>,
+    (us, vs, f): (&[f64], &[f64], &[f64]),
+    mid: (f64, f64),
+) -> DrawResult<()> {
+    for &level in &chart.levels {
+        let segs = contour_segments(us, vs, f, level);
+        c.draw_series(
+            segs.iter()
+                .map(|s| PathElement::new(s.to_vec(), WHITE.stroke_width(2))),
+        )?;
+        if let Some(s) = segs.iter().min_by(|a, b| {
+            let d = |s: &[(f64, f64); 2]| (s[0].0 - mid.0).powi(2) + (s[0].1 - mid.1).powi(2);
+            d(a).total_cmp(&d(b))
+        }) {
+            c.draw_series(std::iter::once(Text::new(
+                fmt_sig(level),
+                s[0],
+                font(14).color(&BLACK),
+            )))?;
         }
     }
-    let tx = |x: f64| if chart.log_x { x.log10() } else { x };
-    let ty = |y: f64| if chart.log_y { y.log10() } else { y };
+    Ok(())
+}
+
+/// Whether `(x, y)` can be drawn: finite, and > 0 on a log axis.
+fn drawable(chart: &StabilityChart<'_>, x: f64, y: f64) -> bool {
+    x.is_finite() && y.is_finite() && (!chart.log_x || x > 0.0) && (!chart.log_y || y > 0.0)
+}
+
+/// A point in the plane's coordinates (log10 on a log axis).
+fn to_plane(chart: &StabilityChart<'_>, x: f64, y: f64) -> (f64, f64) {
+    (
+        if chart.log_x { x.log10() } else { x },
+        if chart.log_y { y.log10() } else { y },
+    )
+}
+
+/// The boundary curves, each broken where a point cannot be drawn: a line per run of
+/// drawable points, a dot for a run of one.
+fn draw_curves(c: &mut Plane, chart: &StabilityChart<'_>) -> DrawResult<()> {
     for curve in &chart.curves {
         let color = RGBColor(curve.color.0, curve.color.1, curve.color.2);
         let mut run: Vec<(f64, f64)> = Vec::new();
         let mut runs = Vec::new();
         for (&x, &y) in curve.xs.iter().zip(&curve.ys) {
-            let ok = x.is_finite() && y.is_finite() && (!lx || x > 0.0) && (!ly || y > 0.0);
-            if ok {
-                run.push((tx(x), ty(y)));
+            if drawable(chart, x, y) {
+                run.push(to_plane(chart, x, y));
             } else if !run.is_empty() {
                 runs.push(std::mem::take(&mut run));
             }
@@ -348,21 +401,38 @@ fn draw_plot(
             }
         }
     }
+    Ok(())
+}
+
+/// The flagged points, each set in its glyph.
+fn draw_marks(c: &mut Plane, chart: &StabilityChart<'_>) -> DrawResult<()> {
     for m in &chart.marks {
-        let ok =
-            |x: f64, y: f64| x.is_finite() && y.is_finite() && (!lx || x > 0.0) && (!ly || y > 0.0);
-        let points = m.xs.iter().zip(&m.ys).filter(|(x, y)| ok(**x, **y));
-        c.draw_series(points.map(|(&x, &y)| glyph_element(m.glyph, m.fill, (tx(x), ty(y)))))?;
+        let points =
+            m.xs.iter()
+                .zip(&m.ys)
+                .filter(|(x, y)| drawable(chart, **x, **y));
+        c.draw_series(
+            points.map(|(&x, &y)| glyph_element(m.glyph, m.fill, to_plane(chart, x, y))),
+        )?;
     }
+    Ok(())
+}
+
+/// The ticks and labels of the log axes (at 1, 2, 5 x 10^k), drawn on `area` beside the
+/// plane `c` spanning `(xr, yr)`.
+fn draw_log_ticks(
+    area: &Area<'_>,
+    c: &Plane,
+    chart: &StabilityChart<'_>,
+    (xr, yr): (std::ops::Range<f64>, std::ops::Range<f64>),
+) -> DrawResult<()> {
     let (bx, by) = area.get_base_pixel();
     let at = |u: f64, v: f64| {
         let p = c.backend_coord(&(u, v));
         (p.0 - bx, p.1 - by)
     };
-    if lx {
-        let lo = 10f64.powf(xr.start);
-        let hi = 10f64.powf(xr.end);
-        for t in log_ticks(lo, hi) {
+    if chart.log_x {
+        for t in log_ticks(10f64.powf(xr.start), 10f64.powf(xr.end)) {
             let p = at(t.log10(), yr.start);
             area.draw(&PathElement::new(vec![p, (p.0, p.1 + 6)], BLACK))?;
             let text = fmt_sig(t);
@@ -370,10 +440,8 @@ fn draw_plot(
             area.draw_text(&text, &font(15), (p.0 - w, p.1 + 10))?;
         }
     }
-    if ly {
-        let lo = 10f64.powf(yr.start);
-        let hi = 10f64.powf(yr.end);
-        for t in log_ticks(lo, hi) {
+    if chart.log_y {
+        for t in log_ticks(10f64.powf(yr.start), 10f64.powf(yr.end)) {
             let p = at(xr.start, t.log10());
             area.draw(&PathElement::new(vec![p, (p.0 - 6, p.1)], BLACK))?;
             let text = fmt_sig(t);

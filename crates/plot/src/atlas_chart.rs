@@ -137,15 +137,6 @@ fn boundary_lines(
             });
         }
     }
-    let moved: Vec<f64> = fold
-        .iter()
-        .zip(&res.boundaries)
-        .map(|(v, b)| match b {
-            // A fold with an uncertainty has it drawn as an error bar that covers dt/2.
-            Some(b) if b.fold.half_dt_holds == Some(false) && !b.fold.uncertainty.is_finite() => *v,
-            _ => f64::NAN,
-        })
-        .collect();
     if let Some(bars) = fold_error_bars(plan, res, &fold) {
         let (xs, ys) = place(bars);
         // The bars run along the bisected axis: the other coordinate repeats each point's.
@@ -161,40 +152,60 @@ fn boundary_lines(
             points_only: false,
         });
     }
-    let mut marks = Vec::new();
-    let flips: Vec<f64> = fold
-        .iter()
-        .zip(&res.boundaries)
-        .map(|(v, b)| match b {
-            Some(b) if b.fold.changes > 1 => *v,
-            _ => f64::NAN,
-        })
-        .collect();
-    if flips.iter().any(|v| v.is_finite()) {
-        let (xs, ys) = place(flips);
-        marks.push(Marks {
-            label:
-                "fold: the regime changes more than once along the damping (the last change shown)"
-                    .into(),
-            xs,
-            ys,
-            glyph: Glyph::Square,
-            fill: Rgb(230, 60, 60),
-        });
-    }
-    if moved.iter().any(|v| v.is_finite()) {
-        let (xs, ys) = place(moved);
-        // A diamond, not a line: the fold's own line runs under these points.
-        marks.push(Marks {
-            label: "fold: bracket moves at dt/2".into(),
-            xs,
-            ys,
-            glyph: Glyph::Diamond,
-            fill: Rgb(250, 220, 0),
-        });
-    }
+    let marks = fold_marks(res, &fold, place);
     (curves, marks)
 }
+
+/// The fold values `fold` flagged by [`FOLD_FLAGS`], placed on the chart by `place`.
+fn fold_marks(
+    res: &AtlasResults,
+    fold: &[f64],
+    place: impl Fn(Vec<f64>) -> (Vec<f64>, Vec<f64>),
+) -> Vec<Marks> {
+    FOLD_FLAGS
+        .iter()
+        .filter_map(|&(label, glyph, fill, flagged)| {
+            let vs: Vec<f64> = fold
+                .iter()
+                .zip(&res.boundaries)
+                .map(|(v, b)| match b {
+                    Some(b) if flagged(b) => *v,
+                    _ => f64::NAN,
+                })
+                .collect();
+            vs.iter().any(|v| v.is_finite()).then(|| {
+                let (xs, ys) = place(vs);
+                Marks {
+                    label: label.into(),
+                    xs,
+                    ys,
+                    glyph,
+                    fill,
+                }
+            })
+        })
+        .collect()
+}
+
+/// A fold value flagged on the chart: its legend label, glyph, fill and which boundaries.
+type FoldFlag = (&'static str, Glyph, Rgb, fn(&BoundaryResult) -> bool);
+
+/// The fold values flagged by a glyph (not a line: the fold's own line runs under them).
+const FOLD_FLAGS: [FoldFlag; 2] = [
+    (
+        "fold: the regime changes more than once along the damping (the last change shown)",
+        Glyph::Square,
+        Rgb(230, 60, 60),
+        |b| b.fold.changes > 1,
+    ),
+    // A fold with an uncertainty has it drawn as an error bar that covers dt/2.
+    (
+        "fold: bracket moves at dt/2",
+        Glyph::Diamond,
+        Rgb(250, 220, 0),
+        |b| b.fold.half_dt_holds == Some(false) && !b.fold.uncertainty.is_finite(),
+    ),
+];
 
 /// The fold's error bars, `fold -+ uncertainty` per boundary, as one list of values along
 /// the bisected axis: `[lo, hi, NaN]` per boundary (the NaN breaks the line between bars);

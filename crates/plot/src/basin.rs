@@ -201,31 +201,7 @@ pub(crate) fn draw_basin_chart(
         .y_label_area_size(l.1)
         .build_cartesian_2d(xr.clone(), vr.clone())?;
 
-    // The image: one nearest-cell lookup per pixel of the plotting area, blitted at once.
-    let plot = chart.plotting_area().strip_coord_spec();
-    let (w, h) = plot.dim_in_pixel();
-    if w > 0 && h > 0 {
-        let nx = ax.n;
-        let cols: Vec<usize> = (0..w)
-            .map(|px| ax.index(xr.start + (px as f64 + 0.5) / w as f64 * (xr.end - xr.start)))
-            .collect();
-        let mut buf = Vec::with_capacity(w as usize * h as usize * 3);
-        for py in 0..h {
-            let v = vr.end - (py as f64 + 0.5) / h as f64 * (vr.end - vr.start);
-            let row = &panel.labels[av.index(v) * nx..][..nx];
-            for &i in &cols {
-                let Rgb(r, g, b) = classes.color(row[i]);
-                buf.extend_from_slice(&[r, g, b]);
-            }
-        }
-        let image = BitMapElement::with_owned_buffer((0, 0), (w, h), buf)
-            .ok_or("image buffer has the wrong size")?;
-        plot.draw(&image)?;
-        plot.draw(&Rectangle::new(
-            [(0, 0), (w as i32 - 1, h as i32 - 1)],
-            BLACK.stroke_width(1),
-        ))?;
-    }
+    draw_image(&chart, panel, (ax, av), classes)?;
 
     let (xs, vs) = (xr.end - xr.start, vr.end - vr.start);
     let x_fmt = move |v: &f64| fmt_linear(*v, xs);
@@ -253,7 +229,63 @@ pub(crate) fn draw_basin_chart(
         .y_label_formatter(&y_fmt)
         .draw()?;
 
-    let bounds = (xr.clone(), vr.clone());
+    draw_overlays(&mut chart, panel, (xr.clone(), vr.clone()))?;
+    for m in &panel.markers {
+        if marker_drawable(m, false) && xr.contains(&m.x) && vr.contains(&m.y) {
+            // `backend_coord` is absolute; `area` is drawn in coordinates relative to its corner.
+            let pos = chart.backend_coord(&(m.x, m.y));
+            let (bx, by) = area.get_base_pixel();
+            draw_marker_at(area, (pos.0 - bx, pos.1 - by), m.color, layout.marker)?;
+        }
+    }
+    Ok(())
+}
+
+/// The image: one nearest-cell lookup per pixel of the plotting area, blitted at once, and
+/// its frame.
+fn draw_image(
+    chart: &Plane,
+    panel: &BasinPanel<'_>,
+    (ax, av): (Axis, Axis),
+    classes: &Classes<'_>,
+) -> DrawResult<()> {
+    let (xr, vr) = (ax.range(), av.range());
+    let plot = chart.plotting_area().strip_coord_spec();
+    let (w, h) = plot.dim_in_pixel();
+    if w > 0 && h > 0 {
+        let nx = ax.n;
+        let cols: Vec<usize> = (0..w)
+            .map(|px| ax.index(xr.start + (px as f64 + 0.5) / w as f64 * (xr.end - xr.start)))
+            .collect();
+        let mut buf = Vec::with_capacity(w as usize * h as usize * 3);
+        for py in 0..h {
+            let v = vr.end - (py as f64 + 0.5) / h as f64 * (vr.end - vr.start);
+            let row = &panel.labels[av.index(v) * nx..][..nx];
+            for &i in &cols {
+                let Rgb(r, g, b) = classes.color(row[i]);
+                buf.extend_from_slice(&[r, g, b]);
+            }
+        }
+        let image = BitMapElement::with_owned_buffer((0, 0), (w, h), buf)
+            .ok_or("image buffer has the wrong size")?;
+        plot.draw(&image)?;
+        plot.draw(&Rectangle::new(
+            [(0, 0), (w as i32 - 1, h as i32 - 1)],
+            BLACK.stroke_width(1),
+        ))?;
+    }
+
+    Ok(())
+}
+
+/// The overlays (cycles), clipped to the plotting ranges `(xr, vr)`: lines, or dots where a
+/// curve is points only.
+fn draw_overlays(
+    chart: &mut Plane,
+    panel: &BasinPanel<'_>,
+    (xr, vr): (Range<f64>, Range<f64>),
+) -> DrawResult<()> {
+    let bounds = (xr, vr);
     for c in &panel.overlays {
         let color = c.color.color();
         if c.points_only {
@@ -274,14 +306,6 @@ pub(crate) fn draw_basin_chart(
                     .into_iter()
                     .map(|s| PathElement::new(s, color.stroke_width(2))),
             )?;
-        }
-    }
-    for m in &panel.markers {
-        if marker_drawable(m, false) && xr.contains(&m.x) && vr.contains(&m.y) {
-            // `backend_coord` is absolute; `area` is drawn in coordinates relative to its corner.
-            let pos = chart.backend_coord(&(m.x, m.y));
-            let (bx, by) = area.get_base_pixel();
-            draw_marker_at(area, (pos.0 - bx, pos.1 - by), m.color, layout.marker)?;
         }
     }
     Ok(())

@@ -46,6 +46,7 @@ mod atlas_chart;
 mod atlas_sheet;
 mod basin;
 mod legend;
+mod lifetime_chart;
 mod line;
 mod transient;
 
@@ -53,7 +54,11 @@ pub use atlas::{Marks, StabilityChart, contour_segments, fmt_value, stability_ch
 pub use atlas_chart::atlas_chart;
 pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
-pub use line::{Gap, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart};
+pub use lifetime_chart::{fold_lifetime_charts, fold_lifetime_paths, has_fold_lifetimes};
+pub use line::{
+    Gap, cycle_gaps, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart,
+    trajectory_plot,
+};
 pub use transient::{has_transients, transient_map, transient_sheet};
 
 use std::error::Error as StdError;
@@ -559,6 +564,9 @@ fn padded(lo: f64, hi: f64, frac: f64) -> Range<f64> {
 
 type DrawResult<T> = Result<T, Box<dyn StdError>>;
 type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+/// A chart's plotting plane with linear f64 axes (log10 values where an axis is logarithmic).
+type Plane<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 fn draw_error(path: &Path, e: impl std::fmt::Display) -> PlotError {
     PlotError::Draw(format!("{}: {e}", path.display()))

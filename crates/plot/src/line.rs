@@ -69,6 +69,63 @@ pub fn cycle_plot(
     phase_plot(path, &title, scale, &[curve], &marks)
 }
 
+/// At most this many points of a trajectory are drawn ([`trajectory_plot`] decimates more).
+pub const MAX_TRAJECTORY_POINTS: usize = 200_000;
+
+/// One run's phase plane: its samples `(xs, vs)` from `t = 0` to `t_end` (at most
+/// [`MAX_TRAJECTORY_POINTS`] of them drawn, evenly decimated, and the last), the start `ic`
+/// and the fixed point `fp` marked, titled with the model `p`.
+pub fn trajectory_plot(
+    path: &Path,
+    (xs, vs): (&[f64], &[f64]),
+    t_end: f64,
+    (ic, fp): ((f64, f64), (f64, f64)),
+    p: &ModelParams,
+) -> Result<(), PlotError> {
+    let stride = xs.len().div_ceil(MAX_TRAJECTORY_POINTS).max(1);
+    let (mut dx, mut dv): (Vec<f64>, Vec<f64>) = xs
+        .iter()
+        .zip(vs)
+        .step_by(stride)
+        .map(|(x, v)| (*x, *v))
+        .unzip();
+    if let (Some(x), Some(v)) = (xs.last(), vs.last()) {
+        dx.push(*x);
+        dv.push(*v);
+    }
+    let title = phase_title(
+        &format!(
+            "Trajectory from (x0, x'0) = ({}, {})",
+            fmt_number(ic.0),
+            fmt_number(ic.1)
+        ),
+        p,
+    );
+    let curves = [Curve {
+        label: format!("trajectory, t in [0, {t_end}]"),
+        xs: dx,
+        ys: dv,
+        color: Rgb(49, 110, 198),
+        points_only: false,
+    }];
+    let markers = [
+        Marker {
+            label: format!("fixed point ({}, 0)", fp.0),
+            x: fp.0,
+            y: fp.1,
+            color: FIXED_POINT,
+        },
+        Marker {
+            label: "start".to_string(),
+            x: ic.0,
+            y: ic.1,
+            color: Rgb(238, 118, 22),
+        },
+    ];
+    let scale = StateScale::of_law(&p.law);
+    phase_plot(path, &title, scale, &curves, &markers)
+}
+
 /// A phase plane `(x, x')`: as [`line_plot`] with the axis labels of `scale` (the law's
 /// own units, [`StateScale::phase_labels`]) and equal scales on both axes (the shorter range
 /// is widened about its centre, so a circle is drawn as a circle). Size 900x800.
@@ -161,6 +218,46 @@ pub fn missing_values(curves: &[Curve], log_x: bool) -> Vec<f64> {
         })
     });
     xs
+}
+
+/// The swept values without a cycle (`missing`), grouped by what map `i` (at `xs[i]`, cell
+/// counts `[undecided, steady, stick, not computed]`) found: only stick-slip, only steady
+/// slip, or neither alone. Each group has its own glyph (issue 21: one triangle for "every
+/// start squeals" and "no start squeals" could not be told apart).
+pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 4]]) -> Vec<Gap> {
+    let mut gaps = [
+        (
+            "no unstable cycle: every start squeals",
+            Glyph::TriangleUp,
+            Rgb(200, 40, 40),
+        ),
+        (
+            "no unstable cycle: no start squeals",
+            Glyph::TriangleDown,
+            STEADY,
+        ),
+        (
+            "no unstable cycle located (both basins or undecided)",
+            Glyph::Diamond,
+            MISSING,
+        ),
+    ]
+    .map(|(label, glyph, color)| Gap {
+        label: label.into(),
+        xs: Vec::new(),
+        glyph,
+        color,
+    });
+    for &x in missing {
+        let c = xs.iter().position(|&v| v == x).and_then(|i| counts.get(i));
+        let group = match c {
+            Some([_, 0, stick, _]) if *stick > 0 => 0,
+            Some([_, steady, 0, _]) if *steady > 0 => 1,
+            _ => 2,
+        };
+        gaps[group].xs.push(x);
+    }
+    gaps.into_iter().filter(|g| !g.xs.is_empty()).collect()
 }
 
 struct LineOpts<'p> {

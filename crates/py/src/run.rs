@@ -31,7 +31,7 @@ pub fn trajectory(
 ) -> PyResult<(&'static str, &'static str, f64, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
-    let stepper = setup_of(&plan, map)?.stepper().map_err(value_error)?;
+    setup_of(&plan, map)?.stepper().map_err(value_error)?;
     if !(point.0.is_finite() && point.1.is_finite()) {
         return Err(value_error(anyhow::anyhow!(
             "x0/v0: expected finite values"
@@ -51,13 +51,17 @@ pub fn trajectory(
         x: point.0,
         v: point.1,
     };
+    // The map's context, as `squeal classify` prepares it: the label is the one every path
+    // gives this start ([`squeal_scan::trajectory::run_in`]).
+    let ctx = squeal_scan::scanner::MapContext::prepare(&plan, map).map_err(value_error)?;
+    let stepper = &ctx.stepper;
     let stop = AtomicBool::new(false);
     let span = Span { ic, t_end, every };
-    // The library's run, as `squeal trajectory` makes it (one loop, one verdict rule).
+    // The library's run, as `squeal trajectory` makes it (one loop, one labelling rule).
     let t = interruptible(py, &stop, || {
-        squeal_scan::trajectory::run(&stepper, &plan.classifier, span, Some(&stop))
+        squeal_scan::trajectory::run_in(&ctx, span, Some(&stop))
     })?;
-    write_run(&out, true, &provenance(), &stepper, span, &t).map_err(store_error)?;
+    write_run(&out, true, &provenance(), stepper, span, &t).map_err(store_error)?;
     let o = &t.outcome;
     let verdict = (o.regime.name(), o.reason.name(), o.t_decision, o.t_squeal);
     Ok(verdict)

@@ -318,7 +318,9 @@ pub fn lasting_on(
 }
 
 mod crisis;
-pub use crisis::{COARSE, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in, crisis_nu};
+pub use crisis::{
+    COARSE, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in, crisis_nu, raise_top,
+};
 
 /// The stick-slip band above the unstable cycle crossing at `r_u`, as the sampled interval
 /// `[s, b]` of the section ([`band_above`]'s samples): `s` the first sampled start above the

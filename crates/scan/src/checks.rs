@@ -1,13 +1,16 @@
 //! Consistency checks of a finished map, computed from its cells: where the map's labels,
-//! the located cycle and the run-to-settlement audit disagree. The store writes them into
-//! the file and the CLI prints them; nothing here is a guess about which one is right.
+//! the located cycle and the run-to-settlement audit disagree, gathered with the map's basin
+//! stability by [`MapTally`]. The store writes them into the file and the CLI prints them;
+//! nothing here is a guess about which one is right.
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{Landscape, Reason, Regime, State};
 
-use crate::cell::{Audit, Cell};
+use crate::basin::GridShares;
+use crate::cell::{Audit, Cell, NOT_COMPUTED};
 use crate::curve::{ClosedCurve, CurveLocator};
 use crate::spec::Plan;
+use crate::ulc::CycleReport;
 
 /// Decided cells on the wrong side of the located cycle (steady slip outside it, stick-slip
 /// inside it), and those of them farther than one cell diagonal from the curve.
@@ -276,6 +279,53 @@ impl MapChecks {
             || self.landscape.is_some_and(|l| l.contradictions > 0)
     }
 }
+/// What a map's cells add up to, gathered block by block as the blocks arrive (one block in
+/// memory at a time, in any order): its [`MapChecks`] and its basin stability
+/// ([`GridShares`]). The scan's and the atlas's writers feed it the stored blocks; which
+/// figures of the cycle the checks rest on and how the shares are taken is decided here.
+pub struct MapTally<'a> {
+    checks: MapChecks,
+    curve: Option<&'a ClosedCurve>,
+    /// Every cell's label, row-major `(v0, x0)`; not computed until its block arrives.
+    labels: Vec<u8>,
+}
+
+impl<'a> MapTally<'a> {
+    /// Nothing gathered yet, for a map of `plan` whose located cycle is `cycle` (if any)
+    /// and whose landscape is `landscape` (laws with true stick, if stated).
+    pub fn new(
+        plan: &Plan,
+        cycle: Option<&'a CycleReport>,
+        landscape: Option<Landscape>,
+    ) -> MapTally<'a> {
+        let curve = cycle.map(|r| &r.curve);
+        let escapes = cycle.is_some_and(|r| r.escape.is_some());
+        MapTally {
+            checks: MapChecks::new(curve, landscape, escapes),
+            curve,
+            labels: vec![NOT_COMPUTED; plan.grid.cells()],
+        }
+    }
+
+    /// Adds the cells of block `block` (row-major over its rows and all `x0`).
+    pub fn add_block(&mut self, plan: &Plan, block: usize, cells: &[Cell]) {
+        self.checks.add_block(plan, self.curve, block, cells);
+        let start = plan.grid.block_rows(block).start * plan.grid.x0.count;
+        for (l, c) in self.labels[start..].iter_mut().zip(cells) {
+            *l = c.regime;
+        }
+    }
+
+    /// The checks and the basin stability of the map (a random sample's shares without
+    /// sub-grids).
+    pub fn finish(self, plan: &Plan) -> (MapChecks, GridShares) {
+        let shares = match plan.grid.sample {
+            Some(_) => GridShares::random(&self.labels),
+            None => GridShares::of(&self.labels, plan.grid.x0.count),
+        };
+        (self.checks, shares)
+    }
+}
 
 /// Index of the axis value nearest `x`, if `x` lies within the axis range.
 fn nearest(a: crate::grid::Axis, x: f64) -> Option<usize> {
@@ -377,5 +427,43 @@ path = "t.h5"
         let mut c = MapChecks::new(None, Some(Landscape::StickSlipOnly), false);
         c.add_block(&plan, None, 0, &cells[1..]);
         assert_eq!(c.values()[7], 0);
+    }
+
+    #[test]
+    fn a_tally_places_each_block_where_its_rows_lie() {
+        // A 3 x 3 grid in blocks of one row; row 1 (the middle, block 1) steady slip, rows
+        // 0 and 2 stick-slip, the blocks added out of order. On the grid 3 of 9 cells are
+        // steady slip; the 2h sub-grid (rows and columns 0 and 2) holds none of them. A
+        // tally that put block 1's labels anywhere but row 1 would find 2 of 4 there.
+        let mut plan = crate::Plan::from_toml(
+            r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[grid]
+x0 = { min = -1.0, max = 1.0, count = 3 }
+v0 = { min = -1.0, max = 1.0, count = 3 }
+[output]
+path = "t.h5"
+"#,
+            "t.toml",
+        )
+        .unwrap();
+        plan.grid.block_rows = 1;
+        let row = |regime: Regime| {
+            let mut c = Cell::fill();
+            c.regime = regime as u8;
+            vec![c; 3]
+        };
+        let mut t = MapTally::new(&plan, None, None);
+        t.add_block(&plan, 2, &row(Regime::StickSlip));
+        t.add_block(&plan, 1, &row(Regime::SteadySlip));
+        t.add_block(&plan, 0, &row(Regime::StickSlip));
+        let (checks, shares) = t.finish(&plan);
+        assert_eq!(shares.h.get(Regime::SteadySlip).count, 3);
+        assert_eq!(shares.h.get(Regime::SteadySlip).p, 3.0 / 9.0);
+        assert_eq!(shares.h2.get(Regime::SteadySlip).count, 0);
+        assert_eq!(shares.h2.get(Regime::StickSlip).count, 4);
+        assert_eq!(checks.wrong_side, None);
     }
 }

@@ -12,6 +12,7 @@
 use std::time::{Duration, Instant};
 
 use crate::atlas::AtlasPlan;
+use crate::driver::Pending;
 use crate::error::ScanError;
 use crate::scanner::MapContext;
 use crate::spec::Plan;
@@ -139,6 +140,20 @@ impl Estimate {
                 c.prepare + (n * c.cell + audits * c.audit) / threads.max(1) as f64
             })
             .sum()
+    }
+}
+
+/// Wall seconds for the `pending` cells of `plan` on `threads` threads: from the `pilot`, or
+/// at the documented rate without one.
+pub fn seconds_for(
+    plan: &Plan,
+    pilot: Option<&Estimate>,
+    pending: &Pending,
+    threads: usize,
+) -> f64 {
+    match pilot {
+        Some(e) => e.seconds(plan.maps.len(), |m| pending.cells_of(plan, m), threads),
+        None => plan.estimate_seconds(pending.cells, threads),
     }
 }
 

@@ -78,7 +78,7 @@ mod values;
 
 pub use basin::{BASIN_FIELDS, GridShares, Share, Shares};
 pub use cell::{COLUMNS, Cell, Column};
-pub use checks::{LandscapeCheck, MapChecks, WrongSide};
+pub use checks::{LandscapeCheck, MapChecks, MapTally, WrongSide};
 pub use curve::ClosedCurve;
 pub use driver::{DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns};
 pub use error::{NoCycle, ScanError};

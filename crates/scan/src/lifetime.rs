@@ -24,7 +24,7 @@
 //! `sd / sqrt(n)`; with censoring the exponential's `mean / sqrt(exits)` is stated.
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use squeal_core::{Classifier, Params, Regime, Setup, State, Trap};
 
 use crate::band::band_span;
@@ -299,6 +299,63 @@ pub fn lifetime_table(
         skipped,
         rows,
     })
+}
+
+/// The lifetimes above one fold as an atlas stores them per boundary ([`lifetime_table`] at
+/// the distances [`DISTANCE_FACTORS`] above the crisis): the mean lifetime at the nearest
+/// damping where one was measured, and the fitted exponent of the power law. NaN where not
+/// measured.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FoldLifetime {
+    /// The damping of the nearest row (about 1% above the crisis).
+    pub nu: f64,
+    /// The mean lifetime there (nondimensional time).
+    pub mean: f64,
+    /// Its standard error.
+    pub se: f64,
+    /// The share of its runs still squealing at `t_max` (censored).
+    pub censored: f64,
+    /// `gamma` of `<t> ~ (nu - nu_c)^(-gamma)`.
+    pub exponent: f64,
+    /// Its standard error.
+    pub exponent_se: f64,
+}
+
+impl Default for FoldLifetime {
+    fn default() -> Self {
+        FoldLifetime::none()
+    }
+}
+
+impl FoldLifetime {
+    /// Not measured.
+    pub fn none() -> FoldLifetime {
+        FoldLifetime {
+            nu: f64::NAN,
+            mean: f64::NAN,
+            se: f64::NAN,
+            censored: f64::NAN,
+            exponent: f64::NAN,
+            exponent_se: f64::NAN,
+        }
+    }
+
+    /// The figures of table `t`: its first row with a mean lifetime, and its fit.
+    pub fn of(t: &LifetimeTable) -> FoldLifetime {
+        let mut f = FoldLifetime::none();
+        if let Some(r) = t.rows.iter().find(|r| r.lifetime.mean.is_some()) {
+            let l = &r.lifetime;
+            f.nu = r.nu;
+            f.mean = l.mean.unwrap_or(f64::NAN);
+            f.se = l.se.unwrap_or(f64::NAN);
+            f.censored = l.censored as f64 / (l.censored + l.exits).max(1) as f64;
+        }
+        if let Some(fit) = t.fit {
+            f.exponent = fit.exponent;
+            f.exponent_se = fit.se;
+        }
+        f
+    }
 }
 
 #[cfg(test)]

@@ -507,16 +507,27 @@ impl MapContext {
     /// Classifies one start: by the start rule or the certified region when they decide,
     /// else by a run (with the certified shortcuts).
     pub fn classify(&self, ic: State) -> Outcome {
+        self.decide_at_start(ic).unwrap_or_else(|| {
+            self.classifier
+                .classify_with(&self.stepper, ic, self.shortcuts)
+        })
+    }
+
+    /// The label of start `ic` without a run, where the start rule or the certified region
+    /// decides it (the first step of [`MapContext::classify`]; `squeal trajectory` reports
+    /// it beside its run's own verdict).
+    pub fn decide_at_start(&self, ic: State) -> Option<Outcome> {
         if let Some(rule) = &self.start_rule {
             if let Some(decision) = rule.decide(ic) {
-                return at_start(ic, rule.centre, decision);
+                return Some(at_start(ic, rule.centre, decision));
             }
         }
-        if let Some(r) = self.shortcuts.region.filter(|r| r.contains(ic.x, ic.v)) {
-            return at_start(ic, r.centre, (Regime::SteadySlip, Reason::StartInRegion));
-        }
-        self.classifier
-            .classify_with(&self.stepper, ic, self.shortcuts)
+        let r = self.shortcuts.region.filter(|r| r.contains(ic.x, ic.v))?;
+        Some(at_start(
+            ic,
+            r.centre,
+            (Regime::SteadySlip, Reason::StartInRegion),
+        ))
     }
 
     /// Whether audited cells of this map are checked: only where an early decision could

@@ -407,11 +407,18 @@ impl SectionSamples {
 /// D / r`; a window needs `g` to rise to 0 from a negative sample. The interval `[r_i,
 /// r_{i+1}]` (both `D <= 0`) is excluded when `|g_i| >= RISE_FACTOR * s * (u_{i+1} - u_i)`,
 /// `s` the rise rate of `g` over the interval to its left (smooth rises continue at a
-/// similar rate); otherwise it is halved, down to the relative width [`RESOLUTION`]. So
-/// the statement is: every sign change of `D` is found unless it lies in a window
+/// similar rate); otherwise it is halved, down to the relative width [`RESOLUTION`]. The
+/// intervals on both sides of a sampled peak of `D` below zero ([`peak`]) are halved too,
+/// whatever the rate to the left: where orbits begin to touch zero slip `D` has a kink and
+/// can jump up between two samples. At McMillan's non-hysteretic law (Table 1's lambda, tau,
+/// phi, nu = 0.0403, dt 0.01) `D` climbs from -0.17 at r = 2.915 to -0.058 at 2.92 and is
+/// positive only on about [2.9346, 2.9458] (an unstable cycle under a stick-slip orbit at
+/// 2.946); the rise rule alone found that window with `--r-max 20` and not with 3.5, 6 or
+/// 10. So the statement is: every sign change of `D` is found unless it lies in a window
 /// narrower than `RESOLUTION r`, or is reached by a rise of `g` steeper than `RISE_FACTOR`
-/// times its sampled rate to the left. At most `4 samples` extra returns are spent;
-/// intervals left over are counted in [`SectionSamples::unresolved`].
+/// times its sampled rate to the left with no sampled peak beside it. At most `4 samples`
+/// extra returns are spent; intervals left over are counted in
+/// [`SectionSamples::unresolved`].
 pub fn adaptive_samples(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> SectionSamples {
     let n = cs.samples.max(2);
     let mut rs = log_samples(cs.r_min, cs.r_max, n);
@@ -423,10 +430,11 @@ pub fn adaptive_samples(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> Se
         let (r0, r1) = (rs[i], rs[i + 1]);
         let du = r1.ln() - r0.ln();
         let rise = (g(r0, ds[i]) - g(rs[i - 1], ds[i - 1])) / (r0.ln() - rs[i - 1].ln());
+        let steep = -g(r0, ds[i]) < RISE_FACTOR * rise.max(0.0) * du;
         let hidden = ds[i] <= 0.0
             && ds[i + 1] <= 0.0
             && r1 - r0 > RESOLUTION * r0
-            && -g(r0, ds[i]) < RISE_FACTOR * rise.max(0.0) * du;
+            && (steep || peak(&ds, i) || peak(&ds, i + 1));
         if !hidden {
             i += 1;
             continue;
@@ -443,6 +451,25 @@ pub fn adaptive_samples(map: &ReturnMap, cs: &CycleSettings, w: &mut Work) -> Se
     }
     SectionSamples { rs, ds, unresolved }
 }
+
+/// Whether sample `k` is a sampled local maximum of `D` below zero that rises above a
+/// neighbour by at least `|D_k| / PEAK_FACTOR`: a peak whose top could reach `D > 0` between
+/// the samples (where `D` has a kink, near orbits that touch zero slip, no slope to the
+/// left bounds the rise). Gentle maxima far below zero (numerical jitter on a smooth stretch)
+/// are not peaks.
+fn peak(ds: &[f64], k: usize) -> bool {
+    k >= 1
+        && k + 1 < ds.len()
+        && ds[k] <= 0.0
+        && ds[k] >= ds[k - 1]
+        && ds[k] >= ds[k + 1]
+        && -ds[k] < PEAK_FACTOR * (ds[k] - ds[k - 1]).max(ds[k] - ds[k + 1])
+}
+
+/// How high a sampled local maximum of `D` below zero must rise above a neighbour, as a
+/// fraction of its distance from zero, for [`adaptive_samples`] to look on both sides of it:
+/// `-D_k < PEAK_FACTOR * rise`.
+pub const PEAK_FACTOR: f64 = 4.0;
 
 /// Finds the sign changes of `D` on the section and bisects the first unstable one.
 pub fn section_cycles(

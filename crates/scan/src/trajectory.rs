@@ -13,6 +13,8 @@ use squeal_core::{
     Classifier, Outcome, Reason, Regime, Run, Sample, Samples, SolverStats, State, Step, Stepper,
 };
 
+use crate::scanner::MapContext;
+
 /// How many times of unconverged paper-iteration steps are kept.
 pub const FIRST_UNCONVERGED: usize = 5;
 /// How many stick onset and breakaway times are kept from the start of the run.
@@ -76,6 +78,45 @@ pub struct Oscillation {
     pub t_last_crossing: Option<f64>,
 }
 
+impl Oscillation {
+    /// No crossing yet.
+    const NONE: Oscillation = Oscillation {
+        crossings: 0,
+        omega: None,
+        amplitude: None,
+        t_last_crossing: None,
+    };
+
+    /// A crossing of the section at time `t` with `x' = r`.
+    fn observe(&mut self, t: f64, r: f64) {
+        self.crossings += 1;
+        let finite = |x: f64| x.is_finite().then_some(x);
+        self.omega = self
+            .t_last_crossing
+            .and_then(|t0| finite(std::f64::consts::TAU / (t - t0)));
+        self.t_last_crossing = finite(t);
+        self.amplitude = finite(r);
+    }
+}
+
+/// The steps whose solve did not converge: how many, and the times of the first few.
+#[derive(Default)]
+struct Unconverged {
+    steps: u64,
+    first: Vec<f64>,
+}
+
+impl Unconverged {
+    fn observe(&mut self, t: f64, converged: bool) {
+        if !converged {
+            self.steps += 1;
+            if self.first.len() < FIRST_UNCONVERGED {
+                self.first.push(t);
+            }
+        }
+    }
+}
+
 /// What to run: the start, the end, and which samples to keep.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Span {
@@ -92,8 +133,17 @@ pub struct Span {
 pub struct Trajectory {
     /// The kept samples.
     pub samples: Samples,
-    /// The classifier's verdict (`time_limit` if undecided by `t_end`).
+    /// The label of the start, as every path gives it ([`run_in`]: the map's start rule
+    /// where it decides, as `squeal scan` and `squeal classify` do; else, and with
+    /// [`run`], the run's own verdict).
     pub outcome: Outcome,
+    /// The classifier's verdict on this run (`time_limit` if undecided by `t_end`).
+    pub own: Outcome,
+    /// The label was decided at the start, without the run ([`run_in`]).
+    pub at_start: bool,
+    /// The start rule decided the label and the run's own verdict is decided the other
+    /// way: the label is then undecided (never one of the two guessed).
+    pub conflict: bool,
     /// The steady-slip fixed point.
     pub fixed_point: State,
     /// The final oscillation.
@@ -143,31 +193,18 @@ pub fn run(
     let mut outcome = None;
     let mut run = Run::new(stepper, span.ic);
     let mut samples = Samples::default();
-    let mut unconverged_times = Vec::new();
-    let mut unconverged = u64::from(run.initial().is_some_and(|sol| !sol.converged));
-    if unconverged > 0 {
-        unconverged_times.push(0.0);
-    }
+    let mut unconverged = Unconverged::default();
+    unconverged.observe(0.0, run.initial().is_none_or(|sol| sol.converged));
     if span.every > 0 {
         samples.push(run.sample());
     }
     let mut stick = p.law.has_true_stick().then(StickPhases::default);
-    let mut osc = Oscillation {
-        crossings: 0,
-        omega: None,
-        amplitude: None,
-        t_last_crossing: None,
-    };
+    let mut osc = Oscillation::NONE;
     let steps = (span.t_end / stepper.dt()).ceil() as u64;
     for k in 1..=steps {
         let step = run.step();
         let n = step.next;
-        if !step.solution.converged {
-            unconverged += 1;
-            if unconverged_times.len() < FIRST_UNCONVERGED {
-                unconverged_times.push(n.t);
-            }
-        }
+        unconverged.observe(n.t, step.solution.converged);
         if let Some(sp) = stick.as_mut() {
             sp.observe(&step);
         }
@@ -177,13 +214,7 @@ pub fn run(
             }
         }
         if let Some(c) = crossing(fp.x, &step.prev, &n) {
-            osc.crossings += 1;
-            let finite = |x: f64| x.is_finite().then_some(x);
-            osc.omega = osc
-                .t_last_crossing
-                .and_then(|t| finite(std::f64::consts::TAU / (c.t - t)));
-            osc.t_last_crossing = finite(c.t);
-            osc.amplitude = finite(c.r);
+            osc.observe(c.t, c.r);
         }
         if span.every > 0 && k % span.every == 0 {
             samples.push(&n);
@@ -200,14 +231,48 @@ pub fn run(
     Trajectory {
         samples,
         outcome,
+        own: outcome,
+        at_start: false,
+        conflict: false,
         fixed_point: fp,
         oscillation: osc,
         stick,
-        unconverged_steps: unconverged,
-        first_unconverged_times: unconverged_times,
+        unconverged_steps: unconverged.steps,
+        first_unconverged_times: unconverged.first,
         final_state: *run.sample(),
         stats: *run.stats(),
         max_residual: run.max_residual(),
         steps: run.steps(),
     }
+}
+
+/// [`run`] in the map context `ctx` (its stepper and classifier, [`MapContext::prepare`]):
+/// the label is the one [`MapContext::classify`] gives the start, so `squeal trajectory`,
+/// `classify` and `scan` agree. Where the start rule or the certified region decides the
+/// start without a run, that is the label and the run's own verdict is kept beside it in
+/// [`Trajectory::own`]; if the run then ends the other way, the two findings conflict and
+/// the label is undecided. Elsewhere the label is the run's own verdict (the band rules
+/// every path sets; the trap and the shortcuts of a scan only decide earlier, never
+/// otherwise, and the run watched here has neither: it goes to settlement).
+pub fn run_in(ctx: &MapContext, span: Span, stop: Option<&AtomicBool>) -> Trajectory {
+    // The run's own verdict without the trap (as the scan's audit, [`MapContext::settle`]):
+    // evidence apart from the planar argument the start rule rests on.
+    let own = Classifier {
+        trap: None,
+        ..ctx.classifier
+    };
+    let mut t = run(&ctx.stepper, &own, span, stop);
+    if let Some(at) = ctx.decide_at_start(span.ic) {
+        t.at_start = true;
+        t.conflict = t.own.regime != Regime::Undecided && t.own.regime != at.regime;
+        t.outcome = match t.conflict {
+            true => Outcome {
+                regime: Regime::Undecided,
+                t_squeal: squeal_core::classify::t_squeal(Regime::Undecided, at.reason, 0.0),
+                ..at
+            },
+            false => at,
+        };
+    }
+    t
 }

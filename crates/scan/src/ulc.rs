@@ -631,6 +631,25 @@ pub fn point_enclosed(setup: Setup, cs: &CycleSettings, point: State) -> Result<
     ))
 }
 
+/// The coarse scan `squeal critical` makes before trusting its bisection of [`critical_nu`]:
+/// every change of [`point_enclosed`] between [`crate::band::COARSE`] geometric steps of
+/// `nu` over `(lo, hi)` ([`crate::section::coarse_changes`]).
+pub fn coarse_enclosed(
+    setup: Setup,
+    cs: &CycleSettings,
+    point: State,
+    (lo, hi): (f64, f64),
+) -> Result<Vec<crate::section::Change>, ScanError> {
+    crate::section::coarse_changes(
+        |nu| {
+            let p = squeal_core::Params { nu, ..setup.params };
+            point_enclosed(setup.with_params(p), cs, point)
+        },
+        (lo, hi),
+        crate::band::COARSE,
+    )
+}
+
 /// Bisection in `nu` (geometric) for the damping at which the cycle first encloses `point`.
 pub fn critical_nu(
     setup: Setup,

@@ -1,11 +1,14 @@
 //! Issue 17, truth at the edge of squeal: near the fold of cycles (Table 1's lambda, tau
 //! and phi, hysteretic law) the answers must not follow incidental settings.
 
-use squeal_core::{Classifier, FrictionLaw, Params, Regime, Setup, SolverConfig, State, Stepper};
+use squeal_core::{
+    Classifier, FrictionLaw, Params, Reason, Regime, Setup, SolverConfig, State, Stepper,
+};
 use squeal_scan::Plan;
 use squeal_scan::band::Band;
 use squeal_scan::scanner::{MapContext, Outside, classifier_for};
 use squeal_scan::section::{ReturnMap, SectionCycles, Work, search_section};
+use squeal_scan::trajectory::{Span, run, run_in};
 use squeal_scan::ulc::CycleSettings;
 
 /// The section search finds the same unstable cycle whatever `r_max`. Before the adaptive
@@ -40,6 +43,100 @@ fn the_cycle_search_does_not_depend_on_r_max() {
                 other => panic!("nu {nu} r_max {r_max}: {other:?}"),
             }
         }
+    }
+}
+
+/// The same for the non-hysteretic law, whose return map jumps where orbits begin to touch
+/// zero slip: at Table 1's lambda, tau, phi, nu = 0.0403, dt 0.01, `D` climbs from -0.17 at
+/// r = 2.915 to -0.058 at 2.92 and is positive on [2.93465, 2.93555] and again from
+/// 2.93790, with jumps at both ends (`cargo run --release -p squeal-scan --example
+/// return_map -- mcmillan-nonhysteretic 0.0403 0.01 2.930 2.940 40`), under the stick-slip
+/// orbit at 2.946 that runs keep. The rise rule alone (main at 52ff462) found no cycle
+/// with r_max 3.5, 6 or 10 and one with 20 (`squeal ulc --law mcmillan-nonhysteretic --nu
+/// 0.0403 --dt 0.01 --r-max R`). With the peaks refined every r_max finds an unstable
+/// crossing at one of the two jumps: the first window is narrower than the search's
+/// resolution (`RESOLUTION r`, 2.9e-3), so which one depends on the samples, as stated.
+#[test]
+fn the_cycle_search_finds_a_window_behind_a_jump_whatever_r_max() {
+    let st = Stepper::new(
+        Params::paper(FrictionLaw::McMillanNonHysteretic, 0.0403),
+        0.01,
+        SolverConfig::default(),
+    )
+    .unwrap();
+    let map = ReturnMap::new(&st, 200.0);
+    for r_max in [3.5, 6.0, 10.0, 20.0, 50.0] {
+        let cs = CycleSettings {
+            r_max,
+            ..CycleSettings::default()
+        };
+        match search_section(&map, &cs, &mut Work::default()) {
+            SectionCycles::Unstable { r, .. } => {
+                let at_a_jump = [2.93465, 2.9379].iter().any(|j| (r - j).abs() < 2.5e-4);
+                assert!(at_a_jump, "r_max {r_max}: {r}");
+            }
+            other => panic!("r_max {r_max}: {other:?}"),
+        }
+    }
+}
+
+/// The fold of McMillan's non-hysteretic law as the crisis of its band (issue 17, item 4),
+/// checked against runs to t = 20000 at Table 1's lambda, tau, phi and dt 0.01: from (1, 3)
+/// and (-4, 0) the block still swings on stick-slip at nu = 0.0413 (section amplitude about
+/// 2.936 at the end) and is at the fixed point by t = 530 at 0.0420 (`squeal trajectory
+/// --law mcmillan-nonhysteretic --dt 0.01 --nu NU --x0 X --v0 V --t-end 20000`). The crisis
+/// must lie between; the window bisection it replaces gave 0.04106, below the runs that
+/// keep squealing at 0.0413.
+#[test]
+fn the_non_hysteretic_crisis_lies_where_runs_put_it() {
+    let setup = |nu: f64| {
+        Setup::new(
+            Params::paper(FrictionLaw::McMillanNonHysteretic, nu),
+            0.01,
+            SolverConfig::default(),
+        )
+    };
+    let c = squeal_scan::band::crisis_nu(
+        setup(0.04),
+        &CycleSettings::default(),
+        squeal_scan::section::ParamRange::new(0.02, 0.06, 1e-4),
+        64,
+    )
+    .unwrap();
+    assert_eq!(c.status, squeal_scan::band::CrisisStatus::Found, "{c:?}");
+    assert!(
+        c.nu - c.uncertainty > 0.0413 && c.nu + c.uncertainty < 0.0420,
+        "{c:?}"
+    );
+    for (x, v) in [(1.0, 3.0), (-4.0, 0.0)] {
+        let span = Span {
+            ic: State { x, v },
+            t_end: 20_000.0,
+            every: 0,
+        };
+        let below = run(
+            &setup(0.0413).stepper().unwrap(),
+            &Classifier::default(),
+            span,
+            None,
+        );
+        assert!(
+            below.oscillation.amplitude.unwrap() > 2.9,
+            "{:?}",
+            below.oscillation
+        );
+        let above = run(
+            &setup(0.0420).stepper().unwrap(),
+            &Classifier::default(),
+            span,
+            None,
+        );
+        assert_eq!(
+            above.outcome.regime,
+            Regime::SteadySlip,
+            "{:?}",
+            above.outcome
+        );
     }
 }
 
@@ -269,4 +366,59 @@ fn neither_grid_extent_labels_a_transient_stick_slip() {
             .count();
         assert_eq!(stick, 0, "x0 in [-3, {x_max}]");
     }
+}
+
+/// Item 2 of issue 17 for a run that never sticks: McMillan's non-hysteretic law at
+/// nu = 1e-3, lambda = 4, tau = 0.5, phi = 1.2, from the issue's start (1.3529..,
+/// -0.2253..). The start lies outside the unstable cycle, whose outside is invariant, so a
+/// scan and `squeal classify` label it stick-slip at the start (`start_outside_cycle`); the
+/// run itself swings at a section amplitude of about the belt speed without a stick and is
+/// still undecided at t = 20000 (the issue), so before `run_in` `squeal trajectory` said
+/// "undecided" where the other paths said stick-slip. Now it gives their label, with the
+/// run's own verdict beside it.
+#[test]
+fn trajectory_gives_the_label_of_scan_and_classify_where_the_start_rule_decides() {
+    let p = Plan::from_toml(
+        r#"
+version = 1
+[model]
+law = "mcmillan-nonhysteretic"
+nu = 0.001
+lambda = 4.0
+tau = 0.5
+phi = 1.2
+[grid]
+x0 = { min = 0.0, max = 0.0, count = 1 }
+v0 = { min = 0.0, max = 0.0, count = 1 }
+[classifier]
+t_max = 200.0
+[output]
+path = "x.h5"
+"#,
+        "x.toml",
+    )
+    .unwrap();
+    let ctx = MapContext::prepare(&p, 0).unwrap();
+    let ic = State {
+        x: 1.3529160162888543,
+        v: -0.2252878635207893,
+    };
+    let scan = ctx.classify(ic);
+    assert_eq!(
+        (scan.regime, scan.reason),
+        (Regime::StickSlip, Reason::StartOutsideCycle)
+    );
+    let span = Span {
+        ic,
+        t_end: 200.0,
+        every: 0,
+    };
+    let t = run_in(&ctx, span, None);
+    assert_eq!(t.outcome.regime, scan.regime);
+    assert!(t.at_start && !t.conflict);
+    // The run alone cannot tell by t = 200: no stick, no settled band yet; so the old path
+    // (the run alone, as `squeal trajectory` set it up before) said undecided.
+    assert_eq!(t.own.regime, Regime::Undecided);
+    let alone = run(&ctx.stepper, &Classifier::default(), span, None);
+    assert_eq!(alone.outcome.regime, Regime::Undecided);
 }

@@ -139,6 +139,10 @@ fn boundary_json(plan: &AtlasPlan, j: usize, b: Option<&BoundaryResult>) -> Valu
             }
             o[name] = e;
         }
+        // The transient lifetimes above the fold, where measured (times nondimensional).
+        if plan.lifetime_starts > 0 {
+            o["fold"]["lifetime"] = json!(b.lifetime);
+        }
     }
     o
 }

@@ -6,8 +6,8 @@ use hdf5::{Dataset, File, H5Type};
 use ndarray::{Array1, Array2};
 use squeal_scan::cell::{Cell, Column, Kind};
 
+use crate::h5out::str_attr;
 use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5};
-use crate::h5write::str_attr;
 
 /// Creates the dataset of one column of [`COLUMNS`] with its CF attributes (also the atlas's
 /// maps, with the parameter dimensions in front).

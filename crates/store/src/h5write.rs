@@ -1,20 +1,21 @@
-//! Writes the HDF5 file from a source of blocks and cycles (the journal, or shard files).
+//! Writes the HDF5 file of a scan from a source of blocks and cycles (the journal, or shard
+//! files): root attributes, coordinates, the cell columns block by block, the per-map
+//! checks, landscape and basin stability, and the cycles.
 
 use std::path::Path;
 
 use crate::LandscapeInfo;
-use hdf5::types::{FixedAscii, VarLenArray, VarLenUnicode};
-use hdf5::{Dataset, File, Group, H5Type, Location, ObjectReference1};
-use ndarray::{Array1, Array2};
+use hdf5::{Dataset, File, Group};
 use squeal_scan::cell::{COLUMNS, Cell};
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
-use squeal_scan::{MapChecks, Plan};
+use squeal_scan::{Grid, MapChecks, MapTally, Plan};
 
 use crate::cycle::Flat;
 use crate::error::H5Ctx;
-use crate::h5types::{LandscapeH5, RefEntry};
+use crate::h5out::{Dims, Out, Over, class_type, num_attr, str_attr};
+use crate::h5types::LandscapeH5;
 use crate::journal::CycleRecord;
 use crate::{SCHEMA, StoreError};
 
@@ -31,177 +32,6 @@ pub(crate) struct Meta<'a> {
     pub version: &'a str,
     pub git_revision: &'a str,
     pub shard: Option<String>,
-}
-
-pub(crate) fn str_attr(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
-    let v: VarLenUnicode = value
-        .parse()
-        .map_err(|e| hdf5::Error::from(format!("{e}")))?;
-    loc.new_attr::<VarLenUnicode>()
-        .create(name)?
-        .write_scalar(&v)
-}
-
-pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
-    loc.new_attr::<T>().create(name)?.write_scalar(&value)
-}
-
-/// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
-pub(crate) struct Dims {
-    pub(crate) scales: Vec<(Dataset, Vec<RefEntry>)>,
-    /// The type of `CLASS`: a 16-byte null-terminated ASCII string, as `H5DSis_scale` demands.
-    pub(crate) class_type: hdf5::Datatype,
-}
-
-/// A tiny HDF5 file (written with h5py) whose root attribute `CLASS` has the type the
-/// dimension-scale API requires (fixed 16-byte ASCII, `H5T_STR_NULLTERM`). hdf5-metno can
-/// only make null-padded fixed strings without `unsafe`, so the type is copied from here.
-/// (Made with h5py: `t = h5py.h5t.C_S1.copy(); t.set_size(16);
-/// t.set_strpad(h5py.h5t.STR_NULLTERM); f.attrs.create("CLASS", b"DIMENSION_SCALE",
-/// dtype=h5py.Datatype(t))`, `libver="earliest"`. Named `.bin` because `.gitignore` drops `*.h5`.)
-const CLASS_TEMPLATE: &[u8] = include_bytes!("dimension_scale_class.bin");
-
-/// Reads the `CLASS` type from the template, written beside `path` for the moment.
-pub(crate) fn class_type(path: &Path) -> Result<hdf5::Datatype, StoreError> {
-    let mut s = path.as_os_str().to_owned();
-    s.push(".class");
-    let tpl = std::path::PathBuf::from(s);
-    std::fs::write(&tpl, CLASS_TEMPLATE).map_err(crate::error::io(&tpl, "cannot write"))?;
-    let t = (|| -> hdf5::Result<hdf5::Datatype> {
-        let f = File::open(&tpl)?;
-        let t = f.attr("CLASS")?.dtype()?;
-        f.close()?;
-        Ok(t)
-    })()
-    .h5(&tpl);
-    let _ = std::fs::remove_file(&tpl);
-    t
-}
-
-impl Dims {
-    /// No scales yet; `class_type` from [`class_type`].
-    pub(crate) fn new(class_type: hdf5::Datatype) -> Dims {
-        Dims {
-            scales: Vec::new(),
-            class_type,
-        }
-    }
-
-    /// Makes `ds` a dimension scale named `name` (netCDF-4 / HDF5 DS convention).
-    pub(crate) fn scale(&mut self, ds: &Dataset, name: &str) -> hdf5::Result<()> {
-        let class: FixedAscii<16> = FixedAscii::from_ascii("DIMENSION_SCALE")
-            .map_err(|e| hdf5::Error::from(format!("{e}")))?;
-        ds.new_attr_builder()
-            .empty_as(&self.class_type)
-            .create("CLASS")?
-            .write_scalar(&class)?;
-        let n: FixedAscii<16> =
-            FixedAscii::from_ascii(name).map_err(|e| hdf5::Error::from(format!("{e}")))?;
-        ds.new_attr::<FixedAscii<16>>()
-            .create("NAME")?
-            .write_scalar(&n)?;
-        self.scales.push((ds.clone(), Vec::new()));
-        Ok(())
-    }
-
-    /// Attaches scales (by dataset name) to the dimensions of `var`, in order.
-    pub(crate) fn attach(
-        &mut self,
-        file: &File,
-        var: &Dataset,
-        scales: &[&Dataset],
-    ) -> hdf5::Result<()> {
-        let me: ObjectReference1 = file.reference(&var.name())?;
-        let mut list = Vec::new();
-        for (i, s) in scales.iter().enumerate() {
-            let r: ObjectReference1 = file.reference(&s.name())?;
-            list.push(VarLenArray::from_slice(&[r]));
-            let entry = self
-                .scales
-                .iter_mut()
-                .find(|(d, _)| d.name() == s.name())
-                .ok_or_else(|| hdf5::Error::from("not a dimension scale"))?;
-            entry.1.push(RefEntry {
-                dataset: me,
-                dimension: i as i32,
-            });
-        }
-        var.new_attr::<VarLenArray<ObjectReference1>>()
-            .shape(list.len())
-            .create("DIMENSION_LIST")?
-            .write_raw(&list)
-    }
-
-    pub(crate) fn finish(self) -> hdf5::Result<()> {
-        for (ds, refs) in self.scales {
-            if !refs.is_empty() {
-                ds.new_attr::<RefEntry>()
-                    .shape(refs.len())
-                    .create("REFERENCE_LIST")?
-                    .write_raw(&refs)?;
-            }
-        }
-        Ok(())
-    }
-}
-
-/// A per-map variable over the map dimension, with its long name and units.
-fn per_map<T: H5Type>(
-    file: &File,
-    dims: &mut Dims,
-    map_dim: &Dataset,
-    name: &str,
-    vals: &Array1<T>,
-    long_name: &str,
-    units: &str,
-) -> hdf5::Result<()> {
-    let ds = file
-        .new_dataset_builder()
-        .obj_track_times(false)
-        .with_data(vals)
-        .create(name)?;
-    str_attr(&ds, "long_name", long_name)?;
-    str_attr(&ds, "units", units)?;
-    dims.attach(file, &ds, &[map_dim])
-}
-
-/// A per-map cycle series: dataset name, value, long name.
-type Series = (&'static str, fn(&CycleReport) -> f64, &'static str);
-
-fn coord(
-    g: &Group,
-    dims: &mut Dims,
-    name: &str,
-    values: &[f64],
-    long_name: &str,
-) -> hdf5::Result<Dataset> {
-    let ds = g
-        .new_dataset_builder()
-        .obj_track_times(false)
-        .with_data(values)
-        .create(name)?;
-    str_attr(&ds, "long_name", long_name)?;
-    str_attr(&ds, "units", "1")?;
-    dims.scale(&ds, name)?;
-    Ok(ds)
-}
-
-fn index_coord(
-    g: &Group,
-    dims: &mut Dims,
-    name: &str,
-    n: usize,
-    long_name: &str,
-) -> hdf5::Result<Dataset> {
-    let values: Vec<u64> = (0..n as u64).collect();
-    let ds = g
-        .new_dataset_builder()
-        .obj_track_times(false)
-        .with_data(&values)
-        .create(name)?;
-    str_attr(&ds, "long_name", long_name)?;
-    dims.scale(&ds, name)?;
-    Ok(ds)
 }
 
 pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
@@ -341,6 +171,26 @@ pub(crate) fn assemble(
     Ok(out)
 }
 
+/// The dimension scales of a scan file.
+struct Scales {
+    /// The grid's columns, or a random sample's index.
+    x0: Dataset,
+    /// The grid's rows, or a random sample's index.
+    v0: Dataset,
+    /// The swept parameter, or the map index.
+    map: Dataset,
+    block: Dataset,
+}
+
+/// What the pass over the blocks gathered, by map.
+struct Maps {
+    /// 1 where a block is stored, map-major.
+    done: Vec<u8>,
+    checks: Vec<MapChecks>,
+    basins: Vec<GridShares>,
+    cycles: Vec<Option<CycleRecord>>,
+}
+
 fn write_all(
     file: &File,
     plan: &Plan,
@@ -349,342 +199,297 @@ fn write_all(
     path: &Path,
     landscapes: &[Option<LandscapeInfo>],
 ) -> Result<Vec<MapChecks>, StoreError> {
-    let g = &plan.grid;
-    let (nx, nv, nmaps, nblocks) = (g.x0.count, g.v0.count, plan.maps.len(), g.blocks());
-    let sweep = plan.sweep.is_some();
-    let mut dims = Dims {
-        scales: Vec::new(),
-        class_type: class_type(path)?,
+    let mut o = Out {
+        file,
+        dims: Dims::new(class_type(path)?),
     };
-
     root_attrs(file, plan, meta).h5(path)?;
-
-    // Coordinates and variables: a grid's axes x0 (columns) and v0 (rows), or a random
-    // sample's index with the points' x0 and v0 as variables over it.
-    let sample = g.sample.is_some();
-    let (x0, v0) = if sample {
-        let idx = index_coord(file, &mut dims, "sample", nv, "random sample index").h5(path)?;
-        let pts: Vec<(f64, f64)> = (0..nv).map(|i| g.state(i, 0)).collect();
-        let var = |name: &str, vals: Vec<f64>, long: &str| -> hdf5::Result<Dataset> {
-            let ds = file
-                .new_dataset_builder()
-                .obj_track_times(false)
-                .with_data(&vals)
-                .create(name)?;
-            str_attr(&ds, "long_name", long)?;
-            str_attr(&ds, "units", "1")?;
-            Ok(ds)
-        };
-        let xs = var(
-            "x0",
-            pts.iter().map(|p| p.0).collect(),
-            "initial displacement x(0) of the sample",
-        )
-        .h5(path)?;
-        let vs = var(
-            "v0",
-            pts.iter().map(|p| p.1).collect(),
-            "initial velocity x'(0) of the sample",
-        )
-        .h5(path)?;
-        dims.attach(file, &xs, &[&idx]).h5(path)?;
-        dims.attach(file, &vs, &[&idx]).h5(path)?;
-        (idx.clone(), idx)
-    } else {
-        (
-            coord(
-                file,
-                &mut dims,
-                "x0",
-                &g.x0.values(),
-                "initial displacement x(0)",
-            )
-            .h5(path)?,
-            coord(
-                file,
-                &mut dims,
-                "v0",
-                &g.v0.values(),
-                "initial velocity x'(0)",
-            )
-            .h5(path)?,
-        )
+    let sc = scales(&mut o, plan).h5(path)?;
+    let vars = cell_vars(&mut o, plan, &sc).h5(path)?;
+    // The landscape of each map (laws with true stick), computed before the writer: one
+    // per map, or none at all for laws without it.
+    let landscape = |m: usize| landscapes.get(m).and_then(Option::as_ref);
+    let maps = write_cells(plan, src, path, &vars, &landscape)?;
+    let over = Over {
+        shape: vec![plan.maps.len()],
+        scales: vec![sc.map.clone()],
     };
-    let sw = match &plan.sweep {
+    per_map(&mut o, plan, (&over, &sc.block), &maps, &landscape).h5(path)?;
+    write_cycles(&mut o, &over, &maps.cycles, plan.sweep.is_some()).h5(path)?;
+    o.dims.finish().h5(path)?;
+    Ok(maps.checks)
+}
+
+/// Coordinates: a grid's axes x0 (columns) and v0 (rows), or a random sample's index with
+/// the points' x0 and v0 as variables over it; the sweep or map index; the blocks.
+fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
+    let g = &plan.grid;
+    let (x0, v0) = match g.sample {
+        Some(_) => sample_scales(o, g)?,
+        None => (
+            o.scale("x0", &g.x0.values(), "initial displacement x(0)", Some("1"))?,
+            o.scale("v0", &g.v0.values(), "initial velocity x'(0)", Some("1"))?,
+        ),
+    };
+    let map = match &plan.sweep {
         Some(s) => {
             let named = plan.maps[0].named();
             let long = named
                 .iter()
                 .find(|n| n.name == s.name)
                 .map_or(s.name, |n| n.long_name);
-            Some(coord(file, &mut dims, s.name, &s.values, long).h5(path)?)
+            o.scale(s.name, &s.values, long, Some("1"))?
         }
-        None => None,
+        None => o.index("map", plan.maps.len(), "map index")?,
     };
-    let map_dim = match &sw {
-        Some(d) => d.clone(),
-        None => index_coord(file, &mut dims, "map", nmaps, "map index").h5(path)?,
+    let block = match g.sample {
+        Some(_) => "block of random samples",
+        None => "block of grid rows",
     };
-    let block_dim = index_coord(
-        file,
-        &mut dims,
-        "block",
-        nblocks,
-        if sample {
-            "block of random samples"
-        } else {
-            "block of grid rows"
-        },
-    )
-    .h5(path)?;
+    let block = o.index("block", g.blocks(), block)?;
+    Ok(Scales { x0, v0, map, block })
+}
 
-    let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
-    // A random sample is a list over `sample` (nx = 1): one dimension less.
-    let (shape, chunk): (Vec<usize>, Vec<usize>) = match (sweep, sample) {
-        (true, false) => (vec![nmaps, nv, nx], vec![1, rows_per_chunk, nx]),
-        (false, false) => (vec![nv, nx], vec![rows_per_chunk, nx]),
-        (true, true) => (vec![nmaps, nv], vec![1, rows_per_chunk]),
-        (false, true) => (vec![nv], vec![rows_per_chunk]),
+/// A random sample's index (as both x0 and v0 scales), with its points' x0 and v0.
+fn sample_scales(o: &mut Out, g: &Grid) -> hdf5::Result<(Dataset, Dataset)> {
+    let nv = g.v0.count;
+    let idx = o.index("sample", nv, "random sample index")?;
+    let pts: Vec<(f64, f64)> = (0..nv).map(|i| g.state(i, 0)).collect();
+    let over = Over {
+        shape: vec![nv],
+        scales: vec![idx.clone()],
     };
+    let x = ("x0", "initial displacement x(0) of the sample");
+    o.put(&over, x, Some("1"), pts.iter().map(|p| p.0).collect())?;
+    let v = ("v0", "initial velocity x'(0) of the sample");
+    o.put(&over, v, Some("1"), pts.iter().map(|p| p.1).collect())?;
+    Ok((idx.clone(), idx))
+}
+
+/// The datasets of the cell columns, empty (filled block by block), over (map, v0, x0):
+/// without the map for one map, without x0 for a random sample (a list over `sample`).
+fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<Vec<Dataset>> {
+    let g = &plan.grid;
+    let (nx, nv) = (g.x0.count, g.v0.count);
+    let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
+    let mut over = Over {
+        shape: Vec::new(),
+        scales: Vec::new(),
+    };
+    let mut chunk = Vec::new();
+    if plan.sweep.is_some() {
+        over = over.and(plan.maps.len(), &sc.map);
+        chunk.push(1);
+    }
+    over = over.and(nv, &sc.v0);
+    chunk.push(rows_per_chunk);
+    if g.sample.is_none() {
+        over = over.and(nx, &sc.x0);
+        chunk.push(nx);
+    }
     let vars: Vec<Dataset> = COLUMNS
         .iter()
-        .map(|col| column_dataset(file, col, col.name, &shape, &chunk))
-        .collect::<hdf5::Result<_>>()
-        .h5(path)?;
+        .map(|col| column_dataset(o.file, col, col.name, &over.shape, &chunk))
+        .collect::<hdf5::Result<_>>()?;
+    let scales: Vec<&Dataset> = over.scales.iter().collect();
     for v in &vars {
-        let d: Vec<&Dataset> = match (sweep, sample) {
-            (true, false) => vec![&map_dim, &v0, &x0],
-            (false, false) => vec![&v0, &x0],
-            (true, true) => vec![&map_dim, &v0],
-            (false, true) => vec![&v0],
-        };
-        dims.attach(file, v, &d).h5(path)?;
+        o.dims.attach(o.file, v, &scales)?;
     }
+    Ok(vars)
+}
 
-    // The landscape of each map (laws with true stick), computed before the writer: one
-    // per map, or none at all for laws without it.
-    let landscape = |m: usize| landscapes.get(m).and_then(Option::as_ref);
-
-    let mut done = vec![0u8; nmaps * nblocks];
-    let mut checks = Vec::with_capacity(nmaps);
-    let mut basins = Vec::with_capacity(nmaps);
-    let mut cycles: Vec<Option<CycleRecord>> = Vec::with_capacity(nmaps);
+/// Writes every stored block of every map into `vars`, one block in memory at a time, and
+/// hands each to the map's [`MapTally`] (its checks and basin stability).
+fn write_cells<'l>(
+    plan: &Plan,
+    src: &mut dyn Source,
+    path: &Path,
+    vars: &[Dataset],
+    landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
+) -> Result<Maps, StoreError> {
+    let g = &plan.grid;
+    let (nx, nmaps, nblocks) = (g.x0.count, plan.maps.len(), g.blocks());
+    let bad = |why: String| StoreError::BadBlock {
+        path: path.to_path_buf(),
+        why,
+    };
+    let mut maps = Maps {
+        done: vec![0u8; nmaps * nblocks],
+        checks: Vec::with_capacity(nmaps),
+        basins: Vec::with_capacity(nmaps),
+        cycles: Vec::with_capacity(nmaps),
+    };
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
-        let curve = report_of(&cyc).map(|r| &r.curve);
-        let escapes = report_of(&cyc).is_some_and(|r| r.escape.is_some());
-        let mut ck = MapChecks::new(curve, landscape(m).map(|l| l.landscape), escapes);
-        let mut labels = vec![squeal_scan::cell::NOT_COMPUTED; nx * nv];
+        let mut tally = MapTally::new(plan, report_of(&cyc), landscape(m).map(|l| l.landscape));
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;
             };
             let rows = g.block_rows(b);
             if cells.len() != rows.len() * nx {
-                return Err(StoreError::BadBlock {
-                    path: path.to_path_buf(),
-                    why: format!(
-                        "map {m} block {b} holds {} cells, expected {}",
-                        cells.len(),
-                        rows.len() * nx
-                    ),
-                });
+                let want = rows.len() * nx;
+                let n = cells.len();
+                return Err(bad(format!(
+                    "map {m} block {b} holds {n} cells, expected {want}"
+                )));
             }
-            done[m * nblocks + b] = 1;
-            ck.add_block(plan, curve, b, &cells);
-            for (k, c) in cells.iter().enumerate() {
-                labels[rows.start * nx + k] = c.regime;
-            }
+            maps.done[m * nblocks + b] = 1;
+            tally.add_block(plan, b, &cells);
+            let prefix: &[usize] = if plan.sweep.is_some() { &[m] } else { &[] };
             for (ds, col) in vars.iter().zip(COLUMNS) {
-                write_column(
-                    ds,
-                    col,
-                    &cells,
-                    if sweep { std::slice::from_ref(&m) } else { &[] },
-                    rows.clone(),
-                    nx,
-                )
-                .map_err(|e| StoreError::BadBlock {
-                    path: path.to_path_buf(),
-                    why: format!("map {m} block {b}: {e}"),
-                })?;
+                write_column(ds, col, &cells, prefix, rows.clone(), nx)
+                    .map_err(|e| bad(format!("map {m} block {b}: {e}")))?;
             }
         }
-        checks.push(ck);
-        basins.push(if sample {
-            GridShares::random(&labels)
-        } else {
-            GridShares::of(&labels, nx)
-        });
-        cycles.push(cyc);
+        let (checks, shares) = tally.finish(plan);
+        maps.checks.push(checks);
+        maps.basins.push(shares);
+        maps.cycles.push(cyc);
     }
+    Ok(maps)
+}
 
-    (|| -> hdf5::Result<()> {
-        let bd = Array2::from_shape_vec((nmaps, nblocks), done)
-            .map_err(|e| hdf5::Error::from(e.to_string()))?;
-        let ds = file
-            .new_dataset_builder()
-            .obj_track_times(false)
-            .with_data(&bd)
-            .create("blocks_done")?;
-        str_attr(&ds, "long_name", "1 where the block of rows is stored")?;
-        dims.attach(file, &ds, &[&map_dim, &block_dim])?;
-
-        // Per-map consistency checks.
-        for (i, (name, long)) in CHECK_FIELDS.iter().enumerate() {
-            let vals: Array1<i64> = checks.iter().map(|c| c.values()[i]).collect();
-            per_map(file, &mut dims, &map_dim, name, &vals, long, "1")?;
-        }
-
-        // The landscape and its evidence, for laws with true stick.
-        if plan.maps[0].law.has_true_stick() {
-            let (name, long) = squeal_scan::landscape::LANDSCAPE;
-            let vals: Array1<LandscapeH5> = (0..nmaps)
-                .map(|m| LandscapeH5::of(landscape(m).map(|l| l.landscape)))
+/// The per-map datasets over `over` (the map dimension): the blocks stored (with `block`),
+/// the checks, the landscape and its evidence (laws with true stick), basin stability.
+fn per_map<'l>(
+    o: &mut Out,
+    plan: &Plan,
+    (over, block): (&Over, &Dataset),
+    maps: &Maps,
+    landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
+) -> hdf5::Result<()> {
+    let nmaps = plan.maps.len();
+    let blocks = over.and(plan.grid.blocks(), block);
+    let done = ("blocks_done", "1 where the block of rows is stored");
+    o.put(&blocks, done, None, maps.done.clone())?;
+    for (i, named) in CHECK_FIELDS.iter().enumerate() {
+        let vals: Vec<i64> = maps.checks.iter().map(|c| c.values()[i]).collect();
+        o.put(over, *named, Some("1"), vals)?;
+    }
+    if plan.maps[0].law.has_true_stick() {
+        let vals: Vec<LandscapeH5> = (0..nmaps)
+            .map(|m| LandscapeH5::of(landscape(m).map(|l| l.landscape)))
+            .collect();
+        let flags = squeal_scan::landscape::flags();
+        let values: Vec<u8> = flags.iter().map(|(v, _)| *v).collect();
+        let names: Vec<&str> = flags.iter().map(|(_, n)| *n).collect();
+        let named = squeal_scan::landscape::LANDSCAPE;
+        o.put_flags(over, named, vals, (&names.join(" "), &values))?;
+        for (k, (name, long, units, _)) in
+            squeal_scan::landscape::LANDSCAPE_FIELDS.iter().enumerate()
+        {
+            let vals: Vec<f64> = (0..nmaps)
+                .map(|m| landscape(m).map_or(f64::NAN, |l| l.evidence[k].1))
                 .collect();
-            let ds = file
-                .new_dataset_builder()
-                .obj_track_times(false)
-                .with_data(&vals)
-                .create(name)?;
-            str_attr(&ds, "long_name", long)?;
-            let flags = squeal_scan::landscape::flags();
-            let values: Vec<u8> = flags.iter().map(|(v, _)| *v).collect();
-            ds.new_attr::<u8>()
-                .shape(values.len())
-                .create("flag_values")?
-                .write_raw(&values)?;
-            let names: Vec<&str> = flags.iter().map(|(_, n)| *n).collect();
-            str_attr(&ds, "flag_meanings", &names.join(" "))?;
-            dims.attach(file, &ds, &[&map_dim])?;
-            for (k, (name, long, units, _)) in
-                squeal_scan::landscape::LANDSCAPE_FIELDS.iter().enumerate()
-            {
-                let vals: Array1<f64> = (0..nmaps)
-                    .map(|m| landscape(m).map_or(f64::NAN, |l| l.evidence[k].1))
-                    .collect();
-                per_map(file, &mut dims, &map_dim, name, &vals, long, units)?;
+            o.put(over, (name, long), Some(units), vals)?;
+        }
+    }
+    // Basin stability (squeal_scan::basin).
+    for (i, named) in BASIN_FIELDS.iter().enumerate() {
+        let vals: Vec<f64> = maps.basins.iter().map(|b| b.values()[i]).collect();
+        o.put(over, *named, Some("1"), vals)?;
+    }
+    Ok(())
+}
+
+/// A sweep's per-map cycle figures: dataset name, value, long name.
+type Series = (&'static str, fn(&CycleReport) -> f64, &'static str);
+
+const SERIES: [Series; 5] = [
+    (
+        "cycle_r_section",
+        |c| c.r_section,
+        "cycle crossing of the section x = x*: x' there",
+    ),
+    (
+        "cycle_distance_plus_x",
+        |c| c.distance_plus_x,
+        "distance from the fixed point to the cycle along +x",
+    ),
+    ("cycle_area", |c| c.area, "area enclosed by the cycle"),
+    ("cycle_period", |c| c.period, "period of the cycle"),
+    (
+        "cycle_multiplier",
+        |c| c.multiplier,
+        "Floquet multiplier of the cycle",
+    ),
+];
+
+/// The cycles: group `/cycle` (one map) or `/cycles/map_NNNN` (a sweep, with the figures
+/// of [`SERIES`] over the maps), for the maps whose search was recorded.
+fn write_cycles(
+    o: &mut Out,
+    over: &Over,
+    cycles: &[Option<CycleRecord>],
+    sweep: bool,
+) -> hdf5::Result<()> {
+    let recorded = |m: usize| cycles[m].as_ref().filter(|c| c.is_some());
+    if !sweep {
+        if let Some(c) = recorded(0) {
+            let grp = o.file.create_group("cycle")?;
+            write_cycle(o, &grp, c)?;
+        }
+        return Ok(());
+    }
+    if (0..cycles.len()).any(|m| recorded(m).is_some()) {
+        let top = o.file.create_group("cycles")?;
+        for m in 0..cycles.len() {
+            if let Some(c) = recorded(m) {
+                write_cycle(o, &top.create_group(&format!("map_{m:04}"))?, c)?;
             }
         }
+    }
+    for (name, f, long) in SERIES {
+        let v = cycles.iter().map(|c| report_of(c).map_or(f64::NAN, f));
+        o.put(over, (name, long), Some("1"), v.collect())?;
+    }
+    let enc = cycles
+        .iter()
+        .map(|c| report_of(c).map_or(0, |r| r.encloses_origin as u8));
+    let named = (
+        "cycle_encloses_origin",
+        "1 if the cycle encloses the state at rest",
+    );
+    o.put(over, named, None, enc.collect())?;
+    Ok(())
+}
 
-        // Per-map basin stability (squeal_scan::basin).
-        for (i, (name, long)) in BASIN_FIELDS.iter().enumerate() {
-            let vals: Array1<f64> = basins.iter().map(|b| b.values()[i]).collect();
-            per_map(file, &mut dims, &map_dim, name, &vals, long, "1")?;
+/// One map's cycle search in `grp`: the record (TOML, exact) and every scalar of it as
+/// attributes, and the closed curve if one was located.
+fn write_cycle(o: &mut Out, grp: &Group, c: &CycleRecord) -> hdf5::Result<()> {
+    if let Some(Err(e)) = c {
+        str_attr(grp, "error", &e.to_string())?;
+    }
+    str_attr(grp, "record", &crate::cycle::to_text(c, false))?;
+    for (name, v) in crate::cycle::flatten(c) {
+        match v {
+            Flat::F64(x) => num_attr(grp, &name, x)?,
+            Flat::I64(x) => num_attr(grp, &name, x)?,
+            Flat::Bool(x) => num_attr(grp, &name, x as u8)?,
+            Flat::Text(x) => str_attr(grp, &name, &x)?,
+            Flat::F64s(x) => grp
+                .new_attr::<f64>()
+                .shape(x.len())
+                .create(name.as_str())?
+                .write_raw(&x)?,
         }
-
-        // Cycles.
-        let write_cycle = |grp: &Group, dims: &mut Dims, c: &CycleRecord| -> hdf5::Result<()> {
-            if let Some(Err(e)) = c {
-                str_attr(grp, "error", &e.to_string())?;
-            }
-            str_attr(grp, "record", &crate::cycle::to_text(c, false))?;
-            for (name, v) in crate::cycle::flatten(c) {
-                match v {
-                    Flat::F64(x) => num_attr(grp, &name, x)?,
-                    Flat::I64(x) => num_attr(grp, &name, x)?,
-                    Flat::Bool(x) => num_attr(grp, &name, x as u8)?,
-                    Flat::Text(x) => str_attr(grp, &name, &x)?,
-                    Flat::F64s(x) => grp
-                        .new_attr::<f64>()
-                        .shape(x.len())
-                        .create(name.as_str())?
-                        .write_raw(&x)?,
-                }
-            }
-            if let Some(Ok(r)) = c {
-                let pt = index_coord(
-                    grp,
-                    dims,
-                    "point",
-                    r.curve.len(),
-                    "step along the closed curve",
-                )?;
-                for (name, data, long) in [
-                    ("x", &r.curve.x, "displacement x on the cycle"),
-                    ("v", &r.curve.v, "velocity x' on the cycle"),
-                ] {
-                    let ds = grp
-                        .new_dataset_builder()
-                        .obj_track_times(false)
-                        .with_data(data.as_slice())
-                        .create(name)?;
-                    str_attr(&ds, "long_name", long)?;
-                    str_attr(&ds, "units", "1")?;
-                    dims.attach(file, &ds, &[&pt])?;
-                }
-            }
-            Ok(())
+    }
+    if let Some(Ok(r)) = c {
+        let n = r.curve.len();
+        let pt = o.index_in(grp, "point", n, "step along the closed curve")?;
+        let over = Over {
+            shape: vec![n],
+            scales: vec![pt],
         };
-        let has = |c: &Option<CycleRecord>| matches!(c, Some(Some(_)));
-        if sweep {
-            if cycles.iter().any(has) {
-                let top = file.create_group("cycles")?;
-                for (m, c) in cycles.iter().enumerate() {
-                    if let Some(c) = c.as_ref().filter(|_| has(&cycles[m])) {
-                        let grp = top.create_group(&format!("map_{m:04}"))?;
-                        write_cycle(&grp, &mut dims, c)?;
-                    }
-                }
-            }
-            let pick = |f: fn(&CycleReport) -> f64| -> Array1<f64> {
-                cycles
-                    .iter()
-                    .map(|c| report_of(c).map_or(f64::NAN, f))
-                    .collect()
-            };
-            let series: [Series; 5] = [
-                (
-                    "cycle_r_section",
-                    |c| c.r_section,
-                    "cycle crossing of the section x = x*: x' there",
-                ),
-                (
-                    "cycle_distance_plus_x",
-                    |c| c.distance_plus_x,
-                    "distance from the fixed point to the cycle along +x",
-                ),
-                ("cycle_area", |c| c.area, "area enclosed by the cycle"),
-                ("cycle_period", |c| c.period, "period of the cycle"),
-                (
-                    "cycle_multiplier",
-                    |c| c.multiplier,
-                    "Floquet multiplier of the cycle",
-                ),
-            ];
-            for (name, f, long) in series {
-                let ds = file
-                    .new_dataset_builder()
-                    .obj_track_times(false)
-                    .with_data(&pick(f))
-                    .create(name)?;
-                str_attr(&ds, "long_name", long)?;
-                str_attr(&ds, "units", "1")?;
-                dims.attach(file, &ds, &[&map_dim])?;
-            }
-            let enc: Vec<u8> = cycles
-                .iter()
-                .map(|c| report_of(c).map_or(0, |r| r.encloses_origin as u8))
-                .collect();
-            let ds = file
-                .new_dataset_builder()
-                .obj_track_times(false)
-                .with_data(&enc)
-                .create("cycle_encloses_origin")?;
-            str_attr(
-                &ds,
-                "long_name",
-                "1 if the cycle encloses the state at rest",
-            )?;
-            dims.attach(file, &ds, &[&map_dim])?;
-        } else if let Some(c) = cycles[0].as_ref().filter(|_| has(&cycles[0])) {
-            let grp = file.create_group("cycle")?;
-            write_cycle(&grp, &mut dims, c)?;
+        for (name, data, long) in [
+            ("x", &r.curve.x, "displacement x on the cycle"),
+            ("v", &r.curve.v, "velocity x' on the cycle"),
+        ] {
+            o.put_in(grp, &over, (name, long), Some("1"), data.clone())?;
         }
-        dims.finish()
-    })()
-    .h5(path)?;
-    Ok(checks)
+    }
+    Ok(())
 }
 
 /// The located cycle in a stored record, if any.

@@ -126,6 +126,7 @@ mod atlas_run;
 mod cycle;
 mod error;
 mod h5columns;
+mod h5out;
 mod h5types;
 mod h5write;
 mod journal;
@@ -199,6 +200,9 @@ fn remove_if_exists(path: &Path) -> Result<(), StoreError> {
     }
 }
 
+/// The journal's block records by `(map, block)`.
+type Blocks = BTreeMap<(usize, usize), Rec>;
+
 /// Writes a scan: blocks and cycles go to the journal, [`ScanWriter::finish`] writes the file.
 pub struct ScanWriter {
     out: PathBuf,
@@ -206,7 +210,7 @@ pub struct ScanWriter {
     shard: Option<Shard>,
     prov: Provenance,
     journal: Journal,
-    blocks: BTreeMap<(usize, usize), Rec>,
+    blocks: Blocks,
     cycles: BTreeMap<usize, Rec>,
     _lock: OutputLock,
 }
@@ -278,81 +282,17 @@ impl ScanWriter {
     ) -> Result<ScanWriter, StoreError> {
         let lock = OutputLock::acquire(out)?;
         let jpath = journal_path(out);
-        if jpath.exists() && out.exists() && read::open_squeal(out).is_ok() {
-            // Killed between publishing the file and removing the journal.
-            remove_if_exists(&jpath)?;
-            return Err(StoreError::AlreadyComplete {
-                path: out.to_path_buf(),
-            });
-        }
-        if !jpath.exists() {
-            if out.exists() {
-                read::open_squeal(out)?;
-                return Err(StoreError::AlreadyComplete {
-                    path: out.to_path_buf(),
-                });
-            }
-            return Err(StoreError::NothingToResume {
-                path: out.to_path_buf(),
-            });
-        }
+        resumable(out, &jpath)?;
         let (mut journal, header, recs) = Journal::open(&jpath, journal::Owner::Scan)?;
         // Compare what the spec means, not its bytes: a comment edit does not block a
         // resume. The file then records the spec text the scan started with.
         let plan = output::started_plan(&jpath, &header.spec, plan, &plan.spec_text)?;
-        let plan = &plan;
-        preflight(out, plan, shard, prov)?;
-        if header.shard != shard_text(shard) {
-            let show = |s: &str| {
-                if s.is_empty() {
-                    "no shard".to_string()
-                } else {
-                    format!("shard {s}")
-                }
-            };
-            return Err(StoreError::SpecMismatch {
-                path: jpath,
-                why: format!(
-                    "the journal is for {}, not {}",
-                    show(&header.shard),
-                    show(&shard_text(shard))
-                ),
-            });
-        }
-        let mut blocks = BTreeMap::new();
-        let mut cycles = BTreeMap::new();
-        let corrupt = |why: String| StoreError::NotSquealFile {
-            path: jpath.clone(),
-            why,
-        };
-        for r in recs {
-            let payload = journal.read(&r)?;
-            match r.kind {
-                journal::KIND_BLOCK => {
-                    let (m, b, cells) = journal::decode_block(&payload)
-                        .ok_or_else(|| corrupt("a malformed block record".into()))?;
-                    check_block(plan, shard, m, b, cells.len()).map_err(|why| {
-                        corrupt(format!("a recorded block does not fit the plan: {why}"))
-                    })?;
-                    blocks.insert((m, b), r);
-                }
-                journal::KIND_CYCLE => {
-                    let (m, _) = journal::decode_cycle(&payload)
-                        .ok_or_else(|| corrupt("a malformed cycle record".into()))?;
-                    if m >= plan.maps.len() {
-                        return Err(corrupt(format!(
-                            "a cycle for map {m} of {}",
-                            plan.maps.len()
-                        )));
-                    }
-                    cycles.insert(m, r);
-                }
-                k => return Err(corrupt(format!("an unknown record kind {k}"))),
-            }
-        }
+        preflight(out, &plan, shard, prov)?;
+        same_shard(&jpath, &header.shard, shard)?;
+        let (blocks, cycles) = index_records(&mut journal, recs, &plan, shard)?;
         Ok(ScanWriter {
             out: out.to_path_buf(),
-            plan: plan.clone(),
+            plan,
             shard,
             prov: prov.clone(),
             journal,
@@ -568,9 +508,97 @@ fn check_block(
     Ok(())
 }
 
+/// Whether there is a journal to resume at `jpath` for `out`: not when the scan finished
+/// (a journal left beside a finished file, killed before removing it, is removed).
+fn resumable(out: &Path, jpath: &Path) -> Result<(), StoreError> {
+    let complete = || StoreError::AlreadyComplete {
+        path: out.to_path_buf(),
+    };
+    if jpath.exists() && out.exists() && read::open_squeal(out).is_ok() {
+        // Killed between publishing the file and removing the journal.
+        remove_if_exists(jpath)?;
+        return Err(complete());
+    }
+    if !jpath.exists() {
+        if out.exists() {
+            read::open_squeal(out)?;
+            return Err(complete());
+        }
+        return Err(StoreError::NothingToResume {
+            path: out.to_path_buf(),
+        });
+    }
+    Ok(())
+}
+
+/// Refuses a journal written for another shard (`recorded`, as [`shard_text`]).
+fn same_shard(jpath: &Path, recorded: &str, shard: Option<Shard>) -> Result<(), StoreError> {
+    if recorded == shard_text(shard) {
+        return Ok(());
+    }
+    let show = |s: &str| {
+        if s.is_empty() {
+            "no shard".to_string()
+        } else {
+            format!("shard {s}")
+        }
+    };
+    Err(StoreError::SpecMismatch {
+        path: jpath.to_path_buf(),
+        why: format!(
+            "the journal is for {}, not {}",
+            show(recorded),
+            show(&shard_text(shard))
+        ),
+    })
+}
+
+/// The journal's block and cycle records by `(map, block)` and by map, each checked
+/// against the plan.
+fn index_records(
+    journal: &mut Journal,
+    recs: Vec<Rec>,
+    plan: &Plan,
+    shard: Option<Shard>,
+) -> Result<(Blocks, BTreeMap<usize, Rec>), StoreError> {
+    let mut blocks = BTreeMap::new();
+    let mut cycles = BTreeMap::new();
+    let path = journal.path.clone();
+    let corrupt = |why: String| StoreError::NotSquealFile {
+        path: path.clone(),
+        why,
+    };
+    for r in recs {
+        let payload = journal.read(&r)?;
+        match r.kind {
+            journal::KIND_BLOCK => {
+                let (m, b, cells) = journal::decode_block(&payload)
+                    .ok_or_else(|| corrupt("a malformed block record".into()))?;
+                check_block(plan, shard, m, b, cells.len()).map_err(|why| {
+                    corrupt(format!("a recorded block does not fit the plan: {why}"))
+                })?;
+                blocks.insert((m, b), r);
+            }
+            journal::KIND_CYCLE => {
+                let (m, _) = journal::decode_cycle(&payload)
+                    .ok_or_else(|| corrupt("a malformed cycle record".into()))?;
+                if m >= plan.maps.len() {
+                    return Err(corrupt(format!(
+                        "a cycle for map {m} of {}",
+                        plan.maps.len()
+                    )));
+                }
+                cycles.insert(m, r);
+            }
+            k => return Err(corrupt(format!("an unknown record kind {k}"))),
+        }
+    }
+    Ok((blocks, cycles))
+}
+
 struct JournalSource<'a> {
     journal: &'a mut Journal,
-    blocks: &'a BTreeMap<(usize, usize), Rec>,
+    blocks: &'a Blocks,
     cycles: &'a BTreeMap<usize, Rec>,
 }
 

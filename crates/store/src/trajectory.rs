@@ -15,7 +15,7 @@ use std::path::Path;
 use hdf5::File;
 
 use crate::error::H5Ctx;
-use crate::h5write::{Dims, class_type, num_attr, str_attr};
+use crate::h5out::{Dims, class_type, num_attr, str_attr};
 use crate::{Provenance, StoreError};
 
 /// The `schema` attribute of trajectory files.

@@ -209,6 +209,7 @@ fn a_fold_that_flips_is_marked_on_the_atlas_chart() {
                 index: j,
                 fold,
                 critical: Boundary::none(),
+                lifetime: Default::default(),
                 note: None,
             };
             res.add(&plan, UnitResult::Boundary(b));
@@ -230,4 +231,26 @@ fn a_fold_that_flips_is_marked_on_the_atlas_chart() {
     let (flipping, plain) = (draw(3), draw(1));
     assert!(flipping > 20, "a square glyph: {flipping} red pixels");
     assert_eq!(plain, 0);
+}
+
+/// Issue 21: a sweep's values without a cycle were one triangle whatever the map found.
+/// Counts are `[undecided, steady, stick, not computed]` per map (as `FileInfo::counts`).
+#[test]
+fn values_without_a_cycle_are_grouped_by_what_the_map_found() {
+    let xs = [0.8, 1.0, 1.5, 2.0, 2.2];
+    let counts = [
+        [0, 0, 100, 0], // stick-slip only: the fixed point repels
+        [3, 0, 97, 0],  // stick-slip and undecided cells: still no steady start
+        [0, 40, 60, 0], // both basins (has a cycle: not among `missing`)
+        [0, 100, 0, 0], // steady slip only: above the fold
+        [10, 45, 45, 0],
+    ];
+    let missing = [0.8, 1.0, 2.0, 2.2];
+    let gaps = cycle_gaps(&missing, &xs, &counts);
+    let of = |g: Glyph| gaps.iter().find(|x| x.glyph == g).map(|x| x.xs.clone());
+    assert_eq!(of(Glyph::TriangleUp), Some(vec![0.8, 1.0]));
+    assert_eq!(of(Glyph::TriangleDown), Some(vec![2.0]));
+    assert_eq!(of(Glyph::Diamond), Some(vec![2.2]));
+    assert!(gaps[0].label.contains("every start squeals"));
+    assert!(gaps[1].label.contains("no start squeals"));
 }

@@ -6,6 +6,7 @@ use super::attractor::StickSlipFigures;
 use super::boundary::{Boundary, BoundaryStatus};
 use super::driver::BoundaryResult;
 use super::point::{AtlasRegime, CycleFigures, PointResult};
+use super::spec::AtlasPlan;
 use squeal_core::Scales;
 
 /// How a nondimensional figure converts to SI units.
@@ -409,6 +410,22 @@ pub struct BoundaryColumn {
     pub get: fn(&BoundaryResult) -> f64,
     /// Writes it.
     pub set: fn(&mut BoundaryResult, f64),
+    /// Its SI twin in a physical plan.
+    pub si: BoundarySi,
+    /// Whether a plan stores it (the lifetimes only where measured).
+    pub stored: fn(&AtlasPlan) -> bool,
+}
+
+/// The SI twin of a boundary figure in a physical plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundarySi {
+    /// A value of the bisected parameter: `<name>` with `nu` replaced by `c` (N s/m), or
+    /// `lambda` by `v_belt` (m/s).
+    Bisected,
+    /// A nondimensional time: `<name>_s`, in seconds.
+    Time,
+    /// A ratio or exponent: no twin.
+    None,
 }
 
 /// The boundary figures in `nu` (physical plans also store `<name>` with `nu` replaced by
@@ -419,42 +436,104 @@ pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
         long_name: "fold of cycles: damping ratio above which no start squeals",
         get: |b| b.fold.nu,
         set: |b, v| b.fold.nu = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_nu_lo",
         long_name: "fold of cycles: lower end of the bracket (squeal possible)",
         get: |b| b.fold.bracket[0],
         set: |b, v| b.fold.bracket[0] = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_nu_hi",
         long_name: "fold of cycles: upper end of the bracket (no start squeals)",
         get: |b| b.fold.bracket[1],
         set: |b, v| b.fold.bracket[1] = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "fold_nu_err",
         long_name: "fold of cycles: uncertainty, half the width of the interval that holds the fold at dt, dt/2 and the longer horizon (fold_nu -+ fold_nu_err; NaN: not estimated)",
         get: |b| b.fold.uncertainty,
         set: |b, v| b.fold.uncertainty = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_nu",
+        long_name: "transient lifetimes above the fold: the damping ratio of the nearest measurement, about 1% above fold_nu ([boundaries] lifetime_starts; NaN: not measured)",
+        get: |b| b.lifetime.nu,
+        set: |b, v| b.lifetime.nu = v,
+        si: BoundarySi::Bisected,
+        stored: |p| p.lifetime_starts > 0,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime",
+        long_name: "transient lifetimes above the fold: mean time a start on the leaking stick-slip band squeals before it settles, at fold_lifetime_nu (nondimensional time; the natural period is 2 pi)",
+        get: |b| b.lifetime.mean,
+        set: |b, v| b.lifetime.mean = v,
+        si: BoundarySi::Time,
+        stored: |p| p.lifetime_starts > 0,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_err",
+        long_name: "transient lifetimes above the fold: standard error of fold_lifetime",
+        get: |b| b.lifetime.se,
+        set: |b, v| b.lifetime.se = v,
+        si: BoundarySi::Time,
+        stored: |p| p.lifetime_starts > 0,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_censored",
+        long_name: "transient lifetimes above the fold: share of the starts at fold_lifetime_nu still squealing at the time limit (censored)",
+        get: |b| b.lifetime.censored,
+        set: |b, v| b.lifetime.censored = v,
+        si: BoundarySi::None,
+        stored: |p| p.lifetime_starts > 0,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_exponent",
+        long_name: "transient lifetimes above the fold: exponent gamma of mean lifetime ~ (nu - fold_nu)^(-gamma), fitted over 1% to 7.5% above the fold",
+        get: |b| b.lifetime.exponent,
+        set: |b, v| b.lifetime.exponent = v,
+        si: BoundarySi::None,
+        stored: |p| p.lifetime_starts > 0,
+    },
+    BoundaryColumn {
+        name: "fold_lifetime_exponent_err",
+        long_name: "transient lifetimes above the fold: standard error of fold_lifetime_exponent",
+        get: |b| b.lifetime.exponent_se,
+        set: |b, v| b.lifetime.exponent_se = v,
+        si: BoundarySi::None,
+        stored: |p| p.lifetime_starts > 0,
     },
     BoundaryColumn {
         name: "critical_nu",
         long_name: "critical damping ratio: the operating point stops squealing above it",
         get: |b| b.critical.nu,
         set: |b, v| b.critical.nu = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "critical_nu_lo",
         long_name: "critical damping: lower end of the bracket (operating point squeals)",
         get: |b| b.critical.bracket[0],
         set: |b, v| b.critical.bracket[0] = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
     },
     BoundaryColumn {
         name: "critical_nu_hi",
         long_name: "critical damping: upper end of the bracket (operating point quiet)",
         get: |b| b.critical.bracket[1],
         set: |b, v| b.critical.bracket[1] = v,
+        si: BoundarySi::Bisected,
+        stored: |_| true,
     },
 ];
 
@@ -464,6 +543,7 @@ pub fn empty_boundary(j: usize) -> BoundaryResult {
         index: j,
         fold: Boundary::none(),
         critical: Boundary::none(),
+        lifetime: Default::default(),
         note: None,
     }
 }

@@ -46,6 +46,10 @@ pub struct BoundaryResult {
     pub fold: Boundary,
     /// The damping at which the operating point stops squealing.
     pub critical: Boundary,
+    /// The transient lifetimes above the fold (`[boundaries] lifetime_starts`; NaN where
+    /// not measured).
+    #[serde(default)]
+    pub lifetime: crate::lifetime::FoldLifetime,
     /// Why a search was not computed (a failed run), if one was not.
     pub note: Option<String>,
 }
@@ -159,15 +163,52 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
                     plan.boundary_coarse
                 ));
             }
+            let lifetime = match fold_lifetime(plan, setup, &ps, &fold) {
+                Ok(l) => l,
+                Err(e) => {
+                    notes.push(format!("lifetimes: {e}"));
+                    crate::lifetime::FoldLifetime::none()
+                }
+            };
             let note = (!notes.is_empty()).then(|| notes.join("; "));
             Ok(UnitResult::Boundary(BoundaryResult {
                 index: j,
                 fold,
                 critical,
+                lifetime,
                 note,
             }))
         }
     }
+}
+
+/// The transient lifetimes above `fold` where the plan asks for them (`[boundaries]
+/// lifetime_starts`; the spec allows it only for a crisis in the damping): the table
+/// `squeal critical --fold --lifetimes` prints ([`crate::lifetime::lifetime_table`]), with
+/// the plan's starts per damping, stored as its nearest row and its fit.
+fn fold_lifetime(
+    plan: &AtlasPlan,
+    setup: squeal_core::Setup,
+    ps: &super::point::PointSettings,
+    fold: &Boundary,
+) -> Result<crate::lifetime::FoldLifetime, ScanError> {
+    use crate::lifetime::{DISTANCE_FACTORS, FoldLifetime, LifetimeSettings, lifetime_table};
+    if plan.lifetime_starts == 0 || fold.status != super::boundary::BoundaryStatus::Found {
+        return Ok(FoldLifetime::none());
+    }
+    let ls = LifetimeSettings {
+        starts: plan.lifetime_starts,
+        ..LifetimeSettings::default()
+    };
+    let cs = super::point::settings_for(&setup.params, &ps.cycle);
+    let t = lifetime_table(
+        setup,
+        &cs,
+        &ls,
+        (fold.nu, fold.uncertainty),
+        &DISTANCE_FACTORS,
+    )?;
+    Ok(FoldLifetime::of(&t))
 }
 
 /// Runs `units` through the one executor ([`crate::executor::execute`]), handing each

@@ -4,7 +4,10 @@
 
 use std::collections::BTreeMap;
 
-use crate::atlas::{AtlasPlan, BoundaryResult, MapFraction, PointResult, Unit, UnitResult};
+use crate::atlas::{
+    AtlasPlan, AtlasRegime, BoundaryResult, BoundaryStatus, MapFraction, PointResult, Unit,
+    UnitResult,
+};
 use crate::cell::Cell;
 use crate::ulc::CycleOutcome;
 
@@ -95,6 +98,63 @@ impl AtlasResults {
         }
     }
 
+    /// The points above their fold's stated interval along the bisected axis
+    /// (`fold + uncertainty`, where the fold was found with an uncertainty): there no start
+    /// squeals for good.
+    pub fn above_fold(&self, plan: &AtlasPlan) -> Vec<usize> {
+        let (_, Some(dk)) = plan.boundary_axis() else {
+            return Vec::new();
+        };
+        let shape = plan.shape();
+        let stride: usize = shape[dk + 1..].iter().product();
+        let mut out = Vec::new();
+        for (j, b) in self.boundaries.iter().enumerate() {
+            let Some(f) = b.as_ref().map(|b| b.fold) else {
+                continue;
+            };
+            if f.status != BoundaryStatus::Found || !f.uncertainty.is_finite() {
+                continue;
+            }
+            let (i0, _) = plan.boundary_setup(j);
+            out.extend(
+                (0..shape[dk])
+                    .map(|k| i0 + k * stride)
+                    .filter(|&i| plan.boundary_in.get(&plan.params_at(i)) > f.nu + f.uncertainty)
+                    .filter(|&i| self.points[i].is_some()),
+            );
+        }
+        out
+    }
+
+    /// Points above their fold's interval ([`AtlasResults::above_fold`]) whose stick-slip run
+    /// stayed for the attractor's window (bistable labels) contradict the crisis, which says
+    /// no start squeals for good there: the run sat on a leaking band (a long transient), or
+    /// the regime flips between the coarse steps. Two findings disagree, so the point is
+    /// undecided, with a note naming both (never one of them guessed). Returns how many.
+    /// Done once all units are in (the file is written from the reconciled results), and
+    /// idempotent.
+    pub fn reconcile_folds(&mut self, plan: &AtlasPlan) -> usize {
+        let mut n = 0;
+        for i in self.above_fold(plan) {
+            let Some(p) = self.points[i].as_mut() else {
+                continue;
+            };
+            if !matches!(
+                p.regime,
+                AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals
+            ) {
+                continue;
+            }
+            p.note = Some(format!(
+                "conflict: labelled {} by a stick-slip run that stayed for the attractor's window, but the point lies above its fold's interval, where the band leaks (a long transient, or the regime flips between the coarse steps)",
+                p.regime.name()
+            ));
+            p.regime = AtlasRegime::Undecided;
+            n += 1;
+        }
+        n
+    }
+
     /// Whether a unit is stored.
     pub fn is_done(&self, plan: &AtlasPlan, u: Unit) -> bool {
         match u {
@@ -106,5 +166,61 @@ impl AtlasResults {
             }
             Unit::Boundary(j) => self.boundaries[j].is_some(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::atlas::Boundary;
+    use crate::atlas::columns::{empty_boundary, empty_point};
+
+    /// Issue 17, item 2, for the atlas's points: on the shipped chart (`scans/atlas-lambda-
+    /// nu.toml` at 280889b) 2 of 880 points above their fold's interval were labelled
+    /// bistable by a stick-slip run that stayed for the attractor's window, where the crisis
+    /// says no start squeals for good. Here: folds at nu = 0.02 +- 0.001 at each of three
+    /// belt speeds, every point bistable; the points at nu = 0.05 (above 0.021) become
+    /// undecided with a note, those at 1e-3, 0.0037 and 0.0136 keep their label, and a
+    /// second pass changes nothing.
+    #[test]
+    fn points_above_their_fold_labelled_bistable_become_undecided() {
+        let plan = AtlasPlan::from_toml(
+            "version = 1\nname = \"f\"\n[model]\nlaw = \"mcmillan\"\n\
+             nu = { from = 1e-3, to = 0.05, count = 4, spacing = \"log\" }\n\
+             lambda = { from = 1.0, to = 4.0, count = 3 }\n[output]\npath = \"f.h5\"\n",
+            "f.toml",
+        )
+        .unwrap();
+        let mut res = AtlasResults::new(&plan);
+        for j in 0..plan.n_boundaries() {
+            let mut b = empty_boundary(j);
+            b.fold = Boundary {
+                nu: 0.02,
+                uncertainty: 0.001,
+                status: BoundaryStatus::Found,
+                ..Boundary::none()
+            };
+            res.add(&plan, UnitResult::Boundary(b));
+        }
+        for p in res.points.iter_mut() {
+            let mut q = empty_point();
+            q.regime = AtlasRegime::BistableQuiet;
+            *p = Some(q);
+        }
+        assert_eq!(res.reconcile_folds(&plan), 3);
+        let mut seen = 0;
+        for (i, p) in res.points.iter().enumerate() {
+            let p = p.as_ref().unwrap();
+            let nu = plan.params_at(i).nu;
+            if nu > 0.021 {
+                assert_eq!(p.regime, AtlasRegime::Undecided, "nu {nu}");
+                assert!(p.note.as_ref().unwrap().contains("fold's interval"));
+                seen += 1;
+            } else {
+                assert_eq!(p.regime, AtlasRegime::BistableQuiet, "nu {nu}");
+            }
+        }
+        assert_eq!(seen, 3);
+        assert_eq!(res.reconcile_folds(&plan), 0);
     }
 }

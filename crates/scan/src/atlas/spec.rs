@@ -69,6 +69,7 @@
 use std::path::PathBuf;
 
 mod parse;
+pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
 use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
@@ -197,6 +198,7 @@ struct BoundariesFile {
     v_d_hi: Option<f64>,
     rtol: Option<f64>,
     coarse: Option<i64>,
+    lifetime_starts: Option<i64>,
 }
 
 /// Whether the spec describes the nondimensional model or the physical system.
@@ -305,6 +307,9 @@ pub struct AtlasPlan {
     pub boundary_rtol: f64,
     /// Steps of the fold's coarse scan along the bisected parameter (`[boundaries] coarse`).
     pub boundary_coarse: usize,
+    /// Starts on the band per damping for the transient lifetimes above each fold
+    /// (`[boundaries] lifetime_starts`; 0: not measured).
+    pub lifetime_starts: usize,
     /// Output file.
     pub out: PathBuf,
     /// Basin maps, one per point (the spec's `[grid]`), if asked for.
@@ -395,6 +400,7 @@ impl AtlasPlan {
             lambda_range: b.lambda_range,
             boundary_rtol: b.boundary_rtol,
             boundary_coarse: b.boundary_coarse,
+            lifetime_starts: b.lifetime_starts,
             maps,
             out: f.output.check(&inv)?,
             spec_text: text.to_string(),
@@ -669,11 +675,8 @@ impl AtlasPlan {
     /// A boundary value `v` (nondimensional, in the bisected parameter) in SI units at point
     /// `i` of a physical plan, with the units; `None` in nondimensional plans.
     pub fn boundary_si(&self, i: usize, v: f64) -> Option<(f64, &'static str)> {
-        let s = self.physical_at(i)?.scales();
-        Some(match self.boundary_in {
-            BoundaryParam::Nu => (v * s.damping, "N s/m"),
-            BoundaryParam::Lambda => (v * s.velocity, "m/s"),
-        })
+        let (unit, units) = self.boundary_in.si(&self.physical_at(i)?.scales());
+        Some((v * unit, units))
     }
 
     /// The stored name of a boundary column (`fold_nu` -> `fold_lambda` when bisecting in
@@ -896,6 +899,33 @@ path = "p.h5"
             (
                 GOOD.replace("[output]", "[boundaries]\ncoarse = 1\n[output]"),
                 "boundaries.coarse",
+            ),
+            // Lifetimes: a count, above the crisis of the hysteretic law's fold in nu.
+            (
+                GOOD.replace("[output]", "[boundaries]\nlifetime_starts = -1\n[output]"),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace("[output]", "[boundaries]\nlifetime_starts = 5000\n[output]"),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace(
+                    "[output]",
+                    "[boundaries]\nlifetime_starts = 8\nfold = false\n[output]",
+                ),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                GOOD.replace(
+                    "[output]",
+                    "[boundaries]\nlifetime_starts = 8\nin = \"lambda\"\n[output]",
+                ),
+                "boundaries.lifetime_starts",
+            ),
+            (
+                STRIBECK.replace("[output]", "[boundaries]\nlifetime_starts = 8\n[output]"),
+                "boundaries.lifetime_starts",
             ),
             (
                 GOOD.replace(

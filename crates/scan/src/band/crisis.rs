@@ -300,18 +300,68 @@ fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
     // Outward in steps of a quarter of the bracket's log-width (at least rtol), doubled each
     // time: a few verdicts where the computations nearly agree, the range's end at worst.
     let first = ((b / a).ln() / 4.0).max(rtol.ln_1p());
-    let (mut x, mut y) = (a, b);
-    let mut step = first;
-    while x > lo && !agree(x, Lasting::Squeals)? {
-        x = (x * (-step).exp()).max(lo);
-        step *= 2.0;
-    }
-    step = first;
-    while y < hi && !agree(y, Lasting::Quiet)? {
-        y = (y * step.exp()).min(hi);
-        step *= 2.0;
-    }
+    let x = step_out(a, lo, -first, |x| agree(x, Lasting::Squeals))?;
+    let y = step_out(b, hi, first, |y| agree(y, Lasting::Quiet))?;
     Ok(([x, y], held))
+}
+
+/// From `x` towards `limit` in geometric steps (log-step `first`, its sign the direction,
+/// doubled each time) until `done` holds there or `limit` is reached; returns that value.
+fn step_out(
+    mut x: f64,
+    limit: f64,
+    first: f64,
+    mut done: impl FnMut(f64) -> Result<bool, ScanError>,
+) -> Result<f64, ScanError> {
+    let down = first < 0.0;
+    let mut step = first;
+    while (if down { x > limit } else { x < limit }) && !done(x)? {
+        x = match down {
+            true => (x * step.exp()).max(limit),
+            false => (x * step.exp()).min(limit),
+        };
+        step *= 2.0;
+    }
+    Ok(x)
+}
+
+/// Raises the top of the crisis's stated interval `[nu - uncertainty, nu + uncertainty]`
+/// to the first value at or above `at` (stepping as the interval is widened, at most to
+/// `hi`) where every [`Variant`] says quiet; returns the new `(nu, uncertainty)` and the
+/// verdicts computed.
+///
+/// Why: the crisis's search sees the regime at its coarse values and along its bisections
+/// only. Above the crisis the band's verdict can return to undecided over narrow windows
+/// of the parameter (its bottom comes back to within the resolution of the cycle; at
+/// lambda = 0.5628 of `scans/atlas-lambda-nu.toml`, Table 1's tau and phi, quiet from nu
+/// = 0.02111 but undecided again on about [0.02128, 0.02158] and [0.02207, 0.02225]),
+/// where squeal may still last. When another search finds such a value above the interval
+/// (the critical damping of a start, whose bisection counts an undecided band as
+/// squealing), the fold's interval must reach above it to cover the truth.
+pub fn raise_top(
+    verdict: impl Fn(f64, Variant) -> Result<Lasting, ScanError>,
+    (nu, uncertainty): (f64, f64),
+    at: f64,
+    (hi, rtol): (f64, f64),
+) -> Result<((f64, f64), u32), ScanError> {
+    let v = Verdicts {
+        verdict,
+        memo: RefCell::new(HashMap::new()),
+    };
+    let bottom = nu - uncertainty;
+    let first = ((at / bottom).ln() / 4.0).max(rtol.ln_1p());
+    let top = step_out(at, hi, first, |y| {
+        for w in Variant::ALL {
+            if v.at(y, w)? != Lasting::Quiet {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    })?;
+    if top <= nu + uncertainty {
+        return Ok(((nu, uncertainty), v.count()));
+    }
+    Ok(((0.5 * (bottom + top), 0.5 * (top - bottom)), v.count()))
 }
 
 #[cfg(test)]
@@ -367,6 +417,33 @@ mod tests {
         .unwrap();
         assert!(c.half_dt_holds && c.longer_holds);
         assert_eq!([c.nu - c.uncertainty, c.nu + c.uncertainty], c.interval);
+    }
+
+    #[test]
+    fn a_window_above_the_crisis_is_covered_when_another_search_finds_it() {
+        // Squeals below 0.024, quiet from 0.0242 but undecided again on [0.0250, 0.0255): a
+        // window narrower than the coarse step (ratio 1.063) the crisis can step over. From
+        // a value found inside it (0.0252, as the critical damping's bisection finds one),
+        // the interval's top is raised to where all three computations say quiet again,
+        // at or above the window's end, and its bottom stays where squeal last lasts.
+        let v = |x: f64, _: Variant| {
+            Ok(if x < 0.024 {
+                Lasting::Squeals
+            } else if x < 0.0242 || (0.025..0.0255).contains(&x) {
+                Lasting::Undecided
+            } else {
+                Lasting::Quiet
+            })
+        };
+        let c = crisis_in(v, ParamRange::new(1e-3, 0.05, 1e-4), 64).unwrap();
+        assert!(c.nu + c.uncertainty < 0.025, "{c:?}");
+        let ((nu, u), n) = raise_top(v, (c.nu, c.uncertainty), 0.0252, (0.05, 1e-4)).unwrap();
+        assert!(nu + u >= 0.0255 && v(nu + u, Variant::Dt).unwrap() == Lasting::Quiet);
+        assert!((nu - u - (c.nu - c.uncertainty)).abs() < 1e-15);
+        assert!(n >= 3, "{n}");
+        // Already covered: nothing moves.
+        let ((nu, u), _) = raise_top(v, (0.03, 0.01), 0.0256, (0.05, 1e-4)).unwrap();
+        assert_eq!((nu, u), (0.03, 0.01));
     }
 
     #[test]

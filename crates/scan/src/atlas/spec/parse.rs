@@ -1,11 +1,11 @@
 //! Reading an atlas spec's tables into the parts of an [`AtlasPlan`](super::AtlasPlan), one
 //! function per part, each checking its keys (errors name the key).
 
-use squeal_core::State;
+use squeal_core::{FrictionLaw, State};
 
 use super::{
-    AtlasAxis, AtlasFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings, NONDIMENSIONAL,
-    PHYSICAL, SPEED_RANGE, Units, expand, invalid, stribeck_params,
+    AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings,
+    NONDIMENSIONAL, PHYSICAL, SPEED_RANGE, Units, expand, invalid, stribeck_params,
 };
 use crate::atlas::geometry::Region;
 use crate::atlas::point::PointSettings;
@@ -283,6 +283,7 @@ pub(super) struct BoundaryPlan {
     pub boundary_in: BoundaryParam,
     pub boundary_rtol: f64,
     pub boundary_coarse: usize,
+    pub lifetime_starts: usize,
 }
 
 /// Reads `[boundaries]`: the bisected parameter, its ranges under the law's own names, the
@@ -294,44 +295,10 @@ pub(super) fn boundaries(
     params: &[AtlasAxis],
     inv: Invalid,
 ) -> Result<BoundaryPlan, ScanError> {
-    let m = &f.model;
-    let stribeck = m.law.has_true_stick();
+    let law = f.model.law;
     let bd = f.boundaries.clone().unwrap_or_default();
-    // The bisection ranges under the law's own names (`nu_lo` or `xi_lo`, ...); the other
-    // law's names are refused.
-    let (dk, sk) = (m.law.keys()[0], m.law.keys()[1]);
-    let (own, foreign) = if stribeck {
-        (
-            [bd.xi_lo, bd.xi_hi, bd.v_d_lo, bd.v_d_hi],
-            [
-                ("nu_lo", bd.nu_lo),
-                ("nu_hi", bd.nu_hi),
-                ("lambda_lo", bd.lambda_lo),
-                ("lambda_hi", bd.lambda_hi),
-            ],
-        )
-    } else {
-        (
-            [bd.nu_lo, bd.nu_hi, bd.lambda_lo, bd.lambda_hi],
-            [
-                ("xi_lo", bd.xi_lo),
-                ("xi_hi", bd.xi_hi),
-                ("v_d_lo", bd.v_d_lo),
-                ("v_d_hi", bd.v_d_hi),
-            ],
-        )
-    };
-    if let Some((k, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
-        return Err(invalid(
-            path,
-            &format!("boundaries.{k}"),
-            "given",
-            &format!(
-                "the bisection range under law {}'s names: {dk}_lo, {dk}_hi, {sk}_lo, {sk}_hi",
-                m.law
-            ),
-        ));
-    }
+    let (dk, sk) = (law.keys()[0], law.keys()[1]);
+    let own = own_ranges(&bd, law, path)?;
     let nu_range = [
         own[0].unwrap_or(DAMPING_RANGE[0]),
         own[1].unwrap_or(DAMPING_RANGE[1]),
@@ -342,42 +309,9 @@ pub(super) fn boundaries(
         own[3].unwrap_or(SPEED_RANGE[1]),
     ];
     bisection_range(&inv, sk, lambda_range, 1e3)?;
-    let swept = |k: &str| params.iter().any(|a| a.key == k && a.values.len() > 1);
-    let boundary_in = match bd.in_.as_deref() {
-        Some(k) if k == dk => BoundaryParam::Nu,
-        Some(k) if k == sk => BoundaryParam::Lambda,
-        Some(k) => {
-            return Err(invalid(
-                path,
-                "boundaries.in",
-                k,
-                &format!("\"{dk}\" or \"{sk}\" (law {})", m.law),
-            ));
-        }
-        None if swept(dk) || swept("c") => BoundaryParam::Nu,
-        None if swept(sk) || swept("v_belt") => BoundaryParam::Lambda,
-        None => BoundaryParam::Nu,
-    };
+    let boundary_in = bisected(&bd, law, path, params)?;
     if units == Units::Physical {
-        // The bisected parameter must be swept alone along its axis: lambda also moves
-        // with k, m, mu_k, g and nu with k and m.
-        let others: &[&str] = match boundary_in {
-            BoundaryParam::Nu => &["m", "k"],
-            BoundaryParam::Lambda => &["m", "k", "mu_k", "g"],
-        };
-        if let Some(k) = others.iter().find(|k| swept(k)) {
-            if bd.fold.unwrap_or(true) || bd.critical.unwrap_or(true) {
-                return Err(invalid(
-                    path,
-                    "boundaries.in",
-                    boundary_in.key(),
-                    &format!(
-                        "a parameter that only {} moves: {k} is swept too (set [boundaries] fold = false, critical = false, or bisect in the other one)",
-                        boundary_in.physical_key()
-                    ),
-                ));
-            }
-        }
+        swept_alone(&bd, boundary_in, path, params)?;
     }
     let boundary_rtol = bd.rtol.unwrap_or(1e-3);
     if !(boundary_rtol > 0.0 && boundary_rtol < 0.5) {
@@ -399,8 +333,10 @@ pub(super) fn boundaries(
             "a number of steps in [2, 1000]",
         ));
     }
+    let lifetime_starts = lifetime_starts(&bd, law, boundary_in, inv)?;
     Ok(BoundaryPlan {
         boundary_coarse: coarse as usize,
+        lifetime_starts,
         fold: bd.fold.unwrap_or(true),
         critical: bd.critical.unwrap_or(true),
         nu_range,
@@ -408,6 +344,147 @@ pub(super) fn boundaries(
         boundary_in,
         boundary_rtol,
     })
+}
+
+/// `[boundaries] lifetime_starts`: starts on the band per damping for the transient
+/// lifetimes above each fold, 0 (the default) for none. They follow the crisis of the band,
+/// so only McMillan's laws with boundaries in the damping (as `squeal critical
+/// --fold --lifetimes`), and the fold must be asked for.
+fn lifetime_starts(
+    bd: &BoundariesFile,
+    law: FrictionLaw,
+    boundary_in: BoundaryParam,
+    inv: Invalid,
+) -> Result<usize, ScanError> {
+    let key = "boundaries.lifetime_starts";
+    let n = bd.lifetime_starts.unwrap_or(0);
+    if !(0..=4096).contains(&n) {
+        return Err(inv(
+            key,
+            n.to_string(),
+            "a number of starts in [0, 4096] (0: none)",
+        ));
+    }
+    if n > 0 && !crate::atlas::boundary::crisis_applies(law) {
+        return Err(inv(
+            key,
+            n.to_string(),
+            &format!(
+                "0 with law {law}: lifetimes follow the crisis of the band, McMillan's laws only"
+            ),
+        ));
+    }
+    if n > 0 && (boundary_in != BoundaryParam::Nu || bd.fold == Some(false)) {
+        return Err(inv(
+            key,
+            n.to_string(),
+            "0 unless the fold is bisected in the damping (in = \"nu\", fold = true)",
+        ));
+    }
+    Ok(n as usize)
+}
+
+/// The bisection ranges under the law's own names (`nu_lo` or `xi_lo`, ...), in the order
+/// damping lo, hi, speed lo, hi; the other law's names are refused.
+fn own_ranges(
+    bd: &BoundariesFile,
+    law: FrictionLaw,
+    path: &str,
+) -> Result<[Option<f64>; 4], ScanError> {
+    let (own, foreign) = if law.has_true_stick() {
+        (
+            [bd.xi_lo, bd.xi_hi, bd.v_d_lo, bd.v_d_hi],
+            [
+                ("nu_lo", bd.nu_lo),
+                ("nu_hi", bd.nu_hi),
+                ("lambda_lo", bd.lambda_lo),
+                ("lambda_hi", bd.lambda_hi),
+            ],
+        )
+    } else {
+        (
+            [bd.nu_lo, bd.nu_hi, bd.lambda_lo, bd.lambda_hi],
+            [
+                ("xi_lo", bd.xi_lo),
+                ("xi_hi", bd.xi_hi),
+                ("v_d_lo", bd.v_d_lo),
+                ("v_d_hi", bd.v_d_hi),
+            ],
+        )
+    };
+    if let Some((k, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
+        let (dk, sk) = (law.keys()[0], law.keys()[1]);
+        return Err(invalid(
+            path,
+            &format!("boundaries.{k}"),
+            "given",
+            &format!(
+                "the bisection range under law {}'s names: {dk}_lo, {dk}_hi, {sk}_lo, {sk}_hi",
+                law
+            ),
+        ));
+    }
+    Ok(own)
+}
+
+/// Whether the parameter `key` is swept (more than one value) in `params`.
+fn is_swept(params: &[AtlasAxis], key: &str) -> bool {
+    params.iter().any(|a| a.key == key && a.values.len() > 1)
+}
+
+/// The bisected parameter: `in` by the law's own name, else the one swept (damping first),
+/// else the damping.
+fn bisected(
+    bd: &BoundariesFile,
+    law: FrictionLaw,
+    path: &str,
+    params: &[AtlasAxis],
+) -> Result<BoundaryParam, ScanError> {
+    let (dk, sk) = (law.keys()[0], law.keys()[1]);
+    let swept = |k: &str| is_swept(params, k);
+    Ok(match bd.in_.as_deref() {
+        Some(k) if k == dk => BoundaryParam::Nu,
+        Some(k) if k == sk => BoundaryParam::Lambda,
+        Some(k) => {
+            return Err(invalid(
+                path,
+                "boundaries.in",
+                k,
+                &format!("\"{dk}\" or \"{sk}\" (law {})", law),
+            ));
+        }
+        None if swept(dk) || swept("c") => BoundaryParam::Nu,
+        None if swept(sk) || swept("v_belt") => BoundaryParam::Lambda,
+        None => BoundaryParam::Nu,
+    })
+}
+
+/// A physical plan with boundaries: the bisected parameter must be swept alone along its
+/// axis (lambda also moves with k, m, mu_k, g and nu with k and m).
+fn swept_alone(
+    bd: &BoundariesFile,
+    boundary_in: BoundaryParam,
+    path: &str,
+    params: &[AtlasAxis],
+) -> Result<(), ScanError> {
+    let others: &[&str] = match boundary_in {
+        BoundaryParam::Nu => &["m", "k"],
+        BoundaryParam::Lambda => &["m", "k", "mu_k", "g"],
+    };
+    if let Some(k) = others.iter().find(|k| is_swept(params, k)) {
+        if bd.fold.unwrap_or(true) || bd.critical.unwrap_or(true) {
+            return Err(invalid(
+                path,
+                "boundaries.in",
+                boundary_in.key(),
+                &format!(
+                    "a parameter that only {} moves: {k} is swept too (set [boundaries] fold = false, critical = false, or bisect in the other one)",
+                    boundary_in.physical_key()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A boundary's bisection range `[lo, hi]` of parameter `key`: `0 < lo < hi <= top`. The

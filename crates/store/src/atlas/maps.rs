@@ -1,0 +1,331 @@
+//! The atlas's basin maps in its file: every column of [`squeal_scan::cell::COLUMNS`] over
+//! (the swept parameters..., v0, x0), the per-map checks and cycles, and the basin fraction
+//! read off each map; and reading the blocks and cycles back.
+
+use std::path::Path;
+
+use hdf5::types::VarLenUnicode;
+use hdf5::{Dataset, File};
+use squeal_scan::atlas::{AtlasPlan, AtlasResults, MapFraction};
+use squeal_scan::cell::{COLUMNS as CELLS, Cell, Kind as CellKind, Num};
+use squeal_scan::ulc::CycleReport;
+use squeal_scan::{Grid, MapChecks, MapTally, Plan};
+
+use super::read::rd;
+use super::schema::map_name;
+use crate::StoreError;
+use crate::error::H5Ctx;
+use crate::h5out::{Out, Over, num_attr, str_attr};
+use crate::h5write::{column_dataset, write_column};
+
+/// The maps' datasets, over the points `over` (the maps' own dimensions after them).
+pub(super) fn write_maps(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+) -> hdf5::Result<()> {
+    let Some(mp) = plan.map_plan() else {
+        return Ok(());
+    };
+    let g = mp.grid;
+    let x0 = o.scale("x0", &g.x0.values(), "initial displacement x(0)", Some("1"))?;
+    let v0 = o.scale("v0", &g.v0.values(), "initial velocity x'(0)", Some("1"))?;
+    let block = o.index("block", g.blocks(), "block of grid rows")?;
+    map_attrs(o.file, &mp)?;
+    let (done, checks) = write_cells(o, over, (plan, &mp), res, [&v0, &x0])?;
+    let blocks = over.and(g.blocks(), &block);
+    o.put(
+        &blocks,
+        ("blocks_done", "1 where the block of map rows is stored"),
+        None,
+        done,
+    )?;
+    for (k, (name, long)) in squeal_scan::checks::CHECK_FIELDS.iter().enumerate() {
+        let v: Vec<i64> = checks.iter().map(|c| c.values()[k]).collect();
+        o.put(over, (&map_name(name), long), Some("1"), v)?;
+    }
+    write_fractions(o, over, plan, res)?;
+    write_cycles(o, over, res, plan.n_points())
+}
+
+/// The maps' settings as root attributes.
+fn map_attrs(file: &File, mp: &Plan) -> hdf5::Result<()> {
+    let (g, cl) = (&mp.grid, &mp.classifier);
+    for (k, v) in [
+        ("x0_min", g.x0.min),
+        ("x0_max", g.x0.max),
+        ("v0_min", g.v0.min),
+        ("v0_max", g.v0.max),
+    ] {
+        num_attr(file, k, v)?;
+    }
+    num_attr(file, "block_rows", g.block_rows as u64)?;
+    num_attr(file, "t_max", cl.t_max)?;
+    num_attr(file, "fp_radius", cl.fp_radius)?;
+    num_attr(file, "settle_cycles", cl.settle_cycles)?;
+    num_attr(file, "settle_rtol", cl.settle_rtol)?;
+    str_attr(file, "early_stop", mp.early_stop.name())?;
+    num_attr(file, "trap_margin", mp.trap_margin)?;
+    num_attr(file, "audit_every", mp.audit_every)
+}
+
+/// Every stored block of every map, column by column; returns which blocks are stored
+/// (point-major) and each map's checks.
+fn write_cells(
+    o: &mut Out,
+    over: &Over,
+    (plan, mp): (&AtlasPlan, &Plan),
+    res: &AtlasResults,
+    [v0, x0]: [&Dataset; 2],
+) -> hdf5::Result<(Vec<u8>, Vec<MapChecks>)> {
+    let g = mp.grid;
+    let (nx, nv, nb) = (g.x0.count, g.v0.count, g.blocks());
+    let cells = over.and(nv, v0).and(nx, x0);
+    let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
+    let mut chunk = vec![1; over.shape.len()];
+    chunk.extend([rows_per_chunk, nx]);
+    let vars: Vec<Dataset> = CELLS
+        .iter()
+        .map(|col| column_dataset(o.file, col, &map_name(col.name), &cells.shape, &chunk))
+        .collect::<hdf5::Result<_>>()?;
+    let scales: Vec<&Dataset> = cells.scales.iter().collect();
+    for v in &vars {
+        o.dims.attach(o.file, v, &scales)?;
+    }
+    let n = plan.n_points();
+    let mut done = vec![0u8; n * nb];
+    let mut checks = Vec::with_capacity(n);
+    for i in 0..n {
+        // The point's indices (`[0]`: the single point of a spec that sweeps nothing).
+        let prefix = match plan.axes().is_empty() {
+            true => vec![0],
+            false => plan.unravel(i),
+        };
+        // Laws with true stick: the map's cells are checked against the point's landscape
+        // (every cell steady slip, or every cell stick-slip, where it says so).
+        let landscape = (res.points[i].as_ref())
+            .and_then(|p| p.landscape)
+            .and_then(|l| l.verdict());
+        let mut tally = MapTally::new(mp, res.map_cycle(i), landscape);
+        for b in 0..nb {
+            let Some(cells) = res.blocks.get(&(i, b)) else {
+                continue;
+            };
+            done[i * nb + b] = 1;
+            tally.add_block(mp, b, cells);
+            for (ds, col) in vars.iter().zip(CELLS) {
+                write_column(ds, col, cells, &prefix, g.block_rows(b), nx)?;
+            }
+        }
+        checks.push(tally.finish(mp).0);
+    }
+    Ok((done, checks))
+}
+
+/// The basin fraction read off each map, with the counts behind its uncertainty.
+fn write_fractions(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+) -> hdf5::Result<()> {
+    let fr: Vec<Option<MapFraction>> = (0..plan.n_points())
+        .map(|i| res.map_fraction(plan, i))
+        .collect();
+    let real = |f: fn(&MapFraction) -> f64| -> Vec<f64> {
+        fr.iter().map(|x| x.as_ref().map_or(f64::NAN, f)).collect()
+    };
+    let count = |f: fn(&MapFraction) -> u64| -> Vec<u64> {
+        fr.iter().map(|x| x.as_ref().map_or(0, f)).collect()
+    };
+    let ds = o.put(
+        over,
+        (
+            "basin_fraction",
+            "share of the grid box that returns to steady slip, from the basin map: steady-slip cells over decided cells",
+        ),
+        Some("1"),
+        real(|f| f.fraction),
+    )?;
+    str_attr(&ds, "source", "map")?;
+    let err = (
+        "basin_fraction_err",
+        "uncertainty of basin_fraction: (undecided cells + decided cells within one cell of the located cycle) over all cells",
+    );
+    o.put(over, err, Some("1"), real(|f| f.err))?;
+    let undecided = (
+        "map_undecided_cells",
+        "cells of the map left undecided (or not computed)",
+    );
+    o.put(over, undecided, Some("1"), count(|f| f.undecided))?;
+    let near = (
+        "map_cells_near_cycle",
+        "decided cells within one cell of the located cycle",
+    );
+    o.put(over, near, Some("1"), count(|f| f.near_cycle))?;
+    Ok(())
+}
+
+/// Each map's cycle search: the record (TOML, exact) and the closed curve, NaN-padded.
+fn write_cycles(o: &mut Out, over: &Over, res: &AtlasResults, n: usize) -> hdf5::Result<()> {
+    let texts: Vec<String> = (0..n)
+        .map(|i| {
+            let r = res.map_cycles.get(&i);
+            r.map_or(String::new(), |c| crate::cycle::to_text(c, false))
+        })
+        .collect();
+    o.put_notes(
+        over,
+        (
+            "map_cycle_record",
+            "cycle search of the map (TOML; empty: not recorded)",
+        ),
+        texts.iter().map(|t| Some(t.as_str())),
+    )?;
+    let len = (0..n)
+        .filter_map(|i| res.map_cycle(i).map(|r| r.curve.x.len()))
+        .max()
+        .unwrap_or(0);
+    if len == 0 {
+        return Ok(());
+    }
+    let point = o.index("cycle_point", len, "step along the closed curve")?;
+    let curve = over.and(len, &point);
+    for (name, long, get) in [
+        (
+            "map_cycle_x",
+            "displacement x on the located cycle of the map (NaN-padded)",
+            (|r: &CycleReport| &r.curve.x) as fn(&_) -> &Vec<f64>,
+        ),
+        (
+            "map_cycle_v",
+            "velocity x' on the located cycle of the map (NaN-padded)",
+            |r: &CycleReport| &r.curve.v,
+        ),
+    ] {
+        let mut v = vec![f64::NAN; n * len];
+        for i in 0..n {
+            if let Some(r) = res.map_cycle(i) {
+                let c = get(r);
+                v[i * len..i * len + c.len()].copy_from_slice(c);
+            }
+        }
+        o.put(&curve, (name, long), Some("1"), v)?;
+    }
+    Ok(())
+}
+
+/// Reads the stored map blocks and cycle searches of an atlas file with maps.
+pub(super) fn read_maps(
+    file: &File,
+    path: &Path,
+    plan: &AtlasPlan,
+    res: &mut AtlasResults,
+) -> Result<(), StoreError> {
+    let Some(g) = plan.maps.as_ref().map(|m| m.grid) else {
+        return Ok(());
+    };
+    let n = plan.n_points();
+    let done: Vec<u8> = rd(file, path, "blocks_done")?;
+    if done.len() != n * g.blocks() {
+        return Err(not_atlas(
+            path,
+            format!(
+                "blocks_done holds {} values, expected {}",
+                done.len(),
+                n * g.blocks()
+            ),
+        ));
+    }
+    let maps = if done.contains(&1) {
+        read_cells(file, path, &g, n)?
+    } else {
+        Vec::new()
+    };
+    let nb = g.blocks();
+    for (k, _) in done.iter().enumerate().filter(|(_, d)| **d == 1) {
+        let (i, b) = (k / nb, k % nb);
+        let rows = g.block_rows(b);
+        let cells = maps[i][rows.start * g.x0.count..rows.end * g.x0.count].to_vec();
+        res.blocks.insert((i, b), cells);
+    }
+    read_cycles(file, path, res, n)
+}
+
+fn not_atlas(path: &Path, why: String) -> StoreError {
+    StoreError::NotSquealFile {
+        path: path.to_path_buf(),
+        why,
+    }
+}
+
+/// Every cell of the `n` maps, column by column, point-major.
+fn read_cells(file: &File, path: &Path, g: &Grid, n: usize) -> Result<Vec<Vec<Cell>>, StoreError> {
+    let per_map = g.x0.count * g.v0.count;
+    let mut maps = vec![vec![Cell::fill(); per_map]; n];
+    for col in CELLS {
+        let name = map_name(col.name);
+        let vals: Vec<Num> = match col.kind {
+            CellKind::Enum | CellKind::U8 => (rd::<u8>(file, path, &name)?.into_iter())
+                .map(|x| Num::U(x as u64))
+                .collect(),
+            CellKind::U32 => (rd::<u32>(file, path, &name)?.into_iter())
+                .map(|x| Num::U(x as u64))
+                .collect(),
+            CellKind::U64 => rd::<u64>(file, path, &name)?
+                .into_iter()
+                .map(Num::U)
+                .collect(),
+            CellKind::F64 => rd::<f64>(file, path, &name)?
+                .into_iter()
+                .map(Num::F)
+                .collect(),
+        };
+        if vals.len() != n * per_map {
+            let why = format!(
+                "{name} holds {} values, expected {}",
+                vals.len(),
+                n * per_map
+            );
+            return Err(not_atlas(path, why));
+        }
+        for (k, v) in vals.into_iter().enumerate() {
+            (col.set)(&mut maps[k / per_map][k % per_map], v);
+        }
+    }
+    Ok(maps)
+}
+
+/// Each map's cycle search: its record and its closed curve (NaN padding dropped).
+fn read_cycles(
+    file: &File,
+    path: &Path,
+    res: &mut AtlasResults,
+    n: usize,
+) -> Result<(), StoreError> {
+    let recs: Vec<VarLenUnicode> = rd(file, path, "map_cycle_record")?;
+    let curves = match (file.dataset("map_cycle_x"), file.dataset("map_cycle_v")) {
+        (Ok(x), Ok(v)) => Some((x.read_raw::<f64>().h5(path)?, v.read_raw::<f64>().h5(path)?)),
+        _ => None,
+    };
+    for (i, r) in recs.iter().enumerate().take(n) {
+        if r.as_str().is_empty() {
+            continue;
+        }
+        let curve = curves.as_ref().and_then(|(x, v)| {
+            let len = x.len() / n.max(1);
+            let xs: Vec<f64> = x[i * len..(i + 1) * len]
+                .iter()
+                .copied()
+                .take_while(|a| !a.is_nan())
+                .collect();
+            let vs: Vec<f64> = v[i * len..(i + 1) * len][..xs.len()].to_vec();
+            (!xs.is_empty()).then_some(squeal_scan::ClosedCurve { x: xs, v: vs })
+        });
+        let rec = crate::cycle::from_text(r.as_str(), curve)
+            .map_err(|e| not_atlas(path, format!("map_cycle_record of point {i}: {e}")))?;
+        res.map_cycles.insert(i, rec);
+    }
+    Ok(())
+}

@@ -1,0 +1,282 @@
+//! Reads an atlas file back (the inverse of [`super::write`]), and merges shard files.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use hdf5::types::VarLenUnicode;
+use hdf5::{File, H5Type};
+use squeal_scan::atlas::columns::{
+    BOUNDARY_COLUMNS, COLUMNS, Kind, empty_boundary, empty_point, finish_point,
+};
+use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
+use squeal_scan::atlas::{AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus, PointResult};
+
+use super::schema::{
+    BOUNDARIES_DONE, BOUNDARY_NOTE, FOLD_CHANGES, LANDSCAPE_NOT_COMPUTED, NOTE, POINTS_DONE,
+    REGIME, SEARCHES, half_dt_of, set_landscape, stored_name,
+};
+use super::{ATLAS_SCHEMA, maps, missing_blocks, missing_units, write_atlas};
+use crate::error::H5Ctx;
+use crate::{OutputLock, Provenance, Shard, StoreError};
+
+/// Whether `path` is an atlas file (HDF5 with schema `squeal-atlas/...`).
+pub fn is_atlas_file(path: &Path) -> bool {
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return false;
+    };
+    let mut head = [0u8; 8];
+    if std::io::Read::read_exact(&mut f, &mut head).is_err() || &head != b"\x89HDF\r\n\x1a\n" {
+        return false;
+    }
+    File::open(path)
+        .ok()
+        .and_then(|f| crate::read::str_attr(&f, "schema").ok())
+        .is_some_and(|s| s.starts_with("squeal-atlas/"))
+}
+
+/// The values of dataset `name` (C order).
+pub(super) fn rd<T: H5Type>(file: &File, path: &Path, name: &str) -> Result<Vec<T>, StoreError> {
+    file.dataset(name).and_then(|d| d.read_raw()).h5(path)
+}
+
+/// [`rd`] of a dataset older files lack (then empty).
+fn rd_new<T: H5Type>(file: &File, path: &Path, name: &str) -> Result<Vec<T>, StoreError> {
+    match file.link_exists(name) {
+        true => rd(file, path, name),
+        false => Ok(Vec::new()),
+    }
+}
+
+/// Notes read back: `None` where empty.
+fn notes(file: &File, path: &Path, name: &str) -> Result<Vec<Option<String>>, StoreError> {
+    let v: Vec<VarLenUnicode> = rd(file, path, name)?;
+    let note = |n: VarLenUnicode| Some(n.as_str().to_string()).filter(|n| !n.is_empty());
+    Ok(v.into_iter().map(note).collect())
+}
+
+/// Reads an atlas file back: its plan (from the stored spec), results and shard.
+pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>), StoreError> {
+    let not = |why: String| StoreError::NotSquealFile {
+        path: path.to_path_buf(),
+        why,
+    };
+    if !is_atlas_file(path) {
+        return Err(not(format!("not an atlas file (schema {ATLAS_SCHEMA})")));
+    }
+    let file = File::open(path).h5(path)?;
+    let spec = crate::read::str_attr(&file, "spec").h5(path)?;
+    let mut plan = AtlasPlan::from_toml(&spec, &path.display().to_string())
+        .map_err(|e| not(format!("its spec does not validate: {e}")))?;
+    // A spec without `name` is named after its own file, not this one (a shard `s1.h5`).
+    plan.name = crate::read::str_attr(&file, "name").h5(path)?;
+    let shard = crate::read::str_attr(&file, "shard")
+        .ok()
+        .and_then(|s| s.parse().ok());
+    let mut res = AtlasResults::new(&plan);
+    read_points(&file, path, &plan, &mut res)?;
+    if plan.maps.is_some() {
+        maps::read_maps(&file, path, &plan, &mut res)?;
+    }
+    if plan.n_boundaries() > 0 {
+        read_boundaries(&file, path, &plan, &mut res)?;
+    }
+    Ok((plan, res, shard))
+}
+
+/// The computed points: every column of the point tables, the regime and the note.
+fn read_points(
+    file: &File,
+    path: &Path,
+    plan: &AtlasPlan,
+    res: &mut AtlasResults,
+) -> Result<(), StoreError> {
+    let mut pts: Vec<PointResult> = (0..plan.n_points()).map(|_| empty_point()).collect();
+    for c in COLUMNS {
+        let (name, _) = stored_name(plan, c);
+        let vals: Vec<f64> = match c.kind {
+            Kind::Real => rd(file, path, &name)?,
+            Kind::Flag => (rd::<u8>(file, path, &name)?.into_iter())
+                .map(|v| if v == 255 { f64::NAN } else { v as f64 })
+                .collect(),
+            Kind::Count => (rd::<u64>(file, path, &name)?.into_iter())
+                .map(|v| v as f64)
+                .collect(),
+        };
+        for (p, v) in pts.iter_mut().zip(vals) {
+            (c.set)(p, v);
+        }
+    }
+    if plan.law.has_true_stick() {
+        for c in LANDSCAPE_COLUMNS {
+            for (p, v) in pts.iter_mut().zip(rd::<f64>(file, path, c.name)?) {
+                (c.set)(p, v);
+            }
+        }
+        let (name, _) = squeal_scan::landscape::LANDSCAPE;
+        for (p, v) in pts.iter_mut().zip(rd::<u8>(file, path, name)?) {
+            if v == LANDSCAPE_NOT_COMPUTED {
+                p.landscape = None;
+            } else {
+                set_landscape(p, v);
+            }
+        }
+    }
+    let done: Vec<u8> = rd(file, path, POINTS_DONE.0)?;
+    let regime: Vec<u8> = rd(file, path, REGIME.0)?;
+    let mut notes = notes(file, path, NOTE.0)?.into_iter();
+    for (i, mut p) in pts.into_iter().enumerate() {
+        let note = notes.next().flatten();
+        if done.get(i) == Some(&1) {
+            p.note = note;
+            p.regime = AtlasRegime::from_u8(regime[i]).unwrap_or(AtlasRegime::Undecided);
+            finish_point(&mut p);
+            res.points[i] = Some(p);
+        }
+    }
+    Ok(())
+}
+
+/// The computed boundary searches. Datasets that files written before them lack read as
+/// not checked (`*_half_dt`), none (`fold_changes`) or NaN (`fold_nu_err`).
+fn read_boundaries(
+    file: &File,
+    path: &Path,
+    plan: &AtlasPlan,
+    res: &mut AtlasResults,
+) -> Result<(), StoreError> {
+    let n = plan.n_boundaries();
+    let done: Vec<u8> = rd(file, path, BOUNDARIES_DONE.0)?;
+    let status: Vec<Vec<u8>> = (SEARCHES.iter())
+        .map(|s| rd(file, path, &s.status_name()))
+        .collect::<Result<_, _>>()?;
+    let half_dt: Vec<Vec<u8>> = (SEARCHES.iter())
+        .map(|s| rd_new(file, path, &s.half_dt_name()))
+        .collect::<Result<_, _>>()?;
+    let changes: Vec<u32> = rd_new(file, path, FOLD_CHANGES.0)?;
+    let mut notes = notes(file, path, BOUNDARY_NOTE.0)?.into_iter();
+    let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
+        .iter()
+        .map(|c| {
+            let v = rd_new(file, path, &plan.boundary_dataset(c.name, c.long_name).0)?;
+            Ok(if v.is_empty() { vec![f64::NAN; n] } else { v })
+        })
+        .collect::<Result<_, StoreError>>()?;
+    for j in 0..n {
+        let note = notes.next().flatten();
+        if done.get(j) != Some(&1) {
+            continue;
+        }
+        let mut b = empty_boundary(j);
+        for (k, s) in SEARCHES.iter().enumerate() {
+            let d = (s.get_mut)(&mut b);
+            d.status = BoundaryStatus::from_u8(status[k][j]).unwrap_or(BoundaryStatus::NotComputed);
+            d.half_dt_holds = half_dt_of(half_dt[k].get(j));
+        }
+        b.fold.changes = changes.get(j).copied().unwrap_or(0);
+        for (c, v) in BOUNDARY_COLUMNS.iter().zip(&cols) {
+            (c.set)(&mut b, v[j]);
+        }
+        b.note = note;
+        res.boundaries[j] = Some(b);
+    }
+    Ok(())
+}
+
+/// Joins atlas shard files (all `N` shards of one spec) into the file one run writes.
+pub fn merge_atlas(
+    shards: &[PathBuf],
+    out: &Path,
+    force: bool,
+    prov: &Provenance,
+) -> Result<(), StoreError> {
+    crate::refuse_input_as_output(shards, out)?;
+    let _lock = OutputLock::acquire(out)?;
+    if out.exists() && !force {
+        return Err(StoreError::Exists {
+            path: out.to_path_buf(),
+        });
+    }
+    let (plan, mut res) = read_shards(shards)?;
+    let missing = missing_units(&plan, &res, None);
+    if !missing.is_empty() {
+        return Err(StoreError::Incomplete {
+            path: out.to_path_buf(),
+            missing: missing.len(),
+            total: plan.units().len(),
+        });
+    }
+    let blocks = missing_blocks(&plan, &res, None);
+    if !blocks.is_empty() {
+        return Err(StoreError::Incomplete {
+            path: out.to_path_buf(),
+            missing: blocks.len(),
+            total: plan.map_plan().map_or(0, |p| p.total_blocks()),
+        });
+    }
+    // A point and its fold may come from different shards: reconciled here (computed in scan).
+    res.reconcile_folds(&plan);
+    write_atlas(out, &plan, &res, prov, None)
+}
+
+/// The plan of the shards and everything they hold together: each of `1..=N` once, all of
+/// one spec.
+fn read_shards(shards: &[PathBuf]) -> Result<(AtlasPlan, AtlasResults), StoreError> {
+    let mut acc: Option<(AtlasPlan, AtlasResults)> = None;
+    let mut seen = HashSet::new();
+    let mut n_shards = None;
+    for p in shards {
+        let (pl, r, s) = read_atlas(p)?;
+        let s = s.ok_or_else(|| {
+            StoreError::Shards(format!(
+                "{} is not a shard file (no `shard` attribute)",
+                p.display()
+            ))
+        })?;
+        if *n_shards.get_or_insert(s.n) != s.n || !seen.insert(s.k) {
+            return Err(StoreError::Shards(format!(
+                "{}: shard {s} repeats or does not match the others",
+                p.display()
+            )));
+        }
+        let Some((p0, all)) = acc.as_mut() else {
+            acc = Some((pl, r));
+            continue;
+        };
+        if p0.spec_text != pl.spec_text {
+            return Err(StoreError::SpecMismatch {
+                path: p.clone(),
+                why: "different spec text".into(),
+            });
+        }
+        add_shard(all, r);
+    }
+    let Some(acc) = acc else {
+        return Err(StoreError::Shards("no shard files given".into()));
+    };
+    if seen.len() != n_shards.unwrap_or(0) {
+        return Err(StoreError::Shards(format!(
+            "{} of {} shards given",
+            seen.len(),
+            n_shards.unwrap_or(0)
+        )));
+    }
+    Ok(acc)
+}
+
+/// Adds what a shard computed to `all`.
+fn add_shard(all: &mut AtlasResults, r: AtlasResults) {
+    for (a, b) in all.points.iter_mut().zip(r.points) {
+        if b.is_some() {
+            *a = b;
+        }
+    }
+    for (a, b) in all.boundaries.iter_mut().zip(r.boundaries) {
+        if b.is_some() {
+            *a = b;
+        }
+    }
+    all.blocks.extend(r.blocks);
+    for (m, c) in r.map_cycles {
+        all.map_cycles.entry(m).or_insert(c);
+    }
+}

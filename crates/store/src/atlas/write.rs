@@ -1,0 +1,379 @@
+//! Writes the atlas file: root attributes, coordinates, the points' datasets (one per row
+//! of the scan crate's column tables), the maps ([`super::maps`]) and the boundaries'.
+
+use std::path::{Path, PathBuf};
+
+use hdf5::File;
+use squeal_core::Scales;
+use squeal_scan::atlas::columns::{
+    BOUNDARY_COLUMNS, BoundarySi, COLUMNS, Column, Kind, Si, status_meanings,
+};
+use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
+use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, Units};
+
+use super::schema::{
+    BOUNDARIES_DONE, BOUNDARY_NOTE, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
+    LANDSCAPE_NOT_COMPUTED, NOTE, POINTS_DONE, REGIME, RegimeH5, SEARCHES, StatusH5, half_dt_u8,
+    landscape_flags, stored_name,
+};
+use super::{ATLAS_SCHEMA, maps};
+use crate::error::{H5Ctx, io};
+use crate::h5out::{Dims, Out, Over, class_type, num_attr, str_attr};
+use crate::{Provenance, Shard, StoreError};
+
+/// Writes the atlas file `out` (through `<out>.tmp`, then renamed).
+pub fn write_atlas(
+    out: &Path,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    prov: &Provenance,
+    shard: Option<Shard>,
+) -> Result<(), StoreError> {
+    let mut tmp = out.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    let written = (|| {
+        let file = File::create(&tmp).h5(&tmp)?;
+        let dims = Dims::new(class_type(&tmp)?);
+        let mut o = Out { file: &file, dims };
+        write_all(&mut o, plan, res, prov, shard).h5(&tmp)?;
+        o.dims.finish().h5(&tmp)?;
+        file.close().h5(&tmp)
+    })();
+    if let Err(e) = written {
+        // A full disk: leave no partial file; the journal keeps the work for a resume.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
+    std::fs::rename(&tmp, out).map_err(io(out, "cannot rename the finished file to"))?;
+    Ok(())
+}
+
+fn write_all(
+    o: &mut Out,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+    prov: &Provenance,
+    shard: Option<Shard>,
+) -> hdf5::Result<()> {
+    root_attrs(o.file, plan, prov, shard)?;
+    let scales = plan
+        .axes()
+        .iter()
+        .map(|a| o.scale(a.key, &a.values, a.long_name, Some(a.units)))
+        .collect::<hdf5::Result<Vec<_>>>()?;
+    let points = if scales.is_empty() {
+        let s = o.index("point", 1, "the single parameter point")?;
+        Over {
+            shape: vec![1],
+            scales: vec![s],
+        }
+    } else {
+        Over {
+            shape: plan.shape(),
+            scales: scales.clone(),
+        }
+    };
+    write_points(o, &points, plan, res)?;
+    if plan.n_boundaries() > 0 {
+        // The boundaries lie over the swept axes but the bisected one.
+        let (_, d) = plan.boundary_axis();
+        let rest: Vec<_> = (scales.iter().enumerate())
+            .filter(|(k, _)| Some(*k) != d)
+            .map(|(_, s)| s.clone())
+            .collect();
+        let over = if rest.is_empty() {
+            let s = o.index("boundary", 1, "the single boundary search")?;
+            Over {
+                shape: vec![1],
+                scales: vec![s],
+            }
+        } else {
+            Over {
+                shape: plan.boundary_shape(),
+                scales: rest,
+            }
+        };
+        write_boundaries(o, &over, plan, res)?;
+    }
+    Ok(())
+}
+
+/// Provenance, the spec and the settings every point shares.
+fn root_attrs(
+    file: &File,
+    plan: &AtlasPlan,
+    prov: &Provenance,
+    shard: Option<Shard>,
+) -> hdf5::Result<()> {
+    for (k, v) in [
+        ("schema", ATLAS_SCHEMA),
+        ("squeal_version", &prov.version),
+        ("git_revision", &prov.git_revision),
+        ("spec", &plan.spec_text),
+        ("name", &plan.name),
+        ("law", plan.law.name()),
+        ("units", plan.units.name()),
+        ("solver", plan.solver.kind.name()),
+        ("scheme", plan.solver.scheme.name()),
+    ] {
+        str_attr(file, k, v)?;
+    }
+    num_attr(file, "dt", plan.dt)?;
+    for (a, v) in plan.fixed() {
+        num_attr(file, a.key, v)?;
+        str_attr(file, &format!("{}_units", a.key), a.units)?;
+    }
+    let ps = &plan.point;
+    let op_units = match plan.units {
+        Units::Physical => ["m", "m/s"],
+        Units::Nondimensional => ["1", "1"],
+    };
+    for ((k, v), u) in [("x", ps.operating.x), ("v", ps.operating.v)]
+        .into_iter()
+        .zip(op_units)
+    {
+        num_attr(file, &format!("operating_point_{k}"), v)?;
+        str_attr(file, &format!("operating_point_{k}_units"), u)?;
+    }
+    for ((k, r), u) in [
+        ("disturbance_x", ps.disturbance.x),
+        ("disturbance_v", ps.disturbance.v),
+    ]
+    .into_iter()
+    .zip(plan.disturbance_units())
+    {
+        file.new_attr::<f64>().shape(2).create(k)?.write_raw(&r)?;
+        str_attr(file, &format!("{k}_units"), u)?;
+    }
+    if let Some(s) = shard {
+        str_attr(file, "shard", &s.to_string())?;
+    }
+    Ok(())
+}
+
+/// Every dataset over the parameter points (the maps' included).
+fn write_points(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+) -> hdf5::Result<()> {
+    let pts = &res.points;
+    let regimes = pts
+        .iter()
+        .map(|p| RegimeH5::from(p.as_ref().map(|p| p.regime)));
+    let (meanings, values) = RegimeH5::flags();
+    o.put_flags(over, REGIME, regimes.collect(), (&meanings, &values))?;
+    let scales: Vec<Option<Scales>> = (0..plan.n_points())
+        .map(|i| plan.physical_at(i).map(|p| p.scales()))
+        .collect();
+    for c in COLUMNS {
+        let vals: Vec<f64> = pts
+            .iter()
+            .map(|p| p.as_ref().map_or(f64::NAN, |p| (c.get)(p)))
+            .collect();
+        write_column(o, over, plan, c, (vals, &scales))?;
+    }
+    if plan.units == Units::Physical {
+        // The nondimensional parameters of each point, beside the physical axes.
+        let nd = squeal_scan::atlas::spec::NONDIMENSIONAL;
+        let ps: Vec<squeal_core::Params> =
+            (0..plan.n_points()).map(|i| plan.params_at(i)).collect();
+        let getters: [fn(&squeal_core::Params) -> f64; 4] =
+            [|p| p.nu, |p| p.lambda, |p| p.tau, |p| p.phi];
+        for ((key, long, units), g) in nd.iter().zip(getters) {
+            let v: Vec<f64> = ps.iter().map(g).collect();
+            o.put(over, (&format!("nondim_{key}"), long), Some(units), v)?;
+        }
+    }
+    if plan.law.has_true_stick() {
+        write_landscape(o, over, res)?;
+    }
+    let notes = pts
+        .iter()
+        .map(|p| p.as_ref().and_then(|p| p.note.as_deref()));
+    o.put_notes(over, NOTE, notes)?;
+    if plan.maps.is_some() {
+        maps::write_maps(o, over, plan, res)?;
+    }
+    let done: Vec<u8> = pts.iter().map(|p| u8::from(p.is_some())).collect();
+    o.put(over, POINTS_DONE, None, done)?;
+    Ok(())
+}
+
+/// One figure of the points as its [`Kind`] stores it, and in SI units for physical specs
+/// (`scales`: each point's, `None` in nondimensional specs).
+fn write_column(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    c: &Column,
+    (vals, scales): (Vec<f64>, &[Option<Scales>]),
+) -> hdf5::Result<()> {
+    let (name, long) = stored_name(plan, c);
+    let named = (name.as_str(), long.as_str());
+    match c.kind {
+        Kind::Real => {
+            let units = match c.si {
+                Si::Frequency => "1 (angular frequency, nondimensional)",
+                _ => "1",
+            };
+            o.put(over, named, Some(units), vals.clone())?;
+        }
+        Kind::Flag => {
+            let v = vals.iter().map(|&v| if v.is_nan() { 255 } else { v as u8 });
+            o.put_flags(over, named, v.collect(), FLAG_FLAGS)?;
+        }
+        Kind::Count => {
+            let v = vals.iter().map(|&v| if v.is_nan() { 0 } else { v as u64 });
+            o.put(over, named, None, v.collect())?;
+        }
+    }
+    if plan.units == Units::Physical && c.si != Si::None {
+        let si: Vec<f64> = (vals.iter().zip(scales))
+            .map(|(&v, s)| s.map_or(f64::NAN, |s| c.si.convert(v, &s)))
+            .collect();
+        let si_long = c.si.long_name(c.long_name);
+        o.put(
+            over,
+            (&format!("{}_si", c.name), &si_long),
+            Some(c.si.units()),
+            si,
+        )?;
+    }
+    Ok(())
+}
+
+/// Laws with true stick: the landscape of each point (as `squeal scan` stores per map) and
+/// its evidence.
+fn write_landscape(o: &mut Out, over: &Over, res: &AtlasResults) -> hdf5::Result<()> {
+    let v: Vec<u8> = (res.points.iter())
+        .map(|p| p.as_ref().and_then(|p| p.landscape))
+        .map(|l| l.map_or(LANDSCAPE_NOT_COMPUTED, |l| l.landscape))
+        .collect();
+    let (meanings, values) = landscape_flags();
+    let landscape = squeal_scan::landscape::LANDSCAPE;
+    o.put_flags(over, landscape, v, (&meanings, &values))?;
+    for c in LANDSCAPE_COLUMNS {
+        let vals: Vec<f64> = (res.points.iter())
+            .map(|p| p.as_ref().map_or(f64::NAN, |p| (c.get)(p)))
+            .collect();
+        o.put(over, (c.name, c.long_name), Some("1"), vals)?;
+    }
+    Ok(())
+}
+
+/// Every dataset over the boundary searches.
+fn write_boundaries(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    res: &AtlasResults,
+) -> hdf5::Result<()> {
+    let bs = &res.boundaries;
+    let statuses = status_meanings();
+    for s in &SEARCHES {
+        let v = bs.iter().map(|b| {
+            StatusH5::from(
+                b.as_ref()
+                    .map_or(BoundaryStatus::NotComputed, |b| (s.get)(b).status),
+            )
+        });
+        let named = (s.status_name(), (s.status_long)(plan));
+        o.put_flags(
+            over,
+            (&named.0, named.1),
+            v.collect(),
+            (&statuses, &[0, 1, 2, 255]),
+        )?;
+    }
+    for s in &SEARCHES {
+        let v = bs
+            .iter()
+            .map(|b| half_dt_u8(b.as_ref().and_then(|b| (s.get)(b).half_dt_holds)));
+        o.put_flags(
+            over,
+            (&s.half_dt_name(), s.half_dt_long),
+            v.collect(),
+            HALF_DT_FLAGS,
+        )?;
+    }
+    for c in BOUNDARY_COLUMNS.iter().filter(|c| (c.stored)(plan)) {
+        let v: Vec<f64> = bs
+            .iter()
+            .map(|b| b.as_ref().map_or(f64::NAN, |b| (c.get)(b)))
+            .collect();
+        let (name, long) = plan.boundary_dataset(c.name, c.long_name);
+        o.put(over, (&name, &long), Some("1"), v.clone())?;
+        if plan.units == Units::Physical {
+            match c.si {
+                BoundarySi::Bisected => write_boundary_si(o, over, plan, (&name, &long), &v)?,
+                BoundarySi::Time => write_boundary_seconds(o, over, plan, (&name, &long), &v)?,
+                BoundarySi::None => {}
+            }
+        }
+    }
+    let notes = bs
+        .iter()
+        .map(|b| b.as_ref().and_then(|b| b.note.as_deref()));
+    o.put_notes(over, BOUNDARY_NOTE, notes)?;
+    let changes: Vec<u32> = bs
+        .iter()
+        .map(|b| b.as_ref().map_or(0, |b| b.fold.changes))
+        .collect();
+    o.put(over, FOLD_CHANGES, Some("1"), changes)?;
+    let done: Vec<u8> = bs.iter().map(|b| u8::from(b.is_some())).collect();
+    o.put(over, BOUNDARIES_DONE, None, done)?;
+    Ok(())
+}
+
+/// A boundary figure of a physical spec in SI units: `fold_c` (N s/m) for `fold_nu`,
+/// `fold_v_belt` (m/s) for `fold_lambda`.
+fn write_boundary_si(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    (name, long): (&str, &str),
+    v: &[f64],
+) -> hdf5::Result<()> {
+    let mut units = "";
+    let si: Vec<f64> = (v.iter().enumerate())
+        .map(|(j, &x)| {
+            let (i, _) = plan.boundary_setup(j);
+            plan.boundary_si(i, x).map_or(f64::NAN, |(y, u)| {
+                units = u;
+                y
+            })
+        })
+        .collect();
+    let (key, _) = plan.boundary_axis();
+    let long = match plan.boundary_in {
+        BoundaryParam::Nu => long.replace("damping ratio", "damping coefficient c"),
+        BoundaryParam::Lambda => long.replace("belt speed lambda", "belt speed v_belt"),
+    };
+    let name = name.replace(&format!("_{}", plan.boundary_in.key()), &format!("_{key}"));
+    o.put(over, (&name, &long), Some(units), si)?;
+    Ok(())
+}
+
+/// A boundary figure of a physical spec that is a nondimensional time, in seconds:
+/// `<name>_s` (the time unit at each boundary's parameters).
+fn write_boundary_seconds(
+    o: &mut Out,
+    over: &Over,
+    plan: &AtlasPlan,
+    (name, long): (&str, &str),
+    v: &[f64],
+) -> hdf5::Result<()> {
+    let s: Vec<f64> = (v.iter().enumerate())
+        .map(|(j, &x)| {
+            let (i, _) = plan.boundary_setup(j);
+            plan.physical_at(i)
+                .map_or(f64::NAN, |ph| x * ph.scales().time)
+        })
+        .collect();
+    let long = long.replace("nondimensional time; the natural period is 2 pi", "seconds");
+    o.put(over, (&format!("{name}_s"), &long), Some("s"), s)?;
+    Ok(())
+}
