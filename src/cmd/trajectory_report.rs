@@ -39,47 +39,48 @@ impl Serialize for RunParams {
     }
 }
 
-/// The classifier's verdict on the same run.
+/// A verdict: `steady_slip`, `stick_slip` or `undecided`, why, and when (`t_end` if
+/// undecided by the time limit).
+#[derive(Serialize)]
+pub(super) struct Verdict {
+    pub(super) regime: &'static str,
+    pub(super) reason: &'static str,
+    pub(super) t_decision: f64,
+}
+
+impl Verdict {
+    fn of(o: &squeal_core::Outcome) -> Verdict {
+        let (regime, reason, t_decision) = (o.regime.name(), o.reason.name(), o.t_decision);
+        Verdict {
+            regime,
+            reason,
+            t_decision,
+        }
+    }
+}
+
+/// The label of the start (the classifier's verdict on the same run, or the start rule's).
 #[derive(Serialize)]
 pub(super) struct Classification {
-    /// `steady_slip`, `stick_slip` or `undecided`.
-    pub(super) regime: &'static str,
-    /// Why the classifier stopped.
-    pub(super) reason: &'static str,
-    /// Time of the decision (`t_end` if undecided by the time limit).
-    pub(super) t_decision: f64,
+    #[serde(flatten)]
+    pub(super) label: Verdict,
     /// Time on stick-slip before the run settled, as a scan stores it per cell
     /// (`squeal_core::classify::t_squeal`; JSON has no infinity, so by kind).
     pub(super) squeal: squeal_core::Squeal,
     /// The run's own verdict where the label was decided at the start (the start rule of
     /// `squeal scan` and `classify`), else `null`: the label is the run's.
-    pub(super) run: Option<RunVerdict>,
+    pub(super) run: Option<Verdict>,
     /// The start rule and the run's own verdict disagree: the label is undecided.
     pub(super) conflict: bool,
-}
-
-/// The classifier's verdict on the run itself.
-#[derive(Serialize)]
-pub(super) struct RunVerdict {
-    pub(super) regime: &'static str,
-    pub(super) reason: &'static str,
-    pub(super) t_decision: f64,
 }
 
 impl Classification {
     /// The label of run `t` and, where the start rule gave it, the run's own verdict.
     pub(super) fn of(t: &squeal_scan::trajectory::Trajectory) -> Classification {
-        let o = &t.outcome;
         Classification {
-            regime: o.regime.name(),
-            reason: o.reason.name(),
-            t_decision: o.t_decision,
-            squeal: squeal_core::Squeal::of(o.t_squeal),
-            run: t.at_start.then(|| RunVerdict {
-                regime: t.own.regime.name(),
-                reason: t.own.reason.name(),
-                t_decision: t.own.t_decision,
-            }),
+            label: Verdict::of(&t.outcome),
+            squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
+            run: t.at_start.then(|| Verdict::of(&t.own)),
             conflict: t.conflict,
         }
     }
@@ -162,31 +163,28 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
         s.steps
     );
     let c = &s.classification;
-    let label = match c.regime {
+    let label = match c.label.regime {
         "steady_slip" => "steady slip",
         "stick_slip" => "stick-slip",
         _ => "not yet settled",
     };
+    let (l, warn) = (
+        &c.label,
+        "the start rule and the run's own verdict disagree",
+    );
     match &c.run {
         None => println!(
             "ended: {label} (classifier: {}, {} at t = {:.6})",
-            c.regime, c.reason, c.t_decision
+            l.regime, l.reason, l.t_decision
         ),
-        Some(r) => {
-            println!(
-                "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)",
-                c.reason
-            );
-            println!(
-                "the run itself: {} ({} at t = {:.6})",
-                r.regime, r.reason, r.t_decision
-            );
-        }
+        Some(r) => println!(
+            "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)\n\
+             the run itself: {} ({} at t = {:.6})",
+            l.reason, r.regime, r.reason, r.t_decision
+        ),
     }
     if c.conflict {
-        println!(
-            "  WARNING: the start rule and the run's own verdict disagree: the label is undecided"
-        );
+        println!("  WARNING: {warn}: the label is undecided");
     }
     println!("squeal: {}", c.squeal.words());
     let f = &s.final_state;
