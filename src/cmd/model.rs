@@ -158,9 +158,7 @@ impl ModelArgs {
         )
         .map_err(flag_error)
     }
-}
 
-impl ModelArgs {
     /// The one-map scan plan of these flags with the classifier's time limit `t_max` (given
     /// by `flag`): what `MapContext::prepare` needs to label a start as a scan does.
     pub fn plan(&self, t_max: f64, flag: &str) -> anyhow::Result<squeal_scan::Plan> {

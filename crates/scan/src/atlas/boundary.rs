@@ -401,11 +401,24 @@ pub fn fold_crisis(
         )));
     }
     let shared = SharedReturns::default();
-    let verdict = |v: f64, which: Variant| {
+    crisis_in(fold_verdict(param, setup, ps, base, &shared), range, coarse)
+}
+
+/// The band's verdict of the fold at value `v` of `param` ([`Variant::lasting_sharing`]: the
+/// section searched with the point's settings there, [`settings_for`]), its returns shared
+/// between the computations at one value: the one verdict of [`fold_crisis`] and
+/// [`cover_critical`].
+fn fold_verdict<'a>(
+    param: BoundaryParam,
+    setup: Setup,
+    ps: &'a PointSettings,
+    base: Budget,
+    shared: &'a SharedReturns,
+) -> impl Fn(f64, Variant) -> Result<crate::band::Lasting, ScanError> + 'a {
+    move |v: f64, which: Variant| {
         let s = setup.with_params(param.with(setup.params, v));
         which.lasting_sharing(s, &settings_for(&s.params, &ps.cycle), base, &shared.at(v))
-    };
-    crisis_in(verdict, range, coarse)
+    }
 }
 
 /// The critical value of `param` for `point`: above it the point does not squeal.
@@ -504,12 +517,9 @@ fn cover_critical(
     if !(found(fold) && found(critical)) || critical.bracket[0] <= fold.nu + fold.uncertainty {
         return;
     }
-    let verdict = |v: f64, which: Variant| {
-        let s = setup.with_params(param.with(setup.params, v));
-        which.lasting(s, &settings_for(&s.params, &ps.cycle), Budget::Standard)
-    };
+    let shared = SharedReturns::default();
     let raised = crate::band::raise_top(
-        verdict,
+        fold_verdict(param, setup, ps, Budget::Standard, &shared),
         (fold.nu, fold.uncertainty),
         critical.bracket[1],
         (range.hi, range.rtol),

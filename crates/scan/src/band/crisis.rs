@@ -152,6 +152,23 @@ struct Verdicts<F> {
 }
 
 impl<F: Fn(f64, Variant) -> Result<Lasting, ScanError>> Verdicts<F> {
+    fn new(verdict: F) -> Verdicts<F> {
+        Verdicts {
+            verdict,
+            memo: RefCell::new(HashMap::new()),
+        }
+    }
+
+    /// Whether every [`Variant`] gives `want` at `x`.
+    fn agree(&self, x: f64, want: Lasting) -> Result<bool, ScanError> {
+        for w in Variant::ALL {
+            if self.at(x, w)? != want {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
     fn at(&self, v: f64, which: Variant) -> Result<Lasting, ScanError> {
         if let Some(l) = self.memo.borrow().get(&(v.to_bits(), which)) {
             return Ok(*l);
@@ -201,10 +218,7 @@ pub fn crisis_in(
     range: ParamRange,
     coarse: usize,
 ) -> Result<Crisis, ScanError> {
-    let v = Verdicts {
-        verdict,
-        memo: RefCell::new(HashMap::new()),
-    };
+    let v = Verdicts::new(verdict);
     let (lo, hi) = (range.lo, range.hi);
     let coarse = coarse.max(1);
     let changes = coarse_changes(
@@ -285,14 +299,6 @@ fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
     [a, b]: [f64; 2],
     (lo, hi, rtol): (f64, f64, f64),
 ) -> Result<([f64; 2], [bool; 2]), ScanError> {
-    let agree = |x: f64, want: Lasting| -> Result<bool, ScanError> {
-        for w in Variant::ALL {
-            if v.at(x, w)? != want {
-                return Ok(false);
-            }
-        }
-        Ok(true)
-    };
     let holds = |w: Variant| -> Result<bool, ScanError> {
         Ok(v.at(a, w)? == Lasting::Squeals && v.at(b, w)? == Lasting::Quiet)
     };
@@ -300,8 +306,8 @@ fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
     // Outward in steps of a quarter of the bracket's log-width (at least rtol), doubled each
     // time: a few verdicts where the computations nearly agree, the range's end at worst.
     let first = ((b / a).ln() / 4.0).max(rtol.ln_1p());
-    let x = step_out(a, lo, -first, |x| agree(x, Lasting::Squeals))?;
-    let y = step_out(b, hi, first, |y| agree(y, Lasting::Quiet))?;
+    let x = step_out(a, lo, -first, |x| v.agree(x, Lasting::Squeals))?;
+    let y = step_out(b, hi, first, |y| v.agree(y, Lasting::Quiet))?;
     Ok(([x, y], held))
 }
 
@@ -344,20 +350,10 @@ pub fn raise_top(
     at: f64,
     (hi, rtol): (f64, f64),
 ) -> Result<((f64, f64), u32), ScanError> {
-    let v = Verdicts {
-        verdict,
-        memo: RefCell::new(HashMap::new()),
-    };
+    let v = Verdicts::new(verdict);
     let bottom = nu - uncertainty;
     let first = ((at / bottom).ln() / 4.0).max(rtol.ln_1p());
-    let top = step_out(at, hi, first, |y| {
-        for w in Variant::ALL {
-            if v.at(y, w)? != Lasting::Quiet {
-                return Ok(false);
-            }
-        }
-        Ok(true)
-    })?;
+    let top = step_out(at, hi, first, |y| v.agree(y, Lasting::Quiet))?;
     if top <= nu + uncertainty {
         return Ok(((nu, uncertainty), v.count()));
     }
