@@ -385,17 +385,25 @@ pub fn classifier_for(stepper: &Stepper, base: Classifier, r_max: f64) -> Classi
     Classifier { band_rules, ..base }
 }
 
-/// Cycle-search settings that cover a plan's grid: `r_max` beyond its farthest corner.
-pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
+/// The farthest start of `grid` from the fixed point of `params`.
+pub fn grid_reach(grid: &crate::grid::Grid, params: &Params) -> f64 {
     let fp = params.fixed_point();
-    let g = &plan.grid;
-    let far = [g.x0.min, g.x0.max]
+    [grid.x0.min, grid.x0.max]
         .iter()
-        .flat_map(|&x| [g.v0.min, g.v0.max].map(|v| (x - fp.x).hypot(v - fp.v)))
-        .fold(0.0f64, f64::max);
+        .flat_map(|&x| [grid.v0.min, grid.v0.max].map(|v| (x - fp.x).hypot(v - fp.v)))
+        .fold(0.0f64, f64::max)
+}
+
+/// The plan's cycle search (`[cycle]`) for map parameters `params`: unless the spec gave
+/// `r_max`, it reaches beyond the grid's farthest start ([`grid_reach`]).
+pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
+    let search = plan.cycle.search;
+    if plan.cycle.r_max_given {
+        return search;
+    }
     CycleSettings {
-        r_max: (1.2 * far).max(4.0),
-        ..CycleSettings::default()
+        r_max: (1.2 * grid_reach(&plan.grid, params)).max(4.0),
+        ..search
     }
 }
 
@@ -434,7 +442,7 @@ impl MapContext {
         // the classifier's band rules need to know whether the outside of the cycle is
         // invariant ([`Outside`]).
         let needs_search = plan.early_stop == EarlyStop::Cycle
-            || plan.locate_cycle
+            || plan.cycle.locate
             || !params.law.has_true_stick();
         let mut section = None;
         let mut cycle = None;
@@ -459,7 +467,7 @@ impl MapContext {
             if plan.early_stop == EarlyStop::Cycle {
                 classifier.trap = trap_of(&found, plan.trap_margin);
             }
-            if plan.locate_cycle {
+            if plan.cycle.locate {
                 cycle = Some(
                     match ulc::locate_from(&stepper, found, &cs, stats, returns) {
                         Ok(c) => Ok(c),

@@ -42,8 +42,10 @@
 //!                                  # this many to settlement and count (dis)agreements;
 //!                                  # 0 turns the audit off. Default: 1024, or cells / 16
 //!                                  # on grids above 16384 cells (about 16 per map)
-//! [cycle]
+//! [cycle]                          # one table for scans and atlases (docs/spec.md)
 //! locate = true                    # locate the unstable cycle, store and draw it
+//! # r_min = 0.01, r_max (default 1.2 x the grid's farthest start from the fixed point, at
+//! # least 4), samples = 96, rtol = 1e-10, t_return = 200, half_dt = true: the section search
 //! [output]
 //! path = "fig9.h5"                 # relative to the working directory
 //! ```
@@ -60,7 +62,8 @@ use crate::values::{Value, expand};
 mod physical;
 mod tables;
 
-pub(crate) use tables::{IntegrationTable, ModelTable, OutputTable, check_name};
+pub use tables::CycleOptions;
+pub(crate) use tables::{CycleTable, IntegrationTable, ModelTable, OutputTable, Shape, check_name};
 
 /// The spec version this build reads.
 pub const SPEC_VERSION: u32 = 1;
@@ -84,7 +87,7 @@ struct SpecFile {
     #[serde(default)]
     classifier: ClassifierSpec,
     #[serde(default)]
-    cycle: CycleSpec,
+    cycle: CycleTable,
     output: OutputTable,
 }
 
@@ -172,23 +175,6 @@ pub(crate) struct ClassifierSpec {
     early_stop: EarlyStop,
     trap_margin: Option<f64>,
     audit_every: Option<i64>,
-}
-
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-struct CycleSpec {
-    #[serde(default = "yes")]
-    locate: bool,
-}
-
-fn yes() -> bool {
-    true
-}
-
-impl Default for CycleSpec {
-    fn default() -> Self {
-        CycleSpec { locate: true }
-    }
 }
 
 /// Largest spec file read, in bytes. The shipped specs are under 3 kB; a spec is a few
@@ -431,8 +417,8 @@ pub struct Plan {
     /// With early stopping: about one cell in `audit_every` is also run to settlement
     /// (classifier without the trap) and the agreement stored; 0: no audit.
     pub audit_every: u64,
-    /// Whether to locate, store and draw the unstable cycle.
-    pub locate_cycle: bool,
+    /// `[cycle]`: whether to locate, store and draw the unstable cycle, and the search.
+    pub cycle: CycleOptions,
     /// The output file.
     pub output: PathBuf,
     /// The physical system of the first map when the spec gives `[physical]` (SI units; the
@@ -675,6 +661,25 @@ impl Plan {
             trap_margin,
             audit_every,
         } = spec.classifier.check(dt, grid.cells(), &invalid)?;
+        let cycle = spec.cycle.check(Shape::Scan, &invalid)?;
+        if cycle.r_max_given {
+            // The section search must reach every start of the grid: the start rule and the
+            // band's fates are read off the searched stretch of the section.
+            let reach = maps
+                .iter()
+                .map(|p| crate::scanner::grid_reach(&grid, p))
+                .fold(0.0f64, f64::max);
+            if cycle.search.r_max < reach {
+                return Err(invalid(
+                    "cycle.r_max",
+                    format!("{:?}", cycle.search.r_max),
+                    &format!(
+                        "an amplitude reaching the grid's farthest start from the fixed point \
+                         ({reach:.4}), or no key (then 1.2 times that, at least 4)"
+                    ),
+                ));
+            }
+        }
         let output = spec.output.check(&invalid)?;
         let name = tables::check_name(spec.name.as_deref(), path, "", &invalid)?;
         Ok(Plan {
@@ -690,7 +695,7 @@ impl Plan {
             early_stop,
             trap_margin,
             audit_every,
-            locate_cycle: spec.cycle.locate,
+            cycle,
             output,
             physical,
         })

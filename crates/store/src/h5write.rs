@@ -114,7 +114,7 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     num_attr(file, "settle_rtol", plan.classifier.settle_rtol)?;
     str_attr(file, "early_stop", plan.early_stop.name())?;
     num_attr(file, "trap_margin", plan.trap_margin)?;
-    num_attr(file, "locate_cycle", plan.locate_cycle as u8)?;
+    num_attr(file, "locate_cycle", plan.cycle.locate as u8)?;
     num_attr(file, "block_rows", g.block_rows as u64)?;
     match &g.sample {
         None => str_attr(file, "sampling", "grid")?,

@@ -19,8 +19,8 @@ use super::spec::AtlasPlan;
 
 impl AtlasPlan {
     /// The scan plan of the basin maps (map `i` = parameter point `i`), if the spec has a
-    /// `[grid]`. Cycles are located (`locate_cycle`) so each map stores the cycle that bounds
-    /// its basin.
+    /// `[grid]`. Cycles are located (a scan's `[cycle]` defaults: the search reaches beyond
+    /// the grid) so each map stores the cycle that bounds its basin.
     pub fn map_plan(&self) -> Option<Plan> {
         let m = self.maps.as_ref()?;
         Some(Plan {
@@ -36,7 +36,7 @@ impl AtlasPlan {
             early_stop: m.early_stop,
             trap_margin: m.trap_margin,
             audit_every: m.audit_every,
-            locate_cycle: true,
+            cycle: crate::spec::CycleOptions::scan(),
             output: self.out.clone(),
             physical: None,
         })

@@ -133,12 +133,11 @@ impl PointSettings {
 
 impl Default for PointSettings {
     fn default() -> Self {
+        // The atlas's `[cycle]` defaults, from the one table.
+        let cycle = crate::spec::CycleOptions::atlas();
         PointSettings {
-            cycle: CycleSettings {
-                rtol: 1e-9,
-                ..CycleSettings::default()
-            },
-            tangency_iters: 24,
+            cycle: cycle.search,
+            tangency_iters: cycle.tangency_iters,
             transient: 40,
             window: 40,
             operating: State { x: 0.0, v: 0.0 },

@@ -99,7 +99,7 @@ struct AtlasFile {
     #[serde(default)]
     integration: crate::spec::IntegrationTable,
     #[serde(default)]
-    cycle: Option<CycleFile>,
+    cycle: Option<crate::spec::CycleTable>,
     #[serde(default)]
     attractor: Option<AttractorFile>,
     #[serde(default)]
@@ -142,18 +142,6 @@ pub(crate) fn physical_key(name: &str) -> &str {
         "phi" => "mu_s",
         n => n,
     }
-}
-
-#[derive(Deserialize, Debug, Default, Clone)]
-#[serde(deny_unknown_fields)]
-struct CycleFile {
-    r_min: Option<f64>,
-    r_max: Option<f64>,
-    samples: Option<i64>,
-    rtol: Option<f64>,
-    t_return: Option<f64>,
-    half_dt: Option<bool>,
-    tangency_iters: Option<i64>,
 }
 
 #[derive(Deserialize, Debug, Default, Clone)]

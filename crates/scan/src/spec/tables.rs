@@ -5,11 +5,12 @@
 
 use std::path::PathBuf;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use squeal_core::{FrictionLaw, Scheme, SolverConfig, SolverKind};
 
 use super::Invalid;
 use crate::error::ScanError;
+use crate::ulc::CycleSettings;
 use crate::values::Value;
 
 /// The `[model]` table: the law and its own keys. A scan sweeps one of the damping and the
@@ -154,6 +155,127 @@ impl IntegrationTable {
     }
 }
 
+/// The `[cycle]` table, one for both kinds of spec: whether to locate the unstable cycle
+/// (scans only: an atlas's figures are the cycle's) and the section search's settings
+/// ([`crate::ulc::CycleSettings`]), each checked once here ([`crate::bounds::cycle_search`]).
+#[derive(Deserialize, Debug, Default, Clone)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CycleTable {
+    locate: Option<bool>,
+    r_min: Option<f64>,
+    r_max: Option<f64>,
+    samples: Option<i64>,
+    rtol: Option<f64>,
+    t_return: Option<f64>,
+    half_dt: Option<bool>,
+    tangency_iters: Option<i64>,
+}
+
+/// Which spec a table is read for: the keys that mean something and the defaults differ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Shape {
+    /// A scan spec ([`crate::spec::Plan`]).
+    Scan,
+    /// An atlas spec ([`crate::atlas::AtlasPlan`]).
+    Atlas,
+}
+
+impl CycleTable {
+    /// The checked settings. Defaults: [`CycleOptions::scan`] and [`CycleOptions::atlas`].
+    pub(crate) fn check(&self, shape: Shape, invalid: Invalid) -> Result<CycleOptions, ScanError> {
+        let mut o = match shape {
+            Shape::Scan => CycleOptions::scan(),
+            Shape::Atlas => CycleOptions::atlas(),
+        };
+        match (shape, self.locate, self.tangency_iters) {
+            (Shape::Atlas, Some(false), _) => {
+                return Err(invalid(
+                    "cycle.locate",
+                    "false".into(),
+                    "true or no key: an atlas always locates the cycle (its figures are the \
+                     cycle's)",
+                ));
+            }
+            (Shape::Scan, _, Some(t)) => {
+                return Err(invalid(
+                    "cycle.tangency_iters",
+                    t.to_string(),
+                    "no key in a scan spec: only an atlas point refines a tangency of the \
+                     return map",
+                ));
+            }
+            _ => {}
+        }
+        o.locate = self.locate.unwrap_or(o.locate);
+        let c = &mut o.search;
+        c.r_min = self.r_min.unwrap_or(c.r_min);
+        c.r_max = self.r_max.unwrap_or(c.r_max);
+        o.r_max_given = self.r_max.is_some();
+        c.rtol = self.rtol.unwrap_or(c.rtol);
+        c.t_return = self.t_return.unwrap_or(c.t_return);
+        c.check_half_dt = self.half_dt.unwrap_or(c.check_half_dt);
+        let samples = self.samples.unwrap_or(c.samples as i64);
+        if !(3..=crate::bounds::MAX_CYCLE_SAMPLES as i64).contains(&samples) {
+            return Err(invalid(
+                "cycle.samples",
+                samples.to_string(),
+                "a count in 3..=100000",
+            ));
+        }
+        c.samples = samples as usize;
+        crate::bounds::cycle_search(c, &|k| format!("cycle.{k}"), invalid)?;
+        let ti = self.tangency_iters.unwrap_or(o.tangency_iters as i64);
+        if !(0..=200).contains(&ti) {
+            return Err(invalid(
+                "cycle.tangency_iters",
+                ti.to_string(),
+                "a count in 0..=200",
+            ));
+        }
+        o.tangency_iters = ti as u32;
+        Ok(o)
+    }
+}
+
+/// The checked `[cycle]` table.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CycleOptions {
+    /// Locate, store and draw the unstable cycle (a scan may leave it out; an atlas never).
+    pub locate: bool,
+    /// The section search. A scan's `r_max` follows its grid unless `r_max_given`
+    /// ([`crate::scanner::cycle_settings`]); an atlas point raises it to `2 lambda`.
+    pub search: CycleSettings,
+    /// Whether the spec gave `cycle.r_max`.
+    pub r_max_given: bool,
+    /// Golden-section refinements of the largest negative `D` at an atlas point (0: none).
+    pub tangency_iters: u32,
+}
+
+impl CycleOptions {
+    /// A scan's defaults: [`CycleSettings::default`], the cycle located.
+    pub fn scan() -> CycleOptions {
+        CycleOptions {
+            locate: true,
+            search: CycleSettings::default(),
+            r_max_given: false,
+            tangency_iters: 0,
+        }
+    }
+
+    /// An atlas's defaults: bisection to `rtol = 1e-9` (each point bisects once; its
+    /// accuracy is the dt/2 shift, far larger) and 24 tangency refinements.
+    pub fn atlas() -> CycleOptions {
+        CycleOptions {
+            search: CycleSettings {
+                rtol: 1e-9,
+                ..CycleSettings::default()
+            },
+            tangency_iters: 24,
+            ..CycleOptions::scan()
+        }
+    }
+}
+
 /// The `[output]` table.
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
@@ -270,5 +392,63 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("model.tau") && e.contains("squeal atlas"), "{e}");
+    }
+
+    #[test]
+    fn one_cycle_table_for_both_kinds_of_spec() {
+        // A scan's `[cycle]` had `locate` only, an atlas's the search keys only, parsed by two
+        // structs with two checks: `samples = 200` in a scan spec was an unknown field.
+        let scan = |cycle: &str| {
+            format!(
+                "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.01\n\
+                 [grid]\nx0 = {{ min = -3.0, max = 5.0, count = 2 }}\n\
+                 v0 = {{ min = -4.0, max = 4.0, count = 2 }}\n[cycle]\n{cycle}\n\
+                 [output]\npath = \"s.h5\"\n"
+            )
+        };
+        let atlas = |cycle: &str| {
+            format!(
+                "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.01\n[cycle]\n{cycle}\n\
+                 [output]\npath = \"a.h5\"\n"
+            )
+        };
+        let plan =
+            crate::Plan::from_toml(&scan("samples = 200\nrtol = 1e-9\nr_max = 12.0"), "s").unwrap();
+        assert_eq!(plan.cycle.search.samples, 200);
+        assert_eq!(plan.cycle.search.rtol, 1e-9);
+        let cs = crate::scanner::cycle_settings(&plan, &plan.maps[0]);
+        assert_eq!((cs.r_max, cs.samples), (12.0, 200));
+        // Without `r_max` the search follows the grid: 1.2 times its farthest start from the
+        // fixed point (1, 0) (at rest on the belt the force is F(-lambda, 0) = 1, the Coulomb
+        // limit): (-3, 4) and (-3, -4), sqrt(4^2 + 4^2) away.
+        let plan = crate::Plan::from_toml(&scan("samples = 200"), "s").unwrap();
+        let cs = crate::scanner::cycle_settings(&plan, &plan.maps[0]);
+        let reach = crate::scanner::grid_reach(&plan.grid, &plan.maps[0]);
+        assert!((reach - 32f64.sqrt()).abs() < 1e-12, "{reach}");
+        assert_eq!(cs.r_max, 1.2 * reach);
+        // An r_max short of the grid is refused, naming the key.
+        let e = crate::Plan::from_toml(&scan("r_max = 3.0"), "s")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("cycle.r_max") && e.contains("farthest start"),
+            "{e}"
+        );
+        // The same bad value gives the same message in both kinds of spec.
+        let bad = "rtol = 0.0";
+        let a = crate::atlas::AtlasPlan::from_toml(&atlas(bad), "x").unwrap_err();
+        let s = crate::Plan::from_toml(&scan(bad), "x").unwrap_err();
+        assert_eq!(a.to_string(), s.to_string());
+        assert!(a.to_string().contains("cycle.rtol"), "{a}");
+        // What one kind cannot use, it refuses by name.
+        let e = crate::atlas::AtlasPlan::from_toml(&atlas("locate = false"), "x").unwrap_err();
+        assert!(e.to_string().contains("cycle.locate"), "{e}");
+        let e = crate::Plan::from_toml(&scan("tangency_iters = 8"), "x").unwrap_err();
+        assert!(e.to_string().contains("cycle.tangency_iters"), "{e}");
+        // The atlas's own defaults come from the same table.
+        let a = crate::atlas::AtlasPlan::from_toml(&atlas("samples = 120"), "x").unwrap();
+        assert_eq!(a.point.cycle.samples, 120);
+        assert_eq!(a.point.cycle.rtol, CycleOptions::atlas().search.rtol);
+        assert_eq!(a.point.tangency_iters, 24);
     }
 }

@@ -117,34 +117,13 @@ pub(super) fn point_settings(
     inv: Invalid,
 ) -> Result<PointSettings, ScanError> {
     let mut ps = PointSettings::default();
-    let cy = f.cycle.clone().unwrap_or_default();
-    let c = &mut ps.cycle;
-    c.r_min = cy.r_min.unwrap_or(c.r_min);
-    c.r_max = cy.r_max.unwrap_or(c.r_max);
-    c.rtol = cy.rtol.unwrap_or(c.rtol);
-    c.t_return = cy.t_return.unwrap_or(c.t_return);
-    c.check_half_dt = cy.half_dt.unwrap_or(true);
-    let samples = cy.samples.unwrap_or(c.samples as i64);
-    if !(3..=100_000).contains(&samples) {
-        return Err(invalid(
-            path,
-            "cycle.samples",
-            samples,
-            "a count in 3..=100000",
-        ));
-    }
-    c.samples = samples as usize;
-    crate::bounds::cycle_search(c, &|k| format!("cycle.{k}"), &inv)?;
-    let ti = cy.tangency_iters.unwrap_or(ps.tangency_iters as i64);
-    if !(0..=200).contains(&ti) {
-        return Err(invalid(
-            path,
-            "cycle.tangency_iters",
-            ti,
-            "a count in 0..=200",
-        ));
-    }
-    ps.tangency_iters = ti as u32;
+    let cycle = f
+        .cycle
+        .clone()
+        .unwrap_or_default()
+        .check(crate::spec::Shape::Atlas, inv)?;
+    ps.cycle = cycle.search;
+    ps.tangency_iters = cycle.tangency_iters;
     let at = f.attractor.clone().unwrap_or_default();
     for (key, v, slot) in [
         ("attractor.transient", at.transient, &mut ps.transient),
