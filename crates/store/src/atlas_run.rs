@@ -24,17 +24,6 @@ pub enum AtlasRunError {
     Maps(#[from] DriveError<StoreError>),
 }
 
-/// An error and its sources, `: `-separated.
-fn chain(e: &dyn std::error::Error) -> String {
-    let mut s = e.to_string();
-    let mut src = e.source();
-    while let Some(c) = src {
-        s.push_str(&format!(": {c}"));
-        src = c.source();
-    }
-    s
-}
-
 /// Computes what `writer` is missing: the units (each handed to `on_unit` once journalled)
 /// and then the blocks of the basin maps (reported to `observer`). Stops early when `stop`
 /// becomes true (the units and blocks in flight are journalled first). Returns the writer
@@ -51,11 +40,10 @@ pub fn run_atlas(
     let todo = writer.missing();
     let mut writer = writer;
     // The sink runs on this thread: the journal's fsyncs stay off the workers.
-    driver::run(plan, &todo, stop, |r| {
-        // With every source: the OS's reason ("No space left on device") is one.
-        writer
-            .record(r)
-            .map_err(|e| ScanError::Undetermined(format!("journal: {}", chain(&e))))?;
+    driver::run(plan, &todo, stop, |r| -> Result<(), AtlasRunError> {
+        // The store's error with its sources: the OS's reason ("No space left on device")
+        // is one, and the CLI prints the chain.
+        writer.record(r)?;
         on_unit();
         Ok(())
     })?;

@@ -213,13 +213,14 @@ fn fold_lifetime(
 
 /// Runs `units` through the one executor ([`crate::executor::execute`]), handing each
 /// finished one to `sink` on the calling thread. Stops at the first error or when `stop` is
-/// raised (units in flight finish and are handed over).
-pub fn run(
+/// raised (units in flight finish and are handed over). The sink's own error type `E` (the
+/// journal's, say) comes back as it is, its sources kept.
+pub fn run<E: From<ScanError>>(
     plan: &AtlasPlan,
     units: &[Unit],
     stop: &AtomicBool,
-    sink: impl FnMut(UnitResult) -> Result<(), ScanError>,
-) -> Result<(), ScanError> {
+    sink: impl FnMut(UnitResult) -> Result<(), E>,
+) -> Result<(), E> {
     let work = |u: Unit, emit: &dyn Fn(Emit<UnitResult, ScanError>)| {
         emit(match run_unit(plan, u) {
             Ok(r) => Emit::Done(r),
@@ -258,7 +259,7 @@ path = "x.h5"
         let mut got = Vec::new();
         run(&plan, &plan.units(), &AtomicBool::new(false), |r| {
             got.push(r);
-            Ok(())
+            Ok::<(), ScanError>(())
         })
         .unwrap();
         assert_eq!(got.len(), 2);
