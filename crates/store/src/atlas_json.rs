@@ -81,7 +81,8 @@ fn point_json(plan: &AtlasPlan, res: &AtlasResults, i: usize, p: Option<&PointRe
     };
     o["regime"] = p.regime.name().into();
     o["operating_point_squeals"] = json!(p.regime.operating_point_squeals());
-    o["note"] = json!(p.note);
+    o["note"] = json!(p.note.as_ref().map(|n| &n.text));
+    o["note_kind"] = json!(p.note.as_ref().map(|n| n.kind.name()));
     let scales = plan.physical_at(i).map(|ph| ph.scales());
     let mut si = serde_json::Map::new();
     for c in COLUMNS {
@@ -120,7 +121,8 @@ fn boundary_json(plan: &AtlasPlan, j: usize, b: Option<&BoundaryResult>) -> Valu
     let mut o = json!({"index": j, "coords": coords, "in": bkey,
         format!("{bkey}_range"): range});
     if let Some(b) = b {
-        o["note"] = json!(b.note);
+        o["note"] = json!(b.note.as_ref().map(|n| &n.text));
+        o["note_kind"] = json!(b.note.as_ref().map(|n| n.kind.name()));
         for (name, bd) in [("fold", b.fold), ("critical", b.critical)] {
             let mut e = json!({
                 "status": bd.status.name(),

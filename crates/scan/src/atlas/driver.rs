@@ -12,6 +12,7 @@ use std::sync::atomic::AtomicBool;
 use serde::{Deserialize, Serialize};
 
 use super::boundary::{self, Boundary};
+use super::note::{Note, NoteKind};
 use super::point::{PointResult, compute_point};
 use super::spec::AtlasPlan;
 use crate::error::ScanError;
@@ -50,8 +51,8 @@ pub struct BoundaryResult {
     /// not measured).
     #[serde(default)]
     pub lifetime: crate::lifetime::FoldLifetime,
-    /// Why a search was not computed (a failed run), if one was not.
-    pub note: Option<String>,
+    /// Why a search was not computed (a failed run), or what the coarse scan found.
+    pub note: Option<Note>,
 }
 
 /// A finished unit.
@@ -105,7 +106,7 @@ pub fn compute_at(plan: &AtlasPlan, i: usize, warm: Option<f64>) -> PointResult 
     };
     compute(plan.setup_at(i), &plan.settings_at(i), warm).unwrap_or_else(|e| {
         let mut p = super::columns::empty_point();
-        p.note = Some(e.to_string());
+        p.note = Some(Note::new(NoteKind::Failure, e.to_string()));
         p
     })
 }
@@ -129,11 +130,12 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let ps = plan.settings_at(i);
             // A failed run inside a bisection leaves that boundary not computed, with the
             // reason: one hard point does not abort the atlas.
-            let mut notes = Vec::new();
+            let mut notes: Option<Note> = None;
             let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
                 Ok(b) => b,
                 Err(e) => {
-                    notes.push(format!("{what}: {e}"));
+                    let n = Note::new(NoteKind::Failure, format!("{what}: {e}"));
+                    notes = Some(Note::add(notes.take(), n));
                     Boundary::none()
                 }
             };
@@ -156,27 +158,31 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));
             let critical = critical.map_or_else(Boundary::none, |r| keep("critical", r));
             if fold.changes > 1 {
-                notes.push(format!(
-                    "fold: the regime changes {} times along {} in the coarse scan ({} steps): the fold is the last change",
-                    fold.changes,
-                    plan.boundary_words(),
-                    plan.boundary_coarse
-                ));
+                let n = Note::new(
+                    NoteKind::Finding,
+                    format!(
+                        "fold: the regime changes {} times along {} in the coarse scan ({} steps): the fold is the last change",
+                        fold.changes,
+                        plan.boundary_words(),
+                        plan.boundary_coarse
+                    ),
+                );
+                notes = Some(Note::add(notes, n));
             }
             let lifetime = match fold_lifetime(plan, setup, &ps, &fold) {
                 Ok(l) => l,
                 Err(e) => {
-                    notes.push(format!("lifetimes: {e}"));
+                    let n = Note::new(NoteKind::Failure, format!("lifetimes: {e}"));
+                    notes = Some(Note::add(notes.take(), n));
                     crate::lifetime::FoldLifetime::none()
                 }
             };
-            let note = (!notes.is_empty()).then(|| notes.join("; "));
             Ok(UnitResult::Boundary(BoundaryResult {
                 index: j,
                 fold,
                 critical,
                 lifetime,
-                note,
+                note: notes,
             }))
         }
     }

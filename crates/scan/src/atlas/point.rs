@@ -21,6 +21,7 @@ use crate::section::{self, Bracket, ReturnMap, Search, SectionCycles, search};
 
 use super::attractor::{StickFail, StickSlipFigures, find_stick_slip};
 use super::geometry::{Region, basin_fraction, min_kick};
+use super::note::{Note, NoteKind};
 use crate::ulc::{CycleReport, CycleSettings, describe_bracket};
 
 /// The regime of one parameter point. Stored as the HDF5 enum `regime`.
@@ -200,8 +201,8 @@ pub struct PointResult {
     pub evaluations: u64,
     /// Solver failures met.
     pub failures: u64,
-    /// Why the point is undecided, if it is.
-    pub note: Option<String>,
+    /// Why the point is undecided, or the caveat its label rests on ([`Note`]).
+    pub note: Option<Note>,
     /// The landscape and its evidence, for laws with true stick ([`super::stribeck`]).
     #[serde(default)]
     pub landscape: Option<super::stribeck::LandscapeRecord>,
@@ -397,20 +398,25 @@ fn label(res: &mut PointResult, a: &Analysis, ps: &PointSettings) {
             res.regime = AtlasRegime::SteadySlipOnly;
             res.basin_fraction = 1.0;
             res.basin_fraction_err = 0.0;
-            res.note = Some(format!(
-                "an unstable cycle at {} but starts outside it fall back inside ({}): no stick-slip attractor",
-                ps.amplitude_words(res.cycle.map_or(f64::NAN, |c| c.r_section)),
-                ps.time_words(*t, 1)
+            res.note = Some(Note::new(
+                NoteKind::Finding,
+                format!(
+                    "an unstable cycle at {} but starts outside it fall back inside ({}): no stick-slip attractor",
+                    ps.amplitude_words(res.cycle.map_or(f64::NAN, |c| c.r_section)),
+                    ps.time_words(*t, 1)
+                ),
             ));
         }
         (_, Some(Err(StickFail::FellInside { t }))) => {
-            res.note = Some(format!(
+            res.note = Some(Note::conflict(format!(
                 "D(r_min) > 0 but the run from outside reached the fixed point ({})",
                 ps.time_words(*t, 1)
-            ));
+            )));
         }
-        (_, Some(Err(StickFail::Failed(e)))) => res.note = Some(e.clone()),
-        (_, None) => res.note = Some("no stick-slip run".into()),
+        (_, Some(Err(StickFail::Failed(e)))) => {
+            res.note = Some(Note::new(NoteKind::Failure, e.clone()))
+        }
+        (_, None) => res.note = Some(Note::new(NoteKind::Failure, "no stick-slip run")),
     }
 }
 
@@ -443,14 +449,17 @@ fn confirm_operating_point(
         // No verdict within the classifier's t_max (seen at low damping, where the run from
         // near the fixed point grows slowly): no evidence against the label, but it is not
         // confirmed either, and the note says so.
-        res.note = Some(format!(
-            "unconfirmed: the operating point's own run did not settle by {} ({})",
-            ps.time_words(o.t_decision, 0),
-            o.reason.name()
+        res.note = Some(Note::new(
+            NoteKind::Unconfirmed,
+            format!(
+                "unconfirmed: the operating point's own run did not settle by {} ({})",
+                ps.time_words(o.t_decision, 0),
+                o.reason.name()
+            ),
         ));
     } else if o.regime != squeal_core::Regime::StickSlip {
         let band = res.stick_slip.map_or(f64::NAN, |s| s.r_band[1]);
-        res.note = Some(format!(
+        res.note = Some(Note::conflict(format!(
             "conflict: the section method says the operating point squeals (outside the unstable cycle at {}, stick-slip band at {} for {} revolutions) but its own run ends {} ({} at {})",
             ps.amplitude_words(res.cycle.map_or(f64::NAN, |c| c.r_section)),
             ps.amplitude_words(band),
@@ -458,7 +467,7 @@ fn confirm_operating_point(
             o.regime.name(),
             o.reason.name(),
             ps.time_words(o.t_decision, 1)
-        ));
+        )));
         res.regime = AtlasRegime::Undecided;
     }
     Ok(())
@@ -580,10 +589,9 @@ mod tests {
         .unwrap();
         assert_eq!(r.regime, AtlasRegime::Undecided, "{r:?}");
         let note = r.note.clone().unwrap();
-        assert!(
-            note.starts_with("conflict:") && note.contains("steady_slip"),
-            "{note}"
-        );
+        assert_eq!(note.kind, NoteKind::Conflict, "{note}");
+        let note = note.text;
+        assert!(note.contains("steady_slip"), "{note}");
         assert!(!note.contains("m/s"), "{note}");
         // The same point in a physical plan (issue 21: notes of physical files gave r and t
         // nondimensionally): the note states the cycle's crossing in m/s and the time in s,
@@ -610,7 +618,7 @@ mod tests {
             Some(0.526_863_078_829_873_4),
         )
         .unwrap();
-        let si_note = si.note.unwrap();
+        let si_note = si.note.unwrap().text;
         let r_cycle = r.cycle.unwrap().r_section;
         let crossing = format!(
             "x' = {:.3e} m/s (r = {r_cycle:.6})",

@@ -145,10 +145,12 @@ impl AtlasResults {
             ) {
                 continue;
             }
-            p.note = Some(format!(
+            // Any earlier note is kept before the conflict's words.
+            let conflict = super::Note::conflict(format!(
                 "conflict: labelled {} by a stick-slip run that stayed for the attractor's window, but the point lies above its fold's interval, where the band leaks (a long transient, or the regime flips between the coarse steps)",
                 p.regime.name()
             ));
+            p.note = Some(super::Note::add(p.note.take(), conflict));
             p.regime = AtlasRegime::Undecided;
             n += 1;
         }
@@ -214,7 +216,9 @@ mod tests {
             let nu = plan.params_at(i).nu;
             if nu > 0.021 {
                 assert_eq!(p.regime, AtlasRegime::Undecided, "nu {nu}");
-                assert!(p.note.as_ref().unwrap().contains("fold's interval"));
+                let note = p.note.as_ref().unwrap();
+                assert_eq!(note.kind, super::super::NoteKind::Conflict);
+                assert!(note.text.contains("fold's interval"));
                 seen += 1;
             } else {
                 assert_eq!(p.regime, AtlasRegime::BistableQuiet, "nu {nu}");

@@ -35,6 +35,7 @@ use crate::section::{ParamRange, Search};
 
 use super::boundary::{Boundary, BoundaryParam, bisect_nu};
 use super::columns::{Column, Kind, Si};
+use super::note::{Note, NoteKind};
 use super::point::{self, AtlasRegime, PointResult, PointSettings, analyse};
 use crate::error::ScanError;
 use crate::landscape::{LANDSCAPE_FIELDS, evidence_words};
@@ -174,10 +175,8 @@ pub fn reconcile(res: &mut PointResult, ev: &LandscapeEvidence) {
     match agrees(ev.landscape, res.regime) {
         Some(true) => {}
         None => {
-            res.note = Some(match res.note.take() {
-                Some(n) => format!("{n}; {landscape}"),
-                None => landscape,
-            });
+            let words = Note::new(NoteKind::Finding, landscape);
+            res.note = Some(Note::add(res.note.take(), words));
         }
         Some(false) => {
             let search = match res.cycle {
@@ -192,9 +191,9 @@ pub fn reconcile(res: &mut PointResult, ev: &LandscapeEvidence) {
                 .note
                 .take()
                 .map_or(String::new(), |n| format!("; its note: {n}"));
-            res.note = Some(format!(
+            res.note = Some(Note::conflict(format!(
                 "conflict: the section search says {search} but {landscape}{extra}"
-            ));
+            )));
             res.regime = AtlasRegime::Undecided;
         }
     }
@@ -568,10 +567,10 @@ path = "s.h5"
         reconcile(&mut r, &ev);
         assert_eq!(r.regime, AtlasRegime::Undecided);
         let note = r.note.unwrap();
+        assert_eq!(note.kind, NoteKind::Conflict, "{note}");
+        let note = note.text;
         assert!(
-            note.starts_with("conflict:")
-                && note.contains("steady_slip_only")
-                && note.contains("says bistable"),
+            note.contains("steady_slip_only") && note.contains("says bistable"),
             "{note}"
         );
         // Agreement leaves the label alone.

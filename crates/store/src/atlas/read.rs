@@ -12,8 +12,9 @@ use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus, PointResult};
 
 use super::schema::{
-    BOUNDARIES_DONE, BOUNDARY_NOTE, FOLD_CHANGES, LANDSCAPE_NOT_COMPUTED, NOTE, POINTS_DONE,
-    REGIME, SEARCHES, half_dt_of, set_landscape, stored_name,
+    BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FOLD_CHANGES, LANDSCAPE_NOT_COMPUTED, NOTE,
+    NOTE_KIND, Named, POINTS_DONE, REGIME, SEARCHES, half_dt_of, note_of, set_landscape,
+    stored_name,
 };
 use super::{ATLAS_SCHEMA, maps, missing_blocks, missing_units, write_atlas};
 use crate::error::H5Ctx;
@@ -47,11 +48,19 @@ fn rd_new<T: H5Type>(file: &File, path: &Path, name: &str) -> Result<Vec<T>, Sto
     }
 }
 
-/// Notes read back: `None` where empty.
-fn notes(file: &File, path: &Path, name: &str) -> Result<Vec<Option<String>>, StoreError> {
+/// Notes read back from their words and kinds: `None` where empty ([`note_of`]).
+fn notes(
+    file: &File,
+    path: &Path,
+    (name, _): Named,
+    (kind_name, _): Named,
+) -> Result<Vec<Option<squeal_scan::atlas::Note>>, StoreError> {
     let v: Vec<VarLenUnicode> = rd(file, path, name)?;
-    let note = |n: VarLenUnicode| Some(n.as_str().to_string()).filter(|n| !n.is_empty());
-    Ok(v.into_iter().map(note).collect())
+    let kinds: Vec<u8> = rd_new(file, path, kind_name)?;
+    Ok(v.into_iter()
+        .enumerate()
+        .map(|(i, n)| note_of(Some(n.as_str().to_string()), kinds.get(i).copied()))
+        .collect())
 }
 
 /// Reads an atlas file back: its plan (from the stored spec), results and shard.
@@ -123,7 +132,7 @@ fn read_points(
     }
     let done: Vec<u8> = rd(file, path, POINTS_DONE.0)?;
     let regime: Vec<u8> = rd(file, path, REGIME.0)?;
-    let mut notes = notes(file, path, NOTE.0)?.into_iter();
+    let mut notes = notes(file, path, NOTE, NOTE_KIND)?.into_iter();
     for (i, mut p) in pts.into_iter().enumerate() {
         let note = notes.next().flatten();
         if done.get(i) == Some(&1) {
@@ -153,7 +162,7 @@ fn read_boundaries(
         .map(|s| rd_new(file, path, &s.half_dt_name()))
         .collect::<Result<_, _>>()?;
     let changes: Vec<u32> = rd_new(file, path, FOLD_CHANGES.0)?;
-    let mut notes = notes(file, path, BOUNDARY_NOTE.0)?.into_iter();
+    let mut notes = notes(file, path, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND)?.into_iter();
     let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
         .iter()
         .map(|c| {

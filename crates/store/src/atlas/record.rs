@@ -11,7 +11,7 @@ use squeal_scan::atlas::{
     UnitResult,
 };
 
-use super::schema::{SEARCHES, set_landscape};
+use super::schema::{SEARCHES, note_of, set_landscape};
 use crate::journal::{KIND_BLOCK, KIND_CYCLE, KIND_UNIT, decode_block, decode_cycle};
 
 fn num(v: f64) -> Value {
@@ -21,7 +21,8 @@ fn num(v: f64) -> Value {
 fn point_json(p: &PointResult) -> Value {
     let mut o = json!({
         "regime": p.regime as u8,
-        "note": p.note,
+        "note": p.note.as_ref().map(|n| &n.text),
+        "note_kind": p.note.as_ref().map(|n| n.kind as u8),
         "v": COLUMNS.iter().map(|c| num((c.get)(p))).collect::<Vec<_>>(),
     });
     if let Some(l) = p.landscape {
@@ -36,7 +37,10 @@ fn point_json(p: &PointResult) -> Value {
 fn point_from_json(v: &Value) -> Option<PointResult> {
     let mut p = empty_point();
     p.regime = AtlasRegime::from_u8(v.get("regime")?.as_u64()? as u8)?;
-    p.note = v.get("note")?.as_str().map(str::to_string);
+    p.note = note_of(
+        v.get("note")?.as_str().map(str::to_string),
+        v.get("note_kind").and_then(Value::as_u64).map(|k| k as u8),
+    );
     let vals = v.get("v")?.as_array()?;
     if vals.len() != COLUMNS.len() {
         return None;
@@ -62,7 +66,8 @@ fn boundary_json(b: &BoundaryResult) -> Value {
     let mut o = json!({
         "boundary": b.index,
         "fold_changes": b.fold.changes,
-        "note": b.note,
+        "note": b.note.as_ref().map(|n| &n.text),
+        "note_kind": b.note.as_ref().map(|n| n.kind as u8),
         "v": BOUNDARY_COLUMNS.iter().map(|c| num((c.get)(b))).collect::<Vec<_>>(),
     });
     for s in &SEARCHES {
@@ -84,7 +89,10 @@ fn boundary_from_json(v: &Value) -> Option<BoundaryResult> {
         d.half_dt_holds = get("half_dt").and_then(Value::as_bool);
     }
     b.fold.changes = v.get("fold_changes").and_then(Value::as_u64).unwrap_or(0) as u32;
-    b.note = v.get("note").and_then(|n| n.as_str()).map(str::to_string);
+    b.note = note_of(
+        v.get("note").and_then(|n| n.as_str()).map(str::to_string),
+        v.get("note_kind").and_then(Value::as_u64).map(|k| k as u8),
+    );
     let vals = v.get("v")?.as_array()?;
     if vals.len() != BOUNDARY_COLUMNS.len() {
         return None;
@@ -156,4 +164,78 @@ pub(super) fn add_record(
         (k, _) => return Err(format!("a record of kind {k} that an atlas does not write")),
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use squeal_scan::atlas::{Note, NoteKind};
+
+    /// A two-point atlas (one line of two dampings, no boundaries).
+    fn plan() -> AtlasPlan {
+        AtlasPlan::from_toml(
+            "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [0.01, 0.02]\n\
+             [boundaries]\nfold = false\ncritical = false\n[output]\npath = \"n.h5\"\n",
+            "n.toml",
+        )
+        .unwrap()
+    }
+
+    fn line() -> UnitResult {
+        let mut a = empty_point();
+        a.note = Some(Note::conflict("conflict: the run ends steady_slip"));
+        let mut b = empty_point();
+        b.regime = AtlasRegime::BistableSqueals;
+        b.note = Some(Note::new(NoteKind::Unconfirmed, "the run did not settle"));
+        UnitResult::Line(LineResult {
+            line: 0,
+            points: vec![a, b],
+        })
+    }
+
+    fn notes_of(r: &AtlasResults) -> Vec<Option<Note>> {
+        r.points.iter().map(|p| p.as_ref()?.note.clone()).collect()
+    }
+
+    #[test]
+    fn note_kinds_survive_the_journal_and_the_file() {
+        // Before, a note was a string: the kind of "the run did not settle" (an unconfirmed
+        // label) could not be told from a finding without reading its words.
+        let plan = plan();
+        let want = match line() {
+            UnitResult::Line(l) => l.points.into_iter().map(|p| p.note).collect::<Vec<_>>(),
+            _ => unreachable!(),
+        };
+        let back = unit_from_json(&unit_json(&line())).unwrap();
+        let mut res = AtlasResults::new(&plan);
+        res.add(&plan, back);
+        assert_eq!(notes_of(&res), want);
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("n.h5");
+        let prov = crate::Provenance {
+            version: "test".into(),
+            git_revision: "test".into(),
+        };
+        crate::atlas::write_atlas(&out, &plan, &res, &prov, None).unwrap();
+        let (_, read, _) = crate::atlas::read_atlas(&out).unwrap();
+        assert_eq!(notes_of(&read), want);
+    }
+
+    #[test]
+    fn records_without_kinds_read_their_first_word() {
+        // Journals and files from before the kinds were stored: a conflict and an unconfirmed
+        // label always began with that word; other notes read as findings.
+        assert_eq!(
+            note_of(Some("conflict: a".into()), None).unwrap().kind,
+            NoteKind::Conflict
+        );
+        let u = note_of(Some("unconfirmed: b".into()), None).unwrap();
+        assert_eq!(u.kind, NoteKind::Unconfirmed);
+        let f = note_of(Some("the landscape says x".into()), None).unwrap();
+        assert_eq!(f.kind, NoteKind::Finding);
+        // A stored kind wins over the words, and empty words are no note.
+        let k = note_of(Some("conflict: a".into()), Some(NoteKind::Failure as u8)).unwrap();
+        assert_eq!(k.kind, NoteKind::Failure);
+        assert_eq!(note_of(Some(String::new()), Some(4)), None);
+    }
 }

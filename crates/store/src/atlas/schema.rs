@@ -6,7 +6,7 @@
 use hdf5::H5Type;
 use squeal_scan::atlas::columns::Column;
 use squeal_scan::atlas::{AtlasPlan, AtlasRegime, Boundary, BoundaryParam, BoundaryResult};
-use squeal_scan::atlas::{BoundaryStatus, PointResult};
+use squeal_scan::atlas::{BoundaryStatus, Note, NoteKind, PointResult};
 
 /// A dataset's name and long name.
 pub(super) type Named = (&'static str, &'static str);
@@ -16,6 +16,39 @@ pub(super) const NOTE: Named = (
     "note",
     "why a point is undecided, or the caveat its label rests on (empty: none)",
 );
+pub(super) const NOTE_KIND: Named = (
+    "note_kind",
+    "what the point's note says: none, finding (the label does not rest on it), unconfirmed (a check of the label did not finish), failure (a computation failed), conflict (two findings contradict each other: undecided)",
+);
+pub(super) const BOUNDARY_NOTE_KIND: Named = (
+    "boundary_note_kind",
+    "what the boundary's note says: none, finding, unconfirmed, failure (a search was not computed), conflict",
+);
+
+/// The notes of `notes` as stored: their words (empty: none) and their kinds (0: none).
+pub(super) fn note_columns<'n>(
+    notes: impl Iterator<Item = Option<&'n Note>>,
+) -> (Vec<Option<&'n str>>, Vec<u8>) {
+    notes
+        .map(|n| (n.map(|n| n.text.as_str()), n.map_or(0, |n| n.kind as u8)))
+        .unzip()
+}
+
+/// A note read back from its words and stored kind. Files and journals written before the
+/// kinds were stored (`kind` absent) say a conflict or an unconfirmed label in their first
+/// word, as their notes always did; any other note was a finding or a failure, and is read
+/// as a finding.
+pub(super) fn note_of(text: Option<String>, kind: Option<u8>) -> Option<Note> {
+    let text = text.filter(|t| !t.is_empty())?;
+    let kind = match kind.map(NoteKind::from_u8) {
+        Some(Some(k)) => k,
+        _ if text.starts_with("conflict:") => NoteKind::Conflict,
+        _ if text.starts_with("unconfirmed:") => NoteKind::Unconfirmed,
+        _ => NoteKind::Finding,
+    };
+    Some(Note::new(kind, text))
+}
+
 pub(super) const POINTS_DONE: Named = ("points_done", "1 where the point is computed");
 pub(super) const BOUNDARY_NOTE: Named = (
     "boundary_note",

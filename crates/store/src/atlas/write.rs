@@ -12,9 +12,9 @@ use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, Units};
 
 use super::schema::{
-    BOUNDARIES_DONE, BOUNDARY_NOTE, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
-    LANDSCAPE_NOT_COMPUTED, NOTE, POINTS_DONE, REGIME, RegimeH5, SEARCHES, StatusH5, half_dt_u8,
-    landscape_flags, stored_name,
+    BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
+    LANDSCAPE_NOT_COMPUTED, NOTE, NOTE_KIND, Named, POINTS_DONE, REGIME, RegimeH5, SEARCHES,
+    StatusH5, half_dt_u8, landscape_flags, note_columns, stored_name,
 };
 use super::{ATLAS_SCHEMA, maps};
 use crate::error::{H5Ctx, io};
@@ -190,10 +190,9 @@ fn write_points(
     if plan.law.has_true_stick() {
         write_landscape(o, over, res)?;
     }
-    let notes = pts
-        .iter()
-        .map(|p| p.as_ref().and_then(|p| p.note.as_deref()));
-    o.put_notes(over, NOTE, notes)?;
+    let (notes, kinds) = note_columns(pts.iter().map(|p| p.as_ref().and_then(|p| p.note.as_ref())));
+    o.put_notes(over, NOTE, notes.into_iter())?;
+    put_note_kinds(o, over, NOTE_KIND, kinds)?;
     if plan.maps.is_some() {
         maps::write_maps(o, over, plan, res)?;
     }
@@ -314,10 +313,9 @@ fn write_boundaries(
             }
         }
     }
-    let notes = bs
-        .iter()
-        .map(|b| b.as_ref().and_then(|b| b.note.as_deref()));
-    o.put_notes(over, BOUNDARY_NOTE, notes)?;
+    let (notes, kinds) = note_columns(bs.iter().map(|b| b.as_ref().and_then(|b| b.note.as_ref())));
+    o.put_notes(over, BOUNDARY_NOTE, notes.into_iter())?;
+    put_note_kinds(o, over, BOUNDARY_NOTE_KIND, kinds)?;
     let changes: Vec<u32> = bs
         .iter()
         .map(|b| b.as_ref().map_or(0, |b| b.fold.changes))
@@ -375,5 +373,14 @@ fn write_boundary_seconds(
         .collect();
     let long = long.replace("nondimensional time; the natural period is 2 pi", "seconds");
     o.put(over, (&format!("{name}_s"), &long), Some("s"), s)?;
+    Ok(())
+}
+
+/// The kinds of the notes ([`squeal_scan::atlas::NoteKind`]) as flags, 0 where there is none.
+fn put_note_kinds(o: &mut Out, over: &Over, named: Named, kinds: Vec<u8>) -> hdf5::Result<()> {
+    let flags = squeal_scan::atlas::NoteKind::flags();
+    let values: Vec<u8> = flags.iter().map(|(v, _)| *v).collect();
+    let names: Vec<&str> = flags.iter().map(|(_, n)| *n).collect();
+    o.put_flags(over, named, kinds, (&names.join(" "), &values))?;
     Ok(())
 }
