@@ -9,7 +9,7 @@ use squeal_scan::lifetime::LifetimeTable;
 use squeal_scan::section::{Change, ParamRange};
 use squeal_scan::ulc;
 
-use super::critical::Args;
+use super::critical_args::Args;
 use super::lifetimes;
 
 /// The coarse scan's changes in words, when there is more than one: the bisection assumes a

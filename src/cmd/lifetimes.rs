@@ -5,7 +5,7 @@ use squeal_scan::band::Crisis;
 use squeal_scan::lifetime::{DISTANCE_FACTORS, LifetimeSettings, LifetimeTable, lifetime_table};
 use squeal_scan::ulc::CycleSettings;
 
-use super::critical::Args;
+use super::critical_args::Args;
 
 /// The table at the crisis `c` of map `map`.
 pub fn table(

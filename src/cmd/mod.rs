@@ -2,8 +2,8 @@
 //! `common` the run flags and helpers, `out_files` the files `trajectory` and `friction`
 //! write, `atlas_words` the atlas summary that `atlas` and `info` print, `map_words` the
 //! words about a scan's maps that `scan` and `info` print. A command's progress and report
-//! have their own modules beside it (`scan_bars`, `scan_report`, `critical_report`,
-//! `trajectory_report`).
+//! have their own modules beside it (`scan_bars`, `scan_report`, `critical_args`,
+//! `critical_report`, `trajectory_report`).
 
 pub mod atlas;
 pub mod atlas_words;
@@ -11,6 +11,7 @@ pub mod classify;
 pub mod common;
 pub mod compare;
 pub mod critical;
+pub mod critical_args;
 pub mod critical_report;
 pub mod friction;
 pub mod info;

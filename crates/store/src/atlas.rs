@@ -95,13 +95,12 @@ use crate::journal::{
 };
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
-pub use read::{is_atlas_file, merge_atlas, read_atlas};
+pub use read::{AtlasInfo, is_atlas_file, merge_atlas, read_atlas, read_atlas_info};
 pub use record::unit_json;
 pub use schema::map_name;
 pub use write::write_atlas;
 
-/// The `schema` attribute of atlas files.
-pub const ATLAS_SCHEMA: &str = "squeal-atlas/1";
+pub use crate::ATLAS_SCHEMA;
 
 /// Everything computed so far (computed in squeal-scan; persisted here).
 pub use squeal_scan::atlas::AtlasResults;

@@ -11,9 +11,10 @@
 use serde::{Deserialize, Serialize};
 use squeal_scan::ClosedCurve;
 use squeal_scan::error::NoCycle;
-use squeal_scan::ulc::CycleReport;
+use squeal_scan::ulc::{CycleOutcome, CycleReport};
 
-use crate::journal::CycleRecord;
+/// A map's recorded cycle search: `None` when the plan does not locate cycles.
+pub(crate) type CycleRecord = Option<CycleOutcome>;
 
 #[derive(Serialize, Deserialize, Default)]
 struct Wire {

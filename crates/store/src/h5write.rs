@@ -12,11 +12,11 @@ use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
 use squeal_scan::{Grid, MapChecks, MapTally, Plan};
 
+use crate::cycle::CycleRecord;
 use crate::cycle::Flat;
 use crate::error::H5Ctx;
 use crate::h5out::{Dims, Out, Over, class_type, num_attr, str_attr};
 use crate::h5types::LandscapeH5;
-use crate::journal::CycleRecord;
 use crate::{SCHEMA, StoreError};
 
 /// Where the writer gets its blocks and cycles from.

@@ -25,7 +25,6 @@ use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num, cell_bytes};
-use squeal_scan::ulc::CycleOutcome;
 
 use crate::StoreError;
 use crate::error::io;
@@ -52,8 +51,7 @@ pub(crate) fn fnv64(parts: &[&[u8]]) -> u64 {
     h
 }
 
-/// A map's recorded cycle search: `None` when the plan does not locate cycles.
-pub(crate) type CycleRecord = Option<CycleOutcome>;
+pub(crate) use crate::cycle::CycleRecord;
 
 #[derive(Default)]
 pub(crate) struct Enc(pub Vec<u8>);

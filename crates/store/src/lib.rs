@@ -143,6 +143,7 @@ use squeal_scan::scanner::{BlockResult, Cell};
 use squeal_scan::{MapChecks, Plan};
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
+pub use atlas::{AtlasInfo, read_atlas_info};
 pub use atlas_json::atlas_json;
 pub use atlas_run::{AtlasRunError, run_atlas};
 pub use error::StoreError;
@@ -152,8 +153,8 @@ pub use output::{
     FileKind, OutputState, Recorded, file_kind, output_state, refuse_input_as_output,
 };
 pub use read::{
-    AtlasInfo, FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count,
-    read_atlas_info, read_cycle_summary, read_info, read_map,
+    FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,
+    read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,
@@ -167,6 +168,9 @@ use squeal_scan::ulc::CycleOutcome;
 
 /// The `schema` attribute of files this crate writes.
 pub const SCHEMA: &str = "squeal-basins/1";
+
+/// The `schema` attribute of atlas files.
+pub const ATLAS_SCHEMA: &str = "squeal-atlas/1";
 
 /// What produced a file.
 #[derive(Clone, Debug)]

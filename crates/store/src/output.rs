@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use squeal_scan::atlas::AtlasPlan;
 use squeal_scan::{Plan, Shard};
 
-use crate::atlas::ATLAS_SCHEMA;
+use crate::ATLAS_SCHEMA;
 use crate::error::H5Ctx;
 use crate::{SCHEMA, StoreError, TRAJECTORY_SCHEMA, read};
 

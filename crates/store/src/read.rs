@@ -218,32 +218,25 @@ fn join<T: std::fmt::Display>(v: Vec<T>) -> String {
         .join(", ")
 }
 
-/// An atlas file for `squeal info`: its root attributes (provenance, name, law, the fixed
-/// parameters...) and what [`crate::atlas::read_atlas`] reads (the plan of its stored spec,
-/// every point and boundary, its shard).
-#[derive(Clone, Debug)]
-pub struct AtlasInfo {
-    /// Root attributes as text, by name.
-    pub attrs: Vec<(String, String)>,
-    /// The plan of the stored spec (named as the file says).
-    pub plan: squeal_scan::atlas::AtlasPlan,
-    /// The points, boundaries and maps stored.
-    pub results: crate::atlas::AtlasResults,
-    /// The shard of a shard file.
-    pub shard: Option<squeal_scan::Shard>,
+/// The values of dataset `name` (C order).
+pub(crate) fn rd<T: hdf5::H5Type>(
+    file: &File,
+    path: &Path,
+    name: &str,
+) -> Result<Vec<T>, StoreError> {
+    file.dataset(name).and_then(|d| d.read_raw()).h5(path)
 }
 
-/// Opens and checks an atlas file and reads it for a summary.
-pub fn read_atlas_info(path: &Path) -> Result<AtlasInfo, StoreError> {
-    let (plan, results, shard) = crate::atlas::read_atlas(path)?;
-    let file = open_with_schema(path, crate::atlas::ATLAS_SCHEMA)?;
-    let attrs = root_attrs_text(&file).h5(path)?;
-    Ok(AtlasInfo {
-        attrs,
-        plan,
-        results,
-        shard,
-    })
+/// [`rd`] of a dataset older files lack (then empty).
+pub(crate) fn rd_new<T: hdf5::H5Type>(
+    file: &File,
+    path: &Path,
+    name: &str,
+) -> Result<Vec<T>, StoreError> {
+    match file.link_exists(name) {
+        true => rd(file, path, name),
+        false => Ok(Vec::new()),
+    }
 }
 
 /// Opens and checks a squeal file and summarises it.

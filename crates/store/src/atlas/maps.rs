@@ -11,12 +11,12 @@ use squeal_scan::cell::{COLUMNS as CELLS, Cell, Kind as CellKind, Num};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{Grid, MapChecks, MapTally, Plan};
 
-use super::read::rd;
 use super::schema::map_name;
 use crate::StoreError;
 use crate::error::H5Ctx;
 use crate::h5out::{Out, Over, num_attr, str_attr};
 use crate::h5write::{column_dataset, write_column};
+use crate::read::rd;
 
 /// The maps' datasets, over the points `over` (the maps' own dimensions after them).
 pub(super) fn write_maps(

@@ -3,8 +3,8 @@
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
+use hdf5::File;
 use hdf5::types::VarLenUnicode;
-use hdf5::{File, H5Type};
 use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, COLUMNS, Kind, empty_boundary, empty_point, finish_point,
 };
@@ -18,6 +18,7 @@ use super::schema::{
 };
 use super::{ATLAS_SCHEMA, maps, missing_blocks, missing_units, write_atlas};
 use crate::error::H5Ctx;
+use crate::read::{rd, rd_new};
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
 /// Whether `path` is an atlas file (HDF5 with schema `squeal-atlas/...`).
@@ -33,19 +34,6 @@ pub fn is_atlas_file(path: &Path) -> bool {
         .ok()
         .and_then(|f| crate::read::str_attr(&f, "schema").ok())
         .is_some_and(|s| s.starts_with("squeal-atlas/"))
-}
-
-/// The values of dataset `name` (C order).
-pub(super) fn rd<T: H5Type>(file: &File, path: &Path, name: &str) -> Result<Vec<T>, StoreError> {
-    file.dataset(name).and_then(|d| d.read_raw()).h5(path)
-}
-
-/// [`rd`] of a dataset older files lack (then empty).
-fn rd_new<T: H5Type>(file: &File, path: &Path, name: &str) -> Result<Vec<T>, StoreError> {
-    match file.link_exists(name) {
-        true => rd(file, path, name),
-        false => Ok(Vec::new()),
-    }
 }
 
 /// Notes read back from their words and kinds: `None` where empty ([`note_of`]).
@@ -288,4 +276,32 @@ fn add_shard(all: &mut AtlasResults, r: AtlasResults) {
     for (m, c) in r.map_cycles {
         all.map_cycles.entry(m).or_insert(c);
     }
+}
+
+/// An atlas file for `squeal info`: its root attributes (provenance, name, law, the fixed
+/// parameters...) and what [`read_atlas`] reads (the plan of its stored spec,
+/// every point and boundary, its shard).
+#[derive(Clone, Debug)]
+pub struct AtlasInfo {
+    /// Root attributes as text, by name.
+    pub attrs: Vec<(String, String)>,
+    /// The plan of the stored spec (named as the file says).
+    pub plan: squeal_scan::atlas::AtlasPlan,
+    /// The points, boundaries and maps stored.
+    pub results: AtlasResults,
+    /// The shard of a shard file.
+    pub shard: Option<squeal_scan::Shard>,
+}
+
+/// Opens and checks an atlas file and reads it for a summary.
+pub fn read_atlas_info(path: &Path) -> Result<AtlasInfo, StoreError> {
+    let (plan, results, shard) = read_atlas(path)?;
+    let file = crate::read::open_with_schema(path, ATLAS_SCHEMA)?;
+    let attrs = crate::read::root_attrs_text(&file).h5(path)?;
+    Ok(AtlasInfo {
+        attrs,
+        plan,
+        results,
+        shard,
+    })
 }
