@@ -38,12 +38,11 @@ use serde::Serialize;
 use squeal_core::Setup;
 
 use crate::error::ScanError;
-use crate::scanner::{Outside, outside_on};
+use crate::section::CycleSettings;
 use crate::section::{
     Precision, RESOLUTION, RISE_FACTOR, ReturnCache, ReturnMap, SectionCycles, Work,
     search_section_to,
 };
-use crate::ulc::CycleSettings;
 
 /// Uniform samples of `P` over the band.
 pub const NSAMPLES: usize = 128;
@@ -318,9 +317,11 @@ pub fn lasting_on(
 }
 
 mod crisis;
+mod outside;
 pub use crisis::{
     COARSE, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in, crisis_nu, raise_top,
 };
+pub use outside::{Outside, outside_of, outside_on, outside_with};
 
 /// The stick-slip band above the unstable cycle crossing at `r_u`, as the sampled interval
 /// `[s, b]` of the section ([`band_above`]'s samples): `s` the first sampled start above the

@@ -6,8 +6,10 @@
 //! and each message names what the user wrote.
 
 use crate::error::ScanError;
-use crate::spec::Invalid;
-use crate::ulc::CycleSettings;
+use crate::section::CycleSettings;
+
+/// A spec error: the key, the value found, what was expected.
+pub type Invalid<'a> = &'a dyn Fn(&str, String, &str) -> ScanError;
 
 /// Largest `|x|` or `|x'|` of a start, a grid or sample bound, an operating point or a
 /// disturbance box. It is the classifier's escape radius (`Classifier::max_radius`, 1e6): a

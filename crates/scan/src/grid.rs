@@ -135,6 +135,15 @@ impl Grid {
     }
 }
 
+/// The farthest start of `grid` from the fixed point of `params`.
+pub fn grid_reach(grid: &Grid, params: &squeal_core::Params) -> f64 {
+    let fp = params.fixed_point();
+    [grid.x0.min, grid.x0.max]
+        .iter()
+        .flat_map(|&x| [grid.v0.min, grid.v0.max].map(|v| (x - fp.x).hypot(v - fp.v)))
+        .fold(0.0f64, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

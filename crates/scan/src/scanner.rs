@@ -10,7 +10,6 @@ use squeal_core::{
     SolverStats, State, Stepper, Trap,
 };
 
-use crate::band::Band;
 use crate::cell::Audit;
 pub use crate::cell::Cell;
 use crate::curve::{ClosedCurve, CurveLocator};
@@ -282,87 +281,7 @@ pub struct MapContext {
     pub shortcuts: Shortcuts,
 }
 
-/// What the section search says of the outside of the unstable cycle, and what the scan
-/// does about it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Outside {
-    /// No sampled start outside the cycle returns inside: starts outside end in stick-slip,
-    /// and the trap and the start rule may say so without a run.
-    Invariant,
-    /// The start `r_escape` (and maybe others) returns inside ([`crate::section::escape_above`]):
-    /// the trap and the start rule decide only inside the cycle. `band`: whether the
-    /// stick-slip band above the cycle is trapped ([`crate::band::band_above`]); if not,
-    /// no run is labelled stick-slip by its section band either (runs end at the fixed
-    /// point or undecided at `t_max`).
-    Escapes { r_escape: f64, band: Band },
-}
-
-impl Outside {
-    /// Whether a run may be labelled stick-slip by its section band
-    /// ([`squeal_core::Classifier::band_rules`]).
-    pub fn band_rules(&self) -> bool {
-        match self {
-            Outside::Invariant => true,
-            Outside::Escapes { band, .. } => band.attracts(),
-        }
-    }
-}
-
-/// What the section search `found` on `stepper` says of the outside of the unstable cycle
-/// (`None`: no unstable cycle found). The one rule of every path that labels a run: the
-/// scan's maps, `classify`, `trajectory` ([`classifier_for`]) and the atlas's confirmation
-/// runs.
-pub fn outside_of(stepper: &Stepper, cs: &CycleSettings, found: &SectionCycles) -> Option<Outside> {
-    outside_with(stepper, cs, found, crate::band::NSAMPLES)
-}
-
-/// [`outside_of`] with the band sampled at `samples` uniform points
-/// ([`crate::band::band_above_n`]).
-pub fn outside_with(
-    stepper: &Stepper,
-    cs: &CycleSettings,
-    found: &SectionCycles,
-    samples: usize,
-) -> Option<Outside> {
-    outside_on(
-        &section::ReturnMap::new(stepper, cs.t_return),
-        found,
-        samples,
-    )
-}
-
-/// [`outside_with`] on the return map `map` (its stepper and return time).
-pub fn outside_on(
-    map: &section::ReturnMap,
-    found: &SectionCycles,
-    samples: usize,
-) -> Option<Outside> {
-    let SectionCycles::Unstable {
-        r,
-        stable_above,
-        escape,
-        ..
-    } = *found
-    else {
-        return None;
-    };
-    Some(match escape {
-        None => Outside::Invariant,
-        Some(r_escape) => {
-            let top = stable_above.unwrap_or(2.0 * r);
-            Outside::Escapes {
-                r_escape,
-                band: crate::band::band_above_n(
-                    map,
-                    r,
-                    top,
-                    samples,
-                    &mut section::Work::default(),
-                ),
-            }
-        }
-    })
-}
+pub use crate::band::{Outside, outside_of, outside_on, outside_with};
 
 /// The classifier `base` with its band rules set by the section of `stepper` searched up
 /// to `r_max` ([`outside_of`]; the search does not depend on `r_max` beyond its stated
@@ -385,24 +304,15 @@ pub fn classifier_for(stepper: &Stepper, base: Classifier, r_max: f64) -> Classi
     Classifier { band_rules, ..base }
 }
 
-/// The farthest start of `grid` from the fixed point of `params`.
-pub fn grid_reach(grid: &crate::grid::Grid, params: &Params) -> f64 {
-    let fp = params.fixed_point();
-    [grid.x0.min, grid.x0.max]
-        .iter()
-        .flat_map(|&x| [grid.v0.min, grid.v0.max].map(|v| (x - fp.x).hypot(v - fp.v)))
-        .fold(0.0f64, f64::max)
-}
-
 /// The plan's cycle search (`[cycle]`) for map parameters `params`: unless the spec gave
-/// `r_max`, it reaches beyond the grid's farthest start ([`grid_reach`]).
+/// `r_max`, it reaches beyond the grid's farthest start ([`crate::grid::grid_reach`]).
 pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
     let search = plan.cycle.search;
     if plan.cycle.r_max_given {
         return search;
     }
     CycleSettings {
-        r_max: (1.2 * grid_reach(&plan.grid, params)).max(4.0),
+        r_max: (1.2 * crate::grid::grid_reach(&plan.grid, params)).max(4.0),
         ..search
     }
 }

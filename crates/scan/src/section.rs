@@ -19,7 +19,35 @@ use serde::Serialize;
 use squeal_core::classify::section_return;
 use squeal_core::{SolverStats, Stepper};
 
-use crate::ulc::CycleSettings;
+/// Settings of the cycle search.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CycleSettings {
+    /// Smallest section amplitude sampled.
+    pub r_min: f64,
+    /// Largest section amplitude sampled.
+    pub r_max: f64,
+    /// Log-spaced samples of `D` on `[r_min, r_max]`.
+    pub samples: usize,
+    /// Relative bracket width at which bisection stops.
+    pub rtol: f64,
+    /// Longest time allowed for one return to the section.
+    pub t_return: f64,
+    /// Also locate the cycle with `dt / 2` and report the shift.
+    pub check_half_dt: bool,
+}
+
+impl Default for CycleSettings {
+    fn default() -> Self {
+        CycleSettings {
+            r_min: 1e-2,
+            r_max: 6.0,
+            samples: 96,
+            rtol: 1e-10,
+            t_return: 200.0,
+            check_half_dt: true,
+        }
+    }
+}
 
 /// Work done on the section: section returns and the solver counters over those runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -59,7 +59,7 @@ use crate::error::ScanError;
 use crate::grid::{Axis, Grid, RandomSample};
 use crate::values::{Value, expand};
 
-mod physical;
+pub(crate) mod physical;
 mod tables;
 
 pub use tables::CycleOptions;
@@ -77,7 +77,7 @@ struct SpecFile {
     model: ModelTable,
     /// The physical system in SI units instead of `[model]`'s nondimensional keys.
     #[serde(default)]
-    physical: Option<crate::atlas::spec::PhysicalFile>,
+    physical: Option<physical::PhysicalFile>,
     #[serde(default)]
     grid: Option<GridSpec>,
     #[serde(default)]
@@ -203,8 +203,7 @@ pub(crate) fn read_spec(path: &std::path::Path) -> Result<String, ScanError> {
     String::from_utf8(bytes).map_err(|e| parse(format!("not UTF-8 text: {e}")))
 }
 
-/// A spec error: the key, the value found, what was expected.
-pub type Invalid<'a> = &'a dyn Fn(&str, String, &str) -> ScanError;
+pub use crate::bounds::Invalid;
 
 impl GridSpec {
     /// The checked grid; errors name `grid.<key>`.
@@ -667,7 +666,7 @@ impl Plan {
             // band's fates are read off the searched stretch of the section.
             let reach = maps
                 .iter()
-                .map(|p| crate::scanner::grid_reach(&grid, p))
+                .map(|p| crate::grid::grid_reach(&grid, p))
                 .fold(0.0f64, f64::max);
             if cycle.search.r_max < reach {
                 return Err(invalid(

@@ -28,35 +28,7 @@ use crate::curve::ClosedCurve;
 use crate::error::{BracketProblem, NoCycle, ScanError};
 use crate::section::{Bracket, ParamRange, ReturnMap, SectionCycles, Work, section_cycles};
 
-/// Settings of the cycle search.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct CycleSettings {
-    /// Smallest section amplitude sampled.
-    pub r_min: f64,
-    /// Largest section amplitude sampled.
-    pub r_max: f64,
-    /// Log-spaced samples of `D` on `[r_min, r_max]`.
-    pub samples: usize,
-    /// Relative bracket width at which bisection stops.
-    pub rtol: f64,
-    /// Longest time allowed for one return to the section.
-    pub t_return: f64,
-    /// Also locate the cycle with `dt / 2` and report the shift.
-    pub check_half_dt: bool,
-}
-
-impl Default for CycleSettings {
-    fn default() -> Self {
-        CycleSettings {
-            r_min: 1e-2,
-            r_max: 6.0,
-            samples: 96,
-            rtol: 1e-10,
-            t_return: 200.0,
-            check_half_dt: true,
-        }
-    }
-}
+pub use crate::section::CycleSettings;
 
 /// How the located cycle moves when `dt` is halved.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -608,8 +580,8 @@ pub fn point_side(setup: Setup, cs: &CycleSettings, point: State) -> Result<Poin
     }
     // The scan's rule for the band ([`crate::scanner::outside_of`]): the same verdict here.
     let leaks = matches!(
-        crate::scanner::outside_of(&st, cs, &found),
-        Some(crate::scanner::Outside::Escapes {
+        crate::band::outside_of(&st, cs, &found),
+        Some(crate::band::Outside::Escapes {
             band: crate::band::Band::Leaks { .. },
             ..
         })

@@ -80,6 +80,7 @@ use super::point::PointSettings;
 use crate::error::ScanError;
 use crate::grid::Grid;
 use crate::spec::EarlyStop;
+pub(crate) use crate::spec::physical::{PhysicalFile, physical_key};
 use crate::values::Value;
 
 /// The atlas spec version this build reads.
@@ -114,34 +115,6 @@ struct AtlasFile {
     #[serde(default)]
     classifier: Option<crate::spec::ClassifierSpec>,
     output: crate::spec::OutputTable,
-}
-
-/// The `[physical]` table: the physical system in SI units (also read by the scan spec,
-/// [`crate::spec`], and built from the command line's `--m --k --c --v-belt --mu-k --mu-s
-/// --tau-s --g`).
-#[derive(Deserialize, Debug)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct PhysicalFile {
-    pub(crate) m: Value,
-    pub(crate) k: Value,
-    pub(crate) c: Value,
-    pub(crate) v_belt: Value,
-    pub(crate) mu_k: Value,
-    pub(crate) mu_s: Value,
-    pub(crate) tau: Value,
-    #[serde(default)]
-    pub(crate) g: Option<Value>,
-}
-
-/// The physical key a [`Physical::params`] error names: a derived nondimensional value
-/// names the physical keys it comes from.
-pub(crate) fn physical_key(name: &str) -> &str {
-    match name {
-        "nu" => "c (nu = c / (2 sqrt(m k)))",
-        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
-        "phi" => "mu_s",
-        n => n,
-    }
 }
 
 #[derive(Deserialize, Debug, Default, Clone)]

@@ -1,4 +1,4 @@
-//! `[physical]` in a scan spec: the atlas's table ([`crate::atlas::spec::PhysicalFile`],
+//! `[physical]`: the table both kinds of spec read ([`PhysicalFile`],
 //! converted by [`Physical::params`], McMillan's scaling) read as the nondimensional
 //! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
@@ -7,10 +7,38 @@
 use squeal_core::{Physical, units::G_STANDARD};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
-use crate::atlas::spec::{PhysicalFile, physical_key};
 use crate::error::ScanError;
 use crate::grid::Grid;
 use crate::values::{Value, expand};
+use serde::Deserialize;
+
+/// The `[physical]` table: the physical system in SI units (read by the scan spec and
+/// the atlas spec, [`crate::atlas::spec`], and built from the command line's `--m --k --c --v-belt --mu-k --mu-s
+/// --tau-s --g`).
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PhysicalFile {
+    pub(crate) m: Value,
+    pub(crate) k: Value,
+    pub(crate) c: Value,
+    pub(crate) v_belt: Value,
+    pub(crate) mu_k: Value,
+    pub(crate) mu_s: Value,
+    pub(crate) tau: Value,
+    #[serde(default)]
+    pub(crate) g: Option<Value>,
+}
+
+/// The physical key a [`Physical::params`] error names: a derived nondimensional value
+/// names the physical keys it comes from.
+pub(crate) fn physical_key(name: &str) -> &str {
+    match name {
+        "nu" => "c (nu = c / (2 sqrt(m k)))",
+        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
+        "phi" => "mu_s",
+        n => n,
+    }
+}
 
 /// The physical system of the first map and the `[model]` table it stands for.
 pub(super) fn model(
