@@ -643,6 +643,9 @@ impl AtlasPlan {
     /// The stored name of a boundary column (`fold_nu` -> `fold_lambda` when bisecting in
     /// lambda) and its long name.
     pub fn boundary_dataset(&self, name: &str, long_name: &str) -> (String, String) {
+        // A long name that cites a dataset (`fold_nu -+ fold_nu_err`) cites it by its name here.
+        let cited = format!("fold_{}", self.boundary_key());
+        let long_name = &long_name.replace("fold_nu", &cited);
         if self.law.has_true_stick() {
             // The Stribeck law's words: its fold is where the stick-slip cycle ends.
             let name = name.replace("_nu", &format!("_{}", self.boundary_key()));
@@ -929,6 +932,18 @@ path = "s.h5"
         assert_eq!(
             p.boundary_dataset("fold_nu_lo", "x").0,
             "fold_xi_lo".to_string()
+        );
+        // A long name citing other datasets cites them by their names in this file (the
+        // long name of fold_xi_err said "fold_nu -+ fold_nu_err").
+        let err = crate::atlas::columns::BOUNDARY_COLUMNS
+            .iter()
+            .find(|c| c.name == "fold_nu_err")
+            .unwrap();
+        let (name, long) = p.boundary_dataset(err.name, err.long_name);
+        assert_eq!(name, "fold_xi_err");
+        assert!(
+            long.contains("fold_xi -+ fold_xi_err") && !long.contains("_nu"),
+            "{long}"
         );
         let v = AtlasPlan::from_toml(
             &STRIBECK.replace("[output]", "[boundaries]\nin = \"v_d\"\n[output]"),
