@@ -103,11 +103,7 @@ impl ModelArgs {
                     .join(", ")
             );
         }
-        let defaults = if law == FrictionLaw::Stribeck {
-            Params::bstab()
-        } else {
-            Params::paper(law, squeal_core::defaults::NU)
-        };
+        let defaults = Params::defaults(law);
         let named = defaults.named();
         let p = Params::from_named(law, |k| {
             given

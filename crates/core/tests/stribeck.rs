@@ -3,8 +3,7 @@
 
 use squeal_core::stick::{Landscape, StickCycle, landscape, stick_slip_cycle};
 use squeal_core::{
-    Classifier, FrictionLaw, Params, Reason, Regime, Run, Scheme, SolverConfig, State, Stepper,
-    Stribeck,
+    Classifier, Params, Reason, Regime, Run, Scheme, SolverConfig, State, Stepper, Stribeck,
 };
 
 fn stepper(p: Params, dt: f64, scheme: Scheme) -> Stepper {
@@ -278,7 +277,7 @@ fn counters_count_events() {
 #[test]
 fn bad_input_names_the_key() {
     let base = Params::bstab();
-    let s = base.stribeck.unwrap();
+    let s = base.law.stribeck().unwrap();
     let cases: Vec<(Params, &str)> = vec![
         (
             Params::stribeck(0.05, 1.5, Stribeck { mu_sd: 0.9, ..s }),
@@ -315,20 +314,6 @@ fn bad_input_names_the_key() {
         let e = p.validate().unwrap_err().to_string();
         assert!(e.contains(&format!("invalid {key} =")), "{key}: {e}");
     }
-    let e = Params {
-        stribeck: None,
-        ..base
-    }
-    .validate()
-    .unwrap_err()
-    .to_string();
-    assert!(e.contains("mu_d, mu_sd"), "{e}");
-    let e = Params {
-        stribeck: Some(s),
-        ..Params::paper(FrictionLaw::McMillan, 1e-3)
-    }
-    .validate()
-    .unwrap_err()
-    .to_string();
-    assert!(e.contains("mcmillan takes none of"), "{e}");
+    // A Stribeck law without its parameters, or McMillan's with them, cannot be written:
+    // each law's variant of `Friction` carries its own parameters and no other.
 }

@@ -562,44 +562,18 @@ impl AtlasPlan {
 
     /// The model parameters at point `i`.
     pub fn params_at(&self, i: usize) -> Params {
-        match self.physical_at(i) {
-            Some(ph) => {
-                let s = ph.scales();
-                Params {
-                    law: self.law,
-                    nu: ph.c / s.damping,
-                    lambda: ph.v_belt / s.velocity,
-                    tau: ph.tau / ph.mu_k * s.omega0,
-                    phi: (ph.mu_k / ph.mu_s).asin(),
-                    stribeck: None,
-                }
-            }
-            None if self.law.has_true_stick() => {
-                // Axis order is the law's keys: xi, v_d, mu_d, mu_sd, v_0, mu_v.
-                let v = self.values_at(i);
-                Params::stribeck(
-                    v[0],
-                    v[1],
-                    squeal_core::Stribeck {
-                        mu_d: v[2],
-                        mu_sd: v[3],
-                        v_0: v[4],
-                        mu_v: v[5],
-                    },
-                )
-            }
-            None => {
-                let v = self.values_at(i);
-                Params {
-                    law: self.law,
-                    nu: v[0],
-                    lambda: v[1],
-                    tau: v[2],
-                    phi: v[3],
-                    stribeck: None,
-                }
-            }
+        if let Some(ph) = self.physical_at(i) {
+            return ph
+                .nondimensional(self.law)
+                .expect("a physical plan has a McMillan law (checked when it was read)");
         }
+        // Axis order is the law's keys (FrictionLaw::keys).
+        let v = self.values_at(i);
+        let keys = self.law.keys();
+        Params::from_named(self.law, |k| {
+            keys.iter().position(|x| *x == k).map(|j| v[j])
+        })
+        .expect("every key of the law has an axis")
     }
 
     /// The point settings at `i`, operating point and disturbance box in nondimensional
@@ -818,7 +792,7 @@ path = "p.h5"
         let q = p.params_at(3);
         assert!((q.nu - (1e-3f64 * 4e-2).sqrt()).abs() < 1e-15);
         assert_eq!(q.lambda, 3.0);
-        assert_eq!(q.tau, squeal_core::defaults::TAU);
+        assert_eq!(q.law.surface().unwrap().tau, squeal_core::defaults::TAU);
         // Boundaries over lambda, bisected over nu's range.
         assert_eq!(p.boundary_shape(), vec![2]);
         let (i, r) = p.boundary_setup(1);
@@ -959,9 +933,8 @@ path = "s.h5"
         assert_eq!(p.shape(), vec![2, 4]);
         // Point 5 = (xi index 1, v_d index 1); the fixed keys at bSTAB's case.
         let q = p.params_at(5);
-        assert_eq!(q.law, FrictionLaw::Stribeck);
         assert_eq!((q.nu, q.lambda), (0.05, 1.4));
-        assert_eq!(q.stribeck, Some(squeal_core::Stribeck::default()));
+        assert_eq!(q.law.stribeck(), Some(squeal_core::Stribeck::default()));
         assert_eq!(p.damping_axis(), ("xi", Some(0)));
         // Boundaries in xi by default (xi is swept), over v_d; in v_d on request.
         assert_eq!(p.boundary_axis(), ("xi", Some(0)));
