@@ -5,7 +5,7 @@
 //! version = 1
 //! name = "atlas-lambda-nu"           # optional, used in titles
 //! [model]
-//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
+//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck | cubic
 //! # Nondimensional parameters (paper Section 4), each a number, a list, or a range
 //! # { from = .., to = .., count = .., spacing = "linear" | "log" }:
 //! nu = { from = 1e-3, to = 0.06, count = 64, spacing = "log" }
@@ -254,11 +254,12 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
     ("g", "gravitational acceleration g", "m/s^2"),
 ];
 
-/// `(key, long name, units)` of the Stribeck law's parameters, in axis order
-/// ([`FrictionLaw::keys`]; the words of [`Params::named`]). All are nondimensional (`"1"`,
-/// as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity scale.
-pub fn stribeck_params() -> Vec<(&'static str, &'static str, &'static str)> {
-    Params::bstab()
+/// `(key, long name, units)` of a law's parameters in axis order ([`FrictionLaw::keys`];
+/// the words of [`Params::named`]), for the laws with true stick. All are nondimensional
+/// (`"1"`, as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity
+/// scale.
+pub fn law_params(law: FrictionLaw) -> Vec<(&'static str, &'static str, &'static str)> {
+    Params::defaults(law)
         .named()
         .into_iter()
         .map(|n| (n.name, n.long_name, "1"))
