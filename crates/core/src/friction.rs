@@ -21,7 +21,7 @@
 use std::f64::consts::{FRAC_2_PI, PI};
 
 use crate::atan::atan_ratio;
-use crate::params::{Friction, FrictionLaw, Params, PerV0, Stribeck, Surface};
+use crate::params::{Cubic, Friction, FrictionLaw, Params, PerV0, Stribeck, Surface};
 
 /// Which piece of the law was used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -104,6 +104,7 @@ enum Form {
     NonHysteretic(McMillanConsts),
     Coulomb,
     Stribeck(StribeckConsts),
+    Cubic(Cubic),
 }
 
 /// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
@@ -128,6 +129,7 @@ impl Law {
                 params: s,
                 per_v0: PerV0::new(s.v_0),
             }),
+            Friction::Cubic(c) => Form::Cubic(c),
         };
         Law {
             form,
@@ -142,6 +144,7 @@ impl Law {
             Form::NonHysteretic(_) => FrictionLaw::McMillanNonHysteretic,
             Form::Coulomb => FrictionLaw::Coulomb,
             Form::Stribeck(_) => FrictionLaw::Stribeck,
+            Form::Cubic(_) => FrictionLaw::Cubic,
         }
     }
 
@@ -166,7 +169,7 @@ impl Law {
             Form::McMillan(c) => mcmillan_k(v, a, c.tau, c.phi, c.inv_sin_phi, c.pi_minus_phi),
             Form::NonHysteretic(c) => nonhysteretic_k(v, a, c.tau, c.inv_sin_phi, c.pi_minus_phi),
             Form::Coulomb => coulomb(v),
-            Form::Stribeck(_) => {
+            Form::Stribeck(_) | Form::Cubic(_) => {
                 if v == 0.0 {
                     // Set-valued: the middle of [-mu_s, mu_s], as Coulomb's F(0) = 0.
                     return ForceEval {
@@ -193,6 +196,7 @@ impl Law {
     fn mu(&self, s: f64) -> (f64, f64) {
         match &self.form {
             Form::Stribeck(c) => c.params.mu_by(s, &c.per_v0),
+            Form::Cubic(c) => c.mu(s),
             _ => (0.0, 0.0),
         }
     }
@@ -203,6 +207,7 @@ impl Law {
     pub fn static_limit(&self) -> Option<f64> {
         match &self.form {
             Form::Stribeck(c) => Some(c.params.mu_s()),
+            Form::Cubic(c) => Some(c.mu_0),
             _ => None,
         }
     }

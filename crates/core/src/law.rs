@@ -25,6 +25,11 @@ pub enum FrictionLaw {
     /// parameters are [`Stribeck`].
     #[serde(rename = "stribeck")]
     Stribeck,
+    /// The cubic law with true stick (Popp and Stelter; Thomsen 1999): `F = -sgn(v) mu(|v|)`,
+    /// `mu(s) = mu_0 - a1 s + a3 s^3`, while slipping; any value in `[-mu_0, mu_0]` while
+    /// stuck; its parameters are [`Cubic`].
+    #[serde(rename = "cubic")]
+    Cubic,
 }
 
 impl FrictionLaw {
@@ -35,6 +40,7 @@ impl FrictionLaw {
             FrictionLaw::McMillanNonHysteretic => "mcmillan-nonhysteretic",
             FrictionLaw::Coulomb => "coulomb",
             FrictionLaw::Stribeck => "stribeck",
+            FrictionLaw::Cubic => "cubic",
         }
     }
 
@@ -46,17 +52,18 @@ impl FrictionLaw {
     ];
 
     /// All laws, in a fixed order.
-    pub const ALL: [FrictionLaw; 4] = [
+    pub const ALL: [FrictionLaw; 5] = [
         FrictionLaw::McMillan,
         FrictionLaw::McMillanNonHysteretic,
         FrictionLaw::Coulomb,
         FrictionLaw::Stribeck,
+        FrictionLaw::Cubic,
     ];
 
     /// Whether the law sticks with a static limit, stepped with located stick events
     /// ([`crate::stick`]).
     pub fn has_true_stick(self) -> bool {
-        self == FrictionLaw::Stribeck
+        matches!(self, FrictionLaw::Stribeck | FrictionLaw::Cubic)
     }
 
     /// The names of the law's own parameters, damping and belt speed first, as they appear in
@@ -64,6 +71,7 @@ impl FrictionLaw {
     pub fn keys(self) -> &'static [&'static str] {
         match self {
             FrictionLaw::Stribeck => &["xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v"],
+            FrictionLaw::Cubic => &["xi", "v_d", "mu_0", "a1", "a3"],
             // Coulomb's force has no surface time and no static limit of its own.
             FrictionLaw::Coulomb => &["nu", "lambda"],
             FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => {
@@ -120,6 +128,8 @@ pub enum Friction {
     Coulomb,
     /// The Stribeck law with true stick (bSTAB's friction case).
     Stribeck(Stribeck),
+    /// The cubic law with true stick (Popp and Stelter; Thomsen 1999).
+    Cubic(Cubic),
 }
 
 impl Friction {
@@ -130,6 +140,7 @@ impl Friction {
             Friction::NonHysteretic(_) => FrictionLaw::McMillanNonHysteretic,
             Friction::Coulomb => FrictionLaw::Coulomb,
             Friction::Stribeck(_) => FrictionLaw::Stribeck,
+            Friction::Cubic(_) => FrictionLaw::Cubic,
         }
     }
 
@@ -146,6 +157,7 @@ impl Friction {
             FrictionLaw::McMillanNonHysteretic => Friction::NonHysteretic(Surface::default()),
             FrictionLaw::Coulomb => Friction::Coulomb,
             FrictionLaw::Stribeck => Friction::Stribeck(Stribeck::default()),
+            FrictionLaw::Cubic => Friction::Cubic(Cubic::default()),
         }
     }
 
@@ -177,6 +189,16 @@ impl Friction {
                 Friction::NonHysteretic(s)
             }
             other => other,
+        }
+    }
+
+    /// `mu(s)` and `mu'(s)` at slip speed `s >= 0` of a law with true stick (the force is
+    /// `-sgn(v) mu(|v|)` while slipping); `None` for the others.
+    pub fn mu(&self, s: f64) -> Option<(f64, f64)> {
+        match self {
+            Friction::Stribeck(l) => Some(l.mu(s)),
+            Friction::Cubic(l) => Some(l.mu(s)),
+            _ => None,
         }
     }
 
@@ -245,6 +267,97 @@ impl Stribeck {
             self.mu_d + amp * e + per.of(self.mu_v * s),
             per.of(self.mu_v - amp * e),
         )
+    }
+}
+
+/// The cubic law's own parameters (Popp and Stelter; Thomsen 1999): the friction
+/// coefficient while slipping at speed `s = |v|` is
+///
+/// ```text
+/// mu(s) = mu_0 - a1 s + a3 s^3,    static limit mu_0 = mu(0)
+/// ```
+///
+/// falling from `mu_0` to its least value `mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3))` at
+/// `s = sqrt(a1 / (3 a3))`, then rising. The static limit is named `mu_0` (Thomsen's `mu_s`):
+/// `mu_s` is the physical system's static coefficient in specs and flags.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cubic {
+    /// Static limit `mu_0 > 0`.
+    pub mu_0: f64,
+    /// Linear (falling) coefficient `a1 >= 0`.
+    pub a1: f64,
+    /// Cubic (rising) coefficient `a3 >= 0`.
+    pub a3: f64,
+}
+
+impl Default for Cubic {
+    /// Thomsen's shape ([`crate::defaults::CUBIC_MU_0`]).
+    fn default() -> Self {
+        Cubic {
+            mu_0: crate::defaults::CUBIC_MU_0,
+            a1: crate::defaults::CUBIC_A1,
+            a3: crate::defaults::CUBIC_A3,
+        }
+    }
+}
+
+impl Cubic {
+    /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
+    #[inline]
+    pub fn mu(&self, s: f64) -> (f64, f64) {
+        (
+            self.mu_0 - self.a1 * s + self.a3 * s * s * s,
+            -self.a1 + 3.0 * self.a3 * s * s,
+        )
+    }
+
+    /// Checks each coefficient and that `mu` stays positive for every slip speed (a
+    /// friction coefficient that changes sign would drive the block, not hold it); the error
+    /// names the key.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        let bad = |name: &'static str, value: f64, expected: &'static str| {
+            Err(CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        if !self.mu_0.is_finite() || self.mu_0 <= 0.0 || self.mu_0 > 1e6 {
+            return bad(
+                "mu_0",
+                self.mu_0,
+                "a static friction coefficient in (0, 1e6]",
+            );
+        }
+        if !self.a1.is_finite() || self.a1 < 0.0 || self.a1 > 1e6 {
+            return bad("a1", self.a1, "a linear coefficient in [0, 1e6]");
+        }
+        if !self.a3.is_finite() || self.a3 < 0.0 || self.a3 > 1e6 {
+            return bad("a3", self.a3, "a cubic coefficient in [0, 1e6]");
+        }
+        if self.least().is_nan() || self.least() <= 0.0 {
+            return bad(
+                "a1",
+                self.a1,
+                "a coefficient that keeps mu(s) = mu_0 - a1 s + a3 s^3 positive for every slip \
+                 speed s >= 0: its least value mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3)) must be > 0 \
+                 (lower a1 or raise a3 or mu_0)",
+            );
+        }
+        Ok(())
+    }
+
+    /// The least value of `mu` over `s >= 0`: `mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3))` (where
+    /// `mu' = 0`), `mu_0` when `a1 = 0`, `-inf` when `a3 = 0 < a1` (`mu` falls for ever).
+    pub fn least(&self) -> f64 {
+        if self.a1 == 0.0 {
+            self.mu_0
+        } else if self.a3 == 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            self.mu_0 - 2.0 * self.a1 / 3.0 * (self.a1 / (3.0 * self.a3)).sqrt()
+        }
     }
 }
 

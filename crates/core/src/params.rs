@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
-pub use crate::law::{Friction, FrictionLaw, PerV0, Stribeck, Surface};
+pub use crate::law::{Cubic, Friction, FrictionLaw, PerV0, Stribeck, Surface};
 
 /// Nondimensional parameters of the oscillator `x'' + 2 nu x' + x = F` (paper Section 4).
 ///
@@ -51,6 +51,12 @@ struct ParamsWire {
     v_0: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     mu_v: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mu_0: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    a1: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    a3: Option<f64>,
     /// Read only: the Stribeck parameters as a table (records of earlier builds).
     #[serde(default, skip_serializing)]
     stribeck: Option<Stribeck>,
@@ -70,6 +76,9 @@ impl From<Params> for ParamsWire {
             mu_sd: None,
             v_0: None,
             mu_v: None,
+            mu_0: None,
+            a1: None,
+            a3: None,
             stribeck: None,
         };
         for n in p.named() {
@@ -83,7 +92,10 @@ impl From<Params> for ParamsWire {
                 "mu_d" => &mut w.mu_d,
                 "mu_sd" => &mut w.mu_sd,
                 "v_0" => &mut w.v_0,
-                _ => &mut w.mu_v,
+                "mu_v" => &mut w.mu_v,
+                "mu_0" => &mut w.mu_0,
+                "a1" => &mut w.a1,
+                _ => &mut w.a3,
             };
             *slot = Some(n.value);
         }
@@ -106,6 +118,9 @@ impl TryFrom<ParamsWire> for Params {
             "mu_sd" => w.mu_sd.or(legacy.map(|s| s.mu_sd)),
             "v_0" => w.v_0.or(legacy.map(|s| s.v_0)),
             "mu_v" => w.mu_v.or(legacy.map(|s| s.mu_v)),
+            "mu_0" => w.mu_0,
+            "a1" => w.a1,
+            "a3" => w.a3,
             _ => None,
         })
         .map_err(|k| format!("missing parameter `{k}` of law {}", w.law))
@@ -150,6 +165,11 @@ impl Params {
     pub fn defaults(law: FrictionLaw) -> Params {
         match law {
             FrictionLaw::Stribeck => Params::bstab(),
+            FrictionLaw::Cubic => Params {
+                law: Friction::Cubic(Cubic::default()),
+                nu: crate::defaults::CUBIC_XI,
+                lambda: crate::defaults::CUBIC_V_D,
+            },
             _ => Params::paper(law, crate::defaults::NU),
         }
     }
@@ -186,15 +206,42 @@ impl Params {
                 "mu_k g / omega_n (nondimensional)",
             ),
         );
+        // The laws with true stick name them as bSTAB does.
+        let (xi, v_d) = (
+            n("xi", self.nu, "damping ratio xi", "1"),
+            n(
+                "v_d",
+                self.lambda,
+                "belt speed v_d",
+                "natural-frequency velocity scale",
+            ),
+        );
         match self.law {
-            Friction::Stribeck(s) => vec![
-                n("xi", self.nu, "damping ratio xi", "1"),
+            Friction::Cubic(c) => vec![
+                xi,
+                v_d,
                 n(
-                    "v_d",
-                    self.lambda,
-                    "belt speed v_d",
-                    "natural-frequency velocity scale",
+                    "mu_0",
+                    c.mu_0,
+                    "static friction coefficient mu_0 = mu(0)",
+                    "1",
                 ),
+                n(
+                    "a1",
+                    c.a1,
+                    "linear coefficient a1 of mu(s) = mu_0 - a1 s + a3 s^3",
+                    "1 / (natural-frequency velocity scale)",
+                ),
+                n(
+                    "a3",
+                    c.a3,
+                    "cubic coefficient a3 of mu(s) = mu_0 - a1 s + a3 s^3",
+                    "1 / (natural-frequency velocity scale)^3",
+                ),
+            ],
+            Friction::Stribeck(s) => vec![
+                xi,
+                v_d,
                 n("mu_d", s.mu_d, "dynamic friction coefficient mu_d", "1"),
                 n("mu_sd", s.mu_sd, "static-to-dynamic ratio mu_sd", "1"),
                 n(
@@ -240,6 +287,11 @@ impl Params {
                 v_0: val("v_0")?,
                 mu_v: val("mu_v")?,
             }),
+            FrictionLaw::Cubic => Friction::Cubic(Cubic {
+                mu_0: val("mu_0")?,
+                a1: val("a1")?,
+                a3: val("a3")?,
+            }),
         };
         Ok(Params { law, nu, lambda })
     }
@@ -263,8 +315,13 @@ impl Params {
                 expected,
             })
         };
-        if let Friction::Stribeck(s) = self.law {
-            return self.validate_stribeck(&s);
+        match self.law {
+            Friction::Stribeck(s) => return self.validate_stribeck(&s),
+            Friction::Cubic(c) => {
+                self.validate_stick()?;
+                return c.validate();
+            }
+            _ => {}
         }
         if !self.nu.is_finite() || self.nu < 0.0 {
             return bad("nu", self.nu, "a finite damping ratio >= 0");
@@ -309,17 +366,7 @@ impl Params {
                 expected,
             })
         };
-        if !self.nu.is_finite() || self.nu < 0.0 || self.nu > 1e6 {
-            return bad("xi", self.nu, "a finite damping ratio in [0, 1e6]");
-        }
-        if !self.lambda.is_finite() || self.lambda <= 0.0 || self.lambda > 1e6 {
-            return bad(
-                "v_d",
-                self.lambda,
-                "a belt speed in (0, 1e6] (stick means moving with the belt; a belt at rest \
-                 has no steady slip)",
-            );
-        }
+        self.validate_stick()?;
         if !s.mu_d.is_finite() || s.mu_d <= 0.0 || s.mu_d > 1e6 {
             return bad("mu_d", s.mu_d, "a dynamic friction coefficient in (0, 1e6]");
         }
@@ -335,6 +382,29 @@ impl Params {
         }
         if !s.mu_v.is_finite() || s.mu_v < 0.0 || s.mu_v > 1e6 {
             return bad("mu_v", s.mu_v, "a viscous coefficient in [0, 1e6]");
+        }
+        Ok(())
+    }
+
+    /// The damping and belt speed of a law with true stick, by their names there.
+    fn validate_stick(&self) -> Result<(), CoreError> {
+        let bad = |name: &'static str, value: f64, expected: &'static str| {
+            Err(CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        if !self.nu.is_finite() || self.nu < 0.0 || self.nu > 1e6 {
+            return bad("xi", self.nu, "a finite damping ratio in [0, 1e6]");
+        }
+        if !self.lambda.is_finite() || self.lambda <= 0.0 || self.lambda > 1e6 {
+            return bad(
+                "v_d",
+                self.lambda,
+                "a belt speed in (0, 1e6] (stick means moving with the belt; a belt at rest \
+                 has no steady slip)",
+            );
         }
         Ok(())
     }
@@ -356,6 +426,8 @@ impl Params {
             // divergence radius) plus the belt speed.
             Friction::Stribeck(s) => s.mu_s().max(s.mu_d) + s.mu_v * (1e6 + self.lambda) / s.v_0,
             Friction::McMillan(c) | Friction::NonHysteretic(c) => 1.0 + 1.0 / c.phi.sin(),
+            // mu(s) <= mu_0 + a3 s^3 over the same range of slip speeds.
+            Friction::Cubic(c) => c.mu_0 + c.a3 * (1e6 + self.lambda).powi(3),
         }
     }
 
@@ -365,10 +437,7 @@ impl Params {
     /// McMillan's laws (the force depends on the acceleration too; their stability is found by
     /// runs) and Coulomb.
     pub fn fixed_point_damping(&self) -> Option<f64> {
-        let Friction::Stribeck(s) = self.law else {
-            return None;
-        };
-        let (_, dmu) = s.mu(self.lambda);
+        let (_, dmu) = self.law.mu(self.lambda)?;
         Some(2.0 * self.nu + dmu)
     }
 }

@@ -86,7 +86,8 @@ impl Region {
             Friction::Stribeck(s) => stribeck(p, &s),
             Friction::McMillan(c) => mcmillan(p, c, true),
             Friction::NonHysteretic(c) => mcmillan(p, c, false),
-            Friction::Coulomb => None,
+            // No closed form kept for the cubic law yet: its runs decide without the region.
+            Friction::Coulomb | Friction::Cubic(_) => None,
         }
     }
 

@@ -1,4 +1,4 @@
-//! True stick with located events, for laws with a static limit ([`FrictionLaw::Stribeck`]).
+//! True stick with located events, for laws with a static limit (the Stribeck and cubic laws).
 //!
 //! ```text
 //! x'' + 2 nu x' + x = F,   v = x' - lambda (slip velocity)

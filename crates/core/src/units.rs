@@ -156,7 +156,9 @@ impl Physical {
             FrictionLaw::McMillan => Friction::McMillan(surface),
             FrictionLaw::McMillanNonHysteretic => Friction::NonHysteretic(surface),
             FrictionLaw::Coulomb => Friction::Coulomb,
-            FrictionLaw::Stribeck => return Err(CoreError::NoPhysicalUnits(law.name())),
+            FrictionLaw::Stribeck | FrictionLaw::Cubic => {
+                return Err(CoreError::NoPhysicalUnits(law.name()));
+            }
         };
         Ok(Params {
             law,

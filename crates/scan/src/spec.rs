@@ -7,7 +7,7 @@
 //! ```toml
 //! version = 1                      # required; this is spec version 1
 //! [model]
-//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
+//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck | cubic
 //! nu = 1e-3                        # a number, a list [1e-3, 2e-3], or
 //!                                  # { from = 1e-3, to = 5e-2, count = 8, spacing = "log" }
 //! lambda = 3.0                     # default 3; a list or range sweeps lambda instead of nu

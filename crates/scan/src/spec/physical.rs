@@ -73,6 +73,9 @@ pub(super) fn model(
         mu_sd: None,
         v_0: None,
         mu_v: None,
+        mu_0: None,
+        a1: None,
+        a3: None,
     };
     Ok((base, model))
 }

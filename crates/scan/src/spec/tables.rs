@@ -39,6 +39,13 @@ pub(crate) struct ModelTable {
     pub(crate) v_0: Option<f64>,
     #[serde(default)]
     pub(crate) mu_v: Option<f64>,
+    // The cubic law's keys (law = "cubic" only; also xi and v_d).
+    #[serde(default)]
+    pub(crate) mu_0: Option<f64>,
+    #[serde(default)]
+    pub(crate) a1: Option<f64>,
+    #[serde(default)]
+    pub(crate) a3: Option<f64>,
 }
 
 impl ModelTable {
@@ -62,6 +69,9 @@ impl ModelTable {
             "mu_sd" => one(&self.mu_sd),
             "v_0" => one(&self.v_0),
             "mu_v" => one(&self.mu_v),
+            "mu_0" => one(&self.mu_0),
+            "a1" => one(&self.a1),
+            "a3" => one(&self.a3),
             _ => None,
         }
     }
@@ -93,10 +103,11 @@ impl ModelTable {
         if self.law.has_true_stick() {
             return Err(invalid(
                 "physical",
-                "given with law = \"stribeck\"".into(),
+                format!("given with law = \"{}\"", self.law),
                 "a McMillan law: the physical units are McMillan's scaling (x scaled by mu_k g / \
                  omega_n^2, lambda = v_belt omega_n / (mu_k g), tau and Phi from the surfaces), \
-                 which the Stribeck law does not share (give its nondimensional keys in [model])",
+                 which the laws with true stick do not share (give their nondimensional keys in \
+                 [model])",
             ));
         }
         match ["nu", "lambda", "tau", "phi"]
