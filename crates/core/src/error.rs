@@ -19,8 +19,8 @@ pub enum CoreError {
     NoPhysicalUnits(&'static str),
     /// A friction-law name that is not one of ours.
     #[error(
-        "unknown friction law '{0}' (expected mcmillan, mcmillan-nonhysteretic, coulomb, stribeck \
-         or cubic)"
+        "unknown friction law '{0}' (expected one of {names})",
+        names = crate::law::FrictionLaw::names()
     )]
     UnknownLaw(String),
     /// A scheme name that is not one of ours.

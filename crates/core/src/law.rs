@@ -60,6 +60,11 @@ impl FrictionLaw {
         FrictionLaw::Cubic,
     ];
 
+    /// Every law's name, for messages: `mcmillan, mcmillan-nonhysteretic, ...`.
+    pub fn names() -> String {
+        FrictionLaw::ALL.map(FrictionLaw::name).join(", ")
+    }
+
     /// Whether the law sticks with a static limit, stepped with located stick events
     /// ([`crate::stick`]).
     pub fn has_true_stick(self) -> bool {
