@@ -954,6 +954,59 @@ fn stribeck_basin_fraction_agrees_with_bstab_and_the_map() {
     assert_eq!(contradictions, [0, -1, 0]);
 }
 
+/// The cubic law's atlas (issue 16, item 6) over the belt speed. At the defaults the fixed
+/// point's damping 2 xi + mu'(v_d) = 0.1 - 0.45 + 1.8 v_d^2 vanishes at
+/// v_d = sqrt(0.35 / 1.8) = 0.44096 (closed form): below it the fixed point repels, above it
+/// the orbit from breakaway decays (no bistable belt speed, crates/core/tests/cubic.rs), so
+/// the fold (no start squeals above) and the critical speed of the operating point both lie
+/// at that loss of stability, within their brackets. Before, the chart refused to draw an
+/// atlas with no unstable cycle beside stick-slip ("curve ... has no drawable point").
+#[test]
+fn a_cubic_atlas_finds_its_fold_at_the_loss_of_stability() {
+    let spec = r#"
+version = 1
+name = "cubic-vd"
+[model]
+law = "cubic"
+v_d = [0.3, 0.5]
+[boundaries]
+rtol = 1e-2
+[output]
+path = "c.h5"
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("c.toml"), spec).unwrap();
+    let a = json(&ok(squeal(dir.path(), &["atlas", "c.toml", "--json"])));
+    let regimes: Vec<&str> = a["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["regime"].as_str().unwrap())
+        .collect();
+    assert_eq!(regimes, ["fixed_point_unstable", "steady_slip_only"]);
+    let hopf = (0.35f64 / 1.8).sqrt();
+    for which in ["fold", "critical"] {
+        let b = &a["boundaries"][0][which];
+        assert_eq!(b["status"], "found", "{which}: {b}");
+        let (lo, hi) = (
+            b["bracket"][0].as_f64().unwrap(),
+            b["bracket"][1].as_f64().unwrap(),
+        );
+        assert!(lo <= hopf && hopf <= hi, "{which}: {b}");
+    }
+    let f = dir.path().join("c.h5");
+    assert_eq!(read_u8(&f, "landscape"), [1, 3]);
+    // The fixed parameters are root attributes under the law's own names.
+    assert_eq!(str_attr(&f, None, "law"), "cubic");
+    let h = hdf5::File::open(&f).unwrap();
+    let num = |k: &str| h.attr(k).unwrap().read_scalar::<f64>().unwrap();
+    assert_eq!(
+        (num("xi"), num("mu_0"), num("a1"), num("a3")),
+        (0.05, 0.4, 0.45, 0.6)
+    );
+    assert!(dir.path().join("c.png").exists());
+}
+
 #[test]
 fn a_stribeck_atlas_stores_its_boundaries_and_landscape_in_its_own_words() {
     let spec = r#"

@@ -876,3 +876,33 @@ fn lifetime_flags_are_checked_before_computing() {
         stderr(&o)
     );
 }
+
+/// The cubic law in `ulc` and `critical` (issue 16, item 6). At its defaults (xi = 0.05,
+/// v_d = 0.3, mu(s) = 0.4 - 0.45 s + 0.6 s^3) the fixed point's damping is
+/// 2 xi + mu'(v_d) = 2 xi - 0.45 + 1.8 * 0.09 (closed form), negative: `ulc` finds no cycle
+/// because the fixed point repels. It turns stable at xi = (0.45 - 0.162) / 2 = 0.144, and
+/// the law has no unstable cycle beside a stable fixed point (no bistable belt speed,
+/// crates/core/tests/cubic.rs), so the critical damping of (0, 0) in [1e-3, 0.3] is that
+/// loss of stability: 0.144 (the start squeals below it and settles above).
+#[test]
+fn cubic_law_in_ulc_and_critical() {
+    let dir = tmp();
+    refused(squeal(dir.path(), &["ulc", "--law", "cubic"]), "repels");
+    let out = ok(squeal(
+        dir.path(),
+        &["critical", "--law", "cubic", "--nu-hi", "0.3", "--json"],
+    ));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let xi = j["nu"].as_f64().unwrap();
+    assert!((xi - 0.144).abs() < 1e-3, "{j}");
+    // A McMillan flag under the cubic law is refused naming it; so is a mu that turns
+    // negative (least value 0.4 - 0.3 sqrt(3) < 0 at a3 = 0.05).
+    refused(
+        squeal(dir.path(), &["ulc", "--law", "cubic", "--tau", "0.1"]),
+        "--tau: not a parameter of --law cubic",
+    );
+    refused(
+        squeal(dir.path(), &["ulc", "--law", "cubic", "--a3", "0.05"]),
+        "--a1: invalid a1",
+    );
+}

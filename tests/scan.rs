@@ -680,6 +680,54 @@ t_max = 2000.0
 path = "st.h5"
 "#;
 
+/// The cubic law (issue 16, item 6) at two belt speeds, one per landscape. Its fixed point's
+/// damping is 2 xi + mu'(v_d) = 0.1 - 0.45 + 1.8 v_d^2 at the defaults (closed form): -0.188
+/// at v_d = 0.3 (it repels: every start squeals) and 0.1 at v_d = 0.5, where the orbit from
+/// breakaway decays (steady slip only; crates/core/tests/cubic.rs). The file carries the
+/// law's own keys with their words, and none of another law's.
+#[test]
+fn cubic_scan_states_the_landscape_and_its_own_keys() {
+    let d = tempfile::tempdir().unwrap();
+    let text = STRIBECK_SWEEP
+        .replace("law = \"stribeck\"", "law = \"cubic\"")
+        .replace("v_d = [1.0, 1.5, 2.2]", "v_d = [0.3, 0.5]")
+        .replace("st.h5", "cu.h5");
+    spec(d.path(), "cu.toml", &text);
+    let out = ok(&squeal(d.path(), &["scan", "cu.toml", "--quiet", "--json"]));
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for (m, (want, v_d)) in [("stick_slip_only", 0.3f64), ("steady_slip_only", 0.5)]
+        .into_iter()
+        .enumerate()
+    {
+        let map = &v["maps"][m];
+        assert_eq!(map["landscape"]["landscape"], want, "map {m}: {map}");
+        let damping = map["landscape"]["fixed_point_damping"].as_f64().unwrap();
+        assert!(
+            (damping - (0.1 - 0.45 + 1.8 * v_d * v_d)).abs() < 1e-12,
+            "{damping}"
+        );
+        assert_eq!(map["checks"]["landscape_contradictions"], 0, "map {m}");
+        let regime = if m == 0 { "steady_slip" } else { "stick_slip" };
+        assert_eq!(map[regime], 0, "map {m}: {map}");
+    }
+    let f = hdf5::File::open(d.path().join("cu.h5")).unwrap();
+    let num = |k: &str| f.attr(k).unwrap().read_scalar::<f64>().unwrap();
+    let text = |k: &str| {
+        let s: hdf5::types::VarLenUnicode = f.attr(k).unwrap().read_scalar().unwrap();
+        s.as_str().to_string()
+    };
+    assert_eq!(text("law"), "cubic");
+    assert_eq!(
+        (num("xi"), num("mu_0"), num("a1"), num("a3")),
+        (0.05, 0.4, 0.45, 0.6)
+    );
+    assert!(text("a1_long_name").contains("mu_0 - a1 s + a3 s^3"));
+    let attrs = f.attr_names().unwrap();
+    for foreign in ["nu", "lambda", "tau", "phi", "mu_d", "v_0"] {
+        assert!(!attrs.iter().any(|a| a == foreign), "{foreign}: {attrs:?}");
+    }
+}
+
 #[test]
 fn stribeck_scan_states_the_landscape_of_every_map() {
     let d = tempfile::tempdir().unwrap();

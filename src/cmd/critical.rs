@@ -99,7 +99,7 @@ fn boundary(
         operating: point,
         ..PointSettings::default()
     };
-    if args.fold && boundary::crisis_applies(plan.maps[map].law) {
+    if args.fold && boundary::crisis_applies(plan.maps[map].kind()) {
         return crisis_report(args, (plan, map), (&ps, range), (param, name, flag), t0);
     }
     // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
@@ -166,7 +166,7 @@ fn crisis(
     if args.in_ != "nu" {
         bail!("--crisis: only in the damping (--in nu); --fold --in lambda bisects the belt speed");
     }
-    if !squeal_scan::atlas::boundary::crisis_applies(plan.maps[map].law) {
+    if !squeal_scan::atlas::boundary::crisis_applies(plan.maps[map].kind()) {
         bail!(
             "--crisis: McMillan's laws only (a law with true stick has no band to leak: its fold is --fold)"
         );

@@ -11,7 +11,7 @@ use super::physical::PhysicalArgs;
 /// bSTAB's friction case for `--law stribeck`).
 #[derive(clap::Args, Debug, Clone)]
 pub struct ModelArgs {
-    /// Friction law: mcmillan, mcmillan-nonhysteretic, coulomb or stribeck.
+    /// Friction law: mcmillan, mcmillan-nonhysteretic, coulomb, stribeck or cubic.
     #[arg(long, default_value = "mcmillan")]
     pub law: String,
     /// Damping ratio nu >= 0 (McMillan's laws; default 1e-3).
@@ -26,10 +26,10 @@ pub struct ModelArgs {
     /// Phi = arcsin(mu_k/mu_s), in (0, pi/2] (McMillan's laws; default 1).
     #[arg(long, allow_negative_numbers = true)]
     pub phi: Option<f64>,
-    /// Damping ratio xi >= 0 (--law stribeck; default 0.05).
+    /// Damping ratio xi >= 0 (--law stribeck, cubic; default 0.05).
     #[arg(long, allow_negative_numbers = true)]
     pub xi: Option<f64>,
-    /// Belt speed v_d > 0 (--law stribeck; default 1.5).
+    /// Belt speed v_d > 0 (--law stribeck, default 1.5; --law cubic, default 0.3).
     #[arg(long = "v-d", allow_negative_numbers = true)]
     pub v_d: Option<f64>,
     /// Dynamic friction coefficient mu_d > 0 (--law stribeck; default 0.5).
@@ -44,6 +44,15 @@ pub struct ModelArgs {
     /// Viscous strengthening mu_v >= 0 (--law stribeck; default 0).
     #[arg(long = "mu-v", allow_negative_numbers = true)]
     pub mu_v: Option<f64>,
+    /// Static friction coefficient mu_0 = mu(0) > 0 (--law cubic; default 0.4).
+    #[arg(long = "mu-0", allow_negative_numbers = true)]
+    pub mu_0: Option<f64>,
+    /// Linear coefficient a1 >= 0 of mu(s) = mu_0 - a1 s + a3 s^3 (--law cubic; default 0.45).
+    #[arg(long, allow_negative_numbers = true)]
+    pub a1: Option<f64>,
+    /// Cubic coefficient a3 >= 0 of mu(s) (--law cubic; default 0.6).
+    #[arg(long, allow_negative_numbers = true)]
+    pub a3: Option<f64>,
     /// The physical system's flags (McMillan's laws, instead of --nu --lambda --tau --phi).
     #[command(flatten)]
     pub system: PhysicalArgs,
@@ -60,7 +69,7 @@ pub struct ModelArgs {
 
 impl ModelArgs {
     /// The law's flags given, by key name.
-    fn given(&self) -> [(&'static str, Option<f64>); 10] {
+    fn given(&self) -> [(&'static str, Option<f64>); 13] {
         [
             ("nu", self.nu),
             ("lambda", self.lambda),
@@ -72,6 +81,9 @@ impl ModelArgs {
             ("mu_sd", self.mu_sd),
             ("v_0", self.v_0),
             ("mu_v", self.mu_v),
+            ("mu_0", self.mu_0),
+            ("a1", self.a1),
+            ("a3", self.a3),
         ]
     }
 
@@ -103,11 +115,7 @@ impl ModelArgs {
                     .join(", ")
             );
         }
-        let defaults = if law == FrictionLaw::Stribeck {
-            Params::bstab()
-        } else {
-            Params::paper(law, squeal_core::defaults::NU)
-        };
+        let defaults = Params::defaults(law);
         let named = defaults.named();
         let p = Params::from_named(law, |k| {
             given
@@ -211,7 +219,7 @@ pub struct SetupArgs {
     #[arg(
         long,
         conflicts_with_all = ["law", "nu", "lambda", "tau", "phi", "xi", "v_d", "mu_d", "mu_sd",
-            "v_0", "mu_v", "m", "k", "c", "v_belt", "mu_k", "mu_s", "tau_s", "g", "dt", "solver",
+            "v_0", "mu_v", "mu_0", "a1", "a3", "m", "k", "c", "v_belt", "mu_k", "mu_s", "tau_s", "g", "dt", "solver",
             "t_max"]
     )]
     pub spec: Option<std::path::PathBuf>,

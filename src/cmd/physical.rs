@@ -78,8 +78,8 @@ impl PhysicalArgs {
         }
         if law.has_true_stick() {
             bail!(
-                "--law {law}: the physical flags use McMillan's scaling, which the Stribeck law \
-                 does not share (give --xi, --v-d, ... instead)"
+                "--law {law}: the physical flags use McMillan's scaling, which the laws with true \
+                 stick do not share (give --xi, --v-d, ... instead)"
             );
         }
         if let Some(k) = other {

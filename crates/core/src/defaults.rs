@@ -41,3 +41,24 @@ pub const MU_SD: f64 = 2.0;
 pub const V_0: f64 = 0.5;
 /// bSTAB's friction case: viscous strengthening `mu_v`.
 pub const MU_V: f64 = 0.0;
+
+// The cubic law mu(s) = mu_0 - a1 s + a3 s^3 at the shape used by Thomsen (J. Sound Vib.
+// 228(5), 1999) and Thomsen and Fidlin (Int. J. Non-Linear Mech. 38, 2003): static
+// coefficient 0.4, least coefficient mu_m = 0.25 at slip speed v_m = 0.5, so
+// a1 = (3/2) (0.4 - mu_m) / v_m = 0.45 and a3 = (1/2) (0.4 - mu_m) / v_m^3 = 0.6, with
+// damping ratio 0.05. (As recalled from those papers; not re-read here.) The belt speed 0.3
+// lies on the falling part of mu (below its minimum at 0.5), where the fixed point repels
+// (2 xi + mu'(0.3) = -0.188) and every start squeals. No belt speed of this shape was found
+// where steady slip and stick-slip coexist: the landscape turns from stick-slip only to
+// steady slip only at the fixed point's loss of stability, v_d = 0.441 (scanned on a grid
+// of 0.0005; `crates/core/tests/cubic.rs`, `landscape_and_labels`).
+/// The cubic law: damping ratio `xi`.
+pub const CUBIC_XI: f64 = 0.05;
+/// The cubic law: belt speed `v_d` (on the falling part of `mu`).
+pub const CUBIC_V_D: f64 = 0.3;
+/// The cubic law: static limit `mu_0 = mu(0)`.
+pub const CUBIC_MU_0: f64 = 0.4;
+/// The cubic law: linear coefficient `a1`.
+pub const CUBIC_A1: f64 = 0.45;
+/// The cubic law: cubic coefficient `a3`.
+pub const CUBIC_A3: f64 = 0.6;

@@ -11,21 +11,16 @@ pub enum CoreError {
         value: f64,
         expected: &'static str,
     },
-    /// Parameters of another law given to this one.
-    #[error("law {law} takes none of {keys}")]
-    ForeignParameters {
-        law: &'static str,
-        keys: &'static str,
-    },
-    /// A law's own parameters are missing.
-    #[error("law {law} needs its parameters {keys}")]
-    MissingParameters {
-        law: &'static str,
-        keys: &'static str,
-    },
+    /// The physical units are McMillan's scaling; this law has none.
+    #[error(
+        "law {0} has no physical units (they are McMillan's scaling): give its nondimensional \
+         parameters"
+    )]
+    NoPhysicalUnits(&'static str),
     /// A friction-law name that is not one of ours.
     #[error(
-        "unknown friction law '{0}' (expected mcmillan, mcmillan-nonhysteretic, coulomb or stribeck)"
+        "unknown friction law '{0}' (expected one of {names})",
+        names = crate::law::FrictionLaw::names()
     )]
     UnknownLaw(String),
     /// A scheme name that is not one of ours.

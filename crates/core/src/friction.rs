@@ -21,7 +21,7 @@
 use std::f64::consts::{FRAC_2_PI, PI};
 
 use crate::atan::atan_ratio;
-use crate::params::{FrictionLaw, Params, PerV0, Stribeck};
+use crate::params::{Cubic, Friction, FrictionLaw, Params, PerV0, Stribeck, Surface};
 
 /// Which piece of the law was used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,40 +68,9 @@ pub fn force(p: &Params, v: f64, a: f64) -> ForceEval {
     Law::new(p).eval(v, a)
 }
 
-/// A friction law: what closes `x'' + 2 nu x' + x = F`. Each law is a small `Copy` struct with
-/// its constants; [`Law`] holds one of them and is what the stepper and the solvers use.
-/// Adding a law is one struct implementing this trait, one [`FrictionLaw`] variant with its
-/// parameters, and one arm in [`Law::new`] and [`Law::eval`].
-pub trait FrictionModel {
-    /// `F(v, a)` with its partial derivatives and the branch used (at a set-valued point,
-    /// `v = 0` for a law that sticks, the middle of the set).
-    fn eval(&self, v: f64, a: f64) -> ForceEval;
-
-    /// Whether `(v, a)` lies on a quasi-static branch of the law (cheap; no evaluation).
-    fn quasi_static(&self, v: f64, a: f64) -> bool {
-        let _ = (v, a);
-        false
-    }
-
-    /// The static limit of a law with true stick: while `v = 0` the force can take any value
-    /// in `[-limit, limit]`. Such laws are stepped with located stick events
-    /// ([`crate::stick`]); `None` for the others.
-    fn static_limit(&self) -> Option<f64> {
-        None
-    }
-
-    /// The force while slipping on the side `sigma = sgn(v)` (+1 or -1), extended to the other
-    /// side by its value at `v = 0` (continuous, so a step that overshoots zero slip can be
-    /// bisected to the event), with `dF/dv`.
-    fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
-        let e = self.eval(if sigma * v > 0.0 { v } else { 0.0 }, 0.0);
-        (e.force, if sigma * v > 0.0 { e.dv } else { 0.0 })
-    }
-}
-
 /// McMillan's constants (`sin Phi`, `pi - Phi`), shared by his two laws.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct McMillanConsts {
+struct McMillanConsts {
     tau: f64,
     phi: f64,
     /// `1 / sin Phi`.
@@ -111,137 +80,40 @@ pub struct McMillanConsts {
 }
 
 impl McMillanConsts {
-    fn new(tau: f64, phi: f64) -> McMillanConsts {
+    fn new(c: Surface) -> McMillanConsts {
         McMillanConsts {
-            tau,
-            phi,
-            inv_sin_phi: 1.0 / phi.sin(),
-            pi_minus_phi: PI - phi,
+            tau: c.tau,
+            phi: c.phi,
+            inv_sin_phi: 1.0 / c.phi.sin(),
+            pi_minus_phi: PI - c.phi,
         }
     }
 }
 
-/// McMillan's hysteretic law, eq. (4.1) corrected.
+/// The Stribeck law with the division by `v_0` built once (see [`PerV0`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hysteretic(pub McMillanConsts);
-
-/// McMillan's non-hysteretic law, eq. (5.1) corrected.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NonHysteretic(pub McMillanConsts);
-
-/// Plain Coulomb friction `-sgn(v)` (its stick is solved in closed form by the solver).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coulomb;
-
-/// The Stribeck law with true stick: `F = -sgn(v) mu(|v|)` while slipping, any value in
-/// `[-mu_s, mu_s]` while stuck.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StribeckLaw {
-    /// Its parameters.
-    pub params: Stribeck,
-    /// The division by `v_0`, built once (see [`PerV0`]).
+struct StribeckConsts {
+    params: Stribeck,
     per_v0: PerV0,
 }
 
-impl StribeckLaw {
-    /// The law of `params`.
-    pub fn new(params: Stribeck) -> StribeckLaw {
-        StribeckLaw {
-            params,
-            per_v0: PerV0::new(params.v_0),
-        }
-    }
-
-    /// `mu(s)` and `mu'(s)` ([`Stribeck::mu`], the same bits).
-    #[inline]
-    fn mu(&self, s: f64) -> (f64, f64) {
-        self.params.mu_by(s, &self.per_v0)
-    }
-}
-
-impl FrictionModel for Hysteretic {
-    #[inline]
-    fn eval(&self, v: f64, a: f64) -> ForceEval {
-        let c = &self.0;
-        mcmillan_k(v, a, c.tau, c.phi, c.inv_sin_phi, c.pi_minus_phi)
-    }
-    #[inline]
-    fn quasi_static(&self, v: f64, a: f64) -> bool {
-        let b = a.abs() * self.0.tau;
-        a != 0.0 && (0.0..=2.0 * b).contains(&(v * a.signum()))
-    }
-}
-
-impl FrictionModel for NonHysteretic {
-    #[inline]
-    fn eval(&self, v: f64, a: f64) -> ForceEval {
-        let c = &self.0;
-        nonhysteretic_k(v, a, c.tau, c.inv_sin_phi, c.pi_minus_phi)
-    }
-    #[inline]
-    fn quasi_static(&self, v: f64, a: f64) -> bool {
-        a != 0.0 && v.abs() <= a.abs() * self.0.tau
-    }
-}
-
-impl FrictionModel for Coulomb {
-    #[inline]
-    fn eval(&self, v: f64, _a: f64) -> ForceEval {
-        coulomb(v)
-    }
-}
-
-impl FrictionModel for StribeckLaw {
-    #[inline]
-    fn eval(&self, v: f64, _a: f64) -> ForceEval {
-        if v == 0.0 {
-            // Set-valued: the middle of [-mu_s, mu_s], as Coulomb's F(0) = 0.
-            return ForceEval {
-                force: 0.0,
-                dv: 0.0,
-                da: 0.0,
-                branch: Branch::Stick,
-            };
-        }
-        let (mu, dmu) = self.mu(v.abs());
-        ForceEval {
-            force: -sgn0(v) * mu,
-            dv: -dmu,
-            da: 0.0,
-            branch: Branch::Slip,
-        }
-    }
-    fn static_limit(&self) -> Option<f64> {
-        Some(self.params.mu_s())
-    }
-    #[inline]
-    fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
-        let s = sigma * v;
-        if s > 0.0 {
-            let (mu, dmu) = self.mu(s);
-            (-sigma * mu, -dmu)
-        } else {
-            (-sigma * self.params.mu_s(), 0.0)
-        }
-    }
-}
-
-/// The law of one run, with its constants.
+/// The law's form with its constants: what [`Law`] branches on.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    McMillan(Hysteretic),
-    NonHysteretic(NonHysteretic),
-    Coulomb(Coulomb),
-    Stribeck(StribeckLaw),
+enum Form {
+    McMillan(McMillanConsts),
+    NonHysteretic(McMillanConsts),
+    Coulomb,
+    Stribeck(StribeckConsts),
+    Cubic(Cubic),
 }
 
 /// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
-/// stepper and the solver evaluate.
+/// stepper and the solver evaluate. Built from the law's parameters ([`Friction`]); adding
+/// a law is one [`Friction`] variant and one arm in [`Law::new`], [`Law::eval`] and, for a
+/// law with true stick, [`Law::mu`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Law {
-    kind: Kind,
-    name: FrictionLaw,
-    tau: f64,
+    form: Form,
     /// Bound on `|F|` over all states ([`Params::force_bound`]).
     bound: f64,
 }
@@ -249,31 +121,39 @@ pub struct Law {
 impl Law {
     /// The law of `p` with its constants.
     pub fn new(p: &Params) -> Law {
-        let mc = || McMillanConsts::new(p.tau, p.phi);
-        let kind = match p.law {
-            FrictionLaw::McMillan => Kind::McMillan(Hysteretic(mc())),
-            FrictionLaw::McMillanNonHysteretic => Kind::NonHysteretic(NonHysteretic(mc())),
-            FrictionLaw::Coulomb => Kind::Coulomb(Coulomb),
-            FrictionLaw::Stribeck => {
-                Kind::Stribeck(StribeckLaw::new(p.stribeck.unwrap_or_default()))
-            }
+        let form = match p.law {
+            Friction::McMillan(c) => Form::McMillan(McMillanConsts::new(c)),
+            Friction::NonHysteretic(c) => Form::NonHysteretic(McMillanConsts::new(c)),
+            Friction::Coulomb => Form::Coulomb,
+            Friction::Stribeck(s) => Form::Stribeck(StribeckConsts {
+                params: s,
+                per_v0: PerV0::new(s.v_0),
+            }),
+            Friction::Cubic(c) => Form::Cubic(c),
         };
         Law {
-            kind,
-            name: p.law,
-            tau: p.tau,
+            form,
             bound: p.force_bound(),
         }
     }
 
     /// Which law.
     pub fn kind(&self) -> FrictionLaw {
-        self.name
+        match self.form {
+            Form::McMillan(_) => FrictionLaw::McMillan,
+            Form::NonHysteretic(_) => FrictionLaw::McMillanNonHysteretic,
+            Form::Coulomb => FrictionLaw::Coulomb,
+            Form::Stribeck(_) => FrictionLaw::Stribeck,
+            Form::Cubic(_) => FrictionLaw::Cubic,
+        }
     }
 
-    /// `tau`.
-    pub fn tau(&self) -> f64 {
-        self.tau
+    /// McMillan's surface time `tau` (`None` for the other laws).
+    pub fn tau(&self) -> Option<f64> {
+        match self.form {
+            Form::McMillan(c) | Form::NonHysteretic(c) => Some(c.tau),
+            _ => None,
+        }
     }
 
     /// Every root of a force equation lies in `[-bound, bound]`.
@@ -281,45 +161,86 @@ impl Law {
         self.bound
     }
 
-    /// The law as a trait object (for the rarely called methods).
-    fn model(&self) -> &dyn FrictionModel {
-        match &self.kind {
-            Kind::McMillan(l) => l,
-            Kind::NonHysteretic(l) => l,
-            Kind::Coulomb(l) => l,
-            Kind::Stribeck(l) => l,
-        }
-    }
-
-    /// `F(v, a)` with its partial derivatives and the branch used.
+    /// `F(v, a)` with its partial derivatives and the branch used (at a set-valued point,
+    /// `v = 0` for a law that sticks, the middle of the set).
     #[inline]
     pub fn eval(&self, v: f64, a: f64) -> ForceEval {
-        match &self.kind {
-            Kind::McMillan(l) => l.eval(v, a),
-            Kind::NonHysteretic(l) => l.eval(v, a),
-            Kind::Coulomb(l) => l.eval(v, a),
-            Kind::Stribeck(l) => l.eval(v, a),
+        match &self.form {
+            Form::McMillan(c) => mcmillan_k(v, a, c.tau, c.phi, c.inv_sin_phi, c.pi_minus_phi),
+            Form::NonHysteretic(c) => nonhysteretic_k(v, a, c.tau, c.inv_sin_phi, c.pi_minus_phi),
+            Form::Coulomb => coulomb(v),
+            Form::Stribeck(_) | Form::Cubic(_) => {
+                if v == 0.0 {
+                    // Set-valued: the middle of [-mu_s, mu_s], as Coulomb's F(0) = 0.
+                    return ForceEval {
+                        force: 0.0,
+                        dv: 0.0,
+                        da: 0.0,
+                        branch: Branch::Stick,
+                    };
+                }
+                let (mu, dmu) = self.mu(v.abs());
+                ForceEval {
+                    force: -sgn0(v) * mu,
+                    dv: -dmu,
+                    da: 0.0,
+                    branch: Branch::Slip,
+                }
+            }
         }
     }
 
-    /// See [`FrictionModel::static_limit`].
-    pub fn static_limit(&self) -> Option<f64> {
-        self.model().static_limit()
+    /// `mu(s)` and `mu'(s)` of a law with true stick at slip speed `s > 0` (the force is
+    /// `-sgn(v) mu(|v|)` while slipping); `(0, 0)` for the others, never called for them.
+    #[inline]
+    fn mu(&self, s: f64) -> (f64, f64) {
+        match &self.form {
+            Form::Stribeck(c) => c.params.mu_by(s, &c.per_v0),
+            Form::Cubic(c) => c.mu(s),
+            _ => (0.0, 0.0),
+        }
     }
 
-    /// See [`FrictionModel::sliding`].
+    /// The static limit of a law with true stick: while `v = 0` the force can take any value
+    /// in `[-limit, limit]`. Such laws are stepped with located stick events
+    /// ([`crate::stick`]); `None` for the others.
+    pub fn static_limit(&self) -> Option<f64> {
+        match &self.form {
+            Form::Stribeck(c) => Some(c.params.mu_s()),
+            Form::Cubic(c) => Some(c.mu_0),
+            _ => None,
+        }
+    }
+
+    /// The force while slipping on the side `sigma = sgn(v)` (+1 or -1), extended to the other
+    /// side by its value at `v = 0` (continuous, so a step that overshoots zero slip can be
+    /// bisected to the event), with `dF/dv`.
     #[inline]
     pub fn sliding(&self, sigma: f64, v: f64) -> (f64, f64) {
-        match &self.kind {
-            Kind::Stribeck(l) => l.sliding(sigma, v),
-            _ => self.model().sliding(sigma, v),
+        if let Some(mu_s) = self.static_limit() {
+            let s = sigma * v;
+            return if s > 0.0 {
+                let (mu, dmu) = self.mu(s);
+                (-sigma * mu, -dmu)
+            } else {
+                (-sigma * mu_s, 0.0)
+            };
         }
+        let e = self.eval(if sigma * v > 0.0 { v } else { 0.0 }, 0.0);
+        (e.force, if sigma * v > 0.0 { e.dv } else { 0.0 })
     }
 
-    /// See [`FrictionModel::quasi_static`].
+    /// Whether `(v, a)` lies on a quasi-static branch of the law (cheap; no evaluation).
     #[inline]
     pub fn quasi_static(&self, v: f64, a: f64) -> bool {
-        self.model().quasi_static(v, a)
+        match &self.form {
+            Form::McMillan(c) => {
+                let b = a.abs() * c.tau;
+                a != 0.0 && (0.0..=2.0 * b).contains(&(v * a.signum()))
+            }
+            Form::NonHysteretic(c) => a != 0.0 && v.abs() <= a.abs() * c.tau,
+            _ => false,
+        }
     }
 }
 

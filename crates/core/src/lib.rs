@@ -43,6 +43,7 @@ pub mod classify;
 pub mod defaults;
 pub mod error;
 pub mod friction;
+pub mod law;
 #[doc = include_str!("../MODEL.md")]
 pub mod model {}
 pub mod params;
@@ -61,7 +62,7 @@ pub use classify::{
 };
 pub use error::CoreError;
 pub use friction::Law;
-pub use params::{FrictionLaw, Named, Params, Stribeck};
+pub use params::{Cubic, Friction, FrictionLaw, Named, Params, Stribeck, Surface};
 pub use propagator::{Propagator, Scheme};
 pub use region::Region;
 pub use run::{Run, Samples, Step};

@@ -37,7 +37,7 @@
 
 use serde::Serialize;
 
-use crate::params::{FrictionLaw, Params};
+use crate::params::{Friction, Params, Stribeck, Surface};
 use crate::stepper::State;
 
 /// The share of the fixed point's damping kept everywhere in the disc (the margin).
@@ -83,10 +83,11 @@ impl Region {
     /// or a fixed point that does not attract).
     pub fn of(p: &Params) -> Option<Region> {
         match p.law {
-            FrictionLaw::Stribeck => stribeck(p),
-            FrictionLaw::McMillan => mcmillan(p, true),
-            FrictionLaw::McMillanNonHysteretic => mcmillan(p, false),
-            FrictionLaw::Coulomb => None,
+            Friction::Stribeck(s) => stribeck(p, &s),
+            Friction::McMillan(c) => mcmillan(p, c, true),
+            Friction::NonHysteretic(c) => mcmillan(p, c, false),
+            // No closed form kept for the cubic law yet: its runs decide without the region.
+            Friction::Coulomb | Friction::Cubic(_) => None,
         }
     }
 
@@ -106,8 +107,7 @@ impl Region {
 
 /// The Stribeck law's disc: `k(R) = 2 xi + mu'(v_d - R)` is non-decreasing as `R` falls, so
 /// the radius where `k` is a quarter of `k(0)` has the closed form below.
-fn stribeck(p: &Params) -> Option<Region> {
-    let s = p.stribeck?;
+fn stribeck(p: &Params, s: &Stribeck) -> Option<Region> {
     let k0 = p.fixed_point_damping()?;
     // NaN damping fails `k0 > 0` too.
     if k0.is_nan() || k0 <= 0.0 || s.mu_sd < 1.0 || s.mu_v < 0.0 {
@@ -158,8 +158,8 @@ struct Bounds {
 
 /// The bounds of McMillan's law (`hysteretic` or not) for the box of half-width `s` in
 /// `sigma`, or `None` where one of the conditions of the argument fails there.
-fn mcmillan_bounds(p: &Params, hysteretic: bool, s: f64) -> Option<Bounds> {
-    let tau = p.tau;
+fn mcmillan_bounds(p: &Params, surface: Surface, hysteretic: bool, s: f64) -> Option<Bounds> {
+    let tau = surface.tau;
     // |a| <= |sigma| / (1 - kappa) <= 2 s along the slip root, if kappa <= 1/2 (checked).
     let b1 = tau * 2.0 * s;
     let mut kappa = 0.5;
@@ -182,7 +182,7 @@ fn mcmillan_bounds(p: &Params, hysteretic: bool, s: f64) -> Option<Bounds> {
     // the equation is monotone (|dg/da| < 1).
     let c_kappa = s * s / (2.0 * (1.0 + kappa));
     let kappa_a = tau * w_min / (d * d);
-    let a_all = 1.0 + 1.0 / p.phi.sin() + s;
+    let a_all = 1.0 + 1.0 / surface.phi.sin() + s;
     let branch = if hysteretic { 2.0 } else { 1.0 };
     let d_all = w_min - tau * a_all;
     let ok = kappa <= 0.5
@@ -205,18 +205,18 @@ fn mcmillan_bounds(p: &Params, hysteretic: bool, s: f64) -> Option<Bounds> {
 /// every condition holds and `V` falls: `s <= 4 nu (1 - kappa)(1 - kappa_a) d^2 /
 /// ((1 + kappa) tau)`. The labelled ellipse is the set `u^2/2 + sigma^2 / (2 (1 - kappa))
 /// < c / 2`, inside `V < c / 2` (half the certified level: the margin).
-fn mcmillan(p: &Params, hysteretic: bool) -> Option<Region> {
-    if p.nu.is_nan() || p.nu <= 0.0 || p.tau <= 0.0 {
+fn mcmillan(p: &Params, surface: Surface, hysteretic: bool) -> Option<Region> {
+    if p.nu.is_nan() || p.nu <= 0.0 || surface.tau <= 0.0 {
         return None;
     }
     let falls = |s: f64, b: &Bounds| {
         s <= 4.0 * p.nu * (1.0 - b.kappa) * (1.0 - b.kappa_a) * b.d * b.d
-            / ((1.0 + b.kappa) * p.tau)
+            / ((1.0 + b.kappa) * surface.tau)
     };
     let step = 1e-3 * p.lambda;
     let best = (1..1000)
         .map(|i| i as f64 * step)
-        .filter_map(|s| Some((s, mcmillan_bounds(p, hysteretic, s)?)))
+        .filter_map(|s| Some((s, mcmillan_bounds(p, surface, hysteretic, s)?)))
         .take_while(|(s, b)| falls(*s, b))
         .last()?;
     let (_, b) = best;
@@ -234,7 +234,7 @@ fn mcmillan(p: &Params, hysteretic: bool) -> Option<Region> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::Stribeck;
+    use crate::params::{FrictionLaw, Stribeck};
 
     /// bSTAB's case at v_d = 2.0 (xi = 0.05, mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0):
     /// k0 = 0.1 - e^{-4} = 0.0816844; k(R) = 0.1 - e^{-(2 - R)/0.5} = k0 / 4 gives
@@ -306,7 +306,7 @@ mod tests {
                 continue;
             };
             found += 1;
-            let s = p.stribeck.unwrap();
+            let s = p.law.stribeck().unwrap();
             for j in 0..=2000 {
                 let u = radius * (j as f64 / 1000.0 - 1.0);
                 let h = 2.0 * p.nu * u + s.mu(v_d).0 - s.mu(v_d - u).0;

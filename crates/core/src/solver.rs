@@ -398,13 +398,14 @@ pub fn slip_lipschitz(law: &Law, eq: &ForceEquation, f0: f64, w: f64) -> Option<
         return None;
     } / MARGIN;
     let a_max = alo.abs().max(ahi.abs()) * MARGIN;
-    let tau = law.tau();
+    // Only McMillan's laws have the slip branch this bound is for (and a surface time).
+    let tau = law.tau()?;
     let slip = match law.kind() {
         FrictionLaw::McMillan => {
             v_min > 2.0 * tau * a_max || (alo >= 0.0 && vhi < 0.0) || (ahi <= 0.0 && vlo > 0.0)
         }
         FrictionLaw::McMillanNonHysteretic => v_min > tau * a_max,
-        FrictionLaw::Coulomb | FrictionLaw::Stribeck => false,
+        FrictionLaw::Coulomb | FrictionLaw::Stribeck | FrictionLaw::Cubic => false,
     };
     if !slip {
         return None;

@@ -1,4 +1,4 @@
-//! True stick with located events, for laws with a static limit ([`FrictionLaw::Stribeck`]).
+//! True stick with located events, for laws with a static limit (the Stribeck and cubic laws).
 //!
 //! ```text
 //! x'' + 2 nu x' + x = F,   v = x' - lambda (slip velocity)
@@ -10,7 +10,7 @@
 //! One step of length `h` is split at its events:
 //! * **slip phases** use the step of [`crate::stepper`] (the exact linear step with the force
 //!   linear over the step, or held, and the end-of-step force solved implicitly), with the law
-//!   of the current slip side `sigma = sgn(v)` ([`crate::friction::FrictionModel::sliding`]);
+//!   of the current slip side `sigma = sgn(v)` ([`crate::friction::Law::sliding`]);
 //! * **stick onset**: where a slip sub-step would end with the slip velocity through zero, the
 //!   sub-step length `tau` with `v(tau) = 0` is found by safeguarded false position on the
 //!   implicit sub-step itself (its end force is then `-sigma mu_s`). If the static limit holds
@@ -30,7 +30,7 @@
 use serde::Serialize;
 
 use crate::friction::{Branch, Law};
-use crate::params::{FrictionLaw, Params};
+use crate::params::Params;
 use crate::propagator::{Propagator, Scheme};
 use crate::solver::{Solution, SolverStats};
 use crate::stepper::{Sample, State, Stepper};
@@ -569,7 +569,7 @@ pub enum StickCycle {
 pub fn stick_slip_cycle(stepper: &Stepper, t_max: f64, fp_radius: f64) -> Option<StickCycle> {
     let p = stepper.params();
     let mu_s = stepper.law().static_limit()?;
-    if p.law != FrictionLaw::Stribeck {
+    if !p.law.has_true_stick() {
         return None;
     }
     let fp = p.fixed_point();

@@ -19,7 +19,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
-use crate::params::{FrictionLaw, Params};
+use crate::params::{Friction, FrictionLaw, Params, Surface};
 
 /// Standard gravity, the default of `g` (m/s^2).
 pub const G_STANDARD: f64 = 9.81;
@@ -139,28 +139,48 @@ impl Physical {
     /// The nondimensional parameters (paper Section 4), validated.
     pub fn params(&self, law: FrictionLaw) -> Result<Params, CoreError> {
         self.validate()?;
-        let s = self.scales();
-        let p = Params {
-            law,
-            nu: self.c / s.damping,
-            lambda: self.v_belt / s.velocity,
-            tau: self.tau / self.mu_k * s.omega0,
-            phi: (self.mu_k / self.mu_s).asin(),
-            stribeck: None,
-        };
+        let p = self.nondimensional(law)?;
         p.validate()?;
         Ok(p)
     }
 
+    /// The nondimensional parameters, not validated (an error only for a law without
+    /// physical units).
+    pub fn nondimensional(&self, law: FrictionLaw) -> Result<Params, CoreError> {
+        let s = self.scales();
+        let surface = Surface {
+            tau: self.tau / self.mu_k * s.omega0,
+            phi: (self.mu_k / self.mu_s).asin(),
+        };
+        let law = match law {
+            FrictionLaw::McMillan => Friction::McMillan(surface),
+            FrictionLaw::McMillanNonHysteretic => Friction::NonHysteretic(surface),
+            FrictionLaw::Coulomb => Friction::Coulomb,
+            FrictionLaw::Stribeck | FrictionLaw::Cubic => {
+                return Err(CoreError::NoPhysicalUnits(law.name()));
+            }
+        };
+        Ok(Params {
+            law,
+            nu: self.c / s.damping,
+            lambda: self.v_belt / s.velocity,
+        })
+    }
+
     /// The physical system with mass, stiffness, `mu_k` and `g` taken from `base` whose
     /// nondimensional parameters are `p` (the inverse of [`Physical::params`]).
+    /// A law without McMillan's surface constants (Coulomb) keeps `base`'s `tau` and `mu_s`.
     pub fn from_params(base: &Physical, p: &Params) -> Physical {
         let s = base.scales();
+        let (tau, mu_s) = match p.law.surface() {
+            Some(c) => (c.tau * base.mu_k / s.omega0, base.mu_k / c.phi.sin()),
+            None => (base.tau, base.mu_s),
+        };
         Physical {
             c: p.nu * s.damping,
             v_belt: p.lambda * s.velocity,
-            tau: p.tau * base.mu_k / s.omega0,
-            mu_s: base.mu_k / p.phi.sin(),
+            tau,
+            mu_s,
             ..*base
         }
     }
@@ -193,9 +213,10 @@ mod tests {
         // lambda = v_B / (mu_k g) * omega_0 = 0.1 / 3.924 * 100.
         assert!((p.lambda - 0.1 / (0.4 * 9.81) * 100.0).abs() < 1e-12);
         // tau' = tau / mu_k * omega_0 = 1e-3 / 0.4 * 100 = 0.25.
-        assert!((p.tau - 0.25).abs() < 1e-15);
+        let c = p.law.surface().unwrap();
+        assert!((c.tau - 0.25).abs() < 1e-15);
         // Phi = arcsin(0.8).
-        assert!((p.phi - 0.8f64.asin()).abs() < 1e-15);
+        assert!((c.phi - 0.8f64.asin()).abs() < 1e-15);
         let s = ph.scales();
         // One nondimensional length is mu_k g / omega_0^2 = 3.924e-4 m.
         assert!((s.length - 3.924e-4).abs() < 1e-16);
@@ -216,7 +237,7 @@ mod tests {
         ] {
             assert!((a - b).abs() <= 1e-14 * b.abs(), "{a} vs {b}");
         }
-        let p2 = back.params(p.law).unwrap();
+        let p2 = back.params(p.kind()).unwrap();
         assert!((p2.nu - p.nu).abs() < 1e-15 && (p2.lambda - p.lambda).abs() < 1e-13);
     }
 

@@ -2,41 +2,10 @@
 //! convergence of event times, the energy of a stick phase, no chattering, bad input, counters.
 
 use squeal_core::stick::{Landscape, StickCycle, landscape, stick_slip_cycle};
-use squeal_core::{
-    Classifier, FrictionLaw, Params, Reason, Regime, Run, Scheme, SolverConfig, State, Stepper,
-    Stribeck,
-};
+use squeal_core::{Classifier, Params, Reason, Regime, Run, Scheme, State, Stribeck};
 
-fn stepper(p: Params, dt: f64, scheme: Scheme) -> Stepper {
-    Stepper::new(
-        p,
-        dt,
-        SolverConfig {
-            scheme,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-}
-
-/// Absolute times of the first `n` onsets and breakaways of a run from `ic`.
-fn events(st: &Stepper, ic: State, t_end: f64) -> (Vec<f64>, Vec<f64>, u64) {
-    let mut run = Run::new(st, ic);
-    let (mut on, mut off, mut rev) = (Vec::new(), Vec::new(), 0);
-    for _ in 0..run.steps_to(t_end) {
-        let s = run.step();
-        if s.events.onsets > 0 {
-            assert_eq!(s.events.onsets, 1, "one onset per step at most here");
-            on.push(s.prev.t + s.events.onset_at);
-        }
-        if s.events.breakaways > 0 {
-            off.push(s.prev.t + s.events.breakaway_at);
-        }
-        rev += u64::from(s.events.reversals);
-    }
-    assert_eq!(run.stats().failures, 0);
-    (on, off, rev)
-}
+mod common;
+use common::{events, stepper};
 
 /// Coulomb friction (mu_sd = 1, mu_v = 0: mu(s) = mu_d for every slip) with damping: the force
 /// is constant on each side, so the scheme is exact and the located stick onset matches the
@@ -278,7 +247,7 @@ fn counters_count_events() {
 #[test]
 fn bad_input_names_the_key() {
     let base = Params::bstab();
-    let s = base.stribeck.unwrap();
+    let s = base.law.stribeck().unwrap();
     let cases: Vec<(Params, &str)> = vec![
         (
             Params::stribeck(0.05, 1.5, Stribeck { mu_sd: 0.9, ..s }),
@@ -315,20 +284,6 @@ fn bad_input_names_the_key() {
         let e = p.validate().unwrap_err().to_string();
         assert!(e.contains(&format!("invalid {key} =")), "{key}: {e}");
     }
-    let e = Params {
-        stribeck: None,
-        ..base
-    }
-    .validate()
-    .unwrap_err()
-    .to_string();
-    assert!(e.contains("mu_d, mu_sd"), "{e}");
-    let e = Params {
-        stribeck: Some(s),
-        ..Params::paper(FrictionLaw::McMillan, 1e-3)
-    }
-    .validate()
-    .unwrap_err()
-    .to_string();
-    assert!(e.contains("mcmillan takes none of"), "{e}");
+    // A Stribeck law without its parameters, or McMillan's with them, cannot be written:
+    // each law's variant of `Friction` carries its own parameters and no other.
 }

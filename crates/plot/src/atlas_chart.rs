@@ -343,6 +343,9 @@ fn cycle_and_band(plan: &AtlasPlan, res: &AtlasResults, xs: &[f64]) -> (Vec<Curv
     if none.iter().any(|v| v.is_finite()) {
         curves.push(curve("no unstable cycle (at 0)", none, crate::STEADY, true));
     }
+    // A figure no point has (no unstable cycle beside stick-slip anywhere, no stick-slip
+    // anywhere) is left out of the chart and its legend: a curve without a point is refused.
+    curves.retain(|c| c.ys.iter().any(|v| v.is_finite()));
     (curves, top)
 }
 

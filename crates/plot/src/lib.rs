@@ -284,7 +284,7 @@ impl StateScale {
     /// The scale of the law named `law` (the spec's `law` key).
     pub fn of_law(law: &str) -> StateScale {
         match law {
-            "stribeck" => StateScale::NormalLoad,
+            "stribeck" | "cubic" => StateScale::NormalLoad,
             _ => StateScale::KineticFriction,
         }
     }
@@ -365,6 +365,7 @@ pub fn law_title(law: &str) -> String {
         "mcmillan-nonhysteretic" => "McMillan law (non-hysteretic)".into(),
         "coulomb" => "Coulomb friction".into(),
         "stribeck" => "Stribeck law with true stick".into(),
+        "cubic" => "cubic law with true stick".into(),
         other => other.to_string(),
     }
 }

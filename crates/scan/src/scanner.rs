@@ -212,7 +212,7 @@ pub fn shortcuts(
     // slip velocity only, of the monotone return map ([`squeal_core::witness`]); Coulomb's
     // set-valued law has no such root, and its runs keep their exact decay to `fp_radius`.
     let smooth = matches!(
-        params.law,
+        params.kind(),
         FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic
     );
     let decay_below = match found {

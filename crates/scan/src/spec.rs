@@ -7,7 +7,7 @@
 //! ```toml
 //! version = 1                      # required; this is spec version 1
 //! [model]
-//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
+//! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck | cubic
 //! nu = 1e-3                        # a number, a list [1e-3, 2e-3], or
 //!                                  # { from = 1e-3, to = 5e-2, count = 8, spacing = "log" }
 //! lambda = 3.0                     # default 3; a list or range sweeps lambda instead of nu
@@ -437,52 +437,41 @@ pub const MAX_CELLS: i64 = 1 << 26;
 /// Largest number of maps in a sweep.
 pub const MAX_MAPS: i64 = 10_000;
 
-/// The model's keys a scan does not sweep: McMillan's `tau` and `phi`, Stribeck's `mu_d`,
-/// `mu_sd`, `v_0`, `mu_v` (each its default when left out).
-fn fixed_params(
-    m: &ModelTable,
-    invalid: Invalid,
-) -> Result<(f64, f64, squeal_core::Stribeck), ScanError> {
-    // A scan sweeps one of the damping and the belt speed; tau and phi are numbers.
-    let number = |key: &str, v: &Option<Value>, default: f64| match v {
-        None => Ok(default),
-        Some(Value::One(x)) => Ok(*x),
-        Some(_) => Err(invalid(
-            &format!("model.{key}"),
-            "a list or range".into(),
-            "a number: a scan sweeps only the damping or the belt speed (sweep the others \
-             with squeal atlas)",
-        )),
-    };
-    let tau = number("tau", &m.tau, squeal_core::defaults::TAU)?;
-    let phi = number("phi", &m.phi, squeal_core::defaults::PHI)?;
-    let d = squeal_core::Stribeck::default();
-    let law_params = squeal_core::Stribeck {
-        mu_d: m.mu_d.unwrap_or(d.mu_d),
-        mu_sd: m.mu_sd.unwrap_or(d.mu_sd),
-        v_0: m.v_0.unwrap_or(d.v_0),
-        mu_v: m.mu_v.unwrap_or(d.mu_v),
-    };
-    Ok((tau, phi, law_params))
+/// The model's keys a scan does not sweep (all but the damping and the belt speed:
+/// McMillan's `tau` and `phi`, Stribeck's `mu_d`, `mu_sd`, `v_0`, `mu_v`), each its default
+/// when left out.
+fn fixed_params(m: &ModelTable, invalid: Invalid) -> Result<Vec<(&'static str, f64)>, ScanError> {
+    let defaults = Params::defaults(m.law).named();
+    let mut fixed = Vec::new();
+    for n in defaults.into_iter().skip(2) {
+        let value = match m.given(n.name) {
+            None => n.value,
+            Some(Value::One(x)) => x,
+            // A scan sweeps one of the damping and the belt speed; the others are numbers.
+            Some(_) => {
+                return Err(invalid(
+                    &format!("model.{}", n.name),
+                    "a list or range".into(),
+                    "a number: a scan sweeps only the damping or the belt speed (sweep the \
+                     others with squeal atlas)",
+                ));
+            }
+        };
+        fixed.push((n.name, value));
+    }
+    Ok(fixed)
 }
-
 /// The maps of a `[model]` table: one parameter set per value of the swept key (the damping
 /// or the belt speed, not both), each checked.
 fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
-    let stribeck = m.law == FrictionLaw::Stribeck;
-    let (damping_key, speed_key) = if stribeck {
-        ("xi", "v_d")
-    } else {
-        ("nu", "lambda")
-    };
-    let (damping, speed) = if stribeck {
-        (m.xi.as_ref(), m.v_d.as_ref())
-    } else {
-        (m.nu.as_ref(), m.lambda.as_ref())
-    };
+    // The laws with true stick default their damping (bSTAB's case); McMillan's need it.
+    let stribeck = m.law.has_true_stick();
+    let (damping_key, speed_key) = (m.law.keys()[0], m.law.keys()[1]);
+    let (damping, speed) = (m.given(damping_key), m.given(speed_key));
+    let (damping, speed) = (damping.as_ref(), speed.as_ref());
     let nus = match damping {
         Some(v) => expand(v, &format!("model.{damping_key}"), MAX_MAPS, &invalid)?,
-        None if stribeck => vec![squeal_core::defaults::XI],
+        None if stribeck => vec![Params::defaults(m.law).nu],
         None => {
             return Err(invalid(
                 "model.nu",
@@ -493,8 +482,7 @@ fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<S
     };
     let lambdas = match speed {
         Some(v) => expand(v, &format!("model.{speed_key}"), MAX_MAPS, &invalid)?,
-        None if stribeck => vec![squeal_core::defaults::V_D],
-        None => vec![squeal_core::defaults::LAMBDA],
+        None => vec![Params::defaults(m.law).lambda],
     };
     if nus.len() > 1 && lambdas.len() > 1 {
         return Err(invalid(
@@ -518,22 +506,16 @@ fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<S
     } else {
         None
     };
-    let (tau, phi, law_params) = fixed_params(m, invalid)?;
+    let fixed = fixed_params(m, invalid)?;
     let mut maps = Vec::new();
     for &nu in &nus {
         for &lambda in &lambdas {
-            let p = if stribeck {
-                Params::stribeck(nu, lambda, law_params)
-            } else {
-                Params {
-                    law: m.law,
-                    nu,
-                    lambda,
-                    tau,
-                    phi,
-                    stribeck: None,
-                }
-            };
+            let p = Params::from_named(m.law, |k| match k {
+                k if k == damping_key => Some(nu),
+                k if k == speed_key => Some(lambda),
+                k => fixed.iter().find(|(f, _)| *f == k).map(|(_, v)| *v),
+            })
+            .expect("every key of the law has a value");
             p.validate().map_err(|e| match e {
                 squeal_core::CoreError::InvalidParameter {
                     name,
@@ -725,8 +707,8 @@ impl Plan {
                 let slowest = self
                     .maps
                     .iter()
-                    .filter(|p| !p.law.has_true_stick())
-                    .map(|p| p.tau / squeal_core::defaults::TAU)
+                    .filter_map(|p| p.law.surface())
+                    .map(|c| c.tau / squeal_core::defaults::TAU)
                     .fold(1.0f64, f64::max);
                 (2.0 / 25_000.0 * slowest).min(to_t_max)
             }
@@ -747,7 +729,7 @@ impl Plan {
 
     /// The law (the same for every map).
     pub fn law(&self) -> FrictionLaw {
-        self.maps[0].law
+        self.maps[0].kind()
     }
 }
 

@@ -13,6 +13,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use squeal_core::FrictionLaw;
 use squeal_scan::Plan;
 use toml::{Table, Value};
 
@@ -237,21 +238,22 @@ fn documented_examples_parse_and_defaults_hold() {
         let (path, base) = location(&section);
         parse(&base).expect("the base spec parses");
         for row in rows {
-            // The Stribeck law's keys are checked in a Stribeck spec (a McMillan spec refuses
-            // them, and the other way round).
-            let base = if section == "[model]"
-                && squeal_core::FrictionLaw::Stribeck
-                    .keys()
-                    .contains(&row.key.as_str())
-            {
-                let mut b = without_key(base.clone(), &path, "nu");
-                b["model"]
-                    .as_table_mut()
-                    .unwrap()
-                    .insert("law".into(), Value::String("stribeck".into()));
-                b
-            } else {
-                base.clone()
+            // The keys of the laws with true stick are checked in a spec of the first such law
+            // that has them (a McMillan spec refuses them, and the other way round): xi and
+            // v_d (documented at the Stribeck law's defaults) in a Stribeck spec.
+            let stick_law = [FrictionLaw::Stribeck, FrictionLaw::Cubic]
+                .into_iter()
+                .find(|l| l.keys().contains(&row.key.as_str()));
+            let base = match stick_law {
+                Some(law) if section == "[model]" => {
+                    let mut b = without_key(base.clone(), &path, "nu");
+                    b["model"]
+                        .as_table_mut()
+                        .unwrap()
+                        .insert("law".into(), Value::String(law.name().into()));
+                    b
+                }
+                _ => base.clone(),
             };
             // A key of the shared `[cycle]` table that only an atlas reads: a scan spec
             // refuses it, naming it.

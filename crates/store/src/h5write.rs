@@ -80,7 +80,7 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     str_attr(file, "git_revision", meta.git_revision)?;
     str_attr(file, "spec", &plan.spec_text)?;
     str_attr(file, "name", &plan.name)?;
-    str_attr(file, "law", p0.law.name())?;
+    str_attr(file, "law", p0.kind().name())?;
     let swept = plan.sweep.as_ref().map(|s| s.name);
     if p0.law.has_true_stick() {
         // The law's own parameters, each with its long name and units beside it.
@@ -92,8 +92,10 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
             str_attr(file, &format!("{}_units", n.name), n.units)?;
         }
     } else {
-        num_attr(file, "tau", p0.tau)?;
-        num_attr(file, "phi", p0.phi)?;
+        if let Some(c) = p0.law.surface() {
+            num_attr(file, "tau", c.tau)?;
+            num_attr(file, "phi", c.phi)?;
+        }
         if swept != Some("nu") {
             num_attr(file, "nu", p0.nu)?;
         }

@@ -174,7 +174,7 @@ pub fn write_run(
         .map(|n| (format!("{}_long_name", n.name), format!("{}_units", n.name)))
         .collect();
     let mut text = vec![
-        ("law", p.law.name()),
+        ("law", p.kind().name()),
         ("solver", stepper.solver().kind.name()),
         ("scheme", stepper.scheme().name()),
     ];

@@ -351,7 +351,7 @@ pub fn fold_in(
     ps: &PointSettings,
     range: ParamRange,
 ) -> Result<Boundary, ScanError> {
-    if crisis_applies(setup.params.law) {
+    if crisis_applies(setup.params.kind()) {
         let c = fold_crisis(
             param,
             setup,
@@ -472,7 +472,7 @@ pub fn both_with(
     let at_dt = Evaluator::new(param, setup, ps, point);
     let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), range);
     // The fold of McMillan's laws is the crisis, its uncertainty covering dt/2 already.
-    let crisis = crisis_applies(setup.params.law);
+    let crisis = crisis_applies(setup.params.kind());
     let fold_of = || match crisis {
         true => fold_crisis(param, setup, ps, range, (coarse, Budget::Standard))
             .map(|c| Boundary::from_crisis(&c)),
@@ -614,7 +614,7 @@ impl<'a> Evaluator<'a> {
         // above the cycle leaks (the rule of `squeal critical` from a start,
         // `crate::ulc::point_side`, and of the fold's crisis), not by a stick-slip run that
         // may sit on a leaking band for its whole window.
-        let band_rule = crisis_applies(p.law);
+        let band_rule = crisis_applies(p.kind());
         let needs_stick = match (which, &a.search) {
             (_, Search::NoneBelow { .. }) => false,
             (Which::Critical, Search::FixedPointUnstable { .. }) => false,

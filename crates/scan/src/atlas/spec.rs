@@ -5,7 +5,7 @@
 //! version = 1
 //! name = "atlas-lambda-nu"           # optional, used in titles
 //! [model]
-//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck
+//! law = "mcmillan"                   # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck | cubic
 //! # Nondimensional parameters (paper Section 4), each a number, a list, or a range
 //! # { from = .., to = .., count = .., spacing = "linear" | "log" }:
 //! nu = { from = 1e-3, to = 0.06, count = 64, spacing = "log" }
@@ -215,11 +215,12 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
     ("g", "gravitational acceleration g", "m/s^2"),
 ];
 
-/// `(key, long name, units)` of the Stribeck law's parameters, in axis order
-/// ([`FrictionLaw::keys`]; the words of [`Params::named`]). All are nondimensional (`"1"`,
-/// as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity scale.
-pub fn stribeck_params() -> Vec<(&'static str, &'static str, &'static str)> {
-    Params::bstab()
+/// `(key, long name, units)` of a law's parameters in axis order ([`FrictionLaw::keys`];
+/// the words of [`Params::named`]), for the laws with true stick. All are nondimensional
+/// (`"1"`, as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity
+/// scale.
+pub fn law_params(law: FrictionLaw) -> Vec<(&'static str, &'static str, &'static str)> {
+    Params::defaults(law)
         .named()
         .into_iter()
         .map(|n| (n.name, n.long_name, "1"))
@@ -523,44 +524,18 @@ impl AtlasPlan {
 
     /// The model parameters at point `i`.
     pub fn params_at(&self, i: usize) -> Params {
-        match self.physical_at(i) {
-            Some(ph) => {
-                let s = ph.scales();
-                Params {
-                    law: self.law,
-                    nu: ph.c / s.damping,
-                    lambda: ph.v_belt / s.velocity,
-                    tau: ph.tau / ph.mu_k * s.omega0,
-                    phi: (ph.mu_k / ph.mu_s).asin(),
-                    stribeck: None,
-                }
-            }
-            None if self.law.has_true_stick() => {
-                // Axis order is the law's keys: xi, v_d, mu_d, mu_sd, v_0, mu_v.
-                let v = self.values_at(i);
-                Params::stribeck(
-                    v[0],
-                    v[1],
-                    squeal_core::Stribeck {
-                        mu_d: v[2],
-                        mu_sd: v[3],
-                        v_0: v[4],
-                        mu_v: v[5],
-                    },
-                )
-            }
-            None => {
-                let v = self.values_at(i);
-                Params {
-                    law: self.law,
-                    nu: v[0],
-                    lambda: v[1],
-                    tau: v[2],
-                    phi: v[3],
-                    stribeck: None,
-                }
-            }
+        if let Some(ph) = self.physical_at(i) {
+            return ph
+                .nondimensional(self.law)
+                .expect("a physical plan has a McMillan law (checked when it was read)");
         }
+        // Axis order is the law's keys (FrictionLaw::keys).
+        let v = self.values_at(i);
+        let keys = self.law.keys();
+        Params::from_named(self.law, |k| {
+            keys.iter().position(|x| *x == k).map(|j| v[j])
+        })
+        .expect("every key of the law has an axis")
     }
 
     /// The point settings at `i`, operating point and disturbance box in nondimensional
@@ -782,7 +757,7 @@ path = "p.h5"
         let q = p.params_at(3);
         assert!((q.nu - (1e-3f64 * 4e-2).sqrt()).abs() < 1e-15);
         assert_eq!(q.lambda, 3.0);
-        assert_eq!(q.tau, squeal_core::defaults::TAU);
+        assert_eq!(q.law.surface().unwrap().tau, squeal_core::defaults::TAU);
         // Boundaries over lambda, bisected over nu's range.
         assert_eq!(p.boundary_shape(), vec![2]);
         let (i, r) = p.boundary_setup(1);
@@ -923,9 +898,8 @@ path = "s.h5"
         assert_eq!(p.shape(), vec![2, 4]);
         // Point 5 = (xi index 1, v_d index 1); the fixed keys at bSTAB's case.
         let q = p.params_at(5);
-        assert_eq!(q.law, FrictionLaw::Stribeck);
         assert_eq!((q.nu, q.lambda), (0.05, 1.4));
-        assert_eq!(q.stribeck, Some(squeal_core::Stribeck::default()));
+        assert_eq!(q.law.stribeck(), Some(squeal_core::Stribeck::default()));
         assert_eq!(p.damping_axis(), ("xi", Some(0)));
         // Boundaries in xi by default (xi is swept), over v_d; in v_d on request.
         assert_eq!(p.boundary_axis(), ("xi", Some(0)));

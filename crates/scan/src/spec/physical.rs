@@ -93,14 +93,17 @@ pub(super) fn model(
         law: m.law,
         nu: Some(scaled(&ph.c, &cs, s.damping)),
         lambda: Some(scaled(&ph.v_belt, &vs, s.velocity)),
-        tau: Some(Value::One(p0.tau)),
-        phi: Some(Value::One(p0.phi)),
+        tau: p0.law.surface().map(|c| Value::One(c.tau)),
+        phi: p0.law.surface().map(|c| Value::One(c.phi)),
         xi: None,
         v_d: None,
         mu_d: None,
         mu_sd: None,
         v_0: None,
         mu_v: None,
+        mu_0: None,
+        a1: None,
+        a3: None,
     };
     Ok((base, model))
 }
@@ -183,8 +186,12 @@ path = "b.h5"
         }
         let want = ph.params(squeal_core::FrictionLaw::McMillan).unwrap();
         assert!((p.maps[0].lambda - want.lambda).abs() < 1e-12);
-        assert!((p.maps[0].tau - want.tau).abs() < 1e-12);
-        assert!((p.maps[0].phi - want.phi).abs() < 1e-12);
+        let (got, want) = (
+            p.maps[0].law.surface().unwrap(),
+            want.law.surface().unwrap(),
+        );
+        assert!((got.tau - want.tau).abs() < 1e-12);
+        assert!((got.phi - want.phi).abs() < 1e-12);
         // The grid was given in metres and m/s.
         assert!((p.grid.x0.max * s.length - 2e-4).abs() < 1e-15);
         assert!((p.grid.v0.min * s.velocity + 0.01).abs() < 1e-15);

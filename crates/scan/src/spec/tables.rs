@@ -40,44 +40,60 @@ pub(crate) struct ModelTable {
     pub(crate) v_0: Option<f64>,
     #[serde(default)]
     pub(crate) mu_v: Option<f64>,
+    // The cubic law's keys (law = "cubic" only; also xi and v_d).
+    #[serde(default)]
+    pub(crate) mu_0: Option<f64>,
+    #[serde(default)]
+    pub(crate) a1: Option<f64>,
+    #[serde(default)]
+    pub(crate) a3: Option<f64>,
 }
 
 impl ModelTable {
     /// Whether the spec gives `key`.
     fn has(&self, key: &str) -> bool {
+        self.given(key).is_some()
+    }
+
+    /// A fixed (not swept) key's value as given: the Stribeck law's coefficients are
+    /// numbers in the table, the others may be lists (refused by a scan, swept by an atlas).
+    pub(crate) fn given(&self, key: &str) -> Option<Value> {
+        let one = |x: &Option<f64>| x.map(Value::One);
         match key {
-            "nu" => self.nu.is_some(),
-            "lambda" => self.lambda.is_some(),
-            "tau" => self.tau.is_some(),
-            "phi" => self.phi.is_some(),
-            "xi" => self.xi.is_some(),
-            "v_d" => self.v_d.is_some(),
-            "mu_d" => self.mu_d.is_some(),
-            "mu_sd" => self.mu_sd.is_some(),
-            "v_0" => self.v_0.is_some(),
-            "mu_v" => self.mu_v.is_some(),
-            _ => false,
+            "nu" => self.nu.clone(),
+            "lambda" => self.lambda.clone(),
+            "tau" => self.tau.clone(),
+            "phi" => self.phi.clone(),
+            "xi" => self.xi.clone(),
+            "v_d" => self.v_d.clone(),
+            "mu_d" => one(&self.mu_d),
+            "mu_sd" => one(&self.mu_sd),
+            "v_0" => one(&self.v_0),
+            "mu_v" => one(&self.mu_v),
+            "mu_0" => one(&self.mu_0),
+            "a1" => one(&self.a1),
+            "a3" => one(&self.a3),
+            _ => None,
         }
     }
 
-    /// Refuses a key of the other law's parameterisation (McMillan's or Stribeck's).
+    /// Refuses a key that is not one of the law's own ([`FrictionLaw::keys`]).
     pub(crate) fn check_law(&self, invalid: Invalid) -> Result<(), ScanError> {
-        let other = if self.law.has_true_stick() {
-            FrictionLaw::McMillan
-        } else {
-            FrictionLaw::Stribeck
-        };
-        match other.keys().iter().copied().find(|k| self.has(k)) {
+        let own = self.law.keys();
+        let foreign = FrictionLaw::ALL
+            .iter()
+            .flat_map(|l| l.keys())
+            .find(|k| !own.contains(k) && self.has(k));
+        match foreign {
             None => Ok(()),
             Some(k) => Err(invalid(
                 &format!("model.{k}"),
                 "given".into(),
-                if self.law.has_true_stick() {
-                    "no McMillan key with law = \"stribeck\" (its keys: xi, v_d, mu_d, mu_sd, v_0, mu_v)"
-                } else {
-                    "no Stribeck key with a McMillan law (use law = \"stribeck\" for xi, v_d, mu_d, \
-                     mu_sd, v_0, mu_v)"
-                },
+                &format!(
+                    "a key of law = \"{}\" (its keys: {})",
+                    self.law,
+                    own.join(", ")
+                ),
             )),
         }
     }
@@ -88,10 +104,11 @@ impl ModelTable {
         if self.law.has_true_stick() {
             return Err(invalid(
                 "physical",
-                "given with law = \"stribeck\"".into(),
+                format!("given with law = \"{}\"", self.law),
                 "a McMillan law: the physical units are McMillan's scaling (x scaled by mu_k g / \
                  omega_n^2, lambda = v_belt omega_n / (mu_k g), tau and Phi from the surfaces), \
-                 which the Stribeck law does not share (give its nondimensional keys in [model])",
+                 which the laws with true stick do not share (give their nondimensional keys in \
+                 [model])",
             ));
         }
         match ["nu", "lambda", "tau", "phi"]
@@ -450,5 +467,38 @@ mod tests {
         assert_eq!(a.point.cycle.samples, 120);
         assert_eq!(a.point.cycle.rtol, CycleOptions::atlas().search.rtol);
         assert_eq!(a.point.tangency_iters, 24);
+    }
+
+    /// A key that is not the law's own is refused by scans and atlases alike, naming it:
+    /// Coulomb's force has no surface time, so `tau` under `law = "coulomb"` is refused (it
+    /// was read and ignored before the laws carried their own parameters), and each law's
+    /// keys are accepted.
+    #[test]
+    fn a_key_of_another_law_is_refused() {
+        let scan = |model: &str| {
+            format!(
+                "version = 1\n[model]\n{model}\n[grid]\nx0 = {{ min = -1.0, max = 1.0, count = 2 }}\n\
+                 v0 = {{ min = -1.0, max = 1.0, count = 2 }}\n[output]\npath = \"s.h5\"\n"
+            )
+        };
+        for (model, key) in [
+            ("law = \"coulomb\"\nnu = 0.01\ntau = 0.1", "model.tau"),
+            ("law = \"mcmillan\"\nnu = 0.01\nmu_d = 0.4", "model.mu_d"),
+            ("law = \"stribeck\"\nphi = 1.0", "model.phi"),
+        ] {
+            let e = crate::Plan::from_toml(&scan(model), "s.toml")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(key) && e.contains("its keys:"), "{model}: {e}");
+        }
+        for model in [
+            "law = \"coulomb\"\nnu = 0.01",
+            "law = \"stribeck\"\nxi = 0.1",
+        ] {
+            assert!(
+                crate::Plan::from_toml(&scan(model), "s.toml").is_ok(),
+                "{model}"
+            );
+        }
     }
 }

@@ -180,10 +180,13 @@ fn write_points(
         let nd = squeal_scan::atlas::spec::NONDIMENSIONAL;
         let ps: Vec<squeal_core::Params> =
             (0..plan.n_points()).map(|i| plan.params_at(i)).collect();
-        let getters: [fn(&squeal_core::Params) -> f64; 4] =
-            [|p| p.nu, |p| p.lambda, |p| p.tau, |p| p.phi];
-        for ((key, long, units), g) in nd.iter().zip(getters) {
-            let v: Vec<f64> = ps.iter().map(g).collect();
+        // The law's own keys only (Coulomb has no tau and phi).
+        for (key, long, units) in nd.iter().filter(|(k, ..)| plan.law.keys().contains(k)) {
+            let value = |p: &squeal_core::Params| {
+                let n = p.named().into_iter().find(|n| n.name == *key);
+                n.expect("a key of the law").value
+            };
+            let v: Vec<f64> = ps.iter().map(value).collect();
             o.put(over, (&format!("nondim_{key}"), long), Some(units), v)?;
         }
     }

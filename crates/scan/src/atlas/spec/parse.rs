@@ -1,11 +1,11 @@
 //! Reading an atlas spec's tables into the parts of an [`AtlasPlan`](super::AtlasPlan), one
 //! function per part, each checking its keys (errors name the key).
 
-use squeal_core::{FrictionLaw, State};
+use squeal_core::{FrictionLaw, Params, State};
 
 use super::{
     AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings,
-    NONDIMENSIONAL, PHYSICAL, SPEED_RANGE, Units, expand, invalid, stribeck_params,
+    NONDIMENSIONAL, PHYSICAL, SPEED_RANGE, Units, expand, invalid, law_params,
 };
 use crate::atlas::geometry::Region;
 use crate::atlas::point::PointSettings;
@@ -26,46 +26,31 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
             &ph.m, &ph.k, &ph.c, &ph.v_belt, &ph.mu_k, &ph.mu_s, &ph.tau, &g,
         ];
         (Units::Physical, axes(path, "physical", &PHYSICAL, vals)?)
-    } else if stribeck {
-        let fixed = |v: Option<f64>, d: f64| Value::One(v.unwrap_or(d));
-        let d = squeal_core::Stribeck::default();
-        let vals = [
-            m.xi.clone()
-                .unwrap_or(Value::One(squeal_core::defaults::XI)),
-            m.v_d
-                .clone()
-                .unwrap_or(Value::One(squeal_core::defaults::V_D)),
-            fixed(m.mu_d, d.mu_d),
-            fixed(m.mu_sd, d.mu_sd),
-            fixed(m.v_0, d.v_0),
-            fixed(m.mu_v, d.mu_v),
-        ];
-        let names = stribeck_params();
-        (Units::Nondimensional, axes(path, "model", &names, &vals)?)
     } else {
-        let nu = m.nu.clone().ok_or_else(|| {
-            invalid(
+        if !stribeck && m.nu.is_none() {
+            return Err(invalid(
                 path,
                 "model.nu",
                 "missing",
                 "a damping ratio (or a [physical] table instead)",
-            )
-        })?;
-        let d = squeal_core::defaults::LAMBDA;
-        let vals = [
-            nu,
-            m.lambda.clone().unwrap_or(Value::One(d)),
-            m.tau
-                .clone()
-                .unwrap_or(Value::One(squeal_core::defaults::TAU)),
-            m.phi
-                .clone()
-                .unwrap_or(Value::One(squeal_core::defaults::PHI)),
-        ];
-        (
-            Units::Nondimensional,
-            axes(path, "model", &NONDIMENSIONAL, &vals)?,
-        )
+            ));
+        }
+        // The law's own keys in their order, each as given or at the law's default.
+        let vals: Vec<Value> = Params::defaults(m.law)
+            .named()
+            .iter()
+            .map(|n| m.given(n.name).unwrap_or(Value::One(n.value)))
+            .collect();
+        let names = if stribeck {
+            law_params(m.law)
+        } else {
+            let own = m.law.keys();
+            NONDIMENSIONAL
+                .into_iter()
+                .filter(|(k, ..)| own.contains(k))
+                .collect()
+        };
+        (Units::Nondimensional, axes(path, "model", &names, &vals)?)
     };
     let n: usize = params
         .iter()

@@ -1,0 +1,443 @@
+//! The friction laws and their own parameters: [`Friction`], one enum whose variants carry
+//! what each law needs (and nothing else), and [`FrictionLaw`], the law's name alone (what a
+//! spec's `law = "..."`, `--law` and the files' `law` attribute give before the parameters
+//! are read).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::CoreError;
+
+/// Which friction law closes the equation of motion `x'' + 2 nu x' + x = F(x' - lambda, x'')`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionLaw {
+    /// McMillan's hysteretic law, paper eq. (4.1) with the two misprints corrected.
+    #[serde(rename = "mcmillan")]
+    McMillan,
+    /// The non-hysteretic variant, paper eq. (5.1) with `|x''|` in the sine argument.
+    #[serde(rename = "mcmillan-nonhysteretic")]
+    McMillanNonHysteretic,
+    /// Plain Coulomb friction `F = -sgn(v)`, set-valued (`F` in `[-1, 1]`) at `v = 0`.
+    #[serde(rename = "coulomb")]
+    Coulomb,
+    /// A Stribeck-type law with true stick (the friction case of bSTAB, Stender et al. 2021):
+    /// `F = -sgn(v) mu(|v|)` while slipping, any value in `[-mu_s, mu_s]` while stuck; its
+    /// parameters are [`Stribeck`].
+    #[serde(rename = "stribeck")]
+    Stribeck,
+    /// The cubic law with true stick (Popp and Stelter; Thomsen 1999): `F = -sgn(v) mu(|v|)`,
+    /// `mu(s) = mu_0 - a1 s + a3 s^3`, while slipping; any value in `[-mu_0, mu_0]` while
+    /// stuck; its parameters are [`Cubic`].
+    #[serde(rename = "cubic")]
+    Cubic,
+}
+
+impl FrictionLaw {
+    /// The name used on the command line, in specs and in HDF5 attributes.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionLaw::McMillan => "mcmillan",
+            FrictionLaw::McMillanNonHysteretic => "mcmillan-nonhysteretic",
+            FrictionLaw::Coulomb => "coulomb",
+            FrictionLaw::Stribeck => "stribeck",
+            FrictionLaw::Cubic => "cubic",
+        }
+    }
+
+    /// McMillan's parameterisation (`nu`, `lambda`, `tau`, `phi`): the three laws of the paper.
+    pub const MCMILLAN: [FrictionLaw; 3] = [
+        FrictionLaw::McMillan,
+        FrictionLaw::McMillanNonHysteretic,
+        FrictionLaw::Coulomb,
+    ];
+
+    /// All laws, in a fixed order.
+    pub const ALL: [FrictionLaw; 5] = [
+        FrictionLaw::McMillan,
+        FrictionLaw::McMillanNonHysteretic,
+        FrictionLaw::Coulomb,
+        FrictionLaw::Stribeck,
+        FrictionLaw::Cubic,
+    ];
+
+    /// Every law's name, for messages: `mcmillan, mcmillan-nonhysteretic, ...`.
+    pub fn names() -> String {
+        FrictionLaw::ALL.map(FrictionLaw::name).join(", ")
+    }
+
+    /// Whether the law sticks with a static limit, stepped with located stick events
+    /// ([`crate::stick`]).
+    pub fn has_true_stick(self) -> bool {
+        matches!(self, FrictionLaw::Stribeck | FrictionLaw::Cubic)
+    }
+
+    /// The names of the law's own parameters, damping and belt speed first, as they appear in
+    /// specs, flags and files ([`crate::Params::named`] gives their values).
+    pub fn keys(self) -> &'static [&'static str] {
+        match self {
+            FrictionLaw::Stribeck => &["xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v"],
+            FrictionLaw::Cubic => &["xi", "v_d", "mu_0", "a1", "a3"],
+            // Coulomb's force has no surface time and no static limit of its own.
+            FrictionLaw::Coulomb => &["nu", "lambda"],
+            FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => {
+                &["nu", "lambda", "tau", "phi"]
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for FrictionLaw {
+    type Err = CoreError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        FrictionLaw::ALL
+            .into_iter()
+            .find(|l| l.name() == s)
+            .ok_or_else(|| CoreError::UnknownLaw(s.to_string()))
+    }
+}
+
+impl std::fmt::Display for FrictionLaw {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// McMillan's surface constants, shared by his two laws (paper Table 1).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Surface {
+    /// Characteristic time `tau' = tau / mu_k sqrt(s/m)` of the surfaces; `tau > 0`.
+    pub tau: f64,
+    /// `Phi = arcsin(mu_k / mu_s)`, in `(0, pi/2]` since `mu_s >= mu_k > 0`.
+    pub phi: f64,
+}
+
+impl Default for Surface {
+    /// Table 1 of the paper: `tau = 0.1 sqrt(10)`, `Phi = 1`.
+    fn default() -> Self {
+        Surface {
+            tau: crate::defaults::TAU,
+            phi: crate::defaults::PHI,
+        }
+    }
+}
+
+/// The friction law with its own parameters: what closes `x'' + 2 nu x' + x = F`. The
+/// damping ratio and the belt speed, common to every law, are [`crate::Params`]' own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Friction {
+    /// McMillan's hysteretic law, paper eq. (4.1) with the two misprints corrected.
+    McMillan(Surface),
+    /// The non-hysteretic variant, paper eq. (5.1) with `|x''|` in the sine argument.
+    NonHysteretic(Surface),
+    /// Plain Coulomb friction `F = -sgn(v)`, set-valued (`F` in `[-1, 1]`) at `v = 0`.
+    Coulomb,
+    /// The Stribeck law with true stick (bSTAB's friction case).
+    Stribeck(Stribeck),
+    /// The cubic law with true stick (Popp and Stelter; Thomsen 1999).
+    Cubic(Cubic),
+}
+
+impl Friction {
+    /// The law's name.
+    pub fn kind(&self) -> FrictionLaw {
+        match self {
+            Friction::McMillan(_) => FrictionLaw::McMillan,
+            Friction::NonHysteretic(_) => FrictionLaw::McMillanNonHysteretic,
+            Friction::Coulomb => FrictionLaw::Coulomb,
+            Friction::Stribeck(_) => FrictionLaw::Stribeck,
+            Friction::Cubic(_) => FrictionLaw::Cubic,
+        }
+    }
+
+    /// The law's name in specs, flags and files ([`FrictionLaw::name`]).
+    pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The law `kind` with its default parameters (the paper's Table 1 for McMillan's laws,
+    /// bSTAB's friction case for the Stribeck law).
+    pub fn default_of(kind: FrictionLaw) -> Friction {
+        match kind {
+            FrictionLaw::McMillan => Friction::McMillan(Surface::default()),
+            FrictionLaw::McMillanNonHysteretic => Friction::NonHysteretic(Surface::default()),
+            FrictionLaw::Coulomb => Friction::Coulomb,
+            FrictionLaw::Stribeck => Friction::Stribeck(Stribeck::default()),
+            FrictionLaw::Cubic => Friction::Cubic(Cubic::default()),
+        }
+    }
+
+    /// McMillan's surface constants (his two laws only).
+    pub fn surface(&self) -> Option<Surface> {
+        match self {
+            Friction::McMillan(s) | Friction::NonHysteretic(s) => Some(*s),
+            _ => None,
+        }
+    }
+
+    /// The Stribeck law's parameters (that law only).
+    pub fn stribeck(&self) -> Option<Stribeck> {
+        match self {
+            Friction::Stribeck(s) => Some(*s),
+            _ => None,
+        }
+    }
+
+    /// The surface constants of McMillan's two laws, changed by `f` (other laws unchanged).
+    pub fn with_surface(self, f: impl FnOnce(&mut Surface)) -> Friction {
+        match self {
+            Friction::McMillan(mut s) => {
+                f(&mut s);
+                Friction::McMillan(s)
+            }
+            Friction::NonHysteretic(mut s) => {
+                f(&mut s);
+                Friction::NonHysteretic(s)
+            }
+            other => other,
+        }
+    }
+
+    /// `mu(s)` and `mu'(s)` at slip speed `s >= 0` of a law with true stick (the force is
+    /// `-sgn(v) mu(|v|)` while slipping); `None` for the others.
+    pub fn mu(&self, s: f64) -> Option<(f64, f64)> {
+        match self {
+            Friction::Stribeck(l) => Some(l.mu(s)),
+            Friction::Cubic(l) => Some(l.mu(s)),
+            _ => None,
+        }
+    }
+
+    /// Whether the law sticks with a static limit ([`FrictionLaw::has_true_stick`]).
+    pub fn has_true_stick(&self) -> bool {
+        self.kind().has_true_stick()
+    }
+}
+
+impl std::fmt::Display for Friction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.kind().name())
+    }
+}
+
+/// The Stribeck law's own parameters (bSTAB's friction case): the friction coefficient
+/// while slipping at speed `s = |v|` is
+///
+/// ```text
+/// mu(s) = mu_d + mu_d (mu_sd - 1) exp(-s / v_0) + mu_v s / v_0,    static limit mu_s = mu_d mu_sd
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stribeck {
+    /// Dynamic (kinetic) coefficient `mu_d > 0`.
+    pub mu_d: f64,
+    /// Static-to-dynamic ratio `mu_sd >= 1`.
+    pub mu_sd: f64,
+    /// Reference slip velocity of the exponential decay, `v_0 > 0`.
+    pub v_0: f64,
+    /// Linear viscous strengthening `mu_v >= 0`.
+    pub mu_v: f64,
+}
+
+impl Default for Stribeck {
+    /// bSTAB's friction case.
+    fn default() -> Self {
+        Stribeck {
+            mu_d: crate::defaults::MU_D,
+            mu_sd: crate::defaults::MU_SD,
+            v_0: crate::defaults::V_0,
+            mu_v: crate::defaults::MU_V,
+        }
+    }
+}
+
+impl Stribeck {
+    /// The static limit `mu_s = mu_d mu_sd` (`= mu(0)`).
+    pub fn mu_s(&self) -> f64 {
+        self.mu_d * self.mu_sd
+    }
+
+    /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
+    #[inline]
+    pub fn mu(&self, s: f64) -> (f64, f64) {
+        self.mu_by(s, &PerV0::new(self.v_0))
+    }
+
+    /// [`Stribeck::mu`] with the divisions by `v_0` done by `per` (built once per law: the
+    /// stepper's hot path).
+    #[inline]
+    pub fn mu_by(&self, s: f64, per: &PerV0) -> (f64, f64) {
+        let amp = self.mu_d * (self.mu_sd - 1.0);
+        let e = per.of(-s).exp();
+        (
+            self.mu_d + amp * e + per.of(self.mu_v * s),
+            per.of(self.mu_v - amp * e),
+        )
+    }
+}
+
+/// The cubic law's own parameters (Popp and Stelter; Thomsen 1999): the friction
+/// coefficient while slipping at speed `s = |v|` is
+///
+/// ```text
+/// mu(s) = mu_0 - a1 s + a3 s^3,    static limit mu_0 = mu(0)
+/// ```
+///
+/// falling from `mu_0` to its least value `mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3))` at
+/// `s = sqrt(a1 / (3 a3))`, then rising. The static limit is named `mu_0` (Thomsen's `mu_s`):
+/// `mu_s` is the physical system's static coefficient in specs and flags.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cubic {
+    /// Static limit `mu_0 > 0`.
+    pub mu_0: f64,
+    /// Linear (falling) coefficient `a1 >= 0`.
+    pub a1: f64,
+    /// Cubic (rising) coefficient `a3 >= 0`.
+    pub a3: f64,
+}
+
+impl Default for Cubic {
+    /// Thomsen's shape ([`crate::defaults::CUBIC_MU_0`]).
+    fn default() -> Self {
+        Cubic {
+            mu_0: crate::defaults::CUBIC_MU_0,
+            a1: crate::defaults::CUBIC_A1,
+            a3: crate::defaults::CUBIC_A3,
+        }
+    }
+}
+
+impl Cubic {
+    /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
+    #[inline]
+    pub fn mu(&self, s: f64) -> (f64, f64) {
+        (
+            self.mu_0 - self.a1 * s + self.a3 * s * s * s,
+            -self.a1 + 3.0 * self.a3 * s * s,
+        )
+    }
+
+    /// Checks each coefficient and that `mu` stays positive for every slip speed (a
+    /// friction coefficient that changes sign would drive the block, not hold it); the error
+    /// names the key.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        let bad = |name: &'static str, value: f64, expected: &'static str| {
+            Err(CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        if !self.mu_0.is_finite() || self.mu_0 <= 0.0 || self.mu_0 > 1e6 {
+            return bad(
+                "mu_0",
+                self.mu_0,
+                "a static friction coefficient in (0, 1e6]",
+            );
+        }
+        if !self.a1.is_finite() || self.a1 < 0.0 || self.a1 > 1e6 {
+            return bad("a1", self.a1, "a linear coefficient in [0, 1e6]");
+        }
+        if !self.a3.is_finite() || self.a3 < 0.0 || self.a3 > 1e6 {
+            return bad("a3", self.a3, "a cubic coefficient in [0, 1e6]");
+        }
+        if self.least().is_nan() || self.least() <= 0.0 {
+            return bad(
+                "a1",
+                self.a1,
+                "a coefficient that keeps mu(s) = mu_0 - a1 s + a3 s^3 positive for every slip \
+                 speed s >= 0: its least value mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3)) must be > 0 \
+                 (lower a1 or raise a3 or mu_0)",
+            );
+        }
+        Ok(())
+    }
+
+    /// The least value of `mu` over `s >= 0`: `mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3))` (where
+    /// `mu' = 0`), `mu_0` when `a1 = 0`, `-inf` when `a3 = 0 < a1` (`mu` falls for ever).
+    pub fn least(&self) -> f64 {
+        if self.a1 == 0.0 {
+            self.mu_0
+        } else if self.a3 == 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            self.mu_0 - 2.0 * self.a1 / 3.0 * (self.a1 / (3.0 * self.a3)).sqrt()
+        }
+    }
+}
+
+/// Division by `v_0`, as a multiplication by `1 / v_0` where that gives the same bits: when
+/// `v_0` is a power of two its reciprocal is exact, and `x / v_0` and `x * (1 / v_0)` are then
+/// both the correctly rounded value of the same real number (IEEE 754 rounds each operation
+/// correctly, overflow and subnormal results included). For any other `v_0` the reciprocal is
+/// rounded and the product could differ in the last bit, so it divides. A division sits on
+/// the critical path of every slip solve (before the `exp`); bSTAB's `v_0 = 0.5` takes the
+/// multiplication.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PerV0 {
+    v_0: f64,
+    /// `1 / v_0` when it is exact.
+    recip: Option<f64>,
+}
+
+impl PerV0 {
+    /// The division by `v_0`.
+    pub fn new(v_0: f64) -> PerV0 {
+        const MANTISSA: u64 = (1 << 52) - 1;
+        let r = 1.0 / v_0;
+        let exact = v_0.is_normal() && r.is_normal() && v_0.to_bits() & MANTISSA == 0;
+        PerV0 {
+            v_0,
+            recip: exact.then_some(r),
+        }
+    }
+
+    /// `x / v_0`.
+    #[inline]
+    pub fn of(&self, x: f64) -> f64 {
+        match self.recip {
+            Some(r) => x * r,
+            None => x / self.v_0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `PerV0` multiplies only where that is the division bit for bit: powers of two (bSTAB's
+    /// 0.5, and 1, 2, 2^-10) take the exact reciprocal, other values (0.3, 0.75) divide.
+    #[test]
+    fn per_v0_is_the_division_bit_for_bit() {
+        for v_0 in [0.5, 1.0, 2.0, 0.0009765625, 0.3, 0.75] {
+            let per = PerV0::new(v_0);
+            assert_eq!(
+                per.recip.is_some(),
+                [0.5, 1.0, 2.0, 0.0009765625].contains(&v_0)
+            );
+            // Values over many binades, both signs, and the ends of the range.
+            let mut x = 1e-300f64;
+            while x < 1e300 {
+                for y in [x, -x, x * 1.234_567_891, f64::MIN_POSITIVE * 0.75] {
+                    assert_eq!(per.of(y).to_bits(), (y / v_0).to_bits(), "{y} / {v_0}");
+                }
+                x *= 3.7;
+            }
+        }
+        let s = Stribeck::default();
+        for slip in [0.0, 1e-9, 0.3, 1.7, 40.0] {
+            let (mu, dmu) = s.mu(slip);
+            let amp = s.mu_d * (s.mu_sd - 1.0);
+            let e = (-slip / s.v_0).exp();
+            let want = (
+                s.mu_d + amp * e + s.mu_v * slip / s.v_0,
+                (s.mu_v - amp * e) / s.v_0,
+            );
+            assert_eq!(
+                (mu.to_bits(), dmu.to_bits()),
+                (want.0.to_bits(), want.1.to_bits())
+            );
+        }
+    }
+}
