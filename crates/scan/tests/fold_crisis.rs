@@ -46,7 +46,8 @@ fn fold(p: Params, range: ParamRange) -> [f64; 2] {
 /// = 0.89112: `critical --fold` gave 0.02659 with those rounded values, 0.02814 with
 /// `--nu-lo 1e-4 --nu-hi 0.2 --rtol 1e-3`, 0.02867 at full precision and from a one-point
 /// atlas, each with a bracket 1e-3 (relative) wide: four answers that did not agree. Now
-/// each value lies inside every other's stated interval `nu -+ uncertainty`.
+/// each value lies inside every other's stated interval `nu -+ uncertainty`, and so do the
+/// folds with only the range or only rtol changed (issue 17, item 5).
 #[test]
 // 2.3025 is the issue's rounded belt speed, not an approximation of ln 10.
 #[allow(clippy::approx_constant)]
@@ -89,11 +90,15 @@ path = "brake-one-point.h5"
         "brake-one-point.toml",
     )
     .unwrap();
-    // The four in parallel (two cores): the rounded values over the CLI's default range and
-    // rtol, over the issue's wider range and coarser rtol, the full precision, the atlas.
-    let [a, b, c, d] = std::thread::scope(|s| {
+    // The six in parallel (two cores): the rounded values over the CLI's default range and
+    // rtol, over the issue's wider range and coarser rtol, over each of those changes
+    // alone (item 5: the fold depends on neither the range nor rtol beyond its stated
+    // uncertainty), the full precision, the atlas.
+    let [a, b, e, g, c, d] = std::thread::scope(|s| {
         let a = s.spawn(|| fold(rounded, default));
         let b = s.spawn(|| fold(rounded, ParamRange::new(1e-4, 0.2, 1e-3)));
+        let e = s.spawn(|| fold(rounded, ParamRange::new(1e-3, 5e-2, 1e-3)));
+        let g = s.spawn(|| fold(rounded, ParamRange::new(1e-4, 0.2, 1e-4)));
         let c = s.spawn(|| fold(full, default));
         let d = s.spawn(|| match run_unit(&atlas, Unit::Boundary(0)).unwrap() {
             UnitResult::Boundary(r) => {
@@ -102,9 +107,16 @@ path = "brake-one-point.h5"
             }
             other => panic!("{other:?}"),
         });
-        [a, b, c, d].map(|h| h.join().unwrap())
+        [a, b, e, g, c, d].map(|h| h.join().unwrap())
     });
-    let all = [("rounded", a), ("wide range", b), ("full", c), ("atlas", d)];
+    let all = [
+        ("rounded", a),
+        ("wide range, rtol 1e-3", b),
+        ("rtol 1e-3", e),
+        ("wide range", g),
+        ("full", c),
+        ("atlas", d),
+    ];
     for (name, [nu, _]) in all {
         for (other, [mid, err]) in all {
             assert!(
