@@ -20,6 +20,9 @@
 //!    half its width: every one of the three computations has its last squealing value below
 //!    the interval's top and its first quiet value above its bottom, if each changes once
 //!    inside it (checked on the shipped chart by `scripts/fold-coverage.sh`).
+//! 4. Above the crisis the verdict is not monotone: the stretch of an eighth of a coarse
+//!    step above that interval is sampled at the setup's step, and the top raised over any
+//!    window there that is not quiet, to where all three agree again ([`clear_above`]).
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -246,7 +249,8 @@ pub fn crisis_in(
         ));
     };
     let interval = bisect_both(&v, (vs[k], vs[k + 1], vs[m]), range.rtol)?;
-    let (outer, holds) = widen(&v, interval, (lo, hi, range.rtol))?;
+    let (mut outer, holds) = widen(&v, interval, (lo, hi, range.rtol))?;
+    outer[1] = clear_above(&v, outer[1], (hi, (hi / lo).ln() / coarse as f64))?;
     Ok(Crisis {
         status: CrisisStatus::Found,
         interval,
@@ -309,6 +313,54 @@ fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
     let x = step_out(a, lo, -first, |x| v.agree(x, Lasting::Squeals))?;
     let y = step_out(b, hi, first, |y| v.agree(y, Lasting::Quiet))?;
     Ok(([x, y], held))
+}
+
+/// Samples at the setup's step over the stretch above the interval's top ([`clear_above`]).
+pub const ABOVE_SAMPLES: usize = 12;
+
+/// Raises the top `y` of the interval where every [`Variant`] agrees until the
+/// verdict at the setup's step is quiet at every one of [`ABOVE_SAMPLES`] geometric samples
+/// over the stretch above it, an eighth of a coarse step wide (log-width `coarse_log / 8`),
+/// at most to `hi`: over any sample that is not quiet, to the first value above it where
+/// every [`Variant`] says quiet (outward from it in steps of the samples' spacing, doubled
+/// each time). Returns the new top.
+///
+/// Why: above the crisis the verdict is not monotone. Narrow windows where the band is
+/// undecided again, or trapped (squeal lasts), lie between the coarse values, and a search
+/// at dt/2 or with the longer horizon can land its bisection in one (`scripts/fold-coverage.sh`
+/// on `scans/atlas-lambda-nu.toml` at session 8: lambda = 0.6590, undecided at dt on about
+/// [0.02271, 0.02291] and at dt/2 on [0.02283, 0.02311] above a top of 0.022674; lambda =
+/// 4.9261, squeal lasting at all three on [0.02061, 0.02070] above 0.020472; lambda = 4.7356,
+/// trapped at 0.021403 and 0.021494 above 0.020984; `cargo run --release -p squeal-scan
+/// --example fold_verdicts -- scans/atlas-lambda-nu.toml J LO HI N`, J the belt speed's
+/// index: 7, 58, 57). There the windows lie within 2.6% above the top, the last one
+/// [0.02144, 0.02152] at lambda = 4.7356 only 0.4% wide with a quiet gap inside; samples a
+/// quarter of a coarse step wide at 0.45% spacing stepped over it, an eighth (2.7% at 0.22%)
+/// does not. Windows narrower than the spacing, farther above than the stretch, or seen at
+/// dt/2 or with the longer horizon only, can still hide: the samples are at dt, the
+/// cheapest verdict (about 0.06 s where quiet on that chart, against 0.12 s at dt/2).
+fn clear_above<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
+    v: &Verdicts<F>,
+    y: f64,
+    (hi, coarse_log): (f64, f64),
+) -> Result<f64, ScanError> {
+    let d = coarse_log / 8.0 / ABOVE_SAMPLES as f64;
+    let mut top = y;
+    while top < hi {
+        let mut last = None;
+        for j in 1..=ABOVE_SAMPLES {
+            let s = (top * (j as f64 * d).exp()).min(hi);
+            if v.at(s, Variant::Dt)? != Lasting::Quiet {
+                last = Some(s);
+            }
+            if s >= hi {
+                break;
+            }
+        }
+        let Some(z) = last else { break };
+        top = step_out(z, hi, d, |t| v.agree(t, Lasting::Quiet))?;
+    }
+    Ok(top)
 }
 
 /// From `x` towards `limit` in geometric steps (log-step `first`, its sign the direction,
@@ -440,6 +492,41 @@ mod tests {
         // Already covered: nothing moves.
         let ((nu, u), _) = raise_top(v, (0.03, 0.01), 0.0256, (0.05, 1e-4)).unwrap();
         assert_eq!((nu, u), (0.03, 0.01));
+    }
+
+    #[test]
+    fn a_window_just_above_the_crisis_is_covered_by_the_stretch_above() {
+        // Squeals below 0.024, undecided on [0.024, 0.0242), quiet from 0.0242 but squeal
+        // lasting again on [0.02432, 0.02436) at dt and dt/2 only, and on [0.026, 0.0262):
+        // 64 coarse steps over [1e-3, 0.05] (log-step ln(50) / 64 = 0.0611) step over both,
+        // and so do the bisections (their values near the first window: 0.024287 and
+        // 0.024380). The stretch above the interval is an eighth of that (0.76%, 12
+        // samples 0.064% apart): the first window (0.5% above the top, 0.16% wide) lies in
+        // it, the second (7% above) does not and stays outside, as `clear_above` says.
+        let v = |x: f64, w: Variant| {
+            Ok(if x < 0.024 {
+                Lasting::Squeals
+            } else if x < 0.0242 {
+                Lasting::Undecided
+            } else if ((0.02432..0.02436).contains(&x) && w != Variant::Longer)
+                || (0.026..0.0262).contains(&x)
+            {
+                Lasting::Squeals
+            } else {
+                Lasting::Quiet
+            })
+        };
+        let c = crisis_in(v, ParamRange::new(1e-3, 0.05, 1e-4), 64).unwrap();
+        let (lo, hi) = (c.nu - c.uncertainty, c.nu + c.uncertainty);
+        assert!(c.interval[0] < 0.024 && 0.0242 <= c.interval[1], "{c:?}");
+        assert!(c.interval[1] / 0.0242 - 1.0 <= 1e-4, "{c:?}");
+        assert!(
+            lo == c.interval[0] && (0.02436..0.026).contains(&hi),
+            "{c:?}"
+        );
+        for w in Variant::ALL {
+            assert_eq!(v(hi, w).unwrap(), Lasting::Quiet);
+        }
     }
 
     #[test]
