@@ -49,6 +49,7 @@ pub mod params;
 pub mod propagator;
 pub mod region;
 pub mod run;
+pub mod section;
 pub mod setup;
 pub mod solver;
 pub mod stepper;
