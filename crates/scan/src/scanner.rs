@@ -178,6 +178,24 @@ pub fn decaying_turn(
         })
 }
 
+/// The start rule of a map whose section decays below `top`, with `shortcuts`'s threshold
+/// for the lower half set: the turn from the section's own top, and one from its lower
+/// half, which may start far lower than `-top` where the orbit from there stays below it
+/// (MODEL.md section 9, "A decaying section").
+fn decaying_turns(
+    stepper: &Stepper,
+    cs: &CycleSettings,
+    trap_margin: f64,
+    top: f64,
+    shortcuts: &mut Shortcuts,
+) -> Option<StartRule> {
+    let upper = decaying_turn(stepper, Half::Upper, top, top, cs.t_return);
+    let lower = decaying_turn(stepper, Half::Lower, cs.r_max, top, cs.t_return);
+    shortcuts.decay_lower_below = lower.as_ref().map(|(s, _)| s * (1.0 - trap_margin));
+    let fp = stepper.params().fixed_point();
+    StartRule::decaying(fp, upper, lower, trap_margin)
+}
+
 /// The largest of `segment length x larger turning angle at its ends` over the segments
 /// `segs` of the closed polygon `curve`, counting the turn at vertex `i` only where
 /// `is_turn(i)`.
@@ -524,14 +542,7 @@ impl MapContext {
             cs.r_max,
         );
         if let (None, Some(top)) = (&start_rule, shortcuts.decay_below) {
-            // The turn from the section's own top, and one from its lower half, which may
-            // start far lower than `-top` where the orbit from there stays below it
-            // (MODEL.md section 9, "A decaying section").
-            let upper = decaying_turn(&stepper, Half::Upper, top, top, cs.t_return);
-            let lower = decaying_turn(&stepper, Half::Lower, cs.r_max, top, cs.t_return);
-            shortcuts.decay_lower_below = lower.as_ref().map(|(s, _)| s * (1.0 - plan.trap_margin));
-            let fp = params.fixed_point();
-            start_rule = StartRule::decaying(fp, upper, lower, plan.trap_margin);
+            start_rule = decaying_turns(&stepper, &cs, plan.trap_margin, top, &mut shortcuts);
         }
         Ok(MapContext {
             map,
