@@ -62,9 +62,10 @@ const NEAR_FIXED_POINT: u8 = 1;
 /// certified region of attraction around the fixed point (issue 18, crates/core/MODEL.md
 /// section 9), which proves it settles there.
 const IN_CERTIFIED_REGION: [u8; 2] = [11, 12];
-/// `Reason::BelowDecayingSection` and `Reason::StartInsideDecayingTurn`: McMillan's smooth
-/// laws with no unstable cycle found (crates/core/MODEL.md section 9, "A decaying section").
-const DECAYING_SECTION: [u8; 2] = [17, 18];
+/// `Reason::BelowDecayingSection`, `Reason::StartInsideDecayingTurn` and
+/// `Reason::EnteredDecayingTurn`: McMillan's smooth laws with no unstable cycle found
+/// (crates/core/MODEL.md section 9, "A decaying section").
+const DECAYING_SECTION: [u8; 3] = [17, 18, 19];
 
 #[test]
 fn a_lambda_sweep_end_to_end() {
@@ -169,8 +170,8 @@ fn a_scan_without_an_unstable_cycle_says_so() {
             // Every start settles on the fixed point (Coulomb: the argument above; McMillan at
             // nu = 5e-2: above the critical damping for the whole window). McMillan's law has
             // a certified region of attraction and a decaying section, so its runs are decided
-            // on entering the region or at their first crossing below the section's top (or at
-            // the start, inside a turn from below it); Coulomb's has neither, and its runs are
+            // on entering the region, at their first crossing below the section's top or of the
+            // lower half inside a decaying turn (or at the start, inside such a turn); Coulomb's has neither, and its runs are
             // followed to fp_radius.
             let settles = if law == "coulomb" {
                 r == NEAR_FIXED_POINT

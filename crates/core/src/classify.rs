@@ -30,7 +30,9 @@ use crate::friction::Branch;
 use crate::params::Params;
 use crate::run::{Run, Step};
 use crate::solver::SolverStats;
-use crate::stepper::{Sample, State, Stepper};
+use crate::stepper::{State, Stepper};
+
+pub use crate::section::{Crossing, Half, crossing, section_return};
 
 /// The attractor a run settles on. The values are stored in files (HDF5 enum `regime`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -115,16 +117,22 @@ pub enum Reason {
     /// search's top returns lower, so a run crossing below that top (less the trap's margin)
     /// goes on down to the fixed point ([`Shortcuts::decay_below`], MODEL.md section 9).
     BelowDecayingSection = 17,
-    /// No unstable cycle was found on the section and the start lies inside the first turn
-    /// of the orbit from the top of the decaying stretch, farther from it than the margin:
+    /// No unstable cycle was found on the section and the start lies inside a decaying turn
+    /// (from the section or its lower half, below its top), farther from it than the margin:
     /// steady slip without a run (same argument as [`Reason::BelowDecayingSection`], with the
     /// planar one of [`Reason::StartInsideCycle`]).
     StartInsideDecayingTurn = 18,
+    /// No unstable cycle was found on the section and the run crossed the section's lower
+    /// half (`x = x*, x' < 0`) inside a decaying turn that starts there: it cannot leave the
+    /// turn, and its next crossing of the section lies below the decaying section's top
+    /// ([`Shortcuts::decay_lower_below`], MODEL.md section 9). Half a revolution before
+    /// [`Reason::BelowDecayingSection`] could decide it.
+    EnteredDecayingTurn = 19,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 19] = [
+    pub const ALL: [Reason; 20] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -144,6 +152,7 @@ impl Reason {
         Reason::BetweenStickingStarts,
         Reason::BelowDecayingSection,
         Reason::StartInsideDecayingTurn,
+        Reason::EnteredDecayingTurn,
     ];
 
     /// The reason's name in files and output.
@@ -168,6 +177,7 @@ impl Reason {
             Reason::BetweenStickingStarts => "between_sticking_starts",
             Reason::BelowDecayingSection => "below_decaying_section",
             Reason::StartInsideDecayingTurn => "start_inside_decaying_turn",
+            Reason::EnteredDecayingTurn => "entered_decaying_turn",
         }
     }
 }
@@ -205,6 +215,12 @@ pub struct Shortcuts {
     /// ([`Reason::BelowDecayingSection`]). It rests on the same sampled return map as the
     /// cycle's trap and is audited the same way.
     pub decay_below: Option<f64>,
+    /// Where [`Shortcuts::decay_below`] holds: a turn of the orbit from the section's lower
+    /// half at `s` (closed by that half between `s` and its return), on the slip branch with
+    /// one root all along and below that top, and this value is `s` less the trap's margin.
+    /// A crossing of the lower half below it lies inside the turn, which no run leaves:
+    /// steady slip ([`Reason::EnteredDecayingTurn`]).
+    pub decay_lower_below: Option<f64>,
 }
 
 impl Shortcuts {
@@ -214,6 +230,7 @@ impl Shortcuts {
         breakaway: None,
         section: None,
         decay_below: None,
+        decay_lower_below: None,
     };
 
     /// Whether any shortcut applies.
@@ -222,6 +239,7 @@ impl Shortcuts {
             || self.breakaway.is_some()
             || self.section.is_some()
             || self.decay_below.is_some()
+            || self.decay_lower_below.is_some()
     }
 
     /// The decision for a run that stuck, from the fate of the orbit from breakaway.
@@ -319,8 +337,8 @@ pub const T_SQUEAL_UNKNOWN: f64 = -1.0;
 ///   stick phase, and its breakaway, are still to come); [`Reason::BelowSettlingStart`] and
 ///   [`Reason::BelowDecayingSection`] bound the run's amplitudes, not its sticking (a
 ///   crossing below the decaying section's top may still be above the belt speed); and
-///   [`Reason::StartInsideDecayingTurn`] knows that the turn around the start never sticks,
-///   not that the states inside it cannot.
+///   [`Reason::StartInsideDecayingTurn`] and [`Reason::EnteredDecayingTurn`] know that the
+///   turn around the state never sticks, not that the states inside it cannot.
 pub fn t_squeal(regime: Regime, reason: Reason, last_stuck: f64) -> f64 {
     match (regime, reason) {
         (Regime::StickSlip, _) => f64::INFINITY,
@@ -328,7 +346,8 @@ pub fn t_squeal(regime: Regime, reason: Reason, last_stuck: f64) -> f64 {
         | (_, Reason::StuckThenSettles)
         | (_, Reason::BelowSettlingStart)
         | (_, Reason::BelowDecayingSection)
-        | (_, Reason::StartInsideDecayingTurn) => T_SQUEAL_UNKNOWN,
+        | (_, Reason::StartInsideDecayingTurn)
+        | (_, Reason::EnteredDecayingTurn) => T_SQUEAL_UNKNOWN,
         (Regime::SteadySlip, _) => last_stuck,
     }
 }
@@ -369,84 +388,6 @@ impl Squeal {
             Squeal::Unknown => "time on stick-slip not known (t_squeal = -1)".into(),
         }
     }
-}
-
-/// A crossing of the section `x = x*` going right.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Crossing {
-    /// Time (cubic Hermite interpolation inside the step).
-    pub t: f64,
-    /// `x'` at the crossing.
-    pub r: f64,
-}
-
-/// Detects section crossings between consecutive samples.
-///
-/// The crossing is located on the cubic Hermite interpolants of `x` (through `x`, `x'` at
-/// both ends) and `x'` (through `x'`, `x''`), so its error is `O(dt^4)`. Linear
-/// interpolation errs by up to `dt^2 |x'''| / 8` (about `1e-6` at `dt = 0.005` on the
-/// unstable cycle at `nu = 1e-3`), and the error depends on where in the step the section
-/// falls: the return map then jitters by that much from one revolution to the next, and
-/// its fixed point, the cycle's crossing, moves by that error over `P'(r_u) - 1` (0.0064
-/// there): about `1.6e-4`, as far as the trap's margin reached (crates/core/MODEL.md).
-#[inline]
-pub fn crossing(x_star: f64, prev: &Sample, next: &Sample) -> Option<Crossing> {
-    if prev.x < x_star && next.x >= x_star && next.v > 0.0 {
-        let h = next.t - prev.t;
-        let th = hermite_root(
-            [prev.x - x_star, h * prev.v, next.x - x_star, h * next.v],
-            (x_star - prev.x) / (next.x - prev.x),
-        );
-        Some(Crossing {
-            t: prev.t + th * h,
-            r: hermite([prev.v, h * prev.a, next.v, h * next.a], th),
-        })
-    } else {
-        None
-    }
-}
-
-/// The cubic Hermite interpolant on `[0, 1]` with end values `y0`, `y1` and end slopes
-/// `d0`, `d1` (per unit of `th`), given as `[y0, d0, y1, d1]`, at `th`.
-#[inline]
-fn hermite([y0, d0, y1, d1]: [f64; 4], th: f64) -> f64 {
-    let (t2, t3) = (th * th, th * th * th);
-    (2.0 * t3 - 3.0 * t2 + 1.0) * y0
-        + (t3 - 2.0 * t2 + th) * d0
-        + (3.0 * t2 - 2.0 * t3) * y1
-        + (t3 - t2) * d1
-}
-
-/// The root in `[0, 1]` of the Hermite interpolant `c` (with `y0 < 0 <= y1`), by Newton from
-/// `th` (the linear root), safeguarded by bisection: `[lo, hi]` always holds a sign change.
-#[inline]
-fn hermite_root(c: [f64; 4], mut th: f64) -> f64 {
-    let [y0, d0, y1, d1] = c;
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..60 {
-        let y = hermite(c, th);
-        if y < 0.0 {
-            lo = th;
-        } else {
-            hi = th;
-        }
-        let t2 = th * th;
-        let dy = (6.0 * t2 - 6.0 * th) * y0
-            + (3.0 * t2 - 4.0 * th + 1.0) * d0
-            + (6.0 * th - 6.0 * t2) * y1
-            + (3.0 * t2 - 2.0 * th) * d1;
-        let newton = th - y / dy;
-        let next = if newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if (next - th).abs() <= 1e-14 || hi - lo <= 1e-14 {
-            return next;
-        }
-        th = next;
-    }
-    th
 }
 
 impl Classifier {
@@ -643,6 +584,16 @@ impl Watch<'_> {
         let multi_root = run.stats().multi_root;
         let one_root = multi_root == self.multi_root;
         self.multi_root = multi_root;
+        // Inside the lower decaying turn with one root: the run from here is the run from a
+        // start there, which the turn holds (MODEL.md section 9).
+        if let Some(below) = self.shortcuts.decay_lower_below.filter(|_| one_root) {
+            if Half::Lower
+                .crossing(self.fp.x, &step.prev, n)
+                .is_some_and(|c| c.r < below)
+            {
+                return Some((Regime::SteadySlip, Reason::EnteredDecayingTurn));
+            }
+        }
         let c = crossing(self.fp.x, &step.prev, n)?;
         self.crossings += 1;
         if self.last_t.is_finite() {
@@ -741,36 +692,6 @@ impl Classifier {
         let m2 = ring[ring.len() - half..].iter().sum::<f64>() / half as f64;
         (m2 - m1).abs() <= 0.25 * spread
     }
-}
-
-/// One return to the section from `(x*, r)`: the next crossing's amplitude and time, or
-/// `None` if the run does not come back by `t_max` (or this run's solve fails). `visit` sees
-/// every sample; this run's counters are added to `stats`.
-pub fn section_return(
-    stepper: &Stepper,
-    r: f64,
-    t_max: f64,
-    stats: &mut SolverStats,
-    mut visit: impl FnMut(&Sample),
-) -> Option<Crossing> {
-    let fp = stepper.params().fixed_point();
-    let mut run = Run::new(stepper, State { x: fp.x, v: r });
-    visit(run.sample());
-    let mut found = None;
-    for _ in 0..run.steps_to(t_max) {
-        let step = run.step();
-        visit(&step.next);
-        // This run's own failures: the caller's `stats` sum earlier runs.
-        if run.failed() || !step.next.x.is_finite() {
-            break;
-        }
-        if let Some(c) = crossing(fp.x, &step.prev, &step.next) {
-            found = Some(c);
-            break;
-        }
-    }
-    stats.merge(run.stats());
-    found
 }
 
 #[cfg(test)]

@@ -50,6 +50,7 @@ pub mod params;
 pub mod propagator;
 pub mod region;
 pub mod run;
+pub mod section;
 pub mod setup;
 pub mod solver;
 pub mod stepper;

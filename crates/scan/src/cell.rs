@@ -262,6 +262,7 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (16, "between_sticking_starts"),
     (17, "below_decaying_section"),
     (18, "start_inside_decaying_turn"),
+    (19, "entered_decaying_turn"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

@@ -4,6 +4,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
+use squeal_core::classify::Half;
 use squeal_core::stick::StickCycle;
 use squeal_core::{
     Classifier, FrictionLaw, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts,
@@ -54,13 +55,11 @@ pub struct BlockResult {
 /// map), and the same audit checks it: audited cells are also run to settlement.
 ///
 /// Where no unstable cycle was found and the whole sampled section decays
-/// ([`Shortcuts::decay_below`]), the curve is the first turn of the orbit from the top of
-/// that stretch, closed by the piece of the section between its start and its return
-/// ([`StartRule::decaying`]). A start inside it cannot cross the orbit, so it either
-/// crosses that piece of the section, below the top, where the return map decays, or stays
-/// inside for ever without crossing the section, where the only limit set is the fixed
-/// point (every closed orbit around it crosses the section, at a fixed point of the return
-/// map, and there is none): steady slip ([`Reason::StartInsideDecayingTurn`]).
+/// ([`Shortcuts::decay_below`]), the curves are decaying turns ([`decaying_turn`]): one
+/// revolution from a half of the line `x = x*`, closed by the piece of that half between
+/// its start and its return ([`StartRule::decaying`]). A start inside one cannot leave it
+/// (MODEL.md section 9), and its next crossing of the section lies below the top, where the
+/// return map decays: steady slip ([`Reason::StartInsideDecayingTurn`]).
 ///
 /// The margin is the trap's band at the section, `trap_margin r_u`, plus a bound on how far
 /// the polygon of one revolution's steps strays from the smooth curve between its points:
@@ -72,6 +71,9 @@ pub struct BlockResult {
 pub struct StartRule {
     curve: CurveLocator,
     margin: f64,
+    /// A second curve, with its margin, whose inside is decided too (the lower decaying
+    /// turn).
+    also: Option<(CurveLocator, f64)>,
     centre: State,
     /// The reason for a start inside the curve.
     inside: Reason,
@@ -95,34 +97,37 @@ impl StartRule {
         StartRule {
             margin,
             curve: CurveLocator::new(curve),
+            also: None,
             centre,
             inside: Reason::StartInsideCycle,
             outside,
         }
     }
 
-    /// The rule for a decaying section below `top` ([`Shortcuts::decay_below`]): the first
-    /// turn from the highest of `top, 0.85 top, 0.85^2 top, ...` (16 tries) whose states all
-    /// have one root on the slip branch ([`ulc::Turn::slip_only`]: where the force's branch
-    /// is history the flow is not planar and the argument fails), closed by the section
-    /// between its return and its start; only starts inside are decided. `None` if no try
-    /// qualifies.
-    pub fn decaying(st: &Stepper, top: f64, t_return: f64, trap_margin: f64) -> Option<StartRule> {
-        let turn = std::iter::successors(Some(top), |r| Some(0.85 * r))
-            .take(16)
-            .find_map(|r| {
-                let t = ulc::turn(st, r, t_return, &mut SolverStats::default())?;
-                t.slip_only.then_some((r, t.curve))
-            });
-        let (r, curve) = turn?;
-        let n = curve.len();
-        // Segments 0..n-1 are steps of the orbit; the closing one lies on the section, and
-        // its two corners are not turns of the orbit.
-        let sag = polygon_sag(&curve, 0..n - 1, |i| i > 0 && i < n - 1);
+    /// The rule for a decaying section: the decaying turns `upper` and `lower`
+    /// ([`decaying_turn`]), each with the margin `trap_margin r` plus the polygon's sag
+    /// (without the closing piece, which lies on the line `x = x*`); only starts inside are
+    /// decided. `None` without either turn.
+    pub fn decaying(
+        centre: State,
+        upper: Option<(f64, ClosedCurve)>,
+        lower: Option<(f64, ClosedCurve)>,
+        trap_margin: f64,
+    ) -> Option<StartRule> {
+        let with_margin = |(r, curve): (f64, ClosedCurve)| {
+            let n = curve.len();
+            // Segments 0..n-1 are steps of the orbit; the closing one lies on the line
+            // `x = x*`, and its two corners are not turns of the orbit.
+            let sag = polygon_sag(&curve, 0..n - 1, |i| i > 0 && i < n - 1);
+            (CurveLocator::new(curve), trap_margin * r + sag)
+        };
+        let (mut upper, mut lower) = (upper.map(with_margin), lower.map(with_margin));
+        let (curve, margin) = upper.take().or_else(|| lower.take())?;
         Some(StartRule {
-            margin: trap_margin * r + sag,
-            curve: CurveLocator::new(curve),
-            centre: st.params().fixed_point(),
+            curve,
+            margin,
+            also: lower,
+            centre,
             inside: Reason::StartInsideDecayingTurn,
             outside: false,
         })
@@ -135,12 +140,59 @@ impl StartRule {
 
     /// The label of start `p`, if it lies farther than the margin from the curve.
     pub fn decide(&self, p: State) -> Option<(Regime, Reason)> {
-        Some(match self.curve.side(p, self.margin)? {
-            true => (Regime::SteadySlip, self.inside),
-            false if self.outside => (Regime::StickSlip, Reason::StartOutsideCycle),
-            false => return None,
-        })
+        let inside = (Regime::SteadySlip, self.inside);
+        match self.curve.side(p, self.margin) {
+            Some(true) => return Some(inside),
+            Some(false) if self.outside => {
+                return Some((Regime::StickSlip, Reason::StartOutsideCycle));
+            }
+            _ => {}
+        }
+        let (also, margin) = self.also.as_ref()?;
+        also.side(p, *margin)?.then_some(inside)
     }
+}
+
+/// A decaying turn below `top` (a map with [`Shortcuts::decay_below`] = `top`): the first
+/// revolution from amplitude `r` on `half`, for the highest `r` of `from, 0.85 from,
+/// 0.85^2 from, ...` (16 tries), whose states all have one root on the slip branch
+/// ([`ulc::Turn::slip_only`]: where the force's branch is history two orbits can pass each
+/// other and the argument fails), that returns lower (else the flow would leave through the
+/// closing piece instead of entering) and that stays at or below `top` (so its crossing of the
+/// section decays, and so does every crossing inside it); with that `r`. `None` if no try
+/// qualifies.
+pub fn decaying_turn(
+    st: &Stepper,
+    half: Half,
+    from: f64,
+    top: f64,
+    t_return: f64,
+) -> Option<(f64, ClosedCurve)> {
+    std::iter::successors(Some(from), |r| Some(0.85 * r))
+        .take(16)
+        .find_map(|r| {
+            let t = ulc::turn(st, half, r, t_return, &mut SolverStats::default())?;
+            let below = t.curve.v_range()[1] <= top;
+            (t.slip_only && t.returns_to < r && below).then_some((r, t.curve))
+        })
+}
+
+/// The start rule of a map whose section decays below `top`, with `shortcuts`'s threshold
+/// for the lower half set: the turn from the section's own top, and one from its lower
+/// half, which may start far lower than `-top` where the orbit from there stays below it
+/// (MODEL.md section 9, "A decaying section").
+fn decaying_turns(
+    stepper: &Stepper,
+    cs: &CycleSettings,
+    trap_margin: f64,
+    top: f64,
+    shortcuts: &mut Shortcuts,
+) -> Option<StartRule> {
+    let upper = decaying_turn(stepper, Half::Upper, top, top, cs.t_return);
+    let lower = decaying_turn(stepper, Half::Lower, cs.r_max, top, cs.t_return);
+    shortcuts.decay_lower_below = lower.as_ref().map(|(s, _)| s * (1.0 - trap_margin));
+    let fp = stepper.params().fixed_point();
+    StartRule::decaying(fp, upper, lower, trap_margin)
 }
 
 /// The largest of `segment length x larger turning angle at its ends` over the segments
@@ -234,6 +286,8 @@ pub fn shortcuts(
         breakaway,
         section: None,
         decay_below,
+        // Set with the decaying turns, once the map's stepper exists.
+        decay_lower_below: None,
     }
 }
 
@@ -399,14 +453,14 @@ impl MapContext {
             section = Some(found);
         }
         let landscape = crate::landscape::of_params(plan, params)?;
-        let shortcuts = with_section_fates(
+        let mut shortcuts = with_section_fates(
             shortcuts(plan, &params, landscape.as_ref(), section.as_ref()),
             &stepper,
             &classifier,
             cs.r_max,
         );
         if let (None, Some(top)) = (&start_rule, shortcuts.decay_below) {
-            start_rule = StartRule::decaying(&stepper, top, cs.t_return, plan.trap_margin);
+            start_rule = decaying_turns(&stepper, &cs, plan.trap_margin, top, &mut shortcuts);
         }
         Ok(MapContext {
             map,

@@ -21,7 +21,8 @@
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use squeal_core::classify::section_return;
+use squeal_core::classify::Half;
+use squeal_core::section::half_return;
 use squeal_core::{Params, Setup, SolverConfig, SolverStats, State, Stepper};
 
 use crate::curve::ClosedCurve;
@@ -154,30 +155,39 @@ pub fn cycle_curve(
     t_return: f64,
     stats: &mut SolverStats,
 ) -> Option<(ClosedCurve, f64)> {
-    turn(st, r, t_return, stats).map(|t| (t.curve, t.period))
+    turn(st, Half::Upper, r, t_return, stats).map(|t| (t.curve, t.period))
 }
 
-/// One revolution of the run from `(x*, r)` on the section ([`cycle_curve`]).
+/// One revolution of the run from amplitude `r` on a half of the line `x = x*` (the section,
+/// [`cycle_curve`], or its lower half) to its next crossing of that half.
 #[derive(Clone, Debug)]
 pub struct Turn {
-    /// Its states, the step past the section dropped: closed by the section between the
-    /// return and `r`.
+    /// Its states, the step past the half dropped: closed by that half between the return
+    /// and `r`.
     pub curve: ClosedCurve,
     /// Its duration.
     pub period: f64,
+    /// The amplitude `|x'|` of its return to the half it started on.
+    pub returns_to: f64,
     /// Whether every step had one root on the slip branch: no state of the turn is one
     /// where the force's branch is history ([`squeal_core::friction::on_quasi_static_branch`],
     /// crates/core/MODEL.md section 4), so two orbits meeting it cannot pass each other.
     pub slip_only: bool,
 }
 
-/// The revolution from `(x*, r)`, counted in `stats`; `None` if the run does not return
-/// within `t_return`.
-pub fn turn(st: &Stepper, r: f64, t_return: f64, stats: &mut SolverStats) -> Option<Turn> {
+/// The revolution from amplitude `r` on `half`, counted in `stats`; `None` if the run does
+/// not return within `t_return`.
+pub fn turn(
+    st: &Stepper,
+    half: Half,
+    r: f64,
+    t_return: f64,
+    stats: &mut SolverStats,
+) -> Option<Turn> {
     let p = *st.params();
     let (mut xs, mut vs, mut quasi) = (Vec::new(), Vec::new(), false);
     let mut own = SolverStats::default();
-    let c = section_return(st, r, t_return, &mut own, |s| {
+    let c = half_return(st, half, r, t_return, &mut own, |s| {
         xs.push(s.x);
         vs.push(s.v);
         quasi |= squeal_core::friction::on_quasi_static_branch(&p, s.v - p.lambda, s.a);
@@ -189,6 +199,7 @@ pub fn turn(st: &Stepper, r: f64, t_return: f64, stats: &mut SolverStats) -> Opt
     Some(Turn {
         curve: ClosedCurve::new(xs, vs),
         period: c.t,
+        returns_to: c.r,
         slip_only: !quasi && own.multi_root == 0,
     })
 }

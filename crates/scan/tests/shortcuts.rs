@@ -319,3 +319,102 @@ fn the_decaying_section_needs_a_resolved_search_and_mcmillans_laws() {
     let with_stick = squeal_scan::scanner::shortcuts(&stribeck, &q, None, Some(&found(0)));
     assert_eq!(with_stick.decay_below, None);
 }
+
+/// McMillan's hysteretic law at nu = 0.3 (Table 1's lambda, tau and phi; far above the fold):
+/// the search's top `r_max` = 6.79 lies above lambda = 3, so the turn from the top of the
+/// section passes zero slip velocity and the decaying turn from the section is small. The
+/// turn from the section's lower half is larger (crates/core/MODEL.md section 9, "A
+/// decaying section"), and a run crossing the lower half inside it is decided there
+/// (`entered_decaying_turn`, value 19, new): half a revolution before its next crossing of
+/// the section. Checked here:
+/// * every cell of a 12 x 12 grid over Fig. 10's window gets the label of its run to
+///   settlement, and some are decided by the new reason;
+/// * runs from just right of the lower half at `|x'|` = 0.5 s and 0.9 s (`s` the turn's
+///   start) are decided by it, and at 1.05 s and 1.1 s (outside the turn) are not;
+/// * each run it decides, continued past its decision with no shortcut, never lies outside
+///   the turn by more than the start rule's margin, and ends at the fixed point.
+///
+/// A rule with its threshold on the wrong side, or any higher (say the section's top),
+/// decides runs outside the turn and fails the last two checks.
+#[test]
+fn runs_entering_the_lower_decaying_turn_stay_in_it_and_settle() {
+    use squeal_core::Run;
+    use squeal_core::classify::Half;
+    use squeal_scan::curve::CurveLocator;
+    let spec = |early_stop: &str| {
+        Plan::from_toml(
+            &format!(
+                "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.3\n[grid]\n\
+                 x0 = {{ min = -3.0, max = 5.0, count = 12 }}\n\
+                 v0 = {{ min = -4.0, max = 4.0, count = 12 }}\n\
+                 [classifier]\nearly_stop = \"{early_stop}\"\n[output]\npath = \"t.h5\"\n"
+            ),
+            "t.toml",
+        )
+        .unwrap()
+    };
+    let (plan, slow_plan) = (spec("cycle"), spec("none"));
+    let fast = cells(&plan);
+    for (k, (f, s)) in fast.iter().zip(&cells(&slow_plan)).enumerate() {
+        assert_eq!(f.0, s.0, "cell {k}: {f:?} vs settled {s:?}");
+        assert_ne!(f.0, Regime::Undecided as u8, "cell {k}");
+    }
+    let entered = fast
+        .iter()
+        .filter(|c| c.1 == Reason::EnteredDecayingTurn as u8)
+        .count();
+    assert!(entered > 0, "no cell entered the lower turn");
+
+    let ctx = squeal_scan::MapContext::prepare(&plan, 0).unwrap();
+    let cs = squeal_scan::scanner::cycle_settings(&plan, &plan.maps[0]);
+    let top = ctx.shortcuts.decay_below.expect("a decaying section");
+    let (s, curve) =
+        squeal_scan::scanner::decaying_turn(&ctx.stepper, Half::Lower, cs.r_max, top, cs.t_return)
+            .expect("a lower turn");
+    assert_eq!(
+        ctx.shortcuts.decay_lower_below,
+        Some(s * (1.0 - plan.trap_margin))
+    );
+    eprintln!("top {top}, lower turn from s = {s}");
+    let margin = plan.trap_margin * s + 0.01;
+    let turn = CurveLocator::new(curve);
+    let settle = Classifier::default();
+    let fp = plan.maps[0].fixed_point();
+    for (f, inside) in [(0.5, true), (0.9, true), (1.05, false), (1.1, false)] {
+        let ic = State {
+            x: fp.x + 0.01,
+            v: -f * s,
+        };
+        let out = ctx.classify(ic);
+        assert_eq!(
+            out.reason == Reason::EnteredDecayingTurn,
+            inside,
+            "{f} s: {out:?}"
+        );
+        if !inside {
+            continue;
+        }
+        // The same run, continued past its decision without any shortcut.
+        let mut run = Run::new(&ctx.stepper, ic);
+        let mut watch = settle.watch(&plan.maps[0]);
+        let mut t_end = None;
+        for _ in 0..run.steps_to(1000.0) {
+            let step = run.step();
+            let n = step.next;
+            if n.t > out.t_decision {
+                let p = State { x: n.x, v: n.v };
+                assert_ne!(turn.side(p, margin), Some(false), "{f} s: left at {n:?}");
+            }
+            if let Some(d) = watch.observe(&run, &step) {
+                assert_eq!(d, (Regime::SteadySlip, Reason::NearFixedPoint), "{f} s");
+                t_end = Some(n.t);
+                break;
+            }
+        }
+        eprintln!(
+            "{f} s: decided at t = {}, settled at {t_end:?}",
+            out.t_decision
+        );
+        assert!(t_end.is_some(), "{f} s: not settled by t = 1000");
+    }
+}

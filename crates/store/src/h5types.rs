@@ -71,6 +71,9 @@ pub(crate) enum ReasonH5 {
     BelowDecayingSection = 17,
     #[hdf5(rename = "start_inside_decaying_turn")]
     StartInsideDecayingTurn = 18,
+    // Appended: files written before it hold values up to 18 and still read.
+    #[hdf5(rename = "entered_decaying_turn")]
+    EnteredDecayingTurn = 19,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -97,6 +100,7 @@ impl ReasonH5 {
             16 => ReasonH5::BetweenStickingStarts,
             17 => ReasonH5::BelowDecayingSection,
             18 => ReasonH5::StartInsideDecayingTurn,
+            19 => ReasonH5::EnteredDecayingTurn,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })
