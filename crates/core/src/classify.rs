@@ -24,7 +24,7 @@
 
 use std::collections::VecDeque;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::friction::Branch;
 use crate::params::Params;
@@ -33,154 +33,7 @@ use crate::solver::SolverStats;
 use crate::stepper::{State, Stepper};
 
 pub use crate::section::{Crossing, Half, crossing, section_return};
-
-/// The attractor a run settles on. The values are stored in files (HDF5 enum `regime`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[repr(u8)]
-pub enum Regime {
-    /// Not settled by `t_max` (or blew up, or the solver failed): never guessed.
-    Undecided = 0,
-    /// The steady-slip fixed point.
-    SteadySlip = 1,
-    /// The self-excited stick-slip oscillation ("squeal").
-    StickSlip = 2,
-}
-
-impl Regime {
-    /// All labels, in value order.
-    pub const ALL: [Regime; 3] = [Regime::Undecided, Regime::SteadySlip, Regime::StickSlip];
-
-    /// The label's name in files and output.
-    pub fn name(self) -> &'static str {
-        match self {
-            Regime::Undecided => "undecided",
-            Regime::SteadySlip => "steady_slip",
-            Regime::StickSlip => "stick_slip",
-        }
-    }
-
-    /// From the stored value.
-    pub fn from_u8(v: u8) -> Option<Regime> {
-        Regime::ALL.into_iter().find(|r| *r as u8 == v)
-    }
-}
-
-/// Why the classifier stopped. Stored in files (HDF5 enum `reason`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-#[repr(u8)]
-pub enum Reason {
-    /// `t_max` reached without a decision.
-    TimeLimit = 0,
-    /// Within `fp_radius` of the fixed point.
-    NearFixedPoint = 1,
-    /// Crossed the section inside the known unstable cycle.
-    InsideCycle = 2,
-    /// Crossed the section outside the known unstable cycle.
-    OutsideCycle = 3,
-    /// Section amplitudes settled in the stick-slip band.
-    SettledStickSlip = 4,
-    /// The state left `|x|, |x'| <= max_radius`.
-    Diverged = 5,
-    /// The robust solver found no root (counted in the statistics).
-    SolverFailure = 6,
-    /// Every revolution of the window stuck and the section amplitudes fluctuate without
-    /// trend in a bounded band: the (wide, irregular) stick-slip attractor.
-    StickingBand = 7,
-    /// The start lies inside the located unstable cycle, farther from it than the margin:
-    /// steady slip without a run (same planar argument as [`Reason::InsideCycle`]).
-    StartInsideCycle = 8,
-    /// The start lies outside the located unstable cycle, farther from it than the margin:
-    /// stick-slip without a run (same argument as [`Reason::OutsideCycle`]).
-    StartOutsideCycle = 9,
-    /// A law with true stick: the block stuck again after a breakaway. Every breakaway starts
-    /// from the same state, so the orbit from it is the stick-slip cycle and the run is on it.
-    StickCycle = 10,
-    /// The run entered the certified region of attraction of the fixed point
-    /// ([`crate::Region`]): steady slip (MODEL.md section 9).
-    EnteredRegion = 11,
-    /// The start lies inside the certified region of attraction: steady slip without a run.
-    StartInRegion = 12,
-    /// A law with true stick: the block stuck, so it breaks away from the one breakaway
-    /// state, whose orbit sticks again (the map's landscape): the stick-slip cycle.
-    StuckOntoCycle = 13,
-    /// A law with true stick: the block stuck, so it breaks away from the one breakaway
-    /// state, whose orbit decays to the fixed point without sticking (the landscape).
-    StuckThenSettles = 14,
-    /// A law of the slip velocity only: the run crossed the section at or below a start whose
-    /// run reached the certified region; the return map is monotone, so it settles too
-    /// ([`crate::witness`], MODEL.md section 9).
-    BelowSettlingStart = 15,
-    /// A law of the slip velocity only: the run crossed the section between two starts whose
-    /// runs stuck onto the stick-slip cycle; the return map is monotone, so it does too.
-    BetweenStickingStarts = 16,
-    /// No unstable cycle was found on the section: every sampled amplitude up to the
-    /// search's top returns lower, so a run crossing below that top (less the trap's margin)
-    /// goes on down to the fixed point ([`Shortcuts::decay_below`], MODEL.md section 9).
-    BelowDecayingSection = 17,
-    /// No unstable cycle was found on the section and the start lies inside a decaying turn
-    /// (from the section or its lower half, below its top), farther from it than the margin:
-    /// steady slip without a run (same argument as [`Reason::BelowDecayingSection`], with the
-    /// planar one of [`Reason::StartInsideCycle`]).
-    StartInsideDecayingTurn = 18,
-    /// No unstable cycle was found on the section and the run crossed the section's lower
-    /// half (`x = x*, x' < 0`) inside a decaying turn that starts there: it cannot leave the
-    /// turn, and its next crossing of the section lies below the decaying section's top
-    /// ([`Shortcuts::decay_lower_below`], MODEL.md section 9). Half a revolution before
-    /// [`Reason::BelowDecayingSection`] could decide it.
-    EnteredDecayingTurn = 19,
-}
-
-impl Reason {
-    /// All reasons, in value order.
-    pub const ALL: [Reason; 20] = [
-        Reason::TimeLimit,
-        Reason::NearFixedPoint,
-        Reason::InsideCycle,
-        Reason::OutsideCycle,
-        Reason::SettledStickSlip,
-        Reason::Diverged,
-        Reason::SolverFailure,
-        Reason::StickingBand,
-        Reason::StartInsideCycle,
-        Reason::StartOutsideCycle,
-        Reason::StickCycle,
-        Reason::EnteredRegion,
-        Reason::StartInRegion,
-        Reason::StuckOntoCycle,
-        Reason::StuckThenSettles,
-        Reason::BelowSettlingStart,
-        Reason::BetweenStickingStarts,
-        Reason::BelowDecayingSection,
-        Reason::StartInsideDecayingTurn,
-        Reason::EnteredDecayingTurn,
-    ];
-
-    /// The reason's name in files and output.
-    pub fn name(self) -> &'static str {
-        match self {
-            Reason::TimeLimit => "time_limit",
-            Reason::NearFixedPoint => "near_fixed_point",
-            Reason::InsideCycle => "inside_cycle",
-            Reason::OutsideCycle => "outside_cycle",
-            Reason::SettledStickSlip => "settled_stick_slip",
-            Reason::Diverged => "diverged",
-            Reason::SolverFailure => "solver_failure",
-            Reason::StickingBand => "sticking_band",
-            Reason::StartInsideCycle => "start_inside_cycle",
-            Reason::StartOutsideCycle => "start_outside_cycle",
-            Reason::StickCycle => "stick_cycle",
-            Reason::EnteredRegion => "entered_region",
-            Reason::StartInRegion => "start_in_region",
-            Reason::StuckOntoCycle => "stuck_onto_cycle",
-            Reason::StuckThenSettles => "stuck_then_settles",
-            Reason::BelowSettlingStart => "below_settling_start",
-            Reason::BetweenStickingStarts => "between_sticking_starts",
-            Reason::BelowDecayingSection => "below_decaying_section",
-            Reason::StartInsideDecayingTurn => "start_inside_decaying_turn",
-            Reason::EnteredDecayingTurn => "entered_decaying_turn",
-        }
-    }
-}
+pub use crate::verdict::{Reason, Regime};
 
 /// The unstable cycle's crossing of the section, for early stopping.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -207,7 +60,7 @@ pub struct Shortcuts {
     pub breakaway: Option<Regime>,
     /// A law of the slip velocity only: stretches of the section whose fate followed starts
     /// certify ([`crate::witness`]); a run is decided at its first crossing inside one.
-    pub section: Option<crate::witness::SectionFates>,
+    pub section: Option<crate::verdict::SectionFates>,
     /// No unstable cycle on the section: `D(r) = P(r) - r < 0` at every sample of the
     /// adaptive search up to its top `r_top`, which resolves any window of growth wider than
     /// its stated resolution. A crossing below this value (`r_top` less the trap's margin)

@@ -17,12 +17,15 @@ pub enum CoreError {
          parameters"
     )]
     NoPhysicalUnits(&'static str),
-    /// A friction-law name that is not one of ours.
-    #[error(
-        "unknown friction law '{0}' (expected one of {names})",
-        names = crate::law::FrictionLaw::names()
-    )]
-    UnknownLaw(String),
+    /// A friction-law name that is not one of ours, with the names that are
+    /// ([`crate::FrictionLaw::names`], so the next law needs no edit here).
+    #[error("unknown friction law '{name}' (expected one of {expected})")]
+    UnknownLaw {
+        /// The name given.
+        name: String,
+        /// Every law's name.
+        expected: String,
+    },
     /// A scheme name that is not one of ours.
     #[error("unknown scheme '{0}' (expected foh or zoh)")]
     UnknownScheme(String),

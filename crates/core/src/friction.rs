@@ -21,7 +21,8 @@
 use std::f64::consts::{FRAC_2_PI, PI};
 
 use crate::atan::atan_ratio;
-use crate::params::{Cubic, Friction, FrictionLaw, Params, PerV0, Stribeck, Surface};
+use crate::law::{Cubic, Friction, FrictionLaw, PerV0, Stribeck, Surface};
+use crate::params::Params;
 
 /// Which piece of the law was used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -353,6 +354,17 @@ fn nonhysteretic_k(v: f64, a: f64, tau: f64, inv_sin_phi: f64, pi_minus_phi: f64
 /// It is `mu_k` times the nondimensional law with `tau / mu_k` in place of `tau`.
 pub fn dimensional(v_r: f64, acc: f64, mu_k: f64, tau: f64, phi: f64) -> f64 {
     mu_k * mcmillan(v_r, acc, tau / mu_k, phi).force
+}
+
+/// The fixed point is where the force balances the spring at rest on the belt, so it is
+/// computed from the force here rather than in `params` (which knows no forces).
+impl Params {
+    /// The steady-slip fixed point: `x' = x'' = 0`, so `x* = F(-lambda, 0)`
+    /// (`x* = 1` for `lambda > 0` under McMillan's laws, `x* = mu(v_d)` under Stribeck's).
+    pub fn fixed_point(&self) -> crate::State {
+        let f = force(self, -self.lambda, 0.0).force;
+        crate::State { x: f, v: 0.0 }
+    }
 }
 
 #[cfg(test)]

@@ -92,7 +92,10 @@ impl std::str::FromStr for FrictionLaw {
         FrictionLaw::ALL
             .into_iter()
             .find(|l| l.name() == s)
-            .ok_or_else(|| CoreError::UnknownLaw(s.to_string()))
+            .ok_or_else(|| CoreError::UnknownLaw {
+                name: s.to_string(),
+                expected: FrictionLaw::names(),
+            })
     }
 }
 

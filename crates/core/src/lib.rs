@@ -43,6 +43,7 @@ pub mod classify;
 pub mod defaults;
 pub mod error;
 pub mod friction;
+pub mod landscape;
 pub mod law;
 #[doc = include_str!("../MODEL.md")]
 pub mod model {}
@@ -53,9 +54,11 @@ pub mod run;
 pub mod section;
 pub mod setup;
 pub mod solver;
+pub mod state;
 pub mod stepper;
 pub mod stick;
 pub mod units;
+pub mod verdict;
 pub mod witness;
 
 pub use classify::{
@@ -63,6 +66,7 @@ pub use classify::{
 };
 pub use error::CoreError;
 pub use friction::Law;
+pub use landscape::{Landscape, LandscapeEvidence, StickCycle};
 pub use params::{Cubic, Friction, FrictionLaw, Named, Params, Stribeck, Surface};
 pub use propagator::{Propagator, Scheme};
 pub use region::Region;
@@ -70,5 +74,5 @@ pub use run::{Run, Samples, Step};
 pub use setup::Setup;
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
-pub use stick::{Landscape, LandscapeEvidence, StickCycle, StickEvents};
+pub use stick::StickEvents;
 pub use units::{Physical, Scales};

@@ -409,13 +409,6 @@ impl Params {
         Ok(())
     }
 
-    /// The steady-slip fixed point: `x' = x'' = 0`, so `x* = F(-lambda, 0)`
-    /// (`x* = 1` for `lambda > 0` under McMillan's laws, `x* = mu(v_d)` under Stribeck's).
-    pub fn fixed_point(&self) -> crate::State {
-        let f = crate::friction::force(self, -self.lambda, 0.0).force;
-        crate::State { x: f, v: 0.0 }
-    }
-
     /// An upper bound on `|F|` over all states: every root of the implicit force equation lies
     /// in `[-bound, bound]`. `|F1| < 1`; `|F2| <= 1 / sin(Phi)` (McMillan) and `|F2| <= 1` on the
     /// slip branches.

@@ -2,8 +2,6 @@
 //! (paper eqs. 4.3-4.6), the force held ([`Scheme::Zoh`]) or linear ([`Scheme::Foh`]) over
 //! the step. Runs of many steps go through [`crate::run::Run`].
 
-use serde::Serialize;
-
 use crate::error::CoreError;
 use crate::friction::Law;
 use crate::params::Params;
@@ -11,39 +9,7 @@ use crate::propagator::{Propagator, Scheme};
 use crate::solver::{self, ForceEquation, Solution, SolverConfig, SolverStats};
 use crate::stick::{StickEvents, StickStepper};
 
-/// A point of the phase plane: displacement `x` and velocity `x'` (nondimensional).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct State {
-    /// Displacement `x`.
-    pub x: f64,
-    /// Velocity `x'` (the block's, not the slip velocity).
-    pub v: f64,
-}
-
-/// The full state of a run at one instant.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Sample {
-    /// Time.
-    pub t: f64,
-    /// Displacement.
-    pub x: f64,
-    /// Velocity `x'`.
-    pub v: f64,
-    /// Acceleration `x''`.
-    pub a: f64,
-    /// Friction force `F`.
-    pub force: f64,
-}
-
-impl Sample {
-    /// The phase-plane point.
-    pub fn state(&self) -> State {
-        State {
-            x: self.x,
-            v: self.v,
-        }
-    }
-}
+pub use crate::state::{Sample, State};
 
 /// Integrates one run with a fixed step.
 #[derive(Clone, Copy, Debug)]

@@ -33,12 +33,11 @@
 //! [`MONOTONE_TOL`] voids the certificate (no shortcut at all), and so does a settling
 //! witness above a sticking one. Audited cells run to settlement without it.
 
-use serde::Serialize;
-
 use crate::classify::{Classifier, Reason, Regime, Shortcuts, crossing, section_return};
 use crate::run::Run;
 use crate::solver::SolverStats;
 use crate::stepper::{State, Stepper};
+pub use crate::verdict::SectionFates;
 
 /// Allowed decrease of the sampled return map between two starts (absolute, section
 /// amplitudes are O(1)). The flow's map is monotone; the scheme's can differ from it by the
@@ -59,38 +58,6 @@ const CHECK_SAMPLES: usize = 16;
 /// The lowest start, as a share of the highest (runs that cross the section lower than the
 /// lowest sticking witness are run on until they cross higher).
 const LOWEST_SHARE: f64 = 2.5e-4;
-
-/// The certified fates of stretches of the section `x = x*, x' > 0` (see the module's
-/// argument).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct SectionFates {
-    /// Every crossing at or below this amplitude ends in steady slip.
-    pub settles_up_to: Option<f64>,
-    /// Every crossing in this closed interval of amplitudes ends on the stick-slip cycle.
-    pub sticks_within: Option<(f64, f64)>,
-}
-
-impl SectionFates {
-    /// The decision for a run crossing the section at amplitude `r`, if certified.
-    #[inline]
-    pub fn decide(&self, r: f64) -> Option<(Regime, Reason)> {
-        if self.settles_up_to.is_some_and(|s| r <= s) {
-            return Some((Regime::SteadySlip, Reason::BelowSettlingStart));
-        }
-        if self
-            .sticks_within
-            .is_some_and(|(lo, hi)| lo <= r && r <= hi)
-        {
-            return Some((Regime::StickSlip, Reason::BetweenStickingStarts));
-        }
-        None
-    }
-
-    /// Whether any stretch is certified.
-    pub fn any(&self) -> bool {
-        self.settles_up_to.is_some() || self.sticks_within.is_some()
-    }
-}
 
 /// What the followed starts and the samples showed: witnesses with their certified fate,
 /// and pairs `(r, P(r))` of the return map.

@@ -3,7 +3,7 @@
 //! are (`stribeck.rs`): located events against a closed form, convergence order of event
 //! times, the energy of a stick phase, one stick per period, the landscape, bad input.
 
-use squeal_core::stick::{Landscape, StickCycle, landscape, stick_slip_cycle};
+use squeal_core::landscape::{Landscape, StickCycle, landscape, stick_slip_cycle};
 use squeal_core::{
     Classifier, Cubic, Friction, FrictionLaw, Params, Reason, Regime, Run, Scheme, State,
 };

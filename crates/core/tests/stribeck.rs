@@ -1,7 +1,7 @@
 //! The Stribeck law with true stick (issue 11): located events against closed forms,
 //! convergence of event times, the energy of a stick phase, no chattering, bad input, counters.
 
-use squeal_core::stick::{Landscape, StickCycle, landscape, stick_slip_cycle};
+use squeal_core::landscape::{Landscape, StickCycle, landscape, stick_slip_cycle};
 use squeal_core::{Classifier, Params, Reason, Regime, Run, Scheme, State, Stribeck};
 
 mod common;

@@ -4,7 +4,7 @@
 //! * the steady-slip fixed point repels where its effective damping `2 xi + mu'(v_d)` is
 //!   negative: then every start ends in stick-slip;
 //! * every stick phase ends at the one breakaway state, so the stick-slip cycle exists
-//!   exactly when the orbit from there sticks again ([`squeal_core::stick::stick_slip_cycle`]);
+//!   exactly when the orbit from there sticks again ([`squeal_core::landscape::stick_slip_cycle`]);
 //!   if it decays to the fixed point instead, every start ends in steady slip (assuming no
 //!   slip-only cycle).
 //!
@@ -13,7 +13,7 @@
 //! follow. McMillan's laws have no landscape here (`None`): their attractors are found by
 //! the cycle search instead.
 
-use squeal_core::stick::{self, LandscapeEvidence, StickCycle};
+use squeal_core::landscape::{self, LandscapeEvidence, StickCycle};
 use squeal_core::{Landscape, Params, Stepper};
 
 use crate::error::ScanError;
@@ -26,7 +26,7 @@ pub fn of_params(plan: &Plan, params: Params) -> Result<Option<LandscapeEvidence
         return Ok(None);
     }
     let stepper = Stepper::new(params, plan.dt, plan.solver)?;
-    Ok(stick::landscape_evidence(
+    Ok(landscape::landscape_evidence(
         &stepper,
         plan.classifier.t_max,
         plan.classifier.fp_radius,
@@ -152,7 +152,7 @@ path = "t.h5"
         // bSTAB's case (xi = 0.05, mu_d = 0.5, mu_sd = 2, v_0 = 0.5): the fixed point repels
         // below v_d = v_0 ln(mu_d (mu_sd - 1) / (2 xi v_0)) = 0.5 ln 10 = 1.151 (closed form
         // of 2 xi + mu'(v_d) = 0); the stick-slip cycle exists up to between 1.8 and 2.0
-        // (MODEL.md section 8, measured with stick::landscape).
+        // (MODEL.md section 8, measured with landscape::landscape).
         let p = plan("[1.0, 1.5, 2.2]");
         let got: Vec<_> = (0..3).map(|m| of_map(&p, m).unwrap().unwrap()).collect();
         assert_eq!(got[0].landscape, Landscape::StickSlipOnly);

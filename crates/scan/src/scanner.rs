@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 use squeal_core::classify::Half;
-use squeal_core::stick::StickCycle;
+use squeal_core::landscape::StickCycle;
 use squeal_core::{
     Classifier, FrictionLaw, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts,
     SolverStats, State, Stepper, Trap,

@@ -661,7 +661,7 @@ fn the_landscape_is_given_to_the_writer_not_computed_by_it() {
     let given = squeal_core::LandscapeEvidence {
         landscape: squeal_core::Landscape::Bistable,
         damping: 0.125,
-        cycle: squeal_core::stick::StickCycle::Exists {
+        cycle: squeal_core::landscape::StickCycle::Exists {
             period: 7.5,
             stuck: 1.0,
         },

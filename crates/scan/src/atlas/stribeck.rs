@@ -6,7 +6,7 @@
 //! * the **section search** of [`super::point::compute_point`] (the return map `D(r)` on
 //!   `x = x*, x' > 0`, the unstable cycle located as `squeal ulc` does, the stick-slip
 //!   attractor run for `transient + window` revolutions, the operating point's own run);
-//! * the **landscape** ([`squeal_core::stick::landscape_evidence`], as `squeal scan` stores
+//! * the **landscape** ([`squeal_core::landscape::landscape_evidence`], as `squeal scan` stores
 //!   per map): the fixed point repels exactly where `2 xi + mu'(v_d) < 0`, and the
 //!   stick-slip cycle exists exactly when the orbit from the one breakaway state sticks
 //!   again (every stick phase ends there).
@@ -28,7 +28,7 @@
 //! unstable cycle enclosing the point).
 
 use serde::{Deserialize, Serialize};
-use squeal_core::stick::{self, LandscapeEvidence, StickCycle};
+use squeal_core::landscape::{self, LandscapeEvidence, StickCycle};
 use squeal_core::{Classifier, Landscape, Setup, State};
 
 use crate::section::{ParamRange, Search};
@@ -122,7 +122,7 @@ pub const STUCK_SHARE: (&str, &str) = (
 pub fn evidence(setup: Setup) -> Result<LandscapeEvidence, ScanError> {
     let st = setup.stepper()?;
     let cl = Classifier::default();
-    stick::landscape_evidence(&st, cl.t_max, cl.fp_radius).ok_or_else(|| {
+    landscape::landscape_evidence(&st, cl.t_max, cl.fp_radius).ok_or_else(|| {
         ScanError::Undetermined(format!(
             "law {} has no true stick: no landscape",
             setup.params.law
