@@ -448,6 +448,13 @@ impl Watch<'_> {
             }
         }
         let c = crossing(self.fp.x, &step.prev, n)?;
+        self.at_crossing(&c, one_root)
+    }
+
+    /// The decision at a crossing `c` of the section (counted here): a certified stretch of
+    /// the section, the decaying section, the unstable cycle's trap, or the band rules over
+    /// the last `settle_cycles` crossings.
+    fn at_crossing(&mut self, c: &Crossing, one_root: bool) -> Option<(Regime, Reason)> {
         self.crossings += 1;
         if self.last_t.is_finite() {
             self.omega = std::f64::consts::TAU / (c.t - self.last_t);
