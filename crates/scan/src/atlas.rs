@@ -37,6 +37,7 @@ pub mod attractor;
 pub mod boundary;
 pub mod columns;
 pub mod driver;
+pub mod figures;
 pub mod geometry;
 pub mod maps;
 pub mod note;

@@ -2,33 +2,11 @@
 //! until they settle on a band of section amplitudes (the attractor's figures) or fall inside
 //! the cycle (no attractor there).
 
-use serde::{Deserialize, Serialize};
 use squeal_core::classify::crossing;
 use squeal_core::{SolverStats, State, Stepper, friction};
 
-use super::point::PointSettings;
-
-/// The stick-slip attractor's figures of merit over a window of revolutions.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct StickSlipFigures {
-    /// Section amplitudes over the window: min, mean, max.
-    pub r_band: [f64; 3],
-    /// Relative change of the mean section amplitude from the window's first half to its
-    /// second half (near 0 when settled).
-    pub drift: f64,
-    /// Extent in `x`.
-    pub x_range: [f64; 2],
-    /// Extent in `x'`.
-    pub v_range: [f64; 2],
-    /// `max x' - lambda`: how far the block overtakes the belt (negative: it never does).
-    pub overshoot: f64,
-    /// Mean angular frequency over the window's revolutions.
-    pub omega_mean: f64,
-    /// Standard deviation of the per-revolution angular frequency.
-    pub omega_std: f64,
-    /// Share of the window's steps on the quasi-static branch of the law.
-    pub quasi_static_share: f64,
-}
+use super::figures::PointSettings;
+pub use super::figures::StickSlipFigures;
 
 /// Why a stick-slip run did not give the attractor.
 #[derive(Clone, Debug, PartialEq)]

@@ -49,10 +49,28 @@ use serde::{Deserialize, Serialize};
 use squeal_core::{Params, Setup, State};
 
 use super::attractor::{StickFail, find_stick_slip};
+use super::note::Note;
 use super::point::{PointSettings, analyse, settings_for};
 use crate::band::{Budget, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in};
 use crate::error::ScanError;
 use crate::section::{Change, ParamRange, Search, coarse_changes};
+
+/// The boundaries of one combination of the non-damping axes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryResult {
+    /// Index into the boundary array.
+    pub index: usize,
+    /// The fold of cycles (damping above which no start squeals).
+    pub fold: Boundary,
+    /// The damping at which the operating point stops squealing.
+    pub critical: Boundary,
+    /// The transient lifetimes above the fold (`[boundaries] lifetime_starts`; NaN where
+    /// not measured).
+    #[serde(default)]
+    pub lifetime: crate::lifetime::FoldLifetime,
+    /// Why a search was not computed (a failed run), or what the coarse scan found.
+    pub note: Option<Note>,
+}
 
 /// The parameter a boundary is bisected in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]

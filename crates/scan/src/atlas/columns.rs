@@ -2,10 +2,8 @@
 //! read it from and write it into a [`PointResult`]). The HDF5 writer and reader, the
 //! journal and `--json` all walk this table, so adding a figure of merit is one line.
 
-use super::attractor::StickSlipFigures;
-use super::boundary::{Boundary, BoundaryStatus};
-use super::driver::BoundaryResult;
-use super::point::{AtlasRegime, CycleFigures, PointResult};
+use super::boundary::{Boundary, BoundaryResult, BoundaryStatus};
+use super::figures::{AtlasRegime, CycleFigures, PointResult, StickSlipFigures};
 use super::spec::AtlasPlan;
 use squeal_core::Scales;
 

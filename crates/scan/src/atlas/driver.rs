@@ -11,6 +11,7 @@ use std::sync::atomic::AtomicBool;
 
 use serde::{Deserialize, Serialize};
 
+pub use super::boundary::BoundaryResult;
 use super::boundary::{self, Boundary};
 use super::note::{Note, NoteKind};
 use super::point::{PointResult, compute_point};
@@ -36,23 +37,6 @@ pub struct LineResult {
     pub line: usize,
     /// Its points, in order.
     pub points: Vec<PointResult>,
-}
-
-/// The boundaries of one combination of the non-damping axes.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BoundaryResult {
-    /// Index into the boundary array.
-    pub index: usize,
-    /// The fold of cycles (damping above which no start squeals).
-    pub fold: Boundary,
-    /// The damping at which the operating point stops squealing.
-    pub critical: Boundary,
-    /// The transient lifetimes above the fold (`[boundaries] lifetime_starts`; NaN where
-    /// not measured).
-    #[serde(default)]
-    pub lifetime: crate::lifetime::FoldLifetime,
-    /// Why a search was not computed (a failed run), or what the coarse scan found.
-    pub note: Option<Note>,
 }
 
 /// A finished unit.

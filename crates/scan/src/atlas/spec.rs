@@ -75,8 +75,8 @@ use serde::{Deserialize, Serialize};
 use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
 
 use super::boundary::BoundaryParam;
+use super::figures::PointSettings;
 use super::geometry::Region;
-use super::point::PointSettings;
 use crate::error::ScanError;
 use crate::grid::Grid;
 use crate::spec::EarlyStop;

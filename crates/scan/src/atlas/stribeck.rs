@@ -27,7 +27,6 @@
 //! where the operating point stops squealing (`steady_slip_only`, or `bistable` with the
 //! unstable cycle enclosing the point).
 
-use serde::{Deserialize, Serialize};
 use squeal_core::landscape::{self, LandscapeEvidence, StickCycle};
 use squeal_core::{Classifier, Landscape, Setup, State};
 
@@ -35,40 +34,11 @@ use crate::section::{ParamRange, Search};
 
 use super::boundary::{Boundary, BoundaryParam, bisect_nu};
 use super::columns::{Column, Kind, Si};
+pub use super::figures::LandscapeRecord;
 use super::note::{Note, NoteKind};
 use super::point::{self, AtlasRegime, PointResult, PointSettings, analyse};
 use crate::error::ScanError;
 use crate::landscape::{LANDSCAPE_FIELDS, evidence_words};
-
-/// The landscape of one point as stored: the verdict and the numbers it rests on.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct LandscapeRecord {
-    /// The verdict ([`Landscape`] as stored, `landscape` in files).
-    pub landscape: u8,
-    /// The fixed point's effective damping `2 xi + mu'(v_d)` (negative: it repels).
-    pub damping: f64,
-    /// Period of the stick-slip cycle, breakaway to breakaway (NaN: none found).
-    pub cycle_period: f64,
-    /// Time stuck per period of that cycle (NaN: none found).
-    pub cycle_stuck: f64,
-}
-
-impl LandscapeRecord {
-    /// From the evidence (the numbers of [`LANDSCAPE_FIELDS`]).
-    pub fn from_evidence(e: &LandscapeEvidence) -> LandscapeRecord {
-        LandscapeRecord {
-            landscape: e.landscape as u8,
-            damping: (LANDSCAPE_FIELDS[0].3)(e),
-            cycle_period: (LANDSCAPE_FIELDS[1].3)(e),
-            cycle_stuck: (LANDSCAPE_FIELDS[2].3)(e),
-        }
-    }
-
-    /// The verdict (`None` for a value no build wrote).
-    pub fn verdict(&self) -> Option<Landscape> {
-        Landscape::from_u8(self.landscape)
-    }
-}
 
 fn rec(p: &mut PointResult) -> &mut LandscapeRecord {
     p.landscape.get_or_insert(LandscapeRecord {
