@@ -246,13 +246,7 @@ impl Squeal {
 impl Classifier {
     /// Validates the settings; the error names the setting.
     pub fn validate(&self) -> Result<(), crate::CoreError> {
-        let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(crate::CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
+        let bad = crate::CoreError::invalid::<()>;
         if !self.t_max.is_finite() || self.t_max <= 0.0 {
             return bad("t_max", self.t_max, "a finite time > 0");
         }

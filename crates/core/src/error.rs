@@ -33,3 +33,18 @@ pub enum CoreError {
     #[error("unknown solver '{0}' (expected robust or paper)")]
     UnknownSolver(String),
 }
+
+impl CoreError {
+    /// `Err(InvalidParameter)`: a value out of its range, naming the key and what it must be.
+    pub fn invalid<T>(
+        name: &'static str,
+        value: f64,
+        expected: &'static str,
+    ) -> Result<T, CoreError> {
+        Err(CoreError::InvalidParameter {
+            name,
+            value,
+            expected,
+        })
+    }
+}

@@ -324,13 +324,7 @@ impl Cubic {
     /// friction coefficient that changes sign would drive the block, not hold it); the error
     /// names the key.
     pub fn validate(&self) -> Result<(), CoreError> {
-        let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
+        let bad = CoreError::invalid::<()>;
         if !self.mu_0.is_finite() || self.mu_0 <= 0.0 || self.mu_0 > 1e6 {
             return bad(
                 "mu_0",

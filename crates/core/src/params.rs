@@ -308,13 +308,7 @@ impl Params {
 
     /// Checks every value; the error names the parameter and the value.
     pub fn validate(&self) -> Result<(), CoreError> {
-        let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
+        let bad = CoreError::invalid::<()>;
         match self.law {
             Friction::Stribeck(s) => return self.validate_stribeck(&s),
             Friction::Cubic(c) => {
@@ -359,13 +353,7 @@ impl Params {
 
     /// The Stribeck law's checks, naming its keys (`xi`, `v_d`, ...).
     fn validate_stribeck(&self, s: &Stribeck) -> Result<(), CoreError> {
-        let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
+        let bad = CoreError::invalid::<()>;
         self.validate_stick()?;
         if !s.mu_d.is_finite() || s.mu_d <= 0.0 || s.mu_d > 1e6 {
             return bad("mu_d", s.mu_d, "a dynamic friction coefficient in (0, 1e6]");
@@ -388,13 +376,7 @@ impl Params {
 
     /// The damping and belt speed of a law with true stick, by their names there.
     fn validate_stick(&self) -> Result<(), CoreError> {
-        let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
+        let bad = CoreError::invalid::<()>;
         if !self.nu.is_finite() || self.nu < 0.0 || self.nu > 1e6 {
             return bad("xi", self.nu, "a finite damping ratio in [0, 1e6]");
         }

@@ -81,13 +81,7 @@ impl Scales {
 impl Physical {
     /// Checks every value; the error names the key.
     pub fn validate(&self) -> Result<(), CoreError> {
-        let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
+        let bad = CoreError::invalid::<()>;
         let pos = |x: f64| x.is_finite() && x > 0.0;
         if !pos(self.m) {
             return bad("m", self.m, "a finite mass > 0 (kg)");

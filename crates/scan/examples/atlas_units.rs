@@ -9,12 +9,9 @@ use std::time::Instant;
 use squeal_scan::atlas::driver::run_unit;
 use squeal_scan::atlas::{AtlasPlan, Unit};
 
-/// CPU time of this thread, in seconds (`/proc/thread-self/schedstat`: ns on the CPU).
+/// CPU time of this thread, in seconds (NaN where the system does not tell it).
 fn cpu() -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .map_or(f64::NAN, |ns| ns * 1e-9)
+    squeal_scan::estimate::thread_cpu_seconds().unwrap_or(f64::NAN)
 }
 
 fn main() {

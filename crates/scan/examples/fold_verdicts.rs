@@ -10,12 +10,9 @@ use squeal_scan::atlas::point::settings_for;
 use squeal_scan::atlas::{AtlasPlan, Unit, UnitResult, driver::run_unit};
 use squeal_scan::band::{Budget, Lasting, Variant};
 
-/// CPU time of this thread, in seconds (`/proc/thread-self/schedstat`: ns on the CPU).
+/// CPU time of this thread, in seconds (NaN where the system does not tell it).
 fn cpu() -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .map_or(f64::NAN, |ns| ns * 1e-9)
+    squeal_scan::estimate::thread_cpu_seconds().unwrap_or(f64::NAN)
 }
 
 fn main() {

@@ -17,6 +17,14 @@ use crate::error::ScanError;
 use crate::scanner::MapContext;
 use crate::spec::Plan;
 
+/// CPU time of the calling thread, in seconds, where the system tells it (Linux:
+/// `/proc/thread-self/schedstat`, nanoseconds on the CPU); `None` elsewhere.
+pub fn thread_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    (ns > 0.0).then_some(ns * 1e-9)
+}
+
 /// The share of a core the calling thread got since it was started: its CPU time over the
 /// wall time, where the system tells the CPU time (Linux: `/proc/thread-self/schedstat`,
 /// nanoseconds, updated at scheduler ticks, so read only over spans of 0.2 s or more); 1
@@ -30,9 +38,7 @@ struct CoreShare {
 
 impl CoreShare {
     fn cpu_now() -> Option<f64> {
-        let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-        let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-        (ns > 0.0).then_some(ns * 1e-9)
+        thread_cpu_seconds()
     }
 
     fn start() -> Self {
