@@ -130,6 +130,18 @@ fn unit_from_json(v: &Value) -> Option<UnitResult> {
     }))
 }
 
+/// A record whose checksum holds but that this build cannot decode: it was written whole, so
+/// by another version of squeal (a unit record of a journal from before the transient
+/// lifetimes lacks their six values), not torn by a crash.
+fn unreadable(what: &str) -> String {
+    format!(
+        "a {what} record this squeal ({}) cannot read; its checksum holds, so another \
+         version of squeal wrote it: finish the run with that version, or start over with \
+         --force",
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
 /// Adds one journal record to `results`: a unit, or a map's block or cycle search. A record
 /// that checks out but does not fit the plan is an error (not a torn write).
 pub(super) fn add_record(
@@ -144,18 +156,18 @@ pub(super) fn add_record(
             let unit = serde_json::from_slice::<Value>(payload)
                 .ok()
                 .and_then(|v| unit_from_json(&v))
-                .ok_or("a malformed unit record")?;
+                .ok_or_else(|| unreadable("unit"))?;
             results.add(plan, unit);
         }
         (KIND_BLOCK, Some(_)) => {
-            let (m, b, cells) = decode_block(payload).ok_or("a malformed block record")?;
+            let (m, b, cells) = decode_block(payload).ok_or_else(|| unreadable("block"))?;
             if !super::block_fits(plan, m, b, cells.len()) {
                 return Err("a map block that does not fit the spec".into());
             }
             results.blocks.insert((m, b), cells);
         }
         (KIND_CYCLE, Some(_)) => {
-            let (m, c) = decode_cycle(payload).ok_or("a malformed cycle record")?;
+            let (m, c) = decode_cycle(payload).ok_or_else(|| unreadable("cycle"))?;
             if m >= plan.n_points() {
                 return Err("a map cycle that does not fit the spec".into());
             }
@@ -195,6 +207,22 @@ mod tests {
 
     fn notes_of(r: &AtlasResults) -> Vec<Option<Note>> {
         r.points.iter().map(|p| p.as_ref()?.note.clone()).collect()
+    }
+
+    #[test]
+    fn a_record_of_another_version_says_so() {
+        // A unit record from before the lifetimes (its boundary lacks them) was refused as "a
+        // malformed unit record", which did not name the cause.
+        let plan = plan();
+        let mut v = unit_json(&line());
+        v.as_object_mut().unwrap().remove("line");
+        let payload = serde_json::to_vec(&v).unwrap();
+        let mut res = AtlasResults::new(&plan);
+        let e = add_record(&plan, &mut res, KIND_UNIT, &payload).unwrap_err();
+        assert!(
+            e.contains("unit record") && e.contains("another version") && e.contains("--force"),
+            "{e}"
+        );
     }
 
     #[test]
