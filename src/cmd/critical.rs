@@ -35,7 +35,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let stribeck = plan.maps[setup.map].law.has_true_stick();
     let args = match (args.in_.as_str(), stribeck) {
         ("xi" | "v_d", false) => bail!(
-            "--in {}: the Stribeck law's name; with law {} use --in nu or --in lambda",
+            "--in {}: a name under the laws with true stick (stribeck, cubic); with law {} use --in nu or --in lambda",
             args.in_,
             plan.maps[setup.map].law.name()
         ),

@@ -69,7 +69,7 @@ pub(super) fn report(
             point.x, point.v, key, rep.nu, rep.bracket[0], rep.bracket[1], rep.evaluations, seconds
         );
         println!(
-            "  below it the unstable cycle leaves ({}, {}) outside and the band above the cycle does not leak: that start squeals (or, where the band's verdict is marginal, may); above it the start is inside the cycle or the band leaks: steady slip",
+            "  below it no unstable cycle encloses ({}, {}) (it lies outside the cycle, or the fixed point repels) and the band above does not leak: that start squeals (or, where the band's verdict is marginal, may); above it the start is inside the cycle or the band leaks: steady slip",
             point.x, point.v
         );
         if let Some(w) = warning {
