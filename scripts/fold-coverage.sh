@@ -61,7 +61,10 @@ if "interval" not in c:
     print(f"lambda {lam:.4f} {how}: no crisis found")
     sys.exit()
 a, b = c["interval"]
-if nu - err <= a and b <= nu + err:
+# The file stores the interval as its middle and half-width; rebuilding its ends from them
+# rounds by an ulp or so, so ends that agree to 1e-12 (relative) are the same end.
+tol = 1e-12 * (nu + err)
+if nu - err - tol <= a and b <= nu + err + tol:
     verdict = "covered"
 elif nu - err <= 0.5 * (a + b) <= nu + err:
     verdict = "middle covered"
