@@ -5,7 +5,7 @@ use squeal_core::{
     CoreError, FrictionLaw, Params, Physical, Scheme, SolverConfig, SolverKind, Stepper,
 };
 
-use super::law_flags::LawFlags;
+use super::law_flags::{LawFlags, flag};
 use super::physical::PhysicalArgs;
 
 /// The `--law` flag's help: every law's name.
@@ -56,12 +56,9 @@ impl ModelArgs {
         let own = law.keys();
         if let Some((k, _)) = self.keys.0.iter().find(|(k, _)| !own.contains(k)) {
             bail!(
-                "--{}: not a parameter of --law {law} (its flags: {})",
-                k.replace('_', "-"),
-                own.iter()
-                    .map(|k| format!("--{}", k.replace('_', "-")))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "{}: not a parameter of --law {law} (its flags: {})",
+                flag(k),
+                own.iter().map(|k| flag(k)).collect::<Vec<_>>().join(", ")
             );
         }
         let defaults = Params::defaults(law);
@@ -142,7 +139,7 @@ impl ModelArgs {
 pub fn flag_error(e: CoreError) -> anyhow::Error {
     match &e {
         CoreError::InvalidParameter { name, .. } => {
-            anyhow::anyhow!("--{}: {e}", name.replace('_', "-"))
+            anyhow::anyhow!("{}: {e}", flag(name))
         }
         _ => anyhow::anyhow!(e),
     }
