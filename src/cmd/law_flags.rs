@@ -48,7 +48,15 @@ fn help(key: &str) -> String {
         .iter()
         .map(|(v, laws)| format!("--law {}: default {v}", laws.join(", ")))
         .collect();
-    format!("{long_name} ({})", each.join("; "))
+    // Capitalised as clap's derive help of the other flags is.
+    let mut chars = long_name.chars();
+    let first = chars.next().map(|c| c.to_ascii_uppercase());
+    format!(
+        "{}{} ({})",
+        first.unwrap_or(' '),
+        chars.as_str(),
+        each.join("; ")
+    )
 }
 
 /// The values given to the law flags, by key, in [`all_keys`] order.
@@ -128,7 +136,8 @@ mod tests {
         assert_eq!(f.0, [("v_d", -1.0), ("mu_0", 0.3)]);
         assert_eq!(
             help("v_d"),
-            "belt speed v_d (--law stribeck: default 1.5; --law cubic: default 0.3)"
+            // The defaults of crates/core/src/defaults.rs: V_D (bSTAB) and CUBIC_V_D.
+            "Belt speed v_d (--law stribeck: default 1.5; --law cubic: default 0.3)"
         );
     }
 }
