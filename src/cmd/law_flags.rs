@@ -4,11 +4,8 @@
 //! default ([`Params::named`] of [`Params::defaults`]). A new law's keys become flags with no
 //! edit here or in [`super::model`].
 
-use clap::{Arg, ArgGroup, ArgMatches, Args, Command, FromArgMatches};
+use clap::{Arg, ArgMatches, Args, Command, FromArgMatches};
 use squeal_core::{FrictionLaw, Params};
-
-/// The id of the group of every law flag (`--spec` conflicts with it).
-pub const GROUP: &str = "law_keys";
 
 /// Every law's keys, each once, in [`FrictionLaw::ALL`] order.
 pub fn all_keys() -> Vec<&'static str> {
@@ -92,9 +89,7 @@ impl FromArgMatches for LawFlags {
 
 impl Args for LawFlags {
     fn augment_args(cmd: Command) -> Command {
-        let keys = all_keys();
-        let cmd = cmd.group(ArgGroup::new(GROUP).multiple(true).args(keys.clone()));
-        keys.into_iter().fold(cmd, |cmd, k| {
+        all_keys().into_iter().fold(cmd, |cmd, k| {
             // clap keeps names as `&'static str`; a command is built once per run. The value
             // is named as clap's derive names it (`--v-d <V_D>`), as before.
             let long: &'static str = Box::leak(k.replace('_', "-").into_boxed_str());

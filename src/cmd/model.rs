@@ -162,8 +162,7 @@ pub struct SetupArgs {
     /// model flags and --t-max are then refused: the spec is the one place they come from).
     #[arg(
         long,
-        conflicts_with_all = ["law", super::law_flags::GROUP, "m", "k", "c", "v_belt", "mu_k",
-            "mu_s", "tau_s", "g", "dt", "solver", "t_max"]
+        conflicts_with_all = spec_conflicts()
     )]
     pub spec: Option<std::path::PathBuf>,
     /// With --spec of a sweep: which map (0-based).
@@ -172,6 +171,17 @@ pub struct SetupArgs {
     /// Give up (undecided) at this time.
     #[arg(long, default_value_t = squeal_core::defaults::T_MAX, allow_negative_numbers = true)]
     pub t_max: f64,
+}
+
+/// The flags `--spec` refuses: the model's (every law key among them), the integration's and
+/// `--t-max`. Each by name, so the refusal names the flag given.
+fn spec_conflicts() -> Vec<&'static str> {
+    let mut ids = vec!["law"];
+    ids.extend(super::law_flags::all_keys());
+    ids.extend([
+        "m", "k", "c", "v_belt", "mu_k", "mu_s", "tau_s", "g", "dt", "solver", "t_max",
+    ]);
+    ids
 }
 
 impl SetupArgs {
