@@ -15,6 +15,7 @@ pub mod critical_args;
 pub mod critical_report;
 pub mod friction;
 pub mod info;
+pub mod law_flags;
 pub mod lifetimes;
 pub mod map_words;
 pub mod merge;

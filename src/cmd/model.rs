@@ -5,54 +5,25 @@ use squeal_core::{
     CoreError, FrictionLaw, Params, Physical, Scheme, SolverConfig, SolverKind, Stepper,
 };
 
+use super::law_flags::{LawFlags, flag};
 use super::physical::PhysicalArgs;
+
+/// The `--law` flag's help: every law's name.
+fn law_help() -> String {
+    format!("Friction law: {}.", FrictionLaw::names())
+}
 
 /// Model flags (nondimensional, paper Section 4; defaults are the paper's Table 1, or
 /// bSTAB's friction case for `--law stribeck`).
 #[derive(clap::Args, Debug, Clone)]
 pub struct ModelArgs {
-    /// Friction law: mcmillan, mcmillan-nonhysteretic, coulomb, stribeck or cubic.
-    #[arg(long, default_value = "mcmillan")]
+    /// Friction law (its names: [`FrictionLaw::names`]).
+    #[arg(long, default_value = "mcmillan", help = law_help())]
     pub law: String,
-    /// Damping ratio nu >= 0 (McMillan's laws; default 1e-3).
-    #[arg(long, allow_negative_numbers = true)]
-    pub nu: Option<f64>,
-    /// Belt speed lambda (McMillan's laws; default 3).
-    #[arg(long, allow_negative_numbers = true)]
-    pub lambda: Option<f64>,
-    /// Characteristic time tau > 0 of the surfaces (McMillan's laws; default 0.1 sqrt(10)).
-    #[arg(long, allow_negative_numbers = true)]
-    pub tau: Option<f64>,
-    /// Phi = arcsin(mu_k/mu_s), in (0, pi/2] (McMillan's laws; default 1).
-    #[arg(long, allow_negative_numbers = true)]
-    pub phi: Option<f64>,
-    /// Damping ratio xi >= 0 (--law stribeck, cubic; default 0.05).
-    #[arg(long, allow_negative_numbers = true)]
-    pub xi: Option<f64>,
-    /// Belt speed v_d > 0 (--law stribeck, default 1.5; --law cubic, default 0.3).
-    #[arg(long = "v-d", allow_negative_numbers = true)]
-    pub v_d: Option<f64>,
-    /// Dynamic friction coefficient mu_d > 0 (--law stribeck; default 0.5).
-    #[arg(long = "mu-d", allow_negative_numbers = true)]
-    pub mu_d: Option<f64>,
-    /// Static-to-dynamic ratio mu_sd >= 1 (--law stribeck; default 2).
-    #[arg(long = "mu-sd", allow_negative_numbers = true)]
-    pub mu_sd: Option<f64>,
-    /// Stribeck reference velocity v_0 > 0 (--law stribeck; default 0.5).
-    #[arg(long = "v-0", allow_negative_numbers = true)]
-    pub v_0: Option<f64>,
-    /// Viscous strengthening mu_v >= 0 (--law stribeck; default 0).
-    #[arg(long = "mu-v", allow_negative_numbers = true)]
-    pub mu_v: Option<f64>,
-    /// Static friction coefficient mu_0 = mu(0) > 0 (--law cubic; default 0.4).
-    #[arg(long = "mu-0", allow_negative_numbers = true)]
-    pub mu_0: Option<f64>,
-    /// Linear coefficient a1 >= 0 of mu(s) = mu_0 - a1 s + a3 s^3 (--law cubic; default 0.45).
-    #[arg(long, allow_negative_numbers = true)]
-    pub a1: Option<f64>,
-    /// Cubic coefficient a3 >= 0 of mu(s) (--law cubic; default 0.6).
-    #[arg(long, allow_negative_numbers = true)]
-    pub a3: Option<f64>,
+    /// The law's own parameters, one flag per key of any law (`--nu`, `--v-d`, `--mu-0`,
+    /// ...); defaults: the paper's Table 1, bSTAB's friction case, or the cubic law's.
+    #[command(flatten)]
+    pub keys: LawFlags,
     /// The physical system's flags (McMillan's laws, instead of --nu --lambda --tau --phi).
     #[command(flatten)]
     pub system: PhysicalArgs,
@@ -68,33 +39,12 @@ pub struct ModelArgs {
 }
 
 impl ModelArgs {
-    /// The law's flags given, by key name.
-    fn given(&self) -> [(&'static str, Option<f64>); 13] {
-        [
-            ("nu", self.nu),
-            ("lambda", self.lambda),
-            ("tau", self.tau),
-            ("phi", self.phi),
-            ("xi", self.xi),
-            ("v_d", self.v_d),
-            ("mu_d", self.mu_d),
-            ("mu_sd", self.mu_sd),
-            ("v_0", self.v_0),
-            ("mu_v", self.mu_v),
-            ("mu_0", self.mu_0),
-            ("a1", self.a1),
-            ("a3", self.a3),
-        ]
-    }
-
     /// The physical system of `--m --k --c --v-belt --mu-k --mu-s --tau-s [--g]`, if any of
     /// them is given (all but `--g` are then required, and no nondimensional law flag);
     /// errors name the flag.
     pub fn physical(&self) -> anyhow::Result<Option<Physical>> {
         let law: FrictionLaw = self.law.parse().context("--law")?;
-        let given = self.given();
-        let other = given.iter().find(|(_, v)| v.is_some()).map(|(k, _)| *k);
-        self.system.system(law, other)
+        self.system.system(law, self.keys.first())
     }
 
     /// Checked parameters; errors name the flag.
@@ -103,25 +53,19 @@ impl ModelArgs {
         if let Some(ph) = self.physical()? {
             return ph.params(law).map_err(super::physical::flag_error);
         }
-        let given = self.given();
         let own = law.keys();
-        if let Some((k, _)) = given.iter().find(|(k, v)| v.is_some() && !own.contains(k)) {
+        if let Some((k, _)) = self.keys.0.iter().find(|(k, _)| !own.contains(k)) {
             bail!(
-                "--{}: not a parameter of --law {law} (its flags: {})",
-                k.replace('_', "-"),
-                own.iter()
-                    .map(|k| format!("--{}", k.replace('_', "-")))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "{}: not a parameter of --law {law} (its flags: {})",
+                flag(k),
+                own.iter().map(|k| flag(k)).collect::<Vec<_>>().join(", ")
             );
         }
         let defaults = Params::defaults(law);
         let named = defaults.named();
         let p = Params::from_named(law, |k| {
-            given
-                .iter()
-                .find(|(g, _)| *g == k)
-                .and_then(|(_, v)| *v)
+            self.keys
+                .get(k)
                 .or_else(|| named.iter().find(|n| n.name == k).map(|n| n.value))
         })
         .map_err(|k| anyhow::anyhow!("--{k}: missing"))?;
@@ -195,7 +139,7 @@ impl ModelArgs {
 pub fn flag_error(e: CoreError) -> anyhow::Error {
     match &e {
         CoreError::InvalidParameter { name, .. } => {
-            anyhow::anyhow!("--{}: {e}", name.replace('_', "-"))
+            anyhow::anyhow!("{}: {e}", flag(name))
         }
         _ => anyhow::anyhow!(e),
     }
@@ -218,9 +162,7 @@ pub struct SetupArgs {
     /// model flags and --t-max are then refused: the spec is the one place they come from).
     #[arg(
         long,
-        conflicts_with_all = ["law", "nu", "lambda", "tau", "phi", "xi", "v_d", "mu_d", "mu_sd",
-            "v_0", "mu_v", "mu_0", "a1", "a3", "m", "k", "c", "v_belt", "mu_k", "mu_s", "tau_s", "g", "dt", "solver",
-            "t_max"]
+        conflicts_with_all = spec_conflicts()
     )]
     pub spec: Option<std::path::PathBuf>,
     /// With --spec of a sweep: which map (0-based).
@@ -229,6 +171,17 @@ pub struct SetupArgs {
     /// Give up (undecided) at this time.
     #[arg(long, default_value_t = squeal_core::defaults::T_MAX, allow_negative_numbers = true)]
     pub t_max: f64,
+}
+
+/// The flags `--spec` refuses: the model's (every law key among them), the integration's and
+/// `--t-max`. Each by name, so the refusal names the flag given.
+fn spec_conflicts() -> Vec<&'static str> {
+    let mut ids = vec!["law"];
+    ids.extend(super::law_flags::all_keys());
+    ids.extend([
+        "m", "k", "c", "v_belt", "mu_k", "mu_s", "tau_s", "g", "dt", "solver", "t_max",
+    ]);
+    ids
 }
 
 impl SetupArgs {

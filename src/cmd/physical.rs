@@ -84,8 +84,8 @@ impl PhysicalArgs {
         }
         if let Some(k) = other {
             bail!(
-                "--{}: not with the physical system ({all}): give one or the other",
-                k.replace('_', "-")
+                "{}: not with the physical system ({all}): give one or the other",
+                super::law_flags::flag(k)
             );
         }
         let v = |i: usize| values[i].unwrap_or_default();

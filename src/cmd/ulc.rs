@@ -115,7 +115,7 @@ fn checked_settings(args: &Args) -> anyhow::Result<CycleSettings> {
     };
     squeal_scan::bounds::cycle_search(
         &cs,
-        &|k| format!("--{}", k.replace('_', "-")),
+        &|k| super::law_flags::flag(k),
         &|key, value, expected| squeal_scan::ScanError::Invalid {
             path: "command line".into(),
             key: key.into(),

@@ -44,6 +44,17 @@ impl FrictionLaw {
         }
     }
 
+    /// How the law is named in the titles of pictures.
+    pub fn title(self) -> &'static str {
+        match self {
+            FrictionLaw::McMillan => "McMillan law (hysteretic)",
+            FrictionLaw::McMillanNonHysteretic => "McMillan law (non-hysteretic)",
+            FrictionLaw::Coulomb => "Coulomb friction",
+            FrictionLaw::Stribeck => "Stribeck law with true stick",
+            FrictionLaw::Cubic => "cubic law with true stick",
+        }
+    }
+
     /// McMillan's parameterisation (`nu`, `lambda`, `tau`, `phi`): the three laws of the paper.
     pub const MCMILLAN: [FrictionLaw; 3] = [
         FrictionLaw::McMillan,

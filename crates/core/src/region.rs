@@ -86,8 +86,10 @@ impl Region {
             Friction::Stribeck(s) => stribeck(p, &s),
             Friction::McMillan(c) => mcmillan(p, c, true),
             Friction::NonHysteretic(c) => mcmillan(p, c, false),
-            // No closed form kept for the cubic law yet: its runs decide without the region.
-            Friction::Coulomb | Friction::Cubic(_) => None,
+            // Coulomb, the cubic law and any law not named here: no region kept. Their runs
+            // decide without it, which is always sound (the region only lets a run stop
+            // early).
+            _ => None,
         }
     }
 

@@ -405,7 +405,9 @@ pub fn slip_lipschitz(law: &Law, eq: &ForceEquation, f0: f64, w: f64) -> Option<
             v_min > 2.0 * tau * a_max || (alo >= 0.0 && vhi < 0.0) || (ahi <= 0.0 && vlo > 0.0)
         }
         FrictionLaw::McMillanNonHysteretic => v_min > tau * a_max,
-        FrictionLaw::Coulomb | FrictionLaw::Stribeck | FrictionLaw::Cubic => false,
+        // No bound for any other law: the solver then takes its bracketed path, which is
+        // always sound (the bound only certifies the faster Newton path).
+        _ => false,
     };
     if !slip {
         return None;

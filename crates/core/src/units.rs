@@ -150,9 +150,9 @@ impl Physical {
             FrictionLaw::McMillan => Friction::McMillan(surface),
             FrictionLaw::McMillanNonHysteretic => Friction::NonHysteretic(surface),
             FrictionLaw::Coulomb => Friction::Coulomb,
-            FrictionLaw::Stribeck | FrictionLaw::Cubic => {
-                return Err(CoreError::NoPhysicalUnits(law.name()));
-            }
+            // Only McMillan's laws share the scaling of the physical units (the laws with
+            // true stick, and any law not named here, are written in the normal load).
+            _ => return Err(CoreError::NoPhysicalUnits(law.name())),
         };
         Ok(Params {
             law,

@@ -281,10 +281,12 @@ pub enum StateScale {
 }
 
 impl StateScale {
-    /// The scale of the law named `law` (the spec's `law` key).
+    /// The scale of the law named `law` (the spec's `law` key): the laws with true stick
+    /// are written in the normal load, McMillan's (and an unknown name) in the kinetic
+    /// friction.
     pub fn of_law(law: &str) -> StateScale {
-        match law {
-            "stribeck" | "cubic" => StateScale::NormalLoad,
+        match law.parse::<squeal_core::FrictionLaw>() {
+            Ok(l) if l.has_true_stick() => StateScale::NormalLoad,
             _ => StateScale::KineticFriction,
         }
     }
@@ -359,15 +361,11 @@ pub fn fmt_number(v: f64) -> String {
 }
 
 /// How a law is named in titles.
+/// How a law is named in titles ([`squeal_core::FrictionLaw::title`]; an unknown name as
+/// it is).
 pub fn law_title(law: &str) -> String {
-    match law {
-        "mcmillan" => "McMillan law (hysteretic)".into(),
-        "mcmillan-nonhysteretic" => "McMillan law (non-hysteretic)".into(),
-        "coulomb" => "Coulomb friction".into(),
-        "stribeck" => "Stribeck law with true stick".into(),
-        "cubic" => "cubic law with true stick".into(),
-        other => other.to_string(),
-    }
+    law.parse::<squeal_core::FrictionLaw>()
+        .map_or_else(|_| law.to_string(), |l| l.title().to_string())
 }
 
 /// `nu = 0.001, lambda = 3, tau = 0.3162, phi = 1, dt = 0.01` (the law's own parameters,

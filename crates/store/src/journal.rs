@@ -4,8 +4,9 @@
 //!
 //! ```text
 //! record  = "SQJR" kind:u8 len:u32 payload[len] fnv1a64(kind, payload):u64   (little endian)
-//! header  = kind 'H' (scan) or 'A' (atlas): format:u32 spec:str shard:str
-//!                                                              (str = len:u64 bytes)
+//! header  = kind 'H' (scan) or 'A' (atlas): format:u32 spec:str shard:str columns:u64
+//!           (str = len:u64 bytes; columns = fnv1a64 of the stored columns' names and
+//!           widths, `Owner::columns_checksum`)
 //! block   = kind 'B': map:u64 block:u64 n:u64 n x cell (the columns of
 //!           squeal_scan::cell::COLUMNS in order, each at its storage width); in an atlas
 //!           `map` is the parameter point
@@ -24,14 +25,17 @@ use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
+use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, COLUMNS as POINT_COLUMNS};
+use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num, cell_bytes};
 
 use crate::StoreError;
 use crate::error::io;
 
 const MAGIC: &[u8; 4] = b"SQJR";
-// 3: cells carry t_squeal (an older journal's records have another width).
-const FORMAT: u32 = 3;
+// 3: cells carry t_squeal (an older journal's records have another width). 4: the header
+// carries the columns' checksum, so a new column needs no new format.
+const FORMAT: u32 = 4;
 pub(crate) const KIND_HEADER: u8 = b'H';
 pub(crate) const KIND_ATLAS_HEADER: u8 = b'A';
 pub(crate) const KIND_UNIT: u8 = b'U';
@@ -188,6 +192,26 @@ pub(crate) enum Owner {
 }
 
 impl Owner {
+    /// The checksum of the columns this owner's records carry, in order: their names and
+    /// storage widths (cells), their names (atlas points, landscapes and boundary searches,
+    /// stored as JSON arrays in [`COLUMNS`] order). A journal written by a build with other
+    /// columns is refused at its header, so adding, removing or reordering a column in
+    /// those tables needs no edit here.
+    pub(crate) fn columns_checksum(self) -> u64 {
+        let mut parts: Vec<Vec<u8>> = COLUMNS
+            .iter()
+            .map(|c| [c.name.as_bytes(), &[b':', c.kind.bytes() as u8, b';'][..]].concat())
+            .collect();
+        if self == Owner::Atlas {
+            let atlas = POINT_COLUMNS
+                .iter()
+                .chain(LANDSCAPE_COLUMNS)
+                .map(|c| c.name);
+            let names = atlas.chain(BOUNDARY_COLUMNS.iter().map(|c| c.name));
+            parts.extend(names.map(|n| [n.as_bytes(), &b";"[..]].concat()));
+        }
+        fnv64(&parts.iter().map(Vec::as_slice).collect::<Vec<_>>())
+    }
     fn header_kind(self) -> u8 {
         match self {
             Owner::Scan => KIND_HEADER,
@@ -279,6 +303,7 @@ fn encode_header(h: &Header) -> Vec<u8> {
     e.u32(FORMAT);
     e.str(&h.spec);
     e.str(&h.shard);
+    e.u64(h.owner.columns_checksum());
     e.0
 }
 
@@ -433,7 +458,7 @@ fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, Strin
     let mut d = Dec::new(&bytes[first.offset as usize..][..first.len as usize]);
     match d.u32() {
         Some(FORMAT) => {}
-        // Format 2 cells had no t_squeal: its records have another width.
+        // Formats 2 and 3 have no columns' checksum; format 2 cells had no t_squeal.
         Some(f) if f < FORMAT => {
             return Err(format!(
                 "journal format {f}, written by an older squeal (this one writes {FORMAT}): \
@@ -442,9 +467,17 @@ fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, Strin
         }
         _ => return Err("unknown journal format".into()),
     }
-    let (Some(spec), Some(shard)) = (d.str(), d.str()) else {
+    let (Some(spec), Some(shard), Some(columns)) = (d.str(), d.str(), d.u64()) else {
         return Err("the journal header is malformed".into());
     };
+    if columns != owner.columns_checksum() {
+        return Err(
+            "the journal's records carry other columns than this squeal stores (it was \
+             written by another version): finish it with that version, or use --force to \
+             start over"
+                .into(),
+        );
+    }
     Ok(Header { owner, spec, shard })
 }
 

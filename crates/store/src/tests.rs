@@ -728,3 +728,27 @@ fn an_older_journal_format_is_refused_by_name() {
     assert!(e.to_string().contains("journal format 2"), "{e}");
     assert!(e.to_string().contains("older squeal"), "{e}");
 }
+
+/// A journal whose header names other columns (written by a build that stored another
+/// column list, for instance one column more of the same width elsewhere) is refused on
+/// resume with words that say why, instead of its records being read into the wrong
+/// columns or refused as "a malformed block record".
+#[test]
+fn a_journal_of_other_columns_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let out = dir.path().join("o.h5");
+    drop(ScanWriter::create(&out, &p, None, &prov(), false).unwrap());
+    let j = journal_of(&out);
+    let mut bytes = std::fs::read(&j).unwrap();
+    // The header record: "SQJR", kind, len (u32), payload (the columns' checksum last),
+    // checksum. One flipped bit of the columns' checksum stands for another column list.
+    let len = u32::from_le_bytes(bytes[5..9].try_into().unwrap()) as usize;
+    bytes[9 + len - 8] ^= 1;
+    let sum = crate::journal::fnv64(&[&bytes[4..5], &bytes[9..9 + len]]);
+    bytes[9 + len..17 + len].copy_from_slice(&sum.to_le_bytes());
+    std::fs::write(&j, &bytes).unwrap();
+    let e = ScanWriter::resume(&out, &p, None, &prov()).unwrap_err();
+    assert!(e.to_string().contains("other columns"), "{e}");
+    assert!(e.to_string().contains("--force"), "{e}");
+}

@@ -95,6 +95,12 @@ fn the_legend_covers_no_data() {
 fn each_law_has_its_own_axis_units() {
     let stribeck = StateScale::of_law("stribeck");
     assert_eq!(stribeck, StateScale::NormalLoad);
+    // Every law with true stick is written in the normal load (MODEL.md section 8), and
+    // titled by its own words; an unknown name keeps McMillan's scale and its own name.
+    assert_eq!(StateScale::of_law("cubic"), StateScale::NormalLoad);
+    assert_eq!(crate::law_title("cubic"), "cubic law with true stick");
+    assert_eq!(StateScale::of_law("zz"), StateScale::KineticFriction);
+    assert_eq!(crate::law_title("zz"), "zz");
     for label in stribeck
         .phase_labels()
         .iter()

@@ -89,21 +89,19 @@ pub(super) fn model(
             Value::One(xs[0] / unit)
         }
     };
+    let surface =
+        |f: fn(&squeal_core::Surface) -> f64, k| p0.law.surface().map(|c| (k, Value::One(f(&c))));
     let model = ModelTable {
         law: m.law,
-        nu: Some(scaled(&ph.c, &cs, s.damping)),
-        lambda: Some(scaled(&ph.v_belt, &vs, s.velocity)),
-        tau: p0.law.surface().map(|c| Value::One(c.tau)),
-        phi: p0.law.surface().map(|c| Value::One(c.phi)),
-        xi: None,
-        v_d: None,
-        mu_d: None,
-        mu_sd: None,
-        v_0: None,
-        mu_v: None,
-        mu_0: None,
-        a1: None,
-        a3: None,
+        keys: [
+            Some(("nu", scaled(&ph.c, &cs, s.damping))),
+            Some(("lambda", scaled(&ph.v_belt, &vs, s.velocity))),
+            surface(|c| c.tau, "tau"),
+            surface(|c| c.phi, "phi"),
+        ]
+        .into_iter()
+        .flatten()
+        .collect(),
     };
     Ok((base, model))
 }

@@ -14,39 +14,74 @@ use crate::ulc::CycleSettings;
 use crate::values::Value;
 
 /// The `[model]` table: the law and its own keys. A scan sweeps one of the damping and the
-/// belt speed (`nu` or `lambda`; `xi` or `v_d`); an atlas sweeps any of them.
-#[derive(Deserialize, Debug, Clone)]
-#[serde(deny_unknown_fields)]
+/// belt speed (`nu` or `lambda`; `xi` or `v_d`); an atlas sweeps any of the sweepable keys
+/// ([`sweepable`]). The accepted keys are every law's ([`FrictionLaw::keys`]), so a new law's
+/// keys need no edit here; an unknown key is refused as serde refuses an unknown field.
+#[derive(Debug, Clone)]
 pub(crate) struct ModelTable {
     pub(crate) law: FrictionLaw,
-    #[serde(default)]
-    pub(crate) nu: Option<Value>,
-    #[serde(default)]
-    pub(crate) lambda: Option<Value>,
-    #[serde(default)]
-    pub(crate) tau: Option<Value>,
-    #[serde(default)]
-    pub(crate) phi: Option<Value>,
-    // The Stribeck law's keys (law = "stribeck" only): xi and v_d may be swept.
-    #[serde(default)]
-    pub(crate) xi: Option<Value>,
-    #[serde(default)]
-    pub(crate) v_d: Option<Value>,
-    #[serde(default)]
-    pub(crate) mu_d: Option<f64>,
-    #[serde(default)]
-    pub(crate) mu_sd: Option<f64>,
-    #[serde(default)]
-    pub(crate) v_0: Option<f64>,
-    #[serde(default)]
-    pub(crate) mu_v: Option<f64>,
-    // The cubic law's keys (law = "cubic" only; also xi and v_d).
-    #[serde(default)]
-    pub(crate) mu_0: Option<f64>,
-    #[serde(default)]
-    pub(crate) a1: Option<f64>,
-    #[serde(default)]
-    pub(crate) a3: Option<f64>,
+    /// The keys given, with their values, in the order written.
+    pub(crate) keys: Vec<(&'static str, Value)>,
+}
+
+/// The keys a `[model]` table accepts: `law`, then every law's keys, each once.
+fn model_fields() -> &'static [&'static str] {
+    static FIELDS: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+    FIELDS.get_or_init(|| {
+        let mut f = vec!["law"];
+        for k in FrictionLaw::ALL.iter().flat_map(|l| l.keys()) {
+            if !f.contains(k) {
+                f.push(k);
+            }
+        }
+        f
+    })
+}
+
+/// Whether a key may be a list or a range (swept by an atlas; a scan sweeps the damping or
+/// the belt speed): McMillan's four and every law's damping and belt speed. A law's other
+/// coefficients are numbers.
+pub(crate) fn sweepable(key: &str) -> bool {
+    FrictionLaw::MCMILLAN
+        .iter()
+        .any(|l| l.keys().contains(&key))
+        || FrictionLaw::ALL
+            .iter()
+            .any(|l| l.keys()[..2].contains(&key))
+}
+
+impl<'de> Deserialize<'de> for ModelTable {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = ModelTable;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("the [model] table")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> Result<ModelTable, A::Error> {
+                use serde::de::Error;
+                let (mut law, mut keys) = (None, Vec::new());
+                while let Some(k) = a.next_key::<String>()? {
+                    let Some(&key) = model_fields().iter().find(|f| **f == k) else {
+                        return Err(A::Error::unknown_field(&k, model_fields()));
+                    };
+                    if key == "law" {
+                        law = Some(a.next_value::<FrictionLaw>()?);
+                    } else if sweepable(key) {
+                        keys.push((key, a.next_value::<Value>()?));
+                    } else {
+                        keys.push((key, Value::One(a.next_value::<f64>()?)));
+                    }
+                }
+                let law = law.ok_or_else(|| A::Error::missing_field("law"))?;
+                Ok(ModelTable { law, keys })
+            }
+        }
+        d.deserialize_map(Visit)
+    }
 }
 
 impl ModelTable {
@@ -55,26 +90,13 @@ impl ModelTable {
         self.given(key).is_some()
     }
 
-    /// A fixed (not swept) key's value as given: the Stribeck law's coefficients are
+    /// A key's value as given: a law's coefficients other than [`sweepable`] ones are
     /// numbers in the table, the others may be lists (refused by a scan, swept by an atlas).
     pub(crate) fn given(&self, key: &str) -> Option<Value> {
-        let one = |x: &Option<f64>| x.map(Value::One);
-        match key {
-            "nu" => self.nu.clone(),
-            "lambda" => self.lambda.clone(),
-            "tau" => self.tau.clone(),
-            "phi" => self.phi.clone(),
-            "xi" => self.xi.clone(),
-            "v_d" => self.v_d.clone(),
-            "mu_d" => one(&self.mu_d),
-            "mu_sd" => one(&self.mu_sd),
-            "v_0" => one(&self.v_0),
-            "mu_v" => one(&self.mu_v),
-            "mu_0" => one(&self.mu_0),
-            "a1" => one(&self.a1),
-            "a3" => one(&self.a3),
-            _ => None,
-        }
+        self.keys
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, v)| v.clone())
     }
 
     /// Refuses a key that is not one of the law's own ([`FrictionLaw::keys`]).

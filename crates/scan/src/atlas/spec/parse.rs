@@ -27,7 +27,7 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
         ];
         (Units::Physical, axes(path, "physical", &PHYSICAL, vals)?)
     } else {
-        if !stribeck && m.nu.is_none() {
+        if !stribeck && m.given("nu").is_none() {
             return Err(invalid(
                 path,
                 "model.nu",
