@@ -3,13 +3,13 @@
 //! are (`stribeck.rs`): located events against a closed form, convergence order of event
 //! times, the energy of a stick phase, one stick per period, the landscape, bad input.
 
-use squeal_core::landscape::{Landscape, StickCycle, landscape, stick_slip_cycle};
+use squeal_core::landscape::{Landscape, landscape};
 use squeal_core::{
-    Classifier, Cubic, Friction, FrictionLaw, Params, Reason, Regime, Run, Scheme, State,
+    Classifier, Cubic, Friction, FrictionLaw, Params, Reason, Regime, Scheme, State,
 };
 
 mod common;
-use common::{events, stepper};
+use common::stepper;
 
 /// The cubic law with damping `xi`, belt speed `v_d` and coefficients `(mu_0, a1, a3)`.
 fn cubic(xi: f64, v_d: f64, mu_0: f64, a1: f64, a3: f64) -> Params {
@@ -28,72 +28,17 @@ fn cubic(xi: f64, v_d: f64, mu_0: f64, a1: f64, a3: f64) -> Params {
 /// the first root of `x'(t) = v_d`, the breakaway `(mu_0 - 2 xi v_d - x_on) / v_d` later.
 #[test]
 fn coulomb_limit_events_match_the_closed_form_at_any_step() {
-    let (xi, v_d, mu_0) = (0.05, 0.5, 0.4);
-    let p = cubic(xi, v_d, mu_0, 0.0, 0.0);
-    let (x0, v0) = (-0.3, 0.7);
-    let w = (1.0 - xi * xi).sqrt();
-    let y0 = x0 + mu_0;
-    let xv = |t: f64| {
-        let e = (-xi * t).exp();
-        let (sn, cs) = (w * t).sin_cos();
-        let y = e * (y0 * cs + (v0 + xi * y0) * sn / w);
-        let v = e * (v0 * cs - (xi * v0 + y0) * sn / w);
-        (y - mu_0, v)
-    };
-    let mut lo = 0.0;
-    while xv(lo + 1e-3).1 > v_d {
-        lo += 1e-3;
-    }
-    let mut hi = lo + 1e-3;
-    for _ in 0..100 {
-        let m = 0.5 * (lo + hi);
-        if xv(m).1 > v_d {
-            lo = m;
-        } else {
-            hi = m;
-        }
-    }
-    let t_on = 0.5 * (lo + hi);
-    let x_on = xv(t_on).0;
-    assert!((x_on + 2.0 * xi * v_d).abs() <= mu_0, "sticks: {x_on}");
-    let t_off = t_on + (mu_0 - 2.0 * xi * v_d - x_on) / v_d;
-    for dt in [0.1, 0.01, 0.003] {
-        for scheme in [Scheme::Foh, Scheme::Zoh] {
-            let st = stepper(p, dt, scheme);
-            let (on, off, rev) = events(&st, State { x: x0, v: v0 }, t_off + 1.0);
-            assert_eq!((on.len(), off.len(), rev), (1, 1, 0), "dt {dt}");
-            assert!(
-                (on[0] - t_on).abs() < 1e-10 && (off[0] - t_off).abs() < 1e-10,
-                "dt {dt} {scheme}: onset {} vs {t_on}, breakaway {} vs {t_off}",
-                on[0],
-                off[0]
-            );
-        }
-    }
+    let mu_0 = 0.4;
+    let ic = State { x: -0.3, v: 0.7 };
+    common::coulomb_events_match_the_closed_form(cubic(0.05, 0.5, mu_0, 0.0, 0.0), mu_0, ic);
 }
 
 /// Thomsen's shape (the defaults, v_d = 0.3): the first two stick onsets and the first breakaway
 /// converge at second order as dt halves (first-order hold), against a run at dt / 64.
 #[test]
 fn event_times_converge_at_second_order() {
-    let p = Params::defaults(FrictionLaw::Cubic);
     let ic = State { x: -0.5, v: 0.3 };
-    let reference = events(&stepper(p, 0.02 / 32.0, Scheme::Foh), ic, 40.0);
-    let mut errs = Vec::new();
-    for dt in [0.04, 0.02, 0.01] {
-        let (on, off, _) = events(&stepper(p, dt, Scheme::Foh), ic, 40.0);
-        let e = (on[0] - reference.0[0])
-            .abs()
-            .max((off[0] - reference.1[0]).abs())
-            .max((on[1] - reference.0[1]).abs());
-        errs.push(e);
-    }
-    let orders: Vec<f64> = errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
-    eprintln!("event-time errors {errs:?}, orders {orders:?}");
-    assert!(
-        orders.iter().all(|&o| o > 1.7),
-        "errors {errs:?}, orders {orders:?}"
-    );
+    common::event_times_converge_at_second_order(Params::defaults(FrictionLaw::Cubic), ic, 40.0);
 }
 
 /// While stuck `x' = v_d` exactly (kinetic energy constant to the bit), the acceleration is 0,
@@ -102,50 +47,16 @@ fn event_times_converge_at_second_order() {
 /// the samples is exact (to rounding).
 #[test]
 fn stick_phase_energy_balance_is_exact() {
-    let p = Params::defaults(FrictionLaw::Cubic);
-    let st = stepper(p, 0.01, Scheme::Foh);
-    let mut run = Run::new(&st, State { x: -0.5, v: 0.3 });
-    let mut stuck_steps = 0;
-    let mut worst = 0.0f64;
-    for _ in 0..run.steps_to(60.0) {
-        let s = run.step();
-        let (a, b) = (s.prev, s.next);
-        if a.v == p.lambda && b.v == p.lambda && s.events.stuck && s.events.breakaways == 0 {
-            stuck_steps += 1;
-            let d_spring = 0.5 * (b.x * b.x - a.x * a.x);
-            let pa = (a.force - 2.0 * p.nu * a.v) * a.v;
-            let pb = (b.force - 2.0 * p.nu * b.v) * b.v;
-            let work = 0.5 * (pa + pb) * (b.t - a.t);
-            worst = worst.max((d_spring - work).abs());
-            assert_eq!(b.a, 0.0);
-        }
-    }
-    assert!(stuck_steps > 50, "{stuck_steps}");
-    assert!(worst < 1e-13, "{worst}");
+    let ic = State { x: -0.5, v: 0.3 };
+    common::stick_phase_energy_balance_is_exact(Params::defaults(FrictionLaw::Cubic), ic, 60.0);
 }
 
 /// On the defaults' stick-slip cycle, exactly one stick phase per period: every stick ends
 /// with one breakaway at the breakaway state, no passage through zero slip, equal periods.
 #[test]
 fn one_stick_phase_per_period_no_chattering() {
-    let p = Params::defaults(FrictionLaw::Cubic);
-    let st = stepper(p, 0.005, Scheme::Foh);
-    let Some(StickCycle::Exists { period, stuck }) = stick_slip_cycle(&st, 500.0, 1e-3) else {
-        panic!("the cubic law's defaults have a stick-slip cycle");
-    };
-    assert!(stuck > 0.1 && period > 1.0, "{period} {stuck}");
-    let (on, off, rev) = events(&st, State { x: -0.5, v: 0.3 }, 20.0 * period);
-    assert_eq!(rev, 0);
-    let n = on.len().min(off.len());
-    assert!(n >= 19, "{n}");
-    for k in 2..n {
-        let per = on[k] - on[k - 1];
-        assert!((per - period).abs() < 1e-6, "period {per} vs {period}");
-        assert!(
-            on[k - 1] < off[k - 1] && off[k - 1] < on[k],
-            "{on:?} {off:?}"
-        );
-    }
+    let ic = State { x: -0.5, v: 0.3 };
+    common::one_stick_phase_per_period(Params::defaults(FrictionLaw::Cubic), ic, 1.0);
 }
 
 /// The landscape and the labels next to the fixed point. The fixed point's damping is

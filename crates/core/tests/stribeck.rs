@@ -24,47 +24,7 @@ fn coulomb_events_match_the_closed_form_at_any_step() {
         mu_v: 0.0,
     };
     let p = Params::stribeck(xi, v_d, s);
-    let (x0, v0) = (-0.3, 1.6);
-    let w = (1.0 - xi * xi).sqrt();
-    let y0 = x0 + mu_d;
-    let xv = |t: f64| {
-        let e = (-xi * t).exp();
-        let (sn, cs) = (w * t).sin_cos();
-        let y = e * (y0 * cs + (v0 + xi * y0) * sn / w);
-        let v = e * (v0 * cs - (xi * v0 + y0) * sn / w);
-        (y - mu_d, v)
-    };
-    // x'(0) - v_d > 0; find the first sign change on a fine scan, then bisect.
-    let mut lo = 0.0;
-    while xv(lo + 1e-3).1 > v_d {
-        lo += 1e-3;
-    }
-    let mut hi = lo + 1e-3;
-    for _ in 0..100 {
-        let m = 0.5 * (lo + hi);
-        if xv(m).1 > v_d {
-            lo = m;
-        } else {
-            hi = m;
-        }
-    }
-    let t_on = 0.5 * (lo + hi);
-    let x_on = xv(t_on).0;
-    assert!((x_on + 2.0 * xi * v_d).abs() <= mu_d, "sticks: {x_on}");
-    let t_off = t_on + (mu_d - 2.0 * xi * v_d - x_on) / v_d;
-    for dt in [0.1, 0.01, 0.003] {
-        for scheme in [Scheme::Foh, Scheme::Zoh] {
-            let st = stepper(p, dt, scheme);
-            let (on, off, rev) = events(&st, State { x: x0, v: v0 }, t_off + 1.0);
-            assert_eq!((on.len(), off.len(), rev), (1, 1, 0), "dt {dt}");
-            assert!(
-                (on[0] - t_on).abs() < 1e-10 && (off[0] - t_off).abs() < 1e-10,
-                "dt {dt} {scheme}: onset {} vs {t_on}, breakaway {} vs {t_off}",
-                on[0],
-                off[0]
-            );
-        }
-    }
+    common::coulomb_events_match_the_closed_form(p, mu_d, State { x: -0.3, v: 1.6 });
     // Equal static and kinetic friction with damping: the orbit from breakaway never reaches
     // the belt again (energy decays about the fixed point x* = mu_d): no stick-slip cycle.
     let st = stepper(p, 0.01, Scheme::Foh);
@@ -118,23 +78,7 @@ fn coulomb_with_static_friction_is_the_small_v0_limit() {
 #[test]
 fn event_times_converge_at_second_order() {
     let p = Params::stribeck(0.05, 1.0, Stribeck::default());
-    let ic = State { x: -1.0, v: 0.5 };
-    let reference = events(&stepper(p, 0.02 / 32.0, Scheme::Foh), ic, 20.0);
-    let mut errs = Vec::new();
-    for dt in [0.04, 0.02, 0.01] {
-        let (on, off, _) = events(&stepper(p, dt, Scheme::Foh), ic, 20.0);
-        let e = (on[0] - reference.0[0])
-            .abs()
-            .max((off[0] - reference.1[0]).abs())
-            .max((on[1] - reference.0[1]).abs());
-        errs.push(e);
-    }
-    let orders: Vec<f64> = errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
-    eprintln!("event-time errors {errs:?}, orders {orders:?}");
-    assert!(
-        orders.iter().all(|&o| o > 1.7),
-        "errors {errs:?}, orders {orders:?}"
-    );
+    common::event_times_converge_at_second_order(p, State { x: -1.0, v: 0.5 }, 20.0);
 }
 
 /// During a stick phase x' = v_d exactly (kinetic energy constant to the bit) and the change of
@@ -142,53 +86,14 @@ fn event_times_converge_at_second_order() {
 /// F is linear in time while stuck, so the trapezoid rule over the samples is exact.
 #[test]
 fn stick_phase_energy_balance_is_exact() {
-    let p = Params::bstab();
-    let st = stepper(p, 0.01, Scheme::Foh);
-    let mut run = Run::new(&st, State { x: -1.5, v: 1.8 });
-    let mut stuck_steps = 0;
-    let mut worst = 0.0f64;
-    for _ in 0..run.steps_to(40.0) {
-        let s = run.step();
-        let (a, b) = (s.prev, s.next);
-        if a.v == p.lambda && b.v == p.lambda && s.events.stuck && s.events.breakaways == 0 {
-            stuck_steps += 1;
-            let d_spring = 0.5 * (b.x * b.x - a.x * a.x);
-            let pa = (a.force - 2.0 * p.nu * a.v) * a.v;
-            let pb = (b.force - 2.0 * p.nu * b.v) * b.v;
-            let work = 0.5 * (pa + pb) * (b.t - a.t);
-            worst = worst.max((d_spring - work).abs());
-            assert_eq!(b.a, 0.0);
-        }
-    }
-    assert!(stuck_steps > 50, "{stuck_steps}");
-    assert!(worst < 1e-13, "{worst}");
+    common::stick_phase_energy_balance_is_exact(Params::bstab(), State { x: -1.5, v: 1.8 }, 40.0);
 }
 
 /// On bSTAB's stick-slip cycle, exactly one stick phase per period: every stick ends with one
 /// breakaway, no passage through zero slip, and the periods agree.
 #[test]
 fn one_stick_phase_per_period_no_chattering() {
-    let p = Params::bstab();
-    let st = stepper(p, 0.005, Scheme::Foh);
-    let Some(StickCycle::Exists { period, stuck }) = stick_slip_cycle(&st, 500.0, 1e-3) else {
-        panic!("bSTAB's case at v_d = 1.5 has a stick-slip cycle");
-    };
-    assert!(stuck > 0.1 && period > 5.0, "{period} {stuck}");
-    let (on, off, rev) = events(&st, State { x: -1.5, v: 1.8 }, 20.0 * period);
-    assert_eq!(rev, 0);
-    // Alternating onsets and breakaways, one of each per period.
-    let n = on.len().min(off.len());
-    assert!(n >= 19, "{n}");
-    // The first onset ends the transient from the start; from the second on, the run is on
-    // the cycle (every breakaway starts from the same state).
-    for k in 2..n {
-        let per = on[k] - on[k - 1];
-        assert!((per - period).abs() < 1e-6, "period {per} vs {period}");
-        assert!(
-            on[k - 1] < off[k - 1] && off[k - 1] < on[k],
-            "{on:?} {off:?}"
-        );
-    }
+    common::one_stick_phase_per_period(Params::bstab(), State { x: -1.5, v: 1.8 }, 5.0);
 }
 
 /// Labels: the fixed point repels at v_d = 0.8 (2 xi + mu'(v_d) = 0.1 - e^{-1.6} < 0), every
