@@ -3,13 +3,10 @@
 //! are (`stribeck.rs`): located events against a closed form, convergence order of event
 //! times, the energy of a stick phase, one stick per period, the landscape, bad input.
 
-use squeal_core::landscape::{Landscape, landscape};
-use squeal_core::{
-    Classifier, Cubic, Friction, FrictionLaw, Params, Reason, Regime, Scheme, State,
-};
+use squeal_core::landscape::Landscape;
+use squeal_core::{Cubic, Friction, FrictionLaw, Params, State};
 
 mod common;
-use common::stepper;
 
 /// The cubic law with damping `xi`, belt speed `v_d` and coefficients `(mu_0, a1, a3)`.
 fn cubic(xi: f64, v_d: f64, mu_0: f64, a1: f64, a3: f64) -> Params {
@@ -67,30 +64,13 @@ fn one_stick_phase_per_period_no_chattering() {
 /// (This shape has no bistable belt speed: a grid of 0.0005 from 0.441 to 0.45 found none.)
 #[test]
 fn landscape_and_labels() {
-    let cl = Classifier::default();
     let d = Params::defaults(FrictionLaw::Cubic);
     for (v_d, want) in [
         (0.3, Landscape::StickSlipOnly),
         (0.5, Landscape::SteadySlipOnly),
         (1.2, Landscape::SteadySlipOnly),
     ] {
-        let p = Params { lambda: v_d, ..d };
-        let st = stepper(p, 0.005, Scheme::Foh);
-        assert_eq!(landscape(&st, 2000.0, 1e-3), Some(want), "v_d {v_d}");
-        let fp = p.fixed_point();
-        let o = cl.classify(
-            &st,
-            State {
-                x: fp.x + 1e-4,
-                v: 0.0,
-            },
-        );
-        let expect = if want == Landscape::StickSlipOnly {
-            (Regime::StickSlip, Reason::StickCycle)
-        } else {
-            (Regime::SteadySlip, Reason::NearFixedPoint)
-        };
-        assert_eq!((o.regime, o.reason), expect, "v_d {v_d}: {o:?}");
+        common::landscape_and_start_label(Params { lambda: v_d, ..d }, want);
     }
     // Fixed point x* = mu(v_d) = 0.4 - 0.45 * 0.5 + 0.6 * 0.125 = 0.25 at v_d = 0.5 (the
     // least mu), damped by 2 xi = 0.1 there.

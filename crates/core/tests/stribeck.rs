@@ -1,8 +1,8 @@
 //! The Stribeck law with true stick (issue 11): located events against closed forms,
 //! convergence of event times, the energy of a stick phase, no chattering, bad input, counters.
 
-use squeal_core::landscape::{Landscape, StickCycle, landscape, stick_slip_cycle};
-use squeal_core::{Classifier, Params, Reason, Regime, Run, Scheme, State, Stribeck};
+use squeal_core::landscape::{Landscape, StickCycle, stick_slip_cycle};
+use squeal_core::{Params, Reason, Run, Scheme, State, Stribeck};
 
 mod common;
 use common::{events, stepper};
@@ -100,30 +100,13 @@ fn one_stick_phase_per_period_no_chattering() {
 /// start sticks; at v_d = 2.225 the orbit from breakaway decays: no stick-slip.
 #[test]
 fn landscape_and_labels() {
-    let cl = Classifier::default();
     for (v_d, want) in [
         (0.8, Landscape::StickSlipOnly),
         (1.5, Landscape::Bistable),
         (2.225, Landscape::SteadySlipOnly),
     ] {
         let p = Params::stribeck(0.05, v_d, Stribeck::default());
-        let st = stepper(p, 0.005, Scheme::Foh);
-        assert_eq!(landscape(&st, 2000.0, 1e-3), Some(want), "v_d {v_d}");
-        let fp = p.fixed_point();
-        // A start right next to the fixed point: leaves it where it repels.
-        let o = cl.classify(
-            &st,
-            State {
-                x: fp.x + 1e-4,
-                v: 0.0,
-            },
-        );
-        let expect = if want == Landscape::StickSlipOnly {
-            (Regime::StickSlip, Reason::StickCycle)
-        } else {
-            (Regime::SteadySlip, Reason::NearFixedPoint)
-        };
-        assert_eq!((o.regime, o.reason), expect, "v_d {v_d}: {o:?}");
+        let o = common::landscape_and_start_label(p, want);
         assert!(o.stats.stick_onsets >= u64::from(o.reason == Reason::StickCycle));
     }
     // Fixed point x* = mu(v_d), as bSTAB's convention (-sgn(v - v_d) mu, v = 0 at rest).

@@ -1,7 +1,9 @@
 //! Helpers shared by the tests of the laws with true stick (`stribeck.rs`, `cubic.rs`).
 
-use squeal_core::landscape::{StickCycle, stick_slip_cycle};
-use squeal_core::{Params, Run, Scheme, SolverConfig, State, Stepper};
+use squeal_core::landscape::{Landscape, StickCycle, landscape, stick_slip_cycle};
+use squeal_core::{
+    Classifier, Outcome, Params, Reason, Regime, Run, Scheme, SolverConfig, State, Stepper,
+};
 
 /// The stepper of `p` at step `dt` with `scheme` (the robust solver).
 pub fn stepper(p: Params, dt: f64, scheme: Scheme) -> Stepper {
@@ -157,4 +159,28 @@ pub fn one_stick_phase_per_period(p: Params, ic: State, min_period: f64) {
             "{on:?} {off:?}"
         );
     }
+}
+
+/// Where `p`'s landscape is `want`, a start 1e-4 to the right of the fixed point is
+/// labelled as the landscape says: stick-slip onto the cycle where the fixed point repels
+/// (`StickSlipOnly`), steady slip near the fixed point otherwise. Returns the outcome.
+pub fn landscape_and_start_label(p: Params, want: Landscape) -> Outcome {
+    let st = stepper(p, 0.005, Scheme::Foh);
+    assert_eq!(landscape(&st, 2000.0, 1e-3), Some(want), "v_d {}", p.lambda);
+    let fp = p.fixed_point();
+    // A start right next to the fixed point: leaves it where it repels.
+    let o = Classifier::default().classify(
+        &st,
+        State {
+            x: fp.x + 1e-4,
+            v: 0.0,
+        },
+    );
+    let expect = if want == Landscape::StickSlipOnly {
+        (Regime::StickSlip, Reason::StickCycle)
+    } else {
+        (Regime::SteadySlip, Reason::NearFixedPoint)
+    };
+    assert_eq!((o.regime, o.reason), expect, "v_d {}: {o:?}", p.lambda);
+    o
 }
