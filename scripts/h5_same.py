@@ -64,16 +64,25 @@ def attrs(obj, path, out, prov):
         (prov if k in PROVENANCE else out).append(f"{where}: {describe(a)} -> {describe(b)}")
 
 
-def walk(a, b, path, out, prov):
-    attrs((a, b), path, out, prov)
-    if not isinstance(a, h5py.Group):
+def pairs(a, b, path="/"):
+    """Both files' objects in step, depth first: `(path, x, y)`, `x` or `y` None where the
+    object is in one file only; a group's members are visited where it is a group in both."""
+    yield path, a, b
+    if not (isinstance(a, h5py.Group) and isinstance(b, h5py.Group)):
         return
     for k in sorted(set(a) | set(b)):
         p = f"{path.rstrip('/')}/{k}"
         if k not in a or k not in b:
-            out.append(f"{p}: only in {'new' if k not in a else 'old'}")
+            yield p, a.get(k), b.get(k)
+        else:
+            yield from pairs(a[k], b[k], p)
+
+
+def walk(a, b, path, out, prov):
+    for p, x, y in pairs(a, b, path):
+        if x is None or y is None:
+            out.append(f"{p}: only in {'new' if x is None else 'old'}")
             continue
-        x, y = a[k], b[k]
         if isinstance(x, h5py.Dataset) != isinstance(y, h5py.Dataset):
             out.append(f"{p}: a dataset in one file, a group in the other")
             continue
@@ -87,7 +96,7 @@ def walk(a, b, path, out, prov):
                     diff &= ~(np.isnan(xv) & np.isnan(yv))
                 n = int(np.sum(diff)) if np.asarray(diff).dtype == bool else -1
                 out.append(f"{p}: values differ ({n} of {x.size} elements)")
-        walk(x, y, p, out, prov)
+        attrs((x, y), p, out, prov)
 
 
 def main():

@@ -33,6 +33,9 @@ import sys
 import h5py
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from h5_same import pairs  # noqa: E402  (the walk over both files, written once)
+
 SKIP_ATTRS = {"git_revision", "squeal_version", "software_version", "created", "version",
               "history", "date_created", "creation_time", "REFERENCE_LIST", "DIMENSION_LIST",
               "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"}
@@ -196,16 +199,12 @@ def attr_lines(path, ga, gb):
     return out
 
 
-def walk(fa, fb, path, ga, gb, out):
-    out += attr_lines(path, ga, gb)
-    if not isinstance(ga, h5py.Group):
-        return
-    for k in sorted(set(ga) | set(gb)):
-        p = f"{path.rstrip('/')}/{k}"
-        if k not in ga or k not in gb:
-            out.append(f"{p}: only in {'new' if k not in ga else 'old'}")
+def walk(fa, fb, out):
+    for p, x, y in pairs(fa, fb):
+        if x is None or y is None:
+            out.append(f"{p}: only in {'new' if x is None else 'old'}")
             continue
-        x, y = ga[k], gb[k]
+        out += attr_lines(p, x, y)
         if isinstance(x, h5py.Dataset) and isinstance(y, h5py.Dataset):
             if x.shape != y.shape:
                 out.append(f"{p}: shape {x.shape} -> {y.shape}")
@@ -227,11 +226,10 @@ def walk(fa, fb, path, ga, gb, out):
                     a64, b64 = a.astype(float), b.astype(float)
                     if ((a64 != b64) & ~(np.isnan(a64) & np.isnan(b64))).any():
                         out.append(numeric_line(p, a64, b64))
-                        if path == "/":
+                        if p.count("/") == 1:
                             out += accuracy(p, fa, fb)
                 elif not np.array_equal(a, b):
                     out.append(f"{p}: values differ")
-        walk(fa, fb, p, x, y, out)
 
 
 def main():
@@ -248,7 +246,7 @@ def main():
             continue
         out = []
         with h5py.File(pa, "r") as fa, h5py.File(pb, "r") as fb:
-            walk(fa, fb, "/", fa, fb, out)
+            walk(fa, fb, out)
         print(f"== {n[:-3]}: {len(out) and sum(1 for l in out if not l.startswith('  '))} difference(s)")
         for line in out:
             print(f"  {line}")
