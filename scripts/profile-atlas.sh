@@ -25,16 +25,25 @@ for line in open(sys.argv[1]):
         cur.append(line.strip())
 if cur:
     samples.append(" ".join(cur))
-phases = [("Classifier::classify", "confirmation run (classifier)"), ("stick_slip", "stick-slip runs"),
+# The first key on a sample's stack names its phase (outermost phases last: a confirmation
+# run's band search is inside the confirmation, the fold's steps inside the crisis).
+phases = [("classifier_for", "confirmation: band search"),
+          ("Classifier::classify", "confirmation run (classifier)"), ("stick_slip", "stick-slip runs"),
           ("half_dt_shift", "dt/2 check"), ("describe_bracket", "cycle description"),
+          ("clear_above", "fold: samples above its interval"),
+          ("widen", "fold: ends at dt/2 and longer horizon"),
+          ("bisect_both", "fold: bisections"), ("coarse_changes", "fold: coarse scan"),
+          ("raise_top", "fold: raised over the critical damping"),
+          ("check_half_dt", "critical damping: dt/2 check"),
+          ("bisect_nu", "critical damping: bisection"),
           ("refine", "bracket narrowing"), ("search", "cycle search")]
 count = collections.Counter()
 for s in samples:
-    unit = "boundary" if ("both_in" in s or "Evaluator" in s or "Crossings" in s) else ("point" if "compute_point" in s else "other")
+    unit = "boundary" if ("both_in" in s or "both_with" in s or "Evaluator" in s or "Crossings" in s) else ("point" if "compute_point" in s else "other")
     phase = next((name for key, name in phases if key in s), "rest")
     count[(unit, phase)] += 1
 n = max(len(samples), 1)
 print(f"{len(samples)} samples")
 for (unit, phase), k in count.most_common():
-    print(f"{unit:>8}  {phase:<30} {100 * k / n:5.1f}%")
+    print(f"{unit:>8}  {phase:<40} {100 * k / n:5.1f}%")
 PY
