@@ -57,6 +57,32 @@ fn an_absurd_search_range_names_the_flag() {
     );
 }
 
+/// A huge flag value is named in exponent form: `trajectory --dt 1e300` and `--x0 1e300`
+/// were reported as 1 followed by 300 zeros.
+#[test]
+fn a_huge_flag_value_is_named_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (
+            &["trajectory", "--dt", "1e300"][..],
+            "--dt: invalid dt = 1e300:",
+        ),
+        (
+            &["trajectory", "--x0", "1e300"][..],
+            "--x0: invalid value 1e300:",
+        ),
+        (
+            &["trajectory", "--a1", "1e300", "--law", "cubic"][..],
+            "invalid a1 = 1e300:",
+        ),
+    ] {
+        let o = squeal(d.path(), args);
+        let n = o.stderr.len();
+        refused(o, needle);
+        assert!(n < 300, "{n} bytes of message for {args:?}");
+    }
+}
+
 /// Runs with no cap: `--verify-rays 1000000000`, `trajectory --dt 1e-12` or `--t-end 1e15`.
 #[test]
 fn unbounded_runs_are_refused_before_they_start() {

@@ -96,7 +96,7 @@ impl ModelArgs {
         if !self.dt.is_finite() || self.dt <= 0.0 || self.dt > 1.0 {
             bail!(
                 "--dt: invalid dt = {}: expected a finite step in (0, 1]",
-                self.dt
+                squeal_core::error::Number(self.dt)
             );
         }
         Stepper::new(

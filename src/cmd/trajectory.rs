@@ -229,7 +229,10 @@ fn write_outputs(
 
 fn check_finite(flag: &str, value: f64) -> anyhow::Result<()> {
     if !value.is_finite() || value.abs() > 1e6 {
-        bail!("{flag}: invalid value {value}: expected a finite number with |value| <= 1e6");
+        bail!(
+            "{flag}: invalid value {}: expected a finite number with |value| <= 1e6",
+            squeal_core::error::Number(value)
+        );
     }
     Ok(())
 }

@@ -5,7 +5,7 @@
 #[non_exhaustive]
 pub enum CoreError {
     /// A model or integration parameter is out of range.
-    #[error("invalid {name} = {value}: expected {expected}")]
+    #[error("invalid {name} = {}: expected {expected}", Number(*value))]
     InvalidParameter {
         name: &'static str,
         value: f64,
@@ -34,6 +34,22 @@ pub enum CoreError {
     UnknownSolver(String),
 }
 
+/// A value as a reader reads it: as Rust writes it (`0.45`, `-1`, `NaN`), in exponent form
+/// where that would run to more than 16 digits (`1e300`, not 301 digits; `2.5e-7`).
+#[derive(Clone, Copy, Debug)]
+pub struct Number(pub f64);
+
+impl std::fmt::Display for Number {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
+}
+
 impl CoreError {
     /// `Err(InvalidParameter)`: a value out of its range, naming the key and what it must be.
     pub fn invalid<T>(
@@ -46,5 +62,36 @@ impl CoreError {
             value,
             expected,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A huge or tiny value is named in exponent form: `1e300` was written out as 301 digits
+    /// (`squeal critical --law cubic --a1 1e300`), which no reader can check at a glance.
+    #[test]
+    fn a_refused_value_is_named_as_a_reader_reads_it() {
+        let msg = |v: f64| {
+            CoreError::invalid::<()>("a1", v, "a coefficient")
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(msg(1e300), "invalid a1 = 1e300: expected a coefficient");
+        assert_eq!(msg(-2.5e-7), "invalid a1 = -2.5e-7: expected a coefficient");
+        assert_eq!(
+            msg(f64::MAX),
+            "invalid a1 = 1.7976931348623157e308: expected a coefficient"
+        );
+        // In range, as Rust writes them (what existing messages and tests read).
+        for (v, w) in [(0.45, "0.45"), (-1.0, "-1"), (0.0, "0"), (1e6, "1000000")] {
+            assert_eq!(msg(v), format!("invalid a1 = {w}: expected a coefficient"));
+        }
+        assert_eq!(msg(f64::NAN), "invalid a1 = NaN: expected a coefficient");
+        assert_eq!(
+            msg(f64::NEG_INFINITY),
+            "invalid a1 = -inf: expected a coefficient"
+        );
     }
 }

@@ -98,7 +98,7 @@ pub enum ScanError {
         message: String,
     },
     /// A key has a value out of range.
-    #[error("{path}: `{key}` = {value}: {expected}")]
+    #[error("{path}: `{key}` = {}: {expected}", shown(value))]
     Invalid {
         /// The spec file.
         path: String,
@@ -171,5 +171,15 @@ pub enum BracketProblem {
 impl From<NoCycle> for ScanError {
     fn from(e: NoCycle) -> ScanError {
         ScanError::NoCycle(e)
+    }
+}
+
+/// A refused value as given, but a number that its plain form writes out in more than 20
+/// characters (`1e300` read from a spec is `1` and 300 zeros) in exponent form
+/// ([`squeal_core::error::Number`]).
+fn shown(value: &str) -> String {
+    match value.parse::<f64>() {
+        Ok(v) if value.len() > 20 => squeal_core::error::Number(v).to_string(),
+        _ => value.to_string(),
     }
 }

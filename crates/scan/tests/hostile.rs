@@ -241,3 +241,26 @@ fn a_fixed_point_ball_reaching_the_located_cycle_is_refused() {
     let small = Plan::from_toml(&text("1e-3"), "t.toml").unwrap();
     assert!(squeal_scan::MapContext::prepare(&small, 0).is_ok());
 }
+
+/// A huge value is named as the spec wrote it, in exponent form: `nu = 1e300` was reported
+/// as "`model.nu` = 1" followed by 300 zeros (and `integration.dt = 1e300` the same), which
+/// no reader can check against the spec.
+#[test]
+fn a_huge_value_is_named_in_exponent_form() {
+    for (text, key) in [
+        (SCAN.replace("nu = 1e-3", "nu = 1e300"), "model.nu"),
+        (with(SCAN, "[integration]\ndt = 1e300"), "integration.dt"),
+        (
+            ATLAS.replace("nu = [1e-3, 2e-3]", "nu = [1e-3, 1e300]"),
+            "model.nu",
+        ),
+    ] {
+        let e = if text.contains("[grid]") {
+            scan_err(&text)
+        } else {
+            atlas_err(&text)
+        };
+        assert!(e.contains(&format!("`{key}` = 1e300:")), "{e}");
+        assert!(e.len() < 300, "{} characters: {e}", e.len());
+    }
+}
