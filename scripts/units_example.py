@@ -78,8 +78,10 @@ def main():
     table1 = (abs(nu - 1e-3) < 1e-9 and abs(lam - 3.0) < 1e-6
               and abs(tau_nd - 0.1 * math.sqrt(10)) < 1e-6 and abs(phi - 1.0) < 1e-6)
     if table1:
-        r = 0.372  # the nu = 1e-3 unstable cycle's distance along +x: `squeal ulc --nu 1e-3` (dt = 0.01)
-        r_v = 0.365  # its x' on the section x = x*: r_section of the same command
+        # `squeal ulc --nu 1e-3` (default dt 0.005, foh; 2026-11-25): "distance from the fixed
+        # point along +x 0.374326" and section "x' = 0.3667494277" (dt 0.01: 0.374378, 0.366805).
+        r = 0.374  # the nu = 1e-3 unstable cycle's distance along +x
+        r_v = 0.367  # its x' on the section x = x*
         print(f"  the nu = 1e-3 unstable cycle reaches {r} beyond the fixed point ({r * x_unit * 1e6:.3g} um)"
               f" and x' = {r_v} on the section ({r_v * v_unit * 1e3:.3g} mm/s):"
               f" a start inside it slides steadily, one outside squeals")
