@@ -138,39 +138,11 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
             .iter()
             .zip(plan.values_at(i))
             .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
-            .map(|(a, v)| {
-                format!(
-                    "{} = {v:.4} {}",
-                    a.key,
-                    if a.units == "1" { "" } else { a.units }
-                )
+            .map(|(a, v)| match a.units {
+                "1" => format!("{} = {v:.4}", a.key),
+                u => format!("{} = {v:.4} {u}", a.key),
             })
             .collect();
-        let show = |bd: &squeal_scan::atlas::Boundary| {
-            let half = match bd.half_dt_holds {
-                Some(true) => "",
-                Some(false) => " [moves at dt/2]",
-                None => " [dt/2 not checked]",
-            };
-            let err = match bd.uncertainty.is_finite() {
-                true => format!(" +- {:.5}", bd.uncertainty),
-                false => String::new(),
-            };
-            let flips = match bd.changes > 1 {
-                true => format!(" [REGIME CHANGES {} TIMES]", bd.changes),
-                false => String::new(),
-            };
-            let half = format!("{err}{half}{flips}");
-            match bd.status {
-                BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
-                    Some((v, u)) => {
-                        format!("{bkey} = {:.5} ({dkey} = {v:.4} {u}){half}", bd.nu)
-                    }
-                    None => format!("{bkey} = {:.5}{half}", bd.nu),
-                },
-                s => s.name().to_string(),
-            }
-        };
         println!(
             "    {}: fold {}, critical {}",
             if at.is_empty() {
@@ -178,8 +150,8 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
             } else {
                 at.join(", ")
             },
-            show(&b.fold),
-            show(&b.critical)
+            boundary_text(plan, i, &b.fold),
+            boundary_text(plan, i, &b.critical)
         );
         let l = &b.lifetime;
         if l.mean.is_finite() {
@@ -194,5 +166,43 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
                 l.exponent_se
             );
         }
+    }
+}
+
+/// One boundary of a search as the summary words it: the value with its uncertainty, and
+/// for a physical plan the same in SI units beside it, then whether it holds at dt/2.
+fn boundary_text(plan: &AtlasPlan, i: usize, bd: &squeal_scan::atlas::Boundary) -> String {
+    let (dkey, _) = plan.boundary_axis();
+    let bkey = plan.boundary_key();
+    let half = match bd.half_dt_holds {
+        Some(true) => "",
+        Some(false) => " [moves at dt/2]",
+        None => " [dt/2 not checked]",
+    };
+    // The uncertainty stands next to the value it belongs to, in both unit systems: printed
+    // after the SI value, a nondimensional "+- 0.00128" read as if it were in N s/m.
+    let known = bd.uncertainty.is_finite();
+    let err = |e: f64, digits: usize| match known {
+        true => format!(" +- {e:.digits$}"),
+        false => String::new(),
+    };
+    let flips = match bd.changes > 1 {
+        true => format!(" [REGIME CHANGES {} TIMES]", bd.changes),
+        false => String::new(),
+    };
+    let value = format!("{bkey} = {:.5}{}", bd.nu, err(bd.uncertainty, 5));
+    match bd.status {
+        BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
+            Some((v, u)) => {
+                // The SI scale is linear (c = nu 2 sqrt(m k), v_belt = lambda mu_k g /
+                // omega_0), so the uncertainty scales as the value does.
+                let e = plan
+                    .boundary_si(i, bd.uncertainty)
+                    .map_or(f64::NAN, |p| p.0);
+                format!("{value} ({dkey} = {v:.4}{} {u}){half}{flips}", err(e, 4))
+            }
+            None => format!("{value}{half}{flips}"),
+        },
+        s => s.name().to_string(),
     }
 }
