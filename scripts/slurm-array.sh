@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Run a squeal scan or atlas as a SLURM job array of N shards, then merge the shards.
 #
-#   scripts/slurm-array.sh scans/nu-sweep.toml 16 [out/nu-sweep.h5]
+#   KIND=scan scripts/slurm-array.sh scans/nu-sweep.toml 16 [out/nu-sweep.h5]
 #   scripts/slurm-array.sh scans/atlas-lambda-nu.toml 8       # an atlas: shards by points
 #
 # The spec's kind picks the command: an atlas spec (`squeal atlas`: no [grid] table, or one
