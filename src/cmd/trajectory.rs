@@ -206,6 +206,7 @@ fn write_outputs(
                     ..span
                 },
                 t,
+                args.model.physical()?.as_ref(),
             )
             .map_err(anyhow::Error::from),
         };

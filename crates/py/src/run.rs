@@ -61,7 +61,7 @@ pub fn trajectory(
     let t = interruptible(py, &stop, || {
         squeal_scan::trajectory::run_in(&ctx, span, Some(&stop))
     })?;
-    write_run(&out, true, &provenance(), stepper, span, &t).map_err(store_error)?;
+    write_run(&out, true, &provenance(), stepper, span, &t, None).map_err(store_error)?;
     let o = &t.outcome;
     let verdict = (o.regime.name(), o.reason.name(), o.t_decision, o.t_squeal);
     Ok(verdict)

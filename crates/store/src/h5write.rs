@@ -39,7 +39,7 @@ pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
 /// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
 /// the SI size of one nondimensional unit.
-fn physical_attrs(
+pub(crate) fn physical_attrs(
     file: &File,
     ph: &squeal_core::Physical,
     swept: Option<&str>,

@@ -158,7 +158,10 @@ pub fn write_samples(
 /// samples with the settings as root attributes (the law and its parameters, the solver, the
 /// step, the start, the end, the stride; under a law with true stick the parameters' long
 /// names and units and the counts of stick onsets, breakaways and slip reversals). One place
-/// for `squeal trajectory --out` and the Python `squeal.trajectory`.
+/// for `squeal trajectory --out` and the Python `squeal.trajectory`. A run of a physical
+/// system (`physical`) also stores it and the SI size of one unit, as a physical scan does:
+/// the file's numbers stay nondimensional, and without these an engineer's `--x0` in metres
+/// came back as a bare number in other units.
 pub fn write_run(
     path: &Path,
     force: bool,
@@ -166,6 +169,7 @@ pub fn write_run(
     stepper: &squeal_core::Stepper,
     span: squeal_scan::trajectory::Span,
     traj: &squeal_scan::trajectory::Trajectory,
+    physical: Option<&squeal_core::Physical>,
 ) -> Result<(), StoreError> {
     let p = stepper.params();
     let named = p.named();
@@ -204,5 +208,10 @@ pub fn write_run(
         numbers,
         counts,
     };
-    write_samples(path, force, prov, &attrs, &traj.samples)
+    write_samples(path, force, prov, &attrs, &traj.samples)?;
+    if let Some(ph) = physical {
+        let file = File::open_rw(path).h5(path)?;
+        crate::h5write::physical_attrs(&file, ph, None).h5(path)?;
+    }
+    Ok(())
 }
