@@ -137,6 +137,34 @@ path = "b.h5"
     }
 }
 
+/// A tiny damping is printed in exponent form by `scan` (its no-cycle note) and by `info`
+/// (the stored attribute): `nu = 1e-300` was written out as 300 zeros and a 1.
+#[test]
+fn a_tiny_damping_is_printed_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-300
+[grid]
+x0 = { min = 0.0, max = 2.0, count = 2 }
+v0 = { min = -1.0, max = 1.0, count = 2 }
+[classifier]
+t_max = 100.0
+[output]
+path = "t.h5"
+"#;
+    std::fs::write(d.path().join("t.toml"), spec).unwrap();
+    let o = squeal(d.path(), &["scan", "t.toml", "--quiet"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("(nu = 1e-300)"), "{out}");
+    let o = squeal(d.path(), &["info", "t.h5"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("\n  nu = 1e-300\n"), "{out}");
+    assert!(!out.contains("0000000000"), "{out}");
+}
+
 /// Complete records of `kind` in a journal: `SQJR`, kind byte, u32 length (little endian),
 /// payload, 8-byte checksum (crates/store/src/journal.rs).
 fn records_in(journal: &Path, kind: u8) -> usize {

@@ -264,3 +264,23 @@ fn a_huge_value_is_named_in_exponent_form() {
         assert!(e.len() < 300, "{} characters: {e}", e.len());
     }
 }
+
+/// The damping in a no-cycle note is named in exponent form: a scan of `nu = 1e-300` printed
+/// "the return map grows already at r = 0.01 (nu = 0.000...1)" with 300 zeros, and so did
+/// `cycle.r_min = 1e-300`.
+#[test]
+fn a_tiny_damping_in_a_no_cycle_note_is_in_exponent_form() {
+    use squeal_scan::NoCycle;
+    use squeal_scan::error::Damping;
+    let repels = NoCycle::FixedPointRepels {
+        r_min: 1e-300,
+        damping: Damping::Nu(1e-300),
+    };
+    assert_eq!(
+        repels.to_string(),
+        "the return map grows already at r = 1e-300 (nu = 1e-300): the steady-slip fixed \
+         point repels"
+    );
+    // In range, as Rust writes it (what the existing notes read).
+    assert_eq!(Damping::Xi(0.05).to_string(), "xi = 0.05");
+}

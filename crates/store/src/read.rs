@@ -204,7 +204,13 @@ fn attr_text(a: &Attribute) -> hdf5::Result<String> {
     Ok(match d {
         TypeDescriptor::VarLenUnicode if scalar => a.read_scalar::<VarLenUnicode>()?.to_string(),
         TypeDescriptor::VarLenAscii if scalar => a.read_scalar::<VarLenAscii>()?.to_string(),
-        TypeDescriptor::Float(_) => join(a.read_raw::<f64>()?),
+        // Exponent form for a huge or tiny value: `nu = 1e-300` was shown with 300 zeros.
+        TypeDescriptor::Float(_) => join(
+            a.read_raw::<f64>()?
+                .into_iter()
+                .map(squeal_core::error::Number)
+                .collect(),
+        ),
         TypeDescriptor::Integer(_) => join(a.read_raw::<i64>()?),
         TypeDescriptor::Unsigned(_) => join(a.read_raw::<u64>()?),
         other => format!("<{other}>"),
