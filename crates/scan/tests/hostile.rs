@@ -284,3 +284,26 @@ fn a_tiny_damping_in_a_no_cycle_note_is_in_exponent_form() {
     // In range, as Rust writes it (what the existing notes read).
     assert_eq!(Damping::Xi(0.05).to_string(), "xi = 0.05");
 }
+
+/// A range of one value with two different ends ran one map at `from` and dropped `to`, as a
+/// grid axis of `count = 1` with `min != max` did before it was refused; and a huge end of a
+/// range was named with 300 digits.
+#[test]
+fn a_range_of_one_value_between_two_ends_is_refused() {
+    let one = |v: &str| SCAN.replace("nu = 1e-3", &format!("nu = {v}"));
+    let e = scan_err(&one("{ from = 1e-3, to = 2e-3, count = 1 }"));
+    assert_names(&e, "model.nu.count", "count >= 2 for a range, or from = to");
+    assert!(e.contains("1 from 0.001 to 0.002"), "{e}");
+    let e = atlas_err(&ATLAS.replace(
+        "nu = [1e-3, 2e-3]",
+        "nu = 1e-3\nlambda = { from = 1.0, to = 2.0, count = 1 }",
+    ));
+    assert_names(&e, "model.lambda.count", "count >= 2 for a range");
+    // One value written as a range is still one map.
+    let plan = Plan::from_toml(&one("{ from = 1e-3, to = 1e-3, count = 1 }"), "t.toml").unwrap();
+    assert_eq!(plan.maps.len(), 1);
+    let e = scan_err(&one(
+        "{ from = -1e300, to = 1e-3, count = 3, spacing = \"log\" }",
+    ));
+    assert!(e.contains("from -1e300 to 0.001"), "{e}");
+}
