@@ -633,7 +633,7 @@ impl Plan {
         let (maps, sweep) = model_maps(m, &invalid)?;
         let mut grid = initial_conditions(spec.grid.as_ref(), spec.sample.as_ref(), &invalid)?;
         if let Some(ph) = &physical {
-            physical::grid_to_nondimensional(&mut grid, ph);
+            physical::grid_to_nondimensional(&mut grid, ph, &invalid)?;
         }
         let (dt, solver) = spec.integration.check(&invalid)?;
         let ClassifierPlan {

@@ -307,3 +307,40 @@ fn a_range_of_one_value_between_two_ends_is_refused() {
     ));
     assert!(e.contains("from -1e300 to 0.001"), "{e}");
 }
+
+/// A physical spec's grid or sample region is checked in the model's units, as the atlas's
+/// box is: with `m = 1e300` a grid 0.4 mm wide became 6e-300 units wide (every cell the same
+/// state), and x0 in +-3 km (the length unit mu_k g m / k = 69 um for the brake below) put
+/// the starts beyond the escape radius; both ran.
+#[test]
+fn a_physical_grid_is_checked_in_the_models_units() {
+    let brake = r#"version = 1
+[model]
+law = "mcmillan"
+[physical]
+m = 2.0
+k = 5.0e4
+c = 5.0
+v_belt = 0.05
+mu_k = 0.35
+mu_s = 0.45
+tau = 1e-3
+[grid]
+x0 = { min = -1e-4, max = 3e-4, count = 6 }
+v0 = { min = -0.02, max = 0.02, count = 6 }
+[output]
+path = "x.h5"
+"#;
+    assert!(Plan::from_toml(brake, "t.toml").is_ok());
+    let e = scan_err(&brake.replace("m = 2.0", "m = 1e300"));
+    assert_names(&e, "grid.x0", "a box with an area");
+    assert!(e.contains("in the model's units"), "{e}");
+    let e = scan_err(&brake.replace("min = -1e-4, max = 3e-4", "min = -3e3, max = 3e3"));
+    assert_names(&e, "grid.x0", "<= 1e6");
+    // v0 in +-100 km/s: 4.6e6 velocity units of mu_k g / omega_0 = 21.7 mm/s.
+    let sampled = brake.replace(
+        "[grid]\nx0 = { min = -1e-4, max = 3e-4, count = 6 }\nv0 = { min = -0.02, max = 0.02, count = 6 }",
+        "[sample]\nkind = \"random\"\nn = 10\nseed = 1\nregion = { x0 = [-1e-4, 3e-4], v0 = [-1e5, 1e5] }",
+    );
+    assert_names(&scan_err(&sampled), "sample.region.v0", "<= 1e6");
+}
