@@ -101,6 +101,28 @@ fn unbounded_runs_are_refused_before_they_start() {
     );
 }
 
+/// `critical --x0 1e300` bisected for a start far beyond the escape radius (and printed it
+/// with 300 digits), and `--starts` had no bound (1e8 lifetime runs per damping).
+#[test]
+fn critical_refuses_a_start_beyond_the_escape_radius_and_endless_lifetimes() {
+    let d = tempfile::tempdir().unwrap();
+    refused(
+        squeal(d.path(), &["critical", "--x0", "1e300"]),
+        "`--x0` = 1e300: a finite coordinate with |value| <= 1e6",
+    );
+    refused(
+        squeal(d.path(), &["critical", "--v0", "-2e6"]),
+        "`--v0` = -2000000.0",
+    );
+    refused(
+        squeal(
+            d.path(),
+            &["critical", "--fold", "--lifetimes", "--starts", "100000000"],
+        ),
+        "--starts 100000000: expected 2 to 4096 starts",
+    );
+}
+
 /// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and
 /// left it empty.
 #[test]

@@ -32,6 +32,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v: args.v0,
     };
     let point = scales.map_or(given, |s| s.state(given));
+    // The start, in the model's units, within the classifier's escape radius (`--x0 1e300`
+    // was bisected for).
+    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: "command line".into(),
+        key: key.into(),
+        value,
+        expected: if scales.is_some() {
+            format!("{expected}, in the model's units")
+        } else {
+            expected.into()
+        },
+    };
+    squeal_scan::bounds::state("--x0", point.x, &inv)?;
+    squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let stribeck = plan.maps[setup.map].law.has_true_stick();
     let args = match (args.in_.as_str(), stribeck) {
         ("xi" | "v_d", false) => bail!(
@@ -144,8 +158,12 @@ fn check_lifetimes(args: &Args) -> anyhow::Result<()> {
     if !(args.crisis || (args.fold && args.in_ == "nu")) {
         bail!("--lifetimes: with --crisis or --fold in the damping (--in nu)");
     }
-    if args.starts < 2 {
-        bail!("--starts {}: expected at least 2 starts", args.starts);
+    if !(2..=squeal_scan::bounds::MAX_LIFETIME_STARTS).contains(&args.starts) {
+        bail!(
+            "--starts {}: expected 2 to {} starts",
+            args.starts,
+            squeal_scan::bounds::MAX_LIFETIME_STARTS
+        );
     }
     if !(args.lifetime_t_max.is_finite() && args.lifetime_t_max > 0.0) {
         bail!(
