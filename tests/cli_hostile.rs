@@ -123,6 +123,17 @@ fn critical_refuses_a_start_beyond_the_escape_radius_and_endless_lifetimes() {
     );
 }
 
+/// `trajectory --tau 1e-300` echoed the run's parameters with 300 zeros.
+#[test]
+fn a_run_echoes_tiny_values_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    let o = squeal(d.path(), &["trajectory", "--tau", "1e-300", "--t-end", "1"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains(" tau=1e-300 "), "{out}");
+    assert!(out.lines().all(|l| l.len() < 300), "{out}");
+}
+
 /// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and
 /// left it empty.
 #[test]
