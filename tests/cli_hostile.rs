@@ -102,7 +102,8 @@ fn unbounded_runs_are_refused_before_they_start() {
 }
 
 /// `critical --x0 1e300` bisected for a start far beyond the escape radius (and printed it
-/// with 300 digits), and `--starts` had no bound (1e8 lifetime runs per damping).
+/// with 300 digits), and `--starts` and `--lifetime-t-max` had no bound (1e8 lifetime runs
+/// per damping; 2e302 steps per run).
 #[test]
 fn critical_refuses_a_start_beyond_the_escape_radius_and_endless_lifetimes() {
     let d = tempfile::tempdir().unwrap();
@@ -120,6 +121,19 @@ fn critical_refuses_a_start_beyond_the_escape_radius_and_endless_lifetimes() {
             &["critical", "--fold", "--lifetimes", "--starts", "100000000"],
         ),
         "--starts 100000000: expected 2 to 4096 starts",
+    );
+    refused(
+        squeal(
+            d.path(),
+            &[
+                "critical",
+                "--fold",
+                "--lifetimes",
+                "--lifetime-t-max",
+                "1e300",
+            ],
+        ),
+        "--lifetime-t-max 1e300 with dt 0.005: 2.000e302 steps per run, at most 1e10",
     );
 }
 

@@ -23,7 +23,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !(args.rtol > 0.0 && args.rtol < 1.0) {
         bail!("--rtol {}: expected a value in (0, 1)", args.rtol);
     }
-    check_lifetimes(&args)?;
+    check_lifetimes(&args, plan.dt)?;
     let t0 = std::time::Instant::now();
     // A physical system: --x0/--v0 are in m and m/s, results also in SI units.
     let scales = plan.physical.map(|ph| ph.scales());
@@ -151,7 +151,7 @@ fn boundary(
 
 /// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in
 /// the damping (`--crisis`, or `--fold` in nu).
-fn check_lifetimes(args: &Args) -> anyhow::Result<()> {
+fn check_lifetimes(args: &Args, dt: f64) -> anyhow::Result<()> {
     if !args.lifetimes {
         return Ok(());
     }
@@ -169,6 +169,16 @@ fn check_lifetimes(args: &Args) -> anyhow::Result<()> {
         bail!(
             "--lifetime-t-max {}: expected a finite time > 0",
             args.lifetime_t_max
+        );
+    }
+    // A censored start runs to the end: the bound of any one run (`--lifetime-t-max 1e300`
+    // asked for 2e302 steps per start).
+    let steps = args.lifetime_t_max / dt;
+    if steps > squeal_scan::bounds::MAX_STEPS {
+        bail!(
+            "--lifetime-t-max {} with dt {dt:?}: {steps:.3e} steps per run, at most 1e10 (about \
+             40 minutes at 250 ns per step)",
+            squeal_core::error::Number(args.lifetime_t_max)
         );
     }
     Ok(())
