@@ -148,6 +148,22 @@ fn a_run_echoes_tiny_values_in_exponent_form() {
     assert!(out.lines().all(|l| l.len() < 300), "{out}");
 }
 
+/// `classify` labelled a start at `x0 = 1e300` stick-slip (the start rule, outside the
+/// cycle, with no run); a start beyond the escape radius is refused naming its line.
+#[test]
+fn classify_refuses_a_start_beyond_the_escape_radius() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0.5,0.0\n\n1e300,0.0\n").unwrap();
+    refused(
+        squeal(
+            d.path(),
+            &["classify", "--ics", "ics.csv", "--out", "o.csv"],
+        ),
+        "ics.csv:4: `x0` = 1e300: a finite coordinate with |value| <= 1e6",
+    );
+    assert!(!d.path().join("o.csv").exists());
+}
+
 /// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and
 /// left it empty.
 #[test]
