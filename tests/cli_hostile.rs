@@ -164,6 +164,22 @@ fn classify_refuses_a_start_beyond_the_escape_radius() {
     assert!(!d.path().join("o.csv").exists());
 }
 
+/// `trajectory --x0 1e6` of a physical system (metres: 7.3e9 units for the brake below,
+/// whose length unit is mu_k g m / k = 137 um) ran from beyond the escape radius.
+#[test]
+fn a_physical_start_is_checked_in_the_models_units() {
+    let d = tempfile::tempdir().unwrap();
+    let brake = [
+        "--m", "2", "--k", "5e4", "--c", "5", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s",
+        "0.45", "--tau-s", "1e-3",
+    ];
+    let args = [&["trajectory", "--t-end", "1", "--x0", "1e6"][..], &brake].concat();
+    refused(
+        squeal(d.path(), &args),
+        "--x0 (in the model's units): invalid value 7281199941.75",
+    );
+}
+
 /// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and
 /// left it empty.
 #[test]
