@@ -344,3 +344,21 @@ path = "x.h5"
     );
     assert_names(&scan_err(&sampled), "sample.region.v0", "<= 1e6");
 }
+
+/// A grid axis narrower than the numbers' resolution allows for its count put neighbouring
+/// cells at one coordinate: `[1.0, 1.0000000000000002]` (one unit in the last place apart)
+/// with 8 cells ran 8 columns from 2 distinct states.
+#[test]
+fn grid_cells_lie_at_distinct_coordinates() {
+    let e = scan_err(&SCAN.replace(
+        "x0 = { min = -3.0, max = 5.0, count = 32 }",
+        "x0 = { min = 1.0, max = 1.0000000000000002, count = 8 }",
+    ));
+    assert_names(&e, "grid.x0", "cells at distinct coordinates");
+    // Two cells one unit in the last place apart are distinct: accepted.
+    let two = SCAN.replace(
+        "x0 = { min = -3.0, max = 5.0, count = 32 }",
+        "x0 = { min = 1.0, max = 1.0000000000000002, count = 2 }",
+    );
+    assert!(Plan::from_toml(&two, "t.toml").is_ok());
+}
