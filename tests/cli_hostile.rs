@@ -216,8 +216,9 @@ path = "b.h5"
     }
 }
 
-/// A tiny damping is printed in exponent form by `scan` (its no-cycle note) and by `info`
-/// (the stored attribute): `nu = 1e-300` was written out as 300 zeros and a 1.
+/// A tiny damping is printed in exponent form by `scan` (its no-cycle note), by `info` (the
+/// stored attribute) and in a map's title (`compare`): `nu = 1e-300` was written out as 300
+/// zeros and a 1.
 #[test]
 fn a_tiny_damping_is_printed_in_exponent_form() {
     let d = tempfile::tempdir().unwrap();
@@ -242,6 +243,10 @@ path = "t.h5"
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("\n  nu = 1e-300\n"), "{out}");
     assert!(!out.contains("0000000000"), "{out}");
+    // The map's title (compare's lines, the pictures).
+    let o = squeal(d.path(), &["compare", "t.h5", "t.h5"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("  mcmillan nu = 1e-300: "), "{out}");
 }
 
 /// Complete records of `kind` in a journal: `SQJR`, kind byte, u32 length (little endian),
