@@ -101,6 +101,85 @@ fn unbounded_runs_are_refused_before_they_start() {
     );
 }
 
+/// `critical --x0 1e300` bisected for a start far beyond the escape radius (and printed it
+/// with 300 digits), and `--starts` and `--lifetime-t-max` had no bound (1e8 lifetime runs
+/// per damping; 2e302 steps per run).
+#[test]
+fn critical_refuses_a_start_beyond_the_escape_radius_and_endless_lifetimes() {
+    let d = tempfile::tempdir().unwrap();
+    refused(
+        squeal(d.path(), &["critical", "--x0", "1e300"]),
+        "`--x0` = 1e300: a finite coordinate with |value| <= 1e6",
+    );
+    refused(
+        squeal(d.path(), &["critical", "--v0", "-2e6"]),
+        "`--v0` = -2000000.0",
+    );
+    refused(
+        squeal(
+            d.path(),
+            &["critical", "--fold", "--lifetimes", "--starts", "100000000"],
+        ),
+        "--starts 100000000: expected 2 to 4096 starts",
+    );
+    refused(
+        squeal(
+            d.path(),
+            &[
+                "critical",
+                "--fold",
+                "--lifetimes",
+                "--lifetime-t-max",
+                "1e300",
+            ],
+        ),
+        "--lifetime-t-max 1e300 with dt 0.005: 2.000e302 steps per run, at most 1e10",
+    );
+}
+
+/// `trajectory --tau 1e-300` echoed the run's parameters with 300 zeros.
+#[test]
+fn a_run_echoes_tiny_values_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    let o = squeal(d.path(), &["trajectory", "--tau", "1e-300", "--t-end", "1"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains(" tau=1e-300 "), "{out}");
+    assert!(out.lines().all(|l| l.len() < 300), "{out}");
+}
+
+/// `classify` labelled a start at `x0 = 1e300` stick-slip (the start rule, outside the
+/// cycle, with no run); a start beyond the escape radius is refused naming its line.
+#[test]
+fn classify_refuses_a_start_beyond_the_escape_radius() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0.5,0.0\n\n1e300,0.0\n").unwrap();
+    refused(
+        squeal(
+            d.path(),
+            &["classify", "--ics", "ics.csv", "--out", "o.csv"],
+        ),
+        "ics.csv:4: `x0` = 1e300: a finite coordinate with |value| <= 1e6",
+    );
+    assert!(!d.path().join("o.csv").exists());
+}
+
+/// `trajectory --x0 1e6` of a physical system (metres: 7.3e9 units for the brake below,
+/// whose length unit is mu_k g m / k = 137 um) ran from beyond the escape radius.
+#[test]
+fn a_physical_start_is_checked_in_the_models_units() {
+    let d = tempfile::tempdir().unwrap();
+    let brake = [
+        "--m", "2", "--k", "5e4", "--c", "5", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s",
+        "0.45", "--tau-s", "1e-3",
+    ];
+    let args = [&["trajectory", "--t-end", "1", "--x0", "1e6"][..], &brake].concat();
+    refused(
+        squeal(d.path(), &args),
+        "--x0 (in the model's units): invalid value 7281199941.75",
+    );
+}
+
 /// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and
 /// left it empty.
 #[test]
@@ -135,6 +214,39 @@ path = "b.h5"
         );
         assert_eq!(std::fs::read(&png).unwrap(), whole, "not redrawn: {err}");
     }
+}
+
+/// A tiny damping is printed in exponent form by `scan` (its no-cycle note), by `info` (the
+/// stored attribute) and in a map's title (`compare`): `nu = 1e-300` was written out as 300
+/// zeros and a 1.
+#[test]
+fn a_tiny_damping_is_printed_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-300
+[grid]
+x0 = { min = 0.0, max = 2.0, count = 2 }
+v0 = { min = -1.0, max = 1.0, count = 2 }
+[classifier]
+t_max = 100.0
+[output]
+path = "t.h5"
+"#;
+    std::fs::write(d.path().join("t.toml"), spec).unwrap();
+    let o = squeal(d.path(), &["scan", "t.toml", "--quiet"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("(nu = 1e-300)"), "{out}");
+    let o = squeal(d.path(), &["info", "t.h5"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("\n  nu = 1e-300\n"), "{out}");
+    assert!(!out.contains("0000000000"), "{out}");
+    // The map's title (compare's lines, the pictures).
+    let o = squeal(d.path(), &["compare", "t.h5", "t.h5"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("  mcmillan nu = 1e-300: "), "{out}");
 }
 
 /// Complete records of `kind` in a journal: `SQJR`, kind byte, u32 length (little endian),

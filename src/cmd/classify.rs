@@ -28,9 +28,27 @@ pub struct Args {
     pub force: bool,
 }
 
-fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<State>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+/// Largest initial-conditions file read: 1 GiB, some 25 million rows of two numbers written
+/// in full (about 40 bytes a row). `--ics /dev/zero` was read until memory ran out.
+const MAX_ICS_BYTES: u64 = 1 << 30;
+
+/// The initial conditions of the file and the line each is on.
+fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<(usize, State)>> {
+    use std::io::Read;
+    let reading = || format!("reading {}", path.display());
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .with_context(reading)?
+        .take(MAX_ICS_BYTES + 1)
+        .read_to_string(&mut text)
+        .with_context(reading)?;
+    if text.len() as u64 > MAX_ICS_BYTES {
+        bail!(
+            "{}: longer than 1 GiB (about 25 million initial conditions): not an initial \
+             conditions file, or split it",
+            path.display()
+        );
+    }
     let mut lines = text
         .lines()
         .enumerate()
@@ -67,24 +85,52 @@ fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<State>> {
             }
             Ok(v)
         };
-        out.push(State {
+        let state = State {
             x: get(ix, "x0")?,
             v: get(iv, "v0")?,
-        });
+        };
+        out.push((n + 1, state));
     }
     Ok(out)
+}
+
+/// A start within the classifier's escape radius, in the model's units: a start at
+/// `x0 = 1e300` was labelled stick-slip by the start rule (outside the cycle) with no run.
+fn check_start(
+    path: &std::path::Path,
+    line: usize,
+    s: State,
+    physical: bool,
+) -> anyhow::Result<()> {
+    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: format!("{}:{line}", path.display()),
+        key: key.into(),
+        value,
+        expected: if physical {
+            format!("{expected}, in the model's units")
+        } else {
+            expected.into()
+        },
+    };
+    squeal_scan::bounds::state("x0", s.x, &inv)?;
+    squeal_scan::bounds::state("v0", s.v, &inv)?;
+    Ok(())
 }
 
 /// Labels the initial conditions.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
-    let given = read_ics(&args.ics)?;
+    let lines = read_ics(&args.ics)?;
     // A physical system: the file's x0, v0 are in m and m/s (written back as given).
     let scales = setup.plan.physical.map(|ph| ph.scales());
-    let ics: Vec<State> = match scales {
-        Some(s) => given.iter().map(|&ic| s.state(ic)).collect(),
-        None => given.clone(),
-    };
+    let mut given = Vec::with_capacity(lines.len());
+    let mut ics = Vec::with_capacity(lines.len());
+    for &(line, ic) in &lines {
+        let state = scales.map_or(ic, |s| s.state(ic));
+        check_start(&args.ics, line, state, scales.is_some())?;
+        given.push(ic);
+        ics.push(state);
+    }
     if args.out.extension().is_some_and(|e| e == "h5") {
         bail!(
             "--out {}: classify writes CSV text; use a name ending in .csv (an .h5 name would hold CSV)",

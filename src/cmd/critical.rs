@@ -23,7 +23,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !(args.rtol > 0.0 && args.rtol < 1.0) {
         bail!("--rtol {}: expected a value in (0, 1)", args.rtol);
     }
-    check_lifetimes(&args)?;
+    check_lifetimes(&args, plan.dt)?;
     let t0 = std::time::Instant::now();
     // A physical system: --x0/--v0 are in m and m/s, results also in SI units.
     let scales = plan.physical.map(|ph| ph.scales());
@@ -32,6 +32,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v: args.v0,
     };
     let point = scales.map_or(given, |s| s.state(given));
+    // The start, in the model's units, within the classifier's escape radius (`--x0 1e300`
+    // was bisected for).
+    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: "command line".into(),
+        key: key.into(),
+        value,
+        expected: if scales.is_some() {
+            format!("{expected}, in the model's units")
+        } else {
+            expected.into()
+        },
+    };
+    squeal_scan::bounds::state("--x0", point.x, &inv)?;
+    squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let stribeck = plan.maps[setup.map].law.has_true_stick();
     let args = match (args.in_.as_str(), stribeck) {
         ("xi" | "v_d", false) => bail!(
@@ -137,20 +151,34 @@ fn boundary(
 
 /// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in
 /// the damping (`--crisis`, or `--fold` in nu).
-fn check_lifetimes(args: &Args) -> anyhow::Result<()> {
+fn check_lifetimes(args: &Args, dt: f64) -> anyhow::Result<()> {
     if !args.lifetimes {
         return Ok(());
     }
     if !(args.crisis || (args.fold && args.in_ == "nu")) {
         bail!("--lifetimes: with --crisis or --fold in the damping (--in nu)");
     }
-    if args.starts < 2 {
-        bail!("--starts {}: expected at least 2 starts", args.starts);
+    if !(2..=squeal_scan::bounds::MAX_LIFETIME_STARTS).contains(&args.starts) {
+        bail!(
+            "--starts {}: expected 2 to {} starts",
+            args.starts,
+            squeal_scan::bounds::MAX_LIFETIME_STARTS
+        );
     }
     if !(args.lifetime_t_max.is_finite() && args.lifetime_t_max > 0.0) {
         bail!(
             "--lifetime-t-max {}: expected a finite time > 0",
             args.lifetime_t_max
+        );
+    }
+    // A censored start runs to the end: the bound of any one run (`--lifetime-t-max 1e300`
+    // asked for 2e302 steps per start).
+    let steps = args.lifetime_t_max / dt;
+    if steps > squeal_scan::bounds::MAX_STEPS {
+        bail!(
+            "--lifetime-t-max {} with dt {dt:?}: {steps:.3e} steps per run, at most 1e10 (about \
+             40 minutes at 250 ns per step)",
+            squeal_core::error::Number(args.lifetime_t_max)
         );
     }
     Ok(())

@@ -43,7 +43,7 @@ pub struct Args {
     /// error, and its power law in nu - nu_c (crates/scan/src/lifetime.rs).
     #[arg(long)]
     pub lifetimes: bool,
-    /// Starts on the band per damping (--lifetimes).
+    /// Starts on the band per damping (--lifetimes; 2 to 4096).
     #[arg(long, default_value_t = 128)]
     pub starts: usize,
     /// Runs still squealing at this time are censored (--lifetimes; nondimensional).

@@ -81,6 +81,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v: args.v0,
     };
     let ic = scales.map_or(given, |s| s.state(given));
+    if scales.is_some() {
+        // The flags were checked as given; in the model's units the start must still lie
+        // within the escape radius (`--x0 1e6` metres was 7e9 units for a 2 kg brake).
+        check_finite("--x0 (in the model's units)", ic.x)?;
+        check_finite("--v0 (in the model's units)", ic.v)?;
+    }
     let span = Span {
         ic,
         t_end: args.t_end,

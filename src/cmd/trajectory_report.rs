@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use serde::Serialize;
+use squeal_core::error::Number;
 use squeal_core::{Named, Sample, SolverKind, SolverStats, State};
 use squeal_scan::trajectory::{Oscillation, StickPhases};
 
@@ -148,18 +149,19 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     let named: Vec<String> = p
         .named
         .iter()
-        .map(|n| format!("{}={}", n.name, n.value))
+        .map(|n| format!("{}={}", n.name, Number(n.value)))
         .collect();
+    // Exponent form for huge or tiny values: `--tau 1e-300` was printed with 300 zeros.
     println!(
         "run: {} {} dt={} solver={} scheme={} from (x0, x'0) = ({}, {}) to t = {} ({} steps)",
         p.law,
         named.join(" "),
-        p.dt,
+        Number(p.dt),
         p.solver,
         p.scheme,
-        p.x0,
-        p.v0,
-        p.t_end,
+        Number(p.x0),
+        Number(p.v0),
+        Number(p.t_end),
         s.steps
     );
     let c = &s.classification;

@@ -516,8 +516,20 @@ fn legend_size(area: &Area<'_>, o: &LineOpts<'_>, pixels: (u32, u32)) -> (f64, f
     )
 }
 
+/// Most decades a logarithmic x axis may span; wider data are drawn on a linear axis, where
+/// every point still shows. plotters' log axis counts its range's decades from the ratio of
+/// its ends, which past about 308 decades overflows to inf, and its mesh loop then never ends:
+/// `squeal scan` over `nu = [1e-300, 1e-3]` (297 decades, 327 with the 5% margins) hung in
+/// drawing the cycle chart after its cells were done. 200 leaves room for the margins.
+const MAX_LOG_DECADES: f64 = 200.0;
+
 fn line_chart(path: &Path, o: LineOpts<'_>) -> Result<(), PlotError> {
-    let data = LineData::of(&o)?;
+    let mut o = o;
+    let mut data = LineData::of(&o)?;
+    if o.log_x && (data.x.1 / data.x.0).log10() > MAX_LOG_DECADES {
+        o.log_x = false;
+        data = LineData::of(&o)?;
+    }
     let size = if o.equal_aspect {
         (900, 800)
     } else {

@@ -43,6 +43,14 @@ pub const MAX_STEPS: f64 = 1e10;
 /// dt = 0.005), so more rays check no new part of the curve.
 pub const MAX_RAYS: usize = 10_000;
 
+/// Most starts on the stick-slip band per damping of the transient lifetimes
+/// (`[boundaries] lifetime_starts`, `squeal critical --starts`). Each start is a run of up
+/// to the lifetime's `t_max` (40 000 by default: 8e6 steps at dt = 0.005, about 2 s), at
+/// each damping of the table; 4096 starts put the standard error of a mean lifetime at
+/// 1/sqrt(4096) = 1.6% of it (lifetimes spread exponentially: their spread is their mean).
+/// `squeal critical --starts 100000000` had no bound.
+pub const MAX_LIFETIME_STARTS: usize = 4096;
+
 /// Largest cycle-search sample count: each sample is one revolution.
 pub const MAX_CYCLE_SAMPLES: usize = 100_000;
 

@@ -41,7 +41,13 @@ impl Damping {
 
 impl std::fmt::Display for Damping {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} = {}", self.key(), self.value())
+        // Exponent form for a huge or tiny value: `nu = 1e-300` was printed with 300 zeros.
+        write!(
+            f,
+            "{} = {}",
+            self.key(),
+            squeal_core::error::Number(self.value())
+        )
     }
 }
 
@@ -65,7 +71,7 @@ pub enum NoCycle {
     },
     /// `D > 0` already at `r_min`: the steady-slip fixed point repels.
     #[error(
-        "the return map grows already at r = {r_min} ({damping}): the steady-slip fixed point repels"
+        "the return map grows already at r = {} ({damping}): the steady-slip fixed point repels", squeal_core::error::Number(*r_min)
     )]
     FixedPointRepels {
         /// Smallest amplitude sampled.

@@ -241,11 +241,23 @@ impl GridSpec {
                     "count >= 2 for a range, or min = max for a single value",
                 ));
             }
-            Ok(Axis {
+            let axis = Axis {
                 min: a.min,
                 max: a.max,
                 count: a.count as usize,
-            })
+            };
+            // Cells at distinct states: `[1.0, 1.0000000000000002]` with 8 cells gave
+            // neighbours at one coordinate (the spacing below the numbers' resolution).
+            if axis.values().windows(2).any(|w| w[1] <= w[0]) {
+                return Err(invalid(
+                    key,
+                    format!("[{:?}, {:?}] with {} cells", a.min, a.max, a.count),
+                    "cells at distinct coordinates: the spacing (max - min) / (count - 1) is \
+                     below the resolution of the numbers there; widen the range or lower the \
+                     count",
+                ));
+            }
+            Ok(axis)
         };
         let x0 = axis(&self.x0, "grid.x0")?;
         let v0 = axis(&self.v0, "grid.v0")?;
@@ -633,7 +645,7 @@ impl Plan {
         let (maps, sweep) = model_maps(m, &invalid)?;
         let mut grid = initial_conditions(spec.grid.as_ref(), spec.sample.as_ref(), &invalid)?;
         if let Some(ph) = &physical {
-            physical::grid_to_nondimensional(&mut grid, ph);
+            physical::grid_to_nondimensional(&mut grid, ph, &invalid)?;
         }
         let (dt, solver) = spec.integration.check(&invalid)?;
         let ClassifierPlan {

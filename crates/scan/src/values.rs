@@ -6,6 +6,7 @@ use serde::Deserialize;
 
 use crate::error::ScanError;
 use crate::grid::Axis;
+use squeal_core::error::Number;
 
 /// One parameter's values as written in a spec.
 #[derive(Deserialize, Debug, Clone)]
@@ -73,15 +74,23 @@ pub(crate) fn expand(
             if !r.from.is_finite() || !r.to.is_finite() {
                 return Err(invalid(
                     key,
-                    format!("from {} to {}", r.from, r.to),
+                    format!("from {} to {}", Number(r.from), Number(r.to)),
                     "finite bounds",
                 ));
             }
             if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
                 return Err(invalid(
                     key,
-                    format!("from {} to {}", r.from, r.to),
+                    format!("from {} to {}", Number(r.from), Number(r.to)),
                     "positive bounds for log spacing",
+                ));
+            }
+            // As a grid axis's: one value cannot stand for a range, and `to` would be dropped.
+            if r.count == 1 && r.from != r.to {
+                return Err(invalid(
+                    &format!("{key}.count"),
+                    format!("1 from {} to {}", Number(r.from), Number(r.to)),
+                    "count >= 2 for a range, or from = to for a single value",
                 ));
             }
             let a = Axis {

@@ -264,3 +264,101 @@ fn a_huge_value_is_named_in_exponent_form() {
         assert!(e.len() < 300, "{} characters: {e}", e.len());
     }
 }
+
+/// The damping in a no-cycle note is named in exponent form: a scan of `nu = 1e-300` printed
+/// "the return map grows already at r = 0.01 (nu = 0.000...1)" with 300 zeros, and so did
+/// `cycle.r_min = 1e-300`.
+#[test]
+fn a_tiny_damping_in_a_no_cycle_note_is_in_exponent_form() {
+    use squeal_scan::NoCycle;
+    use squeal_scan::error::Damping;
+    let repels = NoCycle::FixedPointRepels {
+        r_min: 1e-300,
+        damping: Damping::Nu(1e-300),
+    };
+    assert_eq!(
+        repels.to_string(),
+        "the return map grows already at r = 1e-300 (nu = 1e-300): the steady-slip fixed \
+         point repels"
+    );
+    // In range, as Rust writes it (what the existing notes read).
+    assert_eq!(Damping::Xi(0.05).to_string(), "xi = 0.05");
+}
+
+/// A range of one value with two different ends ran one map at `from` and dropped `to`, as a
+/// grid axis of `count = 1` with `min != max` did before it was refused; and a huge end of a
+/// range was named with 300 digits.
+#[test]
+fn a_range_of_one_value_between_two_ends_is_refused() {
+    let one = |v: &str| SCAN.replace("nu = 1e-3", &format!("nu = {v}"));
+    let e = scan_err(&one("{ from = 1e-3, to = 2e-3, count = 1 }"));
+    assert_names(&e, "model.nu.count", "count >= 2 for a range, or from = to");
+    assert!(e.contains("1 from 0.001 to 0.002"), "{e}");
+    let e = atlas_err(&ATLAS.replace(
+        "nu = [1e-3, 2e-3]",
+        "nu = 1e-3\nlambda = { from = 1.0, to = 2.0, count = 1 }",
+    ));
+    assert_names(&e, "model.lambda.count", "count >= 2 for a range");
+    // One value written as a range is still one map.
+    let plan = Plan::from_toml(&one("{ from = 1e-3, to = 1e-3, count = 1 }"), "t.toml").unwrap();
+    assert_eq!(plan.maps.len(), 1);
+    let e = scan_err(&one(
+        "{ from = -1e300, to = 1e-3, count = 3, spacing = \"log\" }",
+    ));
+    assert!(e.contains("from -1e300 to 0.001"), "{e}");
+}
+
+/// A physical spec's grid or sample region is checked in the model's units, as the atlas's
+/// box is: with `m = 1e300` a grid 0.4 mm wide became 6e-300 units wide (every cell the same
+/// state), and x0 in +-3 km (the length unit mu_k g m / k = 69 um for the brake below) put
+/// the starts beyond the escape radius; both ran.
+#[test]
+fn a_physical_grid_is_checked_in_the_models_units() {
+    let brake = r#"version = 1
+[model]
+law = "mcmillan"
+[physical]
+m = 2.0
+k = 5.0e4
+c = 5.0
+v_belt = 0.05
+mu_k = 0.35
+mu_s = 0.45
+tau = 1e-3
+[grid]
+x0 = { min = -1e-4, max = 3e-4, count = 6 }
+v0 = { min = -0.02, max = 0.02, count = 6 }
+[output]
+path = "x.h5"
+"#;
+    assert!(Plan::from_toml(brake, "t.toml").is_ok());
+    let e = scan_err(&brake.replace("m = 2.0", "m = 1e300"));
+    assert_names(&e, "grid.x0", "a box with an area");
+    assert!(e.contains("in the model's units"), "{e}");
+    let e = scan_err(&brake.replace("min = -1e-4, max = 3e-4", "min = -3e3, max = 3e3"));
+    assert_names(&e, "grid.x0", "<= 1e6");
+    // v0 in +-100 km/s: 4.6e6 velocity units of mu_k g / omega_0 = 21.7 mm/s.
+    let sampled = brake.replace(
+        "[grid]\nx0 = { min = -1e-4, max = 3e-4, count = 6 }\nv0 = { min = -0.02, max = 0.02, count = 6 }",
+        "[sample]\nkind = \"random\"\nn = 10\nseed = 1\nregion = { x0 = [-1e-4, 3e-4], v0 = [-1e5, 1e5] }",
+    );
+    assert_names(&scan_err(&sampled), "sample.region.v0", "<= 1e6");
+}
+
+/// A grid axis narrower than the numbers' resolution allows for its count put neighbouring
+/// cells at one coordinate: `[1.0, 1.0000000000000002]` (one unit in the last place apart)
+/// with 8 cells ran 8 columns from 2 distinct states.
+#[test]
+fn grid_cells_lie_at_distinct_coordinates() {
+    let e = scan_err(&SCAN.replace(
+        "x0 = { min = -3.0, max = 5.0, count = 32 }",
+        "x0 = { min = 1.0, max = 1.0000000000000002, count = 8 }",
+    ));
+    assert_names(&e, "grid.x0", "cells at distinct coordinates");
+    // Two cells one unit in the last place apart are distinct: accepted.
+    let two = SCAN.replace(
+        "x0 = { min = -3.0, max = 5.0, count = 32 }",
+        "x0 = { min = 1.0, max = 1.0000000000000002, count = 2 }",
+    );
+    assert!(Plan::from_toml(&two, "t.toml").is_ok());
+}

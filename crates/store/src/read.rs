@@ -17,6 +17,7 @@ use crate::error::{H5Ctx, io};
 use crate::h5types::RefEntry;
 use crate::journal::CycleRecord;
 use crate::{SCHEMA, StoreError};
+use squeal_core::error::Number;
 
 const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
 
@@ -204,7 +205,8 @@ fn attr_text(a: &Attribute) -> hdf5::Result<String> {
     Ok(match d {
         TypeDescriptor::VarLenUnicode if scalar => a.read_scalar::<VarLenUnicode>()?.to_string(),
         TypeDescriptor::VarLenAscii if scalar => a.read_scalar::<VarLenAscii>()?.to_string(),
-        TypeDescriptor::Float(_) => join(a.read_raw::<f64>()?),
+        // Exponent form for a huge or tiny value: `nu = 1e-300` was shown with 300 zeros.
+        TypeDescriptor::Float(_) => join(a.read_raw::<f64>()?.into_iter().map(Number).collect()),
         TypeDescriptor::Integer(_) => join(a.read_raw::<i64>()?),
         TypeDescriptor::Unsigned(_) => join(a.read_raw::<u64>()?),
         other => format!("<{other}>"),
@@ -413,9 +415,14 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
         };
         let params = squeal_core::Params::from_named(law, value)
             .map_err(|k| hdf5::Error::from(format!("attribute {k} is missing")))?;
+        // Exponent form for a huge or tiny value (`nu = 1e-300` had 300 zeros).
         let title = match &sweep {
-            Some((n, v)) => format!("{law_name} {n} = {}", v[map]),
-            None => format!("{law_name} {} = {}", params.damping_key(), params.nu),
+            Some((n, v)) => format!("{law_name} {n} = {}", Number(v[map])),
+            None => format!(
+                "{law_name} {} = {}",
+                params.damping_key(),
+                Number(params.nu)
+            ),
         };
         let cycle = match cycle_group(&file, sweep.is_some(), map) {
             Some(g) if g.link_exists("x") => {

@@ -402,6 +402,26 @@ fn line_plot_log_x() {
     assert!(decode(&path, (900, 700)).count(STICK) > 500);
 }
 
+/// Data over more decades than a log axis can span are drawn on a linear axis: a sweep over
+/// `nu = [1e-300, 1e-3]` never finished drawing (plotters' log mesh loops without end once
+/// the ratio of the axis's ends overflows to inf; this test did not finish on that code).
+#[test]
+fn line_plot_over_hundreds_of_decades_is_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("wide.png");
+    let curve = Curve {
+        label: "cycle size".into(),
+        xs: vec![1e-300, 1e-3],
+        ys: vec![1.0, 2.0],
+        color: STICK,
+        points_only: false,
+    };
+    line_plot(&path, "wide", "nu", "size", &[curve], &[], true).unwrap();
+    // The segment between the two points crosses the plotting area (about 800 px wide, 2 px
+    // thick): far more than 500 pixels of its colour.
+    assert!(decode(&path, (900, 700)).count(STICK) > 500);
+}
+
 #[test]
 fn line_plot_errors() {
     let dir = tempfile::tempdir().unwrap();

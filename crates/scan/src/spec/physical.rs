@@ -137,13 +137,44 @@ fn check_each(
     Ok(first.expect("at least one value of c and v_belt"))
 }
 
-/// The grid (or sample region) given in metres and m/s, in nondimensional units.
-pub(super) fn grid_to_nondimensional(grid: &mut Grid, ph: &Physical) {
+/// The grid (or sample region) given in metres and m/s, in nondimensional units, checked
+/// there as a nondimensional one is (the atlas's box likewise): with `m = 1e300` a grid
+/// 0.4 mm wide became 6e-300 units wide, 36 cells at one state; with x0 in +-3 km (length
+/// unit 69 um) its starts lay beyond the classifier's escape radius.
+pub(super) fn grid_to_nondimensional(
+    grid: &mut Grid,
+    ph: &Physical,
+    invalid: Invalid,
+) -> Result<(), ScanError> {
+    use crate::bounds::{Width, state_range};
     let s = ph.scales();
-    grid.x0.min /= s.length;
-    grid.x0.max /= s.length;
-    grid.v0.min /= s.velocity;
-    grid.v0.max /= s.velocity;
+    let (table, x_key, v_key) = if grid.is_sample() {
+        ("sample.region", "sample.region.x0", "sample.region.v0")
+    } else {
+        ("grid", "grid.x0", "grid.v0")
+    };
+    let inv = |key: &str, value: String, expected: &str| {
+        invalid(
+            key,
+            value,
+            &format!(
+                "{expected}, in the model's units (the {table} in m and m/s scaled by \
+                 [physical] m, k, mu_k, g)"
+            ),
+        )
+    };
+    for (axis, unit, key) in [
+        (&mut grid.x0, s.length, x_key),
+        (&mut grid.v0, s.velocity, v_key),
+    ] {
+        let width = if axis.min < axis.max {
+            Width::Positive
+        } else {
+            Width::MayBeEmpty
+        };
+        [axis.min, axis.max] = state_range(key, &[axis.min / unit, axis.max / unit], width, &inv)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

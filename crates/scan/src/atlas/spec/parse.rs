@@ -322,7 +322,7 @@ fn lifetime_starts(
 ) -> Result<usize, ScanError> {
     let key = "boundaries.lifetime_starts";
     let n = bd.lifetime_starts.unwrap_or(0);
-    if !(0..=4096).contains(&n) {
+    if !(0..=crate::bounds::MAX_LIFETIME_STARTS as i64).contains(&n) {
         return Err(inv(
             key,
             n.to_string(),
