@@ -69,7 +69,7 @@ fn a_huge_flag_value_is_named_in_exponent_form() {
         ),
         (
             &["trajectory", "--x0", "1e300"][..],
-            "--x0: invalid value 1e300:",
+            "`--x0` = 1e300: a finite coordinate",
         ),
         (
             &["trajectory", "--a1", "1e300", "--law", "cubic"][..],
@@ -174,9 +174,10 @@ fn a_physical_start_is_checked_in_the_models_units() {
         "0.45", "--tau-s", "1e-3",
     ];
     let args = [&["trajectory", "--t-end", "1", "--x0", "1e6"][..], &brake].concat();
+    refused(squeal(d.path(), &args), "`--x0` = 7281199941.75");
     refused(
         squeal(d.path(), &args),
-        "--x0 (in the model's units): invalid value 7281199941.75",
+        "a finite coordinate with |value| <= 1e6 (the classifier's escape radius), in the model's units",
     );
 }
 

@@ -246,6 +246,15 @@ def test_trajectory_is_a_dataset_over_time_with_the_cli_verdict(tmp_path):
     assert ds.attrs["t_squeal"] == fixed.get(sq["kind"], sq.get("t_squeal"))
 
 
+def test_trajectory_refuses_what_the_cli_refuses():
+    # A start beyond the classifier's escape radius (1e6) was labelled by the start rule
+    # without a run, and t_end had no bound: 1e15 / dt 0.005 = 2e17 steps (the bound is 1e10).
+    with pytest.raises(ValueError, match=r"`x0` = 1e300"):
+        squeal.trajectory(law="mcmillan", x0=1e300, v0=0.0, t_end=10.0)
+    with pytest.raises(ValueError, match=r"2\.000e17 steps, at most 1e10"):
+        squeal.trajectory(law="mcmillan", x0=0.0, v0=0.0, t_end=1e15)
+
+
 def test_atlas_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):
     spec = tmp_path / "atlas.toml"
     spec.write_text(

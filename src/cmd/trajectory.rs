@@ -72,8 +72,6 @@ enum Format {
 /// Runs `squeal trajectory`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let stepper = args.model.stepper()?;
-    let (format, keep) = checked_outputs(&args, &stepper)?;
-
     // A physical system: --x0/--v0 are in m and m/s.
     let scales = args.model.physical()?.map(|ph| ph.scales());
     let given = State {
@@ -81,12 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v: args.v0,
     };
     let ic = scales.map_or(given, |s| s.state(given));
-    if scales.is_some() {
-        // The flags were checked as given; in the model's units the start must still lie
-        // within the escape radius (`--x0 1e6` metres was 7e9 units for a 2 kg brake).
-        check_finite("--x0 (in the model's units)", ic.x)?;
-        check_finite("--v0 (in the model's units)", ic.v)?;
-    }
+    let (format, keep) = checked_outputs(&args, &stepper, ic, scales.is_some())?;
     let span = Span {
         ic,
         t_end: args.t_end,
@@ -141,24 +134,30 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 /// The run's flags checked before any computing: the start, the end, the decimation and
 /// the output files (refused if present without `--force`); the `--out` format and whether
 /// samples are kept.
-fn checked_outputs(args: &Args, stepper: &Stepper) -> anyhow::Result<(Option<Format>, bool)> {
-    check_finite("--x0", args.x0)?;
-    check_finite("--v0", args.v0)?;
-    if !args.t_end.is_finite() || args.t_end <= 0.0 {
-        bail!(
-            "--t-end: invalid t_end = {}: expected a finite time > 0",
-            args.t_end
-        );
-    }
-    if args.t_end / stepper.dt() > squeal_scan::bounds::MAX_STEPS {
-        bail!(
-            "--t-end {:?} with --dt {:?}: {:.3e} steps, at most 1e10 (about 40 minutes at 250 ns \
-             per step): lower --t-end or raise --dt",
-            args.t_end,
-            stepper.dt(),
-            args.t_end / stepper.dt()
-        );
-    }
+fn checked_outputs(
+    args: &Args,
+    stepper: &Stepper,
+    ic: State,
+    physical: bool,
+) -> anyhow::Result<(Option<Format>, bool)> {
+    // The library's checks of a run (the Python `squeal.trajectory` makes the same), the
+    // start in the model's units: `--x0 1e6` metres was 7e9 units for a 2 kg brake.
+    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: "command line".into(),
+        key: key.into(),
+        value,
+        expected: if physical {
+            format!("{expected}, in the model's units")
+        } else {
+            expected.into()
+        },
+    };
+    let span = Span {
+        ic,
+        t_end: args.t_end,
+        every: args.every,
+    };
+    span.check(stepper.dt(), ["--x0", "--v0", "--t-end"], &inv)?;
     if args.every == 0 {
         bail!("--every: invalid every = 0: expected a decimation factor >= 1");
     }
@@ -230,16 +229,6 @@ fn write_outputs(
             &model,
         )
         .with_context(|| format!("--plot: cannot draw {}", path.display()))?;
-    }
-    Ok(())
-}
-
-fn check_finite(flag: &str, value: f64) -> anyhow::Result<()> {
-    if !value.is_finite() || value.abs() > 1e6 {
-        bail!(
-            "{flag}: invalid value {}: expected a finite number with |value| <= 1e6",
-            squeal_core::error::Number(value)
-        );
     }
     Ok(())
 }

@@ -31,17 +31,7 @@ pub fn trajectory(
 ) -> PyResult<(&'static str, &'static str, f64, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
-    setup_of(&plan, map)?.stepper().map_err(value_error)?;
-    if !(point.0.is_finite() && point.1.is_finite()) {
-        return Err(value_error(anyhow::anyhow!(
-            "x0/v0: expected finite values"
-        )));
-    }
-    if !t_end.is_finite() || t_end <= 0.0 {
-        return Err(value_error(anyhow::anyhow!(
-            "t_end: invalid t_end = {t_end}: expected a finite time > 0"
-        )));
-    }
+    let dt = setup_of(&plan, map)?.stepper().map_err(value_error)?.dt();
     if every == 0 {
         return Err(value_error(anyhow::anyhow!(
             "every: invalid every = 0: expected a decimation factor >= 1"
@@ -51,12 +41,22 @@ pub fn trajectory(
         x: point.0,
         v: point.1,
     };
+    let span = Span { ic, t_end, every };
+    // The checks of `squeal trajectory`: a start beyond the escape radius was labelled by
+    // the start rule without a run, and t_end had no bound on its steps.
+    let invalid = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: "squeal.trajectory".into(),
+        key: key.into(),
+        value,
+        expected: expected.into(),
+    };
+    span.check(dt, ["x0", "v0", "t_end"], &invalid)
+        .map_err(value_error)?;
     // The map's context, as `squeal classify` prepares it: the label is the one every path
     // gives this start ([`squeal_scan::trajectory::run_in`]).
     let ctx = squeal_scan::scanner::MapContext::prepare(&plan, map).map_err(value_error)?;
     let stepper = &ctx.stepper;
     let stop = AtomicBool::new(false);
-    let span = Span { ic, t_end, every };
     // The library's run, as `squeal trajectory` makes it (one loop, one labelling rule).
     let t = interruptible(py, &stop, || {
         squeal_scan::trajectory::run_in(&ctx, span, Some(&stop))

@@ -13,6 +13,7 @@ use squeal_core::{
     Classifier, Outcome, Reason, Regime, Run, Sample, Samples, SolverStats, State, Step, Stepper,
 };
 
+use crate::error::ScanError;
 use crate::scanner::MapContext;
 
 /// How many times of unconverged paper-iteration steps are kept.
@@ -126,6 +127,43 @@ pub struct Span {
     pub t_end: f64,
     /// Keep every `every`-th sample (and the start); 0 keeps none.
     pub every: u64,
+}
+
+impl Span {
+    /// The run's start and end checked before any computing, by the rules every path to a
+    /// run follows (`squeal trajectory`, the Python `squeal.trajectory`): each coordinate of
+    /// the start finite and within the escape radius ([`crate::bounds::state`]; beyond it
+    /// the classifier labels the run before its first step), `t_end` finite and > 0, and at
+    /// most [`crate::bounds::MAX_STEPS`] steps of `dt`. `keys` name the start's two
+    /// coordinates and the end in messages (flags or argument names).
+    pub fn check(
+        &self,
+        dt: f64,
+        keys: [&str; 3],
+        invalid: crate::bounds::Invalid,
+    ) -> Result<(), ScanError> {
+        crate::bounds::state(keys[0], self.ic.x, invalid)?;
+        crate::bounds::state(keys[1], self.ic.v, invalid)?;
+        if !(self.t_end.is_finite() && self.t_end > 0.0) {
+            return Err(invalid(
+                keys[2],
+                format!("{:?}", self.t_end),
+                "a finite time > 0",
+            ));
+        }
+        let steps = self.t_end / dt;
+        if steps > crate::bounds::MAX_STEPS {
+            return Err(invalid(
+                keys[2],
+                format!("{:?}", self.t_end),
+                &format!(
+                    "with dt {dt:?}, {steps:.3e} steps, at most 1e10 (about 40 minutes at 250 \
+                     ns per step): a shorter run or a larger step"
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// One run and what was seen on it.
@@ -275,4 +313,50 @@ pub fn run_in(ctx: &MapContext, span: Span, stop: Option<&AtomicBool>) -> Trajec
         };
     }
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The run's checks at their bounds' ends: the escape radius 1e6 (`bounds::MAX_STATE`)
+    /// and 1e10 steps (`bounds::MAX_STEPS`), each refusal naming the key it was given.
+    #[test]
+    fn a_run_is_checked_at_the_ends_of_its_bounds() {
+        let inv = |key: &str, value: String, expected: &str| ScanError::Invalid {
+            path: "t".into(),
+            key: key.into(),
+            value,
+            expected: expected.into(),
+        };
+        let span = |x: f64, t_end: f64| Span {
+            ic: State { x, v: 0.0 },
+            t_end,
+            every: 1,
+        };
+        let check = |s: Span| {
+            s.check(0.5, ["x", "v", "end"], &inv)
+                .map_err(|e| e.to_string())
+        };
+        assert!(
+            check(span(1e6, 5e9)).is_ok(),
+            "1e6 and exactly 1e10 steps of 0.5"
+        );
+        let e = check(span(1e6_f64.next_up(), 1.0)).unwrap_err();
+        assert!(e.contains("`x` = 1000000.0000000001"), "{e}");
+        let e = check(span(0.0, 5e9_f64.next_up())).unwrap_err();
+        assert!(e.contains("`end` =") && e.contains("at most 1e10"), "{e}");
+        for t_end in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(check(span(0.0, t_end)).unwrap_err().contains("`end`"));
+        }
+        let e = check(Span {
+            ic: State {
+                x: 0.0,
+                v: f64::NAN,
+            },
+            ..span(0.0, 1.0)
+        })
+        .unwrap_err();
+        assert!(e.contains("`v` = NaN"), "{e}");
+    }
 }
