@@ -250,9 +250,9 @@ def test_trajectory_refuses_what_the_cli_refuses():
     # A start beyond the classifier's escape radius (1e6) was labelled by the start rule
     # without a run, and t_end had no bound: 1e15 / dt 0.005 = 2e17 steps (the bound is 1e10).
     with pytest.raises(ValueError, match=r"`x0` = 1e300"):
-        squeal.trajectory(law="mcmillan", x0=1e300, v0=0.0, t_end=10.0)
+        squeal.trajectory(law="mcmillan", nu=1e-3, x0=1e300, v0=0.0, t_end=10.0)
     with pytest.raises(ValueError, match=r"2\.000e17 steps, at most 1e10"):
-        squeal.trajectory(law="mcmillan", x0=0.0, v0=0.0, t_end=1e15)
+        squeal.trajectory(law="mcmillan", nu=1e-3, x0=0.0, v0=0.0, t_end=1e15)
 
 
 def test_atlas_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):
