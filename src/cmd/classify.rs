@@ -102,16 +102,7 @@ fn check_start(
     s: State,
     physical: bool,
 ) -> anyhow::Result<()> {
-    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
-        path: format!("{}:{line}", path.display()),
-        key: key.into(),
-        value,
-        expected: if physical {
-            format!("{expected}, in the model's units")
-        } else {
-            expected.into()
-        },
-    };
+    let inv = super::physical::start_invalid(format!("{}:{line}", path.display()), physical);
     squeal_scan::bounds::state("x0", s.x, &inv)?;
     squeal_scan::bounds::state("v0", s.v, &inv)?;
     Ok(())

@@ -34,16 +34,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let point = scales.map_or(given, |s| s.state(given));
     // The start, in the model's units, within the classifier's escape radius (`--x0 1e300`
     // was bisected for).
-    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
-        path: "command line".into(),
-        key: key.into(),
-        value,
-        expected: if scales.is_some() {
-            format!("{expected}, in the model's units")
-        } else {
-            expected.into()
-        },
-    };
+    let inv = super::physical::start_invalid("command line".into(), scales.is_some());
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let stribeck = plan.maps[setup.map].law.has_true_stick();

@@ -133,3 +133,24 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
         _ => anyhow::anyhow!(e),
     }
 }
+
+/// How a start refused by the library's bounds ([`squeal_scan::bounds`], in the model's
+/// units) is reported from `path` (the command line, a file's line): where the start was
+/// given in SI units (`physical`), the message says the bound is in the model's units, so
+/// `--x0 1e6` (metres) refused as 7.3e9 reads right. One rule for `trajectory`, `critical`
+/// and `classify`.
+pub fn start_invalid(
+    path: String,
+    physical: bool,
+) -> impl Fn(&str, String, &str) -> squeal_scan::ScanError {
+    move |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: path.clone(),
+        key: key.into(),
+        value,
+        expected: if physical {
+            format!("{expected}, in the model's units")
+        } else {
+            expected.into()
+        },
+    }
+}

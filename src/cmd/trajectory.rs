@@ -142,16 +142,7 @@ fn checked_outputs(
 ) -> anyhow::Result<(Option<Format>, bool)> {
     // The library's checks of a run (the Python `squeal.trajectory` makes the same), the
     // start in the model's units: `--x0 1e6` metres was 7e9 units for a 2 kg brake.
-    let inv = |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
-        path: "command line".into(),
-        key: key.into(),
-        value,
-        expected: if physical {
-            format!("{expected}, in the model's units")
-        } else {
-            expected.into()
-        },
-    };
+    let inv = super::physical::start_invalid("command line".into(), physical);
     let span = Span {
         ic,
         t_end: args.t_end,
