@@ -245,3 +245,20 @@ fn starts_inside_the_trap_band_run_until_they_leave_it() {
         }
     }
 }
+
+/// A shard with no rows of the map (`--shard 5/8` of a 4-row grid) said "basin stability of
+/// 0 cells: steady_slip NaN (2h NaN, change NaN) ...", which reads as a failed computation.
+#[test]
+fn a_shard_without_rows_says_so_instead_of_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-3\n[grid]\n\
+                x0 = { min = -3.0, max = 5.0, count = 4 }\n\
+                v0 = { min = -4.0, max = 4.0, count = 4 }\n[output]\npath = \"e.h5\"\n";
+    std::fs::write(dir.path().join("e.toml"), spec).unwrap();
+    let out = ok(squeal(
+        dir.path(),
+        &["scan", "e.toml", "-o", "e.h5", "--shard", "5/8"],
+    ));
+    assert!(!out.contains("NaN"), "{out}");
+    assert!(out.contains("no cell of this map computed here"), "{out}");
+}

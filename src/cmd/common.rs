@@ -232,6 +232,12 @@ pub fn basin_json(b: &squeal_scan::GridShares) -> serde_json::Value {
 /// Basin stability of one map in words: each decided regime's share, with its change from
 /// the `2h` sub-grid.
 pub fn basin_words(b: &squeal_scan::GridShares) -> String {
+    if b.h.n == 0 {
+        // A shard with no rows of this map (`--shard 5/8` of a 4-row grid): no share to
+        // give, where "NaN" read as a failed computation.
+        return "basin stability: no cell of this map computed here (a shard without its rows)"
+            .into();
+    }
     let parts: Vec<String> = squeal_scan::basin::REGIMES
         .iter()
         .enumerate()
