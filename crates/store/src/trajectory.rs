@@ -5,7 +5,10 @@
 //!              run's settings (law, solver text; the law's own parameters, nu, lambda, tau,
 //!              phi or xi, v_d, mu_d, mu_sd, v_0, mu_v, then dt, x0, v0, t_end f64; every
 //!              u64; the Stribeck law adds <key>_long_name, <key>_units text and the
-//!              counts stick_onsets, breakaways, slip_reversals u64)
+//!              counts stick_onsets, breakaways, slip_reversals u64; a run given as a
+//!              physical system adds physical_<key> f64 with its _long_name and _units for
+//!              m, k, c, v_belt, mu_k, mu_s, tau, g, and length_unit, velocity_unit,
+//!              time_unit, damping_unit f64 with their _units: the SI size of one unit)
 //! t  (t)       f64 dimension scale: nondimensional time (natural period 2 pi)
 //! x, v, a, force (t)   f64, long_name and units "1", attached to t
 //! ```
@@ -33,6 +36,9 @@ pub struct RunAttrs<'a> {
     pub numbers: Vec<(&'a str, f64)>,
     /// Counts (sampling stride).
     pub counts: Vec<(&'a str, u64)>,
+    /// The physical system the run was given in, if any: stored as a physical scan stores it
+    /// (the system and the SI size of one unit), with the other attributes in the one open.
+    pub physical: Option<&'a squeal_core::Physical>,
 }
 
 /// Writes a trajectory file: `time` is the coordinate `t`, each series a variable over it.
@@ -63,6 +69,9 @@ pub fn write_trajectory(
         }
         for (k, v) in &attrs.counts {
             num_attr(&file, k, *v)?;
+        }
+        if let Some(ph) = attrs.physical {
+            crate::h5write::physical_attrs(&file, ph, None)?;
         }
         let t = file
             .new_dataset_builder()
@@ -207,11 +216,7 @@ pub fn write_run(
         text,
         numbers,
         counts,
+        physical,
     };
-    write_samples(path, force, prov, &attrs, &traj.samples)?;
-    if let Some(ph) = physical {
-        let file = File::open_rw(path).h5(path)?;
-        crate::h5write::physical_attrs(&file, ph, None).h5(path)?;
-    }
-    Ok(())
+    write_samples(path, force, prov, &attrs, &traj.samples)
 }
