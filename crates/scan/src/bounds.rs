@@ -7,6 +7,7 @@
 
 use crate::error::ScanError;
 use crate::section::CycleSettings;
+use squeal_core::error::Number;
 
 /// A spec error: the key, the value found, what was expected.
 pub type Invalid<'a> = &'a dyn Fn(&str, String, &str) -> ScanError;
@@ -204,7 +205,7 @@ pub fn fp_radius_inside(fp_radius: f64, r_cycle: f64, map: usize) -> Result<(), 
     Err(ScanError::Invalid {
         path: format!("map {map}"),
         key: "classifier.fp_radius".into(),
-        value: fp_radius.to_string(),
+        value: Number(fp_radius).to_string(),
         expected: format!(
             "a ball well inside the unstable cycle: at most half its section crossing \
              r = {r_cycle:.4} (found by the cycle search before any cell ran)"

@@ -90,6 +90,41 @@ pub enum NoCycle {
     },
 }
 
+/// A refused value as an error message shows it ([`ScanError::Invalid`]'s `value`).
+/// Deliberately not implemented for `f64`: a number goes through
+/// [`squeal_core::error::Number`], so that a huge or tiny one reads `1e-300`, not `0.` and
+/// 300 zeros, and a call site that passes a bare float does not compile.
+pub trait Shown {
+    /// The text of the value.
+    fn shown(&self) -> String;
+}
+
+macro_rules! shown_by_display {
+    ($($t:ty),*) => {$(
+        impl Shown for $t {
+            fn shown(&self) -> String {
+                self.to_string()
+            }
+        }
+    )*};
+}
+shown_by_display!(
+    str,
+    String,
+    i64,
+    u64,
+    u32,
+    usize,
+    squeal_core::error::Number,
+    squeal_core::CoreError
+);
+
+impl<T: Shown + ?Sized> Shown for &T {
+    fn shown(&self) -> String {
+        (**self).shown()
+    }
+}
+
 /// What the scan crate refuses or could not do.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -104,13 +139,15 @@ pub enum ScanError {
         message: String,
     },
     /// A key has a value out of range.
-    #[error("{path}: `{key}` = {}: {expected}", shown(value))]
+    #[error("{path}: `{key}` = {value}: {expected}")]
     Invalid {
         /// The spec file.
         path: String,
         /// The TOML key.
         key: String,
-        /// The value given.
+        /// The value given, as the message shows it: a number in
+        /// [`squeal_core::error::Number`]'s form (`1e-300`, not 300 zeros), which every call
+        /// site that refuses an `f64` formats it with.
         value: String,
         /// What is accepted.
         expected: String,
@@ -177,15 +214,5 @@ pub enum BracketProblem {
 impl From<NoCycle> for ScanError {
     fn from(e: NoCycle) -> ScanError {
         ScanError::NoCycle(e)
-    }
-}
-
-/// A refused value as given, but a number that its plain form writes out in more than 20
-/// characters (`1e300` read from a spec is `1` and 300 zeros) in exponent form
-/// ([`squeal_core::error::Number`]).
-fn shown(value: &str) -> String {
-    match value.parse::<f64>() {
-        Ok(v) if value.len() > 20 => squeal_core::error::Number(v).to_string(),
-        _ => value.to_string(),
     }
 }

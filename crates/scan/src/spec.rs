@@ -53,6 +53,7 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
+use squeal_core::error::Number;
 use squeal_core::{Classifier, FrictionLaw, Params, Setup, SolverConfig};
 
 use crate::error::ScanError;
@@ -222,14 +223,14 @@ impl GridSpec {
             if a.min > a.max {
                 return Err(invalid(
                     key,
-                    format!("[{}, {}]", a.min, a.max),
+                    format!("[{}, {}]", Number(a.min), Number(a.max)),
                     "min <= max (the range is inverted)",
                 ));
             }
             if a.min == a.max && a.count > 1 {
                 return Err(invalid(
                     key,
-                    format!("[{}, {}]", a.min, a.max),
+                    format!("[{}, {}]", Number(a.min), Number(a.max)),
                     "an empty range holds one value: use count = 1 or widen it",
                 ));
             }
@@ -237,7 +238,7 @@ impl GridSpec {
                 // One point cannot stand for a range: `max` would be ignored.
                 return Err(invalid(
                     &format!("{key}.count"),
-                    format!("1 on [{}, {}]", a.min, a.max),
+                    format!("1 on [{}, {}]", Number(a.min), Number(a.max)),
                     "count >= 2 for a range, or min = max for a single value",
                 ));
             }
@@ -326,13 +327,17 @@ impl ClassifierSpec {
                 name,
                 value,
                 expected,
-            } => invalid(&format!("classifier.{name}"), value.to_string(), expected),
+            } => invalid(
+                &format!("classifier.{name}"),
+                Number(value).to_string(),
+                expected,
+            ),
             other => invalid("classifier", String::new(), &other.to_string()),
         })?;
         if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
             return Err(invalid(
                 "classifier.fp_radius",
-                classifier.fp_radius.to_string(),
+                Number(classifier.fp_radius).to_string(),
                 "a radius in (0, 0.01]: the ball must lie inside the unstable cycle, below the \
                  cycle search's first sample",
             ));
@@ -340,7 +345,7 @@ impl ClassifierSpec {
         if classifier.t_max / dt > crate::bounds::MAX_STEPS {
             return Err(invalid(
                 "classifier.t_max",
-                classifier.t_max.to_string(),
+                Number(classifier.t_max).to_string(),
                 &format!(
                     "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
                     classifier.t_max / dt
@@ -363,7 +368,7 @@ impl ClassifierSpec {
         if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
             return Err(invalid(
                 "classifier.trap_margin",
-                trap_margin.to_string(),
+                Number(trap_margin).to_string(),
                 "a relative margin in (0, 0.5)",
             ));
         }
@@ -533,7 +538,11 @@ fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<S
                     name,
                     value,
                     expected,
-                } => invalid(&format!("model.{name}"), value.to_string(), expected),
+                } => invalid(
+                    &format!("model.{name}"),
+                    Number(value).to_string(),
+                    expected,
+                ),
                 other => invalid("model", String::new(), &other.to_string()),
             })?;
             maps.push(p);

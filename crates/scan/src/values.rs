@@ -117,7 +117,7 @@ pub(crate) fn expand(
         ));
     }
     if let Some(bad) = values.iter().find(|x| !x.is_finite()) {
-        return Err(invalid(key, bad.to_string(), "finite values"));
+        return Err(invalid(key, Number(*bad).to_string(), "finite values"));
     }
     let increasing = values.windows(2).all(|w| w[1] > w[0]);
     let decreasing = values.windows(2).all(|w| w[1] < w[0]);

@@ -265,6 +265,25 @@ fn a_huge_value_is_named_in_exponent_form() {
     }
 }
 
+/// A tiny value inside a refused range is named in exponent form as well: an inverted grid
+/// axis `[1e-300, 1e-301]` and an inverted boundary bracket were printed with every one of
+/// their 300 zeros (only a lone number was mended, by parsing the message's text back).
+#[test]
+fn tiny_ends_of_a_refused_range_are_named_in_exponent_form() {
+    let e = scan_err(&SCAN.replace(
+        "x0 = { min = -3.0, max = 5.0, count = 32 }",
+        "x0 = { min = 1e-300, max = 1e-301, count = 32 }",
+    ));
+    assert_names(&e, "grid.x0", "min <= max");
+    assert!(e.contains("`grid.x0` = [1e-300, 1e-301]:"), "{e}");
+    let e = atlas_err(&with(
+        &ATLAS.replace("nu = [1e-3, 2e-3]", "nu = 1e-3\nlambda = [1.0, 2.0]"),
+        "[boundaries]\nnu_lo = 1e-300\nnu_hi = 1e-301",
+    ));
+    assert!(e.contains("[1e-300, 1e-301]"), "{e}");
+    assert!(e.len() < 300, "{} characters: {e}", e.len());
+}
+
 /// The damping in a no-cycle note is named in exponent form: a scan of `nu = 1e-300` printed
 /// "the return map grows already at r = 0.01 (nu = 0.000...1)" with 300 zeros, and so did
 /// `cycle.r_min = 1e-300`.

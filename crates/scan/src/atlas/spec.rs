@@ -72,12 +72,13 @@ mod parse;
 pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
+use squeal_core::error::Number;
 use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
 
 use super::boundary::BoundaryParam;
 use super::figures::PointSettings;
 use super::geometry::Region;
-use crate::error::ScanError;
+use crate::error::{ScanError, Shown};
 use crate::grid::Grid;
 use crate::spec::EarlyStop;
 pub(crate) use crate::spec::physical::{PhysicalFile, physical_key};
@@ -298,11 +299,13 @@ pub struct MapSettings {
     pub audit_every: u64,
 }
 
-fn invalid(path: &str, key: &str, value: impl ToString, expected: &str) -> ScanError {
+/// `value` is any [`Shown`] value: not a bare `f64`, which would print 1e-300 with 300 zeros
+/// (wrap it in [`squeal_core::error::Number`]).
+fn invalid(path: &str, key: &str, value: impl Shown, expected: &str) -> ScanError {
     ScanError::Invalid {
         path: path.to_string(),
         key: key.to_string(),
-        value: value.to_string(),
+        value: value.shown(),
         expected: expected.to_string(),
     }
 }
@@ -381,7 +384,7 @@ impl AtlasPlan {
             Units::Physical => "physical",
         };
         let name_err = |name: &str, value: f64, expected: &str| {
-            invalid(path, &format!("{prefix}.{name}"), value, expected)
+            invalid(path, &format!("{prefix}.{name}"), Number(value), expected)
         };
         let p = match self.physical_at(i) {
             Some(ph) => ph.params(self.law).map_err(|e| match e {

@@ -126,7 +126,7 @@ fn check_each(
                         expected,
                     } => invalid(
                         &format!("physical.{}", physical_key(name)),
-                        value.to_string(),
+                        squeal_core::error::Number(value).to_string(),
                         expected,
                     ),
                     e => invalid("physical", String::new(), &e.to_string()),

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
+use squeal_core::error::Number;
 use squeal_core::{FrictionLaw, Scheme, SolverConfig, SolverKind};
 
 use super::Invalid;
@@ -170,7 +171,7 @@ impl IntegrationTable {
         if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
             return Err(invalid(
                 "integration.dt",
-                dt.to_string(),
+                Number(dt).to_string(),
                 "a finite step in (0, 1]",
             ));
         }

@@ -1,6 +1,7 @@
 //! Reading an atlas spec's tables into the parts of an [`AtlasPlan`](super::AtlasPlan), one
 //! function per part, each checking its keys (errors name the key).
 
+use squeal_core::error::Number;
 use squeal_core::{FrictionLaw, Params, State};
 
 use super::{
@@ -282,7 +283,7 @@ pub(super) fn boundaries(
         return Err(invalid(
             path,
             "boundaries.rtol",
-            boundary_rtol,
+            Number(boundary_rtol),
             "a relative width in (0, 0.5)",
         ));
     }
@@ -458,21 +459,21 @@ fn bisection_range(inv: Invalid, key: &str, [lo, hi]: [f64; 2], top: f64) -> Res
     if !(lo.is_finite() && lo > 0.0 && lo < top) {
         return Err(inv(
             &format!("boundaries.{key}_lo"),
-            lo.to_string(),
+            Number(lo).to_string(),
             &expected,
         ));
     }
     if !(hi.is_finite() && hi > 0.0 && hi <= top) {
         return Err(inv(
             &format!("boundaries.{key}_hi"),
-            hi.to_string(),
+            Number(hi).to_string(),
             &expected,
         ));
     }
     if hi <= lo {
         return Err(inv(
             &format!("boundaries.{key}_lo/{key}_hi"),
-            format!("[{lo}, {hi}]"),
+            format!("[{}, {}]", Number(lo), Number(hi)),
             &expected,
         ));
     }
