@@ -72,7 +72,7 @@ mod parse;
 pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
+use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig, SurfaceSi};
 
 use super::boundary::BoundaryParam;
 use super::figures::PointSettings;
@@ -80,7 +80,7 @@ use super::geometry::Region;
 use crate::error::ScanError;
 use crate::grid::Grid;
 use crate::spec::EarlyStop;
-pub(crate) use crate::spec::physical::{PhysicalFile, physical_key};
+pub(crate) use crate::spec::physical::{PhysicalFile, physical_error};
 use crate::values::Value;
 
 /// The atlas spec version this build reads.
@@ -298,6 +298,14 @@ pub struct MapSettings {
     pub audit_every: u64,
 }
 
+/// The atlas spec text parsed into its tables (a TOML error names the file).
+fn parse_atlas(text: &str, path: &str) -> Result<AtlasFile, ScanError> {
+    toml::from_str(text).map_err(|e| ScanError::Parse {
+        path: path.to_string(),
+        message: e.to_string(),
+    })
+}
+
 fn invalid(path: &str, key: &str, value: impl ToString, expected: &str) -> ScanError {
     ScanError::Invalid {
         path: path.to_string(),
@@ -322,10 +330,23 @@ impl AtlasPlan {
 
     /// Checks a spec's text; `path` names it in errors.
     pub fn from_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
-        let f: AtlasFile = toml::from_str(text).map_err(|e| ScanError::Parse {
-            path: path.to_string(),
-            message: e.to_string(),
-        })?;
+        AtlasPlan::from_parsed(parse_atlas(text, path)?, text, path)
+    }
+
+    /// Parses and checks the spec stored in an atlas file this or an older squeal wrote: as
+    /// [`AtlasPlan::from_toml`], except that `[physical]` keys the law does not use, which
+    /// older versions required and then ignored (`mu_s`, `tau` under Coulomb), are dropped
+    /// rather than refused, so those files still read.
+    pub fn from_stored_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
+        let mut f = parse_atlas(text, path)?;
+        if let Some(ph) = &mut f.physical {
+            ph.forget_unused(f.model.law);
+        }
+        AtlasPlan::from_parsed(f, text, path)
+    }
+
+    /// Checks the parsed spec `f` of text `text`.
+    fn from_parsed(f: AtlasFile, text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
         if f.version != ATLAS_VERSION {
             return Err(invalid(
                 path,
@@ -337,8 +358,9 @@ impl AtlasPlan {
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let m = &f.model;
         m.check_law(&inv)?;
-        if f.physical.is_some() {
+        if let Some(ph) = &f.physical {
             m.check_physical(&inv)?;
+            ph.check_surface_keys(m.law, &inv)?;
         }
         let (units, params) = parse::model_axes(&f, path)?;
         let (dt, solver) = f.integration.check(&inv)?;
@@ -384,13 +406,10 @@ impl AtlasPlan {
             invalid(path, &format!("{prefix}.{name}"), value, expected)
         };
         let p = match self.physical_at(i) {
-            Some(ph) => ph.params(self.law).map_err(|e| match e {
-                squeal_core::CoreError::InvalidParameter {
-                    name,
-                    value,
-                    expected,
-                } => name_err(physical_key(name), value, expected),
-                e => invalid(path, prefix, e, "a valid model"),
+            Some(ph) => ph.params(self.law).map_err(|e| {
+                physical_error(e, &|key: &str, value: String, expected: &str| {
+                    invalid(path, key, value, expected)
+                })
             })?,
             None => {
                 let p = self.params_at(i);
@@ -505,15 +524,20 @@ impl AtlasPlan {
             return None;
         }
         let v = self.values_at(i);
+        // Axes by key: a Coulomb system has no mu_s and tau axes.
+        let at = |key: &str| self.params.iter().position(|a| a.key == key).map(|j| v[j]);
+        let need = |key: &str| at(key).expect("every physical key but mu_s and tau has an axis");
         Some(Physical {
-            m: v[0],
-            k: v[1],
-            c: v[2],
-            v_belt: v[3],
-            mu_k: v[4],
-            mu_s: v[5],
-            tau: v[6],
-            g: v[7],
+            m: need("m"),
+            k: need("k"),
+            c: need("c"),
+            v_belt: need("v_belt"),
+            mu_k: need("mu_k"),
+            surface: match (at("mu_s"), at("tau")) {
+                (Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
+                _ => None,
+            },
+            g: need("g"),
         })
     }
 

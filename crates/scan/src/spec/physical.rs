@@ -2,9 +2,12 @@
 //! converted by [`Physical::params`], McMillan's scaling) read as the nondimensional
 //! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
-//! grid (or the sample region) of a physical spec is in metres and m/s.
+//! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
+//! are McMillan's surfaces: his laws need them, Coulomb refuses them
+//! ([`squeal_core::units::surface_keys`]).
 
-use squeal_core::{Physical, units::G_STANDARD};
+use squeal_core::units::{G_STANDARD, SURFACE_KEYS, surface_keys, takes_surface};
+use squeal_core::{CoreError, FrictionLaw, Physical, SurfaceSi};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::error::ScanError;
@@ -23,10 +26,77 @@ pub(crate) struct PhysicalFile {
     pub(crate) c: Value,
     pub(crate) v_belt: Value,
     pub(crate) mu_k: Value,
-    pub(crate) mu_s: Value,
-    pub(crate) tau: Value,
+    /// McMillan's laws only ([`surface_keys`]).
+    #[serde(default)]
+    pub(crate) mu_s: Option<Value>,
+    /// McMillan's laws only ([`surface_keys`]).
+    #[serde(default)]
+    pub(crate) tau: Option<Value>,
     #[serde(default)]
     pub(crate) g: Option<Value>,
+}
+
+impl PhysicalFile {
+    /// Whether the table gives surface key `key` (one of [`SURFACE_KEYS`]).
+    pub(crate) fn given(&self, key: &str) -> bool {
+        match key {
+            "mu_s" => self.mu_s.is_some(),
+            _ => self.tau.is_some(),
+        }
+    }
+
+    /// Refuses a surface key `law` does not use, and asks for one it needs (the error names
+    /// the key and the law).
+    pub(crate) fn check_surface_keys(
+        &self,
+        law: FrictionLaw,
+        invalid: Invalid,
+    ) -> Result<(), ScanError> {
+        surface_keys(law, |k| self.given(k))
+            .map(|_| ())
+            .map_err(|e| physical_error(e, invalid))
+    }
+
+    /// A spec read back from a file written before Coulomb's physical system lost `mu_s` and
+    /// `tau` (they were required, then ignored): the keys its law does not use are dropped,
+    /// as that code dropped them, so the file still reads.
+    pub(crate) fn forget_unused(&mut self, law: FrictionLaw) {
+        if takes_surface(law) == Ok(false) {
+            (self.mu_s, self.tau) = (None, None);
+        }
+    }
+}
+
+/// A [`Physical::params`] error as a spec error naming the `[physical]` key it comes from
+/// (a derived value names its sources, [`physical_key`]) and, for a surface key missing or
+/// not used, the law.
+pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
+    let key = |k: &str| format!("physical.{}", physical_key(k));
+    let surfaces = SURFACE_KEYS.join(" and ");
+    match e {
+        CoreError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => invalid(&key(name), value.to_string(), expected),
+        CoreError::MissingPhysicalKey { key: k, law } => invalid(
+            &key(k),
+            "missing".into(),
+            &format!(
+                "a value: law = \"{law}\" needs {surfaces} (McMillan's surfaces: the static \
+                 coefficient mu_s > mu_k and the surface time tau in s)"
+            ),
+        ),
+        CoreError::UnusedPhysicalKey { key: k, law } => invalid(
+            &key(k),
+            "given".into(),
+            &format!(
+                "no such key under law = \"{law}\": it does not use mu_s or tau (constants of \
+                 McMillan's surfaces, for law = \"mcmillan\" and \"mcmillan-nonhysteretic\")"
+            ),
+        ),
+        e => invalid("physical", String::new(), &e.to_string()),
+    }
 }
 
 /// The physical key a [`Physical::params`] error names: a derived nondimensional value
@@ -47,6 +117,7 @@ pub(super) fn model(
     invalid: Invalid,
 ) -> Result<(Physical, ModelTable), ScanError> {
     m.check_physical(invalid)?;
+    ph.check_surface_keys(m.law, invalid)?;
     let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
         match v {
             Value::One(x) => Ok(*x),
@@ -76,8 +147,13 @@ pub(super) fn model(
         c: cs[0],
         v_belt: vs[0],
         mu_k: one("mu_k", &ph.mu_k)?,
-        mu_s: one("mu_s", &ph.mu_s)?,
-        tau: one("tau", &ph.tau)?,
+        surface: match (&ph.mu_s, &ph.tau) {
+            (Some(mu_s), Some(tau)) => Some(SurfaceSi {
+                mu_s: one("mu_s", mu_s)?,
+                tau: one("tau", tau)?,
+            }),
+            _ => None,
+        },
         g,
     };
     let p0 = check_each(&base, (&cs, &vs), m.law, invalid)?;
@@ -119,18 +195,7 @@ fn check_each(
         for &v_belt in vs {
             let p = Physical { c, v_belt, ..*base }
                 .params(law)
-                .map_err(|e| match e {
-                    squeal_core::CoreError::InvalidParameter {
-                        name,
-                        value,
-                        expected,
-                    } => invalid(
-                        &format!("physical.{}", physical_key(name)),
-                        value.to_string(),
-                        expected,
-                    ),
-                    e => invalid("physical", String::new(), &e.to_string()),
-                })?;
+                .map_err(|e| physical_error(e, invalid))?;
             first.get_or_insert(p);
         }
     }
