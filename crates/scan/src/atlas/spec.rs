@@ -789,6 +789,30 @@ path = "p.h5"
         assert!((r[0] - 1e-3).abs() < 1e-15 && (r[1] - 4e-2).abs() < 1e-15);
     }
 
+    /// A Coulomb system has no mu_s and tau (its force has neither): its axes are the
+    /// other six, mu_s or tau given is refused by name (before, both were required and then
+    /// ignored), and an old file's spec with them still reads back.
+    #[test]
+    fn a_coulomb_atlas_has_no_surface_axes() {
+        let coulomb = PHYS
+            .replace("\"mcmillan\"", "\"coulomb\"")
+            .replace("mu_s = 0.4\ntau = 3e-3\n", "");
+        let p = AtlasPlan::from_toml(&coulomb, "c.toml").unwrap();
+        let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
+        assert_eq!(keys, ["m", "k", "c", "v_belt", "mu_k", "g"]);
+        assert_eq!(p.physical_at(0).unwrap().surface, None);
+        // nu = c / (2 sqrt(m k)) = 2 / 200, as under McMillan's law (physical_spec_converts).
+        assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
+        let old = coulomb.replace("mu_k = 0.3", "mu_k = 0.3\ntau = 3e-3");
+        let e = err(&old);
+        assert!(
+            e.contains("`physical.tau`") && e.contains("\"coulomb\""),
+            "{e}"
+        );
+        let stored = AtlasPlan::from_stored_toml(&old, "c.toml").unwrap();
+        assert_eq!(stored.differs_from(&p), None);
+    }
+
     #[test]
     fn physical_spec_converts() {
         let p = AtlasPlan::from_toml(PHYS, "p.toml").unwrap();

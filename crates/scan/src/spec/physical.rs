@@ -316,4 +316,72 @@ path = "b.h5"
             assert!(e.contains(key), "{key}: {e}");
         }
     }
+
+    /// The brake's oscillator under Coulomb: Coulomb's force has no static peak and no
+    /// surface time, so its `[physical]` table is m, k, c, v_belt, mu_k (and g).
+    fn coulomb() -> String {
+        BRAKE
+            .replace("law = \"mcmillan\"", "law = \"coulomb\"")
+            .replace("mu_s = 0.45\ntau = 1e-3\n", "")
+    }
+
+    /// A Coulomb system without mu_s and tau is read (before, both were required, then
+    /// ignored: `missing field mu_s`); its maps are the same scaling's nu and lambda.
+    #[test]
+    fn a_coulomb_system_needs_no_surfaces() {
+        let p = Plan::from_toml(&coulomb(), "c.toml").unwrap();
+        let ph = p.physical.expect("the physical system is kept");
+        assert_eq!(ph.surface, None);
+        assert_eq!(p.maps[0].law, squeal_core::Friction::Coulomb);
+        // nu = c / (2 sqrt(m k)) = 5 / (2 sqrt(1e5)) (README, "Units").
+        assert!((p.maps[0].nu - 5.0 / (2.0 * 1e5f64.sqrt())).abs() < 1e-15);
+    }
+
+    /// mu_s or tau under Coulomb is refused by name, with the law (before, it was read and
+    /// ignored); McMillan's laws without either are refused naming the missing one.
+    #[test]
+    fn surface_keys_follow_the_law() {
+        let c = coulomb();
+        let cases = [
+            (
+                c.replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = 0.45"),
+                "physical.mu_s",
+            ),
+            (
+                c.replace("mu_k = 0.35", "mu_k = 0.35\ntau = 1e-3"),
+                "physical.tau",
+            ),
+            (BRAKE.replace("mu_s = 0.45\n", ""), "physical.mu_s"),
+            (BRAKE.replace("tau = 1e-3\n", ""), "physical.tau"),
+            (
+                BRAKE
+                    .replace("\"mcmillan\"", "\"mcmillan-nonhysteretic\"")
+                    .replace("tau = 1e-3\n", ""),
+                "physical.tau",
+            ),
+        ];
+        for (i, (text, key)) in cases.iter().enumerate() {
+            let e = Plan::from_toml(text, "b.toml").unwrap_err().to_string();
+            let law = if i < 2 { "coulomb" } else { "mcmillan" };
+            assert!(
+                e.contains(&format!("`{key}`")) && e.contains(&format!("law = \"{law}")),
+                "{key}: {e}"
+            );
+        }
+    }
+
+    /// A spec stored by an older squeal in a Coulomb file or journal carries the mu_s and
+    /// tau that version required: read back from the file it still validates (its law never
+    /// used them), to the plan of the spec without them; given by a user it is refused.
+    #[test]
+    fn an_old_coulomb_spec_stored_in_a_file_still_reads() {
+        let old = coulomb().replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = 0.45\ntau = 1e-3");
+        assert!(Plan::from_toml(&old, "c.toml").is_err());
+        let stored = Plan::from_stored_toml(&old, "c.toml").unwrap();
+        let now = Plan::from_toml(&coulomb(), "c.toml").unwrap();
+        assert_eq!(stored.differs_from(&now), None);
+        assert_eq!(stored.physical.unwrap().surface, None);
+        // McMillan's laws use them: a stored spec without them is refused as before.
+        assert!(Plan::from_stored_toml(&BRAKE.replace("tau = 1e-3\n", ""), "b.toml").is_err());
+    }
 }
