@@ -62,7 +62,8 @@
 //! ```
 //!
 //! The swept parameters (more than one value) are the axes, in the fixed order
-//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`, or for the Stribeck
+//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`, without `mu_s, tau`
+//! under Coulomb, or for the Stribeck
 //! law `xi, v_d, mu_d, mu_sd, v_0, mu_v`); points are their
 //! Cartesian product in C order (the last axis fastest).
 
@@ -168,7 +169,7 @@ struct BoundariesFile {
 pub enum Units {
     /// `nu, lambda, tau, phi` (paper Section 4).
     Nondimensional,
-    /// `m, k, c, v_belt, mu_k, mu_s, tau, g` in SI units.
+    /// `m, k, c, v_belt, mu_k, mu_s, tau, g` in SI units (no `mu_s, tau` under Coulomb).
     Physical,
 }
 
