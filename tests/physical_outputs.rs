@@ -299,6 +299,15 @@ fn old_coulomb_files_with_surfaces_still_read() {
     std::fs::write(d.join("a.toml"), COULOMB_ATLAS).unwrap();
     let (ok, err) = run(d, &["atlas", "a.toml", "--quiet", "--no-render"]);
     assert!(ok, "{err}");
+    // The new atlas file stores its fixed parameters as attributes: mu_k, but no mu_s, tau.
+    let names = attr_names(&d.join("atlas.h5"));
+    assert!(names.iter().any(|n| n == "mu_k"), "{names:?}");
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with("mu_s") || n.starts_with("tau")),
+        "{names:?}"
+    );
     store_spec(&d.join("atlas.h5"), &with_surfaces(COULOMB_ATLAS));
     let (ok, err) = run(d, &["info", "atlas.h5"]);
     assert!(ok, "{err}");
