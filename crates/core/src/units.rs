@@ -52,18 +52,22 @@ pub fn takes_surface(law: FrictionLaw) -> Result<bool, CoreError> {
     }
 }
 
-/// Checks which of [`SURFACE_KEYS`] are given (`given(key)`) under `law`: all of them for
-/// McMillan's laws, none for Coulomb. The error names the first key missing or not used,
-/// and the law; `Ok` says whether the law takes them.
-pub fn surface_keys(law: FrictionLaw, given: impl Fn(&str) -> bool) -> Result<bool, CoreError> {
+/// Checks which of [`SURFACE_KEYS`] are given (`given`, in that order) under `law`: all of
+/// them for McMillan's laws, none for Coulomb. The error names the first key missing or not
+/// used, and the law; `Ok` says whether the law takes them.
+pub fn surface_keys(law: FrictionLaw, given: [bool; 2]) -> Result<bool, CoreError> {
     let takes = takes_surface(law)?;
-    match SURFACE_KEYS.into_iter().find(|k| given(k) != takes) {
+    match SURFACE_KEYS
+        .into_iter()
+        .zip(given)
+        .find(|(_, g)| *g != takes)
+    {
         None => Ok(takes),
-        Some(key) if takes => Err(CoreError::MissingPhysicalKey {
+        Some((key, _)) if takes => Err(CoreError::MissingPhysicalKey {
             key,
             law: law.name(),
         }),
-        Some(key) => Err(CoreError::UnusedPhysicalKey {
+        Some((key, _)) => Err(CoreError::UnusedPhysicalKey {
             key,
             law: law.name(),
         }),
@@ -78,10 +82,7 @@ impl SurfaceSi {
         mu_s: Option<f64>,
         tau: Option<f64>,
     ) -> Result<Option<SurfaceSi>, CoreError> {
-        let given = |k: &str| match k {
-            "mu_s" => mu_s.is_some(),
-            _ => tau.is_some(),
-        };
+        let given = [mu_s.is_some(), tau.is_some()];
         Ok(match (surface_keys(law, given)?, mu_s, tau) {
             (true, Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
             _ => None,
@@ -218,7 +219,7 @@ impl Physical {
             // Surfaces missing or not used (surface_keys names the key), or a law without
             // physical units at all.
             (law, sf) => {
-                return Err(surface_keys(law, |_| sf.is_some())
+                return Err(surface_keys(law, [sf.is_some(); 2])
                     .err()
                     .unwrap_or(CoreError::NoPhysicalUnits(law.name())));
             }

@@ -37,14 +37,6 @@ pub(crate) struct PhysicalFile {
 }
 
 impl PhysicalFile {
-    /// Whether the table gives surface key `key` (one of [`SURFACE_KEYS`]).
-    pub(crate) fn given(&self, key: &str) -> bool {
-        match key {
-            "mu_s" => self.mu_s.is_some(),
-            _ => self.tau.is_some(),
-        }
-    }
-
     /// Refuses a surface key `law` does not use, and asks for one it needs (the error names
     /// the key and the law).
     pub(crate) fn check_surface_keys(
@@ -52,7 +44,7 @@ impl PhysicalFile {
         law: FrictionLaw,
         invalid: Invalid,
     ) -> Result<(), ScanError> {
-        surface_keys(law, |k| self.given(k))
+        surface_keys(law, [self.mu_s.is_some(), self.tau.is_some()])
             .map(|_| ())
             .map_err(|e| physical_error(e, invalid))
     }
