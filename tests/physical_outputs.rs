@@ -124,3 +124,202 @@ fn physical_trajectory_file_stores_the_system_and_its_units() {
     // The stored start is nondimensional; times the length unit it is the --x0 given in m.
     assert!((num("x0") * num("length_unit") - 1e-4).abs() <= 1e-15);
 }
+
+/// README's brake oscillator under Coulomb friction: m, k, c, v_belt, mu_k alone (Coulomb's
+/// force has no static peak and no surface time, so no mu_s and no tau), on a 3 x 2 grid.
+const COULOMB_SCAN: &str = r#"
+version = 1
+[model]
+law = "coulomb"
+[physical]
+m = 2.0
+k = 5.0e4
+c = 10.0
+v_belt = 0.05
+mu_k = 0.35
+[grid]
+x0 = { min = -1e-4, max = 2e-4, count = 3 }
+v0 = { min = -0.01, max = 0.01, count = 2 }
+[output]
+path = "coulomb.h5"
+"#;
+
+/// The same oscillator as a one-point atlas without boundaries.
+const COULOMB_ATLAS: &str = r#"
+version = 1
+name = "coulomb-one"
+[model]
+law = "coulomb"
+[physical]
+m = 2.0
+k = 5.0e4
+c = 10.0
+v_belt = 0.05
+mu_k = 0.35
+[boundaries]
+fold = false
+critical = false
+[output]
+path = "atlas.h5"
+"#;
+
+/// The spec as versions before this one required it: McMillan's surfaces given to Coulomb,
+/// which read them and then ignored them.
+fn with_surfaces(spec: &str) -> String {
+    spec.replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = 0.45\ntau = 1e-3")
+}
+
+/// `squeal args...` in `dir`: its status and stderr.
+fn run(dir: &std::path::Path, args: &[&str]) -> (bool, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the squeal binary runs");
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+/// The root attribute names of an HDF5 file.
+fn attr_names(path: &std::path::Path) -> Vec<String> {
+    hdf5::File::open(path).unwrap().attr_names().unwrap()
+}
+
+/// A Coulomb system runs without mu_s and tau (before, both were required: `missing field
+/// mu_s`), and its file carries no physical_mu_s or physical_tau; given, either is refused
+/// by name with the law, before anything is written.
+#[test]
+fn a_coulomb_system_takes_no_surfaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("c.toml"), COULOMB_SCAN).unwrap();
+    let (ok, err) = run(d, &["scan", "c.toml", "--quiet"]);
+    assert!(ok, "{err}");
+    let names = attr_names(&d.join("coulomb.h5"));
+    assert!(names.iter().any(|n| n == "physical_mu_k"), "{names:?}");
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with("physical_mu_s") || n.starts_with("physical_tau")),
+        "{names:?}"
+    );
+    for (key, text) in [
+        (
+            "mu_s",
+            COULOMB_SCAN.replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = 0.45"),
+        ),
+        (
+            "tau",
+            COULOMB_SCAN.replace("mu_k = 0.35", "mu_k = 0.35\ntau = 1e-3"),
+        ),
+    ] {
+        std::fs::write(d.join("bad.toml"), text).unwrap();
+        let (ok, err) = run(d, &["scan", "bad.toml", "--quiet", "-o", "bad.h5"]);
+        assert!(
+            !ok && err.contains(&format!("`physical.{key}`")) && err.contains("\"coulomb\""),
+            "{err}"
+        );
+        assert!(!d.join("bad.h5").exists());
+    }
+}
+
+/// The flags follow the same rule: `--law coulomb` runs without `--mu-s --tau-s` and
+/// refuses either by name; McMillan's law without one of them names it.
+#[test]
+fn the_physical_flags_take_the_laws_surfaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let system = [
+        "--m", "2", "--k", "5e4", "--c", "10", "--v-belt", "0.05", "--mu-k", "0.35",
+    ];
+    let traj = |extra: &[&str]| {
+        let mut a = vec!["trajectory", "--x0", "1e-4", "--t-end", "1"];
+        a.extend(system);
+        a.extend(extra);
+        run(d, &a)
+    };
+    let (ok, err) = traj(&["--law", "coulomb", "--out", "run.h5"]);
+    assert!(ok, "{err}");
+    let names = attr_names(&d.join("run.h5"));
+    assert!(names.iter().any(|n| n == "physical_c"), "{names:?}");
+    assert!(
+        !names
+            .iter()
+            .any(|n| n == "physical_mu_s" || n == "physical_tau"),
+        "{names:?}"
+    );
+    for (extra, flag, law) in [
+        (
+            &["--law", "coulomb", "--mu-s", "0.45"][..],
+            "--mu-s",
+            "coulomb",
+        ),
+        (
+            &["--law", "coulomb", "--tau-s", "1e-3"][..],
+            "--tau-s",
+            "coulomb",
+        ),
+        (&["--mu-s", "0.45"][..], "--tau-s", "mcmillan"),
+        (
+            &["--law", "mcmillan-nonhysteretic", "--tau-s", "1e-3"][..],
+            "--mu-s",
+            "mcmillan-nonhysteretic",
+        ),
+    ] {
+        let (ok, err) = traj(extra);
+        assert!(
+            !ok && err.contains(&format!("{flag}:")) && err.contains(&format!("law {law} ")),
+            "{extra:?}: {err}"
+        );
+    }
+}
+
+/// Replaces the `spec` attribute of `path` by `text`: a file as an older squeal wrote it,
+/// whose stored spec gave Coulomb the mu_s and tau it required.
+fn store_spec(path: &std::path::Path, text: &str) {
+    let f = hdf5::File::open_rw(path).unwrap();
+    f.delete_attr("spec").unwrap();
+    let v: hdf5::types::VarLenUnicode = text.parse().unwrap();
+    f.new_attr::<hdf5::types::VarLenUnicode>()
+        .create("spec")
+        .unwrap()
+        .write_scalar(&v)
+        .unwrap();
+}
+
+/// Files whose spec gave Coulomb mu_s and tau (every Coulomb physical file before this
+/// version) still read where the spec is read back: an atlas file's `info` and a scan's
+/// shards' `merge`.
+#[test]
+fn old_coulomb_files_with_surfaces_still_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("a.toml"), COULOMB_ATLAS).unwrap();
+    let (ok, err) = run(d, &["atlas", "a.toml", "--quiet", "--no-render"]);
+    assert!(ok, "{err}");
+    // The new atlas file stores its fixed parameters as attributes: mu_k, but no mu_s, tau.
+    let names = attr_names(&d.join("atlas.h5"));
+    assert!(names.iter().any(|n| n == "mu_k"), "{names:?}");
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with("mu_s") || n.starts_with("tau")),
+        "{names:?}"
+    );
+    store_spec(&d.join("atlas.h5"), &with_surfaces(COULOMB_ATLAS));
+    let (ok, err) = run(d, &["info", "atlas.h5"]);
+    assert!(ok, "{err}");
+    std::fs::write(d.join("c.toml"), COULOMB_SCAN).unwrap();
+    for k in ["1/2", "2/2"] {
+        let name = format!("s{}.h5", &k[..1]);
+        let (ok, err) = run(d, &["scan", "c.toml", "-o", &name, "--shard", k, "--quiet"]);
+        assert!(ok, "{err}");
+        store_spec(&d.join(&name), &with_surfaces(COULOMB_SCAN));
+    }
+    let (ok, err) = run(d, &["merge", "s1.h5", "s2.h5", "-o", "m.h5", "--no-render"]);
+    assert!(ok, "{err}");
+    let (ok, err) = run(d, &["info", "m.h5"]);
+    assert!(ok, "{err}");
+}

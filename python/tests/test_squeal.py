@@ -152,6 +152,33 @@ def test_spec_error_raises_value_error_with_the_cli_message(tmp_path):
         squeal.basin_stability("mcmillan", n=10, nu=-1.0)
 
 
+# README's brake oscillator under Coulomb friction in SI units: m, k, c, v_belt, mu_k alone
+# (Coulomb's force has no static peak and no surface time, so no mu_s and no tau), on a
+# 3 x 2 grid in m and m/s.
+COULOMB_SI = {
+    "version": 1,
+    "model": {"law": "coulomb"},
+    "physical": {"m": 2.0, "k": 5.0e4, "c": 10.0, "v_belt": 0.05, "mu_k": 0.35},
+    "grid": {
+        "x0": {"min": -1e-4, "max": 2e-4, "count": 3},
+        "v0": {"min": -0.01, "max": 0.01, "count": 2},
+    },
+    "output": {"path": "coulomb.h5"},
+}
+
+
+def test_a_coulomb_system_in_si_units_takes_no_surfaces():
+    # Before, mu_s and tau were required for Coulomb, then ignored (and stored as
+    # physical_mu_s, physical_tau); now the file has neither and either one is refused.
+    ds = squeal.scan(COULOMB_SI)
+    assert ds.attrs["physical_mu_k"] == 0.35
+    assert "physical_mu_s" not in ds.attrs and "physical_tau" not in ds.attrs
+    for key, value in [("mu_s", 0.45), ("tau", 1e-3)]:
+        bad = {**COULOMB_SI, "physical": {**COULOMB_SI["physical"], key: value}}
+        with pytest.raises(ValueError, match=rf'`physical\.{key}` = given: .*"coulomb"'):
+            squeal.scan(bad)
+
+
 # Slow on purpose: every cell runs to t_max = 400 (no early stop), in blocks of 2 rows:
 # some 8 s at 2 threads, so the signal lands mid-run.
 SLOW = """version = 1

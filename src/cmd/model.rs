@@ -24,7 +24,7 @@ pub struct ModelArgs {
     /// ...); defaults: the paper's Table 1, bSTAB's friction case, or the cubic law's.
     #[command(flatten)]
     pub keys: LawFlags,
-    /// The physical system's flags (McMillan's laws, instead of --nu --lambda --tau --phi).
+    /// The physical system's flags (the paper's laws, instead of --nu --lambda [--tau --phi]).
     #[command(flatten)]
     pub system: PhysicalArgs,
     /// Time step (see BENCHMARKS.md for the convergence study behind the default).
@@ -39,9 +39,9 @@ pub struct ModelArgs {
 }
 
 impl ModelArgs {
-    /// The physical system of `--m --k --c --v-belt --mu-k --mu-s --tau-s [--g]`, if any of
-    /// them is given (all but `--g` are then required, and no nondimensional law flag);
-    /// errors name the flag.
+    /// The physical system of `--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g]`, if any
+    /// of them is given (all but `--g` are then required, `--mu-s --tau-s` by the two
+    /// McMillan laws only, and no nondimensional law flag); errors name the flag.
     pub fn physical(&self) -> anyhow::Result<Option<Physical>> {
         let law: FrictionLaw = self.law.parse().context("--law")?;
         self.system.system(law, self.keys.first())

@@ -1,8 +1,9 @@
-//! The physical system's flags (`--m --k --c --v-belt --mu-k --mu-s --tau-s [--g]`), shared
-//! by every command that takes the model flags.
+//! The physical system's flags (`--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g]`),
+//! shared by every command that takes the model flags. `--mu-s --tau-s` are McMillan's
+//! surfaces: his laws need them, `--law coulomb` refuses them.
 
 use anyhow::bail;
-use squeal_core::{CoreError, FrictionLaw, Physical};
+use squeal_core::{CoreError, FrictionLaw, Physical, SurfaceSi};
 
 /// The physical flags with their spec key, in the order of [`Physical`]'s fields.
 pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
@@ -16,12 +17,14 @@ pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
     ("--g", "g"),
 ];
 
-/// The physical system in SI units instead of --nu --lambda --tau --phi (McMillan's laws).
+/// The physical system in SI units instead of --nu --lambda [--tau --phi] (the paper's
+/// three laws).
 #[derive(clap::Args, Debug, Clone)]
 pub struct PhysicalArgs {
     /// Mass m (kg). The physical system in SI units instead of --nu --lambda --tau --phi
-    /// (McMillan's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g optional);
-    /// then --x0/--v0 are in m and m/s and the results are printed in SI units too.
+    /// (the paper's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g optional;
+    /// --law coulomb takes no --mu-s --tau-s); then --x0/--v0 are in m and m/s and the
+    /// results are printed in SI units too.
     #[arg(long, allow_negative_numbers = true)]
     pub m: Option<f64>,
     /// Spring stiffness k (N/m; physical system, see --m).
@@ -36,10 +39,10 @@ pub struct PhysicalArgs {
     /// Kinetic friction coefficient mu_k (physical system, see --m).
     #[arg(long = "mu-k", allow_negative_numbers = true)]
     pub mu_k: Option<f64>,
-    /// Static friction coefficient mu_s > mu_k (physical system, see --m).
+    /// Static friction coefficient mu_s > mu_k (physical system; --law mcmillan and mcmillan-nonhysteretic only, see --m).
     #[arg(long = "mu-s", allow_negative_numbers = true)]
     pub mu_s: Option<f64>,
-    /// Characteristic time of the surfaces tau (s; physical system, see --m).
+    /// Characteristic time of the surfaces tau (s; physical system, McMillan's laws; see --m).
     #[arg(long = "tau-s", allow_negative_numbers = true)]
     pub tau_s: Option<f64>,
     /// Gravitational acceleration g (m/s^2; physical system, default 9.81).
@@ -48,8 +51,10 @@ pub struct PhysicalArgs {
 }
 
 impl PhysicalArgs {
-    /// The system under `law`, if any flag is given (all but `--g` are then required);
-    /// `other`: a nondimensional law flag also given (refused). Errors name the flag.
+    /// The system under `law`, if any flag is given (all but `--g` are then required, and
+    /// `--mu-s --tau-s` by `mcmillan` and `mcmillan-nonhysteretic` alone, which alone use
+    /// them); `other`: a
+    /// nondimensional law flag also given (refused). Errors name the flag.
     pub fn system(
         &self,
         law: FrictionLaw,
@@ -68,8 +73,9 @@ impl PhysicalArgs {
         if values.iter().all(Option::is_none) {
             return Ok(None);
         }
-        let all = "--m --k --c --v-belt --mu-k --mu-s --tau-s (and optionally --g)";
-        if let Some((flag, _)) = PHYSICAL_FLAGS[..7]
+        let all = "--m --k --c --v-belt --mu-k, with --mu-s --tau-s for --law mcmillan and \
+                   mcmillan-nonhysteretic (and optionally --g)";
+        if let Some((flag, _)) = PHYSICAL_FLAGS[..5]
             .iter()
             .zip(values)
             .find(|(_, v)| v.is_none())
@@ -95,8 +101,7 @@ impl PhysicalArgs {
             c: v(2),
             v_belt: v(3),
             mu_k: v(4),
-            mu_s: v(5),
-            tau: v(6),
+            surface: SurfaceSi::of(law, self.mu_s, self.tau_s).map_err(flag_error)?,
             g: values[7].unwrap_or(squeal_core::units::G_STANDARD),
         };
         ph.params(law).map_err(flag_error)?;
@@ -104,21 +109,34 @@ impl PhysicalArgs {
     }
 }
 
-/// The `[physical]` table of a scan spec for the system `ph`.
+/// The `[physical]` table of a scan spec for the system `ph` (without `mu_s` and `tau`
+/// where it has no surfaces: Coulomb).
 pub fn spec_table(ph: &Physical) -> String {
-    let v = [ph.m, ph.k, ph.c, ph.v_belt, ph.mu_k, ph.mu_s, ph.tau, ph.g];
+    let sf = ph.surface;
+    let v = [
+        Some(ph.m),
+        Some(ph.k),
+        Some(ph.c),
+        Some(ph.v_belt),
+        Some(ph.mu_k),
+        sf.map(|s| s.mu_s),
+        sf.map(|s| s.tau),
+        Some(ph.g),
+    ];
     let mut t = String::from("[physical]\n");
     for ((_, key), v) in PHYSICAL_FLAGS.iter().zip(v) {
-        t.push_str(&format!("{key} = {v:?}\n"));
+        if let Some(v) = v {
+            t.push_str(&format!("{key} = {v:?}\n"));
+        }
     }
     t
 }
 
 /// A physical-system error naming the flag: derived values name the flags they come from.
 pub fn flag_error(e: CoreError) -> anyhow::Error {
-    match &e {
-        CoreError::InvalidParameter { name, .. } => {
-            let flag = match *name {
+    match e.key() {
+        Some(name) => {
+            let flag = match name {
                 "nu" => "--c (nu = c / (2 sqrt(m k)))",
                 "lambda" => "--v-belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
                 "phi" => "--mu-s",
@@ -130,7 +148,7 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
             };
             anyhow::anyhow!("{flag}: {e}")
         }
-        _ => anyhow::anyhow!(e),
+        None => anyhow::anyhow!(e),
     }
 }
 

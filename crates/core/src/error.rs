@@ -17,6 +17,29 @@ pub enum CoreError {
          parameters"
     )]
     NoPhysicalUnits(&'static str),
+    /// A physical key the law needs and was not given (`mu_s` or `tau` for McMillan's laws).
+    #[error(
+        "missing: law {law} needs it (McMillan's surfaces: the static coefficient mu_s > mu_k \
+         and the surface time tau in s)"
+    )]
+    MissingPhysicalKey {
+        /// The key (`mu_s`, `tau`).
+        key: &'static str,
+        /// The law's name.
+        law: &'static str,
+    },
+    /// A physical key given to a law that does not use it (`mu_s` or `tau` with Coulomb,
+    /// whose force has no static peak and no surface time).
+    #[error(
+        "given, but law {law} does not use it (mu_s and tau are constants of McMillan's \
+         surfaces, for laws mcmillan and mcmillan-nonhysteretic): leave it out"
+    )]
+    UnusedPhysicalKey {
+        /// The key (`mu_s`, `tau`).
+        key: &'static str,
+        /// The law's name.
+        law: &'static str,
+    },
     /// A friction-law name that is not one of ours, with the names that are
     /// ([`crate::FrictionLaw::names`], so the next law needs no edit here).
     #[error("unknown friction law '{name}' (expected one of {expected})")]
@@ -51,6 +74,17 @@ impl std::fmt::Display for Number {
 }
 
 impl CoreError {
+    /// The key an error is about, if it names one (a parameter out of range, a physical key
+    /// missing or not used): callers turn it into their flag or spec key.
+    pub fn key(&self) -> Option<&'static str> {
+        match self {
+            CoreError::InvalidParameter { name, .. } => Some(name),
+            CoreError::MissingPhysicalKey { key, .. }
+            | CoreError::UnusedPhysicalKey { key, .. } => Some(key),
+            _ => None,
+        }
+    }
+
     /// `Err(InvalidParameter)`: a value out of its range, naming the key and what it must be.
     pub fn invalid<T>(
         name: &'static str,

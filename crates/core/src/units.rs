@@ -12,6 +12,10 @@
 //! Phi     = arcsin(mu_k / mu_s)
 //! ```
 //!
+//! `tau` and `mu_s` are constants of McMillan's surfaces ([`SurfaceSi`]): his two laws need
+//! them, Coulomb's force has neither, so a Coulomb system is `m, k, c, v_B, mu_k, g` alone
+//! ([`surface_keys`] says which a law takes).
+//!
 //! [`Physical`] holds the physical system, [`Physical::params`] converts it, and
 //! [`Scales`] turns nondimensional figures back into SI: lengths in m, velocities in m/s,
 //! times in s, angular frequencies in Hz, damping ratios in N s/m.
@@ -23,6 +27,68 @@ use crate::params::{Friction, FrictionLaw, Params, Surface};
 
 /// Standard gravity, the default of `g` (m/s^2).
 pub const G_STANDARD: f64 = 9.81;
+
+/// The physical keys of McMillan's surfaces, in the order of [`SurfaceSi`]'s fields.
+pub const SURFACE_KEYS: [&str; 2] = ["mu_s", "tau"];
+
+/// McMillan's surfaces in SI units: what his two laws need beyond the oscillator.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SurfaceSi {
+    /// "Static" friction coefficient `mu_s > mu_k`.
+    pub mu_s: f64,
+    /// Characteristic time of the surfaces `tau` (s).
+    pub tau: f64,
+}
+
+/// Whether `law` takes McMillan's surfaces (`mu_s`, `tau`) in physical units: his two laws
+/// do, Coulomb does not; a law without physical units is an error.
+pub fn takes_surface(law: FrictionLaw) -> Result<bool, CoreError> {
+    match law {
+        FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => Ok(true),
+        FrictionLaw::Coulomb => Ok(false),
+        // Only McMillan's laws share the scaling of the physical units (the laws with
+        // true stick, and any law not named here, are written in the normal load).
+        _ => Err(CoreError::NoPhysicalUnits(law.name())),
+    }
+}
+
+/// Checks which of [`SURFACE_KEYS`] are given (`given`, in that order) under `law`: all of
+/// them for McMillan's laws, none for Coulomb. The error names the first key missing or not
+/// used, and the law; `Ok` says whether the law takes them.
+pub fn surface_keys(law: FrictionLaw, given: [bool; 2]) -> Result<bool, CoreError> {
+    let takes = takes_surface(law)?;
+    match SURFACE_KEYS
+        .into_iter()
+        .zip(given)
+        .find(|(_, g)| *g != takes)
+    {
+        None => Ok(takes),
+        Some((key, _)) if takes => Err(CoreError::MissingPhysicalKey {
+            key,
+            law: law.name(),
+        }),
+        Some((key, _)) => Err(CoreError::UnusedPhysicalKey {
+            key,
+            law: law.name(),
+        }),
+    }
+}
+
+impl SurfaceSi {
+    /// The surfaces under `law` from `mu_s` and `tau` as given: both for McMillan's laws,
+    /// neither for Coulomb ([`surface_keys`]; values are checked by [`Physical::validate`]).
+    pub fn of(
+        law: FrictionLaw,
+        mu_s: Option<f64>,
+        tau: Option<f64>,
+    ) -> Result<Option<SurfaceSi>, CoreError> {
+        let given = [mu_s.is_some(), tau.is_some()];
+        Ok(match (surface_keys(law, given)?, mu_s, tau) {
+            (true, Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
+            _ => None,
+        })
+    }
+}
 
 /// A physical friction oscillator in SI units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -37,10 +103,8 @@ pub struct Physical {
     pub v_belt: f64,
     /// Kinetic friction coefficient `mu_k`.
     pub mu_k: f64,
-    /// "Static" friction coefficient `mu_s > mu_k`.
-    pub mu_s: f64,
-    /// Characteristic time of the surfaces `tau` (s).
-    pub tau: f64,
+    /// McMillan's surfaces (his two laws); `None` for Coulomb, which has none.
+    pub surface: Option<SurfaceSi>,
     /// Gravitational acceleration `g` (m/s^2).
     pub g: f64,
 }
@@ -102,15 +166,17 @@ impl Physical {
         if !pos(self.mu_k) {
             return bad("mu_k", self.mu_k, "a finite friction coefficient > 0");
         }
-        if !self.mu_s.is_finite() || self.mu_s <= self.mu_k {
-            return bad(
-                "mu_s",
-                self.mu_s,
-                "a static coefficient > mu_k (Phi = arcsin(mu_k/mu_s) needs mu_k < mu_s)",
-            );
-        }
-        if !pos(self.tau) {
-            return bad("tau", self.tau, "a finite time > 0 (s)");
+        if let Some(sf) = self.surface {
+            if !sf.mu_s.is_finite() || sf.mu_s <= self.mu_k {
+                return bad(
+                    "mu_s",
+                    sf.mu_s,
+                    "a static coefficient > mu_k (Phi = arcsin(mu_k/mu_s) needs mu_k < mu_s)",
+                );
+            }
+            if !pos(sf.tau) {
+                return bad("tau", sf.tau, "a finite time > 0 (s)");
+            }
         }
         if !pos(self.g) {
             return bad("g", self.g, "a finite acceleration > 0 (m/s^2)");
@@ -138,21 +204,25 @@ impl Physical {
         Ok(p)
     }
 
-    /// The nondimensional parameters, not validated (an error only for a law without
-    /// physical units).
+    /// The nondimensional parameters, not validated (an error for a law without physical
+    /// units, and for surfaces given to a law without them or missing from one with them).
     pub fn nondimensional(&self, law: FrictionLaw) -> Result<Params, CoreError> {
         let s = self.scales();
-        let surface = Surface {
-            tau: self.tau / self.mu_k * s.omega0,
-            phi: (self.mu_k / self.mu_s).asin(),
+        let nd = |sf: SurfaceSi| Surface {
+            tau: sf.tau / self.mu_k * s.omega0,
+            phi: (self.mu_k / sf.mu_s).asin(),
         };
-        let law = match law {
-            FrictionLaw::McMillan => Friction::McMillan(surface),
-            FrictionLaw::McMillanNonHysteretic => Friction::NonHysteretic(surface),
-            FrictionLaw::Coulomb => Friction::Coulomb,
-            // Only McMillan's laws share the scaling of the physical units (the laws with
-            // true stick, and any law not named here, are written in the normal load).
-            _ => return Err(CoreError::NoPhysicalUnits(law.name())),
+        let law = match (law, self.surface) {
+            (FrictionLaw::McMillan, Some(sf)) => Friction::McMillan(nd(sf)),
+            (FrictionLaw::McMillanNonHysteretic, Some(sf)) => Friction::NonHysteretic(nd(sf)),
+            (FrictionLaw::Coulomb, None) => Friction::Coulomb,
+            // Surfaces missing or not used (surface_keys names the key), or a law without
+            // physical units at all.
+            (law, sf) => {
+                return Err(surface_keys(law, [sf.is_some(); 2])
+                    .err()
+                    .unwrap_or(CoreError::NoPhysicalUnits(law.name())));
+            }
         };
         Ok(Params {
             law,
@@ -163,18 +233,16 @@ impl Physical {
 
     /// The physical system with mass, stiffness, `mu_k` and `g` taken from `base` whose
     /// nondimensional parameters are `p` (the inverse of [`Physical::params`]).
-    /// A law without McMillan's surface constants (Coulomb) keeps `base`'s `tau` and `mu_s`.
+    /// A law without McMillan's surface constants (Coulomb) gives a system without them.
     pub fn from_params(base: &Physical, p: &Params) -> Physical {
         let s = base.scales();
-        let (tau, mu_s) = match p.law.surface() {
-            Some(c) => (c.tau * base.mu_k / s.omega0, base.mu_k / c.phi.sin()),
-            None => (base.tau, base.mu_s),
-        };
         Physical {
             c: p.nu * s.damping,
             v_belt: p.lambda * s.velocity,
-            tau,
-            mu_s,
+            surface: p.law.surface().map(|c| SurfaceSi {
+                tau: c.tau * base.mu_k / s.omega0,
+                mu_s: base.mu_k / c.phi.sin(),
+            }),
             ..*base
         }
     }
@@ -192,8 +260,10 @@ mod tests {
             c: 4.0,
             v_belt: 0.1,
             mu_k: 0.4,
-            mu_s: 0.5,
-            tau: 1e-3,
+            surface: Some(SurfaceSi {
+                mu_s: 0.5,
+                tau: 1e-3,
+            }),
             g: G_STANDARD,
         }
     }
@@ -223,11 +293,12 @@ mod tests {
         let ph = example();
         let p = ph.params(FrictionLaw::McMillanNonHysteretic).unwrap();
         let back = Physical::from_params(&ph, &p);
+        let (sb, sf) = (back.surface.unwrap(), ph.surface.unwrap());
         for (a, b) in [
             (back.c, ph.c),
             (back.v_belt, ph.v_belt),
-            (back.tau, ph.tau),
-            (back.mu_s, ph.mu_s),
+            (sb.tau, sf.tau),
+            (sb.mu_s, sf.mu_s),
         ] {
             assert!((a - b).abs() <= 1e-14 * b.abs(), "{a} vs {b}");
         }
@@ -241,9 +312,9 @@ mod tests {
         let cases: [(Edit, &str); 5] = [
             (|p| p.m = -1.0, "m"),
             (|p| p.k = 0.0, "k"),
-            (|p| p.mu_s = 0.4, "mu_s"),
+            (|p| p.surface.as_mut().unwrap().mu_s = 0.4, "mu_s"),
             (|p| p.c = f64::NAN, "c"),
-            (|p| p.tau = -1e-3, "tau"),
+            (|p| p.surface.as_mut().unwrap().tau = -1e-3, "tau"),
         ];
         for (f, key) in cases {
             let mut p = example();
@@ -253,5 +324,48 @@ mod tests {
                 other => panic!("{key}: {other:?}"),
             }
         }
+    }
+
+    /// Coulomb's force has no static peak and no surface time: its physical system is
+    /// `m, k, c, v_B, mu_k, g` alone, and `mu_s` or `tau` given to it is refused by name
+    /// (they were required and then ignored); McMillan's laws need both.
+    #[test]
+    fn each_law_takes_its_own_surface_keys() {
+        let coulomb = Physical {
+            surface: None,
+            ..example()
+        };
+        let p = coulomb.params(FrictionLaw::Coulomb).unwrap();
+        assert_eq!(p.law, Friction::Coulomb);
+        // nu and lambda as for McMillan's laws (scaling_is_the_papers): c / (2 sqrt(m k)).
+        assert!((p.nu - 0.01).abs() < 1e-15);
+        let back = Physical::from_params(&coulomb, &p);
+        assert_eq!(back.surface, None);
+        let key_of = |r: Result<Params, CoreError>| match r {
+            Err(
+                e @ (CoreError::MissingPhysicalKey { .. } | CoreError::UnusedPhysicalKey { .. }),
+            ) => (e.key().unwrap(), e.to_string()),
+            other => panic!("{other:?}"),
+        };
+        let (key, msg) = key_of(example().params(FrictionLaw::Coulomb));
+        assert_eq!(key, "mu_s");
+        assert!(msg.contains("law coulomb does not use it"), "{msg}");
+        for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
+            let (key, msg) = key_of(coulomb.params(law));
+            assert_eq!(key, "mu_s");
+            assert!(msg.contains(&format!("law {law} needs it")), "{msg}");
+        }
+        // One of the two given: the other is named.
+        let only_tau = SurfaceSi::of(FrictionLaw::McMillan, None, Some(1e-3)).unwrap_err();
+        assert_eq!(only_tau.key(), Some("mu_s"));
+        let only_mu_s = SurfaceSi::of(FrictionLaw::McMillan, Some(0.5), None).unwrap_err();
+        assert_eq!(only_mu_s.key(), Some("tau"));
+        let tau_to_coulomb = SurfaceSi::of(FrictionLaw::Coulomb, None, Some(1e-3)).unwrap_err();
+        assert_eq!(tau_to_coulomb.key(), Some("tau"));
+        assert_eq!(SurfaceSi::of(FrictionLaw::Coulomb, None, None), Ok(None));
+        assert!(matches!(
+            SurfaceSi::of(FrictionLaw::Stribeck, None, None),
+            Err(CoreError::NoPhysicalUnits(_))
+        ));
     }
 }

@@ -612,6 +612,14 @@ fn initial_conditions(
     Ok(grid)
 }
 
+/// The spec text parsed into its tables (a TOML error names the file).
+fn parse_spec(text: &str, path: &str) -> Result<SpecFile, ScanError> {
+    toml::from_str(text).map_err(|e| ScanError::Parse {
+        path: path.to_string(),
+        message: e.to_string(),
+    })
+}
+
 impl Plan {
     /// The integration setting of map `map`: its parameters with the plan's step and solver.
     pub fn setup(&self, map: usize) -> Setup {
@@ -625,10 +633,23 @@ impl Plan {
 
     /// Parses and checks spec text; `path` is used in messages and for the default name.
     pub fn from_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
-        let spec: SpecFile = toml::from_str(text).map_err(|e| ScanError::Parse {
-            path: path.to_string(),
-            message: e.to_string(),
-        })?;
+        Plan::from_parsed(parse_spec(text, path)?, text, path)
+    }
+
+    /// Parses and checks the spec stored in a file (or journal) this or an older squeal
+    /// wrote: as [`Plan::from_toml`], except that `[physical]` keys the law does not use,
+    /// which older versions required and then ignored (`mu_s`, `tau` under Coulomb), are
+    /// dropped rather than refused, so those files still read.
+    pub fn from_stored_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
+        let mut spec = parse_spec(text, path)?;
+        if let Some(ph) = &mut spec.physical {
+            ph.forget_unused(spec.model.law);
+        }
+        Plan::from_parsed(spec, text, path)
+    }
+
+    /// Checks the parsed spec `spec` of text `text`.
+    fn from_parsed(spec: SpecFile, text: &str, path: &str) -> Result<Plan, ScanError> {
         let invalid = |key: &str, value: String, expected: &str| ScanError::Invalid {
             path: path.to_string(),
             key: key.to_string(),

@@ -18,8 +18,10 @@ fn brake() -> Physical {
         c: 5.0,
         v_belt: 0.05,
         mu_k: 0.35,
-        mu_s: 0.45,
-        tau: 1e-3,
+        surface: Some(squeal_core::SurfaceSi {
+            mu_s: 0.45,
+            tau: 1e-3,
+        }),
         g: 9.81,
     }
 }

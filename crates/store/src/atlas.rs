@@ -25,7 +25,8 @@
 //!           ("nondimensional" | "physical"), solver, dt, every fixed parameter (f64, with
 //!           <key>_units), operating_point_x/_v, disturbance_x/_v ([min, max]), shard
 //! coordinates (dimension scales, attrs long_name, units): one per swept parameter, in
-//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g |
+//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g, with
+//!           no mu_s, tau under Coulomb |
 //!           xi, v_d, mu_d, mu_sd, v_0, mu_v);
 //!           `point` (length 1) when nothing is swept, `boundary` (length 1) when only the
 //!           damping is

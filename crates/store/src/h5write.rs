@@ -38,22 +38,34 @@ pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
 
 /// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
-/// the SI size of one nondimensional unit.
+/// the SI size of one nondimensional unit. A system without McMillan's surfaces (Coulomb)
+/// has no `physical_mu_s` and `physical_tau` (files of older versions carry the values they
+/// were given, which that law never used).
 pub(crate) fn physical_attrs(
     file: &File,
     ph: &squeal_core::Physical,
     swept: Option<&str>,
 ) -> hdf5::Result<()> {
-    let values = [ph.m, ph.k, ph.c, ph.v_belt, ph.mu_k, ph.mu_s, ph.tau, ph.g];
+    let sf = ph.surface;
+    let values = [
+        Some(ph.m),
+        Some(ph.k),
+        Some(ph.c),
+        Some(ph.v_belt),
+        Some(ph.mu_k),
+        sf.map(|s| s.mu_s),
+        sf.map(|s| s.tau),
+        Some(ph.g),
+    ];
     let skip = match swept {
         Some("nu") => "c",
         Some("lambda") => "v_belt",
         _ => "",
     };
     for ((key, long, units), v) in squeal_scan::atlas::spec::PHYSICAL.iter().zip(values) {
-        if *key == skip {
+        let Some(v) = v.filter(|_| *key != skip) else {
             continue;
-        }
+        };
         num_attr(file, &format!("physical_{key}"), v)?;
         str_attr(file, &format!("physical_{key}_long_name"), long)?;
         str_attr(file, &format!("physical_{key}_units"), units)?;

@@ -186,7 +186,7 @@ pub fn merge(
     }
     let _lock = OutputLock::acquire(out)?;
     let (h, files) = open_shards(shards)?;
-    let mut plan = Plan::from_toml(&h.spec, &format!("{}.toml", h.name)).map_err(|e| {
+    let mut plan = Plan::from_stored_toml(&h.spec, &format!("{}.toml", h.name)).map_err(|e| {
         StoreError::NotSquealFile {
             path: h.path.clone(),
             why: format!("its spec no longer validates: {e}"),

@@ -56,7 +56,7 @@ pub(crate) fn started_plan<P: Recorded + Clone>(
 impl Recorded for Plan {
     const SCHEMA: &'static str = SCHEMA;
     fn stored(spec: &str, name: Option<String>, like: &Plan) -> Option<Plan> {
-        let p = Plan::from_toml(spec, &like.spec_path).ok()?;
+        let p = Plan::from_stored_toml(spec, &like.spec_path).ok()?;
         Some(Plan {
             name: name.unwrap_or(p.name.clone()),
             ..p
@@ -76,7 +76,7 @@ impl Recorded for Plan {
 impl Recorded for AtlasPlan {
     const SCHEMA: &'static str = ATLAS_SCHEMA;
     fn stored(spec: &str, name: Option<String>, like: &AtlasPlan) -> Option<AtlasPlan> {
-        let p = AtlasPlan::from_toml(spec, &like.spec_path).ok()?;
+        let p = AtlasPlan::from_stored_toml(spec, &like.spec_path).ok()?;
         Some(AtlasPlan {
             name: name.unwrap_or(p.name.clone()),
             ..p

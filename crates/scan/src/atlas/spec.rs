@@ -62,7 +62,8 @@
 //! ```
 //!
 //! The swept parameters (more than one value) are the axes, in the fixed order
-//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`, or for the Stribeck
+//! `nu, lambda, tau, phi` (or `m, k, c, v_belt, mu_k, mu_s, tau, g`, without `mu_s, tau`
+//! under Coulomb, or for the Stribeck
 //! law `xi, v_d, mu_d, mu_sd, v_0, mu_v`); points are their
 //! Cartesian product in C order (the last axis fastest).
 
@@ -73,7 +74,7 @@ pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
 use squeal_core::error::Number;
-use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig};
+use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig, SurfaceSi};
 
 use super::boundary::BoundaryParam;
 use super::figures::PointSettings;
@@ -81,7 +82,7 @@ use super::geometry::Region;
 use crate::error::{ScanError, Shown};
 use crate::grid::Grid;
 use crate::spec::EarlyStop;
-pub(crate) use crate::spec::physical::{PhysicalFile, physical_key};
+pub(crate) use crate::spec::physical::{PhysicalFile, physical_error};
 use crate::values::Value;
 
 /// The atlas spec version this build reads.
@@ -169,7 +170,7 @@ struct BoundariesFile {
 pub enum Units {
     /// `nu, lambda, tau, phi` (paper Section 4).
     Nondimensional,
-    /// `m, k, c, v_belt, mu_k, mu_s, tau, g` in SI units.
+    /// `m, k, c, v_belt, mu_k, mu_s, tau, g` in SI units (no `mu_s, tau` under Coulomb).
     Physical,
 }
 
@@ -299,6 +300,14 @@ pub struct MapSettings {
     pub audit_every: u64,
 }
 
+/// The atlas spec text parsed into its tables (a TOML error names the file).
+fn parse_atlas(text: &str, path: &str) -> Result<AtlasFile, ScanError> {
+    toml::from_str(text).map_err(|e| ScanError::Parse {
+        path: path.to_string(),
+        message: e.to_string(),
+    })
+}
+
 /// `value` is any [`Shown`] value: not a bare `f64`, which would print 1e-300 with 300 zeros
 /// (wrap it in [`squeal_core::error::Number`]).
 fn invalid(path: &str, key: &str, value: impl Shown, expected: &str) -> ScanError {
@@ -325,10 +334,23 @@ impl AtlasPlan {
 
     /// Checks a spec's text; `path` names it in errors.
     pub fn from_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
-        let f: AtlasFile = toml::from_str(text).map_err(|e| ScanError::Parse {
-            path: path.to_string(),
-            message: e.to_string(),
-        })?;
+        AtlasPlan::from_parsed(parse_atlas(text, path)?, text, path)
+    }
+
+    /// Parses and checks the spec stored in an atlas file this or an older squeal wrote: as
+    /// [`AtlasPlan::from_toml`], except that `[physical]` keys the law does not use, which
+    /// older versions required and then ignored (`mu_s`, `tau` under Coulomb), are dropped
+    /// rather than refused, so those files still read.
+    pub fn from_stored_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
+        let mut f = parse_atlas(text, path)?;
+        if let Some(ph) = &mut f.physical {
+            ph.forget_unused(f.model.law);
+        }
+        AtlasPlan::from_parsed(f, text, path)
+    }
+
+    /// Checks the parsed spec `f` of text `text`.
+    fn from_parsed(f: AtlasFile, text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
         if f.version != ATLAS_VERSION {
             return Err(invalid(
                 path,
@@ -340,8 +362,9 @@ impl AtlasPlan {
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let m = &f.model;
         m.check_law(&inv)?;
-        if f.physical.is_some() {
+        if let Some(ph) = &f.physical {
             m.check_physical(&inv)?;
+            ph.check_surface_keys(m.law, &inv)?;
         }
         let (units, params) = parse::model_axes(&f, path)?;
         let (dt, solver) = f.integration.check(&inv)?;
@@ -387,13 +410,10 @@ impl AtlasPlan {
             invalid(path, &format!("{prefix}.{name}"), Number(value), expected)
         };
         let p = match self.physical_at(i) {
-            Some(ph) => ph.params(self.law).map_err(|e| match e {
-                squeal_core::CoreError::InvalidParameter {
-                    name,
-                    value,
-                    expected,
-                } => name_err(physical_key(name), value, expected),
-                e => invalid(path, prefix, e, "a valid model"),
+            Some(ph) => ph.params(self.law).map_err(|e| {
+                physical_error(e, &|key: &str, value: String, expected: &str| {
+                    invalid(path, key, value, expected)
+                })
             })?,
             None => {
                 let p = self.params_at(i);
@@ -508,15 +528,20 @@ impl AtlasPlan {
             return None;
         }
         let v = self.values_at(i);
+        // Axes by key: a Coulomb system has no mu_s and tau axes.
+        let at = |key: &str| self.params.iter().position(|a| a.key == key).map(|j| v[j]);
+        let need = |key: &str| at(key).expect("every physical key but mu_s and tau has an axis");
         Some(Physical {
-            m: v[0],
-            k: v[1],
-            c: v[2],
-            v_belt: v[3],
-            mu_k: v[4],
-            mu_s: v[5],
-            tau: v[6],
-            g: v[7],
+            m: need("m"),
+            k: need("k"),
+            c: need("c"),
+            v_belt: need("v_belt"),
+            mu_k: need("mu_k"),
+            surface: match (at("mu_s"), at("tau")) {
+                (Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
+                _ => None,
+            },
+            g: need("g"),
         })
     }
 
@@ -766,6 +791,30 @@ path = "p.h5"
         let (i, r) = p.boundary_setup(1);
         assert_eq!(p.params_at(i).lambda, 3.0);
         assert!((r[0] - 1e-3).abs() < 1e-15 && (r[1] - 4e-2).abs() < 1e-15);
+    }
+
+    /// A Coulomb system has no mu_s and tau (its force has neither): its axes are the
+    /// other six, mu_s or tau given is refused by name (before, both were required and then
+    /// ignored), and an old file's spec with them still reads back.
+    #[test]
+    fn a_coulomb_atlas_has_no_surface_axes() {
+        let coulomb = PHYS
+            .replace("\"mcmillan\"", "\"coulomb\"")
+            .replace("mu_s = 0.4\ntau = 3e-3\n", "");
+        let p = AtlasPlan::from_toml(&coulomb, "c.toml").unwrap();
+        let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
+        assert_eq!(keys, ["m", "k", "c", "v_belt", "mu_k", "g"]);
+        assert_eq!(p.physical_at(0).unwrap().surface, None);
+        // nu = c / (2 sqrt(m k)) = 2 / 200, as under McMillan's law (physical_spec_converts).
+        assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
+        let old = coulomb.replace("mu_k = 0.3", "mu_k = 0.3\ntau = 3e-3");
+        let e = err(&old);
+        assert!(
+            e.contains("`physical.tau`") && e.contains("\"coulomb\""),
+            "{e}"
+        );
+        let stored = AtlasPlan::from_stored_toml(&old, "c.toml").unwrap();
+        assert_eq!(stored.differs_from(&p), None);
     }
 
     #[test]

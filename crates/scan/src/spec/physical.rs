@@ -2,9 +2,12 @@
 //! converted by [`Physical::params`], McMillan's scaling) read as the nondimensional
 //! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
-//! grid (or the sample region) of a physical spec is in metres and m/s.
+//! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
+//! are McMillan's surfaces: his laws need them, Coulomb refuses them
+//! ([`squeal_core::units::surface_keys`]).
 
-use squeal_core::{Physical, units::G_STANDARD};
+use squeal_core::units::{G_STANDARD, SURFACE_KEYS, surface_keys, takes_surface};
+use squeal_core::{CoreError, FrictionLaw, Physical, SurfaceSi};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::error::ScanError;
@@ -23,10 +26,73 @@ pub(crate) struct PhysicalFile {
     pub(crate) c: Value,
     pub(crate) v_belt: Value,
     pub(crate) mu_k: Value,
-    pub(crate) mu_s: Value,
-    pub(crate) tau: Value,
+    /// McMillan's laws only ([`surface_keys`]).
+    #[serde(default)]
+    pub(crate) mu_s: Option<Value>,
+    /// McMillan's laws only ([`surface_keys`]).
+    #[serde(default)]
+    pub(crate) tau: Option<Value>,
     #[serde(default)]
     pub(crate) g: Option<Value>,
+}
+
+impl PhysicalFile {
+    /// Refuses a surface key `law` does not use, and asks for one it needs (the error names
+    /// the key and the law).
+    pub(crate) fn check_surface_keys(
+        &self,
+        law: FrictionLaw,
+        invalid: Invalid,
+    ) -> Result<(), ScanError> {
+        surface_keys(law, [self.mu_s.is_some(), self.tau.is_some()])
+            .map(|_| ())
+            .map_err(|e| physical_error(e, invalid))
+    }
+
+    /// A spec read back from a file written before Coulomb's physical system lost `mu_s` and
+    /// `tau` (they were required, then ignored): the keys its law does not use are dropped,
+    /// as that code dropped them, so the file still reads.
+    pub(crate) fn forget_unused(&mut self, law: FrictionLaw) {
+        if takes_surface(law) == Ok(false) {
+            (self.mu_s, self.tau) = (None, None);
+        }
+    }
+}
+
+/// A [`Physical::params`] error as a spec error naming the `[physical]` key it comes from
+/// (a derived value names its sources, [`physical_key`]) and, for a surface key missing or
+/// not used, the law.
+pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
+    let key = |k: &str| format!("physical.{}", physical_key(k));
+    let surfaces = SURFACE_KEYS.join(" and ");
+    match e {
+        CoreError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => invalid(
+            &key(name),
+            squeal_core::error::Number(value).to_string(),
+            expected,
+        ),
+        CoreError::MissingPhysicalKey { key: k, law } => invalid(
+            &key(k),
+            "missing".into(),
+            &format!(
+                "a value: law = \"{law}\" needs {surfaces} (McMillan's surfaces: the static \
+                 coefficient mu_s > mu_k and the surface time tau in s)"
+            ),
+        ),
+        CoreError::UnusedPhysicalKey { key: k, law } => invalid(
+            &key(k),
+            "given".into(),
+            &format!(
+                "no such key under law = \"{law}\": it does not use mu_s or tau (constants of \
+                 McMillan's surfaces, for law = \"mcmillan\" and \"mcmillan-nonhysteretic\")"
+            ),
+        ),
+        e => invalid("physical", String::new(), &e.to_string()),
+    }
 }
 
 /// The physical key a [`Physical::params`] error names: a derived nondimensional value
@@ -47,6 +113,7 @@ pub(super) fn model(
     invalid: Invalid,
 ) -> Result<(Physical, ModelTable), ScanError> {
     m.check_physical(invalid)?;
+    ph.check_surface_keys(m.law, invalid)?;
     let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
         match v {
             Value::One(x) => Ok(*x),
@@ -76,8 +143,13 @@ pub(super) fn model(
         c: cs[0],
         v_belt: vs[0],
         mu_k: one("mu_k", &ph.mu_k)?,
-        mu_s: one("mu_s", &ph.mu_s)?,
-        tau: one("tau", &ph.tau)?,
+        surface: match (&ph.mu_s, &ph.tau) {
+            (Some(mu_s), Some(tau)) => Some(SurfaceSi {
+                mu_s: one("mu_s", mu_s)?,
+                tau: one("tau", tau)?,
+            }),
+            _ => None,
+        },
         g,
     };
     let p0 = check_each(&base, (&cs, &vs), m.law, invalid)?;
@@ -119,18 +191,7 @@ fn check_each(
         for &v_belt in vs {
             let p = Physical { c, v_belt, ..*base }
                 .params(law)
-                .map_err(|e| match e {
-                    squeal_core::CoreError::InvalidParameter {
-                        name,
-                        value,
-                        expected,
-                    } => invalid(
-                        &format!("physical.{}", physical_key(name)),
-                        squeal_core::error::Number(value).to_string(),
-                        expected,
-                    ),
-                    e => invalid("physical", String::new(), &e.to_string()),
-                })?;
+                .map_err(|e| physical_error(e, invalid))?;
             first.get_or_insert(p);
         }
     }
@@ -250,5 +311,73 @@ path = "b.h5"
             let e = Plan::from_toml(&text, "b.toml").unwrap_err().to_string();
             assert!(e.contains(key), "{key}: {e}");
         }
+    }
+
+    /// The brake's oscillator under Coulomb: Coulomb's force has no static peak and no
+    /// surface time, so its `[physical]` table is m, k, c, v_belt, mu_k (and g).
+    fn coulomb() -> String {
+        BRAKE
+            .replace("law = \"mcmillan\"", "law = \"coulomb\"")
+            .replace("mu_s = 0.45\ntau = 1e-3\n", "")
+    }
+
+    /// A Coulomb system without mu_s and tau is read (before, both were required, then
+    /// ignored: `missing field mu_s`); its maps are the same scaling's nu and lambda.
+    #[test]
+    fn a_coulomb_system_needs_no_surfaces() {
+        let p = Plan::from_toml(&coulomb(), "c.toml").unwrap();
+        let ph = p.physical.expect("the physical system is kept");
+        assert_eq!(ph.surface, None);
+        assert_eq!(p.maps[0].law, squeal_core::Friction::Coulomb);
+        // nu = c / (2 sqrt(m k)) = 5 / (2 sqrt(1e5)) (README, "Units").
+        assert!((p.maps[0].nu - 5.0 / (2.0 * 1e5f64.sqrt())).abs() < 1e-15);
+    }
+
+    /// mu_s or tau under Coulomb is refused by name, with the law (before, it was read and
+    /// ignored); McMillan's laws without either are refused naming the missing one.
+    #[test]
+    fn surface_keys_follow_the_law() {
+        let c = coulomb();
+        let cases = [
+            (
+                c.replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = 0.45"),
+                "physical.mu_s",
+            ),
+            (
+                c.replace("mu_k = 0.35", "mu_k = 0.35\ntau = 1e-3"),
+                "physical.tau",
+            ),
+            (BRAKE.replace("mu_s = 0.45\n", ""), "physical.mu_s"),
+            (BRAKE.replace("tau = 1e-3\n", ""), "physical.tau"),
+            (
+                BRAKE
+                    .replace("\"mcmillan\"", "\"mcmillan-nonhysteretic\"")
+                    .replace("tau = 1e-3\n", ""),
+                "physical.tau",
+            ),
+        ];
+        for (i, (text, key)) in cases.iter().enumerate() {
+            let e = Plan::from_toml(text, "b.toml").unwrap_err().to_string();
+            let law = if i < 2 { "coulomb" } else { "mcmillan" };
+            assert!(
+                e.contains(&format!("`{key}`")) && e.contains(&format!("law = \"{law}")),
+                "{key}: {e}"
+            );
+        }
+    }
+
+    /// A spec stored by an older squeal in a Coulomb file or journal carries the mu_s and
+    /// tau that version required: read back from the file it still validates (its law never
+    /// used them), to the plan of the spec without them; given by a user it is refused.
+    #[test]
+    fn an_old_coulomb_spec_stored_in_a_file_still_reads() {
+        let old = coulomb().replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = 0.45\ntau = 1e-3");
+        assert!(Plan::from_toml(&old, "c.toml").is_err());
+        let stored = Plan::from_stored_toml(&old, "c.toml").unwrap();
+        let now = Plan::from_toml(&coulomb(), "c.toml").unwrap();
+        assert_eq!(stored.differs_from(&now), None);
+        assert_eq!(stored.physical.unwrap().surface, None);
+        // McMillan's laws use them: a stored spec without them is refused as before.
+        assert!(Plan::from_stored_toml(&BRAKE.replace("tau = 1e-3\n", ""), "b.toml").is_err());
     }
 }

@@ -143,7 +143,8 @@ impl ModelTable {
                 &format!("model.{k}"),
                 "given with [physical]".into(),
                 "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical \
-                 system ([physical] m, k, c, v_belt, mu_k, mu_s, tau, g), not both",
+                 system ([physical] m, k, c, v_belt, mu_k, g, and mu_s, tau for McMillan's two \
+                 laws), not both",
             )),
         }
     }

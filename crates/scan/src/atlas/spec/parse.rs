@@ -24,9 +24,22 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
             ph.g.clone()
                 .unwrap_or(Value::One(squeal_core::units::G_STANDARD));
         let vals = [
-            &ph.m, &ph.k, &ph.c, &ph.v_belt, &ph.mu_k, &ph.mu_s, &ph.tau, &g,
+            Some(&ph.m),
+            Some(&ph.k),
+            Some(&ph.c),
+            Some(&ph.v_belt),
+            Some(&ph.mu_k),
+            ph.mu_s.as_ref(),
+            ph.tau.as_ref(),
+            Some(&g),
         ];
-        (Units::Physical, axes(path, "physical", &PHYSICAL, vals)?)
+        // The keys given: a Coulomb system has no mu_s and tau (checked by the caller).
+        let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
+            .into_iter()
+            .zip(vals)
+            .filter_map(|(name, v)| Some((name, v?)))
+            .unzip();
+        (Units::Physical, axes(path, "physical", &names, vals)?)
     } else {
         if !stribeck && m.given("nu").is_none() {
             return Err(invalid(
