@@ -323,3 +323,47 @@ path = "one.h5"
     );
     assert!(err.contains("1 of 1 blocks are stored"), "{err}");
 }
+
+/// `--phi 1e-300` ran and labelled every start outside the unstable cycle "diverged" (the
+/// stick-slip orbit, about 1.43 / sin(phi) wide, lay beyond the escape radius 1e6:
+/// `squeal_core::law::MIN_PHI`); `--mu-s 1e300` is the same Phi in SI units, and
+/// `friction --phi` takes the same bound.
+#[test]
+fn a_static_peak_beyond_the_escape_radius_names_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0.5,0.0\n").unwrap();
+    let physical = [
+        "trajectory",
+        "--m",
+        "2",
+        "--k",
+        "5e4",
+        "--c",
+        "5",
+        "--v-belt",
+        "0.05",
+        "--mu-k",
+        "0.35",
+        "--mu-s",
+        "1e300",
+        "--tau-s",
+        "1e-3",
+    ];
+    for (args, needle) in [
+        (
+            &["trajectory", "--phi", "1e-300"][..],
+            "--phi: invalid phi = 1e-300",
+        ),
+        (
+            &[
+                "classify", "--ics", "ics.csv", "--out", "o.csv", "--phi", "1e-6",
+            ],
+            "--phi: invalid phi = 1e-6: expected an angle in [1e-5, pi/2]",
+        ),
+        (&["friction", "--out-dir", "fr", "--phi", "1e-300"], "--phi"),
+        (&physical, "--mu-s: invalid mu_s = 1e300"),
+    ] {
+        refused(squeal(d.path(), args), needle);
+    }
+    assert!(!d.path().join("o.csv").exists() && !d.path().join("fr").exists());
+}

@@ -362,3 +362,37 @@ fn grid_cells_lie_at_distinct_coordinates() {
     );
     assert!(Plan::from_toml(&two, "t.toml").is_ok());
 }
+
+/// `phi = 1e-300` ran, and every start outside the unstable cycle read "diverged": the
+/// stick-slip orbit swings to about 1.43 / sin(phi), beyond the escape radius 1e6 below
+/// phi = 1.4e-6 (`squeal_core::law::MIN_PHI` gives the measured figures). The physical
+/// form's `mu_s = 1e300 mu_k` is the same Phi, refused by the key given.
+#[test]
+fn a_static_peak_beyond_the_escape_radius_is_refused() {
+    for phi in ["1e-300", "1e-6"] {
+        let e = scan_err(&SCAN.replace("nu = 1e-3", &format!("nu = 1e-3\nphi = {phi}")));
+        assert_names(&e, "model.phi", "[1e-5, pi/2]");
+    }
+    let e = atlas_err(&ATLAS.replace("nu = [1e-3, 2e-3]", "nu = 1e-3\nphi = [1.0, 1e-300]"));
+    assert_names(&e, "model.phi", "[1e-5, pi/2]");
+    let physical = |mu_s: &str| {
+        format!(
+            "version = 1\n[model]\nlaw = \"mcmillan\"\n[physical]\nm = 2.0\nk = 5.0e4\n\
+             c = 5.0\nv_belt = 0.05\nmu_k = 0.35\nmu_s = {mu_s}\ntau = 1e-3\n[grid]\n\
+             x0 = {{ min = -1e-4, max = 3e-4, count = 6 }}\n\
+             v0 = {{ min = -0.02, max = 0.02, count = 6 }}\n[output]\npath = \"x.h5\"\n"
+        )
+    };
+    assert_names(
+        &scan_err(&physical("1e300")),
+        "physical.mu_s",
+        "at most about 1e5 mu_k",
+    );
+    // At the bound: phi = 1e-5; mu_s = 3e4 = 0.35 * 8.6e4, Phi = arcsin(1 / 8.6e4) = 1.2e-5.
+    Plan::from_toml(
+        &SCAN.replace("nu = 1e-3", "nu = 1e-3\nphi = 1e-5"),
+        "t.toml",
+    )
+    .unwrap();
+    Plan::from_toml(&physical("3e4"), "t.toml").unwrap();
+}
