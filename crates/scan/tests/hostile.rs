@@ -84,7 +84,7 @@ fn a_fixed_point_ball_as_large_as_the_cycle_is_refused() {
             SCAN,
             &format!("[classifier]\nfp_radius = {fp}\nearly_stop = \"none\""),
         ));
-        assert_names(&e, "classifier.fp_radius", "(0, 0.01]");
+        assert_names(&e, "classifier.fp_radius", "[1e-10, 0.01]");
     }
     Plan::from_toml(&with(SCAN, "[classifier]\nfp_radius = 0.01"), "t.toml").unwrap();
 }
@@ -395,4 +395,42 @@ fn a_static_peak_beyond_the_escape_radius_is_refused() {
     )
     .unwrap();
     Plan::from_toml(&physical("3e4"), "t.toml").unwrap();
+}
+
+/// `fp_radius = 1e-300` and `trap_margin = 1e-300` were accepted. A ball that small is
+/// entered by chance or never (at 1e-15 settling runs were labelled stick-slip:
+/// `bounds::MIN_FP_RADIUS`), and a band that small is no band in f64 (`r (1 - 1e-300) == r`;
+/// `bounds::MIN_TRAP_MARGIN`). Both bounds are 1e-10, in scans and atlases alike.
+#[test]
+fn a_fixed_point_ball_or_trap_below_the_numbers_resolution_is_refused() {
+    for tiny in ["1e-300", "1e-15", "9e-11"] {
+        let ball = format!("[classifier]\nfp_radius = {tiny}");
+        assert_names(
+            &scan_err(&with(SCAN, &ball)),
+            "classifier.fp_radius",
+            "[1e-10, 0.01]",
+        );
+        let band = format!("[classifier]\ntrap_margin = {tiny}");
+        assert_names(
+            &scan_err(&with(SCAN, &band)),
+            "classifier.trap_margin",
+            "[1e-10, 0.5)",
+        );
+    }
+    let grid = "[grid]\nx0 = { min = 0.5, max = 1.5, count = 4 }\nv0 = { min = -0.5, max = 0.5, count = 4 }";
+    let e = atlas_err(&with(
+        ATLAS,
+        &format!("{grid}\n[classifier]\ntrap_margin = 1e-300"),
+    ));
+    assert_names(&e, "classifier.trap_margin", "[1e-10, 0.5)");
+    assert!(e.contains("= 1e-300"), "{e}");
+    let e = atlas_err(&with(
+        ATLAS,
+        &format!("{grid}\n[classifier]\nfp_radius = 1e-300"),
+    ));
+    assert_names(&e, "classifier.fp_radius", "[1e-10, 0.01]");
+    for key in ["fp_radius", "trap_margin"] {
+        let at_bound = with(SCAN, &format!("[classifier]\n{key} = 1e-10"));
+        Plan::from_toml(&at_bound, "t.toml").unwrap();
+    }
 }
