@@ -367,3 +367,27 @@ fn a_static_peak_beyond_the_escape_radius_names_the_flag() {
     }
     assert!(!d.path().join("o.csv").exists() && !d.path().join("fr").exists());
 }
+
+/// `squeal info`'s `grid:` line wrote the stored axes as Rust's plain `{}` does: a grid
+/// from 1e-7 to 3e-7 read `[0.0000001, 0.0000003]` (and a value of 1e300 would be 301
+/// digits); it now writes them as the error messages do (`squeal_core::error::Number`).
+#[test]
+fn info_writes_the_grid_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    // Two cells per axis near x = 0 (outside Table 1's unstable cycle, decided at the start).
+    std::fs::write(
+        d.path().join("s.toml"),
+        "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-3\n[grid]\n\
+         x0 = { min = 1e-7, max = 3e-7, count = 2 }\nv0 = { min = -2e-7, max = 0.0, count = 2 }\n\
+         [output]\npath = \"s.h5\"\n",
+    )
+    .unwrap();
+    let o = squeal(d.path(), &["scan", "s.toml", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = squeal(d.path(), &["info", "s.h5"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("grid: x0 2 values in [1e-7, 3e-7], v0 2 values in [-2e-7, 0]"),
+        "{out}"
+    );
+}
