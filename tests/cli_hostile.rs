@@ -316,10 +316,150 @@ path = "one.h5"
         return;
     }
     assert_eq!(o.status.code(), Some(130), "{err}");
+    if d.path().join("one.h5").exists() {
+        // The block in flight was the last: kept, the file finished, and the signal stops
+        // the run before its picture (it ended with the picture drawn and exit 0 before).
+        assert!(err.contains("the data file one.h5 is complete"), "{err}");
+        assert!(!d.path().join("one.png").exists(), "{err}");
+        return;
+    }
     assert_eq!(
         records_in(&journal, b'B'),
         1,
         "the block in flight is journalled: {err}"
     );
     assert!(err.contains("1 of 1 blocks are stored"), "{err}");
+}
+
+/// `--phi 1e-300` ran and labelled every start outside the unstable cycle "diverged" (the
+/// stick-slip orbit, about 1.43 / sin(phi) wide, lay beyond the escape radius 1e6:
+/// `squeal_core::law::MIN_PHI`); `--mu-s 1e300` is the same Phi in SI units, and
+/// `friction --phi` takes the same bound.
+#[test]
+fn a_static_peak_beyond_the_escape_radius_names_the_flag() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("ics.csv"), "x0,v0\n0.5,0.0\n").unwrap();
+    let physical = [
+        "trajectory",
+        "--m",
+        "2",
+        "--k",
+        "5e4",
+        "--c",
+        "5",
+        "--v-belt",
+        "0.05",
+        "--mu-k",
+        "0.35",
+        "--mu-s",
+        "1e300",
+        "--tau-s",
+        "1e-3",
+    ];
+    for (args, needle) in [
+        (
+            &["trajectory", "--phi", "1e-300"][..],
+            "--phi: invalid phi = 1e-300",
+        ),
+        (
+            &[
+                "classify", "--ics", "ics.csv", "--out", "o.csv", "--phi", "1e-6",
+            ],
+            "--phi: invalid phi = 1e-6: expected an angle in [1e-5, pi/2]",
+        ),
+        (&["friction", "--out-dir", "fr", "--phi", "1e-300"], "--phi"),
+        (&physical, "--mu-s: invalid mu_s = 1e300"),
+    ] {
+        refused(squeal(d.path(), args), needle);
+    }
+    assert!(!d.path().join("o.csv").exists() && !d.path().join("fr").exists());
+}
+
+/// `squeal info`'s `grid:` line wrote the stored axes as Rust's plain `{}` does: a grid
+/// from 1e-7 to 3e-7 read `[0.0000001, 0.0000003]` (and a value of 1e300 would be 301
+/// digits); it now writes them as the error messages do (`squeal_core::error::Number`).
+#[test]
+fn info_writes_the_grid_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    // Two cells per axis near x = 0 (outside Table 1's unstable cycle, decided at the start).
+    std::fs::write(
+        d.path().join("s.toml"),
+        "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-3\n[grid]\n\
+         x0 = { min = 1e-7, max = 3e-7, count = 2 }\nv0 = { min = -2e-7, max = 0.0, count = 2 }\n\
+         [output]\npath = \"s.h5\"\n",
+    )
+    .unwrap();
+    let o = squeal(d.path(), &["scan", "s.toml", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = squeal(d.path(), &["info", "s.h5"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("grid: x0 2 values in [1e-7, 3e-7], v0 2 values in [-2e-7, 0]"),
+        "{out}"
+    );
+}
+
+/// SIGTERM once a scan's data file was finished, while its pictures were drawn, only
+/// printed "stopping after the blocks in flight" (there were none) and the drawing went on
+/// to the end (exit 0). Now it ends the run at once (code 130), saying the data file is
+/// complete and how to draw the pictures, and leaves no cut picture. The signal is sent the
+/// moment the finished file appears and the journal is gone (`ScanWriter::finish_with`
+/// publishes the file, then removes the journal; the drawing follows, about 0.2 s for these
+/// 12 maps in the debug build).
+#[test]
+fn a_signal_while_drawing_stops_the_drawing() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\n\
+                nu = [1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3, 7e-3, 8e-3, 9e-3, 1e-2, 1.1e-2, 1.2e-2]\n\
+                [grid]\nx0 = { min = -3.0, max = 5.0, count = 2 }\n\
+                v0 = { min = -4.0, max = 4.0, count = 2 }\n[output]\npath = \"d.h5\"\n";
+    std::fs::write(d.path().join("d.toml"), spec).unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .current_dir(d.path())
+        .args(["scan", "d.toml", "--quiet"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (out, journal) = (d.path().join("d.h5"), d.path().join("d.h5.journal"));
+    for _ in 0..120_000 {
+        if out.exists() && !journal.exists() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    assert!(out.exists(), "the scan finished its file");
+    let st = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !err.contains("stopping after the blocks in flight"),
+        "the signal was taken for one while computing: {err}"
+    );
+    if o.status.success() {
+        // The drawing ended before the signal (a much faster machine): nothing to test.
+        return;
+    }
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("the data file") && err.contains("d.h5 is complete"),
+        "{err}"
+    );
+    assert!(err.contains("squeal scan d.toml -o d.h5 --resume"), "{err}");
+    // Any picture left is whole (signature and closing IEND chunk).
+    for png in ["d.png", "d-cycle.png"] {
+        if let Ok(b) = std::fs::read(d.path().join(png)) {
+            assert!(
+                b.starts_with(b"\x89PNG") && b.ends_with(b"IEND\xAE\x42\x60\x82"),
+                "{png}"
+            );
+        }
+    }
+    // The rerun draws what is missing.
+    let o = squeal(d.path(), &["scan", "d.toml", "--resume", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(d.path().join("d.png").exists() && d.path().join("d-cycle.png").exists());
 }

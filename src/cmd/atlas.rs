@@ -7,8 +7,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::bail;
@@ -59,7 +58,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
-    let render = !pics.is_empty();
     // Like make (the same rule as the scan's): a finished output of the same parsed spec
     // (and shard) is up to date; a picture missing is drawn again.
     let state = squeal_store::output_state(&out, &plan, shard)?;
@@ -84,8 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let todo = writer.missing();
     let todo_blocks = writer.missing_blocks().len();
 
-    let stop = Arc::new(AtomicBool::new(false));
-    common::install_signals(&stop, "units and map blocks")?;
+    let signals = super::signals::Signals::install("units and map blocks")?;
     let total = (todo.len() + todo_blocks) as u64;
     let bar = progress(total, args.run.quiet);
     let plain = progress::PlainLines::new("units and map blocks", "unit", total, args.run.quiet);
@@ -94,7 +91,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         &plan,
         shard,
         writer,
-        &stop,
+        signals.stop(),
         &|| {
             bar.inc(1);
             if let Some(p) = &plain {
@@ -106,18 +103,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     bar.finish_and_clear();
     let (writer, left) = result?;
     let seconds = t0.elapsed().as_secs_f64();
-    if stop.load(Ordering::SeqCst) && left > 0 {
+    if signals.stop().load(Ordering::SeqCst) && left > 0 {
         eprintln!(
             "squeal: interrupted; {left} units and map blocks left. Finish with: {}",
             args.run.resume_command("atlas", &args.spec, &out)
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
+    signals.finishing();
     let res = writer.finish()?;
-    let pictures = if render {
-        render_atlas(&out, &png, true)?
-    } else {
-        Vec::new()
+    let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     };
     let computed = Computed {
         seconds,
@@ -126,6 +122,27 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     report(&args, &plan, &res, &out, computed, &pictures)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The pictures of a finished atlas file `out` (none where `pics` is empty: a shard or
+/// `--no-render`); `None` if a signal came before the drawing. From here on a signal ends
+/// the run at once, saying the file is complete ([`super::signals`]).
+fn draw(
+    args: &Args,
+    signals: &super::signals::Signals,
+    out: &Path,
+    (png, pics): (&Path, &[PathBuf]),
+) -> anyhow::Result<Option<Vec<PathBuf>>> {
+    if pics.is_empty() {
+        return Ok(Some(Vec::new()));
+    }
+    let redraw = args.run.resume_command("atlas", &args.spec, out);
+    let note = super::signals::drawing_note(out, &redraw);
+    if !signals.drawing(note.clone(), pics) {
+        eprintln!("squeal: {note}");
+        return Ok(None);
+    }
+    render_atlas(out, png, true).map(Some)
 }
 
 /// Refuses to start a run over existing pictures without `--force` (the chart `png` and

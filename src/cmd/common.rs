@@ -35,26 +35,9 @@ pub fn is_drawn(path: &Path) -> bool {
         .is_ok_and(|b| b.len() > 16 && b.starts_with(&SIGNATURE) && b.ends_with(&END))
 }
 
-/// Exit code of a run stopped by SIGINT or SIGTERM: resumable with `--resume`.
+/// Exit code of a run stopped by SIGINT or SIGTERM: resumable with `--resume`
+/// ([`super::signals`]).
 pub const EXIT_INTERRUPTED: u8 = 130;
-
-/// Sets `stop` on SIGINT, SIGTERM (SLURM's time limit and preemption) and SIGHUP, saying
-/// the run stops after the `what` in flight; a second signal exits at once (code 130).
-pub fn install_signals(
-    stop: &std::sync::Arc<std::sync::atomic::AtomicBool>,
-    what: &'static str,
-) -> anyhow::Result<()> {
-    use std::sync::atomic::Ordering;
-    let stop = stop.clone();
-    // The "termination" feature of ctrlc routes SIGTERM and SIGHUP here as well as SIGINT.
-    ctrlc::set_handler(move || {
-        if stop.swap(true, Ordering::SeqCst) {
-            std::process::exit(EXIT_INTERRUPTED.into());
-        }
-        eprintln!("\nsqueal: stopping after the {what} in flight (signal again to quit at once)");
-    })
-    .context("installing the SIGINT/SIGTERM handler")
-}
 
 /// Like make, for scans and atlases alike: decides what a run does with a finished output
 /// before it computes anything. Without `--force`, a file made from the same parsed spec

@@ -15,7 +15,7 @@
 //!
 //! Sample points are computed by index, never by accumulating a step.
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::TAU;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -45,7 +45,7 @@ pub struct Args {
     /// Characteristic time tau > 0 of the surfaces, in seconds.
     #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
     tau: f64,
-    /// Phi = arcsin(mu_k/mu_s), in (0, pi/2].
+    /// Phi = arcsin(mu_k/mu_s), in [1e-5, pi/2].
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     phi: f64,
     /// Overwrite existing files.
@@ -93,12 +93,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             args.tau
         );
     }
-    if !args.phi.is_finite() || args.phi <= 0.0 || args.phi > FRAC_PI_2 {
-        bail!(
-            "--phi: invalid phi = {}: expected an angle in (0, pi/2] (Phi = arcsin(mu_k/mu_s))",
-            args.phi
-        );
-    }
+    squeal_core::Surface::check_phi(args.phi).map_err(|e| anyhow::anyhow!("--phi: {e}"))?;
     let m = Material {
         mu_k: args.mu_k,
         tau: args.tau,

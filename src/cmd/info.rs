@@ -93,8 +93,14 @@ fn scan(args: &Args) -> anyhow::Result<()> {
         info.git_revision
     );
     print_attrs(&info.attrs);
+    // As the error messages write values: `1e-7`, not `0.0000001`.
     let range = |a: &[f64]| match (a.first(), a.last()) {
-        (Some(lo), Some(hi)) => format!("{} values in [{lo}, {hi}]", a.len()),
+        (Some(&lo), Some(&hi)) => format!(
+            "{} values in [{}, {}]",
+            a.len(),
+            squeal_core::error::Number(lo),
+            squeal_core::error::Number(hi)
+        ),
         _ => "no values".to_string(),
     };
     if common::attr(&info, "sampling") == Some("random") {

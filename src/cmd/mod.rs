@@ -28,6 +28,7 @@ pub mod render;
 pub mod scan;
 pub mod scan_bars;
 pub mod scan_report;
+pub mod signals;
 pub mod trajectory;
 pub mod trajectory_report;
 pub mod transient;

@@ -12,8 +12,6 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
@@ -85,8 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let plan = writer.plan().clone();
 
-    let stop = Arc::new(AtomicBool::new(false));
-    common::install_signals(&stop, "blocks")?;
+    let signals = super::signals::Signals::install("blocks")?;
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {
@@ -94,7 +91,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
     let started = Instant::now();
-    let done = drive(&plan, shard, &mut writer, &bars, &stop).map_err(|e| match e {
+    let done = drive(&plan, shard, &mut writer, &bars, signals.stop()).map_err(|e| match e {
         squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
         squeal_scan::DriveError::Sink(e) => anyhow::Error::new(e),
     })?;
@@ -109,14 +106,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
+    signals.finishing();
     finish(
-        &args,
+        (&args, &signals),
         &plan,
         writer,
         (&out, shard, &pics),
         (done.cells, secs),
-    )?;
-    Ok(ExitCode::SUCCESS)
+    )
 }
 
 /// Like make (the same rule as the atlas's): a finished output of the same parsed spec (and
@@ -175,15 +172,23 @@ fn announce(
 
 /// A scan whose blocks are all stored: the landscape of each map (laws with true stick)
 /// computed before the writer finishes the file, the picture drawn, the summary printed.
+/// A signal once the file is finished stops the drawing (code 130), saying the file is
+/// complete.
 fn finish(
-    args: &Args,
+    (args, signals): (&Args, &super::signals::Signals),
     plan: &Plan,
     writer: ScanWriter,
     (out, shard, pics): (&Path, Option<squeal_scan::Shard>, &[PathBuf]),
     (computed, secs): (usize, f64),
-) -> anyhow::Result<()> {
+) -> anyhow::Result<ExitCode> {
     let landscapes = squeal_scan::landscape::of_plan(plan)?;
     let finished = writer.finish_with(&landscapes)?;
+    let redraw = args.run.resume_command("scan", &args.spec, out);
+    let note = super::signals::drawing_note(out, &redraw);
+    if !signals.drawing(note.clone(), pics) {
+        eprintln!("squeal: {note}");
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
+    }
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
     let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
     let transient: Vec<_> = finished.iter().map(|c| c.transient).collect();
@@ -198,7 +203,8 @@ fn finish(
         reasons: &reasons,
         transient: &transient,
     };
-    report(args.json, plan, &info, tallies, &written, computed, secs)
+    report(args.json, plan, &info, tallies, &written, computed, secs)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The pilot (none with `--quiet`), after refusing work estimated over

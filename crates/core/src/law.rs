@@ -121,8 +121,51 @@ impl std::fmt::Display for FrictionLaw {
 pub struct Surface {
     /// Characteristic time `tau' = tau / mu_k sqrt(s/m)` of the surfaces; `tau > 0`.
     pub tau: f64,
-    /// `Phi = arcsin(mu_k / mu_s)`, in `(0, pi/2]` since `mu_s >= mu_k > 0`.
+    /// `Phi = arcsin(mu_k / mu_s)`, in `[MIN_PHI, pi/2]` (`mu_s >= mu_k > 0`, and a static
+    /// peak of at most about `1e5` times the kinetic friction: [`MIN_PHI`]).
     pub phi: f64,
+}
+
+/// Smallest `Phi = arcsin(mu_k / mu_s)` (radians): a static peak `mu_s / mu_k = 1 / sin(Phi)`
+/// of at most about `1e5`.
+///
+/// `1 / sin(Phi)` scales the quasi-static branch of both laws: it is the largest friction
+/// force, in units of kinetic friction ([`crate::Params::force_bound`]). A stuck block is
+/// held until the spring's pull reaches that peak, so the stick-slip orbit swings to
+/// `|x| = 1.43 / sin(Phi)`: measured at Table 1 (`nu = 1e-3`, `lambda = 3`) with `squeal
+/// trajectory --x0 0.5 --t-end 3000 --phi P`, `max |x|` = 1.42e4, 1.43e5, 7.14e5, 1.42e6 for
+/// `P` = 1e-4, 1e-5, 2e-6, 1e-6. The classifier's escape radius is `1e6`
+/// ([`crate::Classifier`]'s `max_radius`): from `Phi` of about `1.4e-6` down, every stick-slip
+/// run crosses it and is labelled `diverged` (at `Phi = 1e-300` every start outside the
+/// unstable cycle was), a label of the radius, not of the model. `1e-5` keeps the orbit a
+/// factor 7 inside the radius. The solver's bracket `[-B, B]`, `B = 1 + 1 / sin(Phi)`, and the
+/// quasi-static branch (rounding of `sin` times `1 / sin(Phi)`, about `7e-11` here against
+/// forces up to `1e5`) stay meaningful in `f64` well below this bound, so it is the radius that
+/// sets it.
+pub const MIN_PHI: f64 = 1e-5;
+
+impl Surface {
+    /// Checks `tau` and `phi`; the error names the key.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        if !self.tau.is_finite() || self.tau <= 0.0 {
+            return CoreError::invalid("tau", self.tau, "a finite time > 0");
+        }
+        Surface::check_phi(self.phi)
+    }
+
+    /// Checks `Phi = arcsin(mu_k / mu_s)`: within `[MIN_PHI, pi/2]` ([`MIN_PHI`] says why).
+    pub fn check_phi(phi: f64) -> Result<(), CoreError> {
+        if phi.is_finite() && (MIN_PHI..=std::f64::consts::FRAC_PI_2).contains(&phi) {
+            return Ok(());
+        }
+        CoreError::invalid(
+            "phi",
+            phi,
+            "an angle in [1e-5, pi/2] (Phi = arcsin(mu_k/mu_s); below 1e-5 the static peak \
+             mu_s/mu_k = 1/sin(Phi) exceeds 1e5 and the stick-slip orbit, about 1.4/sin(Phi) \
+             wide, reaches the escape radius 1e6: every stick-slip run would read 'diverged')",
+        )
+    }
 }
 
 impl Default for Surface {

@@ -335,20 +335,10 @@ impl Params {
                  the law chatters about zero slip and labels depend on dt)",
             );
         }
-        let Some(c) = self.law.surface() else {
-            return Ok(());
-        };
-        if !c.tau.is_finite() || c.tau <= 0.0 {
-            return bad("tau", c.tau, "a finite time > 0");
+        match self.law.surface() {
+            Some(c) => c.validate(),
+            None => Ok(()),
         }
-        if !c.phi.is_finite() || c.phi <= 0.0 || c.phi > std::f64::consts::FRAC_PI_2 {
-            return bad(
-                "phi",
-                c.phi,
-                "an angle in (0, pi/2] (Phi = arcsin(mu_k/mu_s))",
-            );
-        }
-        Ok(())
     }
 
     /// The Stribeck law's checks, naming its keys (`xi`, `v_d`, ...).
@@ -446,6 +436,29 @@ mod tests {
                 ..Params::paper(FrictionLaw::McMillan, 1e-3)
             };
             assert!(p.validate().is_ok(), "{lambda}");
+        }
+    }
+
+    /// `phi = 1e-300` was accepted and every stick-slip run read "diverged": the orbit swings
+    /// to about 1.43 / sin(phi), beyond the escape radius 1e6 below phi = 1.4e-6 (measured
+    /// figures in `law::MIN_PHI`). The bound is 1e-5, for both of McMillan's laws.
+    #[test]
+    fn a_static_peak_beyond_the_escape_radius_is_refused() {
+        for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
+            let with = |phi| Params {
+                law: Friction::default_of(law).with_surface(|s| s.phi = phi),
+                ..Params::paper(law, 1e-3)
+            };
+            for phi in [1e-300, 1e-6, 9.99e-6, 0.0, -1.0, f64::NAN, 1.6] {
+                let e = with(phi).validate().unwrap_err().to_string();
+                assert!(
+                    e.contains("invalid phi") && e.contains("[1e-5, pi/2]"),
+                    "{e}"
+                );
+            }
+            for phi in [1e-5, 1e-3, 1.0, std::f64::consts::FRAC_PI_2] {
+                assert!(with(phi).validate().is_ok(), "{law} {phi}");
+            }
         }
     }
 }

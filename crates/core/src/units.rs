@@ -174,6 +174,16 @@ impl Physical {
                     "a static coefficient > mu_k (Phi = arcsin(mu_k/mu_s) needs mu_k < mu_s)",
                 );
             }
+            // Phi = arcsin(mu_k / mu_s) >= MIN_PHI, named by the key the user gave.
+            if (self.mu_k / sf.mu_s).asin() < crate::law::MIN_PHI {
+                return bad(
+                    "mu_s",
+                    sf.mu_s,
+                    "a static coefficient at most about 1e5 mu_k (Phi = arcsin(mu_k/mu_s) >= 1e-5: \
+                     a higher static peak puts the stick-slip orbit, about 1.4 mu_s/mu_k wide in the \
+                     model's units, at the escape radius 1e6)",
+                );
+            }
             if !pos(sf.tau) {
                 return bad("tau", sf.tau, "a finite time > 0 (s)");
             }
@@ -309,13 +319,25 @@ mod tests {
     #[test]
     fn bad_values_name_the_key() {
         type Edit = fn(&mut Physical);
-        let cases: [(Edit, &str); 5] = [
+        let cases: [(Edit, &str); 6] = [
             (|p| p.m = -1.0, "m"),
             (|p| p.k = 0.0, "k"),
             (|p| p.surface.as_mut().unwrap().mu_s = 0.4, "mu_s"),
+            // Phi = arcsin(0.4 / 1e300) = 4e-301: the static peak 2.5e300 times kinetic
+            // friction (law::MIN_PHI).
+            (|p| p.surface.as_mut().unwrap().mu_s = 1e300, "mu_s"),
             (|p| p.c = f64::NAN, "c"),
             (|p| p.surface.as_mut().unwrap().tau = -1e-3, "tau"),
         ];
+        // mu_s / mu_k = 9e4: Phi = arcsin(1 / 9e4) = 1.1e-5 >= 1e-5, accepted.
+        let high = Physical {
+            surface: Some(SurfaceSi {
+                mu_s: 0.4 * 9e4,
+                tau: 1e-3,
+            }),
+            ..example()
+        };
+        assert!(high.params(FrictionLaw::McMillan).is_ok());
         for (f, key) in cases {
             let mut p = example();
             f(&mut p);

@@ -194,6 +194,26 @@ pub fn cycle_search(
 /// slip.
 pub const MAX_FP_RADIUS: f64 = 1e-2;
 
+/// Smallest `classifier.fp_radius`. A settled run does not sit on the fixed point: it
+/// jitters about it at the level of the step's rounding (the force is solved to a residual
+/// of `4 eps (1 + |F|)`, about `9e-16` at `F = x* = 1`). A ball narrower than that jitter is
+/// entered by chance or never: measured on a 4 x 4 grid around `(1, 0)` at `nu = 0.1`
+/// (McMillan, `early_stop = "none"`, `t_max = 5000`), every cell is steady slip with
+/// `fp_radius` down to `1e-13`, undecided at `1e-14`, and labelled *stick-slip* at `1e-15`
+/// and `1e-300` (the jitter passed the settled-band rule). `1e-10` leaves three orders above
+/// the last radius that worked.
+pub const MIN_FP_RADIUS: f64 = 1e-10;
+
+/// Smallest `classifier.trap_margin`. The trap's band only has to cover the error of the
+/// cycle's location as the classifier sees it (the bisection bracket is covered by taking
+/// the band outside the bracket's ends): the crossings' cubic Hermite interpolation errs by
+/// up to about `1e-11` relative at the default step (`squeal_core::defaults::TRAP_MARGIN`,
+/// BENCHMARKS.md "Early stopping"; it grows as `dt^4`). A narrower band is narrower than what
+/// the cycle is known to, and below about `1.1e-16` it is nothing at all in `f64`
+/// (`r (1 - margin)` rounds to `r`): `trap_margin = 1e-300` was accepted. `1e-10` is one order
+/// above the interpolation's error; the default `1e-5` leaves six.
+pub const MIN_TRAP_MARGIN: f64 = 1e-10;
+
 /// The fixed point's ball against the located unstable cycle of map `map`: its radius must
 /// be at most half the cycle's crossing `r_cycle` of the section (the cycle's smallest
 /// crossing bracket), else runs that start between the ball and the cycle, and would

@@ -338,8 +338,17 @@ impl ClassifierSpec {
             return Err(invalid(
                 "classifier.fp_radius",
                 Number(classifier.fp_radius).to_string(),
-                "a radius in (0, 0.01]: the ball must lie inside the unstable cycle, below the \
-                 cycle search's first sample",
+                "a radius in [1e-10, 0.01]: the ball must lie inside the unstable cycle, below \
+                 the cycle search's first sample",
+            ));
+        }
+        if classifier.fp_radius < crate::bounds::MIN_FP_RADIUS {
+            return Err(invalid(
+                "classifier.fp_radius",
+                Number(classifier.fp_radius).to_string(),
+                "a radius in [1e-10, 0.01]: a settled run jitters about the fixed point at the \
+                 step's rounding, and a narrower ball is entered by chance or never (at 1e-15 \
+                 runs that settle were labelled stick-slip)",
             ));
         }
         if classifier.t_max / dt > crate::bounds::MAX_STEPS {
@@ -365,11 +374,13 @@ impl ClassifierSpec {
         let trap_margin = self
             .trap_margin
             .unwrap_or(squeal_core::defaults::TRAP_MARGIN);
-        if !trap_margin.is_finite() || trap_margin <= 0.0 || trap_margin >= 0.5 {
+        if !(crate::bounds::MIN_TRAP_MARGIN..0.5).contains(&trap_margin) {
             return Err(invalid(
                 "classifier.trap_margin",
                 Number(trap_margin).to_string(),
-                "a relative margin in (0, 0.5)",
+                "a relative margin in [1e-10, 0.5): a narrower band is narrower than the error \
+                 of the cycle's located crossing (about 1e-11 at the default step), and below \
+                 1.1e-16 it is no band at all in f64",
             ));
         }
         Ok(trap_margin)

@@ -84,7 +84,7 @@ fn a_fixed_point_ball_as_large_as_the_cycle_is_refused() {
             SCAN,
             &format!("[classifier]\nfp_radius = {fp}\nearly_stop = \"none\""),
         ));
-        assert_names(&e, "classifier.fp_radius", "(0, 0.01]");
+        assert_names(&e, "classifier.fp_radius", "[1e-10, 0.01]");
     }
     Plan::from_toml(&with(SCAN, "[classifier]\nfp_radius = 0.01"), "t.toml").unwrap();
 }
@@ -380,4 +380,76 @@ fn grid_cells_lie_at_distinct_coordinates() {
         "x0 = { min = 1.0, max = 1.0000000000000002, count = 2 }",
     );
     assert!(Plan::from_toml(&two, "t.toml").is_ok());
+}
+
+/// `phi = 1e-300` ran, and every start outside the unstable cycle read "diverged": the
+/// stick-slip orbit swings to about 1.43 / sin(phi), beyond the escape radius 1e6 below
+/// phi = 1.4e-6 (`squeal_core::law::MIN_PHI` gives the measured figures). The physical
+/// form's `mu_s = 1e300 mu_k` is the same Phi, refused by the key given.
+#[test]
+fn a_static_peak_beyond_the_escape_radius_is_refused() {
+    for phi in ["1e-300", "1e-6"] {
+        let e = scan_err(&SCAN.replace("nu = 1e-3", &format!("nu = 1e-3\nphi = {phi}")));
+        assert_names(&e, "model.phi", "[1e-5, pi/2]");
+    }
+    let e = atlas_err(&ATLAS.replace("nu = [1e-3, 2e-3]", "nu = 1e-3\nphi = [1.0, 1e-300]"));
+    assert_names(&e, "model.phi", "[1e-5, pi/2]");
+    let physical = |mu_s: &str| {
+        format!(
+            "version = 1\n[model]\nlaw = \"mcmillan\"\n[physical]\nm = 2.0\nk = 5.0e4\n\
+             c = 5.0\nv_belt = 0.05\nmu_k = 0.35\nmu_s = {mu_s}\ntau = 1e-3\n[grid]\n\
+             x0 = {{ min = -1e-4, max = 3e-4, count = 6 }}\n\
+             v0 = {{ min = -0.02, max = 0.02, count = 6 }}\n[output]\npath = \"x.h5\"\n"
+        )
+    };
+    assert_names(
+        &scan_err(&physical("1e300")),
+        "physical.mu_s",
+        "at most about 1e5 mu_k",
+    );
+    // At the bound: phi = 1e-5; mu_s = 3e4 = 0.35 * 8.6e4, Phi = arcsin(1 / 8.6e4) = 1.2e-5.
+    Plan::from_toml(
+        &SCAN.replace("nu = 1e-3", "nu = 1e-3\nphi = 1e-5"),
+        "t.toml",
+    )
+    .unwrap();
+    Plan::from_toml(&physical("3e4"), "t.toml").unwrap();
+}
+
+/// `fp_radius = 1e-300` and `trap_margin = 1e-300` were accepted. A ball that small is
+/// entered by chance or never (at 1e-15 settling runs were labelled stick-slip:
+/// `bounds::MIN_FP_RADIUS`), and a band that small is no band in f64 (`r (1 - 1e-300) == r`;
+/// `bounds::MIN_TRAP_MARGIN`). Both bounds are 1e-10, in scans and atlases alike.
+#[test]
+fn a_fixed_point_ball_or_trap_below_the_numbers_resolution_is_refused() {
+    for tiny in ["1e-300", "1e-15", "9e-11"] {
+        let ball = format!("[classifier]\nfp_radius = {tiny}");
+        assert_names(
+            &scan_err(&with(SCAN, &ball)),
+            "classifier.fp_radius",
+            "[1e-10, 0.01]",
+        );
+        let band = format!("[classifier]\ntrap_margin = {tiny}");
+        assert_names(
+            &scan_err(&with(SCAN, &band)),
+            "classifier.trap_margin",
+            "[1e-10, 0.5)",
+        );
+    }
+    let grid = "[grid]\nx0 = { min = 0.5, max = 1.5, count = 4 }\nv0 = { min = -0.5, max = 0.5, count = 4 }";
+    let e = atlas_err(&with(
+        ATLAS,
+        &format!("{grid}\n[classifier]\ntrap_margin = 1e-300"),
+    ));
+    assert_names(&e, "classifier.trap_margin", "[1e-10, 0.5)");
+    assert!(e.contains("= 1e-300"), "{e}");
+    let e = atlas_err(&with(
+        ATLAS,
+        &format!("{grid}\n[classifier]\nfp_radius = 1e-300"),
+    ));
+    assert_names(&e, "classifier.fp_radius", "[1e-10, 0.01]");
+    for key in ["fp_radius", "trap_margin"] {
+        let at_bound = with(SCAN, &format!("[classifier]\n{key} = 1e-10"));
+        Plan::from_toml(&at_bound, "t.toml").unwrap();
+    }
 }

@@ -1,0 +1,190 @@
+//! SIGINT, SIGTERM (SLURM's time limit and preemption) and SIGHUP during `scan` and `atlas`.
+//! What a signal does depends on the run's [`Phase`]: while blocks are computed it stops
+//! the run after those in flight; while the data file is written it lets it be written and
+//! skips the pictures; once the data file is complete and only pictures are left
+//! it ends the run at once. A picture is one call into the plotting library and cannot
+//! stop halfway, and before this a signal there was taken as "stop after the blocks in
+//! flight" (there were none), so the drawing went on to the end whatever the signal.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+use anyhow::Context;
+
+use super::common::{EXIT_INTERRUPTED, is_drawn};
+
+/// What the run is doing when a signal comes.
+#[derive(Clone, Debug, PartialEq)]
+enum Phase {
+    /// Computing: the first signal stops the run after the `what` in flight.
+    Computing { what: &'static str },
+    /// Every block is stored and the data file is being written: the first signal lets it
+    /// be written, and no picture is drawn.
+    Finishing,
+    /// The data file is complete; the pictures are being drawn.
+    Drawing(Drawing),
+}
+
+/// The drawing phase: what to say, and the pictures a signal may leave cut.
+#[derive(Clone, Debug, PartialEq)]
+struct Drawing {
+    note: String,
+    pictures: Vec<PathBuf>,
+}
+
+/// What the handler does with one signal.
+#[derive(Debug, PartialEq)]
+enum Response {
+    /// Say how the run stops (after the work in flight), and let it.
+    StopAfter(String),
+    /// A second signal while computing: exit at once.
+    Quit,
+    /// A signal while drawing: remove the cut pictures, say that the data file is
+    /// complete, exit at once.
+    QuitDrawing(Drawing),
+}
+
+/// The stop flag of a run and its phase, shared with the signal handler.
+#[derive(Clone, Debug)]
+pub struct Signals {
+    stop: Arc<AtomicBool>,
+    phase: Arc<Mutex<Phase>>,
+}
+
+impl Signals {
+    /// A run computing `what` (blocks, units), no handler installed.
+    fn new(what: &'static str) -> Signals {
+        Signals {
+            stop: Arc::new(AtomicBool::new(false)),
+            phase: Arc::new(Mutex::new(Phase::Computing { what })),
+        }
+    }
+
+    /// Installs the handler for a run computing `what`; a second signal while computing
+    /// exits at once (code 130).
+    pub fn install(what: &'static str) -> anyhow::Result<Signals> {
+        let s = Signals::new(what);
+        let handler = s.clone();
+        // The "termination" feature of ctrlc routes SIGTERM and SIGHUP here as well as SIGINT.
+        ctrlc::set_handler(move || handler.on_signal())
+            .context("installing the SIGINT/SIGTERM handler")?;
+        Ok(s)
+    }
+
+    /// The flag the computing loops poll.
+    pub fn stop(&self) -> &AtomicBool {
+        &self.stop
+    }
+
+    /// Enters the finishing phase: every block is stored, the data file is to be written.
+    pub fn finishing(&self) {
+        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Finishing;
+    }
+
+    /// Enters the drawing phase: the data file is complete, `pictures` are to be drawn, and
+    /// `note` says so and how to draw them. Returns `false` if a signal came after the
+    /// blocks and before this (the caller then says `note` and draws nothing); from here on
+    /// a signal removes the cut pictures, says `note` and exits with code 130.
+    pub fn drawing(&self, note: String, pictures: &[PathBuf]) -> bool {
+        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Drawing(Drawing {
+            note,
+            pictures: pictures.to_vec(),
+        });
+        !self.stop.load(Ordering::SeqCst)
+    }
+
+    /// What one signal does now (and marks the run stopped).
+    fn respond(&self) -> Response {
+        let phase = self.phase.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let again = self.stop.swap(true, Ordering::SeqCst);
+        match phase {
+            Phase::Drawing(d) => Response::QuitDrawing(d),
+            Phase::Computing { .. } | Phase::Finishing if again => Response::Quit,
+            Phase::Computing { what } => Response::StopAfter(format!(
+                "stopping after the {what} in flight (signal again to quit at once)"
+            )),
+            Phase::Finishing => Response::StopAfter(
+                "stopping once the data file is written; its pictures are not drawn (signal \
+                 again to quit at once)"
+                    .into(),
+            ),
+        }
+    }
+
+    fn on_signal(&self) {
+        match self.respond() {
+            Response::StopAfter(how) => eprintln!("\nsqueal: {how}"),
+            Response::Quit => std::process::exit(EXIT_INTERRUPTED.into()),
+            Response::QuitDrawing(d) => {
+                for p in d.pictures.iter().filter(|p| p.exists() && !is_drawn(p)) {
+                    let _ = std::fs::remove_file(p);
+                }
+                eprintln!("\nsqueal: {}", d.note);
+                std::process::exit(EXIT_INTERRUPTED.into())
+            }
+        }
+    }
+}
+
+/// What a run stopped while (or before) drawing says: the data file `out` is complete, the
+/// pictures are not, and `redraw` draws them.
+pub fn drawing_note(out: &std::path::Path, redraw: &str) -> String {
+    format!(
+        "interrupted while drawing the pictures; the data file {} is complete (every block \
+         stored, the file finished). Draw the pictures with: {redraw}",
+        out.display()
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// While computing, the first signal stops the run after the work in flight and the
+    /// second quits; once drawing (the data file complete) the first signal quits with the
+    /// note naming the file. Before the drawing phase existed, a signal during the drawing
+    /// was the first signal of the computing phase and only printed "stopping after the
+    /// blocks in flight": the picture was drawn to the end.
+    #[test]
+    fn a_signal_while_drawing_quits_at_once_and_names_the_complete_file() {
+        let after = |how: &str| Response::StopAfter(how.to_string());
+        let s = Signals::new("blocks");
+        assert_eq!(
+            s.respond(),
+            after("stopping after the blocks in flight (signal again to quit at once)")
+        );
+        assert!(s.stop().load(Ordering::SeqCst));
+        assert_eq!(s.respond(), Response::Quit);
+
+        let s = Signals::new("blocks");
+        let pics = vec![PathBuf::from("x.png")];
+        let note = drawing_note(
+            std::path::Path::new("x.h5"),
+            "squeal scan x.toml -o x.h5 --resume",
+        );
+        assert!(s.drawing(note.clone(), &pics));
+        match s.respond() {
+            Response::QuitDrawing(d) => {
+                assert_eq!(d.pictures, pics);
+                assert!(
+                    d.note.contains("the data file x.h5 is complete"),
+                    "{}",
+                    d.note
+                );
+                assert!(d.note.ends_with("squeal scan x.toml -o x.h5 --resume"));
+            }
+            other => panic!("{other:?}"),
+        }
+
+        // A signal after the blocks and before the drawing: the file is written, nothing
+        // is drawn.
+        let s = Signals::new("blocks");
+        s.finishing();
+        match s.respond() {
+            Response::StopAfter(how) => assert!(how.contains("pictures are not drawn"), "{how}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(!s.drawing(note, &pics));
+    }
+}
