@@ -112,17 +112,7 @@ impl PhysicalArgs {
 /// The `[physical]` table of a scan spec for the system `ph` (without `mu_s` and `tau`
 /// where it has no surfaces: Coulomb).
 pub fn spec_table(ph: &Physical) -> String {
-    let sf = ph.surface;
-    let v = [
-        Some(ph.m),
-        Some(ph.k),
-        Some(ph.c),
-        Some(ph.v_belt),
-        Some(ph.mu_k),
-        sf.map(|s| s.mu_s),
-        sf.map(|s| s.tau),
-        Some(ph.g),
-    ];
+    let v = ph.values();
     let mut t = String::from("[physical]\n");
     for ((_, key), v) in PHYSICAL_FLAGS.iter().zip(v) {
         if let Some(v) = v {

@@ -143,6 +143,23 @@ impl Scales {
 }
 
 impl Physical {
+    /// The values in the order of the keys `m, k, c, v_belt, mu_k, mu_s, tau, g` (the
+    /// order of a spec's `[physical]` table, of the flags and of the stored attributes);
+    /// `mu_s` and `tau` are `None` for a system without McMillan's surfaces (Coulomb).
+    pub fn values(&self) -> [Option<f64>; 8] {
+        let sf = self.surface;
+        [
+            Some(self.m),
+            Some(self.k),
+            Some(self.c),
+            Some(self.v_belt),
+            Some(self.mu_k),
+            sf.map(|s| s.mu_s),
+            sf.map(|s| s.tau),
+            Some(self.g),
+        ]
+    }
+
     /// Checks every value; the error names the key.
     pub fn validate(&self) -> Result<(), CoreError> {
         let bad = CoreError::invalid::<()>;

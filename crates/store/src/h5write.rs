@@ -46,17 +46,7 @@ pub(crate) fn physical_attrs(
     ph: &squeal_core::Physical,
     swept: Option<&str>,
 ) -> hdf5::Result<()> {
-    let sf = ph.surface;
-    let values = [
-        Some(ph.m),
-        Some(ph.k),
-        Some(ph.c),
-        Some(ph.v_belt),
-        Some(ph.mu_k),
-        sf.map(|s| s.mu_s),
-        sf.map(|s| s.tau),
-        Some(ph.g),
-    ];
+    let values = ph.values();
     let skip = match swept {
         Some("nu") => "c",
         Some("lambda") => "v_belt",
