@@ -413,10 +413,27 @@ fn a_signal_while_drawing_stops_the_drawing() {
                 nu = [1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3, 7e-3, 8e-3, 9e-3, 1e-2, 1.1e-2, 1.2e-2]\n\
                 [grid]\nx0 = { min = -3.0, max = 5.0, count = 2 }\n\
                 v0 = { min = -4.0, max = 4.0, count = 2 }\n[output]\npath = \"d.h5\"\n";
+    // An earlier run of another spec (2 maps on 3 x 3 cells) left its pictures: the run
+    // below overwrites them with --force. A signal that stopped its drawing used to leave
+    // them beside the new data, and the rerun called them up to date.
+    let older = spec
+        .replace(
+            "nu = [1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3, 7e-3, 8e-3, 9e-3, 1e-2, 1.1e-2, 1.2e-2]",
+            "nu = [1e-3, 2e-3]",
+        )
+        .replace("count = 2", "count = 3");
+    std::fs::write(d.path().join("d.toml"), older).unwrap();
+    let o = squeal(d.path(), &["scan", "d.toml", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let old_pictures: Vec<(&str, Vec<u8>)> = ["d.png", "d-cycle.png"]
+        .into_iter()
+        .map(|p| (p, std::fs::read(d.path().join(p)).unwrap()))
+        .collect();
+    std::fs::remove_file(d.path().join("d.h5")).unwrap();
     std::fs::write(d.path().join("d.toml"), spec).unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .current_dir(d.path())
-        .args(["scan", "d.toml", "--quiet"])
+        .args(["scan", "d.toml", "--quiet", "--force"])
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
@@ -449,17 +466,22 @@ fn a_signal_while_drawing_stops_the_drawing() {
         "{err}"
     );
     assert!(err.contains("squeal scan d.toml -o d.h5 --resume"), "{err}");
-    // Any picture left is whole (signature and closing IEND chunk).
-    for png in ["d.png", "d-cycle.png"] {
+    // Any picture left is whole (signature and closing IEND chunk) and this run's, not the
+    // earlier spec's.
+    for (png, old) in &old_pictures {
         if let Ok(b) = std::fs::read(d.path().join(png)) {
             assert!(
                 b.starts_with(b"\x89PNG") && b.ends_with(b"IEND\xAE\x42\x60\x82"),
                 "{png}"
             );
+            assert!(&b != old, "{png} is the earlier spec's picture");
         }
     }
-    // The rerun draws what is missing.
+    // The rerun draws what is missing: every picture is then this spec's.
     let o = squeal(d.path(), &["scan", "d.toml", "--resume", "--quiet"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(d.path().join("d.png").exists() && d.path().join("d-cycle.png").exists());
+    for (png, old) in &old_pictures {
+        let b = std::fs::read(d.path().join(png)).unwrap();
+        assert!(&b != old, "{png} is still the earlier spec's picture");
+    }
 }

@@ -110,7 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
-    signals.finishing();
+    signals.finishing(&pics)?;
     let res = writer.finish()?;
     let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
@@ -142,7 +142,9 @@ fn draw(
         eprintln!("squeal: {note}");
         return Ok(None);
     }
-    render_atlas(out, png, true).map(Some)
+    let drawn = render_atlas(out, png, true)?;
+    signals.done();
+    Ok(Some(drawn))
 }
 
 /// Refuses to start a run over existing pictures without `--force` (the chart `png` and

@@ -83,9 +83,11 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
             "{name}: {}{system}",
             squeal_plot::map_title(&model_params(&info, 0))
         );
+        // The transient picture first: a whole basin map then means every picture of the
+        // map is whole (the rule a rerun after a signal relies on, `common::up_to_date`).
+        let transient = super::transient::draw(png, force, &info, &m, &one)?;
         squeal_plot::basin_map(png, &one, &squeal_plot::label_classes())
             .map_err(|e| discard(png, e))?;
-        let transient = super::transient::draw(png, force, &info, &m, &one)?;
         return Ok(std::iter::once(png.to_path_buf())
             .chain(transient)
             .collect());
@@ -138,9 +140,12 @@ fn render_sheet(
         &param,
     ) + &physical_line(info);
     let ncols = (n as f64).sqrt().ceil() as usize;
+    // The transient sheet first, as for one map (`render_file`).
+    let transient =
+        super::transient::draw_sheet((png, force), info, &maps, &panels, (&title, ncols))?;
     squeal_plot::basin_sheet(png, &title, &panels, &squeal_plot::label_classes(), ncols)
         .map_err(|e| discard(png, e))?;
-    super::transient::draw_sheet((png, force), info, &maps, &panels, (&title, ncols))
+    Ok(transient)
 }
 
 /// The swept parameter of a sweep file.

@@ -40,9 +40,9 @@ pub struct Args {
 }
 
 /// The pictures a finished scan file has: the map (or sheet) and, for sweeps, the cycle chart;
-/// none for random samples (a list of points, not a map).
-fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
-    if sample {
+/// none for random samples (a list of points, not a map) or a shard (drawn once merged).
+fn pictures(out: &Path, maps: usize, sample: bool, shard: bool) -> Vec<PathBuf> {
+    if sample || shard {
         return Vec::new();
     }
     let png = common::sibling(out, "", "png");
@@ -53,11 +53,27 @@ fn pictures(out: &Path, maps: usize, sample: bool) -> Vec<PathBuf> {
     v
 }
 
+/// Every picture a run with pictures `pics` may draw: those and, where some start squealed
+/// before it settled, the map of `t_squeal` beside the first (drawn only then, so not among
+/// the pictures a finished file must have). The ones a signal may leave cut or stale.
+fn may_draw(pics: &[PathBuf]) -> Vec<PathBuf> {
+    let mut v = pics.to_vec();
+    if let Some(png) = pics.first() {
+        v.push(common::sibling(png, "-t_squeal", "png"));
+    }
+    v
+}
+
 /// Runs the scan.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = Plan::from_file(&args.spec)?;
     let (out, shard) = args.run.setup(&plan.output)?;
-    let pics = pictures(&out, plan.maps.len(), plan.grid.is_sample());
+    let pics = pictures(
+        &out,
+        plan.maps.len(),
+        plan.grid.is_sample(),
+        shard.is_some(),
+    );
     if up_to_date(&args, &plan, (&out, shard), &pics)? {
         return Ok(ExitCode::SUCCESS);
     }
@@ -106,12 +122,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
-    signals.finishing();
+    signals.finishing(&may_draw(&pics))?;
     finish(
         (&args, &signals),
         &plan,
         writer,
-        (&out, shard, &pics),
+        (&out, &pics),
         (done.cells, secs),
     )
 }
@@ -124,13 +140,9 @@ fn up_to_date(
     (out, shard): (&Path, Option<squeal_scan::Shard>),
     pics: &[PathBuf],
 ) -> anyhow::Result<bool> {
-    let shown = if shard.is_none() {
-        pics.to_vec()
-    } else {
-        Vec::new()
-    };
     let state = squeal_store::output_state(out, plan, shard)?;
-    if !common::up_to_date(out, state, &args.run, &shown, || {
+    // `pics` is empty for a shard or a random sample: nothing to draw.
+    if !common::up_to_date(out, state, &args.run, pics, || {
         pictures::render_file(out, &pics[0], true)
     })? {
         return Ok(false);
@@ -142,7 +154,7 @@ fn up_to_date(
         reasons: &[],
         transient: &[],
     };
-    report(args.json, plan, &info, tallies, &shown, 0, 0.0)?;
+    report(args.json, plan, &info, tallies, pics, 0, 0.0)?;
     Ok(true)
 }
 
@@ -178,25 +190,25 @@ fn finish(
     (args, signals): (&Args, &super::signals::Signals),
     plan: &Plan,
     writer: ScanWriter,
-    (out, shard, pics): (&Path, Option<squeal_scan::Shard>, &[PathBuf]),
+    (out, pics): (&Path, &[PathBuf]),
     (computed, secs): (usize, f64),
 ) -> anyhow::Result<ExitCode> {
     let landscapes = squeal_scan::landscape::of_plan(plan)?;
     let finished = writer.finish_with(&landscapes)?;
     let redraw = args.run.resume_command("scan", &args.spec, out);
     let note = super::signals::drawing_note(out, &redraw);
-    if !signals.drawing(note.clone(), pics) {
+    if !pics.is_empty() && !signals.drawing(note.clone(), &may_draw(pics)) {
         eprintln!("squeal: {note}");
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
     let checks: Vec<Vec<i64>> = finished.iter().map(|c| c.values().to_vec()).collect();
     let reasons: Vec<_> = finished.iter().map(|c| c.reasons).collect();
     let transient: Vec<_> = finished.iter().map(|c| c.transient).collect();
-    let written = if shard.is_none() && !plan.grid.is_sample() {
-        pictures::render_file(out, &pics[0], true)?
-    } else {
-        Vec::new()
+    let written = match pics.first() {
+        Some(png) => pictures::render_file(out, png, true)?,
+        None => Vec::new(),
     };
+    signals.done();
     let info = squeal_store::read_info(out)?;
     let tallies = Tallies {
         checks: &checks,

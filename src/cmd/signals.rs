@@ -24,6 +24,9 @@ enum Phase {
     Finishing,
     /// The data file is complete; the pictures are being drawn.
     Drawing(Drawing),
+    /// The data file and its pictures are complete; the summary is being printed. The first
+    /// signal lets it finish (the run's exit code stays 0: nothing is left to do).
+    Done,
 }
 
 /// The drawing phase: what to say, and the pictures a signal may leave cut.
@@ -78,8 +81,22 @@ impl Signals {
     }
 
     /// Enters the finishing phase: every block is stored, the data file is to be written.
-    pub fn finishing(&self) {
+    /// Every picture the run may draw (`may_draw`) is removed first: they are about to be
+    /// drawn again, and one left from an earlier run (`--force` over another spec) must not
+    /// survive beside the new data when a signal stops the drawing.
+    pub fn finishing(&self, may_draw: &[PathBuf]) -> anyhow::Result<()> {
         *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Finishing;
+        for p in may_draw.iter().filter(|p| p.exists()) {
+            std::fs::remove_file(p).with_context(|| {
+                format!("removing the picture {} to draw it again", p.display())
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Enters the last phase: the data file and its pictures are complete.
+    pub fn done(&self) {
+        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Done;
     }
 
     /// Enters the drawing phase: the data file is complete, `pictures` are to be drawn, and
@@ -87,7 +104,10 @@ impl Signals {
     /// blocks and before this (the caller then says `note` and draws nothing); from here on
     /// a signal removes the cut pictures, says `note` and exits with code 130.
     pub fn drawing(&self, note: String, pictures: &[PathBuf]) -> bool {
-        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Drawing(Drawing {
+        // The flag is read under the phase's lock, as the handler sets it: a signal is
+        // either seen here (nothing drawn) or answered as one while drawing, never neither.
+        let mut phase = self.phase.lock().unwrap_or_else(|e| e.into_inner());
+        *phase = Phase::Drawing(Drawing {
             note,
             pictures: pictures.to_vec(),
         });
@@ -96,16 +116,23 @@ impl Signals {
 
     /// What one signal does now (and marks the run stopped).
     fn respond(&self) -> Response {
-        let phase = self.phase.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let guard = self.phase.lock().unwrap_or_else(|e| e.into_inner());
+        let phase = guard.clone();
         let again = self.stop.swap(true, Ordering::SeqCst);
+        drop(guard);
         match phase {
             Phase::Drawing(d) => Response::QuitDrawing(d),
-            Phase::Computing { .. } | Phase::Finishing if again => Response::Quit,
+            Phase::Computing { .. } | Phase::Finishing | Phase::Done if again => Response::Quit,
             Phase::Computing { what } => Response::StopAfter(format!(
                 "stopping after the {what} in flight (signal again to quit at once)"
             )),
             Phase::Finishing => Response::StopAfter(
                 "stopping once the data file is written; its pictures are not drawn (signal \
+                 again to quit at once)"
+                    .into(),
+            ),
+            Phase::Done => Response::StopAfter(
+                "the data file and its pictures are complete; finishing the summary (signal \
                  again to quit at once)"
                     .into(),
             ),
@@ -180,11 +207,42 @@ mod tests {
         // A signal after the blocks and before the drawing: the file is written, nothing
         // is drawn.
         let s = Signals::new("blocks");
-        s.finishing();
+        s.finishing(&[]).unwrap();
         match s.respond() {
             Response::StopAfter(how) => assert!(how.contains("pictures are not drawn"), "{how}"),
             other => panic!("{other:?}"),
         }
         assert!(!s.drawing(note, &pics));
+    }
+
+    /// Once the pictures are drawn, a signal lets the summary finish: it was answered as
+    /// one while drawing (exit 130, "interrupted while drawing the pictures") although
+    /// every picture was whole. A second one quits.
+    #[test]
+    fn a_signal_after_the_drawing_lets_the_summary_finish() {
+        let s = Signals::new("blocks");
+        assert!(s.drawing("note".into(), &[PathBuf::from("x.png")]));
+        s.done();
+        match s.respond() {
+            Response::StopAfter(how) => assert!(how.contains("are complete"), "{how}"),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(s.respond(), Response::Quit);
+    }
+
+    /// Entering the finishing phase removes the pictures the run is about to draw: one of
+    /// an earlier spec (`--force`) must not outlive a drawing that a signal stops.
+    #[test]
+    fn finishing_removes_the_pictures_about_to_be_drawn() {
+        // A folder of its own (not tempfile: this module is also built into the Python
+        // package, which has no dev-dependencies).
+        let d = std::env::temp_dir().join(format!("squeal-finishing-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let (old, absent) = (d.join("x.png"), d.join("x-cycle.png"));
+        std::fs::write(&old, b"an earlier picture").unwrap();
+        let s = Signals::new("blocks");
+        s.finishing(&[old.clone(), absent.clone()]).unwrap();
+        assert!(!old.exists() && !absent.exists());
+        std::fs::remove_dir_all(&d).unwrap();
     }
 }
