@@ -413,6 +413,8 @@ struct Lanes<const W: usize> {
     steps: u64,
     /// Lane-steps the scalar fall-back took.
     fallbacks: u64,
+    /// Steps of all lanes in which at least one lane fell back.
+    mixed: u64,
     stats: SolverStats,
 }
 
@@ -427,6 +429,7 @@ impl<const W: usize> Lanes<W> {
             t: 0.0,
             steps: 0,
             fallbacks: 0,
+            mixed: 0,
             stats: SolverStats::default(),
         }
     }
@@ -457,6 +460,7 @@ impl<const W: usize> Lanes<W> {
         let keep = fallback;
         let m = V(self.max_residual).max(res);
         if keep.any() {
+            self.mixed += 1;
             self.fall_back(st, keep);
         }
         self.x = keep.select(V(self.x), x).0;
@@ -541,10 +545,11 @@ fn measure<const W: usize>(
         .count();
     let lane_steps = (W * steps) as f64;
     println!(
-        "| {what} | {W} | {scalar:.1} | {lane:.1} | {:.2} | {:.2}% | {:.2}% | {differ} of {W} | {} |",
+        "| {what} | {W} | {scalar:.1} | {lane:.1} | {:.2} | {:.2}% | {:.2}% | {:.1}% | {differ} of {W} | {} |",
         scalar / lane,
         100.0 * lanes.fallbacks as f64 / lane_steps,
         100.0 * scalar_fallbacks as f64 / lane_steps,
+        100.0 * lanes.mixed as f64 / steps as f64,
         all.join(", ")
     );
 }
@@ -597,9 +602,9 @@ fn main() {
     let k = Coeffs::new(&st);
     println!("{steps} steps a state; ns per state-step, least of {REPEATS} (all: scalar/lanes)\n");
     println!(
-        "| states | W | scalar | lanes | ratio | lane fall-backs | scalar fall-backs | lanes differing | all |"
+        "| states | W | scalar | lanes | ratio | lane fall-backs | scalar fall-backs | steps with a fall-back | lanes differing | all |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|---|---|");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---|---|");
     both::<4>(&st, &k, steps);
     both::<8>(&st, &k, steps);
 }
