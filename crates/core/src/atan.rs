@@ -32,16 +32,19 @@ use std::f64::consts::FRAC_PI_2;
 use std::sync::OnceLock;
 
 /// Nodes per unit of `t`: `c = k / NODES` (a power of two, so `c` and `t - c` are exact).
-const NODES: usize = 256;
+pub const NODES: usize = 256;
 /// The first node used; below `(FIRST - 0.5) / NODES` the Taylor series at 0.
-const FIRST: usize = 8;
+pub const FIRST: usize = 8;
 /// Coefficients per node: `atan(c)` and the degree-6 tail.
-const TERMS: usize = 7;
+pub const TERMS: usize = 7;
 /// The bits of `pi/2` below `FRAC_PI_2`: `pi/2 - FRAC_PI_2 = 6.123233995736766e-17`.
-const FRAC_PI_2_LO: f64 = 6.123_233_995_736_766e-17;
+pub const FRAC_PI_2_LO: f64 = 6.123_233_995_736_766e-17;
 
-/// The Taylor coefficients of `atan` at every node `k / NODES`, `k = 0..=NODES`.
-fn table() -> &'static [[f64; TERMS]; NODES + 1] {
+/// The Taylor coefficients of `atan` at every node `k / NODES`, `k = 0..=NODES`: row `k` is
+/// `atan(c)` and the tail's coefficients, lowest power first. Public so that code evaluating
+/// [`atan_ratio`] on several arguments at once (`crates/core/examples/lanes.rs`) reads the
+/// same table and gets the same bits.
+pub fn table() -> &'static [[f64; TERMS]; NODES + 1] {
     static TABLE: OnceLock<[[f64; TERMS]; NODES + 1]> = OnceLock::new();
     TABLE.get_or_init(|| {
         let mut t = [[0.0; TERMS]; NODES + 1];
