@@ -650,11 +650,17 @@ impl Plan {
     /// Parses and checks the spec stored in a file (or journal) this or an older squeal
     /// wrote: as [`Plan::from_toml`], except that `[physical]` keys the law does not use,
     /// which older versions required and then ignored (`mu_s`, `tau` under Coulomb), are
-    /// dropped rather than refused, so those files still read.
+    /// dropped rather than refused, so those files still read (one swept is refused: that
+    /// version made each of its values a point of an atlas).
     pub fn from_stored_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
         let mut spec = parse_spec(text, path)?;
         if let Some(ph) = &mut spec.physical {
-            ph.forget_unused(spec.model.law);
+            ph.forget_unused(spec.model.law, &|key, value, expected| ScanError::Invalid {
+                path: path.to_string(),
+                key: key.to_string(),
+                value,
+                expected: expected.to_string(),
+            })?;
         }
         Plan::from_parsed(spec, text, path)
     }
