@@ -214,6 +214,45 @@ pub const MIN_FP_RADIUS: f64 = 1e-10;
 /// above the interpolation's error; the default `1e-5` leaves six.
 pub const MIN_TRAP_MARGIN: f64 = 1e-10;
 
+/// The keys whose lower bound ([`squeal_core::law::MIN_PHI`], reached through `mu_s` in
+/// physical units; [`MIN_FP_RADIUS`], [`MIN_TRAP_MARGIN`]) came after files were written with
+/// values below it, whose stored spec therefore no longer validates. Reading them would need
+/// the stored-spec path to skip these bounds, and they sit in every check of a model
+/// (`Surface::validate`, through `Params::validate` and `Physical::params`) and of the
+/// classifier table: a mode threaded through all of them, or a second copy of the checks.
+/// Instead the file is refused with an error naming the bound and saying that the file
+/// predates it ([`stored_spec_error`]).
+const NEWER_LOWER_BOUNDS: [&str; 4] = [
+    "model.phi",
+    "physical.mu_s",
+    "classifier.fp_radius",
+    "classifier.trap_margin",
+];
+
+/// The error of a spec stored in a file (or journal): one breaking a bound of
+/// [`NEWER_LOWER_BOUNDS`] says that the file was written by an older squeal, before the
+/// bound; any other error is as the spec's.
+pub(crate) fn stored_spec_error(e: ScanError) -> ScanError {
+    match e {
+        ScanError::Invalid {
+            path,
+            key,
+            value,
+            expected,
+        } if NEWER_LOWER_BOUNDS.contains(&key.as_str()) => ScanError::Invalid {
+            expected: format!(
+                "{expected}. The stored spec breaks this bound, which came after the file was \
+                 written: it was written by an older squeal, and its results, computed there, \
+                 are refused here (rerun the spec with `{key}` within the bound)"
+            ),
+            path,
+            key,
+            value,
+        },
+        e => e,
+    }
+}
+
 /// The fixed point's ball against the located unstable cycle of map `map`: its radius must
 /// be at most half the cycle's crossing `r_cycle` of the section (the cycle's smallest
 /// crossing bracket), else runs that start between the ball and the cycle, and would

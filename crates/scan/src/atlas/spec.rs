@@ -349,7 +349,7 @@ impl AtlasPlan {
                 invalid(path, key, value, expected)
             })?;
         }
-        AtlasPlan::from_parsed(f, text, path)
+        AtlasPlan::from_parsed(f, text, path).map_err(crate::bounds::stored_spec_error)
     }
 
     /// Checks the parsed spec `f` of text `text`.
