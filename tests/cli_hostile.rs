@@ -358,7 +358,7 @@ path = "one.h5"
 }
 
 /// `--phi 1e-300` ran and labelled every start outside the unstable cycle "diverged" (the
-/// stick-slip orbit, about 1.43 / sin(phi) wide, lay beyond the escape radius 1e6:
+/// stick-slip orbit, reaching |x| about 1.43 / sin(phi), lay beyond the escape radius 1e6:
 /// `squeal_core::law::MIN_PHI`); `--mu-s 1e300` is the same Phi in SI units, and
 /// `friction --phi` takes the same bound.
 #[test]

@@ -197,8 +197,8 @@ impl Physical {
                     "mu_s",
                     sf.mu_s,
                     "a static coefficient at most about 1e5 mu_k (Phi = arcsin(mu_k/mu_s) >= 1e-5: \
-                     a higher static peak puts the stick-slip orbit, about 1.4 mu_s/mu_k wide in the \
-                     model's units, at the escape radius 1e6)",
+                     the stick-slip orbit reaches |x| about 1.43 mu_s/mu_k in the model's units, \
+                     and a higher static peak brings it to the escape radius 1e6)",
                 );
             }
             if !pos(sf.tau) {

@@ -211,7 +211,12 @@ pub const MIN_FP_RADIUS: f64 = 1e-10;
 /// BENCHMARKS.md "Early stopping"; it grows as `dt^4`). A narrower band is narrower than what
 /// the cycle is known to, and below about `1.1e-16` it is nothing at all in `f64`
 /// (`r (1 - margin)` rounds to `r`): `trap_margin = 1e-300` was accepted. `1e-10` is one order
-/// above the interpolation's error; the default `1e-5` leaves six.
+/// above the interpolation's error at the default step; the default `1e-5` is five orders
+/// above the bound, six above that error. The argument holds at the default step only: the
+/// bound does not follow `integration.dt` (accepted up to 1), and the error grows as `dt^4`,
+/// so by that scaling it is about `1.6e-10` at `dt = 0.01` (above the bound) and reaches the
+/// default margin near `dt = 0.16`. A coarse step needs a wider margin than the bound allows
+/// for; the bound only refuses margins that are too narrow at any step.
 pub const MIN_TRAP_MARGIN: f64 = 1e-10;
 
 /// The keys whose lower bound ([`squeal_core::law::MIN_PHI`], reached through `mu_s` in
