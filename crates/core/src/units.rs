@@ -191,8 +191,10 @@ impl Physical {
                     "a static coefficient > mu_k (Phi = arcsin(mu_k/mu_s) needs mu_k < mu_s)",
                 );
             }
-            // Phi = arcsin(mu_k / mu_s) >= MIN_PHI, named by the key the user gave.
-            if (self.mu_k / sf.mu_s).asin() < crate::law::MIN_PHI {
+            // Phi = arcsin(mu_k / mu_s) checked by the one check of Phi (law::MIN_PHI), but
+            // named by the key the user gave, with the value given: its own message would show
+            // Phi's value under mu_s.
+            if crate::Surface::check_phi((self.mu_k / sf.mu_s).asin()).is_err() {
                 return bad(
                     "mu_s",
                     sf.mu_s,
@@ -406,5 +408,27 @@ mod tests {
             SurfaceSi::of(FrictionLaw::Stribeck, None, None),
             Err(CoreError::NoPhysicalUnits(_))
         ));
+    }
+
+    /// The static peak's bound is Phi's ([`crate::law::MIN_PHI`], checked by
+    /// [`crate::Surface::check_phi`]), named by `mu_s` with the value given: `mu_s` just
+    /// inside it (Phi = 1.01e-5) is taken, just outside (Phi = 0.99e-5) refused.
+    #[test]
+    fn the_static_peak_takes_phis_bound() {
+        let mut ph = example();
+        let mu_k = ph.mu_k;
+        let at = |phi: f64| SurfaceSi {
+            mu_s: mu_k / phi.sin(),
+            tau: 1e-3,
+        };
+        ph.surface = Some(at(1.01e-5));
+        assert!(ph.validate().is_ok());
+        ph.surface = Some(at(0.99e-5));
+        let e = ph.validate().unwrap_err().to_string();
+        // mu_s = 0.4 / sin(0.99e-5) = 40404.04...
+        assert!(
+            e.contains("invalid mu_s = 40404.04") && e.contains("1e5 mu_k"),
+            "{e}"
+        );
     }
 }
