@@ -31,13 +31,14 @@ pub const G_STANDARD: f64 = 9.81;
 /// The physical keys of McMillan's surfaces, in the order of [`SurfaceSi`]'s fields.
 pub const SURFACE_KEYS: [&str; 2] = ["mu_s", "tau"];
 
-/// McMillan's surfaces in SI units: what his two laws need beyond the oscillator.
+/// McMillan's surfaces in SI units: what his two laws need beyond the oscillator. `T` is
+/// `f64` but for a spec's table of values (see [`Physical`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SurfaceSi {
+pub struct SurfaceSi<T = f64> {
     /// "Static" friction coefficient `mu_s > mu_k`.
-    pub mu_s: f64,
+    pub mu_s: T,
     /// Characteristic time of the surfaces `tau` (s).
-    pub tau: f64,
+    pub tau: T,
 }
 
 /// Whether `law` takes McMillan's surfaces (`mu_s`, `tau`) in physical units: his two laws
@@ -90,23 +91,25 @@ impl SurfaceSi {
     }
 }
 
-/// A physical friction oscillator in SI units.
+/// A physical friction oscillator in SI units. `T` is `f64` but for a spec's table of the
+/// values each key is given (a number, a list or a range), laid out in the same fields so
+/// that [`Physical::values`] puts both in key order.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Physical {
+pub struct Physical<T = f64> {
     /// Mass `m` (kg).
-    pub m: f64,
+    pub m: T,
     /// Spring stiffness `k` (N/m).
-    pub k: f64,
+    pub k: T,
     /// Dashpot coefficient `c` (N s/m).
-    pub c: f64,
+    pub c: T,
     /// Belt speed `v_B` (m/s).
-    pub v_belt: f64,
+    pub v_belt: T,
     /// Kinetic friction coefficient `mu_k`.
-    pub mu_k: f64,
+    pub mu_k: T,
     /// McMillan's surfaces (his two laws); `None` for Coulomb, which has none.
-    pub surface: Option<SurfaceSi>,
+    pub surface: Option<SurfaceSi<T>>,
     /// Gravitational acceleration `g` (m/s^2).
-    pub g: f64,
+    pub g: T,
 }
 
 /// SI size of one nondimensional unit, for one physical system.
@@ -142,11 +145,11 @@ impl Scales {
     }
 }
 
-impl Physical {
+impl<T: Copy> Physical<T> {
     /// The values in the order of the keys `m, k, c, v_belt, mu_k, mu_s, tau, g` (the
     /// order of a spec's `[physical]` table, of the flags and of the stored attributes);
     /// `mu_s` and `tau` are `None` for a system without McMillan's surfaces (Coulomb).
-    pub fn values(&self) -> [Option<f64>; 8] {
+    pub fn values(&self) -> [Option<T>; 8] {
         let sf = self.surface;
         [
             Some(self.m),
@@ -159,7 +162,9 @@ impl Physical {
             Some(self.g),
         ]
     }
+}
 
+impl Physical {
     /// Checks every value; the error names the key.
     pub fn validate(&self) -> Result<(), CoreError> {
         let bad = CoreError::invalid::<()>;
