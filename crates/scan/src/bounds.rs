@@ -225,8 +225,8 @@ pub const MIN_TRAP_MARGIN: f64 = 1e-10;
 /// the stored-spec path to skip these bounds, and they sit in every check of a model
 /// (`Surface::validate`, through `Params::validate` and `Physical::params`) and of the
 /// classifier table: a mode threaded through all of them, or a second copy of the checks.
-/// Instead the file is refused with an error naming the bound and saying that the file
-/// predates it ([`stored_spec_error`]).
+/// Instead the file is refused with the bound's error (key, value, range) and a sentence
+/// saying that files written before these bounds may break them ([`stored_spec_error`]).
 const NEWER_LOWER_BOUNDS: [&str; 4] = [
     "model.phi",
     "physical.mu_s",
@@ -234,9 +234,11 @@ const NEWER_LOWER_BOUNDS: [&str; 4] = [
     "classifier.trap_margin",
 ];
 
-/// The error of a spec stored in a file (or journal): one breaking a bound of
-/// [`NEWER_LOWER_BOUNDS`] says that the file was written by an older squeal, before the
-/// bound; any other error is as the spec's.
+/// The error of a spec stored in a file (or journal): one naming a key of
+/// [`NEWER_LOWER_BOUNDS`] adds that files written before those bounds may break them, and
+/// what then; any other error is as the spec's. The sentence is conditional: the same keys
+/// have older bounds too (`phi <= pi/2`, `fp_radius <= 0.01`, `mu_s > mu_k`), and the error
+/// says which was broken, not when.
 pub(crate) fn stored_spec_error(e: ScanError) -> ScanError {
     match e {
         ScanError::Invalid {
@@ -246,9 +248,11 @@ pub(crate) fn stored_spec_error(e: ScanError) -> ScanError {
             expected,
         } if NEWER_LOWER_BOUNDS.contains(&key.as_str()) => ScanError::Invalid {
             expected: format!(
-                "{expected}. The stored spec breaks this bound, which came after the file was \
-                 written: it was written by an older squeal, and its results, computed there, \
-                 are refused here (rerun the spec with `{key}` within the bound)"
+                "{expected}. The spec is the one stored in the file: squeal before the lower \
+                 bounds phi >= 1e-5 (mu_s <= about 1e5 mu_k), classifier.fp_radius >= 1e-10 \
+                 and classifier.trap_margin >= 1e-10 wrote files with smaller values, whose \
+                 results this version refuses to read as its own (rerun the spec with `{key}` \
+                 within the bound)"
             ),
             path,
             key,

@@ -1179,12 +1179,12 @@ path = "x.h5"
                 .unwrap_err()
                 .to_string();
             assert!(
-                e.contains(&format!("`{key}`")) && e.contains("older squeal"),
+                e.contains(&format!("`{key}`")) && e.contains("squeal before the lower bounds"),
                 "{e}"
             );
             let e = Plan::from_toml(&text, "t.toml").unwrap_err().to_string();
             assert!(
-                e.contains(&format!("`{key}`")) && !e.contains("older squeal"),
+                e.contains(&format!("`{key}`")) && !e.contains("squeal before the lower bounds"),
                 "{e}"
             );
         }
@@ -1196,7 +1196,7 @@ path = "x.h5"
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("`physical.mu_s`") && e.contains("older squeal"),
+            e.contains("`physical.mu_s`") && e.contains("squeal before the lower bounds"),
             "{e}"
         );
     }
