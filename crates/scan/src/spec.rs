@@ -1158,11 +1158,11 @@ path = "x.h5"
     }
 
     /// A spec stored by a squeal before the lower bounds on phi, fp_radius and trap_margin,
-    /// with a value below one, is refused naming the key and saying the file predates the
-    /// bound (before, only "does not validate" and the bound, as if the user had typed it);
-    /// given by a user it is refused as before.
+    /// with a value below one, is refused naming the key and bound and saying that files of
+    /// squeal before those bounds may break them (before, only "does not validate" and the
+    /// bound, as if the user had typed it); given by a user it is refused as before.
     #[test]
-    fn a_stored_spec_below_a_newer_bound_says_the_file_predates_it() {
+    fn a_stored_spec_below_a_newer_bound_says_older_files_may_break_it() {
         use crate::Plan;
         use crate::atlas::AtlasPlan;
         let classifier =
