@@ -83,6 +83,32 @@ fn a_huge_flag_value_is_named_in_exponent_form() {
     }
 }
 
+/// Refusals of the other commands name a huge value in exponent form too: `friction --tau
+/// -1e300`, `critical --rtol 1e300` and `compare --min-agreement 1e300` printed 301 digits.
+#[test]
+fn other_commands_name_a_huge_value_in_exponent_form() {
+    let d = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (
+            &["friction", "--tau", "-1e300"][..],
+            "--tau: invalid tau = -1e300:",
+        ),
+        (
+            &["critical", "--rtol", "1e300"][..],
+            "--rtol 1e300: expected",
+        ),
+        (
+            &["compare", "a.h5", "b.h5", "--min-agreement", "1e300"][..],
+            "--min-agreement 1e300: expected",
+        ),
+    ] {
+        let o = squeal(d.path(), args);
+        let n = o.stderr.len();
+        refused(o, needle);
+        assert!(n < 300, "{n} bytes of message for {args:?}");
+    }
+}
+
 /// Runs with no cap: `--verify-rays 1000000000`, `trajectory --dt 1e-12` or `--t-end 1e15`.
 #[test]
 fn unbounded_runs_are_refused_before_they_start() {
@@ -332,7 +358,7 @@ path = "one.h5"
 }
 
 /// `--phi 1e-300` ran and labelled every start outside the unstable cycle "diverged" (the
-/// stick-slip orbit, about 1.43 / sin(phi) wide, lay beyond the escape radius 1e6:
+/// stick-slip orbit, reaching |x| about 1.43 / sin(phi), lay beyond the escape radius 1e6:
 /// `squeal_core::law::MIN_PHI`); `--mu-s 1e300` is the same Phi in SI units, and
 /// `friction --phi` takes the same bound.
 #[test]

@@ -323,3 +323,32 @@ fn old_coulomb_files_with_surfaces_still_read() {
     let (ok, err) = run(d, &["info", "m.h5"]);
     assert!(ok, "{err}");
 }
+
+/// A stored spec that reads back to another number of points than the file holds is
+/// refused, not zipped short: an older squeal's Coulomb atlas that swept mu_s (each value a
+/// point: 2 x 2 here) now reads to the points without the sweep, and the file's figures
+/// would land on the wrong points. Before, `info` read a 3-point spec over this 2-point file
+/// and the swept mu_s was dropped without a word.
+#[test]
+fn a_stored_spec_of_another_size_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = COULOMB_ATLAS.replace("c = 10.0", "c = [5.0, 10.0]");
+    std::fs::write(d.join("a.toml"), &two).unwrap();
+    let (ok, err) = run(d, &["atlas", "a.toml", "--quiet", "--no-render"]);
+    assert!(ok, "{err}");
+    let file = d.join("atlas.h5");
+    store_spec(&file, &two.replace("[5.0, 10.0]", "[5.0, 10.0, 20.0]"));
+    let (ok, err) = run(d, &["info", "atlas.h5"]);
+    assert!(
+        !ok && err.contains("holds 2 values where its stored spec has 3"),
+        "{err}"
+    );
+    let swept = two.replace("mu_k = 0.35", "mu_k = 0.35\nmu_s = [0.45, 0.5]\ntau = 1e-3");
+    store_spec(&file, &swept);
+    let (ok, err) = run(d, &["info", "atlas.h5"]);
+    assert!(
+        !ok && err.contains("`physical.mu_s`") && err.contains("older squeal"),
+        "{err}"
+    );
+}

@@ -33,7 +33,10 @@ struct MapAgreement {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(m) = args.min_agreement {
         if !(0.0..=1.0).contains(&m) {
-            bail!("--min-agreement {m}: expected a share between 0 and 1");
+            bail!(
+                "--min-agreement {}: expected a share between 0 and 1",
+                squeal_core::error::Number(m)
+            );
         }
     }
     let n = squeal_store::map_count(&args.first)?;

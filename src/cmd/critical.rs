@@ -1,6 +1,7 @@
 //! `squeal critical`: the damping (or, `--in lambda`, the belt speed) above which a given
 //! state no longer squeals; `--fold`: above which no start squeals.
 
+use squeal_core::error::Number;
 use std::process::ExitCode;
 
 use anyhow::bail;
@@ -21,7 +22,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         bail!("--x0/--v0: expected finite values");
     }
     if !(args.rtol > 0.0 && args.rtol < 1.0) {
-        bail!("--rtol {}: expected a value in (0, 1)", args.rtol);
+        bail!("--rtol {}: expected a value in (0, 1)", Number(args.rtol));
     }
     check_lifetimes(&args, plan.dt)?;
     let t0 = std::time::Instant::now();
@@ -159,7 +160,7 @@ fn check_lifetimes(args: &Args, dt: f64) -> anyhow::Result<()> {
     if !(args.lifetime_t_max.is_finite() && args.lifetime_t_max > 0.0) {
         bail!(
             "--lifetime-t-max {}: expected a finite time > 0",
-            args.lifetime_t_max
+            Number(args.lifetime_t_max)
         );
     }
     // A censored start runs to the end: the bound of any one run (`--lifetime-t-max 1e300`

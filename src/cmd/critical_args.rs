@@ -2,6 +2,7 @@
 //! lifetime table all read them).
 
 use anyhow::bail;
+use squeal_core::error::Number;
 use squeal_scan::atlas::BoundaryParam;
 use squeal_scan::section::ParamRange;
 
@@ -84,6 +85,7 @@ impl Args {
             BoundaryParam::Lambda => (self.lambda_lo, self.lambda_hi, "lambda"),
         };
         if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+            let (lo, hi) = (Number(lo), Number(hi));
             bail!("--{flag}-lo {lo} / --{flag}-hi {hi}: expected 0 < lo < hi");
         }
         let rtol = self.rtol;

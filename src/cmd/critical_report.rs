@@ -4,6 +4,7 @@
 
 use anyhow::bail;
 use squeal_core::State;
+use squeal_core::error::Number;
 use squeal_scan::band::{Crisis, CrisisStatus};
 use squeal_scan::lifetime::LifetimeTable;
 use squeal_scan::section::{Change, ParamRange};
@@ -144,7 +145,8 @@ impl BoundaryFound<'_> {
     fn print(&self, args: &Args, point: State) -> anyhow::Result<()> {
         use squeal_scan::atlas::BoundaryStatus;
         let (b, name, flag) = (self.b, self.name, self.flag);
-        let (lo, hi) = self.range;
+        // Exponent form for the flags' huge or tiny values (1e300, not 301 digits).
+        let (lo, hi) = (Number(self.range.0), Number(self.range.1));
         let (what, meaning) = if args.fold {
             (
                 "fold of cycles",
@@ -163,7 +165,11 @@ impl BoundaryFound<'_> {
         let nothing = if args.fold {
             "nothing squeals there already".to_string()
         } else {
-            format!("({}, {}) is quiet there already", point.x, point.v)
+            format!(
+                "({}, {}) is quiet there already",
+                Number(point.x),
+                Number(point.v)
+            )
         };
         match b.status {
             BoundaryStatus::Found => {}
@@ -201,7 +207,7 @@ impl BoundaryFound<'_> {
 
 /// An error naming the flag of the range's end when the crisis `c` was not found in it.
 pub(super) fn found(range: ParamRange, flag: &str, c: &Crisis) -> anyhow::Result<()> {
-    let (lo, hi) = (range.lo, range.hi);
+    let (lo, hi) = (Number(range.lo), Number(range.hi));
     match c.status {
         CrisisStatus::Found => Ok(()),
         CrisisStatus::BelowRange => {

@@ -15,6 +15,7 @@
 //!
 //! Sample points are computed by index, never by accumulating a step.
 
+use squeal_core::error::Number;
 use std::f64::consts::TAU;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -84,13 +85,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !args.mu_k.is_finite() || args.mu_k <= 0.0 {
         bail!(
             "--mu-k: invalid mu_k = {}: expected a finite coefficient > 0",
-            args.mu_k
+            Number(args.mu_k)
         );
     }
     if !args.tau.is_finite() || args.tau <= 0.0 {
         bail!(
             "--tau: invalid tau = {}: expected a finite time > 0 (seconds)",
-            args.tau
+            Number(args.tau)
         );
     }
     squeal_core::Surface::check_phi(args.phi).map_err(|e| anyhow::anyhow!("--phi: {e}"))?;

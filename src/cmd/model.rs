@@ -118,7 +118,10 @@ impl ModelArgs {
         // Checked here, not in the spec built below: a NaN would be written as `t_max =
         // NaN`, which TOML refuses without naming the flag.
         if !(t_max.is_finite() && t_max > 0.0) {
-            bail!("{flag} {t_max}: expected a finite time > 0");
+            bail!(
+                "{flag} {}: expected a finite time > 0",
+                squeal_core::error::Number(t_max)
+            );
         }
         let text = format!(
             "version = 1\n[model]\n{}\

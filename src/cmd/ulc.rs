@@ -104,7 +104,7 @@ fn checked_settings(args: &Args) -> anyhow::Result<CycleSettings> {
     if !(args.verify_eps > 0.0 && args.verify_eps < 0.5) {
         bail!(
             "--verify-eps {}: expected a value in (0, 0.5)",
-            args.verify_eps
+            squeal_core::error::Number(args.verify_eps)
         );
     }
     let cs = CycleSettings {

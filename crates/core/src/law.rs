@@ -162,8 +162,9 @@ impl Surface {
             "phi",
             phi,
             "an angle in [1e-5, pi/2] (Phi = arcsin(mu_k/mu_s); below 1e-5 the static peak \
-             mu_s/mu_k = 1/sin(Phi) exceeds 1e5 and the stick-slip orbit, about 1.4/sin(Phi) \
-             wide, reaches the escape radius 1e6: every stick-slip run would read 'diverged')",
+             mu_s/mu_k = 1/sin(Phi) exceeds 1e5, and the stick-slip orbit, which reaches |x| \
+             about 1.43/sin(Phi), nears the escape radius 1e6: below about 1.4e-6 every \
+             stick-slip run would read 'diverged')",
         )
     }
 }
@@ -490,5 +491,36 @@ mod tests {
                 (want.0.to_bits(), want.1.to_bits())
             );
         }
+    }
+
+    /// The refusal of a small `Phi` states the orbit's reach, `|x|` about `1.43 / sin(Phi)`
+    /// (measured, [`MIN_PHI`]), and where that meets the radius: before, it called 1.4/sin(Phi)
+    /// the orbit's width, where the measured figure is the largest `|x|` it reaches.
+    #[test]
+    fn a_small_phi_is_refused_stating_the_orbits_reach() {
+        let e = Surface::check_phi(2e-6).unwrap_err().to_string();
+        assert!(
+            e.contains("reaches |x| about 1.43/sin(Phi)") && !e.contains("wide"),
+            "{e}"
+        );
+        let mut ph = crate::Physical {
+            m: 2.0,
+            k: 2.0e4,
+            c: 4.0,
+            v_belt: 0.1,
+            mu_k: 0.4,
+            surface: Some(crate::SurfaceSi {
+                mu_s: 1e6,
+                tau: 1e-3,
+            }),
+            g: crate::units::G_STANDARD,
+        };
+        let e = ph.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("reaches |x| about 1.43 mu_s/mu_k") && !e.contains("wide"),
+            "{e}"
+        );
+        ph.surface = None;
+        assert!(ph.validate().is_ok());
     }
 }

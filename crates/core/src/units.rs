@@ -31,13 +31,14 @@ pub const G_STANDARD: f64 = 9.81;
 /// The physical keys of McMillan's surfaces, in the order of [`SurfaceSi`]'s fields.
 pub const SURFACE_KEYS: [&str; 2] = ["mu_s", "tau"];
 
-/// McMillan's surfaces in SI units: what his two laws need beyond the oscillator.
+/// McMillan's surfaces in SI units: what his two laws need beyond the oscillator. `T` is
+/// `f64` but for a spec's table of values (see [`Physical`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SurfaceSi {
+pub struct SurfaceSi<T = f64> {
     /// "Static" friction coefficient `mu_s > mu_k`.
-    pub mu_s: f64,
+    pub mu_s: T,
     /// Characteristic time of the surfaces `tau` (s).
-    pub tau: f64,
+    pub tau: T,
 }
 
 /// Whether `law` takes McMillan's surfaces (`mu_s`, `tau`) in physical units: his two laws
@@ -90,23 +91,25 @@ impl SurfaceSi {
     }
 }
 
-/// A physical friction oscillator in SI units.
+/// A physical friction oscillator in SI units. `T` is `f64` but for a spec's table of the
+/// values each key is given (a number, a list or a range), laid out in the same fields so
+/// that [`Physical::values`] puts both in key order.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Physical {
+pub struct Physical<T = f64> {
     /// Mass `m` (kg).
-    pub m: f64,
+    pub m: T,
     /// Spring stiffness `k` (N/m).
-    pub k: f64,
+    pub k: T,
     /// Dashpot coefficient `c` (N s/m).
-    pub c: f64,
+    pub c: T,
     /// Belt speed `v_B` (m/s).
-    pub v_belt: f64,
+    pub v_belt: T,
     /// Kinetic friction coefficient `mu_k`.
-    pub mu_k: f64,
+    pub mu_k: T,
     /// McMillan's surfaces (his two laws); `None` for Coulomb, which has none.
-    pub surface: Option<SurfaceSi>,
+    pub surface: Option<SurfaceSi<T>>,
     /// Gravitational acceleration `g` (m/s^2).
-    pub g: f64,
+    pub g: T,
 }
 
 /// SI size of one nondimensional unit, for one physical system.
@@ -142,11 +145,11 @@ impl Scales {
     }
 }
 
-impl Physical {
+impl<T: Copy> Physical<T> {
     /// The values in the order of the keys `m, k, c, v_belt, mu_k, mu_s, tau, g` (the
     /// order of a spec's `[physical]` table, of the flags and of the stored attributes);
     /// `mu_s` and `tau` are `None` for a system without McMillan's surfaces (Coulomb).
-    pub fn values(&self) -> [Option<f64>; 8] {
+    pub fn values(&self) -> [Option<T>; 8] {
         let sf = self.surface;
         [
             Some(self.m),
@@ -159,7 +162,9 @@ impl Physical {
             Some(self.g),
         ]
     }
+}
 
+impl Physical {
     /// Checks every value; the error names the key.
     pub fn validate(&self) -> Result<(), CoreError> {
         let bad = CoreError::invalid::<()>;
@@ -191,14 +196,16 @@ impl Physical {
                     "a static coefficient > mu_k (Phi = arcsin(mu_k/mu_s) needs mu_k < mu_s)",
                 );
             }
-            // Phi = arcsin(mu_k / mu_s) >= MIN_PHI, named by the key the user gave.
-            if (self.mu_k / sf.mu_s).asin() < crate::law::MIN_PHI {
+            // Phi = arcsin(mu_k / mu_s) checked by the one check of Phi (law::MIN_PHI), but
+            // named by the key the user gave, with the value given: its own message would show
+            // Phi's value under mu_s.
+            if crate::Surface::check_phi((self.mu_k / sf.mu_s).asin()).is_err() {
                 return bad(
                     "mu_s",
                     sf.mu_s,
                     "a static coefficient at most about 1e5 mu_k (Phi = arcsin(mu_k/mu_s) >= 1e-5: \
-                     a higher static peak puts the stick-slip orbit, about 1.4 mu_s/mu_k wide in the \
-                     model's units, at the escape radius 1e6)",
+                     the stick-slip orbit reaches |x| about 1.43 mu_s/mu_k in the model's units, \
+                     and a higher static peak brings it to the escape radius 1e6)",
                 );
             }
             if !pos(sf.tau) {
@@ -406,5 +413,27 @@ mod tests {
             SurfaceSi::of(FrictionLaw::Stribeck, None, None),
             Err(CoreError::NoPhysicalUnits(_))
         ));
+    }
+
+    /// The static peak's bound is Phi's ([`crate::law::MIN_PHI`], checked by
+    /// [`crate::Surface::check_phi`]), named by `mu_s` with the value given: `mu_s` just
+    /// inside it (Phi = 1.01e-5) is taken, just outside (Phi = 0.99e-5) refused.
+    #[test]
+    fn the_static_peak_takes_phis_bound() {
+        let mut ph = example();
+        let mu_k = ph.mu_k;
+        let at = |phi: f64| SurfaceSi {
+            mu_s: mu_k / phi.sin(),
+            tau: 1e-3,
+        };
+        ph.surface = Some(at(1.01e-5));
+        assert!(ph.validate().is_ok());
+        ph.surface = Some(at(0.99e-5));
+        let e = ph.validate().unwrap_err().to_string();
+        // mu_s = 0.4 / sin(0.99e-5) = 40404.04...
+        assert!(
+            e.contains("invalid mu_s = 40404.04") && e.contains("1e5 mu_k"),
+            "{e}"
+        );
     }
 }

@@ -211,8 +211,56 @@ pub const MIN_FP_RADIUS: f64 = 1e-10;
 /// BENCHMARKS.md "Early stopping"; it grows as `dt^4`). A narrower band is narrower than what
 /// the cycle is known to, and below about `1.1e-16` it is nothing at all in `f64`
 /// (`r (1 - margin)` rounds to `r`): `trap_margin = 1e-300` was accepted. `1e-10` is one order
-/// above the interpolation's error; the default `1e-5` leaves six.
+/// above the interpolation's error at the default step; the default `1e-5` is five orders
+/// above the bound, six above that error. The argument holds at the default step only: the
+/// bound does not follow `integration.dt` (accepted up to 1), and the error grows as `dt^4`,
+/// so by that scaling it is about `1.6e-10` at `dt = 0.01` (above the bound) and reaches the
+/// default margin near `dt = 0.16`. A coarse step needs a wider margin than the bound allows
+/// for; the bound only refuses margins that are too narrow at any step.
 pub const MIN_TRAP_MARGIN: f64 = 1e-10;
+
+/// The keys whose lower bound ([`squeal_core::law::MIN_PHI`], reached through `mu_s` in
+/// physical units; [`MIN_FP_RADIUS`], [`MIN_TRAP_MARGIN`]) came after files were written with
+/// values below it, whose stored spec therefore no longer validates. Reading them would need
+/// the stored-spec path to skip these bounds, and they sit in every check of a model
+/// (`Surface::validate`, through `Params::validate` and `Physical::params`) and of the
+/// classifier table: a mode threaded through all of them, or a second copy of the checks.
+/// Instead the file is refused with the bound's error (key, value, range) and a sentence
+/// saying that files written before these bounds may break them ([`stored_spec_error`]).
+const NEWER_LOWER_BOUNDS: [&str; 4] = [
+    "model.phi",
+    "physical.mu_s",
+    "classifier.fp_radius",
+    "classifier.trap_margin",
+];
+
+/// The error of a spec stored in a file (or journal): one naming a key of
+/// [`NEWER_LOWER_BOUNDS`] adds that files written before those bounds may break them, and
+/// what then; any other error is as the spec's. The sentence is conditional: the same keys
+/// have older bounds too (`phi <= pi/2`, `fp_radius <= 0.01`, `mu_s > mu_k`), and the error
+/// says which was broken, not when.
+pub(crate) fn stored_spec_error(e: ScanError) -> ScanError {
+    match e {
+        ScanError::Invalid {
+            path,
+            key,
+            value,
+            expected,
+        } if NEWER_LOWER_BOUNDS.contains(&key.as_str()) => ScanError::Invalid {
+            expected: format!(
+                "{expected}. The spec is the one stored in the file: squeal before the lower \
+                 bounds phi >= 1e-5 (mu_s <= about 1e5 mu_k), classifier.fp_radius >= 1e-10 \
+                 and classifier.trap_margin >= 1e-10 wrote files with smaller values, whose \
+                 results this version refuses to read as its own (rerun the spec with `{key}` \
+                 within the bound)"
+            ),
+            path,
+            key,
+            value,
+        },
+        e => e,
+    }
+}
 
 /// The fixed point's ball against the located unstable cycle of map `map`: its radius must
 /// be at most half the cycle's crossing `r_cycle` of the section (the cycle's smallest

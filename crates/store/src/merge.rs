@@ -100,14 +100,33 @@ fn belong_together(a: &ShardHeader, b: &ShardHeader) -> Result<(), StoreError> {
     )))
 }
 
-/// Every shard holds all of its own blocks of `plan` and none of another's.
+/// Every shard holds all of its own blocks of `plan` and none of another's, in cells of the
+/// plan's shape: a file whose stored spec now reads to another grid or map count would have
+/// its blocks read as the wrong rows or maps.
 fn check_owned_blocks(files: &[ShardFile], plan: &Plan) -> Result<(), StoreError> {
-    let nb = plan.grid.blocks();
-    for (p, _, s, done) in files {
-        if done.len() != plan.maps.len() * nb {
+    let g = &plan.grid;
+    let nb = g.blocks();
+    // The cells' dimensions as written (h5write's cell_vars): (map, v0, x0), without the
+    // map for one map and without x0 for random samples.
+    let shape: Vec<usize> = [
+        plan.sweep.as_ref().map(|_| plan.maps.len()),
+        Some(g.v0.count),
+        g.sample.is_none().then_some(g.x0.count),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    for (p, f, s, done) in files {
+        let labels = f.dataset("labels").h5(p)?.shape();
+        if done.len() != plan.maps.len() * nb || labels != shape {
             return Err(StoreError::NotSquealFile {
                 path: p.clone(),
-                why: "blocks_done does not match the spec's grid".into(),
+                why: format!(
+                    "its cells ({labels:?}, {} blocks done) do not match its stored spec's \
+                     grid ({shape:?}, {} blocks)",
+                    done.len(),
+                    plan.maps.len() * nb
+                ),
             });
         }
         let (mut missing, mut total) = (0, 0);

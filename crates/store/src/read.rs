@@ -229,14 +229,39 @@ pub(crate) fn rd<T: hdf5::H5Type>(
     file.dataset(name).and_then(|d| d.read_raw()).h5(path)
 }
 
-/// [`rd`] of a dataset older files lack (then empty).
-pub(crate) fn rd_new<T: hdf5::H5Type>(
+/// [`rd`] of a dataset holding one value for each of the `n` entries (points, boundary
+/// searches) of the plan its file's stored spec reads back to: any other length is refused.
+/// Zipped with the plan instead, a file whose spec now reads to a plan of another size (an
+/// older squeal's spec) would have its values attached to the wrong entries, silently.
+pub(crate) fn rd_n<T: hdf5::H5Type>(
     file: &File,
     path: &Path,
     name: &str,
+    n: usize,
+) -> Result<Vec<T>, StoreError> {
+    let v = rd(file, path, name)?;
+    if v.len() != n {
+        return Err(StoreError::NotSquealFile {
+            path: path.to_path_buf(),
+            why: format!(
+                "dataset {name} holds {} values where its stored spec has {n}: the file was \
+                 written for another spec, or by a version that read the spec differently",
+                v.len()
+            ),
+        });
+    }
+    Ok(v)
+}
+
+/// [`rd_n`] of a dataset files written before it lack (then empty).
+pub(crate) fn rd_new_n<T: hdf5::H5Type>(
+    file: &File,
+    path: &Path,
+    name: &str,
+    n: usize,
 ) -> Result<Vec<T>, StoreError> {
     match file.link_exists(name) {
-        true => rd(file, path, name),
+        true => rd_n(file, path, name, n),
         false => Ok(Vec::new()),
     }
 }

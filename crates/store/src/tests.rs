@@ -752,3 +752,34 @@ fn a_journal_of_other_columns_is_refused_by_name() {
     assert!(e.to_string().contains("other columns"), "{e}");
     assert!(e.to_string().contains("--force"), "{e}");
 }
+
+/// Shards whose stored spec reads back to another grid than their cells (one more x0
+/// column: the same blocks, so `blocks_done` agrees) are refused, naming both shapes; their
+/// rows read against the spec's grid would have been laid out wrong.
+#[test]
+fn shards_whose_spec_gives_another_grid_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let other = SPEC.replace("count = 5", "count = 6");
+    let shards: Vec<PathBuf> = (1..=2)
+        .map(|k| {
+            let path = dir.path().join(format!("s{k}.h5"));
+            full_run(&p, &path, Some(Shard { k, n: 2 }));
+            let f = hdf5::File::open_rw(&path).unwrap();
+            f.delete_attr("spec").unwrap();
+            let v: hdf5::types::VarLenUnicode = other.parse().unwrap();
+            f.new_attr::<hdf5::types::VarLenUnicode>()
+                .create("spec")
+                .unwrap()
+                .write_scalar(&v)
+                .unwrap();
+            path
+        })
+        .collect();
+    let e = merge(&shards, &dir.path().join("m.h5"), false, &prov()).unwrap_err();
+    // The cells are 7 rows (v0) of 5 (x0); the stored spec says 7 of 6.
+    assert!(
+        e.to_string().contains("[7, 5]") && e.to_string().contains("[7, 6]"),
+        "{e}"
+    );
+}

@@ -340,13 +340,16 @@ impl AtlasPlan {
     /// Parses and checks the spec stored in an atlas file this or an older squeal wrote: as
     /// [`AtlasPlan::from_toml`], except that `[physical]` keys the law does not use, which
     /// older versions required and then ignored (`mu_s`, `tau` under Coulomb), are dropped
-    /// rather than refused, so those files still read.
+    /// rather than refused, so those files still read; one swept is refused (that version made
+    /// each of its values a point, so the file holds more points than this plan).
     pub fn from_stored_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
         let mut f = parse_atlas(text, path)?;
         if let Some(ph) = &mut f.physical {
-            ph.forget_unused(f.model.law);
+            ph.forget_unused(f.model.law, &|key, value, expected| {
+                invalid(path, key, value, expected)
+            })?;
         }
-        AtlasPlan::from_parsed(f, text, path)
+        AtlasPlan::from_parsed(f, text, path).map_err(crate::bounds::stored_spec_error)
     }
 
     /// Checks the parsed spec `f` of text `text`.

@@ -51,11 +51,39 @@ impl PhysicalFile {
 
     /// A spec read back from a file written before Coulomb's physical system lost `mu_s` and
     /// `tau` (they were required, then ignored): the keys its law does not use are dropped,
-    /// as that code dropped them, so the file still reads.
-    pub(crate) fn forget_unused(&mut self, law: FrictionLaw) {
-        if takes_surface(law) == Ok(false) {
-            (self.mu_s, self.tau) = (None, None);
+    /// as that code dropped them, so the file still reads. A key given several values is
+    /// refused instead: that version made each value a point of the atlas (the same physics
+    /// repeated), so the file holds more points than the spec without the key, and read as
+    /// this version's its stored figures would land on the wrong points.
+    pub(crate) fn forget_unused(
+        &mut self,
+        law: FrictionLaw,
+        invalid: Invalid,
+    ) -> Result<(), ScanError> {
+        if takes_surface(law) != Ok(false) {
+            return Ok(());
         }
+        for (key, v) in SURFACE_KEYS.into_iter().zip([&self.mu_s, &self.tau]) {
+            let n = match v {
+                Some(Value::List(xs)) => xs.len(),
+                Some(Value::Range(r)) => usize::try_from(r.count).unwrap_or(0),
+                Some(Value::One(_)) | None => 1,
+            };
+            if n > 1 {
+                return Err(invalid(
+                    &format!("physical.{key}"),
+                    format!("{n} values"),
+                    &format!(
+                        "at most one value: this file was written by an older squeal, and its \
+                         spec swept {key}, which law = \"{law}\" does not use; that version made \
+                         each value a point of its own, so its points cannot be read as this \
+                         version's (rerun the spec without {key})"
+                    ),
+                ));
+            }
+        }
+        (self.mu_s, self.tau) = (None, None);
+        Ok(())
     }
 }
 
@@ -379,5 +407,38 @@ path = "b.h5"
         assert_eq!(stored.physical.unwrap().surface, None);
         // McMillan's laws use them: a stored spec without them is refused as before.
         assert!(Plan::from_stored_toml(&BRAKE.replace("tau = 1e-3\n", ""), "b.toml").is_err());
+    }
+
+    /// An older squeal's Coulomb atlas that swept mu_s made each value a point (c 2 values
+    /// times mu_s 2 values: 4 points, the same physics twice); dropping the list would read
+    /// the file as the 2 points of the spec without it, its figures on the wrong points. It
+    /// is refused naming the key; a single value is still dropped.
+    #[test]
+    fn an_old_coulomb_atlas_that_swept_a_surface_is_refused() {
+        use crate::atlas::AtlasPlan;
+        let atlas = |surfaces: &str| {
+            format!(
+                "version = 1\n[model]\nlaw = \"coulomb\"\n[physical]\nm = 2.0\nk = 5.0e4\n\
+                 c = [5.0, 10.0]\nv_belt = 0.05\nmu_k = 0.35\n{surfaces}\n[boundaries]\n\
+                 fold = false\ncritical = false\n[output]\npath = \"a.h5\"\n"
+            )
+        };
+        let one = AtlasPlan::from_stored_toml(&atlas("mu_s = 0.45\ntau = 1e-3"), "a.toml");
+        assert_eq!(one.unwrap().n_points(), 2);
+        for (surfaces, key) in [
+            ("mu_s = [0.45, 0.5]\ntau = 1e-3", "physical.mu_s"),
+            (
+                "mu_s = 0.45\ntau = { from = 1e-3, to = 2e-3, count = 3 }",
+                "physical.tau",
+            ),
+        ] {
+            let e = AtlasPlan::from_stored_toml(&atlas(surfaces), "a.toml")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("`{key}`")) && e.contains("older squeal"),
+                "{e}"
+            );
+        }
     }
 }

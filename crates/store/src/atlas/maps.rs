@@ -16,7 +16,7 @@ use crate::StoreError;
 use crate::error::H5Ctx;
 use crate::h5out::{Out, Over, num_attr, str_attr};
 use crate::h5write::{column_dataset, write_column};
-use crate::read::rd;
+use crate::read::{rd, rd_n};
 
 /// The maps' datasets, over the points `over` (the maps' own dimensions after them).
 pub(super) fn write_maps(
@@ -304,12 +304,12 @@ fn read_cycles(
     res: &mut AtlasResults,
     n: usize,
 ) -> Result<(), StoreError> {
-    let recs: Vec<VarLenUnicode> = rd(file, path, "map_cycle_record")?;
+    let recs: Vec<VarLenUnicode> = rd_n(file, path, "map_cycle_record", n)?;
     let curves = match (file.dataset("map_cycle_x"), file.dataset("map_cycle_v")) {
         (Ok(x), Ok(v)) => Some((x.read_raw::<f64>().h5(path)?, v.read_raw::<f64>().h5(path)?)),
         _ => None,
     };
-    for (i, r) in recs.iter().enumerate().take(n) {
+    for (i, r) in recs.iter().enumerate() {
         if r.as_str().is_empty() {
             continue;
         }

@@ -18,7 +18,7 @@ use super::schema::{
 };
 use super::{ATLAS_SCHEMA, maps, missing_blocks, missing_units, write_atlas};
 use crate::error::H5Ctx;
-use crate::read::{rd, rd_new};
+use crate::read::{rd_n, rd_new_n};
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
 /// Whether `path` is an atlas file (HDF5 with schema `squeal-atlas/...`).
@@ -36,15 +36,16 @@ pub fn is_atlas_file(path: &Path) -> bool {
         .is_some_and(|s| s.starts_with("squeal-atlas/"))
 }
 
-/// Notes read back from their words and kinds: `None` where empty ([`note_of`]).
+/// The `n` notes read back from their words and kinds: `None` where empty ([`note_of`]).
 fn notes(
     file: &File,
     path: &Path,
     (name, _): Named,
     (kind_name, _): Named,
+    n: usize,
 ) -> Result<Vec<Option<squeal_scan::atlas::Note>>, StoreError> {
-    let v: Vec<VarLenUnicode> = rd(file, path, name)?;
-    let kinds: Vec<u8> = rd_new(file, path, kind_name)?;
+    let v: Vec<VarLenUnicode> = rd_n(file, path, name, n)?;
+    let kinds: Vec<u8> = rd_new_n(file, path, kind_name, n)?;
     Ok(v.into_iter()
         .enumerate()
         .map(|(i, n)| note_of(Some(n.as_str().to_string()), kinds.get(i).copied()))
@@ -80,22 +81,24 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     Ok((plan, res, shard))
 }
 
-/// The computed points: every column of the point tables, the regime and the note.
+/// The computed points: every column of the point tables, the regime and the note. Each
+/// dataset holds one value per point of the stored spec's plan ([`rd_n`]).
 fn read_points(
     file: &File,
     path: &Path,
     plan: &AtlasPlan,
     res: &mut AtlasResults,
 ) -> Result<(), StoreError> {
-    let mut pts: Vec<PointResult> = (0..plan.n_points()).map(|_| empty_point()).collect();
+    let n = plan.n_points();
+    let mut pts: Vec<PointResult> = (0..n).map(|_| empty_point()).collect();
     for c in COLUMNS {
         let (name, _) = stored_name(plan, c);
         let vals: Vec<f64> = match c.kind {
-            Kind::Real => rd(file, path, &name)?,
-            Kind::Flag => (rd::<u8>(file, path, &name)?.into_iter())
+            Kind::Real => rd_n(file, path, &name, n)?,
+            Kind::Flag => (rd_n::<u8>(file, path, &name, n)?.into_iter())
                 .map(|v| if v == 255 { f64::NAN } else { v as f64 })
                 .collect(),
-            Kind::Count => (rd::<u64>(file, path, &name)?.into_iter())
+            Kind::Count => (rd_n::<u64>(file, path, &name, n)?.into_iter())
                 .map(|v| v as f64)
                 .collect(),
         };
@@ -105,12 +108,12 @@ fn read_points(
     }
     if plan.law.has_true_stick() {
         for c in LANDSCAPE_COLUMNS {
-            for (p, v) in pts.iter_mut().zip(rd::<f64>(file, path, c.name)?) {
+            for (p, v) in pts.iter_mut().zip(rd_n::<f64>(file, path, c.name, n)?) {
                 (c.set)(p, v);
             }
         }
         let (name, _) = squeal_scan::landscape::LANDSCAPE;
-        for (p, v) in pts.iter_mut().zip(rd::<u8>(file, path, name)?) {
+        for (p, v) in pts.iter_mut().zip(rd_n::<u8>(file, path, name, n)?) {
             if v == LANDSCAPE_NOT_COMPUTED {
                 p.landscape = None;
             } else {
@@ -118,9 +121,9 @@ fn read_points(
             }
         }
     }
-    let done: Vec<u8> = rd(file, path, POINTS_DONE.0)?;
-    let regime: Vec<u8> = rd(file, path, REGIME.0)?;
-    let mut notes = notes(file, path, NOTE, NOTE_KIND)?.into_iter();
+    let done: Vec<u8> = rd_n(file, path, POINTS_DONE.0, n)?;
+    let regime: Vec<u8> = rd_n(file, path, REGIME.0, n)?;
+    let mut notes = notes(file, path, NOTE, NOTE_KIND, n)?.into_iter();
     for (i, mut p) in pts.into_iter().enumerate() {
         let note = notes.next().flatten();
         if done.get(i) == Some(&1) {
@@ -142,19 +145,19 @@ fn read_boundaries(
     res: &mut AtlasResults,
 ) -> Result<(), StoreError> {
     let n = plan.n_boundaries();
-    let done: Vec<u8> = rd(file, path, BOUNDARIES_DONE.0)?;
+    let done: Vec<u8> = rd_n(file, path, BOUNDARIES_DONE.0, n)?;
     let status: Vec<Vec<u8>> = (SEARCHES.iter())
-        .map(|s| rd(file, path, &s.status_name()))
+        .map(|s| rd_n(file, path, &s.status_name(), n))
         .collect::<Result<_, _>>()?;
     let half_dt: Vec<Vec<u8>> = (SEARCHES.iter())
-        .map(|s| rd_new(file, path, &s.half_dt_name()))
+        .map(|s| rd_new_n(file, path, &s.half_dt_name(), n))
         .collect::<Result<_, _>>()?;
-    let changes: Vec<u32> = rd_new(file, path, FOLD_CHANGES.0)?;
-    let mut notes = notes(file, path, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND)?.into_iter();
+    let changes: Vec<u32> = rd_new_n(file, path, FOLD_CHANGES.0, n)?;
+    let mut notes = notes(file, path, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, n)?.into_iter();
     let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
         .iter()
         .map(|c| {
-            let v = rd_new(file, path, &plan.boundary_dataset(c.name, c.long_name).0)?;
+            let v = rd_new_n(file, path, &plan.boundary_dataset(c.name, c.long_name).0, n)?;
             Ok(if v.is_empty() { vec![f64::NAN; n] } else { v })
         })
         .collect::<Result<_, StoreError>>()?;

@@ -23,17 +23,19 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
         let g =
             ph.g.clone()
                 .unwrap_or(Value::One(squeal_core::units::G_STANDARD));
-        let vals = [
-            Some(&ph.m),
-            Some(&ph.k),
-            Some(&ph.c),
-            Some(&ph.v_belt),
-            Some(&ph.mu_k),
-            ph.mu_s.as_ref(),
-            ph.tau.as_ref(),
-            Some(&g),
-        ];
-        // The keys given: a Coulomb system has no mu_s and tau (checked by the caller).
+        // The keys given, in key order: a Coulomb system has no mu_s and tau, McMillan's
+        // laws both (checked by the caller, so `zip` drops neither alone).
+        let vals = squeal_core::Physical {
+            m: &ph.m,
+            k: &ph.k,
+            c: &ph.c,
+            v_belt: &ph.v_belt,
+            mu_k: &ph.mu_k,
+            surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref()))
+                .map(|(mu_s, tau)| squeal_core::SurfaceSi { mu_s, tau }),
+            g: &g,
+        }
+        .values();
         let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
             .into_iter()
             .zip(vals)
