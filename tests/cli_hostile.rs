@@ -511,3 +511,51 @@ fn a_signal_while_drawing_stops_the_drawing() {
         assert!(&b != old, "{png} is still the earlier spec's picture");
     }
 }
+
+/// `squeal info f.h5 | head`: a reader that stops early ends the output quietly. Every line
+/// after the reader had gone panicked ("failed printing to stdout: Broken pipe", exit 101).
+#[test]
+fn info_to_a_reader_that_stops_early_ends_quietly() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-3\n[grid]\n\
+                x0 = { min = -3.0, max = 5.0, count = 2 }\n\
+                v0 = { min = -4.0, max = 4.0, count = 2 }\n[output]\npath = \"i.h5\"\n";
+    std::fs::write(d.path().join("i.toml"), spec).unwrap();
+    let o = squeal(d.path(), &["scan", "i.toml", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .current_dir(d.path())
+        .args(["info", "i.h5"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The reader goes before the description is written (reading the file comes first).
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(o.status.success(), "{:?}: {err}", o.status);
+}
+
+/// Shards of a random-sample scan merge into one file and end with code 0: the merge used to
+/// go on to draw the file, a list of points and not a map, and end with "error: ... not a
+/// map to draw" (code 2) after writing it.
+#[test]
+fn random_sample_shards_merge_without_drawing() {
+    let d = tempfile::tempdir().unwrap();
+    let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-3\n[sample]\nkind = \"random\"\n\
+                n = 40\nseed = 1\nregion = { x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }\n\
+                [output]\npath = \"m.h5\"\n";
+    std::fs::write(d.path().join("m.toml"), spec).unwrap();
+    for (k, out) in [("1/2", "s1.h5"), ("2/2", "s2.h5")] {
+        let o = squeal(
+            d.path(),
+            &["scan", "m.toml", "--shard", k, "-o", out, "--quiet"],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let o = squeal(d.path(), &["merge", "s1.h5", "s2.h5", "-o", "m.h5"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(d.path().join("m.h5").exists() && !d.path().join("m.png").exists());
+}

@@ -35,6 +35,18 @@ pub fn is_drawn(path: &Path) -> bool {
         .is_ok_and(|b| b.len() > 16 && b.starts_with(&SIGNATURE) && b.ends_with(&END))
 }
 
+/// Writes `text` to standard output; a reader that has stopped reading (`squeal info f.h5 |
+/// head`) ends the output quietly, as for other Unix tools, instead of a panic on the
+/// closed pipe.
+pub fn print_to_reader(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.context("writing to standard output"),
+    }
+}
+
 /// Exit code of a run stopped by SIGINT or SIGTERM: resumable with `--resume`
 /// ([`super::signals`]).
 pub const EXIT_INTERRUPTED: u8 = 130;

@@ -2,6 +2,7 @@
 //! counts, an atlas's parameters, axes, points per regime and boundaries, a trajectory's
 //! settings and samples.
 
+use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -21,11 +22,15 @@ pub struct Args {
 
 /// Prints the file's description: every kind of file squeal writes.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    // The description is written whole at the end: a reader that stops early (`squeal info
+    // f.h5 | head`) made the next line's print panic on the closed pipe.
+    let mut o = String::new();
     match squeal_store::file_kind(&args.file)? {
-        FileKind::Scan => scan(&args)?,
-        FileKind::Atlas => atlas(&args)?,
-        FileKind::Trajectory => trajectory(&args)?,
+        FileKind::Scan => scan(&args, &mut o)?,
+        FileKind::Atlas => atlas(&args, &mut o)?,
+        FileKind::Trajectory => trajectory(&args, &mut o)?,
     }
+    common::print_to_reader(&o)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -39,17 +44,18 @@ fn attrs_json(attrs: &[(String, String)]) -> serde_json::Value {
 }
 
 /// Root attributes in words, one a line (the spec's text apart: it is long).
-fn print_attrs(attrs: &[(String, String)]) {
+fn print_attrs(o: &mut String, attrs: &[(String, String)]) -> std::fmt::Result {
     for (k, v) in attrs {
         if k != "spec" {
-            println!("  {k} = {v}");
+            writeln!(o, "  {k} = {v}")?;
         }
     }
+    Ok(())
 }
 
 /// An atlas file: its parameters, axes, points per regime and boundaries found, in the
 /// words (and JSON) of `squeal atlas`.
-fn atlas(args: &Args) -> anyhow::Result<()> {
+fn atlas(args: &Args, o: &mut String) -> anyhow::Result<()> {
     let a = squeal_store::read_atlas_info(&args.file)?;
     let attr = |k: &str| a.attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
     if args.json {
@@ -59,40 +65,42 @@ fn atlas(args: &Args) -> anyhow::Result<()> {
         v["git_revision"] = attr("git_revision").into();
         v["attributes"] = attrs_json(&a.attrs);
         v["shard"] = a.shard.map(|s| s.to_string()).into();
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    println!(
+    writeln!(
+        o,
         "{} ({}, squeal {} at {})",
         args.file.display(),
         squeal_store::atlas::ATLAS_SCHEMA,
         attr("squeal_version").unwrap_or_default(),
         attr("git_revision").unwrap_or_default()
-    );
-    print_attrs(&a.attrs);
+    )?;
+    print_attrs(o, &a.attrs)?;
     super::atlas_words::print_summary(&a.plan, &a.results, &args.file, None);
     if let Some(s) = a.shard {
-        println!("  shard {s} (join the shards with squeal merge)");
+        writeln!(o, "  shard {s} (join the shards with squeal merge)")?;
     }
     Ok(())
 }
 
 /// A scan file: parameters, grid, label counts and checks per map.
-fn scan(args: &Args) -> anyhow::Result<()> {
+fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
     let info = squeal_store::read_info(&args.file)?;
     if args.json {
         let v = scan_json(&info);
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    println!(
+    writeln!(
+        o,
         "{} ({}, squeal {} at {})",
         info.path.display(),
         info.schema,
         info.version,
         info.git_revision
-    );
-    print_attrs(&info.attrs);
+    )?;
+    print_attrs(o, &info.attrs)?;
     // As the error messages write values: `1e-7`, not `0.0000001`.
     let range = |a: &[f64]| match (a.first(), a.last()) {
         (Some(&lo), Some(&hi)) => format!(
@@ -104,31 +112,33 @@ fn scan(args: &Args) -> anyhow::Result<()> {
         _ => "no values".to_string(),
     };
     if common::attr(&info, "sampling") == Some("random") {
-        println!(
+        writeln!(
+            o,
             "  {} random samples (x0, v0 stored per sample)",
             info.x0.len()
-        );
+        )?;
     } else {
-        println!("  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0));
+        writeln!(o, "  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0))?;
     }
     for (i, c) in info.counts.iter().enumerate() {
         let label = info
             .sweep
             .as_ref()
             .map_or(String::new(), |(n, v)| format!("{n} = {:.4e}: ", v[i]));
-        println!(
+        writeln!(
+            o,
             "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
             c[0], c[1], c[2], c[3]
-        );
+        )?;
         if let Some(b) = info.basin.get(i) {
-            println!("    {}", super::common::basin_words(b));
+            writeln!(o, "    {}", super::common::basin_words(b))?;
         }
         if let Some(Some(why)) = info.no_cycle.get(i) {
-            println!("    no unstable cycle: {why}");
+            writeln!(o, "    no unstable cycle: {why}")?;
         }
         if let Some(Some(l)) = info.landscapes.get(i) {
             for w in super::map_words::landscape_words(l) {
-                println!("    {w}");
+                writeln!(o, "    {w}")?;
             }
         }
         for w in info
@@ -139,17 +149,17 @@ fn scan(args: &Args) -> anyhow::Result<()> {
             })
             .unwrap_or_default()
         {
-            println!("    {w}");
+            writeln!(o, "    {w}")?;
         }
     }
     if let Some(s) = &info.shard {
-        println!("  shard {s} (join the shards with squeal merge)");
+        writeln!(o, "  shard {s} (join the shards with squeal merge)")?;
     }
     Ok(())
 }
 
 /// A trajectory file of `squeal trajectory --out X.h5`.
-fn trajectory(args: &Args) -> anyhow::Result<()> {
+fn trajectory(args: &Args, o: &mut String) -> anyhow::Result<()> {
     let t = squeal_store::read_trajectory_info(&args.file)?;
     if args.json {
         let attrs = attrs_json(&t.attrs);
@@ -160,18 +170,18 @@ fn trajectory(args: &Args) -> anyhow::Result<()> {
             "t": t.t_range.map(|(a, b)| [a, b]),
             "variables": t.variables,
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    println!("{} (trajectory)", args.file.display());
+    writeln!(o, "{} (trajectory)", args.file.display())?;
     for (k, v) in &t.attrs {
-        println!("  {k} = {v}");
+        writeln!(o, "  {k} = {v}")?;
     }
     match t.t_range {
-        Some((a, b)) => println!("  {} samples, t in [{a}, {b}]", t.samples),
-        None => println!("  no samples"),
+        Some((a, b)) => writeln!(o, "  {} samples, t in [{a}, {b}]", t.samples)?,
+        None => writeln!(o, "  no samples")?,
     }
-    println!("  variables over t: {}", t.variables.join(", "));
+    writeln!(o, "  variables over t: {}", t.variables.join(", "))?;
     Ok(())
 }
 

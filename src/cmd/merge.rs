@@ -44,7 +44,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
     }
     println!("{}", args.out.display());
-    if !args.no_render {
+    // Random samples are a list of points, not a map: nothing to draw (the merge used to
+    // end with an error after the file was written).
+    if !args.no_render && (atlas || !holds_samples(&args.out)?) {
         let drawn = if atlas {
             super::atlas::render_atlas(&args.out, &png, true)?
         } else {
@@ -55,4 +57,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Whether the merged scan file `out` holds random samples (its stored spec's `[sample]`).
+fn holds_samples(out: &std::path::Path) -> anyhow::Result<bool> {
+    let info = squeal_store::read_info(out)?;
+    let plan = squeal_scan::Plan::from_stored_toml(&info.spec, &out.display().to_string())?;
+    Ok(plan.grid.is_sample())
 }
