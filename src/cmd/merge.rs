@@ -33,20 +33,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // Atlas shards (schema squeal-atlas/1) are joined by the atlas store. Both merges
     // refuse an input as their output (squeal_store::refuse_input_as_output).
     let atlas = squeal_store::file_kind(&args.shards[0])? == squeal_store::FileKind::Atlas;
-    if atlas {
+    // Random samples are a list of points, not a map: nothing to draw (the merge used to
+    // end with an error after the file was written).
+    let samples = if atlas {
         squeal_store::atlas::merge_atlas(
             &args.shards,
             &args.out,
             args.force,
             &common::provenance(),
         )?;
+        false
     } else {
-        squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
-    }
+        let plan = squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
+        plan.grid.is_sample()
+    };
     println!("{}", args.out.display());
-    // Random samples are a list of points, not a map: nothing to draw (the merge used to
-    // end with an error after the file was written).
-    if !args.no_render && (atlas || !holds_samples(&args.out)?) {
+    if !args.no_render && !samples {
         let drawn = if atlas {
             super::atlas::render_atlas(&args.out, &png, true)?
         } else {
@@ -57,11 +59,4 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// Whether the merged scan file `out` holds random samples (its stored spec's `[sample]`).
-fn holds_samples(out: &std::path::Path) -> anyhow::Result<bool> {
-    let info = squeal_store::read_info(out)?;
-    let plan = squeal_scan::Plan::from_stored_toml(&info.spec, &out.display().to_string())?;
-    Ok(plan.grid.is_sample())
 }

@@ -187,13 +187,14 @@ fn open_shards(shards: &[PathBuf]) -> Result<(ShardHeader, Vec<ShardFile>), Stor
 
 /// Joins shard files into the file a single run would have written (the same datasets and
 /// attributes, without `shard`; provenance is taken from the shards, which must agree).
-/// `prov` is accepted for symmetry and not stored.
+/// `prov` is accepted for symmetry and not stored. Returns the merged file's plan (what
+/// the caller draws, or not: random samples are no map).
 pub fn merge(
     shards: &[PathBuf],
     out: &Path,
     force: bool,
     _prov: &Provenance,
-) -> Result<(), StoreError> {
+) -> Result<Plan, StoreError> {
     if shards.is_empty() {
         return Err(StoreError::Shards("no shard files given".into()));
     }
@@ -235,5 +236,6 @@ pub fn merge(
     if force {
         remove_if_exists(out)?;
     }
-    publish(&tmp, out)
+    publish(&tmp, out)?;
+    Ok(plan)
 }
