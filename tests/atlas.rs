@@ -1067,7 +1067,7 @@ fn stribeck_atlas_matches_bstabs_belt_speed_study() {
     // uncertainty. At v_d = 1.175 the published values undercount steady slip (bSTAB's
     // t = 500 is too short there, tests/bstab_friction.rs): the atlas is compared with the
     // t = 2500 reference by bSTAB's approach (tests/data/bstab_friction_reference_vd1.175_t2500.json,
-    // made by scripts/bstab_reference.py).
+    // made by scripts/tools/bstab_reference.py).
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let load = |name: &str| -> Value {
         serde_json::from_str(&std::fs::read_to_string(data.join(name)).unwrap()).unwrap()
@@ -1333,7 +1333,7 @@ path = "huge.h5"
 /// two charts are drawn. Without `lifetime_starts` nothing is measured, stored or drawn.
 /// About 100 s on a loaded 2-core machine, so a long check.
 #[test]
-#[ignore = "long physics check (minutes): run by scripts/long-checks.sh, which .ci/run calls"]
+#[ignore = "long physics check (minutes): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn an_atlas_measures_transient_lifetimes_above_each_fold() {
     let dir = tempfile::tempdir().unwrap();
     let spec = |starts: &str, out: &str| {

@@ -4,7 +4,7 @@
 //! * `tests/data/bstab_friction_published.json`: MATLAB bSTAB's values as kept in pyBasin's
 //!   repository (two runs, A and B, with their repositories, paths and commits; see
 //!   tests/data/README.md).
-//! * `tests/data/bstab_friction_reference.json`: written by `scripts/bstab_reference.py`
+//! * `tests/data/bstab_friction_reference.json`: written by `scripts/tools/bstab_reference.py`
 //!   (5000 uniform random samples per belt speed, seed 1, RK4 with true stick, t = 500,
 //!   bSTAB's rule max |x'| over t > 400 above 0.2), the command is inside the file.
 //! * `scans/bstab-friction.toml` run by squeal: switched on once the Stribeck law is merged.
@@ -122,14 +122,14 @@ fn the_plain_script_agrees_with_the_published_values() {
 /// One exception, measured and kept in the repository: at v_d = 1.175 the fixed point is
 /// barely stable (damping 2 xi + mu'(v_d) = 0.0046), so runs that settle on steady slip
 /// still swing above bSTAB's threshold at t = 400-500 and bSTAB's rule calls them
-/// stick-slip. The same 5000 samples (seed 1) integrated by `scripts/bstab_reference.py` to
+/// stick-slip. The same 5000 samples (seed 1) integrated by `scripts/tools/bstab_reference.py` to
 /// t = 500 give 67 steady-slip samples (0.0134, tests/data/bstab_friction_reference.json),
 /// to t = 2500 give 76 (0.0152 +- 0.0017,
 /// tests/data/bstab_friction_reference_vd1.175_t2500.json): the published 0.0132 / 0.0126
 /// undercount steady slip there. At that belt speed squeal is compared with the t = 2500
 /// reference instead (the claim does not hold there; the closing note says so).
 #[test]
-#[ignore = "long physics check (minutes): run by scripts/long-checks.sh, which .ci/run calls"]
+#[ignore = "long physics check (minutes): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn squeal_matches_the_published_basin_stability() {
     let dir = tempfile::tempdir().unwrap();
     let spec = Path::new(env!("CARGO_MANIFEST_DIR")).join("scans/bstab-friction.toml");

@@ -1,4 +1,4 @@
-//! `scripts/plot_basins.py` on a real scan file: its failures are messages, not tracebacks.
+//! `scripts/tools/plot_basins.py` on a real scan file: its failures are messages, not tracebacks.
 //! Needs `python3` on PATH (skipped with a note otherwise); works with or without h5py.
 
 use std::path::Path;
@@ -25,7 +25,7 @@ fn python_available() -> bool {
 }
 
 fn plot(dir: &Path, pythonpath: Option<&Path>, args: &[&str]) -> Output {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/plot_basins.py");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/tools/plot_basins.py");
     let mut c = Command::new("python3");
     c.current_dir(dir).arg(script).args(args);
     if let Some(p) = pythonpath {
@@ -83,7 +83,7 @@ fn missing_h5py_says_how_to_run_the_script() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());
     assert!(!err.contains("Traceback"), "{err}");
-    assert!(err.contains("uv run scripts/plot_basins.py"), "{err}");
+    assert!(err.contains("uv run scripts/tools/plot_basins.py"), "{err}");
     assert!(
         err.contains("python3 -m pip install h5py matplotlib numpy"),
         "{err}"

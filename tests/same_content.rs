@@ -1,4 +1,4 @@
-//! Helper for `scripts/slurm-ci.sh`: do two scan (or atlas) files hold the same data?
+//! Helper for `scripts/ci/slurm-ci.sh`: do two scan (or atlas) files hold the same data?
 //!
 //! `squeal_store::content_digest` hashes every dataset's values and every attribute of every
 //! group (not the byte layout), so a merged sharded scan and a single run of the same spec
@@ -17,7 +17,7 @@ fn env_path(name: &str) -> PathBuf {
 }
 
 #[test]
-#[ignore = "run by scripts/slurm-ci.sh with SQUEAL_SAME_A and SQUEAL_SAME_B set"]
+#[ignore = "run by scripts/ci/slurm-ci.sh with SQUEAL_SAME_A and SQUEAL_SAME_B set"]
 fn files_hold_the_same_content() {
     let (a, b) = (env_path("SQUEAL_SAME_A"), env_path("SQUEAL_SAME_B"));
     let da = squeal_store::content_digest(&a).expect("first file readable");

@@ -1,7 +1,7 @@
 """Tests of the Python package against the command line it installs (`squeal`, the same
 Rust program): scan files, bSTAB's basin stability, spec errors and interruption.
 
-Run by scripts/test-python.sh in a fresh venv with the wheel installed and no Rust."""
+Run by scripts/ci/test-python.sh in a fresh venv with the wheel installed and no Rust."""
 
 import json
 import os

@@ -52,7 +52,7 @@ pub struct Args {
     pub lifetime_t_max: f64,
     /// With --fold or --crisis of McMillan's laws: every verdict with the longer horizon
     /// (twice the band's samples and t_return), the computation whose crisis the stated
-    /// uncertainty also covers (scripts/fold-coverage.sh checks it).
+    /// uncertainty also covers (scripts/bench/fold-coverage.sh checks it).
     #[arg(long)]
     pub longer_horizon: bool,
     /// The parameter to bisect in: nu (the damping) or lambda (the belt speed); for the

@@ -6,7 +6,7 @@
 //! not, and cells run to settlement): a fixed "documented rate" was off 50-fold on
 //! `scans/nu-sweep.toml` and on `scans/bstab-friction.toml` (issue 21).
 //!
-//! `scripts/bench-estimate.sh` checks the estimate against the measured time of shipped
+//! `scripts/bench/bench-estimate.sh` checks the estimate against the measured time of shipped
 //! specs (BENCHMARKS.md, "Scan time estimates").
 
 use std::time::{Duration, Instant};

@@ -190,7 +190,7 @@ fn the_cycle_does_not_depend_on_the_grid_extent() {
     assert_eq!(verdict(&found[0].1), verdict(&found[1].1), "{found:?}");
 }
 
-/// How a reference run of `scripts/edge-long-runs.sh` ended at t = 40000.
+/// How a reference run of `scripts/tools/edge-long-runs.sh` ended at t = 40000.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum End {
     /// Within 1e-3 of the fixed point (1, 0) in x and x' (the classifier's `fp_radius`).
@@ -224,7 +224,7 @@ fn long_runs() -> Vec<(f64, State, End)> {
 /// fold, the ten starts of the issue are labelled by every path alike (the scan with and
 /// without early stopping, and a single run as `squeal trajectory` and the atlas's
 /// confirmation run set it up, [`classifier_for`]), and no label contradicts the run
-/// taken to t = 40000 (`scripts/edge-long-runs.sh`): steady slip only where the long run
+/// taken to t = 40000 (`scripts/tools/edge-long-runs.sh`): steady slip only where the long run
 /// ends at the fixed point, stick-slip only where it still swings; undecided is allowed.
 /// Before the band verdict ([`squeal_scan::band`]) `squeal trajectory` labelled 7 of the
 /// 10 starts at nu = 0.0242 stick-slip (`sticking_band` at t = 125-135), all of which are

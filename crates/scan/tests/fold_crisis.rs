@@ -131,7 +131,7 @@ path = "brake-one-point.h5"
 /// Issue 17, item 4: on the shipped chart (`scans/atlas-lambda-nu.toml`: Table 1's tau and
 /// phi, dt 0.005, damping range [1e-4, 0.1], rtol 1e-3, 32 coarse steps) the stored fold
 /// `nu -+ uncertainty` must hold the crisis that the whole search finds at dt/2 and with the
-/// longer horizon. `scripts/fold-coverage.sh` found three belt speeds where it did not (the
+/// longer horizon. `scripts/bench/fold-coverage.sh` found three belt speeds where it did not (the
 /// chart of 8238684, BENCHMARKS.md "The coverage again, at the end of session 8"): above the
 /// stored interval the verdict is undecided again, or squeal lasts, over windows the coarse
 /// scan stepped over, and the other search's bracket ends above them. The references (last

@@ -165,7 +165,7 @@ fn measure() {
 /// on the idle 2-core VM (`cargo test -p squeal-scan --test off_paper`, 2026-11-22; the
 /// settlement rule is 95% of it).
 #[test]
-#[ignore = "long physics check (minutes): run by scripts/long-checks.sh, which .ci/run calls"]
+#[ignore = "long physics check (minutes): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn early_stopping_agrees_with_settlement_off_the_paper() {
     let (n, dt) = (64, 0.01);
     for case in &CASES {

@@ -19,7 +19,7 @@
 //!    each time, at most to the range's end) until all three agree there. The fold is the middle of that interval, the uncertainty
 //!    half its width: every one of the three computations has its last squealing value below
 //!    the interval's top and its first quiet value above its bottom, if each changes once
-//!    inside it (checked on the shipped chart by `scripts/fold-coverage.sh`).
+//!    inside it (checked on the shipped chart by `scripts/bench/fold-coverage.sh`).
 //! 4. Above the crisis the verdict is not monotone: the stretch of an eighth of a coarse
 //!    step above that interval is sampled at the setup's step, and the top raised over any
 //!    window there that is not quiet, to where all three agree again ([`clear_above`]).
@@ -58,7 +58,7 @@ impl Variant {
     /// The verdict at `setup` (the step of [`Variant::Dt`]) with cycle settings `cs`, the
     /// budget of [`Variant::Dt`] and [`Variant::HalfDt`] being `base` (a whole search with
     /// [`Budget::Longer`] as its base is the longer horizon's own crisis, what
-    /// `scripts/fold-coverage.sh` checks the uncertainty against).
+    /// `scripts/bench/fold-coverage.sh` checks the uncertainty against).
     pub fn lasting(
         self,
         setup: Setup,
@@ -327,7 +327,7 @@ pub const ABOVE_SAMPLES: usize = 12;
 ///
 /// Why: above the crisis the verdict is not monotone. Narrow windows where the band is
 /// undecided again, or trapped (squeal lasts), lie between the coarse values, and a search
-/// at dt/2 or with the longer horizon can land its bisection in one (`scripts/fold-coverage.sh`
+/// at dt/2 or with the longer horizon can land its bisection in one (`scripts/bench/fold-coverage.sh`
 /// on `scans/atlas-lambda-nu.toml` at session 8: lambda = 0.6590, undecided at dt on about
 /// [0.02271, 0.02291] and at dt/2 on [0.02283, 0.02311] above a top of 0.022674; lambda =
 /// 4.9261, squeal lasting at all three on [0.02061, 0.02070] above 0.020472; lambda = 4.7356,

@@ -16,8 +16,8 @@ of Fig. 9 to metres and metres per second. The unstable cycle's size depends on 
 prints it in metres and m/s; this script quotes the paper's Table 1 cycle only when the
 system is Table 1's (nu = 1e-3, lambda = 3, tau = 0.1 sqrt(10), phi = 1).
 
-    python3 scripts/units_example.py                     # the README's worked example
-    python3 scripts/units_example.py --m 2 --k 5e4 --mu-k 0.4 --mu-s 0.5 --v-belt 0.05
+    python3 scripts/tools/units_example.py                     # the README's worked example
+    python3 scripts/tools/units_example.py --m 2 --k 5e4 --mu-k 0.4 --mu-s 0.5 --v-belt 0.05
 """
 import argparse
 import math

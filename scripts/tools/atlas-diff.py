@@ -3,7 +3,7 @@
 fold's stated uncertainty, each critical value against the old bracket, and how many
 values of every other dataset differ (and by how much, relatively).
 
-    python3 scripts/atlas-diff.py old.h5 new.h5   (needs h5py and numpy)
+    python3 scripts/tools/atlas-diff.py old.h5 new.h5   (needs h5py and numpy)
 """
 import sys
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Scan speed against the code before issue 7 (BASE, default c44a1a5), ratios measured in one
+# Scan speed against an older revision (BASE, default c44a1a5, before the step and scheme
+# were chosen for accuracy), ratios measured in one
 # run: cells per second of `squeal scan` on 512 x 512 versions of scans/fig9.toml and
 # scans/fig9-zoom.toml, 2 threads, alternating old and new runs (ROUNDS of each).
 #
@@ -9,7 +10,7 @@
 #
 # The old binary is built from a git worktree of BASE in /tmp (kept between runs).
 #
-# SUITE=decisions (issue 18, BASE default 6685246): the certified early decisions, old and
+# SUITE=decisions (BASE default 6685246): the certified early decisions, old and
 # new alternating on the same specs, each pair compared cell by cell with `squeal compare`:
 # bSTAB's friction case at v_d = 2.0 (steady_slip_only), 1.0 (stick_slip_only), both
 # 128 x 128, and 1.5 (bistable, 256 x 128); scans/fig10.toml above the fold at nu = 0.026,
@@ -19,7 +20,7 @@
 # times are wall clock of the whole command (map preparation, cycle search and writing
 # included; they were the summary's "cells in" time before 2026-11-24).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 suite=${SUITE:-fig9}
 if [ "$suite" = decisions ]; then BASE=${BASE:-6685246}; fi
 base=${BASE:-c44a1a5}

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Does the fold's stored uncertainty cover the truth on the shipped chart? (issue 17, item 4)
+# Does the fold's stored uncertainty cover the truth on the shipped chart?
 #
 # For every belt speed of the chart (scans/atlas-lambda-nu.toml by default), the fold is
 # computed again as a whole search, once at dt/2 (`squeal critical --crisis --dt <dt/2>`)
@@ -9,12 +9,12 @@
 # that bracket lies inside the stored `fold_nu -+ fold_nu_err` (and, looser, where its middle
 # does).
 #
-#   scripts/fold-coverage.sh [atlas.h5 [spec.toml]]
+#   scripts/bench/fold-coverage.sh [atlas.h5 [spec.toml]]
 #
 # Without a file it runs the atlas first (--no-render). Two crisis searches run at a time.
 # Prints one line per belt speed and the counts; exits 1 when a bracket is not covered.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 spec=${2:-scans/atlas-lambda-nu.toml}
 squeal=${SQUEAL:-target/release/squeal}
 [ -x "$squeal" ] || cargo build --release --quiet

@@ -6,9 +6,9 @@
 #
 # maturin comes from PyPI into target/py-build/ (once). The build reuses target/ (release
 # profile, same features as `cargo build --release`), so HDF5 is not rebuilt.
-#   scripts/build-wheel.sh            # -> target/wheels/squeal-<version>-cp39-abi3-<platform>.whl
+#   scripts/tools/build-wheel.sh            # -> target/wheels/squeal-<version>-cp39-abi3-<platform>.whl
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 tools=target/py-build
 if [[ ! -x $tools/bin/maturin ]]; then
     python3 -m venv "$tools"

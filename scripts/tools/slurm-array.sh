@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Run a squeal scan or atlas as a SLURM job array of N shards, then merge the shards.
 #
-#   KIND=scan scripts/slurm-array.sh scans/nu-sweep.toml 16 [out/nu-sweep.h5]
-#   scripts/slurm-array.sh scans/atlas-lambda-nu.toml 8       # an atlas: shards by points
+#   KIND=scan scripts/tools/slurm-array.sh scans/nu-sweep.toml 16 [out/nu-sweep.h5]
+#   scripts/tools/slurm-array.sh scans/atlas-lambda-nu.toml 8       # an atlas: shards by points
 #
 # The spec's kind picks the command: an atlas spec (`squeal atlas`: no [grid] table, or one
 # of the atlas-only tables [boundaries], [attractor], [operating_point], [disturbance]) runs
@@ -23,7 +23,7 @@
 # so a task that is requeued (by `scontrol requeue`, or by SLURM after a node failure or a
 # preemption: the tasks are submitted with --requeue) finishes the blocks it had not stored
 # instead of starting over; a task whose shard file is already complete does nothing.
-# Tested on a real single-node cluster by scripts/slurm-ci.sh.
+# Tested on a real single-node cluster by scripts/ci/slurm-ci.sh.
 # Extra sbatch options: SBATCH_OPTS="--partition=short --time=02:00:00"; CPUS per task
 # (default 4); SQUEAL=/path/to/squeal (default target/release/squeal).
 set -euo pipefail

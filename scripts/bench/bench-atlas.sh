@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Times the 64 x 64 atlas without maps (scans/atlas-lambda-nu.toml) on 2 worker threads,
-# the issue-8 target (at most 2 minutes on 2 cores). Prints the machine, its load, and
+# Times the 64 x 64 atlas without maps (scans/atlas-lambda-nu.toml) on 2 worker threads
+# (the aim: at most 2 minutes on 2 cores). Prints the machine, its load, and
 # wall/user time; user time / 2 is what two free cores would need.
 #
-#   cargo build --release && scripts/bench-atlas.sh [OUT.h5]
+#   cargo build --release && scripts/bench/bench-atlas.sh [OUT.h5]
 #
 # With BASE=path/to/other/squeal it times that binary too, in the same run (base, new,
 # base, new when ROUNDS=2), and prints the ratio of their CPU and wall times: the machine

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The numbers the README states for the Python package: the wheel's size, and the time of
 # `import squeal` in a fresh venv (median of 7 runs, each a new interpreter; xarray is
-# imported on first use, timed separately). Builds the wheel (scripts/build-wheel.sh)
+# imported on first use, timed separately). Builds the wheel (scripts/tools/build-wheel.sh)
 # unless one is given.
-#   scripts/measure-python.sh [WHEEL]
+#   scripts/bench/measure-python.sh [WHEEL]
 set -euo pipefail
-cd "$(dirname "$0")/.."
-wheel=${1:-$(scripts/build-wheel.sh)}
+cd "$(dirname "$0")/../.."
+wheel=${1:-$(scripts/tools/build-wheel.sh)}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 python3 -m venv "$work/venv"

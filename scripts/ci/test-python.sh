@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The Python package's tests (python/tests): builds the wheel (scripts/build-wheel.sh),
+# The Python package's tests (python/tests): builds the wheel (scripts/tools/build-wheel.sh),
 # installs it and pytest into a fresh venv, and runs pytest there with no cargo or rustc
 # on PATH, as a user without Rust would. Prints the test count. About 2-4 minutes after
 # `cargo build --release` (target/ is reused; the test dependencies come from PyPI).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-wheel=$(scripts/build-wheel.sh)
+cd "$(dirname "$0")/../.."
+wheel=$(scripts/tools/build-wheel.sh)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 python3 -m venv "$work/venv"

@@ -6,7 +6,7 @@
 """bSTAB's friction benchmark by bSTAB's approach, in plain numpy: an independent check of
 squeal's basin stability and the wall time of the approach squeal is compared with.
 
-Model (bSTAB's friction case, Stender et al., Nonlinear Dynamics 2021; issue 11):
+Model (bSTAB's friction case, Stender et al., Nonlinear Dynamics 2021):
     x'' + 2 xi x' + x = -sgn(v_rel) mu(|v_rel|),   v_rel = x' - v_d,
     mu(s) = mu_d + mu_d (mu_sd - 1) exp(-s / v_0) + mu_v s / v_0,
     stick (x' = v_d) while |x + 2 xi v_d| <= mu_s = mu_d mu_sd.
@@ -30,8 +30,8 @@ phase).
 Writes a JSON file (default tests/data/bstab_friction_reference.json) with the shares, the
 standard errors, the counts, the step, the seed and the wall time per v_d, and the command.
 
-    python3 scripts/bstab_reference.py -o tests/data/bstab_friction_reference.json
-    python3 scripts/bstab_reference.py --vd 1.5 --n 1000 -o /tmp/quick.json
+    python3 scripts/tools/bstab_reference.py -o tests/data/bstab_friction_reference.json
+    python3 scripts/tools/bstab_reference.py --vd 1.5 --n 1000 -o /tmp/quick.json
 
 numpy is installed with pip (--user) if it is missing."""
 import argparse
@@ -214,9 +214,9 @@ def main():
         )
     doc = {
         "what": "bSTAB's friction benchmark by bSTAB's approach (uniform random samples, "
-        "t = 500, LC if max |x'| over t > 400 exceeds 0.2), computed by scripts/bstab_reference.py "
+        "t = 500, LC if max |x'| over t > 400 exceeds 0.2), computed by scripts/tools/bstab_reference.py "
         "with true stick and RK4 at a fixed step",
-        "command": " ".join(["python3", "scripts/bstab_reference.py"] + sys.argv[1:]),
+        "command": " ".join(["python3", "scripts/tools/bstab_reference.py"] + sys.argv[1:]),
         "parameters": {"xi": XI, "mu_d": MU_D, "mu_sd": MU_SD, "v_0": V_0, "mu_v": MU_V},
         "region": {"x0": list(REGION[0]), "v0": list(REGION[1])},
         "seed": a.seed,

@@ -4,9 +4,9 @@
 # dependencies = ["h5py", "numpy"]
 # ///
 """Sizes of the differences between two folders of squeal's HDF5 files (OLD NEW), such as
-the two that scripts/same-results.sh leaves in target/same-results/run/{old,new}.
+the two that scripts/tools/same-results.sh leaves in target/same-results/run/{old,new}.
 
-    python3 scripts/same-results-summary.py OLD_DIR NEW_DIR [SPEC ...]
+    python3 scripts/tools/same-results-summary.py OLD_DIR NEW_DIR [SPEC ...]
 
 For each file name present in both folders (or only the SPECs named), it prints:
 - datasets and attributes found in one file only, and attributes whose text changed;
@@ -26,7 +26,7 @@ For each file name present in both folders (or only the SPECs named), it prints:
 - for numeric attributes of groups (cycle records): old -> new; for the TOML text of a
   cycle record, the keys whose lines changed.
 Provenance (git_revision, squeal_version, created) and dimension-scale bookkeeping
-(REFERENCE_LIST, DIMENSION_LIST) are left out; scripts/h5_same.py reports those."""
+(REFERENCE_LIST, DIMENSION_LIST) are left out; scripts/tools/h5_same.py reports those."""
 import os
 import sys
 

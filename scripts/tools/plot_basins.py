@@ -7,10 +7,10 @@
 the file's HDF5 enum type (no squeal code needed). For sweeps, pick the map with --map.
 
 Run it with uv, which reads the dependencies from the header above:
-    uv run scripts/plot_basins.py out/fig9.h5 -o fig9.png
+    uv run scripts/tools/plot_basins.py out/fig9.h5 -o fig9.png
 or install them once and use python3:
     python3 -m pip install h5py matplotlib numpy
-    python3 scripts/plot_basins.py out/fig9.h5 -o fig9.png"""
+    python3 scripts/tools/plot_basins.py out/fig9.h5 -o fig9.png"""
 import argparse
 import sys
 
@@ -26,7 +26,7 @@ except ImportError as e:
     sys.exit(
         f"plot_basins.py needs h5py, matplotlib and numpy ({e}).\n"
         "Run it with uv, which installs them from the script's header:\n"
-        "    uv run scripts/plot_basins.py FILE.h5 -o FILE.png\n"
+        "    uv run scripts/tools/plot_basins.py FILE.h5 -o FILE.png\n"
         "or install them first:\n"
         "    python3 -m pip install h5py matplotlib numpy"
     )

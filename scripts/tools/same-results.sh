@@ -1,26 +1,26 @@
 #!/usr/bin/env bash
 # Every HDF5 dataset and attribute written by the shipped specs, compared between a revision
-# REV and this working tree (issue 16: "nothing changes that users see").
+# REV and this working tree: does a change alter anything users see?
 #
-#   scripts/same-results.sh 6685246                    # builds REV in a worktree under target/
-#   OLD_BIN=path/to/squeal scripts/same-results.sh REV  # an already built binary of REV
-#   COUNT=12 SWEEP=4 scripts/same-results.sh REV        # reduction (defaults 16 and 5)
-#   LABELS=1 COUNT=64 SWEEP=100 scripts/same-results.sh REV   # labels only, cell by cell
+#   scripts/tools/same-results.sh 6685246                    # builds REV in a worktree under target/
+#   OLD_BIN=path/to/squeal scripts/tools/same-results.sh REV  # an already built binary of REV
+#   COUNT=12 SWEEP=4 scripts/tools/same-results.sh REV        # reduction (defaults 16 and 5)
+#   LABELS=1 COUNT=64 SWEEP=100 scripts/tools/same-results.sh REV   # labels only, cell by cell
 #
 # With LABELS=1 only the scan specs run (not the atlases), and each pair of files is
 # compared cell by cell with `squeal compare` instead of bit for bit: the check that an
-# early decision changed no label (issue 18), where reasons and counters are expected to
+# early decision changed no label, where reasons and counters are expected to
 # move. A spec the old binary refuses (a table newer than it) is skipped and said so.
 # Each spec in scans/ is run by both binaries with its counts reduced (a grid or sample
 # count above COUNT becomes COUNT, a swept axis above SWEEP points becomes SWEEP, `n = ` of a
 # random sample likewise COUNT^2), with `--threads 2`, into two folders; then
-# scripts/h5_same.py compares the files: the same datasets and attributes with the same
+# scripts/tools/h5_same.py compares the files: the same datasets and attributes with the same
 # types, shapes and values (bit for bit; NaN equals NaN). Provenance (software version, git
 # revision, creation time) is expected to differ and is listed apart. Exits 1 on any other
 # difference. Needs h5py and numpy: installed once into target/py-tools if missing.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-rev=${1:?usage: scripts/same-results.sh REV}
+cd "$(dirname "$0")/../.."
+rev=${1:?usage: scripts/tools/same-results.sh REV}
 count=${COUNT:-16}
 sweep=${SWEEP:-5}
 root=$(pwd)
@@ -83,7 +83,7 @@ for spec in scans/*.toml; do
       tee "$work/$name.compare"
     ! grep -qE '[1-9][0-9]* disagree' "$work/$name.compare" || status=1
   else
-    "$py" scripts/h5_same.py "$work/old/$name.h5" "$work/new/$name.h5" --label "$name" || status=1
+    "$py" scripts/tools/h5_same.py "$work/old/$name.h5" "$work/new/$name.h5" --label "$name" || status=1
   fi
 done
 if [ "${LABELS:-0}" = 1 ]; then

@@ -11,7 +11,7 @@
 # The wheel's bin/cmake is a Python entry point that only works with the right PYTHONPATH;
 # the shim runs the native binary inside the wheel (site-packages/cmake/data/bin/cmake)
 # instead, so finding it again needs neither Python nor pip.
-# scripts/test-cmake-shim.sh checks that a second call works with the package index
+# scripts/ci/test-cmake-shim.sh checks that a second call works with the package index
 # unreachable.
 set -euo pipefail
 need_major=3 need_minor=26
@@ -40,7 +40,7 @@ find_installed() {
 }
 
 self="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/$(basename "${BASH_SOURCE[0]}")"
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 if sys=$(command -v cmake 2>/dev/null) && [ "$sys" != "$self" ] && ok_version "$sys"; then
   exec "$sys" "$@"
 fi

@@ -3,7 +3,7 @@
 # each sample to a phase by the functions on its stack (boundary unit or point; stick-slip
 # runs, confirmation runs, cycle searches, dt/2 checks, ...). Shares of samples, both threads.
 #
-#   cargo build --release && scripts/profile-atlas.sh [SPEC]   (needs perf: apt-get install linux-perf)
+#   cargo build --release && scripts/bench/profile-atlas.sh [SPEC]   (needs perf: apt-get install linux-perf)
 set -euo pipefail
 bin=${SQUEAL:-target/release/squeal}
 spec=${1:-scans/atlas-lambda-nu.toml}

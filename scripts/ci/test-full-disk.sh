@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A full disk, for real (issue 19, item 8): a scan and an atlas write into a small tmpfs
+# A full disk, for real: a scan and an atlas write into a small tmpfs
 # that fills up at some point of the run (the journal, the HDF5 file or the picture,
 # depending on the size). Each failed run must
 #   - exit non-zero with the operating system's reason ("No space left on device"),
@@ -8,11 +8,11 @@
 # (or a plain rerun, make-like, when no journal is left) must finish, with every
 # picture whole, and give the labels of a clean run on a roomy disk.
 #
-#   scripts/test-full-disk.sh        # needs root (mount); prints "skipped" otherwise
+#   scripts/ci/test-full-disk.sh        # needs root (mount); prints "skipped" otherwise
 #
 # Exit status 0 when every size passes. .ci/run calls it (CI runs as root).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 if [ "$(id -u)" != 0 ] || ! command -v mount >/dev/null; then
   echo "test-full-disk: skipped (needs root to mount a tmpfs)"
   exit 0

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# Reference long runs for issue 17's tests (crates/scan/tests/edge.rs): the ten starts of
-# the issue at Table 1's lambda, tau, phi (hysteretic law, dt 0.005, robust solver, foh) and
+# Reference long runs for the tests of crates/scan/tests/edge.rs: ten far starts near the
+# fold at Table 1's lambda, tau, phi (hysteretic law, dt 0.005, robust solver, foh) and
 # five dampings near the fold, each run to t = 40000 with `squeal trajectory`. The final
 # state says how the run ends: at the fixed point (1, 0), or still swinging (its last
 # section amplitude). Writes crates/scan/tests/data/edge_long_runs.csv.
 #
-#   scripts/edge-long-runs.sh [path/to/squeal]     # default: target/release/squeal
+#   scripts/tools/edge-long-runs.sh [path/to/squeal]     # default: target/release/squeal
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 bin=${1:-target/release/squeal}
 out=crates/scan/tests/data/edge_long_runs.csv
 starts="-2.6,0 -4,0 1,3 4,3 -1,-2 3,-3 6,0 -6,2 2,-4 8,1"

@@ -3,9 +3,9 @@
 # (HDF5 from source through CMake) in a fresh target folder and prints the wall time.
 # The PyPI cmake install (if no CMake >= 3.26 is on PATH) is included in the time.
 #
-#   scripts/time-hdf5-build.sh [--release]     # nice'd; uses all cores cargo sees
+#   scripts/bench/time-hdf5-build.sh [--release]     # nice'd; uses all cores cargo sees
 set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 start=$(date +%s)

@@ -6,7 +6,7 @@
 """Compare two HDF5 files written by squeal: every group, dataset and attribute, with types,
 shapes and values bit for bit (NaN equals NaN). Provenance attributes (software version, git
 revision, creation time) are reported apart and do not count as differences. Exits 1 when
-anything else differs. Used by scripts/same-results.sh."""
+anything else differs. Used by scripts/tools/same-results.sh."""
 import argparse
 import sys
 

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# A real single-node SLURM cluster for CI: runs a sharded scan through scripts/slurm-array.sh,
+# A real single-node SLURM cluster for CI: runs a sharded scan through scripts/tools/slurm-array.sh,
 # (and then a small 2-shard atlas whose merged file must hold a single run's content),
 # stops one array task mid-run and puts it back in the queue (`scontrol requeue`: SIGTERM,
 # then SIGKILL after KillWait, as at a preemption), checks that it resumed (the blocks in
 # its journal were kept and not computed again) and that the merged file holds the same
 # data as a single run. Run as root on Debian bookworm (no systemd needed):
 #
-#   scripts/slurm-ci.sh            # SQUEAL=/path/to/squeal to skip `cargo build --release`
+#   scripts/ci/slurm-ci.sh            # SQUEAL=/path/to/squeal to skip `cargo build --release`
 #
 # Installs slurm-wlm (22.05) and munge with apt-get if they are missing. Everything else
 # (munge key and socket, slurm.conf, state, spool, logs, the scan) lives in a fresh folder
@@ -15,7 +15,7 @@
 # Ports: SLURM_CI_PORT (default 16817) for slurmctld and the next one for slurmd.
 set -euo pipefail
 
-repo=$(cd "$(dirname "$0")/.." && pwd)
+repo=$(cd "$(dirname "$0")/../.." && pwd)
 say() { printf '[slurm-ci %(%H:%M:%S)T] %s\n' -1 "$*"; }
 die() {
   say "FAIL: $*" >&2
@@ -176,7 +176,7 @@ path = "out/ci.h5"
 EOF
 n=2
 victim=2
-submitted=$(KIND=scan SQUEAL=$bin CPUS=1 "$repo/scripts/slurm-array.sh" ci.toml "$n" out/ci.h5)
+submitted=$(KIND=scan SQUEAL=$bin CPUS=1 "$repo/scripts/tools/slurm-array.sh" ci.toml "$n" out/ci.h5)
 echo "$submitted"
 array=$(sed -n 's/.*array \([0-9]*\).*/\1/p' <<<"$submitted")
 merge=$(sed -n 's/.*merge job \([0-9]*\).*/\1/p' <<<"$submitted")
@@ -303,7 +303,7 @@ rtol = 1e-2
 [output]
 path = "out/ci-atlas.h5"
 EOF
-submitted=$(SQUEAL=$bin CPUS=1 "$repo/scripts/slurm-array.sh" ci-atlas.toml 2 out/ci-atlas.h5)
+submitted=$(SQUEAL=$bin CPUS=1 "$repo/scripts/tools/slurm-array.sh" ci-atlas.toml 2 out/ci-atlas.h5)
 echo "$submitted"
 grep -q "atlas shards" <<<"$submitted" || die "slurm-array.sh did not see an atlas spec: $submitted"
 aarray=$(sed -n 's/.*array \([0-9]*\).*/\1/p' <<<"$submitted")

@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # Labels of `squeal scan` (early stopping on the located cycle, the default step) against a
-# reference run to settlement at a quarter of the step (issue 7), on the boundary-straddling
+# reference run to settlement at a quarter of the step, on the boundary-straddling
 # grid of scans/fig9-zoom.toml (the unstable cycle at nu = 1e-3 runs through its middle).
 #
-#   scripts/agreement.sh            # N = 64: a 64 x 64 grid
-#   N=32 scripts/agreement.sh       # quicker
+#   scripts/bench/agreement.sh            # N = 64: a 64 x 64 grid
+#   N=32 scripts/bench/agreement.sh       # quicker
 #
 # The reference has early_stop = "none", dt / 4 and t_max = 20000 (starts inside the cycle
 # spiral in slowly at nu = 1e-3: about 7500 time units to reach fp_radius). Its cost is
 # about 1 s of one core per start inside the cycle. Exits 1 when fewer than MIN (default
 # 0.999) of the cells agree; `squeal compare` prints the disagreeing starts.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 n=${N:-64}
 min=${MIN:-0.999}
 cargo build --release --quiet

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Scan and cycle-location speed (issues 3 and 4): the Numba baseline's grids, 2 threads.
+# Scan and cycle-location speed on the Numba baseline's grids (scans/bench-full.toml,
+# scans/bench-zoom.toml), 2 threads, three runs each; then the cycle search's
+# bracket, dt/2 check and return-map count (`squeal ulc --nu 1e-3`).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 cargo build --release --quiet
 bin=target/release/squeal
 tmp=$(mktemp -d)

@@ -5,10 +5,10 @@
 # `--workspace`, as the quick suite does, so cargo reuses its build (selecting one package
 # unifies features differently and rebuilds the dependencies).
 #
-#   scripts/long-checks.sh          # all of them
-#   scripts/long-checks.sh --list   # their names
+#   scripts/ci/long-checks.sh          # all of them
+#   scripts/ci/long-checks.sh --list   # their names
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 checks=(
   # bSTAB's published basin stability at 20 belt speeds, 655,360 cells (tests/bstab_friction.rs).
   "--test bstab_friction squeal_matches_the_published_basin_stability"

@@ -3,8 +3,8 @@
 # crates/scan/src/estimate.rs) against the measured time of shipped specs: each must lie within a factor 2 of the other.
 # Prints one row per spec and exits 1 if any is outside.
 #
-#   scripts/bench-estimate.sh                       # the quick specs
-#   scripts/bench-estimate.sh scans/bstab-friction.toml scans/atlas-nu.toml   # any specs
+#   scripts/bench/bench-estimate.sh                       # the quick specs
+#   scripts/bench/bench-estimate.sh scans/bstab-friction.toml scans/atlas-nu.toml   # any specs
 #
 # What is compared: the estimate printed before computing ("roughly ... (S s)") with the
 # time from that line to the end of the run (the pilot is over by then), both floored at
@@ -14,12 +14,12 @@
 # wall clock depends on the other users' load, which no estimate can know, so the check is
 # on the CPU measure and the wall ratio is printed beside it. Atlas specs are run and
 # reported but not checked: their lines run points in sequence, so CPU / threads is not
-# their time (issue 21 asks the check of `squeal scan`'s estimate).
+# their time (the check is of `squeal scan`'s estimate).
 #
 # Needs target/release/squeal (cargo build --release). Results: BENCHMARKS.md, "Scan time
 # estimates".
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 bin=target/release/squeal
 [ -x "$bin" ] || { echo "build first: cargo build --release" >&2; exit 2; }
 specs=("$@")

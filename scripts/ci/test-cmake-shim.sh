@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# Checks scripts/cmake-shim.sh with no cmake on PATH: the first call installs PyPI's cmake
+# Checks scripts/tools/cmake-shim.sh with no cmake on PATH: the first call installs PyPI's cmake
 # into a fresh target folder, the second call finds it again with the package index
 # unreachable (PIP_INDEX_URL pointing at a closed port and, where `unshare -rn` works, no
 # network at all) and does not try to install again.
 #
-#   scripts/test-cmake-shim.sh            # needs network access to PyPI for the first call
+#   scripts/ci/test-cmake-shim.sh            # needs network access to PyPI for the first call
 #
 # Exit status 0 when both calls pass.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-shim="$here/cmake-shim.sh"
+shim="$here/../tools/cmake-shim.sh"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 

@@ -4,7 +4,7 @@
 # trap_margin = 1e-3, 1e-4, 1e-5 (the default), 1e-6, audit off, 2 threads. Prints each
 # run's rate and label counts, and `squeal compare` of each against the default's labels.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 cargo build --release --quiet
 bin=target/release/squeal
 tmp=$(mktemp -d)
