@@ -1,20 +1,43 @@
-//! README's command synopsis ("What it does") and every command line README.md and docs/
-//! show, against the parser (`squeal CMD --help`, which clap derives from the same
-//! definitions that parse): a flag shown for a command must be one it accepts, and every
-//! flag a command accepts must be in its synopsis line (the model flags of `trajectory`,
-//! `classify`, `ulc` and `critical` may instead be in the section's text, where `MODEL` is
-//! spelled out). docs/spec.md's keys are checked the same way by
+//! The command synopsis of docs/cli.md ("What it does") and every command line README.md
+//! and the pages of docs/ show, against the parser (`squeal CMD --help`, which clap derives
+//! from the same definitions that parse): a flag shown for a command must be one it
+//! accepts, and every flag a command accepts must be in its synopsis line (the model flags
+//! of `trajectory`, `classify`, `ulc` and `critical` may instead be in the section's text,
+//! where `MODEL` is spelled out). The README's tour is run: each command shown with its
+//! output must print that output. docs/spec.md's keys are checked the same way by
 //! crates/scan/tests/spec_doc.rs.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 use std::process::Command;
 
 const README: &str = include_str!("../README.md");
-const DOCS: [(&str, &str); 3] = [
-    ("README.md", README),
-    ("docs/spec.md", include_str!("../docs/spec.md")),
-    ("docs/atlas-spec.md", include_str!("../docs/atlas-spec.md")),
-];
+const CLI: &str = include_str!("../docs/cli.md");
+
+/// README.md and every page under docs/, as (path, text).
+fn docs() -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = vec![("README.md".to_string(), README.to_string())];
+    let mut dirs = vec![root.join("docs")];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).expect("reading docs/") {
+            let path = entry.expect("reading docs/").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                let text = std::fs::read_to_string(&path).expect("reading a page of docs/");
+                let name = path.strip_prefix(root).unwrap_or(&path);
+                out.push((name.display().to_string(), text));
+            }
+        }
+    }
+    assert!(
+        out.len() > 8,
+        "README.md and docs/: only {} pages",
+        out.len()
+    );
+    out
+}
 
 /// Every `--flag` in `text`.
 fn flags(text: &str) -> BTreeSet<String> {
@@ -52,10 +75,10 @@ fn accepted(cmd: &str) -> BTreeSet<String> {
         .collect()
 }
 
-/// The text of README's section `heading` (up to the next heading of the same level).
+/// The text of docs/cli.md's section `heading` (up to the next heading of the same level).
 fn section<'a>(heading: &str) -> &'a str {
-    let start = README.find(heading).expect("section heading");
-    let rest = &README[start + heading.len()..];
+    let start = CLI.find(heading).expect("section heading");
+    let rest = &CLI[start + heading.len()..];
     let end = rest.find("\n## ").unwrap_or(rest.len());
     &rest[..end]
 }
@@ -114,8 +137,8 @@ fn every_command_line_shown_uses_flags_the_command_accepts() {
     let parser: BTreeMap<&str, BTreeSet<String>> =
         COMMANDS.iter().map(|c| (*c, accepted(c))).collect();
     let mut checked = 0;
-    for (doc, text) in DOCS {
-        for (cmd, args) in shown(text) {
+    for (doc, text) in docs() {
+        for (cmd, args) in shown(&text) {
             let Some(ok) = parser.get(cmd.as_str()) else {
                 continue;
             };
@@ -149,7 +172,7 @@ fn the_synopsis_lists_every_command_and_flag() {
     for cmd in COMMANDS {
         let shown = synopsis
             .get(cmd)
-            .unwrap_or_else(|| panic!("README's synopsis has no line for `squeal {cmd}`"));
+            .unwrap_or_else(|| panic!("docs/cli.md's synopsis has no line for `squeal {cmd}`"));
         // MODEL is spelled out in the section's text.
         let model_cmd = matches!(cmd, "trajectory" | "classify" | "ulc" | "critical");
         let described = if model_cmd {
@@ -165,7 +188,8 @@ fn the_synopsis_lists_every_command_and_flag() {
     }
     assert!(
         missing.is_empty(),
-        "flags the parser accepts that README's synopsis (\"What it does\") does not show: {missing:?}"
+        "flags the parser accepts that docs/cli.md's synopsis (\"What it does\") does not show: \
+         {missing:?}"
     );
 }
 
@@ -177,4 +201,108 @@ fn flags_are_found_in_text() {
         .map(|s| s.to_string())
         .collect();
     assert_eq!(f, want);
+}
+
+/// The fenced code blocks of `doc` in order, as (info string, body, index of the line after
+/// the closing fence, index of the opening fence's line).
+fn blocks(doc: &str) -> Vec<(String, String, usize, usize)> {
+    let lines: Vec<&str> = doc.lines().collect();
+    let mut out = Vec::new();
+    let mut open: Option<(String, usize)> = None;
+    let mut body = String::new();
+    for (i, line) in lines.iter().enumerate() {
+        let Some(info) = line.trim_start().strip_prefix("```") else {
+            if open.is_some() {
+                body.push_str(line);
+                body.push('\n');
+            }
+            continue;
+        };
+        match open.take() {
+            None => open = Some((info.trim().to_string(), i)),
+            Some((lang, start)) => out.push((lang, std::mem::take(&mut body), i + 1, start)),
+        }
+    }
+    out
+}
+
+/// The README's commands shown with their output: a ```sh block of `squeal` command lines
+/// followed (blank lines apart) by a ```text block, as (command lines, output lines).
+fn shown_with_output() -> Vec<(Vec<String>, Vec<String>)> {
+    let lines: Vec<&str> = README.lines().collect();
+    let b = blocks(README);
+    let mut out = Vec::new();
+    for pair in b.windows(2) {
+        let ((lang, cmds, end, _), (next, text, _, start)) = (&pair[0], &pair[1]);
+        let adjacent = lines[*end..*start].iter().all(|l| l.trim().is_empty());
+        if lang == "sh" && next == "text" && adjacent {
+            let cmds: Vec<String> = cmds.lines().map(str::to_string).collect();
+            assert!(
+                cmds.iter().all(|c| c.starts_with("squeal ")),
+                "README shows output for a block that is not all `squeal` commands: {cmds:?}"
+            );
+            out.push((cmds, text.lines().map(str::to_string).collect()));
+        }
+    }
+    out
+}
+
+/// Each output line the README shows must be printed, in the order shown (stdout and
+/// stderr together); a line ending in ` ...` is the start of a printed line.
+#[test]
+fn the_readme_tour_prints_what_it_shows() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shown = shown_with_output();
+    assert!(
+        shown.len() >= 3,
+        "only {} commands with output",
+        shown.len()
+    );
+    for (cmds, want) in shown {
+        // A fresh folder with the shipped specs, as a checkout: outputs land in its out/.
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        std::fs::create_dir(dir.path().join("scans")).unwrap();
+        for entry in std::fs::read_dir(root.join("scans")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                std::fs::copy(
+                    &path,
+                    dir.path().join("scans").join(path.file_name().unwrap()),
+                )
+                .unwrap();
+            }
+        }
+        let mut printed = Vec::new();
+        for cmd in &cmds {
+            let args: Vec<&str> = cmd.split_whitespace().skip(1).collect();
+            let out = Command::new(env!("CARGO_BIN_EXE_squeal"))
+                .args(&args)
+                .current_dir(dir.path())
+                .output()
+                .expect("running squeal");
+            assert!(out.status.success(), "`{cmd}` failed: {out:?}");
+            for stream in [&out.stdout, &out.stderr] {
+                printed.extend(
+                    String::from_utf8_lossy(stream)
+                        .lines()
+                        .map(|l| l.trim().to_string()),
+                );
+            }
+        }
+        let mut at = 0;
+        for line in &want {
+            let line = line.trim();
+            let found = match line.strip_suffix(" ...") {
+                Some(start) => printed[at..].iter().position(|p| p.starts_with(start)),
+                None => printed[at..].iter().position(|p| p == line),
+            };
+            let Some(k) = found else {
+                panic!(
+                    "README shows `{line}` for {cmds:?}, which printed (from line {at}):\n{}",
+                    printed[at..].join("\n")
+                );
+            };
+            at += k + 1;
+        }
+    }
 }

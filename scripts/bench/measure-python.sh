@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The numbers the README states for the Python package: the wheel's size, and the time of
+# The numbers docs/python.md states for the Python package: the wheel's size, and the time of
 # `import squeal` in a fresh venv (median of 7 runs, each a new interpreter; xarray is
 # imported on first use, timed separately). Builds the wheel (scripts/tools/build-wheel.sh)
 # unless one is given.

@@ -104,7 +104,7 @@ def main():
         ax.set_xlabel("initial displacement x0 (nondimensional, bSTAB's friction case)")
         ax.set_ylabel("initial velocity x'0 (nondimensional, bSTAB's friction case)")
     else:
-        # Nondimensional units (README, "Units"): x in mu_k m g / k, x' in mu_k g / sqrt(k/m).
+        # Nondimensional units (docs/model.md, "Units"): x in mu_k m g / k, x' in mu_k g / sqrt(k/m).
         ax.set_xlabel("initial displacement x0 (units of mu_k m g / k)")
         ax.set_ylabel("initial velocity x'0 (units of mu_k g sqrt(m/k))")
     ax.set_title(title)

@@ -3,7 +3,7 @@
 # requires-python = ">=3.9"
 # dependencies = []
 # ///
-"""Convert between squeal's nondimensional variables and a real system (README, "Units").
+"""Convert between squeal's nondimensional variables and a real system (docs/model.md, "Units").
 
 squeal integrates x'' + 2 nu x' + x = F with the scaling of McMillan (1997), Section 4:
 time in units of sqrt(m/k), displacement in units of mu_k m g / k, velocity in units of
@@ -16,7 +16,7 @@ of Fig. 9 to metres and metres per second. The unstable cycle's size depends on 
 prints it in metres and m/s; this script quotes the paper's Table 1 cycle only when the
 system is Table 1's (nu = 1e-3, lambda = 3, tau = 0.1 sqrt(10), phi = 1).
 
-    python3 scripts/tools/units_example.py                     # the README's worked example
+    python3 scripts/tools/units_example.py                     # the worked example of docs/model.md
     python3 scripts/tools/units_example.py --m 2 --k 5e4 --mu-k 0.4 --mu-s 0.5 --v-belt 0.05
 """
 import argparse
