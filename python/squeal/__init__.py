@@ -391,3 +391,9 @@ def trajectory(
         return run(os.fspath(out))
     with tempfile.TemporaryDirectory(prefix="squeal-") as d:
         return run(Path(d) / "trajectory.h5")
+
+
+def __dir__() -> list:
+    """What ``dir(squeal)`` lists: the package's API (``__all__``) and its version, not the
+    modules and names it uses inside (``os``, ``json``, ``Any``, ...)."""
+    return sorted([*__all__, "__version__"])

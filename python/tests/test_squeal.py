@@ -333,3 +333,11 @@ def test_the_gil_is_released_while_computing(tmp_path):
     # leaves room for a loaded machine.
     assert t1 - t0 > 0.5, "the scan was too quick to tell"
     assert len(during) > 0.25 * (t1 - t0) / 0.005, (len(during), t1 - t0)
+
+
+def test_the_namespace_is_the_api():
+    # dir(squeal) listed os, sys, json, Any, tempfile, ... beside the API.
+    public = {name for name in dir(squeal) if not name.startswith("_")}
+    assert public == set(squeal.__all__)
+    assert all(hasattr(squeal, name) for name in squeal.__all__)
+    assert "__version__" in dir(squeal)
