@@ -11,7 +11,7 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::bail;
-use indicatif::{ProgressBar, ProgressDrawTarget};
+use indicatif::ProgressBar;
 use squeal_scan::atlas::AtlasPlan;
 use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
 
@@ -165,9 +165,8 @@ fn check_pictures(pics: &[PathBuf], png: &Path, force: bool) -> anyhow::Result<(
 /// [`common::LONG_RUN`] it needs `--allow-long`. The whole atlas is estimated, also for a
 /// shard or a resume (an upper bound then).
 fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
+    use squeal_scan::estimate::{atlas_documented_seconds, bounded_atlas_pilot};
     let threads = rayon::current_num_threads();
-    let e = squeal_scan::estimate::atlas_pilot(plan)?;
-    let secs = e.seconds(plan, threads);
     let maps = plan.map_plan().map_or(String::new(), |mp| {
         format!(", {} map cells", mp.grid.cells() * mp.maps.len())
     });
@@ -176,18 +175,30 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
         plan.n_points(),
         plan.n_boundaries()
     );
-    if secs > common::LONG_RUN && !args.allow_long {
-        bail!(
-            "the atlas ({what}) would take roughly {} on {threads} thread(s): shrink the sweep or the maps, split it with --shard, or pass --allow-long",
-            common::duration(secs)
-        );
-    }
+    let refuse = |secs: f64, how: &str| -> anyhow::Result<()> {
+        if secs > common::LONG_RUN && !args.allow_long {
+            bail!(
+                "the atlas ({what}) would take roughly {} on {threads} thread(s){how}: shrink the sweep, the maps or the cycle search ([cycle] samples x t_return), split it with --shard, or pass --allow-long",
+                common::duration(secs)
+            );
+        }
+        Ok(())
+    };
+    // Every kind of work at the documented rates first (cycle searches at their longest):
+    // no pilot runs for an atlas refused on those alone.
+    let rough = atlas_documented_seconds(plan, threads);
+    refuse(rough, " at the documented rate")?;
+    let pilot = bounded_atlas_pilot(plan)?;
+    let secs = pilot.as_ref().map_or(rough, |e| e.seconds(plan, threads));
+    refuse(secs, "")?;
     if !args.run.quiet {
+        let how = pilot.map_or(
+            "at the documented rates (cycle searches counted at their longest: a pilot would take too long)".to_string(),
+            |e| format!("from a pilot of {} point(s) in {:.1} s", e.points, e.pilot_seconds),
+        );
         eprintln!(
-            "squeal: atlas of {what} on {threads} thread(s): roughly {} ({secs:.1} s), from a pilot of {} point(s) in {:.1} s",
+            "squeal: atlas of {what} on {threads} thread(s): roughly {} ({secs:.1} s), {how}",
             common::duration(secs),
-            e.points,
-            e.pilot_seconds
         );
     }
     Ok(())
@@ -195,18 +206,12 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
 
 /// The progress bar over `total` units and map blocks (hidden when quiet or not a terminal).
 fn progress(total: u64, quiet: bool) -> ProgressBar {
-    ProgressBar::with_draw_target(
-        Some(total),
-        if progress::show_progress(quiet) {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        },
-    )
-    .with_style(progress::bar_style(
+    progress::bar(
+        total,
+        quiet,
         "atlas [{bar:40}] {pos}/{len} units and map blocks  {avg_rate}  ETA {avg_eta}",
         "unit",
-    ))
+    )
 }
 
 /// The pictures of a finished atlas whose chart is `png`: the chart (one or two swept

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use squeal_core::State;
 use squeal_scan::scanner::MapContext;
 
-use super::{common, model::SetupArgs};
+use super::{common, model::SetupArgs, progress};
 
 /// Flags of `squeal classify`.
 #[derive(clap::Args, Debug)]
@@ -26,6 +26,12 @@ pub struct Args {
     /// Overwrite an existing output.
     #[arg(long)]
     pub force: bool,
+    /// No estimate or progress on stderr.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Start a run estimated to take more than 30 days.
+    #[arg(long)]
+    pub allow_long: bool,
 }
 
 /// Largest initial-conditions file read: 1 GiB, some 25 million rows of two numbers written
@@ -49,6 +55,8 @@ fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<(usize, State)>> {
             path.display()
         );
     }
+    // A byte-order mark (spreadsheets write one) is not part of the first column's name.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let mut lines = text
         .lines()
         .enumerate()
@@ -108,6 +116,31 @@ fn check_start(
     Ok(())
 }
 
+/// The work, estimated at the documented rates before anything runs (the map's cycle
+/// search at its longest, each start up to its run to `t_max`: a file of many rows with a
+/// long `t_max` ran with no word), printed unless quiet; over [`common::LONG_RUN`] it needs
+/// `--allow-long`.
+fn estimate(args: &Args, plan: &squeal_scan::Plan, starts: usize) -> anyhow::Result<()> {
+    let threads = rayon::current_num_threads();
+    let secs =
+        squeal_scan::estimate::prepare_seconds(plan) + plan.estimate_seconds(starts, threads);
+    if secs > common::LONG_RUN && !args.allow_long {
+        bail!(
+            "{starts} initial conditions would take roughly {} on {threads} thread(s) at the documented rate (t_max = {}, the cycle search included): split {}, shorten t_max, or pass --allow-long",
+            common::duration(secs),
+            squeal_core::error::Number(plan.classifier.t_max),
+            args.ics.display()
+        );
+    }
+    if !args.quiet {
+        eprintln!(
+            "squeal: {starts} initial conditions on {threads} thread(s): roughly {} ({secs:.1} s) at the documented rate",
+            common::duration(secs)
+        );
+    }
+    Ok(())
+}
+
 /// Labels the initial conditions.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
@@ -129,8 +162,28 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     common::check_new(&args.out, args.force, "labels")?;
+    estimate(&args, &setup.plan, ics.len())?;
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
-    let outcomes: Vec<_> = ics.par_iter().map(|&ic| ctx.classify(ic)).collect();
+    let total = ics.len() as u64;
+    let bar = progress::bar(
+        total,
+        args.quiet,
+        "classify [{bar:40}] {pos}/{len} initial conditions  {avg_rate}  ETA {avg_eta}",
+        "start",
+    );
+    let plain = progress::PlainLines::new("initial conditions", "start", total, args.quiet);
+    let outcomes: Vec<_> = ics
+        .par_iter()
+        .map(|&ic| {
+            let o = ctx.classify(ic);
+            bar.inc(1);
+            if let Some(p) = &plain {
+                p.inc(0);
+            }
+            o
+        })
+        .collect();
+    bar.finish_and_clear();
     let mut w = std::io::BufWriter::new(
         std::fs::File::create(&args.out)
             .with_context(|| format!("creating {}", args.out.display()))?,

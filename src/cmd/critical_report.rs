@@ -67,11 +67,19 @@ pub(super) fn report(
     } else {
         println!(
             "critical damping for ({}, {}): {} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} cycle locations, {:.2} s)",
-            point.x, point.v, key, rep.nu, rep.bracket[0], rep.bracket[1], rep.evaluations, seconds
+            Number(point.x),
+            Number(point.v),
+            key,
+            rep.nu,
+            rep.bracket[0],
+            rep.bracket[1],
+            rep.evaluations,
+            seconds
         );
         println!(
             "  below it no unstable cycle encloses ({}, {}) (it lies outside the cycle, or the fixed point repels) and the band above does not leak: that start squeals (or, where the band's verdict is marginal, may); above it the start is inside the cycle or the band leaks: steady slip",
-            point.x, point.v
+            Number(point.x),
+            Number(point.v)
         );
         if let Some(w) = warning {
             println!("  {w}");
@@ -79,11 +87,11 @@ pub(super) fn report(
         if let Some(s) = scales {
             println!(
                 "  in SI units: c = {:.4} N s/m, bracket [{:.4}, {:.4}] N s/m, for the start x0 = {} m, v0 = {} m/s",
-                rep.nu * s.damping,
-                rep.bracket[0] * s.damping,
-                rep.bracket[1] * s.damping,
-                args.x0,
-                args.v0
+                Number(rep.nu * s.damping),
+                Number(rep.bracket[0] * s.damping),
+                Number(rep.bracket[1] * s.damping),
+                Number(args.x0),
+                Number(args.v0)
             );
         }
     }
@@ -158,7 +166,8 @@ impl BoundaryFound<'_> {
                 "critical value",
                 format!(
                     "below it ({}, {}) squeals; above it, steady slip",
-                    point.x, point.v
+                    Number(point.x),
+                    Number(point.v)
                 ),
             )
         };

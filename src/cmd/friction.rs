@@ -113,6 +113,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         )
     };
     for f in &figures {
+        check_drawable(f)?;
+    }
+    for f in &figures {
         let (csv, png) = paths(f);
         refuse_existing("--out-dir", &csv, args.force)?;
         refuse_existing("--out-dir", &png, args.force)?;
@@ -139,7 +142,42 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 }
 
 fn material_text(m: &Material) -> String {
-    format!("mu_k={}, tau={} s, Phi={}", m.mu_k, m.tau, m.phi)
+    format!(
+        "mu_k={}, tau={} s, Phi={}",
+        Number(m.mu_k),
+        Number(m.tau),
+        Number(m.phi)
+    )
+}
+
+/// Refuses a figure whose axes the plot cannot draw ([`squeal_plot::check_axis`]), before
+/// anything is written, naming the flags they come from: `--mu-k 5e307` put F/mg near
+/// 1e308, and the plotting library's tick search looped for ever.
+fn check_drawable(f: &Figure) -> anyhow::Result<()> {
+    let span = |v: &dyn Fn(&Curve) -> &[f64]| {
+        let all = f.curves.iter().flat_map(|c| v(c).iter().copied());
+        all.filter(|x| x.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            })
+    };
+    let axes = [
+        (
+            "x",
+            span(&|c| &c.xs),
+            "--tau and --mu-k (the velocity window 2 |x''| tau / mu_k)",
+        ),
+        (
+            "y",
+            span(&|c| &c.ys),
+            "--mu-k and --phi (the friction force F/mg, up to mu_s = mu_k / sin Phi)",
+        ),
+    ];
+    for (axis, (lo, hi), flags) in axes {
+        squeal_plot::check_axis(axis, lo, hi)
+            .with_context(|| format!("{flags}: {} cannot be drawn", f.stem))?;
+    }
+    Ok(())
 }
 
 /// Figs 4-5: `F/mg` against slip velocity at `x'' = +2` and `-2 m/s^2`.

@@ -44,6 +44,17 @@ pub fn short_duration(s: f64) -> String {
     }
 }
 
+/// A bar over `total` units drawn with `template` ([`bar_style`]; `unit` names what is
+/// counted), hidden when quiet or when stderr is not a terminal.
+pub fn bar(total: u64, quiet: bool, template: &str, unit: &'static str) -> indicatif::ProgressBar {
+    use indicatif::{ProgressBar, ProgressDrawTarget};
+    let target = match show_progress(quiet) {
+        true => ProgressDrawTarget::stderr(),
+        false => ProgressDrawTarget::hidden(),
+    };
+    ProgressBar::with_draw_target(Some(total), target).with_style(bar_style(template, unit))
+}
+
 /// A bar style whose `{avg_rate}` and `{avg_eta}` are [`rate_words`] and [`eta_words`]
 /// (`unit` names what is counted).
 pub fn bar_style(template: &str, unit: &'static str) -> indicatif::ProgressStyle {

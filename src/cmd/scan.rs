@@ -173,12 +173,15 @@ fn announce(
         layout(plan),
         shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
         common::duration(secs),
-        pilot.map_or(String::new(), |e| format!(
-            ", from a pilot of {} cells over {} map(s) in {:.1} s",
-            e.cells,
-            e.maps(),
-            e.pilot_seconds
-        ))
+        pilot.map_or(
+            ", at the documented rates (cycle searches counted at their longest: a pilot would take too long)".to_string(),
+            |e| format!(
+                ", from a pilot of {} cells over {} map(s) in {:.1} s",
+                e.cells,
+                e.maps(),
+                e.pilot_seconds
+            )
+        )
     );
 }
 
@@ -219,27 +222,31 @@ fn finish(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The pilot (none with `--quiet`), after refusing work estimated over
-/// [`common::LONG_RUN`] without `--allow-long`: first at the documented rate (before the
-/// pilot runs), then from the pilot, which measures the time per cell with this plan's law,
-/// landscape and early stopping ([`squeal_scan::estimate`]).
+/// The pilot (none with `--quiet`, nor where it could itself run over
+/// [`squeal_scan::estimate::PILOT_MAX_SECONDS`]), after refusing work estimated over
+/// [`common::LONG_RUN`] without `--allow-long`: first at the documented rates, every kind of
+/// work counted (the maps' cycle searches bounded by their samples times `t_return`, the
+/// cells, their audits) before the pilot runs, then from the pilot, which measures the time
+/// per cell with this plan's law, landscape and early stopping ([`squeal_scan::estimate`]).
 fn checked_estimate(
     args: &Args,
     plan: &Plan,
     owned: &Pending,
     threads: usize,
 ) -> anyhow::Result<Option<Estimate>> {
-    let rough = plan.estimate_seconds(owned.cells, threads);
+    let rough = squeal_scan::estimate::documented_seconds(plan, owned, threads);
     if rough > common::LONG_RUN && !args.allow_long {
         bail!(
-            "{} cells would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid or the sweep, split it with --shard, or pass --allow-long",
+            "{} cells and {} cycle search(es) of up to {} each ([cycle] samples x t_return) would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid, the sweep or the search, split it with --shard, or pass --allow-long",
             owned.cells,
+            owned.maps_to_prepare(),
+            common::duration(squeal_scan::estimate::prepare_seconds(plan)),
             common::duration(rough)
         );
     }
     let pilot = match args.run.quiet {
         true => None,
-        false => Some(squeal_scan::estimate::pilot(plan)?),
+        false => squeal_scan::estimate::bounded_pilot(plan)?,
     };
     let estimate = seconds_for(plan, pilot.as_ref(), owned, threads);
     if estimate > common::LONG_RUN && !args.allow_long {

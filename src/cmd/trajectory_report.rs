@@ -192,7 +192,11 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     let f = &s.final_state;
     println!(
         "final state: t = {} x = {:.9} x' = {:.9} x'' = {:.9} F = {:.9}",
-        f.t, f.x, f.v, f.a, f.force
+        Number(f.t),
+        Number(f.x),
+        Number(f.v),
+        Number(f.a),
+        Number(f.force)
     );
     let o = &s.oscillation;
     match (o.omega, o.amplitude) {
@@ -201,11 +205,12 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
              at t = {:.4}, {} crossings of x = {}",
             o.t_last_crossing.unwrap_or(f64::NAN),
             o.crossings,
-            s.fixed_point.x
+            Number(s.fixed_point.x)
         ),
         _ => println!(
             "final oscillation: none ({} crossings of x = {}, x' > 0)",
-            o.crossings, s.fixed_point.x
+            o.crossings,
+            Number(s.fixed_point.x)
         ),
     }
     if let Some(sp) = &s.stick {

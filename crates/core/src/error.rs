@@ -58,19 +58,53 @@ pub enum CoreError {
 }
 
 /// A value as a reader reads it: as Rust writes it (`0.45`, `-1`, `NaN`), in exponent form
-/// where that would run to more than 16 digits (`1e300`, not 301 digits; `2.5e-7`).
+/// where that would run to more than 16 digits (`1e300`, not 301 digits; `2.5e-7`). With a
+/// precision (`{:.6}`) it is written to that many decimals, in exponent form from 1e16 up
+/// (`x = {:.9}` of 1e300 ran to 310 characters); small values keep their fixed form.
 #[derive(Clone, Copy, Debug)]
 pub struct Number(pub f64);
 
 impl std::fmt::Display for Number {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let a = self.0.abs();
-        if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
-            write!(f, "{:e}", self.0)
-        } else {
-            write!(f, "{}", self.0)
+        let (x, a) = (self.0, self.0.abs());
+        let huge = a.is_finite() && a >= 1e16;
+        match f.precision() {
+            Some(p) if huge => write!(f, "{x:.p$e}"),
+            Some(p) => write!(f, "{x:.p$}"),
+            None if huge || (a.is_finite() && a != 0.0 && a < 1e-5) => write!(f, "{x:e}"),
+            None => write!(f, "{x}"),
         }
     }
+}
+
+/// `text` with each number written out to more than 17 digits put as [`Number`] writes it:
+/// for messages of other libraries (serde's "invalid type: floating point `1000...0`" wrote
+/// `count = 1e308` as 309 digits).
+pub fn readable_numbers(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < b.len() {
+        let starts = b[i].is_ascii_digit() && (i == 0 || !b[i - 1].is_ascii_alphanumeric());
+        if !starts {
+            let c = text[i..].chars().next().expect("in bounds");
+            out.push(c);
+            i += c.len_utf8();
+            continue;
+        }
+        let mut j = i;
+        while j < b.len() && (b[j].is_ascii_digit() || b[j] == b'.') {
+            j += 1;
+        }
+        let run = &text[i..j];
+        let digits = run.bytes().filter(u8::is_ascii_digit).count();
+        match run.parse::<f64>() {
+            Ok(v) if digits > 17 => out.push_str(&Number(v).to_string()),
+            _ => out.push_str(run),
+        }
+        i = j;
+    }
+    out
 }
 
 impl CoreError {
@@ -102,6 +136,22 @@ impl CoreError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// serde writes a float given for an integer key in full (`count = 1e308`: 309 digits,
+    /// issue 32); rewritten, it reads as given. Short numbers and names are left alone.
+    #[test]
+    fn long_numbers_in_other_messages_are_shortened() {
+        let long = format!("floating point `{}`, expected usize", 1e308);
+        assert_eq!(long.len(), 309 + 33, "{long}");
+        assert_eq!(
+            readable_numbers(&long),
+            "floating point `1e308`, expected usize"
+        );
+        let tiny = format!("at {}", 1e-300);
+        assert_eq!(readable_numbers(&tiny), "at 1e-300");
+        let short = "line 3, column 9: count = 12.5 at map_0012 of 0.000001";
+        assert_eq!(readable_numbers(short), short);
+    }
 
     /// A huge or tiny value is named in exponent form: `1e300` was written out as 301 digits
     /// (`squeal critical --law cubic --a1 1e300`), which no reader can check at a glance.

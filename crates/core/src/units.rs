@@ -218,22 +218,92 @@ impl Physical {
         Ok(())
     }
 
-    /// The scales of this system.
+    /// The scales of this system, each a ratio of the keys' square roots and values taken
+    /// in an order that overflows only where the result does ([`ratio`]): `2 sqrt(m k)`
+    /// was `inf` for `m = k = 1e200`, and `nu = c / inf` then 0.
     pub fn scales(&self) -> Scales {
-        let omega0 = (self.k / self.m).sqrt();
+        let (sm, sk, mg) = (self.m.sqrt(), self.k.sqrt(), [self.mu_k, self.g]);
         Scales {
-            omega0,
-            time: 1.0 / omega0,
-            length: self.mu_k * self.g / (omega0 * omega0),
-            velocity: self.mu_k * self.g / omega0,
-            damping: 2.0 * (self.m * self.k).sqrt(),
+            omega0: ratio(&[sk], &[sm]),
+            time: ratio(&[sm], &[sk]),
+            length: ratio(&[mg[0], mg[1], sm, sm], &[sk, sk]),
+            velocity: ratio(&[mg[0], mg[1], sm], &[sk]),
+            damping: ratio(&[2.0, sm, sk], &[]),
         }
+    }
+
+    /// Refuses a system whose scales or nondimensional numbers `p` are not representable
+    /// (infinite, or 0 from nonzero keys), naming the key they come from: `m = k = 1e308`
+    /// has a critical damping `2 sqrt(m k)` of `inf`.
+    fn check_derived(&self, p: &Params) -> Result<(), CoreError> {
+        let s = self.scales();
+        let fine = |x: f64| x.is_finite() && x > 0.0;
+        for (value, key, given, expected) in [
+            (
+                s.omega0,
+                "k",
+                self.k,
+                "a stiffness whose ratio to m is representable: omega_0 = sqrt(k/m) and its inverse, the time unit, must be finite and nonzero in f64",
+            ),
+            (
+                s.time,
+                "k",
+                self.k,
+                "a stiffness whose ratio to m is representable: omega_0 = sqrt(k/m) and its inverse, the time unit, must be finite and nonzero in f64",
+            ),
+            (
+                s.damping,
+                "m",
+                self.m,
+                "a mass whose product with k is representable: the critical damping 2 sqrt(m k) must be finite in f64",
+            ),
+            (
+                s.length,
+                "mu_k",
+                self.mu_k,
+                "a coefficient whose length unit mu_k g m/k is finite and nonzero in f64",
+            ),
+            (
+                s.velocity,
+                "mu_k",
+                self.mu_k,
+                "a coefficient whose velocity unit mu_k g sqrt(m/k) is finite and nonzero in f64",
+            ),
+            (
+                p.lambda,
+                "lambda",
+                p.lambda,
+                "a belt speed lambda = v_belt sqrt(k/m) / (mu_k g) finite and nonzero in f64",
+            ),
+        ] {
+            if !fine(value) {
+                return CoreError::invalid(key, given, expected);
+            }
+        }
+        if !p.nu.is_finite() || (self.c > 0.0 && p.nu == 0.0) {
+            return CoreError::invalid(
+                "nu",
+                p.nu,
+                "a damping ratio c / (2 sqrt(m k)) finite, and nonzero for c > 0, in f64",
+            );
+        }
+        if let Some(c) = p.law.surface() {
+            if !fine(c.tau) {
+                return CoreError::invalid(
+                    "tau",
+                    c.tau,
+                    "a surface time tau sqrt(k/m) / mu_k finite and nonzero in f64",
+                );
+            }
+        }
+        Ok(())
     }
 
     /// The nondimensional parameters (paper Section 4), validated.
     pub fn params(&self, law: FrictionLaw) -> Result<Params, CoreError> {
         self.validate()?;
         let p = self.nondimensional(law)?;
+        self.check_derived(&p)?;
         p.validate()?;
         Ok(p)
     }
@@ -241,9 +311,9 @@ impl Physical {
     /// The nondimensional parameters, not validated (an error for a law without physical
     /// units, and for surfaces given to a law without them or missing from one with them).
     pub fn nondimensional(&self, law: FrictionLaw) -> Result<Params, CoreError> {
-        let s = self.scales();
+        let (sm, sk) = (self.m.sqrt(), self.k.sqrt());
         let nd = |sf: SurfaceSi| Surface {
-            tau: sf.tau / self.mu_k * s.omega0,
+            tau: ratio(&[sf.tau, sk], &[self.mu_k, sm]),
             phi: (self.mu_k / sf.mu_s).asin(),
         };
         let law = match (law, self.surface) {
@@ -260,8 +330,8 @@ impl Physical {
         };
         Ok(Params {
             law,
-            nu: self.c / s.damping,
-            lambda: self.v_belt / s.velocity,
+            nu: ratio(&[self.c], &[2.0, sm, sk]),
+            lambda: ratio(&[self.v_belt, sk], &[self.mu_k, self.g, sm]),
         })
     }
 
@@ -269,17 +339,44 @@ impl Physical {
     /// nondimensional parameters are `p` (the inverse of [`Physical::params`]).
     /// A law without McMillan's surface constants (Coulomb) gives a system without them.
     pub fn from_params(base: &Physical, p: &Params) -> Physical {
-        let s = base.scales();
+        let (sm, sk) = (base.m.sqrt(), base.k.sqrt());
         Physical {
-            c: p.nu * s.damping,
-            v_belt: p.lambda * s.velocity,
+            c: ratio(&[p.nu, 2.0, sm, sk], &[]),
+            v_belt: ratio(&[p.lambda, base.mu_k, base.g, sm], &[sk]),
             surface: p.law.surface().map(|c| SurfaceSi {
-                tau: c.tau * base.mu_k / s.omega0,
+                tau: ratio(&[c.tau, base.mu_k, sm], &[sk]),
                 mu_s: base.mu_k / c.phi.sin(),
             }),
             ..*base
         }
     }
+}
+
+/// The product of `num` over the product of `den` (all finite and > 0, as validated keys
+/// and their square roots are), multiplying in the order that keeps each partial result
+/// nearest 1: it overflows or underflows only where the result itself does (`1e200 *
+/// 1e200 / 1e200` left to right is `inf`).
+fn ratio(num: &[f64], den: &[f64]) -> f64 {
+    // Each factor with its binary exponent (a divisor's negated); applied is NaN.
+    let mut left: Vec<(f64, bool, f64)> = num
+        .iter()
+        .map(|&x| (x, false, x.log2()))
+        .chain(den.iter().map(|&d| (d, true, -d.log2())))
+        .collect();
+    let (mut acc, mut scale) = (1.0f64, 0.0f64);
+    while !left.is_empty() {
+        let j = (0..left.len())
+            .min_by(|&a, &b| {
+                (scale + left[a].2)
+                    .abs()
+                    .total_cmp(&(scale + left[b].2).abs())
+            })
+            .expect("not empty");
+        let (x, divide, e) = left.swap_remove(j);
+        acc = if divide { acc / x } else { acc * x };
+        scale += e;
+    }
+    acc
 }
 
 #[cfg(test)]
@@ -435,5 +532,48 @@ mod tests {
             e.contains("invalid mu_s = 40404.04") && e.contains("1e5 mu_k"),
             "{e}"
         );
+    }
+
+    /// Issue 32: `m = k = 1e200` overflowed `m k` (the critical damping was `inf`, `nu` 0
+    /// and "every start squeals"). The same system scaled by 1e200 in m, k and c has the
+    /// same nondimensional numbers as `m = k = 1, c = [1, 2]` (nu = c / (2 sqrt(m k)) =
+    /// 0.5 and 1, computed in ratios); one whose scales no f64 holds is refused by key.
+    #[test]
+    fn huge_and_tiny_systems_scale_without_overflow() {
+        let at = |m: f64, k: f64, c: f64| Physical {
+            m,
+            k,
+            c,
+            ..example()
+        };
+        let close = |a: f64, b: f64| (a - b).abs() <= 4.0 * f64::EPSILON * b.abs();
+        for c in [1.0, 2.0] {
+            let one = at(1.0, 1.0, c).params(FrictionLaw::McMillan).unwrap();
+            let big = at(1e200, 1e200, c * 1e200)
+                .params(FrictionLaw::McMillan)
+                .unwrap();
+            let tiny = at(1e-200, 1e-200, c * 1e-200)
+                .params(FrictionLaw::McMillan)
+                .unwrap();
+            assert!(close(one.nu, 0.5 * c) && close(big.nu, one.nu), "{big:?}");
+            assert!(close(tiny.nu, one.nu), "{tiny:?}");
+            for p in [big, tiny] {
+                assert!(close(p.lambda, one.lambda), "{p:?} vs {one:?}");
+                let (a, b) = (p.law.surface().unwrap(), one.law.surface().unwrap());
+                assert!(close(a.tau, b.tau), "{a:?} vs {b:?}");
+            }
+            let s = at(1e200, 1e200, c * 1e200).scales();
+            assert!(close(s.damping, 2e200) && close(s.omega0, 1.0), "{s:?}");
+        }
+        // 2 sqrt(m k) = 2e308 is no f64: refused, naming m.
+        let e = at(1e308, 1e308, 1.0)
+            .params(FrictionLaw::McMillan)
+            .unwrap_err();
+        assert_eq!(e.key(), Some("m"), "{e}");
+        // nu = 1e-300 / 2e300 underflows to 0 from c > 0: refused, naming nu (c).
+        let e = at(1e300, 1e300, 1e-300)
+            .params(FrictionLaw::McMillan)
+            .unwrap_err();
+        assert_eq!(e.key(), Some("nu"), "{e}");
     }
 }

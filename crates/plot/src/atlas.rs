@@ -160,6 +160,8 @@ pub fn stability_chart(path: &Path, chart: &StabilityChart<'_>) -> Result<(), Pl
     let (ue, ve) = (edges(&us), edges(&vs));
     let xr = ue[0].min(ue[nx])..ue[0].max(ue[nx]);
     let yr = ve[0].min(ve[ny])..ve[0].max(ve[ny]);
+    crate::check_axis("x", xr.start, xr.end)?;
+    crate::check_axis("y", yr.start, yr.end)?;
     render(path, (1300, 900), |root| {
         // A title wider than the picture (every fixed parameter of a physical system) wraps
         // after a comma onto a second line.

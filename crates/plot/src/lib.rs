@@ -62,6 +62,8 @@ pub use line::{
 pub use transient::{has_transients, transient_map, transient_sheet};
 
 use std::error::Error as StdError;
+
+use squeal_core::error::Number;
 use std::ops::Range;
 use std::path::Path;
 use std::sync::OnceLock;
@@ -143,6 +145,40 @@ pub enum PlotError {
     /// A basin grid axis is not finite, not strictly monotone or not equally spaced.
     #[error("invalid grid: {0}")]
     InvalidGrid(String),
+    /// An axis's data span a range the plot cannot draw: beyond [`MAX_AXIS`] in size, or
+    /// narrower than [`MIN_AXIS_SPAN`] (the plotting library's tick search looped for ever
+    /// on `squeal friction --mu-k 5e307`).
+    #[error(
+        "the {axis} axis would span [{}, {}]: a plot draws values within +-1e300 over a width of at least 1e-300",
+        Number(*lo),
+        Number(*hi)
+    )]
+    AxisRange {
+        /// Which axis ("x" or "y").
+        axis: &'static str,
+        /// Its smallest value.
+        lo: f64,
+        /// Its largest value.
+        hi: f64,
+    },
+}
+
+/// Largest magnitude a plot's axis reaches ([`PlotError::AxisRange`]).
+pub const MAX_AXIS: f64 = 1e300;
+/// Smallest width of a plot's axis, its padding included ([`PlotError::AxisRange`]).
+pub const MIN_AXIS_SPAN: f64 = 1e-300;
+
+/// Refuses an axis over the data `[lo, hi]` that the plot cannot draw: padded as [`padded`]
+/// pads it, its ends must lie within [`MAX_AXIS`] and its width be at least
+/// [`MIN_AXIS_SPAN`].
+pub fn check_axis(axis: &'static str, lo: f64, hi: f64) -> Result<(), PlotError> {
+    let r = padded(lo, hi, 0.05);
+    let fine = |x: f64| x.is_finite() && x.abs() <= MAX_AXIS;
+    if fine(r.start) && fine(r.end) && r.end - r.start >= MIN_AXIS_SPAN {
+        Ok(())
+    } else {
+        Err(PlotError::AxisRange { axis, lo, hi })
+    }
 }
 
 /// A polyline (or scatter if `points_only`).

@@ -350,6 +350,11 @@ impl LineData {
             });
         // Only missing values: an empty y axis.
         let y = if y.0.is_finite() { y } else { (0.0, 1.0) };
+        // A log axis is drawn over the logarithms, always within range.
+        if !o.log_x {
+            crate::check_axis("x", x.0, x.1)?;
+        }
+        crate::check_axis("y", y.0, y.1)?;
         Ok(LineData { segs, x, y })
     }
 

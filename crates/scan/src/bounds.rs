@@ -155,15 +155,29 @@ pub fn cycle_search(
             "a count in 3..=100000",
         ));
     }
-    let ratio = (cs.r_max / cs.r_min).powf(1.0 / (cs.samples - 1) as f64);
+    // In logarithms: r_max / r_min overflows for r_min = 1e-320 (and blamed r_max).
+    let ratio_of = |lo: f64, hi: f64| ((hi.ln() - lo.ln()) / (cs.samples - 1) as f64).exp();
+    let ratio = ratio_of(cs.r_min, cs.r_max);
     if ratio > MAX_SAMPLE_RATIO {
+        // The end that makes the range too wide: r_min where the default r_min would do.
+        let r_min_default = CycleSettings::default().r_min;
+        let (key, value) = match cs.r_min < r_min_default
+            && ratio_of(r_min_default, cs.r_max) <= MAX_SAMPLE_RATIO
+        {
+            true => ("r_min", cs.r_min),
+            false => ("r_max", cs.r_max),
+        };
+        let ratio = match ratio < 1e6 {
+            true => format!("{ratio:.3}"),
+            false => Number(ratio).to_string(),
+        };
         return Err(invalid(
-            &name("r_max"),
-            format!("{:?}", cs.r_max),
+            &name(key),
+            format!("{value:?}"),
             &format!(
-                "a range the {} samples cover finely: neighbouring samples {ratio:.3} apart \
-                 in ratio, at most 1.25 (a cycle between two samples is missed); lower r_max \
-                 or raise the samples",
+                "a range the {} samples cover finely: neighbouring samples {ratio} apart \
+                 in ratio, at most 1.25 (a cycle between two samples is missed); raise r_min, \
+                 lower r_max or raise the samples",
                 cs.samples
             ),
         ));
@@ -292,6 +306,38 @@ mod tests {
             value,
             expected: expected.into(),
         }
+    }
+
+    /// The search's range too wide for its samples names the end that made it so: `r_min =
+    /// 1e-320` was blamed on `r_max` (r_max / r_min overflowed); with 100000 samples the
+    /// same range is fine ((6 / 1e-320)^(1/99999) = 1.0076, taken in logarithms).
+    #[test]
+    fn a_too_wide_search_names_the_end_that_widened_it() {
+        let key_of = |cs: CycleSettings| {
+            cycle_search(&cs, &|k| k.to_string(), &inv)
+                .err()
+                .map(|e| match e {
+                    ScanError::Invalid { key, .. } => key,
+                    e => panic!("{e}"),
+                })
+        };
+        let d = CycleSettings::default();
+        let tiny = CycleSettings { r_min: 1e-320, ..d };
+        assert_eq!(key_of(tiny).as_deref(), Some("r_min"));
+        assert_eq!(
+            key_of(CycleSettings {
+                samples: 100_000,
+                ..tiny
+            }),
+            None
+        );
+        // r_max = 1e6 over 10 samples from the default r_min: r_max's doing.
+        let wide = CycleSettings {
+            r_max: 1e6,
+            samples: 10,
+            ..d
+        };
+        assert_eq!(key_of(wide).as_deref(), Some("r_max"));
     }
 
     #[test]

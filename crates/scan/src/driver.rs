@@ -139,6 +139,15 @@ impl Pending {
         p
     }
 
+    /// Maps to prepare: those with pending blocks and those prepared only for their cycle.
+    pub fn maps_to_prepare(&self) -> usize {
+        let mut maps: Vec<usize> = self.blocks.iter().map(|&(m, _)| m).collect();
+        maps.extend(&self.prepare_only);
+        maps.sort_unstable();
+        maps.dedup();
+        maps.len()
+    }
+
     /// Pending cells of map `map`.
     pub fn cells_of(&self, plan: &Plan, map: usize) -> usize {
         let g = &plan.grid;

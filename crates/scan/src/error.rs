@@ -60,7 +60,7 @@ pub enum NoCycle {
     /// `D(r) = P(r) - r < 0` at every sampled amplitude: no unstable cycle below `r_max`,
     /// every start inside it decays to steady slip.
     #[error(
-        "the return map decays at every sampled section amplitude up to r = {r_max} ({damping}; samples refined where a window of growth could hide, down to a relative width of 1e-3): no unstable cycle, no squeal below it"
+        "the return map decays at every sampled section amplitude up to r = {} ({damping}; samples refined where a window of growth could hide, down to a relative width of 1e-3): no unstable cycle, no squeal below it", squeal_core::error::Number(*r_max)
     )]
     Decays {
         /// Largest amplitude sampled.
@@ -81,7 +81,11 @@ pub enum NoCycle {
         damping: Damping,
     },
     /// The run from the bisected crossing did not come back to the section.
-    #[error("the run from the section amplitude r = {r} did not return within t = {t_return}")]
+    #[error(
+        "the run from the section amplitude r = {} did not return within t = {}",
+        squeal_core::error::Number(*r),
+        squeal_core::error::Number(*t_return)
+    )]
     NoReturn {
         /// The crossing.
         r: f64,
@@ -179,7 +183,11 @@ pub enum ScanError {
     },
     /// A damping bracket that does not straddle the critical damping.
     #[error(
-        "damping bracket [{nu_lo}, {nu_hi}] for ({x}, {v}): {}",
+        "damping bracket [{}, {}] for ({}, {}): {}",
+        squeal_core::error::Number(*nu_lo),
+        squeal_core::error::Number(*nu_hi),
+        squeal_core::error::Number(*x),
+        squeal_core::error::Number(*v),
         match problem {
             BracketProblem::Order => "need 0 < lower bound < upper bound",
             BracketProblem::EnclosedAtLow => "the cycle already encloses the point at the lower bound: lower it",

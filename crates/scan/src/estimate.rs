@@ -150,7 +150,7 @@ impl Estimate {
 }
 
 /// Wall seconds for the `pending` cells of `plan` on `threads` threads: from the `pilot`, or
-/// at the documented rate without one.
+/// at the documented rate without one ([`documented_seconds`]).
 pub fn seconds_for(
     plan: &Plan,
     pilot: Option<&Estimate>,
@@ -159,7 +159,97 @@ pub fn seconds_for(
 ) -> f64 {
     match pilot {
         Some(e) => e.seconds(plan.maps.len(), |m| pending.cells_of(plan, m), threads),
-        None => plan.estimate_seconds(pending.cells, threads),
+        None => documented_seconds(plan, pending, threads),
+    }
+}
+
+/// Seconds of one integration step at the documented rate: up to about 250 ns per step with
+/// the robust solver (BENCHMARKS.md, "Time per step").
+pub const STEP_SECONDS: f64 = 250e-9;
+
+/// Seconds (one thread) of `returns` section returns that each run their whole `t_return`
+/// at step `dt`, at [`STEP_SECONDS`]: a return that never comes (a run decaying onto the
+/// fixed point, `nu = 2`) runs that long, so a search is bounded by its samples times
+/// `t_return`, not by its typical cost.
+fn returns_seconds(returns: f64, t_return: f64, dt: f64) -> f64 {
+    returns * (t_return / dt).ceil() * STEP_SECONDS
+}
+
+/// Halvings of a bisection to the relative width `rtol` (at most the 200 of
+/// [`crate::section::ReturnMap::bisect`]).
+fn halvings(rtol: f64) -> f64 {
+    (1.0 / rtol).log2().ceil().clamp(1.0, 200.0) + 1.0
+}
+
+/// Seconds (one thread) of one cycle search with settings `cs` at step `dt`, at most: its
+/// log-spaced samples, the bisection of the crossing and the band's samples above it
+/// ([`crate::band::NSAMPLES`], `band_factor` times that many returns at the horizon's
+/// longer `t_return` for an atlas's lasting band), each return running its whole
+/// `t_return`; with `locate` and the half-step check, the search again at `dt / 2` (twice
+/// the steps). `[cycle] samples = 100000, t_return = 1e6` is about 29 days per map: it was
+/// in no estimate (issue 32).
+pub fn search_seconds(
+    cs: &crate::section::CycleSettings,
+    dt: f64,
+    locate: bool,
+    band_factor: f64,
+) -> f64 {
+    let returns =
+        cs.samples as f64 + halvings(cs.rtol) + band_factor * crate::band::NSAMPLES as f64;
+    let once = returns_seconds(returns, cs.t_return, dt);
+    match locate && cs.check_half_dt {
+        true => 3.0 * once,
+        false => once,
+    }
+}
+
+/// Seconds (one thread) of preparing one map of `plan`, at most ([`search_seconds`]): the
+/// cycle search where the map needs one (as [`MapContext::prepare`] decides), 0 otherwise.
+pub fn prepare_seconds(plan: &Plan) -> f64 {
+    let needs_search = plan.early_stop == crate::spec::EarlyStop::Cycle
+        || plan.cycle.locate
+        || !plan.law().has_true_stick();
+    match needs_search {
+        true => search_seconds(&plan.cycle.search, plan.dt, plan.cycle.locate, 1.0),
+        false => 0.0,
+    }
+}
+
+/// Wall seconds on `threads` threads for the `pending` work of `plan` at the documented
+/// rates, before any pilot: each map to prepare, one after another ([`prepare_seconds`]);
+/// the cells ([`Plan::estimate_seconds`]); their audited share, each a run to `t_max`.
+pub fn documented_seconds(plan: &Plan, pending: &Pending, threads: usize) -> f64 {
+    let maps = pending.maps_to_prepare();
+    let audits = match plan.early_stop {
+        crate::spec::EarlyStop::Cycle if plan.audit_every > 0 => {
+            // About one cell in `audit_every`, and cell 0 of each map.
+            let n = pending.cells as f64 / plan.audit_every as f64 + maps as f64;
+            n * (plan.classifier.t_max / plan.dt).ceil() * STEP_SECONDS / threads.max(1) as f64
+        }
+        _ => 0.0,
+    };
+    maps as f64 * prepare_seconds(plan) + plan.estimate_seconds(pending.cells, threads) + audits
+}
+
+/// The longest a pilot may take, at the documented rates: a plan whose pilot could take
+/// longer is estimated at those rates instead (`[cycle] samples = 65537` ran a silent 51 s
+/// pilot; a pilot could run a whole 29-day search).
+pub const PILOT_MAX_SECONDS: f64 = 30.0;
+
+/// Seconds (one thread) [`pilot`] may take on `plan`, at most, at the documented rates:
+/// its time budget, then one more map (prepared, one cell run to `t_max`, its audited
+/// samples run to `t_max`), which it starts before looking at the clock.
+pub fn pilot_bound(plan: &Plan) -> f64 {
+    let cell = (plan.classifier.t_max / plan.dt).ceil() * STEP_SECONDS;
+    2.0 * PILOT_BUDGET.as_secs_f64() + prepare_seconds(plan) + (1 + AUDIT_SAMPLES) as f64 * cell
+}
+
+/// [`pilot`] where [`pilot_bound`] is within [`PILOT_MAX_SECONDS`]; `None` (estimate at the
+/// documented rates) otherwise.
+pub fn bounded_pilot(plan: &Plan) -> Result<Option<Estimate>, ScanError> {
+    match pilot_bound(plan) <= PILOT_MAX_SECONDS {
+        true => pilot(plan).map(Some),
+        false => Ok(None),
     }
 }
 
@@ -382,6 +472,63 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
         pilot_seconds: t0.elapsed().as_secs_f64(),
         maps,
     })
+}
+
+/// Seconds (one thread) of one atlas point of `plan`, at most, at the documented rates: its
+/// cycle search with the lasting band's longer horizon (twice the samples at twice
+/// `t_return`: four bands' worth), the tangency refinements, and the attractor's
+/// `transient + window` revolutions, each return running its whole `t_return`.
+fn point_bound(plan: &AtlasPlan) -> f64 {
+    let ps = &plan.point;
+    let cs = &ps.cycle;
+    let revolutions = (ps.tangency_iters + ps.transient + ps.window) as f64;
+    search_seconds(cs, plan.dt, true, 4.0) + returns_seconds(revolutions, cs.t_return, plan.dt)
+}
+
+/// Seconds (one thread) of one boundary unit of `plan`, at most: a point's search at each
+/// step of the coarse scan and of the bisections of the fold and the critical damping, and
+/// the transient lifetimes above the fold (each start a run to the lifetimes' `t_max` at
+/// each distance of the table).
+fn boundary_bound(plan: &AtlasPlan) -> f64 {
+    let searches = plan.boundary_coarse as f64 + 2.0 * halvings(plan.boundary_rtol);
+    let lifetimes = (plan.lifetime_starts * crate::lifetime::DISTANCE_FACTORS.len()) as f64
+        * (crate::lifetime::LifetimeSettings::default().t_max / plan.dt).ceil()
+        * STEP_SECONDS;
+    searches * point_bound(plan) + lifetimes
+}
+
+/// Wall seconds on `threads` threads for the whole atlas `plan` at the documented rates,
+/// before any pilot: every kind of its work at most ([`point_bound`], [`boundary_bound`],
+/// the basin maps' [`documented_seconds`]), shared among threads as
+/// [`AtlasEstimate::seconds`] shares it.
+pub fn atlas_documented_seconds(plan: &AtlasPlan, threads: usize) -> f64 {
+    let t = threads.max(1) as f64;
+    let (point, unit) = (point_bound(plan), boundary_bound(plan));
+    let units = ((plan.n_points() as f64 * point + plan.n_boundaries() as f64 * unit) / t)
+        .max(plan.line_len() as f64 * point)
+        .max(if plan.n_boundaries() > 0 { unit } else { 0.0 });
+    let maps = plan.map_plan().map_or(0.0, |mp| {
+        let all = Pending::of(&mp, None, &crate::MemorySink::default());
+        documented_seconds(&mp, &all, threads)
+    });
+    units + maps
+}
+
+/// Seconds (one thread) the longest single computation of [`atlas_pilot`] on `plan` may
+/// take, at the documented rates: a point (one cycle search and its attractor; a boundary
+/// unit is a series of such searches, each bounded alike), or the maps' [`pilot_bound`].
+pub fn atlas_pilot_bound(plan: &AtlasPlan) -> f64 {
+    let maps = plan.map_plan().map_or(0.0, |mp| pilot_bound(&mp));
+    (PILOT_BUDGET.as_secs_f64() + point_bound(plan)).max(maps)
+}
+
+/// [`atlas_pilot`] where [`atlas_pilot_bound`] is within [`PILOT_MAX_SECONDS`]; `None`
+/// (estimate at the documented rates) otherwise.
+pub fn bounded_atlas_pilot(plan: &AtlasPlan) -> Result<Option<AtlasEstimate>, ScanError> {
+    match atlas_pilot_bound(plan) <= PILOT_MAX_SECONDS {
+        true => atlas_pilot(plan).map(Some),
+        false => Ok(None),
+    }
 }
 
 #[cfg(test)]

@@ -627,7 +627,8 @@ fn initial_conditions(
 fn parse_spec(text: &str, path: &str) -> Result<SpecFile, ScanError> {
     toml::from_str(text).map_err(|e| ScanError::Parse {
         path: path.to_string(),
-        message: e.to_string(),
+        // A float for an integer key is written by serde in full (309 digits for 1e308).
+        message: squeal_core::error::readable_numbers(&e.to_string()),
     })
 }
 

@@ -10,41 +10,8 @@ use squeal_scan::Plan;
 use squeal_scan::atlas::AtlasPlan;
 use toml::Value;
 
-/// One step of the path to a value: a table key or a list index.
-#[derive(Clone, Debug)]
-enum Step {
-    Key(String),
-    Index(usize),
-}
-
-/// Paths to every integer and float in `v`.
-fn numbers(v: &Value, path: &mut Vec<Step>, out: &mut Vec<Vec<Step>>) {
-    match v {
-        Value::Integer(_) | Value::Float(_) => out.push(path.clone()),
-        Value::Table(t) => {
-            for (k, x) in t {
-                path.push(Step::Key(k.clone()));
-                numbers(x, path, out);
-                path.pop();
-            }
-        }
-        Value::Array(a) => {
-            for (i, x) in a.iter().enumerate() {
-                path.push(Step::Index(i));
-                numbers(x, path, out);
-                path.pop();
-            }
-        }
-        _ => {}
-    }
-}
-
-fn at<'a>(v: &'a mut Value, path: &[Step]) -> &'a mut Value {
-    path.iter().fold(v, |v, s| match s {
-        Step::Key(k) => &mut v.as_table_mut().unwrap()[k.as_str()],
-        Step::Index(i) => &mut v.as_array_mut().unwrap()[*i],
-    })
-}
+mod mutate;
+use mutate::{Shipped, Step, at, shipped};
 
 /// Whether a refusal names the value at `path`: its dotted key (`grid.x0.min`, also where a
 /// bound on another key depends on it: `t_max / integration.dt`), the key
@@ -96,6 +63,12 @@ fn scan_wrong(p: &Plan) -> Option<String> {
     if !e.is_finite() || e < 0.0 {
         return Some(format!("estimate {e}"));
     }
+    // Every kind of work at the documented rates (the cycle searches included, issue 32).
+    let all = squeal_scan::Pending::of(p, None, &squeal_scan::MemorySink::default());
+    let e = squeal_scan::estimate::documented_seconds(p, &all, 2);
+    if !e.is_finite() || e < 0.0 {
+        return Some(format!("documented estimate {e}"));
+    }
     if p.maps
         .iter()
         .any(|m| m.named().iter().any(|n| !n.value.is_finite()))
@@ -122,6 +95,10 @@ fn atlas_wrong(p: &AtlasPlan) -> Option<String> {
     if !(s.operating.x.is_finite() && s.operating.v.is_finite()) {
         return Some("operating point".into());
     }
+    let e = squeal_scan::estimate::atlas_documented_seconds(p, 2);
+    if !e.is_finite() || e < 0.0 {
+        return Some(format!("documented estimate {e}"));
+    }
     let c = s.cycle;
     if !(c.r_max.is_finite() && c.r_max <= squeal_scan::bounds::MAX_STATE * 10.0) {
         return Some(format!("cycle r_max {}", c.r_max));
@@ -142,6 +119,11 @@ fn atlas_wrong(p: &AtlasPlan) -> Option<String> {
     })
 }
 
+/// The shipped specs' folder.
+fn scans() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scans")
+}
+
 #[derive(Debug, Default)]
 struct Counts {
     specs: usize,
@@ -152,42 +134,6 @@ struct Counts {
     accepted: usize,
     wrong: usize,
     panics: usize,
-}
-
-/// A shipped spec: its file name, whether it is an atlas spec, its TOML and the paths to
-/// its numbers.
-struct Shipped {
-    name: String,
-    atlas: bool,
-    spec: Value,
-    paths: Vec<Vec<Step>>,
-}
-
-fn shipped() -> Vec<Shipped> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scans");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|file| {
-            let name = file.file_name().unwrap().to_string_lossy().into_owned();
-            let spec: Value = toml::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
-            let mut paths = Vec::new();
-            numbers(&spec, &mut Vec::new(), &mut paths);
-            Shipped {
-                // atlas-*.toml, or a spec without [grid] and [sample] (a scan needs one).
-                atlas: name.starts_with("atlas-")
-                    || spec.get("grid").is_none() && spec.get("sample").is_none(),
-                name,
-                spec,
-                paths,
-            }
-        })
-        .collect()
 }
 
 /// Sets the number at `path` of spec `sh` to `m`, checks the spec, counts the outcome in
@@ -247,7 +193,7 @@ fn every_number_of_every_shipped_spec_mutated() {
     ];
     let mut n = Counts::default();
     let mut problems = Vec::new();
-    for sh in &shipped() {
+    for sh in &shipped(&scans()) {
         n.specs += 1;
         n.numbers += sh.paths.len();
         for path in &sh.paths {
@@ -287,7 +233,7 @@ proptest::proptest! {
         ],
     ) {
         use proptest::prop_assert;
-        let all = shipped();
+        let all = shipped(&scans());
         let sh = &all[spec % all.len()];
         let path = &sh.paths[key % sh.paths.len()];
         let problem = judge(sh, path, &value, &mut Counts::default());

@@ -83,8 +83,19 @@ pub(crate) fn open_with_schema(path: &Path, schema: &str) -> Result<File, StoreE
     }
 }
 
+/// Attribute `name` of `loc`; missing, an error saying so in words (the library's "can't
+/// locate attribute in name index" named neither the attribute nor what it means).
+pub(crate) fn attr(loc: &Location, name: &str) -> hdf5::Result<hdf5::Attribute> {
+    loc.attr(name).map_err(|e| match loc.attr_names() {
+        Ok(names) if !names.iter().any(|n| n == name) => hdf5::Error::from(format!(
+            "no attribute `{name}`: not a squeal file, or a damaged one"
+        )),
+        _ => e,
+    })
+}
+
 pub(crate) fn str_attr(loc: &Location, name: &str) -> hdf5::Result<String> {
-    let a = loc.attr(name)?;
+    let a = attr(loc, name)?;
     match a.dtype()?.to_descriptor()? {
         TypeDescriptor::VarLenUnicode => Ok(a.read_scalar::<VarLenUnicode>()?.to_string()),
         TypeDescriptor::VarLenAscii => Ok(a.read_scalar::<VarLenAscii>()?.to_string()),
@@ -95,7 +106,7 @@ pub(crate) fn str_attr(loc: &Location, name: &str) -> hdf5::Result<String> {
 }
 
 pub(crate) fn f64_attr(loc: &Location, name: &str) -> hdf5::Result<f64> {
-    loc.attr(name)?.read_scalar::<f64>()
+    attr(loc, name)?.read_scalar::<f64>()
 }
 
 /// The sweep axis (name, values), if the file holds a sweep.
@@ -456,7 +467,7 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
             _ => None,
         };
         let fp = params.fixed_point();
-        Ok(MapData {
+        let data = MapData {
             title,
             x0: file.dataset("x0")?.read_raw()?,
             v0: file.dataset("v0")?.read_raw()?,
@@ -467,7 +478,26 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
             },
             cycle,
             fixed_point: (fp.x, fp.v),
-        })
+        };
+        // A map's columns hold one value per cell of its axes: every reader of a map
+        // (render, compare) may then index them by the axes (`compare` panicked on a file
+        // whose labels had another shape, issue 32).
+        let cells = data.x0.len() * data.v0.len();
+        let columns = [
+            ("labels", Some(data.labels.len())),
+            ("t_squeal", data.t_squeal.as_ref().map(Vec::len)),
+        ];
+        for (name, len) in columns {
+            if let Some(n) = len.filter(|&n| n != cells) {
+                return Err(hdf5::Error::from(format!(
+                    "`{name}` holds {n} cells for map {map}, but the axes x0 ({}) and v0 ({}) \
+                     make {cells}: a damaged file",
+                    data.x0.len(),
+                    data.v0.len()
+                )));
+            }
+        }
+        Ok(data)
     })()
     .h5(path)
 }

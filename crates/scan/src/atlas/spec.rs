@@ -304,7 +304,8 @@ pub struct MapSettings {
 fn parse_atlas(text: &str, path: &str) -> Result<AtlasFile, ScanError> {
     toml::from_str(text).map_err(|e| ScanError::Parse {
         path: path.to_string(),
-        message: e.to_string(),
+        // A float for an integer key is written by serde in full (309 digits for 1e308).
+        message: squeal_core::error::readable_numbers(&e.to_string()),
     })
 }
 
@@ -746,6 +747,54 @@ impl AtlasPlan {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// docs/atlas-spec.md states the range of `[attractor] transient` and `window`, the one
+    /// the parser holds (issue 32: it gave only the default): both ends taken, one past
+    /// either refused naming the key.
+    #[test]
+    fn the_attractor_counts_are_documented_with_their_range() {
+        let doc = include_str!("../../../../docs/atlas-spec.md");
+        let range = &parse::ATTRACTOR_REVOLUTIONS;
+        let words = format!("`{}..={}`", range.start(), range.end());
+        for key in ["transient", "window"] {
+            let row = doc
+                .lines()
+                .find(|l| l.starts_with(&format!("| `{key}` |")))
+                .unwrap_or_else(|| panic!("no row for {key}"));
+            assert!(row.contains(&words), "{row}");
+            let spec = |v: i64| format!("{GOOD}[attractor]\n{key} = {v}\n");
+            for v in [*range.start(), *range.end()] {
+                AtlasPlan::from_toml(&spec(v), "a.toml").unwrap();
+            }
+            for v in [range.start() - 1, range.end() + 1] {
+                let e = AtlasPlan::from_toml(&spec(v), "a.toml")
+                    .unwrap_err()
+                    .to_string();
+                assert!(e.contains(&format!("attractor.{key}")), "{e}");
+            }
+        }
+    }
+
+    /// Issue 32: `m = k = 1e200, c = [1e200, 2e200]` is `m = k = 1, c = [1, 2]` scaled:
+    /// nu = 0.5 and 1 at both (it stored `nondim_nu = [0, 0]`: 2 sqrt(m k) overflowed).
+    #[test]
+    fn a_huge_physical_system_has_the_nondimensional_numbers_of_its_scaled_one() {
+        let nus = |scale: &str| {
+            let text = PHYS
+                .replace("m = 1.0", &format!("m = 1{scale}"))
+                .replace("k = 1.0e4", &format!("k = 1{scale}"))
+                .replace("c = [2.0, 4.0]", &format!("c = [1{scale}, 2{scale}]"));
+            let p = AtlasPlan::from_toml(&text, "p.toml").unwrap();
+            (0..p.n_points())
+                .map(|i| p.params_at(i).nu)
+                .collect::<Vec<_>>()
+        };
+        let (one, big) = (nus(".0"), nus("e200"));
+        assert_eq!(one, [0.5, 1.0]);
+        for (a, b) in one.iter().zip(&big) {
+            assert!((a - b).abs() <= 4.0 * f64::EPSILON, "{one:?} vs {big:?}");
+        }
+    }
 
     const GOOD: &str = r#"
 version = 1
