@@ -39,8 +39,8 @@ pub struct ModelArgs {
 }
 
 impl ModelArgs {
-    /// The physical system of `--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g]`, if any
-    /// of them is given (all but `--g` are then required, `--mu-s --tau-s` by the two
+    /// The physical system of `--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g |
+    /// --normal-force]`, if any of them is given (all but `--g --normal-force` are then required, `--mu-s --tau-s` by the two
     /// McMillan laws only, and no nondimensional law flag); errors name the flag.
     pub fn physical(&self) -> anyhow::Result<Option<Physical>> {
         let law: FrictionLaw = self.law.parse().context("--law")?;
@@ -182,7 +182,18 @@ fn spec_conflicts() -> Vec<&'static str> {
     let mut ids = vec!["law"];
     ids.extend(super::law_flags::all_keys());
     ids.extend([
-        "m", "k", "c", "v_belt", "mu_k", "mu_s", "tau_s", "g", "dt", "solver", "t_max",
+        "m",
+        "k",
+        "c",
+        "v_belt",
+        "mu_k",
+        "mu_s",
+        "tau_s",
+        "g",
+        "normal_force",
+        "dt",
+        "solver",
+        "t_max",
     ]);
     ids
 }

@@ -1,12 +1,13 @@
-//! The physical system's flags (`--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g]`),
-//! shared by every command that takes the model flags. `--mu-s --tau-s` are McMillan's
-//! surfaces: his laws need them, `--law coulomb` refuses them.
+//! The physical system's flags (`--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g |
+//! --normal-force]`), shared by every command that takes the model flags. `--mu-s --tau-s`
+//! are McMillan's surfaces: his laws need them, `--law coulomb` refuses them.
+//! `--normal-force` presses the block on the belt in place of its weight `m g`.
 
 use anyhow::bail;
-use squeal_core::{CoreError, FrictionLaw, Physical, SurfaceSi};
+use squeal_core::{CoreError, FrictionLaw, Load, Physical, SurfaceSi};
 
-/// The physical flags with their spec key, in the order of [`Physical`]'s fields.
-pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
+/// The physical flags with their spec key, in the order of [`Physical::values`].
+pub const PHYSICAL_FLAGS: [(&str, &str); 9] = [
     ("--m", "m"),
     ("--k", "k"),
     ("--c", "c"),
@@ -15,6 +16,7 @@ pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
     ("--mu-s", "mu_s"),
     ("--tau-s", "tau"),
     ("--g", "g"),
+    ("--normal-force", "normal_force"),
 ];
 
 /// The physical system in SI units instead of --nu --lambda [--tau --phi] (the paper's
@@ -22,9 +24,9 @@ pub const PHYSICAL_FLAGS: [(&str, &str); 8] = [
 #[derive(clap::Args, Debug, Clone)]
 pub struct PhysicalArgs {
     /// Mass m (kg). The physical system in SI units instead of --nu --lambda --tau --phi
-    /// (the paper's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g optional;
-    /// --law coulomb takes no --mu-s --tau-s); then --x0/--v0 are in m and m/s and the
-    /// results are printed in SI units too.
+    /// (the paper's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g or
+    /// --normal-force optional; --law coulomb takes no --mu-s --tau-s); then --x0/--v0 are
+    /// in m and m/s and the results are printed in SI units too.
     #[arg(long, allow_negative_numbers = true)]
     pub m: Option<f64>,
     /// Spring stiffness k (N/m; physical system, see --m).
@@ -45,13 +47,20 @@ pub struct PhysicalArgs {
     /// Characteristic time of the surfaces tau (s; physical system, McMillan's laws; see --m).
     #[arg(long = "tau-s", allow_negative_numbers = true)]
     pub tau_s: Option<f64>,
-    /// Gravitational acceleration g (m/s^2; physical system, default 9.81).
+    /// Gravitational acceleration g (m/s^2; physical system, default 9.81): the block rests
+    /// on the belt under its own weight, friction is mu m g. Not with --normal-force.
     #[arg(long, allow_negative_numbers = true)]
     pub g: Option<f64>,
+    /// Normal force N pressing the block on the belt (N; physical system, default m g):
+    /// friction is mu N, e.g. a brake pad's clamp force. It replaces the weight m g in the
+    /// law, so --g is refused beside it.
+    #[arg(long = "normal-force", allow_negative_numbers = true)]
+    pub normal_force: Option<f64>,
 }
 
 impl PhysicalArgs {
-    /// The system under `law`, if any flag is given (all but `--g` are then required, and
+    /// The system under `law`, if any flag is given (all but `--g` and `--normal-force`, of
+    /// which one at most, are then required, and
     /// `--mu-s --tau-s` by `mcmillan` and `mcmillan-nonhysteretic` alone, which alone use
     /// them); `other`: a
     /// nondimensional law flag also given (refused). Errors name the flag.
@@ -69,12 +78,13 @@ impl PhysicalArgs {
             self.mu_s,
             self.tau_s,
             self.g,
+            self.normal_force,
         ];
         if values.iter().all(Option::is_none) {
             return Ok(None);
         }
         let all = "--m --k --c --v-belt --mu-k, with --mu-s --tau-s for --law mcmillan and \
-                   mcmillan-nonhysteretic (and optionally --g)";
+                   mcmillan-nonhysteretic (and optionally --g or --normal-force)";
         if let Some((flag, _)) = PHYSICAL_FLAGS[..5]
             .iter()
             .zip(values)
@@ -102,7 +112,8 @@ impl PhysicalArgs {
             v_belt: v(3),
             mu_k: v(4),
             surface: SurfaceSi::of(law, self.mu_s, self.tau_s).map_err(flag_error)?,
-            g: values[7].unwrap_or(squeal_core::units::G_STANDARD),
+            load: Load::of(self.g, self.normal_force, squeal_core::units::G_STANDARD)
+                .map_err(flag_error)?,
         };
         ph.params(law).map_err(flag_error)?;
         Ok(Some(ph))
@@ -110,7 +121,7 @@ impl PhysicalArgs {
 }
 
 /// The `[physical]` table of a scan spec for the system `ph` (without `mu_s` and `tau`
-/// where it has no surfaces: Coulomb).
+/// where it has no surfaces: Coulomb; with `g` or `normal_force`, the one it has).
 pub fn spec_table(ph: &Physical) -> String {
     let v = ph.values();
     let mut t = String::from("[physical]\n");
@@ -128,7 +139,9 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
         Some(name) => {
             let flag = match name {
                 "nu" => "--c (nu = c / (2 sqrt(m k)))",
-                "lambda" => "--v-belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
+                "lambda" => {
+                    "--v-belt (lambda = v_belt sqrt(k/m) / (mu_k g), or v_belt sqrt(m k) / (mu_k N))"
+                }
                 "phi" => "--mu-s",
                 "tau" => "--tau-s",
                 n => PHYSICAL_FLAGS

@@ -40,6 +40,14 @@ pub enum CoreError {
         /// The law's name.
         law: &'static str,
     },
+    /// Both `g` and `normal_force` given: the normal force `N` replaces the weight `m g` in
+    /// the law (friction is `mu N`), so `g` would mean nothing beside it.
+    #[error(
+        "given with g, but the normal force N replaces the block's weight m g in the law \
+         (friction is mu N): give normal_force for a pressed block, or g for one under its own \
+         weight, not both"
+    )]
+    BothLoads,
     /// A friction-law name that is not one of ours, with the names that are
     /// ([`crate::FrictionLaw::names`], so the next law needs no edit here).
     #[error("unknown friction law '{name}' (expected one of {expected})")]
@@ -115,6 +123,7 @@ impl CoreError {
             CoreError::InvalidParameter { name, .. } => Some(name),
             CoreError::MissingPhysicalKey { key, .. }
             | CoreError::UnusedPhysicalKey { key, .. } => Some(key),
+            CoreError::BothLoads => Some("normal_force"),
             _ => None,
         }
     }

@@ -513,7 +513,7 @@ mod tests {
                 mu_s: 1e6,
                 tau: 1e-3,
             }),
-            g: crate::units::G_STANDARD,
+            load: crate::units::Load::Weight(crate::units::G_STANDARD),
         };
         let e = ph.validate().unwrap_err().to_string();
         assert!(

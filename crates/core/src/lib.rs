@@ -75,4 +75,4 @@ pub use setup::Setup;
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
 pub use stick::StickEvents;
-pub use units::{Physical, Scales, SurfaceSi};
+pub use units::{Load, Physical, Scales, SurfaceSi};

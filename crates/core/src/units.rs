@@ -12,6 +12,13 @@
 //! Phi     = arcsin(mu_k / mu_s)
 //! ```
 //!
+//! The paper's block rests on the belt under its own weight: the normal force is `N = m g`
+//! and friction is `mu N`. A block pressed on the belt by a normal force `N` of its own (a
+//! brake pad under its clamp, [`Load::NormalForce`]) has `N / m` in place of `g` in every
+//! line above: the force unit is `mu_k N`, the length unit `mu_k N / k`, the velocity unit
+//! `mu_k N / sqrt(m k)`, and `lambda = v_B sqrt(m k) / (mu_k N)`. `g` then has no part in
+//! the law, so a system takes one of the two ([`Load::of`] refuses both; MODEL.md, "Units").
+//!
 //! `tau` and `mu_s` are constants of McMillan's surfaces ([`SurfaceSi`]): his two laws need
 //! them, Coulomb's force has neither, so a Coulomb system is `m, k, c, v_B, mu_k, g` alone
 //! ([`surface_keys`] says which a law takes).
@@ -27,6 +34,33 @@ use crate::params::{Friction, FrictionLaw, Params, Surface};
 
 /// Standard gravity, the default of `g` (m/s^2).
 pub const G_STANDARD: f64 = 9.81;
+
+/// What presses the block on the belt, so that friction is `mu N`: its own weight (the
+/// paper's block, `N = m g`) or a normal force given in newtons (a clamp). Serialised
+/// flattened as the key given (`g` or `normal_force`). `T` as in [`Physical`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Load<T = f64> {
+    /// The block under its own weight: gravitational acceleration `g` (m/s^2), `N = m g`.
+    #[serde(rename = "g")]
+    Weight(T),
+    /// A normal force `N` (N) pressing the block on the belt; `g` plays no part.
+    #[serde(rename = "normal_force")]
+    NormalForce(T),
+}
+
+impl<T> Load<T> {
+    /// The load of the keys `g` and `normal_force` as given: the normal force when it is
+    /// given, else the weight under `g` (`standard` when `g` is not given either). Both
+    /// given is refused ([`CoreError::BothLoads`]): `N` replaces `m g` in the law, so a `g`
+    /// beside it would mean nothing.
+    pub fn of(g: Option<T>, normal_force: Option<T>, standard: T) -> Result<Load<T>, CoreError> {
+        match (g, normal_force) {
+            (Some(_), Some(_)) => Err(CoreError::BothLoads),
+            (None, Some(n)) => Ok(Load::NormalForce(n)),
+            (g, None) => Ok(Load::Weight(g.unwrap_or(standard))),
+        }
+    }
+}
 
 /// The physical keys of McMillan's surfaces, in the order of [`SurfaceSi`]'s fields.
 pub const SURFACE_KEYS: [&str; 2] = ["mu_s", "tau"];
@@ -108,8 +142,9 @@ pub struct Physical<T = f64> {
     pub mu_k: T,
     /// McMillan's surfaces (his two laws); `None` for Coulomb, which has none.
     pub surface: Option<SurfaceSi<T>>,
-    /// Gravitational acceleration `g` (m/s^2).
-    pub g: T,
+    /// What presses the block on the belt: `g` (its weight `m g`) or `normal_force`.
+    #[serde(flatten)]
+    pub load: Load<T>,
 }
 
 /// SI size of one nondimensional unit, for one physical system.
@@ -119,9 +154,10 @@ pub struct Scales {
     pub omega0: f64,
     /// Seconds per nondimensional time unit, `1 / omega_0`.
     pub time: f64,
-    /// Metres per nondimensional length unit, `mu_k g / omega_0^2`.
+    /// Metres per nondimensional length unit, `mu_k g / omega_0^2` (`mu_k N / k`).
     pub length: f64,
-    /// Metres per second per nondimensional velocity unit, `mu_k g / omega_0`.
+    /// Metres per second per nondimensional velocity unit, `mu_k g / omega_0`
+    /// (`mu_k N / sqrt(m k)`).
     pub velocity: f64,
     /// N s/m per unit of damping ratio, `2 sqrt(m k)` (critical damping coefficient).
     pub damping: f64,
@@ -146,11 +182,16 @@ impl Scales {
 }
 
 impl<T: Copy> Physical<T> {
-    /// The values in the order of the keys `m, k, c, v_belt, mu_k, mu_s, tau, g` (the
-    /// order of a spec's `[physical]` table, of the flags and of the stored attributes);
-    /// `mu_s` and `tau` are `None` for a system without McMillan's surfaces (Coulomb).
-    pub fn values(&self) -> [Option<T>; 8] {
+    /// The values in the order of the keys `m, k, c, v_belt, mu_k, mu_s, tau, g,
+    /// normal_force` (the order of a spec's `[physical]` table, of the flags and of the
+    /// stored attributes); `mu_s` and `tau` are `None` for a system without McMillan's
+    /// surfaces (Coulomb), and one of `g` and `normal_force` is `None` (the one not given).
+    pub fn values(&self) -> [Option<T>; 9] {
         let sf = self.surface;
+        let (g, n) = match self.load {
+            Load::Weight(g) => (Some(g), None),
+            Load::NormalForce(n) => (None, Some(n)),
+        };
         [
             Some(self.m),
             Some(self.k),
@@ -159,7 +200,8 @@ impl<T: Copy> Physical<T> {
             Some(self.mu_k),
             sf.map(|s| s.mu_s),
             sf.map(|s| s.tau),
-            Some(self.g),
+            g,
+            n,
         ]
     }
 }
@@ -212,22 +254,55 @@ impl Physical {
                 return bad("tau", sf.tau, "a finite time > 0 (s)");
             }
         }
-        if !pos(self.g) {
-            return bad("g", self.g, "a finite acceleration > 0 (m/s^2)");
+        match self.load {
+            Load::Weight(g) if !pos(g) => {
+                return bad("g", g, "a finite acceleration > 0 (m/s^2)");
+            }
+            Load::NormalForce(n) if !pos(n) => {
+                return bad("normal_force", n, "a finite normal force > 0 (N)");
+            }
+            _ => {}
         }
         Ok(())
     }
 
+    /// The normal force `N` pressing the block on the belt (N): `m g` for a block under its
+    /// own weight.
+    pub fn normal_force(&self) -> f64 {
+        match self.load {
+            Load::Weight(g) => self.m * g,
+            Load::NormalForce(n) => n,
+        }
+    }
+
+    /// The velocity scale `mu_k N / sqrt(m k)` as factors over factors, for [`ratio`]:
+    /// `(mu_k g sqrt(m)) / sqrt(k)` for a block under its own weight (as the paper writes
+    /// it), `(mu_k N) / (sqrt(m) sqrt(k))` for a pressed one.
+    fn velocity_factors(&self) -> ([f64; 3], [f64; 2]) {
+        let (sm, sk) = (self.m.sqrt(), self.k.sqrt());
+        match self.load {
+            Load::Weight(g) => ([self.mu_k, g, sm], [sk, 1.0]),
+            Load::NormalForce(n) => ([self.mu_k, n, 1.0], [sm, sk]),
+        }
+    }
+
     /// The scales of this system, each a ratio of the keys' square roots and values taken
     /// in an order that overflows only where the result does ([`ratio`]): `2 sqrt(m k)`
-    /// was `inf` for `m = k = 1e200`, and `nu = c / inf` then 0.
+    /// was `inf` for `m = k = 1e200`, and `nu = c / inf` then 0. Friction's force scale is
+    /// `mu_k N`: `mu_k m g` for a block under its own weight.
     pub fn scales(&self) -> Scales {
-        let (sm, sk, mg) = (self.m.sqrt(), self.k.sqrt(), [self.mu_k, self.g]);
+        let (sm, sk) = (self.m.sqrt(), self.k.sqrt());
+        let ([a, b, c], [d, e]) = self.velocity_factors();
+        // length = velocity / omega_0 = velocity sqrt(m) / sqrt(k).
+        let (length, velocity) = (
+            ratio(&[a, b, c, sm], &[d, e, sk]),
+            ratio(&[a, b, c], &[d, e]),
+        );
         Scales {
             omega0: ratio(&[sk], &[sm]),
             time: ratio(&[sm], &[sk]),
-            length: ratio(&[mg[0], mg[1], sm, sm], &[sk, sk]),
-            velocity: ratio(&[mg[0], mg[1], sm], &[sk]),
+            length,
+            velocity,
             damping: ratio(&[2.0, sm, sk], &[]),
         }
     }
@@ -331,18 +406,24 @@ impl Physical {
         Ok(Params {
             law,
             nu: ratio(&[self.c], &[2.0, sm, sk]),
-            lambda: ratio(&[self.v_belt, sk], &[self.mu_k, self.g, sm]),
+            lambda: {
+                let ([a, b, c], [d, e]) = self.velocity_factors();
+                ratio(&[self.v_belt, d, e], &[a, b, c])
+            },
         })
     }
 
-    /// The physical system with mass, stiffness, `mu_k` and `g` taken from `base` whose
+    /// The physical system with mass, stiffness, `mu_k` and load taken from `base` whose
     /// nondimensional parameters are `p` (the inverse of [`Physical::params`]).
     /// A law without McMillan's surface constants (Coulomb) gives a system without them.
     pub fn from_params(base: &Physical, p: &Params) -> Physical {
         let (sm, sk) = (base.m.sqrt(), base.k.sqrt());
         Physical {
             c: ratio(&[p.nu, 2.0, sm, sk], &[]),
-            v_belt: ratio(&[p.lambda, base.mu_k, base.g, sm], &[sk]),
+            v_belt: {
+                let ([a, b, c], [d, e]) = base.velocity_factors();
+                ratio(&[p.lambda, a, b, c], &[d, e])
+            },
             surface: p.law.surface().map(|c| SurfaceSi {
                 tau: ratio(&[c.tau, base.mu_k, sm], &[sk]),
                 mu_s: base.mu_k / c.phi.sin(),
@@ -395,7 +476,7 @@ mod tests {
                 mu_s: 0.5,
                 tau: 1e-3,
             }),
-            g: G_STANDARD,
+            load: Load::Weight(G_STANDARD),
         }
     }
 
@@ -510,6 +591,70 @@ mod tests {
             SurfaceSi::of(FrictionLaw::Stribeck, None, None),
             Err(CoreError::NoPhysicalUnits(_))
         ));
+    }
+
+    /// The disc-brake pad of issue 34: 0.8 kg on a 200 kN/m mount, clamped with 1.5 kN.
+    fn clamped(load: Load) -> Physical {
+        Physical {
+            m: 0.8,
+            k: 2e5,
+            c: 20.0,
+            v_belt: 0.3,
+            mu_k: 0.38,
+            surface: Some(SurfaceSi {
+                mu_s: 0.48,
+                tau: 5e-4,
+            }),
+            load,
+        }
+    }
+
+    /// Friction is mu N: a normal force N stands where the weight m g stood, so the pad
+    /// clamped with 1500 N is the paper's system of a 0.8 kg block under g = N / m = 1875
+    /// m/s^2 (the only way to state it before `normal_force`), bit for bit.
+    #[test]
+    fn a_normal_force_stands_for_the_weight() {
+        let pad = clamped(Load::NormalForce(1500.0));
+        let p = pad.params(FrictionLaw::McMillan).unwrap();
+        let hack = clamped(Load::Weight(1875.0));
+        assert_eq!(p, hack.params(FrictionLaw::McMillan).unwrap());
+        assert_eq!(pad.scales(), hack.scales());
+        assert_eq!(pad.normal_force(), 1500.0);
+        assert_eq!(hack.normal_force(), 1500.0);
+        // Closed form (MODEL.md, "Units"): omega_0 = sqrt(2e5 / 0.8) = 500 rad/s;
+        // nu = c / (2 sqrt(m k)) = 20 / 800 = 0.025; lambda = v_B sqrt(m k) / (mu_k N)
+        // = 0.3 * 400 / 570 = 0.2105...; tau' = tau omega_0 / mu_k = 0.25 / 0.38 = 0.6579;
+        // Phi = arcsin(0.38 / 0.48) = 0.9135.
+        assert!((p.nu - 0.025).abs() < 1e-15);
+        assert!((p.lambda - 120.0 / 570.0).abs() < 1e-15);
+        let sf = p.law.surface().unwrap();
+        assert!((sf.tau - 0.25 / 0.38).abs() < 1e-14);
+        assert!((sf.phi - (0.38f64 / 0.48).asin()).abs() < 1e-15);
+        // The length unit mu_k N / k = 570 / 2e5 m = 2.85 mm.
+        assert!((pad.scales().length - 2.85e-3).abs() < 1e-17);
+        // The weight's normal force is m g.
+        assert_eq!(example().normal_force(), 2.0 * G_STANDARD);
+    }
+
+    /// A normal force <= 0, NaN or infinite is refused naming `normal_force`; `g` and
+    /// `normal_force` both given are refused naming `normal_force` (N replaces m g).
+    #[test]
+    fn a_bad_normal_force_is_named() {
+        for n in [0.0, -1500.0, f64::NAN, f64::INFINITY] {
+            let e = clamped(Load::NormalForce(n)).validate().unwrap_err();
+            assert_eq!(e.key(), Some("normal_force"), "{n}: {e}");
+        }
+        let both = Load::of(Some(9.81), Some(1500.0), G_STANDARD).unwrap_err();
+        assert_eq!(both, CoreError::BothLoads);
+        assert_eq!(both.key(), Some("normal_force"));
+        assert_eq!(
+            Load::of(None, None, G_STANDARD),
+            Ok(Load::Weight(G_STANDARD))
+        );
+        assert_eq!(
+            Load::of(None, Some(1500.0), G_STANDARD),
+            Ok(Load::NormalForce(1500.0))
+        );
     }
 
     /// The static peak's bound is Phi's ([`crate::law::MIN_PHI`], checked by

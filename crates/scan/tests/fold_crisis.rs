@@ -22,7 +22,7 @@ fn brake() -> Physical {
             mu_s: 0.45,
             tau: 1e-3,
         }),
-        g: 9.81,
+        load: squeal_core::Load::Weight(9.81),
     }
 }
 

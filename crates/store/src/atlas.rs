@@ -25,8 +25,8 @@
 //!           ("nondimensional" | "physical"), solver, dt, every fixed parameter (f64, with
 //!           <key>_units), operating_point_x/_v, disturbance_x/_v ([min, max]), shard
 //! coordinates (dimension scales, attrs long_name, units): one per swept parameter, in
-//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g, with
-//!           no mu_s, tau under Coulomb |
+//!           axis order (nu, lambda, tau, phi | m, k, c, v_belt, mu_k, mu_s, tau, g or
+//!           normal_force, with no mu_s, tau under Coulomb |
 //!           xi, v_d, mu_d, mu_sd, v_0, mu_v);
 //!           `point` (length 1) when nothing is swept, `boundary` (length 1) when only the
 //!           damping is
@@ -39,6 +39,7 @@
 //!   returns, evaluations, failures                          u64
 //!   <figure>_si    (physical specs) the same figure in SI units (m, m/s, s, Hz, m^2/s)
 //!   nu, lambda, tau, phi (physical specs: nondim_nu, ...) the nondimensional parameters
+//!   normal_force   (physical specs with g) the normal force m g at each point (N)
 //!   landscape      (law = "stribeck") u8 enum {unknown=0, stick_slip_only=1, bistable=2,
 //!                  steady_slip_only=3, not_computed=255}; CF flags; with
 //!                  fixed_point_damping, stick_cycle_period, stick_cycle_stuck  f64, its

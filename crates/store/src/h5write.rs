@@ -40,13 +40,16 @@ pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
 /// the SI size of one nondimensional unit. A system without McMillan's surfaces (Coulomb)
 /// has no `physical_mu_s` and `physical_tau` (files of older versions carry the values they
-/// were given, which that law never used).
+/// were given, which that law never used). `physical_normal_force` (N) is always there: the
+/// force given, or the weight `m g` of a block under its own weight (then `physical_g` is
+/// there too).
 pub(crate) fn physical_attrs(
     file: &File,
     ph: &squeal_core::Physical,
     swept: Option<&str>,
 ) -> hdf5::Result<()> {
-    let values = ph.values();
+    let mut values = ph.values();
+    values[8] = Some(ph.normal_force());
     let skip = match swept {
         Some("nu") => "c",
         Some("lambda") => "v_belt",

@@ -7,7 +7,8 @@
 //!              u64; the Stribeck law adds <key>_long_name, <key>_units text and the
 //!              counts stick_onsets, breakaways, slip_reversals u64; a run given as a
 //!              physical system adds physical_<key> f64 with its _long_name and _units for
-//!              m, k, c, v_belt, mu_k, mu_s, tau, g, and length_unit, velocity_unit,
+//!              m, k, c, v_belt, mu_k, mu_s, tau, g (when given or by default),
+//!              normal_force (always: m g without one), and length_unit, velocity_unit,
 //!              time_unit, damping_unit f64 with their _units: the SI size of one unit)
 //! t  (t)       f64 dimension scale: nondimensional time (natural period 2 pi)
 //! x, v, a, force (t)   f64, long_name and units "1", attached to t

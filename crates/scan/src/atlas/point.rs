@@ -424,7 +424,7 @@ mod tests {
                 mu_s: 0.45,
                 tau: 1e-3,
             }),
-            g: 9.80665,
+            load: squeal_core::Load::Weight(9.80665),
         }
         .scales();
         let ps = PointSettings {

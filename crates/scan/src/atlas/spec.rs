@@ -74,7 +74,9 @@ pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
 use squeal_core::error::Number;
-use squeal_core::{Classifier, FrictionLaw, Params, Physical, Setup, SolverConfig, SurfaceSi};
+use squeal_core::{
+    Classifier, FrictionLaw, Load, Params, Physical, Setup, SolverConfig, SurfaceSi,
+};
 
 use super::boundary::BoundaryParam;
 use super::figures::PointSettings;
@@ -206,7 +208,7 @@ pub const NONDIMENSIONAL: [(&str, &str, &str); 4] = [
 ];
 
 /// `(key, long name, units)` of the physical parameters, in axis order.
-pub const PHYSICAL: [(&str, &str, &str); 8] = [
+pub const PHYSICAL: [(&str, &str, &str); 9] = [
     ("m", "mass m", "kg"),
     ("k", "stiffness k", "N/m"),
     ("c", "damping coefficient c", "N s/m"),
@@ -215,6 +217,11 @@ pub const PHYSICAL: [(&str, &str, &str); 8] = [
     ("mu_s", "static friction coefficient mu_s", "1"),
     ("tau", "surface time tau", "s"),
     ("g", "gravitational acceleration g", "m/s^2"),
+    (
+        "normal_force",
+        "normal force N pressing the block on the belt (friction is mu N)",
+        "N",
+    ),
 ];
 
 /// `(key, long name, units)` of a law's parameters in axis order ([`FrictionLaw::keys`];
@@ -443,7 +450,7 @@ impl AtlasPlan {
                     value,
                     &format!(
                         "{expected}, in the model's units at parameter point {i} (lengths \
-                         scaled by [physical] m, k, mu_k, g)"
+                         scaled by [physical] m, k, mu_k and g or normal_force)"
                     ),
                 )
             };
@@ -545,7 +552,10 @@ impl AtlasPlan {
                 (Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
                 _ => None,
             },
-            g: need("g"),
+            load: match at("normal_force") {
+                Some(n) => Load::NormalForce(n),
+                None => Load::Weight(need("g")),
+            },
         })
     }
 
@@ -882,6 +892,36 @@ path = "p.h5"
         let scales = p.physical_at(1).unwrap().scales();
         assert_eq!(p.settings_at(1).units, Some(scales));
         assert!(p.settings_at(1).time_words(2.0, 1).ends_with(" s"));
+    }
+
+    /// `normal_force` is an axis of its own (in N) where `g` was: swept, each point's
+    /// system is pressed by its force (friction mu N, so lambda = v_B sqrt(m k) / (mu_k N));
+    /// with `g` beside it, or bisecting in lambda while it is swept, refused by name.
+    #[test]
+    fn a_physical_atlas_takes_the_normal_force() {
+        let text = PHYS
+            .replace("c = [2.0, 4.0]", "c = 2.0")
+            .replace("tau = 3e-3", "tau = 3e-3\nnormal_force = [10.0, 20.0]");
+        let p = AtlasPlan::from_toml(&text, "p.toml").unwrap();
+        let keys: Vec<_> = p.params.iter().map(|a| (a.key, a.units)).collect();
+        assert_eq!(keys.last(), Some(&("normal_force", "N")));
+        assert!(!keys.iter().any(|(k, _)| *k == "g"), "{keys:?}");
+        assert_eq!(p.shape(), vec![2]);
+        for (i, n) in [10.0, 20.0].into_iter().enumerate() {
+            let ph = p.physical_at(i).unwrap();
+            assert_eq!(ph.load, Load::NormalForce(n));
+            // lambda = v_B sqrt(m k) / (mu_k N) = 0.1 * 100 / (0.3 N).
+            assert!((p.params_at(i).lambda - 10.0 / (0.3 * n)).abs() < 1e-13);
+        }
+        let both = text.replace("tau = 3e-3", "tau = 3e-3\ng = 9.81");
+        assert!(
+            err(&both).contains("`physical.normal_force`"),
+            "{}",
+            err(&both)
+        );
+        let in_lambda = text.replace("[output]", "[boundaries]\nin = \"lambda\"\n[output]");
+        let e = err(&in_lambda);
+        assert!(e.contains("normal_force is swept too"), "{e}");
     }
 
     #[test]

@@ -4,10 +4,11 @@
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
 //! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
 //! are McMillan's surfaces: his laws need them, Coulomb refuses them
-//! ([`squeal_core::units::surface_keys`]).
+//! ([`squeal_core::units::surface_keys`]). `normal_force` (N) presses the block on the belt
+//! in place of its weight `m g` ([`Load`]); `g` beside it is refused.
 
 use squeal_core::units::{G_STANDARD, SURFACE_KEYS, surface_keys, takes_surface};
-use squeal_core::{CoreError, FrictionLaw, Physical, SurfaceSi};
+use squeal_core::{CoreError, FrictionLaw, Load, Physical, SurfaceSi};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::error::ScanError;
@@ -16,8 +17,8 @@ use crate::values::{Value, expand};
 use serde::Deserialize;
 
 /// The `[physical]` table: the physical system in SI units (read by the scan spec and
-/// the atlas spec, [`crate::atlas::spec`], and built from the command line's `--m --k --c --v-belt --mu-k --mu-s
-/// --tau-s --g`).
+/// the atlas spec, [`crate::atlas::spec`], and built from the command line's `--m --k --c
+/// --v-belt --mu-k --mu-s --tau-s --g --normal-force`).
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct PhysicalFile {
@@ -34,9 +35,23 @@ pub(crate) struct PhysicalFile {
     pub(crate) tau: Option<Value>,
     #[serde(default)]
     pub(crate) g: Option<Value>,
+    /// The normal force (N) in place of the weight `m g` ([`Load`]).
+    #[serde(default)]
+    pub(crate) normal_force: Option<Value>,
 }
 
 impl PhysicalFile {
+    /// The load of `g` and `normal_force` as given (`g` = [`G_STANDARD`] when neither is):
+    /// both given is refused naming `physical.normal_force`.
+    pub(crate) fn load(&self, invalid: Invalid) -> Result<Load<Value>, ScanError> {
+        Load::of(
+            self.g.clone(),
+            self.normal_force.clone(),
+            Value::One(G_STANDARD),
+        )
+        .map_err(|e| physical_error(e, invalid))
+    }
+
     /// Refuses a surface key `law` does not use, and asks for one it needs (the error names
     /// the key and the law).
     pub(crate) fn check_surface_keys(
@@ -119,6 +134,13 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
                  McMillan's surfaces, for law = \"mcmillan\" and \"mcmillan-nonhysteretic\")"
             ),
         ),
+        CoreError::BothLoads => invalid(
+            &key("normal_force"),
+            "given with g".into(),
+            "no g beside it: the normal force N replaces the block's weight m g in the law \
+             (friction is mu N); give normal_force for a pressed block, or g for one under its \
+             own weight",
+        ),
         e => invalid("physical", String::new(), &e.to_string()),
     }
 }
@@ -128,7 +150,7 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
 pub(crate) fn physical_key(name: &str) -> &str {
     match name {
         "nu" => "c (nu = c / (2 sqrt(m k)))",
-        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g))",
+        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g), or v_belt sqrt(m k) / (mu_k N))",
         "phi" => "mu_s",
         n => n,
     }
@@ -161,9 +183,9 @@ pub(super) fn model(
             "only one of physical.c and physical.v_belt may be swept in one spec",
         ));
     }
-    let g = match &ph.g {
-        Some(g) => one("g", g)?,
-        None => G_STANDARD,
+    let load = match ph.load(invalid)? {
+        Load::Weight(g) => Load::Weight(one("g", &g)?),
+        Load::NormalForce(n) => Load::NormalForce(one("normal_force", &n)?),
     };
     let base = Physical {
         m: one("m", &ph.m)?,
@@ -178,7 +200,7 @@ pub(super) fn model(
             }),
             _ => None,
         },
-        g,
+        load,
     };
     let p0 = check_each(&base, (&cs, &vs), m.law, invalid)?;
     let s = base.scales();
@@ -248,7 +270,7 @@ pub(super) fn grid_to_nondimensional(
             value,
             &format!(
                 "{expected}, in the model's units (the {table} in m and m/s scaled by \
-                 [physical] m, k, mu_k, g)"
+                 [physical] m, k, mu_k and g or normal_force)"
             ),
         )
     };
@@ -338,6 +360,40 @@ path = "b.h5"
         for (text, key) in cases {
             let e = Plan::from_toml(&text, "b.toml").unwrap_err().to_string();
             assert!(e.contains(key), "{key}: {e}");
+        }
+    }
+
+    /// The clamped pad of issue 34 (0.8 kg, 200 kN/m, 1.5 kN) with `normal_force` reads as
+    /// the g-hack `g = N / m = 1875` read (the only way to state it before the key), map
+    /// for map; `g` beside it, or a force <= 0 or not finite, is refused naming the key.
+    #[test]
+    fn a_normal_force_is_read_as_the_weight_it_replaces() {
+        let pad = BRAKE
+            .replace("m = 2.0", "m = 0.8")
+            .replace("k = 5.0e4", "k = 2e5");
+        let clamped = pad.replace("tau = 1e-3\n", "tau = 1e-3\nnormal_force = 1500.0\n");
+        let hack = pad.replace("tau = 1e-3\n", "tau = 1e-3\ng = 1875.0\n");
+        let (p, h) = (
+            Plan::from_toml(&clamped, "b.toml").unwrap(),
+            Plan::from_toml(&hack, "b.toml").unwrap(),
+        );
+        assert_eq!(p.maps, h.maps);
+        assert_eq!(p.grid.x0.max, h.grid.x0.max);
+        let ph = p.physical.unwrap();
+        assert_eq!(ph.load, squeal_core::Load::NormalForce(1500.0));
+        assert_eq!(ph.normal_force(), 1500.0);
+        let bad = [
+            "normal_force = 0.0",
+            "normal_force = -1.0",
+            "normal_force = nan",
+            "normal_force = inf",
+            "normal_force = [1000.0, 1500.0]",
+            "normal_force = 1500.0\ng = 9.81",
+        ];
+        for b in bad {
+            let text = pad.replace("tau = 1e-3\n", &format!("tau = 1e-3\n{b}\n"));
+            let e = Plan::from_toml(&text, "b.toml").unwrap_err().to_string();
+            assert!(e.contains("`physical.normal_force`"), "{b}: {e}");
         }
     }
 

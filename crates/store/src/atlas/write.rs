@@ -189,6 +189,15 @@ fn write_points(
             let v: Vec<f64> = ps.iter().map(value).collect();
             o.put(over, (&format!("nondim_{key}"), long), Some(units), v)?;
         }
+        // A block under its own weight: its normal force m g at each point (one given is an
+        // axis of its own).
+        if !plan.params.iter().any(|a| a.key == "normal_force") {
+            let n: Vec<f64> = (0..plan.n_points())
+                .filter_map(|i| plan.physical_at(i).map(|p| p.normal_force()))
+                .collect();
+            let long = "normal force N = m g (the block's weight; friction is mu N)";
+            o.put(over, ("normal_force", long), Some("N"), n)?;
+        }
     }
     if plan.law.has_true_stick() {
         write_landscape(o, over, res)?;

@@ -20,9 +20,8 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
     let m = &f.model;
     let stribeck = m.law.has_true_stick();
     let (units, params) = if let Some(ph) = &f.physical {
-        let g =
-            ph.g.clone()
-                .unwrap_or(Value::One(squeal_core::units::G_STANDARD));
+        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
+        let load = ph.load(&inv)?;
         // The keys given, in key order: a Coulomb system has no mu_s and tau, McMillan's
         // laws both (checked by the caller, so `zip` drops neither alone).
         let vals = squeal_core::Physical {
@@ -33,7 +32,10 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
             mu_k: &ph.mu_k,
             surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref()))
                 .map(|(mu_s, tau)| squeal_core::SurfaceSi { mu_s, tau }),
-            g: &g,
+            load: match &load {
+                squeal_core::Load::Weight(g) => squeal_core::Load::Weight(g),
+                squeal_core::Load::NormalForce(n) => squeal_core::Load::NormalForce(n),
+            },
         }
         .values();
         let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
@@ -444,7 +446,7 @@ fn bisected(
 }
 
 /// A physical plan with boundaries: the bisected parameter must be swept alone along its
-/// axis (lambda also moves with k, m, mu_k, g and nu with k and m).
+/// axis (lambda also moves with k, m, mu_k, g or normal_force, and nu with k and m).
 fn swept_alone(
     bd: &BoundariesFile,
     boundary_in: BoundaryParam,
@@ -453,7 +455,7 @@ fn swept_alone(
 ) -> Result<(), ScanError> {
     let others: &[&str] = match boundary_in {
         BoundaryParam::Nu => &["m", "k"],
-        BoundaryParam::Lambda => &["m", "k", "mu_k", "g"],
+        BoundaryParam::Lambda => &["m", "k", "mu_k", "g", "normal_force"],
     };
     if let Some(k) = others.iter().find(|k| is_swept(params, k)) {
         if bd.fold.unwrap_or(true) || bd.critical.unwrap_or(true) {
