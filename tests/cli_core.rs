@@ -911,3 +911,87 @@ fn cubic_law_in_ulc_and_critical() {
         "--a1: invalid a1",
     );
 }
+
+/// The label `squeal classify` gives each start of `ics` (CSV text) with the model `flags`.
+fn classify_labels(dir: &Path, ics: &str, flags: &[&str]) -> Vec<(String, String)> {
+    std::fs::write(dir.join("ics.csv"), ics).unwrap();
+    let mut args = vec!["classify", "--ics", "ics.csv", "--out", "o.csv", "--force"];
+    args.extend_from_slice(flags);
+    ok(squeal(dir, &args));
+    let text = std::fs::read_to_string(dir.join("o.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[2].to_string(), f[3].to_string())
+        })
+        .collect()
+}
+
+/// `squeal trajectory --json` from `(x0, v0)` to `t_end` with the model `flags`.
+fn trajectory_json(
+    dir: &Path,
+    (x0, v0): (&str, &str),
+    t_end: &str,
+    flags: &[&str],
+) -> serde_json::Value {
+    let (x0, v0) = (format!("--x0={x0}"), format!("--v0={v0}"));
+    let mut args = vec!["trajectory", &x0, &v0, "--t-end", t_end, "--json"];
+    args.extend_from_slice(flags);
+    serde_json::from_str(&ok(squeal(dir, &args))).expect("one JSON object")
+}
+
+/// Issue 31, items 2 and 5: at lambda = 0.5, nu = 0.0197 the run from (0, 1) has its last
+/// section crossing at t = 3001.7 and ends at the fixed point (`squeal trajectory ... --t-end
+/// 20000` on 48d225a: final state x = 1, x' = 0). There, 48d225a's `trajectory` labelled it
+/// stick_slip (sticking_band at t = 153.85, its band rules set from a section search of
+/// its own) while `classify` said steady_slip (inside_cycle at t = 1447.9): two answers, and
+/// one of them contradicted by its own run. Now both go one path (the map's context) and
+/// the label is where the run ends.
+#[test]
+fn trajectory_and_classify_agree_and_the_run_keeps_its_label() {
+    let dir = tmp();
+    let model = ["--lambda", "0.5", "--nu", "0.0197"];
+    let j = trajectory_json(dir.path(), ("0", "1"), "5000", &model);
+    let c = &j["classification"];
+    let f = &j["final_state"];
+    let at_fp =
+        (f["x"].as_f64().unwrap() - 1.0).abs() < 1e-3 && f["v"].as_f64().unwrap().abs() < 1e-3;
+    assert!(at_fp, "the run ends at the fixed point: {f}");
+    assert_eq!(c["regime"], "steady_slip", "{c}");
+    let labels = classify_labels(dir.path(), "x0,v0\n0,1\n", &model);
+    assert_eq!(labels[0].0, "steady_slip", "{labels:?}");
+    assert_eq!(c["reason"].as_str().unwrap(), labels[0].1, "{c} {labels:?}");
+}
+
+/// Issue 31: the disc brake at c = 300 N s/m (nu = c / 800 = 0.375, lambda 0.21053, tau
+/// 0.65789, phi 0.91353). On 48d225a `classify` labelled these starts stick_slip by
+/// start_outside_cycle and `trajectory` said "not yet settled" (the start rule against its
+/// run), while each run reaches the fixed point (near_fixed_point at t = 35.8 from (0, 0),
+/// 21.4 from (2, 0.5), 38.3 from (-1, -0.5); `squeal trajectory ... --t-end 200` on
+/// 48d225a). The truth here is each trajectory's own run to t = 2000, which must end at
+/// the fixed point; `classify` must say the same.
+#[test]
+fn brake_starts_that_settle_are_labelled_steady_slip_by_every_command() {
+    let dir = tmp();
+    let model = [
+        "--nu", "0.375", "--lambda", "0.21053", "--tau", "0.65789", "--phi", "0.91353",
+    ];
+    let starts = [("0", "0"), ("2", "0.5"), ("-1", "-0.5")];
+    let ics: String = std::iter::once("x0,v0".to_string())
+        .chain(starts.iter().map(|(x, v)| format!("{x},{v}")))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut flags = model.to_vec();
+    flags.extend_from_slice(&["--t-max", "2000"]);
+    let labels = classify_labels(dir.path(), &ics, &flags);
+    for (s, label) in starts.iter().zip(&labels) {
+        let j = trajectory_json(dir.path(), *s, "2000", &model);
+        let f = &j["final_state"];
+        let at_fp =
+            (f["x"].as_f64().unwrap() - 1.0).abs() < 1e-3 && f["v"].as_f64().unwrap().abs() < 1e-3;
+        assert!(at_fp, "{s:?}: the run ends at the fixed point: {f}");
+        assert_eq!(j["classification"]["regime"], "steady_slip", "{s:?}: {j}");
+        assert_eq!(label.0, "steady_slip", "{s:?}: {label:?}");
+    }
+}

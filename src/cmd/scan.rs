@@ -122,6 +122,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
+    // The audit acts before the file is written: a refuted rule is withdrawn and its cells
+    // decided again by runs (journalled: a resume after a signal here redoes what is left).
+    let acted =
+        squeal_scan::redo::act_on_audits(&plan, shard, &mut writer).map_err(|e| match e {
+            squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
+            squeal_scan::DriveError::Sink(e) => anyhow::Error::new(e),
+        })?;
+    for a in &acted {
+        eprintln!(
+            "squeal: map {}: {} cells decided again by runs, without the rules their audit refuted",
+            a.map, a.cells
+        );
+    }
     signals.finishing(&may_draw(&pics))?;
     finish(
         (&args, &signals),

@@ -157,6 +157,13 @@ pub fn report(
     secs: f64,
 ) -> anyhow::Result<()> {
     let rate = computed as f64 / secs.max(1e-9);
+    // Rules whose premise a census run or an audit refuted, withdrawn from their maps
+    // (issue 31): one line each, `map M: ... withdrawn: why` (the file's `rules_withdrawn`).
+    let withdrawn: Vec<&str> = info
+        .attrs
+        .iter()
+        .find(|(k, _)| k == "rules_withdrawn")
+        .map_or_else(Vec::new, |(_, v)| v.lines().collect());
     if json {
         let maps: Vec<_> = (0..info.counts.len())
             .map(|i| map_json(info, &tallies, i))
@@ -165,6 +172,7 @@ pub fn report(
             "output": info.path,
             "pictures": pictures,
             "maps": maps,
+            "rules_withdrawn": withdrawn,
             "cells_computed": computed,
             "seconds": secs,
             "cells_per_second": rate,
@@ -181,6 +189,9 @@ pub fn report(
     );
     for i in 0..info.counts.len() {
         print_map(plan, info, &tallies, i);
+    }
+    for w in &withdrawn {
+        println!("  rule withdrawn, its cells decided by runs: {w}");
     }
     if computed > 0 {
         println!("  {computed} cells in {secs:.2} s: {rate:.0} cells/s");

@@ -68,11 +68,15 @@ pub(super) struct Classification {
     /// Time on stick-slip before the run settled, as a scan stores it per cell
     /// (`squeal_core::classify::t_squeal`; JSON has no infinity, so by kind).
     pub(super) squeal: squeal_core::Squeal,
-    /// The run's own verdict where the label was decided at the start (the start rule of
-    /// `squeal scan` and `classify`), else `null`: the label is the run's.
-    pub(super) run: Option<Verdict>,
-    /// The start rule and the run's own verdict disagree: the label is undecided.
-    pub(super) conflict: bool,
+    /// The run's own verdict (the classifier without the trap or any shortcut; steady slip
+    /// where the run reached the fixed point).
+    pub(super) run: Verdict,
+    /// Whether the label was decided at the start (the start rule of `squeal scan` and
+    /// `classify`), without the run.
+    pub(super) at_start: bool,
+    /// The rule that said stick-slip although the run then reached the fixed point
+    /// (`null` if none): refuted, the label is the run's.
+    pub(super) refuted: Option<&'static str>,
 }
 
 impl Classification {
@@ -81,8 +85,9 @@ impl Classification {
         Classification {
             label: Verdict::of(&t.outcome),
             squeal: squeal_core::Squeal::of(t.outcome.t_squeal),
-            run: t.at_start.then(|| Verdict::of(&t.own)),
-            conflict: t.conflict,
+            run: Verdict::of(&t.own),
+            at_start: t.at_start,
+            refuted: t.refuted.map(|r| r.name()),
         }
     }
 }
@@ -170,23 +175,28 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
         "stick_slip" => "stick-slip",
         _ => "not yet settled",
     };
-    let (l, warn) = (
-        &c.label,
-        "the start rule and the run's own verdict disagree",
-    );
-    match &c.run {
-        None => println!(
+    let l = &c.label;
+    match (c.refuted, c.at_start) {
+        (Some(rule), _) => println!(
+            "ended: {label} (the run: {} at t = {:.6}; the rule {rule}, which squeal scan and \
+             classify label this start by, said stick_slip and is refuted by the run)",
+            l.reason, l.t_decision
+        ),
+        (None, false) => println!(
             "ended: {label} (classifier: {}, {} at t = {:.6})",
             l.regime, l.reason, l.t_decision
         ),
-        Some(r) => println!(
-            "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)\n\
-             the run itself: {} ({} at t = {:.6})",
-            l.reason, r.regime, r.reason, r.t_decision
+        (None, true) => println!(
+            "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)",
+            l.reason
         ),
     }
-    if c.conflict {
-        println!("  WARNING: {warn}: the label is undecided");
+    if c.refuted.is_none() {
+        let r = &c.run;
+        println!(
+            "the run itself: {} ({} at t = {:.6})",
+            r.regime, r.reason, r.t_decision
+        );
     }
     println!("squeal: {}", c.squeal.words());
     let f = &s.final_state;

@@ -11,9 +11,10 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, OnceLock};
 
+use crate::cell::Cell;
 use crate::error::ScanError;
 use crate::executor::{Emit, execute};
-use crate::scanner::{BlockResult, MapContext, Observer, run_block};
+use crate::scanner::{BlockResult, MapContext, Observer, Withdrawn, run_block};
 use crate::spec::Plan;
 use crate::ulc::CycleOutcome;
 
@@ -27,8 +28,28 @@ pub trait Sink {
     fn has_cycle(&self, map: usize) -> bool;
     /// Stores the cycle search of a map: `None` when the plan does not locate cycles.
     fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), Self::Error>;
-    /// Stores a finished block.
+    /// Stores a finished block (a block stored again replaces the one before: the redo of
+    /// [`crate::redo`]).
     fn write_block(&mut self, block: &BlockResult) -> Result<(), Self::Error>;
+    /// The rule groups recorded as withdrawn from map `map` (by its census or an audit), in
+    /// the order recorded; none for a sink that keeps no record.
+    fn withdrawn(&mut self, _map: usize) -> Result<Vec<Withdrawn>, Self::Error> {
+        Ok(Vec::new())
+    }
+    /// Records rule groups withdrawn from map `map`: before its cycle record and before any
+    /// block decided without them, so that a resumed scan knows them.
+    fn write_withdrawn(&mut self, _map: usize, _w: &[Withdrawn]) -> Result<(), Self::Error> {
+        Ok(())
+    }
+    /// The stored cells of block `block` of map `map` (`None`: not stored, or a sink that
+    /// cannot read its blocks back; the audit then cannot act on it).
+    fn stored_block(
+        &mut self,
+        _map: usize,
+        _block: usize,
+    ) -> Result<Option<Vec<Cell>>, Self::Error> {
+        Ok(None)
+    }
 }
 
 /// A sink that keeps everything in memory (tests, small scans, examples).
@@ -38,6 +59,8 @@ pub struct MemorySink {
     pub cycles: std::collections::BTreeMap<usize, Option<CycleOutcome>>,
     /// Blocks by `(map, block)`.
     pub blocks: std::collections::BTreeMap<(usize, usize), BlockResult>,
+    /// Rule groups withdrawn, by map, in the order recorded.
+    pub withdrawn: std::collections::BTreeMap<usize, Vec<Withdrawn>>,
 }
 
 impl MemorySink {
@@ -66,6 +89,21 @@ impl Sink for MemorySink {
     fn write_block(&mut self, block: &BlockResult) -> Result<(), Self::Error> {
         self.blocks.insert((block.map, block.block), block.clone());
         Ok(())
+    }
+    fn withdrawn(&mut self, map: usize) -> Result<Vec<Withdrawn>, Self::Error> {
+        Ok(self.withdrawn.get(&map).cloned().unwrap_or_default())
+    }
+    fn write_withdrawn(&mut self, map: usize, w: &[Withdrawn]) -> Result<(), Self::Error> {
+        let have = self.withdrawn.entry(map).or_default();
+        for x in w {
+            if !have.iter().any(|h| h.rules == x.rules) {
+                have.push(x.clone());
+            }
+        }
+        Ok(())
+    }
+    fn stored_block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, Self::Error> {
+        Ok(self.blocks.get(&(map, block)).map(|b| b.cells.clone()))
     }
 }
 
@@ -189,7 +227,7 @@ impl<E> From<ScanError> for DriveError<E> {
 }
 
 enum Msg {
-    Cycle(usize, Box<Option<CycleOutcome>>),
+    Cycle(usize, Box<Option<CycleOutcome>>, Vec<Withdrawn>),
     Block(BlockResult),
 }
 
@@ -206,6 +244,12 @@ pub fn drive<S: Sink>(
     stop: &AtomicBool,
 ) -> Result<DriveReport, DriveError<S::Error>> {
     let pending = Pending::of(plan, shard, &*sink);
+    // The groups an audit withdrew before a resume: the map's blocks still to compute are
+    // decided without them (a census withdraws its own again when the map is prepared).
+    let recorded = (0..plan.maps.len())
+        .map(|m| sink.withdrawn(m))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(DriveError::Sink)?;
     let need_cycle: Vec<bool> = (0..plan.maps.len()).map(|m| !sink.has_cycle(m)).collect();
     let ctxs: Vec<OnceLock<Option<Arc<MapContext>>>> =
         (0..plan.maps.len()).map(|_| OnceLock::new()).collect();
@@ -224,19 +268,23 @@ pub fn drive<S: Sink>(
     let mut report = DriveReport::default();
     let mut cycles_written = 0usize;
     let work = |(m, b): (usize, Option<usize>), emit: &dyn Fn(Emit<Msg, ScanError>)| {
-        let ctx = ctxs[m].get_or_init(|| match MapContext::prepare(plan, m) {
-            Ok(ctx) => {
-                if need_cycle[m] {
-                    emit(Emit::Done(Msg::Cycle(m, Box::new(ctx.cycle.clone()))));
-                }
-                observer.map_prepared(m);
-                Some(Arc::new(ctx))
-            }
-            Err(e) => {
-                emit(Emit::Failed(e));
-                None
-            }
-        });
+        let ctx =
+            ctxs[m].get_or_init(
+                || match MapContext::prepare_without(plan, m, &recorded[m]) {
+                    Ok(ctx) => {
+                        if need_cycle[m] {
+                            let cycle = Box::new(ctx.cycle.clone());
+                            emit(Emit::Done(Msg::Cycle(m, cycle, ctx.withdrawn.clone())));
+                        }
+                        observer.map_prepared(m);
+                        Some(Arc::new(ctx))
+                    }
+                    Err(e) => {
+                        emit(Emit::Failed(e));
+                        None
+                    }
+                },
+            );
         let (Some(ctx), Some(b)) = (ctx, b) else {
             return;
         };
@@ -247,8 +295,11 @@ pub fn drive<S: Sink>(
         }
     };
     execute(jobs, stop, work, |msg| match msg {
-        Msg::Cycle(m, c) => {
+        Msg::Cycle(m, c, w) => {
             cycles_written += 1;
+            if !w.is_empty() {
+                sink.write_withdrawn(m, &w).map_err(DriveError::Sink)?;
+            }
             sink.write_cycle(m, (*c).as_ref()).map_err(DriveError::Sink)
         }
         Msg::Block(r) => {

@@ -312,11 +312,21 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         c.cell *= share;
         c.audit *= share;
     }
+    // The audit samples each rule group apart ([`crate::scanner::AuditRates`]): up to
+    // AUDIT_PER_RULE cells for each of the start rule's groups and as many run-decided cells,
+    // beside the plan's own interval. Counted at that bound.
+    let groups = crate::census::Rules::ALL.len() + 1;
+    let audited_per_map = match plan.audit_every {
+        0 => 0,
+        _ => audited
+            .len()
+            .max(per_map.min(groups * crate::scanner::AUDIT_PER_RULE)),
+    };
     Ok(Estimate {
         cells: costs.iter().map(|c| c.cells).sum(),
         pilot_seconds: t0.elapsed().as_secs_f64(),
         per_map: costs,
-        audited_per_map: audited.len(),
+        audited_per_map,
         cells_per_map: per_map,
     })
 }

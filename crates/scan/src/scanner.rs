@@ -13,6 +13,7 @@ use squeal_core::{
 
 use crate::cell::Audit;
 pub use crate::cell::Cell;
+use crate::census::{self, Census, Rules};
 use crate::curve::{ClosedCurve, CurveLocator};
 use crate::error::ScanError;
 use crate::section::{self, SectionCycles};
@@ -136,6 +137,12 @@ impl StartRule {
     /// The margin: starts closer than this to the curve are run.
     pub fn margin(&self) -> f64 {
         self.margin
+    }
+
+    /// The closed curve whose sides the rule decides (the located cycle, or the upper
+    /// decaying turn).
+    pub fn curve(&self) -> &ClosedCurve {
+        self.curve.curve()
     }
 
     /// The label of start `p`, if it lies farther than the margin from the curve.
@@ -333,6 +340,84 @@ pub struct MapContext {
     pub outside: Option<Outside>,
     /// The certified early decisions ([`shortcuts`]).
     pub shortcuts: Shortcuts,
+    /// The runs that checked the premise of the start rule, the trap and the band rules
+    /// ([`crate::census`]), and the rules they withdrew; `None` where none was taken.
+    pub census: Option<Census>,
+    /// The rule groups withdrawn from this map, by the census or by an audit, with why.
+    pub withdrawn: Vec<Withdrawn>,
+    /// How often the cells of each kind of decision are audited ([`AuditRates`]).
+    pub audit_rates: AuditRates,
+}
+
+/// A rule group withdrawn from a map, and why (as the file and the summary say it).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Withdrawn {
+    /// The group.
+    pub rules: Rules,
+    /// Why: the run that refuted it.
+    pub why: String,
+}
+
+/// Audited cells per rule group: a rule that mislabels a fraction `p` of the cells it decides
+/// goes unseen by `n` audited cells of its own with probability `(1 - p)^n`; with
+/// `n = 100` a leak of 5% is missed with probability 0.6%, one of 3% with 4.8%.
+pub const AUDIT_PER_RULE: usize = 100;
+
+/// The audit's sampling intervals of one map (0: no audit). Each cell is audited by the hash
+/// of its index ([`audited`]) at the interval of the kind of decision it got, so the sample
+/// stays deterministic cell by cell (threads, blocks and resumes do not move it): the plan's
+/// `audit_every`, shortened for each group of the start rule so that about
+/// [`AUDIT_PER_RULE`] of the cells it decides are audited (all of them where it decides
+/// fewer), and for cells decided by runs so that about that many of them are audited (the
+/// rules that stop runs early share those; which rule a run ends by is not known before it
+/// runs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AuditRates {
+    /// The plan's interval (`classifier.audit_every`).
+    pub every: u64,
+    /// For cells decided at the start, by group ([`Rules`] index).
+    pub at_start: [u64; 4],
+    /// For cells decided by a run.
+    pub run: u64,
+}
+
+impl AuditRates {
+    /// The rates of `ctx`'s map of `plan`: the start rule's decisions counted over the
+    /// grid (a test of the start's side, no run).
+    fn of_plan(ctx: &MapContext, plan: &Plan) -> AuditRates {
+        let (every, g) = (plan.audit_every, &plan.grid);
+        if every == 0 {
+            return AuditRates::default();
+        }
+        let (mut at_start, mut run) = ([0usize; 4], 0usize);
+        for row in 0..g.v0.count {
+            for col in 0..g.x0.count {
+                let (x, v) = g.state(row, col);
+                match ctx.decide_at_start(State { x, v }) {
+                    Some(o) => {
+                        if let Some(r) = Rules::of(o.reason) {
+                            at_start[r as usize] += 1;
+                        }
+                    }
+                    None => run += 1,
+                }
+            }
+        }
+        let rate = |n: usize| every.min((n / AUDIT_PER_RULE).max(1) as u64);
+        AuditRates {
+            every,
+            at_start: at_start.map(rate),
+            run: rate(run),
+        }
+    }
+
+    /// The interval for a cell decided as `out` (at the start or not).
+    fn for_cell(&self, out: &Outcome, at_start: bool) -> u64 {
+        match (at_start, Rules::of(out.reason)) {
+            (true, Some(r)) => self.at_start[r as usize],
+            _ => self.run,
+        }
+    }
 }
 
 pub use crate::band::{Outside, outside_of, outside_on, outside_with};
@@ -398,6 +483,16 @@ impl MapContext {
     /// Builds the stepper and, as the plan asks, searches the section once: the trap for
     /// early stopping and the located cycle both come from that one search.
     pub fn prepare(plan: &Plan, map: usize) -> Result<MapContext, ScanError> {
+        MapContext::prepare_checked(plan, map, true)
+    }
+
+    /// [`MapContext::prepare`], with the census of the rules' premise or without it (tests
+    /// of what acts on a rule that was not withdrawn).
+    pub(crate) fn prepare_checked(
+        plan: &Plan,
+        map: usize,
+        census: bool,
+    ) -> Result<MapContext, ScanError> {
         let params = plan.maps[map];
         let stepper = Stepper::new(params, plan.dt, plan.solver)?;
         let cs = cycle_settings(plan, &params);
@@ -462,7 +557,7 @@ impl MapContext {
         if let (None, Some(top)) = (&start_rule, shortcuts.decay_below) {
             start_rule = decaying_turns(&stepper, &cs, plan.trap_margin, top, &mut shortcuts);
         }
-        Ok(MapContext {
+        let mut ctx = MapContext {
             map,
             params,
             stepper,
@@ -473,7 +568,105 @@ impl MapContext {
             shortcuts,
             landscape,
             outside,
-        })
+            census: None,
+            withdrawn: Vec::new(),
+            audit_rates: AuditRates::default(),
+        };
+        if census {
+            ctx.check_premises(plan, cs.r_max / 1.2);
+        }
+        ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
+        Ok(ctx)
+    }
+
+    /// The census of [`crate::census`] for McMillan's laws where the start rule, the trap
+    /// or the band rules could decide a cell, and the withdrawal of the rule groups whose
+    /// premise a run contradicted. `reach` is the radius of its starts around the fixed
+    /// point where the grid is a single point.
+    fn check_premises(&mut self, plan: &Plan, reach: f64) {
+        let smooth = matches!(
+            self.params.kind(),
+            FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic
+        );
+        let cycle_rule = self
+            .start_rule
+            .as_ref()
+            .filter(|r| r.inside == Reason::StartInsideCycle);
+        let rules_on =
+            cycle_rule.is_some() || self.classifier.trap.is_some() || self.classifier.band_rules;
+        if !smooth || !rules_on {
+            return;
+        }
+        let curve = cycle_rule.map(|r| r.curve().clone());
+        let c = census::take(
+            plan,
+            &self.stepper,
+            &self.classifier,
+            (curve.as_ref(), reach),
+            |ic| self.classify(ic),
+        );
+        for w in &c.withdrawn {
+            self.withdraw(w.rules);
+            self.withdrawn.push(Withdrawn {
+                rules: w.rules,
+                why: w.to_string(),
+            });
+        }
+        self.census = Some(c);
+    }
+
+    /// Withdraws the rule group `rules` from this map: its cells are then decided by runs
+    /// (or by the rules that remain).
+    pub fn withdraw(&mut self, rules: Rules) {
+        let cycle_rule = |r: &StartRule| r.inside == Reason::StartInsideCycle;
+        match rules {
+            Rules::Band => self.classifier.band_rules = false,
+            Rules::Outside => {
+                if let Some(t) = self.classifier.trap.as_mut() {
+                    t.r_outer = f64::INFINITY;
+                }
+                if let Some(r) = self.start_rule.as_mut().filter(|r| cycle_rule(r)) {
+                    r.outside = false;
+                }
+            }
+            Rules::Inside => {
+                if let Some(t) = self.classifier.trap.as_mut() {
+                    t.r_inner = f64::NEG_INFINITY;
+                }
+                if self.start_rule.as_ref().is_some_and(cycle_rule) {
+                    self.start_rule = None;
+                }
+            }
+            Rules::Shortcuts => {
+                self.shortcuts = Shortcuts::NONE;
+                if self.start_rule.as_ref().is_some_and(|r| !cycle_rule(r)) {
+                    self.start_rule = None;
+                }
+            }
+        }
+        let idle = |t: &Trap| t.r_inner == f64::NEG_INFINITY && t.r_outer == f64::INFINITY;
+        if self.classifier.trap.is_some_and(|t| idle(&t)) {
+            self.classifier.trap = None;
+        }
+    }
+
+    /// The map of `plan` prepared as [`MapContext::prepare`] does, with the rule groups
+    /// `withdrawn` (each with why) withdrawn too: what an audit that found them wrong
+    /// decides the map's cells again with ([`crate::redo`]).
+    pub fn prepare_without(
+        plan: &Plan,
+        map: usize,
+        withdrawn: &[Withdrawn],
+    ) -> Result<MapContext, ScanError> {
+        let mut ctx = MapContext::prepare(plan, map)?;
+        for w in withdrawn {
+            if !ctx.withdrawn.iter().any(|x| x.rules == w.rules) {
+                ctx.withdraw(w.rules);
+                ctx.withdrawn.push(w.clone());
+            }
+        }
+        ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
+        Ok(ctx)
     }
 
     /// Classifies one start: by the start rule or the certified region when they decide,
@@ -524,9 +717,15 @@ impl MapContext {
         let g = &plan.grid;
         let (x, v) = g.state(row, col);
         let ic = State { x, v };
-        let out = self.classify(ic);
+        let at = self.decide_at_start(ic);
+        let started = at.is_some();
+        let out = at.unwrap_or_else(|| {
+            self.classifier
+                .classify_with(&self.stepper, ic, self.shortcuts)
+        });
         let mut cell = Cell::from(&out);
-        if self.audits() && audited((row * g.x0.count + col) as u64, plan.audit_every) {
+        let every = self.audit_rates.for_cell(&out, started);
+        if self.audits() && audited((row * g.x0.count + col) as u64, every) {
             let reference = self.settle(ic).regime;
             cell.audit = match reference {
                 Regime::Undecided => Audit::Undecided,

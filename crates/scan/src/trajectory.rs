@@ -1,16 +1,17 @@
 //! One run from a start to `t_end`, integrated once, with everything `squeal trajectory` and
-//! the Python `squeal.trajectory` report about it: the kept samples, the classifier's
-//! verdict (taken at its decision while the run goes on to `t_end`, with the band rules every
-//! path uses, [`crate::scanner::classifier_for`]), the final oscillation from the last
-//! crossings of the section `x = x*, x' > 0`, the stick phases of a law with true stick and
-//! the solver's counts. Both front ends call [`run`]; neither has a stepping loop of its own.
+//! the Python `squeal.trajectory` report about it: the kept samples, the label every path
+//! gives the start (taken at its decision while the run goes on to `t_end`, and refuted where
+//! the run then contradicts it), the final oscillation from the last crossings of the section
+//! `x = x*, x' > 0`, the stick phases of a law with true stick and the solver's counts. Both
+//! front ends call [`run_in`]; neither has a stepping loop of its own.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde::Serialize;
 use squeal_core::classify::crossing;
 use squeal_core::{
-    Classifier, Outcome, Reason, Regime, Run, Sample, Samples, SolverStats, State, Step, Stepper,
+    Classifier, Outcome, Reason, Regime, Run, Sample, Samples, Shortcuts, SolverStats, State, Step,
+    Stepper,
 };
 
 use crate::error::ScanError;
@@ -171,17 +172,21 @@ impl Span {
 pub struct Trajectory {
     /// The kept samples.
     pub samples: Samples,
-    /// The label of the start, as every path gives it ([`run_in`]: the map's start rule
-    /// where it decides, as `squeal scan` and `squeal classify` do; else, and with
-    /// [`run`], the run's own verdict).
+    /// The label of the start, as every path gives it ([`run_in`]), unless the run refuted
+    /// it ([`Trajectory::refuted`]): then the run's own verdict.
     pub outcome: Outcome,
-    /// The classifier's verdict on this run (`time_limit` if undecided by `t_end`).
+    /// The run's own verdict (the map's classifier without the trap or any shortcut: the
+    /// fixed point reached, or its band rules), unless the run refuted it as it refutes the
+    /// label.
     pub own: Outcome,
+    /// The run with no rule at all: steady slip where it reached the fixed point by
+    /// `t_end`, else undecided (`time_limit`: still moving at `t_end`).
+    pub rest: Outcome,
     /// The label was decided at the start, without the run ([`run_in`]).
     pub at_start: bool,
-    /// The start rule decided the label and the run's own verdict is decided the other
-    /// way: the label is then undecided (never one of the two guessed).
-    pub conflict: bool,
+    /// The rule that labelled the start stick-slip although its run then reached the fixed
+    /// point: refuted by the run, whose verdict is the label.
+    pub refuted: Option<Reason>,
     /// The steady-slip fixed point.
     pub fixed_point: State,
     /// The final oscillation.
@@ -202,33 +207,24 @@ pub struct Trajectory {
     pub steps: u64,
 }
 
-/// The band rules and limits every path sets for a run from `ic` to `t_end`
-/// ([`crate::scanner::classifier_for`], its section searched out to beyond the start).
-fn classifier(stepper: &Stepper, base: &Classifier, span: &Span) -> Classifier {
-    let fp = stepper.params().fixed_point();
-    crate::scanner::classifier_for(
-        stepper,
-        Classifier {
-            t_max: span.t_end,
-            ..*base
-        },
-        1.2 * (span.ic.x - fp.x).hypot(span.ic.v - fp.v),
-    )
-}
-
 /// Runs `span` with `stepper` to its end (or until `stop` is raised, checked every 4096
-/// steps, or the state is no longer finite), the classifier `base` watching.
-pub fn run(
+/// steps, or the state is no longer finite), three classifiers watching the one run, each
+/// verdict taken at its decision while the run goes on: `label` with `shortcuts` (the rules
+/// a scan decides by), `own` (the run's own verdict: no trap, no shortcut) and `rest` (no
+/// rule at all: only the fixed point reached decides).
+fn watch_run(
     stepper: &Stepper,
-    base: &Classifier,
+    (label, shortcuts): (&Classifier, Shortcuts),
+    (own_cl, rest_cl): (&Classifier, &Classifier),
     span: Span,
     stop: Option<&AtomicBool>,
 ) -> Trajectory {
     let p = *stepper.params();
     let fp = p.fixed_point();
-    let cl = classifier(stepper, base, &span);
-    let mut watch = cl.watch(&p);
-    let mut outcome = None;
+    let mut watch = label.watch_with(&p, shortcuts);
+    let mut own_watch = own_cl.watch(&p);
+    let mut rest_watch = rest_cl.watch(&p);
+    let (mut outcome, mut own, mut rest) = (None, None, None);
     let mut run = Run::new(stepper, span.ic);
     let mut samples = Samples::default();
     let mut unconverged = Unconverged::default();
@@ -251,6 +247,16 @@ pub fn run(
                 outcome = Some(watch.finish(decision, &run));
             }
         }
+        if own.is_none() {
+            if let Some(decision) = own_watch.observe(&run, &step) {
+                own = Some(own_watch.finish(decision, &run));
+            }
+        }
+        if rest.is_none() {
+            if let Some(decision) = rest_watch.observe(&run, &step) {
+                rest = Some(rest_watch.finish(decision, &run));
+            }
+        }
         if let Some(c) = crossing(fp.x, &step.prev, &n) {
             osc.observe(c.t, c.r);
         }
@@ -264,14 +270,17 @@ pub fn run(
             break;
         }
     }
-    let outcome =
-        outcome.unwrap_or_else(|| watch.finish((Regime::Undecided, Reason::TimeLimit), &run));
+    let undecided = (Regime::Undecided, Reason::TimeLimit);
+    let outcome = outcome.unwrap_or_else(|| watch.finish(undecided, &run));
+    let own = own.unwrap_or_else(|| own_watch.finish(undecided, &run));
+    let rest = rest.unwrap_or_else(|| rest_watch.finish(undecided, &run));
     Trajectory {
         samples,
         outcome,
-        own: outcome,
+        own,
+        rest,
         at_start: false,
-        conflict: false,
+        refuted: None,
         fixed_point: fp,
         oscillation: osc,
         stick,
@@ -284,35 +293,91 @@ pub fn run(
     }
 }
 
-/// [`run`] in the map context `ctx` (its stepper and classifier, [`MapContext::prepare`]):
-/// the label is the one [`MapContext::classify`] gives the start, so `squeal trajectory`,
-/// `classify` and `scan` agree. Where the start rule or the certified region decides the
-/// start without a run, that is the label and the run's own verdict is kept beside it in
-/// [`Trajectory::own`]; if the run then ends the other way, the two findings conflict and
-/// the label is undecided. Elsewhere the label is the run's own verdict (the band rules
-/// every path sets; the trap and the shortcuts of a scan only decide earlier, never
-/// otherwise, and the run watched here has neither: it goes to settlement).
+/// One run from `span`'s start to its end in the map context `ctx` ([`MapContext::prepare`]),
+/// labelled as [`MapContext::classify`] labels the start (`squeal classify`, `scan`): by the
+/// start rule or the certified region where they decide it, else by the map's classifier
+/// (its trap, band rules and shortcuts) watching this run, with `t_max = t_end`. One path:
+/// the same rules in the same order, so the commands agree.
+///
+/// The run goes on to `t_end` after that decision, watched also by the classifier without
+/// the trap or a shortcut ([`Trajectory::own`]) and by one without any rule
+/// ([`Trajectory::rest`]: only the fixed point reached decides). A run never contradicts its
+/// own label: where a rule said stick-slip and the run then reaches the fixed point, the
+/// rule is refuted by the run ([`Trajectory::refuted`]) and the label is the run's.
 pub fn run_in(ctx: &MapContext, span: Span, stop: Option<&AtomicBool>) -> Trajectory {
-    // The run's own verdict without the trap (as the scan's audit, [`MapContext::settle`]):
-    // evidence apart from the planar argument the start rule rests on.
-    let own = Classifier {
-        trap: None,
+    let label = Classifier {
+        t_max: span.t_end,
         ..ctx.classifier
     };
-    let mut t = run(&ctx.stepper, &own, span, stop);
-    if let Some(at) = ctx.decide_at_start(span.ic) {
+    let own = Classifier {
+        trap: None,
+        ..label
+    };
+    let rest = Classifier {
+        band_rules: false,
+        ..own
+    };
+    let at = ctx.decide_at_start(span.ic);
+    let shortcuts = match at {
+        Some(_) => Shortcuts::NONE,
+        None => ctx.shortcuts,
+    };
+    let mut t = watch_run(&ctx.stepper, (&label, shortcuts), (&own, &rest), span, stop);
+    if let Some(at) = at {
         t.at_start = true;
-        t.conflict = t.own.regime != Regime::Undecided && t.own.regime != at.regime;
-        t.outcome = match t.conflict {
-            true => Outcome {
-                regime: Regime::Undecided,
-                t_squeal: squeal_core::classify::t_squeal(Regime::Undecided, at.reason, 0.0),
-                ..at
-            },
-            false => at,
-        };
+        t.outcome = at;
     }
+    refute(&mut t);
     t
+}
+
+/// The band rules and limits every path sets for a run from `ic` to `t_end`
+/// ([`crate::scanner::classifier_for`], its section searched out to beyond the start).
+fn classifier(stepper: &Stepper, base: &Classifier, span: &Span) -> Classifier {
+    let fp = stepper.params().fixed_point();
+    crate::scanner::classifier_for(
+        stepper,
+        Classifier {
+            t_max: span.t_end,
+            ..*base
+        },
+        1.2 * (span.ic.x - fp.x).hypot(span.ic.v - fp.v),
+    )
+}
+
+/// Runs `span` with `stepper` to its end (or until `stop` is raised, checked every 4096
+/// steps, or the state is no longer finite), labelled by `base` with the band rules set by
+/// the section searched out to beyond the start ([`crate::scanner::classifier_for`]), with
+/// no map context: no start rule, no shortcut. The run keeps its label as [`run_in`] does.
+pub fn run(
+    stepper: &Stepper,
+    base: &Classifier,
+    span: Span,
+    stop: Option<&AtomicBool>,
+) -> Trajectory {
+    let cl = classifier(stepper, base, &span);
+    let rest = Classifier {
+        trap: None,
+        band_rules: false,
+        ..cl
+    };
+    let mut t = watch_run(stepper, (&cl, Shortcuts::NONE), (&cl, &rest), span, stop);
+    refute(&mut t);
+    t
+}
+
+/// A run never contradicts its own label: where the label (or the run's own verdict) is
+/// stick-slip and the run then reached the fixed point, the rule that said so is refuted
+/// and the run's verdict stands.
+fn refute(t: &mut Trajectory) {
+    let settles = t.rest.regime == Regime::SteadySlip;
+    if t.outcome.regime == Regime::StickSlip && settles {
+        t.refuted = Some(t.outcome.reason);
+        t.outcome = t.rest;
+    }
+    if t.own.regime == Regime::StickSlip && settles {
+        t.own = t.rest;
+    }
 }
 
 #[cfg(test)]

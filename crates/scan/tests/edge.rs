@@ -415,7 +415,7 @@ path = "x.h5"
     };
     let t = run_in(&ctx, span, None);
     assert_eq!(t.outcome.regime, scan.regime);
-    assert!(t.at_start && !t.conflict);
+    assert!(t.at_start && t.refuted.is_none());
     // The run alone cannot tell by t = 200: no stick, no settled band yet; so the old path
     // (the run alone, as `squeal trajectory` set it up before) said undecided.
     assert_eq!(t.own.regime, Regime::Undecided);

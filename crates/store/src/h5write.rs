@@ -25,6 +25,10 @@ pub(crate) trait Source {
     fn block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError>;
     /// The recorded cycle of a map, if any.
     fn cycle(&mut self, map: usize) -> Result<Option<CycleRecord>, StoreError>;
+    /// The rule groups withdrawn from a map (issue 31), one line each with why.
+    fn withdrawn(&mut self, _map: usize) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// What goes in the root attributes besides the plan.
@@ -217,6 +221,16 @@ fn write_all(
     // per map, or none at all for laws without it.
     let landscape = |m: usize| landscapes.get(m).and_then(Option::as_ref);
     let maps = write_cells(plan, src, path, &vars, &landscape)?;
+    // The rules withdrawn from each map, with why: one line per group, `map M: ...`
+    // (empty where every rule's premise held and no audit refuted one).
+    let withdrawn: Vec<String> = (0..plan.maps.len())
+        .flat_map(|m| {
+            src.withdrawn(m)
+                .into_iter()
+                .map(move |l| format!("map {m}: {l}"))
+        })
+        .collect();
+    str_attr(file, "rules_withdrawn", &withdrawn.join("\n")).h5(path)?;
     let over = Over {
         shape: vec![plan.maps.len()],
         scales: vec![sc.map.clone()],

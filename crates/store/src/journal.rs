@@ -41,6 +41,8 @@ pub(crate) const KIND_ATLAS_HEADER: u8 = b'A';
 pub(crate) const KIND_UNIT: u8 = b'U';
 pub(crate) const KIND_BLOCK: u8 = b'B';
 pub(crate) const KIND_CYCLE: u8 = b'C';
+/// Rule groups withdrawn from a map (issue 31: its census or its audit refuted them).
+pub(crate) const KIND_WITHDRAWN: u8 = b'W';
 const FRAME: usize = 4 + 1 + 4;
 
 /// FNV-1a, 64 bits.
@@ -175,6 +177,32 @@ pub(crate) fn encode_cycle(map: usize, rec: &CycleRecord) -> Vec<u8> {
     e.u64(map as u64);
     e.str(&crate::cycle::to_text(rec, true));
     e.0
+}
+
+pub(crate) fn encode_withdrawn(map: usize, w: &[squeal_scan::scanner::Withdrawn]) -> Vec<u8> {
+    let mut e = Enc::default();
+    e.u64(map as u64);
+    e.u64(w.len() as u64);
+    for x in w {
+        e.str(x.rules.name());
+        e.str(&x.why);
+    }
+    e.0
+}
+
+pub(crate) fn decode_withdrawn(p: &[u8]) -> Option<(usize, Vec<squeal_scan::scanner::Withdrawn>)> {
+    let mut d = Dec::new(p);
+    let map = usize::try_from(d.u64()?).ok()?;
+    let n = d.u64()?;
+    let mut w = Vec::new();
+    for _ in 0..n {
+        let rules = squeal_scan::census::Rules::from_name(&d.str()?)?;
+        w.push(squeal_scan::scanner::Withdrawn {
+            rules,
+            why: d.str()?,
+        });
+    }
+    d.done().then_some((map, w))
 }
 
 pub(crate) fn decode_cycle(p: &[u8]) -> Option<(usize, CycleRecord)> {

@@ -216,8 +216,13 @@ pub struct ScanWriter {
     journal: Journal,
     blocks: Blocks,
     cycles: BTreeMap<usize, Rec>,
+    /// Rule groups withdrawn, by map (issue 31), in the order recorded.
+    withdrawn: Withdrawals,
     _lock: OutputLock,
 }
+
+/// Rule groups withdrawn from each map, in the order recorded.
+type Withdrawals = BTreeMap<usize, Vec<squeal_scan::scanner::Withdrawn>>;
 
 impl std::fmt::Debug for ScanWriter {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -272,6 +277,7 @@ impl ScanWriter {
             journal,
             blocks: BTreeMap::new(),
             cycles: BTreeMap::new(),
+            withdrawn: BTreeMap::new(),
             _lock: lock,
         })
     }
@@ -293,7 +299,7 @@ impl ScanWriter {
         let plan = output::started_plan(&jpath, &header.spec, plan, &plan.spec_text)?;
         preflight(out, &plan, shard, prov)?;
         same_shard(&jpath, &header.shard, shard)?;
-        let (blocks, cycles) = index_records(&mut journal, recs, &plan, shard)?;
+        let (blocks, cycles, withdrawn) = index_records(&mut journal, recs, &plan, shard)?;
         Ok(ScanWriter {
             out: out.to_path_buf(),
             plan,
@@ -302,6 +308,7 @@ impl ScanWriter {
             journal,
             blocks,
             cycles,
+            withdrawn,
             _lock: lock,
         })
     }
@@ -426,6 +433,7 @@ impl ScanWriter {
             journal: &mut self.journal,
             blocks: &self.blocks,
             cycles: &self.cycles,
+            withdrawn: &self.withdrawn,
         };
         let wrong = match h5write::assemble(&tmp, &plan, &meta, &mut src, &landscapes) {
             Ok(w) => w,
@@ -455,6 +463,44 @@ impl squeal_scan::Sink for ScanWriter {
     }
     fn write_block(&mut self, block: &BlockResult) -> Result<(), StoreError> {
         ScanWriter::write_block(self, block)
+    }
+    fn withdrawn(
+        &mut self,
+        map: usize,
+    ) -> Result<Vec<squeal_scan::scanner::Withdrawn>, StoreError> {
+        Ok(self.withdrawn.get(&map).cloned().unwrap_or_default())
+    }
+    fn write_withdrawn(
+        &mut self,
+        map: usize,
+        w: &[squeal_scan::scanner::Withdrawn],
+    ) -> Result<(), StoreError> {
+        self.journal
+            .append(journal::KIND_WITHDRAWN, &journal::encode_withdrawn(map, w))?;
+        add_withdrawn(self.withdrawn.entry(map).or_default(), w);
+        Ok(())
+    }
+    fn stored_block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError> {
+        let Some(r) = self.blocks.get(&(map, block)) else {
+            return Ok(None);
+        };
+        let p = self.journal.read(r)?;
+        let (_, _, cells) = journal::decode_block(&p).ok_or_else(|| StoreError::NotSquealFile {
+            path: self.journal.path.clone(),
+            why: "a block record changed on disk".into(),
+        })?;
+        Ok(Some(cells))
+    }
+}
+
+impl ScanWriter {
+    /// The rule groups withdrawn from each map so far (issue 31), one line each with why:
+    /// `(map, line)` in map order.
+    pub fn withdrawn_lines(&self) -> Vec<(usize, String)> {
+        self.withdrawn
+            .iter()
+            .flat_map(|(m, w)| w.iter().map(move |x| (*m, x.why.clone())))
+            .collect()
     }
 }
 
@@ -564,9 +610,10 @@ fn index_records(
     recs: Vec<Rec>,
     plan: &Plan,
     shard: Option<Shard>,
-) -> Result<(Blocks, BTreeMap<usize, Rec>), StoreError> {
+) -> Result<(Blocks, BTreeMap<usize, Rec>, Withdrawals), StoreError> {
     let mut blocks = BTreeMap::new();
     let mut cycles = BTreeMap::new();
+    let mut withdrawn = Withdrawals::new();
     let path = journal.path.clone();
     let corrupt = |why: String| StoreError::NotSquealFile {
         path: path.clone(),
@@ -594,16 +641,40 @@ fn index_records(
                 }
                 cycles.insert(m, r);
             }
+            journal::KIND_WITHDRAWN => {
+                let (m, w) = journal::decode_withdrawn(&payload)
+                    .ok_or_else(|| corrupt("a malformed record of withdrawn rules".into()))?;
+                if m >= plan.maps.len() {
+                    return Err(corrupt(format!(
+                        "withdrawn rules for map {m} of {}",
+                        plan.maps.len()
+                    )));
+                }
+                add_withdrawn(withdrawn.entry(m).or_default(), &w);
+            }
             k => return Err(corrupt(format!("an unknown record kind {k}"))),
         }
     }
-    Ok((blocks, cycles))
+    Ok((blocks, cycles, withdrawn))
+}
+
+/// Adds the groups of `w` not yet in `have`.
+fn add_withdrawn(
+    have: &mut Vec<squeal_scan::scanner::Withdrawn>,
+    w: &[squeal_scan::scanner::Withdrawn],
+) {
+    for x in w {
+        if !have.iter().any(|h| h.rules == x.rules) {
+            have.push(x.clone());
+        }
+    }
 }
 
 struct JournalSource<'a> {
     journal: &'a mut Journal,
     blocks: &'a Blocks,
     cycles: &'a BTreeMap<usize, Rec>,
+    withdrawn: &'a Withdrawals,
 }
 
 impl Source for JournalSource<'_> {
@@ -629,6 +700,12 @@ impl Source for JournalSource<'_> {
             why: "a cycle record changed on disk".into(),
         })?;
         Ok(Some(rec))
+    }
+
+    fn withdrawn(&mut self, map: usize) -> Vec<String> {
+        self.withdrawn
+            .get(&map)
+            .map_or_else(Vec::new, |w| w.iter().map(|x| x.why.clone()).collect())
     }
 }
 

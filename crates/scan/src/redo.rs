@@ -1,0 +1,241 @@
+//! The audit that acts (issue 31): a rule an audited cell refutes is withdrawn from its map,
+//! and every cell it decided there is decided again without it, before the file is written.
+//!
+//! The audit ([`crate::cell::Audit`]) runs a sample of a map's cells to settlement beside
+//! their early decision ([`crate::scanner::AuditRates`]: about
+//! [`crate::scanner::AUDIT_PER_RULE`] cells of each group of the start rule, and as many of
+//! the cells decided by runs). Where the run to settlement gives the other decided label,
+//! the rule group that decided the cell ([`Rules::of`] its reason) is refuted in that map.
+//! [`act_on_audits`] then, for each map of the shard:
+//! 1. records the refuted groups in the sink, with why ([`Sink::write_withdrawn`]), before
+//!    anything else: a scan interrupted after this point knows them when resumed;
+//! 2. prepares the map without every group recorded for it
+//!    ([`MapContext::prepare_without`]) and decides again each stored cell whose reason
+//!    belongs to one of them (its audit too, if it is in the sample), storing each block
+//!    again ([`Sink::write_block`] replaces the block);
+//! 3. repeats while the redone cells' audits refute another group (at most once per group).
+//!
+//! It is idempotent: a redone cell no longer carries a withdrawn group's reason, so a
+//! resumed scan that stopped half-way redoes only the blocks not yet stored again. Cells of
+//! other shards are theirs to redo (each shard acts on its own audits).
+
+use rayon::prelude::*;
+use squeal_core::Reason;
+
+use crate::cell::{Audit, Cell};
+use crate::census::Rules;
+use crate::driver::{DriveError, Shard, Sink, shard_owns};
+use crate::scanner::{BlockResult, MapContext, Withdrawn};
+use crate::spec::Plan;
+
+/// What the audit did to one map.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Acted {
+    /// The map.
+    pub map: usize,
+    /// Cells decided again.
+    pub cells: usize,
+}
+
+/// The rule group of a stored cell's reason, if an early rule decided it.
+fn group(c: &Cell) -> Option<Rules> {
+    Reason::ALL
+        .get(c.reason as usize)
+        .copied()
+        .and_then(Rules::of)
+}
+
+/// Refuted groups of block `block` of `plan` not yet in `known`: the groups of its audited
+/// cells whose run to settlement gave the other decided label, each with the first such
+/// cell as why.
+fn refuted(plan: &Plan, block: usize, cells: &[Cell], known: &[Withdrawn]) -> Vec<Withdrawn> {
+    let g = &plan.grid;
+    let rows = g.block_rows(block);
+    let mut out: Vec<Withdrawn> = Vec::new();
+    for (k, c) in cells.iter().enumerate() {
+        if c.audit != Audit::Disagrees as u8 {
+            continue;
+        }
+        let Some(rules) = group(c) else { continue };
+        if known.iter().chain(&out).any(|w| w.rules == rules) {
+            continue;
+        }
+        let (x, v) = g.state(rows.start + k / g.x0.count, k % g.x0.count);
+        let label = c.regime().map_or("?", |r| r.name());
+        let reason = Reason::ALL[c.reason as usize].name();
+        out.push(Withdrawn {
+            rules,
+            why: format!(
+                "{} withdrawn by the audit: the run to settlement from ({x:.6}, {v:.6}) \
+                 contradicts its label {label} by {reason}",
+                rules.name()
+            ),
+        });
+    }
+    out
+}
+
+/// Acts on the audits of every map `shard` owns in `sink` (see the module's overview): the
+/// maps where cells were decided again, with how many.
+pub fn act_on_audits<S: Sink>(
+    plan: &Plan,
+    shard: Option<Shard>,
+    sink: &mut S,
+) -> Result<Vec<Acted>, DriveError<S::Error>> {
+    let g = &plan.grid;
+    let mut acted = Vec::new();
+    for m in 0..plan.maps.len() {
+        let blocks: Vec<usize> = (0..g.blocks())
+            .filter(|&b| shard_owns(shard, plan, m, b))
+            .collect();
+        let mut redone = 0usize;
+        for _round in 0..=Rules::ALL.len() {
+            let mut known = sink.withdrawn(m).map_err(DriveError::Sink)?;
+            let mut found = Vec::new();
+            for &b in &blocks {
+                if let Some(cells) = sink.stored_block(m, b).map_err(DriveError::Sink)? {
+                    let mut all = known.clone();
+                    all.extend(found.iter().cloned());
+                    found.extend(refuted(plan, b, &cells, &all));
+                }
+            }
+            if !found.is_empty() {
+                sink.write_withdrawn(m, &found).map_err(DriveError::Sink)?;
+                known.extend(found);
+            }
+            let gone = |c: &Cell| group(c).is_some_and(|r| known.iter().any(|w| w.rules == r));
+            let mut ctx: Option<MapContext> = None;
+            let mut any = false;
+            for &b in &blocks {
+                let Some(mut cells) = sink.stored_block(m, b).map_err(DriveError::Sink)? else {
+                    continue;
+                };
+                if !cells.iter().any(gone) {
+                    continue;
+                }
+                if ctx.is_none() {
+                    ctx = Some(MapContext::prepare_without(plan, m, &known)?);
+                }
+                let ctx = ctx.as_ref().expect("prepared above");
+                let rows = g.block_rows(b);
+                let nx = g.x0.count;
+                let again: Vec<(usize, Cell)> = cells
+                    .par_iter()
+                    .enumerate()
+                    .filter(|(_, c)| gone(c))
+                    .map(|(k, _)| (k, ctx.cell(plan, rows.start + k / nx, k % nx)))
+                    .collect();
+                redone += again.len();
+                for (k, c) in again {
+                    cells[k] = c;
+                }
+                any = true;
+                sink.write_block(&BlockResult {
+                    map: m,
+                    block: b,
+                    cells,
+                })
+                .map_err(DriveError::Sink)?;
+            }
+            if !any {
+                break;
+            }
+        }
+        if redone > 0 {
+            acted.push(Acted {
+                map: m,
+                cells: redone,
+            });
+        }
+    }
+    Ok(acted)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::driver::MemorySink;
+
+    /// The disc brake of issue 31 at c = 300 N s/m (nu = 0.375, lambda 0.21053, tau 0.65789,
+    /// phi 0.91353) on a 4 x 3 grid, in blocks of one row.
+    fn brake() -> Plan {
+        let mut plan = Plan::from_toml(
+            r#"version = 1
+[model]
+law = "mcmillan"
+nu = 0.375
+lambda = 0.21053
+tau = 0.65789
+phi = 0.91353
+[grid]
+x0 = { min = -1.0, max = 2.0, count = 4 }
+v0 = { min = -0.5, max = 0.5, count = 3 }
+[classifier]
+t_max = 2000.0
+[output]
+path = "t.h5"
+"#,
+            "t.toml",
+        )
+        .unwrap();
+        plan.grid.block_rows = 1;
+        plan
+    }
+
+    /// The blocks of `plan`'s map 0 as a map without its census computes them: the rules of
+    /// 48d225a, where the start rule labelled the brake's starts stick-slip.
+    fn unchecked(plan: &Plan) -> MemorySink {
+        let ctx = MapContext::prepare_checked(plan, 0, false).unwrap();
+        let mut sink = MemorySink::default();
+        for b in 0..plan.grid.blocks() {
+            let r = crate::scanner::run_block(plan, &ctx, b, &crate::NoObserver, None).unwrap();
+            sink.blocks.insert((0, b), r);
+        }
+        sink
+    }
+
+    fn cells(sink: &MemorySink, plan: &Plan) -> Vec<Cell> {
+        sink.map_cells(plan, 0).unwrap()
+    }
+
+    /// Issue 31: "no scan ends with a DISAGREEMENT whose cells keep refuted labels". At the
+    /// brake the start rule labels starts outside its cycle stick-slip and their runs reach
+    /// the fixed point (by t = 21-38 from (0, 0), (2, 0.5), (-1, -0.5): `squeal trajectory`
+    /// on 48d225a). Every cell of this small map is audited (fewer than AUDIT_PER_RULE per
+    /// rule), so the audit sees it; acting on it withdraws the outside rules, records why,
+    /// and decides every cell they decided again: none keeps their reason or a disagreeing
+    /// audit. A second pass finds nothing to do, and a pass interrupted after recording the
+    /// withdrawal (a resume) ends with the same cells.
+    #[test]
+    fn a_refuted_rule_is_withdrawn_and_its_cells_decided_again() {
+        let plan = brake();
+        let before = unchecked(&plan);
+        let outside = |c: &Cell| group(c) == Some(Rules::Outside);
+        let disagrees = |c: &Cell| c.audit == Audit::Disagrees as u8;
+        assert!(
+            cells(&before, &plan).iter().any(disagrees),
+            "the audit sees the leak"
+        );
+        assert!(cells(&before, &plan).iter().any(outside));
+        let mut sink = before.clone();
+        let acted = act_on_audits(&plan, None, &mut sink).unwrap();
+        assert_eq!(acted.len(), 1, "{acted:?}");
+        let w = &sink.withdrawn[&0];
+        assert!(w.iter().any(|w| w.rules == Rules::Outside), "{w:?}");
+        assert!(w[0].why.contains("withdrawn by the audit"), "{w:?}");
+        let after = cells(&sink, &plan);
+        assert!(!after.iter().any(outside), "{after:?}");
+        assert!(!after.iter().any(disagrees), "{after:?}");
+        assert!(
+            act_on_audits(&plan, None, &mut sink.clone())
+                .unwrap()
+                .is_empty()
+        );
+        // Interrupted once the withdrawal was recorded, before any block was stored again.
+        let mut resumed = before.clone();
+        resumed.withdrawn.insert(0, w.clone());
+        act_on_audits(&plan, None, &mut resumed).unwrap();
+        let labels = |c: Vec<Cell>| c.iter().map(|c| c.regime).collect::<Vec<_>>();
+        assert_eq!(labels(cells(&resumed, &plan)), labels(after));
+    }
+}
