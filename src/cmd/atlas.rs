@@ -184,10 +184,11 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
     }
     if !args.run.quiet {
         eprintln!(
-            "squeal: atlas of {what} on {threads} thread(s): roughly {} ({secs:.1} s), from a pilot of {} point(s) in {:.1} s",
+            "squeal: atlas of {what} on {threads} thread(s): roughly {} ({secs:.1} s), from a pilot of {} point(s) in {:.1} s{}",
             common::duration(secs),
             e.points,
-            e.pilot_seconds
+            e.pilot_seconds,
+            super::progress::busy_words(secs, e.core_share)
         );
     }
     Ok(())

@@ -174,10 +174,11 @@ fn announce(
         shard.map(|s| format!(", shard {s}")).unwrap_or_default(),
         common::duration(secs),
         pilot.map_or(String::new(), |e| format!(
-            ", from a pilot of {} cells over {} map(s) in {:.1} s",
+            ", from a pilot of {} cells over {} map(s) in {:.1} s{}",
             e.cells,
             e.maps(),
-            e.pilot_seconds
+            e.pilot_seconds,
+            super::progress::busy_words(secs, e.core_share)
         ))
     );
 }
