@@ -196,7 +196,14 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
     if !args.run.quiet {
         let how = pilot.map_or(
             "at the documented rates (cycle searches counted at their longest: a pilot would take too long)".to_string(),
-            |e| format!("from a pilot of {} point(s) in {:.1} s", e.points, e.pilot_seconds),
+            |e| {
+                format!(
+                    "from a pilot of {} point(s) in {:.1} s{}",
+                    e.points,
+                    e.pilot_seconds,
+                    super::progress::busy_words(secs, e.core_share)
+                )
+            },
         );
         eprintln!(
             "squeal: atlas of {what} on {threads} thread(s): roughly {} ({secs:.1} s), {how}",

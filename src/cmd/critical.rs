@@ -11,6 +11,7 @@ use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::critical_report::{BoundaryFound, CrisisFound, found, report, si_unit, warn_changes};
+use super::progress::{SearchBar, searching};
 
 pub use super::critical_args::Args;
 
@@ -67,19 +68,24 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         hi: args.nu_hi,
         rtol: args.rtol,
     };
-    let rep = ulc::critical_nu(plan.setup(setup.map), &cs, point, range).map_err(|e| {
-        let bracket = matches!(e, squeal_scan::ScanError::Bracket { .. });
-        let e = anyhow::Error::new(e);
-        if bracket {
-            e.context("--nu-lo / --nu-hi")
-        } else {
-            e
-        }
-    })?;
-    let changes =
-        ulc::coarse_enclosed(plan.setup(setup.map), &cs, point, (args.nu_lo, args.nu_hi))?;
-    let seconds = t0.elapsed().as_secs_f64();
     let key = plan.maps[setup.map].damping_key();
+    let bar = SearchBar::new("critical", key, false);
+    let (rep, changes) = searching(bar.as_ref(), || -> anyhow::Result<_> {
+        let rep = ulc::critical_nu(plan.setup(setup.map), &cs, point, range).map_err(|e| {
+            let bracket = matches!(e, squeal_scan::ScanError::Bracket { .. });
+            let e = anyhow::Error::new(e);
+            if bracket {
+                e.context("--nu-lo / --nu-hi")
+            } else {
+                e
+            }
+        })?;
+        let range = (args.nu_lo, args.nu_hi);
+        let changes = ulc::coarse_enclosed(plan.setup(setup.map), &cs, point, range)?;
+        Ok((rep, changes))
+    })?;
+    drop(bar);
+    let seconds = t0.elapsed().as_secs_f64();
     report(&args, &rep, point, key, scales, seconds, &changes)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -108,26 +114,32 @@ fn boundary(
     if args.fold && boundary::crisis_applies(plan.maps[map].kind()) {
         return crisis_report(args, (plan, map), (&ps, range), (param, name, flag), t0);
     }
-    // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
-    // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
-    let [f, c] = boundary::both_in(
-        param,
-        plan.setup(map),
-        &ps,
-        point,
-        range,
-        [args.fold, !args.fold],
-    );
-    let b = match f.or(c) {
-        Some(r) => r?,
-        None => bail!("no boundary asked for"),
-    };
     let which = match args.fold {
         true => boundary::Which::Fold,
         false => boundary::Which::Critical,
     };
     let (lo, hi) = (range.lo, range.hi);
-    let changes = boundary::coarse_scan(param, plan.setup(map), (&ps, point), which, (lo, hi))?;
+    let bar = SearchBar::new(command(args), name, false);
+    let (b, changes) = searching(bar.as_ref(), || -> anyhow::Result<_> {
+        // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
+        // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
+        let [f, c] = boundary::both_in(
+            param,
+            plan.setup(map),
+            &ps,
+            point,
+            range,
+            [args.fold, !args.fold],
+        );
+        let b = match f.or(c) {
+            Some(r) => r?,
+            None => bail!("no boundary asked for"),
+        };
+        let setup = plan.setup(map);
+        let changes = boundary::coarse_scan(param, setup, (&ps, point), which, (lo, hi))?;
+        Ok((b, changes))
+    })?;
+    drop(bar);
     let found = BoundaryFound {
         b: &b,
         name,
@@ -139,6 +151,15 @@ fn boundary(
     };
     found.report(args, point)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The command's words on its progress line.
+fn command(args: &Args) -> &'static str {
+    match (args.crisis, args.fold) {
+        (true, _) => "critical --crisis",
+        (false, true) => "critical --fold",
+        _ => "critical",
+    }
 }
 
 /// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in
@@ -213,14 +234,23 @@ fn crisis_report(
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
     let budget = (squeal_scan::band::COARSE, args.budget());
-    let c = &boundary::fold_crisis(param, plan.setup(map), ps, range, budget)?;
+    let bar = SearchBar::new(command(args), name, false);
+    let c = &searching(bar.as_ref(), || {
+        boundary::fold_crisis(param, plan.setup(map), ps, range, budget)
+    })?;
     found(range, flag, c)?;
     let warning = warn_changes(&c.changes, name);
     // The band's transient lifetimes above the crisis (in the damping only).
     let table = match args.lifetimes {
-        true => Some(super::lifetimes::table(args, plan, map, c)?),
+        true => {
+            if let Some(b) = &bar {
+                b.stage("lifetimes above the crisis");
+            }
+            Some(super::lifetimes::table(args, plan, map, c)?)
+        }
         false => None,
     };
+    drop(bar);
     let report = CrisisFound {
         c,
         name,

@@ -254,9 +254,168 @@ impl PlainLines {
     }
 }
 
+/// The estimate's words for a busy machine ("" when it is not): the share of a core the
+/// pilot's thread got and the time `secs` (on free cores) at that load
+/// ([`squeal_scan::estimate::at_load`]). Printed after the estimate it qualifies.
+pub fn busy_words(secs: f64, core_share: f64) -> String {
+    match squeal_scan::estimate::at_load(secs, core_share) {
+        Some(loaded) => format!(
+            "; the machine is busy (the pilot got {:.0}% of a core): at this load rather {}",
+            100.0 * core_share,
+            super::common::duration(loaded)
+        ),
+        None => String::new(),
+    }
+}
+
+/// What a one-parameter search has done so far, as its observer
+/// ([`squeal_scan::observe`]) counts it: the stage, its values (of how many, where known),
+/// the last value and the section returns computed.
+#[derive(Debug, Default)]
+pub struct SearchTally {
+    stage: &'static str,
+    total: Option<u64>,
+    values: u64,
+    last: Option<f64>,
+    returns: u64,
+}
+
+impl SearchTally {
+    /// The line's words, the parameter named `param`: "coarse scan 12/65, nu = 0.02431,
+    /// 5123 section returns".
+    pub fn words(&self, param: &str) -> String {
+        let mut w = self.stage.to_string();
+        match (self.values, self.total) {
+            (0, _) => {}
+            (n, Some(t)) => w.push_str(&format!(" {n}/{t}")),
+            (n, None) => w.push_str(&format!(" {n}")),
+        }
+        if let Some(v) = self.last {
+            w.push_str(&format!(", {param} = {}", squeal_plot::fmt_value(v)));
+        }
+        if self.returns > 0 {
+            w.push_str(&format!(", {} section returns", self.returns));
+        }
+        w
+    }
+
+    fn stage(&mut self, what: &'static str, total: Option<u64>) {
+        (self.stage, self.total, self.values, self.last) = (what, total, 0, None);
+    }
+
+    fn step(&mut self, s: squeal_scan::observe::SearchStep) {
+        use squeal_scan::observe::SearchStep;
+        match s {
+            SearchStep::Value(v) => {
+                self.values += 1;
+                self.last = Some(v);
+            }
+            SearchStep::Return(_) => self.returns += 1,
+        }
+    }
+}
+
+/// The progress line of a long one-parameter search on a terminal (`critical`, its
+/// `--fold` and `--crisis`, `ulc`): a spinner with [`SearchTally::words`] and the time so
+/// far, fed by the library's observer of the search ([`squeal_scan::observe::observed`]).
+/// Hidden as the other bars are ([`show_progress`]).
+pub struct SearchBar {
+    bar: indicatif::ProgressBar,
+    param: String,
+    tally: std::sync::Mutex<SearchTally>,
+}
+
+impl SearchBar {
+    /// The line of command `what` searching in `param`; `None` where bars are hidden.
+    pub fn new(what: &'static str, param: &str, quiet: bool) -> Option<std::sync::Arc<SearchBar>> {
+        if !show_progress(quiet) {
+            return None;
+        }
+        let bar = indicatif::ProgressBar::new_spinner();
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} {prefix}: {msg} [{elapsed}]")
+                .expect("static template"),
+        );
+        bar.set_prefix(what);
+        bar.enable_steady_tick(std::time::Duration::from_millis(250));
+        Some(std::sync::Arc::new(SearchBar {
+            bar,
+            param: param.to_string(),
+            tally: Default::default(),
+        }))
+    }
+
+    /// A stage the command itself names (between the library's searches).
+    pub fn stage(&self, what: &'static str) {
+        self.update(|t| t.stage(what, None));
+    }
+
+    fn update(&self, f: impl FnOnce(&mut SearchTally)) {
+        if let Ok(mut t) = self.tally.lock() {
+            f(&mut t);
+            self.bar.set_message(t.words(&self.param));
+        }
+    }
+}
+
+impl Drop for SearchBar {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl squeal_scan::Observer for SearchBar {
+    fn search_stage(&self, what: &'static str, total: Option<u64>) {
+        self.update(|t| t.stage(what, total));
+    }
+    fn search_step(&self, s: squeal_scan::observe::SearchStep) {
+        self.update(|t| t.step(s));
+    }
+}
+
+/// Runs `f` with `bar` (if shown) as the observer of the searches it runs on this thread;
+/// the line is cleared when the last handle to `bar` goes.
+pub fn searching<R>(bar: Option<&std::sync::Arc<SearchBar>>, f: impl FnOnce() -> R) -> R {
+    match bar {
+        Some(b) => squeal_scan::observe::observed(b.clone(), f),
+        None => f(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::WorkMeter;
+
+    /// The search line counts what the library's loops report through the observer: a
+    /// coarse scan's values of their total, the last value, the section returns.
+    #[test]
+    fn the_search_line_follows_the_librarys_search() {
+        use squeal_scan::observe::SearchStep;
+        let mut t = super::SearchTally::default();
+        t.stage("coarse scan", Some(65));
+        for nu in [0.01, 0.02] {
+            t.step(SearchStep::Return(1.0));
+            t.step(SearchStep::Value(nu));
+        }
+        assert_eq!(
+            t.words("nu"),
+            "coarse scan 2/65, nu = 0.02, 2 section returns"
+        );
+        t.stage("bisection", None);
+        assert_eq!(t.words("nu"), "bisection, 2 section returns");
+    }
+
+    /// Issue 34: an estimate of 66 s on a machine where the pilot got a fifth of a core says
+    /// the machine is busy and gives the time at that load; on a free machine it says nothing.
+    #[test]
+    fn the_estimate_says_when_the_machine_is_busy() {
+        let w = super::busy_words(66.0, 0.2);
+        assert_eq!(
+            w,
+            "; the machine is busy (the pilot got 20% of a core): at this load rather 6 min"
+        );
+        assert_eq!(super::busy_words(66.0, 0.95), "");
+    }
 
     #[test]
     fn time_left_weighs_each_maps_cells_by_their_cost() {

@@ -187,10 +187,11 @@ fn announce(
         pilot.map_or(
             ", at the documented rates (cycle searches counted at their longest: a pilot would take too long)".to_string(),
             |e| format!(
-                ", from a pilot of {} cells over {} map(s) in {:.1} s",
+                ", from a pilot of {} cells over {} map(s) in {:.1} s{}",
                 e.cells,
                 e.maps(),
-                e.pilot_seconds
+                e.pilot_seconds,
+                super::progress::busy_words(secs, e.core_share)
             )
         )
     );

@@ -52,18 +52,32 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         common::check_new(p, args.force, "picture")?;
     }
     let t0 = std::time::Instant::now();
-    let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
-    let seconds = t0.elapsed().as_secs_f64();
-    // Every sign change the search's samples show (the same samples as the search's own).
-    let samples = {
-        let st = Setup::new(params, plan.dt, plan.solver).stepper()?;
-        let map = squeal_scan::section::ReturnMap::new(&st, cs.t_return);
-        squeal_scan::section::adaptive_samples(&map, &cs, &mut Default::default())
-    };
-    let rays = match args.verify_rays {
-        0 => None,
-        n => Some(ulc::verify_rays(&rep, n, args.verify_eps, plan.solver)?),
-    };
+    let bar = super::progress::SearchBar::new("ulc", "r", false);
+    let (rep, seconds, samples, rays) = super::progress::searching(bar.as_ref(), || {
+        if let Some(b) = &bar {
+            b.stage("locating the cycle");
+        }
+        let rep = ulc::locate(Setup::new(params, plan.dt, plan.solver), &cs)?;
+        let seconds = t0.elapsed().as_secs_f64();
+        if let Some(b) = &bar {
+            b.stage("sampling the section for the report");
+        }
+        // Every sign change the search's samples show (the same samples as the search's own).
+        let samples = {
+            let st = Setup::new(params, plan.dt, plan.solver).stepper()?;
+            let map = squeal_scan::section::ReturnMap::new(&st, cs.t_return);
+            squeal_scan::section::adaptive_samples(&map, &cs, &mut Default::default())
+        };
+        if let Some(b) = &bar {
+            b.stage("checking the rays");
+        }
+        let rays = match args.verify_rays {
+            0 => None,
+            n => Some(ulc::verify_rays(&rep, n, args.verify_eps, plan.solver)?),
+        };
+        anyhow::Ok((rep, seconds, samples, rays))
+    })?;
+    drop(bar);
     if let Some(p) = &args.plot {
         let fp = params.fixed_point();
         let scale = squeal_plot::StateScale::of_law(params.law.name());

@@ -58,6 +58,20 @@ impl CoreShare {
     }
 }
 
+/// Below this share of a core the pilot's thread got, the machine counts as busy: the
+/// estimate (the time on free cores) is then also given at the load the pilot saw
+/// ([`at_load`]).
+pub const BUSY_SHARE: f64 = 0.8;
+
+/// The wall seconds `secs` (on free cores) take at the load where the pilot's thread got
+/// `share` of a core, when that share says the machine is busy ([`BUSY_SHARE`]); `None` on
+/// a machine that is not (or where the share is not known: 1). A scan estimated at 66 s took
+/// 323 s on a machine at load 8 (issue 34): each thread gets its share of a core there, so
+/// the work takes about `secs / share`.
+pub fn at_load(secs: f64, share: f64) -> Option<f64> {
+    (share.is_finite() && share > 0.0 && share < BUSY_SHARE).then(|| secs / share)
+}
+
 /// At most this many maps are prepared by the pilot (evenly spread over a sweep).
 pub const PILOT_MAPS: usize = 8;
 /// The pilot classifies this many cells, shared among the first maps it prepares ...
@@ -105,6 +119,10 @@ pub struct Estimate {
     pub audited_per_map: usize,
     /// Cells per map.
     pub cells_per_map: usize,
+    /// The share of a core the pilot's thread got (its CPU time over its wall time, in
+    /// [0.05, 1]; 1 where the system does not tell): below [`BUSY_SHARE`] the machine is
+    /// busy ([`at_load`]).
+    pub core_share: f64,
 }
 
 impl Estimate {
@@ -328,6 +346,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         per_map: costs,
         audited_per_map,
         cells_per_map: per_map,
+        core_share: share,
     })
 }
 
@@ -404,6 +423,8 @@ pub struct AtlasEstimate {
     pub pilot_seconds: f64,
     /// The pilot of the basin maps.
     pub maps: Option<Estimate>,
+    /// The share of a core the pilot's thread got over its points ([`Estimate::core_share`]).
+    pub core_share: f64,
 }
 
 impl AtlasEstimate {
@@ -472,7 +493,8 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
             break;
         }
     }
-    let point_seconds = t0.elapsed().as_secs_f64() * core.share() / points as f64;
+    let core_share = core.share();
+    let point_seconds = t0.elapsed().as_secs_f64() * core_share / points as f64;
     let boundary_seconds = boundary_pilot(plan)?;
     let maps = plan.map_plan().map(|mp| pilot(&mp)).transpose()?;
     Ok(AtlasEstimate {
@@ -481,6 +503,7 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
         boundary_seconds,
         pilot_seconds: t0.elapsed().as_secs_f64(),
         maps,
+        core_share,
     })
 }
 
@@ -563,6 +586,7 @@ mod tests {
             per_map: vec![cost(0, 0.5, 1e-3, 0.0)],
             audited_per_map: 0,
             cells_per_map: 2000,
+            core_share: 1.0,
         };
         // 4 maps prepared one at a time (0.5 s each), 4 x 2000 cells at 1 ms over 2 threads.
         assert!((e.seconds(4, |_| 2000, 2) - (2.0 + 4.0)).abs() < 1e-12);
@@ -577,6 +601,20 @@ mod tests {
         assert!((e.seconds(1, |_| 1000, 2) - (0.5 + 0.5 + 0.25)).abs() < 1e-12);
     }
 
+    /// Issue 34: a scan estimated at 66 s took 323 s at load 8. The pilot's thread got its
+    /// share of a core there; the estimate at that load is the free-core time over the
+    /// share. A machine that gives the pilot most of a core is not called busy.
+    #[test]
+    fn a_busy_machine_is_named_with_the_time_at_its_load() {
+        // One core in five (load about 8 on 2 cores, less the pilot's own): 66 s is 330 s.
+        assert_eq!(at_load(66.0, 0.2), Some(330.0));
+        assert_eq!(at_load(66.0, 0.9), None);
+        assert_eq!(at_load(66.0, 1.0), None);
+        assert_eq!(at_load(66.0, f64::NAN), None);
+        // Just under the threshold.
+        assert!(at_load(10.0, BUSY_SHARE - 1e-9).is_some());
+    }
+
     #[test]
     fn each_map_costs_as_its_nearest_prepared_map() {
         // Two prepared maps of a 9-map sweep, the last 20 times dearer per cell (as above a
@@ -588,6 +626,7 @@ mod tests {
             per_map: vec![cost(0, 0.0, 1e-3, 0.0), cost(8, 0.0, 2e-2, 0.0)],
             audited_per_map: 0,
             cells_per_map: 100,
+            core_share: 1.0,
         };
         assert_eq!(e.cost_of(3).map, 0);
         assert_eq!(e.cost_of(5).map, 8);
@@ -622,6 +661,8 @@ path = "t.h5"
         for c in &e.per_map {
             assert!(c.cells >= 1 && c.cell > 0.0 && c.prepare > 0.0, "{c:?}");
         }
+        // The share of a core the pilot got is measured (1 where it cannot be).
+        assert!(e.core_share > 0.0 && e.core_share <= 1.0, "{e:?}");
         // The picked maps are spread over the sweep with both ends.
         assert_eq!(e.per_map[0].map, 0);
     }

@@ -11,6 +11,8 @@
 //!   lines and boundary searches): jobs on the rayon pool, results to the sink on one thread.
 //! * [`driver`]: [`drive`] runs every pending `(map, block)` pair of a plan through the
 //!   executor and hands finished work to a [`Sink`]; an [`Observer`] sees progress.
+//! * [`observe`]: the [`Observer`] of the one-parameter searches on one thread (`critical`,
+//!   the fold, the crisis, a cycle's location): their stages, values and section returns.
 //! * [`section`]: the return map on the section `x = x*, x' > 0`, in one place: samples,
 //!   cold and warm brackets, bisection and Illinois, counted where they run ([`section::Work`]);
 //!   `ulc`, a map's preparation, atlas points and boundary predicates all use it.
@@ -72,6 +74,7 @@ pub mod files;
 pub mod grid;
 pub mod landscape;
 pub mod lifetime;
+pub mod observe;
 pub mod redo;
 pub mod scanner;
 pub mod section;

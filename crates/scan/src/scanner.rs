@@ -28,6 +28,11 @@ pub trait Observer: Sync {
     fn cell_done(&self, _map: usize) {}
     /// Block `block` of map `map` finished (it goes to the sink next).
     fn block_done(&self, _map: usize, _block: usize) {}
+    /// A stage of a one-parameter search began on the observed thread
+    /// ([`crate::observe::observed`]): `what`, of `total` parameter values where known.
+    fn search_stage(&self, _what: &'static str, _total: Option<u64>) {}
+    /// A piece of that search's work is done ([`crate::observe::SearchStep`]).
+    fn search_step(&self, _step: crate::observe::SearchStep) {}
 }
 
 /// An observer that does nothing.

@@ -175,6 +175,7 @@ impl<'a> ReturnMap<'a> {
         let p = known.unwrap_or_else(|| {
             w.returns += 1;
             let p = section_return(self.st, r, self.t_return, &mut w.stats, |_| {}).map(|c| c.r);
+            crate::observe::step(crate::observe::SearchStep::Return(r));
             if let Some(c) = self.cache {
                 c.put(r, self.t_return, p);
             }
@@ -313,10 +314,16 @@ pub fn geometric_bisection<E>(
     max_evaluations: u32,
 ) -> Result<((f64, f64), u32), E> {
     let mut evaluations = 2u32;
+    // The halvings of ln(hi / lo) down to ln(1 + rtol), within the evaluations allowed.
+    let halvings = ((hi / lo).ln() / rtol.ln_1p()).log2().ceil();
+    let total = halvings.clamp(0.0, f64::from(max_evaluations.saturating_sub(2)));
+    crate::observe::stage("bisection", Some(total as u64));
     while hi / lo - 1.0 > rtol && evaluations < max_evaluations {
         let mid = (lo * hi).sqrt();
         evaluations += 1;
-        if pred(mid)? {
+        let above = pred(mid)?;
+        crate::observe::step(crate::observe::SearchStep::Value(mid));
+        if above {
             hi = mid;
         } else {
             lo = mid;
@@ -349,8 +356,10 @@ pub fn coarse_changes<E>(
     let n = n.max(1);
     let vs = geometric_steps((lo, hi), n);
     let mut at = Vec::with_capacity(vs.len());
+    crate::observe::stage("coarse scan", Some(vs.len() as u64));
     for &v in &vs {
         at.push(pred(v)?);
+        crate::observe::step(crate::observe::SearchStep::Value(v));
     }
     Ok((0..n)
         .filter(|&i| at[i] != at[i + 1])

@@ -249,7 +249,9 @@ pub fn crisis_in(
         ));
     };
     let interval = bisect_both(&v, (vs[k], vs[k + 1], vs[m]), range.rtol)?;
+    crate::observe::stage("checks at dt/2 and a longer horizon", None);
     let (mut outer, holds) = widen(&v, interval, (lo, hi, range.rtol))?;
+    crate::observe::stage("clearing the stretch above", None);
     outer[1] = clear_above(&v, outer[1], (hi, (hi / lo).ln() / coarse as f64))?;
     Ok(Crisis {
         status: CrisisStatus::Found,
