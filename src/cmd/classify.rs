@@ -129,6 +129,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     common::check_new(&args.out, args.force, "labels")?;
+    if let Some(w) = squeal_core::Validity::of(&setup.plan.maps[setup.map]).warning() {
+        eprintln!("{w}");
+    }
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
     let outcomes: Vec<_> = ics.par_iter().map(|&ic| ctx.classify(ic)).collect();
     let mut w = std::io::BufWriter::new(

@@ -98,6 +98,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
     let plan = writer.plan().clone();
+    if let Some(w) = squeal_core::validated::maps_warning(&plan.maps) {
+        eprintln!("{w}");
+    }
 
     let signals = super::signals::Signals::install("blocks")?;
 

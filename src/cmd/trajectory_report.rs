@@ -100,6 +100,9 @@ pub(super) struct Summary {
     /// The lasting oscillation of the last turns (maximum of `x` to maximum), wherever it
     /// lies (`null`: the last window of turns is no band without trend, or too few turns).
     pub(super) lasting: Option<squeal_core::Lasting>,
+    /// Whether the parameters lie where the labels were checked against long runs
+    /// (`squeal_core::validated`): `checked`, the keys `outside`, and the `checks`.
+    pub(super) validated: squeal_core::Validity,
     /// Stick phases (laws with true stick only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) stick: Option<StickPhases>,
@@ -170,6 +173,9 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
         Number(p.t_end),
         s.steps
     );
+    if let Some(w) = s.validated.warning() {
+        println!("{w}");
+    }
     let c = &s.classification;
     let label = match c.label.regime {
         "steady_slip" => "steady slip",

@@ -162,6 +162,18 @@ impl Validity {
     }
 }
 
+/// The warning for a set of maps (a scan's or an atlas's): how many leave the checked
+/// region, and the first one's warning; `None` if all lie inside.
+pub fn maps_warning(maps: &[Params]) -> Option<String> {
+    let mut outside = maps.iter().filter_map(|p| Validity::of(p).warning());
+    let first = outside.next()?;
+    let k = 1 + outside.count();
+    Some(match maps.len() {
+        1 => first,
+        n => format!("{k} of {n} maps: {first}"),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
