@@ -6,6 +6,7 @@
 #   OLD_BIN=path/to/squeal scripts/tools/same-results.sh REV  # an already built binary of REV
 #   COUNT=12 SWEEP=4 scripts/tools/same-results.sh REV        # reduction (defaults 16 and 5)
 #   LABELS=1 COUNT=64 SWEEP=100 scripts/tools/same-results.sh REV   # labels only, cell by cell
+#   SPECS="scans/fig9.toml scans/fig10.toml" scripts/tools/same-results.sh REV   # these specs only
 #
 # With LABELS=1 only the scan specs run (not the atlases), and each pair of files is
 # compared cell by cell with `squeal compare` instead of bit for bit: the check that an
@@ -45,7 +46,7 @@ rm -rf "$work"
 mkdir -p "$work/old" "$work/new" "$work/specs"
 status=0
 echo "same-results: $rev ($old) against the working tree ($new); counts <= $count, sweeps <= $sweep"
-for spec in scans/*.toml; do
+for spec in ${SPECS:-scans/*.toml}; do
   name=$(basename "$spec" .toml)
   small=$work/specs/$name.toml
   # Grid/sample counts (inline tables with min/max) and swept axes (from/to) are reduced

@@ -162,6 +162,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     common::check_new(&args.out, args.force, "labels")?;
+    if let Some(w) = squeal_core::Validity::of(&setup.plan.maps[setup.map]).warning() {
+        eprintln!("{w}");
+    }
     estimate(&args, &setup.plan, ics.len())?;
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
     let total = ics.len() as u64;

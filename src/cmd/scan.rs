@@ -98,6 +98,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     signals.computing("blocks");
     let plan = writer.plan().clone();
+    if let Some(w) = squeal_core::validated::maps_warning(&plan.maps) {
+        eprintln!("{w}");
+    }
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {

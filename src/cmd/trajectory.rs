@@ -103,6 +103,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         classification: Classification::of(&t),
         final_state: t.final_state,
         oscillation: t.oscillation,
+        lasting: t.lasting,
+        validated: squeal_core::Validity::of(stepper.params()),
         stick: t.stick.clone(),
         stats: t.stats,
         max_residual: t.max_residual,

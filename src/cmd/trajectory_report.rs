@@ -102,6 +102,12 @@ pub(super) struct Summary {
     pub(super) classification: Classification,
     pub(super) final_state: Sample,
     pub(super) oscillation: Oscillation,
+    /// The lasting oscillation of the last turns (maximum of `x` to maximum), wherever it
+    /// lies (`null`: the last window of turns is no band without trend, or too few turns).
+    pub(super) lasting: Option<squeal_core::Lasting>,
+    /// Whether the parameters lie where the labels were checked against long runs
+    /// (`squeal_core::validated`): `checked`, the keys `outside`, and the `checks`.
+    pub(super) validated: squeal_core::Validity,
     /// Stick phases (laws with true stick only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) stick: Option<StickPhases>,
@@ -135,6 +141,9 @@ pub(super) fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::V
         "fixed_point_x_m": s.fixed_point.x * sc.length,
         "frequency_hz": s.oscillation.omega.map(|w| sc.hz(w)),
         "amplitude_m_per_s": s.oscillation.amplitude.map(|r| r * sc.velocity),
+        "lasting_frequency_hz": s.lasting.map(|l| sc.hz(l.omega)),
+        "lasting_x_range_m": s.lasting.map(|l| l.x_range.map(|x| x * sc.length)),
+        "lasting_v_range_m_per_s": s.lasting.map(|l| l.v_range.map(|v| v * sc.velocity)),
         // Only a finite time on stick-slip has seconds (0 too); `classification.squeal`
         // says which kind it is.
         "t_squeal_s": match s.classification.squeal {
@@ -169,6 +178,9 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
         Number(p.t_end),
         s.steps
     );
+    if let Some(w) = s.validated.warning() {
+        println!("{w}");
+    }
     let c = &s.classification;
     let label = match c.label.regime {
         "steady_slip" => "steady slip",
@@ -223,6 +235,9 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
             Number(s.fixed_point.x)
         ),
     }
+    if let Some(l) = &s.lasting {
+        print_lasting(l, s.fixed_point.x);
+    }
     if let Some(sp) = &s.stick {
         print_stick_phases(sp);
     }
@@ -233,6 +248,35 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     if let Some(plot) = &s.plot {
         println!("wrote {}", plot.display());
     }
+}
+
+/// The lasting oscillation of the last turns.
+fn print_lasting(l: &squeal_core::Lasting, x_star: f64) {
+    let mut how = Vec::new();
+    if l.stuck {
+        how.push("sticks".to_string());
+    }
+    if l.reversed {
+        how.push("the slip reverses (x' > lambda)".to_string());
+    }
+    how.push(match l.crossings {
+        0 => format!("never reaches x = {x_star} (the section)"),
+        k => format!("crosses the section x = {x_star} in {k} of them"),
+    });
+    println!(
+        "lasting oscillation: omega = {:.6} over the last {} turns (t = {:.4}), x in [{:.6}, \
+         {:.6}], x' in [{:.6}, {:.6}], half-range of x {:.6} to {:.6}; {}",
+        l.omega,
+        l.turns,
+        l.t,
+        l.x_range[0],
+        l.x_range[1],
+        l.v_range[0],
+        l.v_range[1],
+        l.amplitude[0],
+        l.amplitude[1],
+        how.join(", ")
+    );
 }
 
 /// The solver's counts, the largest residual and the unconverged steps.

@@ -16,6 +16,11 @@
 //!   outside it. In the plane a trajectory cannot cross the cycle, so the label is decided:
 //!   [`Reason::InsideCycle`] / [`Reason::OutsideCycle`]. This is the early-stopping rule;
 //!   tests check it against runs taken to settlement.
+//! * [`Reason::LastingOscillation`]: the last `settle_cycles` turns of the run (maximum of
+//!   `x` to maximum, [`crate::turns`]) stay in a band without trend and none crossed the
+//!   section: an oscillation the section's rules cannot see (a real brake's swing below
+//!   `x*`, issue 31). Stick-slip; decided only where no turn of the window crossed, so no
+//!   label the section rules give changes.
 //! * Otherwise, at `t_max`: [`Regime::Undecided`] with [`Reason::TimeLimit`]; never a guess.
 //!   A run that blows up or whose robust solve fails is undecided too.
 //!
@@ -31,6 +36,7 @@ use crate::params::Params;
 use crate::run::{Run, Step};
 use crate::solver::SolverStats;
 use crate::stepper::{State, Stepper};
+use crate::turns::{Lasting, TurnSettings, TurnWatch};
 
 pub use crate::section::{Crossing, Half, crossing, section_return};
 pub use crate::verdict::{Reason, Regime};
@@ -150,11 +156,14 @@ pub struct Outcome {
     pub reason: Reason,
     /// Time at the decision.
     pub t_decision: f64,
-    /// The last section amplitude (`x'` at the last crossing of `x = x*`), NaN if none.
+    /// The last section amplitude (`x'` at the last crossing of `x = x*`), NaN if none;
+    /// for [`Reason::LastingOscillation`] (no crossing in its window), the oscillation's
+    /// largest `x'` over the window ([`Lasting::v_range`]).
     pub amplitude: f64,
     /// Distance from the fixed point at the decision.
     pub distance: f64,
-    /// Angular frequency of the last revolution, `2 pi / (t_k - t_{k-1})`, NaN if unknown.
+    /// Angular frequency of the last revolution, `2 pi / (t_k - t_{k-1})`, NaN if unknown;
+    /// for [`Reason::LastingOscillation`], that of the window's turns ([`Lasting::omega`]).
     pub omega: f64,
     /// Crossings of the section.
     pub crossings: u32,
@@ -317,36 +326,107 @@ impl Classifier {
             omega: f64::NAN,
             amplitude: f64::NAN,
             last_stuck: 0.0,
+            turns: TurnWatch::new(p, TurnSettings::of(self)),
+            lasting: None,
         }
     }
 
-    /// The stick-slip settling test on a full window of section amplitudes: a narrow band
-    /// that goes up and down, with no trend. Near the unstable cycle the amplitudes drift
-    /// monotonically (the return map of the planar slip-branch flow is monotone), slowly at
-    /// first and then faster, so a window can fit a 5% band with a small half-to-half trend:
-    /// the reversals tell it from the stick-slip band (measured at Table 1, nu = 1e-2:
-    /// starts just inside the cycle drifted from 2.087 to 1.99 in 20 crossings and were
-    /// labelled stick-slip without this check). Near the fixed point they shrink
-    /// geometrically; on the stick-slip loop they jitter inside a quasi-periodic band.
+    /// The stick-slip settling test on a full window of section amplitudes
+    /// ([`narrow_band`] with this classifier's band width and floor).
     fn settled(&self, ring: &[f64]) -> bool {
-        let (lo, hi) = ring
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &r| {
-                (l.min(r), h.max(r))
-            });
-        let mean = ring.iter().sum::<f64>() / ring.len() as f64;
-        if lo.is_nan() || lo <= 10.0 * self.fp_radius || hi - lo > self.settle_rtol * mean {
-            return false;
-        }
-        let spread = hi - lo;
-        if spread <= 1e-9 * mean {
-            return true;
-        }
-        let half = ring.len() / 2;
-        let m1 = ring[..half].iter().sum::<f64>() / half as f64;
-        let m2 = ring[ring.len() - half..].iter().sum::<f64>() / half as f64;
-        (m2 - m1).abs() <= 0.5 * spread && 4 * reversals(ring, mean) >= ring.len()
+        narrow_band(ring, self.settle_rtol, self.band_floor())
     }
+
+    /// The smallest amplitude a band may reach: `10 fp_radius`. A window that dips to it
+    /// is a run closing on the fixed point, not a band.
+    pub fn band_floor(&self) -> f64 {
+        10.0 * self.fp_radius
+    }
+}
+
+/// The narrow-band test on a full window of amplitudes `ring` (section amplitudes for the
+/// classifier's [`Reason::SettledStickSlip`], turn amplitudes for
+/// [`crate::turns::TurnWatch`]): a band of relative width `rtol` above `floor` that goes up
+/// and down, with no trend. Near the unstable cycle the amplitudes drift monotonically (the
+/// return map of the planar slip-branch flow is monotone), slowly at first and then faster,
+/// so a window can fit a 5% band with a small half-to-half trend: the reversals tell it
+/// from the stick-slip band (measured at Table 1, nu = 1e-2: starts just inside the cycle
+/// drifted from 2.087 to 1.99 in 20 crossings and were labelled stick-slip without this
+/// check). Near the fixed point they shrink geometrically; on the stick-slip loop they
+/// jitter inside a quasi-periodic band. A window whose spread is below `1e-9` of its mean
+/// is a settled periodic orbit (nothing left to reverse).
+pub fn narrow_band(ring: &[f64], rtol: f64, floor: f64) -> bool {
+    let (lo, hi, mean) = extent(ring);
+    if lo.is_nan() || lo <= floor || hi - lo > rtol * mean {
+        return false;
+    }
+    let spread = hi - lo;
+    if spread <= 1e-9 * mean {
+        return true;
+    }
+    no_trend(ring, mean, spread, 0.5)
+}
+
+/// The converging-band test on a full window of amplitudes `ring` (turn amplitudes for
+/// [`crate::turns::TurnWatch`]; not a section rule): within the relative width `rtol` above
+/// `floor`, and either no monotone trend across its thirds (the means of its first, middle
+/// and last third do not move the same way twice) or a trend that slows down geometrically
+/// toward a limit inside the band: with `d1`, `d2` the changes of the thirds' means and
+/// `q = d2 / d1` in `[0, 1)`, the rest of the trend, `d2 q / (1 - q)`, is at most `rtol`
+/// times the last third's mean. A run settling onto a cycle whose changes have shrunk below
+/// [`narrow_band`]'s reversal threshold (`1e-4` of the mean: measured at the brake of issue
+/// 31, the turns' half-ranges converge to 0.066782 with changes of `1e-6` and no counted
+/// reversal) passes. A decay to a point does not, however slow: for `a_k = A q^k` the rest
+/// of the trend is the whole last mean. Nor does a drift away from an unstable orbit (`q >=
+/// 1`).
+pub fn converging_band(ring: &[f64], rtol: f64, floor: f64) -> bool {
+    let (lo, hi, mean) = extent(ring);
+    if lo.is_nan() || lo <= floor || hi - lo > rtol * mean || ring.len() < 3 {
+        return false;
+    }
+    let k = ring.len() / 3;
+    let third = |a: usize| ring[a..a + k].iter().sum::<f64>() / k as f64;
+    let (m1, m2, m3) = (third(0), third((ring.len() - k) / 2), third(ring.len() - k));
+    let (d1, d2) = (m2 - m1, m3 - m2);
+    if d1 * d2 <= 0.0 {
+        return true;
+    }
+    let q = d2 / d1;
+    q < 1.0 && (d2 * q / (1.0 - q)).abs() <= rtol * m3
+}
+
+/// The wide-band test of [`Reason::StickingBand`] on a full window of amplitudes `ring`
+/// (whether the oscillation sticks is checked by the caller): bounded above `floor`, spread
+/// no wider than the mean, reversing, no trend.
+pub fn wide_band(ring: &[f64], floor: f64) -> bool {
+    let (lo, hi, mean) = extent(ring);
+    let spread = hi - lo;
+    if lo.is_nan() || lo <= floor || spread > mean {
+        return false;
+    }
+    no_trend(ring, mean, spread, 0.25)
+}
+
+/// Smallest, largest and mean value of a window.
+fn extent(ring: &[f64]) -> (f64, f64, f64) {
+    let (lo, hi) = ring
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &r| {
+            (l.min(r), h.max(r))
+        });
+    (lo, hi, ring.iter().sum::<f64>() / ring.len() as f64)
+}
+
+/// At least one reversal in four values, and half-to-half means apart by at most `trend`
+/// times the spread.
+fn no_trend(ring: &[f64], mean: f64, spread: f64, trend: f64) -> bool {
+    if 4 * reversals(ring, mean) < ring.len() {
+        return false;
+    }
+    let half = ring.len() / 2;
+    let m1 = ring[..half].iter().sum::<f64>() / half as f64;
+    let m2 = ring[ring.len() - half..].iter().sum::<f64>() / half as f64;
+    (m2 - m1).abs() <= trend * spread
 }
 
 /// Reversals of direction in a window of section amplitudes: consecutive changes of opposite
@@ -391,6 +471,10 @@ pub struct Watch<'c> {
     amplitude: f64,
     /// End of the last step on which the block stuck (0 if none yet).
     last_stuck: f64,
+    /// The run's turns ([`Reason::LastingOscillation`]).
+    turns: TurnWatch,
+    /// The lasting oscillation of the last closed turn's window, if its band test passed.
+    lasting: Option<Lasting>,
 }
 
 impl Watch<'_> {
@@ -428,6 +512,13 @@ impl Watch<'_> {
             }
         }
         self.stuck_now |= slip_stuck;
+        // A lasting oscillation off the section: its turns' band, none crossing.
+        if self.turns.observe_step(run, step).is_some() {
+            self.lasting = self.turns.lasting();
+            if self.lasting.is_some_and(|l| l.misses_section()) {
+                return Some((Regime::StickSlip, Reason::LastingOscillation));
+            }
+        }
         let multi_root = run.stats().multi_root;
         let one_root = multi_root == self.multi_root;
         self.multi_root = multi_root;
@@ -504,16 +595,26 @@ impl Watch<'_> {
         None
     }
 
+    /// The lasting oscillation seen at the last closed turn (its window's band test passed),
+    /// whether or not it crossed the section.
+    pub fn lasting(&self) -> Option<Lasting> {
+        self.lasting
+    }
+
     /// The outcome of `run` stopped with `decision` at its current sample.
     pub fn finish(&self, (regime, reason): (Regime, Reason), run: &Run) -> Outcome {
         let s = run.sample();
+        let (amplitude, omega) = match (reason, self.lasting) {
+            (Reason::LastingOscillation, Some(l)) => (l.v_range[1], l.omega),
+            _ => (self.amplitude, self.omega),
+        };
         Outcome {
             regime,
             reason,
             t_decision: s.t,
-            amplitude: self.amplitude,
+            amplitude,
             distance: (s.x - self.fp.x).hypot(s.v - self.fp.v),
-            omega: self.omega,
+            omega,
             crossings: self.crossings,
             quasi_static: run.quasi_static(),
             stats: *run.stats(),
@@ -524,27 +625,39 @@ impl Watch<'_> {
 }
 
 impl Classifier {
+    /// The converging-band test on a full window of amplitudes `ring` (turn amplitudes for
+    /// [`crate::turns::TurnWatch`]; not a section rule): within the relative width `rtol` above
+    /// `floor`, and either no monotone trend across its thirds (the means of its first, middle
+    /// and last third do not move the same way twice) or a trend that slows down geometrically
+    /// toward a limit inside the band: with `d1`, `d2` the changes of the thirds' means and
+    /// `q = d2 / d1` in `[0, 1)`, the rest of the trend, `d2 q / (1 - q)`, is at most `rtol`
+    /// times the last third's mean. A run settling onto a cycle whose changes have shrunk below
+    /// [`narrow_band`]'s reversal threshold (`1e-4` of the mean: measured at the brake of issue
+    /// 31, the turns' half-ranges converge to 0.066782 with changes of `1e-6` and no counted
+    /// reversal) passes. A decay to a point does not, however slow: for `a_k = A q^k` the rest
+    /// of the trend is the whole last mean. Nor does a drift away from an unstable orbit (`q >=
+    /// 1`).
+    pub fn converging_band(ring: &[f64], rtol: f64, floor: f64) -> bool {
+        let (lo, hi, mean) = extent(ring);
+        if lo.is_nan() || lo <= floor || hi - lo > rtol * mean || ring.len() < 3 {
+            return false;
+        }
+        let k = ring.len() / 3;
+        let third = |a: usize| ring[a..a + k].iter().sum::<f64>() / k as f64;
+        let (m1, m2, m3) = (third(0), third((ring.len() - k) / 2), third(ring.len() - k));
+        let (d1, d2) = (m2 - m1, m3 - m2);
+        if d1 * d2 <= 0.0 {
+            return true;
+        }
+        let q = d2 / d1;
+        q < 1.0 && (d2 * q / (1.0 - q)).abs() <= rtol * m3
+    }
+
     /// The wide-band test of [`Reason::StickingBand`] on a full window of section amplitudes
-    /// (the sticking of every revolution is checked by the caller): bounded, reversing, no
-    /// trend.
+    /// ([`wide_band`] with this classifier's floor; the sticking of the revolutions is
+    /// checked by the caller).
     fn sticking_band(&self, ring: &[f64]) -> bool {
-        let (lo, hi) = ring
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &r| {
-                (l.min(r), h.max(r))
-            });
-        let mean = ring.iter().sum::<f64>() / ring.len() as f64;
-        let spread = hi - lo;
-        if lo.is_nan() || lo <= 10.0 * self.fp_radius || spread > mean {
-            return false;
-        }
-        if 4 * reversals(ring, mean) < ring.len() {
-            return false;
-        }
-        let half = ring.len() / 2;
-        let m1 = ring[..half].iter().sum::<f64>() / half as f64;
-        let m2 = ring[ring.len() - half..].iter().sum::<f64>() / half as f64;
-        (m2 - m1).abs() <= 0.25 * spread
+        wide_band(ring, self.band_floor())
     }
 }
 

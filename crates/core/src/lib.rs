@@ -19,9 +19,13 @@
 //! * [`Stepper`]: one step, [`Sample`] the state with acceleration and force; [`Run`]: the one
 //!   loop that advances a run, yielding [`Step`]s to its observers.
 //! * [`classify`]: one initial condition to a [`Regime`] with diagnostics.
+//! * [`turns`]: the turning points of a run and the [`Lasting`] oscillation they show,
+//!   wherever it lies in the plane (the section's rules see only those around `x*`).
 //! * [`region`]: a certified region of attraction of the fixed point ([`Region`]).
 //! * [`witness`]: certified fates of stretches of the section from a few followed starts
 //!   (laws of the slip velocity only: the return map is monotone).
+//! * [`validated`]: where the labels have been checked against long runs, and the warning
+//!   for parameters outside that region ([`Validity`]).
 //! * [`units`]: the paper's scaling between a [`Physical`] system and [`Params`].
 //! * [`model`]: the model itself, in words and equations: units, the laws with the paper's
 //!   two misprints corrected, the schemes, the conventions and the labels
@@ -57,7 +61,9 @@ pub mod solver;
 pub mod state;
 pub mod stepper;
 pub mod stick;
+pub mod turns;
 pub mod units;
+pub mod validated;
 pub mod verdict;
 pub mod witness;
 
@@ -75,4 +81,6 @@ pub use setup::Setup;
 pub use solver::{SolverConfig, SolverKind, SolverStats};
 pub use stepper::{Sample, State, Stepper};
 pub use stick::StickEvents;
+pub use turns::{Lasting, Turn, TurnSettings, TurnWatch};
 pub use units::{Load, Physical, Scales, SurfaceSi};
+pub use validated::Validity;

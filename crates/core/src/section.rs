@@ -4,9 +4,12 @@
 //! direction only, because `x` moves with the sign of `x'` there. Crossings are located on
 //! cubic Hermite interpolants inside a step.
 
+use serde::Serialize;
+
 use crate::run::Run;
 use crate::solver::SolverStats;
 use crate::stepper::{Sample, State, Stepper};
+use crate::turns::{Lasting, TurnSettings, TurnWatch};
 
 /// A half of the line `x = x*` (crates/core/MODEL.md section 9, "A decaying section").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,7 +92,7 @@ pub fn crossing(x_star: f64, prev: &Sample, next: &Sample) -> Option<Crossing> {
 /// The cubic Hermite interpolant on `[0, 1]` with end values `y0`, `y1` and end slopes
 /// `d0`, `d1` (per unit of `th`), given as `[y0, d0, y1, d1]`, at `th`.
 #[inline]
-fn hermite([y0, d0, y1, d1]: [f64; 4], th: f64) -> f64 {
+pub(crate) fn hermite([y0, d0, y1, d1]: [f64; 4], th: f64) -> f64 {
     let (t2, t3) = (th * th, th * th * th);
     (2.0 * t3 - 3.0 * t2 + 1.0) * y0
         + (t3 - 2.0 * t2 + th) * d0
@@ -100,7 +103,7 @@ fn hermite([y0, d0, y1, d1]: [f64; 4], th: f64) -> f64 {
 /// The root in `[0, 1]` of the Hermite interpolant `c` (with `y0 < 0 <= y1`), by Newton from
 /// `th` (the linear root), safeguarded by bisection: `[lo, hi]` always holds a sign change.
 #[inline]
-fn hermite_root(c: [f64; 4], mut th: f64) -> f64 {
+pub(crate) fn hermite_root(c: [f64; 4], mut th: f64) -> f64 {
     let [y0, d0, y1, d1] = c;
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..60 {
@@ -128,21 +131,38 @@ fn hermite_root(c: [f64; 4], mut th: f64) -> f64 {
     }
     th
 }
-/// One return to the section from `(x*, r)`: the next crossing's amplitude and time, or
-/// `None` if the run does not come back by `t_max` (or this run's solve fails). `visit` sees
-/// every sample; this run's counters are added to `stats`.
+/// Why a run from a half of the line `x = x*` did not come back to it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Miss {
+    /// Not by the time limit.
+    TimeLimit,
+    /// The run's own solve failed, or its state stopped being finite.
+    Failed,
+    /// It settled on a lasting oscillation whose turns do not reach the section
+    /// ([`crate::turns`]): stopped there, before the time limit. Under the same limit it
+    /// would have run to the limit without a return (unless the oscillation was a
+    /// transient after all: crates/core/MODEL.md section 10).
+    Lasting(Lasting),
+}
+
+/// One return to the section from `(x*, r)`: the next crossing's amplitude and time, or why
+/// the run does not come back by `t_max` ([`Miss`]). `visit` sees every sample; this run's
+/// counters are added to `stats`.
 pub fn section_return(
     stepper: &Stepper,
     r: f64,
     t_max: f64,
     stats: &mut SolverStats,
     visit: impl FnMut(&Sample),
-) -> Option<Crossing> {
+) -> Result<Crossing, Miss> {
     half_return(stepper, Half::Upper, r, t_max, stats, visit)
 }
 
 /// [`section_return`] on either half: the run from amplitude `r` on `half` to its next
-/// crossing of the same half.
+/// crossing of the same half. A run that settles on a lasting oscillation missing the
+/// section (the default classifier's window of turns, [`TurnSettings::default`]) stops
+/// there: [`Miss::Lasting`].
 pub fn half_return(
     stepper: &Stepper,
     half: Half,
@@ -150,20 +170,28 @@ pub fn half_return(
     t_max: f64,
     stats: &mut SolverStats,
     mut visit: impl FnMut(&Sample),
-) -> Option<Crossing> {
+) -> Result<Crossing, Miss> {
     let fp = stepper.params().fixed_point();
     let mut run = Run::new(stepper, half.state(fp.x, r));
+    let mut turns = TurnWatch::new(stepper.params(), TurnSettings::default());
     visit(run.sample());
-    let mut found = None;
+    let mut found = Err(Miss::TimeLimit);
     for _ in 0..run.steps_to(t_max) {
         let step = run.step();
         visit(&step.next);
         // This run's own failures: the caller's `stats` sum earlier runs.
         if run.failed() || !step.next.x.is_finite() {
+            found = Err(Miss::Failed);
             break;
         }
         if let Some(c) = half.crossing(fp.x, &step.prev, &step.next) {
-            found = Some(c);
+            found = Ok(c);
+            break;
+        }
+        if turns.observe_step(&run, &step).is_some()
+            && let Some(l) = turns.lasting().filter(Lasting::misses_section)
+        {
+            found = Err(Miss::Lasting(l));
             break;
         }
     }

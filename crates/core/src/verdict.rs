@@ -98,11 +98,17 @@ pub enum Reason {
     /// ([`Shortcuts::decay_lower_below`], MODEL.md section 9). Half a revolution before
     /// [`Reason::BelowDecayingSection`] could decide it.
     EnteredDecayingTurn = 19,
+    /// The last `settle_cycles` turns of the run (from one maximum of `x` to the next) stay
+    /// in a band without trend and none of them crossed the section `x = x*, x' > 0`: a
+    /// lasting oscillation the section's rules cannot see ([`crate::turns`], MODEL.md
+    /// section 10), stick-slip. Decided only there, so it never changes a label the section
+    /// decides.
+    LastingOscillation = 20,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 20] = [
+    pub const ALL: [Reason; 21] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -123,6 +129,7 @@ impl Reason {
         Reason::BelowDecayingSection,
         Reason::StartInsideDecayingTurn,
         Reason::EnteredDecayingTurn,
+        Reason::LastingOscillation,
     ];
 
     /// The reason's name in files and output.
@@ -148,6 +155,7 @@ impl Reason {
             Reason::BelowDecayingSection => "below_decaying_section",
             Reason::StartInsideDecayingTurn => "start_inside_decaying_turn",
             Reason::EnteredDecayingTurn => "entered_decaying_turn",
+            Reason::LastingOscillation => "lasting_oscillation",
         }
     }
 }

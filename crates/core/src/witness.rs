@@ -192,7 +192,7 @@ pub fn section_evidence(
     let mut stats = SolverStats::default();
     for k in 0..CHECK_SAMPLES {
         let r = log(k, CHECK_SAMPLES);
-        if let Some(c) = section_return(stepper, r, t_return, &mut stats, |_| {}) {
+        if let Ok(c) = section_return(stepper, r, t_return, &mut stats, |_| {}) {
             ev.returns.push((r, c.r));
         }
     }

@@ -573,7 +573,9 @@ fn solver_counters_snapshot() {
 fn unstable_cycle(st: &Stepper) -> Option<f64> {
     let displacement = |r: f64| {
         let mut stats = SolverStats::default();
-        section_return(st, r, 100.0, &mut stats, |_| {}).map(|c| c.r - r)
+        section_return(st, r, 100.0, &mut stats, |_| {})
+            .ok()
+            .map(|c| c.r - r)
     };
     let (mut lo, mut r) = (f64::NAN, 0.01);
     while r < 3.0 {

@@ -174,7 +174,12 @@ fn refine_dips(
         };
         let h = rs[i + 1] - rs[i];
         let floor = 0.5 * (ps[i] + ps[i + 1] - RISE_FACTOR * left.max(right) * h);
-        if floor > r_u {
+        // Both ends without a return (`P = 0`, the least `P` there is: a time-out, or a run
+        // settled on an oscillation off the section): no sample between them can lower the
+        // band's bottom, nor come before the first of them, so the verdict and its values
+        // are those of the unrefined interval (issue 31: at a real brake every start of the
+        // band falls into such an oscillation, and halving them spent the whole budget).
+        if floor > r_u || (ps[i] <= 0.0 && ps[i + 1] <= 0.0) {
             i += 1;
             continue;
         }

@@ -263,6 +263,7 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (17, "below_decaying_section"),
     (18, "start_inside_decaying_turn"),
     (19, "entered_decaying_turn"),
+    (20, "lasting_oscillation"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

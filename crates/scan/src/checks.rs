@@ -65,8 +65,8 @@ pub struct LandscapeCheck {
 pub struct Settled {
     /// Steady slip by coming within `fp_radius` of the fixed point (`near_fixed_point`).
     pub steady_slip: u64,
-    /// Stick-slip by the band rules or a second stick (`settled_stick_slip`,
-    /// `sticking_band`, `stick_cycle`).
+    /// Stick-slip by the band rules, a band of turns off the section or a second stick
+    /// (`settled_stick_slip`, `sticking_band`, `lasting_oscillation`, `stick_cycle`).
     pub stick_slip: u64,
 }
 
@@ -75,9 +75,12 @@ impl Settled {
     fn add(&mut self, cell: &Cell) {
         match Reason::ALL.get(cell.reason as usize) {
             Some(Reason::NearFixedPoint) => self.steady_slip += 1,
-            Some(Reason::SettledStickSlip | Reason::StickingBand | Reason::StickCycle) => {
-                self.stick_slip += 1
-            }
+            Some(
+                Reason::SettledStickSlip
+                | Reason::StickingBand
+                | Reason::LastingOscillation
+                | Reason::StickCycle,
+            ) => self.stick_slip += 1,
             _ => {}
         }
     }

@@ -17,6 +17,7 @@
 
 use serde::Serialize;
 use squeal_core::classify::section_return;
+use squeal_core::section::Miss;
 use squeal_core::{SolverStats, Stepper};
 
 /// Settings of the cycle search.
@@ -56,6 +57,9 @@ pub struct Work {
     pub stats: SolverStats,
     /// Section returns (each one revolution).
     pub returns: u64,
+    /// Of those, runs stopped on a lasting oscillation that misses the section
+    /// ([`squeal_core::section::Miss::Lasting`]): no return, as at the time limit, found early.
+    pub lasting: u64,
 }
 
 impl Work {
@@ -63,6 +67,7 @@ impl Work {
     pub fn merge(&mut self, other: &Work) {
         self.stats.merge(&other.stats);
         self.returns += other.returns;
+        self.lasting += other.lasting;
     }
 }
 
@@ -169,12 +174,16 @@ impl<'a> ReturnMap<'a> {
     }
 
     /// `D(r) = P(r) - r`, counted in `w`; no return within `t_return` counts as decay
-    /// (`D = -r`).
+    /// (`D = -r`), and so does a run that settles on a lasting oscillation missing the
+    /// section ([`Miss::Lasting`], counted in [`Work::lasting`]): stopped there instead of
+    /// at `t_return`.
     pub fn d(&self, r: f64, w: &mut Work) -> f64 {
         let known = self.cache.and_then(|c| c.get(r, self.t_return));
         let p = known.unwrap_or_else(|| {
             w.returns += 1;
-            let p = section_return(self.st, r, self.t_return, &mut w.stats, |_| {}).map(|c| c.r);
+            let ret = section_return(self.st, r, self.t_return, &mut w.stats, |_| {});
+            w.lasting += u64::from(matches!(ret, Err(Miss::Lasting(_))));
+            let p = ret.ok().map(|c| c.r);
             crate::observe::step(crate::observe::SearchStep::Return(r));
             if let Some(c) = self.cache {
                 c.put(r, self.t_return, p);

@@ -10,8 +10,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use serde::Serialize;
 use squeal_core::classify::crossing;
 use squeal_core::{
-    Classifier, Outcome, Reason, Regime, Run, Sample, Samples, Shortcuts, SolverStats, State, Step,
-    Stepper,
+    Classifier, Lasting, Outcome, Reason, Regime, Run, Sample, Samples, Shortcuts, SolverStats,
+    State, Step, Stepper, TurnSettings, TurnWatch,
 };
 
 use crate::error::ScanError;
@@ -191,6 +191,11 @@ pub struct Trajectory {
     pub fixed_point: State,
     /// The final oscillation.
     pub oscillation: Oscillation,
+    /// The lasting oscillation of the run's last turns (maximum of `x` to maximum,
+    /// [`squeal_core::turns`]), wherever it lies, if the band test of its window passed at
+    /// the last closed turn (the classifier's window and widths): its frequency and extent,
+    /// whether it sticks, reverses its slip and crosses the section.
+    pub lasting: Option<Lasting>,
     /// Stick phases (laws with true stick only).
     pub stick: Option<StickPhases>,
     /// Steps (the initial solve included) whose solve did not converge.
@@ -234,6 +239,8 @@ fn watch_run(
     }
     let mut stick = p.law.has_true_stick().then(StickPhases::default);
     let mut osc = Oscillation::NONE;
+    let mut turns = TurnWatch::new(&p, TurnSettings::of(&cl));
+    let mut lasting = None;
     let steps = (span.t_end / stepper.dt()).ceil() as u64;
     for k in 1..=steps {
         let step = run.step();
@@ -260,6 +267,9 @@ fn watch_run(
         if let Some(c) = crossing(fp.x, &step.prev, &n) {
             osc.observe(c.t, c.r);
         }
+        if turns.observe_step(&run, &step).is_some() {
+            lasting = turns.lasting();
+        }
         if span.every > 0 && k % span.every == 0 {
             samples.push(&n);
         }
@@ -283,6 +293,7 @@ fn watch_run(
         refuted: None,
         fixed_point: fp,
         oscillation: osc,
+        lasting,
         stick,
         unconverged_steps: unconverged.steps,
         first_unconverged_times: unconverged.first,

@@ -193,7 +193,7 @@ pub fn turn(
         quasi |= squeal_core::friction::on_quasi_static_branch(&p, s.v - p.lambda, s.a);
     });
     stats.merge(&own);
-    let c = c?;
+    let c = c.ok()?;
     xs.pop();
     vs.pop();
     Some(Turn {

@@ -74,6 +74,9 @@ pub(crate) enum ReasonH5 {
     // Appended: files written before it hold values up to 18 and still read.
     #[hdf5(rename = "entered_decaying_turn")]
     EnteredDecayingTurn = 19,
+    // Appended: files written before it hold values up to 19 and still read.
+    #[hdf5(rename = "lasting_oscillation")]
+    LastingOscillation = 20,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -101,6 +104,7 @@ impl ReasonH5 {
             17 => ReasonH5::BelowDecayingSection,
             18 => ReasonH5::StartInsideDecayingTurn,
             19 => ReasonH5::EnteredDecayingTurn,
+            20 => ReasonH5::LastingOscillation,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

@@ -77,7 +77,8 @@
 //!                stuck_onto_cycle=13, stuck_then_settles=14,
 //!                below_settling_start=15, between_sticking_starts=16,
 //!                below_decaying_section=17, start_inside_decaying_turn=18,
-//!                entered_decaying_turn=19, not_computed=255}, fill 255
+//!                entered_decaying_turn=19, lasting_oscillation=20, not_computed=255},
+//!                fill 255
 //!   t_decision, amplitude, omega, max_residual    f64, fill NaN, units "1"
 //!   quasi_static u8, evaluations u64, fallbacks, multi_root, unconverged u32, fill 0
 //!   audit        u8 enum {not_audited=0, agrees=1, disagrees=2, undecided=3}: the label of
