@@ -130,6 +130,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     common::check_new(&args.out, args.force, "labels")?;
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
+    for w in &ctx.withdrawn {
+        eprintln!(
+            "squeal: rule withdrawn for this model, its starts decided by runs: {}",
+            w.why
+        );
+    }
     let outcomes: Vec<_> = ics.par_iter().map(|&ic| ctx.classify(ic)).collect();
     let mut w = std::io::BufWriter::new(
         std::fs::File::create(&args.out)
