@@ -167,6 +167,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     estimate(&args, &setup.plan, ics.len())?;
     let ctx = MapContext::prepare(&setup.plan, setup.map)?;
+    for w in &ctx.withdrawn {
+        eprintln!(
+            "squeal: rule withdrawn for this model, its starts decided by runs: {}",
+            w.why
+        );
+    }
     let total = ics.len() as u64;
     let bar = progress::bar(
         total,

@@ -110,6 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         max_residual: t.max_residual,
         unconverged_steps: t.unconverged_steps,
         first_unconverged_times: t.first_unconverged_times.clone(),
+        rules_withdrawn: ctx.withdrawn.iter().map(|w| w.why.clone()).collect(),
         rows: if keep { cols.len() as u64 } else { 0 },
         out: args.out.clone(),
         plot: args.plot.clone(),

@@ -118,6 +118,9 @@ pub(super) struct Summary {
     pub(super) unconverged_steps: u64,
     /// Times of the first few of them.
     pub(super) first_unconverged_times: Vec<f64>,
+    /// The rule groups withdrawn from this model's map (issue 31: a census run refuted
+    /// their premise), each with why; the label was decided without them.
+    pub(super) rules_withdrawn: Vec<String>,
     /// Rows written to `--out` (and drawn, before any further decimation, in `--plot`).
     pub(super) rows: u64,
     pub(super) out: Option<PathBuf>,
@@ -209,6 +212,9 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
             "the run itself: {} ({} at t = {:.6})",
             r.regime, r.reason, r.t_decision
         );
+    }
+    for w in &s.rules_withdrawn {
+        println!("rule withdrawn for this model (the label is decided without it): {w}");
     }
     println!("squeal: {}", c.squeal.words());
     let f = &s.final_state;

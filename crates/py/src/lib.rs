@@ -163,6 +163,14 @@ pub fn scan(
         squeal_scan::DriveError::Scan(e) => value_error(e),
         squeal_scan::DriveError::Sink(e) => store_error(e),
     })?;
+    // The audit acts before the file is written, as `squeal scan` makes it (issue 31).
+    if !report.interrupted {
+        py.detach(|| squeal_scan::redo::act_on_audits(&plan, None, &mut writer))
+            .map_err(|e| match e {
+                squeal_scan::DriveError::Scan(e) => value_error(e),
+                squeal_scan::DriveError::Sink(e) => store_error(e),
+            })?;
+    }
     let landscapes = py
         .detach(|| squeal_scan::landscape::of_plan(&plan))
         .map_err(value_error)?;

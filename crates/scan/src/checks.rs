@@ -101,6 +101,10 @@ pub struct MapChecks {
     /// may end in steady slip, so only stick-slip inside counts as the wrong side.
     #[serde(default)]
     pub escapes: bool,
+    /// The inside rules were withdrawn from the map (issue 31: a run from inside the cycle
+    /// did not end at the fixed point), so stick-slip inside is no wrong side either.
+    #[serde(default)]
+    pub inside_open: bool,
     /// Cells whose runs went to settlement (no early decision reached them).
     #[serde(default)]
     pub settled: Settled,
@@ -255,7 +259,7 @@ impl MapChecks {
             let regime = cell.regime();
             let wrong = match regime {
                 Some(Regime::SteadySlip) => !inside && !self.escapes,
-                Some(Regime::StickSlip) => inside,
+                Some(Regime::StickSlip) => inside && !self.inside_open,
                 _ => false,
             };
             if let Some(w) = self.wrong_side.as_mut().filter(|_| wrong) {
@@ -308,6 +312,16 @@ impl<'a> MapTally<'a> {
             curve,
             labels: vec![NOT_COMPUTED; plan.grid.cells()],
         }
+    }
+
+    /// The rule groups withdrawn from the map (issue 31; before any block is added): where
+    /// the census or the audit refuted the cycle's outside (inside) rules, its cells decided
+    /// by runs may end in steady slip outside it (stick-slip inside it), and the wrong-side
+    /// check no longer counts them.
+    pub fn withdrawn(&mut self, groups: &[crate::census::Rules]) {
+        use crate::census::Rules;
+        self.checks.escapes |= groups.contains(&Rules::Outside);
+        self.checks.inside_open |= groups.contains(&Rules::Inside);
     }
 
     /// Adds the cells of block `block` (row-major over its rows and all `x0`).

@@ -25,8 +25,8 @@ pub(crate) trait Source {
     fn block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError>;
     /// The recorded cycle of a map, if any.
     fn cycle(&mut self, map: usize) -> Result<Option<CycleRecord>, StoreError>;
-    /// The rule groups withdrawn from a map (issue 31), one line each with why.
-    fn withdrawn(&mut self, _map: usize) -> Vec<String> {
+    /// The rule groups withdrawn from a map (issue 31), each with why.
+    fn withdrawn(&mut self, _map: usize) -> Vec<squeal_scan::scanner::Withdrawn> {
         Vec::new()
     }
 }
@@ -227,7 +227,7 @@ fn write_all(
         .flat_map(|m| {
             src.withdrawn(m)
                 .into_iter()
-                .map(move |l| format!("map {m}: {l}"))
+                .map(move |w| format!("map {m}: {}", w.why))
         })
         .collect();
     str_attr(file, "rules_withdrawn", &withdrawn.join("\n")).h5(path)?;
@@ -343,6 +343,8 @@ fn write_cells<'l>(
     for m in 0..nmaps {
         let cyc = src.cycle(m)?;
         let mut tally = MapTally::new(plan, report_of(&cyc), landscape(m).map(|l| l.landscape));
+        let groups: Vec<_> = src.withdrawn(m).iter().map(|w| w.rules).collect();
+        tally.withdrawn(&groups);
         for b in 0..nblocks {
             let Some(cells) = src.block(m, b)? else {
                 continue;

@@ -709,10 +709,8 @@ impl Source for JournalSource<'_> {
         Ok(Some(rec))
     }
 
-    fn withdrawn(&mut self, map: usize) -> Vec<String> {
-        self.withdrawn
-            .get(&map)
-            .map_or_else(Vec::new, |w| w.iter().map(|x| x.why.clone()).collect())
+    fn withdrawn(&mut self, map: usize) -> Vec<squeal_scan::scanner::Withdrawn> {
+        self.withdrawn.get(&map).cloned().unwrap_or_default()
     }
 }
 

@@ -838,3 +838,46 @@ fn damaged_trailing_records_are_counted() {
     assert!(w.contains("6 damaged records"), "{w}");
     assert!(!w.contains("torn last record"), "{w}");
 }
+
+/// Issue 31: rule groups withdrawn from a map (journal record `W`) survive a resume, a
+/// block stored again replaces the one before, and the file says which groups and why
+/// (root attribute `rules_withdrawn`, one line per group).
+#[test]
+fn withdrawn_rules_survive_a_resume_and_reach_the_file() {
+    use squeal_scan::census::Rules;
+    use squeal_scan::scanner::Withdrawn;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w.h5");
+    let p = plan();
+    let w = Withdrawn {
+        rules: Rules::Outside,
+        why: "start_outside_cycle+outside_cycle withdrawn: because".into(),
+    };
+    {
+        let mut s = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
+        write_cycles(&mut s, &p, None);
+        for b in 0..p.grid.blocks() {
+            s.write_block(&block(&p, 0, b)).unwrap();
+        }
+        Sink::write_withdrawn(&mut s, 0, std::slice::from_ref(&w)).unwrap();
+        // A block redone: stored again, with every label steady slip.
+        let mut again = block(&p, 0, 1);
+        for c in &mut again.cells {
+            c.regime = 1;
+        }
+        s.write_block(&again).unwrap();
+    }
+    let mut s = ScanWriter::resume(&out, &p, None, &prov()).unwrap();
+    assert_eq!(Sink::withdrawn(&mut s, 0).unwrap(), vec![w.clone()]);
+    let cells = Sink::stored_block(&mut s, 0, 1).unwrap().unwrap();
+    assert!(cells.iter().all(|c| c.regime == 1));
+    assert_eq!(s.withdrawn_lines(), vec![(0, w.why.clone())]);
+    s.finish().unwrap();
+    let info = read_info(&out).unwrap();
+    let attr = info
+        .attrs
+        .iter()
+        .find(|(k, _)| k == "rules_withdrawn")
+        .map(|(_, v)| v.clone());
+    assert_eq!(attr, Some(format!("map 0: {}", w.why)));
+}
