@@ -190,6 +190,13 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
     // no pilot runs for an atlas refused on those alone.
     let rough = atlas_documented_seconds(plan, threads);
     refuse(rough, " at the documented rate")?;
+    let bound = squeal_scan::estimate::atlas_pilot_bound(plan);
+    if !args.run.quiet && bound > common::PILOT_NOTICE {
+        eprintln!(
+            "squeal: timing a pilot of the atlas first (up to {} at the documented rate) ...",
+            common::duration(bound)
+        );
+    }
     let pilot = bounded_atlas_pilot(plan)?;
     let secs = pilot.as_ref().map_or(rough, |e| e.seconds(plan, threads));
     refuse(secs, "")?;

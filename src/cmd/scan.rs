@@ -259,6 +259,13 @@ fn checked_estimate(
             common::duration(rough)
         );
     }
+    let bound = squeal_scan::estimate::pilot_bound(plan);
+    if !args.run.quiet && bound > common::PILOT_NOTICE {
+        eprintln!(
+            "squeal: timing a pilot first (up to {} at the documented rate) ...",
+            common::duration(bound)
+        );
+    }
     let pilot = match args.run.quiet {
         true => None,
         false => squeal_scan::estimate::bounded_pilot(plan)?,
