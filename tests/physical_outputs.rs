@@ -389,11 +389,13 @@ fn pad_trajectory(dir: &std::path::Path, extra: &[&str]) -> std::process::Output
 #[test]
 fn a_clamped_brake_is_the_g_hacks_system() {
     let dir = tempfile::tempdir().unwrap();
-    let attrs = |extra: &[&str], out: &str| {
+    let mut json = Vec::new();
+    let mut attrs = |extra: &[&str], out: &str| {
         let mut all = extra.to_vec();
-        all.extend(["--out", out]);
+        all.extend(["--out", out, "--json"]);
         let o = pad_trajectory(dir.path(), &all);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        json.push(serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap());
         hdf5::File::open(dir.path().join(out)).unwrap()
     };
     let num = |f: &hdf5::File, k: &str| -> f64 {
@@ -408,6 +410,10 @@ fn a_clamped_brake_is_the_g_hacks_system() {
     };
     let pad = attrs(&["--normal-force", "1500"], "pad.h5");
     let hack = attrs(&["--g", "1875"], "hack.h5");
+    // `--json` gives the force with the SI figures, for both ways of stating it.
+    for j in &json {
+        assert_eq!(j["si"]["normal_force_n"], 1500.0, "{j}");
+    }
     // Closed form (crates/core/MODEL.md, "Units"): omega_0 = sqrt(2e5 / 0.8) = 500 rad/s,
     // sqrt(m k) = 400; nu = c / (2 sqrt(m k)) = 0.025; lambda = v_B sqrt(m k) / (mu_k N)
     // = 120 / 570 = 0.2105; tau' = tau omega_0 / mu_k = 0.25 / 0.38 = 0.6579;

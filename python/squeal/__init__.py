@@ -165,10 +165,11 @@ def basin_stability(
     *,
     n: int = 5000,
     seed: int = 1,
-    region: Sequence[Sequence[float]] = ((-2.0, 2.0), (0.0, 2.0)),
+    region: Optional[Sequence[Sequence[float]]] = None,
     out=None,
     integration: Optional[Mapping[str, Any]] = None,
     classifier: Optional[Mapping[str, Any]] = None,
+    physical: Optional[Mapping[str, Any]] = None,
     **params: Any,
 ) -> BasinStability:
     """Shares per regime of ``n`` uniform random initial conditions (seeded) in
@@ -176,12 +177,27 @@ def basin_stability(
     classifier. ``params`` are the model's (``xi``, ``v_d``, ``mu_d``, ... for the Stribeck
     law; ``nu``, ``lambda``, ... for McMillan's); one of them may be a list or array (a
     sweep, e.g. ``v_d=numpy.linspace(0.8, 2.225, 20)``, the belt-speed study).
+    Or, for McMillan's laws and Coulomb, the physical system in SI units, as keywords
+    (``m, k, c, v_belt, mu_k, mu_s, tau_s`` and ``g`` or ``normal_force``, as the command
+    line's flags; ``c`` or ``v_belt`` may be swept) or as ``physical=`` (a ``[physical]``
+    table); then ``region`` is in m and m/s and must be given.
     Defaults: bSTAB's friction case region and 5000 samples."""
+    names = _Names("basin_stability")
+    tables = _model_tables({"law": law, **params}, physical, names)
+    if region is None:
+        if "physical" in tables:
+            raise ValueError(
+                "squeal.basin_stability: region=: give the region in m and m/s for a "
+                "physical system (the default is bSTAB's, in the model's units)"
+            )
+        region = ((-2.0, 2.0), (0.0, 2.0))
     (x_lo, x_hi), (v_lo, v_hi) = region
+    names.keys["sample.region.x0"] = "region="
+    names.keys["sample.region.v0"] = "region="
     spec = {
         "version": 1,
         "name": "basin-stability",
-        "model": {"law": law, **params},
+        **tables,
         "sample": {
             "kind": "random",
             "n": int(n),
@@ -194,7 +210,7 @@ def basin_stability(
         spec["integration"] = dict(integration)
     if classifier:
         spec["classifier"] = dict(classifier)
-    ds = scan(spec, out)
+    ds = names(scan, spec, out)
     dim = _swept(ds)
 
     def pick(var):
@@ -213,20 +229,108 @@ def basin_stability(
     )
 
 
-def _model_spec(spec: Optional[Spec], model: Mapping[str, Any], extra: Mapping[str, Any]):
-    """A spec for one parameter point: ``spec`` as given, or the model ``model`` on a
-    one-cell grid (as the command line builds one from its flags)."""
+#: The physical system's keywords (the command line's ``--m ... --normal-force``) and the
+#: ``[physical]`` keys they stand for: the surface time in seconds is ``tau_s`` (as
+#: ``--tau-s``), since ``tau`` is the model's nondimensional ``tau'``.
+_PHYSICAL = {
+    "m": "m",
+    "k": "k",
+    "c": "c",
+    "v_belt": "v_belt",
+    "mu_k": "mu_k",
+    "mu_s": "mu_s",
+    "tau_s": "tau",
+    "g": "g",
+    "normal_force": "normal_force",
+}
+
+
+class _Names:
+    """Where each spec key of a helper's call came from: the Python keyword (``m=``,
+    ``tau_s=``) or the ``physical=`` mapping (``physical["tau"]``), so that an error names
+    what the caller wrote, not a TOML table the caller never saw."""
+
+    def __init__(self, helper: str):
+        self.helper = helper
+        self.keys: dict[str, str] = {}
+
+    def rename(self, e: ValueError) -> ValueError:
+        import re
+
+        text = re.sub(
+            r"`((?:physical|model|sample\.region)\.\w+)`",
+            lambda m: f"`{self.keys.get(m.group(1), m.group(1))}`",
+            str(e),
+        )
+        if self.keys:
+            # The spec was built from the call's keywords: name the call, not "spec".
+            text = text.replace("spec: ", f"squeal.{self.helper}: ", 1)
+        return ValueError(text)
+
+    def __call__(self, f, *args):
+        try:
+            return f(*args)
+        except ValueError as e:
+            raise self.rename(e) from None
+
+
+def _model_tables(
+    model: dict[str, Any], physical: Optional[Mapping[str, Any]], names: _Names
+) -> dict[str, Any]:
+    """The ``[model]`` and ``[physical]`` tables of the keywords ``model`` (the physical
+    keys among them, :data:`_PHYSICAL`) and the mapping ``physical`` (its keys as the
+    ``[physical]`` table's); ``names`` learns which keyword each spec key came from."""
+    given = {k: model.pop(k) for k in list(model) if k in _PHYSICAL}
+    if given and physical is not None:
+        raise ValueError(
+            f"squeal.{names.helper}: give the physical system as keywords "
+            f"({', '.join(sorted(given))}) or as physical=, not both"
+        )
+    tables: dict[str, Any] = {"model": dict(model)}
+    for k in model:
+        names.keys[f"model.{k}"] = f"{k}="
+    if given:
+        tables["physical"] = {_PHYSICAL[k]: v for k, v in given.items()}
+        for k in given:
+            names.keys[f"physical.{_PHYSICAL[k]}"] = f"{k}="
+    elif physical is not None:
+        tables["physical"] = dict(physical)
+        for k in physical:
+            names.keys[f"physical.{k}"] = f"physical[{k!r}]"
+    if "physical" in tables:
+        # The model's own parameters are the physical system's (nu from c, ...).
+        for k in tables["model"]:
+            if k != "law":
+                raise ValueError(
+                    f"squeal.{names.helper}: {k}= is a nondimensional parameter; with the "
+                    f"physical system ({', '.join(_PHYSICAL)}) it follows from them "
+                    "(tau_s= is the surface time in seconds)"
+                )
+    return tables
+
+
+def _model_spec(
+    spec: Optional[Spec],
+    model: dict[str, Any],
+    extra: Mapping[str, Any],
+    names: _Names,
+    physical: Optional[Mapping[str, Any]] = None,
+):
+    """A spec for one parameter point: ``spec`` as given, or the model ``model`` (with its
+    physical keys or ``physical``, :func:`_model_tables`) on a one-cell grid (as the command
+    line builds one from its flags)."""
     if spec is not None:
-        if model:
+        if model or physical is not None:
+            got = sorted(model) + (["physical"] if physical is not None else [])
             raise ValueError(
                 "give either spec= or the model's parameters, not both "
-                f"(got {', '.join(sorted(model))})"
+                f"(got {', '.join(got)})"
             )
         return spec
     one = {"min": 0.0, "max": 0.0, "count": 1}
     s = {
         "version": 1,
-        "model": dict(model),
+        **_model_tables(model, physical, names),
         "grid": {"x0": one, "v0": one},
         "output": {"path": "unused.h5"},
     }
@@ -265,15 +369,20 @@ def ulc(
     rtol: float = 1e-10,
     check_half_dt: bool = True,
     integration: Optional[Mapping[str, Any]] = None,
+    physical: Optional[Mapping[str, Any]] = None,
     **model: Any,
 ) -> UnstableCycle:
     """Locates the unstable limit cycle (``squeal ulc``) of the model given by its
-    parameters (``law="mcmillan", nu=1e-2``; ``integration={"dt": ...}``) or of map ``map``
-    of a scan ``spec``."""
+    parameters (``law="mcmillan", nu=1e-2``; ``integration={"dt": ...}``), or by its
+    physical system in SI units (``m=0.8, k=2e5, c=20, v_belt=0.3, mu_k=0.38, mu_s=0.48,
+    tau_s=5e-4, normal_force=1500``, the command line's flags; or ``physical=`` a
+    ``[physical]`` table), or of map ``map`` of a scan ``spec``. Errors name the keyword."""
     import numpy as np
 
-    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
-    rep = json.loads(_squeal.ulc(name, text, map, r_max, rtol, check_half_dt))
+    names = _Names("ulc")
+    s = _model_spec(spec, model, {"integration": integration}, names, physical)
+    name, text = names(_spec, s)
+    rep = json.loads(names(_squeal.ulc, name, text, map, r_max, rtol, check_half_dt))
     return UnstableCycle(
         r_section=rep["r_section"],
         bracket=tuple(rep["bracket"]),
@@ -326,26 +435,34 @@ def critical(
     rtol: float = 1e-4,
     map: int = 0,  # noqa: A002 (the command line's --map)
     integration: Optional[Mapping[str, Any]] = None,
+    physical: Optional[Mapping[str, Any]] = None,
     **model: Any,
 ) -> Critical:
     """The critical value of ``parameter`` for the state ``(x0, v0)``, or with ``fold=True``
     the fold of cycles (``squeal critical [--fold] [--in PARAMETER]``), bisected over
     ``bracket`` (default: the command line's, ``(1e-3, 5e-2)`` in ``nu``/``xi``,
     ``(0.5, 6)`` in ``lambda``/``v_d``). The model as for :func:`ulc`; the bisected
-    parameter's own value, if not given, is the bracket's low end."""
+    parameter's own value, if not given, is the bracket's low end (with the physical
+    system, the bracket stays in ``nu`` or ``lambda``, and ``x0``, ``v0`` are in m and m/s,
+    as on the command line)."""
     key = _BOUNDARY_KEYS.get(parameter)
     if key is None:
         raise ValueError(f"parameter {parameter!r}: expected one of {', '.join(_BOUNDARY_KEYS)}")
     lo, hi = bracket if bracket is not None else _BRACKETS[key]
-    if spec is None and parameter not in model:
+    is_physical = physical is not None or any(k in _PHYSICAL for k in model)
+    if spec is None and parameter not in model and not is_physical:
         model[parameter] = lo
-    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
+    names = _Names("critical")
+    s = _model_spec(spec, model, {"integration": integration}, names, physical)
+    name, text = names(_spec, s)
     point = (float(x0), float(v0))
     if key == "nu" and not fold:
         # As the command line: the critical damping by cycle locations.
-        rep = json.loads(_squeal.critical(name, text, map, point, (lo, hi), rtol))
+        rep = json.loads(names(_squeal.critical, name, text, map, point, (lo, hi), rtol))
         return Critical(parameter, rep["nu"], tuple(rep["bracket"]), rep["evaluations"], point)
-    b = json.loads(_squeal.boundary(name, text, map, point, (key, fold, rtol), (lo, hi)))
+    b = json.loads(
+        names(_squeal.boundary, name, text, map, point, (key, fold, rtol), (lo, hi))
+    )
     if b["status"] == "below_range":
         what = "nothing squeals there already" if fold else f"{point} is quiet there already"
         raise ValueError(f"bracket low end {parameter} = {lo}: {what}; lower it")
@@ -366,6 +483,7 @@ def trajectory(
     out=None,
     map: int = 0,  # noqa: A002 (the command line's --map)
     integration: Optional[Mapping[str, Any]] = None,
+    physical: Optional[Mapping[str, Any]] = None,
     **model: Any,
 ):
     """One run from ``(x0, v0)`` to ``t_end`` (``squeal trajectory``) as a Dataset over the
@@ -375,13 +493,17 @@ def trajectory(
     it, else the classifier's verdict on the run) in ``regime``, ``reason``, ``t_decision``
     and ``t_squeal`` (the time on stick-slip before
     the run settled, as scans store it per cell: 0 never stuck, ``inf`` stick-slip for good,
-    -1 not known). The model as for :func:`ulc`; ``out`` keeps
-    the file (the schema of ``squeal trajectory --out run.h5``)."""
-    name, text = _spec(_model_spec(spec, model, {"integration": integration}))
+    -1 not known). The model as for :func:`ulc` (with the physical system ``x0``, ``v0``
+    are in m and m/s, as on the command line; the Dataset is in the model's units, with
+    ``length_unit``, ``velocity_unit``, ``time_unit`` and the system's ``physical_<key>``
+    attributes); ``out`` keeps the file (the schema of ``squeal trajectory --out run.h5``)."""
+    names = _Names("trajectory")
+    s = _model_spec(spec, model, {"integration": integration}, names, physical)
+    name, text = names(_spec, s)
 
     def run(path):
-        verdict = _squeal.trajectory(
-            name, text, map, (x0, v0), (float(t_end), int(every)), str(path)
+        verdict = names(
+            _squeal.trajectory, name, text, map, (x0, v0), (float(t_end), int(every)), str(path)
         )
         ds = open(path)
         ds.attrs.update(zip(("regime", "reason", "t_decision", "t_squeal"), verdict))

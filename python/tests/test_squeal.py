@@ -341,3 +341,53 @@ def test_the_namespace_is_the_api():
     assert public == set(squeal.__all__)
     assert all(hasattr(squeal, name) for name in squeal.__all__)
     assert "__version__" in dir(squeal)
+
+
+# The disc-brake pad of issue 34 in SI units: 0.8 kg on a 200 kN/m mount, 20 N s/m, disc at
+# 0.3 m/s, mu_k 0.38, mu_s 0.48, surface time 0.5 ms, clamped with 1.5 kN.
+PAD = dict(m=0.8, k=2e5, c=20.0, v_belt=0.3, mu_k=0.38, mu_s=0.48, tau_s=5e-4, normal_force=1500.0)
+
+
+def test_the_helpers_take_the_physical_system():
+    # Before: "TOML parse error at line 4 [model] unknown field `m`". Its nondimensional
+    # system (crates/core/MODEL.md, "Units"): nu = c / (2 sqrt(m k)) = 0.025, lambda =
+    # v_B sqrt(m k) / (mu_k N) = 120 / 570, tau' = tau omega_0 / mu_k = 0.25 / 0.38,
+    # phi = arcsin(0.38 / 0.48); a start 1 mm out is 1e-3 / (mu_k N / k) = 0.3509 units.
+    ds = squeal.trajectory(law="mcmillan", x0=1e-3, t_end=20.0, every=10, **PAD)
+    want = {
+        "nu": 0.025,
+        "lambda": 120.0 / 570.0,
+        "tau": 0.25 / 0.38,
+        "phi": float(np.arcsin(0.38 / 0.48)),
+        "x0": 1e-3 / 2.85e-3,
+    }
+    for key, v in want.items():
+        assert ds.attrs[key] == pytest.approx(v, rel=1e-13), key
+    # The g-hack g = N / m = 1875 m/s^2 (the only way to state the clamp before): the
+    # same run, bit for bit.
+    hack = {**{k: v for k, v in PAD.items() if k != "normal_force"}, "g": 1875.0}
+    h = squeal.trajectory(law="mcmillan", x0=1e-3, t_end=20.0, every=10, **hack)
+    np.testing.assert_array_equal(ds["x"].values, h["x"].values)
+    # The Dataset names the system: the normal force in newtons among its attributes.
+    assert ds.attrs["physical_normal_force"] == 1500.0
+    assert ds.attrs["physical_normal_force_units"] == "N"
+    # The same as a [physical] table (its surface time is `tau`, in s).
+    table = {**{k: v for k, v in PAD.items() if k != "tau_s"}, "tau": 5e-4}
+    t = squeal.trajectory(law="mcmillan", x0=1e-3, t_end=20.0, every=10, physical=table)
+    np.testing.assert_array_equal(t["x"].values, ds["x"].values)
+
+
+def test_physical_errors_name_the_python_keyword():
+    with pytest.raises(ValueError, match=r"`normal_force=` = 0"):
+        squeal.ulc(law="mcmillan", **{**PAD, "normal_force": 0.0})
+    with pytest.raises(ValueError, match=r"`tau_s=` = -1"):
+        squeal.critical(law="mcmillan", **{**PAD, "tau_s": -1.0})
+    with pytest.raises(ValueError, match=r"`normal_force=` = given with g"):
+        squeal.trajectory(law="mcmillan", t_end=1.0, g=9.81, **PAD)
+    table = {**{k: v for k, v in PAD.items() if k != "tau_s"}, "tau": 5e-4, "m": -1.0}
+    with pytest.raises(ValueError, match=r"`physical\['m'\]` = -1"):
+        squeal.ulc(law="mcmillan", physical=table)
+    with pytest.raises(ValueError, match="nu= is a nondimensional parameter"):
+        squeal.ulc(law="mcmillan", nu=0.01, **PAD)
+    with pytest.raises(ValueError, match="region=: give the region in m and m/s"):
+        squeal.basin_stability("mcmillan", n=10, **PAD)

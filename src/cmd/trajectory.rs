@@ -73,7 +73,8 @@ enum Format {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let stepper = args.model.stepper()?;
     // A physical system: --x0/--v0 are in m and m/s.
-    let scales = args.model.physical()?.map(|ph| ph.scales());
+    let physical = args.model.physical()?;
+    let scales = physical.map(|ph| ph.scales());
     let given = State {
         x: args.x0,
         v: args.v0,
@@ -119,8 +120,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut summary = summary;
     summary.params.x0 = ic.x;
     summary.params.v0 = ic.v;
-    if let Some(sc) = scales {
-        summary.si = Some(si_summary(&summary, &sc));
+    if let Some(ph) = physical {
+        summary.si = Some(si_summary(&summary, &ph));
     }
     if args.json {
         let text = serde_json::to_string_pretty(&summary).context("cannot encode the summary")?;

@@ -131,8 +131,9 @@ pub(super) struct Summary {
 }
 
 /// The start, final state and final oscillation in SI units (lengths in m, velocities in
-/// m/s, times in s, frequencies in Hz).
-pub(super) fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::Value {
+/// m/s, times in s, frequencies in Hz) of the system `ph`, with its normal force (N).
+pub(super) fn si_summary(s: &Summary, ph: &squeal_core::Physical) -> serde_json::Value {
+    let sc = &ph.scales();
     let f = &s.final_state;
     serde_json::json!({
         "x0_m": s.params.x0 * sc.length,
@@ -157,6 +158,7 @@ pub(super) fn si_summary(s: &Summary, sc: &squeal_core::Scales) -> serde_json::V
         "length_unit_m": sc.length,
         "velocity_unit_m_per_s": sc.velocity,
         "time_unit_s": sc.time,
+        "normal_force_n": ph.normal_force(),
     })
 }
 

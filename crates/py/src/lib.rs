@@ -257,6 +257,13 @@ pub fn ulc(
     serde_json::to_string(&rep).map_err(value_error)
 }
 
+/// The start `(x, v)` a helper was given, in the model's units: in m and m/s for a
+/// physical system (as the command line's `--x0 --v0` with `--m ...`), scaled by its units.
+fn start(plan: &Plan, (x, v): (f64, f64)) -> State {
+    let given = State { x, v };
+    plan.physical.map_or(given, |ph| ph.scales().state(given))
+}
+
 /// The critical damping `nu` of the state `point = (x, v)` for map `map` of `spec`
 /// ([`squeal_scan::ulc::critical_nu`], bracket `(nu_lo, nu_hi)`), as JSON.
 #[pyfunction]
@@ -270,11 +277,9 @@ pub fn critical(
     bracket: (f64, f64),
     rtol: f64,
 ) -> PyResult<String> {
-    let setup = setup_of(&plan_of(spec, text)?, map)?;
-    let point = State {
-        x: point.0,
-        v: point.1,
-    };
+    let plan = plan_of(spec, text)?;
+    let setup = setup_of(&plan, map)?;
+    let point = start(&plan, point);
     let cs = CycleSettings::default();
     let rep = py
         .detach(|| {
@@ -307,15 +312,13 @@ pub fn boundary(
     bracket: (f64, f64),
 ) -> PyResult<String> {
     use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
-    let setup = setup_of(&plan_of(spec, text)?, map)?;
+    let plan = plan_of(spec, text)?;
+    let setup = setup_of(&plan, map)?;
     let (key, fold, rtol) = search;
     let param = BoundaryParam::from_key(&key).ok_or_else(|| {
         PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
     })?;
-    let point = State {
-        x: point.0,
-        v: point.1,
-    };
+    let point = start(&plan, point);
     let ps = PointSettings {
         operating: point,
         ..PointSettings::default()

@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
 use pyo3::prelude::*;
-use squeal_core::State;
 use squeal_scan::trajectory::Span;
 use squeal_store::write_run;
 
@@ -37,10 +36,8 @@ pub fn trajectory(
             "every: invalid every = 0: expected a decimation factor >= 1"
         )));
     }
-    let ic = State {
-        x: point.0,
-        v: point.1,
-    };
+    // A physical system: the start is in m and m/s (as `squeal trajectory --m ...`).
+    let ic = crate::start(&plan, point);
     let span = Span { ic, t_end, every };
     // The checks of `squeal trajectory`: a start beyond the escape radius was labelled by
     // the start rule without a run, and t_end had no bound on its steps.
@@ -61,7 +58,8 @@ pub fn trajectory(
     let t = interruptible(py, &stop, || {
         squeal_scan::trajectory::run_in(&ctx, span, Some(&stop))
     })?;
-    write_run(&out, true, &provenance(), stepper, span, &t, None).map_err(store_error)?;
+    let physical = plan.physical.as_ref();
+    write_run(&out, true, &provenance(), stepper, span, &t, physical).map_err(store_error)?;
     let o = &t.outcome;
     let verdict = (o.regime.name(), o.reason.name(), o.t_decision, o.t_squeal);
     Ok(verdict)
