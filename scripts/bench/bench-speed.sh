@@ -62,7 +62,7 @@ if [ "$suite" = decisions ]; then
     for i in $(seq "$rounds"); do
       a=$(secs "$old" scan "$tmp/$c.toml" -o "$tmp/$c-old.h5")
       b=$(secs "$new" scan "$tmp/$c.toml" -o "$tmp/$c-new.h5")
-      agree=$("$new" compare "$tmp/$c-new.h5" "$tmp/$c-old.h5" | grep -o '[0-9]* of [0-9]* cells agree' | paste -sd';')
+      agree=$("$new" compare "$tmp/$c-new.h5" "$tmp/$c-old.h5" | grep -o '[0-9]* of [0-9]* decided cells agree' | paste -sd';')
       echo "| $c | $i | $a | $b | $(echo "scale=1; $a / $b" | bc) | $agree |"
     done
     "$new" scan "$tmp/$c.toml" -o "$tmp/$c-new.h5" --threads 2 --force --quiet | grep -E 'reasons:|runs to settlement' | sed 's/^ */    /'

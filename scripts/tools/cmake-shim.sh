@@ -39,6 +39,25 @@ find_installed() {
   return 1
 }
 
+# HDF5's configure call (not `--build`, not `--version`) starts the long compile. cargo shows a
+# build script's output only if it fails, and the crate that warns about this
+# (crates/hdf5-notice) gets its turn from cargo only once many other crates are built, so
+# say it on the terminal, when there is one, as the compile starts.
+notice_hdf5() {
+  local a configure=0
+  for a in "$@"; do
+    case $a in
+      --build | --version | -E) return 0 ;;
+      *[Hh][Dd][Ff]5*) configure=1 ;;
+    esac
+  done
+  if [ "$configure" = 1 ] && { : >/dev/tty; } 2>/dev/null; then
+    printf '\r\033[Ksqueal: compiling HDF5 from source (first build of this profile: several minutes; later builds reuse it)\n' >/dev/tty
+  fi
+  return 0
+}
+notice_hdf5 "$@"
+
 self="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/$(basename "${BASH_SOURCE[0]}")"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 if sys=$(command -v cmake 2>/dev/null) && [ "$sys" != "$self" ] && ok_version "$sys"; then

@@ -14,7 +14,8 @@ pub struct Args {
     pub first: PathBuf,
     /// The reference scan (same grid and maps).
     pub second: PathBuf,
-    /// Exit with status 1 when any map's share of agreeing cells is below this (0 to 1).
+    /// Exit with status 1 when any map's share of agreeing cells (over the cells decided in
+    /// either file) is below this, or no cell is decided (0 to 1).
     #[arg(long)]
     pub min_agreement: Option<f64>,
     /// Print one JSON object.
@@ -104,6 +105,7 @@ fn print_json(maps: &[MapAgreement], pass: bool) {
         .map(|m| {
             let mut o = serde_json::to_value(&m.agreement).expect("serialisable");
             o["title"] = m.title.clone().into();
+            o["decided"] = m.agreement.decided().into();
             o["share"] = m.agreement.share().into();
             o["disagreeing_starts"] = serde_json::to_value(&m.listed).expect("serialisable");
             o
@@ -121,17 +123,23 @@ fn print_words(args: &Args, maps: &[MapAgreement], pass: bool) {
     );
     for m in maps {
         let g = &m.agreement;
+        let agreement = if g.decided() == 0 {
+            "no cell decided in either file".to_string()
+        } else {
+            format!(
+                "{} of {} decided cells agree ({:.4}%), {} disagree, undecided in one only: \
+                 {} in the first, {} in the second",
+                g.agree,
+                g.decided(),
+                100.0 * g.share(),
+                g.disagree,
+                g.undecided_first,
+                g.undecided_second
+            )
+        };
         println!(
-            "  {}: {} of {} cells agree ({:.4}%), {} disagree; undecided: {} in the first only, {} in the second only, {} in both; {} not computed",
-            m.title,
-            g.agree,
-            g.cells,
-            100.0 * g.share(),
-            g.disagree,
-            g.undecided_first,
-            g.undecided_second,
-            g.undecided_both,
-            g.not_computed
+            "  {}: {agreement}; {} undecided in both; {} not computed",
+            m.title, g.undecided_both, g.not_computed
         );
         for [x, v] in &m.listed {
             println!("    disagrees at x0 = {x}, v0 = {v}");

@@ -58,10 +58,16 @@ impl Agreement {
         g
     }
 
-    /// The share of compared cells with the same decided label in both maps (cells left
-    /// undecided by either map count against it); NaN with no cells.
+    /// Cells decided in at least one map: the cells agreement is counted over (a cell
+    /// undecided in both says nothing about either map's labels).
+    pub fn decided(&self) -> u64 {
+        self.cells - self.undecided_both
+    }
+
+    /// The share of [`Agreement::decided`] cells with the same label in both maps (a cell
+    /// left undecided by one map only counts against it); NaN when no cell is decided.
     pub fn share(&self) -> f64 {
-        self.agree as f64 / self.cells as f64
+        self.agree as f64 / self.decided() as f64
     }
 }
 
@@ -81,6 +87,17 @@ mod tests {
             (1, 1, 1)
         );
         assert_eq!(g.first_disagreements, [2, 3]);
-        assert_eq!(g.share(), 2.0 / 7.0);
+        // Over the 6 cells decided in at least one map (the one undecided in both is out).
+        assert_eq!(g.decided(), 6);
+        assert_eq!(g.share(), 2.0 / 6.0);
+    }
+
+    /// Two identical maps with every cell undecided: nothing decided, so no share of
+    /// agreement (was 0 of 4 cells agreeing).
+    #[test]
+    fn maps_undecided_in_both_have_no_share() {
+        let g = Agreement::of(&[0; 4], &[0; 4]);
+        assert_eq!((g.cells, g.undecided_both, g.decided()), (4, 4, 0));
+        assert!(g.share().is_nan());
     }
 }
