@@ -239,7 +239,7 @@ fn watch_run(
     }
     let mut stick = p.law.has_true_stick().then(StickPhases::default);
     let mut osc = Oscillation::NONE;
-    let mut turns = TurnWatch::new(&p, TurnSettings::of(&cl));
+    let mut turns = TurnWatch::new(&p, TurnSettings::of(label));
     let mut lasting = None;
     let steps = (span.t_end / stepper.dt()).ceil() as u64;
     for k in 1..=steps {
