@@ -71,7 +71,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !args.run.resume {
         check_pictures(&pics, &png, args.run.force)?;
     }
-    squeal_store::OutputLock::check_free(&out)?;
+    // The output's folder and lock before the pilot: an unwritable folder was found only
+    // after a 74 s pilot. A signal during the pilot ends the run saying so.
+    common::prepare_output(&out)?;
+    let signals = super::signals::Signals::install()?;
     estimate(&args, &plan)?;
     let prov = common::provenance();
     let writer = if args.run.resume {
@@ -79,10 +82,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
+    signals.computing("units and map blocks");
     let todo = writer.missing();
     let todo_blocks = writer.missing_blocks().len();
-
-    let signals = super::signals::Signals::install("units and map blocks")?;
     let total = (todo.len() + todo_blocks) as u64;
     let bar = progress(total, args.run.quiet);
     let plain = progress::PlainLines::new("units and map blocks", "unit", total, args.run.quiet);

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use squeal_scan::estimate::{Estimate, seconds_for};
 use squeal_scan::{Pending, Plan, drive};
 use squeal_store::ScanWriter;
@@ -78,16 +78,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     if shard.is_none() && !args.run.resume {
-        for p in &pics {
+        // Every picture the run may draw, the transient map too (it was overwritten).
+        for p in &may_draw(&pics) {
             common::check_new(p, args.run.force, "picture of the scan")?;
         }
     }
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("creating the output folder {}", dir.display()))?;
-    }
-    squeal_store::OutputLock::check_free(&out)?;
-    // The work, estimated before anything is created or computed.
+    common::prepare_output(&out)?;
+    // The work, estimated before anything is created or computed; a signal meanwhile ends
+    // the run saying so.
+    let signals = super::signals::Signals::install()?;
     let threads = rayon::current_num_threads();
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default());
     let pilot = checked_estimate(&args, &plan, &owned, threads)?;
@@ -97,9 +96,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
+    signals.computing("blocks");
     let plan = writer.plan().clone();
-
-    let signals = super::signals::Signals::install("blocks")?;
 
     let pending = Pending::of(&plan, shard, &writer);
     if !args.run.quiet {

@@ -1,5 +1,7 @@
 //! SIGINT, SIGTERM (SLURM's time limit and preemption) and SIGHUP during `scan` and `atlas`.
-//! What a signal does depends on the run's [`Phase`]: while blocks are computed it stops
+//! What a signal does depends on the run's [`Phase`]: while the work is estimated (a
+//! pilot, before anything is written) it ends the run at once saying so (a signal there
+//! ended the atlas with code 143 and no word); while blocks are computed it stops
 //! the run after those in flight; while the data file is written it lets it be written and
 //! skips the pictures; once the data file is complete and only pictures are left
 //! it ends the run at once. A picture is one call into the plotting library and cannot
@@ -17,6 +19,9 @@ use super::common::{EXIT_INTERRUPTED, is_drawn};
 /// What the run is doing when a signal comes.
 #[derive(Clone, Debug, PartialEq)]
 enum Phase {
+    /// Estimating the work (a pilot) before the output is created: the first signal ends
+    /// the run at once; nothing was written.
+    Estimating,
     /// Computing: the first signal stops the run after the `what` in flight.
     Computing { what: &'static str },
     /// Every block is stored and the data file is being written: the first signal lets it
@@ -43,6 +48,8 @@ enum Response {
     StopAfter(String),
     /// A second signal while computing: exit at once.
     Quit,
+    /// A signal while estimating: say that nothing was written, exit at once.
+    QuitEstimating,
     /// A signal while drawing: remove the cut pictures, say that the data file is
     /// complete, exit at once.
     QuitDrawing(Drawing),
@@ -57,22 +64,36 @@ pub struct Signals {
 
 impl Signals {
     /// A run computing `what` (blocks, units), no handler installed.
+    #[cfg(test)]
     fn new(what: &'static str) -> Signals {
+        let s = Signals::estimating();
+        s.computing(what);
+        s
+    }
+
+    /// A run estimating its work, no handler installed.
+    fn estimating() -> Signals {
         Signals {
             stop: Arc::new(AtomicBool::new(false)),
-            phase: Arc::new(Mutex::new(Phase::Computing { what })),
+            phase: Arc::new(Mutex::new(Phase::Estimating)),
         }
     }
 
-    /// Installs the handler for a run computing `what`; a second signal while computing
-    /// exits at once (code 130).
-    pub fn install(what: &'static str) -> anyhow::Result<Signals> {
-        let s = Signals::new(what);
+    /// Installs the handler before the run estimates its work (a signal then ends it at
+    /// once, saying nothing was written); [`Signals::computing`] enters the next phase.
+    pub fn install() -> anyhow::Result<Signals> {
+        let s = Signals::estimating();
         let handler = s.clone();
         // The "termination" feature of ctrlc routes SIGTERM and SIGHUP here as well as SIGINT.
         ctrlc::set_handler(move || handler.on_signal())
             .context("installing the SIGINT/SIGTERM handler")?;
         Ok(s)
+    }
+
+    /// Enters the computing phase of a run computing `what` (blocks, units): a first
+    /// signal stops it after the work in flight, a second exits at once (code 130).
+    pub fn computing(&self, what: &'static str) {
+        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Computing { what };
     }
 
     /// The flag the computing loops poll.
@@ -122,6 +143,7 @@ impl Signals {
         drop(guard);
         match phase {
             Phase::Drawing(d) => Response::QuitDrawing(d),
+            Phase::Estimating => Response::QuitEstimating,
             Phase::Computing { .. } | Phase::Finishing | Phase::Done if again => Response::Quit,
             Phase::Computing { what } => Response::StopAfter(format!(
                 "stopping after the {what} in flight (signal again to quit at once)"
@@ -143,6 +165,10 @@ impl Signals {
         match self.respond() {
             Response::StopAfter(how) => eprintln!("\nsqueal: {how}"),
             Response::Quit => std::process::exit(EXIT_INTERRUPTED.into()),
+            Response::QuitEstimating => {
+                eprintln!("\nsqueal: {ESTIMATE_INTERRUPTED}");
+                std::process::exit(EXIT_INTERRUPTED.into())
+            }
             Response::QuitDrawing(d) => {
                 for p in d.pictures.iter().filter(|p| p.exists() && !is_drawn(p)) {
                     let _ = std::fs::remove_file(p);
@@ -153,6 +179,10 @@ impl Signals {
         }
     }
 }
+
+/// What a run stopped while its work is estimated says.
+pub const ESTIMATE_INTERRUPTED: &str = "interrupted while estimating the work (the pilot), \
+     before the output was created: nothing was computed or written; run the command again";
 
 /// What a run stopped while (or before) drawing says: the data file `out` is complete, the
 /// pictures are not, and `redraw` draws them.
@@ -218,6 +248,23 @@ mod tests {
     /// Once the pictures are drawn, a signal lets the summary finish: it was answered as
     /// one while drawing (exit 130, "interrupted while drawing the pictures") although
     /// every picture was whole. A second one quits.
+    /// While the work is estimated (the pilot, before the output exists) a signal quits
+    /// at once, saying nothing was written: the handler was installed only after the
+    /// pilot, and a signal there ended the atlas with code 143 and no word.
+    #[test]
+    fn a_signal_while_estimating_quits_saying_nothing_was_written() {
+        let s = Signals::estimating();
+        assert_eq!(s.respond(), Response::QuitEstimating);
+        let s = Signals::estimating();
+        s.computing("units");
+        assert_eq!(
+            s.respond(),
+            Response::StopAfter(
+                "stopping after the units in flight (signal again to quit at once)".into()
+            )
+        );
+    }
+
     #[test]
     fn a_signal_after_the_drawing_lets_the_summary_finish() {
         let s = Signals::new("blocks");

@@ -1,6 +1,7 @@
 //! # squeal-scan: basin maps, the unstable limit cycle, sweeps
 //!
 //! * [`spec`]: the TOML scan spec (versioned, unknown keys rejected) and its checked [`Plan`].
+//! * [`files`]: what is at a path before squeal opens it (a FIFO, a directory... refused).
 //! * [`grid`]: the grid of initial conditions `(x0, v0)` and its blocks.
 //! * [`cell`]: one classified [`Cell`] and [`cell::COLUMNS`], the one table of its stored
 //!   columns (name, long name, units, type, fill) that every writer and reader follows.
@@ -66,6 +67,7 @@ pub mod driver;
 pub mod error;
 pub mod estimate;
 pub mod executor;
+pub mod files;
 pub mod grid;
 pub mod landscape;
 pub mod lifetime;

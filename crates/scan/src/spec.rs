@@ -190,6 +190,9 @@ pub(crate) fn read_spec(path: &std::path::Path) -> Result<String, ScanError> {
         path: path.display().to_string(),
         message,
     };
+    // A FIFO at the spec's path blocked the open for ever.
+    crate::files::refuse_non_regular(path)
+        .map_err(|e| parse(format!("cannot read the spec: it is {}", e.what)))?;
     let file =
         std::fs::File::open(path).map_err(|e| parse(format!("cannot read the spec: {e}")))?;
     let mut bytes = Vec::new();

@@ -168,6 +168,7 @@ impl AtlasWriter {
         prov: &Provenance,
         force: bool,
     ) -> Result<AtlasWriter, StoreError> {
+        crate::check_output(out)?;
         if let Some(d) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(d).map_err(io(d, "cannot create folder"))?;
         }
@@ -213,6 +214,7 @@ impl AtlasWriter {
         shard: Option<Shard>,
         prov: &Provenance,
     ) -> Result<AtlasWriter, StoreError> {
+        crate::check_output(out)?;
         let lock = OutputLock::acquire(out)?;
         let path = crate::journal_path(out);
         if !path.exists() {

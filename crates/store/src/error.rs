@@ -20,7 +20,7 @@ pub enum StoreError {
     },
     /// Another live process writes this output.
     #[error(
-        "{} is being written by process {pid} on host {host} (lock {}): wait for it to finish; if that process is gone, remove the lock", path.display(), lock.display()
+        "{} is being written by process {pid} of user uid {uid} on host {host} (lock {}): wait for it to finish; if that process is gone, remove the lock", path.display(), lock.display()
     )]
     Locked {
         /// The output.
@@ -31,6 +31,23 @@ pub enum StoreError {
         pid: u32,
         /// The owner's host.
         host: String,
+        /// The user id owning the lock file.
+        uid: u32,
+    },
+    /// The lock belongs to another user and cannot be judged (this user cannot read it, or
+    /// it does not read as a lock): it is someone else's, never removed.
+    #[error(
+        "{} is locked by user uid {uid} (lock {}: {why}): wait for that user's run to finish, or ask them to remove the lock if none runs", path.display(), lock.display()
+    )]
+    ForeignLock {
+        /// The output.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+        /// The user id owning the lock file.
+        uid: u32,
+        /// Why it cannot be judged.
+        why: String,
     },
     /// The lock's path holds something that is not a lock file (a directory, a socket...).
     #[error(
@@ -43,6 +60,39 @@ pub enum StoreError {
         lock: PathBuf,
         /// What is there instead.
         what: String,
+    },
+    /// The lock kept changing hands while this run tried to take it.
+    #[error(
+        "the lock {} of {} kept changing while this run tried to take it (other runs are starting): try again", lock.display(), path.display()
+    )]
+    LockBusy {
+        /// The output.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+    },
+    /// Something other than a regular file where squeal reads or writes one (a FIFO
+    /// blocked the open for ever).
+    #[error(transparent)]
+    NotRegular(#[from] squeal_scan::files::NotRegular),
+    /// An output whose name does not end in `.h5`.
+    #[error("output {}: expected a file name ending in .h5", path.display())]
+    NotH5 {
+        /// The output.
+        path: PathBuf,
+    },
+    /// An input of a merge is a file the merge writes or removes beside its output (its
+    /// lock, temporary file or journal).
+    #[error(
+        "{} is the {what} of the output {}: an input is never removed or renamed; choose another output", input.display(), path.display()
+    )]
+    InputBesideOutput {
+        /// The input.
+        input: PathBuf,
+        /// The output.
+        path: PathBuf,
+        /// Which of the output's files it is.
+        what: &'static str,
     },
     /// The output is also one of the inputs.
     #[error("{} is one of the inputs: choose another output", path.display())]

@@ -245,6 +245,9 @@ pub struct Damage {
     pub kept_after: usize,
     /// Bytes after the last good record (a torn write), cut off.
     pub tail: u64,
+    /// Records begun in those bytes (their magic `SQJR`): one for a torn write, more when
+    /// several trailing records were damaged.
+    pub tail_records: usize,
 }
 
 impl Damage {
@@ -258,7 +261,14 @@ impl Damage {
                 self.regions, self.bytes, self.kept_after
             ));
         }
-        if self.tail > 0 {
+        if self.tail > 0 && self.tail_records > 1 {
+            // Six damaged trailing records were called "a torn last record".
+            parts.push(format!(
+                "{} bytes after the last good record dropped: {} damaged records there (a \
+                 write cut short damages only the last; their work will be computed again)",
+                self.tail, self.tail_records
+            ));
+        } else if self.tail > 0 {
             parts.push(format!(
                 "{} bytes of a torn last record (a write cut short) dropped",
                 self.tail
@@ -294,6 +304,9 @@ pub(crate) fn scan(bytes: &[u8]) -> (Vec<Rec>, usize, Damage) {
         at = p;
     }
     damage.tail = (bytes.len() - end) as u64;
+    damage.tail_records = (end..bytes.len())
+        .filter(|&p| bytes[p..].starts_with(MAGIC))
+        .count();
     damage.kept_after = first_damage.map_or(0, |k| recs.len() - k);
     (recs, end, damage)
 }

@@ -150,7 +150,7 @@ pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use merge::merge;
 pub use output::{
-    FileKind, OutputState, Recorded, file_kind, output_state, refuse_input_as_output,
+    FileKind, OutputState, Recorded, check_output, file_kind, output_state, refuse_input_as_output,
 };
 pub use read::{
     FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,
@@ -187,7 +187,7 @@ pub(crate) fn journal_path(out: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
-fn tmp_path(out: &Path) -> PathBuf {
+pub(crate) fn tmp_path(out: &Path) -> PathBuf {
     let mut s = out.as_os_str().to_owned();
     s.push(".tmp");
     PathBuf::from(s)
@@ -230,8 +230,9 @@ impl std::fmt::Debug for ScanWriter {
 }
 
 impl ScanWriter {
-    /// New scan into `out` (.h5). Refuses if `out` or its journal exists unless `force`
-    /// (which removes both). The parent folder must exist and be writable.
+    /// New scan into `out` (.h5, checked by [`check_output`]). Refuses if `out` or its
+    /// journal exists unless `force` (which removes both). The parent folder must exist and
+    /// be writable.
     pub fn create(
         out: &Path,
         plan: &Plan,
@@ -239,6 +240,7 @@ impl ScanWriter {
         prov: &Provenance,
         force: bool,
     ) -> Result<ScanWriter, StoreError> {
+        check_output(out)?;
         let lock = OutputLock::acquire(out)?;
         let jpath = journal_path(out);
         if !force {
@@ -284,6 +286,7 @@ impl ScanWriter {
         shard: Option<Shard>,
         prov: &Provenance,
     ) -> Result<ScanWriter, StoreError> {
+        check_output(out)?;
         let lock = OutputLock::acquire(out)?;
         let jpath = journal_path(out);
         resumable(out, &jpath)?;
@@ -481,7 +484,10 @@ fn publish(tmp: &Path, out: &Path) -> Result<(), StoreError> {
             path: out.to_path_buf(),
         });
     }
-    std::fs::rename(tmp, out).map_err(io(out, "cannot rename the finished file to"))?;
+    if let Err(e) = std::fs::rename(tmp, out) {
+        let _ = std::fs::remove_file(tmp);
+        return Err(io(out, "cannot rename the finished file to")(e));
+    }
     Ok(())
 }
 

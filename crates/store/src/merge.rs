@@ -198,6 +198,7 @@ pub fn merge(
     if shards.is_empty() {
         return Err(StoreError::Shards("no shard files given".into()));
     }
+    crate::check_output(out)?;
     refuse_input_as_output(shards, out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {
@@ -233,8 +234,11 @@ pub fn merge(
         return Err(e);
     }
     drop(src);
-    if force {
-        remove_if_exists(out)?;
+    let replaced = if force { remove_if_exists(out) } else { Ok(()) };
+    if let Err(e) = replaced {
+        // The output could not be replaced: no temporary file is left behind.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
     }
     publish(&tmp, out)?;
     Ok(plan)

@@ -1,6 +1,7 @@
 //! What is at an output path, for scans and atlases alike: the make-like rerun rule
 //! ([`output_state`]), the kind of a squeal file ([`file_kind`]), and the merge's refusal of
-//! an input as its output ([`refuse_input_as_output`]).
+//! an input as its output ([`refuse_input_as_output`]), and the checks of an output path
+//! before anything is opened ([`check_output`]).
 
 use std::path::{Path, PathBuf};
 
@@ -173,9 +174,51 @@ pub fn file_kind(path: &Path) -> Result<FileKind, StoreError> {
     }
 }
 
+/// The files a run writes (and may remove) beside its output `out`: its lock, temporary
+/// file and journal, with their names in words.
+fn beside(out: &Path) -> [(PathBuf, &'static str); 3] {
+    [
+        (crate::lock_path(out), "lock"),
+        (crate::tmp_path(out), "temporary file"),
+        (crate::journal_path(out), "journal"),
+    ]
+}
+
+/// Checks an output path before anything is opened or computed, for every door (the CLI's
+/// `scan`, `atlas` and `merge`, Python's `scan` and `atlas`): a name ending in `.h5`, and at
+/// the output and at its lock, temporary file and journal, where something is there, a
+/// regular file (a FIFO there blocked the run for ever; a directory at the output was
+/// found only after the merge wrote its temporary file, which it left behind).
+pub fn check_output(out: &Path) -> Result<(), StoreError> {
+    if out.extension().and_then(|e| e.to_str()) != Some("h5") {
+        return Err(StoreError::NotH5 {
+            path: out.to_path_buf(),
+        });
+    }
+    squeal_scan::files::refuse_non_regular(out)?;
+    let [(lock, _), tmp, journal] = beside(out);
+    // The lock is judged without following a symbolic link: a link is no lock.
+    match std::fs::symlink_metadata(&lock) {
+        Ok(md) if !md.is_file() => {
+            return Err(StoreError::NotALock {
+                path: out.to_path_buf(),
+                what: squeal_scan::files::what_is(md.file_type()).into(),
+                lock,
+            });
+        }
+        _ => {}
+    }
+    squeal_scan::files::refuse_non_regular(&tmp.0)?;
+    squeal_scan::files::refuse_non_regular(&journal.0)?;
+    Ok(())
+}
+
 /// Refuses an output that is one of the inputs (of a merge): the same path once
 /// canonicalised (the output may not exist yet: its folder is canonicalised), or the same
-/// file under another name (a hard link: the same device and inode).
+/// file under another name (a hard link: the same device and inode). Refuses as well an
+/// input that is the output's lock, temporary file or journal: the merge removes or
+/// renames those, and an input is never removed or renamed (`merge a.h5 all.h5.lock -o
+/// all.h5` removed the input as a garbage lock; an input `all.h5.tmp` was consumed).
 pub fn refuse_input_as_output(inputs: &[PathBuf], out: &Path) -> Result<(), StoreError> {
     let canon = |p: &Path| -> Option<PathBuf> {
         std::fs::canonicalize(p).ok().or_else(|| {
@@ -184,14 +227,22 @@ pub fn refuse_input_as_output(inputs: &[PathBuf], out: &Path) -> Result<(), Stor
             Some(dir.join(p.file_name()?))
         })
     };
-    let out_c = canon(out);
-    let out_id = file_id(out);
+    let same = |a: &Path, b: &Path| {
+        let (ca, cb) = (canon(a), canon(b));
+        let (ia, ib) = (file_id(a), file_id(b));
+        (ca.is_some() && ca == cb) || (ia.is_some() && ia == ib)
+    };
     for p in inputs {
-        let same_path = out_c.is_some() && canon(p) == out_c;
-        let same_file = out_id.is_some() && file_id(p) == out_id;
-        if same_path || same_file {
+        if same(p, out) {
             return Err(StoreError::OutputIsInput {
                 path: out.to_path_buf(),
+            });
+        }
+        if let Some((_, what)) = beside(out).into_iter().find(|(b, _)| same(p, b)) {
+            return Err(StoreError::InputBesideOutput {
+                input: p.clone(),
+                path: out.to_path_buf(),
+                what,
             });
         }
     }

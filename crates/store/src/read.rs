@@ -51,6 +51,8 @@ fn open_hdf5(path: &Path) -> Result<File, StoreError> {
         path: path.to_path_buf(),
         why,
     };
+    // A FIFO here blocked the open for ever.
+    squeal_scan::files::refuse_non_regular(path)?;
     let mut head = [0u8; 8];
     {
         use std::io::Read;

@@ -783,3 +783,58 @@ fn shards_whose_spec_gives_another_grid_are_refused() {
         "{e}"
     );
 }
+
+/// Python's `scan` and `atlas` write through the writers: an output not ending in `.h5` was
+/// accepted there (only the CLI refused it). Refused by the store, for every door.
+#[test]
+fn an_output_not_ending_in_h5_is_refused_by_the_writers() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = plan();
+    let out = dir.path().join("x.txt");
+    let e = ScanWriter::create(&out, &p, None, &prov(), false).unwrap_err();
+    assert!(matches!(e, StoreError::NotH5 { .. }), "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("x.txt: expected a file name ending in .h5"),
+        "{e}"
+    );
+    assert!(!lock_path(&out).exists() && !journal_path(&out).exists());
+}
+
+/// Six damaged records at the journal's end were reported as "a torn last record"; the
+/// warning counts them.
+#[test]
+fn damaged_trailing_records_are_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = sweep_plan();
+    let out = dir.path().join("d.h5");
+    let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
+    let mut written = 0;
+    'all: for m in 0..p.maps.len() {
+        for b in 0..p.grid.blocks() {
+            w.write_block(&block(&p, m, b)).unwrap();
+            written += 1;
+            if written == 6 {
+                break 'all;
+            }
+        }
+    }
+    drop(w);
+    let j = journal_of(&out);
+    let mut bytes = std::fs::read(&j).unwrap();
+    let starts: Vec<usize> = (0..bytes.len())
+        .filter(|&i| bytes[i..].starts_with(b"SQJR"))
+        .collect();
+    assert_eq!(starts.len(), 7, "the header and six blocks");
+    // One byte of each block's payload flipped (past the 9-byte frame head).
+    for &s in &starts[1..] {
+        bytes[s + 20] ^= 0xff;
+    }
+    std::fs::write(&j, &bytes).unwrap();
+    let (_, _, recs, damage) = journal::Journal::open_counted(&j, journal::Owner::Scan).unwrap();
+    assert!(recs.is_empty());
+    assert_eq!(damage.tail_records, 6);
+    let w = damage.warning(&j).unwrap();
+    assert!(w.contains("6 damaged records"), "{w}");
+    assert!(!w.contains("torn last record"), "{w}");
+}

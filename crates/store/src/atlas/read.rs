@@ -23,6 +23,9 @@ use crate::{OutputLock, Provenance, Shard, StoreError};
 
 /// Whether `path` is an atlas file (HDF5 with schema `squeal-atlas/...`).
 pub fn is_atlas_file(path: &Path) -> bool {
+    if squeal_scan::files::refuse_non_regular(path).is_err() {
+        return false;
+    }
     let Ok(mut f) = std::fs::File::open(path) else {
         return false;
     };
@@ -58,6 +61,7 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
         path: path.to_path_buf(),
         why,
     };
+    squeal_scan::files::refuse_non_regular(path)?;
     if !is_atlas_file(path) {
         return Err(not(format!("not an atlas file (schema {ATLAS_SCHEMA})")));
     }
@@ -189,6 +193,7 @@ pub fn merge_atlas(
     force: bool,
     prov: &Provenance,
 ) -> Result<(), StoreError> {
+    crate::check_output(out)?;
     crate::refuse_input_as_output(shards, out)?;
     let _lock = OutputLock::acquire(out)?;
     if out.exists() && !force {
