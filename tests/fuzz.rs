@@ -195,7 +195,8 @@ fn judge(case: &Case, dir: &Path) -> Result<&'static str, String> {
     if r.code == Some(101) || r.output.contains("panicked") {
         return Err(format!("panic: {}", tail(&r.output)));
     }
-    if r.timed_out && !(case.announces && !r.output.trim().is_empty()) {
+    let silent = !case.announces || r.output.trim().is_empty();
+    if r.timed_out && silent {
         return Err(format!(
             "hang: nothing said in {} s of CPU time: {}",
             CASE_LIMIT.as_secs(),

@@ -50,7 +50,7 @@ pub struct Shipped {
 }
 
 pub fn shipped(dir: &std::path::Path) -> Vec<Shipped> {
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
+    let mut files: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
