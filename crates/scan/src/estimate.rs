@@ -25,6 +25,18 @@ pub fn thread_cpu_seconds() -> Option<f64> {
     (ns > 0.0).then_some(ns * 1e-9)
 }
 
+/// CPU time of the whole process (every thread), in seconds, where the system tells it
+/// (Linux: fields 14 and 15 of `/proc/self/stat`, user and system time in clock ticks of
+/// 1/100 s); `None` elsewhere.
+fn process_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces: count after it.
+    let rest = &text[text.rfind(')')? + 1..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 /// The share of a core the calling thread got since it was started: its CPU time over the
 /// wall time, where the system tells the CPU time (Linux: `/proc/thread-self/schedstat`,
 /// nanoseconds, updated at scheduler ticks, so read only over spans of 0.2 s or more); 1
@@ -326,7 +338,11 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
     }
     let share = core.share();
     for c in &mut costs {
-        c.prepare *= share;
+        // The preparation is timed in CPU seconds already (a busy machine does not inflate
+        // them); only where the system gives no CPU time is it the wall clock.
+        if process_cpu_seconds().is_none() {
+            c.prepare *= share;
+        }
         c.cell *= share;
         c.audit *= share;
     }
@@ -360,9 +376,16 @@ fn measure(
     budget: Duration,
     audited: &[usize],
 ) -> Result<MapCost, ScanError> {
+    // The preparation runs its census (crate::census) on the whole pool: its cost is the
+    // process's CPU time over it (the calling thread mostly waits), taken as seconds of one
+    // thread; the wall clock where the system tells no CPU time.
     let t = Instant::now();
+    let cpu0 = process_cpu_seconds();
     let ctx = MapContext::prepare(plan, map)?;
-    let prepare = t.elapsed().as_secs_f64();
+    let prepare = match (cpu0, process_cpu_seconds()) {
+        (Some(a), Some(b)) => (b - a).max(0.0),
+        _ => t.elapsed().as_secs_f64(),
+    };
     let per_map = plan.grid.cells() as u64;
     let t1 = Instant::now();
     let mut done = 0usize;
