@@ -322,6 +322,12 @@ path = "nond.h5"
         .read_scalar()
         .unwrap();
     assert_eq!(long.as_str(), "stick-slip: mean frequency");
+    // Issue 34: the block under its own weight presses the belt with m g = 2 * 9.81 N,
+    // stored per point in newtons (a normal force given is an axis of its own).
+    let n = f.dataset("normal_force").unwrap();
+    assert_eq!(n.read_raw::<f64>().unwrap(), vec![2.0 * 9.81]);
+    let nu: hdf5::types::VarLenUnicode = n.attr("units").unwrap().read_scalar().unwrap();
+    assert_eq!(nu.as_str(), "N");
     let du: hdf5::types::VarLenUnicode = f
         .attr("disturbance_x_units")
         .unwrap()
