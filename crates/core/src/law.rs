@@ -161,10 +161,8 @@ impl Surface {
         CoreError::invalid(
             "phi",
             phi,
-            "an angle in [1e-5, pi/2] (Phi = arcsin(mu_k/mu_s); below 1e-5 the static peak \
-             mu_s/mu_k = 1/sin(Phi) exceeds 1e5, and the stick-slip orbit, which reaches |x| \
-             about 1.43/sin(Phi), nears the escape radius 1e6: below about 1.4e-6 every \
-             stick-slip run would read 'diverged')",
+            "an angle in [1e-5, pi/2], a static peak mu_s of at most about 1e5 mu_k (why: \
+             docs/spec.md, `phi`)",
         )
     }
 }

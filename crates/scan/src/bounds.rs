@@ -262,11 +262,8 @@ pub(crate) fn stored_spec_error(e: ScanError) -> ScanError {
             expected,
         } if NEWER_LOWER_BOUNDS.contains(&key.as_str()) => ScanError::Invalid {
             expected: format!(
-                "{expected}. The spec is the one stored in the file: squeal before the lower \
-                 bounds phi >= 1e-5 (mu_s <= about 1e5 mu_k), classifier.fp_radius >= 1e-10 \
-                 and classifier.trap_margin >= 1e-10 wrote files with smaller values, whose \
-                 results this version refuses to read as its own (rerun the spec with `{key}` \
-                 within the bound)"
+                "{expected} (the file's spec comes from a squeal before the lower bounds on \
+                 phi, fp_radius and trap_margin: rerun it with `{key}` within the bound)"
             ),
             path,
             key,

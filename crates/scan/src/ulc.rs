@@ -666,8 +666,8 @@ pub fn critical_nu(
     let fp = base.fixed_point();
     if point == fp {
         return Err(ScanError::NoCriticalDamping(format!(
-            "({}, {}) is the fixed point: steady slip for every nu (a start there stays \
-             there), so it never squeals and no damping is critical for it",
+            "({}, {}) is the fixed point, where a start stays at every nu: no damping is critical \
+             for it",
             point.x, point.v
         )));
     }
@@ -677,10 +677,9 @@ pub fn critical_nu(
         }
         PointSide::NoCycle => {
             return Err(ScanError::NoCriticalDamping(format!(
-                "at the lower bound nu = {nu_lo}: {} has no unstable limit cycle there (the return map decays at \
-                 every amplitude sampled up to r = {}, as `squeal ulc` reports), so there is no \
-                 cycle to enclose ({}, {}): starts within that amplitude end in steady slip \
-                 already at nu = {nu_lo}",
+                "at the lower bound nu = {nu_lo} {} has no unstable limit cycle (the return \
+                 map decays at every amplitude up to r = {}), so ({}, {}) ends in steady slip \
+                 there already",
                 base.law, cs.r_max, point.x, point.v
             )));
         }
