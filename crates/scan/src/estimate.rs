@@ -383,7 +383,8 @@ fn measure(
     let cpu0 = process_cpu_seconds();
     let ctx = MapContext::prepare(plan, map)?;
     let prepare = match (cpu0, process_cpu_seconds()) {
-        (Some(a), Some(b)) => (b - a).max(0.0),
+        // Ticks of 1/100 s: a preparation shorter than one may read 0; the wall clock then.
+        (Some(a), Some(b)) if b > a => b - a,
         _ => t.elapsed().as_secs_f64(),
     };
     let per_map = plan.grid.cells() as u64;
