@@ -16,6 +16,9 @@ checks=(
   "--test off_paper early_stopping_agrees_with_settlement_off_the_paper"
   # The transient lifetimes above two folds of an atlas, 8 band starts at 10 dampings each.
   "--test atlas an_atlas_measures_transient_lifetimes_above_each_fold"
+  # The atlas against ulc and critical at three dampings of Table 1 (2-3 min of the quick
+  # suite's time on a loaded 2-core machine).
+  "--test atlas atlas_reproduces_the_single_point_commands"
 )
 if [ "${1:-}" = --list ]; then
   printf '%s\n' "${checks[@]}"

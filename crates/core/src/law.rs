@@ -491,15 +491,26 @@ mod tests {
         }
     }
 
-    /// The refusal of a small `Phi` states the orbit's reach, `|x|` about `1.43 / sin(Phi)`
-    /// (measured, [`MIN_PHI`]), and where that meets the radius: before, it called 1.4/sin(Phi)
-    /// the orbit's width, where the measured figure is the largest `|x|` it reaches.
+    /// The refusal of a small `Phi` names the key, the value and the range in one sentence,
+    /// and the why it points to (docs/spec.md's `phi` row) states the orbit's reach, `|x|`
+    /// about `1.43 / sin(Phi)` (measured, [`MIN_PHI`]): before, the message called
+    /// 1.4/sin(Phi) the orbit's width, where the measured figure is the largest `|x|` it
+    /// reaches.
     #[test]
     fn a_small_phi_is_refused_stating_the_orbits_reach() {
         let e = Surface::check_phi(2e-6).unwrap_err().to_string();
         assert!(
-            e.contains("reaches |x| about 1.43/sin(Phi)") && !e.contains("wide"),
+            e.contains("phi = 2e-6") && e.contains("[1e-5, pi/2]") && e.contains("docs/spec.md"),
             "{e}"
+        );
+        let doc = include_str!("../../../docs/spec.md");
+        let row = doc
+            .lines()
+            .find(|l| l.starts_with("| `phi` |"))
+            .expect("docs/spec.md has a row for phi");
+        assert!(
+            row.contains("reaches about `1.43 / sin(phi)`") && !row.contains("wide"),
+            "{row}"
         );
         let mut ph = crate::Physical {
             m: 2.0,
