@@ -365,27 +365,32 @@ fn too_many_threads_are_capped_saying_so() {
 #[test]
 fn a_signal_during_the_pilot_says_what_happened() {
     let d = tempfile::tempdir().unwrap();
-    // Each point measures 100000 + 100000 revolutions of its attractor: the pilot's first
-    // point takes well over the second this test waits before the signal.
+    // Each point measures 600 + 600 revolutions of its attractor: a pilot bounded by about
+    // 20 s at the documented rate, so it runs (a pilot over 30 s is skipped) and is announced
+    // (over 5 s). The signal follows the announcement, while the pilot runs.
     let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 2e-3]\n\
-                [attractor]\ntransient = 100000\nwindow = 100000\n\
+                [attractor]\ntransient = 600\nwindow = 600\n\
                 [boundaries]\nfold = false\ncritical = false\n[output]\npath = \"p.h5\"\n";
     std::fs::write(d.path().join("p.toml"), spec).unwrap();
-    let child = Command::new(bin())
+    let mut child = Command::new(bin())
         .args(["atlas", "p.toml", "--no-render"])
         .current_dir(d.path())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(1500));
+    let mut announced = String::new();
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap());
+    std::io::BufRead::read_line(&mut lines, &mut announced).unwrap();
+    assert!(announced.contains("timing a pilot"), "{announced}");
     let killed = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
         .status()
         .unwrap();
     assert!(killed.success());
-    let o = child.wait_with_output().unwrap();
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(130), "{err}");
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut lines, &mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
     assert!(
         err.contains("interrupted while estimating the work"),
         "{err}"

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
+import numbers
 import os
 import sys
 import tempfile
@@ -61,11 +63,36 @@ def _jsonable(v: Any) -> Any:
     raise TypeError(f"spec value {v!r}: expected numbers, strings, lists or tables")
 
 
+def _check_values(table: Mapping[str, Any], where: str) -> None:
+    """Refuses a value no key takes, naming its key (``model.nu``): ``None``, or a number
+    that is not finite (JSON has neither, and the parser's "expected value at line 1 column
+    51" named no key)."""
+    for k, v in table.items():
+        key = f"{where}.{k}" if where else str(k)
+        if isinstance(v, Mapping):
+            _check_values(v, key)
+            continue
+        items = v.tolist() if hasattr(v, "tolist") else v
+        for x in items if isinstance(items, (list, tuple)) else [items]:
+            if x is None:
+                raise ValueError(f"spec: `{key}` = None: expected a value")
+            if isinstance(x, float) and not math.isfinite(x):
+                raise ValueError(f"spec: `{key}` = {x}: expected a finite number")
+
+
+def _real(name: str, v: Any) -> float:
+    """A number argument of a helper, or a ``TypeError`` naming the keyword ``name=``."""
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):
+        raise TypeError(f"{name}=: expected a number, not {type(v).__name__}")
+    return float(v)
+
+
 def _spec(spec: Spec) -> tuple[str, Optional[str]]:
     """(name used in messages, TOML text or None to read the file ``name``)."""
     if isinstance(spec, (str, os.PathLike)):
         return os.fspath(spec), None
     if isinstance(spec, Mapping):
+        _check_values(spec, "")
         return "spec", _squeal.spec_toml(json.dumps(dict(spec), default=_jsonable))
     raise TypeError(f"spec: expected a path or a dict, not {type(spec).__name__}")
 
@@ -382,6 +409,7 @@ def ulc(
     names = _Names("ulc")
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
+    r_max, rtol = _real("r_max", r_max), _real("rtol", rtol)
     rep = json.loads(names(_squeal.ulc, name, text, map, r_max, rtol, check_half_dt))
     return UnstableCycle(
         r_section=rep["r_section"],
@@ -455,7 +483,8 @@ def critical(
     names = _Names("critical")
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
-    point = (float(x0), float(v0))
+    point = (_real("x0", x0), _real("v0", v0))
+    rtol = _real("rtol", rtol)
     if key == "nu" and not fold:
         # As the command line: the critical damping by cycle locations.
         rep = json.loads(names(_squeal.critical, name, text, map, point, (lo, hi), rtol))
@@ -501,10 +530,15 @@ def trajectory(
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
 
+    point = (_real("x0", x0), _real("v0", v0))
+    if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
+        raise ValueError(f"squeal.trajectory: every= = {every!r}: expected a whole number >= 1")
+    if every >= 2**64:
+        raise ValueError(f"squeal.trajectory: every= = {every!r}: expected a count below 2**64")
+    span = (_real("t_end", t_end), int(every))
+
     def run(path):
-        verdict = names(
-            _squeal.trajectory, name, text, map, (x0, v0), (float(t_end), int(every)), str(path)
-        )
+        verdict = names(_squeal.trajectory, name, text, map, point, span, str(path))
         ds = open(path)
         ds.attrs.update(zip(("regime", "reason", "t_decision", "t_squeal"), verdict))
         return ds

@@ -57,14 +57,17 @@ def cases(seed: int, n: int):
         if kind < 0.75:
             door = rng.choice(sorted(DOORS))
             base, floats, counts = DOORS[door]
+            # A keyword of the base call is broken by replacing it, not by repeating it.
             key = rng.choice(floats + counts)
+            base = ", ".join(p for p in base.split(", ") if not p.startswith(key + "="))
             value = rng.choice(COUNTS if key in counts else HOSTILE)
-            call = f"squeal.{door}({base}, {key}={value})"
+            # `lambda` is a Python keyword: every broken key goes in as **{...}.
+            call = f"squeal.{door}({base}, **{{{key!r}: {value}}})"
         else:
             key = rng.choice(PHYSICAL)
             value = rng.choice(HOSTILE)
             others = ", ".join(p for p in PAD.split(", ") if not p.startswith(key + "="))
-            call = f'squeal.trajectory(law="mcmillan", t_end=5.0, {others}, {key}={value})'
+            call = f'squeal.trajectory(law="mcmillan", t_end=5.0, {others}, **{{{key!r}: {value}}})'
         out.append((key, call))
     return out
 

@@ -191,7 +191,11 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
     let rough = atlas_documented_seconds(plan, threads);
     refuse(rough, " at the documented rate")?;
     let bound = squeal_scan::estimate::atlas_pilot_bound(plan);
-    if !args.run.quiet && bound > common::PILOT_NOTICE {
+    // Announced only where the pilot runs (a longer one is skipped: documented rates).
+    if !args.run.quiet
+        && bound > common::PILOT_NOTICE
+        && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS
+    {
         eprintln!(
             "squeal: timing a pilot of the atlas first (up to {} at the documented rate) ...",
             common::duration(bound)

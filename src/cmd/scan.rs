@@ -260,7 +260,11 @@ fn checked_estimate(
         );
     }
     let bound = squeal_scan::estimate::pilot_bound(plan);
-    if !args.run.quiet && bound > common::PILOT_NOTICE {
+    // Announced only where the pilot runs (a longer one is skipped: documented rates).
+    if !args.run.quiet
+        && bound > common::PILOT_NOTICE
+        && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS
+    {
         eprintln!(
             "squeal: timing a pilot first (up to {} at the documented rate) ...",
             common::duration(bound)

@@ -5,6 +5,7 @@
 
 use serde::Serialize;
 
+use crate::error::Number;
 use crate::params::{FrictionLaw, Params};
 
 /// The checked range of one named parameter ([`Params::named`]'s keys).
@@ -144,13 +145,12 @@ impl Validity {
             .outside
             .iter()
             .map(|u| {
+                // Numbers in the project's form: tau = 1e-300 was printed with 300 zeros.
+                let (value, lo, hi) = (Number(u.value), Number(u.checked[0]), Number(u.checked[1]));
                 if u.checked[0] == u.checked[1] {
-                    format!("{} = {} (checked only at {})", u.key, u.value, u.checked[0])
+                    format!("{} = {value} (checked only at {lo})", u.key)
                 } else {
-                    format!(
-                        "{} = {} (checked in [{}, {}])",
-                        u.key, u.value, u.checked[0], u.checked[1]
-                    )
+                    format!("{} = {value} (checked in [{lo}, {hi}])", u.key)
                 }
             })
             .collect();

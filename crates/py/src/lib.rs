@@ -253,15 +253,33 @@ pub fn ulc(
         check_half_dt,
         ..Default::default()
     };
+    // The command line's checks of `--r-max`, `--rtol`, named as the keywords.
+    squeal_scan::bounds::cycle_search(&cs, &|f| format!("{f}="), &keyword("ulc"))
+        .map_err(value_error)?;
     let rep = py.detach(|| locate(setup, &cs)).map_err(value_error)?;
     serde_json::to_string(&rep).map_err(value_error)
 }
 
+/// A refusal of helper `helper`'s keyword argument, in Python's words (`x0=`, `rtol=`).
+fn keyword(helper: &'static str) -> impl Fn(&str, String, &str) -> squeal_scan::ScanError {
+    move |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
+        path: format!("squeal.{helper}"),
+        key: key.into(),
+        value,
+        expected: expected.into(),
+    }
+}
+
 /// The start `(x, v)` a helper was given, in the model's units: in m and m/s for a
-/// physical system (as the command line's `--x0 --v0` with `--m ...`), scaled by its units.
-fn start(plan: &Plan, (x, v): (f64, f64)) -> State {
+/// physical system (as the command line's `--x0 --v0` with `--m ...`), scaled by its units;
+/// refused as the command line refuses `--x0`/`--v0` (finite, within the escape radius).
+fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<State> {
     let given = State { x, v };
-    plan.physical.map_or(given, |ph| ph.scales().state(given))
+    let point = plan.physical.map_or(given, |ph| ph.scales().state(given));
+    let inv = keyword(helper);
+    squeal_scan::bounds::state("x0=", point.x, &inv).map_err(value_error)?;
+    squeal_scan::bounds::state("v0=", point.v, &inv).map_err(value_error)?;
+    Ok(point)
 }
 
 /// The critical damping `nu` of the state `point = (x, v)` for map `map` of `spec`
@@ -279,7 +297,9 @@ pub fn critical(
 ) -> PyResult<String> {
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
-    let point = start(&plan, point);
+    let point = start(&plan, point, "critical")?;
+    squeal_scan::bounds::bisection_rtol("rtol=", rtol, &keyword("critical"))
+        .map_err(value_error)?;
     let cs = CycleSettings::default();
     let rep = py
         .detach(|| {
@@ -318,7 +338,9 @@ pub fn boundary(
     let param = BoundaryParam::from_key(&key).ok_or_else(|| {
         PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
     })?;
-    let point = start(&plan, point);
+    let point = start(&plan, point, "critical")?;
+    squeal_scan::bounds::bisection_rtol("rtol=", rtol, &keyword("critical"))
+        .map_err(value_error)?;
     let ps = PointSettings {
         operating: point,
         ..PointSettings::default()

@@ -37,7 +37,7 @@ pub fn trajectory(
         )));
     }
     // A physical system: the start is in m and m/s (as `squeal trajectory --m ...`).
-    let ic = crate::start(&plan, point);
+    let ic = crate::start(&plan, point, "trajectory")?;
     let span = Span { ic, t_end, every };
     // The checks of `squeal trajectory`: a start beyond the escape radius was labelled by
     // the start rule without a run, and t_end had no bound on its steps.

@@ -127,6 +127,21 @@ pub fn state_range(
     Ok([lo, hi])
 }
 
+/// The relative width at which a bisection stops (`squeal critical --rtol`, Python's
+/// `critical(rtol=)`): a finite fraction in (0, 1). NaN stopped the bisection after its two
+/// ends and answered their geometric middle; a negative one ran 200 halvings.
+pub fn bisection_rtol(key: &str, rtol: f64, invalid: Invalid) -> Result<f64, ScanError> {
+    if rtol.is_finite() && rtol > 0.0 && rtol < 1.0 {
+        Ok(rtol)
+    } else {
+        Err(invalid(
+            key,
+            format!("{rtol:?}"),
+            "a finite fraction in (0, 1)",
+        ))
+    }
+}
+
 /// The cycle search's settings (`[cycle]` of an atlas spec, `squeal ulc`'s flags). `name`
 /// turns a field name (`r_max`) into what the user wrote (`cycle.r_max`, `--r-max`).
 pub fn cycle_search(
