@@ -275,15 +275,21 @@ impl Physical {
         }
     }
 
-    /// The velocity scale `mu_k N / sqrt(m k)` as factors over factors, for [`ratio`]:
-    /// `(mu_k g sqrt(m)) / sqrt(k)` for a block under its own weight (as the paper writes
-    /// it), `(mu_k N) / (sqrt(m) sqrt(k))` for a pressed one.
+    /// The acceleration `N / m` that friction's scale divides by `mu_k` (m/s^2): `g` for a
+    /// block under its own weight, `N / m` for a pressed one (so that the clamp force and
+    /// the same system stated with `g = N / m` give the same numbers, bit for bit).
+    fn load_acceleration(&self) -> f64 {
+        match self.load {
+            Load::Weight(g) => g,
+            Load::NormalForce(n) => ratio(&[n], &[self.m]),
+        }
+    }
+
+    /// The velocity scale `mu_k a sqrt(m) / sqrt(k)` (`a = N / m`) as factors over factors,
+    /// for [`ratio`].
     fn velocity_factors(&self) -> ([f64; 3], [f64; 2]) {
         let (sm, sk) = (self.m.sqrt(), self.k.sqrt());
-        match self.load {
-            Load::Weight(g) => ([self.mu_k, g, sm], [sk, 1.0]),
-            Load::NormalForce(n) => ([self.mu_k, n, 1.0], [sm, sk]),
-        }
+        ([self.mu_k, self.load_acceleration(), sm], [sk, 1.0])
     }
 
     /// The scales of this system, each a ratio of the keys' square roots and values taken
