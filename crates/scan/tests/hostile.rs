@@ -179,17 +179,28 @@ fn the_estimate_of_a_slow_model_is_not_zero() {
     );
 }
 
-/// Item 9: a spec read from /dev/zero grew memory at about 250 MB/s until killed.
+/// Item 9: a spec read from /dev/zero grew memory at about 250 MB/s until killed. A device
+/// is now refused before it is opened (not a regular file); a regular file longer than the
+/// limit is refused by its size.
 #[test]
 fn an_endless_spec_file_is_refused() {
-    let e = Plan::from_file(std::path::Path::new("/dev/zero"))
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("longer than 1048576 bytes"), "{e}");
-    let e = AtlasPlan::from_file(std::path::Path::new("/dev/zero"))
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("longer than 1048576 bytes"), "{e}");
+    for e in [
+        Plan::from_file(std::path::Path::new("/dev/zero")).unwrap_err(),
+        AtlasPlan::from_file(std::path::Path::new("/dev/zero")).unwrap_err(),
+    ] {
+        let e = e.to_string();
+        assert!(e.contains("it is a character device"), "{e}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("long.toml");
+    std::fs::write(&long, vec![b'#'; 1_048_577]).unwrap();
+    for e in [
+        Plan::from_file(&long).unwrap_err(),
+        AtlasPlan::from_file(&long).unwrap_err(),
+    ] {
+        let e = e.to_string();
+        assert!(e.contains("longer than 1048576 bytes"), "{e}");
+    }
 }
 
 /// Item 10: a bad `boundaries.nu_hi` was reported as `boundaries.nu_lo`.
