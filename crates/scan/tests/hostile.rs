@@ -191,8 +191,7 @@ fn an_endless_spec_file_is_refused() {
         let e = e.to_string();
         assert!(e.contains("it is a character device"), "{e}");
     }
-    let dir = tempfile::tempdir().unwrap();
-    let long = dir.path().join("long.toml");
+    let long = std::env::temp_dir().join(format!("squeal-long-{}.toml", std::process::id()));
     std::fs::write(&long, vec![b'#'; 1_048_577]).unwrap();
     for e in [
         Plan::from_file(&long).unwrap_err(),
@@ -201,6 +200,7 @@ fn an_endless_spec_file_is_refused() {
         let e = e.to_string();
         assert!(e.contains("longer than 1048576 bytes"), "{e}");
     }
+    std::fs::remove_file(&long).unwrap();
 }
 
 /// Item 10: a bad `boundaries.nu_hi` was reported as `boundaries.nu_lo`.
