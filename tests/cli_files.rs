@@ -365,11 +365,12 @@ fn too_many_threads_are_capped_saying_so() {
 #[test]
 fn a_signal_during_the_pilot_says_what_happened() {
     let d = tempfile::tempdir().unwrap();
-    // Each point measures 600 + 600 revolutions of its attractor: a pilot bounded by about
-    // 20 s at the documented rate, so it runs (a pilot over 30 s is skipped) and is announced
-    // (over 5 s). The signal follows the announcement, while the pilot runs.
+    // Each point measures 400 + 400 revolutions of its attractor: a pilot bounded by 29 s at
+    // the documented rate, so it runs (a pilot over 30 s is skipped) and is announced (over
+    // 5 s); it takes about 0.9 s of a core. The signal follows the announcement at once,
+    // while the pilot runs.
     let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 2e-3]\n\
-                [attractor]\ntransient = 600\nwindow = 600\n\
+                [attractor]\ntransient = 400\nwindow = 400\n\
                 [boundaries]\nfold = false\ncritical = false\n[output]\npath = \"p.h5\"\n";
     std::fs::write(d.path().join("p.toml"), spec).unwrap();
     let mut child = Command::new(bin())

@@ -254,7 +254,7 @@ pub fn ulc(
         ..Default::default()
     };
     // The command line's checks of `--r-max`, `--rtol`, named as the keywords.
-    squeal_scan::bounds::cycle_search(&cs, &|f| format!("{f}="), &keyword("ulc"))
+    squeal_scan::bounds::cycle_search(&cs, &|f| f.to_string(), &keyword("ulc"))
         .map_err(value_error)?;
     let rep = py.detach(|| locate(setup, &cs)).map_err(value_error)?;
     serde_json::to_string(&rep).map_err(value_error)
@@ -277,8 +277,8 @@ fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<Stat
     let given = State { x, v };
     let point = plan.physical.map_or(given, |ph| ph.scales().state(given));
     let inv = keyword(helper);
-    squeal_scan::bounds::state("x0=", point.x, &inv).map_err(value_error)?;
-    squeal_scan::bounds::state("v0=", point.v, &inv).map_err(value_error)?;
+    squeal_scan::bounds::state("x0", point.x, &inv).map_err(value_error)?;
+    squeal_scan::bounds::state("v0", point.v, &inv).map_err(value_error)?;
     Ok(point)
 }
 
@@ -298,8 +298,7 @@ pub fn critical(
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
     let point = start(&plan, point, "critical")?;
-    squeal_scan::bounds::bisection_rtol("rtol=", rtol, &keyword("critical"))
-        .map_err(value_error)?;
+    squeal_scan::bounds::bisection_rtol("rtol", rtol, &keyword("critical")).map_err(value_error)?;
     let cs = CycleSettings::default();
     let rep = py
         .detach(|| {
@@ -339,8 +338,7 @@ pub fn boundary(
         PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
     })?;
     let point = start(&plan, point, "critical")?;
-    squeal_scan::bounds::bisection_rtol("rtol=", rtol, &keyword("critical"))
-        .map_err(value_error)?;
+    squeal_scan::bounds::bisection_rtol("rtol", rtol, &keyword("critical")).map_err(value_error)?;
     let ps = PointSettings {
         operating: point,
         ..PointSettings::default()
