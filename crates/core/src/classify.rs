@@ -625,34 +625,6 @@ impl Watch<'_> {
 }
 
 impl Classifier {
-    /// The converging-band test on a full window of amplitudes `ring` (turn amplitudes for
-    /// [`crate::turns::TurnWatch`]; not a section rule): within the relative width `rtol` above
-    /// `floor`, and either no monotone trend across its thirds (the means of its first, middle
-    /// and last third do not move the same way twice) or a trend that slows down geometrically
-    /// toward a limit inside the band: with `d1`, `d2` the changes of the thirds' means and
-    /// `q = d2 / d1` in `[0, 1)`, the rest of the trend, `d2 q / (1 - q)`, is at most `rtol`
-    /// times the last third's mean. A run settling onto a cycle whose changes have shrunk below
-    /// [`narrow_band`]'s reversal threshold (`1e-4` of the mean: measured at the brake of issue
-    /// 31, the turns' half-ranges converge to 0.066782 with changes of `1e-6` and no counted
-    /// reversal) passes. A decay to a point does not, however slow: for `a_k = A q^k` the rest
-    /// of the trend is the whole last mean. Nor does a drift away from an unstable orbit (`q >=
-    /// 1`).
-    pub fn converging_band(ring: &[f64], rtol: f64, floor: f64) -> bool {
-        let (lo, hi, mean) = extent(ring);
-        if lo.is_nan() || lo <= floor || hi - lo > rtol * mean || ring.len() < 3 {
-            return false;
-        }
-        let k = ring.len() / 3;
-        let third = |a: usize| ring[a..a + k].iter().sum::<f64>() / k as f64;
-        let (m1, m2, m3) = (third(0), third((ring.len() - k) / 2), third(ring.len() - k));
-        let (d1, d2) = (m2 - m1, m3 - m2);
-        if d1 * d2 <= 0.0 {
-            return true;
-        }
-        let q = d2 / d1;
-        q < 1.0 && (d2 * q / (1.0 - q)).abs() <= rtol * m3
-    }
-
     /// The wide-band test of [`Reason::StickingBand`] on a full window of section amplitudes
     /// ([`wide_band`] with this classifier's floor; the sticking of the revolutions is
     /// checked by the caller).
