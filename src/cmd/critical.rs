@@ -5,12 +5,15 @@ use squeal_core::error::Number;
 use std::process::ExitCode;
 
 use anyhow::bail;
+use squeal_core::Setup;
 use squeal_core::State;
-use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary};
+use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary};
+use squeal_scan::fates::{self, Decided, Spread};
 use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::critical_report::{BoundaryFound, CrisisFound, found, report, si_unit, warn_changes};
+use super::critical_runs;
 use super::progress::{SearchBar, searching};
 
 pub use super::critical_args::Args;
@@ -56,22 +59,32 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         },
         _ => args,
     };
+    args.check_horizon(plan.dt)?;
     if args.crisis {
         return crisis(&args, plan, setup.map, t0);
     }
+    let map = setup.map;
+    let param = BoundaryParam::from_key(&args.in_).unwrap_or_default();
+    let names = names(&args, plan, map, param)?;
     if args.fold || args.in_ == "lambda" {
-        return boundary(&args, plan, setup.map, point, t0);
+        return boundary(&args, (plan, map), names, point, t0);
     }
     let cs = CycleSettings::default();
-    let range = ParamRange {
-        lo: args.nu_lo,
-        hi: args.nu_hi,
-        rtol: args.rtol,
-    };
-    let key = plan.maps[setup.map].damping_key();
+    let (range, _) = args.range(BoundaryParam::Nu)?;
+    let key = plan.maps[map].damping_key();
     let bar = SearchBar::new("critical", key, false);
-    let (rep, changes) = searching(bar.as_ref(), || -> anyhow::Result<_> {
-        let rep = ulc::critical_nu(plan.setup(setup.map), &cs, point, range).map_err(|e| {
+    let setup1 = plan.setup(map);
+    let gate = (setup1, BoundaryParam::Nu);
+    let d = searching(bar.as_ref(), || -> anyhow::Result<_> {
+        let ranges = (range, args.ceiling(BoundaryParam::Nu, range));
+        // The shortcut: the damping at which the unstable cycle first encloses the start.
+        let shortcut = || {
+            let rep = ulc::critical_nu(setup1, &cs, point, range)?;
+            let changes = ulc::coarse_enclosed(setup1, &cs, point, (range.lo, range.hi))?;
+            let bracket = rep.bracket;
+            Ok(((rep, changes), Some(bracket)))
+        };
+        fates::decide(gate, &[point], ranges, args.horizon, shortcut).map_err(|e| {
             let bracket = matches!(e, squeal_scan::ScanError::Bracket { .. });
             let e = anyhow::Error::new(e);
             if bracket {
@@ -79,40 +92,67 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             } else {
                 e
             }
-        })?;
-        let range = (args.nu_lo, args.nu_hi);
-        let changes = ulc::coarse_enclosed(plan.setup(setup.map), &cs, point, range)?;
-        Ok((rep, changes))
+        })
     })?;
     drop(bar);
     let seconds = t0.elapsed().as_secs_f64();
-    report(&args, &rep, point, key, scales, seconds, &changes)?;
+    match d {
+        Decided::Runs { boundary, why } => {
+            let si = si_unit(plan, BoundaryParam::Nu);
+            critical_runs::print(&args, (&boundary, &why), names, point, si, seconds)?;
+        }
+        Decided::Shortcut {
+            answer: (rep, changes),
+            confirmed,
+        } => {
+            let line = confirmed.map(|c| c.line).unwrap_or_default();
+            report(
+                &args,
+                &rep,
+                point,
+                (key, scales),
+                (seconds, &line),
+                &changes,
+            )?;
+        }
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The bisected parameter (`--in`), its name by the law (the Stribeck law: xi, v_d) and its
+/// flags' stem (`nu`, `lambda`).
+fn names(
+    args: &Args,
+    plan: &squeal_scan::Plan,
+    map: usize,
+    param: BoundaryParam,
+) -> anyhow::Result<(BoundaryParam, &'static str, &'static str)> {
+    let (_, flag) = args.range(param)?;
+    let name = match (param, plan.maps[map].law.has_true_stick()) {
+        (BoundaryParam::Nu, true) => "xi",
+        (BoundaryParam::Lambda, true) => "v_d",
+        _ => flag,
+    };
+    Ok((param, name, flag))
 }
 
 /// `--fold` or `--in lambda`: bisects with the atlas's boundary searches (crate
 /// `squeal_scan::atlas::boundary`), the same the atlas stores.
 fn boundary(
     args: &Args,
-    plan: &squeal_scan::Plan,
-    map: usize,
+    (plan, map): (&squeal_scan::Plan, usize),
+    (param, name, flag): (BoundaryParam, &'static str, &'static str),
     point: State,
     t0: std::time::Instant,
 ) -> anyhow::Result<ExitCode> {
-    let param = BoundaryParam::from_key(&args.in_).unwrap_or_default();
-    let (range, flag) = args.range(param)?;
-    // The bisected parameter by the law's own name (the Stribeck law: xi, v_d).
-    let name = match (param, plan.maps[map].law.has_true_stick()) {
-        (BoundaryParam::Nu, true) => "xi",
-        (BoundaryParam::Lambda, true) => "v_d",
-        _ => flag,
-    };
+    let (range, _) = args.range(param)?;
     let ps = PointSettings {
         operating: point,
         ..PointSettings::default()
     };
     if args.fold && boundary::crisis_applies(plan.maps[map].kind()) {
-        return crisis_report(args, (plan, map), (&ps, range), (param, name, flag), t0);
+        let names = (param, name, flag);
+        return crisis_report(args, (plan, map), (&ps, range), names, (point, t0));
     }
     let which = match args.fold {
         true => boundary::Which::Fold,
@@ -120,37 +160,72 @@ fn boundary(
     };
     let (lo, hi) = (range.lo, range.hi);
     let bar = SearchBar::new(command(args), name, false);
-    let (b, changes) = searching(bar.as_ref(), || -> anyhow::Result<_> {
+    let setup = plan.setup(map);
+    let starts = starts(args, setup, param, range, point);
+    let d = searching(bar.as_ref(), || -> anyhow::Result<_> {
         // The atlas's shared search: the same bisection as `fold_in` / `critical_in`
         // (test `shared_boundaries_equal_separate_ones`), plus its bracket checked at dt / 2.
-        let [f, c] = boundary::both_in(
-            param,
-            plan.setup(map),
-            &ps,
-            point,
-            range,
-            [args.fold, !args.fold],
-        );
-        let b = match f.or(c) {
-            Some(r) => r?,
-            None => bail!("no boundary asked for"),
+        let shortcut = || {
+            let asked = [args.fold, !args.fold];
+            let [f, c] = boundary::both_in(param, setup, &ps, point, range, asked);
+            let b = f.or(c).expect("one boundary asked for")?;
+            let changes = boundary::coarse_scan(param, setup, (&ps, point), which, (lo, hi))?;
+            let bracket = (b.status == BoundaryStatus::Found).then_some(b.bracket);
+            Ok(((b, changes), bracket))
         };
-        let setup = plan.setup(map);
-        let changes = boundary::coarse_scan(param, setup, (&ps, point), which, (lo, hi))?;
-        Ok((b, changes))
+        let ranges = (range, args.ceiling(param, range));
+        Ok(fates::decide(
+            (setup, param),
+            &starts,
+            ranges,
+            args.horizon,
+            shortcut,
+        )?)
     })?;
     drop(bar);
+    let seconds = t0.elapsed().as_secs_f64();
+    let ((b, changes), confirmed) = match d {
+        Decided::Runs { boundary, why } => {
+            let si = si_unit(plan, param);
+            critical_runs::print(
+                args,
+                (&boundary, &why),
+                (param, name, flag),
+                point,
+                si,
+                seconds,
+            )?;
+            return Ok(ExitCode::SUCCESS);
+        }
+        Decided::Shortcut { answer, confirmed } => (answer, confirmed.map(|c| c.line)),
+    };
     let found = BoundaryFound {
+        confirmed: confirmed.as_deref(),
         b: &b,
         name,
         flag,
         range: (lo, hi),
-        seconds: t0.elapsed().as_secs_f64(),
+        seconds,
         changes: &changes,
         si: si_unit(plan, param),
     };
     found.report(args, point)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The starts a confirmation runs: the spread of the fold ([`squeal_scan::fates::Spread`],
+/// of the parameters at the range's lower end, as the runs' fold samples), else the start.
+fn starts(
+    args: &Args,
+    setup: Setup,
+    param: BoundaryParam,
+    range: ParamRange,
+    point: State,
+) -> Vec<State> {
+    match args.fold {
+        true => Spread::of(&param.with(setup.params, range.lo)).starts,
+        false => vec![point],
+    }
 }
 
 /// The command's words on its progress line.
@@ -219,7 +294,7 @@ fn crisis(
         (plan, map),
         (&ps, range),
         (BoundaryParam::Nu, "nu", "nu"),
-        t0,
+        (State { x: 0.0, v: 0.0 }, t0),
     )
 }
 
@@ -230,14 +305,55 @@ fn crisis_report(
     args: &Args,
     (plan, map): (&squeal_scan::Plan, usize),
     (ps, range): (&PointSettings, ParamRange),
-    (param, name, flag): (BoundaryParam, &str, &str),
-    t0: std::time::Instant,
+    (param, name, flag): (BoundaryParam, &'static str, &'static str),
+    (point, t0): (State, std::time::Instant),
 ) -> anyhow::Result<ExitCode> {
     let budget = (squeal_scan::band::COARSE, args.budget());
     let bar = SearchBar::new(command(args), name, false);
-    let c = &searching(bar.as_ref(), || {
-        boundary::fold_crisis(param, plan.setup(map), ps, range, budget)
+    let setup = plan.setup(map);
+    // `--fold`: the crisis confirmed by runs of the spread at the ends of its interval, or
+    // the runs' fold; `--crisis` is the band's crisis itself, not confirmed.
+    let starts = starts(args, setup, param, range, point);
+    let d = searching(bar.as_ref(), || -> anyhow::Result<_> {
+        let shortcut = || {
+            let c = boundary::fold_crisis(param, setup, ps, range, budget)?;
+            let ends = [c.nu - c.uncertainty, c.nu + c.uncertainty];
+            let found = c.status == squeal_scan::band::CrisisStatus::Found;
+            Ok((c, (found && args.fold).then_some(ends)))
+        };
+        if !args.fold {
+            return Ok(Decided::Shortcut {
+                answer: shortcut()?.0,
+                confirmed: None,
+            });
+        }
+        let ranges = (range, args.ceiling(param, range));
+        Ok(fates::decide(
+            (setup, param),
+            &starts,
+            ranges,
+            args.horizon,
+            shortcut,
+        )?)
     })?;
+    let (c, confirmed) = match d {
+        Decided::Runs { boundary, why } => {
+            drop(bar);
+            let seconds = t0.elapsed().as_secs_f64();
+            let si = si_unit(plan, param);
+            critical_runs::print(
+                args,
+                (&boundary, &why),
+                (param, name, flag),
+                point,
+                si,
+                seconds,
+            )?;
+            return Ok(ExitCode::SUCCESS);
+        }
+        Decided::Shortcut { answer, confirmed } => (answer, confirmed.map(|c| c.line)),
+    };
+    let c = &c;
     found(range, flag, c)?;
     let warning = warn_changes(&c.changes, name);
     // The band's transient lifetimes above the crisis (in the damping only).
@@ -252,6 +368,7 @@ fn crisis_report(
     };
     drop(bar);
     let report = CrisisFound {
+        confirmed: confirmed.as_deref(),
         c,
         name,
         seconds: t0.elapsed().as_secs_f64(),

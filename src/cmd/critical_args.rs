@@ -22,9 +22,10 @@ pub struct Args {
     /// Lower end of the bracket in nu (cycle must not enclose the state there).
     #[arg(long, default_value_t = 1e-3)]
     pub nu_lo: f64,
-    /// Upper end (cycle must enclose the state there).
-    #[arg(long, default_value_t = 5e-2)]
-    pub nu_hi: f64,
+    /// Upper end (cycle must enclose the state there) [default: 0.05; where the answer
+    /// comes from runs, raised by 4 up to 4 while a start still squeals there].
+    #[arg(long)]
+    pub nu_hi: Option<f64>,
     /// Relative width of the final bracket.
     #[arg(long, default_value_t = 1e-4)]
     pub rtol: f64,
@@ -63,12 +64,61 @@ pub struct Args {
     /// Lower end of the bracket in lambda (with --in lambda).
     #[arg(long, default_value_t = 0.5)]
     pub lambda_lo: f64,
-    /// Upper end of the bracket in lambda (with --in lambda).
-    #[arg(long, default_value_t = 6.0)]
-    pub lambda_hi: f64,
+    /// Upper end of the bracket in lambda (with --in lambda) [default: 6; where the answer
+    /// comes from runs, raised by 4 up to 96 while a start still squeals there].
+    #[arg(long)]
+    pub lambda_hi: Option<f64>,
+    /// The horizon of the runs that confirm an answer or, outside the region the shortcuts
+    /// were checked in, give it (nondimensional time; the unforced period is 2 pi): a run
+    /// still oscillating there lasts, one at the fixed point settles.
+    #[arg(long, default_value_t = squeal_scan::fates::HORIZON)]
+    pub horizon: f64,
 }
 
+/// The default top of the bracket in nu.
+const NU_HI: f64 = 5e-2;
+/// ... in lambda.
+const LAMBDA_HI: f64 = 6.0;
+
 impl Args {
+    /// Whether the top of the bracket in `param` was given by its flag.
+    pub(super) fn top_given(&self, param: BoundaryParam) -> bool {
+        match param {
+            BoundaryParam::Nu => self.nu_hi.is_some(),
+            BoundaryParam::Lambda => self.lambda_hi.is_some(),
+        }
+    }
+
+    /// How far the runs' search raises a default top: nu to 4 (four times critical
+    /// damping of the spring), lambda to 16 times its default.
+    pub(super) fn top_ceiling(&self, param: BoundaryParam) -> f64 {
+        match param {
+            BoundaryParam::Nu => 4.0,
+            BoundaryParam::Lambda => 16.0 * LAMBDA_HI,
+        }
+    }
+
+    /// The ceiling of the runs' search in `param` over `range`: the range's top where the
+    /// flag gave it, else [`Args::top_ceiling`].
+    pub(super) fn ceiling(&self, param: BoundaryParam, range: ParamRange) -> f64 {
+        match self.top_given(param) {
+            true => range.hi,
+            false => self.top_ceiling(param).max(range.hi),
+        }
+    }
+
+    /// The horizon, checked: finite, positive, and at most `MAX_STEPS` steps of `dt`.
+    pub(super) fn check_horizon(&self, dt: f64) -> anyhow::Result<()> {
+        let h = self.horizon;
+        if !(h.is_finite() && h > 0.0 && h / dt <= squeal_scan::bounds::MAX_STEPS) {
+            bail!(
+                "--horizon {}: expected a finite time > 0 of at most 1e10 steps of dt {dt:?}",
+                Number(h)
+            );
+        }
+        Ok(())
+    }
+
     /// The band's budget of the crisis's verdicts at dt and dt/2.
     pub(super) fn budget(&self) -> squeal_scan::band::Budget {
         match self.longer_horizon {
@@ -81,8 +131,12 @@ impl Args {
     /// stem (`--nu-lo`, `--lambda-hi`, ...).
     pub(super) fn range(&self, param: BoundaryParam) -> anyhow::Result<(ParamRange, &'static str)> {
         let (lo, hi, flag) = match param {
-            BoundaryParam::Nu => (self.nu_lo, self.nu_hi, "nu"),
-            BoundaryParam::Lambda => (self.lambda_lo, self.lambda_hi, "lambda"),
+            BoundaryParam::Nu => (self.nu_lo, self.nu_hi.unwrap_or(NU_HI), "nu"),
+            BoundaryParam::Lambda => (
+                self.lambda_lo,
+                self.lambda_hi.unwrap_or(LAMBDA_HI),
+                "lambda",
+            ),
         };
         if !(lo > 0.0 && hi > lo && hi.is_finite()) {
             let (lo, hi) = (Number(lo), Number(hi));

@@ -46,9 +46,8 @@ pub(super) fn report(
     args: &Args,
     rep: &ulc::CriticalReport,
     point: State,
-    key: &str,
-    scales: Option<squeal_core::Scales>,
-    seconds: f64,
+    (key, scales): (&str, Option<squeal_core::Scales>),
+    (seconds, confirmed): (f64, &str),
     changes: &[Change],
 ) -> anyhow::Result<()> {
     let warning = warn_changes(changes, key);
@@ -56,6 +55,7 @@ pub(super) fn report(
         let mut v = serde_json::to_value(rep)?;
         v["seconds"] = seconds.into();
         v["coarse_changes"] = serde_json::to_value(changes)?;
+        v["confirmed_by_runs"] = confirmed.into();
         if let Some(s) = scales {
             v["c"] = (rep.nu * s.damping).into();
             v["c_bracket"] = serde_json::json!(rep.bracket.map(|b| b * s.damping));
@@ -81,6 +81,7 @@ pub(super) fn report(
             Number(point.x),
             Number(point.v)
         );
+        println!("  {confirmed}");
         if let Some(w) = warning {
             println!("  {w}");
         }
@@ -114,6 +115,8 @@ pub(super) fn si_unit(
 /// for its two reports.
 pub(super) struct BoundaryFound<'a> {
     pub(super) b: &'a squeal_scan::atlas::Boundary,
+    /// The runs' confirmation at the bracket's ends (`None`: not found).
+    pub(super) confirmed: Option<&'a str>,
     /// The bisected parameter's name and flag.
     pub(super) name: &'a str,
     pub(super) flag: &'a str,
@@ -132,6 +135,7 @@ impl BoundaryFound<'_> {
         v[name] = v["nu"].clone();
         v["seconds"] = self.seconds.into();
         v["coarse_changes"] = serde_json::to_value(self.changes)?;
+        v["confirmed_by_runs"] = self.confirmed.into();
         if let Some((key, unit, units)) = self.si {
             v[key] = (b.nu * unit).into();
             v[format!("{key}_bracket")] = serde_json::json!(b.bracket.map(|x| x * unit));
@@ -199,6 +203,9 @@ impl BoundaryFound<'_> {
                 None => "at dt/2: not checked (a run failed)",
             }
         );
+        if let Some(c) = self.confirmed {
+            println!("  {c}");
+        }
         if let Some(w) = warn_changes(self.changes, name) {
             println!("  {w}");
         }
@@ -232,6 +239,8 @@ pub(super) fn found(range: ParamRange, flag: &str, c: &Crisis) -> anyhow::Result
 /// reports: the coarse scan's warning and the lifetimes table beside it.
 pub(super) struct CrisisFound<'a> {
     pub(super) c: &'a Crisis,
+    /// `--fold`: the runs' confirmation at the ends of its interval.
+    pub(super) confirmed: Option<&'a str>,
     /// The bisected parameter's name.
     pub(super) name: &'a str,
     pub(super) seconds: f64,
@@ -259,6 +268,7 @@ impl CrisisFound<'_> {
             v["bracket"] = serde_json::to_value(c.interval)?;
             v["in"] = name.into();
             v["seconds"] = seconds.into();
+            v["confirmed_by_runs"] = self.confirmed.into();
             if let Some(t) = table {
                 v["lifetimes"] = lifetimes::json(t, plan)?;
             }
@@ -290,6 +300,9 @@ impl CrisisFound<'_> {
             holds(c.half_dt_holds),
             holds(c.longer_holds)
         );
+        if let Some(c) = self.confirmed {
+            println!("  {c}");
+        }
         if let Some(w) = warning {
             println!("  {w}");
         }

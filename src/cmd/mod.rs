@@ -13,6 +13,7 @@ pub mod compare;
 pub mod critical;
 pub mod critical_args;
 pub mod critical_report;
+pub mod critical_runs;
 pub mod friction;
 pub mod info;
 pub mod law_flags;

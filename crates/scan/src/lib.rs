@@ -70,6 +70,7 @@ pub mod driver;
 pub mod error;
 pub mod estimate;
 pub mod executor;
+pub mod fates;
 pub mod files;
 pub mod grid;
 pub mod landscape;

@@ -213,16 +213,17 @@ pub struct Trajectory {
 }
 
 /// Runs `span` with `stepper` to its end (or until `stop` is raised, checked every 4096
-/// steps, or the state is no longer finite), three classifiers watching the one run, each
-/// verdict taken at its decision while the run goes on: `label` with `shortcuts` (the rules
-/// a scan decides by), `own` (the run's own verdict: no trap, no shortcut) and `rest` (no
-/// rule at all: only the fixed point reached decides).
+/// steps, or the state is no longer finite, or, with `until_settled`, the fixed point is
+/// reached), three classifiers watching the one run, each verdict taken at its decision
+/// while the run goes on: `label` with `shortcuts` (the rules a scan decides by), `own` (the
+/// run's own verdict: no trap, no shortcut) and `rest` (no rule at all: only the fixed point
+/// reached decides).
 fn watch_run(
     stepper: &Stepper,
     (label, shortcuts): (&Classifier, Shortcuts),
     (own_cl, rest_cl): (&Classifier, &Classifier),
     span: Span,
-    stop: Option<&AtomicBool>,
+    (stop, until_settled): (Option<&AtomicBool>, bool),
 ) -> Trajectory {
     let p = *stepper.params();
     let fp = p.fixed_point();
@@ -262,6 +263,9 @@ fn watch_run(
         if rest.is_none() {
             if let Some(decision) = rest_watch.observe(&run, &step) {
                 rest = Some(rest_watch.finish(decision, &run));
+                if until_settled && decision.0 == Regime::SteadySlip {
+                    break;
+                }
             }
         }
         if let Some(c) = crossing(fp.x, &step.prev, &n) {
@@ -333,7 +337,8 @@ pub fn run_in(ctx: &MapContext, span: Span, stop: Option<&AtomicBool>) -> Trajec
         Some(_) => Shortcuts::NONE,
         None => ctx.shortcuts,
     };
-    let mut t = watch_run(&ctx.stepper, (&label, shortcuts), (&own, &rest), span, stop);
+    let at_dt = (&label, shortcuts);
+    let mut t = watch_run(&ctx.stepper, at_dt, (&own, &rest), span, (stop, false));
     if let Some(at) = at {
         t.at_start = true;
         t.outcome = at;
@@ -372,7 +377,48 @@ pub fn run(
         band_rules: false,
         ..cl
     };
-    let mut t = watch_run(stepper, (&cl, Shortcuts::NONE), (&cl, &rest), span, stop);
+    let mut t = watch_run(
+        stepper,
+        (&cl, Shortcuts::NONE),
+        (&cl, &rest),
+        span,
+        (stop, false),
+    );
+    refute(&mut t);
+    t
+}
+
+/// Runs from `ic` until it reaches the fixed point or `t_end`, watched by `base` with its
+/// band rules and no trap or shortcut (`own`) and by the fixed point alone (`rest`): the
+/// run behind a [`crate::fates::Fate`]. No samples are kept and no section is searched.
+pub fn run_to_fate(
+    stepper: &Stepper,
+    base: &Classifier,
+    (ic, t_end): (State, f64),
+    stop: Option<&AtomicBool>,
+) -> Trajectory {
+    let own = Classifier {
+        t_max: t_end,
+        trap: None,
+        band_rules: true,
+        ..*base
+    };
+    let rest = Classifier {
+        band_rules: false,
+        ..own
+    };
+    let span = Span {
+        ic,
+        t_end,
+        every: 0,
+    };
+    let mut t = watch_run(
+        stepper,
+        (&own, Shortcuts::NONE),
+        (&own, &rest),
+        span,
+        (stop, true),
+    );
     refute(&mut t);
     t
 }

@@ -1,0 +1,686 @@
+//! Where runs end, and the boundaries bisected on runs alone.
+//!
+//! The critical damping and the fold were first answered from the paper's picture: one
+//! unstable cycle around the fixed point, every start outside it ending on a stick-slip
+//! band. Where that picture does not hold (a brake clamped hard at low belt speed, whose
+//! lasting oscillation overtakes the belt and never crosses the section the cycle lives
+//! on), those answers can be ten times too low. This module answers the same questions
+//! from runs, with no rule about the landscape:
+//!
+//! * [`Fate`]: a run from a start to a horizon `T` either reaches the fixed point
+//!   ([`Fate::Settles`]), or is still oscillating at `T` on an oscillation the classifier's
+//!   band test identified ([`Fate::Lasts`]: "lasts to `T`", the claim a finite run can
+//!   make), or neither ([`Fate::Undecided`]).
+//! * [`Spread`]: the starts a fold is sampled over (rest and twelve starts on four rings
+//!   around the fixed point).
+//! * [`critical`] and [`fold`]: the last change of "the start settles" and "every sampled
+//!   start settles" along the parameter ([`boundary`]: down from the top of the range in
+//!   geometric steps, then bisected), each end of the bracket a run (so the answer is
+//!   confirmed by runs: below it a start does not settle, above it all do), then the
+//!   bracket checked at `dt / 2` and widened to cover the boundary there
+//!   ([`RunBoundary::interval`]).
+//!
+//! An undecided run counts as not settled (squeal is not ruled out), and is counted.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+use serde::Serialize;
+use squeal_core::error::Number;
+use squeal_core::validated::Validity;
+use squeal_core::{Classifier, Lasting, Params, Regime, Setup, SolverStats, State};
+
+use crate::atlas::{BoundaryParam, BoundaryStatus};
+use crate::error::ScanError;
+use crate::section::ParamRange;
+
+/// The horizon of the runs behind a boundary, nondimensional (the unforced period is
+/// `2 pi`): the long checks' (runs to t = 20000 are their truth, `scripts/ci/long-checks.sh`).
+/// Near the critical damping at Table 1's parameters the run from rest, just inside the
+/// unstable cycle, spirals in slowly: it reaches the fixed point at t = 5368 (`squeal
+/// critical` at the defaults), and would read undecided at t = 3000.
+pub const HORIZON: f64 = 20_000.0;
+
+/// Where one run ends by its horizon.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "fate", rename_all = "snake_case")]
+pub enum Fate {
+    /// Reached the fixed point (steady slip) at `t`.
+    Settles {
+        /// When.
+        t: f64,
+    },
+    /// Still oscillating at the horizon, on an oscillation the band test identified at
+    /// `t` (and never reached the fixed point): it squeals for as long as was run.
+    Lasts {
+        /// When the oscillation was identified.
+        t: f64,
+        /// Its figures (frequency, extent, stick, slip reversal), where the turn watch
+        /// closed a window on it.
+        lasting: Option<Lasting>,
+    },
+    /// Neither by the horizon (or the run failed).
+    Undecided,
+    /// Not run to its end: another start at the same value had already not settled, which
+    /// decided the value.
+    Stopped,
+}
+
+impl Fate {
+    /// Whether the run settled.
+    pub fn settles(&self) -> bool {
+        matches!(self, Fate::Settles { .. })
+    }
+
+    /// Whether the run lasted.
+    pub fn lasts(&self) -> bool {
+        matches!(self, Fate::Lasts { .. })
+    }
+
+    /// Words for reports.
+    pub fn words(&self, horizon: f64) -> String {
+        match self {
+            Fate::Settles { t } => format!("reaches the fixed point at t = {t:.1}"),
+            Fate::Lasts { t, .. } => {
+                format!("on a lasting oscillation from t = {t:.1} to the horizon {horizon}")
+            }
+            Fate::Undecided => format!("neither settles nor lasts identifiably by t = {horizon}"),
+            Fate::Stopped => "was stopped (another start had decided the value)".into(),
+        }
+    }
+}
+
+/// The fate of the run from `start` with `setup` by `horizon`, and the solver's counts;
+/// `stop` raised stops the run ([`Fate::Stopped`]).
+pub fn fate(
+    setup: Setup,
+    start: State,
+    horizon: f64,
+    stop: Option<&AtomicBool>,
+) -> Result<(Fate, SolverStats), ScanError> {
+    let st = setup.stepper()?;
+    let cl = Classifier::default();
+    let t = crate::trajectory::run_to_fate(&st, &cl, (start, horizon), stop);
+    let f = if t.rest.regime == Regime::SteadySlip {
+        Fate::Settles {
+            t: t.rest.t_decision,
+        }
+    } else if stop.is_some_and(|s| s.load(Ordering::Relaxed))
+        && t.final_state.t + setup.dt < horizon
+    {
+        Fate::Stopped
+    } else if t.own.regime == Regime::StickSlip {
+        Fate::Lasts {
+            t: t.own.t_decision,
+            lasting: t.lasting,
+        }
+    } else {
+        Fate::Undecided
+    };
+    Ok((f, t.stats))
+}
+
+/// The starts a fold is sampled over: rest, and twelve starts on four rings around the
+/// fixed point, of radii `s/2, s, 2 s, 4 s` with `s = max(lambda, 1/4)` (the belt speed
+/// sets the size of a stick-slip loop), three to a ring at angles turned by 30 degrees
+/// from ring to ring.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Spread {
+    /// The starts, rest first.
+    pub starts: Vec<State>,
+}
+
+impl Spread {
+    /// The spread for parameters `p`.
+    pub fn of(p: &Params) -> Spread {
+        let fp = p.fixed_point();
+        let s = p.lambda.max(0.25);
+        let mut starts = vec![State { x: 0.0, v: 0.0 }];
+        for (ring, r) in [0.5, 1.0, 2.0, 4.0].into_iter().enumerate() {
+            for k in 0..3 {
+                let a = (30.0 * ring as f64 + 120.0 * k as f64).to_radians();
+                starts.push(State {
+                    x: fp.x + r * s * a.cos(),
+                    v: r * s * a.sin(),
+                });
+            }
+        }
+        Spread { starts }
+    }
+}
+
+/// The fates of `starts` with `setup` by `horizon`, run in parallel; with `until_one`, the
+/// other runs are stopped once one does not settle ([`Fate::Stopped`]).
+pub fn fates(
+    setup: Setup,
+    starts: &[State],
+    horizon: f64,
+    until_one: bool,
+) -> Result<Vec<(Fate, SolverStats)>, ScanError> {
+    let failed = AtomicBool::new(false);
+    starts
+        .par_iter()
+        .map(|&s| {
+            let stop = until_one.then_some(&failed);
+            if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                return Ok((Fate::Stopped, SolverStats::default()));
+            }
+            let out = fate(setup, s, horizon, stop)?;
+            if !out.0.settles() && out.0 != Fate::Stopped {
+                failed.store(true, Ordering::Relaxed);
+            }
+            Ok(out)
+        })
+        .collect()
+}
+
+/// What the runs at one end of a boundary's bracket did.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Ends {
+    /// The value.
+    pub value: f64,
+    /// The fate of each start there.
+    pub fates: Vec<Fate>,
+}
+
+impl Ends {
+    /// Whether every start settled.
+    pub fn all_settle(&self) -> bool {
+        self.fates.iter().all(Fate::settles)
+    }
+
+    /// The first start that lasted, by index.
+    pub fn first_lasting(&self) -> Option<(usize, &Fate)> {
+        self.fates.iter().enumerate().find(|(_, f)| f.lasts())
+    }
+
+    /// The first start that did not settle (lasted or undecided), by index.
+    pub fn first_unsettled(&self) -> Option<(usize, &Fate)> {
+        self.fates
+            .iter()
+            .enumerate()
+            .find(|(_, f)| matches!(f, Fate::Lasts { .. } | Fate::Undecided))
+    }
+
+    /// How many were undecided.
+    pub fn undecided(&self) -> usize {
+        self.fates
+            .iter()
+            .filter(|f| matches!(f, Fate::Undecided))
+            .count()
+    }
+}
+
+/// A boundary bisected on runs: below it some start does not settle, above it every start
+/// does.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RunBoundary {
+    /// How the search ended ([`BoundaryStatus::BelowRange`]: every start settles already at
+    /// the lower end; [`BoundaryStatus::AboveRange`]: some start still does not at the
+    /// upper end).
+    pub status: BoundaryStatus,
+    /// The bisected parameter.
+    pub param: BoundaryParam,
+    /// The bracket at `dt` (not all settle at its lower end, all at its upper).
+    pub bracket: [f64; 2],
+    /// The runs at the bracket's ends at `dt` (the confirmation).
+    pub below: Option<Ends>,
+    /// ... and above.
+    pub above: Option<Ends>,
+    /// The bracket at `dt / 2`, where it was searched (`None`: the bracket at `dt` held at
+    /// `dt / 2`, or not found).
+    pub half_dt_bracket: Option<[f64; 2]>,
+    /// Whether the bracket at `dt` held at `dt / 2` (the same verdicts at both its ends).
+    pub half_dt_holds: Option<bool>,
+    /// The interval holding the boundary at `dt` and at `dt / 2`.
+    pub interval: [f64; 2],
+    /// Runs made, at `dt` and at `dt / 2`.
+    pub runs: u64,
+    /// Runs undecided by the horizon (counted as not settled).
+    pub undecided: u64,
+    /// The horizon of every run.
+    pub horizon: f64,
+    /// The solver's counts over every run.
+    pub stats: SolverStats,
+}
+
+impl RunBoundary {
+    /// The geometric middle of [`RunBoundary::interval`] (NaN unless found).
+    pub fn value(&self) -> f64 {
+        match self.status {
+            BoundaryStatus::Found => (self.interval[0] * self.interval[1]).sqrt(),
+            _ => f64::NAN,
+        }
+    }
+}
+
+/// The search's running tally.
+struct Tally<'a> {
+    param: BoundaryParam,
+    setup: Setup,
+    starts: &'a [State],
+    horizon: f64,
+    runs: u64,
+    undecided: u64,
+    stats: SolverStats,
+}
+
+impl Tally<'_> {
+    /// The runs of every start at value `v` with step `setup.dt` (or half of it), stopped
+    /// once one does not settle.
+    fn ends(&mut self, v: f64, half: bool) -> Result<Ends, ScanError> {
+        let mut s = self
+            .setup
+            .with_params(self.param.with(self.setup.params, v));
+        if half {
+            s = s.half_dt();
+        }
+        let out = fates(s, self.starts, self.horizon, true)?;
+        let mut fates_here = Vec::with_capacity(out.len());
+        for (f, st) in out {
+            self.runs += u64::from(f != Fate::Stopped);
+            self.undecided += u64::from(f == Fate::Undecided);
+            self.stats.merge(&st);
+            fates_here.push(f);
+        }
+        crate::observe::step(crate::observe::SearchStep::Value(v));
+        Ok(Ends {
+            value: v,
+            fates: fates_here,
+        })
+    }
+
+    /// Geometric bisection of "all settle" between `lo` (not all) and `hi` (all), keeping
+    /// the runs at the final ends.
+    fn bisect(
+        &mut self,
+        (mut lo, mut hi): (Ends, Ends),
+        rtol: f64,
+        half: bool,
+    ) -> Result<(Ends, Ends), ScanError> {
+        let mut guard = 0;
+        while hi.value / lo.value - 1.0 > rtol && guard < 200 {
+            guard += 1;
+            let mid = (lo.value * hi.value).sqrt();
+            let e = self.ends(mid, half)?;
+            if e.all_settle() {
+                hi = e;
+            } else {
+                lo = e;
+            }
+        }
+        Ok((lo, hi))
+    }
+
+    /// From `top` (every start settles), down by factors `g` to `floor`: the first value
+    /// where some start does not settle and the one above it, bisected to `rtol` (`None`:
+    /// every start settles down to `floor`).
+    fn down_from(
+        &mut self,
+        top: Ends,
+        (g, floor, rtol): (f64, f64, f64),
+        half: bool,
+    ) -> Result<Option<(Ends, Ends)>, ScanError> {
+        let mut upper = top;
+        loop {
+            if upper.value <= floor {
+                return Ok(None);
+            }
+            let e = self.ends((upper.value / g).max(floor), half)?;
+            if !e.all_settle() {
+                return self.bisect((e, upper), rtol, half).map(Some);
+            }
+            upper = e;
+        }
+    }
+
+    /// From `bottom` (some start does not settle), up by factors `g` to `ceiling`: the first
+    /// value where every start settles, and the one below it, bisected (`None`: some start
+    /// does not settle up to `ceiling`).
+    fn up_from(
+        &mut self,
+        bottom: Ends,
+        (g, ceiling, rtol): (f64, f64, f64),
+        half: bool,
+    ) -> Result<Option<(Ends, Ends)>, ScanError> {
+        let mut lower = bottom;
+        loop {
+            if lower.value >= ceiling {
+                return Ok(None);
+            }
+            let e = self.ends((lower.value * g).min(ceiling), half)?;
+            if e.all_settle() {
+                return self.bisect((lower, e), rtol, half).map(Some);
+            }
+            lower = e;
+        }
+    }
+}
+
+/// How many geometric steps the scan from the top takes over the range at least (those of
+/// the crisis's coarse scan, [`crate::band::COARSE`]), each at most [`MAX_STEP`]: a window
+/// of squeal narrower than one step between two values that settle can be stepped over.
+pub const STEPS: usize = crate::band::COARSE;
+
+/// The largest factor between two values of the scan from the top (2.5%): at the brake of
+/// MODEL.md section 11 the start from rest does not settle by t = 10000 at c = 151 N s/m
+/// and settles at 150.4 and 153 (dt 0.005): windows that narrow exist there.
+pub const MAX_STEP: f64 = 1.025;
+
+/// The boundary in `param` above which every start of `starts` settles by `horizon`: the
+/// *last* change over the range. The top of `range` first (raised by factors of 4 up to
+/// `ceiling` while some start does not settle there), then down from the top in
+/// [`STEPS`] geometric steps over the range to the first value where some start does not
+/// settle, then bisected to `rtol`; so every scanned value above the answer settles, and a
+/// squealing window above a quiet stretch is not missed unless it is narrower than a step.
+/// The bracket is then checked at `dt / 2`: where a verdict at an end differs, the boundary
+/// there is searched outward from that end and the interval widened to hold it.
+pub fn boundary(
+    param: BoundaryParam,
+    setup: Setup,
+    starts: &[State],
+    (range, ceiling): (ParamRange, f64),
+    horizon: f64,
+) -> Result<RunBoundary, ScanError> {
+    let ParamRange { lo, hi, rtol } = range;
+    if !(lo > 0.0 && hi > lo && hi.is_finite() && rtol > 0.0 && ceiling.is_finite()) {
+        return Err(ScanError::Undetermined(format!(
+            "bracket [{lo}, {hi}] / rtol {rtol}: need 0 < lo < hi, rtol > 0"
+        )));
+    }
+    if !(horizon.is_finite() && horizon > 0.0) {
+        return Err(ScanError::Undetermined(format!(
+            "horizon {horizon}: need a finite time > 0"
+        )));
+    }
+    let mut t = Tally {
+        param,
+        setup,
+        starts,
+        horizon,
+        runs: 0,
+        undecided: 0,
+        stats: SolverStats::default(),
+    };
+    let mut out = RunBoundary {
+        status: BoundaryStatus::Found,
+        param,
+        bracket: [lo, hi],
+        below: None,
+        above: None,
+        half_dt_bracket: None,
+        half_dt_holds: None,
+        interval: [lo, hi],
+        runs: 0,
+        undecided: 0,
+        horizon,
+        stats: SolverStats::default(),
+    };
+    let finish = |mut out: RunBoundary, t: &Tally| {
+        out.runs = t.runs;
+        out.undecided = t.undecided;
+        out.stats = t.stats;
+        Ok(out)
+    };
+    // The top, raised while some start does not settle there.
+    crate::observe::stage("runs at the top", None);
+    let mut top = t.ends(hi, false)?;
+    while !top.all_settle() {
+        if top.value >= ceiling {
+            out.status = BoundaryStatus::AboveRange;
+            out.bracket = [lo, top.value];
+            out.below = Some(top);
+            return finish(out, &t);
+        }
+        top = t.ends((top.value * 4.0).min(ceiling), false)?;
+    }
+    let g = (top.value / lo)
+        .powf(1.0 / STEPS as f64)
+        .min(MAX_STEP)
+        .max(1.0 + rtol);
+    crate::observe::stage("down from the top, then bisection", None);
+    let Some((below, above)) = t.down_from(top, (g, lo, rtol), false)? else {
+        out.status = BoundaryStatus::BelowRange;
+        return finish(out, &t);
+    };
+    let [a, b] = [below.value, above.value];
+    out.bracket = [a, b];
+    out.interval = [a, b];
+    crate::observe::stage("the bracket at dt / 2", None);
+    let (half_lo, half_hi) = (t.ends(a, true)?, t.ends(b, true)?);
+    let holds = !half_lo.all_settle() && half_hi.all_settle();
+    out.half_dt_holds = Some(holds);
+    if !holds {
+        let below_a = half_hi.all_settle();
+        let half = if below_a {
+            // At dt / 2 every start settles at a too: the boundary lies below it.
+            t.down_from(half_lo, (g, lo, rtol), true)?
+        } else {
+            t.up_from(half_hi, (g, ceiling, rtol), true)?
+        };
+        match half {
+            Some((l, h)) => {
+                out.half_dt_bracket = Some([l.value, h.value]);
+                out.interval = [a.min(l.value), b.max(h.value)];
+            }
+            None if below_a => out.interval = [lo, b],
+            None => out.interval = [a, ceiling],
+        }
+    }
+    out.below = Some(below);
+    out.above = Some(above);
+    finish(out, &t)
+}
+
+/// The critical value of `param` for `start`: above it the run from `start` settles by
+/// `horizon`, below it the run lasts (or is undecided).
+pub fn critical(
+    param: BoundaryParam,
+    setup: Setup,
+    start: State,
+    range: (ParamRange, f64),
+    horizon: f64,
+) -> Result<RunBoundary, ScanError> {
+    boundary(param, setup, &[start], range, horizon)
+}
+
+/// The fold in `param`: above it every start of the [`Spread`] (of the parameters at the
+/// range's lower end) settles by `horizon`.
+pub fn fold(
+    param: BoundaryParam,
+    setup: Setup,
+    range: (ParamRange, f64),
+    horizon: f64,
+) -> Result<RunBoundary, ScanError> {
+    let p = param.with(setup.params, range.0.lo);
+    let spread = Spread::of(&p);
+    boundary(param, setup, &spread.starts, range, horizon)
+}
+
+/// Why an answer is the runs'.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "why", content = "words", rename_all = "snake_case")]
+pub enum Why {
+    /// The model lies outside the region the shortcuts were checked in (the warning of
+    /// [`squeal_core::validated::Validity`]).
+    Unchecked(String),
+    /// A run at the shortcut's answer contradicted it (what the run did).
+    Refuted(String),
+}
+
+impl Why {
+    /// In words.
+    pub fn words(&self) -> String {
+        match self {
+            Why::Unchecked(w) => format!("the shortcuts' premise is not checked here ({w})"),
+            Why::Refuted(w) => format!("the shortcut's answer was refuted by a run: {w}"),
+        }
+    }
+}
+
+/// What the runs at a shortcut's answer said.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Confirmation {
+    /// What contradicted the answer (`None`: no run did).
+    pub refuted: Option<String>,
+    /// Whether the runs confirmed it: below it a start lasts, above it every start settles
+    /// (`false` with no contradiction: a run was undecided by the horizon).
+    pub confirmed: bool,
+    /// The runs in words.
+    pub line: String,
+    /// The runs below the answer and above it.
+    pub ends: [Ends; 2],
+}
+
+/// Confirms a shortcut's bracket `[lo, hi]` by runs of `starts` (the start of a critical
+/// value, the [`Spread`] of a fold) at its ends: below it some start must not settle,
+/// above it every start must.
+pub fn confirm(
+    setup: Setup,
+    param: BoundaryParam,
+    starts: &[State],
+    [lo, hi]: [f64; 2],
+    horizon: f64,
+) -> Result<Confirmation, ScanError> {
+    let at = |v: f64| -> Result<Ends, ScanError> {
+        let s = setup.with_params(param.with(setup.params, v));
+        let out = fates(s, starts, horizon, false)?;
+        Ok(Ends {
+            value: v,
+            fates: out.into_iter().map(|(f, _)| f).collect(),
+        })
+    };
+    let (below, above) = (at(lo)?, at(hi)?);
+    let k = param.key();
+    let start = |i: usize| format!("({}, {})", Number(starts[i].x), Number(starts[i].v));
+    // A contradiction: every start settles below the answer, or one lasts above it. An
+    // undecided run is no contradiction: the answer stands, unconfirmed, and says so.
+    let refuted = if below.all_settle() {
+        Some(format!(
+            "at {k} = {lo:.6e}, below the answer, every start reaches the fixed point by t = {horizon}"
+        ))
+    } else {
+        above.first_lasting().map(|(i, f)| {
+            format!(
+                "at {k} = {hi:.6e}, above the answer, the run from {} {}",
+                start(i),
+                f.words(horizon)
+            )
+        })
+    };
+    let last = above
+        .fates
+        .iter()
+        .filter_map(|f| match f {
+            Fate::Settles { t } => Some(*t),
+            _ => None,
+        })
+        .fold(0.0, f64::max);
+    let line = match (below.first_unsettled(), above.first_unsettled()) {
+        (Some((i, f)), None) => format!(
+            "confirmed by runs: at {k} = {lo:.6e} the run from {} {}; at {hi:.6e} every start reaches the fixed point (the last at t = {last:.1})",
+            start(i),
+            f.words(horizon)
+        ),
+        (_, Some((i, f))) => format!(
+            "NOT confirmed by runs: at {k} = {hi:.6e}, above the answer, the run from {} {}",
+            start(i),
+            f.words(horizon)
+        ),
+        (None, None) => format!(
+            "NOT confirmed by runs: at {k} = {lo:.6e}, below the answer, every start settles"
+        ),
+    };
+    let confirmed = below.first_lasting().is_some() && above.all_settle();
+    Ok(Confirmation {
+        refuted,
+        confirmed,
+        line,
+        ends: [below, above],
+    })
+}
+
+/// A boundary as a shortcut gave it and runs confirmed it, or as runs gave it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Decided<T> {
+    /// The shortcut's answer, confirmed by runs at its bracket (`None`: nothing to confirm,
+    /// the boundary lies outside the range).
+    Shortcut {
+        /// The shortcut's answer.
+        answer: T,
+        /// The runs at its bracket.
+        confirmed: Option<Confirmation>,
+    },
+    /// The runs' answer ([`boundary`]), and why the shortcut's was not taken.
+    Runs {
+        /// The runs' boundary.
+        boundary: RunBoundary,
+        /// Why.
+        why: Why,
+    },
+}
+
+/// The one gate of a boundary (the critical value of a start, the fold over the spread):
+/// outside the region its shortcuts were checked in ([`Validity`]) the answer is the runs'
+/// ([`boundary`]); inside, the `shortcut` (its answer and the bracket to confirm, `None`
+/// outside its range) is confirmed by runs at its bracket's ends ([`confirm`]), and where a
+/// run contradicts it the answer is the runs' again, saying why. `CLI` and Python both
+/// decide here.
+pub fn decide<T>(
+    (setup, param): (Setup, BoundaryParam),
+    starts: &[State],
+    (range, ceiling): (ParamRange, f64),
+    horizon: f64,
+    shortcut: impl FnOnce() -> Result<(T, Option<[f64; 2]>), ScanError>,
+) -> Result<Decided<T>, ScanError> {
+    let runs = |why: Why| -> Result<Decided<T>, ScanError> {
+        let boundary = boundary(param, setup, starts, (range, ceiling), horizon)?;
+        Ok(Decided::Runs { boundary, why })
+    };
+    if let Some(w) = Validity::of(&setup.params).warning() {
+        return runs(Why::Unchecked(
+            w.trim_start_matches("warning: ").to_string(),
+        ));
+    }
+    let (answer, bracket) = shortcut()?;
+    let Some(bracket) = bracket else {
+        return Ok(Decided::Shortcut {
+            answer,
+            confirmed: None,
+        });
+    };
+    crate::observe::stage("runs at the answer", Some(2));
+    let c = confirm(setup, param, starts, bracket, horizon)?;
+    match c.refuted.clone() {
+        Some(why) => runs(Why::Refuted(why)),
+        None => Ok(Decided::Shortcut {
+            answer,
+            confirmed: Some(c),
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The spread: rest first, then twelve starts at four distances from the fixed point.
+    #[test]
+    fn the_spread_is_rest_and_four_rings() {
+        let p = Params::paper(squeal_core::FrictionLaw::McMillan, 0.001);
+        let s = Spread::of(&p);
+        assert_eq!(s.starts.len(), 13);
+        assert_eq!(s.starts[0], State { x: 0.0, v: 0.0 });
+        let fp = p.fixed_point();
+        let r: Vec<f64> = s.starts[1..]
+            .iter()
+            .map(|q| (q.x - fp.x).hypot(q.v))
+            .collect();
+        // Radii s/2, s, 2 s, 4 s with s = lambda = 3 (Table 1).
+        for (i, want) in [1.5, 3.0, 6.0, 12.0].into_iter().enumerate() {
+            for k in 0..3 {
+                assert!((r[3 * i + k] - want).abs() < 1e-12, "{r:?}");
+            }
+        }
+    }
+}
