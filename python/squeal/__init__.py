@@ -431,11 +431,15 @@ def ulc(
 @dataclasses.dataclass
 class Critical:
     """A stability boundary in one parameter (``squeal critical``): with ``fold=False`` the
-    value above which the unstable cycle encloses ``point`` (that start then ends in
-    steady slip; below it, it squeals), with ``fold=True`` the fold of cycles (above it no
-    start squeals). ``value`` is the geometric middle of ``bracket``, after ``evaluations``
-    bisection steps; ``half_dt_holds`` says whether the bracket holds at ``dt / 2``
-    (``None``: not checked, as for the critical damping bisected with cycle locations)."""
+    value above which the start ``point`` stops squealing (below it, it squeals), with
+    ``fold=True`` the fold (above it no start of the spread squeals). ``value`` is the
+    geometric middle of ``bracket``, after ``evaluations`` bisection steps (runs, where
+    ``by == "runs"``); ``half_dt_holds`` says whether the bracket holds at ``dt / 2``
+    (``None``: not checked). ``by`` says who answered: ``"shortcut"`` (the unstable cycle,
+    the band's crisis; ``confirmed`` and ``confirmation`` give the runs at its bracket) or
+    ``"runs"`` (outside the checked region, or where a run refuted the shortcut: ``why``;
+    the bracket then covers ``dt / 2``), as ``squeal critical`` prints
+    (crates/core/MODEL.md section 13)."""
 
     parameter: str
     value: float
@@ -444,12 +448,18 @@ class Critical:
     point: tuple
     fold: bool = False
     half_dt_holds: Optional[bool] = None
+    by: str = "shortcut"
+    confirmed: Optional[bool] = None
+    confirmation: Optional[str] = None
+    why: Optional[str] = None
 
 
 #: The bisected parameters: the Stribeck law's names, and the bracket defaults of the
 #: command line (--nu-lo/--nu-hi, --lambda-lo/--lambda-hi).
 _BOUNDARY_KEYS = {"nu": "nu", "xi": "nu", "lambda": "lambda", "v_d": "lambda"}
 _BRACKETS = {"nu": (1e-3, 5e-2), "lambda": (0.5, 6.0)}
+#: How far the runs' search raises the default bracket's top (the command line's).
+_CEILINGS = {"nu": 4.0, "lambda": 96.0}
 
 
 def critical(
@@ -461,6 +471,7 @@ def critical(
     fold: bool = False,
     bracket: Optional[Sequence[float]] = None,
     rtol: float = 1e-4,
+    horizon: float = 20000.0,
     map: int = 0,  # noqa: A002 (the command line's --map)
     integration: Optional[Mapping[str, Any]] = None,
     physical: Optional[Mapping[str, Any]] = None,
@@ -472,7 +483,9 @@ def critical(
     ``(0.5, 6)`` in ``lambda``/``v_d``). The model as for :func:`ulc`; the bisected
     parameter's own value, if not given, is the bracket's low end (with the physical
     system, the bracket stays in ``nu`` or ``lambda``, and ``x0``, ``v0`` are in m and m/s,
-    as on the command line)."""
+    as on the command line). The answer passes the command line's gate: confirmed by runs
+    to ``horizon`` (nondimensional time), or found by them (``Critical.by``); without
+    ``bracket`` the runs raise its top while a start still squeals there."""
     key = _BOUNDARY_KEYS.get(parameter)
     if key is None:
         raise ValueError(f"parameter {parameter!r}: expected one of {', '.join(_BOUNDARY_KEYS)}")
@@ -485,20 +498,31 @@ def critical(
     name, text = names(_spec, s)
     point = (_real("x0", x0), _real("v0", v0))
     rtol = _real("rtol", rtol)
-    if key == "nu" and not fold:
-        # As the command line: the critical damping by cycle locations.
-        rep = json.loads(names(_squeal.critical, name, text, map, point, (lo, hi), rtol))
-        return Critical(parameter, rep["nu"], tuple(rep["bracket"]), rep["evaluations"], point)
+    ceiling = hi if bracket is not None else _CEILINGS[key]
+    horizon = _real("horizon", horizon)
     b = json.loads(
-        names(_squeal.boundary, name, text, map, point, (key, fold, rtol), (lo, hi))
+        names(
+            _squeal.boundary, name, text, map, point, (key, fold, rtol), (lo, hi), ceiling, horizon
+        )
     )
     if b["status"] == "below_range":
         what = "nothing squeals there already" if fold else f"{point} is quiet there already"
         raise ValueError(f"bracket low end {parameter} = {lo}: {what}; lower it")
     if b["status"] != "found":
-        raise ValueError(f"bracket high end {parameter} = {hi}: it still squeals there; raise it")
+        top = b["bracket"][1]
+        raise ValueError(f"bracket high end {parameter} = {top}: it still squeals there; raise it")
     return Critical(
-        parameter, b["nu"], tuple(b["bracket"]), b["evaluations"], point, fold, b["half_dt_holds"]
+        parameter,
+        b["value"],
+        tuple(b["bracket"]),
+        b["evaluations"],
+        point,
+        fold,
+        b["half_dt_holds"],
+        b["by"],
+        b.get("confirmed"),
+        b.get("confirmation"),
+        b.get("why"),
     )
 
 

@@ -45,6 +45,18 @@ pub fn print_summary(
             println!("  {:>6} points: {}", n, r.description());
         }
     }
+    // One point: its note (what the runs found, a conflict) and its boundaries' notes.
+    if axes.is_empty() {
+        let point = res.points.iter().flatten().filter_map(|p| p.note.as_ref());
+        let bounds = res
+            .boundaries
+            .iter()
+            .flatten()
+            .filter_map(|b| b.note.as_ref());
+        for n in point.chain(bounds) {
+            println!("  note: {n}");
+        }
+    }
     if let Some(m) = &plan.maps {
         println!(
             "  basin maps: {} x {} cells per point; basin fraction of steady slip from the maps",

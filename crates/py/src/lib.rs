@@ -282,45 +282,55 @@ fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<Stat
     Ok(point)
 }
 
-/// The critical damping `nu` of the state `point = (x, v)` for map `map` of `spec`
-/// ([`squeal_scan::ulc::critical_nu`], bracket `(nu_lo, nu_hi)`), as JSON.
-#[pyfunction]
-#[pyo3(signature = (spec, text, map, point, bracket, rtol))]
-pub fn critical(
-    py: Python<'_>,
-    spec: &str,
-    text: Option<&str>,
-    map: usize,
-    point: (f64, f64),
-    bracket: (f64, f64),
-    rtol: f64,
+/// The answer of [`squeal_scan::fates::decide`] as JSON: `value`, `bracket`, `evaluations`
+/// and `half_dt_holds` read from the shortcut's answer by `figures`, or the runs' (the
+/// interval covering dt/2 as the bracket), with `by` ("shortcut" or "runs"), `why` and the
+/// runs' `confirmation`.
+fn decided_json<T: serde::Serialize>(
+    d: squeal_scan::fates::Decided<T>,
+    figures: impl Fn(&T) -> (f64, [f64; 2], u32, Option<bool>, &'static str),
 ) -> PyResult<String> {
-    let plan = plan_of(spec, text)?;
-    let setup = setup_of(&plan, map)?;
-    let point = start(&plan, point, "critical")?;
-    squeal_scan::bounds::bisection_rtol("rtol", rtol, &keyword("critical")).map_err(value_error)?;
-    let cs = CycleSettings::default();
-    let rep = py
-        .detach(|| {
-            critical_nu(
-                setup,
-                &cs,
-                point,
-                ParamRange::new(bracket.0, bracket.1, rtol),
-            )
-        })
-        .map_err(value_error)?;
-    serde_json::to_string(&rep).map_err(value_error)
+    use squeal_scan::fates::Decided;
+    let v = match d {
+        Decided::Shortcut { answer, confirmed } => {
+            let (value, bracket, evaluations, half, status) = figures(&answer);
+            serde_json::json!({
+                "status": status,
+                "value": value,
+                "bracket": bracket,
+                "evaluations": evaluations,
+                "half_dt_holds": half,
+                "by": "shortcut",
+                "confirmed": confirmed.as_ref().map(|c| c.confirmed),
+                "confirmation": confirmed.as_ref().map(|c| c.line.clone()),
+            })
+        }
+        Decided::Runs { boundary, why } => serde_json::json!({
+            "status": boundary.status.name(),
+            "value": boundary.value(),
+            "bracket": boundary.interval,
+            "evaluations": boundary.runs,
+            "half_dt_holds": boundary.half_dt_holds,
+            "by": "runs",
+            "why": why.words(),
+            "horizon": boundary.horizon,
+            "undecided": boundary.undecided,
+        }),
+    };
+    serde_json::to_string(&v).map_err(value_error)
 }
 
-/// The fold of cycles (`search = (param, true, rtol)`: above it no start squeals) or the
-/// critical value for `point` (`(param, false, rtol)`: above it that start is quiet) of
-/// map `map` of `spec`, bisected in `param` (`"nu"` or `"lambda"`; the Stribeck law's
-/// `xi` and `v_d`) over `bracket` with the atlas's boundary search
-/// ([`squeal_scan::atlas::boundary::both_in`], as `squeal critical --fold` / `--in lambda`),
-/// as JSON ([`squeal_scan::atlas::Boundary`]).
+/// The critical value of `param` for the state `point = (x, v)` (`search = (param, false,
+/// rtol)`: above it that start is quiet) or the fold (`(param, true, rtol)`: above it no
+/// start of the spread squeals) of map `map` of `spec`, over `bracket` (raised up to
+/// `ceiling` by the runs' search while a start squeals at its top), through the one gate
+/// [`squeal_scan::fates::decide`] the command line takes: the shortcut (the cycle's critical
+/// damping in `nu`, else the atlas's boundary search
+/// [`squeal_scan::atlas::boundary::both_in`]) confirmed by runs to `horizon`, or the runs'
+/// answer; as JSON ([`decided_json`]).
 #[pyfunction]
-#[pyo3(signature = (spec, text, map, point, search, bracket))]
+#[pyo3(signature = (spec, text, map, point, search, bracket, ceiling, horizon))]
+#[allow(clippy::too_many_arguments)]
 pub fn boundary(
     py: Python<'_>,
     spec: &str,
@@ -329,8 +339,11 @@ pub fn boundary(
     point: (f64, f64),
     search: (String, bool, f64),
     bracket: (f64, f64),
+    ceiling: f64,
+    horizon: f64,
 ) -> PyResult<String> {
-    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
+    use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary::both_in};
+    use squeal_scan::fates::{Spread, decide};
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
     let (key, fold, rtol) = search;
@@ -338,26 +351,60 @@ pub fn boundary(
         PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
     })?;
     let point = start(&plan, point, "critical")?;
-    squeal_scan::bounds::bisection_rtol("rtol", rtol, &keyword("critical")).map_err(value_error)?;
-    let ps = PointSettings {
-        operating: point,
-        ..PointSettings::default()
+    let inv = keyword("critical");
+    squeal_scan::bounds::bisection_rtol("rtol", rtol, &inv).map_err(value_error)?;
+    if !(horizon.is_finite()
+        && horizon > 0.0
+        && horizon / setup.dt <= squeal_scan::bounds::MAX_STEPS)
+    {
+        return Err(PyValueError::new_err(format!(
+            "horizon = {}: expected a finite time > 0 of at most 1e10 steps of dt {}",
+            squeal_core::error::Number(horizon),
+            setup.dt
+        )));
+    }
+    let range = ParamRange::new(bracket.0, bracket.1, rtol);
+    let ceiling = ceiling.max(range.hi);
+    let starts = match fold {
+        true => Spread::of(&param.with(setup.params, range.lo)).starts,
+        false => vec![point],
     };
-    let [f, c] = py.detach(|| {
-        both_in(
-            param,
-            setup,
-            &ps,
-            point,
-            ParamRange::new(bracket.0, bracket.1, rtol),
-            [fold, !fold],
-        )
+    let gate = (setup, param);
+    let d = py.detach(|| -> Result<_, squeal_scan::ScanError> {
+        if param == BoundaryParam::Nu && !fold {
+            // As the command line: the critical damping by cycle locations.
+            let cs = CycleSettings::default();
+            let d = decide(gate, &starts, (range, ceiling), horizon, || {
+                let rep = critical_nu(setup, &cs, point, range)?;
+                let bracket = rep.bracket;
+                Ok((rep, Some(bracket)))
+            })?;
+            return Ok(Err(d));
+        }
+        let ps = PointSettings {
+            operating: point,
+            ..PointSettings::default()
+        };
+        let d = decide(gate, &starts, (range, ceiling), horizon, || {
+            let [f, c] = both_in(param, setup, &ps, point, range, [fold, !fold]);
+            let b = f.or(c).expect("one boundary asked for")?;
+            let found = b.status == BoundaryStatus::Found;
+            Ok((b, found.then_some(b.bracket)))
+        })?;
+        Ok(Ok(d))
     });
-    let b = f
-        .or(c)
-        .ok_or_else(|| PyValueError::new_err("no boundary asked for"))?
-        .map_err(value_error)?;
-    serde_json::to_string(&b).map_err(value_error)
+    match d.map_err(value_error)? {
+        Err(d) => decided_json(d, |r| (r.nu, r.bracket, r.evaluations, None, "found")),
+        Ok(d) => decided_json(d, |b| {
+            (
+                b.nu,
+                b.bracket,
+                b.evaluations,
+                b.half_dt_holds,
+                b.status.name(),
+            )
+        }),
+    }
 }
 
 /// Runs the `squeal` command line with `argv` (the program name first) and returns its
@@ -379,7 +426,6 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scan, m)?)?;
     m.add_function(wrap_pyfunction!(atlas, m)?)?;
     m.add_function(wrap_pyfunction!(ulc, m)?)?;
-    m.add_function(wrap_pyfunction!(critical, m)?)?;
     m.add_function(wrap_pyfunction!(boundary, m)?)?;
     m.add_function(wrap_pyfunction!(trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;

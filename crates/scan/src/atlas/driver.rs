@@ -12,7 +12,7 @@ use std::sync::atomic::AtomicBool;
 use serde::{Deserialize, Serialize};
 
 pub use super::boundary::BoundaryResult;
-use super::boundary::{self, Boundary};
+use super::boundary::{self, Boundary, BoundaryStatus};
 use super::note::{Note, NoteKind};
 use super::point::{PointResult, compute_point};
 use super::spec::AtlasPlan;
@@ -115,14 +115,6 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
             // A failed run inside a bisection leaves that boundary not computed, with the
             // reason: one hard point does not abort the atlas.
             let mut notes: Option<Note> = None;
-            let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
-                Ok(b) => b,
-                Err(e) => {
-                    let n = Note::new(NoteKind::Failure, format!("{what}: {e}"));
-                    notes = Some(Note::add(notes.take(), n));
-                    Boundary::none()
-                }
-            };
             let range = ParamRange {
                 lo: range[0],
                 hi: range[1],
@@ -133,11 +125,67 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
                 plan.setup_at(i),
                 [plan.fold, plan.critical],
             );
-            let [fold, critical] = if plan.law.has_true_stick() {
-                super::stribeck::both_in(param, setup, &ps, ps.operating, range, which)
-            } else {
-                let coarse = plan.boundary_coarse;
-                boundary::both_with(param, setup, (&ps, ps.operating), range, which, coarse)
+            // The shortcuts' answers where the checked region holds (else not computed: the
+            // gate answers by runs without them), each through the gate of `critical`.
+            let checked = squeal_core::validated::Validity::of(&setup.params).checked;
+            let [f, c] = match (checked, plan.law.has_true_stick()) {
+                (false, _) => [None, None],
+                (true, true) => {
+                    super::stribeck::both_in(param, setup, &ps, ps.operating, range, which)
+                }
+                (true, false) => {
+                    let coarse = plan.boundary_coarse;
+                    boundary::both_with(param, setup, (&ps, ps.operating), range, which, coarse)
+                }
+            };
+            let mut gate = |asked: bool, found: Option<Result<Boundary, ScanError>>, fold: bool| {
+                if !asked {
+                    return None;
+                }
+                let starts = match fold {
+                    true => crate::fates::Spread::of(&param.with(setup.params, range.lo)).starts,
+                    false => vec![ps.operating],
+                };
+                let shortcut = || {
+                    let b = found.unwrap_or_else(|| Ok(Boundary::none()))?;
+                    let bracket = b.bracket;
+                    Ok((b, (b.status == BoundaryStatus::Found).then_some(bracket)))
+                };
+                let what = if fold { "fold" } else { "critical" };
+                let d = crate::fates::decide(
+                    (setup, param),
+                    &starts,
+                    (range, range.hi),
+                    crate::fates::HORIZON,
+                    shortcut,
+                );
+                Some(d.map(|d| match d {
+                    crate::fates::Decided::Shortcut { answer, confirmed } => {
+                        if let Some(c) = confirmed.filter(|c| !c.confirmed) {
+                            let n = Note::new(NoteKind::Unconfirmed, format!("{what}: {}", c.line));
+                            notes = Some(Note::add(notes.take(), n));
+                        }
+                        answer
+                    }
+                    crate::fates::Decided::Runs { boundary, why } => {
+                        let n = Note::new(
+                            NoteKind::Finding,
+                            format!("{what} by runs because {}", why.words()),
+                        );
+                        notes = Some(Note::add(notes.take(), n));
+                        boundary.as_boundary()
+                    }
+                }))
+            };
+            let fold = gate(which[0], f, true);
+            let critical = gate(which[1], c, false);
+            let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
+                Ok(b) => b,
+                Err(e) => {
+                    let n = Note::new(NoteKind::Failure, format!("{what}: {e}"));
+                    notes = Some(Note::add(notes.take(), n));
+                    Boundary::none()
+                }
             };
             let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));
             let critical = critical.map_or_else(Boundary::none, |r| keep("critical", r));

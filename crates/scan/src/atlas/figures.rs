@@ -110,6 +110,28 @@ impl PointSettings {
         }
     }
 
+    /// A lasting oscillation's figures in words: its frequency and half-ranges of `x` and
+    /// `x'`, in Hz, m and m/s in a physical plan, and whether it sticks or overtakes the belt.
+    pub fn lasting_words(&self, l: &squeal_core::Lasting) -> String {
+        let half = |r: [f64; 2]| 0.5 * (r[1] - r[0]);
+        let (dx, dv) = (half(l.x_range), half(l.v_range));
+        let how = match (l.stuck, l.reversed) {
+            (true, true) => ", sticks and overtakes the belt",
+            (true, false) => ", sticks",
+            (false, true) => ", overtakes the belt",
+            (false, false) => "",
+        };
+        match &self.units {
+            Some(s) => format!(
+                "{:.1} Hz, x +-{:.3e} m, x' +-{:.3} m/s{how}",
+                s.hz(l.omega),
+                dx * s.length,
+                dv * s.velocity
+            ),
+            None => format!("omega {:.4}, x +-{dx:.4}, x' +-{dv:.4}{how}", l.omega),
+        }
+    }
+
     /// A time `t` in words: `t = 134.2` (`decimals` after the point), or in a physical plan
     /// `t = 0.8491 s`.
     pub fn time_words(&self, t: f64, decimals: usize) -> String {

@@ -180,6 +180,9 @@ pub fn compute_point(
     if res.regime == AtlasRegime::BistableSqueals {
         confirm_operating_point(setup, ps, &mut res, &mut a.work)?;
     }
+    if let Some(w) = crate::fates::unchecked(&setup.params) {
+        runs_landscape(setup, ps, &mut res, (&w, &mut a.work))?;
+    }
     res.returns = a.work.returns;
     res.evaluations = a.work.stats.evaluations;
     res.failures = a.work.stats.failures;
@@ -235,6 +238,76 @@ fn label(res: &mut PointResult, a: &Analysis, ps: &PointSettings) {
         }
         (_, None) => res.note = Some(Note::new(NoteKind::Failure, "no stick-slip run")),
     }
+}
+
+/// The horizon of the spread's runs at a point outside the checked region (nondimensional):
+/// shorter than [`crate::fates::HORIZON`], as an atlas runs many points. At the brake of
+/// crates/core/MODEL.md section 13 the start at rest is identified on its lasting
+/// oscillation by t = 400-460 near the critical damping, and settles by t = 600.
+pub const LANDSCAPE_HORIZON: f64 = 3000.0;
+
+/// Outside the region where the section's picture was checked (crates/core/MODEL.md
+/// section 11), the point's landscape from runs: the operating point and the spread of
+/// [`crate::fates::Spread`] run to [`LANDSCAPE_HORIZON`] (stopped once one lasts). A start
+/// that lasts where the section saw no squeal (or no verdict) makes the point squeal (the
+/// operating point's own run says whether it is the one), with the oscillation's figures in
+/// the note; every start settling where the section's stick-slip run lasted is a conflict
+/// (undecided). Runs agreeing with the section add a note saying they were made.
+fn runs_landscape(
+    setup: Setup,
+    ps: &PointSettings,
+    res: &mut PointResult,
+    (warning, w): (&str, &mut Work),
+) -> Result<(), ScanError> {
+    use crate::fates::{Fate, Spread, fates};
+    let mut starts = vec![ps.operating];
+    starts.extend(Spread::of(&setup.params).starts);
+    let out = fates(setup, &starts, LANDSCAPE_HORIZON, true)?;
+    for (_, st) in &out {
+        w.stats.merge(st);
+    }
+    let lasting = out.iter().enumerate().find(|(_, (f, _))| f.lasts());
+    let all_settle = out.iter().all(|(f, _)| f.settles());
+    let operating_lasts = out[0].0.lasts();
+    let section_squeals = matches!(
+        res.regime,
+        AtlasRegime::BistableQuiet | AtlasRegime::BistableSqueals | AtlasRegime::FixedPointUnstable
+    );
+    let why = format!("the section's picture is not checked here ({warning})");
+    match lasting {
+        Some((i, (Fate::Lasts { t, lasting: l }, _))) if !section_squeals || operating_lasts => {
+            let figures = l.map_or("its figures not measured".into(), |l| ps.lasting_words(&l));
+            let who = if i == 0 {
+                "the operating point".to_string()
+            } else {
+                format!("the start ({:.4}, {:.4})", starts[i].x, starts[i].v)
+            };
+            res.regime = if operating_lasts {
+                AtlasRegime::BistableSqueals
+            } else {
+                AtlasRegime::BistableQuiet
+            };
+            res.basin_fraction = f64::NAN;
+            res.basin_fraction_err = f64::NAN;
+            res.note = Some(Note::new(
+                NoteKind::Finding,
+                format!(
+                    "squeal found by runs: {who} is on a lasting oscillation from {} ({figures}); runs decide here because {why}",
+                    ps.time_words(*t, 1)
+                ),
+            ));
+        }
+        _ if all_settle && section_squeals => {
+            res.regime = AtlasRegime::Undecided;
+            res.note = Some(Note::conflict(format!(
+                "conflict: the section method finds stick-slip, but the operating point and all {} starts of the spread reach the fixed point by {} ({why})",
+                starts.len() - 1,
+                ps.time_words(LANDSCAPE_HORIZON, 0)
+            )));
+        }
+        _ => {}
+    }
+    Ok(())
 }
 
 /// Checks a "bistable, operating point squeals" label by running the operating point
