@@ -391,3 +391,19 @@ def test_physical_errors_name_the_python_keyword():
         squeal.ulc(law="mcmillan", nu=0.01, **PAD)
     with pytest.raises(ValueError, match="region=: give the region in m and m/s"):
         squeal.basin_stability("mcmillan", n=10, **PAD)
+
+
+def test_critical_of_the_clamped_brake_comes_from_runs_as_on_the_command_line(tmp_path):
+    # The brake lies outside the region the unstable cycle's shortcut was checked in
+    # (lambda 0.21 < 0.5): Python passes the command line's gate and gets the runs' answer,
+    # the same number (crates/core/MODEL.md section 13). Before, 13.77 N s/m from the cycle.
+    k = squeal.critical(law="mcmillan", horizon=3000.0, rtol=1e-3, **PAD)
+    assert k.by == "runs" and "not checked" in k.why
+    c = k.value * 800.0  # nu = c / (2 sqrt(m k)), 2 sqrt(0.8 * 2e5) = 800
+    assert 140.0 < c < 175.0, c
+    args = ["critical", "--horizon", "3000", "--rtol", "1e-3", "--json"]
+    for key, v in PAD.items():
+        args += ["--" + key.replace("_", "-"), repr(v)]
+    r = cli(*args, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert k.value == json.loads(r.stdout)["nu"]

@@ -674,10 +674,8 @@ pub fn decide<T>(
         let boundary = boundary(param, setup, starts, (range, ceiling), horizon)?;
         Ok(Decided::Runs { boundary, why })
     };
-    if let Some(w) = Validity::of(&setup.params).warning() {
-        return runs(Why::Unchecked(
-            w.trim_start_matches("warning: ").to_string(),
-        ));
+    if let Some(w) = unchecked(&setup.params) {
+        return runs(Why::Unchecked(w));
     }
     let (answer, bracket) = shortcut()?;
     let Some(bracket) = bracket else {
