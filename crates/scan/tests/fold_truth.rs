@@ -168,8 +168,8 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
 /// rules kept where the cycle's outside is not invariant (`band_rules = true` in
 /// `MapContext::prepare_checked`, the census off) scan and classify label stick_slip three
 /// starts at lambda = 0.5, 0.95 of the fold whose runs settle by t = 4115-11121. Run time
-/// 123 s for the ten dampings of the folds and the issue's, 195 s with all twelve on the
-/// 2-core VM shared with a build (`cargo test --workspace --test fold_truth -- --ignored`).
+/// on the 2-core VM shared with other work (`cargo test --workspace --test fold_truth --
+/// --ignored`): 147 s at load 3-5 (173 s of CPU), 195 s beside a build.
 #[test]
 #[ignore = "long physics check (minutes): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn labels_agree_with_long_runs_around_the_fold() {
