@@ -169,10 +169,12 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
 ///
 /// Measured on 94a9132 (2026-11-28): every label agrees with its run; 14 of 360 labels are
 /// undecided (time_limit at t_max = 5000 on runs that settle at t = 6000-11000 or still
-/// swing at 20000: lambda = 1 on the fold and lambda = 0.5 at 0.95 of it). Runs that swing: 9 of 10 at lambda = 1,
-/// 0.98 of the fold, 2 of 10 and 9 of 10 at lambda = 0.5, 0.95 and 0.9 of it; every other
-/// run settles (at lambda = 0.3 even at 0.8 of the fold). The check can fail: with the band
-/// rules kept where the cycle's outside is not invariant (`band_rules = true` in
+/// swing at 20000: lambda = 1 on the fold and lambda = 0.5 at 0.95 of it). Runs that
+/// swing: 9 of 10 at lambda = 1, 0.98 of the fold, 2 of 10 and 9 of 10 at lambda = 0.5,
+/// 0.95 and 0.9 of it; every other run settles. (At lambda = 0.3, `squeal trajectory
+/// --t-end 20000` from (1, 0.6) and (1.6, -0.03) settles at 0.95, 0.9 and 0.8 of the fold
+/// and at nu = 0.007 and 0.004 too.) The check can fail: with the band rules kept where the
+/// cycle's outside is not invariant (`band_rules = true` in
 /// `MapContext::prepare_checked`, the census off) scan and classify label stick_slip three
 /// starts at lambda = 0.5, 0.95 of the fold whose runs settle by t = 4115-11121. Run time
 /// on the 2-core VM shared with other work (`cargo test --workspace --test fold_truth --
