@@ -19,6 +19,9 @@ checks=(
   # The atlas against ulc and critical at three dampings of Table 1 (2-3 min of the quick
   # suite's time on a loaded 2-core machine).
   "--test atlas atlas_reproduces_the_single_point_commands"
+  # Labels of scan, classify and trajectory against runs to t = 20000 around the folds at
+  # lambda 0.3, 0.5, 1 (issue 31), 12 x 10 starts (2-3 min).
+  "--test fold_truth labels_agree_with_long_runs_around_the_fold"
 )
 if [ "${1:-}" = --list ]; then
   printf '%s\n' "${checks[@]}"
