@@ -552,7 +552,8 @@ pub struct Confirmation {
 
 /// Confirms a shortcut's bracket `[lo, hi]` by runs of `starts` (the start of a critical
 /// value, the [`Spread`] of a fold) at its ends: below it some start must not settle,
-/// above it every start must.
+/// above it every start must. Refuted where a start lasts above it, or where the one start
+/// of a critical value settles below it.
 pub fn confirm(
     setup: Setup,
     param: BoundaryParam,
@@ -562,7 +563,7 @@ pub fn confirm(
 ) -> Result<Confirmation, ScanError> {
     let at = |v: f64| -> Result<Ends, ScanError> {
         let s = setup.with_params(param.with(setup.params, v));
-        let out = fates(s, starts, horizon, false)?;
+        let out = fates(s, starts, horizon, true)?;
         Ok(Ends {
             value: v,
             fates: out.into_iter().map(|(f, _)| f).collect(),
@@ -571,9 +572,12 @@ pub fn confirm(
     let (below, above) = (at(lo)?, at(hi)?);
     let k = param.key();
     let start = |i: usize| format!("({}, {})", Number(starts[i].x), Number(starts[i].v));
-    // A contradiction: every start settles below the answer, or one lasts above it. An
-    // undecided run is no contradiction: the answer stands, unconfirmed, and says so.
-    let refuted = if below.all_settle() {
+    // A contradiction: one start lasts above the answer, or the one start of a critical
+    // value settles below it. Every start of a fold's spread settling below it is none: the
+    // shortcut's squeal there (the band the crisis found) may lie where no start of the
+    // spread goes. An undecided run is none either: the answer stands, unconfirmed, and
+    // says so.
+    let refuted = if below.all_settle() && starts.len() == 1 {
         Some(format!(
             "at {k} = {lo:.6e}, below the answer, every start reaches the fixed point by t = {horizon}"
         ))
@@ -606,7 +610,7 @@ pub fn confirm(
             f.words(horizon)
         ),
         (None, None) => format!(
-            "NOT confirmed by runs: at {k} = {lo:.6e}, below the answer, every start settles"
+            "NOT confirmed by runs: at {k} = {lo:.6e}, below the answer, every start settles by t = {horizon}"
         ),
     };
     let confirmed = below.first_lasting().is_some() && above.all_settle();
@@ -619,8 +623,17 @@ pub fn confirm(
 }
 
 /// Where `p` lies outside the region the shortcuts were checked in, the parameters outside
-/// it in a few words ([`Validity`]); `None` inside.
+/// it in a few words ([`Validity`]); `None` inside. McMillan's laws only: their shortcuts
+/// (the unstable cycle on the section, the band above it, its crisis) rest on the paper's
+/// picture, which fails at low belt speed. The laws with true stick decide by the orbit from
+/// the one breakaway state every stick phase ends at (an exact argument, MODEL.md section
+/// 8), and Coulomb's answers are closed forms (no cycle): their shortcuts are confirmed by
+/// runs where they give a bracket, never replaced wholesale.
 pub fn unchecked(p: &Params) -> Option<String> {
+    use squeal_core::FrictionLaw::{McMillan, McMillanNonHysteretic};
+    if !matches!(p.kind(), McMillan | McMillanNonHysteretic) {
+        return None;
+    }
     let v = Validity::of(p);
     if v.checked {
         return None;
