@@ -172,7 +172,72 @@ fn bench_atan(c: &mut Criterion) {
     group.finish();
 }
 
+/// The clamped disc brake of issue 31 (crates/core/MODEL.md section 13: lambda = 120 / 570,
+/// tau = 0.25 / 0.38, phi = arcsin(0.38 / 0.48), nu = 140 / 800, c = 140 N s/m) along one
+/// turn of its lasting oscillation from rest (after 1600 time units: identified at t = 1528),
+/// which overtakes the belt and never crosses the section `x = 1`: turns are taken from one
+/// maximum of `x` to the next. Beside it Table 1's stick-slip cycle with the same solver and
+/// scheme (`step/stick_slip/mcmillan/robust-foh`): the ratio is the cost of a step here
+/// against elsewhere, in one run.
+fn bench_brake(c: &mut Criterion) {
+    let p = Params {
+        lambda: 120.0 / 570.0,
+        law: squeal_core::Friction::McMillan(squeal_core::Surface {
+            tau: 0.25 / 0.38,
+            phi: (0.38f64 / 0.48).asin(),
+        }),
+        ..Params::paper(FrictionLaw::McMillan, 140.0 / 800.0)
+    };
+    let st = Stepper::new(p, DT, SolverConfig::default()).expect("valid parameters");
+    let mut run = Run::new(&st, State { x: 0.0, v: 0.0 });
+    run.by_ref()
+        .take((1600.0 / DT).round() as usize)
+        .for_each(drop);
+    // One turn: from a maximum of x (x' turns negative) to the next.
+    let mut samples = Vec::new();
+    let mut maxima = 0;
+    for step in run {
+        if step.prev.v > 0.0 && step.next.v <= 0.0 {
+            maxima += 1;
+        }
+        match maxima {
+            1 => samples.push(step.next),
+            2 => break,
+            _ => {}
+        }
+    }
+    let mut stats = SolverStats::default();
+    for s in &samples {
+        st.step(s, &mut stats);
+    }
+    eprintln!(
+        "step/brake: {:.2} law evaluations per step, {} fallbacks, {} with several roots in {} steps",
+        stats.evaluations as f64 / samples.len() as f64,
+        stats.fallbacks,
+        stats.multi_root,
+        samples.len()
+    );
+    let mut group = c.benchmark_group("step/brake");
+    group.throughput(Throughput::Elements(samples.len() as u64));
+    group.bench_function("mcmillan/robust-foh", |b| {
+        let mut stats = SolverStats::default();
+        b.iter(|| {
+            for s in &samples {
+                black_box(st.step(black_box(s), &mut stats));
+            }
+        });
+    });
+    group.finish();
+}
+
 fn steps(c: &mut Criterion) {
+    if std::env::var_os("STEP_BENCH_BRAKE_ONLY").is_some() {
+        // The brake against Table 1's cycle alone (BENCHMARKS.md, "A step at the brake").
+        bench_brake(c);
+        bench_case(c, "stick_slip", State { x: 0.0, v: 0.0 }, 1000.0);
+        return;
+    }
+    bench_brake(c);
     bench_atan(c);
     bench_case(c, "decay", State { x: 1.2, v: 0.0 }, 100.0);
     bench_case(c, "stick_slip", State { x: 0.0, v: 0.0 }, 1000.0);

@@ -177,6 +177,10 @@ pub struct Outcome {
     /// step on which the block stuck, 0 if it never stuck; infinite for stick-slip;
     /// [`T_SQUEAL_UNKNOWN`] where it is not known.
     pub t_squeal: f64,
+    /// The lasting oscillation the run was identified on ([`Lasting`]: frequency, extent,
+    /// whether it sticks and reverses its slip), where the label is stick-slip and the turn
+    /// watch closed a window on it; `None` otherwise.
+    pub lasting: Option<Lasting>,
 }
 
 /// The stored `t_squeal` of a run whose time on stick-slip before settling is not known: it
@@ -620,6 +624,7 @@ impl Watch<'_> {
             stats: *run.stats(),
             max_residual: run.max_residual(),
             t_squeal: t_squeal(regime, reason, self.last_stuck),
+            lasting: self.lasting.filter(|_| regime == Regime::StickSlip),
         }
     }
 }

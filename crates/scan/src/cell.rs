@@ -39,6 +39,15 @@ pub struct Cell {
     /// Time on stick-slip before the run settled ([`squeal_core::classify::t_squeal`]):
     /// infinite for stick-slip, [`squeal_core::T_SQUEAL_UNKNOWN`] where not known.
     pub t_squeal: f64,
+    /// Whether the lasting oscillation reached sticks ([`YES_NO_FLAGS`]: 255 where none was
+    /// identified).
+    pub sticks: u8,
+    /// Whether it reverses its slip, overtaking the belt (`x' > lambda`).
+    pub reverses: u8,
+    /// Half the range of `x` over its window (NaN where none was identified).
+    pub x_amplitude: f64,
+    /// Half the range of `x'` over its window.
+    pub v_amplitude: f64,
 }
 
 impl Cell {
@@ -64,6 +73,10 @@ impl Cell {
             max_residual: 0.0,
             audit: 0,
             t_squeal: 0.0,
+            sticks: 0,
+            reverses: 0,
+            x_amplitude: 0.0,
+            v_amplitude: 0.0,
         };
         for col in COLUMNS {
             (col.set)(&mut c, col.fill);
@@ -90,6 +103,10 @@ impl From<&Outcome> for Cell {
             max_residual: o.max_residual,
             audit: Audit::NotAudited as u8,
             t_squeal: o.t_squeal,
+            sticks: o.lasting.map_or(NOT_IDENTIFIED, |l| u8::from(l.stuck)),
+            reverses: o.lasting.map_or(NOT_IDENTIFIED, |l| u8::from(l.reversed)),
+            x_amplitude: o.lasting.map_or(f64::NAN, |l| half(l.x_range)),
+            v_amplitude: o.lasting.map_or(f64::NAN, |l| half(l.v_range)),
         }
     }
 }
@@ -267,6 +284,18 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (NOT_COMPUTED, "not_computed"),
 ];
 
+/// Value of the attractor's yes/no columns where no lasting oscillation was identified.
+pub const NOT_IDENTIFIED: u8 = 255;
+
+/// Members of the stored `sticks` and `reverses` enums.
+pub const YES_NO_FLAGS: &[(u8, &str)] =
+    &[(0, "no"), (1, "yes"), (NOT_IDENTIFIED, "not_identified")];
+
+/// Half the width of a range.
+fn half(r: [f64; 2]) -> f64 {
+    0.5 * (r[1] - r[0])
+}
+
 /// Members of the stored `audit` enum: [`Audit`] (its fill is `not_audited`).
 pub const AUDIT_FLAGS: &[(u8, &str)] = &[
     (0, "not_audited"),
@@ -402,6 +431,40 @@ pub const COLUMNS: &[Column] = &[
         "time on stick-slip before the run settled: end of its last stuck step (nondimensional \
          time, natural period 2 pi; seconds: times the file's time_unit); 0 never stuck, inf \
          stick-slip for good, -1 not known (undecided, or stopped before its last stick)",
+        "1",
+        F64,
+        f
+    ),
+    col!(
+        sticks,
+        "whether the lasting oscillation the run reached sticks (x' = lambda for a while)",
+        "",
+        Enum,
+        YES_NO_FLAGS,
+        NOT_IDENTIFIED as u64,
+        u
+    ),
+    col!(
+        reverses,
+        "whether the lasting oscillation the run reached overtakes the belt (x' > lambda)",
+        "",
+        Enum,
+        YES_NO_FLAGS,
+        NOT_IDENTIFIED as u64,
+        u
+    ),
+    col!(
+        x_amplitude,
+        "half the range of x over the lasting oscillation the run reached (nondimensional; \
+         metres: times the file's length_unit); NaN where none was identified",
+        "1",
+        F64,
+        f
+    ),
+    col!(
+        v_amplitude,
+        "half the range of x' over the lasting oscillation the run reached (nondimensional; \
+         m/s: times the file's velocity_unit); NaN where none was identified",
         "1",
         F64,
         f

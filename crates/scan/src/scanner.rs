@@ -253,6 +253,7 @@ fn at_start(p: State, centre: State, (regime, reason): (Regime, Reason)) -> Outc
         // region of the plane, [`squeal_core::classify::t_squeal`]): 0; outside the cycle
         // the run squeals for good: infinite.
         t_squeal: squeal_core::classify::t_squeal(regime, reason, 0.0),
+        lasting: None,
     }
 }
 

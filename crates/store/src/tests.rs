@@ -70,6 +70,10 @@ fn block(plan: &Plan, map: usize, block: usize) -> BlockResult {
                 max_residual: 1e-12 * i as f64,
                 audit: (i % 4) as u8,
                 t_squeal: [0.0, f64::INFINITY, -1.0, i as f64 * 0.25][(i % 4) as usize],
+                sticks: [0, 1, 255][(i % 3) as usize],
+                reverses: [1, 255, 0][(i % 3) as usize],
+                x_amplitude: if i % 3 == 1 { f64::NAN } else { 0.1 * i as f64 },
+                v_amplitude: if i % 3 == 1 { f64::NAN } else { 0.2 * i as f64 },
             }
         })
         .collect();
