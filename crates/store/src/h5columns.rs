@@ -7,7 +7,7 @@ use ndarray::{Array1, Array2};
 use squeal_scan::cell::{Cell, Column, Kind};
 
 use crate::h5out::str_attr;
-use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5};
+use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5, YesNoH5};
 
 /// Creates the dataset of one column of [`COLUMNS`] with its CF attributes (also the atlas's
 /// maps, with the parameter dimensions in front).
@@ -57,6 +57,13 @@ pub(crate) fn column_dataset(
             shape,
             chunk,
             AuditH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
+        )?,
+        (Some(EnumColumn::YesNo), _) => make(
+            file,
+            n,
+            shape,
+            chunk,
+            YesNoH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
         )?,
         (None, Kind::U8 | Kind::Enum) => make(file, n, shape, chunk, f.as_u64() as u8)?,
         (None, Kind::U32) => make(file, n, shape, chunk, f.as_u64() as u32)?,
@@ -114,6 +121,9 @@ pub(crate) fn write_column(
         ),
         (Some(EnumColumn::Audit), _) => {
             write_rows(ds, enum_of(col, cells, AuditH5::from_u8)?, prefix, rows, nx)
+        }
+        (Some(EnumColumn::YesNo), _) => {
+            write_rows(ds, enum_of(col, cells, YesNoH5::from_u8)?, prefix, rows, nx)
         }
         (None, Kind::U8 | Kind::Enum) => {
             write_rows(ds, u().map(|v| v as u8).collect(), prefix, rows, nx)

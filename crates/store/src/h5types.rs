@@ -137,6 +137,29 @@ impl AuditH5 {
     }
 }
 
+/// The `sticks` and `reverses` enums: [`squeal_scan::cell::YES_NO_FLAGS`].
+#[derive(H5Type, Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub(crate) enum YesNoH5 {
+    #[hdf5(rename = "no")]
+    No = 0,
+    #[hdf5(rename = "yes")]
+    Yes = 1,
+    #[hdf5(rename = "not_identified")]
+    NotIdentified = 255,
+}
+
+impl YesNoH5 {
+    pub(crate) fn from_u8(v: u8) -> Option<YesNoH5> {
+        Some(match v {
+            0 => YesNoH5::No,
+            1 => YesNoH5::Yes,
+            255 => YesNoH5::NotIdentified,
+            _ => return None,
+        })
+    }
+}
+
 /// The per-map `landscape` enum: [`squeal_core::Landscape`] values plus `not_applicable`
 /// (laws without true stick).
 #[derive(H5Type, Clone, Copy, Debug, PartialEq, Eq)]
@@ -173,12 +196,13 @@ pub(crate) enum EnumColumn {
     Label,
     Reason,
     Audit,
+    YesNo,
 }
 
 impl EnumColumn {
     /// The stored enum of a column with these flags (`None`: not an enum column).
     pub(crate) fn of(col: &squeal_scan::Column) -> Option<EnumColumn> {
-        use squeal_scan::cell::{AUDIT_FLAGS, REASON_FLAGS, REGIME_FLAGS};
+        use squeal_scan::cell::{AUDIT_FLAGS, REASON_FLAGS, REGIME_FLAGS, YES_NO_FLAGS};
         if col.kind != squeal_scan::cell::Kind::Enum {
             None
         } else if col.flags == REGIME_FLAGS {
@@ -187,6 +211,8 @@ impl EnumColumn {
             Some(EnumColumn::Reason)
         } else if col.flags == AUDIT_FLAGS {
             Some(EnumColumn::Audit)
+        } else if col.flags == YES_NO_FLAGS {
+            Some(EnumColumn::YesNo)
         } else {
             None
         }
@@ -198,6 +224,7 @@ impl EnumColumn {
             EnumColumn::Label => Label::type_descriptor(),
             EnumColumn::Reason => ReasonH5::type_descriptor(),
             EnumColumn::Audit => AuditH5::type_descriptor(),
+            EnumColumn::YesNo => YesNoH5::type_descriptor(),
         }
     }
 }

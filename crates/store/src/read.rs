@@ -589,6 +589,14 @@ pub(crate) fn read_block(
     }
     let mut cells: Vec<Cell> = Vec::new();
     for col in COLUMNS {
+        // A column newer than the file (a file of an earlier version): its fill value, as
+        // for a cell not computed.
+        if !file.link_exists(col.name) && !cells.is_empty() {
+            for c in cells.iter_mut() {
+                (col.set)(c, col.fill);
+            }
+            continue;
+        }
         let vals: Vec<Num> = match col.kind {
             Kind::Enum | Kind::U8 => rd::<u8>(file, col.name, sweep, map, &rows)?
                 .into_iter()
