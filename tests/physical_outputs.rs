@@ -552,3 +552,60 @@ fn the_brakes_critical_damping_and_fold_agree_with_runs() {
         "fold [{flo}, {fhi}], critical [{lo}, {hi}]"
     );
 }
+
+/// Issue 31, item 1: a scan's file says which attractor each cell reached. At the clamped
+/// brake with c = 100 N s/m (a 4 x 4 grid around the fixed point) the runs that squeal are
+/// on the lasting oscillation of crates/core/MODEL.md section 13: it sticks and overtakes
+/// the disc, at about 247 Hz with x' within +-0.403 m/s (the one-point atlas's note; the
+/// README's run at c = 20 swings within -0.43 and +0.42 m/s). Before, the file had no
+/// `sticks`, `reverses`, `x_amplitude` or `v_amplitude`.
+#[test]
+fn a_brake_scan_stores_the_attractor_each_cell_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = r#"
+version = 1
+name = "pad"
+[model]
+law = "mcmillan"
+[physical]
+m = 0.8
+k = 2.0e5
+c = 100.0
+v_belt = 0.3
+mu_k = 0.38
+mu_s = 0.48
+tau = 5e-4
+normal_force = 1500.0
+[grid]
+x0 = { min = -2e-3, max = 6e-3, count = 4 }
+v0 = { min = -0.5, max = 0.5, count = 4 }
+[output]
+path = "pad.h5"
+"#;
+    std::fs::write(dir.path().join("pad.toml"), spec).unwrap();
+    let (ok, out) = run(dir.path(), &["scan", "pad.toml", "--quiet"]);
+    assert!(ok, "{out}");
+    let f = hdf5::File::open(dir.path().join("pad.h5")).unwrap();
+    let u8s = |k: &str| f.dataset(k).unwrap().read_raw::<u8>().unwrap();
+    let f64s = |k: &str| f.dataset(k).unwrap().read_raw::<f64>().unwrap();
+    let attr = |k: &str| -> f64 { f.attr(k).unwrap().read_scalar().unwrap() };
+    let (labels, sticks, reverses) = (u8s("labels"), u8s("sticks"), u8s("reverses"));
+    let (omega, v_amp) = (f64s("omega"), f64s("v_amplitude"));
+    let (time, velocity) = (attr("time_unit"), attr("velocity_unit"));
+    let mut squealing = 0;
+    for i in 0..labels.len() {
+        // stick_slip = 2, steady_slip = 1 (the labels' flag_values).
+        if labels[i] == 2 && sticks[i] != 255 {
+            squealing += 1;
+            assert_eq!((sticks[i], reverses[i]), (1, 1), "cell {i}");
+            let hz = omega[i] / (2.0 * std::f64::consts::PI * time);
+            assert!((220.0..280.0).contains(&hz), "cell {i}: {hz} Hz");
+            let v = v_amp[i] * velocity;
+            assert!((0.35..0.45).contains(&v), "cell {i}: +-{v} m/s");
+        } else if labels[i] == 1 {
+            assert_eq!(sticks[i], 255, "cell {i}: steady slip has no oscillation");
+            assert!(v_amp[i].is_nan(), "cell {i}");
+        }
+    }
+    assert!(squealing >= 8, "{squealing} of 16 cells on the oscillation");
+}
