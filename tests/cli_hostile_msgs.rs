@@ -180,6 +180,9 @@ fn a_file_whose_labels_miss_its_axes_is_refused_by_compare() {
             .unwrap()
             .write_raw(&[0u8, 1, 2, 1])
             .unwrap();
+        // Closed here, every handle with it: the file's lock is released before the
+        // commands open it (once in four runs `compare` met "unable to lock file").
+        f.close().unwrap();
     }
     for args in [
         ["compare", "bad.h5", "good.h5"],
@@ -210,6 +213,7 @@ fn a_file_without_the_spec_attribute_is_not_a_squeal_file() {
         let f = hdf5::File::open_rw(d.path().join("nospec.h5")).unwrap();
         f.delete_attr("spec").unwrap();
         f.delete_attr("name").unwrap();
+        f.close().unwrap();
     }
     // A scan whose output is there already reads its spec to see whether it is up to date.
     let spec = format!("{SMALL}[output]\npath = \"nospec.h5\"\n");

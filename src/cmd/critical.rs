@@ -8,7 +8,7 @@ use anyhow::bail;
 use squeal_core::Setup;
 use squeal_core::State;
 use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary};
-use squeal_scan::fates::{self, Decided, Spread};
+use squeal_scan::fates::{self, Decided};
 use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
 
@@ -222,10 +222,7 @@ fn starts(
     range: ParamRange,
     point: State,
 ) -> Vec<State> {
-    match args.fold {
-        true => Spread::of(&param.with(setup.params, range.lo)).starts,
-        false => vec![point],
-    }
+    fates::starts(args.fold, (param, setup), range.lo, point)
 }
 
 /// The command's words on its progress line.

@@ -109,13 +109,8 @@ impl Args {
 
     /// The horizon, checked: finite, positive, and at most `MAX_STEPS` steps of `dt`.
     pub(super) fn check_horizon(&self, dt: f64) -> anyhow::Result<()> {
-        let h = self.horizon;
-        if !(h.is_finite() && h > 0.0 && h / dt <= squeal_scan::bounds::MAX_STEPS) {
-            bail!(
-                "--horizon {}: expected a finite time > 0 of at most 1e10 steps of dt {dt:?}",
-                Number(h)
-            );
-        }
+        let inv = super::physical::start_invalid("command line".into(), false);
+        squeal_scan::bounds::horizon("--horizon", self.horizon, dt, &inv)?;
         Ok(())
     }
 

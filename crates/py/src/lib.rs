@@ -343,7 +343,7 @@ pub fn boundary(
     horizon: f64,
 ) -> PyResult<String> {
     use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary::both_in};
-    use squeal_scan::fates::{Spread, decide};
+    use squeal_scan::fates::decide;
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
     let (key, fold, rtol) = search;
@@ -353,22 +353,10 @@ pub fn boundary(
     let point = start(&plan, point, "critical")?;
     let inv = keyword("critical");
     squeal_scan::bounds::bisection_rtol("rtol", rtol, &inv).map_err(value_error)?;
-    if !(horizon.is_finite()
-        && horizon > 0.0
-        && horizon / setup.dt <= squeal_scan::bounds::MAX_STEPS)
-    {
-        return Err(PyValueError::new_err(format!(
-            "horizon = {}: expected a finite time > 0 of at most 1e10 steps of dt {}",
-            squeal_core::error::Number(horizon),
-            setup.dt
-        )));
-    }
+    squeal_scan::bounds::horizon("horizon", horizon, setup.dt, &inv).map_err(value_error)?;
     let range = ParamRange::new(bracket.0, bracket.1, rtol);
     let ceiling = ceiling.max(range.hi);
-    let starts = match fold {
-        true => Spread::of(&param.with(setup.params, range.lo)).starts,
-        false => vec![point],
-    };
+    let starts = squeal_scan::fates::starts(fold, (param, setup), range.lo, point);
     let gate = (setup, param);
     let d = py.detach(|| -> Result<_, squeal_scan::ScanError> {
         if param == BoundaryParam::Nu && !fold {

@@ -142,6 +142,20 @@ pub fn bisection_rtol(key: &str, rtol: f64, invalid: Invalid) -> Result<f64, Sca
     }
 }
 
+/// The horizon of the runs behind a boundary ([`crate::fates`]): a finite time > 0 of at
+/// most [`MAX_STEPS`] steps of `dt` (`squeal critical --horizon`, Python's `horizon=`).
+pub fn horizon(key: &str, h: f64, dt: f64, invalid: Invalid) -> Result<f64, ScanError> {
+    if h.is_finite() && h > 0.0 && h / dt <= MAX_STEPS {
+        Ok(h)
+    } else {
+        Err(invalid(
+            key,
+            format!("{h:?}"),
+            "a finite time > 0 of at most 1e10 steps of dt",
+        ))
+    }
+}
+
 /// The cycle search's settings (`[cycle]` of an atlas spec, `squeal ulc`'s flags). `name`
 /// turns a field name (`r_max`) into what the user wrote (`cycle.r_max`, `--r-max`).
 pub fn cycle_search(

@@ -510,9 +510,23 @@ pub fn fold(
     range: (ParamRange, f64),
     horizon: f64,
 ) -> Result<RunBoundary, ScanError> {
-    let p = param.with(setup.params, range.0.lo);
-    let spread = Spread::of(&p);
-    boundary(param, setup, &spread.starts, range, horizon)
+    let spread = starts(true, (param, setup), range.0.lo, State { x: 0.0, v: 0.0 });
+    boundary(param, setup, &spread, range, horizon)
+}
+
+/// The starts a boundary in `param` samples: for a fold the [`Spread`] of the parameters at
+/// the range's lower end `lo`, else the one `start` (of a critical value). The one choice of
+/// `squeal critical`, the atlas's boundaries and Python's.
+pub fn starts(
+    fold: bool,
+    (param, setup): (BoundaryParam, Setup),
+    lo: f64,
+    start: State,
+) -> Vec<State> {
+    match fold {
+        true => Spread::of(&param.with(setup.params, lo)).starts,
+        false => vec![start],
+    }
 }
 
 /// Why an answer is the runs'.

@@ -142,10 +142,7 @@ pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
                 if !asked {
                     return None;
                 }
-                let starts = match fold {
-                    true => crate::fates::Spread::of(&param.with(setup.params, range.lo)).starts,
-                    false => vec![ps.operating],
-                };
+                let starts = crate::fates::starts(fold, (param, setup), range.lo, ps.operating);
                 let shortcut = || {
                     let b = found.unwrap_or_else(|| Ok(Boundary::none()))?;
                     let bracket = b.bracket;
