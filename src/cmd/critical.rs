@@ -95,26 +95,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         })
     })?;
     drop(bar);
-    let seconds = t0.elapsed().as_secs_f64();
-    match d {
-        Decided::Runs { boundary, why } => {
-            let si = si_unit(plan, BoundaryParam::Nu);
-            critical_runs::print(&args, (&boundary, &why), names, point, si, seconds)?;
-        }
-        Decided::Shortcut {
-            answer: (rep, changes),
-            confirmed,
-        } => {
-            let line = confirmed.map(|c| c.line).unwrap_or_default();
-            report(
-                &args,
-                &rep,
-                point,
-                (key, scales),
-                (seconds, &line),
-                &changes,
-            )?;
-        }
+    let names = (BoundaryParam::Nu, names.1, names.2);
+    if let Some(((rep, changes), line)) =
+        critical_runs::shortcut_or_print(&args, d, plan, names, (point, t0))?
+    {
+        let seconds = t0.elapsed().as_secs_f64();
+        let line = line.unwrap_or_default();
+        report(
+            &args,
+            &rep,
+            point,
+            (key, scales),
+            (seconds, &line),
+            &changes,
+        )?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -183,22 +177,13 @@ fn boundary(
         )?)
     })?;
     drop(bar);
-    let seconds = t0.elapsed().as_secs_f64();
-    let ((b, changes), confirmed) = match d {
-        Decided::Runs { boundary, why } => {
-            let si = si_unit(plan, param);
-            critical_runs::print(
-                args,
-                (&boundary, &why),
-                (param, name, flag),
-                point,
-                si,
-                seconds,
-            )?;
-            return Ok(ExitCode::SUCCESS);
-        }
-        Decided::Shortcut { answer, confirmed } => (answer, confirmed.map(|c| c.line)),
+    let names = (param, name, flag);
+    let Some(((b, changes), confirmed)) =
+        critical_runs::shortcut_or_print(args, d, plan, names, (point, t0))?
+    else {
+        return Ok(ExitCode::SUCCESS);
     };
+    let seconds = t0.elapsed().as_secs_f64();
     let found = BoundaryFound {
         confirmed: confirmed.as_deref(),
         b: &b,
@@ -333,22 +318,10 @@ fn crisis_report(
             shortcut,
         )?)
     })?;
-    let (c, confirmed) = match d {
-        Decided::Runs { boundary, why } => {
-            drop(bar);
-            let seconds = t0.elapsed().as_secs_f64();
-            let si = si_unit(plan, param);
-            critical_runs::print(
-                args,
-                (&boundary, &why),
-                (param, name, flag),
-                point,
-                si,
-                seconds,
-            )?;
-            return Ok(ExitCode::SUCCESS);
-        }
-        Decided::Shortcut { answer, confirmed } => (answer, confirmed.map(|c| c.line)),
+    let names = (param, name, flag);
+    let Some((c, confirmed)) = critical_runs::shortcut_or_print(args, d, plan, names, (point, t0))?
+    else {
+        return Ok(ExitCode::SUCCESS);
     };
     let c = &c;
     found(range, flag, c)?;

@@ -8,13 +8,33 @@ use anyhow::bail;
 use squeal_core::State;
 use squeal_core::error::Number;
 use squeal_scan::atlas::{BoundaryParam, BoundaryStatus};
-use squeal_scan::fates::{Fate, RunBoundary, Why};
+use squeal_scan::fates::{Decided, Fate, RunBoundary, Why};
 
 use super::critical_args::Args;
 
+/// The gate's answer `d`: where it is the runs', printed (`None`); else the shortcut's
+/// answer and its runs' confirmation line, for the caller's report.
+pub(super) fn shortcut_or_print<T>(
+    args: &Args,
+    d: Decided<T>,
+    plan: &squeal_scan::Plan,
+    names: (BoundaryParam, &str, &str),
+    (point, t0): (State, std::time::Instant),
+) -> anyhow::Result<Option<(T, Option<String>)>> {
+    match d {
+        Decided::Runs { boundary, why } => {
+            let seconds = t0.elapsed().as_secs_f64();
+            let si = super::critical_report::si_unit(plan, names.0);
+            print(args, (&boundary, &why), names, point, si, seconds)?;
+            Ok(None)
+        }
+        Decided::Shortcut { answer, confirmed } => Ok(Some((answer, confirmed.map(|c| c.line)))),
+    }
+}
+
 /// Prints the runs' boundary (JSON with `--json`); an error naming the flag when it lies
 /// outside the range.
-pub(super) fn print(
+fn print(
     args: &Args,
     (rb, why): (&RunBoundary, &Why),
     (param, name, flag): (BoundaryParam, &str, &str),
