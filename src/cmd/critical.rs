@@ -76,7 +76,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup1 = plan.setup(map);
     let gate = (setup1, BoundaryParam::Nu);
     let d = searching(bar.as_ref(), || -> anyhow::Result<_> {
-        let ranges = (range, args.ceiling(BoundaryParam::Nu, range));
         // The shortcut: the damping at which the unstable cycle first encloses the start.
         let shortcut = || {
             let rep = ulc::critical_nu(setup1, &cs, point, range)?;
@@ -84,7 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             let bracket = rep.bracket;
             Ok(((rep, changes), Some(bracket)))
         };
-        fates::decide(gate, &[point], ranges, args.horizon, shortcut).map_err(|e| {
+        args.decide(gate, &[point], range, shortcut).map_err(|e| {
             let bracket = matches!(e, squeal_scan::ScanError::Bracket { .. });
             let e = anyhow::Error::new(e);
             if bracket {
@@ -167,14 +166,7 @@ fn boundary(
             let bracket = (b.status == BoundaryStatus::Found).then_some(b.bracket);
             Ok(((b, changes), bracket))
         };
-        let ranges = (range, args.ceiling(param, range));
-        Ok(fates::decide(
-            (setup, param),
-            &starts,
-            ranges,
-            args.horizon,
-            shortcut,
-        )?)
+        Ok(args.decide((setup, param), &starts, range, shortcut)?)
     })?;
     drop(bar);
     let names = (param, name, flag);
@@ -309,14 +301,7 @@ fn crisis_report(
                 confirmed: None,
             });
         }
-        let ranges = (range, args.ceiling(param, range));
-        Ok(fates::decide(
-            (setup, param),
-            &starts,
-            ranges,
-            args.horizon,
-            shortcut,
-        )?)
+        Ok(args.decide((setup, param), &starts, range, shortcut)?)
     })?;
     let names = (param, name, flag);
     let Some((c, confirmed)) = critical_runs::shortcut_or_print(args, d, plan, names, (point, t0))?

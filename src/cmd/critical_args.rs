@@ -107,6 +107,19 @@ impl Args {
         }
     }
 
+    /// The gate ([`squeal_scan::fates::decide`]) with these flags: the range in `param`
+    /// and its ceiling, the horizon; `shortcut` as the gate takes it.
+    pub(super) fn decide<T>(
+        &self,
+        (setup, param): (squeal_core::Setup, BoundaryParam),
+        starts: &[squeal_core::State],
+        range: ParamRange,
+        shortcut: impl FnOnce() -> Result<(T, Option<[f64; 2]>), squeal_scan::ScanError>,
+    ) -> Result<squeal_scan::fates::Decided<T>, squeal_scan::ScanError> {
+        let ranges = (range, self.ceiling(param, range));
+        squeal_scan::fates::decide((setup, param), starts, ranges, self.horizon, shortcut)
+    }
+
     /// The horizon, checked: finite, positive, and at most `MAX_STEPS` steps of `dt`.
     pub(super) fn check_horizon(&self, dt: f64) -> anyhow::Result<()> {
         let inv = super::physical::start_invalid("command line".into(), false);
