@@ -1,9 +1,10 @@
 //! With the `static-hdf5` feature, warns when this profile's target folder holds no HDF5
 //! library yet: cargo otherwise shows only `Building ... hdf5-metno-src` for the several
 //! minutes the C library takes to compile. This crate has no dependencies, so the script
-//! does not wait for HDF5 (a script of a crate that depends on HDF5 runs after it); cargo
-//! runs it when a job is free, which on 2 cores can be minutes in (the CMake shim,
-//! scripts/tools/cmake-shim.sh, says the same on the terminal as HDF5's compile starts).
+//! does not wait for HDF5 (a script of a crate that depends on HDF5 runs after it), and
+//! squeal-core depends on it, so cargo schedules it among the first units (about 30 s into
+//! a fresh build). On a terminal the CMake shim, scripts/tools/cmake-shim.sh, also says it
+//! as HDF5's compile starts.
 use std::path::Path;
 
 fn main() {
