@@ -338,6 +338,8 @@ path = "t.h5"
         .unwrap()
     }
 
+    /// One and two threads for real: the executor runs its jobs with the installed pool's
+    /// count (`executor::tests::jobs_run_with_the_threads_of_the_installed_pool`).
     #[test]
     fn results_do_not_depend_on_threads_and_shards_partition_the_work() {
         let plan = tiny();

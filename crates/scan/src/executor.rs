@@ -1,9 +1,11 @@
 //! The one executor: every kind of work (a scan's map blocks, an atlas's lines of points and
 //! boundary searches) runs through [`execute`].
 //!
-//! Jobs run on the global rayon pool (the CLI sizes it with `--threads`; they are handed
-//! out from a helper thread, so a pool installed around the call does not apply); each emits its finished results over a channel to
-//! the thread that called [`execute`], the only one that calls the sink. So the journal's
+//! Jobs run with as many threads as the caller's rayon context has: the global pool (the
+//! CLI sizes it with `--threads`), or, for a call inside `ThreadPool::install`, a pool of
+//! the same size built for the call (the calling worker waits on the sink meanwhile). Each
+//! job emits its finished results over a channel to the thread that called [`execute`],
+//! the only one that calls the sink. So the journal's
 //! writes and fsyncs stay off the workers' path, whichever engine runs (before, the atlas
 //! called its sink from the workers behind a lock). Raising `stop` hands out no further
 //! job; the jobs in flight finish and their results still reach the sink. The first error
@@ -40,17 +42,31 @@ where
 {
     let (tx, rx) = mpsc::channel::<Emit<M, JE>>();
     let mut failure = None;
+    // The jobs are handed out from a helper thread, which is no worker of an installed pool:
+    // inside one, they get a pool of its size (without, the global pool's size applied).
+    let pool = rayon::current_thread_index().and_then(|_| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(rayon::current_num_threads())
+            .build()
+            .ok()
+    });
     std::thread::scope(|scope| {
         let work = &work;
         let workers = scope.spawn(move || {
-            jobs.into_par_iter().for_each_with(tx, |tx, job| {
-                if stop.load(Ordering::SeqCst) {
-                    return;
-                }
-                work(job, &|m| {
-                    let _ = tx.send(m);
-                });
-            });
+            let run = move || {
+                jobs.into_par_iter().for_each_with(tx, |tx, job| {
+                    if stop.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    work(job, &|m| {
+                        let _ = tx.send(m);
+                    });
+                })
+            };
+            match pool {
+                Some(pool) => pool.install(run),
+                None => run(),
+            }
         });
         for msg in rx {
             if failure.is_some() {
@@ -94,6 +110,41 @@ mod tests {
         .unwrap();
         got.sort_unstable();
         assert_eq!(got, (0..100u32).map(|j| j * j).collect::<Vec<_>>());
+    }
+
+    /// Called inside a pool of 1 and of 3 threads, the jobs see as many (the driver's
+    /// thread-independence test relies on it). Before, they ran on the global pool whatever
+    /// pool was installed around the call, so both saw the machine's count.
+    #[test]
+    fn jobs_run_with_the_threads_of_the_installed_pool() {
+        for threads in [1usize, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let seen = std::sync::Mutex::new(std::collections::BTreeSet::new());
+            let mut counts = Vec::new();
+            pool.install(|| {
+                execute(
+                    (0..64u32).collect(),
+                    &AtomicBool::new(false),
+                    |_, emit: &dyn Fn(Emit<usize, ()>)| {
+                        seen.lock()
+                            .unwrap()
+                            .insert(rayon::current_thread_index().unwrap());
+                        emit(Emit::Done(rayon::current_num_threads()))
+                    },
+                    |n| {
+                        counts.push(n);
+                        Ok::<(), ()>(())
+                    },
+                )
+                .unwrap()
+            });
+            assert_eq!(counts.len(), 64);
+            assert!(counts.iter().all(|&n| n == threads), "{counts:?}");
+            assert!(seen.into_inner().unwrap().len() <= threads);
+        }
     }
 
     #[test]
