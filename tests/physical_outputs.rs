@@ -609,3 +609,103 @@ path = "pad.h5"
     }
     assert!(squealing >= 8, "{squealing} of 16 cells on the oscillation");
 }
+
+/// README's brake swept over two dashpots, on a 2 x 2 grid in metres and m/s.
+const BRAKE_SWEEP: &str = r#"
+version = 1
+name = "brake-sweep"
+[model]
+law = "mcmillan"
+[physical]
+m = 2.0
+k = 5.0e4
+c = [0.5, 4.0]
+v_belt = 0.05
+mu_k = 0.35
+mu_s = 0.45
+tau = 1e-3
+[grid]
+x0 = { min = -2e-4, max = 4e-4, count = 2 }
+v0 = { min = -0.05, max = 0.05, count = 2 }
+[output]
+path = "sweep.h5"
+"#;
+
+/// Issue 34, item 4: a physical scan's file carries its coordinates in SI units beside the
+/// nondimensional ones, as CF auxiliary coordinates (`x0_si` in m, `v0_si` in m/s, the
+/// swept `c` in N s/m over `nu`, named in each variable's `coordinates`), and the cells'
+/// times, frequencies and amplitudes as `<name>_si`. Before, the Dataset of a physical
+/// scan had x0, v0 and nu in the model's units only. A nondimensional scan's file is
+/// unchanged: no `_si` dataset, no `coordinates` attribute.
+#[test]
+fn a_physical_scan_stores_its_coordinates_in_si_units() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sweep.toml"), BRAKE_SWEEP).unwrap();
+    let (ok, out) = run(dir.path(), &["scan", "sweep.toml", "--quiet"]);
+    assert!(ok, "{out}");
+    let f = hdf5::File::open(dir.path().join("sweep.h5")).unwrap();
+    let f64s = |k: &str| -> Vec<f64> {
+        let ds = f.dataset(k).unwrap_or_else(|e| panic!("dataset {k}: {e}"));
+        ds.read_raw().unwrap()
+    };
+    let text = |ds: &str, k: &str| -> String {
+        let a = f.dataset(ds).unwrap().attr(k);
+        let a = a.unwrap_or_else(|e| panic!("{ds}.{k}: {e}"));
+        let v: hdf5::types::VarLenUnicode = a.read_scalar().unwrap();
+        v.as_str().to_string()
+    };
+    // The grid as the spec gives it, in metres and m/s (to rounding of the scaling).
+    let close = |a: &[f64], b: &[f64]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs())
+    };
+    assert!(close(&f64s("x0_si"), &[-2e-4, 4e-4]), "{:?}", f64s("x0_si"));
+    assert!(close(&f64s("v0_si"), &[-0.05, 0.05]), "{:?}", f64s("v0_si"));
+    assert!(close(&f64s("c"), &[0.5, 4.0]), "{:?}", f64s("c"));
+    for (ds, units) in [("x0_si", "m"), ("v0_si", "m/s"), ("c", "N s/m")] {
+        assert_eq!(text(ds, "units"), units, "{ds}");
+        assert!(!text(ds, "long_name").is_empty(), "{ds}");
+    }
+    // Each cell variable names them; the per-map ones the swept c.
+    assert_eq!(text("labels", "coordinates"), "x0_si v0_si c");
+    assert_eq!(text("t_squeal_si", "coordinates"), "x0_si v0_si c");
+    assert_eq!(text("basin_stability_steady_slip", "coordinates"), "c");
+    // The cells' figures in SI: x_amplitude in m, omega in Hz, t_decision in s.
+    let attr = |k: &str| -> f64 { f.attr(k).unwrap().read_scalar().unwrap() };
+    let (length, time) = (attr("length_unit"), attr("time_unit"));
+    let (xa, xa_si) = (f64s("x_amplitude"), f64s("x_amplitude_si"));
+    let (td, td_si) = (f64s("t_decision"), f64s("t_decision_si"));
+    for i in 0..xa.len() {
+        assert!(xa_si[i].is_nan() && xa[i].is_nan() || xa_si[i] == xa[i] * length);
+        assert_eq!(td_si[i], td[i] * time, "cell {i}");
+    }
+    assert_eq!(text("x_amplitude_si", "units"), "m");
+    assert_eq!(text("omega_si", "units"), "Hz");
+    assert_eq!(text("t_squeal_si", "units"), "s");
+
+    // The same brake in the model's units (nu, lambda, tau, phi as the sweep's first map
+    // stores them): no SI dataset, no coordinates attribute.
+    let nd = format!(
+        "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = {}\nlambda = {}\ntau = {}\nphi = {}\n\
+         [grid]\nx0 = {{ min = -1, max = 2, count = 2 }}\nv0 = {{ min = -2, max = 2, count = 2 }}\n\
+         [output]\npath = \"nd.h5\"\n",
+        f64s("nu")[0],
+        attr("lambda"),
+        attr("tau"),
+        attr("phi")
+    );
+    std::fs::write(dir.path().join("nd.toml"), nd).unwrap();
+    let (ok, out) = run(dir.path(), &["scan", "nd.toml", "--quiet"]);
+    assert!(ok, "{out}");
+    let g = hdf5::File::open(dir.path().join("nd.h5")).unwrap();
+    let names = g.member_names().unwrap();
+    assert!(!names.iter().any(|n| n.ends_with("_si")), "{names:?}");
+    for n in names {
+        if let Ok(ds) = g.dataset(&n) {
+            let attrs = ds.attr_names().unwrap();
+            assert!(!attrs.iter().any(|a| a == "coordinates"), "{n}: {attrs:?}");
+        }
+    }
+}
