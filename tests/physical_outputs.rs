@@ -123,6 +123,34 @@ fn physical_trajectory_file_stores_the_system_and_its_units() {
     assert_eq!(text("physical_c_units"), "N s/m");
     // The stored start is nondimensional; times the length unit it is the --x0 given in m.
     assert!((num("x0") * num("length_unit") - 1e-4).abs() <= 1e-15);
+    // Issue 34, item 4: the samples in SI units beside them, the time in seconds an
+    // auxiliary coordinate of each (before: t, x, v in the model's units only).
+    let f64s = |k: &str| -> Vec<f64> {
+        let ds = f.dataset(k).unwrap_or_else(|e| panic!("dataset {k}: {e}"));
+        ds.read_raw().unwrap()
+    };
+    let ds_text = |ds: &str, k: &str| -> String {
+        let v: hdf5::types::VarLenUnicode = f
+            .dataset(ds)
+            .unwrap()
+            .attr(k)
+            .unwrap()
+            .read_scalar()
+            .unwrap();
+        v.as_str().to_string()
+    };
+    let (x, x_si, t, t_si) = (f64s("x"), f64s("x_si"), f64s("t"), f64s("t_si"));
+    assert!((x_si[0] - 1e-4).abs() <= 1e-15, "{}", x_si[0]);
+    for i in 0..x.len() {
+        assert_eq!(x_si[i], x[i] * num("length_unit"));
+        assert_eq!(t_si[i], t[i] * num("time_unit"));
+    }
+    for (ds, units) in [("t_si", "s"), ("x_si", "m"), ("v_si", "m/s")] {
+        assert_eq!(ds_text(ds, "units"), units, "{ds}");
+    }
+    for ds in ["x", "v", "a", "force", "x_si", "v_si"] {
+        assert_eq!(ds_text(ds, "coordinates"), "t_si", "{ds}");
+    }
 }
 
 /// README's brake oscillator under Coulomb friction: m, k, c, v_belt, mu_k alone (Coulomb's

@@ -44,6 +44,14 @@ pub fn plot_params(p: &squeal_core::Params, dt: f64) -> squeal_plot::ModelParams
     }
 }
 
+/// The SI size of a physical system's state units, for pictures drawn in m and m/s.
+pub fn si_state(s: &squeal_core::Scales) -> squeal_plot::SiState {
+    squeal_plot::SiState {
+        length: s.length,
+        velocity: s.velocity,
+    }
+}
+
 /// A basin panel for one map of a file, its axes in the law's units (`scale`).
 pub fn panel(m: &squeal_store::MapData, scale: squeal_plot::StateScale) -> BasinPanel<'_> {
     let overlays = m
@@ -210,19 +218,32 @@ fn physical_units(info: &squeal_store::FileInfo) -> Option<(f64, f64)> {
 }
 
 /// The physical system of a physical scan file as a title line ("\nm = 2 kg, k = ..."; empty
-/// for nondimensional files), from its `physical_<key>` and `physical_<key>_units` attributes.
+/// for nondimensional files), from its `physical_<key>` attributes.
 fn physical_line(info: &squeal_store::FileInfo) -> String {
-    let parts: Vec<String> = squeal_scan::atlas::spec::PHYSICAL
-        .iter()
-        .filter_map(|(key, _, _)| {
-            let v: f64 = attr(info, &format!("physical_{key}"))?.parse().ok()?;
-            let u = attr(info, &format!("physical_{key}_units")).unwrap_or("1");
-            let u = if u == "1" {
+    system_line(
+        squeal_scan::atlas::spec::PHYSICAL
+            .iter()
+            .filter_map(|(key, ..)| {
+                Some((*key, attr(info, &format!("physical_{key}"))?.parse().ok()?))
+            }),
+    )
+}
+
+/// A physical system as a title line, "\nm = 2 kg, k = 5e4 N/m, ..." (empty for no
+/// values): each key with its value and units ([`squeal_scan::atlas::spec::PHYSICAL`]).
+pub fn system_line(values: impl IntoIterator<Item = (&'static str, f64)>) -> String {
+    let parts: Vec<String> = values
+        .into_iter()
+        .map(|(key, v)| {
+            let units = (squeal_scan::atlas::spec::PHYSICAL.iter())
+                .find(|(k, ..)| *k == key)
+                .map_or("1", |(.., u)| *u);
+            let u = if units == "1" {
                 String::new()
             } else {
-                format!(" {u}")
+                format!(" {units}")
             };
-            Some(format!("{key} = {}{u}", squeal_plot::fmt_value(v)))
+            format!("{key} = {}{u}", squeal_plot::fmt_value(v))
         })
         .collect();
     if parts.is_empty() {
@@ -230,6 +251,15 @@ fn physical_line(info: &squeal_store::FileInfo) -> String {
     } else {
         format!("\n{}", parts.join(", "))
     }
+}
+
+/// The physical system `ph` as a title line ([`system_line`]): every key given, and the
+/// normal force (the weight m g where none was given).
+pub fn physical_system_line(ph: &squeal_core::Physical) -> String {
+    let mut values = ph.values();
+    values[8] = Some(ph.normal_force());
+    let keys = squeal_scan::atlas::spec::PHYSICAL.iter().map(|(k, ..)| *k);
+    system_line(keys.zip(values).filter_map(|(k, v)| Some((k, v?))))
 }
 
 /// A map's grid in um and mm/s.

@@ -56,7 +56,7 @@ pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
 pub use lifetime_chart::{fold_lifetime_charts, fold_lifetime_paths, has_fold_lifetimes};
 pub use line::{
-    Gap, cycle_gaps, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart,
+    Gap, cycle_gaps, cycle_plot, line_plot, missing_values, phase_plot, phase_plot_si, sweep_chart,
     trajectory_plot,
 };
 pub use transient::{has_transients, transient_map, transient_sheet};
@@ -302,6 +302,21 @@ pub const V_LABEL: &str = "velocity x' (unit: μk g √(m/k))";
 pub const X0_LABEL: &str = "initial displacement x0 (unit: μk m g / k)";
 /// Vertical axis of a basin map.
 pub const V0_LABEL: &str = "initial velocity x'0 (unit: μk g √(m/k))";
+
+/// A physical system's state in SI units: metres per model unit of `x`, m/s per model unit
+/// of `x'` (its `length_unit` and `velocity_unit`), for pictures drawn in SI.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SiState {
+    /// Metres per model unit of `x`.
+    pub length: f64,
+    /// m/s per model unit of `x'`.
+    pub velocity: f64,
+}
+
+impl SiState {
+    /// Horizontal and vertical axis words of a phase plane `(x, x')` in SI units.
+    pub const PHASE_LABELS: [&'static str; 2] = ["displacement x (m)", "velocity x' (m/s)"];
+}
 
 /// The unit of a picture's state axes: each friction law is written in its own
 /// nondimensional variables, so the axis words follow the law.

@@ -28,20 +28,22 @@ pub fn line_plot(
             curves,
             markers,
             log_x,
-            equal_aspect: false,
+            aspect: None,
             gaps: None,
         },
     )
 }
 
 /// The unstable limit cycle `(xs, vs)` (one revolution; closed here) in its phase plane,
-/// with the fixed point `fp` and the state at rest marked, titled with the model `p`.
+/// with the fixed point `fp` and the state at rest marked, titled with the model `p`; in
+/// metres and m/s for a physical system (`si`: its units and its line of the title,
+/// [`phase_plot_si`]).
 pub fn cycle_plot(
     path: &Path,
     (xs, vs): (&[f64], &[f64]),
     fp: (f64, f64),
     p: &ModelParams,
-    scale: StateScale,
+    (scale, si): (StateScale, Option<(SiState, &str)>),
 ) -> Result<(), PlotError> {
     let close = |a: &[f64]| a.iter().chain(a.first()).copied().collect::<Vec<_>>();
     let curve = Curve {
@@ -66,7 +68,10 @@ pub fn cycle_plot(
         },
     ];
     let title = phase_title("Unstable limit cycle", p);
-    phase_plot(path, &title, scale, &[curve], &marks)
+    match si {
+        Some((si, system)) => phase_plot_si(path, &(title + system), si, &[curve], &marks),
+        None => phase_plot(path, &title, scale, &[curve], &marks),
+    }
 }
 
 /// At most this many points of a trajectory are drawn ([`trajectory_plot`] decimates more).
@@ -146,7 +151,48 @@ pub fn phase_plot(
             curves,
             markers,
             log_x: false,
-            equal_aspect: true,
+            aspect: Some(1.0),
+            gaps: None,
+        },
+    )
+}
+
+/// A phase plane of a physical system in SI units: the curves and markers (in the model's
+/// units) drawn in metres and m/s ([`SiState::PHASE_LABELS`]), with one model unit of `x`
+/// as long as one of `x'`, as [`phase_plot`] draws it (a circle of the model's units stays
+/// a circle; metres against m/s at equal scales would squeeze it into a strip). Size 900x800.
+pub fn phase_plot_si(
+    path: &Path,
+    title: &str,
+    si: SiState,
+    curves: &[Curve],
+    markers: &[Marker],
+) -> Result<(), PlotError> {
+    let curves: Vec<Curve> = (curves.iter())
+        .map(|c| Curve {
+            xs: c.xs.iter().map(|x| x * si.length).collect(),
+            ys: c.ys.iter().map(|v| v * si.velocity).collect(),
+            ..c.clone()
+        })
+        .collect();
+    let markers: Vec<Marker> = (markers.iter())
+        .map(|m| Marker {
+            x: m.x * si.length,
+            y: m.y * si.velocity,
+            ..m.clone()
+        })
+        .collect();
+    let [x_label, y_label] = SiState::PHASE_LABELS;
+    line_chart(
+        path,
+        LineOpts {
+            title,
+            x_label,
+            y_label,
+            curves: &curves,
+            markers: &markers,
+            log_x: false,
+            aspect: Some(si.velocity / si.length),
             gaps: None,
         },
     )
@@ -194,7 +240,7 @@ pub fn sweep_chart(
             curves,
             markers: &[],
             log_x,
-            equal_aspect: false,
+            aspect: None,
             gaps: Some(gaps),
         },
     )
@@ -267,7 +313,9 @@ struct LineOpts<'p> {
     curves: &'p [Curve],
     markers: &'p [Marker],
     log_x: bool,
-    equal_aspect: bool,
+    /// Phase planes: `Some(r)` draws `r` units of y as long as one unit of x (1: equal
+    /// scales; a physical system's `velocity / length` keeps its model units equal).
+    aspect: Option<f64>,
     /// Sweep charts: the x values without data, by reason. Curves without any drawable point
     /// are then allowed.
     gaps: Option<&'p [Gap]>,
@@ -400,9 +448,10 @@ impl LineData {
         points.extend(o.gap_xs().map(|x| unit(x, gap_y)));
         let (corner, stretch) = place_legend(&points, legend);
         y_range.end = y_range.start + stretch * (y_range.end - y_range.start);
-        if o.equal_aspect && !o.log_x {
-            let (x, y) = equal_aspect_ranges(x_range, y_range, pixels);
-            return (x, y, corner);
+        if let (Some(r), false) = (o.aspect, o.log_x) {
+            let y = (y_range.start / r)..(y_range.end / r);
+            let (x, y) = equal_aspect_ranges(x_range, y, pixels);
+            return (x, (y.start * r)..(y.end * r), corner);
         }
         (x_range, y_range, corner)
     }
@@ -535,7 +584,7 @@ fn line_chart(path: &Path, o: LineOpts<'_>) -> Result<(), PlotError> {
         o.log_x = false;
         data = LineData::of(&o)?;
     }
-    let size = if o.equal_aspect {
+    let size = if o.aspect.is_some() {
         (900, 800)
     } else {
         (900, 700)
