@@ -444,8 +444,14 @@ pub fn map_title(p: &ModelParams) -> String {
 /// Overall title of a sheet of maps sweeping `swept`: `name`, the law, then the parameters
 /// shared by all maps (`p` holds them; its value of `swept` is not shown).
 pub fn sheet_title(name: &str, p: &ModelParams, swept: &str) -> String {
+    sheet_title_per(name, p, swept, swept)
+}
+
+/// [`sheet_title`] of a sheet whose panels are named by `per` (a physical sweep's `c` for
+/// its swept `nu`).
+pub fn sheet_title_per(name: &str, p: &ModelParams, swept: &str, per: &str) -> String {
     format!(
-        "{name}: basins of attraction, {}, one map per {swept}\n{}",
+        "{name}: basins of attraction, {}, one map per {per}\n{}",
         law_title(&p.law),
         params_line(p, Some(swept))
     )
@@ -454,6 +460,14 @@ pub fn sheet_title(name: &str, p: &ModelParams, swept: &str) -> String {
 /// Title of one panel of a sheet: `nu = 0.001`.
 pub fn panel_title(swept: &str, value: f64) -> String {
     format!("{swept} = {}", fmt_number(value))
+}
+
+/// [`panel_title`] with units: `c = 4 N s/m` (none: as [`panel_title`]).
+pub fn panel_title_in(swept: &str, value: f64, units: Option<&str>) -> String {
+    match units {
+        Some(u) => format!("{} {u}", panel_title(swept, value)),
+        None => panel_title(swept, value),
+    }
 }
 
 /// Title of a phase-plane picture: `what`, the law, then every parameter and the step.

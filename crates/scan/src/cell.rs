@@ -255,7 +255,11 @@ impl Column {
     /// an SI twin). A time keeps [`squeal_core::T_SQUEAL_UNKNOWN`] (`t_squeal`'s "not
     /// known", no time); infinity stays infinite, NaN NaN.
     pub fn si_value(&self, c: &Cell, s: &Scales) -> f64 {
-        let v = (self.get)(c).as_f64();
+        self.si_of((self.get)(c).as_f64(), s)
+    }
+
+    /// [`Column::si_value`] of a value `v` of the column.
+    pub fn si_of(&self, v: f64, s: &Scales) -> f64 {
         match self.si {
             None => f64::NAN,
             Some((Si::Time, _)) if v == squeal_core::T_SQUEAL_UNKNOWN => v,
