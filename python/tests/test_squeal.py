@@ -411,6 +411,14 @@ def test_physical_datasets_carry_si_coordinates(tmp_path):
         np.testing.assert_allclose(scan[name].values, want, rtol=1e-12)
     assert scan["labels"].dims == ("nu", "v0", "x0")
     assert set(scan["labels"].coords) >= {"x0_si", "v0_si", "c"}
+    # basin_stability over a physical c sweep answers in c, as swept (before: nu).
+    pad = {k: v for k, v in PAD.items() if k != "c"}
+    bs = squeal.basin_stability(
+        "mcmillan", c=[20.0, 100.0], n=4, region=((-2e-3, 6e-3), (-0.5, 0.5)), **pad
+    )
+    assert bs.parameter == "c"
+    np.testing.assert_allclose(bs.values, [20.0, 100.0], rtol=1e-12)
+    assert bs.dataset["x0_si"].attrs["units"] == "m"
 
 
 def test_physical_errors_name_the_python_keyword():
