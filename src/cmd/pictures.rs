@@ -49,6 +49,7 @@ pub fn si_state(s: &squeal_core::Scales) -> squeal_plot::SiState {
     squeal_plot::SiState {
         length: s.length,
         velocity: s.velocity,
+        time: s.time,
     }
 }
 

@@ -311,6 +311,8 @@ pub struct SiState {
     pub length: f64,
     /// m/s per model unit of `x'`.
     pub velocity: f64,
+    /// Seconds per model unit of time.
+    pub time: f64,
 }
 
 impl SiState {

@@ -79,13 +79,14 @@ pub const MAX_TRAJECTORY_POINTS: usize = 200_000;
 
 /// One run's phase plane: its samples `(xs, vs)` from `t = 0` to `t_end` (at most
 /// [`MAX_TRAJECTORY_POINTS`] of them drawn, evenly decimated, and the last), the start `ic`
-/// and the fixed point `fp` marked, titled with the model `p`.
+/// and the fixed point `fp` marked, titled with the model `p`; in metres, m/s and seconds
+/// for a physical system (`si`: its units and its line of the title, [`phase_plot_si`]).
 pub fn trajectory_plot(
     path: &Path,
     (xs, vs): (&[f64], &[f64]),
     t_end: f64,
     (ic, fp): ((f64, f64), (f64, f64)),
-    p: &ModelParams,
+    (p, si): (&ModelParams, Option<(SiState, &str)>),
 ) -> Result<(), PlotError> {
     let stride = xs.len().div_ceil(MAX_TRAJECTORY_POINTS).max(1);
     let (mut dx, mut dv): (Vec<f64>, Vec<f64>) = xs
@@ -98,16 +99,26 @@ pub fn trajectory_plot(
         dx.push(*x);
         dv.push(*v);
     }
+    // The numbers in the words, in SI units for a physical system.
+    let (l, v, t, [lu, vu, tu]) = match si {
+        Some((s, _)) => (s.length, s.velocity, s.time, [" m", " m/s", " s"]),
+        None => (1.0, 1.0, 1.0, [""; 3]),
+    };
     let title = phase_title(
         &format!(
-            "Trajectory from (x0, x'0) = ({}, {})",
-            fmt_number(ic.0),
-            fmt_number(ic.1)
+            "Trajectory from (x0, x'0) = ({}{lu}, {}{vu})",
+            fmt_number(ic.0 * l),
+            fmt_number(ic.1 * v)
         ),
         p,
-    );
+    ) + si.map_or("", |(_, system)| system);
+    // (The model's numbers as before: in full.)
+    let num = |x: f64, unit: f64| match si {
+        Some(_) => fmt_number(x * unit),
+        None => x.to_string(),
+    };
     let curves = [Curve {
-        label: format!("trajectory, t in [0, {t_end}]"),
+        label: format!("trajectory, t in [0, {}{tu}]", num(t_end, t)),
         xs: dx,
         ys: dv,
         color: Rgb(49, 110, 198),
@@ -115,7 +126,7 @@ pub fn trajectory_plot(
     }];
     let markers = [
         Marker {
-            label: format!("fixed point ({}, 0)", fp.0),
+            label: format!("fixed point ({}{lu}, 0)", num(fp.0, l)),
             x: fp.0,
             y: fp.1,
             color: FIXED_POINT,
@@ -127,8 +138,10 @@ pub fn trajectory_plot(
             color: Rgb(238, 118, 22),
         },
     ];
-    let scale = StateScale::of_law(&p.law);
-    phase_plot(path, &title, scale, &curves, &markers)
+    match si {
+        Some((s, _)) => phase_plot_si(path, &title, s, &curves, &markers),
+        None => phase_plot(path, &title, StateScale::of_law(&p.law), &curves, &markers),
+    }
 }
 
 /// A phase plane `(x, x')`: as [`line_plot`] with the axis labels of `scale` (the law's

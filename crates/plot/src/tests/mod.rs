@@ -336,6 +336,7 @@ fn a_physical_phase_plane_is_in_si_units_and_round() {
     let si = SiState {
         length: 2.85e-3,
         velocity: 1.425,
+        time: 2e-3,
     };
     assert_eq!(
         SiState::PHASE_LABELS,
