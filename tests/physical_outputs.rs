@@ -123,6 +123,34 @@ fn physical_trajectory_file_stores_the_system_and_its_units() {
     assert_eq!(text("physical_c_units"), "N s/m");
     // The stored start is nondimensional; times the length unit it is the --x0 given in m.
     assert!((num("x0") * num("length_unit") - 1e-4).abs() <= 1e-15);
+    // Issue 34, item 4: the samples in SI units beside them, the time in seconds an
+    // auxiliary coordinate of each (before: t, x, v in the model's units only).
+    let f64s = |k: &str| -> Vec<f64> {
+        let ds = f.dataset(k).unwrap_or_else(|e| panic!("dataset {k}: {e}"));
+        ds.read_raw().unwrap()
+    };
+    let ds_text = |ds: &str, k: &str| -> String {
+        let v: hdf5::types::VarLenUnicode = f
+            .dataset(ds)
+            .unwrap()
+            .attr(k)
+            .unwrap()
+            .read_scalar()
+            .unwrap();
+        v.as_str().to_string()
+    };
+    let (x, x_si, t, t_si) = (f64s("x"), f64s("x_si"), f64s("t"), f64s("t_si"));
+    assert!((x_si[0] - 1e-4).abs() <= 1e-15, "{}", x_si[0]);
+    for i in 0..x.len() {
+        assert_eq!(x_si[i], x[i] * num("length_unit"));
+        assert_eq!(t_si[i], t[i] * num("time_unit"));
+    }
+    for (ds, units) in [("t_si", "s"), ("x_si", "m"), ("v_si", "m/s")] {
+        assert_eq!(ds_text(ds, "units"), units, "{ds}");
+    }
+    for ds in ["x", "v", "a", "force", "x_si", "v_si"] {
+        assert_eq!(ds_text(ds, "coordinates"), "t_si", "{ds}");
+    }
 }
 
 /// README's brake oscillator under Coulomb friction: m, k, c, v_belt, mu_k alone (Coulomb's
@@ -608,4 +636,104 @@ path = "pad.h5"
         }
     }
     assert!(squealing >= 8, "{squealing} of 16 cells on the oscillation");
+}
+
+/// README's brake swept over two dashpots, on a 2 x 2 grid in metres and m/s.
+const BRAKE_SWEEP: &str = r#"
+version = 1
+name = "brake-sweep"
+[model]
+law = "mcmillan"
+[physical]
+m = 2.0
+k = 5.0e4
+c = [0.5, 4.0]
+v_belt = 0.05
+mu_k = 0.35
+mu_s = 0.45
+tau = 1e-3
+[grid]
+x0 = { min = -2e-4, max = 4e-4, count = 2 }
+v0 = { min = -0.05, max = 0.05, count = 2 }
+[output]
+path = "sweep.h5"
+"#;
+
+/// Issue 34, item 4: a physical scan's file carries its coordinates in SI units beside the
+/// nondimensional ones, as CF auxiliary coordinates (`x0_si` in m, `v0_si` in m/s, the
+/// swept `c` in N s/m over `nu`, named in each variable's `coordinates`), and the cells'
+/// times, frequencies and amplitudes as `<name>_si`. Before, the Dataset of a physical
+/// scan had x0, v0 and nu in the model's units only. A nondimensional scan's file is
+/// unchanged: no `_si` dataset, no `coordinates` attribute.
+#[test]
+fn a_physical_scan_stores_its_coordinates_in_si_units() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sweep.toml"), BRAKE_SWEEP).unwrap();
+    let (ok, out) = run(dir.path(), &["scan", "sweep.toml", "--quiet"]);
+    assert!(ok, "{out}");
+    let f = hdf5::File::open(dir.path().join("sweep.h5")).unwrap();
+    let f64s = |k: &str| -> Vec<f64> {
+        let ds = f.dataset(k).unwrap_or_else(|e| panic!("dataset {k}: {e}"));
+        ds.read_raw().unwrap()
+    };
+    let text = |ds: &str, k: &str| -> String {
+        let a = f.dataset(ds).unwrap().attr(k);
+        let a = a.unwrap_or_else(|e| panic!("{ds}.{k}: {e}"));
+        let v: hdf5::types::VarLenUnicode = a.read_scalar().unwrap();
+        v.as_str().to_string()
+    };
+    // The grid as the spec gives it, in metres and m/s (to rounding of the scaling).
+    let close = |a: &[f64], b: &[f64]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs())
+    };
+    assert!(close(&f64s("x0_si"), &[-2e-4, 4e-4]), "{:?}", f64s("x0_si"));
+    assert!(close(&f64s("v0_si"), &[-0.05, 0.05]), "{:?}", f64s("v0_si"));
+    assert!(close(&f64s("c"), &[0.5, 4.0]), "{:?}", f64s("c"));
+    for (ds, units) in [("x0_si", "m"), ("v0_si", "m/s"), ("c", "N s/m")] {
+        assert_eq!(text(ds, "units"), units, "{ds}");
+        assert!(!text(ds, "long_name").is_empty(), "{ds}");
+    }
+    // Each cell variable names them; the per-map ones the swept c.
+    assert_eq!(text("labels", "coordinates"), "x0_si v0_si c");
+    assert_eq!(text("t_squeal_si", "coordinates"), "x0_si v0_si c");
+    assert_eq!(text("basin_stability_steady_slip", "coordinates"), "c");
+    // The cells' figures in SI: x_amplitude in m, omega in Hz, t_decision in s.
+    let attr = |k: &str| -> f64 { f.attr(k).unwrap().read_scalar().unwrap() };
+    let (length, time) = (attr("length_unit"), attr("time_unit"));
+    let (xa, xa_si) = (f64s("x_amplitude"), f64s("x_amplitude_si"));
+    let (td, td_si) = (f64s("t_decision"), f64s("t_decision_si"));
+    for i in 0..xa.len() {
+        assert!(xa_si[i].is_nan() && xa[i].is_nan() || xa_si[i] == xa[i] * length);
+        assert_eq!(td_si[i], td[i] * time, "cell {i}");
+    }
+    assert_eq!(text("x_amplitude_si", "units"), "m");
+    assert_eq!(text("omega_si", "units"), "Hz");
+    assert_eq!(text("t_squeal_si", "units"), "s");
+
+    // The same brake in the model's units (nu, lambda, tau, phi as the sweep's first map
+    // stores them): no SI dataset, no coordinates attribute.
+    let nd = format!(
+        "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = {}\nlambda = {}\ntau = {}\nphi = {}\n\
+         [grid]\nx0 = {{ min = -1, max = 2, count = 2 }}\nv0 = {{ min = -2, max = 2, count = 2 }}\n\
+         [output]\npath = \"nd.h5\"\n",
+        f64s("nu")[0],
+        attr("lambda"),
+        attr("tau"),
+        attr("phi")
+    );
+    std::fs::write(dir.path().join("nd.toml"), nd).unwrap();
+    let (ok, out) = run(dir.path(), &["scan", "nd.toml", "--quiet"]);
+    assert!(ok, "{out}");
+    let g = hdf5::File::open(dir.path().join("nd.h5")).unwrap();
+    let names = g.member_names().unwrap();
+    assert!(!names.iter().any(|n| n.ends_with("_si")), "{names:?}");
+    for n in names {
+        if let Ok(ds) = g.dataset(&n) {
+            let attrs = ds.attr_names().unwrap();
+            assert!(!attrs.iter().any(|a| a == "coordinates"), "{n}: {attrs:?}");
+        }
+    }
 }

@@ -169,7 +169,8 @@ class BasinStability:
     """Basin stability (Menck et al. 2013; bSTAB, pyBasin): the share of random initial
     conditions in a region ending in each regime, with the binomial standard error
     ``sqrt(p (1 - p) / n)``. For a sweep, ``shares[r]``, ``errors[r]`` are arrays over
-    ``values`` of the swept parameter ``parameter``; else floats."""
+    ``values`` of the swept parameter ``parameter`` (a physical system's ``c`` in N s/m or
+    ``v_belt`` in m/s, as swept); else floats."""
 
     shares: dict
     errors: dict
@@ -239,6 +240,10 @@ def basin_stability(
         spec["classifier"] = dict(classifier)
     ds = names(scan, spec, out)
     dim = _swept(ds)
+    # A physical sweep's parameter as the caller swept it: the Dataset's SI coordinate over
+    # nu or lambda (c in N s/m, v_belt in m/s).
+    shown = {"nu": "c", "lambda": "v_belt"}.get(dim)
+    shown = shown if shown in ds.coords else dim
 
     def pick(var):
         a = ds[var].values
@@ -250,8 +255,8 @@ def basin_stability(
         n=int(n),
         seed=int(seed),
         region=((x_lo, x_hi), (v_lo, v_hi)),
-        parameter=dim,
-        values=ds[dim].values if dim else None,
+        parameter=shown,
+        values=ds[shown].values if shown else None,
         dataset=ds,
     )
 

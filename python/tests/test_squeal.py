@@ -377,6 +377,50 @@ def test_the_helpers_take_the_physical_system():
     np.testing.assert_array_equal(t["x"].values, ds["x"].values)
 
 
+def test_physical_datasets_carry_si_coordinates(tmp_path):
+    # Issue 34, item 4: before, a physical run's Dataset was in the model's units only
+    # (x0, v0, nu, t). Now the SI coordinates come beside them, as coordinates: the
+    # trajectory's time in s (its x and x' in m and m/s as variables), a scan's grid in m
+    # and m/s and its swept dashpot in N s/m. The clamped pad's length unit is
+    # mu_k N / k = 2.85 mm, its time unit sqrt(m / k) = 2 ms (MODEL.md, "Units").
+    ds = squeal.trajectory(law="mcmillan", x0=1e-3, t_end=20.0, every=10, **PAD)
+    assert "t_si" in ds.coords and ds["t_si"].attrs["units"] == "s"
+    np.testing.assert_allclose(ds["t_si"].values, ds["t"].values * 2e-3, rtol=1e-15)
+    assert ds["x_si"].attrs["units"] == "m" and ds["v_si"].attrs["units"] == "m/s"
+    assert ds["x_si"].values[0] == pytest.approx(1e-3, rel=1e-15)
+    spec = {
+        "version": 1,
+        "name": "pad",
+        "model": {"law": "mcmillan"},
+        "physical": {**{k: v for k, v in PAD.items() if k != "tau_s"}, "tau": 5e-4,
+                     "c": [20.0, 100.0]},
+        "grid": {
+            "x0": {"min": -2e-3, "max": 6e-3, "count": 2},
+            "v0": {"min": -0.5, "max": 0.5, "count": 2},
+        },
+        "output": {"path": "pad.h5"},
+    }
+    scan = squeal.scan(spec, tmp_path / "pad.h5")
+    for name, units, want in [
+        ("x0_si", "m", [-2e-3, 6e-3]),
+        ("v0_si", "m/s", [-0.5, 0.5]),
+        ("c", "N s/m", [20.0, 100.0]),
+    ]:
+        assert name in scan.coords, name
+        assert scan[name].attrs["units"] == units, name
+        np.testing.assert_allclose(scan[name].values, want, rtol=1e-12)
+    assert scan["labels"].dims == ("nu", "v0", "x0")
+    assert set(scan["labels"].coords) >= {"x0_si", "v0_si", "c"}
+    # basin_stability over a physical c sweep answers in c, as swept (before: nu).
+    pad = {k: v for k, v in PAD.items() if k != "c"}
+    bs = squeal.basin_stability(
+        "mcmillan", c=[20.0, 100.0], n=4, region=((-2e-3, 6e-3), (-0.5, 0.5)), **pad
+    )
+    assert bs.parameter == "c"
+    np.testing.assert_allclose(bs.values, [20.0, 100.0], rtol=1e-12)
+    assert bs.dataset["x0_si"].attrs["units"] == "m"
+
+
 def test_physical_errors_name_the_python_keyword():
     with pytest.raises(ValueError, match=r"`normal_force=` = 0"):
         squeal.ulc(law="mcmillan", **{**PAD, "normal_force": 0.0})

@@ -44,6 +44,15 @@ pub fn plot_params(p: &squeal_core::Params, dt: f64) -> squeal_plot::ModelParams
     }
 }
 
+/// The SI size of a physical system's state units, for pictures drawn in m and m/s.
+pub fn si_state(s: &squeal_core::Scales) -> squeal_plot::SiState {
+    squeal_plot::SiState {
+        length: s.length,
+        velocity: s.velocity,
+        time: s.time,
+    }
+}
+
 /// A basin panel for one map of a file, its axes in the law's units (`scale`).
 pub fn panel(m: &squeal_store::MapData, scale: squeal_plot::StateScale) -> BasinPanel<'_> {
     let overlays = m
@@ -120,7 +129,7 @@ fn render_sheet(
         .iter()
         .map(|m| units.map(|u| scaled_axes(m, u)))
         .collect();
-    let param = swept(info);
+    let axis = SweepAxis::of(info);
     let panels: Vec<_> = maps
         .iter()
         .enumerate()
@@ -130,14 +139,15 @@ fn render_sheet(
                 to_si(&mut p, xs, vs, u);
             }
             let value = info.sweep.as_ref().map_or(f64::NAN, |s| s.1[i]);
-            p.title = squeal_plot::panel_title(&param, value);
+            p.title = axis.panel_title(value);
             p
         })
         .collect();
-    let title = squeal_plot::sheet_title(
+    let title = squeal_plot::sheet_title_per(
         attr(info, "name").unwrap_or("squeal"),
         &model_params(info, 0),
-        &param,
+        &axis.swept,
+        &axis.key,
     ) + &physical_line(info);
     let ncols = (n as f64).sqrt().ceil() as usize;
     // The transient sheet first, as for one map (`render_file`).
@@ -157,31 +167,31 @@ fn swept(info: &squeal_store::FileInfo) -> String {
 }
 
 /// The unstable cycle's size against the swept parameter; values without a cycle marked by
-/// what the map found instead (every start squeals, none does, or neither).
+/// what the map found instead (every start squeals, none does, or neither). A physical
+/// sweep's in SI units: against `c` (N s/m) or `v_belt` (m/s), the sizes in um and mm/s.
 fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> anyhow::Result<()> {
     let summary = squeal_store::read_cycle_summary(h5)?;
-    let xs: Vec<f64> = summary.iter().map(|s| s.0).collect();
-    let curves = vec![
-        Curve {
-            label: "distance from the fixed point along +x".into(),
-            xs: xs.clone(),
-            ys: summary.iter().map(|s| s.2).collect(),
-            color: Rgb(200, 60, 20),
-            points_only: false,
-        },
-        Curve {
-            label: "velocity x' where the cycle crosses x = x*".into(),
-            xs: xs.clone(),
-            ys: summary.iter().map(|s| s.1).collect(),
-            color: Rgb(30, 90, 200),
-            points_only: false,
-        },
+    let axis = SweepAxis::of(info);
+    let words = CycleWords::of(physical_units(info));
+    let xs: Vec<f64> = summary.iter().map(|s| axis.value(s.0)).collect();
+    let ys = [
+        summary.iter().map(|s| s.2 * words.scale[0]).collect(),
+        summary.iter().map(|s| s.1 * words.scale[1]).collect(),
     ];
-    let param = swept(info);
-    let log_x = param == "nu" || param == "xi";
+    let colors = [Rgb(200, 60, 20), Rgb(30, 90, 200)];
+    let curves: Vec<Curve> = (words.curves.iter().zip(ys).zip(colors))
+        .map(|((label, ys), color)| Curve {
+            label: label.clone(),
+            xs: xs.clone(),
+            ys,
+            color,
+            points_only: false,
+        })
+        .collect();
+    let log_x = ["nu", "xi"].contains(&axis.swept.as_str());
     let missing = squeal_plot::missing_values(&curves, log_x);
     let gaps = squeal_plot::cycle_gaps(&missing, &xs, &info.counts);
-    let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&param));
+    let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&axis.swept));
     shared.insert_str(
         0,
         &format!(
@@ -190,11 +200,15 @@ fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> 
         ),
     );
     let name = attr(info, "name").unwrap_or("squeal");
+    let key = &axis.key;
     squeal_plot::sweep_chart(
         size,
-        &format!("{name}: unstable limit cycle size against {param}\n{shared}"),
-        &format!("{param} (swept parameter)"),
-        "size of the unstable cycle (nondimensional)",
+        &format!(
+            "{name}: unstable limit cycle size against {key}\n{shared}{}",
+            physical_line(info)
+        ),
+        &axis.label(),
+        &words.y_label,
         &curves,
         log_x,
         &gaps,
@@ -202,27 +216,148 @@ fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> 
     .map_err(|e| discard(size, e))
 }
 
+/// How a sweep's pictures show its swept parameter: a physical scan's `nu` as the damping
+/// `c` in N s/m, its `lambda` as the belt speed `v_belt` in m/s
+/// ([`squeal_scan::si::SweptSi`]); any other as stored.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepAxis {
+    /// The stored swept parameter (`nu`, `lambda`, `xi`, `v_d`).
+    pub swept: String,
+    /// The name shown: `c` or `v_belt` in a physical scan, else `swept`.
+    pub key: String,
+    /// The shown value of one stored unit (1 but in a physical scan).
+    pub unit: f64,
+    /// The shown value's units (`None`: nondimensional).
+    pub units: Option<&'static str>,
+}
+
+impl SweepAxis {
+    /// The axis of a sweep file (its physical scales from its attributes).
+    pub fn of(info: &squeal_store::FileInfo) -> SweepAxis {
+        SweepAxis::new(&swept(info), file_scales(info).as_ref())
+    }
+
+    /// The axis of the swept parameter `swept` of a file with physical `scales`, if any.
+    pub fn new(swept: &str, scales: Option<&squeal_core::Scales>) -> SweepAxis {
+        let si = scales.and_then(|s| squeal_scan::si::SweptSi::of(swept, s));
+        match si.filter(|si| si.unit.is_finite()) {
+            Some(si) => SweepAxis {
+                swept: swept.into(),
+                key: si.key.into(),
+                unit: si.unit,
+                units: Some(si.units),
+            },
+            None => SweepAxis {
+                swept: swept.into(),
+                key: swept.into(),
+                unit: 1.0,
+                units: None,
+            },
+        }
+    }
+
+    /// A stored value as shown.
+    pub fn value(&self, v: f64) -> f64 {
+        v * self.unit
+    }
+
+    /// The title of the panel of the stored value `v`: `c = 4 N s/m`, `nu = 0.001`.
+    pub fn panel_title(&self, v: f64) -> String {
+        squeal_plot::panel_title_in(&self.key, self.value(v), self.units)
+    }
+
+    /// The words of a chart's axis over it.
+    pub fn label(&self) -> String {
+        match self.units {
+            Some(u) => format!("{} ({u}; swept parameter)", self.key),
+            None => format!("{} (swept parameter)", self.key),
+        }
+    }
+}
+
+/// The words and scales of the cycle-size chart ([`render_cycle_sizes`]): the distance from
+/// the fixed point along +x and the crossing velocity, in um and mm/s for a physical scan
+/// (`units`: um and mm/s per model unit, [`physical_units`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleWords {
+    /// The two curves' labels.
+    pub curves: [String; 2],
+    /// What each curve's values are multiplied by.
+    pub scale: [f64; 2],
+    /// The vertical axis's words.
+    pub y_label: String,
+}
+
+impl CycleWords {
+    /// The words of the chart of a file with `units` (um and mm/s per model unit), if any.
+    pub fn of(units: Option<(f64, f64)>) -> CycleWords {
+        let what = [
+            "distance from the fixed point along +x",
+            "velocity x' where the cycle crosses x = x*",
+        ];
+        match units {
+            Some((l, v)) => CycleWords {
+                curves: [format!("{} (um)", what[0]), format!("{} (mm/s)", what[1])],
+                scale: [l, v],
+                y_label: "size of the unstable cycle (um; mm/s)".into(),
+            },
+            None => CycleWords {
+                curves: what.map(String::from),
+                scale: [1.0, 1.0],
+                y_label: "size of the unstable cycle (nondimensional)".into(),
+            },
+        }
+    }
+}
+
+/// The SI size of one model unit of a physical scan file (its `length_unit`,
+/// `velocity_unit`, `time_unit` and `damping_unit` attributes; a time or damping unit a
+/// file lacks is NaN); `None` for nondimensional files.
+pub fn file_scales(info: &squeal_store::FileInfo) -> Option<squeal_core::Scales> {
+    let num = |k: &str| attr(info, k).and_then(|v| v.parse::<f64>().ok());
+    let time = num("time_unit").unwrap_or(f64::NAN);
+    Some(squeal_core::Scales {
+        omega0: 1.0 / time,
+        time,
+        length: num("length_unit")?,
+        velocity: num("velocity_unit")?,
+        damping: num("damping_unit").unwrap_or(f64::NAN),
+    })
+}
+
 /// Micrometres and mm/s per nondimensional length and velocity unit of a physical scan file
 /// (its `length_unit`, `velocity_unit` attributes); `None` for nondimensional files.
 fn physical_units(info: &squeal_store::FileInfo) -> Option<(f64, f64)> {
-    let num = |k: &str| attr(info, k).and_then(|v| v.parse::<f64>().ok());
-    Some((num("length_unit")? * 1e6, num("velocity_unit")? * 1e3))
+    file_scales(info).map(|s| (s.length * 1e6, s.velocity * 1e3))
 }
 
 /// The physical system of a physical scan file as a title line ("\nm = 2 kg, k = ..."; empty
-/// for nondimensional files), from its `physical_<key>` and `physical_<key>_units` attributes.
+/// for nondimensional files), from its `physical_<key>` attributes.
 fn physical_line(info: &squeal_store::FileInfo) -> String {
-    let parts: Vec<String> = squeal_scan::atlas::spec::PHYSICAL
-        .iter()
-        .filter_map(|(key, _, _)| {
-            let v: f64 = attr(info, &format!("physical_{key}"))?.parse().ok()?;
-            let u = attr(info, &format!("physical_{key}_units")).unwrap_or("1");
-            let u = if u == "1" {
+    system_line(
+        squeal_scan::atlas::spec::PHYSICAL
+            .iter()
+            .filter_map(|(key, ..)| {
+                Some((*key, attr(info, &format!("physical_{key}"))?.parse().ok()?))
+            }),
+    )
+}
+
+/// A physical system as a title line, "\nm = 2 kg, k = 5e4 N/m, ..." (empty for no
+/// values): each key with its value and units ([`squeal_scan::atlas::spec::PHYSICAL`]).
+pub fn system_line(values: impl IntoIterator<Item = (&'static str, f64)>) -> String {
+    let parts: Vec<String> = values
+        .into_iter()
+        .map(|(key, v)| {
+            let units = (squeal_scan::atlas::spec::PHYSICAL.iter())
+                .find(|(k, ..)| *k == key)
+                .map_or("1", |(.., u)| *u);
+            let u = if units == "1" {
                 String::new()
             } else {
-                format!(" {u}")
+                format!(" {units}")
             };
-            Some(format!("{key} = {}{u}", squeal_plot::fmt_value(v)))
+            format!("{key} = {}{u}", squeal_plot::fmt_value(v))
         })
         .collect();
     if parts.is_empty() {
@@ -230,6 +365,15 @@ fn physical_line(info: &squeal_store::FileInfo) -> String {
     } else {
         format!("\n{}", parts.join(", "))
     }
+}
+
+/// The physical system `ph` as a title line ([`system_line`]): every key given, and the
+/// normal force (the weight m g where none was given).
+pub fn physical_system_line(ph: &squeal_core::Physical) -> String {
+    let mut values = ph.values();
+    values[8] = Some(ph.normal_force());
+    let keys = squeal_scan::atlas::spec::PHYSICAL.iter().map(|(k, ..)| *k);
+    system_line(keys.zip(values).filter_map(|(k, v)| Some((k, v?))))
 }
 
 /// A map's grid in um and mm/s.
@@ -257,4 +401,61 @@ fn to_si<'a>(p: &mut BasinPanel<'a>, xs: &'a [f64], vs: &'a [f64], (l, v): (f64,
         "initial displacement x0 (um)".into(),
         "initial velocity x'0 (mm/s)".into(),
     ]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// README's brake (scans/brake.toml): m = 2 kg, k = 50 kN/m, mu_k = 0.35 under g = 9.81:
+    /// damping unit 2 sqrt(m k) = 632.456 N s/m, length unit mu_k m g / k = 137.3 um,
+    /// velocity unit mu_k g sqrt(m / k) = 21.7 mm/s, time unit sqrt(m / k) = 6.32 ms.
+    fn brake() -> squeal_core::Scales {
+        let time = (2.0f64 / 5e4).sqrt();
+        squeal_core::Scales {
+            omega0: 1.0 / time,
+            time,
+            length: 0.35 * 2.0 * 9.81 / 5e4,
+            velocity: 0.35 * 9.81 * time,
+            damping: 2.0 * (2.0f64 * 5e4).sqrt(),
+        }
+    }
+
+    /// Issue 34, item 4: a physical sweep's pictures name its parameter in SI units: the
+    /// panels `c = 4 N s/m` (the map at nu = 4 / 632.456), the cycle chart against
+    /// `c (N s/m)` with the sizes in um and mm/s, the transient map's colour bar in
+    /// seconds. Before, they said `nu = 0.006325` and "nondimensional". A nondimensional
+    /// sweep's words are as they were.
+    #[test]
+    fn a_physical_sweeps_pictures_are_in_si_units() {
+        let s = brake();
+        let c = SweepAxis::new("nu", Some(&s));
+        assert_eq!(c.panel_title(4.0 / s.damping), "c = 4 N s/m");
+        assert_eq!(c.label(), "c (N s/m; swept parameter)");
+        assert_eq!(c.value(4.0 / s.damping), 4.0);
+        let v = SweepAxis::new("lambda", Some(&s));
+        assert_eq!(v.panel_title(0.05 / s.velocity), "v_belt = 0.05 m/s");
+        let w = CycleWords::of(Some((s.length * 1e6, s.velocity * 1e3)));
+        assert_eq!(w.y_label, "size of the unstable cycle (um; mm/s)");
+        assert!(w.curves[0].ends_with("(um)") && w.curves[1].ends_with("(mm/s)"));
+        let bar = super::super::transient::bar_words(Some(&s));
+        assert_eq!(bar, ["t_squeal", "seconds"]);
+        let t = [f64::INFINITY, -1.0, 0.0, 100.0];
+        let shown = super::super::transient::shown_times(Some(&s), &t);
+        // inf (squeals for good) and -1 (not known) are no times: kept as they are.
+        assert_eq!(shown, [f64::INFINITY, -1.0, 0.0, 100.0 * s.time]);
+
+        let nu = SweepAxis::new("nu", None);
+        assert_eq!(nu.panel_title(0.001), "nu = 0.001");
+        assert_eq!(nu.label(), "nu (swept parameter)");
+        let w = CycleWords::of(None);
+        assert_eq!(w.y_label, "size of the unstable cycle (nondimensional)");
+        assert_eq!(w.curves[0], "distance from the fixed point along +x");
+        assert_eq!(
+            super::super::transient::bar_words(None),
+            ["t_squeal", "nondimensional time", "(natural period 2π)"]
+        );
+        // The laws with true stick have no physical units: xi stays xi.
+        assert_eq!(SweepAxis::new("xi", Some(&s)).key, "xi");
+    }
 }

@@ -216,12 +216,17 @@ fn write_outputs(
         let t_end = *cols.t.last().unwrap_or(&0.0);
         let (ic, fp) = (span.ic, t.fixed_point);
         let model = super::pictures::plot_params(stepper.params(), stepper.dt());
+        // A physical system's run in metres, m/s and seconds, the system in the title.
+        let system = args.model.physical()?;
+        let line = system.as_ref().map(super::pictures::physical_system_line);
+        let si = (system.as_ref().zip(line.as_deref()))
+            .map(|(ph, line)| (super::pictures::si_state(&ph.scales()), line));
         squeal_plot::trajectory_plot(
             path,
             (&cols.x, &cols.v),
             t_end,
             ((ic.x, ic.v), (fp.x, fp.v)),
-            &model,
+            (&model, si),
         )
         .with_context(|| format!("--plot: cannot draw {}", path.display()))?;
     }

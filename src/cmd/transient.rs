@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::common::{attr, check_new, discard, sibling};
+use super::common::{check_new, discard, sibling};
 
 /// Draws `<png>-t_squeal.png` for one map of `h5` (already read as `m`, its panel `panel`
 /// drawn as the basin map) if some cell squealed before it settled; returns the file drawn.
@@ -28,26 +28,45 @@ pub fn draw(
         "time on stick-slip before steady slip",
         1,
     );
-    let bar = bar_words(info);
+    let seconds = in_seconds(info);
+    let (bar, t) = (
+        bar_words(seconds.as_ref()),
+        shown_times(seconds.as_ref(), t),
+    );
     let bar: Vec<&str> = bar.iter().map(String::as_str).collect();
     let with_title = squeal_plot::BasinPanel {
         title,
         ..panel.clone()
     };
-    squeal_plot::transient_map(&out, &with_title, t, &bar).map_err(|e| discard(&out, e))?;
+    squeal_plot::transient_map(&out, &with_title, &t, &bar).map_err(|e| discard(&out, e))?;
     Ok(Some(out))
 }
 
-/// The colour bar's words: the quantity, its unit, and for a physical scan the seconds of
-/// one unit (root attribute `time_unit`).
-fn bar_words(info: &squeal_store::FileInfo) -> Vec<String> {
-    let mut bar: Vec<String> = ["t_squeal", "nondimensional time", "(natural period 2π)"]
-        .map(String::from)
-        .into();
-    if let Some(u) = attr(info, "time_unit").and_then(|v| v.parse::<f64>().ok()) {
-        bar.push(format!("1 unit = {} s", squeal_plot::fmt_value(u)));
+/// Whether a file's transient times are drawn in seconds: a physical scan's (with a time
+/// unit), by these scales.
+fn in_seconds(info: &squeal_store::FileInfo) -> Option<squeal_core::Scales> {
+    super::pictures::file_scales(info).filter(|s| s.time.is_finite())
+}
+
+/// The colour bar's words: the quantity and its unit (seconds for a physical scan,
+/// [`in_seconds`]).
+pub fn bar_words(seconds: Option<&squeal_core::Scales>) -> Vec<String> {
+    match seconds {
+        Some(_) => vec!["t_squeal".into(), "seconds".into()],
+        None => ["t_squeal", "nondimensional time", "(natural period 2π)"]
+            .map(String::from)
+            .into(),
     }
-    bar
+}
+
+/// The times the colour bar colours: `t_squeal` in seconds for a physical scan (its SI twin,
+/// [`squeal_scan::cell::Column::si_of`]), else as stored.
+pub fn shown_times(seconds: Option<&squeal_core::Scales>, t: &[f64]) -> Vec<f64> {
+    let col = squeal_scan::cell::column("t_squeal").expect("a stored column");
+    match seconds {
+        Some(s) => t.iter().map(|&v| col.si_of(v, s)).collect(),
+        None => t.to_vec(),
+    }
 }
 
 /// The sweep's sheet of transient maps, `<png>-t_squeal.png` (the panels of its basin
@@ -80,7 +99,13 @@ pub fn draw_sheet(
         "time on stick-slip before steady slip",
         1,
     );
-    let bar = bar_words(info);
+    let seconds = in_seconds(info);
+    let times: Vec<Vec<f64>> = ts
+        .iter()
+        .map(|t| shown_times(seconds.as_ref(), t))
+        .collect();
+    let ts: Vec<&[f64]> = times.iter().map(Vec::as_slice).collect();
+    let bar = bar_words(seconds.as_ref());
     let bar: Vec<&str> = bar.iter().map(String::as_str).collect();
     squeal_plot::transient_sheet(&out, &title, panels, &ts, (&bar, ncols))
         .map_err(|e| discard(&out, e))?;

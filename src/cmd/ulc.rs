@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use squeal_core::Setup;
+use squeal_core::{Physical, Setup};
 use squeal_scan::ulc::{self, CycleSettings};
 
 use super::pictures;
@@ -81,8 +81,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(p) = &args.plot {
         let fp = params.fixed_point();
         let scale = squeal_plot::StateScale::of_law(params.law.name());
+        // A physical system's cycle in metres and m/s, the system in the title (this map's
+        // c and v_belt).
+        let system = (plan.physical.as_ref()).map(|ph| Physical::from_params(ph, &params));
+        let line = system.as_ref().map(pictures::physical_system_line);
+        let si = (system.as_ref().zip(line.as_deref()))
+            .map(|(ph, line)| (pictures::si_state(&ph.scales()), line));
         let model = pictures::plot_params(&params, plan.dt);
-        squeal_plot::cycle_plot(p, (&rep.curve.x, &rep.curve.v), (fp.x, fp.v), &model, scale)
+        let curve = (&rep.curve.x[..], &rep.curve.v[..]);
+        squeal_plot::cycle_plot(p, curve, (fp.x, fp.v), &model, (scale, si))
             .with_context(|| format!("drawing {}", p.display()))?;
     }
     let found = Found {

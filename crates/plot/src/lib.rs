@@ -56,7 +56,7 @@ pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
 pub use lifetime_chart::{fold_lifetime_charts, fold_lifetime_paths, has_fold_lifetimes};
 pub use line::{
-    Gap, cycle_gaps, cycle_plot, line_plot, missing_values, phase_plot, sweep_chart,
+    Gap, cycle_gaps, cycle_plot, line_plot, missing_values, phase_plot, phase_plot_si, sweep_chart,
     trajectory_plot,
 };
 pub use transient::{has_transients, transient_map, transient_sheet};
@@ -303,6 +303,23 @@ pub const X0_LABEL: &str = "initial displacement x0 (unit: μk m g / k)";
 /// Vertical axis of a basin map.
 pub const V0_LABEL: &str = "initial velocity x'0 (unit: μk g √(m/k))";
 
+/// A physical system's state in SI units: metres per model unit of `x`, m/s per model unit
+/// of `x'` (its `length_unit` and `velocity_unit`), for pictures drawn in SI.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SiState {
+    /// Metres per model unit of `x`.
+    pub length: f64,
+    /// m/s per model unit of `x'`.
+    pub velocity: f64,
+    /// Seconds per model unit of time.
+    pub time: f64,
+}
+
+impl SiState {
+    /// Horizontal and vertical axis words of a phase plane `(x, x')` in SI units.
+    pub const PHASE_LABELS: [&'static str; 2] = ["displacement x (m)", "velocity x' (m/s)"];
+}
+
 /// The unit of a picture's state axes: each friction law is written in its own
 /// nondimensional variables, so the axis words follow the law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -429,8 +446,14 @@ pub fn map_title(p: &ModelParams) -> String {
 /// Overall title of a sheet of maps sweeping `swept`: `name`, the law, then the parameters
 /// shared by all maps (`p` holds them; its value of `swept` is not shown).
 pub fn sheet_title(name: &str, p: &ModelParams, swept: &str) -> String {
+    sheet_title_per(name, p, swept, swept)
+}
+
+/// [`sheet_title`] of a sheet whose panels are named by `per` (a physical sweep's `c` for
+/// its swept `nu`).
+pub fn sheet_title_per(name: &str, p: &ModelParams, swept: &str, per: &str) -> String {
     format!(
-        "{name}: basins of attraction, {}, one map per {swept}\n{}",
+        "{name}: basins of attraction, {}, one map per {per}\n{}",
         law_title(&p.law),
         params_line(p, Some(swept))
     )
@@ -439,6 +462,14 @@ pub fn sheet_title(name: &str, p: &ModelParams, swept: &str) -> String {
 /// Title of one panel of a sheet: `nu = 0.001`.
 pub fn panel_title(swept: &str, value: f64) -> String {
     format!("{swept} = {}", fmt_number(value))
+}
+
+/// [`panel_title`] with units: `c = 4 N s/m` (none: as [`panel_title`]).
+pub fn panel_title_in(swept: &str, value: f64, units: Option<&str>) -> String {
+    match units {
+        Some(u) => format!("{} {u}", panel_title(swept, value)),
+        None => panel_title(swept, value),
+    }
 }
 
 /// Title of a phase-plane picture: `what`, the law, then every parameter and the step.

@@ -28,20 +28,22 @@ pub fn line_plot(
             curves,
             markers,
             log_x,
-            equal_aspect: false,
+            aspect: None,
             gaps: None,
         },
     )
 }
 
 /// The unstable limit cycle `(xs, vs)` (one revolution; closed here) in its phase plane,
-/// with the fixed point `fp` and the state at rest marked, titled with the model `p`.
+/// with the fixed point `fp` and the state at rest marked, titled with the model `p`; in
+/// metres and m/s for a physical system (`si`: its units and its line of the title,
+/// [`phase_plot_si`]).
 pub fn cycle_plot(
     path: &Path,
     (xs, vs): (&[f64], &[f64]),
     fp: (f64, f64),
     p: &ModelParams,
-    scale: StateScale,
+    (scale, si): (StateScale, Option<(SiState, &str)>),
 ) -> Result<(), PlotError> {
     let close = |a: &[f64]| a.iter().chain(a.first()).copied().collect::<Vec<_>>();
     let curve = Curve {
@@ -66,7 +68,10 @@ pub fn cycle_plot(
         },
     ];
     let title = phase_title("Unstable limit cycle", p);
-    phase_plot(path, &title, scale, &[curve], &marks)
+    match si {
+        Some((si, system)) => phase_plot_si(path, &(title + system), si, &[curve], &marks),
+        None => phase_plot(path, &title, scale, &[curve], &marks),
+    }
 }
 
 /// At most this many points of a trajectory are drawn ([`trajectory_plot`] decimates more).
@@ -74,13 +79,14 @@ pub const MAX_TRAJECTORY_POINTS: usize = 200_000;
 
 /// One run's phase plane: its samples `(xs, vs)` from `t = 0` to `t_end` (at most
 /// [`MAX_TRAJECTORY_POINTS`] of them drawn, evenly decimated, and the last), the start `ic`
-/// and the fixed point `fp` marked, titled with the model `p`.
+/// and the fixed point `fp` marked, titled with the model `p`; in metres, m/s and seconds
+/// for a physical system (`si`: its units and its line of the title, [`phase_plot_si`]).
 pub fn trajectory_plot(
     path: &Path,
     (xs, vs): (&[f64], &[f64]),
     t_end: f64,
     (ic, fp): ((f64, f64), (f64, f64)),
-    p: &ModelParams,
+    (p, si): (&ModelParams, Option<(SiState, &str)>),
 ) -> Result<(), PlotError> {
     let stride = xs.len().div_ceil(MAX_TRAJECTORY_POINTS).max(1);
     let (mut dx, mut dv): (Vec<f64>, Vec<f64>) = xs
@@ -93,16 +99,26 @@ pub fn trajectory_plot(
         dx.push(*x);
         dv.push(*v);
     }
+    // The numbers in the words, in SI units for a physical system.
+    let (l, v, t, [lu, vu, tu]) = match si {
+        Some((s, _)) => (s.length, s.velocity, s.time, [" m", " m/s", " s"]),
+        None => (1.0, 1.0, 1.0, [""; 3]),
+    };
     let title = phase_title(
         &format!(
-            "Trajectory from (x0, x'0) = ({}, {})",
-            fmt_number(ic.0),
-            fmt_number(ic.1)
+            "Trajectory from (x0, x'0) = ({}{lu}, {}{vu})",
+            fmt_number(ic.0 * l),
+            fmt_number(ic.1 * v)
         ),
         p,
-    );
+    ) + si.map_or("", |(_, system)| system);
+    // (The model's numbers as before: in full.)
+    let num = |x: f64, unit: f64| match si {
+        Some(_) => fmt_number(x * unit),
+        None => x.to_string(),
+    };
     let curves = [Curve {
-        label: format!("trajectory, t in [0, {t_end}]"),
+        label: format!("trajectory, t in [0, {}{tu}]", num(t_end, t)),
         xs: dx,
         ys: dv,
         color: Rgb(49, 110, 198),
@@ -110,7 +126,7 @@ pub fn trajectory_plot(
     }];
     let markers = [
         Marker {
-            label: format!("fixed point ({}, 0)", fp.0),
+            label: format!("fixed point ({}{lu}, 0)", num(fp.0, l)),
             x: fp.0,
             y: fp.1,
             color: FIXED_POINT,
@@ -122,8 +138,10 @@ pub fn trajectory_plot(
             color: Rgb(238, 118, 22),
         },
     ];
-    let scale = StateScale::of_law(&p.law);
-    phase_plot(path, &title, scale, &curves, &markers)
+    match si {
+        Some((s, _)) => phase_plot_si(path, &title, s, &curves, &markers),
+        None => phase_plot(path, &title, StateScale::of_law(&p.law), &curves, &markers),
+    }
 }
 
 /// A phase plane `(x, x')`: as [`line_plot`] with the axis labels of `scale` (the law's
@@ -146,7 +164,48 @@ pub fn phase_plot(
             curves,
             markers,
             log_x: false,
-            equal_aspect: true,
+            aspect: Some(1.0),
+            gaps: None,
+        },
+    )
+}
+
+/// A phase plane of a physical system in SI units: the curves and markers (in the model's
+/// units) drawn in metres and m/s ([`SiState::PHASE_LABELS`]), with one model unit of `x`
+/// as long as one of `x'`, as [`phase_plot`] draws it (a circle of the model's units stays
+/// a circle; metres against m/s at equal scales would squeeze it into a strip). Size 900x800.
+pub fn phase_plot_si(
+    path: &Path,
+    title: &str,
+    si: SiState,
+    curves: &[Curve],
+    markers: &[Marker],
+) -> Result<(), PlotError> {
+    let curves: Vec<Curve> = (curves.iter())
+        .map(|c| Curve {
+            xs: c.xs.iter().map(|x| x * si.length).collect(),
+            ys: c.ys.iter().map(|v| v * si.velocity).collect(),
+            ..c.clone()
+        })
+        .collect();
+    let markers: Vec<Marker> = (markers.iter())
+        .map(|m| Marker {
+            x: m.x * si.length,
+            y: m.y * si.velocity,
+            ..m.clone()
+        })
+        .collect();
+    let [x_label, y_label] = SiState::PHASE_LABELS;
+    line_chart(
+        path,
+        LineOpts {
+            title,
+            x_label,
+            y_label,
+            curves: &curves,
+            markers: &markers,
+            log_x: false,
+            aspect: Some(si.velocity / si.length),
             gaps: None,
         },
     )
@@ -194,7 +253,7 @@ pub fn sweep_chart(
             curves,
             markers: &[],
             log_x,
-            equal_aspect: false,
+            aspect: None,
             gaps: Some(gaps),
         },
     )
@@ -267,7 +326,9 @@ struct LineOpts<'p> {
     curves: &'p [Curve],
     markers: &'p [Marker],
     log_x: bool,
-    equal_aspect: bool,
+    /// Phase planes: `Some(r)` draws `r` units of y as long as one unit of x (1: equal
+    /// scales; a physical system's `velocity / length` keeps its model units equal).
+    aspect: Option<f64>,
     /// Sweep charts: the x values without data, by reason. Curves without any drawable point
     /// are then allowed.
     gaps: Option<&'p [Gap]>,
@@ -400,9 +461,10 @@ impl LineData {
         points.extend(o.gap_xs().map(|x| unit(x, gap_y)));
         let (corner, stretch) = place_legend(&points, legend);
         y_range.end = y_range.start + stretch * (y_range.end - y_range.start);
-        if o.equal_aspect && !o.log_x {
-            let (x, y) = equal_aspect_ranges(x_range, y_range, pixels);
-            return (x, y, corner);
+        if let (Some(r), false) = (o.aspect, o.log_x) {
+            let y = (y_range.start / r)..(y_range.end / r);
+            let (x, y) = equal_aspect_ranges(x_range, y, pixels);
+            return (x, (y.start * r)..(y.end * r), corner);
         }
         (x_range, y_range, corner)
     }
@@ -535,7 +597,7 @@ fn line_chart(path: &Path, o: LineOpts<'_>) -> Result<(), PlotError> {
         o.log_x = false;
         data = LineData::of(&o)?;
     }
-    let size = if o.equal_aspect {
+    let size = if o.aspect.is_some() {
         (900, 800)
     } else {
         (900, 700)

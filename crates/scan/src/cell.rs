@@ -7,7 +7,9 @@
 //! field.
 
 use serde::Serialize;
-use squeal_core::{Outcome, Regime};
+use squeal_core::{Outcome, Regime, Scales};
+
+use crate::si::Si;
 
 /// One classified cell: the label and the diagnostics stored beside it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -223,6 +225,9 @@ pub struct Column {
     pub get: fn(&Cell) -> Num,
     /// Writes the column into a cell.
     pub set: fn(&mut Cell, Num),
+    /// Its SI twin in a physical scan (`<name>_si`): how it converts, and the twin's long
+    /// name; `None` for a ratio, a count or a flag.
+    pub si: Option<(Si, &'static str)>,
 }
 
 impl Column {
@@ -243,6 +248,22 @@ impl Column {
                 .map_or_else(|| v.as_u64().to_string(), str::to_string),
             (_, Num::U(u)) => u.to_string(),
             (_, Num::F(f)) => f.to_string(),
+        }
+    }
+
+    /// The column's value in a cell in SI units by the scales `s` (NaN for a column without
+    /// an SI twin). A time keeps [`squeal_core::T_SQUEAL_UNKNOWN`] (`t_squeal`'s "not
+    /// known", no time); infinity stays infinite, NaN NaN.
+    pub fn si_value(&self, c: &Cell, s: &Scales) -> f64 {
+        self.si_of((self.get)(c).as_f64(), s)
+    }
+
+    /// [`Column::si_value`] of a value `v` of the column.
+    pub fn si_of(&self, v: f64, s: &Scales) -> f64 {
+        match self.si {
+            None => f64::NAN,
+            Some((Si::Time, _)) if v == squeal_core::T_SQUEAL_UNKNOWN => v,
+            Some((si, _)) => si.convert(v, s),
         }
     }
 }
@@ -315,9 +336,13 @@ macro_rules! col {
             fill: Num::U($fill),
             get: |c| Num::U(c.$name as u64),
             set: |c, v| c.$name = v.as_u64() as _,
+            si: None,
         }
     };
     ($name:ident, $long:expr, $units:expr, F64, f) => {
+        col!($name, $long, $units, F64, f, None)
+    };
+    ($name:ident, $long:expr, $units:expr, F64, f, $si:expr) => {
         Column {
             name: stringify!($name),
             long_name: $long,
@@ -327,6 +352,7 @@ macro_rules! col {
             fill: Num::F(f64::NAN),
             get: |c| Num::F(c.$name),
             set: |c, v| c.$name = v.as_f64(),
+            si: $si,
         }
     };
 }
@@ -342,6 +368,7 @@ pub const COLUMNS: &[Column] = &[
         fill: Num::U(NOT_COMPUTED as u64),
         get: |c| Num::U(c.regime as u64),
         set: |c, v| c.regime = v.as_u64() as u8,
+        si: None,
     },
     col!(
         reason,
@@ -357,21 +384,27 @@ pub const COLUMNS: &[Column] = &[
         "time at the decision (nondimensional time, natural period 2 pi)",
         "1",
         F64,
-        f
+        f,
+        Some((Si::Time, "time at the decision (seconds)"))
     ),
     col!(
         amplitude,
         "last section amplitude: x' at the last crossing of x = x*",
         "1",
         F64,
-        f
+        f,
+        Some((
+            Si::Velocity,
+            "last section amplitude: x' at the last crossing of x = x* (m/s)"
+        ))
     ),
     col!(
         omega,
         "angular frequency of the last revolution (natural frequency 1)",
         "1",
         F64,
-        f
+        f,
+        Some((Si::Frequency, "frequency of the last revolution (Hz)"))
     ),
     col!(
         quasi_static,
@@ -433,7 +466,13 @@ pub const COLUMNS: &[Column] = &[
          stick-slip for good, -1 not known (undecided, or stopped before its last stick)",
         "1",
         F64,
-        f
+        f,
+        Some((
+            Si::Time,
+            "time on stick-slip before the run settled: end of its last stuck step (seconds); 0 \
+             never stuck, inf stick-slip for good, -1 not known (undecided, or stopped before \
+             its last stick)"
+        ))
     ),
     col!(
         sticks,
@@ -459,7 +498,12 @@ pub const COLUMNS: &[Column] = &[
          metres: times the file's length_unit); NaN where none was identified",
         "1",
         F64,
-        f
+        f,
+        Some((
+            Si::Length,
+            "half the range of x over the lasting oscillation the run reached (metres); NaN \
+             where none was identified"
+        ))
     ),
     col!(
         v_amplitude,
@@ -467,7 +511,12 @@ pub const COLUMNS: &[Column] = &[
          m/s: times the file's velocity_unit); NaN where none was identified",
         "1",
         F64,
-        f
+        f,
+        Some((
+            Si::Velocity,
+            "half the range of x' over the lasting oscillation the run reached (m/s); NaN \
+             where none was identified"
+        ))
     ),
 ];
 

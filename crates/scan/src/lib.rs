@@ -79,6 +79,7 @@ pub mod observe;
 pub mod redo;
 pub mod scanner;
 pub mod section;
+pub mod si;
 pub mod spec;
 pub mod trajectory;
 pub mod ulc;

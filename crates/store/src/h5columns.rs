@@ -86,6 +86,45 @@ pub(crate) fn column_dataset(
     Ok(ds)
 }
 
+/// Creates the SI twin `<name>_si` of a column with an SI notion ([`Column::si`]): f64, fill
+/// NaN, its own long name and SI units (a physical scan's cells).
+pub(crate) fn si_dataset(
+    file: &File,
+    col: &Column,
+    shape: &[usize],
+    chunk: &[usize],
+) -> hdf5::Result<Option<Dataset>> {
+    let Some((si, long)) = col.si else {
+        return Ok(None);
+    };
+    let ds = file
+        .new_dataset_builder()
+        .obj_track_times(false)
+        .empty::<f64>()
+        .shape(shape)
+        .chunk(chunk)
+        .deflate(4)
+        .fill_value(f64::NAN)
+        .create(format!("{}_si", col.name).as_str())?;
+    str_attr(&ds, "long_name", long)?;
+    str_attr(&ds, "units", si.units())?;
+    Ok(Some(ds))
+}
+
+/// Writes the SI twin of one column ([`si_dataset`]) of a block's cells, by the scales `s`,
+/// as [`write_column`] writes the column.
+pub(crate) fn write_si_column(
+    ds: &Dataset,
+    col: &Column,
+    (cells, s): (&[Cell], &squeal_core::Scales),
+    prefix: &[usize],
+    rows: std::ops::Range<usize>,
+    nx: usize,
+) -> hdf5::Result<()> {
+    let v = cells.iter().map(|c| col.si_value(c, s)).collect();
+    write_rows(ds, v, prefix, rows, nx)
+}
+
 /// Writes one column of a block's cells at `prefix` (the indices of the leading dimensions:
 /// none for one map, the map of a sweep, an atlas point's indices).
 pub(crate) fn write_column(

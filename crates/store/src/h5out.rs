@@ -127,6 +127,10 @@ impl Dims {
 pub(crate) struct Out<'a> {
     pub file: &'a File,
     pub dims: Dims,
+    /// Auxiliary coordinates (CF): (path of the dimension scale, name of the variable over
+    /// it), such as a physical scan's `x0_si` over `x0`. A variable [`Out::put`] then writes
+    /// over one of those dimensions names them in its `coordinates` attribute.
+    pub aux: Vec<(String, String)>,
 }
 
 /// The dimensions of a family of datasets: their shape and scales.
@@ -216,7 +220,28 @@ impl Out<'_> {
         let ds = dataset(g, name, &a, long, units)?;
         let refs: Vec<&Dataset> = over.scales.iter().collect();
         self.dims.attach(self.file, &ds, &refs)?;
+        self.declare_coordinates(&ds, over)?;
         Ok(ds)
+    }
+
+    /// Makes `aux` (a variable over the dimension scale `dim`) an auxiliary coordinate of
+    /// every variable written over `dim` from now on.
+    pub(crate) fn aux_coordinate(&mut self, dim: &Dataset, aux: &str) {
+        self.aux.push((dim.name(), aux.to_string()));
+    }
+
+    /// The CF `coordinates` attribute of `ds` over `over`: the auxiliary coordinates over its
+    /// dimensions, in the order declared (none: no attribute).
+    pub(crate) fn declare_coordinates(&self, ds: &Dataset, over: &Over) -> hdf5::Result<()> {
+        let dims: Vec<String> = over.scales.iter().map(|d| d.name()).collect();
+        let names: Vec<&str> = (self.aux.iter())
+            .filter(|(d, _)| dims.contains(d))
+            .map(|(_, a)| a.as_str())
+            .collect();
+        if names.is_empty() {
+            return Ok(());
+        }
+        str_attr(ds, "coordinates", &names.join(" "))
     }
 
     /// [`Out::put`] of an enum with its CF flags (`meanings` of `values`).

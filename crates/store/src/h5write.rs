@@ -8,6 +8,7 @@ use crate::LandscapeInfo;
 use hdf5::{Dataset, File, Group};
 use squeal_scan::cell::{COLUMNS, Cell};
 use squeal_scan::checks::CHECK_FIELDS;
+use squeal_scan::si::{Si, SweptSi};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
 use squeal_scan::{Grid, MapChecks, MapTally, Plan};
@@ -39,6 +40,7 @@ pub(crate) struct Meta<'a> {
 }
 
 pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
+use crate::h5columns::{si_dataset, write_si_column};
 
 /// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
@@ -213,6 +215,7 @@ fn write_all(
     let mut o = Out {
         file,
         dims: Dims::new(class_type(path)?),
+        aux: Vec::new(),
     };
     root_attrs(file, plan, meta).h5(path)?;
     let sc = scales(&mut o, plan).h5(path)?;
@@ -236,7 +239,8 @@ fn write_all(
         scales: vec![sc.map.clone()],
     };
     per_map(&mut o, plan, (&over, &sc.block), &maps, &landscape).h5(path)?;
-    write_cycles(&mut o, &over, &maps.cycles, plan.sweep.is_some()).h5(path)?;
+    let si = (plan.sweep.is_some(), vars.scales.as_ref());
+    write_cycles(&mut o, &over, &maps.cycles, si).h5(path)?;
     o.dims.finish().h5(path)?;
     Ok(maps.checks)
 }
@@ -268,7 +272,66 @@ fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
         None => "block of grid rows",
     };
     let block = o.index("block", g.blocks(), block)?;
+    if let Some(ph) = &plan.physical {
+        si_coordinates(o, plan, &ph.scales(), [&x0, &v0, &map])?;
+    }
     Ok(Scales { x0, v0, map, block })
+}
+
+/// A physical scan's coordinates in SI units beside the nondimensional ones (CF auxiliary
+/// coordinates, named in the `coordinates` attribute of every variable over their
+/// dimension): `x0_si` (m) and `v0_si` (m/s) over the grid's axes (or the random sample's
+/// index), and the swept `c` (N s/m) or `v_belt` (m/s) over the swept `nu` or `lambda`.
+/// One nondimensional unit is the same length, velocity, time and damping at every map (the
+/// units depend on m, k, mu_k and the load, which a scan does not sweep).
+fn si_coordinates(
+    o: &mut Out,
+    plan: &Plan,
+    s: &squeal_core::Scales,
+    [x0, v0, map]: [&Dataset; 3],
+) -> hdf5::Result<()> {
+    let g = &plan.grid;
+    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.sample {
+        Some(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
+        None => (g.x0.values(), g.v0.values()),
+    };
+    let over = |d: &Dataset| Over {
+        shape: vec![d.size()],
+        scales: vec![d.clone()],
+    };
+    let mut aux = Vec::new();
+    for (name, d, vals, unit, units, long) in [
+        (
+            "x0_si",
+            x0,
+            xs,
+            s.length,
+            "m",
+            "initial displacement x(0) (metres)",
+        ),
+        (
+            "v0_si",
+            v0,
+            vs,
+            s.velocity,
+            "m/s",
+            "initial velocity x'(0) (m/s)",
+        ),
+    ] {
+        let si = vals.iter().map(|v| v * unit).collect();
+        o.put(&over(d), (name, long), Some(units), si)?;
+        aux.push((d, name.to_string()));
+    }
+    let swept = (plan.sweep.as_ref()).and_then(|sw| Some((sw, SweptSi::of(sw.name, s)?)));
+    if let Some((sw, si)) = swept {
+        let v = sw.values.iter().map(|v| v * si.unit).collect();
+        o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
+        aux.push((map, si.key.to_string()));
+    }
+    for (d, name) in aux {
+        o.aux_coordinate(d, &name);
+    }
+    Ok(())
 }
 
 /// A random sample's index (as both x0 and v0 scales), with its points' x0 and v0.
@@ -289,7 +352,8 @@ fn sample_scales(o: &mut Out, g: &Grid) -> hdf5::Result<(Dataset, Dataset)> {
 
 /// The datasets of the cell columns, empty (filled block by block), over (map, v0, x0):
 /// without the map for one map, without x0 for a random sample (a list over `sample`).
-fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<Vec<Dataset>> {
+/// A physical scan also has each column's SI twin ([`si_dataset`]), after the columns.
+fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
     let g = &plan.grid;
     let (nx, nv) = (g.x0.count, g.v0.count);
     let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
@@ -312,11 +376,29 @@ fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<Vec<Dataset>
         .iter()
         .map(|col| column_dataset(o.file, col, col.name, &over.shape, &chunk))
         .collect::<hdf5::Result<_>>()?;
-    let scales: Vec<&Dataset> = over.scales.iter().collect();
-    for v in &vars {
-        o.dims.attach(o.file, v, &scales)?;
+    let mut si = Vec::new();
+    if plan.physical.is_some() {
+        for col in COLUMNS {
+            if let Some(ds) = si_dataset(o.file, col, &over.shape, &chunk)? {
+                si.push((ds, col));
+            }
+        }
     }
-    Ok(vars)
+    let scales: Vec<&Dataset> = over.scales.iter().collect();
+    for v in vars.iter().chain(si.iter().map(|(d, _)| d)) {
+        o.dims.attach(o.file, v, &scales)?;
+        o.declare_coordinates(v, &over)?;
+    }
+    let scales = plan.physical.as_ref().map(|ph| ph.scales());
+    Ok(CellVars { vars, si, scales })
+}
+
+/// The datasets of the cell columns ([`cell_vars`]) and, in a physical scan, their SI twins
+/// with the scales that convert them.
+struct CellVars {
+    vars: Vec<Dataset>,
+    si: Vec<(Dataset, &'static squeal_scan::Column)>,
+    scales: Option<squeal_core::Scales>,
 }
 
 /// Writes every stored block of every map into `vars`, one block in memory at a time, and
@@ -325,7 +407,7 @@ fn write_cells<'l>(
     plan: &Plan,
     src: &mut dyn Source,
     path: &Path,
-    vars: &[Dataset],
+    cv: &CellVars,
     landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
 ) -> Result<Maps, StoreError> {
     let g = &plan.grid;
@@ -360,9 +442,15 @@ fn write_cells<'l>(
             maps.done[m * nblocks + b] = 1;
             tally.add_block(plan, b, &cells);
             let prefix: &[usize] = if plan.sweep.is_some() { &[m] } else { &[] };
-            for (ds, col) in vars.iter().zip(COLUMNS) {
+            for (ds, col) in cv.vars.iter().zip(COLUMNS) {
                 write_column(ds, col, &cells, prefix, rows.clone(), nx)
                     .map_err(|e| bad(format!("map {m} block {b}: {e}")))?;
+            }
+            if let Some(s) = &cv.scales {
+                for (ds, col) in &cv.si {
+                    write_si_column(ds, col, (&cells, s), prefix, rows.clone(), nx)
+                        .map_err(|e| bad(format!("map {m} block {b}: {e}")))?;
+                }
             }
         }
         let (checks, shares) = tally.finish(plan);
@@ -416,36 +504,51 @@ fn per_map<'l>(
     Ok(())
 }
 
-/// A sweep's per-map cycle figures: dataset name, value, long name.
-type Series = (&'static str, fn(&CycleReport) -> f64, &'static str);
+/// A sweep's per-map cycle figures: dataset name, value, long name, and how a physical
+/// scan's SI twin `<name>_si` converts it.
+type Series = (&'static str, fn(&CycleReport) -> f64, &'static str, Si);
 
 const SERIES: [Series; 5] = [
     (
         "cycle_r_section",
         |c| c.r_section,
         "cycle crossing of the section x = x*: x' there",
+        Si::Velocity,
     ),
     (
         "cycle_distance_plus_x",
         |c| c.distance_plus_x,
         "distance from the fixed point to the cycle along +x",
+        Si::Length,
     ),
-    ("cycle_area", |c| c.area, "area enclosed by the cycle"),
-    ("cycle_period", |c| c.period, "period of the cycle"),
+    (
+        "cycle_area",
+        |c| c.area,
+        "area enclosed by the cycle",
+        Si::Area,
+    ),
+    (
+        "cycle_period",
+        |c| c.period,
+        "period of the cycle",
+        Si::Time,
+    ),
     (
         "cycle_multiplier",
         |c| c.multiplier,
         "Floquet multiplier of the cycle",
+        Si::None,
     ),
 ];
 
 /// The cycles: group `/cycle` (one map) or `/cycles/map_NNNN` (a sweep, with the figures
-/// of [`SERIES`] over the maps), for the maps whose search was recorded.
+/// of [`SERIES`] over the maps, and their SI twins by `scales` in a physical scan), for the
+/// maps whose search was recorded.
 fn write_cycles(
     o: &mut Out,
     over: &Over,
     cycles: &[Option<CycleRecord>],
-    sweep: bool,
+    (sweep, scales): (bool, Option<&squeal_core::Scales>),
 ) -> hdf5::Result<()> {
     let recorded = |m: usize| cycles[m].as_ref().filter(|c| c.is_some());
     if !sweep {
@@ -463,9 +566,14 @@ fn write_cycles(
             }
         }
     }
-    for (name, f, long) in SERIES {
-        let v = cycles.iter().map(|c| report_of(c).map_or(f64::NAN, f));
-        o.put(over, (name, long), Some("1"), v.collect())?;
+    for (name, f, long, si) in SERIES {
+        let v: Vec<f64> = (cycles.iter().map(|c| report_of(c).map_or(f64::NAN, f))).collect();
+        o.put(over, (name, long), Some("1"), v.clone())?;
+        if let (Some(s), false) = (scales, si == Si::None) {
+            let v = v.iter().map(|&x| si.convert(x, s)).collect();
+            let named = (&format!("{name}_si"), &format!("{long} ({})", si.units()));
+            o.put(over, (named.0, named.1), Some(si.units()), v)?;
+        }
     }
     let enc = cycles
         .iter()

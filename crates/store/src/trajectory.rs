@@ -12,6 +12,8 @@
 //!              time_unit, damping_unit f64 with their _units: the SI size of one unit)
 //! t  (t)       f64 dimension scale: nondimensional time (natural period 2 pi)
 //! x, v, a, force (t)   f64, long_name and units "1", attached to t
+//! a physical run also: t_si (t) f64 time in s; x_si (t) f64 in m, v_si (t) f64 in m/s;
+//!              every variable but t_si names it in its CF `coordinates` attribute
 //! ```
 
 use std::path::Path;
@@ -21,6 +23,7 @@ use hdf5::File;
 use crate::error::H5Ctx;
 use crate::h5out::{Dims, class_type, num_attr, str_attr};
 use crate::{Provenance, StoreError};
+use squeal_scan::si::Si;
 
 /// The `schema` attribute of trajectory files.
 pub const TRAJECTORY_SCHEMA: &str = "squeal-trajectory/1";
@@ -86,7 +89,24 @@ pub fn write_trajectory(
         )?;
         str_attr(&t, "units", "1")?;
         dims.scale(&t, "t")?;
-        for (name, long, data) in series {
+        // A physical run: the time in seconds and the series of [`SI_SERIES`] in SI units
+        // beside the nondimensional ones; `t_si` a CF auxiliary coordinate of every variable.
+        let scales = attrs.physical.map(|ph| ph.scales());
+        let mut all: Vec<(String, &str, Vec<f64>, &str)> = series
+            .iter()
+            .map(|(name, long, data)| (name.to_string(), *long, data.to_vec(), "1"))
+            .collect();
+        if let Some(s) = &scales {
+            for (name, si, long) in SI_SERIES {
+                if let Some((_, _, data)) = series.iter().find(|(n, ..)| *n == name) {
+                    let v = data.iter().map(|&x| si.convert(x, s)).collect();
+                    all.push((format!("{name}_si"), long, v, si.units()));
+                }
+            }
+            let ts = time.iter().map(|&x| Si::Time.convert(x, s)).collect();
+            all.push(("t_si".into(), "time (seconds)", ts, "s"));
+        }
+        for (name, long, data, units) in &all {
             if data.len() != time.len() {
                 return Err(hdf5::Error::from(format!(
                     "{name} has {} samples, t has {}",
@@ -97,11 +117,14 @@ pub fn write_trajectory(
             let ds = file
                 .new_dataset_builder()
                 .obj_track_times(false)
-                .with_data(*data)
-                .create(*name)?;
+                .with_data(data.as_slice())
+                .create(name.as_str())?;
             str_attr(&ds, "long_name", long)?;
-            str_attr(&ds, "units", "1")?;
+            str_attr(&ds, "units", units)?;
             dims.attach(&file, &ds, &[&t])?;
+            if scales.is_some() && name != "t_si" {
+                str_attr(&ds, "coordinates", "t_si")?;
+            }
         }
         dims.finish()
     })()
@@ -138,6 +161,13 @@ pub fn read_trajectory_info(path: &Path) -> Result<TrajectoryInfo, StoreError> {
     })()
     .h5(path)
 }
+
+/// The series of [`write_samples`] that a physical run also stores in SI units, as
+/// `<name>_si`: how each converts, and the twin's long name.
+const SI_SERIES: [(&str, Si, &str); 2] = [
+    ("x", Si::Length, "displacement x (metres)"),
+    ("v", Si::Velocity, "velocity x' (m/s)"),
+];
 
 /// Writes a run's samples ([`squeal_core::Samples`]) to a trajectory file: time as the
 /// dimension, `x`, `v`, `a` and `force` with their long names (the file's schema, in this

@@ -321,6 +321,37 @@ fn phase_plot_draws_circles_round() {
     assert!((y1 - y0) as f64 > 1.5 * (x1 - x0) as f64);
 }
 
+/// Issue 34, item 4: a physical system's phase plane (`squeal ulc --plot`) is drawn in
+/// metres and m/s, and still at equal scales in the model's units: the clamped pad's length
+/// unit is 2.85 mm and its velocity unit 1.425 m/s (crates/core/src/units.rs's
+/// `a_normal_force_stands_for_the_weight`), so at equal scales in m and m/s a circle would be
+/// a strip 500 times taller than wide. Before, the picture was in the model's units only.
+#[test]
+fn a_physical_phase_plane_is_in_si_units_and_round() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("si.png");
+    let mut c = circle(1.0, 1.0, 720);
+    c.color = STICK;
+    c.label = String::new();
+    let si = SiState {
+        length: 2.85e-3,
+        velocity: 1.425,
+        time: 2e-3,
+    };
+    assert_eq!(
+        SiState::PHASE_LABELS,
+        ["displacement x (m)", "velocity x' (m/s)"]
+    );
+    phase_plot_si(&path, "si", si, &[c], &[]).unwrap();
+    let pic = decode(&path, (900, 800));
+    let (x0, y0, x1, y1) = pic.bbox(STICK).expect("the circle is drawn");
+    let (w, h) = ((x1 - x0) as i64, (y1 - y0) as i64);
+    assert!(
+        w > 100 && (w - h).abs() <= 3,
+        "cycle drawn {w} x {h} pixels"
+    );
+}
+
 /// One gap group holding every missing value of `curves`.
 fn one_gap(curves: &[Curve]) -> Vec<Gap> {
     vec![Gap {

@@ -5,65 +5,7 @@
 use super::boundary::{Boundary, BoundaryResult, BoundaryStatus};
 use super::figures::{AtlasRegime, CycleFigures, PointResult, StickSlipFigures};
 use super::spec::AtlasPlan;
-use squeal_core::Scales;
-
-/// How a nondimensional figure converts to SI units.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Si {
-    /// Not converted (a ratio, a count, a flag).
-    None,
-    /// A displacement: m.
-    Length,
-    /// A velocity: m/s.
-    Velocity,
-    /// A time: s.
-    Time,
-    /// An angular frequency, converted to a frequency in Hz (its SI column says
-    /// "frequency", [`Si::long_name`]).
-    Frequency,
-    /// A phase-plane area: m^2/s.
-    Area,
-    /// A damping ratio, converted to a damping coefficient in N s/m.
-    Damping,
-}
-
-impl Si {
-    /// The SI unit's symbol.
-    pub fn units(self) -> &'static str {
-        match self {
-            Si::None => "1",
-            Si::Length => "m",
-            Si::Velocity => "m/s",
-            Si::Time => "s",
-            Si::Frequency => "Hz",
-            Si::Area => "m^2/s",
-            Si::Damping => "N s/m",
-        }
-    }
-
-    /// The long name of the SI column of a column named `long`: an angular frequency's is a
-    /// frequency (Hz), a damping ratio's a damping coefficient (N s/m).
-    pub fn long_name(self, long: &str) -> String {
-        match self {
-            Si::Frequency => long.replace("angular frequency", "frequency"),
-            Si::Damping => long.replace("damping ratio", "damping coefficient c"),
-            _ => long.to_string(),
-        }
-    }
-
-    /// A nondimensional value in SI units.
-    pub fn convert(self, v: f64, s: &Scales) -> f64 {
-        match self {
-            Si::None => v,
-            Si::Length => v * s.length,
-            Si::Velocity => v * s.velocity,
-            Si::Time => v * s.time,
-            Si::Frequency => s.hz(v),
-            Si::Area => v * s.area(),
-            Si::Damping => v * s.damping,
-        }
-    }
-}
+pub use crate::si::Si;
 
 /// How a column is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -35,7 +35,11 @@ pub fn write_atlas(
     let written = (|| {
         let file = File::create(&tmp).h5(&tmp)?;
         let dims = Dims::new(class_type(&tmp)?);
-        let mut o = Out { file: &file, dims };
+        let mut o = Out {
+            file: &file,
+            dims,
+            aux: Vec::new(),
+        };
         write_all(&mut o, plan, res, prov, shard).h5(&tmp)?;
         o.dims.finish().h5(&tmp)?;
         file.close().h5(&tmp)
