@@ -737,3 +737,68 @@ fn a_physical_scan_stores_its_coordinates_in_si_units() {
         }
     }
 }
+
+/// Issue 34, item 3: a trajectory's file says what the squeal is, in SI for a physical
+/// system. The pad clamped with 1.5 kN at c = 100 N s/m, from rest to t = 3000: the run
+/// ends on the lasting oscillation at about 247 Hz, x' within -0.43..+0.37 m/s (`squeal
+/// trajectory ... --c 100 --t-end 3000`: "lasting_frequency_hz":246.9,
+/// "lasting_v_range_m_per_s":[-0.434,0.372]). Before, the file had no lasting_* figures.
+#[test]
+fn a_brake_trajectory_file_stores_its_squeal_in_si_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "trajectory",
+        "--m",
+        "0.8",
+        "--k",
+        "2e5",
+        "--c",
+        "100",
+        "--v-belt",
+        "0.3",
+        "--mu-k",
+        "0.38",
+        "--mu-s",
+        "0.48",
+        "--tau-s",
+        "5e-4",
+        "--normal-force",
+        "1500",
+        "--t-end",
+        "3000",
+        "--every",
+        "1000",
+        "--out",
+        "pad.h5",
+    ];
+    let (ok, out) = run(dir.path(), &args);
+    assert!(ok, "{out}");
+    let f = hdf5::File::open(dir.path().join("pad.h5")).unwrap();
+    let attr = |k: &str| -> f64 { f.attr(k).unwrap().read_scalar().unwrap() };
+    let units = |k: &str| -> String {
+        f.attr(&format!("{k}_units"))
+            .unwrap()
+            .read_scalar::<hdf5::types::VarLenUnicode>()
+            .unwrap()
+            .to_string()
+    };
+    let hz = attr("lasting_omega_si");
+    assert!((240.0..255.0).contains(&hz), "{hz} Hz");
+    assert_eq!(units("lasting_omega_si"), "Hz");
+    // omega / (2 pi) in cycles per model time unit, over the time unit in seconds.
+    let from_model = attr("lasting_omega") / (2.0 * std::f64::consts::PI * attr("time_unit"));
+    assert!((hz - from_model).abs() < 1e-9 * hz, "{hz} vs {from_model}");
+    let (v_lo, v_hi) = (attr("lasting_v_min_si"), attr("lasting_v_max_si"));
+    assert!(
+        (-0.47..-0.40).contains(&v_lo) && (0.33..0.41).contains(&v_hi),
+        "{v_lo} {v_hi}"
+    );
+    assert_eq!(units("lasting_v_max_si"), "m/s");
+    let (x_lo, x_hi) = (attr("lasting_x_min_si"), attr("lasting_x_max_si"));
+    // About 1.79 and 2.21 mm, around the fixed point x* = mu_k N / k = 2.85 mm.
+    assert!(
+        1.5e-3 < x_lo && x_lo < x_hi && x_hi < 2.85e-3,
+        "{x_lo} {x_hi}"
+    );
+    assert_eq!(units("lasting_x_min_si"), "m");
+}

@@ -4,6 +4,7 @@ Rust program): scan files, bSTAB's basin stability, spec errors and interruption
 Run by scripts/ci/test-python.sh in a fresh venv with the wheel installed and no Rust."""
 
 import json
+import re
 import os
 import shutil
 import signal
@@ -451,3 +452,20 @@ def test_critical_of_the_clamped_brake_comes_from_runs_as_on_the_command_line(tm
     r = cli(*args, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert k.value == json.loads(r.stdout)["nu"]
+
+
+def test_the_readmes_three_lines_give_the_pads_squeal_in_si(capsys):
+    # Issue 34: the clamped pad's squeal frequency and amplitude from Python in three lines,
+    # as README's section 5 shows them (run here as written). The command line's run of the
+    # same pad (README section 4, `squeal trajectory ... --c 20 --t-end 3000`) ends on the
+    # lasting oscillation at 279 Hz, x in 1.59..1.97 mm, x' in -0.43..+0.42 m/s. Before, the
+    # file had no lasting_* attributes.
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", readme, re.S)
+    three = [b for b in blocks if b.startswith("pad = dict(")]
+    assert len(three) == 1 and len(three[0].strip().splitlines()) == 3, three
+    exec(three[0], {"squeal": squeal})
+    hz, x_max, v_max = (float(w) for w in capsys.readouterr().out.split())
+    assert 270.0 < hz < 290.0
+    assert 1.9e-3 < x_max < 2.05e-3
+    assert 0.38 < v_max < 0.46

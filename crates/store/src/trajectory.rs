@@ -9,7 +9,12 @@
 //!              physical system adds physical_<key> f64 with its _long_name and _units for
 //!              m, k, c, v_belt, mu_k, mu_s, tau, g (when given or by default),
 //!              normal_force (always: m g without one), and length_unit, velocity_unit,
-//!              time_unit, damping_unit f64 with their _units: the SI size of one unit)
+//!              time_unit, damping_unit f64 with their _units: the SI size of one unit;
+//!              a run that ended on a lasting oscillation (crates/core/MODEL.md section 10)
+//!              adds lasting_omega (angular frequency), lasting_x_min, lasting_x_max,
+//!              lasting_v_min, lasting_v_max f64 over its last turns, and for a physical
+//!              run their SI twins lasting_<..>_si (lasting_omega_si a frequency in Hz, the
+//!              others m and m/s) with lasting_<..>_si_units text)
 //! t  (t)       f64 dimension scale: nondimensional time (natural period 2 pi)
 //! x, v, a, force (t)   f64, long_name and units "1", attached to t
 //! a physical run also: t_si (t) f64 time in s; x_si (t) f64 in m, v_si (t) f64 in m/s;
@@ -162,6 +167,18 @@ pub fn read_trajectory_info(path: &Path) -> Result<TrajectoryInfo, StoreError> {
     .h5(path)
 }
 
+/// The figures of a run's lasting oscillation ([`squeal_core::Lasting`]) stored as root
+/// attributes of its trajectory file: name, how its SI twin converts, value.
+fn lasting_figures(l: &squeal_core::Lasting) -> [(&'static str, Si, f64); 5] {
+    [
+        ("lasting_omega", Si::Frequency, l.omega),
+        ("lasting_x_min", Si::Length, l.x_range[0]),
+        ("lasting_x_max", Si::Length, l.x_range[1]),
+        ("lasting_v_min", Si::Velocity, l.v_range[0]),
+        ("lasting_v_max", Si::Velocity, l.v_range[1]),
+    ]
+}
+
 /// The series of [`write_samples`] that a physical run also stores in SI units, as
 /// `<name>_si`: how each converts, and the twin's long name.
 const SI_SERIES: [(&str, Si, &str); 2] = [
@@ -235,6 +252,27 @@ pub fn write_run(
         ("v0", span.ic.v),
         ("t_end", span.t_end),
     ]);
+    // The lasting oscillation the run ended on, if the turn watch identified one: its
+    // figures in the model's units, and in SI beside them for a physical system.
+    let lasting = traj.lasting.map(|l| lasting_figures(&l));
+    let scales = physical.map(|ph| ph.scales());
+    let mut si_names = Vec::new();
+    if let Some(figures) = &lasting {
+        for &(name, si, value) in figures {
+            numbers.push((name, value));
+            if let Some(sc) = &scales {
+                si_names.push((format!("{name}_si"), si.convert(value, sc), si.units()));
+            }
+        }
+    }
+    let si_units: Vec<String> = si_names
+        .iter()
+        .map(|(n, ..)| format!("{n}_units"))
+        .collect();
+    for ((name, value, units), units_key) in si_names.iter().zip(&si_units) {
+        numbers.push((name.as_str(), *value));
+        text.push((units_key.as_str(), units));
+    }
     let mut counts = vec![("every", span.every)];
     if let Some(sp) = &traj.stick {
         counts.extend([
