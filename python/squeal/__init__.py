@@ -539,6 +539,7 @@ def trajectory(
     t_end: float = 1000.0,
     every: int = 1,
     out=None,
+    force: bool = False,
     map: int = 0,  # noqa: A002 (the command line's --map)
     integration: Optional[Mapping[str, Any]] = None,
     physical: Optional[Mapping[str, Any]] = None,
@@ -554,7 +555,8 @@ def trajectory(
     -1 not known). The model as for :func:`ulc` (with the physical system ``x0``, ``v0``
     are in m and m/s, as on the command line; the Dataset is in the model's units, with
     ``length_unit``, ``velocity_unit``, ``time_unit`` and the system's ``physical_<key>``
-    attributes); ``out`` keeps the file (the schema of ``squeal trajectory --out run.h5``)."""
+    attributes); ``out`` keeps the file (the schema of ``squeal trajectory --out run.h5``;
+    an existing file there is refused unless ``force=True``, as on the command line)."""
     names = _Names("trajectory")
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
@@ -567,7 +569,7 @@ def trajectory(
     span = (_real("t_end", t_end), int(every))
 
     def run(path):
-        verdict = names(_squeal.trajectory, name, text, map, point, span, str(path))
+        verdict = names(_squeal.trajectory, name, text, map, point, span, str(path), force)
         ds = open(path)
         ds.attrs.update(zip(("regime", "reason", "t_decision", "t_squeal"), verdict))
         return ds

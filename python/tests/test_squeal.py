@@ -469,3 +469,26 @@ def test_the_readmes_three_lines_give_the_pads_squeal_in_si(capsys):
     assert 270.0 < hz < 290.0
     assert 1.9e-3 < x_max < 2.05e-3
     assert 0.38 < v_max < 0.46
+
+
+def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
+    # Issue 33: squeal.trajectory(out=...) overwrote any file there, a finished scan's
+    # included, where `squeal trajectory --out` refuses without --force. And the store's
+    # refusals named the command line's flags (`use --force`) to Python users.
+    precious = tmp_path / "precious.h5"
+    precious.write_bytes(b"a finished scan")
+    with pytest.raises(ValueError, match=r"force=True") as e:
+        squeal.trajectory(t_end=1.0, out=precious)
+    assert "--force" not in str(e.value)
+    assert precious.read_bytes() == b"a finished scan"
+    ds = squeal.trajectory(t_end=1.0, out=precious, force=True)
+    assert ds["t"].values[-1] == pytest.approx(1.0)
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        'version = 1\n[model]\nlaw = "mcmillan"\n[grid]\n'
+        "x0 = { min = -1.0, max = 1.0, count = 2 }\nv0 = { min = -1.0, max = 1.0, count = 2 }\n"
+        '[output]\npath = "s.h5"\n'
+    )
+    with pytest.raises(ValueError, match=r"force=True") as e:
+        squeal.scan(spec, out=precious)
+    assert "--force" not in str(e.value)

@@ -76,11 +76,19 @@ fn value_error(e: impl Into<anyhow::Error>) -> PyErr {
 }
 
 /// A store error: a bad request (`ValueError`: the output exists, an interrupted run is
-/// there, nothing to resume, ...) or a failing file system (`OSError`).
+/// there, nothing to resume, ...) or a failing file system (`OSError`), in Python's words:
+/// the keyword arguments `force=True` and `resume=True` where the command line's message
+/// names its flags.
 fn store_error(e: StoreError) -> PyErr {
+    let python_words = |m: String| {
+        m.replace("--force", "force=True")
+            .replace("--resume", "resume=True")
+    };
     match e {
-        StoreError::Io { .. } | StoreError::Hdf5 { .. } => PyOSError::new_err(message(e)),
-        e => value_error(e),
+        StoreError::Io { .. } | StoreError::Hdf5 { .. } => {
+            PyOSError::new_err(python_words(message(e)))
+        }
+        e => PyValueError::new_err(python_words(message(e))),
     }
 }
 

@@ -14,11 +14,13 @@ use crate::{interruptible, plan_of, provenance, setup_of, store_error, value_err
 
 /// Runs map `map` of `spec` from `point = (x0, v0)`, `run = (t_end, every)`, to `t_end` and
 /// writes every `every`-th
-/// sample (t, x, v, a, force) to the trajectory file `out`. Returns the classifier's
+/// sample (t, x, v, a, force) to the trajectory file `out` (an existing one only with
+/// `force`). Returns the classifier's
 /// `(regime, reason, t_decision, t_squeal)` (`t_squeal` as a scan stores it per cell:
 /// infinite for stick-slip, -1 where not known).
 #[pyfunction]
-#[pyo3(signature = (spec, text, map, point, run, out))]
+#[pyo3(signature = (spec, text, map, point, run, out, force=false))]
+#[allow(clippy::too_many_arguments)]
 pub fn trajectory(
     py: Python<'_>,
     spec: &str,
@@ -27,6 +29,7 @@ pub fn trajectory(
     point: (f64, f64),
     run: (f64, u64),
     out: PathBuf,
+    force: bool,
 ) -> PyResult<(&'static str, &'static str, f64, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
@@ -59,7 +62,8 @@ pub fn trajectory(
         squeal_scan::trajectory::run_in(&ctx, span, Some(&stop))
     })?;
     let physical = plan.physical.as_ref();
-    write_run(&out, true, &provenance(), stepper, span, &t, physical).map_err(store_error)?;
+    // An existing `out` is refused unless `force` (it overwrote a finished scan's file).
+    write_run(&out, force, &provenance(), stepper, span, &t, physical).map_err(store_error)?;
     let o = &t.outcome;
     let verdict = (o.regime.name(), o.reason.name(), o.t_decision, o.t_squeal);
     Ok(verdict)
