@@ -136,7 +136,7 @@ def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
                 raise
             return open(path)
     try:
-        run(name, text, os.fspath(out), resume, force)
+        computed = run(name, text, os.fspath(out), resume, force)
     except KeyboardInterrupt:
         print(
             f"squeal: interrupted; the finished work is kept in {os.fspath(out)}.journal. "
@@ -144,6 +144,9 @@ def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
             file=sys.stderr,
         )
         raise
+    if computed is None:
+        # As the command line says it: a finished file of the same spec, nothing computed.
+        print(f"squeal: {os.fspath(out)} is up to date (made from the same spec)", file=sys.stderr)
     return open(out)
 
 
@@ -154,7 +157,9 @@ def scan(spec: Spec, out=None, *, resume: bool = False, force: bool = False):
     ``{"version": 1, "model": {"law": "mcmillan", "nu": 1e-2}, "grid": {...},
     "output": {"path": "x.h5"}}`` (``output.path`` is required by the spec format but the
     file goes to ``out``). ``out``: keep the HDF5 file there (``force`` overwrites it;
-    ``resume`` finishes an interrupted run of it). Returns the file as a Dataset."""
+    ``resume`` finishes an interrupted run of it). Like make, a finished ``out`` of the same
+    spec is up to date, with or without ``resume``: nothing is computed. A file of another
+    spec or kind is refused without ``force``. Returns the file as a Dataset."""
     return _run("scan", spec, out, resume, force)
 
 

@@ -492,3 +492,29 @@ def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
     with pytest.raises(ValueError, match=r"force=True") as e:
         squeal.scan(spec, out=precious)
     assert "--force" not in str(e.value)
+
+
+def test_a_finished_scan_is_up_to_date_with_and_without_resume(tmp_path, capsys):
+    # Issue 33: scan(out=<finished file>) and resume=True on it raised "use --force", where
+    # the command line says "up to date" and exits 0, so the documented "same call with
+    # resume=True" failed when Ctrl-C landed after the run had finished. A file of another
+    # spec is still refused, naming force=True.
+    spec = {
+        "version": 1,
+        "model": {"law": "mcmillan", "nu": 1e-2},
+        "grid": {"x0": {"min": -1.0, "max": 1.0, "count": 2},
+                 "v0": {"min": -1.0, "max": 1.0, "count": 2}},
+        "output": {"path": "u.h5"},
+    }
+    out = tmp_path / "u.h5"
+    first = squeal.scan(spec, out)
+    stamp = out.stat().st_mtime_ns
+    for resume in (False, True):
+        again = squeal.scan(spec, out, resume=resume)
+        assert "is up to date" in capsys.readouterr().err
+        assert (again["labels"].values == first["labels"].values).all()
+        assert out.stat().st_mtime_ns == stamp
+    other = {**spec, "model": {"law": "mcmillan", "nu": 2e-2}}
+    with pytest.raises(ValueError, match=r"different spec .*force=True"):
+        squeal.scan(other, out)
+    assert out.stat().st_mtime_ns == stamp

@@ -63,13 +63,12 @@ pub fn prepare_output(out: &Path) -> anyhow::Result<()> {
 /// ([`super::signals`]).
 pub const EXIT_INTERRUPTED: u8 = 130;
 
-/// Like make, for scans and atlases alike: decides what a run does with a finished output
-/// before it computes anything. Without `--force`, a file made from the same parsed spec
-/// (and shard) is up to date, for a rerun and for `--resume` (a requeued job that had
-/// finished): any of `pictures` missing is drawn again with `draw`, it says so and returns
-/// `true` (nothing to compute). A file of another spec, or not a finished file of this
-/// kind, is refused naming `--force`.
-/// Anything else (no file, an interrupted run) returns `false`: the writer takes over.
+/// Like make, for scans and atlases alike, by the library's rule
+/// ([`squeal_store::OutputState::up_to_date`]): a finished file of the same parsed spec (and
+/// shard) is up to date, for a rerun and for `--resume` (a requeued job that had finished):
+/// any of `pictures` missing is drawn again with `draw`, it says so and returns `true`
+/// (nothing to compute). A file of another spec, or not a finished file of this kind, is
+/// refused naming `--force`. Anything else returns `false`: the writer takes over.
 pub fn up_to_date(
     out: &Path,
     state: squeal_store::OutputState,
@@ -77,37 +76,23 @@ pub fn up_to_date(
     pictures: &[PathBuf],
     draw: impl FnOnce() -> anyhow::Result<Vec<PathBuf>>,
 ) -> anyhow::Result<bool> {
-    use squeal_store::OutputState;
-    if run.force {
+    if !state.up_to_date(out, run.force)? {
         return Ok(false);
     }
-    match state {
-        OutputState::Complete => {
-            let drew = pictures.iter().any(|p| !is_drawn(p));
-            if drew {
-                draw()?;
-            }
-            eprintln!(
-                "squeal: {} is up to date (made from the same spec){}",
-                out.display(),
-                if drew {
-                    "; drew the missing picture"
-                } else {
-                    ""
-                }
-            );
-            Ok(true)
-        }
-        OutputState::Different(key) => bail!(
-            "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output",
-            out.display()
-        ),
-        OutputState::Foreign(why) => bail!(
-            "{} exists and is not a finished file of this spec's kind ({why}): use --force to overwrite it, or -o for another output",
-            out.display()
-        ),
-        OutputState::Absent | OutputState::Interrupted => Ok(false),
+    let drew = pictures.iter().any(|p| !is_drawn(p));
+    if drew {
+        draw()?;
     }
+    eprintln!(
+        "squeal: {} is up to date (made from the same spec){}",
+        out.display(),
+        if drew {
+            "; drew the missing picture"
+        } else {
+            ""
+        }
+    );
+    Ok(true)
 }
 
 /// The error of a drawing, with the picture it left removed (a full disk left a 0-byte or

@@ -142,8 +142,18 @@ pub fn spec_toml(json: &str) -> PyResult<String> {
     toml::to_string(&v).map_err(value_error)
 }
 
+/// Like make, by the command line's rule ([`squeal_store::OutputState::up_to_date`]): a
+/// finished `out` of the same spec is up to date (`true`), with or without `resume`; a file
+/// of another spec or kind is refused unless `force`.
+fn up_to_date<P: squeal_store::Recorded>(out: &Path, plan: &P, force: bool) -> PyResult<bool> {
+    squeal_store::output_state(out, plan, None)
+        .and_then(|state| state.up_to_date(out, force))
+        .map_err(store_error)
+}
+
 /// Runs the scan of `spec` into the HDF5 file `out`: a new file (`force` overwrites one),
-/// or with `resume` the rest of an interrupted run. Returns the number of cells computed.
+/// or with `resume` the rest of an interrupted run. Returns the number of cells computed,
+/// `None` where `out` is up to date (a finished file of the same spec: nothing computed).
 #[pyfunction]
 #[pyo3(signature = (spec, text, out, resume=false, force=false))]
 pub fn scan(
@@ -153,8 +163,11 @@ pub fn scan(
     out: PathBuf,
     resume: bool,
     force: bool,
-) -> PyResult<usize> {
+) -> PyResult<Option<usize>> {
     let plan = plan_of(spec, text)?;
+    if up_to_date(&out, &plan, force)? {
+        return Ok(None);
+    }
     let prov = provenance();
     let mut writer = if resume {
         ScanWriter::resume(&out, &plan, None, &prov)
@@ -184,11 +197,11 @@ pub fn scan(
         .map_err(value_error)?;
     py.detach(|| writer.finish_with(&landscapes))
         .map_err(store_error)?;
-    Ok(report.cells)
+    Ok(Some(report.cells))
 }
 
 /// Runs the atlas of `spec` into the HDF5 file `out` (`resume` and `force` as for [`scan`]).
-/// Returns the number of units and map blocks computed.
+/// Returns the number of units and map blocks computed, `None` where `out` is up to date.
 #[pyfunction]
 #[pyo3(signature = (spec, text, out, resume=false, force=false))]
 pub fn atlas(
@@ -198,12 +211,15 @@ pub fn atlas(
     out: PathBuf,
     resume: bool,
     force: bool,
-) -> PyResult<usize> {
+) -> PyResult<Option<usize>> {
     let plan = match text {
         Some(t) => AtlasPlan::from_toml(t, spec),
         None => AtlasPlan::from_file(Path::new(spec)),
     }
     .map_err(value_error)?;
+    if up_to_date(&out, &plan, force)? {
+        return Ok(None);
+    }
     let prov = provenance();
     let writer = if resume {
         AtlasWriter::resume(&out, &plan, None, &prov)
@@ -227,7 +243,7 @@ pub fn atlas(
         )));
     }
     py.detach(|| writer.finish()).map_err(store_error)?;
-    Ok(todo)
+    Ok(Some(todo))
 }
 
 /// The map `map` of a plan, or `ValueError` naming how many the spec has.

@@ -12,6 +12,26 @@ pub enum StoreError {
         /// The file.
         path: PathBuf,
     },
+    /// The output is a finished file of another spec and `--force` was not given.
+    #[error(
+        "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output", path.display()
+    )]
+    OtherSpec {
+        /// The file.
+        path: PathBuf,
+        /// The first key that differs.
+        key: String,
+    },
+    /// The output is not a finished file of the plan's kind and `--force` was not given.
+    #[error(
+        "{} exists and is not a finished file of this spec's kind ({why}): use --force to overwrite it, or -o for another output", path.display()
+    )]
+    NotThisKind {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        why: String,
+    },
     /// A journal of an interrupted scan is next to the output.
     #[error("an interrupted scan is there ({}): use --resume, or --force to start over", path.display())]
     Interrupted {

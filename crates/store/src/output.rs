@@ -110,6 +110,31 @@ pub enum OutputState {
     Foreign(String),
 }
 
+impl OutputState {
+    /// Like make, the one rule of every door (the command line, Python) before anything is
+    /// computed: without `force`, a finished file of the same spec is up to date, for a
+    /// rerun and for a resume alike (`Ok(true)`: nothing to compute), and a file of another
+    /// spec, or not a finished file of this kind, is refused. Anything else (no file, an
+    /// interrupted run, or `force`) is `Ok(false)`: the writer takes over.
+    pub fn up_to_date(self, out: &Path, force: bool) -> Result<bool, StoreError> {
+        if force {
+            return Ok(false);
+        }
+        match self {
+            OutputState::Complete => Ok(true),
+            OutputState::Different(key) => Err(StoreError::OtherSpec {
+                path: out.to_path_buf(),
+                key,
+            }),
+            OutputState::Foreign(why) => Err(StoreError::NotThisKind {
+                path: out.to_path_buf(),
+                why,
+            }),
+            OutputState::Absent | OutputState::Interrupted => Ok(false),
+        }
+    }
+}
+
 /// Looks at `out` for `shard` of `plan`, a scan's or an atlas's (without changing
 /// anything). Spec texts are compared as parsed plans: a comment edit or `-o` changes
 /// nothing.
