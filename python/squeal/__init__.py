@@ -121,7 +121,7 @@ def flags(da) -> dict:
     return {int(v): m for v, m in zip(da.attrs["flag_values"], meanings)}
 
 
-def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
+def _run(kind: str, spec: Spec, out, resume: bool, force: bool, allow_long: bool):
     name, text = _spec(spec)
     run = getattr(_squeal, kind)
     if out is None:
@@ -130,13 +130,13 @@ def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
         with tempfile.TemporaryDirectory(prefix="squeal-") as d:
             path = Path(d) / f"{kind}.h5"
             try:
-                run(name, text, str(path), False, False)
+                run(name, text, str(path), False, False, allow_long)
             except KeyboardInterrupt:
                 print("squeal: interrupted; pass out= to keep a resumable run", file=sys.stderr)
                 raise
             return open(path)
     try:
-        computed = run(name, text, os.fspath(out), resume, force)
+        computed = run(name, text, os.fspath(out), resume, force, allow_long)
     except KeyboardInterrupt:
         print(
             f"squeal: interrupted; the finished work is kept in {os.fspath(out)}.journal. "
@@ -150,7 +150,9 @@ def _run(kind: str, spec: Spec, out, resume: bool, force: bool):
     return open(out)
 
 
-def scan(spec: Spec, out=None, *, resume: bool = False, force: bool = False):
+def scan(
+    spec: Spec, out=None, *, resume: bool = False, force: bool = False, allow_long: bool = False
+):
     """Runs a scan spec (``squeal scan``): a basin map, a sweep of maps or random samples.
 
     ``spec``: a path to a TOML spec or a dict of its tables, e.g.
@@ -159,14 +161,18 @@ def scan(spec: Spec, out=None, *, resume: bool = False, force: bool = False):
     file goes to ``out``). ``out``: keep the HDF5 file there (``force`` overwrites it;
     ``resume`` finishes an interrupted run of it). Like make, a finished ``out`` of the same
     spec is up to date, with or without ``resume``: nothing is computed. A file of another
-    spec or kind is refused without ``force``. Returns the file as a Dataset."""
-    return _run("scan", spec, out, resume, force)
+    spec or kind is refused without ``force``. Work estimated over 30 days at the documented
+    rates is refused before anything runs unless ``allow_long=True`` (``--allow-long``).
+    Returns the file as a Dataset."""
+    return _run("scan", spec, out, resume, force, allow_long)
 
 
-def atlas(spec: Spec, out=None, *, resume: bool = False, force: bool = False):
+def atlas(
+    spec: Spec, out=None, *, resume: bool = False, force: bool = False, allow_long: bool = False
+):
     """Runs an atlas spec (``squeal atlas``): figures of merit, regimes, the fold and the
     critical damping over a design space. Arguments as for :func:`scan`."""
-    return _run("atlas", spec, out, resume, force)
+    return _run("atlas", spec, out, resume, force, allow_long)
 
 
 @dataclasses.dataclass

@@ -478,10 +478,10 @@ def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
     precious = tmp_path / "precious.h5"
     precious.write_bytes(b"a finished scan")
     with pytest.raises(ValueError, match=r"force=True") as e:
-        squeal.trajectory(t_end=1.0, out=precious)
+        squeal.trajectory(law="mcmillan", t_end=1.0, out=precious)
     assert "--force" not in str(e.value)
     assert precious.read_bytes() == b"a finished scan"
-    ds = squeal.trajectory(t_end=1.0, out=precious, force=True)
+    ds = squeal.trajectory(law="mcmillan", t_end=1.0, out=precious, force=True)
     assert ds["t"].values[-1] == pytest.approx(1.0)
     spec = tmp_path / "s.toml"
     spec.write_text(
@@ -518,3 +518,22 @@ def test_a_finished_scan_is_up_to_date_with_and_without_resume(tmp_path, capsys)
     with pytest.raises(ValueError, match=r"different spec .*force=True"):
         squeal.scan(other, out)
     assert out.stat().st_mtime_ns == stamp
+
+
+def test_a_month_long_scan_is_refused_without_allow_long(tmp_path):
+    # Issue 33: squeal.scan started a run the command line refuses before anything runs
+    # ("64000000 cells ... would take roughly 1852 days on 2 thread(s) at the documented
+    # rate: ... or pass --allow-long", `squeal scan` of this spec). Python refuses it the
+    # same way, in its own words, and touches no file.
+    spec = {
+        "version": 1,
+        "model": {"law": "mcmillan", "nu": 1e-3},
+        "grid": {"x0": {"min": -1.0, "max": 1.0, "count": 8000},
+                 "v0": {"min": -1.0, "max": 1.0, "count": 8000}},
+        "classifier": {"t_max": 100000.0, "early_stop": "none"},
+        "output": {"path": "long.h5"},
+    }
+    with pytest.raises(ValueError, match=r"roughly \d+ days .*allow_long=True") as e:
+        squeal.scan(spec, tmp_path / "long.h5")
+    assert "--allow-long" not in str(e.value)
+    assert list(tmp_path.iterdir()) == []

@@ -164,7 +164,7 @@ fn check_pictures(pics: &[PathBuf], png: &Path, force: bool) -> anyhow::Result<(
 }
 
 /// The work, estimated from a pilot before anything is created (printed unless quiet); over
-/// [`common::LONG_RUN`] it needs `--allow-long`. The whole atlas is estimated, also for a
+/// [`squeal_scan::estimate::LONG_RUN`] it needs `--allow-long`. The whole atlas is estimated, also for a
 /// shard or a resume (an upper bound then).
 fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
     use squeal_scan::estimate::{atlas_documented_seconds, bounded_atlas_pilot};
@@ -178,7 +178,7 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
         plan.n_boundaries()
     );
     let refuse = |secs: f64, how: &str| -> anyhow::Result<()> {
-        if secs > common::LONG_RUN && !args.allow_long {
+        if squeal_scan::estimate::refused_as_long(secs, args.allow_long) {
             bail!(
                 "the atlas ({what}) would take roughly {} on {threads} thread(s){how}: shrink the sweep, the maps or the cycle search ([cycle] samples x t_return), split it with --shard, or pass --allow-long",
                 common::duration(secs)

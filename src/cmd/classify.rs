@@ -118,13 +118,13 @@ fn check_start(
 
 /// The work, estimated at the documented rates before anything runs (the map's cycle
 /// search at its longest, each start up to its run to `t_max`: a file of many rows with a
-/// long `t_max` ran with no word), printed unless quiet; over [`common::LONG_RUN`] it needs
+/// long `t_max` ran with no word), printed unless quiet; over [`squeal_scan::estimate::LONG_RUN`] it needs
 /// `--allow-long`.
 fn estimate(args: &Args, plan: &squeal_scan::Plan, starts: usize) -> anyhow::Result<()> {
     let threads = rayon::current_num_threads();
     let secs =
         squeal_scan::estimate::prepare_seconds(plan) + plan.estimate_seconds(starts, threads);
-    if secs > common::LONG_RUN && !args.allow_long {
+    if squeal_scan::estimate::refused_as_long(secs, args.allow_long) {
         bail!(
             "{starts} initial conditions would take roughly {} on {threads} thread(s) at the documented rate (t_max = {}, the cycle search included): split {}, shorten t_max, or pass --allow-long",
             common::duration(secs),

@@ -276,9 +276,6 @@ pub fn basin_words(b: &squeal_scan::GridShares) -> String {
     }
 }
 
-/// Longest run started without `--allow-long` (scans and atlases alike).
-pub const LONG_RUN: f64 = 30.0 * 86_400.0;
-
 /// A pilot that could take longer than this (seconds at the documented rate, at most
 /// [`squeal_scan::estimate::PILOT_MAX_SECONDS`]) is announced before it runs: an atlas of
 /// overdamped points timed its pilot for 20 s without a word.

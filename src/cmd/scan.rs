@@ -239,7 +239,7 @@ fn finish(
 
 /// The pilot (none with `--quiet`, nor where it could itself run over
 /// [`squeal_scan::estimate::PILOT_MAX_SECONDS`]), after refusing work estimated over
-/// [`common::LONG_RUN`] without `--allow-long`: first at the documented rates, every kind of
+/// [`squeal_scan::estimate::LONG_RUN`] without `--allow-long`: first at the documented rates, every kind of
 /// work counted (the maps' cycle searches bounded by their samples times `t_return`, the
 /// cells, their audits) before the pilot runs, then from the pilot, which measures the time
 /// per cell with this plan's law, landscape and early stopping ([`squeal_scan::estimate`]).
@@ -250,7 +250,7 @@ fn checked_estimate(
     threads: usize,
 ) -> anyhow::Result<Option<Estimate>> {
     let rough = squeal_scan::estimate::documented_seconds(plan, owned, threads);
-    if rough > common::LONG_RUN && !args.allow_long {
+    if squeal_scan::estimate::refused_as_long(rough, args.allow_long) {
         bail!(
             "{} cells and {} cycle search(es) of up to {} each ([cycle] samples x t_return) would take roughly {} on {threads} thread(s) at the documented rate: shrink the grid, the sweep or the search, split it with --shard, or pass --allow-long",
             owned.cells,
@@ -275,7 +275,7 @@ fn checked_estimate(
         false => squeal_scan::estimate::bounded_pilot(plan)?,
     };
     let estimate = seconds_for(plan, pilot.as_ref(), owned, threads);
-    if estimate > common::LONG_RUN && !args.allow_long {
+    if squeal_scan::estimate::refused_as_long(estimate, args.allow_long) {
         bail!(
             "{} cells would take roughly {} on {threads} thread(s): shrink the grid or the sweep, split it with --shard, or pass --allow-long",
             owned.cells,

@@ -151,11 +151,24 @@ fn up_to_date<P: squeal_store::Recorded>(out: &Path, plan: &P, force: bool) -> P
         .map_err(store_error)
 }
 
+/// Work estimated at the documented rates over the command line's limit is refused before
+/// anything is created or run, unless `allow_long` ([`squeal_scan::estimate::refused_as_long`]).
+fn refuse_long(kind: &str, seconds: f64, threads: usize, allow_long: bool) -> PyResult<()> {
+    if squeal_scan::estimate::refused_as_long(seconds, allow_long) {
+        return Err(PyValueError::new_err(format!(
+            "this {kind} would take roughly {:.0} days on {threads} thread(s) at the documented \
+             rate: shrink it, or pass allow_long=True",
+            seconds / 86_400.0
+        )));
+    }
+    Ok(())
+}
+
 /// Runs the scan of `spec` into the HDF5 file `out`: a new file (`force` overwrites one),
 /// or with `resume` the rest of an interrupted run. Returns the number of cells computed,
 /// `None` where `out` is up to date (a finished file of the same spec: nothing computed).
 #[pyfunction]
-#[pyo3(signature = (spec, text, out, resume=false, force=false))]
+#[pyo3(signature = (spec, text, out, resume=false, force=false, allow_long=false))]
 pub fn scan(
     py: Python<'_>,
     spec: &str,
@@ -163,11 +176,16 @@ pub fn scan(
     out: PathBuf,
     resume: bool,
     force: bool,
+    allow_long: bool,
 ) -> PyResult<Option<usize>> {
     let plan = plan_of(spec, text)?;
     if up_to_date(&out, &plan, force)? {
         return Ok(None);
     }
+    let threads = rayon::current_num_threads();
+    let pending = squeal_scan::Pending::of(&plan, None, &squeal_scan::MemorySink::default());
+    let rough = squeal_scan::estimate::documented_seconds(&plan, &pending, threads);
+    refuse_long("scan", rough, threads, allow_long)?;
     let prov = provenance();
     let mut writer = if resume {
         ScanWriter::resume(&out, &plan, None, &prov)
@@ -203,7 +221,7 @@ pub fn scan(
 /// Runs the atlas of `spec` into the HDF5 file `out` (`resume` and `force` as for [`scan`]).
 /// Returns the number of units and map blocks computed, `None` where `out` is up to date.
 #[pyfunction]
-#[pyo3(signature = (spec, text, out, resume=false, force=false))]
+#[pyo3(signature = (spec, text, out, resume=false, force=false, allow_long=false))]
 pub fn atlas(
     py: Python<'_>,
     spec: &str,
@@ -211,6 +229,7 @@ pub fn atlas(
     out: PathBuf,
     resume: bool,
     force: bool,
+    allow_long: bool,
 ) -> PyResult<Option<usize>> {
     let plan = match text {
         Some(t) => AtlasPlan::from_toml(t, spec),
@@ -220,6 +239,9 @@ pub fn atlas(
     if up_to_date(&out, &plan, force)? {
         return Ok(None);
     }
+    let threads = rayon::current_num_threads();
+    let rough = squeal_scan::estimate::atlas_documented_seconds(&plan, threads);
+    refuse_long("atlas", rough, threads, allow_long)?;
     let prov = provenance();
     let writer = if resume {
         AtlasWriter::resume(&out, &plan, None, &prov)

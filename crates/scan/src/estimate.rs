@@ -75,6 +75,16 @@ impl CoreShare {
 /// ([`at_load`]).
 pub const BUSY_SHARE: f64 = 0.8;
 
+/// Longest run started without `allow_long` (the command line's `--allow-long`, Python's
+/// `allow_long=True`), scans and atlases alike: 30 days.
+pub const LONG_RUN: f64 = 30.0 * 86_400.0;
+
+/// Whether work estimated at `seconds` is refused before anything runs: over [`LONG_RUN`]
+/// without `allow_long`. The one rule of every door.
+pub fn refused_as_long(seconds: f64, allow_long: bool) -> bool {
+    seconds > LONG_RUN && !allow_long
+}
+
 /// The wall seconds `secs` (on free cores) take at the load where the pilot's thread got
 /// `share` of a core, when that share says the machine is busy ([`BUSY_SHARE`]); `None` on
 /// a machine that is not (or where the share is not known: 1). A scan estimated at 66 s took
