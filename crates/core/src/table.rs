@@ -106,7 +106,10 @@ impl FrictionTable {
                 );
             }
             if !s.is_finite() {
-                return bad(row, format!("slip speed {}, expected a finite number", n(s)));
+                return bad(
+                    row,
+                    format!("slip speed {}, expected a finite number", n(s)),
+                );
             }
             if i > 0 && s <= rows[i - 1].0 {
                 return bad(
@@ -122,7 +125,10 @@ impl FrictionTable {
             if !(mu.is_finite() && mu > 0.0 && mu <= 1e6) {
                 return bad(
                     row,
-                    format!("mu = {}, expected a friction coefficient in (0, 1e6]", n(mu)),
+                    format!(
+                        "mu = {}, expected a friction coefficient in (0, 1e6]",
+                        n(mu)
+                    ),
                 );
             }
         }
@@ -154,7 +160,11 @@ impl FrictionTable {
 
     /// The rows `(s, mu)`.
     pub fn rows(&self) -> Vec<(f64, f64)> {
-        self.slip.iter().copied().zip(self.mu.iter().copied()).collect()
+        self.slip
+            .iter()
+            .copied()
+            .zip(self.mu.iter().copied())
+            .collect()
     }
 
     /// The same curve with every slip speed multiplied by `factor > 0` (a change of velocity
@@ -256,7 +266,10 @@ mod tests {
         let line = FrictionTable::new(&[(0.0, 1.0), (0.5, 0.9), (2.0, 0.6), (2.5, 0.5)]).unwrap();
         for s in [0.0, 0.2, 0.77, 1.9, 2.4] {
             let (mu, dmu) = line.mu(s);
-            assert!((mu - (1.0 - 0.2 * s)).abs() < 1e-14 && (dmu + 0.2).abs() < 1e-13, "{s}");
+            assert!(
+                (mu - (1.0 - 0.2 * s)).abs() < 1e-14 && (dmu + 0.2).abs() < 1e-13,
+                "{s}"
+            );
         }
     }
 
@@ -286,9 +299,21 @@ mod tests {
         let cases: [(&[(f64, f64)], usize, &str); 8] = [
             (&[(0.0, 0.5)], 1, "1 rows given"),
             (&[], 0, "0 rows given"),
-            (&[(0.1, 0.5), (1.0, 0.4)], 1, "first row must be at slip speed 0"),
-            (&[(0.0, 0.5), (1.0, 0.4), (0.5, 0.3)], 3, "increase strictly"),
-            (&[(0.0, 0.5), (1.0, 0.4), (1.0, 0.3)], 3, "increase strictly"),
+            (
+                &[(0.1, 0.5), (1.0, 0.4)],
+                1,
+                "first row must be at slip speed 0",
+            ),
+            (
+                &[(0.0, 0.5), (1.0, 0.4), (0.5, 0.3)],
+                3,
+                "increase strictly",
+            ),
+            (
+                &[(0.0, 0.5), (1.0, 0.4), (1.0, 0.3)],
+                3,
+                "increase strictly",
+            ),
             (&[(0.0, 0.5), (1.0, -0.4)], 2, "mu = -0.4"),
             (&[(0.0, 0.5), (f64::NAN, 0.4)], 2, "finite"),
             (&[(0.0, f64::NAN), (1.0, 0.4)], 1, "mu = NaN"),
