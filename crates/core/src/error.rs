@@ -59,9 +59,11 @@ pub enum CoreError {
     },
     /// A friction table ([`crate::table::FrictionTable`]) with a bad row, or too few or too
     /// many rows: the row (counted from 1; 0 for an empty table) and what is wrong with it.
-    #[error("friction table row {row}: {reason}")]
+    #[error("friction table {unit} {row}: {reason}")]
     InvalidTable {
-        /// The row, counted from 1.
+        /// `row` (of a list of rows) or `line` (of a CSV text).
+        unit: &'static str,
+        /// The row or line, counted from 1.
         row: usize,
         /// What is wrong, with the values.
         reason: String,

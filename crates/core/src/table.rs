@@ -81,8 +81,64 @@ impl FrictionTable {
         FrictionTable::new(&rows)
     }
 
+    /// The table of a CSV text: two columns, slip speed and `mu`, separated by a comma (or
+    /// a semicolon, tab or spaces); an optional header line (its first field not a number);
+    /// blank lines and `#` comments skipped. The error names the line (counted from 1).
+    pub fn from_csv(text: &str) -> Result<&'static FrictionTable, CoreError> {
+        let (mut rows, mut lines) = (Vec::new(), Vec::new());
+        let bad = |row: usize, reason: String| CoreError::InvalidTable {
+            unit: "line",
+            row,
+            reason,
+        };
+        for (i, raw) in text.lines().enumerate() {
+            let line = raw.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let fields: Vec<&str> = line
+                .split([',', ';', '\t', ' '])
+                .map(str::trim)
+                .filter(|f| !f.is_empty())
+                .collect();
+            let nums: Vec<Option<f64>> = fields.iter().map(|f| f.parse().ok()).collect();
+            if rows.is_empty() && lines.is_empty() && nums.first().is_some_and(Option::is_none) {
+                // A header line ("slip_speed,mu"), once, before the rows.
+                lines.push(0);
+                continue;
+            }
+            match nums[..] {
+                [Some(s), Some(mu)] => {
+                    rows.push((s, mu));
+                    lines.push(i + 1);
+                }
+                _ => {
+                    return Err(bad(
+                        i + 1,
+                        format!(
+                            "`{line}` is not two numbers (slip speed, mu) separated by a comma"
+                        ),
+                    ));
+                }
+            }
+        }
+        let header = usize::from(lines.first() == Some(&0));
+        FrictionTable::new(&rows).map_err(|e| match e {
+            CoreError::InvalidTable { row, reason, .. } if row > 0 => {
+                bad(lines[row - 1 + header], reason)
+            }
+            other => other,
+        })
+    }
+
     fn checked(rows: &[(f64, f64)]) -> Result<FrictionTable, CoreError> {
-        let bad = |row: usize, reason: String| Err(CoreError::InvalidTable { row, reason });
+        let bad = |row: usize, reason: String| {
+            Err(CoreError::InvalidTable {
+                unit: "row",
+                row,
+                reason,
+            })
+        };
         if rows.len() < 2 || rows.len() > MAX_ROWS {
             return bad(
                 rows.len().min(1),
@@ -203,6 +259,18 @@ impl FrictionTable {
     }
 }
 
+impl serde::Serialize for FrictionTable {
+    /// The rows, `[[s, mu], ...]`.
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeSeq;
+        let mut seq = ser.serialize_seq(Some(self.slip.len()))?;
+        for (s, mu) in self.slip.iter().zip(&self.mu) {
+            seq.serialize_element(&[*s, *mu])?;
+        }
+        seq.end()
+    }
+}
+
 /// Fritsch and Carlson's slopes at the rows: zero where the data turn, the weighted harmonic
 /// mean of the neighbouring secants elsewhere, the ends by the three-point formula limited
 /// so as not to overshoot (as scipy's `PchipInterpolator`); two rows give the secant.
@@ -320,7 +388,13 @@ mod tests {
         ];
         for (rows, row, words) in cases {
             match FrictionTable::new(rows) {
-                Err(e @ CoreError::InvalidTable { row: r, .. }) => {
+                Err(
+                    e @ CoreError::InvalidTable {
+                        row: r,
+                        unit: "row",
+                        ..
+                    },
+                ) => {
                     assert_eq!(r, row, "{e}");
                     assert!(e.to_string().contains(words), "{e}");
                 }
@@ -330,5 +404,33 @@ mod tests {
         let many: Vec<(f64, f64)> = (0..=MAX_ROWS).map(|i| (i as f64, 0.5)).collect();
         assert!(FrictionTable::new(&many).is_err());
         assert!(FrictionTable::new(&many[..MAX_ROWS]).is_ok());
+    }
+
+    /// A CSV with a header, comments and blank lines reads as its rows; a bad line is
+    /// named by its number in the file.
+    #[test]
+    fn a_csv_reads_and_names_its_lines() {
+        let t = FrictionTable::from_csv("# pad\nslip_speed,mu\n0, 0.5\n\n0.5,0.4 # fast\n1;0.38\n")
+            .unwrap();
+        assert_eq!(t.rows(), [(0.0, 0.5), (0.5, 0.4), (1.0, 0.38)]);
+        for (text, line, words) in [
+            ("s,mu\n0,0.5\n0.5,x\n", 3, "not two numbers"),
+            ("0,0.5\n# c\n0.5,0.4\n0.4,0.3\n", 4, "increase strictly"),
+            ("s,mu\n0,0.5\n1,-2\n", 3, "mu = -2"),
+            ("0,0.5,1\n", 1, "not two numbers"),
+        ] {
+            let e = FrictionTable::from_csv(text).unwrap_err();
+            match &e {
+                CoreError::InvalidTable {
+                    unit: "line", row, ..
+                } => assert_eq!(*row, line, "{e}"),
+                other => panic!("{other:?}"),
+            }
+            assert!(e.to_string().contains(words), "{e}");
+        }
+        let e = FrictionTable::from_csv("s,mu\n0,0.5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("1 rows given"), "{e}");
     }
 }
