@@ -24,6 +24,55 @@ pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5:
     loc.new_attr::<T>().create(name)?.write_scalar(&value)
 }
 
+/// The table law's table as small datasets at the root of `file` (nothing for other
+/// laws): `friction_table_slip_speed` (nondimensional), `friction_table_mu`, and, for a
+/// physical system of velocity unit `velocity` (m/s), `friction_table_slip_speed_si` (m/s),
+/// each with `long_name` and `units`. Datasets, not attributes: 10000 rows exceed an
+/// attribute's 64 KiB.
+pub(crate) fn friction_table(
+    file: &File,
+    table: Option<&squeal_core::FrictionTable>,
+    velocity: Option<f64>,
+) -> hdf5::Result<()> {
+    let Some(t) = table else {
+        return Ok(());
+    };
+    let si: Option<Vec<f64>> = velocity.map(|u| t.slip_speeds().iter().map(|s| s * u).collect());
+    let mut sets = vec![
+        (
+            "friction_table_slip_speed",
+            t.slip_speeds().to_vec(),
+            "slip speed of the friction table's rows (natural-frequency velocity scale)",
+            "1",
+        ),
+        (
+            "friction_table_mu",
+            t.coefficients().to_vec(),
+            "friction coefficient mu of the friction table's rows (PCHIP between them; the \
+             row at slip speed 0 is the static coefficient)",
+            "1",
+        ),
+    ];
+    if let Some(si) = si {
+        sets.push((
+            "friction_table_slip_speed_si",
+            si,
+            "slip speed of the friction table's rows",
+            "m/s",
+        ));
+    }
+    for (name, data, long, units) in sets {
+        let ds = file
+            .new_dataset_builder()
+            .obj_track_times(false)
+            .with_data(&data)
+            .create(name)?;
+        str_attr(&ds, "long_name", long)?;
+        str_attr(&ds, "units", units)?;
+    }
+    Ok(())
+}
+
 /// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
 pub(crate) struct Dims {
     pub(crate) scales: Vec<(Dataset, Vec<RefEntry>)>,

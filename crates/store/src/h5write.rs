@@ -115,6 +115,8 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     if let Some(ph) = &plan.physical {
         physical_attrs(file, ph, plan.sweep.as_ref().map(|s| s.name))?;
     }
+    let velocity = plan.physical.as_ref().map(|ph| ph.scales().velocity);
+    crate::h5out::friction_table(file, p0.law.table(), velocity)?;
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;
     str_attr(file, "scheme", plan.solver.scheme.name())?;

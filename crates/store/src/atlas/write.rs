@@ -149,6 +149,9 @@ fn root_attrs(
     if let Some(s) = shard {
         str_attr(file, "shard", &s.to_string())?;
     }
+    // A physical atlas of the table law is refused when read (no physical units), so its
+    // table's slip speeds are nondimensional only.
+    crate::h5out::friction_table(file, plan.table, None)?;
     Ok(())
 }
 
