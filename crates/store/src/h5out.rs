@@ -27,10 +27,11 @@ pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5:
 /// The table law's table as small datasets at the root of `file` (nothing for other
 /// laws): `friction_table_slip_speed` (nondimensional), `friction_table_mu`, and, for a
 /// physical system of velocity unit `velocity` (m/s), `friction_table_slip_speed_si` (m/s),
-/// each with `long_name` and `units`. Datasets, not attributes: 10000 rows exceed an
-/// attribute's 64 KiB.
+/// each with `long_name` and `units`, over the dimension `table_row` (a scale, so
+/// xarray reads them). Datasets, not attributes: 10000 rows exceed an attribute's 64 KiB.
 pub(crate) fn friction_table(
     file: &File,
+    dims: &mut Dims,
     table: Option<&squeal_core::FrictionTable>,
     velocity: Option<f64>,
 ) -> hdf5::Result<()> {
@@ -61,14 +62,18 @@ pub(crate) fn friction_table(
             "m/s",
         ));
     }
+    let rows: Vec<u64> = (0..t.slip_speeds().len() as u64).collect();
+    let row = dataset(
+        file,
+        "table_row",
+        &rows[..],
+        "row of the friction table",
+        None,
+    )?;
+    dims.scale(&row, "table_row")?;
     for (name, data, long, units) in sets {
-        let ds = file
-            .new_dataset_builder()
-            .obj_track_times(false)
-            .with_data(&data)
-            .create(name)?;
-        str_attr(&ds, "long_name", long)?;
-        str_attr(&ds, "units", units)?;
+        let ds = dataset(file, name, &data[..], long, Some(units))?;
+        dims.attach(file, &ds, &[&row])?;
     }
     Ok(())
 }

@@ -115,8 +115,6 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     if let Some(ph) = &plan.physical {
         physical_attrs(file, ph, plan.sweep.as_ref().map(|s| s.name))?;
     }
-    let velocity = plan.physical.as_ref().map(|ph| ph.scales().velocity);
-    crate::h5out::friction_table(file, p0.law.table(), velocity)?;
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;
     str_attr(file, "scheme", plan.solver.scheme.name())?;
@@ -217,6 +215,9 @@ fn write_all(
         dims: Dims::new(class_type(path)?),
     };
     root_attrs(file, plan, meta).h5(path)?;
+    let velocity = plan.physical.as_ref().map(|ph| ph.scales().velocity);
+    let table = plan.maps[0].law.table();
+    crate::h5out::friction_table(file, &mut o.dims, table, velocity).h5(path)?;
     let sc = scales(&mut o, plan).h5(path)?;
     let vars = cell_vars(&mut o, plan, &sc).h5(path)?;
     // The landscape of each map (laws with true stick), computed before the writer: one

@@ -78,6 +78,7 @@ pub fn write_trajectory(
         }
         crate::h5out::friction_table(
             &file,
+            &mut dims,
             attrs.table,
             attrs.physical.map(|ph| ph.scales().velocity),
         )?;

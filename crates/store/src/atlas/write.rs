@@ -57,6 +57,9 @@ fn write_all(
     shard: Option<Shard>,
 ) -> hdf5::Result<()> {
     root_attrs(o.file, plan, prov, shard)?;
+    // A physical atlas of the table law is refused when read (no physical units), so its
+    // table's slip speeds are nondimensional only.
+    crate::h5out::friction_table(o.file, &mut o.dims, plan.table, None)?;
     let scales = plan
         .axes()
         .iter()
@@ -149,9 +152,6 @@ fn root_attrs(
     if let Some(s) = shard {
         str_attr(file, "shard", &s.to_string())?;
     }
-    // A physical atlas of the table law is refused when read (no physical units), so its
-    // table's slip speeds are nondimensional only.
-    crate::h5out::friction_table(file, plan.table, None)?;
     Ok(())
 }
 
