@@ -364,7 +364,8 @@ mod tests {
     /// Each hostile table is refused naming its row and what is wrong.
     #[test]
     fn hostile_tables_are_refused_by_row() {
-        let cases: [(&[(f64, f64)], usize, &str); 8] = [
+        type Rows = &'static [(f64, f64)];
+        let cases: [(Rows, usize, &str); 8] = [
             (&[(0.0, 0.5)], 1, "1 rows given"),
             (&[], 0, "0 rows given"),
             (
