@@ -108,6 +108,28 @@ fn the_shipped_table_spec_scans_and_stores_its_table() {
     assert_eq!((v.len(), v[0], v[44]), (45, 1.0, 0.5));
     let units: hdf5::types::VarLenUnicode = mu.attr("units").unwrap().read_scalar().unwrap();
     assert_eq!(units.as_str(), "1");
+    // The file holds the curve: shards merge with the CSV gone, and the merged file
+    // stores the same table.
+    for k in ["1/2", "2/2"] {
+        let out = format!("s{}.h5", &k[..1]);
+        let (ok, text) = squeal(dir.path(), &["scan", "t.toml", "--shard", k, "-o", &out]);
+        assert!(ok, "{text}");
+    }
+    std::fs::rename(
+        dir.path().join("data/stribeck-mu.csv"),
+        dir.path().join("gone.csv"),
+    )
+    .unwrap();
+    let (ok, text) = squeal(dir.path(), &["merge", "s1.h5", "s2.h5", "--out", "m.h5"]);
+    assert!(ok, "{text}");
+    let m = hdf5::File::open(dir.path().join("m.h5")).unwrap();
+    let merged: Vec<f64> = m.dataset("friction_table_mu").unwrap().read_raw().unwrap();
+    assert_eq!(merged, v);
+    std::fs::rename(
+        dir.path().join("gone.csv"),
+        dir.path().join("data/stribeck-mu.csv"),
+    )
+    .unwrap();
     for (args, words) in [
         (
             vec![

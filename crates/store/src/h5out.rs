@@ -25,21 +25,19 @@ pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5:
 }
 
 /// The table law's table as small datasets at the root of `file` (nothing for other
-/// laws): `friction_table_slip_speed` (nondimensional), `friction_table_mu`, and, for a
-/// physical system of velocity unit `velocity` (m/s), `friction_table_slip_speed_si` (m/s),
-/// each with `long_name` and `units`, over the dimension `table_row` (a scale, so
-/// xarray reads them). Datasets, not attributes: 10000 rows exceed an attribute's 64 KiB.
+/// laws): `friction_table_slip_speed` (nondimensional) and `friction_table_mu`, each with
+/// `long_name` and `units`, over the dimension `table_row` (a scale, so xarray reads them).
+/// Datasets, not attributes: 10000 rows exceed an attribute's 64 KiB. (The law has no
+/// physical units yet, so there are no SI slip speeds to store.)
 pub(crate) fn friction_table(
     file: &File,
     dims: &mut Dims,
     table: Option<&squeal_core::FrictionTable>,
-    velocity: Option<f64>,
 ) -> hdf5::Result<()> {
     let Some(t) = table else {
         return Ok(());
     };
-    let si: Option<Vec<f64>> = velocity.map(|u| t.slip_speeds().iter().map(|s| s * u).collect());
-    let mut sets = vec![
+    let sets = [
         (
             "friction_table_slip_speed",
             t.slip_speeds().to_vec(),
@@ -54,14 +52,6 @@ pub(crate) fn friction_table(
             "1",
         ),
     ];
-    if let Some(si) = si {
-        sets.push((
-            "friction_table_slip_speed_si",
-            si,
-            "slip speed of the friction table's rows",
-            "m/s",
-        ));
-    }
     let rows: Vec<u64> = (0..t.slip_speeds().len() as u64).collect();
     let row = dataset(
         file,

@@ -215,9 +215,7 @@ fn write_all(
         dims: Dims::new(class_type(path)?),
     };
     root_attrs(file, plan, meta).h5(path)?;
-    let velocity = plan.physical.as_ref().map(|ph| ph.scales().velocity);
-    let table = plan.maps[0].law.table();
-    crate::h5out::friction_table(file, &mut o.dims, table, velocity).h5(path)?;
+    crate::h5out::friction_table(file, &mut o.dims, plan.maps[0].law.table()).h5(path)?;
     let sc = scales(&mut o, plan).h5(path)?;
     let vars = cell_vars(&mut o, plan, &sc).h5(path)?;
     // The landscape of each map (laws with true stick), computed before the writer: one

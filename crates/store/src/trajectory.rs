@@ -76,12 +76,7 @@ pub fn write_trajectory(
         if let Some(ph) = attrs.physical {
             crate::h5write::physical_attrs(&file, ph, None)?;
         }
-        crate::h5out::friction_table(
-            &file,
-            &mut dims,
-            attrs.table,
-            attrs.physical.map(|ph| ph.scales().velocity),
-        )?;
+        crate::h5out::friction_table(&file, &mut dims, attrs.table)?;
         let t = file
             .new_dataset_builder()
             .obj_track_times(false)

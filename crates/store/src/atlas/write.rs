@@ -57,9 +57,7 @@ fn write_all(
     shard: Option<Shard>,
 ) -> hdf5::Result<()> {
     root_attrs(o.file, plan, prov, shard)?;
-    // A physical atlas of the table law is refused when read (no physical units), so its
-    // table's slip speeds are nondimensional only.
-    crate::h5out::friction_table(o.file, &mut o.dims, plan.table, None)?;
+    crate::h5out::friction_table(o.file, &mut o.dims, plan.table)?;
     let scales = plan
         .axes()
         .iter()
