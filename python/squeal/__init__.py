@@ -72,12 +72,20 @@ def _check_values(table: Mapping[str, Any], where: str) -> None:
         if isinstance(v, Mapping):
             _check_values(v, key)
             continue
-        items = v.tolist() if hasattr(v, "tolist") else v
-        for x in items if isinstance(items, (list, tuple)) else [items]:
+        for x in _leaves(v):
             if x is None:
                 raise ValueError(f"spec: `{key}` = None: expected a value")
             if isinstance(x, float) and not math.isfinite(x):
                 raise ValueError(f"spec: `{key}` = {x}: expected a finite number")
+
+
+def _leaves(v: Any) -> list:
+    """The numbers (and other scalars) of a value, lists within lists included (the rows
+    of ``friction_table=``, a numpy array's elements)."""
+    items = v.tolist() if hasattr(v, "tolist") else v
+    if isinstance(items, (list, tuple)):
+        return [x for item in items for x in _leaves(item)]
+    return [items]
 
 
 def _real(name: str, v: Any) -> float:
@@ -214,7 +222,9 @@ def basin_stability(
     """Shares per regime of ``n`` uniform random initial conditions (seeded) in
     ``region = ((x0_min, x0_max), (v0_min, v0_max))``: bSTAB's estimator, squeal's
     classifier. ``params`` are the model's (``xi``, ``v_d``, ``mu_d``, ... for the Stribeck
-    law; ``nu``, ``lambda``, ... for McMillan's); one of them may be a list or array (a
+    law; ``nu``, ``lambda``, ... for McMillan's; for ``law="table"`` its curve as
+    ``friction_table=[(s, mu), ...]`` or ``friction_csv="pad.csv"``, relative to the working
+    folder); one of them may be a list or array (a
     sweep, e.g. ``v_d=numpy.linspace(0.8, 2.225, 20)``, the belt-speed study).
     Or, for McMillan's laws and Coulomb, the physical system in SI units, as keywords
     (``m, k, c, v_belt, mu_k, mu_s, tau_s`` and ``g`` or ``normal_force``, as the command
@@ -416,7 +426,9 @@ def ulc(
     **model: Any,
 ) -> UnstableCycle:
     """Locates the unstable limit cycle (``squeal ulc``) of the model given by its
-    parameters (``law="mcmillan", nu=1e-2``; ``integration={"dt": ...}``), or by its
+    parameters (``law="mcmillan", nu=1e-2``; ``integration={"dt": ...}``; the tabulated law
+    as ``law="table", friction_table=[(0.0, 0.6), (0.5, 0.45), (2.0, 0.4)]`` or
+    ``friction_csv="pad.csv"``, slip speed and mu, the first row at slip speed 0), or by its
     physical system in SI units (``m=0.8, k=2e5, c=20, v_belt=0.3, mu_k=0.38, mu_s=0.48,
     tau_s=5e-4, normal_force=1500``, the command line's flags; or ``physical=`` a
     ``[physical]`` table), or of map ``map`` of a scan ``spec``. Errors name the keyword."""

@@ -537,3 +537,35 @@ def test_a_month_long_scan_is_refused_without_allow_long(tmp_path):
         squeal.scan(spec, tmp_path / "long.h5")
     assert "--allow-long" not in str(e.value)
     assert list(tmp_path.iterdir()) == []
+
+def test_the_tabulated_law_takes_a_table_or_a_csv(tmp_path):
+    # bSTAB's Stribeck law (mu_d = 0.5, mu_sd = 2, v_0 = 0.5) tabulated at 2001 rows to
+    # s = 20: the same verdict as the formula from a start that squeals and one that does
+    # not (bSTAB's case 1, v_d = 1.5, is bistable), and the run's Dataset holds the table.
+    s = np.linspace(0.0, 20.0, 2001)
+    rows = list(zip(s, 0.5 + 0.5 * np.exp(-s / 0.5)))
+    for x0, v0, regime in [(-1.0, 0.5, "stick_slip"), (0.5, 0.1, "steady_slip")]:
+        table = squeal.trajectory(law="table", friction_table=rows, x0=x0, v0=v0, t_end=30.0)
+        formula = squeal.trajectory(law="stribeck", x0=x0, v0=v0, t_end=30.0)
+        assert table.attrs["regime"] == formula.attrs["regime"] == regime
+    assert table["friction_table_mu"].dims == ("table_row",)
+    assert table["friction_table_mu"].values[0] == 1.0
+    assert len(table["friction_table_slip_speed"]) == 2001
+    # A CSV file, as the command line's --friction-csv reads it.
+    csv = tmp_path / "pad.csv"
+    csv.write_text("slip_speed,mu\n0,0.6\n0.5,0.45\n2,0.4\n")
+    cycle = squeal.ulc(law="table", friction_csv=str(csv), v_d=0.5)
+    r = cli(
+        "ulc", "--law", "table", "--friction-csv", str(csv), "--v-d", "0.5", "--json", cwd=tmp_path
+    )
+    assert r.returncode == 0, r.stderr
+    assert cycle.r_section == json.loads(r.stdout)["r_section"]
+    # Hostile tables are refused naming the keyword and the row.
+    with pytest.raises(ValueError, match=r"`friction_table=` = given: friction table row 3"):
+        squeal.ulc(law="table", friction_table=[(0.0, 0.5), (1.0, 0.4), (0.5, 0.3)])
+    with pytest.raises(ValueError, match=r"`friction_table=` = nan"):
+        squeal.ulc(law="table", friction_table=[(0.0, 0.5), (1.0, float("nan"))])
+    with pytest.raises(ValueError, match=r"`friction_csv=` = .*nowhere\.csv"):
+        squeal.critical(law="table", parameter="xi", friction_csv=str(tmp_path / "nowhere.csv"))
+    with pytest.raises(ValueError, match=r"`friction_table=` = given with law = \"stribeck\""):
+        squeal.basin_stability("stribeck", n=10, friction_table=rows)

@@ -24,6 +24,10 @@ pub struct ModelArgs {
     /// ...); defaults: the paper's Table 1, bSTAB's friction case, or the cubic law's.
     #[command(flatten)]
     pub keys: LawFlags,
+    /// `--law table`: the friction curve, a CSV of two columns (slip speed, mu; the first
+    /// row at slip speed 0, its mu the static coefficient), an optional header, `#` comments.
+    #[arg(long, value_name = "FILE")]
+    pub friction_csv: Option<std::path::PathBuf>,
     /// The physical system's flags (the paper's laws, instead of --nu --lambda [--tau --phi]).
     #[command(flatten)]
     pub system: PhysicalArgs,
@@ -63,7 +67,7 @@ impl ModelArgs {
         }
         let defaults = Params::defaults(law);
         let named = defaults.named();
-        let p = Params::from_named(law, |k| {
+        let p = Params::from_named_table(law, self.table(law)?, |k| {
             self.keys
                 .get(k)
                 .or_else(|| named.iter().find(|n| n.name == k).map(|n| n.value))
@@ -71,6 +75,29 @@ impl ModelArgs {
         .map_err(|k| anyhow::anyhow!("--{k}: missing"))?;
         p.validate().map_err(flag_error)?;
         Ok(p)
+    }
+
+    /// The table of `--friction-csv`, which `--law table` needs and the other laws refuse.
+    fn table(
+        &self,
+        law: FrictionLaw,
+    ) -> anyhow::Result<Option<&'static squeal_core::FrictionTable>> {
+        match (&self.friction_csv, law) {
+            (None, FrictionLaw::Table) => bail!(
+                "--friction-csv: missing: --law table needs its friction curve, a CSV of slip \
+                 speed and mu (the first row at slip speed 0)"
+            ),
+            (None, _) => return Ok(None),
+            (Some(_), FrictionLaw::Table) => {}
+            (Some(_), _) => bail!(
+                "--friction-csv: not a flag of --law {law} (only --law table takes a friction \
+                 curve)"
+            ),
+        }
+        let path = self.friction_csv.as_deref().expect("given");
+        squeal_scan::spec::read_friction_csv(path)
+            .map(Some)
+            .map_err(|e| anyhow::anyhow!("--friction-csv: {e}"))
     }
 
     /// The `[model]` table of a scan spec for these flags (and its `[physical]` table when
@@ -84,6 +111,12 @@ impl ModelArgs {
         }
         for n in p.named() {
             t.push_str(&format!("{} = {:?}\n", n.name, n.value));
+        }
+        if let Some(csv) = &self.friction_csv {
+            // Read again by the plan, relative to the working folder (the spec's folder of
+            // "command line" is "").
+            let path = toml::Value::String(csv.to_string_lossy().into_owned());
+            t.push_str(&format!("friction_csv = {path}\n"));
         }
         Ok(t)
     }
@@ -191,6 +224,7 @@ fn spec_conflicts() -> Vec<&'static str> {
         "tau_s",
         "g",
         "normal_force",
+        "friction_csv",
         "dt",
         "solver",
         "t_max",

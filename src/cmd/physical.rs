@@ -83,6 +83,14 @@ impl PhysicalArgs {
         if values.iter().all(Option::is_none) {
             return Ok(None);
         }
+        // Before asking for the missing flags: a law with true stick takes none of them
+        // (`--law table --m ...` asked for --mu-k, which that law would never take).
+        if law.has_true_stick() {
+            bail!(
+                "--law {law}: the physical flags use McMillan's scaling, which the laws with true \
+                 stick do not share (give --xi, --v-d, ... instead)"
+            );
+        }
         let all = "--m --k --c --v-belt --mu-k, with --mu-s --tau-s for --law mcmillan and \
                    mcmillan-nonhysteretic (and optionally --g or --normal-force)";
         if let Some((flag, _)) = PHYSICAL_FLAGS[..5]
@@ -91,12 +99,6 @@ impl PhysicalArgs {
             .find(|(_, v)| v.is_none())
         {
             bail!("{}: missing (the physical system takes {all})", flag.0);
-        }
-        if law.has_true_stick() {
-            bail!(
-                "--law {law}: the physical flags use McMillan's scaling, which the laws with true \
-                 stick do not share (give --xi, --v-d, ... instead)"
-            );
         }
         if let Some(k) = other {
             bail!(

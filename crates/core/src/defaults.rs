@@ -62,3 +62,20 @@ pub const CUBIC_MU_0: f64 = 0.4;
 pub const CUBIC_A1: f64 = 0.45;
 /// The cubic law: cubic coefficient `a3`.
 pub const CUBIC_A3: f64 = 0.6;
+
+/// The table law: damping ratio `xi` (bSTAB's, [`XI`]).
+pub const TABLE_XI: f64 = XI;
+/// The table law: belt speed `v_d` (bSTAB's, [`V_D`]).
+pub const TABLE_V_D: f64 = V_D;
+
+/// The table law's default table: bSTAB's Stribeck law (`mu_d = 0.5`, `mu_sd = 2`,
+/// `v_0 = 0.5`, `mu_v = 0`) sampled at 201 rows, slip speeds `0, 0.05, ..., 10` (where its
+/// `mu` is within `0.5 exp(-20) = 1e-9` of `mu_d`). A run names its table by
+/// `friction_table` or `friction_csv`; this one is what help lines and defaults show.
+pub fn table() -> &'static crate::FrictionTable {
+    static T: std::sync::OnceLock<&'static crate::FrictionTable> = std::sync::OnceLock::new();
+    T.get_or_init(|| {
+        let s = crate::Stribeck::default();
+        crate::FrictionTable::sampled(|v| s.mu(v).0, 10.0, 201).expect("a valid table")
+    })
+}

@@ -57,6 +57,17 @@ pub enum CoreError {
         /// Every law's name.
         expected: String,
     },
+    /// A friction table ([`crate::table::FrictionTable`]) with a bad row, or too few or too
+    /// many rows: the row (counted from 1; 0 for an empty table) and what is wrong with it.
+    #[error("friction table {unit} {row}: {reason}")]
+    InvalidTable {
+        /// `row` (of a list of rows) or `line` (of a CSV text).
+        unit: &'static str,
+        /// The row or line, counted from 1.
+        row: usize,
+        /// What is wrong, with the values.
+        reason: String,
+    },
     /// A scheme name that is not one of ours.
     #[error("unknown scheme '{0}' (expected foh or zoh)")]
     UnknownScheme(String),

@@ -21,7 +21,7 @@
 use std::f64::consts::{FRAC_2_PI, PI};
 
 use crate::atan::atan_ratio;
-use crate::law::{Cubic, Friction, FrictionLaw, PerV0, Stribeck, Surface};
+use crate::law::{Cubic, Friction, FrictionLaw, FrictionTable, PerV0, Stribeck, Surface};
 use crate::params::Params;
 
 /// Which piece of the law was used.
@@ -106,6 +106,7 @@ enum Form {
     Coulomb,
     Stribeck(StribeckConsts),
     Cubic(Cubic),
+    Table(&'static FrictionTable),
 }
 
 /// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
@@ -131,6 +132,7 @@ impl Law {
                 per_v0: PerV0::new(s.v_0),
             }),
             Friction::Cubic(c) => Form::Cubic(c),
+            Friction::Table(t) => Form::Table(t),
         };
         Law {
             form,
@@ -146,6 +148,7 @@ impl Law {
             Form::Coulomb => FrictionLaw::Coulomb,
             Form::Stribeck(_) => FrictionLaw::Stribeck,
             Form::Cubic(_) => FrictionLaw::Cubic,
+            Form::Table(_) => FrictionLaw::Table,
         }
     }
 
@@ -170,7 +173,7 @@ impl Law {
             Form::McMillan(c) => mcmillan_k(v, a, c.tau, c.phi, c.inv_sin_phi, c.pi_minus_phi),
             Form::NonHysteretic(c) => nonhysteretic_k(v, a, c.tau, c.inv_sin_phi, c.pi_minus_phi),
             Form::Coulomb => coulomb(v),
-            Form::Stribeck(_) | Form::Cubic(_) => {
+            Form::Stribeck(_) | Form::Cubic(_) | Form::Table(_) => {
                 if v == 0.0 {
                     // Set-valued: the middle of [-mu_s, mu_s], as Coulomb's F(0) = 0.
                     return ForceEval {
@@ -198,6 +201,7 @@ impl Law {
         match &self.form {
             Form::Stribeck(c) => c.params.mu_by(s, &c.per_v0),
             Form::Cubic(c) => c.mu(s),
+            Form::Table(t) => t.mu(s),
             _ => (0.0, 0.0),
         }
     }
@@ -209,6 +213,7 @@ impl Law {
         match &self.form {
             Form::Stribeck(c) => Some(c.params.mu_s()),
             Form::Cubic(c) => Some(c.mu_0),
+            Form::Table(t) => Some(t.mu_s()),
             _ => None,
         }
     }

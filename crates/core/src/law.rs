@@ -6,6 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
+pub use crate::table::FrictionTable;
 
 /// Which friction law closes the equation of motion `x'' + 2 nu x' + x = F(x' - lambda, x'')`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -30,6 +31,11 @@ pub enum FrictionLaw {
     /// stuck; its parameters are [`Cubic`].
     #[serde(rename = "cubic")]
     Cubic,
+    /// A tabulated law with true stick: `F = -sgn(v) mu(|v|)` while slipping, `mu` a
+    /// monotone interpolation of a table of `(s, mu)` rows ([`FrictionTable`]); any value in
+    /// `[-mu_s, mu_s]` while stuck, `mu_s` the row at slip speed 0.
+    #[serde(rename = "table")]
+    Table,
 }
 
 impl FrictionLaw {
@@ -41,6 +47,7 @@ impl FrictionLaw {
             FrictionLaw::Coulomb => "coulomb",
             FrictionLaw::Stribeck => "stribeck",
             FrictionLaw::Cubic => "cubic",
+            FrictionLaw::Table => "table",
         }
     }
 
@@ -52,6 +59,7 @@ impl FrictionLaw {
             FrictionLaw::Coulomb => "Coulomb friction",
             FrictionLaw::Stribeck => "Stribeck law with true stick",
             FrictionLaw::Cubic => "cubic law with true stick",
+            FrictionLaw::Table => "tabulated law with true stick",
         }
     }
 
@@ -63,12 +71,13 @@ impl FrictionLaw {
     ];
 
     /// All laws, in a fixed order.
-    pub const ALL: [FrictionLaw; 5] = [
+    pub const ALL: [FrictionLaw; 6] = [
         FrictionLaw::McMillan,
         FrictionLaw::McMillanNonHysteretic,
         FrictionLaw::Coulomb,
         FrictionLaw::Stribeck,
         FrictionLaw::Cubic,
+        FrictionLaw::Table,
     ];
 
     /// Every law's name, for messages: `mcmillan, mcmillan-nonhysteretic, ...`.
@@ -79,7 +88,10 @@ impl FrictionLaw {
     /// Whether the law sticks with a static limit, stepped with located stick events
     /// ([`crate::stick`]).
     pub fn has_true_stick(self) -> bool {
-        matches!(self, FrictionLaw::Stribeck | FrictionLaw::Cubic)
+        matches!(
+            self,
+            FrictionLaw::Stribeck | FrictionLaw::Cubic | FrictionLaw::Table
+        )
     }
 
     /// The names of the law's own parameters, damping and belt speed first, as they appear in
@@ -88,6 +100,8 @@ impl FrictionLaw {
         match self {
             FrictionLaw::Stribeck => &["xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v"],
             FrictionLaw::Cubic => &["xi", "v_d", "mu_0", "a1", "a3"],
+            // The table itself is no scalar key (`friction_table`, `friction_csv`).
+            FrictionLaw::Table => &["xi", "v_d"],
             // Coulomb's force has no surface time and no static limit of its own.
             FrictionLaw::Coulomb => &["nu", "lambda"],
             FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => {
@@ -191,6 +205,8 @@ pub enum Friction {
     Stribeck(Stribeck),
     /// The cubic law with true stick (Popp and Stelter; Thomsen 1999).
     Cubic(Cubic),
+    /// A tabulated law with true stick (interned: [`FrictionTable::new`]).
+    Table(&'static FrictionTable),
 }
 
 impl Friction {
@@ -202,6 +218,7 @@ impl Friction {
             Friction::Coulomb => FrictionLaw::Coulomb,
             Friction::Stribeck(_) => FrictionLaw::Stribeck,
             Friction::Cubic(_) => FrictionLaw::Cubic,
+            Friction::Table(_) => FrictionLaw::Table,
         }
     }
 
@@ -211,7 +228,8 @@ impl Friction {
     }
 
     /// The law `kind` with its default parameters (the paper's Table 1 for McMillan's laws,
-    /// bSTAB's friction case for the Stribeck law).
+    /// bSTAB's friction case for the Stribeck law, that law tabulated for the table law:
+    /// [`crate::defaults::table`]).
     pub fn default_of(kind: FrictionLaw) -> Friction {
         match kind {
             FrictionLaw::McMillan => Friction::McMillan(Surface::default()),
@@ -219,6 +237,7 @@ impl Friction {
             FrictionLaw::Coulomb => Friction::Coulomb,
             FrictionLaw::Stribeck => Friction::Stribeck(Stribeck::default()),
             FrictionLaw::Cubic => Friction::Cubic(Cubic::default()),
+            FrictionLaw::Table => Friction::Table(crate::defaults::table()),
         }
     }
 
@@ -259,6 +278,15 @@ impl Friction {
         match self {
             Friction::Stribeck(l) => Some(l.mu(s)),
             Friction::Cubic(l) => Some(l.mu(s)),
+            Friction::Table(t) => Some(t.mu(s)),
+            _ => None,
+        }
+    }
+
+    /// The table of the tabulated law (that law only).
+    pub fn table(&self) -> Option<&'static FrictionTable> {
+        match self {
+            Friction::Table(t) => Some(t),
             _ => None,
         }
     }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
-pub use crate::law::{Cubic, Friction, FrictionLaw, PerV0, Stribeck, Surface};
+pub use crate::law::{Cubic, Friction, FrictionLaw, FrictionTable, PerV0, Stribeck, Surface};
 
 /// Nondimensional parameters of the oscillator `x'' + 2 nu x' + x = F` (paper Section 4).
 ///
@@ -27,8 +27,9 @@ pub struct Params {
     pub lambda: f64,
 }
 
-/// The serde form of [`Params`]: the law's own keys, each present only for its law.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+/// The serde form of [`Params`]: the law's own keys, each present only for its law (the
+/// table law's rows as `friction_table`, `[[s, mu], ...]`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 struct ParamsWire {
     law: FrictionLaw,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -57,6 +58,8 @@ struct ParamsWire {
     a1: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     a3: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    friction_table: Option<Vec<[f64; 2]>>,
     /// Read only: the Stribeck parameters as a table (records of earlier builds).
     #[serde(default, skip_serializing)]
     stribeck: Option<Stribeck>,
@@ -79,6 +82,10 @@ impl From<Params> for ParamsWire {
             mu_0: None,
             a1: None,
             a3: None,
+            friction_table: p
+                .law
+                .table()
+                .map(|t| t.rows().into_iter().map(|(s, mu)| [s, mu]).collect()),
             stribeck: None,
         };
         for n in p.named() {
@@ -107,7 +114,14 @@ impl TryFrom<ParamsWire> for Params {
     type Error = String;
     fn try_from(w: ParamsWire) -> Result<Params, String> {
         let legacy = w.stribeck;
-        Params::from_named(w.law, |k| match k {
+        let table = match &w.friction_table {
+            Some(rows) => {
+                let rows: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[1])).collect();
+                Some(FrictionTable::new(&rows).map_err(|e| e.to_string())?)
+            }
+            None => None,
+        };
+        Params::from_named_table(w.law, table, |k| match k {
             "nu" => w.nu,
             "lambda" => w.lambda,
             "tau" => w.tau,
@@ -169,6 +183,11 @@ impl Params {
                 law: Friction::Cubic(Cubic::default()),
                 nu: crate::defaults::CUBIC_XI,
                 lambda: crate::defaults::CUBIC_V_D,
+            },
+            FrictionLaw::Table => Params {
+                law: Friction::Table(crate::defaults::table()),
+                nu: crate::defaults::TABLE_XI,
+                lambda: crate::defaults::TABLE_V_D,
             },
             _ => Params::paper(law, crate::defaults::NU),
         }
@@ -252,6 +271,8 @@ impl Params {
                 ),
                 n("mu_v", s.mu_v, "viscous strengthening mu_v", "1"),
             ],
+            // The table is no scalar: stored beside the keys (`friction_table`).
+            Friction::Table(_) => vec![xi, v_d],
             Friction::Coulomb => vec![damping, speed],
             Friction::McMillan(c) | Friction::NonHysteretic(c) => vec![
                 damping,
@@ -263,9 +284,21 @@ impl Params {
     }
 
     /// The parameters of `law` from named values (the inverse of [`Params::named`]); `get`
-    /// returns `None` for a missing key, reported by name. Not validated.
+    /// returns `None` for a missing key, reported by name. Not validated. The table law
+    /// needs its table: [`Params::from_named_table`] (here it is missing, named
+    /// `friction_table`).
     pub fn from_named(
         law: FrictionLaw,
+        get: impl FnMut(&'static str) -> Option<f64>,
+    ) -> Result<Params, &'static str> {
+        Params::from_named_table(law, None, get)
+    }
+
+    /// [`Params::from_named`] with the table law's table (`None`, for that law, is the
+    /// missing key `friction_table`; ignored for the other laws).
+    pub fn from_named_table(
+        law: FrictionLaw,
+        table: Option<&'static FrictionTable>,
         mut get: impl FnMut(&'static str) -> Option<f64>,
     ) -> Result<Params, &'static str> {
         let mut val = |k: &'static str| get(k).ok_or(k);
@@ -292,6 +325,7 @@ impl Params {
                 a1: val("a1")?,
                 a3: val("a3")?,
             }),
+            FrictionLaw::Table => Friction::Table(table.ok_or("friction_table")?),
         };
         Ok(Params { law, nu, lambda })
     }
@@ -315,6 +349,8 @@ impl Params {
                 self.validate_stick()?;
                 return c.validate();
             }
+            // The rows were checked when the table was made (FrictionTable::new).
+            Friction::Table(_) => return self.validate_stick(),
             _ => {}
         }
         if !self.nu.is_finite() || self.nu < 0.0 {
@@ -393,6 +429,8 @@ impl Params {
             Friction::McMillan(c) | Friction::NonHysteretic(c) => 1.0 + 1.0 / c.phi.sin(),
             // mu(s) <= mu_0 + a3 s^3 over the same range of slip speeds.
             Friction::Cubic(c) => c.mu_0 + c.a3 * (1e6 + self.lambda).powi(3),
+            // The monotone interpolation stays within its rows' values.
+            Friction::Table(t) => t.max_mu(),
         }
     }
 

@@ -63,7 +63,7 @@ use crate::values::{Value, expand};
 pub(crate) mod physical;
 mod tables;
 
-pub use tables::CycleOptions;
+pub use tables::{CycleOptions, MAX_CSV_BYTES, read_friction_csv};
 pub(crate) use tables::{CycleTable, IntegrationTable, ModelTable, OutputTable, Shape, check_name};
 
 /// The spec version this build reads.
@@ -494,7 +494,11 @@ fn fixed_params(m: &ModelTable, invalid: Invalid) -> Result<Vec<(&'static str, f
 }
 /// The maps of a `[model]` table: one parameter set per value of the swept key (the damping
 /// or the belt speed, not both), each checked.
-fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
+fn model_maps(
+    m: &ModelTable,
+    table: Option<&'static squeal_core::FrictionTable>,
+    invalid: Invalid,
+) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
     // The laws with true stick default their damping (bSTAB's case); McMillan's need it.
     let stribeck = m.law.has_true_stick();
     let (damping_key, speed_key) = (m.law.keys()[0], m.law.keys()[1]);
@@ -541,7 +545,7 @@ fn model_maps(m: &ModelTable, invalid: Invalid) -> Result<(Vec<Params>, Option<S
     let mut maps = Vec::new();
     for &nu in &nus {
         for &lambda in &lambdas {
-            let p = Params::from_named(m.law, |k| match k {
+            let p = Params::from_named_table(m.law, table, |k| match k {
                 k if k == damping_key => Some(nu),
                 k if k == speed_key => Some(lambda),
                 k => fixed.iter().find(|(f, _)| *f == k).map(|(_, v)| *v),
@@ -648,7 +652,7 @@ impl Plan {
 
     /// Parses and checks spec text; `path` is used in messages and for the default name.
     pub fn from_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
-        Plan::from_parsed(parse_spec(text, path)?, text, path)
+        Plan::from_parsed(parse_spec(text, path)?, text, path, None)
     }
 
     /// Parses and checks the spec stored in a file (or journal) this or an older squeal
@@ -657,6 +661,17 @@ impl Plan {
     /// dropped rather than refused, so those files still read (one swept is refused: that
     /// version made each of its values a point of an atlas).
     pub fn from_stored_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
+        Plan::from_stored_toml_table(text, path, None)
+    }
+
+    /// [`Plan::from_stored_toml`] with the friction table the file stores (`table`), which
+    /// stands for the spec's `friction_table` or `friction_csv` (the CSV need not be where
+    /// it was).
+    pub fn from_stored_toml_table(
+        text: &str,
+        path: &str,
+        table: Option<&'static squeal_core::FrictionTable>,
+    ) -> Result<Plan, ScanError> {
         let mut spec = parse_spec(text, path)?;
         if let Some(ph) = &mut spec.physical {
             ph.forget_unused(spec.model.law, &|key, value, expected| ScanError::Invalid {
@@ -666,11 +681,16 @@ impl Plan {
                 expected: expected.to_string(),
             })?;
         }
-        Plan::from_parsed(spec, text, path).map_err(crate::bounds::stored_spec_error)
+        Plan::from_parsed(spec, text, path, table).map_err(crate::bounds::stored_spec_error)
     }
 
     /// Checks the parsed spec `spec` of text `text`.
-    fn from_parsed(spec: SpecFile, text: &str, path: &str) -> Result<Plan, ScanError> {
+    fn from_parsed(
+        spec: SpecFile,
+        text: &str,
+        path: &str,
+        stored: Option<&'static squeal_core::FrictionTable>,
+    ) -> Result<Plan, ScanError> {
         let invalid = |key: &str, value: String, expected: &str| ScanError::Invalid {
             path: path.to_string(),
             key: key.to_string(),
@@ -693,7 +713,11 @@ impl Plan {
         };
         let m = converted.as_ref().unwrap_or(&spec.model);
         m.check_law(&invalid)?;
-        let (maps, sweep) = model_maps(m, &invalid)?;
+        let folder = std::path::Path::new(path)
+            .parent()
+            .unwrap_or(std::path::Path::new(""));
+        let table = m.table(folder, stored, &invalid)?;
+        let (maps, sweep) = model_maps(m, table, &invalid)?;
         let mut grid = initial_conditions(spec.grid.as_ref(), spec.sample.as_ref(), &invalid)?;
         if let Some(ph) = &physical {
             physical::grid_to_nondimensional(&mut grid, ph, &invalid)?;

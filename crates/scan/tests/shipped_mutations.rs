@@ -149,11 +149,14 @@ fn judge(sh: &Shipped, path: &[Step], m: &Value, n: &mut Counts) -> Option<Strin
     *at(&mut s, path) = m.clone();
     let text = toml::to_string(&s).unwrap();
     n.cases += 1;
+    // Read as from its folder: a spec's `friction_csv` is relative to it.
+    let at_path = scans().join(&sh.name);
+    let at_path = at_path.to_str().expect("a UTF-8 path");
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if sh.atlas {
-            AtlasPlan::from_toml(&text, &sh.name).map(|p| atlas_wrong(&p))
+            AtlasPlan::from_toml(&text, at_path).map(|p| atlas_wrong(&p))
         } else {
-            Plan::from_toml(&text, &sh.name).map(|p| scan_wrong(&p))
+            Plan::from_toml(&text, at_path).map(|p| scan_wrong(&p))
         }
     }));
     let case = format!("{} {path:?} = {m}", sh.name);

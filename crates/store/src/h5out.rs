@@ -24,6 +24,50 @@ pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5:
     loc.new_attr::<T>().create(name)?.write_scalar(&value)
 }
 
+/// The table law's table as small datasets at the root of `file` (nothing for other
+/// laws): `friction_table_slip_speed` (nondimensional) and `friction_table_mu`, each with
+/// `long_name` and `units`, over the dimension `table_row` (a scale, so xarray reads them).
+/// Datasets, not attributes: 10000 rows exceed an attribute's 64 KiB. (The law has no
+/// physical units yet, so there are no SI slip speeds to store.)
+pub(crate) fn friction_table(
+    file: &File,
+    dims: &mut Dims,
+    table: Option<&squeal_core::FrictionTable>,
+) -> hdf5::Result<()> {
+    let Some(t) = table else {
+        return Ok(());
+    };
+    let sets = [
+        (
+            "friction_table_slip_speed",
+            t.slip_speeds().to_vec(),
+            "slip speed of the friction table's rows (natural-frequency velocity scale)",
+            "1",
+        ),
+        (
+            "friction_table_mu",
+            t.coefficients().to_vec(),
+            "friction coefficient mu of the friction table's rows (PCHIP between them; the \
+             row at slip speed 0 is the static coefficient)",
+            "1",
+        ),
+    ];
+    let rows: Vec<u64> = (0..t.slip_speeds().len() as u64).collect();
+    let row = dataset(
+        file,
+        "table_row",
+        &rows[..],
+        "row of the friction table",
+        None,
+    )?;
+    dims.scale(&row, "table_row")?;
+    for (name, data, long, units) in sets {
+        let ds = dataset(file, name, &data[..], long, Some(units))?;
+        dims.attach(file, &ds, &[&row])?;
+    }
+    Ok(())
+}
+
 /// Records dimension-scale attachments; `REFERENCE_LIST`s are written at the end.
 pub(crate) struct Dims {
     pub(crate) scales: Vec<(Dataset, Vec<RefEntry>)>,

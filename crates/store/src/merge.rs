@@ -207,12 +207,12 @@ pub fn merge(
     }
     let _lock = OutputLock::acquire(out)?;
     let (h, files) = open_shards(shards)?;
-    let mut plan = Plan::from_stored_toml(&h.spec, &format!("{}.toml", h.name)).map_err(|e| {
-        StoreError::NotSquealFile {
+    let table = read::friction_table(&files[0].1).h5(&files[0].0)?;
+    let mut plan = Plan::from_stored_toml_table(&h.spec, &format!("{}.toml", h.name), table)
+        .map_err(|e| StoreError::NotSquealFile {
             path: h.path.clone(),
             why: format!("its spec no longer validates: {e}"),
-        }
-    })?;
+        })?;
     plan.name = h.name.clone();
     check_owned_blocks(&files, &plan)?;
     // The landscapes as the shards stored them (one plan: the same in every shard).

@@ -18,8 +18,14 @@ pub trait Recorded: Sized {
     /// The `schema` attribute of the files this plan writes.
     const SCHEMA: &'static str;
     /// The plan of a stored spec text, parsed as if read from `like`'s spec file, and named
-    /// `name` if given (a file's `name` attribute).
-    fn stored(spec: &str, name: Option<String>, like: &Self) -> Option<Self>;
+    /// `name` if given (a file's `name` attribute); `table`, the friction table a file
+    /// stores, stands for the spec's `friction_table` or `friction_csv` (`None`: read them).
+    fn stored(
+        spec: &str,
+        table: Option<&'static squeal_core::FrictionTable>,
+        name: Option<String>,
+        like: &Self,
+    ) -> Option<Self>;
     /// The first setting in which `other` computes something different, if any.
     fn first_difference(&self, other: &Self) -> Option<String>;
     /// This plan writing to `other`'s output (a `-o` given at the resume).
@@ -43,7 +49,7 @@ pub(crate) fn started_plan<P: Recorded + Clone>(
         path: journal.to_path_buf(),
         why,
     };
-    let started = P::stored(started_text, None, plan)
+    let started = P::stored(started_text, None, None, plan)
         .ok_or_else(|| mismatch("the journal's spec no longer validates".into()))?;
     let started = started.writing_to(plan);
     match started.first_difference(plan) {
@@ -56,8 +62,13 @@ pub(crate) fn started_plan<P: Recorded + Clone>(
 
 impl Recorded for Plan {
     const SCHEMA: &'static str = SCHEMA;
-    fn stored(spec: &str, name: Option<String>, like: &Plan) -> Option<Plan> {
-        let p = Plan::from_stored_toml(spec, &like.spec_path).ok()?;
+    fn stored(
+        spec: &str,
+        table: Option<&'static squeal_core::FrictionTable>,
+        name: Option<String>,
+        like: &Plan,
+    ) -> Option<Plan> {
+        let p = Plan::from_stored_toml_table(spec, &like.spec_path, table).ok()?;
         Some(Plan {
             name: name.unwrap_or(p.name.clone()),
             ..p
@@ -76,8 +87,13 @@ impl Recorded for Plan {
 
 impl Recorded for AtlasPlan {
     const SCHEMA: &'static str = ATLAS_SCHEMA;
-    fn stored(spec: &str, name: Option<String>, like: &AtlasPlan) -> Option<AtlasPlan> {
-        let p = AtlasPlan::from_stored_toml(spec, &like.spec_path).ok()?;
+    fn stored(
+        spec: &str,
+        table: Option<&'static squeal_core::FrictionTable>,
+        name: Option<String>,
+        like: &AtlasPlan,
+    ) -> Option<AtlasPlan> {
+        let p = AtlasPlan::from_stored_toml_table(spec, &like.spec_path, table).ok()?;
         Some(AtlasPlan {
             name: name.unwrap_or(p.name.clone()),
             ..p
@@ -157,7 +173,8 @@ pub fn output_state<P: Recorded>(
         if stored_shard != shard.map(|s| s.to_string()).unwrap_or_default() {
             return Ok(OutputState::Different("shard".into()));
         }
-        let Some(stored) = P::stored(&spec, Some(name), plan) else {
+        let table = read::friction_table(&f).h5(out)?;
+        let Some(stored) = P::stored(&spec, table, Some(name), plan) else {
             return Ok(OutputState::Different("spec".into()));
         };
         return Ok(match stored.first_difference(plan) {

@@ -111,6 +111,28 @@ pub(crate) fn f64_attr(loc: &Location, name: &str) -> hdf5::Result<f64> {
     attr(loc, name)?.read_scalar::<f64>()
 }
 
+/// The table law's table a file stores (`friction_table_slip_speed` and
+/// `friction_table_mu`, [`crate::h5out::friction_table`]); `None` in a file of another law
+/// (and in every file of an earlier version).
+pub fn friction_table(file: &File) -> hdf5::Result<Option<&'static squeal_core::FrictionTable>> {
+    if !file.link_exists("friction_table_slip_speed") {
+        return Ok(None);
+    }
+    let s: Vec<f64> = file.dataset("friction_table_slip_speed")?.read_raw()?;
+    let mu: Vec<f64> = file.dataset("friction_table_mu")?.read_raw()?;
+    if s.len() != mu.len() {
+        return Err(hdf5::Error::from(format!(
+            "friction_table_slip_speed has {} rows, friction_table_mu {}",
+            s.len(),
+            mu.len()
+        )));
+    }
+    let rows: Vec<(f64, f64)> = s.into_iter().zip(mu).collect();
+    squeal_core::FrictionTable::new(&rows)
+        .map(Some)
+        .map_err(|e| hdf5::Error::from(format!("the stored {e}")))
+}
+
 /// The sweep axis (name, values), if the file holds a sweep.
 pub(crate) fn sweep_of(file: &File) -> hdf5::Result<Option<(String, Vec<f64>)>> {
     for name in ["nu", "lambda", "xi", "v_d"] {
@@ -451,7 +473,7 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
                 _ => f64_attr(&file, name).ok(),
             }
         };
-        let params = squeal_core::Params::from_named(law, value)
+        let params = squeal_core::Params::from_named_table(law, friction_table(&file)?, value)
             .map_err(|k| hdf5::Error::from(format!("attribute {k} is missing")))?;
         // Exponent form for a huge or tiny value (`nu = 1e-300` had 300 zeros).
         let title = match &sweep {

@@ -48,6 +48,8 @@ pub struct RunAttrs<'a> {
     /// The physical system the run was given in, if any: stored as a physical scan stores it
     /// (the system and the SI size of one unit), with the other attributes in the one open.
     pub physical: Option<&'a squeal_core::Physical>,
+    /// The table law's table (stored as [`crate::h5out::friction_table`] stores it).
+    pub table: Option<&'static squeal_core::FrictionTable>,
 }
 
 /// Writes a trajectory file: `time` is the coordinate `t`, each series a variable over it.
@@ -82,6 +84,7 @@ pub fn write_trajectory(
         if let Some(ph) = attrs.physical {
             crate::h5write::physical_attrs(&file, ph, None)?;
         }
+        crate::h5out::friction_table(&file, &mut dims, attrs.table)?;
         let t = file
             .new_dataset_builder()
             .obj_track_times(false)
@@ -286,6 +289,7 @@ pub fn write_run(
         numbers,
         counts,
         physical,
+        table: p.law.table(),
     };
     write_samples(path, force, prov, &attrs, &traj.samples)
 }

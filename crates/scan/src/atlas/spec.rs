@@ -248,6 +248,8 @@ pub struct AtlasPlan {
     pub name: String,
     /// Friction law.
     pub law: FrictionLaw,
+    /// The table law's table (`friction_table` or `friction_csv`); `None` for other laws.
+    pub table: Option<&'static squeal_core::FrictionTable>,
     /// Nondimensional or physical.
     pub units: Units,
     /// Every parameter in axis order (fixed ones have one value).
@@ -342,7 +344,7 @@ impl AtlasPlan {
 
     /// Checks a spec's text; `path` names it in errors.
     pub fn from_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
-        AtlasPlan::from_parsed(parse_atlas(text, path)?, text, path)
+        AtlasPlan::from_parsed(parse_atlas(text, path)?, text, path, None)
     }
 
     /// Parses and checks the spec stored in an atlas file this or an older squeal wrote: as
@@ -351,17 +353,32 @@ impl AtlasPlan {
     /// rather than refused, so those files still read; one swept is refused (that version made
     /// each of its values a point, so the file holds more points than this plan).
     pub fn from_stored_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
+        AtlasPlan::from_stored_toml_table(text, path, None)
+    }
+
+    /// [`AtlasPlan::from_stored_toml`] with the friction table the file stores (`table`),
+    /// which stands for the spec's `friction_table` or `friction_csv`.
+    pub fn from_stored_toml_table(
+        text: &str,
+        path: &str,
+        table: Option<&'static squeal_core::FrictionTable>,
+    ) -> Result<AtlasPlan, ScanError> {
         let mut f = parse_atlas(text, path)?;
         if let Some(ph) = &mut f.physical {
             ph.forget_unused(f.model.law, &|key, value, expected| {
                 invalid(path, key, value, expected)
             })?;
         }
-        AtlasPlan::from_parsed(f, text, path).map_err(crate::bounds::stored_spec_error)
+        AtlasPlan::from_parsed(f, text, path, table).map_err(crate::bounds::stored_spec_error)
     }
 
     /// Checks the parsed spec `f` of text `text`.
-    fn from_parsed(f: AtlasFile, text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
+    fn from_parsed(
+        f: AtlasFile,
+        text: &str,
+        path: &str,
+        stored: Option<&'static squeal_core::FrictionTable>,
+    ) -> Result<AtlasPlan, ScanError> {
         if f.version != ATLAS_VERSION {
             return Err(invalid(
                 path,
@@ -373,6 +390,10 @@ impl AtlasPlan {
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let m = &f.model;
         m.check_law(&inv)?;
+        let folder = std::path::Path::new(path)
+            .parent()
+            .unwrap_or(std::path::Path::new(""));
+        let table = m.table(folder, stored, &inv)?;
         if let Some(ph) = &f.physical {
             m.check_physical(&inv)?;
             ph.check_surface_keys(m.law, &inv)?;
@@ -386,6 +407,7 @@ impl AtlasPlan {
         let plan = AtlasPlan {
             name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
             law: m.law,
+            table,
             units,
             params,
             dt,
@@ -574,7 +596,7 @@ impl AtlasPlan {
         // Axis order is the law's keys (FrictionLaw::keys).
         let v = self.values_at(i);
         let keys = self.law.keys();
-        Params::from_named(self.law, |k| {
+        Params::from_named_table(self.law, self.table, |k| {
             keys.iter().position(|x| *x == k).map(|j| v[j])
         })
         .expect("every key of the law has an axis")

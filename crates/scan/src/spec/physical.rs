@@ -224,6 +224,8 @@ pub(super) fn model(
         .into_iter()
         .flatten()
         .collect(),
+        friction_table: m.friction_table.clone(),
+        friction_csv: m.friction_csv.clone(),
     };
     Ok((base, model))
 }

@@ -23,6 +23,41 @@ pub(crate) struct ModelTable {
     pub(crate) law: FrictionLaw,
     /// The keys given, with their values, in the order written.
     pub(crate) keys: Vec<(&'static str, Value)>,
+    /// The table law's rows, `friction_table = [[s, mu], ...]`, as given.
+    pub(crate) friction_table: Option<Vec<[f64; 2]>>,
+    /// The table law's CSV file, `friction_csv = "pad.csv"` (relative to the spec's folder).
+    pub(crate) friction_csv: Option<String>,
+}
+
+/// The table law's keys (not scalars, so not [`FrictionLaw::keys`]).
+pub(crate) const TABLE_KEYS: [&str; 2] = ["friction_table", "friction_csv"];
+
+/// Largest friction CSV read, in bytes (10000 rows of two numbers fit in well under 1 MB).
+pub const MAX_CSV_BYTES: u64 = 1 << 20;
+
+/// Reads a friction CSV file ([`squeal_core::FrictionTable::from_csv`]); the error is a
+/// sentence without the key (the caller names it): the file's trouble or its bad line.
+pub fn read_friction_csv(
+    path: &std::path::Path,
+) -> Result<&'static squeal_core::FrictionTable, String> {
+    use std::io::Read;
+    crate::files::refuse_non_regular(path)
+        .map_err(|e| format!("cannot read {}: it is {}", path.display(), e.what))?;
+    let file =
+        std::fs::File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_CSV_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    if bytes.len() as u64 > MAX_CSV_BYTES {
+        return Err(format!(
+            "{} is longer than {MAX_CSV_BYTES} bytes: not a friction table of at most 10000 rows",
+            path.display()
+        ));
+    }
+    let text = String::from_utf8(bytes)
+        .map_err(|e| format!("{} is not UTF-8 text: {e}", path.display()))?;
+    squeal_core::FrictionTable::from_csv(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The keys a `[model]` table accepts: `law`, then every law's keys, each once.
@@ -35,6 +70,7 @@ fn model_fields() -> &'static [&'static str] {
                 f.push(k);
             }
         }
+        f.extend(TABLE_KEYS);
         f
     })
 }
@@ -65,12 +101,17 @@ impl<'de> Deserialize<'de> for ModelTable {
             ) -> Result<ModelTable, A::Error> {
                 use serde::de::Error;
                 let (mut law, mut keys) = (None, Vec::new());
+                let (mut friction_table, mut friction_csv) = (None, None);
                 while let Some(k) = a.next_key::<String>()? {
                     let Some(&key) = model_fields().iter().find(|f| **f == k) else {
                         return Err(A::Error::unknown_field(&k, model_fields()));
                     };
                     if key == "law" {
                         law = Some(a.next_value::<FrictionLaw>()?);
+                    } else if key == "friction_table" {
+                        friction_table = Some(a.next_value::<Vec<[f64; 2]>>()?);
+                    } else if key == "friction_csv" {
+                        friction_csv = Some(a.next_value::<String>()?);
                     } else if sweepable(key) {
                         keys.push((key, a.next_value::<Value>()?));
                     } else {
@@ -78,7 +119,12 @@ impl<'de> Deserialize<'de> for ModelTable {
                     }
                 }
                 let law = law.ok_or_else(|| A::Error::missing_field("law"))?;
-                Ok(ModelTable { law, keys })
+                Ok(ModelTable {
+                    law,
+                    keys,
+                    friction_table,
+                    friction_csv,
+                })
             }
         }
         d.deserialize_map(Visit)
@@ -98,6 +144,50 @@ impl ModelTable {
             .iter()
             .find(|(k, _)| *k == key)
             .map(|(_, v)| v.clone())
+    }
+
+    /// The table law's table: `friction_table` or `friction_csv` (read relative to
+    /// `folder`), exactly one of them, and neither for another law; `stored` (the table an
+    /// output file holds) stands for them when a stored spec is read again. `None` for the
+    /// other laws.
+    pub(crate) fn table(
+        &self,
+        folder: &std::path::Path,
+        stored: Option<&'static squeal_core::FrictionTable>,
+        invalid: Invalid,
+    ) -> Result<Option<&'static squeal_core::FrictionTable>, ScanError> {
+        let how = "law = \"table\" needs its curve: friction_table = [[s, mu], ...] (the first \
+                   row at slip speed 0) or friction_csv = \"file.csv\" (two columns), exactly \
+                   one of them";
+        if self.law != FrictionLaw::Table {
+            let given = [self.friction_table.is_some(), self.friction_csv.is_some()];
+            if let Some((k, _)) = TABLE_KEYS.into_iter().zip(given).find(|(_, g)| *g) {
+                return Err(invalid(
+                    &format!("model.{k}"),
+                    format!("given with law = \"{}\"", self.law),
+                    "no key: only law = \"table\" takes a friction table",
+                ));
+            }
+            return Ok(None);
+        }
+        match (&self.friction_table, &self.friction_csv) {
+            (Some(_), Some(_)) => Err(invalid(
+                "model.friction_csv",
+                "given with model.friction_table".into(),
+                how,
+            )),
+            (None, None) => Err(invalid("model.friction_table", "missing".into(), how)),
+            _ if stored.is_some() => Ok(stored),
+            (Some(rows), None) => {
+                let rows: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[1])).collect();
+                squeal_core::FrictionTable::new(&rows)
+                    .map(Some)
+                    .map_err(|e| invalid("model.friction_table", "given".into(), &e.to_string()))
+            }
+            (None, Some(csv)) => read_friction_csv(&folder.join(csv))
+                .map(Some)
+                .map_err(|e| invalid("model.friction_csv", format!("{csv:?}"), &e)),
+        }
     }
 
     /// Refuses a key that is not one of the law's own ([`FrictionLaw::keys`]).

@@ -61,6 +61,7 @@ fn write_all(
     shard: Option<Shard>,
 ) -> hdf5::Result<()> {
     root_attrs(o.file, plan, prov, shard)?;
+    crate::h5out::friction_table(o.file, &mut o.dims, plan.table)?;
     let scales = plan
         .axes()
         .iter()
