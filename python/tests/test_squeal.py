@@ -538,6 +538,7 @@ def test_a_month_long_scan_is_refused_without_allow_long(tmp_path):
     assert "--allow-long" not in str(e.value)
     assert list(tmp_path.iterdir()) == []
 
+
 def test_the_tabulated_law_takes_a_table_or_a_csv(tmp_path):
     # bSTAB's Stribeck law (mu_d = 0.5, mu_sd = 2, v_0 = 0.5) tabulated at 2001 rows to
     # s = 20: the same verdict as the formula from a start that squeals and one that does
