@@ -478,10 +478,10 @@ def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
     precious = tmp_path / "precious.h5"
     precious.write_bytes(b"a finished scan")
     with pytest.raises(ValueError, match=r"force=True") as e:
-        squeal.trajectory(law="mcmillan", t_end=1.0, out=precious)
+        squeal.trajectory(law="mcmillan", nu=1e-3, t_end=1.0, out=precious)
     assert "--force" not in str(e.value)
     assert precious.read_bytes() == b"a finished scan"
-    ds = squeal.trajectory(law="mcmillan", t_end=1.0, out=precious, force=True)
+    ds = squeal.trajectory(law="mcmillan", nu=1e-3, t_end=1.0, out=precious, force=True)
     assert ds["t"].values[-1] == pytest.approx(1.0)
     spec = tmp_path / "s.toml"
     spec.write_text(
