@@ -52,6 +52,8 @@ pub fn trajectory(
     };
     span.check(dt, ["x0", "v0", "t_end"], &invalid)
         .map_err(value_error)?;
+    // An existing `out` is refused before the run, unless `force`.
+    squeal_store::refuse_existing(&out, force).map_err(store_error)?;
     // The map's context, as `squeal classify` prepares it: the label is the one every path
     // gives this start ([`squeal_scan::trajectory::run_in`]).
     let ctx = squeal_scan::scanner::MapContext::prepare(&plan, map).map_err(value_error)?;

@@ -151,7 +151,8 @@ pub use error::StoreError;
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use merge::merge;
 pub use output::{
-    FileKind, OutputState, Recorded, check_output, file_kind, output_state, refuse_input_as_output,
+    FileKind, OutputState, Recorded, check_output, file_kind, output_state, refuse_existing,
+    refuse_input_as_output,
 };
 pub use read::{
     FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,

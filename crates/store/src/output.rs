@@ -226,6 +226,17 @@ fn beside(out: &Path) -> [(PathBuf, &'static str); 3] {
     ]
 }
 
+/// Refuses an existing `path` unless `force` ([`StoreError::Exists`]): the rule of every
+/// door for a file written whole at the end (a trajectory's), checked before the run.
+pub fn refuse_existing(path: &Path, force: bool) -> Result<(), StoreError> {
+    if !force && path.exists() {
+        return Err(StoreError::Exists {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(())
+}
+
 /// Checks an output path before anything is opened or computed, for every door (the CLI's
 /// `scan`, `atlas` and `merge`, Python's `scan` and `atlas`): a name ending in `.h5`, and at
 /// the output and at its lock, temporary file and journal, where something is there, a

@@ -61,6 +61,7 @@ pub fn write_trajectory(
     time: &[f64],
     series: &[Series],
 ) -> Result<(), StoreError> {
+    crate::refuse_existing(path, force)?;
     let file = if force {
         File::create(path)
     } else {
