@@ -485,7 +485,7 @@ def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
     assert ds["t"].values[-1] == pytest.approx(1.0)
     spec = tmp_path / "s.toml"
     spec.write_text(
-        'version = 1\n[model]\nlaw = "mcmillan"\n[grid]\n'
+        'version = 1\n[model]\nlaw = "mcmillan"\nnu = 1e-3\n[grid]\n'
         "x0 = { min = -1.0, max = 1.0, count = 2 }\nv0 = { min = -1.0, max = 1.0, count = 2 }\n"
         '[output]\npath = "s.h5"\n'
     )
