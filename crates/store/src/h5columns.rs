@@ -9,6 +9,24 @@ use squeal_scan::cell::{Cell, Column, Kind};
 use crate::h5out::str_attr;
 use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5, YesNoH5};
 
+/// An empty chunked, compressed dataset of a column, filled with `fill` until written.
+fn chunked<T: H5Type>(
+    file: &File,
+    name: &str,
+    shape: &[usize],
+    chunk: &[usize],
+    fill: T,
+) -> hdf5::Result<Dataset> {
+    file.new_dataset_builder()
+        .obj_track_times(false)
+        .empty::<T>()
+        .shape(shape)
+        .chunk(chunk)
+        .deflate(4)
+        .fill_value(fill)
+        .create(name)
+}
+
 /// Creates the dataset of one column of [`COLUMNS`] with its CF attributes (also the atlas's
 /// maps, with the parameter dimensions in front).
 pub(crate) fn column_dataset(
@@ -18,57 +36,41 @@ pub(crate) fn column_dataset(
     shape: &[usize],
     chunk: &[usize],
 ) -> hdf5::Result<Dataset> {
-    fn make<T: H5Type>(
-        file: &File,
-        name: &str,
-        shape: &[usize],
-        chunk: &[usize],
-        fill: T,
-    ) -> hdf5::Result<Dataset> {
-        file.new_dataset_builder()
-            .obj_track_times(false)
-            .empty::<T>()
-            .shape(shape)
-            .chunk(chunk)
-            .deflate(4)
-            .fill_value(fill)
-            .create(name)
-    }
     let (f, n) = (col.fill, name);
     let bad = || hdf5::Error::from(format!("{n}: fill value is not a member"));
     let ds = match (EnumColumn::of(col), col.kind) {
-        (Some(EnumColumn::Label), _) => make(
+        (Some(EnumColumn::Label), _) => chunked(
             file,
             n,
             shape,
             chunk,
             Label::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
         )?,
-        (Some(EnumColumn::Reason), _) => make(
+        (Some(EnumColumn::Reason), _) => chunked(
             file,
             n,
             shape,
             chunk,
             ReasonH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
         )?,
-        (Some(EnumColumn::Audit), _) => make(
+        (Some(EnumColumn::Audit), _) => chunked(
             file,
             n,
             shape,
             chunk,
             AuditH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
         )?,
-        (Some(EnumColumn::YesNo), _) => make(
+        (Some(EnumColumn::YesNo), _) => chunked(
             file,
             n,
             shape,
             chunk,
             YesNoH5::from_u8(f.as_u64() as u8).ok_or_else(bad)?,
         )?,
-        (None, Kind::U8 | Kind::Enum) => make(file, n, shape, chunk, f.as_u64() as u8)?,
-        (None, Kind::U32) => make(file, n, shape, chunk, f.as_u64() as u32)?,
-        (None, Kind::U64) => make(file, n, shape, chunk, f.as_u64())?,
-        (None, Kind::F64) => make(file, n, shape, chunk, f.as_f64())?,
+        (None, Kind::U8 | Kind::Enum) => chunked(file, n, shape, chunk, f.as_u64() as u8)?,
+        (None, Kind::U32) => chunked(file, n, shape, chunk, f.as_u64() as u32)?,
+        (None, Kind::U64) => chunked(file, n, shape, chunk, f.as_u64())?,
+        (None, Kind::F64) => chunked(file, n, shape, chunk, f.as_f64())?,
     };
     str_attr(&ds, "long_name", col.long_name)?;
     if !col.units.is_empty() {
@@ -97,15 +99,7 @@ pub(crate) fn si_dataset(
     let Some((si, long)) = col.si else {
         return Ok(None);
     };
-    let ds = file
-        .new_dataset_builder()
-        .obj_track_times(false)
-        .empty::<f64>()
-        .shape(shape)
-        .chunk(chunk)
-        .deflate(4)
-        .fill_value(f64::NAN)
-        .create(format!("{}_si", col.name).as_str())?;
+    let ds = chunked(file, &format!("{}_si", col.name), shape, chunk, f64::NAN)?;
     str_attr(&ds, "long_name", long)?;
     str_attr(&ds, "units", si.units())?;
     Ok(Some(ds))
