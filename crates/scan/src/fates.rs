@@ -149,25 +149,32 @@ impl Spread {
     }
 }
 
-/// The fates of `starts` with `setup` by `horizon`, run in parallel; with `until_one`, the
-/// other runs are stopped once one does not settle ([`Fate::Stopped`]).
+/// The fates of `starts` with `setup` by `horizon`, run in parallel; with `until_one`, once
+/// a start does not settle the runs of the starts after it (by index) are stopped
+/// ([`Fate::Stopped`]). Only later starts are stopped, so the result does not depend on the
+/// threads' timing: the first start that does not settle, and every start before it, always
+/// run to their end (stopping any other run made which start an atlas point named, and
+/// whether its operating point lasted, change from run to run).
 pub fn fates(
     setup: Setup,
     starts: &[State],
     horizon: f64,
     until_one: bool,
 ) -> Result<Vec<(Fate, SolverStats)>, ScanError> {
-    let failed = AtomicBool::new(false);
+    let stops: Vec<AtomicBool> = starts.iter().map(|_| AtomicBool::new(false)).collect();
     starts
         .par_iter()
-        .map(|&s| {
-            let stop = until_one.then_some(&failed);
+        .enumerate()
+        .map(|(i, &s)| {
+            let stop = until_one.then_some(&stops[i]);
             if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
                 return Ok((Fate::Stopped, SolverStats::default()));
             }
             let out = fate(setup, s, horizon, stop)?;
-            if !out.0.settles() && out.0 != Fate::Stopped {
-                failed.store(true, Ordering::Relaxed);
+            if until_one && !out.0.settles() && out.0 != Fate::Stopped {
+                for later in &stops[i + 1..] {
+                    later.store(true, Ordering::Relaxed);
+                }
             }
             Ok(out)
         })
