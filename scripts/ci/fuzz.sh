@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The fuzz run (tests/fuzz.rs): shipped specs made small and mutated, hostile
+# The fuzz run (tests/e2e/fuzz.rs): shipped specs made small and mutated, hostile
 # flag values and input files, each case run by the binary under a time limit; it fails on a
 # panic, a silent hang or a lost file. Seeded and bounded in time (about 100 s on 2 cores):
 #
@@ -9,4 +9,4 @@
 # Run with `--workspace`, as the quick suite does, so cargo reuses its build.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-cargo test --workspace --test fuzz -- --ignored --exact fuzz_specs_flags_and_files --nocapture
+cargo test --workspace --test e2e -- --ignored --exact fuzz::fuzz_specs_flags_and_files --nocapture

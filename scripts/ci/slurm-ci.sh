@@ -277,7 +277,7 @@ say "shard $victim owns $owned cells: $kept_cells kept from the journal, $comput
 wait "$single_pid" || die "single run failed: $(cat single.log)"
 say "single run: $(grep 'cells in' single.log)"
 (cd "$repo" && SQUEAL_SAME_A="$work/run/out/ci.h5" SQUEAL_SAME_B="$work/run/single.h5" \
-  cargo test --quiet --test same_content -- --ignored --nocapture files_hold_the_same_content) |
+  cargo test --workspace --quiet --test e2e -- --ignored --nocapture same_content::files_hold_the_same_content) |
   grep -E 'same content|test result' || die "the merged file differs from the single run"
 [ -s out/ci.png ] || die "the merge drew no picture"
 
@@ -320,7 +320,7 @@ for _ in $(seq 600); do
 done
 [ "$s" = COMPLETED ] || die "atlas merge job $amerge ended $s"
 (cd "$repo" && SQUEAL_SAME_A="$work/run/out/ci-atlas.h5" SQUEAL_SAME_B="$work/run/single-atlas.h5" \
-  cargo test --quiet --test same_content -- --ignored --nocapture files_hold_the_same_content) |
+  cargo test --workspace --quiet --test e2e -- --ignored --nocapture same_content::files_hold_the_same_content) |
   grep -E 'same content|test result' || die "the merged atlas differs from the single run"
 say "atlas: 2 shards merged into the single run's content"
 ok=1

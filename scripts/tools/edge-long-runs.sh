@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reference long runs for the tests of crates/scan/tests/edge.rs: ten far starts near the
+# Reference long runs for the tests of crates/scan/tests/scanning/edge.rs: ten far starts near the
 # fold at Table 1's lambda, tau, phi (hysteretic law, dt 0.005, robust solver, foh) and
 # five dampings near the fold, each run to t = 40000 with `squeal trajectory`. The final
 # state says how the run ends: at the fixed point (1, 0), or still swinging (its last

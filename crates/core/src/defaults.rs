@@ -13,7 +13,7 @@ pub const NU: f64 = 1e-3;
 /// cycle's section crossing and distance along +x (nu = 1e-3, 1e-2), the stick-slip frequency
 /// (nu = 1e-3) and the critical damping for (0, 0) are within 0.1% of their dt -> 0 limits
 /// (at dt = 0.01 the stick-slip frequency is 0.22% off; the cycle figures would allow it).
-/// BENCHMARKS.md, "Step size", gives the study; `crates/scan/tests/accuracy.rs` checks it.
+/// BENCHMARKS.md, "Step size", gives the study; `crates/scan/tests/scanning/accuracy.rs` checks it.
 pub const DT: f64 = 0.005;
 /// Relative half-width of the band around the located unstable cycle in which early
 /// stopping leaves runs going (`r_u (1 -+ TRAP_MARGIN)` at the section). It only has to
@@ -51,7 +51,7 @@ pub const MU_V: f64 = 0.0;
 // (2 xi + mu'(0.3) = -0.188) and every start squeals. No belt speed of this shape was found
 // where steady slip and stick-slip coexist: the landscape turns from stick-slip only to
 // steady slip only at the fixed point's loss of stability, v_d = 0.441 (scanned on a grid
-// of 0.0005; `crates/core/tests/cubic.rs`, `landscape_and_labels`).
+// of 0.0005; `crates/core/tests/model/cubic.rs`, `landscape_and_labels`).
 /// The cubic law: damping ratio `xi`.
 pub const CUBIC_XI: f64 = 0.05;
 /// The cubic law: belt speed `v_d` (on the falling part of `mu`).

@@ -267,7 +267,7 @@ mod tests {
 
     /// McMillan's region lies inside the unstable cycle, as it must (a start between would
     /// contradict it): the cycle crosses the section `x = 1` at `x' = 0.365` for
-    /// `nu = 1e-3` (crates/scan/tests/science.rs) and at about `2.09` for `nu = 1e-2`
+    /// `nu = 1e-3` (crates/scan/tests/scanning/science.rs) and at about `2.09` for `nu = 1e-2`
     /// (classify.rs, the settling test's comment). Without damping (`nu = 0`, the fixed point
     /// repels, every start squeals) there is none.
     #[test]

@@ -58,7 +58,7 @@ pub const REGIONS: &[CheckedRegion] = &[
             r("tau", TAU_1, TAU_1),
             r("phi", 1.0, 1.0),
         ],
-        checks: "crates/core/tests/paper.rs (Table 1 only)",
+        checks: "crates/core/tests/model/paper.rs (Table 1 only)",
     },
     CheckedRegion {
         law: FrictionLaw::Stribeck,

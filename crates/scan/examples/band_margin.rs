@@ -3,7 +3,7 @@
 //! returns uniform on `(r_u, 3]`, the band's top `b` (largest return) and bottom `a` (the
 //! smallest return of the starts in `[s, b]`, `s` the first start with `P(r) <= r`), and
 //! `a - r_u`: positive where the band maps into itself, negative where it leaks. The
-//! numbers quoted in `crates/scan/src/band.rs` and `crates/scan/tests/edge.rs` come from
+//! numbers quoted in `crates/scan/src/band.rs` and `crates/scan/tests/scanning/edge.rs` come from
 //!
 //!     cargo run --release -p squeal-scan --example band_margin -- 400 0.0236 0.024 0.0242 0.0245 0.025
 

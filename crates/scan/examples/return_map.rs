@@ -1,7 +1,7 @@
 //! `D(r) = P(r) - r` of the return map on a plain uniform grid of section amplitudes, at
 //! Table 1's lambda, tau and phi: the independent look at the section that
 //! `squeal_scan::section`'s adaptive sampling is checked against. The numbers quoted in
-//! `section::adaptive_samples` and `crates/scan/tests/edge.rs` come from
+//! `section::adaptive_samples` and `crates/scan/tests/scanning/edge.rs` come from
 //!
 //!     cargo run --release -p squeal-scan --example return_map -- mcmillan-nonhysteretic 0.0403 0.01 2.80 3.10 60
 //!     cargo run --release -p squeal-scan --example return_map -- mcmillan-nonhysteretic 0.0403 0.01 2.930 2.940 40

@@ -16,7 +16,7 @@
 //! crossing below `r_u (1 - margin)`), the band rules off, to `t_max`. Inside the cycle no
 //! revolution sticks (it lies on the slip branch), so the trap stops a run after its last
 //! stuck step: its `t_squeal` is its whole lifetime (test: the same as a run to the fixed
-//! point, `crates/scan/tests/transient.rs`). A run still outside at `t_max` is censored.
+//! point, `crates/scan/tests/scanning/transient.rs`). A run still outside at `t_max` is censored.
 //!
 //! **The estimate.** The lifetimes of a leaking chaotic set are close to exponential, whose
 //! mean with censoring at `t_max` has the maximum-likelihood estimate `(sum of lifetimes +

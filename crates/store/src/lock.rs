@@ -343,7 +343,7 @@ mod tests {
     }
 
     /// Another user's lock that does not read as a lock (or, for a user, cannot be read at
-    /// all: tests/cli_files.rs) was removed as garbage; it is refused naming its owner's
+    /// all: tests/e2e/cli_files.rs) was removed as garbage; it is refused naming its owner's
     /// uid and the lock, and kept. Needs root to give the file to another user.
     #[test]
     fn another_users_lock_that_does_not_parse_is_refused_and_kept() {

@@ -234,6 +234,7 @@ fn warm_and_cold_starts_agree_across_the_fold() {
 }
 
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn shared_boundaries_equal_separate_ones() {
     // At lambda = 1 (the chart's fold and critical damping coincide below lambda ~ 1.3)
     // and at Table 1's lambda = 3 (they differ): bit-identical to separate bisections.
@@ -283,6 +284,7 @@ fn shared_boundaries_equal_separate_ones() {
 /// 0.0225], `band::lasting`), which the coarse scan stepped over. The fold's interval now
 /// reaches above the critical damping.
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn the_critical_damping_of_rest_lies_within_the_folds_uncertainty() {
     let p = Params {
         lambda: 0.562807125806235,

@@ -263,6 +263,7 @@ path = "t.h5"
 /// semi-axis), at nu = 1e-3, 1e-2 and 0.03 and both of his laws, all settle on the fixed
 /// point when run to settlement (no shortcut).
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn runs_from_mcmillans_region_edge_settle() {
     let cl = Classifier::default();
     for law in [

@@ -11,7 +11,7 @@ use squeal_core::{
     Classifier, Friction, FrictionLaw, FrictionTable, Params, Scheme, State, Stribeck,
 };
 
-mod common;
+use crate::common;
 
 /// The table law with damping `xi`, belt speed `v_d` and `table`.
 fn tabulated(xi: f64, v_d: f64, table: &'static FrictionTable) -> Params {

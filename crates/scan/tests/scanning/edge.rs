@@ -230,6 +230,7 @@ fn long_runs() -> Vec<(f64, State, End)> {
 /// 10 starts at nu = 0.0242 stick-slip (`sticking_band` at t = 125-135), all of which are
 /// at the fixed point by t = 20000.
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn labels_near_the_fold_agree_with_long_runs_on_every_path() {
     let runs = long_runs();
     assert_eq!(runs.len(), 50);
@@ -300,6 +301,7 @@ fn critical_from_a_far_start_counts_a_leaking_band_as_quiet() {
 /// (+0.0016), leaking from 0.0242 (-0.0034) on; the margins from 400 uniform samples on
 /// `(r_u, 3]`, `examples/band_margin.rs` (the command is in its header).
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn the_band_is_trapped_below_the_crisis_and_leaks_above() {
     let verdict = |nu: f64| {
         let mut p = plan(nu, 8.0, "cycle");
@@ -325,6 +327,7 @@ fn the_band_is_trapped_below_the_crisis_and_leaks_above() {
 /// nu: the stated interval must reach into that window and end below 0.0242. (The
 /// 80-revolution fold `critical --fold` gave before, 0.02428, lies above it.)
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn the_crisis_lies_where_long_runs_put_it_and_far_starts_stop_below_it() {
     let setup = Setup::new(
         Params::paper(FrictionLaw::McMillan, 0.024),

@@ -5,14 +5,14 @@
 //! of `trajectory`, `classify`, `ulc` and `critical` may instead be in the section's text,
 //! where `MODEL` is spelled out). The README's tour is run: each command shown with its
 //! output must print that output. docs/spec.md's keys are checked the same way by
-//! crates/scan/tests/spec_doc.rs.
+//! crates/scan/tests/scanning/spec_doc.rs.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::process::Command;
 
-const README: &str = include_str!("../README.md");
-const CLI: &str = include_str!("../docs/cli.md");
+const README: &str = include_str!("../../README.md");
+const CLI: &str = include_str!("../../docs/cli.md");
 
 /// Pages of docs/ whose command lines are not today's: a worked extension with a law that
 /// does not exist, and a record of an earlier version's outputs.

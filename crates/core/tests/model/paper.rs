@@ -9,7 +9,7 @@
 //!   feeding energy in.
 //! * A snapshot of the solver counters, to flag unintended algorithm changes in review.
 //!
-//! `cargo test -p squeal-core --test paper -- --ignored --nocapture dt_study` prints the
+//! `cargo test -p squeal-core --test model -- --ignored --nocapture paper::dt_study` prints the
 //! convergence study recorded in BENCHMARKS.md.
 
 use std::f64::consts::TAU;
@@ -601,7 +601,7 @@ fn unstable_cycle(st: &Stepper) -> Option<f64> {
 }
 
 /// Prints the dt study recorded in BENCHMARKS.md:
-/// `cargo test -p squeal-core --test paper -- --ignored --nocapture dt_study`.
+/// `cargo test -p squeal-core --test model -- --ignored --nocapture paper::dt_study`.
 #[test]
 #[ignore]
 fn dt_study() {

@@ -1,4 +1,4 @@
-//! A small scan through the library driver: `cargo bench -p squeal-scan`.
+//! A small scan through the library driver: `cargo bench -p squeal-bench --bench scan`.
 //! (Figures go in BENCHMARKS.md with the command and machine, never in tests.)
 
 use std::sync::atomic::AtomicBool;

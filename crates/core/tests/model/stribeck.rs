@@ -4,7 +4,7 @@
 use squeal_core::landscape::{Landscape, StickCycle, stick_slip_cycle};
 use squeal_core::{Params, Reason, Run, Scheme, State, Stribeck};
 
-mod common;
+use crate::common;
 use common::{events, stepper};
 
 /// Coulomb friction (mu_sd = 1, mu_v = 0: mu(s) = mu_d for every slip) with damping: the force

@@ -887,7 +887,7 @@ fn lifetime_flags_are_checked_before_computing() {
 /// 2 xi + mu'(v_d) = 2 xi - 0.45 + 1.8 * 0.09 (closed form), negative: `ulc` finds no cycle
 /// because the fixed point repels. It turns stable at xi = (0.45 - 0.162) / 2 = 0.144, and
 /// the law has no unstable cycle beside a stable fixed point (no bistable belt speed,
-/// crates/core/tests/cubic.rs), so the critical damping of (0, 0) in [1e-3, 0.3] is that
+/// crates/core/tests/model/cubic.rs), so the critical damping of (0, 0) in [1e-3, 0.3] is that
 /// loss of stability: 0.144 (the start squeals below it and settles above).
 #[test]
 fn cubic_law_in_ulc_and_critical() {

@@ -162,7 +162,7 @@ fn measure() {
 /// old settling test took for a settled band. The settling test now also asks for reversals
 /// (`probe_disagreements` finds none since at Phi = 0.3; the other 64 x 64 counts above were
 /// measured before that change; this test asserts them with it). Run time of this test: 149 s
-/// on the idle 2-core VM (`cargo test -p squeal-scan --test off_paper`, 2026-11-22; the
+/// on the idle 2-core VM (`cargo test -p squeal-scan --test scanning off_paper::`, 2026-11-22; the
 /// settlement rule is 95% of it).
 #[test]
 #[ignore = "long physics check (minutes): run by scripts/ci/long-checks.sh, which .ci/run calls"]

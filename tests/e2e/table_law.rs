@@ -30,7 +30,7 @@ fn fine_csv(dir: &Path) -> String {
 }
 
 /// `squeal classify` labels the same starts alike under the Stribeck formula and under its
-/// fine table (the core's 24 x 24 map says so too: crates/core/tests/table.rs), and the
+/// fine table (the core's 24 x 24 map says so too: crates/core/tests/model/table.rs), and the
 /// trajectory's file stores the table's rows.
 #[test]
 fn the_tabulated_stribeck_law_classifies_and_stores_its_table() {

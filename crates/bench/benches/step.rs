@@ -19,7 +19,7 @@
 //!
 //! `atan/*`: the latency of the arctangent of McMillan's laws (a chain of dependent calls).
 //!
-//! `cargo bench -p squeal-core --bench step -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p squeal-bench --bench step -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
 

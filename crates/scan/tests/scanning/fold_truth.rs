@@ -8,7 +8,7 @@
 //! printed.
 //!
 //! ```text
-//! cargo test --workspace --test fold_truth -- --ignored --nocapture
+//! cargo test --workspace --test scanning -- --ignored --nocapture fold_truth::
 //! ```
 
 use std::sync::atomic::AtomicBool;
@@ -177,7 +177,7 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
 /// cycle's outside is not invariant (`band_rules = true` in
 /// `MapContext::prepare_checked`, the census off) scan and classify label stick_slip three
 /// starts at lambda = 0.5, 0.95 of the fold whose runs settle by t = 4115-11121. Run time
-/// on the 2-core VM shared with other work (`cargo test --workspace --test fold_truth --
+/// on the 2-core VM shared with other work (`cargo test --workspace --test scanning fold_truth:: --
 /// --ignored`): 147 s at load 3-5 (173 s of CPU), 195 s beside a build.
 #[test]
 #[ignore = "long physics check (minutes): run by scripts/ci/long-checks.sh, which .ci/run calls"]

@@ -6,7 +6,7 @@
 use squeal_core::landscape::Landscape;
 use squeal_core::{Cubic, Friction, FrictionLaw, Params, State};
 
-mod common;
+use crate::common;
 
 /// The cubic law with damping `xi`, belt speed `v_d` and coefficients `(mu_0, a1, a3)`.
 fn cubic(xi: f64, v_d: f64, mu_0: f64, a1: f64, a3: f64) -> Params {

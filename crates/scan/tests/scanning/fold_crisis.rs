@@ -150,6 +150,7 @@ path = "brake-one-point.h5"
 /// lower bound of each one's fold (at boundary 58 the longer horizon's bisection ended at
 /// 0.0202487, below 0.020386 where it says squeal lasts itself).
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn the_charts_folds_hold_the_crisis_at_half_dt_and_with_the_longer_horizon() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),

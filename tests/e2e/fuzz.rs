@@ -15,7 +15,7 @@
 //! failure printed as `case k` comes back with the same seed whatever the time budget
 //! (default 100 s, two cases at a time).
 
-#[path = "../crates/scan/tests/mutate/mod.rs"]
+#[path = "../../crates/scan/tests/mutate/mod.rs"]
 #[allow(dead_code)]
 mod mutate;
 

@@ -17,7 +17,7 @@ use squeal_core::FrictionLaw;
 use squeal_scan::Plan;
 use toml::{Table, Value};
 
-const DOC: &str = include_str!("../../../docs/spec.md");
+const DOC: &str = include_str!("../../../../docs/spec.md");
 
 /// A valid spec to which keys are added (the one in docs/spec.md, smaller).
 const GOOD: &str = r#"

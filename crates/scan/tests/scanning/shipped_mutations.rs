@@ -10,7 +10,7 @@ use squeal_scan::Plan;
 use squeal_scan::atlas::AtlasPlan;
 use toml::Value;
 
-mod mutate;
+use crate::mutate;
 use mutate::{Shipped, Step, at, shipped};
 
 /// Whether a refusal names the value at `path`: its dotted key (`grid.x0.min`, also where a

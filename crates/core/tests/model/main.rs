@@ -1,0 +1,10 @@
+//! The model's tests against closed forms and the paper: one test binary, a module per
+//! subject, so that cargo builds and links it once.
+
+mod common;
+mod cubic;
+mod lasting;
+mod paper;
+mod solver;
+mod stribeck;
+mod table;

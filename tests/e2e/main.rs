@@ -1,0 +1,19 @@
+//! End-to-end tests: the `squeal` binary run in temporary folders, its files reopened.
+//! One test binary (a module per subject), so that cargo builds and links it once.
+
+mod atlas;
+mod basin_stability;
+mod bstab_friction;
+mod cli_core;
+mod cli_doc;
+mod cli_files;
+mod cli_hostile;
+mod cli_hostile_msgs;
+mod cli_scan_cases;
+mod first_use;
+mod fuzz;
+mod physical_outputs;
+mod plot_script;
+mod same_content;
+mod scan;
+mod table_law;
