@@ -3,12 +3,13 @@
 //! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
 //! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
-//! are McMillan's surfaces: his laws need them, Coulomb refuses them
-//! ([`squeal_core::units::surface_keys`]). `normal_force` (N) presses the block on the belt
-//! in place of its weight `m g` ([`Load`]); `g` beside it is refused.
+//! are McMillan's surfaces: his laws need them, Coulomb refuses them; `law = "table"` takes
+//! its measured curve here (`friction_table` or `friction_csv`, slip speed in m/s) and no
+//! `mu_k` ([`squeal_core::units::check_friction_keys`]). `normal_force` (N) presses the
+//! block on the belt in place of its weight `m g` ([`Load`]); `g` beside it is refused.
 
-use squeal_core::units::{G_STANDARD, SURFACE_KEYS, surface_keys, takes_surface};
-use squeal_core::{CoreError, FrictionLaw, Load, Physical, SurfaceSi};
+use squeal_core::units::{G_STANDARD, SURFACE_KEYS, check_friction_keys, takes_surface};
+use squeal_core::{CoreError, FrictionLaw, FrictionSi, FrictionTable, Load, Physical};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::error::ScanError;
@@ -18,7 +19,7 @@ use serde::Deserialize;
 
 /// The `[physical]` table: the physical system in SI units (read by the scan spec and
 /// the atlas spec, [`crate::atlas::spec`], and built from the command line's `--m --k --c
-/// --v-belt --mu-k --mu-s --tau-s --g --normal-force`).
+/// --v-belt --mu-k --mu-s --tau-s --g --normal-force --friction-csv`).
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct PhysicalFile {
@@ -26,13 +27,22 @@ pub(crate) struct PhysicalFile {
     pub(crate) k: Value,
     pub(crate) c: Value,
     pub(crate) v_belt: Value,
-    pub(crate) mu_k: Value,
-    /// McMillan's laws only ([`surface_keys`]).
+    /// McMillan's laws and Coulomb ([`check_friction_keys`]).
+    #[serde(default)]
+    pub(crate) mu_k: Option<Value>,
+    /// McMillan's laws only ([`check_friction_keys`]).
     #[serde(default)]
     pub(crate) mu_s: Option<Value>,
-    /// McMillan's laws only ([`surface_keys`]).
+    /// McMillan's laws only ([`check_friction_keys`]).
     #[serde(default)]
     pub(crate) tau: Option<Value>,
+    /// `law = "table"`: the measured curve, `[[s, mu], ...]` with `s` in m/s.
+    #[serde(default)]
+    pub(crate) friction_table: Option<Vec<[f64; 2]>>,
+    /// `law = "table"`: the measured curve as a CSV file (slip speed in m/s, mu), relative
+    /// to the spec's folder.
+    #[serde(default)]
+    pub(crate) friction_csv: Option<String>,
     #[serde(default)]
     pub(crate) g: Option<Value>,
     /// The normal force (N) in place of the weight `m g` ([`Load`]).
@@ -52,16 +62,50 @@ impl PhysicalFile {
         .map_err(|e| physical_error(e, invalid))
     }
 
-    /// Refuses a surface key `law` does not use, and asks for one it needs (the error names
-    /// the key and the law).
-    pub(crate) fn check_surface_keys(
+    /// Refuses a friction key `law` does not use, and asks for one it needs (the error
+    /// names the key and the law).
+    pub(crate) fn check_friction_keys(
         &self,
         law: FrictionLaw,
         invalid: Invalid,
     ) -> Result<(), ScanError> {
-        surface_keys(law, [self.mu_s.is_some(), self.tau.is_some()])
-            .map(|_| ())
-            .map_err(|e| physical_error(e, invalid))
+        let table = self.friction_table.is_some() || self.friction_csv.is_some();
+        let given = [
+            self.mu_k.is_some(),
+            self.mu_s.is_some(),
+            self.tau.is_some(),
+            table,
+        ];
+        check_friction_keys(law, given).map_err(|e| match e {
+            // The curve given as a CSV is named as given.
+            CoreError::UnusedPhysicalKey {
+                key: "friction_table",
+                law,
+            } if self.friction_csv.is_some() => physical_error(
+                CoreError::UnusedPhysicalKey {
+                    key: "friction_csv",
+                    law,
+                },
+                invalid,
+            ),
+            e => physical_error(e, invalid),
+        })
+    }
+
+    /// The measured curve in SI (slip speed in m/s) of `friction_table` or `friction_csv`
+    /// (read relative to `folder`; `stored`, the SI curve a file stores, stands for them);
+    /// `None` where the law takes none (checked by [`PhysicalFile::check_friction_keys`]).
+    pub(crate) fn table(
+        &self,
+        folder: &std::path::Path,
+        stored: Option<&'static FrictionTable>,
+        invalid: Invalid,
+    ) -> Result<Option<&'static FrictionTable>, ScanError> {
+        if self.friction_table.is_none() && self.friction_csv.is_none() {
+            return Ok(None);
+        }
+        let keys = (self.friction_table.as_deref(), self.friction_csv.as_deref());
+        super::tables::friction_table("physical", keys, folder, stored, invalid).map(Some)
     }
 
     /// A spec read back from a file written before Coulomb's physical system lost `mu_s` and
@@ -107,7 +151,7 @@ impl PhysicalFile {
 /// not used, the law.
 pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
     let key = |k: &str| format!("physical.{}", physical_key(k));
-    let surfaces = SURFACE_KEYS.join(" and ");
+    let meaning = squeal_core::units::friction_key_meaning;
     match e {
         CoreError::InvalidParameter {
             name,
@@ -121,17 +165,14 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
         CoreError::MissingPhysicalKey { key: k, law } => invalid(
             &key(k),
             "missing".into(),
-            &format!(
-                "a value: law = \"{law}\" needs {surfaces} (McMillan's surfaces: the static \
-                 coefficient mu_s > mu_k and the surface time tau in s)"
-            ),
+            &format!("a value: law = \"{law}\" needs {k} ({})", meaning(k)),
         ),
         CoreError::UnusedPhysicalKey { key: k, law } => invalid(
             &key(k),
             "given".into(),
             &format!(
-                "no such key under law = \"{law}\": it does not use mu_s or tau (constants of \
-                 McMillan's surfaces, for law = \"mcmillan\" and \"mcmillan-nonhysteretic\")"
+                "no such key under law = \"{law}\": it does not use {k} ({})",
+                meaning(k)
             ),
         ),
         CoreError::BothLoads => invalid(
@@ -150,20 +191,24 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
 pub(crate) fn physical_key(name: &str) -> &str {
     match name {
         "nu" => "c (nu = c / (2 sqrt(m k)))",
-        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g), or v_belt sqrt(m k) / (mu_k N))",
+        "lambda" => "v_belt (lambda = v_belt sqrt(m k) / (mu_k N), N = m g or normal_force)",
         "phi" => "mu_s",
         n => n,
     }
 }
 
-/// The physical system of the first map and the `[model]` table it stands for.
+/// The physical system of the first map and the `[model]` table it stands for (a measured
+/// curve's slip speeds there in the model's units); `folder` and `stored` as for
+/// [`PhysicalFile::table`].
 pub(super) fn model(
     ph: &PhysicalFile,
     m: &ModelTable,
+    folder: &std::path::Path,
+    stored: Option<&'static FrictionTable>,
     invalid: Invalid,
 ) -> Result<(Physical, ModelTable), ScanError> {
     m.check_physical(invalid)?;
-    ph.check_surface_keys(m.law, invalid)?;
+    ph.check_friction_keys(m.law, invalid)?;
     let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
         match v {
             Value::One(x) => Ok(*x),
@@ -192,13 +237,16 @@ pub(super) fn model(
         k: one("k", &ph.k)?,
         c: cs[0],
         v_belt: vs[0],
-        mu_k: one("mu_k", &ph.mu_k)?,
-        surface: match (&ph.mu_s, &ph.tau) {
-            (Some(mu_s), Some(tau)) => Some(SurfaceSi {
-                mu_s: one("mu_s", mu_s)?,
-                tau: one("tau", tau)?,
-            }),
-            _ => None,
+        friction: {
+            let one = |key: &str, v: &Option<Value>| v.as_ref().map(|v| one(key, v)).transpose();
+            FrictionSi::of(
+                m.law,
+                one("mu_k", &ph.mu_k)?,
+                one("mu_s", &ph.mu_s)?,
+                one("tau", &ph.tau)?,
+                ph.table(folder, stored, invalid)?,
+            )
+            .map_err(|e| physical_error(e, invalid))?
         },
         load,
     };
@@ -213,19 +261,25 @@ pub(super) fn model(
     };
     let surface =
         |f: fn(&squeal_core::Surface) -> f64, k| p0.law.surface().map(|c| (k, Value::One(f(&c))));
+    // The law's damping and belt speed (nu and lambda; xi and v_d for a table).
+    let (damping, speed) = (m.law.keys()[0], m.law.keys()[1]);
     let model = ModelTable {
         law: m.law,
         keys: [
-            Some(("nu", scaled(&ph.c, &cs, s.damping))),
-            Some(("lambda", scaled(&ph.v_belt, &vs, s.velocity))),
+            Some((damping, scaled(&ph.c, &cs, s.damping))),
+            Some((speed, scaled(&ph.v_belt, &vs, s.velocity))),
             surface(|c| c.tau, "tau"),
             surface(|c| c.phi, "phi"),
         ]
         .into_iter()
         .flatten()
         .collect(),
-        friction_table: m.friction_table.clone(),
-        friction_csv: m.friction_csv.clone(),
+        // The measured curve in the model's units (Physical::table_in_units).
+        friction_table: p0
+            .law
+            .table()
+            .map(|t| t.rows().into_iter().map(|(s, mu)| [s, mu]).collect()),
+        friction_csv: None,
     };
     Ok((base, model))
 }
@@ -413,7 +467,7 @@ path = "b.h5"
     fn a_coulomb_system_needs_no_surfaces() {
         let p = Plan::from_toml(&coulomb(), "c.toml").unwrap();
         let ph = p.physical.expect("the physical system is kept");
-        assert_eq!(ph.surface, None);
+        assert_eq!(ph.friction.surface(), None);
         assert_eq!(p.maps[0].law, squeal_core::Friction::Coulomb);
         // nu = c / (2 sqrt(m k)) = 5 / (2 sqrt(1e5)) (README, "Units").
         assert!((p.maps[0].nu - 5.0 / (2.0 * 1e5f64.sqrt())).abs() < 1e-15);
@@ -462,7 +516,7 @@ path = "b.h5"
         let stored = Plan::from_stored_toml(&old, "c.toml").unwrap();
         let now = Plan::from_toml(&coulomb(), "c.toml").unwrap();
         assert_eq!(stored.differs_from(&now), None);
-        assert_eq!(stored.physical.unwrap().surface, None);
+        assert_eq!(stored.physical.unwrap().friction.surface(), None);
         // McMillan's laws use them: a stored spec without them is refused as before.
         assert!(Plan::from_stored_toml(&BRAKE.replace("tau = 1e-3\n", ""), "b.toml").is_err());
     }
