@@ -85,7 +85,8 @@ pub fn write_trajectory(
         if let Some(ph) = attrs.physical {
             crate::h5write::physical_attrs(&file, ph, None)?;
         }
-        crate::h5out::friction_table(&file, &mut dims, attrs.table)?;
+        let si = attrs.physical.and_then(|ph| ph.friction.table());
+        crate::h5out::friction_table(&file, &mut dims, attrs.table, si)?;
         let t = file
             .new_dataset_builder()
             .obj_track_times(false)

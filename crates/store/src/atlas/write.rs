@@ -61,7 +61,12 @@ fn write_all(
     shard: Option<Shard>,
 ) -> hdf5::Result<()> {
     root_attrs(o.file, plan, prov, shard)?;
-    crate::h5out::friction_table(o.file, &mut o.dims, plan.table)?;
+    // A physical atlas's table is the measured one, in m/s (AtlasPlan::table).
+    let (nd, si) = match plan.units {
+        Units::Physical => (None, plan.table),
+        Units::Nondimensional => (plan.table, None),
+    };
+    crate::h5out::friction_table(o.file, &mut o.dims, nd, si)?;
     let scales = plan
         .axes()
         .iter()
