@@ -278,3 +278,101 @@ fn a_clamped_pad_with_a_measured_curve_is_its_nondimensional_model() {
     assert!((hz - 66.36).abs() < 0.01, "{hz}");
     assert_eq!(si_run, run(pad("20", ["--g", "1875"])));
 }
+
+/// The pad's run stores its curve in m/s with units beside the model's speeds, and
+/// `squeal info` prints the table: its rows when few, else their count and ranges (before,
+/// fdec01a printed none, and listed the table's datasets among the variables over t). A
+/// curve in m/s with a negative speed, and `--mu-k` beside a curve, are refused by flag.
+#[test]
+fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
+    let dir = tempfile::tempdir().unwrap();
+    pad_curves(dir.path());
+    let pad = [
+        "--law",
+        "table",
+        "--friction-csv",
+        "pad.csv",
+        "--m",
+        "0.8",
+        "--k",
+        "2e5",
+        "--c",
+        "20",
+        "--v-belt",
+        "0.3",
+        "--normal-force",
+        "1500",
+    ];
+    let mut args = vec!["trajectory", "--t-end", "10", "--out", "run.h5"];
+    args.extend(pad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(ok, "{text}");
+    let f = hdf5::File::open(dir.path().join("run.h5")).unwrap();
+    let si = f.dataset("friction_table_slip_speed_si").unwrap();
+    let s: Vec<f64> = si.read_raw().unwrap();
+    let units: hdf5::types::VarLenUnicode = si.attr("units").unwrap().read_scalar().unwrap();
+    assert_eq!((s.len(), s[7], units.as_str()), (8, 2.0, "m/s"));
+    let nd: Vec<f64> = f
+        .dataset("friction_table_slip_speed")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    // The model's speeds are the measured ones over N / sqrt(m k) = 3.75 m/s.
+    assert!((nd[7] - 2.0 / 3.75).abs() < 1e-15, "{}", nd[7]);
+    let (ok, info) = squeal(dir.path(), &["info", "run.h5"]);
+    assert!(ok, "{info}");
+    assert!(
+        info.contains("friction table: 8 rows (slip speed in m/s, in the model's units, mu):")
+            && info.contains("    2, 0.5333333333333333, 0.36"),
+        "{info}"
+    );
+    let vars = info
+        .lines()
+        .find(|l| l.contains("variables over t"))
+        .unwrap();
+    assert!(!vars.contains("friction_table"), "{vars}");
+    // A long table is summarised: bSTAB's Stribeck law at 2001 rows (`fine_csv`).
+    let csv = fine_csv(dir.path());
+    let (ok, text) = squeal(
+        dir.path(),
+        &[
+            "trajectory",
+            "--law",
+            "table",
+            "--friction-csv",
+            &csv,
+            "--t-end",
+            "1",
+            "--out",
+            "f.h5",
+        ],
+    );
+    assert!(ok, "{text}");
+    let (_, info) = squeal(dir.path(), &["info", "f.h5"]);
+    assert!(
+        info.contains(
+            "friction table: 2001 rows, slip speed 0 to 20 (the model's units), mu 1 at rest"
+        ),
+        "{info}"
+    );
+    // Refusals by flag: a speed below zero in m/s (the CSV's line named), `--mu-k`.
+    std::fs::write(dir.path().join("bad.csv"), "s,mu\n0,0.48\n-0.1,0.45\n").unwrap();
+    let mut bad = pad.to_vec();
+    bad[3] = "bad.csv";
+    let mut args = vec!["trajectory"];
+    args.extend(&bad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(
+        !ok && text.contains("--friction-csv") && text.contains("line 3"),
+        "{text}"
+    );
+    let mut args = vec![
+        "classify", "--ics", "x.csv", "--out", "o.csv", "--mu-k", "0.4",
+    ];
+    args.extend(pad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(
+        !ok && text.contains("--mu-k") && text.contains("does not use"),
+        "{text}"
+    );
+}

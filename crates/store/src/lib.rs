@@ -155,8 +155,8 @@ pub use output::{
     refuse_input_as_output,
 };
 pub use read::{
-    FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,
-    read_info, read_map,
+    FileInfo, FrictionTables, LandscapeInfo, MapData, content_digest, file_schema, friction_tables,
+    map_count, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,

@@ -111,6 +111,24 @@ pub(crate) fn f64_attr(loc: &Location, name: &str) -> hdf5::Result<f64> {
     attr(loc, name)?.read_scalar::<f64>()
 }
 
+/// The friction tables a file stores (`None` for a law without one): the model's
+/// (nondimensional slip speeds; none in a physical atlas, whose points each have their own
+/// velocity unit) and the measured one in m/s (a physical system's), for `squeal info`.
+pub fn friction_tables(path: &Path) -> Result<FrictionTables, StoreError> {
+    let file = File::open(path).h5(path)?;
+    let si = match file.link_exists("friction_table_slip_speed_si") {
+        true => stored_table(&file).h5(path)?,
+        false => None,
+    };
+    Ok((friction_table(&file).h5(path)?, si))
+}
+
+/// The model's friction table and the measured one in m/s ([`friction_tables`]).
+pub type FrictionTables = (
+    Option<&'static squeal_core::FrictionTable>,
+    Option<&'static squeal_core::FrictionTable>,
+);
+
 /// The table a file's spec stands on where its `friction_table` or `friction_csv` is gone:
 /// the measured curve in m/s (`friction_table_slip_speed_si`) of a physical spec, which gave
 /// it under `[physical]`, else the model's ([`friction_table`]).

@@ -553,4 +553,126 @@ path = "b.h5"
             );
         }
     }
+
+    /// The clamped pad of issue 34 on a measured curve under `[physical]` (slip speed in
+    /// m/s): 0.8 kg, 200 kN/m, c = 20 N s/m, 0.3 m/s, N = 1500 N.
+    const PAD: &str = r#"
+version = 1
+[model]
+law = "table"
+[physical]
+m = 0.8
+k = 2e5
+c = 20.0
+v_belt = 0.3
+normal_force = 1500.0
+friction_table = [[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]
+[grid]
+x0 = { min = -3e-3, max = 6e-3, count = 4 }
+v0 = { min = -0.3, max = 0.3, count = 3 }
+[output]
+path = "p.h5"
+"#;
+
+    /// The pad's spec reads as the nondimensional table law it stands for (MODEL.md
+    /// section 8: xi = c / (2 sqrt(m k)) = 0.025, v_d = v_B sqrt(m k) / N = 0.08, the
+    /// curve's speeds over N / sqrt(m k) = 3.75 m/s, the grid over N / k = 7.5 mm and 3.75
+    /// m/s), and as the g-hack g = N / m = 1875 map for map. Fails on fdec01a, where
+    /// `[physical]` was refused with law = "table" and had no friction_table key.
+    #[test]
+    fn a_measured_curve_in_si_reads_as_the_model_it_stands_for() {
+        let p = Plan::from_toml(PAD, "p.toml").unwrap();
+        let nd = Plan::from_toml(
+            r#"
+version = 1
+[model]
+law = "table"
+xi = 0.025
+v_d = 0.08
+friction_table = [[0.0, 0.48], [0.02666666666666667, 0.43], [0.08, 0.4], [0.26666666666666666, 0.37]]
+[grid]
+x0 = { min = -0.4, max = 0.8, count = 4 }
+v0 = { min = -0.08, max = 0.08, count = 3 }
+[output]
+path = "p.h5"
+"#,
+            "p.toml",
+        )
+        .unwrap();
+        let (a, b) = (p.maps[0], nd.maps[0]);
+        assert!((a.nu - b.nu).abs() < 1e-15 && (a.lambda - b.lambda).abs() < 1e-15);
+        let (ta, tb) = (a.law.table().unwrap().rows(), b.law.table().unwrap().rows());
+        for ((s1, m1), (s2, m2)) in ta.iter().zip(&tb) {
+            assert!((s1 - s2).abs() < 1e-16 && m1 == m2, "{s1} vs {s2}");
+        }
+        assert!((p.grid.x0.max - 0.8).abs() < 1e-15 && (p.grid.v0.min + 0.08).abs() < 1e-15);
+        let hack = Plan::from_toml(
+            &PAD.replace("normal_force = 1500.0", "g = 1875.0"),
+            "p.toml",
+        );
+        assert_eq!(hack.unwrap().maps, p.maps);
+        let ph = p.physical.unwrap();
+        assert_eq!(ph.friction.table().unwrap().rows()[3], (1.0, 0.37));
+    }
+
+    /// A measured curve in m/s refused by name: a negative or unordered speed (the row
+    /// named), `mu_k` or surfaces beside it, no curve, both keys, the curve in `[model]`
+    /// beside `[physical]`, a curve under another law. Fails on fdec01a (every case was
+    /// refused as `physical` with law = "table", or as an unknown field).
+    #[test]
+    fn a_bad_measured_curve_in_si_is_named() {
+        let cases = [
+            (
+                PAD.replace("[0.1, 0.43]", "[-0.1, 0.43]"),
+                "`physical.friction_table`",
+                "row 2",
+            ),
+            (
+                PAD.replace("[0.0, 0.48]", "[-0.05, 0.48]"),
+                "`physical.friction_table`",
+                "row 1",
+            ),
+            (
+                PAD.replace("normal_force", "mu_k = 0.4\nnormal_force"),
+                "`physical.mu_k`",
+                "does not use mu_k",
+            ),
+            (
+                PAD.replace("normal_force", "mu_s = 0.5\nnormal_force"),
+                "`physical.mu_s`",
+                "table",
+            ),
+            (
+                PAD.replace(
+                    "friction_table = [[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]\n",
+                    "",
+                ),
+                "`physical.friction_table`",
+                "needs friction_table",
+            ),
+            (
+                PAD.replace("normal_force", "friction_csv = \"pad.csv\"\nnormal_force"),
+                "`physical.friction_csv`",
+                "exactly one",
+            ),
+            (
+                PAD.replace(
+                    "law = \"table\"",
+                    "law = \"table\"\nfriction_csv = \"pad.csv\"",
+                ),
+                "`model.friction_csv`",
+                "m/s",
+            ),
+            (
+                PAD.replace("law = \"table\"", "law = \"coulomb\"")
+                    .replace("normal_force", "mu_k = 0.4\nnormal_force"),
+                "`physical.friction_table`",
+                "coulomb",
+            ),
+        ];
+        for (text, key, words) in cases {
+            let e = Plan::from_toml(&text, "p.toml").unwrap_err().to_string();
+            assert!(e.contains(key) && e.contains(words), "{key}: {e}");
+        }
+    }
 }
