@@ -376,3 +376,46 @@ fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
         "{text}"
     );
 }
+
+/// The shipped atlas of the pad on its measured curve (`scans/brake-curve.toml`, cut to 4
+/// values of c) runs with its boundaries and stores them in SI: the critical damping
+/// `critical_c` in N s/m beside the model's `critical_xi`, and the curve in m/s. Before
+/// the boundary's SI twin was named after the law's key, it took the model's own name
+/// (`critical_xi` twice) and the write failed with an HDF5 error; on fdec01a the spec was
+/// refused (`friction_csv` unknown under `[physical]`).
+#[test]
+fn the_shipped_pad_atlas_stores_its_boundaries_in_si() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scans");
+    std::fs::create_dir(dir.path().join("data")).unwrap();
+    std::fs::copy(
+        root.join("data/pad-mu.csv"),
+        dir.path().join("data/pad-mu.csv"),
+    )
+    .unwrap();
+    let spec = std::fs::read_to_string(root.join("brake-curve.toml"))
+        .unwrap()
+        .replace("count = 12", "count = 4");
+    std::fs::write(dir.path().join("b.toml"), spec).unwrap();
+    let (ok, text) = squeal(dir.path(), &["atlas", "b.toml", "--no-render", "--quiet"]);
+    assert!(ok, "{text}");
+    let f = hdf5::File::open(dir.path().join("out/brake-curve.h5")).unwrap();
+    let c = f.dataset("critical_c").unwrap();
+    let units: hdf5::types::VarLenUnicode = c.attr("units").unwrap().read_scalar().unwrap();
+    assert_eq!(units.as_str(), "N s/m");
+    let xi: Vec<f64> = f.dataset("critical_xi").unwrap().read_raw().unwrap();
+    let c: Vec<f64> = c.read_raw().unwrap();
+    // c = 2 sqrt(m k) xi = 800 xi; `squeal critical` from rest finds c = 208.68 N s/m
+    // (README section 4).
+    assert!(
+        (c[0] - 800.0 * xi[0]).abs() < 1e-9 * c[0],
+        "{c:?} vs {xi:?}"
+    );
+    assert!((c[0] - 208.7).abs() < 1.0, "{c:?}");
+    let s: Vec<f64> = f
+        .dataset("friction_table_slip_speed_si")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    assert_eq!(s.last(), Some(&2.0));
+}
