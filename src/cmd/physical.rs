@@ -161,6 +161,8 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
                     "--v-belt (lambda = v_belt sqrt(m k) / (mu_k N), N = m g or --normal-force)"
                 }
                 "friction_table" => "--friction-csv",
+                "xi" => "--c (xi = c / (2 sqrt(m k)))",
+                "v_d" => "--v-belt (v_d = v_belt sqrt(m k) / N)",
                 "phi" => "--mu-s",
                 "tau" => "--tau-s",
                 n => PHYSICAL_FLAGS
@@ -169,6 +171,10 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
                     .map_or(n, |(f, _)| *f),
             };
             anyhow::anyhow!("{flag}: {e}")
+        }
+        // A measured curve whose speeds no f64 holds in the model's units.
+        None if matches!(e, CoreError::InvalidTable { .. }) => {
+            anyhow::anyhow!("--friction-csv: {e}")
         }
         None => anyhow::anyhow!(e),
     }

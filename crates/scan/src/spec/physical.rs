@@ -182,6 +182,10 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
              (friction is mu N); give normal_force for a pressed block, or g for one under its \
              own weight",
         ),
+        // A measured curve whose speeds no f64 holds in the model's units.
+        e @ CoreError::InvalidTable { .. } => {
+            invalid(&key("friction_table"), "given".into(), &e.to_string())
+        }
         e => invalid("physical", String::new(), &e.to_string()),
     }
 }
@@ -192,6 +196,9 @@ pub(crate) fn physical_key(name: &str) -> &str {
     match name {
         "nu" => "c (nu = c / (2 sqrt(m k)))",
         "lambda" => "v_belt (lambda = v_belt sqrt(m k) / (mu_k N), N = m g or normal_force)",
+        // A measured curve's model (MODEL.md section 8).
+        "xi" => "c (xi = c / (2 sqrt(m k)))",
+        "v_d" => "v_belt (v_d = v_belt sqrt(m k) / N, N = m g or normal_force)",
         "phi" => "mu_s",
         n => n,
     }
