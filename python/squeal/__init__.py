@@ -298,6 +298,11 @@ _PHYSICAL = {
 }
 
 
+#: The table law's curve (``law="table"``): with the physical system its slip speeds are in
+#: m/s and it goes to the ``[physical]`` table, else to ``[model]``.
+_TABLE_KEYS = ("friction_table", "friction_csv")
+
+
 class _Names:
     """Where each spec key of a helper's call came from: the Python keyword (``m=``,
     ``tau_s=``) or the ``physical=`` mapping (``physical["tau"]``), so that an error names
@@ -346,6 +351,11 @@ def _model_tables(
         tables["physical"] = {_PHYSICAL[k]: v for k, v in given.items()}
         for k in given:
             names.keys[f"physical.{_PHYSICAL[k]}"] = f"{k}="
+        # A measured curve goes with the physical system, its slip speeds in m/s.
+        for k in _TABLE_KEYS:
+            if k in tables["model"]:
+                tables["physical"][k] = tables["model"].pop(k)
+                names.keys[f"physical.{k}"] = f"{k}="
     elif physical is not None:
         tables["physical"] = dict(physical)
         for k in physical:

@@ -570,3 +570,43 @@ def test_the_tabulated_law_takes_a_table_or_a_csv(tmp_path):
         squeal.critical(law="table", parameter="xi", friction_csv=str(tmp_path / "nowhere.csv"))
     with pytest.raises(ValueError, match=r"`friction_table=` = given with law = \"stribeck\""):
         squeal.basin_stability("stribeck", n=10, friction_table=rows)
+
+
+def test_the_readmes_three_lines_give_the_table_pads_squeal_in_si(capsys, monkeypatch):
+    # Issue 34: the pad clamped with 1500 N on a measured curve (scans/data/pad-mu.csv, slip
+    # speed in m/s), its squeal in Hz, m and m/s from Python in three lines, as README's
+    # section 5 shows them (run here as written, from the repository's root where its path
+    # points). Before, law="table" with the physical keywords was refused ("the physical
+    # units are McMillan's scaling"). tests/table_law.rs measures the same run on the
+    # command line: 66.36 Hz, x up to 4.01 mm, x' up to the disc's 0.3 m/s (it sticks).
+    root = Path(__file__).resolve().parents[2]
+    monkeypatch.chdir(root)
+    readme = (root / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", readme, re.S)
+    three = [b for b in blocks if b.startswith("brake = dict(")]
+    assert len(three) == 1 and len(three[0].strip().splitlines()) == 3, three
+    exec(three[0], {"squeal": squeal})
+    hz, x_max, v_max = (float(w) for w in capsys.readouterr().out.split())
+    assert hz == pytest.approx(66.36, abs=0.01)
+    assert x_max == pytest.approx(4.01e-3, abs=1e-5)
+    assert v_max == pytest.approx(0.3, abs=1e-9)
+    # The same system given in the model's units (crates/core/MODEL.md section 8: xi = c /
+    # (2 sqrt(m k)) = 20 / 800, v_d = v_B sqrt(m k) / N = 0.08, the curve's speeds over
+    # N / sqrt(m k) = 3.75 m/s): the same lasting oscillation, its omega times omega_0 / (2
+    # pi) = 500 / (2 pi) the frequency in Hz.
+    rows = np.loadtxt(root / "scans/data/pad-mu.csv", delimiter=",", skiprows=4)
+    nd = squeal.trajectory(
+        law="table",
+        friction_table=[(s / 3.75, mu) for s, mu in rows],
+        xi=0.025,
+        v_d=0.08,
+        t_end=3000,
+        every=100,
+    )
+    assert nd.attrs["lasting_omega"] * 500 / (2 * np.pi) == pytest.approx(hz, rel=1e-6)
+    # A curve in m/s with a negative speed is refused naming the keyword.
+    pad = dict(m=0.8, k=2e5, c=20.0, v_belt=0.3, normal_force=1500.0)
+    with pytest.raises(ValueError, match=r"`friction_table=`.*row 2"):
+        squeal.trajectory(law="table", friction_table=[(0.0, 0.48), (-0.1, 0.4)], **pad)
+    with pytest.raises(ValueError, match=r"`mu_k=` = given"):
+        squeal.trajectory(law="table", friction_csv="scans/data/pad-mu.csv", mu_k=0.4, **pad)

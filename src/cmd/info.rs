@@ -30,6 +30,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         FileKind::Atlas => atlas(&args, &mut o)?,
         FileKind::Trajectory => trajectory(&args, &mut o)?,
     }
+    if !args.json {
+        friction_table(&squeal_store::friction_tables(&args.file)?, &mut o)?;
+    }
     common::print_to_reader(&o)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -49,6 +52,53 @@ fn print_attrs(o: &mut String, attrs: &[(String, String)]) -> std::fmt::Result {
         if k != "spec" {
             writeln!(o, "  {k} = {v}")?;
         }
+    }
+    Ok(())
+}
+
+/// Most rows `squeal info` prints of a friction table; a longer one is summarised.
+const TABLE_ROWS_SHOWN: usize = 12;
+
+/// The friction table of a table-law file (nothing for the other laws): its rows when few
+/// ([`TABLE_ROWS_SHOWN`]), else their count and ranges; slip speeds in the model's units
+/// and, for a physical system, in m/s.
+fn friction_table((nd, si): &squeal_store::FrictionTables, o: &mut String) -> std::fmt::Result {
+    let Some(t) = si.or(*nd) else {
+        return Ok(());
+    };
+    let rows = t.rows().len();
+    let mu = t.coefficients();
+    let lo = mu.iter().copied().fold(f64::INFINITY, f64::min);
+    let speeds = |t: &squeal_core::FrictionTable| t.slip_speeds().to_vec();
+    let (nd, si) = (nd.map(speeds), si.map(speeds));
+    let columns = match (&nd, &si) {
+        (Some(_), Some(_)) => "slip speed in m/s, in the model's units, mu",
+        (None, Some(_)) => "slip speed in m/s, mu",
+        _ => "slip speed in the model's units, mu",
+    };
+    let last = |s: &Option<Vec<f64>>| s.as_ref().map(|s| s[s.len() - 1]);
+    if rows > TABLE_ROWS_SHOWN {
+        let to = match (last(&si), last(&nd)) {
+            (Some(a), Some(b)) => format!("{a} m/s ({b} in the model's units)"),
+            (Some(a), None) => format!("{a} m/s"),
+            (None, b) => format!("{} (the model's units)", b.unwrap_or_default()),
+        };
+        return writeln!(
+            o,
+            "  friction table: {rows} rows, slip speed 0 to {to}, mu {} at rest, in [{lo}, {}]",
+            mu[0],
+            t.max_mu()
+        );
+    }
+    writeln!(o, "  friction table: {rows} rows ({columns}):")?;
+    for (i, m) in mu.iter().enumerate() {
+        let cells: Vec<String> = [&si, &nd]
+            .into_iter()
+            .flatten()
+            .map(|s| s[i].to_string())
+            .chain([m.to_string()])
+            .collect();
+        writeln!(o, "    {}", cells.join(", "))?;
     }
     Ok(())
 }

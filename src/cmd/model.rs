@@ -48,7 +48,13 @@ impl ModelArgs {
     /// McMillan laws only, and no nondimensional law flag); errors name the flag.
     pub fn physical(&self) -> anyhow::Result<Option<Physical>> {
         let law: FrictionLaw = self.law.parse().context("--law")?;
-        self.system.system(law, self.keys.first())
+        // The curve is read only where the physical flags are given (its speeds then in
+        // m/s); without them it is the model's, read by `params`.
+        let table = match self.system.given() {
+            true => self.table(law)?,
+            false => None,
+        };
+        self.system.system(law, table, self.keys.first())
     }
 
     /// Checked parameters; errors name the flag.
@@ -107,18 +113,25 @@ impl ModelArgs {
         let mut t = format!("law = \"{}\"\n", p.law);
         if let Some(ph) = self.physical()? {
             t.push_str(&super::physical::spec_table(&ph));
+            self.push_csv(&mut t);
             return Ok(t);
         }
         for n in p.named() {
             t.push_str(&format!("{} = {:?}\n", n.name, n.value));
         }
+        self.push_csv(&mut t);
+        Ok(t)
+    }
+
+    /// `friction_csv = "FILE"` of `--friction-csv`, if given, as the last line of the table
+    /// `t` (`[model]`, or `[physical]` where its speeds are in m/s).
+    fn push_csv(&self, t: &mut String) {
         if let Some(csv) = &self.friction_csv {
             // Read again by the plan, relative to the working folder (the spec's folder of
             // "command line" is "").
             let path = toml::Value::String(csv.to_string_lossy().into_owned());
             t.push_str(&format!("friction_csv = {path}\n"));
         }
-        Ok(t)
     }
 
     /// The stepper for these flags; errors name the flag.

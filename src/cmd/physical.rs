@@ -1,10 +1,11 @@
 //! The physical system's flags (`--m --k --c --v-belt --mu-k [--mu-s --tau-s] [--g |
 //! --normal-force]`), shared by every command that takes the model flags. `--mu-s --tau-s`
-//! are McMillan's surfaces: his laws need them, `--law coulomb` refuses them.
+//! are McMillan's surfaces: his laws need them, `--law coulomb` refuses them. `--law table`
+//! takes its measured curve from `--friction-csv` (slip speed in m/s) and no `--mu-k`.
 //! `--normal-force` presses the block on the belt in place of its weight `m g`.
 
 use anyhow::bail;
-use squeal_core::{CoreError, FrictionLaw, Load, Physical, SurfaceSi};
+use squeal_core::{CoreError, FrictionLaw, FrictionSi, FrictionTable, Load, Physical};
 
 /// The physical flags with their spec key, in the order of [`Physical::values`].
 pub const PHYSICAL_FLAGS: [(&str, &str); 9] = [
@@ -25,8 +26,9 @@ pub const PHYSICAL_FLAGS: [(&str, &str); 9] = [
 pub struct PhysicalArgs {
     /// Mass m (kg). The physical system in SI units instead of --nu --lambda --tau --phi
     /// (the paper's laws): give --m --k --c --v-belt --mu-k --mu-s --tau-s (--g or
-    /// --normal-force optional; --law coulomb takes no --mu-s --tau-s); then --x0/--v0 are
-    /// in m and m/s and the results are printed in SI units too.
+    /// --normal-force optional; --law coulomb takes no --mu-s --tau-s; --law table takes
+    /// --friction-csv in m/s instead of --mu-k --mu-s --tau-s); then --x0/--v0 are in m and
+    /// m/s and the results are printed in SI units too.
     #[arg(long, allow_negative_numbers = true)]
     pub m: Option<f64>,
     /// Spring stiffness k (N/m; physical system, see --m).
@@ -59,17 +61,14 @@ pub struct PhysicalArgs {
 }
 
 impl PhysicalArgs {
-    /// The system under `law`, if any flag is given (all but `--g` and `--normal-force`, of
-    /// which one at most, are then required, and
-    /// `--mu-s --tau-s` by `mcmillan` and `mcmillan-nonhysteretic` alone, which alone use
-    /// them); `other`: a
-    /// nondimensional law flag also given (refused). Errors name the flag.
-    pub fn system(
-        &self,
-        law: FrictionLaw,
-        other: Option<&str>,
-    ) -> anyhow::Result<Option<Physical>> {
-        let values = [
+    /// Whether any physical flag is given.
+    pub fn given(&self) -> bool {
+        self.values().iter().any(Option::is_some)
+    }
+
+    /// The flags' values in the order of [`PHYSICAL_FLAGS`].
+    fn values(&self) -> [Option<f64>; 9] {
+        [
             self.m,
             self.k,
             self.c,
@@ -79,21 +78,38 @@ impl PhysicalArgs {
             self.tau_s,
             self.g,
             self.normal_force,
-        ];
-        if values.iter().all(Option::is_none) {
+        ]
+    }
+
+    /// The system under `law`, if any flag is given (`--m --k --c --v-belt` are then
+    /// required, with `--mu-k` but for `--law table`, `--mu-s --tau-s` by `mcmillan` and
+    /// `mcmillan-nonhysteretic` alone, which alone use them, and one at most of `--g` and
+    /// `--normal-force`); `table`: the curve of `--friction-csv` (slip speed in m/s with
+    /// these flags), which `--law table` needs; `other`: a nondimensional law flag also
+    /// given (refused). Errors name the flag.
+    pub fn system(
+        &self,
+        law: FrictionLaw,
+        table: Option<&'static FrictionTable>,
+        other: Option<&str>,
+    ) -> anyhow::Result<Option<Physical>> {
+        let values = self.values();
+        if !self.given() {
             return Ok(None);
         }
-        // Before asking for the missing flags: a law with true stick takes none of them
-        // (`--law table --m ...` asked for --mu-k, which that law would never take).
-        if law.has_true_stick() {
+        // Before asking for the missing flags: the Stribeck and cubic laws take none of
+        // them (`--law cubic --m ...` would ask for --mu-k, which that law never takes).
+        if squeal_core::units::friction_keys(law).is_err() {
             bail!(
-                "--law {law}: the physical flags use McMillan's scaling, which the laws with true \
-                 stick do not share (give --xi, --v-d, ... instead)"
+                "--law {law}: the physical flags use McMillan's scaling or a measured curve's \
+                 (--law table), which the Stribeck and cubic laws do not share (give --xi, \
+                 --v-d, ... instead)"
             );
         }
-        let all = "--m --k --c --v-belt --mu-k, with --mu-s --tau-s for --law mcmillan and \
-                   mcmillan-nonhysteretic (and optionally --g or --normal-force)";
-        if let Some((flag, _)) = PHYSICAL_FLAGS[..5]
+        let all = "--m --k --c --v-belt, with --mu-k, and --mu-s --tau-s for --law mcmillan and \
+                   mcmillan-nonhysteretic, or --friction-csv (m/s) for --law table (and \
+                   optionally --g or --normal-force)";
+        if let Some((flag, _)) = PHYSICAL_FLAGS[..4]
             .iter()
             .zip(values)
             .find(|(_, v)| v.is_none())
@@ -112,8 +128,8 @@ impl PhysicalArgs {
             k: v(1),
             c: v(2),
             v_belt: v(3),
-            mu_k: v(4),
-            surface: SurfaceSi::of(law, self.mu_s, self.tau_s).map_err(flag_error)?,
+            friction: FrictionSi::of(law, self.mu_k, self.mu_s, self.tau_s, table)
+                .map_err(flag_error)?,
             load: Load::of(self.g, self.normal_force, squeal_core::units::G_STANDARD)
                 .map_err(flag_error)?,
         };
@@ -142,8 +158,11 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
             let flag = match name {
                 "nu" => "--c (nu = c / (2 sqrt(m k)))",
                 "lambda" => {
-                    "--v-belt (lambda = v_belt sqrt(k/m) / (mu_k g), or v_belt sqrt(m k) / (mu_k N))"
+                    "--v-belt (lambda = v_belt sqrt(m k) / (mu_k N), N = m g or --normal-force)"
                 }
+                "friction_table" => "--friction-csv",
+                "xi" => "--c (xi = c / (2 sqrt(m k)))",
+                "v_d" => "--v-belt (v_d = v_belt sqrt(m k) / N)",
                 "phi" => "--mu-s",
                 "tau" => "--tau-s",
                 n => PHYSICAL_FLAGS
@@ -152,6 +171,10 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
                     .map_or(n, |(f, _)| *f),
             };
             anyhow::anyhow!("{flag}: {e}")
+        }
+        // A measured curve whose speeds no f64 holds in the model's units.
+        None if matches!(e, CoreError::InvalidTable { .. }) => {
+            anyhow::anyhow!("--friction-csv: {e}")
         }
         None => anyhow::anyhow!(e),
     }

@@ -269,9 +269,20 @@ fn the_readme_tour_prints_what_it_shows() {
         shown.len()
     );
     for (cmds, want) in shown {
-        // A fresh folder with the shipped specs, as a checkout: outputs land in its out/.
+        // A fresh folder with the shipped specs and their data (the friction curves), as a
+        // checkout: outputs land in its out/.
         let dir = tempfile::tempdir().expect("a temporary folder");
-        std::fs::create_dir(dir.path().join("scans")).unwrap();
+        std::fs::create_dir_all(dir.path().join("scans/data")).unwrap();
+        for entry in std::fs::read_dir(root.join("scans/data")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "csv") {
+                let to = dir
+                    .path()
+                    .join("scans/data")
+                    .join(path.file_name().unwrap());
+                std::fs::copy(&path, to).unwrap();
+            }
+        }
         for entry in std::fs::read_dir(root.join("scans")).unwrap() {
             let path = entry.unwrap().path();
             if path.extension().is_some_and(|e| e == "toml") {

@@ -160,3 +160,262 @@ fn the_shipped_table_spec_scans_and_stores_its_table() {
         assert!(!ok && text.contains(words), "{args:?}: {text}");
     }
 }
+
+/// The shipped pad curve (`scans/data/pad-mu.csv`, slip speed in m/s) copied into `dir`,
+/// and the same curve in the model's units written beside it (`nd.csv`): the law is
+/// written in the normal load (crates/core/MODEL.md section 8), so for the clamped pad
+/// below, m = 0.8 kg, k = 2e5 N/m, N = 1500 N, the velocity unit is N / sqrt(m k) =
+/// 1500 / 400 = 3.75 m/s and each slip speed is divided by it (mu as measured).
+fn pad_curves(dir: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scans/data/pad-mu.csv");
+    let text = std::fs::read_to_string(root).unwrap();
+    std::fs::write(dir.join("pad.csv"), &text).unwrap();
+    let mut nd = String::from("s,mu\n");
+    for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let (s, mu) = line.split_once(',').unwrap();
+        let s: f64 = s.trim().parse().unwrap();
+        nd.push_str(&format!("{:?},{}\n", s / 3.75, mu.trim()));
+    }
+    std::fs::write(dir.join("nd.csv"), nd).unwrap();
+}
+
+/// The pad of issue 34 stated as an engineer states it: 0.8 kg on a 200 kN/m mount, disc
+/// at 0.3 m/s, clamped with `--normal-force 1500`, and a measured curve in m/s. It is the
+/// nondimensional table law with xi = c / (2 sqrt(m k)) = c / 800, v_d = v_B sqrt(m k) /
+/// N = 0.3 * 400 / 1500 = 0.08 and the curve's speeds over 3.75 m/s (`pad_curves`); starts
+/// in m and m/s are x0 / (N / k) = x0 / 7.5 mm and v0 / 3.75 m/s there. Same labels and
+/// reasons at c = 150 N s/m (xi = 0.1875: bistable, both labels occur), the same lasting
+/// oscillation at c = 20 N s/m (xi = 0.025) from rest, its frequency in Hz the model's
+/// omega times omega_0 / (2 pi) = 500 / (2 pi); and the g-hack g = N / m = 1875 gives the
+/// same files byte for byte. Fails on fdec01a: `--law table` refused the physical flags.
+#[test]
+fn a_clamped_pad_with_a_measured_curve_is_its_nondimensional_model() {
+    let dir = tempfile::tempdir().unwrap();
+    pad_curves(dir.path());
+    let si_starts = [
+        (0.003, 0.0),
+        (0.0, 0.0),
+        (0.003, 0.05),
+        (-0.01, 0.0),
+        (0.003, -0.3),
+        (0.003, 0.2),
+        (0.01, -1.0),
+    ];
+    let mut si = String::from("x0,v0\n");
+    let mut nd = String::from("x0,v0\n");
+    for (x, v) in si_starts {
+        si.push_str(&format!("{x:?},{v:?}\n"));
+        nd.push_str(&format!("{:?},{:?}\n", x / 7.5e-3, v / 3.75));
+    }
+    std::fs::write(dir.path().join("si.csv"), si).unwrap();
+    std::fs::write(dir.path().join("nd-ics.csv"), nd).unwrap();
+    let pad = |c: &str, load: [&'static str; 2]| {
+        let mut a = vec!["--law", "table", "--friction-csv", "pad.csv", "--m", "0.8"];
+        a.extend(["--k", "2e5", "--v-belt", "0.3", load[0], load[1], "--c"]);
+        a.push(Box::leak(c.to_string().into_boxed_str()));
+        a
+    };
+    let labels = |model: Vec<&str>, ics: &str, out: &str| {
+        let mut args = vec!["classify", "--ics", ics, "--out", out];
+        args.extend(model);
+        let (ok, text) = squeal(dir.path(), &args);
+        assert!(ok, "{text}");
+        let csv = std::fs::read_to_string(dir.path().join(out)).unwrap();
+        let rows: Vec<String> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').skip(2).take(2).collect::<Vec<_>>().join(","))
+            .collect();
+        (rows, csv)
+    };
+    let clamp = ["--normal-force", "1500"];
+    let (si_labels, si_csv) = labels(pad("150", clamp), "si.csv", "si-out.csv");
+    let nd_model = |xi: &'static str| {
+        vec![
+            "--law",
+            "table",
+            "--friction-csv",
+            "nd.csv",
+            "--xi",
+            xi,
+            "--v-d",
+            "0.08",
+        ]
+    };
+    let (nd_labels, _) = labels(nd_model("0.1875"), "nd-ics.csv", "nd-out.csv");
+    assert_eq!(si_labels, nd_labels);
+    for label in ["stick_slip", "steady_slip"] {
+        assert!(
+            si_labels.iter().any(|l| l.starts_with(label)),
+            "{si_labels:?}"
+        );
+    }
+    let (_, hack_csv) = labels(pad("150", ["--g", "1875"]), "si.csv", "hack-out.csv");
+    assert_eq!(si_csv, hack_csv);
+    // From rest at c = 20 N s/m: the lasting oscillation, in Hz from the SI run and in the
+    // model's units from the nondimensional one.
+    let run = |model: Vec<&str>| {
+        let mut args = vec!["trajectory", "--t-end", "3000"];
+        args.extend(model);
+        let (ok, text) = squeal(dir.path(), &args);
+        assert!(ok, "{text}");
+        text
+    };
+    let si_run = run(pad("20", clamp));
+    let field = |text: &str, key: &str| -> f64 {
+        let at = text.find(key).unwrap_or_else(|| panic!("{key}: {text}")) + key.len();
+        let rest = text[at..].trim_start_matches([' ', '=', ':', '"', '[']);
+        let end = rest.find([',', ' ', ']', '}', '\n']).unwrap();
+        rest[..end].parse().unwrap()
+    };
+    let hz = field(&si_run, "\"lasting_frequency_hz\"");
+    let omega = field(&run(nd_model("0.025")), "lasting oscillation: omega");
+    let want = omega * 500.0 / std::f64::consts::TAU;
+    // omega is printed to 6 significant digits.
+    assert!((hz - want).abs() < 2e-6 * want, "{hz} Hz vs {want} Hz");
+    // The stick-slip of a pad on this curve: about 66.4 Hz (measured with this test's run,
+    // README section 4).
+    assert!((hz - 66.36).abs() < 0.01, "{hz}");
+    assert_eq!(si_run, run(pad("20", ["--g", "1875"])));
+}
+
+/// The pad's run stores its curve in m/s with units beside the model's speeds, and
+/// `squeal info` prints the table: its rows when few, else their count and ranges (before,
+/// fdec01a printed none, and listed the table's datasets among the variables over t). A
+/// curve in m/s with a negative speed, and `--mu-k` beside a curve, are refused by flag.
+#[test]
+fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
+    let dir = tempfile::tempdir().unwrap();
+    pad_curves(dir.path());
+    let pad = [
+        "--law",
+        "table",
+        "--friction-csv",
+        "pad.csv",
+        "--m",
+        "0.8",
+        "--k",
+        "2e5",
+        "--c",
+        "20",
+        "--v-belt",
+        "0.3",
+        "--normal-force",
+        "1500",
+    ];
+    let mut args = vec!["trajectory", "--t-end", "10", "--out", "run.h5"];
+    args.extend(pad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(ok, "{text}");
+    let f = hdf5::File::open(dir.path().join("run.h5")).unwrap();
+    let si = f.dataset("friction_table_slip_speed_si").unwrap();
+    let s: Vec<f64> = si.read_raw().unwrap();
+    let units: hdf5::types::VarLenUnicode = si.attr("units").unwrap().read_scalar().unwrap();
+    assert_eq!((s.len(), s[7], units.as_str()), (8, 2.0, "m/s"));
+    let nd: Vec<f64> = f
+        .dataset("friction_table_slip_speed")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    // The model's speeds are the measured ones over N / sqrt(m k) = 3.75 m/s.
+    assert!((nd[7] - 2.0 / 3.75).abs() < 1e-15, "{}", nd[7]);
+    let (ok, info) = squeal(dir.path(), &["info", "run.h5"]);
+    assert!(ok, "{info}");
+    assert!(
+        info.contains("friction table: 8 rows (slip speed in m/s, in the model's units, mu):")
+            && info.contains("    2, 0.5333333333333333, 0.36"),
+        "{info}"
+    );
+    let vars = info
+        .lines()
+        .find(|l| l.contains("variables over t"))
+        .unwrap();
+    assert!(!vars.contains("friction_table"), "{vars}");
+    // A long table is summarised: bSTAB's Stribeck law at 2001 rows (`fine_csv`).
+    let csv = fine_csv(dir.path());
+    let (ok, text) = squeal(
+        dir.path(),
+        &[
+            "trajectory",
+            "--law",
+            "table",
+            "--friction-csv",
+            &csv,
+            "--t-end",
+            "1",
+            "--out",
+            "f.h5",
+        ],
+    );
+    assert!(ok, "{text}");
+    let (_, info) = squeal(dir.path(), &["info", "f.h5"]);
+    assert!(
+        info.contains(
+            "friction table: 2001 rows, slip speed 0 to 20 (the model's units), mu 1 at rest"
+        ),
+        "{info}"
+    );
+    // Refusals by flag: a speed below zero in m/s (the CSV's line named), `--mu-k`.
+    std::fs::write(dir.path().join("bad.csv"), "s,mu\n0,0.48\n-0.1,0.45\n").unwrap();
+    let mut bad = pad.to_vec();
+    bad[3] = "bad.csv";
+    let mut args = vec!["trajectory"];
+    args.extend(&bad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(
+        !ok && text.contains("--friction-csv") && text.contains("line 3"),
+        "{text}"
+    );
+    let mut args = vec![
+        "classify", "--ics", "x.csv", "--out", "o.csv", "--mu-k", "0.4",
+    ];
+    args.extend(pad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(
+        !ok && text.contains("--mu-k") && text.contains("does not use"),
+        "{text}"
+    );
+}
+
+/// The shipped atlas of the pad on its measured curve (`scans/brake-curve.toml`, cut to 4
+/// values of c) runs with its boundaries and stores them in SI: the critical damping
+/// `critical_c` in N s/m beside the model's `critical_xi`, and the curve in m/s. Before
+/// the boundary's SI twin was named after the law's key, it took the model's own name
+/// (`critical_xi` twice) and the write failed with an HDF5 error; on fdec01a the spec was
+/// refused (`friction_csv` unknown under `[physical]`).
+#[test]
+fn the_shipped_pad_atlas_stores_its_boundaries_in_si() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scans");
+    std::fs::create_dir(dir.path().join("data")).unwrap();
+    std::fs::copy(
+        root.join("data/pad-mu.csv"),
+        dir.path().join("data/pad-mu.csv"),
+    )
+    .unwrap();
+    let spec = std::fs::read_to_string(root.join("brake-curve.toml"))
+        .unwrap()
+        .replace("count = 12", "count = 4");
+    std::fs::write(dir.path().join("b.toml"), spec).unwrap();
+    let (ok, text) = squeal(dir.path(), &["atlas", "b.toml", "--no-render", "--quiet"]);
+    assert!(ok, "{text}");
+    let f = hdf5::File::open(dir.path().join("out/brake-curve.h5")).unwrap();
+    let c = f.dataset("critical_c").unwrap();
+    let units: hdf5::types::VarLenUnicode = c.attr("units").unwrap().read_scalar().unwrap();
+    assert_eq!(units.as_str(), "N s/m");
+    let xi: Vec<f64> = f.dataset("critical_xi").unwrap().read_raw().unwrap();
+    let c: Vec<f64> = c.read_raw().unwrap();
+    // c = 2 sqrt(m k) xi = 800 xi; `squeal critical` from rest finds c = 208.68 N s/m
+    // (README section 4).
+    assert!(
+        (c[0] - 800.0 * xi[0]).abs() < 1e-9 * c[0],
+        "{c:?} vs {xi:?}"
+    );
+    assert!((c[0] - 208.7).abs() < 1.0, "{c:?}");
+    let s: Vec<f64> = f
+        .dataset("friction_table_slip_speed_si")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    assert_eq!(s.last(), Some(&2.0));
+}

@@ -17,25 +17,26 @@ pub enum CoreError {
          parameters"
     )]
     NoPhysicalUnits(&'static str),
-    /// A physical key the law needs and was not given (`mu_s` or `tau` for McMillan's laws).
+    /// A physical key the law needs and was not given (`mu_s` or `tau` for McMillan's laws,
+    /// `mu_k` for them and Coulomb, the curve for the table law).
     #[error(
-        "missing: law {law} needs it (McMillan's surfaces: the static coefficient mu_s > mu_k \
-         and the surface time tau in s)"
+        "missing: law {law} needs it ({})",
+        crate::units::friction_key_meaning(key)
     )]
     MissingPhysicalKey {
-        /// The key (`mu_s`, `tau`).
+        /// The key (one of [`crate::units::FRICTION_KEYS`]).
         key: &'static str,
         /// The law's name.
         law: &'static str,
     },
     /// A physical key given to a law that does not use it (`mu_s` or `tau` with Coulomb,
-    /// whose force has no static peak and no surface time).
+    /// whose force has no static peak and no surface time; `mu_k` with a measured curve).
     #[error(
-        "given, but law {law} does not use it (mu_s and tau are constants of McMillan's \
-         surfaces, for laws mcmillan and mcmillan-nonhysteretic): leave it out"
+        "given, but law {law} does not use it ({}): leave it out",
+        crate::units::friction_key_meaning(key)
     )]
     UnusedPhysicalKey {
-        /// The key (`mu_s`, `tau`).
+        /// The key (one of [`crate::units::FRICTION_KEYS`]).
         key: &'static str,
         /// The law's name.
         law: &'static str,

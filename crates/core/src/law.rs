@@ -545,11 +545,13 @@ mod tests {
             k: 2.0e4,
             c: 4.0,
             v_belt: 0.1,
-            mu_k: 0.4,
-            surface: Some(crate::SurfaceSi {
-                mu_s: 1e6,
-                tau: 1e-3,
-            }),
+            friction: crate::FrictionSi::Kinetic {
+                mu_k: 0.4,
+                surface: Some(crate::SurfaceSi {
+                    mu_s: 1e6,
+                    tau: 1e-3,
+                }),
+            },
             load: crate::units::Load::Weight(crate::units::G_STANDARD),
         };
         let e = ph.validate().unwrap_err().to_string();
@@ -557,7 +559,10 @@ mod tests {
             e.contains("reaches |x| about 1.43 mu_s/mu_k") && !e.contains("wide"),
             "{e}"
         );
-        ph.surface = None;
+        ph.friction = crate::FrictionSi::Kinetic {
+            mu_k: 0.4,
+            surface: None,
+        };
         assert!(ph.validate().is_ok());
     }
 }

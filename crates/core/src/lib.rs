@@ -84,5 +84,5 @@ pub use stepper::{Sample, State, Stepper};
 pub use stick::StickEvents;
 pub use table::FrictionTable;
 pub use turns::{Lasting, Turn, TurnSettings, TurnWatch};
-pub use units::{Load, Physical, Scales, SurfaceSi};
+pub use units::{FrictionSi, Load, Physical, Scales, SurfaceSi};
 pub use validated::Validity;

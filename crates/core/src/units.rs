@@ -21,7 +21,13 @@
 //!
 //! `tau` and `mu_s` are constants of McMillan's surfaces ([`SurfaceSi`]): his two laws need
 //! them, Coulomb's force has neither, so a Coulomb system is `m, k, c, v_B, mu_k, g` alone
-//! ([`surface_keys`] says which a law takes).
+//! ([`friction_keys`] says which a law takes).
+//!
+//! A measured curve (`law = "table"`, [`FrictionSi::Table`]: `mu` against slip speed in
+//! m/s) has no `mu_k`: the law is written in the normal load (MODEL.md section 8), so the
+//! force unit is `N` itself, the length unit `N / k`, the velocity unit `N / sqrt(m k)`,
+//! `xi = c / (2 sqrt(m k))`, `v_d = v_B sqrt(m k) / N`, and the nondimensional table is the
+//! measured one with its slip speeds divided by the velocity unit (its `mu` unchanged).
 //!
 //! [`Physical`] holds the physical system, [`Physical::params`] converts it, and
 //! [`Scales`] turns nondimensional figures back into SI: lengths in m, velocities in m/s,
@@ -30,7 +36,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
-use crate::params::{Friction, FrictionLaw, Params, Surface};
+use crate::params::{Friction, FrictionLaw, FrictionTable, Params, Surface};
 
 /// Standard gravity, the default of `g` (m/s^2).
 pub const G_STANDARD: f64 = 9.81;
@@ -62,6 +68,11 @@ impl<T> Load<T> {
     }
 }
 
+/// The physical keys of a system's friction, in the order of [`Physical::values`]' friction
+/// keys: the kinetic coefficient, McMillan's surfaces, and a measured curve (`friction_table`,
+/// which a spec may give as `friction_csv`).
+pub const FRICTION_KEYS: [&str; 4] = ["mu_k", "mu_s", "tau", "friction_table"];
+
 /// The physical keys of McMillan's surfaces, in the order of [`SurfaceSi`]'s fields.
 pub const SURFACE_KEYS: [&str; 2] = ["mu_s", "tau"];
 
@@ -75,52 +86,139 @@ pub struct SurfaceSi<T = f64> {
     pub tau: T,
 }
 
-/// Whether `law` takes McMillan's surfaces (`mu_s`, `tau`) in physical units: his two laws
-/// do, Coulomb does not; a law without physical units is an error.
-pub fn takes_surface(law: FrictionLaw) -> Result<bool, CoreError> {
+/// Which of [`FRICTION_KEYS`] `law` takes in physical units: McMillan's two laws `mu_k`,
+/// `mu_s`, `tau`; Coulomb `mu_k`; the table law its curve alone. Any other law has no
+/// physical units (an error).
+pub fn friction_keys(law: FrictionLaw) -> Result<[bool; 4], CoreError> {
     match law {
-        FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => Ok(true),
-        FrictionLaw::Coulomb => Ok(false),
-        // Only McMillan's laws share the scaling of the physical units (the laws with
-        // true stick, and any law not named here, are written in the normal load).
+        FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => Ok([true, true, true, false]),
+        FrictionLaw::Coulomb => Ok([true, false, false, false]),
+        FrictionLaw::Table => Ok([false, false, false, true]),
+        // The Stribeck and cubic laws are written in the normal load too, but their
+        // coefficients' speeds would need a unit of their own: not yet.
         _ => Err(CoreError::NoPhysicalUnits(law.name())),
     }
 }
 
-/// Checks which of [`SURFACE_KEYS`] are given (`given`, in that order) under `law`: all of
-/// them for McMillan's laws, none for Coulomb. The error names the first key missing or not
-/// used, and the law; `Ok` says whether the law takes them.
-pub fn surface_keys(law: FrictionLaw, given: [bool; 2]) -> Result<bool, CoreError> {
-    let takes = takes_surface(law)?;
-    match SURFACE_KEYS
+/// Whether `law` takes McMillan's surfaces (`mu_s`, `tau`) in physical units: his two laws
+/// do, Coulomb and the table law do not; a law without physical units is an error.
+pub fn takes_surface(law: FrictionLaw) -> Result<bool, CoreError> {
+    friction_keys(law).map(|k| k[1])
+}
+
+/// Checks which of [`FRICTION_KEYS`] are given (`given`, in that order) under `law`: the
+/// error names the first key missing or not used, and the law.
+pub fn check_friction_keys(law: FrictionLaw, given: [bool; 4]) -> Result<(), CoreError> {
+    let takes = friction_keys(law)?;
+    match FRICTION_KEYS
         .into_iter()
+        .zip(takes)
         .zip(given)
-        .find(|(_, g)| *g != takes)
+        .find(|((_, t), g)| t != g)
     {
-        None => Ok(takes),
-        Some((key, _)) if takes => Err(CoreError::MissingPhysicalKey {
+        None => Ok(()),
+        Some(((key, true), _)) => Err(CoreError::MissingPhysicalKey {
             key,
             law: law.name(),
         }),
-        Some((key, _)) => Err(CoreError::UnusedPhysicalKey {
+        Some(((key, false), _)) => Err(CoreError::UnusedPhysicalKey {
             key,
             law: law.name(),
         }),
     }
 }
 
-impl SurfaceSi {
-    /// The surfaces under `law` from `mu_s` and `tau` as given: both for McMillan's laws,
-    /// neither for Coulomb ([`surface_keys`]; values are checked by [`Physical::validate`]).
+/// What the physical keys of friction mean, for the messages that name one missing or not
+/// used (`key` one of [`FRICTION_KEYS`]).
+pub fn friction_key_meaning(key: &str) -> &'static str {
+    match key {
+        "mu_k" => {
+            "mu_k is the kinetic friction coefficient of McMillan's laws and Coulomb's, whose \
+             force unit is mu_k N; a measured curve (law table) carries its own mu at every \
+             slip speed, its force unit is N"
+        }
+        "friction_table" => {
+            "the measured curve of law table: friction_table = [[s, mu], ...] or friction_csv, \
+             slip speed in m/s, the first row at 0; the other laws are formulas in mu_k"
+        }
+        _ => {
+            "mu_s and tau are McMillan's surfaces, the static coefficient mu_s > mu_k and the \
+             surface time tau in s, for laws mcmillan and mcmillan-nonhysteretic"
+        }
+    }
+}
+
+/// The friction of a physical system: McMillan's or Coulomb's kinetic coefficient (with
+/// McMillan's surfaces), or a measured curve. Serialised flattened as its keys (`mu_k` and
+/// `surface`, or `friction_table`). `T` as in [`Physical`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum FrictionSi<T = f64> {
+    /// McMillan's laws and Coulomb's: the force unit is `mu_k N`.
+    Kinetic {
+        /// Kinetic friction coefficient `mu_k`.
+        mu_k: T,
+        /// McMillan's surfaces (his two laws); `None` for Coulomb, which has none.
+        surface: Option<SurfaceSi<T>>,
+    },
+    /// `law = "table"`: `mu` against slip speed in m/s, as measured (rows `(s, mu)`); the
+    /// force unit is `N`.
+    Table {
+        /// The curve in SI: slip speeds in m/s.
+        friction_table: &'static FrictionTable,
+    },
+}
+
+impl<T: Copy> FrictionSi<T> {
+    /// `mu_k` (McMillan's laws and Coulomb).
+    pub fn mu_k(&self) -> Option<T> {
+        match self {
+            FrictionSi::Kinetic { mu_k, .. } => Some(*mu_k),
+            FrictionSi::Table { .. } => None,
+        }
+    }
+    /// McMillan's surfaces (his two laws).
+    pub fn surface(&self) -> Option<SurfaceSi<T>> {
+        match self {
+            FrictionSi::Kinetic { surface, .. } => *surface,
+            FrictionSi::Table { .. } => None,
+        }
+    }
+    /// The measured curve in SI (the table law).
+    pub fn table(&self) -> Option<&'static FrictionTable> {
+        match self {
+            FrictionSi::Table { friction_table } => Some(friction_table),
+            FrictionSi::Kinetic { .. } => None,
+        }
+    }
+}
+
+impl FrictionSi {
+    /// The friction under `law` of the keys as given: `mu_k` with `mu_s` and `tau` for
+    /// McMillan's laws, `mu_k` alone for Coulomb, the curve `table` (slip speed in m/s)
+    /// alone for the table law ([`check_friction_keys`]; values are checked by
+    /// [`Physical::validate`]).
     pub fn of(
         law: FrictionLaw,
+        mu_k: Option<f64>,
         mu_s: Option<f64>,
         tau: Option<f64>,
-    ) -> Result<Option<SurfaceSi>, CoreError> {
-        let given = [mu_s.is_some(), tau.is_some()];
-        Ok(match (surface_keys(law, given)?, mu_s, tau) {
-            (true, Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
-            _ => None,
+        table: Option<&'static FrictionTable>,
+    ) -> Result<FrictionSi, CoreError> {
+        let given = [
+            mu_k.is_some(),
+            mu_s.is_some(),
+            tau.is_some(),
+            table.is_some(),
+        ];
+        check_friction_keys(law, given)?;
+        Ok(match (mu_k, mu_s.zip(tau), table) {
+            (Some(mu_k), surface, _) => FrictionSi::Kinetic {
+                mu_k,
+                surface: surface.map(|(mu_s, tau)| SurfaceSi { mu_s, tau }),
+            },
+            (None, _, Some(friction_table)) => FrictionSi::Table { friction_table },
+            _ => unreachable!("check_friction_keys: every law takes mu_k or a table"),
         })
     }
 }
@@ -128,7 +226,7 @@ impl SurfaceSi {
 /// A physical friction oscillator in SI units. `T` is `f64` but for a spec's table of the
 /// values each key is given (a number, a list or a range), laid out in the same fields so
 /// that [`Physical::values`] puts both in key order.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Physical<T = f64> {
     /// Mass `m` (kg).
     pub m: T,
@@ -138,10 +236,9 @@ pub struct Physical<T = f64> {
     pub c: T,
     /// Belt speed `v_B` (m/s).
     pub v_belt: T,
-    /// Kinetic friction coefficient `mu_k`.
-    pub mu_k: T,
-    /// McMillan's surfaces (his two laws); `None` for Coulomb, which has none.
-    pub surface: Option<SurfaceSi<T>>,
+    /// The friction: `mu_k` (and McMillan's surfaces), or a measured curve.
+    #[serde(flatten)]
+    pub friction: FrictionSi<T>,
     /// What presses the block on the belt: `g` (its weight `m g`) or `normal_force`.
     #[serde(flatten)]
     pub load: Load<T>,
@@ -185,9 +282,11 @@ impl<T: Copy> Physical<T> {
     /// The values in the order of the keys `m, k, c, v_belt, mu_k, mu_s, tau, g,
     /// normal_force` (the order of a spec's `[physical]` table, of the flags and of the
     /// stored attributes); `mu_s` and `tau` are `None` for a system without McMillan's
-    /// surfaces (Coulomb), and one of `g` and `normal_force` is `None` (the one not given).
+    /// surfaces (Coulomb, a table), `mu_k` for a measured curve (its table is no scalar:
+    /// [`FrictionSi::table`]), and one of `g` and `normal_force` is `None` (the one not
+    /// given).
     pub fn values(&self) -> [Option<T>; 9] {
-        let sf = self.surface;
+        let sf = self.friction.surface();
         let (g, n) = match self.load {
             Load::Weight(g) => (Some(g), None),
             Load::NormalForce(n) => (None, Some(n)),
@@ -197,7 +296,7 @@ impl<T: Copy> Physical<T> {
             Some(self.k),
             Some(self.c),
             Some(self.v_belt),
-            Some(self.mu_k),
+            self.friction.mu_k(),
             sf.map(|s| s.mu_s),
             sf.map(|s| s.tau),
             g,
@@ -227,11 +326,16 @@ impl Physical {
                 "a finite belt speed > 0 (m/s; the model needs lambda > 0)",
             );
         }
-        if !pos(self.mu_k) {
-            return bad("mu_k", self.mu_k, "a finite friction coefficient > 0");
+        // A measured curve's rows were checked when it was made (FrictionTable::new).
+        let (mu_k, surface) = match self.friction {
+            FrictionSi::Kinetic { mu_k, surface } => (mu_k, surface),
+            FrictionSi::Table { .. } => (1.0, None),
+        };
+        if !pos(mu_k) {
+            return bad("mu_k", mu_k, "a finite friction coefficient > 0");
         }
-        if let Some(sf) = self.surface {
-            if !sf.mu_s.is_finite() || sf.mu_s <= self.mu_k {
+        if let Some(sf) = surface {
+            if !sf.mu_s.is_finite() || sf.mu_s <= mu_k {
                 return bad(
                     "mu_s",
                     sf.mu_s,
@@ -241,7 +345,7 @@ impl Physical {
             // Phi = arcsin(mu_k / mu_s) checked by the one check of Phi (law::MIN_PHI), but
             // named by the key the user gave, with the value given: its own message would show
             // Phi's value under mu_s.
-            if crate::Surface::check_phi((self.mu_k / sf.mu_s).asin()).is_err() {
+            if crate::Surface::check_phi((mu_k / sf.mu_s).asin()).is_err() {
                 return bad(
                     "mu_s",
                     sf.mu_s,
@@ -285,11 +389,30 @@ impl Physical {
         }
     }
 
-    /// The velocity scale `mu_k a sqrt(m) / sqrt(k)` (`a = N / m`) as factors over factors,
-    /// for [`ratio`].
+    /// The coefficient of the force unit `mu_k N`: `mu_k` for McMillan's laws and Coulomb,
+    /// 1 for a measured curve (written in the normal load: its force unit is `N`).
+    fn force_coefficient(&self) -> f64 {
+        self.friction.mu_k().unwrap_or(1.0)
+    }
+
+    /// The key and value a scale of friction's force unit is named by: `mu_k`, or for a
+    /// measured curve the load (`normal_force` or `g`).
+    fn force_key(&self) -> (&'static str, f64) {
+        match (self.friction.mu_k(), self.load) {
+            (Some(mu_k), _) => ("mu_k", mu_k),
+            (None, Load::NormalForce(n)) => ("normal_force", n),
+            (None, Load::Weight(g)) => ("g", g),
+        }
+    }
+
+    /// The velocity scale `mu_k a sqrt(m) / sqrt(k)` (`a = N / m`; `mu_k` is 1 for a
+    /// measured curve) as factors over factors, for [`ratio`].
     fn velocity_factors(&self) -> ([f64; 3], [f64; 2]) {
         let (sm, sk) = (self.m.sqrt(), self.k.sqrt());
-        ([self.mu_k, self.load_acceleration(), sm], [sk, 1.0])
+        (
+            [self.force_coefficient(), self.load_acceleration(), sm],
+            [sk, 1.0],
+        )
     }
 
     /// The scales of this system, each a ratio of the keys' square roots and values taken
@@ -319,6 +442,7 @@ impl Physical {
     fn check_derived(&self, p: &Params) -> Result<(), CoreError> {
         let s = self.scales();
         let fine = |x: f64| x.is_finite() && x > 0.0;
+        let (force_key, force_value) = self.force_key();
         for (value, key, given, expected) in [
             (
                 s.omega0,
@@ -340,21 +464,23 @@ impl Physical {
             ),
             (
                 s.length,
-                "mu_k",
-                self.mu_k,
-                "a coefficient whose length unit mu_k g m/k is finite and nonzero in f64",
+                force_key,
+                force_value,
+                "a value whose length unit mu_k N / k (N / k for a measured curve) is finite \
+                 and nonzero in f64",
             ),
             (
                 s.velocity,
-                "mu_k",
-                self.mu_k,
-                "a coefficient whose velocity unit mu_k g sqrt(m/k) is finite and nonzero in f64",
+                force_key,
+                force_value,
+                "a value whose velocity unit mu_k N / sqrt(m k) (N / sqrt(m k) for a measured \
+                 curve) is finite and nonzero in f64",
             ),
             (
                 p.lambda,
                 "lambda",
                 p.lambda,
-                "a belt speed lambda = v_belt sqrt(k/m) / (mu_k g) finite and nonzero in f64",
+                "a belt speed lambda = v_belt sqrt(m k) / (mu_k N) finite and nonzero in f64",
             ),
         ] {
             if !fine(value) {
@@ -393,18 +519,22 @@ impl Physical {
     /// units, and for surfaces given to a law without them or missing from one with them).
     pub fn nondimensional(&self, law: FrictionLaw) -> Result<Params, CoreError> {
         let (sm, sk) = (self.m.sqrt(), self.k.sqrt());
+        let mu_k = self.force_coefficient();
         let nd = |sf: SurfaceSi| Surface {
-            tau: ratio(&[sf.tau, sk], &[self.mu_k, sm]),
-            phi: (self.mu_k / sf.mu_s).asin(),
+            tau: ratio(&[sf.tau, sk], &[mu_k, sm]),
+            phi: (mu_k / sf.mu_s).asin(),
         };
-        let law = match (law, self.surface) {
-            (FrictionLaw::McMillan, Some(sf)) => Friction::McMillan(nd(sf)),
-            (FrictionLaw::McMillanNonHysteretic, Some(sf)) => Friction::NonHysteretic(nd(sf)),
-            (FrictionLaw::Coulomb, None) => Friction::Coulomb,
-            // Surfaces missing or not used (surface_keys names the key), or a law without
+        let f = self.friction;
+        let law = match (law, f.surface(), f.table()) {
+            (FrictionLaw::McMillan, Some(sf), _) => Friction::McMillan(nd(sf)),
+            (FrictionLaw::McMillanNonHysteretic, Some(sf), _) => Friction::NonHysteretic(nd(sf)),
+            (FrictionLaw::Coulomb, None, None) => Friction::Coulomb,
+            (FrictionLaw::Table, _, Some(t)) => Friction::Table(self.table_in_units(t)?),
+            // A key missing or not used (check_friction_keys names it), or a law without
             // physical units at all.
-            (law, sf) => {
-                return Err(surface_keys(law, [sf.is_some(); 2])
+            (law, sf, t) => {
+                let given = [f.mu_k().is_some(), sf.is_some(), sf.is_some(), t.is_some()];
+                return Err(check_friction_keys(law, given)
                     .err()
                     .unwrap_or(CoreError::NoPhysicalUnits(law.name())));
             }
@@ -419,6 +549,16 @@ impl Physical {
         })
     }
 
+    /// The measured curve `t` (slip speed in m/s) in the model's units: every slip speed
+    /// divided by the velocity unit `N / sqrt(m k)`, every `mu` as measured (the law is
+    /// written in the normal load, so its force unit is `N`: MODEL.md section 8). A curve
+    /// whose speeds no f64 holds in those units is refused as its rows are, by row.
+    pub fn table_in_units(&self, t: &FrictionTable) -> Result<&'static FrictionTable, CoreError> {
+        let unit = self.scales().velocity;
+        let rows: Vec<(f64, f64)> = t.rows().into_iter().map(|(s, mu)| (s / unit, mu)).collect();
+        FrictionTable::new(&rows)
+    }
+
     /// The physical system with mass, stiffness, `mu_k` and load taken from `base` whose
     /// nondimensional parameters are `p` (the inverse of [`Physical::params`]).
     /// A law without McMillan's surface constants (Coulomb) gives a system without them.
@@ -430,10 +570,17 @@ impl Physical {
                 let ([a, b, c], [d, e]) = base.velocity_factors();
                 ratio(&[p.lambda, a, b, c], &[d, e])
             },
-            surface: p.law.surface().map(|c| SurfaceSi {
-                tau: ratio(&[c.tau, base.mu_k, sm], &[sk]),
-                mu_s: base.mu_k / c.phi.sin(),
-            }),
+            friction: match base.friction {
+                FrictionSi::Kinetic { mu_k, .. } => FrictionSi::Kinetic {
+                    mu_k,
+                    surface: p.law.surface().map(|c| SurfaceSi {
+                        tau: ratio(&[c.tau, mu_k, sm], &[sk]),
+                        mu_s: mu_k / c.phi.sin(),
+                    }),
+                },
+                // The curve is the base's: its speeds in m/s do not depend on c or v_B.
+                table => table,
+            },
             ..*base
         }
     }
@@ -470,6 +617,27 @@ fn ratio(num: &[f64], den: &[f64]) -> f64 {
 mod tests {
     use super::*;
 
+    /// The surfaces of a McMillan system, to edit.
+    fn sf(p: &mut Physical) -> &mut SurfaceSi {
+        match &mut p.friction {
+            FrictionSi::Kinetic {
+                surface: Some(s), ..
+            } => s,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// The system `p` with the surfaces `surface`.
+    fn with_surface(p: Physical, surface: Option<SurfaceSi>) -> Physical {
+        Physical {
+            friction: FrictionSi::Kinetic {
+                mu_k: p.friction.mu_k().unwrap(),
+                surface,
+            },
+            ..p
+        }
+    }
+
     fn example() -> Physical {
         // A 2 kg block on a 20 kN/m spring: omega_0 = 100 rad/s (about 15.9 Hz).
         Physical {
@@ -477,11 +645,13 @@ mod tests {
             k: 2.0e4,
             c: 4.0,
             v_belt: 0.1,
-            mu_k: 0.4,
-            surface: Some(SurfaceSi {
-                mu_s: 0.5,
-                tau: 1e-3,
-            }),
+            friction: FrictionSi::Kinetic {
+                mu_k: 0.4,
+                surface: Some(SurfaceSi {
+                    mu_s: 0.5,
+                    tau: 1e-3,
+                }),
+            },
             load: Load::Weight(G_STANDARD),
         }
     }
@@ -511,7 +681,10 @@ mod tests {
         let ph = example();
         let p = ph.params(FrictionLaw::McMillanNonHysteretic).unwrap();
         let back = Physical::from_params(&ph, &p);
-        let (sb, sf) = (back.surface.unwrap(), ph.surface.unwrap());
+        let (sb, sf) = (
+            back.friction.surface().unwrap(),
+            ph.friction.surface().unwrap(),
+        );
         for (a, b) in [
             (back.c, ph.c),
             (back.v_belt, ph.v_belt),
@@ -530,21 +703,21 @@ mod tests {
         let cases: [(Edit, &str); 6] = [
             (|p| p.m = -1.0, "m"),
             (|p| p.k = 0.0, "k"),
-            (|p| p.surface.as_mut().unwrap().mu_s = 0.4, "mu_s"),
+            (|p| sf(p).mu_s = 0.4, "mu_s"),
             // Phi = arcsin(0.4 / 1e300) = 4e-301: the static peak 2.5e300 times kinetic
             // friction (law::MIN_PHI).
-            (|p| p.surface.as_mut().unwrap().mu_s = 1e300, "mu_s"),
+            (|p| sf(p).mu_s = 1e300, "mu_s"),
             (|p| p.c = f64::NAN, "c"),
-            (|p| p.surface.as_mut().unwrap().tau = -1e-3, "tau"),
+            (|p| sf(p).tau = -1e-3, "tau"),
         ];
         // mu_s / mu_k = 9e4: Phi = arcsin(1 / 9e4) = 1.1e-5 >= 1e-5, accepted.
-        let high = Physical {
-            surface: Some(SurfaceSi {
+        let high = with_surface(
+            example(),
+            Some(SurfaceSi {
                 mu_s: 0.4 * 9e4,
                 tau: 1e-3,
             }),
-            ..example()
-        };
+        );
         assert!(high.params(FrictionLaw::McMillan).is_ok());
         for (f, key) in cases {
             let mut p = example();
@@ -561,16 +734,13 @@ mod tests {
     /// (they were required and then ignored); McMillan's laws need both.
     #[test]
     fn each_law_takes_its_own_surface_keys() {
-        let coulomb = Physical {
-            surface: None,
-            ..example()
-        };
+        let coulomb = with_surface(example(), None);
         let p = coulomb.params(FrictionLaw::Coulomb).unwrap();
         assert_eq!(p.law, Friction::Coulomb);
         // nu and lambda as for McMillan's laws (scaling_is_the_papers): c / (2 sqrt(m k)).
         assert!((p.nu - 0.01).abs() < 1e-15);
         let back = Physical::from_params(&coulomb, &p);
-        assert_eq!(back.surface, None);
+        assert_eq!(back.friction.surface(), None);
         let key_of = |r: Result<Params, CoreError>| match r {
             Err(
                 e @ (CoreError::MissingPhysicalKey { .. } | CoreError::UnusedPhysicalKey { .. }),
@@ -586,15 +756,22 @@ mod tests {
             assert!(msg.contains(&format!("law {law} needs it")), "{msg}");
         }
         // One of the two given: the other is named.
-        let only_tau = SurfaceSi::of(FrictionLaw::McMillan, None, Some(1e-3)).unwrap_err();
+        let of = |law, mu_s, tau| FrictionSi::of(law, Some(0.4), mu_s, tau, None);
+        let only_tau = of(FrictionLaw::McMillan, None, Some(1e-3)).unwrap_err();
         assert_eq!(only_tau.key(), Some("mu_s"));
-        let only_mu_s = SurfaceSi::of(FrictionLaw::McMillan, Some(0.5), None).unwrap_err();
+        let only_mu_s = of(FrictionLaw::McMillan, Some(0.5), None).unwrap_err();
         assert_eq!(only_mu_s.key(), Some("tau"));
-        let tau_to_coulomb = SurfaceSi::of(FrictionLaw::Coulomb, None, Some(1e-3)).unwrap_err();
+        let tau_to_coulomb = of(FrictionLaw::Coulomb, None, Some(1e-3)).unwrap_err();
         assert_eq!(tau_to_coulomb.key(), Some("tau"));
-        assert_eq!(SurfaceSi::of(FrictionLaw::Coulomb, None, None), Ok(None));
+        assert_eq!(
+            of(FrictionLaw::Coulomb, None, None),
+            Ok(FrictionSi::Kinetic {
+                mu_k: 0.4,
+                surface: None
+            })
+        );
         assert!(matches!(
-            SurfaceSi::of(FrictionLaw::Stribeck, None, None),
+            of(FrictionLaw::Stribeck, None, None),
             Err(CoreError::NoPhysicalUnits(_))
         ));
     }
@@ -606,11 +783,13 @@ mod tests {
             k: 2e5,
             c: 20.0,
             v_belt: 0.3,
-            mu_k: 0.38,
-            surface: Some(SurfaceSi {
-                mu_s: 0.48,
-                tau: 5e-4,
-            }),
+            friction: FrictionSi::Kinetic {
+                mu_k: 0.38,
+                surface: Some(SurfaceSi {
+                    mu_s: 0.48,
+                    tau: 5e-4,
+                }),
+            },
             load,
         }
     }
@@ -669,14 +848,14 @@ mod tests {
     #[test]
     fn the_static_peak_takes_phis_bound() {
         let mut ph = example();
-        let mu_k = ph.mu_k;
+        let mu_k = ph.friction.mu_k().unwrap();
         let at = |phi: f64| SurfaceSi {
             mu_s: mu_k / phi.sin(),
             tau: 1e-3,
         };
-        ph.surface = Some(at(1.01e-5));
+        ph = with_surface(ph, Some(at(1.01e-5)));
         assert!(ph.validate().is_ok());
-        ph.surface = Some(at(0.99e-5));
+        ph = with_surface(ph, Some(at(0.99e-5)));
         let e = ph.validate().unwrap_err().to_string();
         // mu_s = 0.4 / sin(0.99e-5) = 40404.04...
         assert!(
@@ -726,5 +905,79 @@ mod tests {
             .params(FrictionLaw::McMillan)
             .unwrap_err();
         assert_eq!(e.key(), Some("nu"), "{e}");
+    }
+
+    /// A pad's measured curve in SI: mu falls from 0.48 at rest to 0.36 at 1 m/s (rows in
+    /// m/s), for the table law's tests.
+    fn pad_curve() -> &'static FrictionTable {
+        FrictionTable::new(&[
+            (0.0, 0.48),
+            (0.05, 0.44),
+            (0.2, 0.4),
+            (0.5, 0.37),
+            (1.0, 0.36),
+        ])
+        .unwrap()
+    }
+
+    /// The clamped pad of issue 34 with a measured curve: the law is written in the normal
+    /// load (MODEL.md section 8), so with m = 0.8 kg, k = 2e5 N/m, c = 20 N s/m, v_B = 0.3
+    /// m/s, N = 1500 N: omega_0 = 500 rad/s, sqrt(m k) = 400 kg/s, the force unit N =
+    /// 1500 N, the length unit N / k = 7.5 mm, the velocity unit N / sqrt(m k) = 3.75 m/s,
+    /// xi = c / (2 sqrt(m k)) = 0.025, v_d = v_B / 3.75 = 0.08, and the table's speeds
+    /// divided by 3.75 (its mu as measured). The g-hack g = N / m = 1875 gives the same, bit
+    /// for bit; mu_k or a surface given to it is refused by name.
+    #[test]
+    fn a_measured_curve_scales_in_the_normal_load() {
+        let pad = |load| Physical {
+            m: 0.8,
+            k: 2e5,
+            c: 20.0,
+            v_belt: 0.3,
+            friction: FrictionSi::Table {
+                friction_table: pad_curve(),
+            },
+            load,
+        };
+        let clamped = pad(Load::NormalForce(1500.0));
+        let p = clamped.params(FrictionLaw::Table).unwrap();
+        assert_eq!(
+            p,
+            pad(Load::Weight(1875.0))
+                .params(FrictionLaw::Table)
+                .unwrap()
+        );
+        let s = clamped.scales();
+        assert!((s.length - 7.5e-3).abs() < 1e-17 && (s.velocity - 3.75).abs() < 1e-15);
+        assert!(
+            (p.nu - 0.025).abs() < 1e-15 && (p.lambda - 0.08).abs() < 1e-15,
+            "{p:?}"
+        );
+        let t = p.law.table().unwrap();
+        for ((s_nd, mu_nd), (s_si, mu_si)) in t.rows().into_iter().zip(pad_curve().rows()) {
+            assert_eq!(mu_nd, mu_si);
+            assert!((s_nd - s_si / 3.75).abs() <= 1e-16, "{s_nd} vs {s_si}");
+        }
+        assert_eq!(clamped.values()[4], None, "a table has no mu_k");
+        assert_eq!(
+            Physical::from_params(&clamped, &p).friction,
+            clamped.friction
+        );
+        let e = FrictionSi::of(FrictionLaw::Table, Some(0.4), None, None, Some(pad_curve()));
+        assert_eq!(e.unwrap_err().key(), Some("mu_k"));
+        let e = FrictionSi::of(FrictionLaw::Table, None, None, None, None).unwrap_err();
+        assert_eq!(e.key(), Some("friction_table"));
+        assert!(e.to_string().contains("m/s"), "{e}");
+        let e = FrictionSi::of(
+            FrictionLaw::Coulomb,
+            Some(0.4),
+            None,
+            None,
+            Some(pad_curve()),
+        );
+        assert_eq!(e.unwrap_err().key(), Some("friction_table"));
+        // A McMillan system asked for the table law: the curve is named missing.
+        let e = example().params(FrictionLaw::Table).unwrap_err();
+        assert_eq!(e.key(), Some("mu_k"), "{e}");
     }
 }

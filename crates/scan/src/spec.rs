@@ -704,18 +704,20 @@ impl Plan {
                 "this squeal reads spec version 1",
             ));
         }
-        let (physical, converted) = match &spec.physical {
-            Some(ph) => {
-                let (base, model) = physical::model(ph, &spec.model, &invalid)?;
-                (Some(base), Some(model))
-            }
-            None => (None, None),
-        };
-        let m = converted.as_ref().unwrap_or(&spec.model);
-        m.check_law(&invalid)?;
         let folder = std::path::Path::new(path)
             .parent()
             .unwrap_or(std::path::Path::new(""));
+        // A stored table stands for the key that gave it: `[physical]`'s (in m/s) for a
+        // physical spec, whose `[model]` then carries it converted.
+        let (physical, converted, stored) = match &spec.physical {
+            Some(ph) => {
+                let (base, model) = physical::model(ph, &spec.model, folder, stored, &invalid)?;
+                (Some(base), Some(model), None)
+            }
+            None => (None, None, stored),
+        };
+        let m = converted.as_ref().unwrap_or(&spec.model);
+        m.check_law(&invalid)?;
         let table = m.table(folder, stored, &invalid)?;
         let (maps, sweep) = model_maps(m, table, &invalid)?;
         let mut grid = initial_conditions(spec.grid.as_ref(), spec.sample.as_ref(), &invalid)?;

@@ -194,6 +194,9 @@ impl AtlasWriter {
                 owner: Owner::Atlas,
                 spec: plan.spec_text.clone(),
                 shard: shard.map(|s| s.to_string()).unwrap_or_default(),
+                table: Some(crate::journal::table_text(
+                    <AtlasPlan as crate::output::Recorded>::spec_table(plan),
+                )),
             },
         )?;
         Ok(AtlasWriter {
@@ -236,7 +239,7 @@ impl AtlasWriter {
         };
         // As a scan's: what the spec means, not its bytes (a comment edit does not block a
         // resume); the file then records the spec text the atlas started with.
-        let plan = &crate::output::started_plan(&path, &header.spec, plan, &plan.spec_text)?;
+        let plan = &crate::output::started_plan(&path, &header, plan, &plan.spec_text)?;
         if header.shard != shard.map(|s| s.to_string()).unwrap_or_default() {
             return Err(mismatch("different --shard"));
         }

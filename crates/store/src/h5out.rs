@@ -25,33 +25,47 @@ pub(crate) fn num_attr<T: H5Type>(loc: &Location, name: &str, value: T) -> hdf5:
 }
 
 /// The table law's table as small datasets at the root of `file` (nothing for other
-/// laws): `friction_table_slip_speed` (nondimensional) and `friction_table_mu`, each with
-/// `long_name` and `units`, over the dimension `table_row` (a scale, so xarray reads them).
-/// Datasets, not attributes: 10000 rows exceed an attribute's 64 KiB. (The law has no
-/// physical units yet, so there are no SI slip speeds to store.)
+/// laws): `friction_table_slip_speed` (nondimensional, the model's table `nd`),
+/// `friction_table_slip_speed_si` (m/s, the measured curve `si` of a physical system) and
+/// `friction_table_mu`, each with `long_name` and `units`, over the dimension `table_row` (a
+/// scale, so xarray reads them). A physical scan or run stores both speeds (the same rows:
+/// the SI ones over the velocity unit are the model's); a physical atlas only the SI ones
+/// (each point has its own velocity unit). Datasets, not attributes: 10000 rows exceed an
+/// attribute's 64 KiB.
 pub(crate) fn friction_table(
     file: &File,
     dims: &mut Dims,
-    table: Option<&squeal_core::FrictionTable>,
+    nd: Option<&squeal_core::FrictionTable>,
+    si: Option<&squeal_core::FrictionTable>,
 ) -> hdf5::Result<()> {
-    let Some(t) = table else {
+    let Some(t) = si.or(nd) else {
         return Ok(());
     };
-    let sets = [
-        (
-            "friction_table_slip_speed",
-            t.slip_speeds().to_vec(),
-            "slip speed of the friction table's rows (natural-frequency velocity scale)",
-            "1",
-        ),
-        (
-            "friction_table_mu",
-            t.coefficients().to_vec(),
-            "friction coefficient mu of the friction table's rows (PCHIP between them; the \
-             row at slip speed 0 is the static coefficient)",
-            "1",
-        ),
+    let speeds = [
+        nd.map(|nd| {
+            (
+                "friction_table_slip_speed",
+                nd.slip_speeds().to_vec(),
+                "slip speed of the friction table's rows (natural-frequency velocity scale)",
+                "1",
+            )
+        }),
+        si.map(|si| {
+            (
+                "friction_table_slip_speed_si",
+                si.slip_speeds().to_vec(),
+                "slip speed of the friction table's rows, as measured",
+                "m/s",
+            )
+        }),
     ];
+    let sets = speeds.into_iter().flatten().chain([(
+        "friction_table_mu",
+        t.coefficients().to_vec(),
+        "friction coefficient mu of the friction table's rows (PCHIP between them; the row at \
+         slip speed 0 is the static coefficient)",
+        "1",
+    )]);
     let rows: Vec<u64> = (0..t.slip_speeds().len() as u64).collect();
     let row = dataset(
         file,

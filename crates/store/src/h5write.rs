@@ -218,7 +218,8 @@ fn write_all(
         aux: Vec::new(),
     };
     root_attrs(file, plan, meta).h5(path)?;
-    crate::h5out::friction_table(file, &mut o.dims, plan.maps[0].law.table()).h5(path)?;
+    let si = plan.physical.and_then(|ph| ph.friction.table());
+    crate::h5out::friction_table(file, &mut o.dims, plan.maps[0].law.table(), si).h5(path)?;
     let sc = scales(&mut o, plan).h5(path)?;
     let vars = cell_vars(&mut o, plan, &sc).h5(path)?;
     // The landscape of each map (laws with true stick), computed before the writer: one

@@ -5,8 +5,10 @@
 //! ```text
 //! record  = "SQJR" kind:u8 len:u32 payload[len] fnv1a64(kind, payload):u64   (little endian)
 //! header  = kind 'H' (scan) or 'A' (atlas): format:u32 spec:str shard:str columns:u64
-//!           (str = len:u64 bytes; columns = fnv1a64 of the stored columns' names and
-//!           widths, `Owner::columns_checksum`)
+//!           table:str (str = len:u64 bytes; columns = fnv1a64 of the stored columns'
+//!           names and widths, `Owner::columns_checksum`; table = the rows of the friction
+//!           table the spec's friction_table or friction_csv gave, `s,mu` lines, empty for
+//!           other laws; a header of an earlier build ends before it)
 //! block   = kind 'B': map:u64 block:u64 n:u64 n x cell (the columns of
 //!           squeal_scan::cell::COLUMNS in order, each at its storage width); in an atlas
 //!           `map` is the parameter point
@@ -260,6 +262,21 @@ pub(crate) struct Header {
     pub owner: Owner,
     pub spec: String,
     pub shard: String,
+    /// The rows of the friction table the spec stood on when the run started
+    /// ([`table_text`]); `None` in a journal of an earlier build, which did not record it.
+    pub table: Option<String>,
+}
+
+/// A friction table's rows as a journal header records them: `s,mu` lines, each number
+/// written so that it reads back to the same bits; empty for no table.
+pub(crate) fn table_text(t: Option<&squeal_core::FrictionTable>) -> String {
+    t.map(|t| {
+        t.rows()
+            .iter()
+            .map(|(s, mu)| format!("{s:?},{mu:?}\n"))
+            .collect()
+    })
+    .unwrap_or_default()
 }
 
 /// What a reading of the journal skipped.
@@ -345,6 +362,7 @@ fn encode_header(h: &Header) -> Vec<u8> {
     e.str(&h.spec);
     e.str(&h.shard);
     e.u64(h.owner.columns_checksum());
+    e.str(h.table.as_deref().unwrap_or_default());
     e.0
 }
 
@@ -519,7 +537,14 @@ fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, Strin
                 .into(),
         );
     }
-    Ok(Header { owner, spec, shard })
+    // A header of a build before the table was recorded ends here.
+    let table = d.str();
+    Ok(Header {
+        owner,
+        spec,
+        shard,
+        table,
+    })
 }
 
 fn frame_at(bytes: &[u8], at: usize) -> Option<Rec> {

@@ -155,8 +155,8 @@ pub use output::{
     refuse_input_as_output,
 };
 pub use read::{
-    FileInfo, LandscapeInfo, MapData, content_digest, file_schema, map_count, read_cycle_summary,
-    read_info, read_map,
+    FileInfo, FrictionTables, LandscapeInfo, MapData, content_digest, file_schema, friction_tables,
+    map_count, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,
@@ -271,6 +271,9 @@ impl ScanWriter {
                 owner: journal::Owner::Scan,
                 spec: plan.spec_text.clone(),
                 shard: shard_text(shard),
+                table: Some(journal::table_text(<Plan as output::Recorded>::spec_table(
+                    plan,
+                ))),
             },
         )?;
         Ok(ScanWriter {
@@ -301,7 +304,7 @@ impl ScanWriter {
         let (mut journal, header, recs) = Journal::open(&jpath, journal::Owner::Scan)?;
         // Compare what the spec means, not its bytes: a comment edit does not block a
         // resume. The file then records the spec text the scan started with.
-        let plan = output::started_plan(&jpath, &header.spec, plan, &plan.spec_text)?;
+        let plan = output::started_plan(&jpath, &header, plan, &plan.spec_text)?;
         preflight(out, &plan, shard, prov)?;
         same_shard(&jpath, &header.shard, shard)?;
         let (blocks, cycles, withdrawn) = index_records(&mut journal, recs, &plan, shard)?;

@@ -207,7 +207,7 @@ pub fn merge(
     }
     let _lock = OutputLock::acquire(out)?;
     let (h, files) = open_shards(shards)?;
-    let table = read::friction_table(&files[0].1).h5(&files[0].0)?;
+    let table = read::stored_table(&files[0].1).h5(&files[0].0)?;
     let mut plan = Plan::from_stored_toml_table(&h.spec, &format!("{}.toml", h.name), table)
         .map_err(|e| StoreError::NotSquealFile {
             path: h.path.clone(),

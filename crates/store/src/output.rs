@@ -28,28 +28,44 @@ pub trait Recorded: Sized {
     ) -> Option<Self>;
     /// The first setting in which `other` computes something different, if any.
     fn first_difference(&self, other: &Self) -> Option<String>;
+    /// The friction table the spec's `friction_table` or `friction_csv` gave (in m/s where
+    /// `[physical]` gave it), which [`Recorded::stored`] takes back.
+    fn spec_table(&self) -> Option<&'static squeal_core::FrictionTable>;
     /// This plan writing to `other`'s output (a `-o` given at the resume).
     fn writing_to(self, other: &Self) -> Self;
 }
 
-/// The plan a journal was started with, judged against the `plan` given at a resume, for
-/// scans and atlases alike: the same text is `plan` itself; another text that computes the
-/// same (a comment edit) is the journal's own plan, so the file records the spec the run
-/// started with; anything else is refused naming the first key that differs.
+/// The plan a journal was started with (its header `started`), judged against the `plan`
+/// given at a resume, for scans and atlases alike: a friction table whose rows changed
+/// (a CSV edited since: the spec's text names only its file) is refused naming it; the same
+/// text is `plan` itself; another text that computes the same (a comment edit) is the
+/// journal's own plan, so the file records the spec the run started with; anything else is
+/// refused naming the first key that differs.
 pub(crate) fn started_plan<P: Recorded + Clone>(
     journal: &Path,
-    started_text: &str,
+    started: &crate::journal::Header,
     plan: &P,
     plan_text: &str,
 ) -> Result<P, StoreError> {
-    if started_text == plan_text {
-        return Ok(plan.clone());
-    }
     let mismatch = |why: String| StoreError::SpecMismatch {
         path: journal.to_path_buf(),
         why,
     };
-    let started = P::stored(started_text, None, None, plan)
+    let table = crate::journal::table_text(plan.spec_table());
+    // A journal of an earlier build did not record its table: its spec decides alone.
+    if started.table.as_ref().is_some_and(|t| *t != table) {
+        return Err(mismatch(
+            "the journal was written for another friction table (friction_csv: the file's \
+             rows changed since the run started, or friction_table was edited): restore \
+             them, or use --force to start over"
+                .into(),
+        ));
+    }
+    let started_text = started.spec.as_str();
+    if started_text == plan_text {
+        return Ok(plan.clone());
+    }
+    let started = P::stored(started_text, plan.spec_table(), None, plan)
         .ok_or_else(|| mismatch("the journal's spec no longer validates".into()))?;
     let started = started.writing_to(plan);
     match started.first_difference(plan) {
@@ -77,6 +93,12 @@ impl Recorded for Plan {
     fn first_difference(&self, other: &Plan) -> Option<String> {
         self.differs_from(other)
     }
+    fn spec_table(&self) -> Option<&'static squeal_core::FrictionTable> {
+        match &self.physical {
+            Some(ph) => ph.friction.table(),
+            None => self.maps[0].law.table(),
+        }
+    }
     fn writing_to(self, other: &Plan) -> Plan {
         Plan {
             output: other.output.clone(),
@@ -101,6 +123,9 @@ impl Recorded for AtlasPlan {
     }
     fn first_difference(&self, other: &AtlasPlan) -> Option<String> {
         self.differs_from(other)
+    }
+    fn spec_table(&self) -> Option<&'static squeal_core::FrictionTable> {
+        self.table
     }
     fn writing_to(self, other: &AtlasPlan) -> AtlasPlan {
         AtlasPlan {
@@ -173,7 +198,7 @@ pub fn output_state<P: Recorded>(
         if stored_shard != shard.map(|s| s.to_string()).unwrap_or_default() {
             return Ok(OutputState::Different("shard".into()));
         }
-        let table = read::friction_table(&f).h5(out)?;
+        let table = read::stored_table(&f).h5(out)?;
         let Some(stored) = P::stored(&spec, table, Some(name), plan) else {
             return Ok(OutputState::Different("spec".into()));
         };

@@ -111,18 +111,55 @@ pub(crate) fn f64_attr(loc: &Location, name: &str) -> hdf5::Result<f64> {
     attr(loc, name)?.read_scalar::<f64>()
 }
 
+/// The friction tables a file stores (`None` for a law without one): the model's
+/// (nondimensional slip speeds; none in a physical atlas, whose points each have their own
+/// velocity unit) and the measured one in m/s (a physical system's), for `squeal info`.
+pub fn friction_tables(path: &Path) -> Result<FrictionTables, StoreError> {
+    let file = File::open(path).h5(path)?;
+    let si = match file.link_exists("friction_table_slip_speed_si") {
+        true => stored_table(&file).h5(path)?,
+        false => None,
+    };
+    Ok((friction_table(&file).h5(path)?, si))
+}
+
+/// The model's friction table and the measured one in m/s ([`friction_tables`]).
+pub type FrictionTables = (
+    Option<&'static squeal_core::FrictionTable>,
+    Option<&'static squeal_core::FrictionTable>,
+);
+
+/// The table a file's spec stands on where its `friction_table` or `friction_csv` is gone:
+/// the measured curve in m/s (`friction_table_slip_speed_si`) of a physical spec, which gave
+/// it under `[physical]`, else the model's ([`friction_table`]).
+pub fn stored_table(file: &File) -> hdf5::Result<Option<&'static squeal_core::FrictionTable>> {
+    table_of(file, "friction_table_slip_speed_si")
+}
+
 /// The table law's table a file stores (`friction_table_slip_speed` and
 /// `friction_table_mu`, [`crate::h5out::friction_table`]); `None` in a file of another law
 /// (and in every file of an earlier version).
 pub fn friction_table(file: &File) -> hdf5::Result<Option<&'static squeal_core::FrictionTable>> {
-    if !file.link_exists("friction_table_slip_speed") {
-        return Ok(None);
+    table_of(file, "friction_table_slip_speed")
+}
+
+/// The table of the slip speeds `speeds` (the model's or the SI ones) and the rows' `mu`;
+/// `None` where `speeds` is not stored, but for the SI ones, which fall back to the model's.
+fn table_of(
+    file: &File,
+    speeds: &str,
+) -> hdf5::Result<Option<&'static squeal_core::FrictionTable>> {
+    if !file.link_exists(speeds) {
+        return match speeds {
+            "friction_table_slip_speed" => Ok(None),
+            _ => friction_table(file),
+        };
     }
-    let s: Vec<f64> = file.dataset("friction_table_slip_speed")?.read_raw()?;
+    let s: Vec<f64> = file.dataset(speeds)?.read_raw()?;
     let mu: Vec<f64> = file.dataset("friction_table_mu")?.read_raw()?;
     if s.len() != mu.len() {
         return Err(hdf5::Error::from(format!(
-            "friction_table_slip_speed has {} rows, friction_table_mu {}",
+            "{speeds} has {} rows, friction_table_mu {}",
             s.len(),
             mu.len()
         )));

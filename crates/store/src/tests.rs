@@ -745,10 +745,11 @@ fn a_journal_of_other_columns_is_refused_by_name() {
     drop(ScanWriter::create(&out, &p, None, &prov(), false).unwrap());
     let j = journal_of(&out);
     let mut bytes = std::fs::read(&j).unwrap();
-    // The header record: "SQJR", kind, len (u32), payload (the columns' checksum last),
-    // checksum. One flipped bit of the columns' checksum stands for another column list.
+    // The header record: "SQJR", kind, len (u32), payload (the columns' checksum, then the
+    // friction table's rows: an empty string, its length u64 0, for this law), checksum.
+    // One flipped bit of the columns' checksum stands for another column list.
     let len = u32::from_le_bytes(bytes[5..9].try_into().unwrap()) as usize;
-    bytes[9 + len - 8] ^= 1;
+    bytes[9 + len - 16] ^= 1;
     let sum = crate::journal::fnv64(&[&bytes[4..5], &bytes[9..9 + len]]);
     bytes[9 + len..17 + len].copy_from_slice(&sum.to_le_bytes());
     std::fs::write(&j, &bytes).unwrap();
@@ -884,4 +885,42 @@ fn withdrawn_rules_survive_a_resume_and_reach_the_file() {
         .find(|(k, _)| k == "rules_withdrawn")
         .map(|(_, v)| v.clone());
     assert_eq!(attr, Some(format!("map 0: {}", w.why)));
+}
+
+/// Issue 34: a journal records the rows of the friction table its spec stood on, not only
+/// the CSV's name in the spec text. A CSV changed since the run started is refused at the
+/// resume, naming `friction_csv` (before, the same spec text resumed, and the file would
+/// have mixed cells of two curves); unchanged, it resumes. Both where the curve is the
+/// model's (`[model]`) and where it is the physical system's, in m/s (`[physical]`).
+#[test]
+fn a_journal_refuses_a_friction_csv_changed_since_it_started() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("pad.csv");
+    let model = "law = \"table\"\nxi = 0.05\nv_d = 1.5\nfriction_csv = \"pad.csv\"\n";
+    let physical = "law = \"table\"\n[physical]\nm = 0.8\nk = 2e5\nc = 20.0\nv_belt = 0.3\n\
+                    normal_force = 1500.0\nfriction_csv = \"pad.csv\"\n";
+    for (i, (model, grid)) in [(model, "1.0"), (physical, "0.003")]
+        .into_iter()
+        .enumerate()
+    {
+        std::fs::write(&csv, "s,mu\n0,0.6\n0.5,0.45\n2,0.4\n").unwrap();
+        let spec = format!(
+            "version = 1\n[model]\n{model}[grid]\nx0 = {{ min = 0.0, max = {grid}, count = 3 }}\n\
+             v0 = {{ min = 0.0, max = {grid}, count = 2 }}\n[output]\npath = \"t.h5\"\n"
+        );
+        let path = dir.path().join("t.toml").display().to_string();
+        let p = Plan::from_toml(&spec, &path).unwrap();
+        let out = dir.path().join(format!("t{i}.h5"));
+        drop(ScanWriter::create(&out, &p, None, &prov(), false).unwrap());
+        // Unchanged: the resume goes on.
+        let same = Plan::from_toml(&spec, &path).unwrap();
+        drop(ScanWriter::resume(&out, &same, None, &prov()).unwrap());
+        std::fs::write(&csv, "s,mu\n0,0.6\n0.5,0.44\n2,0.4\n").unwrap();
+        let changed = Plan::from_toml(&spec, &path).unwrap();
+        let e = ScanWriter::resume(&out, &changed, None, &prov()).unwrap_err();
+        assert!(
+            matches!(e, StoreError::SpecMismatch { .. }) && e.to_string().contains("friction_csv"),
+            "{e}"
+        );
+    }
 }

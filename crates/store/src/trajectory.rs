@@ -85,7 +85,8 @@ pub fn write_trajectory(
         if let Some(ph) = attrs.physical {
             crate::h5write::physical_attrs(&file, ph, None)?;
         }
-        crate::h5out::friction_table(&file, &mut dims, attrs.table)?;
+        let si = attrs.physical.and_then(|ph| ph.friction.table());
+        crate::h5out::friction_table(&file, &mut dims, attrs.table, si)?;
         let t = file
             .new_dataset_builder()
             .obj_track_times(false)
@@ -160,7 +161,8 @@ pub fn read_trajectory_info(path: &Path) -> Result<TrajectoryInfo, StoreError> {
     (|| -> hdf5::Result<TrajectoryInfo> {
         let t: Vec<f64> = file.dataset("t")?.read_raw()?;
         let mut variables = file.member_names()?;
-        variables.retain(|n| n != "t");
+        // The friction table's datasets are over its rows, not over t.
+        variables.retain(|n| n != "t" && n != "table_row" && !n.starts_with("friction_table"));
         Ok(TrajectoryInfo {
             attrs: crate::read::root_attrs_text(&file)?,
             samples: t.len(),

@@ -249,6 +249,8 @@ pub struct AtlasPlan {
     /// Friction law.
     pub law: FrictionLaw,
     /// The table law's table (`friction_table` or `friction_csv`); `None` for other laws.
+    /// In a physical plan its slip speeds are in m/s (as `[physical]` gives them; each
+    /// point's model has them over its own velocity unit, [`AtlasPlan::params_at`]).
     pub table: Option<&'static squeal_core::FrictionTable>,
     /// Nondimensional or physical.
     pub units: Units,
@@ -393,11 +395,14 @@ impl AtlasPlan {
         let folder = std::path::Path::new(path)
             .parent()
             .unwrap_or(std::path::Path::new(""));
-        let table = m.table(folder, stored, &inv)?;
-        if let Some(ph) = &f.physical {
-            m.check_physical(&inv)?;
-            ph.check_surface_keys(m.law, &inv)?;
-        }
+        let table = match &f.physical {
+            Some(ph) => {
+                m.check_physical(&inv)?;
+                ph.check_friction_keys(m.law, &inv)?;
+                ph.table(folder, stored, &inv)?
+            }
+            None => m.table(folder, stored, &inv)?,
+        };
         let (units, params) = parse::model_axes(&f, path)?;
         let (dt, solver) = f.integration.check(&inv)?;
         let mut ps = parse::point_settings(&f, path, &inv)?;
@@ -563,16 +568,23 @@ impl AtlasPlan {
         let v = self.values_at(i);
         // Axes by key: a Coulomb system has no mu_s and tau axes.
         let at = |key: &str| self.params.iter().position(|a| a.key == key).map(|j| v[j]);
-        let need = |key: &str| at(key).expect("every physical key but mu_s and tau has an axis");
+        let need = |key: &str| {
+            at(key).expect("every physical key but mu_s, tau and a table's mu_k has an axis")
+        };
         Some(Physical {
             m: need("m"),
             k: need("k"),
             c: need("c"),
             v_belt: need("v_belt"),
-            mu_k: need("mu_k"),
-            surface: match (at("mu_s"), at("tau")) {
-                (Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
-                _ => None,
+            friction: match self.table {
+                Some(friction_table) => squeal_core::FrictionSi::Table { friction_table },
+                None => squeal_core::FrictionSi::Kinetic {
+                    mu_k: need("mu_k"),
+                    surface: match (at("mu_s"), at("tau")) {
+                        (Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
+                        _ => None,
+                    },
+                },
             },
             load: match at("normal_force") {
                 Some(n) => Load::NormalForce(n),
@@ -888,7 +900,7 @@ path = "p.h5"
         let p = AtlasPlan::from_toml(&coulomb, "c.toml").unwrap();
         let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
         assert_eq!(keys, ["m", "k", "c", "v_belt", "mu_k", "g"]);
-        assert_eq!(p.physical_at(0).unwrap().surface, None);
+        assert_eq!(p.physical_at(0).unwrap().friction.surface(), None);
         // nu = c / (2 sqrt(m k)) = 2 / 200, as under McMillan's law (physical_spec_converts).
         assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
         let old = coulomb.replace("mu_k = 0.3", "mu_k = 0.3\ntau = 3e-3");

@@ -3,12 +3,13 @@
 //! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
 //! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
-//! are McMillan's surfaces: his laws need them, Coulomb refuses them
-//! ([`squeal_core::units::surface_keys`]). `normal_force` (N) presses the block on the belt
-//! in place of its weight `m g` ([`Load`]); `g` beside it is refused.
+//! are McMillan's surfaces: his laws need them, Coulomb refuses them; `law = "table"` takes
+//! its measured curve here (`friction_table` or `friction_csv`, slip speed in m/s) and no
+//! `mu_k` ([`squeal_core::units::check_friction_keys`]). `normal_force` (N) presses the
+//! block on the belt in place of its weight `m g` ([`Load`]); `g` beside it is refused.
 
-use squeal_core::units::{G_STANDARD, SURFACE_KEYS, surface_keys, takes_surface};
-use squeal_core::{CoreError, FrictionLaw, Load, Physical, SurfaceSi};
+use squeal_core::units::{G_STANDARD, SURFACE_KEYS, check_friction_keys, takes_surface};
+use squeal_core::{CoreError, FrictionLaw, FrictionSi, FrictionTable, Load, Physical};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::error::ScanError;
@@ -18,7 +19,7 @@ use serde::Deserialize;
 
 /// The `[physical]` table: the physical system in SI units (read by the scan spec and
 /// the atlas spec, [`crate::atlas::spec`], and built from the command line's `--m --k --c
-/// --v-belt --mu-k --mu-s --tau-s --g --normal-force`).
+/// --v-belt --mu-k --mu-s --tau-s --g --normal-force --friction-csv`).
 #[derive(Deserialize, Debug)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct PhysicalFile {
@@ -26,13 +27,22 @@ pub(crate) struct PhysicalFile {
     pub(crate) k: Value,
     pub(crate) c: Value,
     pub(crate) v_belt: Value,
-    pub(crate) mu_k: Value,
-    /// McMillan's laws only ([`surface_keys`]).
+    /// McMillan's laws and Coulomb ([`check_friction_keys`]).
+    #[serde(default)]
+    pub(crate) mu_k: Option<Value>,
+    /// McMillan's laws only ([`check_friction_keys`]).
     #[serde(default)]
     pub(crate) mu_s: Option<Value>,
-    /// McMillan's laws only ([`surface_keys`]).
+    /// McMillan's laws only ([`check_friction_keys`]).
     #[serde(default)]
     pub(crate) tau: Option<Value>,
+    /// `law = "table"`: the measured curve, `[[s, mu], ...]` with `s` in m/s.
+    #[serde(default)]
+    pub(crate) friction_table: Option<Vec<[f64; 2]>>,
+    /// `law = "table"`: the measured curve as a CSV file (slip speed in m/s, mu), relative
+    /// to the spec's folder.
+    #[serde(default)]
+    pub(crate) friction_csv: Option<String>,
     #[serde(default)]
     pub(crate) g: Option<Value>,
     /// The normal force (N) in place of the weight `m g` ([`Load`]).
@@ -52,16 +62,50 @@ impl PhysicalFile {
         .map_err(|e| physical_error(e, invalid))
     }
 
-    /// Refuses a surface key `law` does not use, and asks for one it needs (the error names
-    /// the key and the law).
-    pub(crate) fn check_surface_keys(
+    /// Refuses a friction key `law` does not use, and asks for one it needs (the error
+    /// names the key and the law).
+    pub(crate) fn check_friction_keys(
         &self,
         law: FrictionLaw,
         invalid: Invalid,
     ) -> Result<(), ScanError> {
-        surface_keys(law, [self.mu_s.is_some(), self.tau.is_some()])
-            .map(|_| ())
-            .map_err(|e| physical_error(e, invalid))
+        let table = self.friction_table.is_some() || self.friction_csv.is_some();
+        let given = [
+            self.mu_k.is_some(),
+            self.mu_s.is_some(),
+            self.tau.is_some(),
+            table,
+        ];
+        check_friction_keys(law, given).map_err(|e| match e {
+            // The curve given as a CSV is named as given.
+            CoreError::UnusedPhysicalKey {
+                key: "friction_table",
+                law,
+            } if self.friction_csv.is_some() => physical_error(
+                CoreError::UnusedPhysicalKey {
+                    key: "friction_csv",
+                    law,
+                },
+                invalid,
+            ),
+            e => physical_error(e, invalid),
+        })
+    }
+
+    /// The measured curve in SI (slip speed in m/s) of `friction_table` or `friction_csv`
+    /// (read relative to `folder`; `stored`, the SI curve a file stores, stands for them);
+    /// `None` where the law takes none (checked by [`PhysicalFile::check_friction_keys`]).
+    pub(crate) fn table(
+        &self,
+        folder: &std::path::Path,
+        stored: Option<&'static FrictionTable>,
+        invalid: Invalid,
+    ) -> Result<Option<&'static FrictionTable>, ScanError> {
+        if self.friction_table.is_none() && self.friction_csv.is_none() {
+            return Ok(None);
+        }
+        let keys = (self.friction_table.as_deref(), self.friction_csv.as_deref());
+        super::tables::friction_table("physical", keys, folder, stored, invalid).map(Some)
     }
 
     /// A spec read back from a file written before Coulomb's physical system lost `mu_s` and
@@ -107,7 +151,7 @@ impl PhysicalFile {
 /// not used, the law.
 pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
     let key = |k: &str| format!("physical.{}", physical_key(k));
-    let surfaces = SURFACE_KEYS.join(" and ");
+    let meaning = squeal_core::units::friction_key_meaning;
     match e {
         CoreError::InvalidParameter {
             name,
@@ -121,17 +165,14 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
         CoreError::MissingPhysicalKey { key: k, law } => invalid(
             &key(k),
             "missing".into(),
-            &format!(
-                "a value: law = \"{law}\" needs {surfaces} (McMillan's surfaces: the static \
-                 coefficient mu_s > mu_k and the surface time tau in s)"
-            ),
+            &format!("a value: law = \"{law}\" needs {k} ({})", meaning(k)),
         ),
         CoreError::UnusedPhysicalKey { key: k, law } => invalid(
             &key(k),
             "given".into(),
             &format!(
-                "no such key under law = \"{law}\": it does not use mu_s or tau (constants of \
-                 McMillan's surfaces, for law = \"mcmillan\" and \"mcmillan-nonhysteretic\")"
+                "no such key under law = \"{law}\": it does not use {k} ({})",
+                meaning(k)
             ),
         ),
         CoreError::BothLoads => invalid(
@@ -141,6 +182,10 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
              (friction is mu N); give normal_force for a pressed block, or g for one under its \
              own weight",
         ),
+        // A measured curve whose speeds no f64 holds in the model's units.
+        e @ CoreError::InvalidTable { .. } => {
+            invalid(&key("friction_table"), "given".into(), &e.to_string())
+        }
         e => invalid("physical", String::new(), &e.to_string()),
     }
 }
@@ -150,20 +195,27 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
 pub(crate) fn physical_key(name: &str) -> &str {
     match name {
         "nu" => "c (nu = c / (2 sqrt(m k)))",
-        "lambda" => "v_belt (lambda = v_belt sqrt(k/m) / (mu_k g), or v_belt sqrt(m k) / (mu_k N))",
+        "lambda" => "v_belt (lambda = v_belt sqrt(m k) / (mu_k N), N = m g or normal_force)",
+        // A measured curve's model (MODEL.md section 8).
+        "xi" => "c (xi = c / (2 sqrt(m k)))",
+        "v_d" => "v_belt (v_d = v_belt sqrt(m k) / N, N = m g or normal_force)",
         "phi" => "mu_s",
         n => n,
     }
 }
 
-/// The physical system of the first map and the `[model]` table it stands for.
+/// The physical system of the first map and the `[model]` table it stands for (a measured
+/// curve's slip speeds there in the model's units); `folder` and `stored` as for
+/// [`PhysicalFile::table`].
 pub(super) fn model(
     ph: &PhysicalFile,
     m: &ModelTable,
+    folder: &std::path::Path,
+    stored: Option<&'static FrictionTable>,
     invalid: Invalid,
 ) -> Result<(Physical, ModelTable), ScanError> {
     m.check_physical(invalid)?;
-    ph.check_surface_keys(m.law, invalid)?;
+    ph.check_friction_keys(m.law, invalid)?;
     let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
         match v {
             Value::One(x) => Ok(*x),
@@ -192,13 +244,16 @@ pub(super) fn model(
         k: one("k", &ph.k)?,
         c: cs[0],
         v_belt: vs[0],
-        mu_k: one("mu_k", &ph.mu_k)?,
-        surface: match (&ph.mu_s, &ph.tau) {
-            (Some(mu_s), Some(tau)) => Some(SurfaceSi {
-                mu_s: one("mu_s", mu_s)?,
-                tau: one("tau", tau)?,
-            }),
-            _ => None,
+        friction: {
+            let one = |key: &str, v: &Option<Value>| v.as_ref().map(|v| one(key, v)).transpose();
+            FrictionSi::of(
+                m.law,
+                one("mu_k", &ph.mu_k)?,
+                one("mu_s", &ph.mu_s)?,
+                one("tau", &ph.tau)?,
+                ph.table(folder, stored, invalid)?,
+            )
+            .map_err(|e| physical_error(e, invalid))?
         },
         load,
     };
@@ -213,19 +268,25 @@ pub(super) fn model(
     };
     let surface =
         |f: fn(&squeal_core::Surface) -> f64, k| p0.law.surface().map(|c| (k, Value::One(f(&c))));
+    // The law's damping and belt speed (nu and lambda; xi and v_d for a table).
+    let (damping, speed) = (m.law.keys()[0], m.law.keys()[1]);
     let model = ModelTable {
         law: m.law,
         keys: [
-            Some(("nu", scaled(&ph.c, &cs, s.damping))),
-            Some(("lambda", scaled(&ph.v_belt, &vs, s.velocity))),
+            Some((damping, scaled(&ph.c, &cs, s.damping))),
+            Some((speed, scaled(&ph.v_belt, &vs, s.velocity))),
             surface(|c| c.tau, "tau"),
             surface(|c| c.phi, "phi"),
         ]
         .into_iter()
         .flatten()
         .collect(),
-        friction_table: m.friction_table.clone(),
-        friction_csv: m.friction_csv.clone(),
+        // The measured curve in the model's units (Physical::table_in_units).
+        friction_table: p0
+            .law
+            .table()
+            .map(|t| t.rows().into_iter().map(|(s, mu)| [s, mu]).collect()),
+        friction_csv: None,
     };
     Ok((base, model))
 }
@@ -413,7 +474,7 @@ path = "b.h5"
     fn a_coulomb_system_needs_no_surfaces() {
         let p = Plan::from_toml(&coulomb(), "c.toml").unwrap();
         let ph = p.physical.expect("the physical system is kept");
-        assert_eq!(ph.surface, None);
+        assert_eq!(ph.friction.surface(), None);
         assert_eq!(p.maps[0].law, squeal_core::Friction::Coulomb);
         // nu = c / (2 sqrt(m k)) = 5 / (2 sqrt(1e5)) (README, "Units").
         assert!((p.maps[0].nu - 5.0 / (2.0 * 1e5f64.sqrt())).abs() < 1e-15);
@@ -462,7 +523,7 @@ path = "b.h5"
         let stored = Plan::from_stored_toml(&old, "c.toml").unwrap();
         let now = Plan::from_toml(&coulomb(), "c.toml").unwrap();
         assert_eq!(stored.differs_from(&now), None);
-        assert_eq!(stored.physical.unwrap().surface, None);
+        assert_eq!(stored.physical.unwrap().friction.surface(), None);
         // McMillan's laws use them: a stored spec without them is refused as before.
         assert!(Plan::from_stored_toml(&BRAKE.replace("tau = 1e-3\n", ""), "b.toml").is_err());
     }
@@ -497,6 +558,128 @@ path = "b.h5"
                 e.contains(&format!("`{key}`")) && e.contains("older squeal"),
                 "{e}"
             );
+        }
+    }
+
+    /// The clamped pad of issue 34 on a measured curve under `[physical]` (slip speed in
+    /// m/s): 0.8 kg, 200 kN/m, c = 20 N s/m, 0.3 m/s, N = 1500 N.
+    const PAD: &str = r#"
+version = 1
+[model]
+law = "table"
+[physical]
+m = 0.8
+k = 2e5
+c = 20.0
+v_belt = 0.3
+normal_force = 1500.0
+friction_table = [[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]
+[grid]
+x0 = { min = -3e-3, max = 6e-3, count = 4 }
+v0 = { min = -0.3, max = 0.3, count = 3 }
+[output]
+path = "p.h5"
+"#;
+
+    /// The pad's spec reads as the nondimensional table law it stands for (MODEL.md
+    /// section 8: xi = c / (2 sqrt(m k)) = 0.025, v_d = v_B sqrt(m k) / N = 0.08, the
+    /// curve's speeds over N / sqrt(m k) = 3.75 m/s, the grid over N / k = 7.5 mm and 3.75
+    /// m/s), and as the g-hack g = N / m = 1875 map for map. Fails on fdec01a, where
+    /// `[physical]` was refused with law = "table" and had no friction_table key.
+    #[test]
+    fn a_measured_curve_in_si_reads_as_the_model_it_stands_for() {
+        let p = Plan::from_toml(PAD, "p.toml").unwrap();
+        let nd = Plan::from_toml(
+            r#"
+version = 1
+[model]
+law = "table"
+xi = 0.025
+v_d = 0.08
+friction_table = [[0.0, 0.48], [0.02666666666666667, 0.43], [0.08, 0.4], [0.26666666666666666, 0.37]]
+[grid]
+x0 = { min = -0.4, max = 0.8, count = 4 }
+v0 = { min = -0.08, max = 0.08, count = 3 }
+[output]
+path = "p.h5"
+"#,
+            "p.toml",
+        )
+        .unwrap();
+        let (a, b) = (p.maps[0], nd.maps[0]);
+        assert!((a.nu - b.nu).abs() < 1e-15 && (a.lambda - b.lambda).abs() < 1e-15);
+        let (ta, tb) = (a.law.table().unwrap().rows(), b.law.table().unwrap().rows());
+        for ((s1, m1), (s2, m2)) in ta.iter().zip(&tb) {
+            assert!((s1 - s2).abs() < 1e-16 && m1 == m2, "{s1} vs {s2}");
+        }
+        assert!((p.grid.x0.max - 0.8).abs() < 1e-15 && (p.grid.v0.min + 0.08).abs() < 1e-15);
+        let hack = Plan::from_toml(
+            &PAD.replace("normal_force = 1500.0", "g = 1875.0"),
+            "p.toml",
+        );
+        assert_eq!(hack.unwrap().maps, p.maps);
+        let ph = p.physical.unwrap();
+        assert_eq!(ph.friction.table().unwrap().rows()[3], (1.0, 0.37));
+    }
+
+    /// A measured curve in m/s refused by name: a negative or unordered speed (the row
+    /// named), `mu_k` or surfaces beside it, no curve, both keys, the curve in `[model]`
+    /// beside `[physical]`, a curve under another law. Fails on fdec01a (every case was
+    /// refused as `physical` with law = "table", or as an unknown field).
+    #[test]
+    fn a_bad_measured_curve_in_si_is_named() {
+        let cases = [
+            (
+                PAD.replace("[0.1, 0.43]", "[-0.1, 0.43]"),
+                "`physical.friction_table`",
+                "row 2",
+            ),
+            (
+                PAD.replace("[0.0, 0.48]", "[-0.05, 0.48]"),
+                "`physical.friction_table`",
+                "row 1",
+            ),
+            (
+                PAD.replace("normal_force", "mu_k = 0.4\nnormal_force"),
+                "`physical.mu_k`",
+                "does not use mu_k",
+            ),
+            (
+                PAD.replace("normal_force", "mu_s = 0.5\nnormal_force"),
+                "`physical.mu_s`",
+                "table",
+            ),
+            (
+                PAD.replace(
+                    "friction_table = [[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]\n",
+                    "",
+                ),
+                "`physical.friction_table`",
+                "needs friction_table",
+            ),
+            (
+                PAD.replace("normal_force", "friction_csv = \"pad.csv\"\nnormal_force"),
+                "`physical.friction_csv`",
+                "exactly one",
+            ),
+            (
+                PAD.replace(
+                    "law = \"table\"",
+                    "law = \"table\"\nfriction_csv = \"pad.csv\"",
+                ),
+                "`model.friction_csv`",
+                "m/s",
+            ),
+            (
+                PAD.replace("law = \"table\"", "law = \"coulomb\"")
+                    .replace("normal_force", "mu_k = 0.4\nnormal_force"),
+                "`physical.friction_table`",
+                "coulomb",
+            ),
+        ];
+        for (text, key, words) in cases {
+            let e = Plan::from_toml(&text, "p.toml").unwrap_err().to_string();
+            assert!(e.contains(key) && e.contains(words), "{key}: {e}");
         }
     }
 }

@@ -60,6 +60,42 @@ pub fn read_friction_csv(
     squeal_core::FrictionTable::from_csv(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// The curve of `friction_table` or `friction_csv` (`keys`, as given in the table `table`:
+/// `model`, or `physical` where the slip speeds are in m/s), exactly one of them; the CSV is
+/// read relative to `folder`; `stored` (the table an output file holds for that key) stands
+/// for them when a stored spec is read again. Errors name `<table>.<key>`.
+pub(crate) fn friction_table(
+    table: &str,
+    keys: (Option<&[[f64; 2]]>, Option<&str>),
+    folder: &std::path::Path,
+    stored: Option<&'static squeal_core::FrictionTable>,
+    invalid: Invalid,
+) -> Result<&'static squeal_core::FrictionTable, ScanError> {
+    let unit = if table == "physical" { " in m/s" } else { "" };
+    let how = format!(
+        "law = \"table\" needs its curve: friction_table = [[s, mu], ...] (slip speed{unit}, \
+         the first row at slip speed 0) or friction_csv = \"file.csv\" (two columns), exactly \
+         one of them"
+    );
+    let key = |k: &str| format!("{table}.{k}");
+    match keys {
+        (Some(_), Some(_)) => Err(invalid(
+            &key("friction_csv"),
+            format!("given with {}", key("friction_table")),
+            &how,
+        )),
+        (None, None) => Err(invalid(&key("friction_table"), "missing".into(), &how)),
+        _ if stored.is_some() => Ok(stored.expect("some")),
+        (Some(rows), None) => {
+            let rows: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[1])).collect();
+            squeal_core::FrictionTable::new(&rows)
+                .map_err(|e| invalid(&key("friction_table"), "given".into(), &e.to_string()))
+        }
+        (None, Some(csv)) => read_friction_csv(&folder.join(csv))
+            .map_err(|e| invalid(&key("friction_csv"), format!("{csv:?}"), &e)),
+    }
+}
+
 /// The keys a `[model]` table accepts: `law`, then every law's keys, each once.
 fn model_fields() -> &'static [&'static str] {
     static FIELDS: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
@@ -156,9 +192,6 @@ impl ModelTable {
         stored: Option<&'static squeal_core::FrictionTable>,
         invalid: Invalid,
     ) -> Result<Option<&'static squeal_core::FrictionTable>, ScanError> {
-        let how = "law = \"table\" needs its curve: friction_table = [[s, mu], ...] (the first \
-                   row at slip speed 0) or friction_csv = \"file.csv\" (two columns), exactly \
-                   one of them";
         if self.law != FrictionLaw::Table {
             let given = [self.friction_table.is_some(), self.friction_csv.is_some()];
             if let Some((k, _)) = TABLE_KEYS.into_iter().zip(given).find(|(_, g)| *g) {
@@ -170,24 +203,8 @@ impl ModelTable {
             }
             return Ok(None);
         }
-        match (&self.friction_table, &self.friction_csv) {
-            (Some(_), Some(_)) => Err(invalid(
-                "model.friction_csv",
-                "given with model.friction_table".into(),
-                how,
-            )),
-            (None, None) => Err(invalid("model.friction_table", "missing".into(), how)),
-            _ if stored.is_some() => Ok(stored),
-            (Some(rows), None) => {
-                let rows: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[1])).collect();
-                squeal_core::FrictionTable::new(&rows)
-                    .map(Some)
-                    .map_err(|e| invalid("model.friction_table", "given".into(), &e.to_string()))
-            }
-            (None, Some(csv)) => read_friction_csv(&folder.join(csv))
-                .map(Some)
-                .map_err(|e| invalid("model.friction_csv", format!("{csv:?}"), &e)),
-        }
+        let keys = (self.friction_table.as_deref(), self.friction_csv.as_deref());
+        friction_table("model", keys, folder, stored, invalid).map(Some)
     }
 
     /// Refuses a key that is not one of the law's own ([`FrictionLaw::keys`]).
@@ -211,30 +228,39 @@ impl ModelTable {
         }
     }
 
-    /// With `[physical]`: refuses a Stribeck law (the physical units are McMillan's scaling)
-    /// and any of McMillan's nondimensional keys (the model or the physical system, not both).
+    /// With `[physical]`: refuses a law without physical units (the Stribeck and cubic
+    /// laws: McMillan's scaling and the table law's are written in mu_k N and N, their
+    /// coefficients' speeds would need a unit of their own) and any nondimensional key of
+    /// the law, its table among them (the model or the physical system, not both; a table
+    /// under `[physical]` has its slip speeds in m/s).
     pub(crate) fn check_physical(&self, invalid: Invalid) -> Result<(), ScanError> {
-        if self.law.has_true_stick() {
+        if squeal_core::units::friction_keys(self.law).is_err() {
             return Err(invalid(
                 "physical",
                 format!("given with law = \"{}\"", self.law),
-                "a McMillan law: the physical units are McMillan's scaling (x scaled by mu_k g / \
-                 omega_n^2, lambda = v_belt omega_n / (mu_k g), tau and Phi from the surfaces), \
-                 which the laws with true stick do not share (give their nondimensional keys in \
+                "a McMillan law, Coulomb or a measured curve (law = \"table\"): the physical \
+                 units are McMillan's scaling (x scaled by mu_k N / k, lambda = v_belt sqrt(m k) \
+                 / (mu_k N), tau and Phi from the surfaces) or the table's (force unit N), which \
+                 the Stribeck and cubic laws do not share (give their nondimensional keys in \
                  [model])",
             ));
         }
-        match ["nu", "lambda", "tau", "phi"]
-            .into_iter()
-            .find(|k| self.has(k))
-        {
+        let table = [self.friction_table.is_some(), self.friction_csv.is_some()];
+        let given = self.keys.first().map(|(k, _)| *k).or_else(|| {
+            TABLE_KEYS
+                .into_iter()
+                .zip(table)
+                .find_map(|(k, g)| g.then_some(k))
+        });
+        match given {
             None => Ok(()),
             Some(k) => Err(invalid(
                 &format!("model.{k}"),
                 "given with [physical]".into(),
-                "either the nondimensional model ([model] nu, lambda, tau, phi) or the physical \
-                 system ([physical] m, k, c, v_belt, mu_k, g, and mu_s, tau for McMillan's two \
-                 laws), not both",
+                "either the nondimensional model ([model] nu, lambda, tau, phi; xi, v_d and the \
+                 table of law = \"table\") or the physical system ([physical] m, k, c, v_belt, \
+                 g or normal_force, with mu_k, and mu_s, tau for McMillan's two laws, or \
+                 friction_table or friction_csv in m/s for law = \"table\"), not both",
             )),
         }
     }

@@ -17,11 +17,13 @@ fn brake() -> Physical {
         k: 5.0e4,
         c: 5.0,
         v_belt: 0.05,
-        mu_k: 0.35,
-        surface: Some(squeal_core::SurfaceSi {
-            mu_s: 0.45,
-            tau: 1e-3,
-        }),
+        friction: squeal_core::FrictionSi::Kinetic {
+            mu_k: 0.35,
+            surface: Some(squeal_core::SurfaceSi {
+                mu_s: 0.45,
+                tau: 1e-3,
+            }),
+        },
         load: squeal_core::Load::Weight(9.81),
     }
 }

@@ -256,6 +256,18 @@ fn documented_examples_parse_and_defaults_hold() {
                         .insert("law".into(), Value::String(law.name().into()));
                     b
                 }
+                // A measured curve in m/s under `[physical]`: a table-law system, which
+                // has no mu_k and no surfaces.
+                Some(FrictionLaw::Table) if section == "[physical]" => {
+                    let mut b = ["mu_k", "mu_s", "tau"]
+                        .into_iter()
+                        .fold(base.clone(), |b, k| without_key(b, &path, k));
+                    b["model"]
+                        .as_table_mut()
+                        .unwrap()
+                        .insert("law".into(), Value::String("table".into()));
+                    b
+                }
                 _ => base.clone(),
             };
             // A key of the shared `[cycle]` table that only an atlas reads: a scan spec

@@ -96,13 +96,14 @@ fn hostile_tables_are_refused_by_name() {
             scan("friction_table = [[0.0, 0.5], [1.0, 0.4]]\nmu_d = 0.5"),
             "`model.mu_d` = given",
         ),
-        // No physical units for this law (yet): [physical] is refused by name.
+        // With [physical] the curve is the physical system's, in m/s: one in [model] is
+        // refused by name (crates/scan/src/spec/physical.rs tests the SI curve).
         (
             scan("friction_table = [[0.0, 0.5], [1.0, 0.4]]").replace(
                 "[grid]",
                 "[physical]\nm = 1.0\nk = 1.0\nc = 0.1\nv_belt = 1.0\nmu_k = 0.4\n[grid]",
             ),
-            "`physical` = given with law = \"table\"",
+            "`model.friction_table` = given with [physical]",
         ),
         // The Stribeck law without either key is as before.
         (scan("").replace("\"table\"", "\"stribeck\""), ""),

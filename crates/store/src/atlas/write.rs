@@ -61,7 +61,12 @@ fn write_all(
     shard: Option<Shard>,
 ) -> hdf5::Result<()> {
     root_attrs(o.file, plan, prov, shard)?;
-    crate::h5out::friction_table(o.file, &mut o.dims, plan.table)?;
+    // A physical atlas's table is the measured one, in m/s (AtlasPlan::table).
+    let (nd, si) = match plan.units {
+        Units::Physical => (None, plan.table),
+        Units::Nondimensional => (plan.table, None),
+    };
+    crate::h5out::friction_table(o.file, &mut o.dims, nd, si)?;
     let scales = plan
         .axes()
         .iter()
@@ -364,10 +369,16 @@ fn write_boundary_si(
         .collect();
     let (key, _) = plan.boundary_axis();
     let long = match plan.boundary_in {
-        BoundaryParam::Nu => long.replace("damping ratio", "damping coefficient c"),
-        BoundaryParam::Lambda => long.replace("belt speed lambda", "belt speed v_belt"),
+        BoundaryParam::Nu => long
+            .replace("damping ratio xi", "damping coefficient c")
+            .replace("damping ratio", "damping coefficient c"),
+        BoundaryParam::Lambda => long
+            .replace("belt speed lambda", "belt speed v_belt")
+            .replace("belt speed v_d", "belt speed v_belt"),
     };
-    let name = name.replace(&format!("_{}", plan.boundary_in.key()), &format!("_{key}"));
+    // The stored name carries the law's key (`critical_xi` for a table law): its SI twin
+    // the physical key (`critical_c`).
+    let name = name.replace(&format!("_{}", plan.boundary_key()), &format!("_{key}"));
     o.put(over, (&name, &long), Some(units), si)?;
     Ok(())
 }

@@ -215,6 +215,7 @@ fn write_base(path: &std::path::Path, k: usize, rng: &mut Mix) -> Base {
         owner: Owner::Scan,
         spec: format!("spec {k}"),
         shard: String::new(),
+        table: None,
     };
     let mut j = Journal::create(path, &header).unwrap();
     let mut written = Vec::new();

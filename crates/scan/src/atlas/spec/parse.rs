@@ -23,25 +23,32 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
         let load = ph.load(&inv)?;
         // The keys given, in key order: a Coulomb system has no mu_s and tau, McMillan's
-        // laws both (checked by the caller, so `zip` drops neither alone).
+        // laws both, a measured curve no mu_k either (checked by the caller, so `zip` drops
+        // none alone; the curve is no axis).
         let vals = squeal_core::Physical {
-            m: &ph.m,
-            k: &ph.k,
-            c: &ph.c,
-            v_belt: &ph.v_belt,
-            mu_k: &ph.mu_k,
-            surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref()))
-                .map(|(mu_s, tau)| squeal_core::SurfaceSi { mu_s, tau }),
+            m: Some(&ph.m),
+            k: Some(&ph.k),
+            c: Some(&ph.c),
+            v_belt: Some(&ph.v_belt),
+            friction: squeal_core::FrictionSi::Kinetic {
+                mu_k: ph.mu_k.as_ref(),
+                surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref())).map(|(mu_s, tau)| {
+                    squeal_core::SurfaceSi {
+                        mu_s: Some(mu_s),
+                        tau: Some(tau),
+                    }
+                }),
+            },
             load: match &load {
-                squeal_core::Load::Weight(g) => squeal_core::Load::Weight(g),
-                squeal_core::Load::NormalForce(n) => squeal_core::Load::NormalForce(n),
+                squeal_core::Load::Weight(g) => squeal_core::Load::Weight(Some(g)),
+                squeal_core::Load::NormalForce(n) => squeal_core::Load::NormalForce(Some(n)),
             },
         }
         .values();
         let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
             .into_iter()
             .zip(vals)
-            .filter_map(|(name, v)| Some((name, v?)))
+            .filter_map(|(name, v)| Some((name, v.flatten()?)))
             .unzip();
         (Units::Physical, axes(path, "physical", &names, vals)?)
     } else {
