@@ -514,7 +514,7 @@ impl Journal {
         }
         self.file
             .seek(SeekFrom::Start(self.end))
-            .and_then(|_| self.file.write_all(&buf))
+            .and_then(|_| self.file.write_all(buf))
             .map_err(io(&self.path, "cannot write to the journal"))?;
         let rec = Rec {
             kind,
