@@ -50,6 +50,7 @@ impl squeal_scan::Observer for BarObserver<'_> {
 
 /// Runs the atlas.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let started = Instant::now();
     let plan = AtlasPlan::from_file(&args.spec)?;
     let (out, shard) = args.run.setup(&plan.out)?;
     let png = common::sibling(&out, "", "png");
@@ -89,12 +90,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let bar = progress(total, args.run.quiet);
     let plain = progress::PlainLines::new("units and map blocks", "unit", total, args.run.quiet);
     let t0 = Instant::now();
+    // When the last unit reached the sink: the units' phase ends there, the maps' begins.
+    let units_done = std::sync::Mutex::new(t0);
     let result = squeal_store::run_atlas(
         &plan,
         shard,
         writer,
         signals.stop(),
         &|| {
+            if super::timings::on() {
+                *units_done.lock().unwrap_or_else(|e| e.into_inner()) = Instant::now();
+            }
             bar.inc(1);
             if let Some(p) = &plain {
                 p.inc(0);
@@ -105,6 +111,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     bar.finish_and_clear();
     let (writer, left) = result?;
     let seconds = t0.elapsed().as_secs_f64();
+    let units_done = units_done.into_inner().unwrap_or_else(|e| e.into_inner());
+    super::timings::report("start", t0 - started);
+    super::timings::report("units", units_done - t0);
+    super::timings::report("maps", units_done.elapsed());
     if signals.stop().load(Ordering::SeqCst) && left > 0 {
         eprintln!(
             "squeal: interrupted; {left} units and map blocks left. Finish with: {}",
@@ -113,10 +123,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
     signals.finishing(&pics)?;
+    let mut phases = super::timings::Phases::start();
     let res = writer.finish()?;
+    phases.end("finish");
     let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     };
+    phases.end("picture");
     let computed = Computed {
         seconds,
         units: todo.len(),

@@ -30,6 +30,7 @@ pub mod scan;
 pub mod scan_bars;
 pub mod scan_report;
 pub mod signals;
+pub mod timings;
 pub mod trajectory;
 pub mod trajectory_report;
 pub mod transient;

@@ -152,14 +152,20 @@ impl WorkMeter {
 
     /// Counts one unit of kind `kind`; returns the units done.
     pub fn add(&self, kind: usize) -> u64 {
+        self.add_n(kind, 1)
+    }
+
+    /// Counts `n` units of kind `kind` at once (a chunk of a block's cells); returns the
+    /// units done.
+    pub fn add_n(&self, kind: usize, n: u64) -> u64 {
         use std::sync::atomic::Ordering;
-        let w = self.weights.get(kind).copied().unwrap_or(1.0);
+        let w = self.weights.get(kind).copied().unwrap_or(1.0) * n as f64;
         let _ = self
             .work
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
                 Some((f64::from_bits(b) + w).to_bits())
             });
-        self.done.fetch_add(1, Ordering::Relaxed) + 1
+        self.done.fetch_add(n, Ordering::Relaxed) + n
     }
 
     /// Units done.

@@ -66,6 +66,7 @@ fn may_draw(pics: &[PathBuf]) -> Vec<PathBuf> {
 
 /// Runs the scan.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let mut phases = super::timings::Phases::start();
     let plan = Plan::from_file(&args.spec)?;
     let (out, shard) = args.run.setup(&plan.output)?;
     let pics = pictures(
@@ -107,6 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         announce(&plan, pilot.as_ref(), &pending, (shard, threads));
     }
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
+    phases.end("start");
     let started = Instant::now();
     let done = drive(&plan, shard, &mut writer, &bars, signals.stop()).map_err(|e| match e {
         squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
@@ -114,6 +116,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     })?;
     bars.finish();
     let secs = started.elapsed().as_secs_f64();
+    phases.end("cells");
+    super::timings::report("prepare", done.prepare);
+    super::timings::report("sink", done.sink);
     if done.interrupted {
         eprintln!(
             "squeal: interrupted; {} of {} blocks are stored. Finish with: {}",
@@ -136,9 +141,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             a.map, a.cells
         );
     }
+    phases.end("redo");
     signals.finishing(&may_draw(&pics))?;
     finish(
-        (&args, &signals),
+        (&args, &signals, phases),
         &plan,
         writer,
         (&out, &pics),
@@ -205,7 +211,7 @@ fn announce(
 /// A signal once the file is finished stops the drawing (code 130), saying the file is
 /// complete.
 fn finish(
-    (args, signals): (&Args, &super::signals::Signals),
+    (args, signals, mut phases): (&Args, &super::signals::Signals, super::timings::Phases),
     plan: &Plan,
     writer: ScanWriter,
     (out, pics): (&Path, &[PathBuf]),
@@ -213,6 +219,7 @@ fn finish(
 ) -> anyhow::Result<ExitCode> {
     let landscapes = squeal_scan::landscape::of_plan(plan)?;
     let finished = writer.finish_with(&landscapes)?;
+    phases.end("finish");
     let redraw = args.run.resume_command("scan", &args.spec, out);
     let note = super::signals::drawing_note(out, &redraw);
     if !pics.is_empty() && !signals.drawing(note.clone(), &may_draw(pics)) {
@@ -226,6 +233,7 @@ fn finish(
         Some(png) => pictures::render_file(out, png, true)?,
         None => Vec::new(),
     };
+    phases.end("picture");
     signals.done();
     let info = squeal_store::read_info(out)?;
     let tallies = Tallies {

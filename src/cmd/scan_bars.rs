@@ -94,14 +94,14 @@ impl Bars {
 }
 
 impl Observer for Bars {
-    fn cell_done(&self, map: usize) {
-        self.meter.add(map);
-        self.overall.inc(1);
+    fn cells_done(&self, map: usize, n: u64) {
+        self.meter.add_n(map, n);
+        self.overall.inc(n);
         if let Some(p) = &self.plain {
             p.report();
         }
         if let Some(m) = self.maps.get(map) {
-            m.inc(1);
+            m.inc(n);
         }
     }
 }

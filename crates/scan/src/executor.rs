@@ -12,10 +12,8 @@
 //! from a job or from the sink raises `stop` too, and is returned once the jobs in flight
 //! are done (their results are not handed to a sink that has failed).
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
-
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, mpsc};
 
 /// What a job sends to the sink's thread: a result, or the error that ends the run.
 pub enum Emit<M, E> {
@@ -25,7 +23,8 @@ pub enum Emit<M, E> {
     Failed(E),
 }
 
-/// Runs `work` on every job in parallel; `work` hands its results to `emit`, and `sink`
+/// Runs `work` on every job in parallel, started in the order given (a shared queue: put the
+/// longest first); `work` hands its results to `emit`, and `sink`
 /// receives them, one at a time, on the calling thread. Returns the first failure (from a
 /// job, `JE`, or from the sink, `E`) after the jobs in flight are done.
 pub fn execute<J, M, JE, E>(
@@ -54,14 +53,37 @@ where
         let work = &work;
         let workers = scope.spawn(move || {
             let run = move || {
-                jobs.into_par_iter().for_each_with(tx, |tx, job| {
-                    if stop.load(Ordering::SeqCst) {
-                        return;
+                // One shared queue, taken in the jobs' order by as many loops as the pool
+                // has threads: the first jobs (the atlas puts its longest units first) start
+                // first, and each thread takes the next job when it is free. Before, rayon
+                // split the list into contiguous halves, so the atlas's long boundary
+                // searches bunched on a few threads while the others ran out of lines.
+                let queue: Vec<Mutex<Option<J>>> =
+                    jobs.into_iter().map(|j| Mutex::new(Some(j))).collect();
+                let next = AtomicUsize::new(0);
+                let (queue, next) = (&queue, &next);
+                rayon::scope(|s| {
+                    for _ in 0..rayon::current_num_threads().min(queue.len()) {
+                        let tx = tx.clone();
+                        s.spawn(move |_| {
+                            loop {
+                                if stop.load(Ordering::SeqCst) {
+                                    return;
+                                }
+                                let i = next.fetch_add(1, Ordering::Relaxed);
+                                let Some(job) = queue.get(i).and_then(|j| {
+                                    j.lock().unwrap_or_else(|e| e.into_inner()).take()
+                                }) else {
+                                    return;
+                                };
+                                work(job, &|m| {
+                                    let _ = tx.send(m);
+                                });
+                            }
+                        });
                     }
-                    work(job, &|m| {
-                        let _ = tx.send(m);
-                    });
-                })
+                });
+                drop(tx);
             };
             match pool {
                 Some(pool) => pool.install(run),

@@ -24,8 +24,10 @@ use crate::ulc::{self, CycleOutcome, CycleSettings};
 pub trait Observer: Sync {
     /// Map `map` is prepared (its cycle searched, if asked for).
     fn map_prepared(&self, _map: usize) {}
-    /// One cell of map `map` finished.
-    fn cell_done(&self, _map: usize) {}
+    /// `n` more cells of map `map` finished: reported once per [`CELL_CHUNK`] cells of a
+    /// block (counted on the worker, folded here), not per cell, so that an observer costs
+    /// nothing per cell (its atomics and locks once serialised the workers).
+    fn cells_done(&self, _map: usize, _n: u64) {}
     /// Block `block` of map `map` finished (it goes to the sink next).
     fn block_done(&self, _map: usize, _block: usize) {}
     /// A stage of a one-parameter search began on the observed thread
@@ -743,6 +745,11 @@ impl MapContext {
     }
 }
 
+/// Cells of a block classified one after the other by one worker, and counted to the
+/// observer at once: small enough that a block's cells still spread over the threads (a
+/// 4096-cell row makes 64 chunks), large enough that the count costs nothing per cell.
+pub const CELL_CHUNK: usize = 64;
+
 /// Classifies the cells of one block in parallel. Returns `None` if `stop` was raised
 /// before the block finished (the block is then discarded, never stored half-done).
 pub fn run_block(
@@ -756,20 +763,22 @@ pub fn run_block(
     let rows = g.block_rows(block);
     let nx = g.x0.count;
     let n = rows.len() * nx;
-    let cells: Option<Vec<Cell>> = (0..n)
+    let chunks: Option<Vec<Vec<Cell>>> = (0..n.div_ceil(CELL_CHUNK))
         .into_par_iter()
-        .map(|k| {
+        .map(|c| {
             if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
                 return None;
             }
-            let cell = ctx.cell(plan, rows.start + k / nx, k % nx);
-            observer.cell_done(ctx.map);
-            Some(cell)
+            let cells: Vec<Cell> = (c * CELL_CHUNK..n.min((c + 1) * CELL_CHUNK))
+                .map(|k| ctx.cell(plan, rows.start + k / nx, k % nx))
+                .collect();
+            observer.cells_done(ctx.map, cells.len() as u64);
+            Some(cells)
         })
         .collect();
     Some(BlockResult {
         map: ctx.map,
         block,
-        cells: cells?,
+        cells: chunks?.concat(),
     })
 }

@@ -10,7 +10,8 @@
 //! journal walk those tables.
 //!
 //! ## Journal `<out>.journal`
-//! The scan's journal (`crate::journal`: checksummed binary records, fsynced after each,
+//! The scan's journal (`crate::journal`: checksummed binary records, units synced at once
+//! and map blocks in groups,
 //! corrupt records skipped with a warning on resume) with an atlas header (kind `A`, the
 //! spec text and shard) and one record per finished unit (kind `U`: a line of points or a
 //! boundary search as the JSON of [`unit_json`], the figures as arrays in the order of
@@ -279,7 +280,7 @@ impl AtlasWriter {
         missing_blocks(&self.plan, &self.results, self.shard)
     }
 
-    /// Journals a finished unit (fsynced) and keeps it.
+    /// Journals a finished unit (synced at once) and keeps it.
     pub fn record(&mut self, r: UnitResult) -> Result<(), StoreError> {
         self.journal
             .append(KIND_UNIT, unit_json(&r).to_string().as_bytes())?;
@@ -317,7 +318,8 @@ impl AtlasWriter {
 }
 
 /// The atlas's maps come from the scan's driver ([`squeal_scan::drive`] on
-/// [`AtlasPlan::map_plan`]): each finished block and cycle search is journalled (fsynced).
+/// [`AtlasPlan::map_plan`]): each finished block and cycle search is journalled (cycles
+/// synced at once, blocks in groups: `crate::journal`).
 impl squeal_scan::Sink for AtlasWriter {
     type Error = StoreError;
     fn is_done(&self, map: usize, block: usize) -> bool {

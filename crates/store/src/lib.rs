@@ -2,8 +2,9 @@
 //!
 //! * [`ScanWriter`] is the scan's [`squeal_scan::Sink`]: it takes finished blocks and cycle
 //!   searches from [`squeal_scan::drive`], appends each to a journal `<out>.journal`
-//!   (fsynced, so an interrupted scan resumes with [`ScanWriter::resume`] losing at most the
-//!   blocks in flight), and at [`ScanWriter::finish`] writes the HDF5 file `<out>.tmp`,
+//!   (written at once and synced in groups, so an interrupted scan resumes with
+//!   [`ScanWriter::resume`] losing at most the blocks in flight, or after a crash of the
+//!   machine the blocks since the last sync: `journal`'s overview), and at [`ScanWriter::finish`] writes the HDF5 file `<out>.tmp`,
 //!   renames it to `<out>` and removes the journal. While it lives it holds the
 //!   [`OutputLock`] `<out>.lock`, so two runs never write one output.
 //! * [`output_state`] says whether an output is absent, interrupted, complete for this plan
@@ -343,20 +344,25 @@ impl ScanWriter {
             .sum()
     }
 
-    /// Appends the block to the journal and syncs it before returning.
+    /// Appends the block to the journal (synced with its group of blocks).
     pub fn write_block(&mut self, b: &BlockResult) -> Result<(), StoreError> {
-        check_block(&self.plan, self.shard, b.map, b.block, b.cells.len()).map_err(|why| {
-            StoreError::BadBlock {
-                path: self.out.clone(),
-                why,
-            }
-        })?;
+        self.check_block(b)?;
         let rec = self.journal.append(
             journal::KIND_BLOCK,
             &journal::encode_block(b.map, b.block, &b.cells),
         )?;
         self.blocks.insert((b.map, b.block), rec);
         Ok(())
+    }
+
+    /// Refuses a block that is not this shard's or does not fit the plan.
+    fn check_block(&self, b: &BlockResult) -> Result<(), StoreError> {
+        check_block(&self.plan, self.shard, b.map, b.block, b.cells.len()).map_err(|why| {
+            StoreError::BadBlock {
+                path: self.out.clone(),
+                why,
+            }
+        })
     }
 
     /// Whether the cycle of `map` was already recorded.
@@ -471,6 +477,16 @@ impl squeal_scan::Sink for ScanWriter {
     }
     fn write_block(&mut self, block: &BlockResult) -> Result<(), StoreError> {
         ScanWriter::write_block(self, block)
+    }
+    fn encode_block(b: &BlockResult) -> Option<Vec<u8>> {
+        let payload = journal::encode_block(b.map, b.block, &b.cells);
+        Some(journal::framed(journal::KIND_BLOCK, payload))
+    }
+    fn write_encoded(&mut self, b: &BlockResult, record: Vec<u8>) -> Result<(), StoreError> {
+        self.check_block(b)?;
+        let rec = self.journal.append_framed(&record)?;
+        self.blocks.insert((b.map, b.block), rec);
+        Ok(())
     }
     fn withdrawn(
         &mut self,

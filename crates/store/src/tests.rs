@@ -725,7 +725,7 @@ fn an_older_journal_format_is_refused_by_name() {
     // The header record: "SQJR", kind, len (u32), payload (format u32 first), checksum.
     let len = u32::from_le_bytes(bytes[5..9].try_into().unwrap()) as usize;
     bytes[9..13].copy_from_slice(&2u32.to_le_bytes());
-    let sum = crate::journal::fnv64(&[&bytes[4..5], &bytes[9..9 + len]]);
+    let sum = crate::journal::record_sum(bytes[4], &bytes[9..9 + len]);
     bytes[9 + len..17 + len].copy_from_slice(&sum.to_le_bytes());
     std::fs::write(&j, &bytes).unwrap();
     let e = ScanWriter::resume(&out, &p, None, &prov()).unwrap_err();
@@ -750,7 +750,7 @@ fn a_journal_of_other_columns_is_refused_by_name() {
     // One flipped bit of the columns' checksum stands for another column list.
     let len = u32::from_le_bytes(bytes[5..9].try_into().unwrap()) as usize;
     bytes[9 + len - 16] ^= 1;
-    let sum = crate::journal::fnv64(&[&bytes[4..5], &bytes[9..9 + len]]);
+    let sum = crate::journal::record_sum(bytes[4], &bytes[9..9 + len]);
     bytes[9 + len..17 + len].copy_from_slice(&sum.to_le_bytes());
     std::fs::write(&j, &bytes).unwrap();
     let e = ScanWriter::resume(&out, &p, None, &prov()).unwrap_err();

@@ -1,0 +1,151 @@
+#!/usr/bin/env bash
+# How squeal scales with the threads (issue 35): each shape run at 1, 2, ... N threads
+# (N = nproc; --threads LIST to choose), with the phase times the binary itself prints under
+# SQUEAL_TIMINGS=1 (src/cmd/timings.rs: a scan's start, cells, prepare, sink, redo, finish,
+# picture; an atlas's start, units, maps, finish, picture). Prints each run's wall time and
+# phases, each shape's phase shares at 1 thread, the serial fraction f from the 1- and
+# N-thread wall times (Amdahl: speed-up S = T1/TN, f = (N/S - 1)/(N - 1)), and the speed-up
+# that f allows on 16 and 64 cores (1 / (f + (1 - f)/P)).
+#
+#   cargo build --release && scripts/bench/bench-scaling.sh [--quick] [--threads 1,2]
+#       [--shapes bstab,fig9-4096,atlas,stribeck-steady,nu-sweep] [--base OLD/squeal]
+#
+# Shapes: bSTAB's belt-speed study (scans/bstab-friction.toml); Fig. 9 at 4096 x 4096
+# (scans/fig9.toml with the counts raised, 16.8M cells); the 64 x 64 atlas
+# (scans/atlas-lambda-nu.toml, --no-render); the Stribeck map whose every start ends in
+# steady slip (bstab-friction at v_d = 2.225 only, 512 x 256); the damping sweep
+# (scans/nu-sweep.toml). --quick shrinks each (a 512 x 512 Fig. 9, a 4 x 4 atlas, the
+# others a quarter of the cells or fewer) so that the script is checked in a minute or two.
+# --base BIN also times BIN (an older squeal, no phase times) on fig9-4096 and atlas at
+# N threads, alternating old, new, old, new (ROUNDS=2 by default), and prints the ratio.
+# The machine is shared: say the load average (printed) beside the figures.
+set -euo pipefail
+bin=${SQUEAL:-target/release/squeal}
+threads=""
+quick=0
+base=""
+shapes="bstab,fig9-4096,atlas,stribeck-steady,nu-sweep"
+rounds=${ROUNDS:-2}
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) quick=1 ;;
+    --threads) threads=$2; shift ;;
+    --shapes) shapes=$2; shift ;;
+    --base) base=$2; shift ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    *) echo "bench-scaling.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+[ -x "$bin" ] || { echo "build first: cargo build --release (or set SQUEAL=...)" >&2; exit 2; }
+[ -z "$base" ] || [ -x "$base" ] || { echo "--base $base: no such binary" >&2; exit 2; }
+if [ -z "$threads" ]; then threads=$(seq -s, 1 "$(nproc)"); fi
+IFS=, read -r -a tlist <<< "$threads"
+nmax=${tlist[-1]}
+work=$(mktemp -d "${TMPDIR:-/tmp}/squeal-scaling.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+# The spec of each shape, written to $work (the output path is given with -o).
+grid() { # file x0count v0count -> replaces the grid's counts
+  sed -E -e "s/^(x0 = .*count = )[0-9]+/\1$2/" -e "s/^(v0 = .*count = )[0-9]+/\1$3/" "$1"
+}
+make_spec() {
+  local s=$1 f=$work/$1.toml
+  case "$s" in
+    bstab)
+      if [ $quick = 1 ]; then
+        grid scans/bstab-friction.toml 64 32 | sed -E 's/count = 20 \}/count = 4 }/' > "$f"
+      else cp scans/bstab-friction.toml "$f"; fi ;;
+    fig9-4096)
+      if [ $quick = 1 ]; then grid scans/fig9.toml 512 512 > "$f"
+      else grid scans/fig9.toml 4096 4096 > "$f"; fi ;;
+    atlas)
+      if [ $quick = 1 ]; then sed -E 's/count = 64,/count = 4,/' scans/atlas-lambda-nu.toml > "$f"
+      else cp scans/atlas-lambda-nu.toml "$f"; fi ;;
+    stribeck-steady)
+      if [ $quick = 1 ]; then n="128 64"; else n="512 256"; fi
+      # shellcheck disable=SC2086
+      grid scans/bstab-friction.toml $n \
+        | sed -E 's/^v_d = .*/v_d = 2.225/; s/^name = .*/name = "stribeck-steady"/' > "$f" ;;
+    nu-sweep)
+      if [ $quick = 1 ]; then grid scans/nu-sweep.toml 48 48 > "$f"
+      else cp scans/nu-sweep.toml "$f"; fi ;;
+    *) echo "unknown shape $s" >&2; exit 2 ;;
+  esac
+  echo "$f"
+}
+cmd_of() { # shape -> the subcommand and its extra flags
+  case "$1" in atlas) echo "atlas --no-render" ;; *) echo "scan" ;; esac
+}
+# One run: prints "wall phase=secs ..." (phases from SQUEAL_TIMINGS).
+one() { # binary shape spec threads
+  local b=$1 s=$2 spec=$3 t=$4 out=$work/$2.h5 err=$work/err t0 t1
+  rm -f "$work/$s".*.png "$work/$s.png" "$out"
+  t0=$(date +%s.%N)
+  # shellcheck disable=SC2046
+  if ! SQUEAL_TIMINGS=1 "$b" $(cmd_of "$s") "$spec" -o "$out" --threads "$t" --quiet --force \
+      > /dev/null 2> "$err"; then
+    echo "bench-scaling.sh: $b failed on $s at $t threads:" >&2; cat "$err" >&2; exit 1
+  fi
+  t1=$(date +%s.%N)
+  printf '%s' "$(echo "$t1 - $t0" | bc -l)"
+  awk '/^squeal timing: / { printf " %s=%s", $3, $4 }' "$err"
+  echo
+}
+
+date -u '+%Y-%m-%d %H:%M UTC'
+lscpu | grep 'Model name' || true
+echo "cores: $(nproc); threads: $threads; quick: $quick; binary: $bin ($("$bin" --version 2>/dev/null || true))"
+echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+IFS=, read -r -a slist <<< "$shapes"
+summary=()
+for s in "${slist[@]}"; do
+  spec=$(make_spec "$s")
+  echo
+  echo "== $s ($(cmd_of "$s") $(basename "$spec"))"
+  declare -A wall=()
+  for t in "${tlist[@]}"; do
+    r=$(one "$bin" "$s" "$spec" "$t")
+    wall[$t]=${r%% *}
+    printf '  threads %-3s wall %8.2f s  %s  (load %s)\n' "$t" "${r%% *}" \
+      "$(echo "${r#* }" | tr ' ' '\n' | awk -F= 'NF == 2 { printf "%s %.2f  ", $1, $2 }')" \
+      "$(cut -d' ' -f1 /proc/loadavg)"
+    if [ "$t" = "${tlist[0]}" ]; then first="$r"; fi
+  done
+  # Shares of the wall time at the first thread count (the phases inside "cells", prepare
+  # and sink, are shown as shares too but overlap it).
+  echo "$first" | awk '{ w = $1; printf "  shares at %s thread(s):", "'"${tlist[0]}"'"
+    for (i = 2; i <= NF; i++) { split($i, kv, "="); printf " %s %.1f%%", kv[1], 100 * kv[2] / w }
+    print "" }'
+  if [ "${#tlist[@]}" -gt 1 ] && [ "${tlist[0]}" = 1 ]; then
+    line=$(awk -v t1="${wall[1]}" -v tn="${wall[$nmax]}" -v n="$nmax" -v s="$s" 'BEGIN {
+      S = t1 / tn; f = (n / S - 1) / (n - 1)
+      a16 = 1 / (f + (1 - f) / 16); a64 = 1 / (f + (1 - f) / 64)
+      printf "%-16s 1 thread %8.2f s, %d threads %8.2f s: speed-up %.2f, serial fraction %.1f%%, allows %.1fx on 16 cores, %.1fx on 64", s, t1, n, tn, S, 100 * f, a16, a64 }')
+    echo "  $line"
+    summary+=("$line")
+  fi
+  unset wall
+done
+if [ -n "$base" ]; then
+  echo
+  echo "== against $base ($("$base" --version 2>/dev/null || true)) at $nmax threads, alternating, $rounds round(s)"
+  for s in fig9-4096 atlas; do
+    case ",$shapes," in *",$s,"*) ;; *) continue ;; esac
+    spec=$work/$s.toml
+    ob=0; nb=0
+    for _ in $(seq "$rounds"); do
+      o=$(one "$base" "$s" "$spec" "$nmax"); o=${o%% *}
+      n=$(one "$bin" "$s" "$spec" "$nmax"); n=${n%% *}
+      printf '  %-10s old %8.2f s  new %8.2f s  (load %s)\n' "$s" "$o" "$n" "$(cut -d' ' -f1 /proc/loadavg)"
+      ob=$(echo "$ob + $o" | bc -l); nb=$(echo "$nb + $n" | bc -l)
+    done
+    line=$(printf '%s: old/new wall %.2fx (old %.2f s, new %.2f s, mean of %s)' "$s" \
+      "$(echo "$ob / $nb" | bc -l)" "$(echo "$ob / $rounds" | bc -l)" "$(echo "$nb / $rounds" | bc -l)" "$rounds")
+    echo "  $line"
+    summary+=("$line")
+  done
+fi
+echo
+echo "== summary (load average after: $(cut -d' ' -f1-3 /proc/loadavg))"
+printf '%s\n' "${summary[@]}"
