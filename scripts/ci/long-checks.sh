@@ -31,6 +31,11 @@ checks=(
   "--test scanning transient::band_lifetimes_match_direct_long_runs"
   # Starts on the edge of McMillan's checked region settle when run to the end.
   "--test scanning shortcuts::runs_from_mcmillans_region_edge_settle"
+  # The brake's critical damping and fold (c in N s/m) against runs from its spread of
+  # starts, and random samples' basin stability against the grid's within three standard
+  # errors.
+  "--test e2e physical_outputs::the_brakes_critical_damping_and_fold_agree_with_runs"
+  "--test e2e basin_stability::random_samples_agree_with_the_grid_within_three_standard_errors"
   # The located cycle against the label boundary of a fine scan, and early stopping against
   # runs to settlement, on the shipped scans.
   "--test scanning science::cycle_matches_the_label_boundary_of_a_fine_scan"

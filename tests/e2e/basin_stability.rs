@@ -41,6 +41,7 @@ fn sampled(n: usize, seed: u64, block: usize, out: &str) -> String {
 }
 
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn random_samples_agree_with_the_grid_within_three_standard_errors() {
     let d = tempfile::tempdir().unwrap();
     let grid = format!(

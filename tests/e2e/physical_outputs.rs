@@ -557,6 +557,7 @@ fn brake_critical(extra: &[&str]) -> serde_json::Value {
 /// unstable cycle's answer was 13.77 N s/m, ten times too low (issue 31): the interval
 /// must hold c = 150 and lie within 140-175, and the fold must not lie below it.
 #[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn the_brakes_critical_damping_and_fold_agree_with_runs() {
     let c = brake_critical(&["--horizon", "3000"]);
     assert_eq!(c["by"], "runs", "{c}");
