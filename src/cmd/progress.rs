@@ -326,28 +326,46 @@ impl SearchTally {
 /// far, fed by the library's observer of the search ([`squeal_scan::observe::observed`]).
 /// Hidden as the other bars are ([`show_progress`]).
 pub struct SearchBar {
-    bar: indicatif::ProgressBar,
+    /// The spinner on a terminal; `None` off one, where plain lines are printed instead.
+    bar: Option<indicatif::ProgressBar>,
+    what: &'static str,
     param: String,
     tally: std::sync::Mutex<SearchTally>,
+    /// When the search started, and when the last plain line was printed.
+    started: std::time::Instant,
+    last_line: std::sync::Mutex<Option<std::time::Instant>>,
 }
 
+/// Off a terminal (a batch log), a plain line says where the search is once it has run
+/// [`PLAIN_AFTER`], then at most every [`PLAIN_EVERY`]: a run-based `critical` took 36 s
+/// without a word, which a log reader (and the fuzz run's hang rule) cannot tell from a hang.
+const PLAIN_AFTER: std::time::Duration = std::time::Duration::from_secs(2);
+const PLAIN_EVERY: std::time::Duration = std::time::Duration::from_secs(10);
+
 impl SearchBar {
-    /// The line of command `what` searching in `param`; `None` where bars are hidden.
+    /// The line of command `what` searching in `param`: a spinner on a terminal, plain
+    /// lines off one; `None` under `--quiet`.
     pub fn new(what: &'static str, param: &str, quiet: bool) -> Option<std::sync::Arc<SearchBar>> {
-        if !show_progress(quiet) {
+        if quiet {
             return None;
         }
-        let bar = indicatif::ProgressBar::new_spinner();
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("{spinner} {prefix}: {msg} [{elapsed}]")
-                .expect("static template"),
-        );
-        bar.set_prefix(what);
-        bar.enable_steady_tick(std::time::Duration::from_millis(250));
+        let bar = show_progress(quiet).then(|| {
+            let bar = indicatif::ProgressBar::new_spinner();
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{spinner} {prefix}: {msg} [{elapsed}]")
+                    .expect("static template"),
+            );
+            bar.set_prefix(what);
+            bar.enable_steady_tick(std::time::Duration::from_millis(250));
+            bar
+        });
         Some(std::sync::Arc::new(SearchBar {
             bar,
+            what,
             param: param.to_string(),
             tally: Default::default(),
+            started: std::time::Instant::now(),
+            last_line: Default::default(),
         }))
     }
 
@@ -357,16 +375,39 @@ impl SearchBar {
     }
 
     fn update(&self, f: impl FnOnce(&mut SearchTally)) {
-        if let Ok(mut t) = self.tally.lock() {
-            f(&mut t);
-            self.bar.set_message(t.words(&self.param));
+        let Ok(mut t) = self.tally.lock() else {
+            return;
+        };
+        f(&mut t);
+        match &self.bar {
+            Some(bar) => bar.set_message(t.words(&self.param)),
+            None => {
+                let Ok(mut last) = self.last_line.lock() else {
+                    return;
+                };
+                let due = match *last {
+                    None => self.started.elapsed() >= PLAIN_AFTER,
+                    Some(at) => at.elapsed() >= PLAIN_EVERY,
+                };
+                if due {
+                    *last = Some(std::time::Instant::now());
+                    eprintln!(
+                        "squeal {}: {} after {}",
+                        self.what,
+                        t.words(&self.param),
+                        short_duration(self.started.elapsed().as_secs_f64())
+                    );
+                }
+            }
         }
     }
 }
 
 impl Drop for SearchBar {
     fn drop(&mut self) {
-        self.bar.finish_and_clear();
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
     }
 }
 
