@@ -436,12 +436,21 @@ impl Physical {
         }
     }
 
-    /// Refuses a system whose scales or nondimensional numbers `p` are not representable
-    /// (infinite, or 0 from nonzero keys), naming the key they come from: `m = k = 1e308`
-    /// has a critical damping `2 sqrt(m k)` of `inf`.
-    fn check_derived(&self, p: &Params) -> Result<(), CoreError> {
+    /// Refuses a system whose scales are not representable (infinite, or 0 from nonzero
+    /// keys), naming the key they come from: `m = k = 1e308` has a critical damping
+    /// `2 sqrt(m k)` of `inf`, and a clamped `m = 1e-308` an acceleration `N / m` of `inf`.
+    fn check_scales(&self) -> Result<(), CoreError> {
         let s = self.scales();
         let fine = |x: f64| x.is_finite() && x > 0.0;
+        if let Load::NormalForce(_) = self.load {
+            if !fine(self.load_acceleration()) {
+                return CoreError::invalid(
+                    "m",
+                    self.m,
+                    "a mass whose ratio N / m to the normal force is finite and nonzero in f64",
+                );
+            }
+        }
         let (force_key, force_value) = self.force_key();
         for (value, key, given, expected) in [
             (
@@ -476,13 +485,24 @@ impl Physical {
                 "a value whose velocity unit mu_k N / sqrt(m k) (N / sqrt(m k) for a measured \
                  curve) is finite and nonzero in f64",
             ),
-            (
-                p.lambda,
-                "lambda",
-                p.lambda,
-                "a belt speed lambda = v_belt sqrt(m k) / (mu_k N) finite and nonzero in f64",
-            ),
         ] {
+            if !fine(value) {
+                return CoreError::invalid(key, given, expected);
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses nondimensional numbers `p` that are not representable (infinite, or 0 from
+    /// nonzero keys), naming the key they come from.
+    fn check_derived(&self, p: &Params) -> Result<(), CoreError> {
+        let fine = |x: f64| x.is_finite() && x > 0.0;
+        for (value, key, given, expected) in [(
+            p.lambda,
+            "lambda",
+            p.lambda,
+            "a belt speed lambda = v_belt sqrt(m k) / (mu_k N) finite and nonzero in f64",
+        )] {
             if !fine(value) {
                 return CoreError::invalid(key, given, expected);
             }
@@ -509,6 +529,8 @@ impl Physical {
     /// The nondimensional parameters (paper Section 4), validated.
     pub fn params(&self, law: FrictionLaw) -> Result<Params, CoreError> {
         self.validate()?;
+        // The scales first: a measured curve is divided by the velocity unit.
+        self.check_scales()?;
         let p = self.nondimensional(law)?;
         self.check_derived(&p)?;
         p.validate()?;
@@ -905,6 +927,26 @@ mod tests {
             .params(FrictionLaw::McMillan)
             .unwrap_err();
         assert_eq!(e.key(), Some("nu"), "{e}");
+    }
+
+    /// A clamped pad of mass 6.6e-309 kg (found by the shipped-spec mutation test on
+    /// `scans/brake-curve.toml`): `N / m = 1500 / 6.6e-309` is `inf` in f64, so the velocity
+    /// unit was `inf`, every slip speed of the curve 0, and the refusal named the curve's
+    /// rows. It names `m`.
+    #[test]
+    fn a_mass_too_small_for_the_clamp_force_is_named() {
+        let pad = Physical {
+            m: 6.58514077742547e-309,
+            k: 2e5,
+            c: 20.0,
+            v_belt: 0.3,
+            friction: FrictionSi::Table {
+                friction_table: pad_curve(),
+            },
+            load: Load::NormalForce(1500.0),
+        };
+        let e = pad.params(FrictionLaw::Table).unwrap_err();
+        assert_eq!(e.key(), Some("m"), "{e}");
     }
 
     /// A pad's measured curve in SI: mu falls from 0.48 at rest to 0.36 at 1 m/s (rows in
