@@ -574,11 +574,21 @@ impl Physical {
     /// The measured curve `t` (slip speed in m/s) in the model's units: every slip speed
     /// divided by the velocity unit `N / sqrt(m k)`, every `mu` as measured (the law is
     /// written in the normal load, so its force unit is `N`: MODEL.md section 8). A curve
-    /// whose speeds no f64 holds in those units is refused as its rows are, by row.
+    /// whose speeds no f64 holds in those units (infinite, or rows that collapse onto one
+    /// speed) is refused naming the key of the velocity unit's force (`normal_force`, `g`):
+    /// the curve's own rows were checked when it was read.
     pub fn table_in_units(&self, t: &FrictionTable) -> Result<&'static FrictionTable, CoreError> {
         let unit = self.scales().velocity;
         let rows: Vec<(f64, f64)> = t.rows().into_iter().map(|(s, mu)| (s / unit, mu)).collect();
-        FrictionTable::new(&rows)
+        FrictionTable::new(&rows).or_else(|_| {
+            let (key, value) = self.force_key();
+            CoreError::invalid(
+                key,
+                value,
+                "a value whose velocity unit N / sqrt(m k) keeps the measured curve's slip \
+                 speeds finite and distinct in f64",
+            )
+        })
     }
 
     /// The physical system with mass, stiffness, `mu_k` and load taken from `base` whose
@@ -947,6 +957,25 @@ mod tests {
         };
         let e = pad.params(FrictionLaw::Table).unwrap_err();
         assert_eq!(e.key(), Some("m"), "{e}");
+    }
+
+    /// A clamp force of 4.1e-311 N (found by the same test): the velocity unit `N / sqrt(m
+    /// k)` is 1e-313, a subnormal f64, and the curve's speeds divided by it are `inf`. The
+    /// refusal named the curve's rows; it names `normal_force`.
+    #[test]
+    fn a_clamp_force_too_small_for_the_curve_is_named() {
+        let pad = Physical {
+            m: 0.8,
+            k: 2e5,
+            c: 20.0,
+            v_belt: 0.3,
+            friction: FrictionSi::Table {
+                friction_table: pad_curve(),
+            },
+            load: Load::NormalForce(4.1444957096256e-311),
+        };
+        let e = pad.params(FrictionLaw::Table).unwrap_err();
+        assert_eq!(e.key(), Some("normal_force"), "{e}");
     }
 
     /// A pad's measured curve in SI: mu falls from 0.48 at rest to 0.36 at 1 m/s (rows in
