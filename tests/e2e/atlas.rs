@@ -460,6 +460,7 @@ fn shards_merge_into_the_single_run_file() {
 }
 
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn resume_after_a_kill_gives_the_same_file() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("grid.toml"), GRID).unwrap();
@@ -573,6 +574,7 @@ fn str_attr(p: &Path, ds: Option<&str>, name: &str) -> String {
 }
 
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn maps_are_stored_over_the_parameters_with_the_cell_schema() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("maps.toml"), MAPS).unwrap();

@@ -762,6 +762,7 @@ const BRAKE: [&str; 14] = [
 ];
 
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn physical_flags_give_si_answers() {
     let d = tmp();
     let mut args = vec!["critical"];

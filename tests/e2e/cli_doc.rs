@@ -260,6 +260,7 @@ fn shown_with_output() -> Vec<(Vec<String>, Vec<String>)> {
 /// Each output line the README shows must be printed, in the order shown (stdout and
 /// stderr together); a line ending in ` ...` is the start of a printed line.
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn the_readme_tour_prints_what_it_shows() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let shown = shown_with_output();

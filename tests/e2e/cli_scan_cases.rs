@@ -68,6 +68,7 @@ const IN_CERTIFIED_REGION: [u8; 2] = [11, 12];
 const DECAYING_SECTION: [u8; 3] = [17, 18, 19];
 
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn a_lambda_sweep_end_to_end() {
     let dir = tempfile::tempdir().unwrap();
     // 9 x 9 cells on the paper's window, so (0, 0) (the state at rest) is a cell.

@@ -43,6 +43,7 @@ fn value_and_error(line: &str, key: &str) -> (f64, f64) {
 }
 
 #[test]
+#[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
 fn physical_atlas_summary_gives_the_fold_uncertainty_in_both_units() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("one.toml"), BRAKE).unwrap();
