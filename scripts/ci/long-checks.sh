@@ -42,6 +42,8 @@ checks=(
   "--test scanning science::early_stopping_matches_runs_to_settlement"
   # The shipped chart's folds hold the crisis computed at dt/2 and with the longer horizon.
   "--test scanning fold_crisis::the_charts_folds_hold_the_crisis_at_half_dt_and_with_the_longer_horizon"
+  # The clamped brake's fold the same however it is asked for (atlas, critical --fold, c or nu).
+  "--test scanning fold_crisis::the_brakes_fold_agrees_however_it_is_asked_for"
   # The default step's figures within 0.1% of their dt -> 0 limits.
   "--test scanning accuracy::default_step_is_within_a_tenth_of_a_percent"
   # The end-to-end runs slowest in the quick suite (each a minute or more on 2 cores): the
