@@ -37,15 +37,20 @@ fn process_cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
-/// The share of a core the calling thread got since it was started: its CPU time over the
-/// wall time, where the system tells the CPU time (Linux: `/proc/thread-self/schedstat`,
-/// nanoseconds, updated at scheduler ticks, so read only over spans of 0.2 s or more); 1
-/// otherwise. The pilot times its work on the wall clock and scales it by this share, so a
-/// busy machine does not inflate the estimate: the estimate is the time on free cores (on a
-/// shared machine the wall clock is longer, by a factor no estimate can know).
+/// The share of a core the calling thread got since it was started, over the spans it
+/// worked itself: its CPU time over the wall time, where the system tells the CPU time
+/// (Linux: `/proc/thread-self/schedstat`, nanoseconds, updated at scheduler ticks, so read
+/// only over spans of 0.2 s or more); 1 otherwise. The pilot times its work on the wall
+/// clock and scales it by this share, so a busy machine does not inflate the estimate: the
+/// estimate is the time on free cores (on a shared machine the wall clock is longer, by a
+/// factor no estimate can know). Spans where the thread waits for the pool (a map's
+/// preparation runs its census there) are left out ([`CoreShare::excluding`]): waiting is
+/// not load, and counted it made an idle machine look busy.
 struct CoreShare {
     wall: Instant,
     cpu: Option<f64>,
+    /// Wall and CPU seconds of the spans left out.
+    excluded: std::cell::Cell<(f64, f64)>,
 }
 
 impl CoreShare {
@@ -57,14 +62,29 @@ impl CoreShare {
         CoreShare {
             wall: Instant::now(),
             cpu: Self::cpu_now(),
+            excluded: std::cell::Cell::new((0.0, 0.0)),
         }
+    }
+
+    /// Runs `work`, leaving its span out of the share.
+    fn excluding<T>(&self, work: impl FnOnce() -> T) -> T {
+        let (t, cpu0) = (Instant::now(), Self::cpu_now());
+        let out = work();
+        let cpu = match (cpu0, Self::cpu_now()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
+        let (w, c) = self.excluded.get();
+        self.excluded.set((w + t.elapsed().as_secs_f64(), c + cpu));
+        out
     }
 
     /// The share so far, in [0.05, 1].
     fn share(&self) -> f64 {
-        let wall = self.wall.elapsed().as_secs_f64();
+        let (ex_wall, ex_cpu) = self.excluded.get();
+        let wall = self.wall.elapsed().as_secs_f64() - ex_wall;
         match (self.cpu, Self::cpu_now()) {
-            (Some(a), Some(b)) if wall >= 0.2 => ((b - a) / wall).clamp(0.05, 1.0),
+            (Some(a), Some(b)) if wall >= 0.2 => ((b - a - ex_cpu) / wall).clamp(0.05, 1.0),
             _ => 1.0,
         }
     }
@@ -329,7 +349,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         if !costs.is_empty() && t0.elapsed() >= 2 * PILOT_BUDGET {
             break;
         }
-        costs.push(measure(plan, m, cells, budget, &audited)?);
+        costs.push(measure(plan, m, cells, budget, &audited, &core)?);
     }
     while costs.len() < 2 * PILOT_MAPS && t0.elapsed() < 2 * PILOT_BUDGET {
         let per_cell = |c: &MapCost| c.per_cell(audited.len(), per_map);
@@ -344,7 +364,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
             .max_by(|a, b| a.0.total_cmp(&b.0));
         let Some((_, mid)) = jump else { break };
         let at = costs.partition_point(|c| c.map < mid);
-        costs.insert(at, measure(plan, mid, cells, budget, &audited)?);
+        costs.insert(at, measure(plan, mid, cells, budget, &audited, &core)?);
     }
     let share = core.share();
     for c in &mut costs {
@@ -378,20 +398,21 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
 
 /// Prepares map `map` as the scan does and classifies a spread sample of up to `cells` of
 /// its cells with the scan's own rule, within `budget` (at least one cell), then times its
-/// audit ([`audit_seconds`]).
+/// audit ([`audit_seconds`]). The preparation is left out of `core`'s share.
 fn measure(
     plan: &Plan,
     map: usize,
     cells: usize,
     budget: Duration,
     audited: &[usize],
+    core: &CoreShare,
 ) -> Result<MapCost, ScanError> {
     // The preparation runs its census (crate::census) on the whole pool: its cost is the
     // process's CPU time over it (the calling thread mostly waits), taken as seconds of one
     // thread; the wall clock where the system tells no CPU time.
     let t = Instant::now();
     let cpu0 = process_cpu_seconds();
-    let ctx = MapContext::prepare(plan, map)?;
+    let ctx = core.excluding(|| MapContext::prepare(plan, map))?;
     let prepare = match (cpu0, process_cpu_seconds()) {
         // Ticks of 1/100 s: a preparation shorter than one may read 0; the wall clock then.
         (Some(a), Some(b)) if b > a => b - a,
@@ -601,6 +622,37 @@ pub fn bounded_atlas_pilot(plan: &AtlasPlan) -> Result<Option<AtlasEstimate>, Sc
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A thread that waits (for the pool, here asleep) is not a thread that gets less of a
+    /// core: the same 0.3 s of spinning after 0.3 s of waiting, with the wait left out and
+    /// with it counted. Counted, the wait holds no CPU time and halves the share (the
+    /// pilot's census wait made an idle machine read "5% of a core" on fig9); left out, the
+    /// share is the spin's. At the floor of 0.05 (a machine too busy to spin) both read it.
+    #[test]
+    fn waiting_is_left_out_of_the_core_share() {
+        let spin = |d: Duration| {
+            let t = Instant::now();
+            let mut x = 0u64;
+            while t.elapsed() < d {
+                x = std::hint::black_box(x.wrapping_add(1));
+            }
+        };
+        // A fresh thread's clock reads 0 (unknown) until the scheduler has counted it.
+        spin(Duration::from_millis(50));
+        if thread_cpu_seconds().is_none() {
+            return; // No CPU clock: the share is 1 by definition.
+        }
+        let wait = Duration::from_millis(300);
+        let left_out = CoreShare::start();
+        left_out.excluding(|| std::thread::sleep(wait));
+        spin(wait);
+        let a = left_out.share();
+        let counted = CoreShare::start();
+        std::thread::sleep(wait);
+        spin(wait);
+        let b = counted.share();
+        assert!(a > 1.5 * b || a <= 0.1, "left out {a}, counted {b}");
+    }
 
     fn cost(map: usize, prepare: f64, cell: f64, audit: f64) -> MapCost {
         MapCost {
