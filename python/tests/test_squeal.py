@@ -4,8 +4,8 @@ Rust program): scan files, bSTAB's basin stability, spec errors and interruption
 Run by scripts/ci/test-python.sh in a fresh venv with the wheel installed and no Rust."""
 
 import json
-import re
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -254,6 +254,32 @@ def test_ulc_and_critical_return_dataclasses_with_the_cli_values(tmp_path):
     assert f.value == json.loads(r.stdout)["v_d"]
     with pytest.raises(ValueError, match="raise it"):
         squeal.critical(law="stribeck", parameter="v_d", fold=True, bracket=(0.5, 0.6))
+
+
+@pytest.mark.parametrize(
+    "call, keyword",
+    [
+        # The wrong answers found on 48d225a, where the command line refuses the flag:
+        # critical(rtol=nan) answered 0.00707 after 2 evaluations (the CLI's is 0.00302),
+        # ulc(r_max=nan/-1/1e300) reported no cycle "up to r = NaN" (it is at r = 2.09),
+        # ulc(rtol=1), critical(rtol=-1) (200 bisection steps), critical(x0=1e300) and the
+        # fold with rtol=5 ran.
+        (lambda: squeal.critical(law="mcmillan", rtol=float("nan")), "rtol"),
+        (lambda: squeal.ulc(law="mcmillan", nu=1e-2, r_max=float("nan")), "r_max"),
+        (lambda: squeal.ulc(law="mcmillan", nu=1e-2, r_max=-1.0), "r_max"),
+        (lambda: squeal.ulc(law="mcmillan", nu=1e-2, r_max=1e300), "r_max"),
+        (lambda: squeal.ulc(law="mcmillan", nu=1e-2, rtol=1.0), "rtol"),
+        (lambda: squeal.critical(law="mcmillan", rtol=-1.0), "rtol"),
+        (lambda: squeal.critical(law="mcmillan", x0=1e300), "x0"),
+        (lambda: squeal.critical(law="mcmillan", fold=True, rtol=5.0), "rtol"),
+    ],
+)
+def test_keywords_the_command_line_refuses_are_refused_by_name(call, keyword):
+    with pytest.raises(ValueError) as e:
+        call()
+    msg = str(e.value)
+    # Named as the Python keyword, not as the command line's flag.
+    assert re.search(rf"\b{keyword}\b", msg) and "--" not in msg, msg
 
 
 def test_trajectory_is_a_dataset_over_time_with_the_cli_verdict(tmp_path):
