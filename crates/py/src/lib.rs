@@ -10,8 +10,8 @@
 //!   handlers. A `KeyboardInterrupt` (Ctrl-C) sets the run's stop flag; the blocks in
 //!   flight are journalled, the exception is raised, and `resume=True` finishes the run.
 //! * Bad input raises `ValueError` with the command line's message (`error: ...` there).
-//! * [`cli`] runs the `squeal` command line itself (`src/main.rs`, compiled into this
-//!   module), so the wheel's `squeal` command is the same program as the Rust binary.
+//! * [`cli`] runs the `squeal` command line itself ([`squeal_cli::run_from`]), so the
+//!   wheel's `squeal` command is the same program as the Rust binary.
 //!
 //! The library's entry points it uses, and nothing below them (they are the library's
 //! public face for other programs too): [`Plan::from_toml`] / [`Plan::from_file`],
@@ -51,13 +51,8 @@ use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{CycleSettings, critical_nu, locate};
 use squeal_scan::{NoObserver, Plan};
 use squeal_store::atlas::AtlasWriter;
+use squeal_scan::DriveError;
 use squeal_store::{Provenance, ScanWriter, StoreError};
-
-/// The command line, compiled into this module for the `squeal` command ([`cli`]); only
-/// its `run_from` is used here.
-#[allow(dead_code)]
-#[path = "../../../src/main.rs"]
-mod command_line;
 
 mod run;
 pub use run::trajectory;
@@ -92,12 +87,10 @@ fn store_error(e: StoreError) -> PyErr {
     }
 }
 
-/// What produced a file: this version and the git revision it was built from.
+/// What produced a file: this version and the git revision it was built from, as the
+/// command line records them.
 fn provenance() -> Provenance {
-    Provenance {
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        git_revision: env!("SQUEAL_GIT_REV").to_string(),
-    }
+    squeal_cli::provenance()
 }
 
 /// Runs `work` on a scoped thread while this thread holds no GIL, running Python's signal
@@ -199,15 +192,15 @@ pub fn scan(
         squeal_scan::drive(&plan, None, &mut writer, &NoObserver, &stop)
     })?;
     let report = report.map_err(|e| match e {
-        squeal_scan::DriveError::Scan(e) => value_error(e),
-        squeal_scan::DriveError::Sink(e) => store_error(e),
+        DriveError::Scan(e) => value_error(e),
+        DriveError::Sink(e) => store_error(e),
     })?;
     // The audit acts before the file is written, as `squeal scan` makes it (issue 31).
     if !report.interrupted {
         py.detach(|| squeal_scan::redo::act_on_audits(&plan, None, &mut writer))
             .map_err(|e| match e {
-                squeal_scan::DriveError::Scan(e) => value_error(e),
-                squeal_scan::DriveError::Sink(e) => store_error(e),
+                DriveError::Scan(e) => value_error(e),
+                DriveError::Sink(e) => store_error(e),
             })?;
     }
     let landscapes = py
@@ -445,7 +438,7 @@ pub fn boundary(
 /// exit status (the `squeal` command of the wheel).
 #[pyfunction]
 pub fn cli(argv: Vec<String>) -> u8 {
-    let code = command_line::run_from(argv);
+    let code = squeal_cli::run_from(argv);
     let _ = std::io::stdout().flush();
     (0..=255u8)
         .find(|&n| ExitCode::from(n) == code)
