@@ -5,14 +5,19 @@
 //! prints reports. [`run_from`] runs it: the `squeal` binary (the root package's
 //! `src/main.rs`) with the process's arguments, the Python package's `squeal` command with
 //! its own. The library API the Python package shares with the command line:
-//! [`provenance`], what both record in the files they write.
+//! [`provenance`], what both record in the files they write, and [`run_atlas`], which
+//! computes what an atlas file is missing; [`words`], each door's words for what the
+//! library's refusals advise.
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod atlas_run;
 mod cmd;
+pub mod words;
 
+pub use atlas_run::{AtlasRunError, run_atlas};
 pub use cmd::common::provenance;
 
 /// Basins of attraction of McMillan's friction oscillator: steady slip or stick-slip squeal.
@@ -74,7 +79,7 @@ where
     match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", words::message(&e, &words::Flags));
             ExitCode::from(2)
         }
     }

@@ -18,7 +18,7 @@
 //! [`AtlasPlan::from_toml`] / [`AtlasPlan::from_file`], [`ScanWriter::create`] /
 //! [`ScanWriter::resume`] / [`ScanWriter::finish`] with [`squeal_scan::drive`],
 //! [`AtlasWriter::create`] / [`AtlasWriter::resume`] / [`AtlasWriter::finish`] with
-//! [`squeal_store::run_atlas`], [`squeal_scan::ulc::locate`],
+//! [`squeal_cli::run_atlas`], [`squeal_scan::ulc::locate`],
 //! [`squeal_scan::ulc::critical_nu`], [`squeal_scan::atlas::boundary::both_in`], and for a trajectory [`squeal_core::Stepper`],
 //! [`squeal_core::Run`], [`squeal_core::Classifier::watch`] and
 //! [`squeal_store::write_trajectory`].
@@ -51,6 +51,8 @@ use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{CycleSettings, critical_nu, locate};
 use squeal_scan::{NoObserver, Plan};
 use squeal_store::atlas::AtlasWriter;
+use squeal_cli::AtlasRunError;
+use squeal_cli::words::{Keywords, store_message};
 use squeal_scan::DriveError;
 use squeal_store::{Provenance, ScanWriter, StoreError};
 
@@ -71,19 +73,18 @@ fn value_error(e: impl Into<anyhow::Error>) -> PyErr {
 }
 
 /// A store error: a bad request (`ValueError`: the output exists, an interrupted run is
-/// there, nothing to resume, ...) or a failing file system (`OSError`), in Python's words:
-/// the keyword arguments `force=True` and `resume=True` where the command line's message
-/// names its flags.
+/// there, nothing to resume, ...) or a failing file system (`OSError`), in Python's words
+/// ([`squeal_cli::words::Keywords`]: `force=True` where the command line says `--force`).
 fn store_error(e: StoreError) -> PyErr {
-    let python_words = |m: String| {
-        m.replace("--force", "force=True")
-            .replace("--resume", "resume=True")
-    };
+    store_error_after("", e)
+}
+
+/// [`store_error`] with `before` said first (what failed).
+fn store_error_after(before: &str, e: StoreError) -> PyErr {
+    let m = format!("{before}{}", store_message(&e, &Keywords));
     match e {
-        StoreError::Io { .. } | StoreError::Hdf5 { .. } => {
-            PyOSError::new_err(python_words(message(e)))
-        }
-        e => PyValueError::new_err(python_words(message(e))),
+        StoreError::Io { .. } | StoreError::Hdf5 { .. } => PyOSError::new_err(m),
+        _ => PyValueError::new_err(m),
     }
 }
 
@@ -245,10 +246,11 @@ pub fn atlas(
     let todo = writer.missing().len() + writer.missing_blocks().len();
     let stop = AtomicBool::new(false);
     let (writer, left) = interruptible(py, &stop, || {
-        squeal_store::run_atlas(&plan, None, writer, &stop, &|| {}, &NoObserver)
+        squeal_cli::run_atlas(&plan, None, writer, &stop, &|| {}, &NoObserver)
     })?
     .map_err(|e| match e {
-        squeal_store::AtlasRunError::Store(e) => store_error(e),
+        AtlasRunError::Store(e) => store_error(e),
+        AtlasRunError::Maps(DriveError::Sink(e)) => store_error_after("basin maps: ", e),
         e => value_error(e),
     })?;
     if left > 0 {
