@@ -25,7 +25,10 @@ impl Words for Flags {
         }
     }
     fn show(&self, path: &Path) -> Option<String> {
-        Some(format!("draw its picture with: squeal render {}", path.display()))
+        Some(format!(
+            "draw its picture with: squeal render {}",
+            path.display()
+        ))
     }
 }
 
@@ -43,7 +46,10 @@ impl Words for Keywords {
         }
     }
     fn show(&self, path: &Path) -> Option<String> {
-        Some(format!("open it with: squeal.open({:?})", path.display().to_string()))
+        Some(format!(
+            "open it with: squeal.open({:?})",
+            path.display().to_string()
+        ))
     }
 }
 
@@ -130,13 +136,18 @@ mod tests {
         );
         assert_eq!(
             e.to_string(),
-            format!("{head}use the force option to overwrite it, or another path for another output")
+            format!(
+                "{head}use the force option to overwrite it, or another path for another output"
+            )
         );
         let e = StoreError::Interrupted {
             path: PathBuf::from("out.h5.journal"),
         };
         let head = "an interrupted scan is there (out.h5.journal): ";
-        assert_eq!(e.worded(&Flags), format!("{head}use --resume, or --force to start over"));
+        assert_eq!(
+            e.worded(&Flags),
+            format!("{head}use --resume, or --force to start over")
+        );
         assert_eq!(
             e.worded(&Keywords),
             format!("{head}use resume=True, or force=True to start over")
@@ -148,8 +159,14 @@ mod tests {
         for e in refusals() {
             let (flags, keywords, plain) = (e.worded(&Flags), e.worded(&Keywords), e.to_string());
             assert_eq!(plain, e.worded(&Plain));
-            assert!(flags.contains("--force") && !flags.contains("=True"), "{flags}");
-            assert!(keywords.contains("force=True") && !keywords.contains("--"), "{keywords}");
+            assert!(
+                flags.contains("--force") && !flags.contains("=True"),
+                "{flags}"
+            );
+            assert!(
+                keywords.contains("force=True") && !keywords.contains("--"),
+                "{keywords}"
+            );
             assert!(!plain.contains("--") && !plain.contains("=True"), "{plain}");
         }
     }
@@ -160,7 +177,9 @@ mod tests {
         let e = anyhow::Error::new(StoreError::Exists {
             path: PathBuf::from("out.h5"),
         });
-        let e = Err::<(), _>(e).context("cannot start the scan").unwrap_err();
+        let e = Err::<(), _>(e)
+            .context("cannot start the scan")
+            .unwrap_err();
         assert_eq!(
             message(&e, &Flags),
             "cannot start the scan: refusing to overwrite out.h5: use --force"

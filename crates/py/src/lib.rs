@@ -45,15 +45,15 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
+use squeal_cli::AtlasRunError;
+use squeal_cli::words::{Keywords, store_message};
 use squeal_core::{Setup, State};
+use squeal_scan::DriveError;
 use squeal_scan::atlas::AtlasPlan;
 use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{CycleSettings, critical_nu, locate};
 use squeal_scan::{NoObserver, Plan};
 use squeal_store::atlas::AtlasWriter;
-use squeal_cli::AtlasRunError;
-use squeal_cli::words::{Keywords, store_message};
-use squeal_scan::DriveError;
 use squeal_store::{Provenance, ScanWriter, StoreError};
 
 mod run;

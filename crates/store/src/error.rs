@@ -321,7 +321,10 @@ impl StoreError {
             ),
             AlreadyComplete { path } => {
                 let show = w.show(path).map_or_else(String::new, |s| format!(" ({s})"));
-                format!("{} is already complete: nothing to resume{show}", path.display())
+                format!(
+                    "{} is already complete: nothing to resume{show}",
+                    path.display()
+                )
             }
             NotSquealFile { path, why, advice } => format!(
                 "{} is not a squeal file: {why}{}",

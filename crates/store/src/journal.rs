@@ -485,14 +485,13 @@ impl Journal {
         file.read_to_end(&mut bytes)
             .map_err(io(path, "cannot read the journal"))?;
         let (mut recs, at, damage) = scan(&bytes);
-        let header =
-            read_header(&bytes, &recs, owner).map_err(|(why, advice)| {
-                StoreError::NotSquealFile {
-                    path: path.to_path_buf(),
-                    why,
-                    advice,
-                }
-            })?;
+        let header = read_header(&bytes, &recs, owner).map_err(|(why, advice)| {
+            StoreError::NotSquealFile {
+                path: path.to_path_buf(),
+                why,
+                advice,
+            }
+        })?;
         if (at as u64) < bytes.len() as u64 {
             // A torn last record: drop it so appends continue from a clean end.
             file.set_len(at as u64)
@@ -619,7 +618,11 @@ fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, Unusa
     let found = match first.kind {
         KIND_HEADER => Owner::Scan,
         KIND_ATLAS_HEADER => Owner::Atlas,
-        _ => return Err(plain("the journal does not start with a header record".into())),
+        _ => {
+            return Err(plain(
+                "the journal does not start with a header record".into(),
+            ));
+        }
     };
     if found != owner {
         return Err(plain(format!(
