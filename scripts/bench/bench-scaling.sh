@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # How squeal scales with the threads (issue 35): each shape run at 1, 2, ... N threads
 # (N = nproc; --threads LIST to choose), with the phase times the binary itself prints under
-# SQUEAL_TIMINGS=1 (src/cmd/timings.rs: a scan's start, cells, prepare, sink, redo, finish,
+# SQUEAL_TIMINGS=1 (crates/cli/src/cmd/timings.rs: a scan's start, cells, prepare, sink, redo, finish,
 # picture; an atlas's start, units, maps, finish, picture). Prints each run's wall time and
 # phases, each shape's phase shares at 1 thread, the serial fraction f from the 1- and
 # N-thread wall times (Amdahl: speed-up S = T1/TN, f = (N/S - 1)/(N - 1)), and the speed-up

@@ -10,15 +10,15 @@
 //!   handlers. A `KeyboardInterrupt` (Ctrl-C) sets the run's stop flag; the blocks in
 //!   flight are journalled, the exception is raised, and `resume=True` finishes the run.
 //! * Bad input raises `ValueError` with the command line's message (`error: ...` there).
-//! * [`cli`] runs the `squeal` command line itself (`src/main.rs`, compiled into this
-//!   module), so the wheel's `squeal` command is the same program as the Rust binary.
+//! * [`cli`] runs the `squeal` command line itself ([`squeal_cli::run_from`]), so the
+//!   wheel's `squeal` command is the same program as the Rust binary.
 //!
 //! The library's entry points it uses, and nothing below them (they are the library's
 //! public face for other programs too): [`Plan::from_toml`] / [`Plan::from_file`],
 //! [`AtlasPlan::from_toml`] / [`AtlasPlan::from_file`], [`ScanWriter::create`] /
 //! [`ScanWriter::resume`] / [`ScanWriter::finish`] with [`squeal_scan::drive`],
 //! [`AtlasWriter::create`] / [`AtlasWriter::resume`] / [`AtlasWriter::finish`] with
-//! [`squeal_store::run_atlas`], [`squeal_scan::ulc::locate`],
+//! [`squeal_cli::run_atlas`], [`squeal_scan::ulc::locate`],
 //! [`squeal_scan::ulc::critical_nu`], [`squeal_scan::atlas::boundary::both_in`], and for a trajectory [`squeal_core::Stepper`],
 //! [`squeal_core::Run`], [`squeal_core::Classifier::watch`] and
 //! [`squeal_store::write_trajectory`].
@@ -45,19 +45,16 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
+use squeal_cli::AtlasRunError;
+use squeal_cli::words::{Keywords, store_message};
 use squeal_core::{Setup, State};
+use squeal_scan::DriveError;
 use squeal_scan::atlas::AtlasPlan;
 use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{CycleSettings, critical_nu, locate};
 use squeal_scan::{NoObserver, Plan};
 use squeal_store::atlas::AtlasWriter;
 use squeal_store::{Provenance, ScanWriter, StoreError};
-
-/// The command line, compiled into this module for the `squeal` command ([`cli`]); only
-/// its `run_from` is used here.
-#[allow(dead_code)]
-#[path = "../../../src/main.rs"]
-mod command_line;
 
 mod run;
 pub use run::trajectory;
@@ -76,28 +73,25 @@ fn value_error(e: impl Into<anyhow::Error>) -> PyErr {
 }
 
 /// A store error: a bad request (`ValueError`: the output exists, an interrupted run is
-/// there, nothing to resume, ...) or a failing file system (`OSError`), in Python's words:
-/// the keyword arguments `force=True` and `resume=True` where the command line's message
-/// names its flags.
+/// there, nothing to resume, ...) or a failing file system (`OSError`), in Python's words
+/// ([`squeal_cli::words::Keywords`]: `force=True` where the command line says `--force`).
 fn store_error(e: StoreError) -> PyErr {
-    let python_words = |m: String| {
-        m.replace("--force", "force=True")
-            .replace("--resume", "resume=True")
-    };
+    store_error_after("", e)
+}
+
+/// [`store_error`] with `before` said first (what failed).
+fn store_error_after(before: &str, e: StoreError) -> PyErr {
+    let m = format!("{before}{}", store_message(&e, &Keywords));
     match e {
-        StoreError::Io { .. } | StoreError::Hdf5 { .. } => {
-            PyOSError::new_err(python_words(message(e)))
-        }
-        e => PyValueError::new_err(python_words(message(e))),
+        StoreError::Io { .. } | StoreError::Hdf5 { .. } => PyOSError::new_err(m),
+        _ => PyValueError::new_err(m),
     }
 }
 
-/// What produced a file: this version and the git revision it was built from.
+/// What produced a file: this version and the git revision it was built from, as the
+/// command line records them.
 fn provenance() -> Provenance {
-    Provenance {
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        git_revision: env!("SQUEAL_GIT_REV").to_string(),
-    }
+    squeal_cli::provenance()
 }
 
 /// Runs `work` on a scoped thread while this thread holds no GIL, running Python's signal
@@ -199,15 +193,15 @@ pub fn scan(
         squeal_scan::drive(&plan, None, &mut writer, &NoObserver, &stop)
     })?;
     let report = report.map_err(|e| match e {
-        squeal_scan::DriveError::Scan(e) => value_error(e),
-        squeal_scan::DriveError::Sink(e) => store_error(e),
+        DriveError::Scan(e) => value_error(e),
+        DriveError::Sink(e) => store_error(e),
     })?;
     // The audit acts before the file is written, as `squeal scan` makes it (issue 31).
     if !report.interrupted {
         py.detach(|| squeal_scan::redo::act_on_audits(&plan, None, &mut writer))
             .map_err(|e| match e {
-                squeal_scan::DriveError::Scan(e) => value_error(e),
-                squeal_scan::DriveError::Sink(e) => store_error(e),
+                DriveError::Scan(e) => value_error(e),
+                DriveError::Sink(e) => store_error(e),
             })?;
     }
     let landscapes = py
@@ -252,10 +246,11 @@ pub fn atlas(
     let todo = writer.missing().len() + writer.missing_blocks().len();
     let stop = AtomicBool::new(false);
     let (writer, left) = interruptible(py, &stop, || {
-        squeal_store::run_atlas(&plan, None, writer, &stop, &|| {}, &NoObserver)
+        squeal_cli::run_atlas(&plan, None, writer, &stop, &|| {}, &NoObserver)
     })?
     .map_err(|e| match e {
-        squeal_store::AtlasRunError::Store(e) => store_error(e),
+        AtlasRunError::Store(e) => store_error(e),
+        AtlasRunError::Maps(DriveError::Sink(e)) => store_error_after("basin maps: ", e),
         e => value_error(e),
     })?;
     if left > 0 {
@@ -445,7 +440,7 @@ pub fn boundary(
 /// exit status (the `squeal` command of the wheel).
 #[pyfunction]
 pub fn cli(argv: Vec<String>) -> u8 {
-    let code = command_line::run_from(argv);
+    let code = squeal_cli::run_from(argv);
     let _ = std::io::stdout().flush();
     (0..=255u8)
         .find(|&n| ExitCode::from(n) == code)

@@ -237,20 +237,22 @@ impl AtlasWriter {
         let mismatch = |why: &str| StoreError::SpecMismatch {
             path: path.clone(),
             why: why.to_string(),
+            advice: None,
         };
         // As a scan's: what the spec means, not its bytes (a comment edit does not block a
         // resume); the file then records the spec text the atlas started with.
         let plan = &crate::output::started_plan(&path, &header, plan, &plan.spec_text)?;
         if header.shard != shard.map(|s| s.to_string()).unwrap_or_default() {
-            return Err(mismatch("different --shard"));
+            return Err(mismatch("different shard"));
         }
         let mut results = AtlasResults::new(plan);
         for r in recs {
             let payload = journal.read(&r)?;
-            record::add_record(plan, &mut results, r.kind, &payload).map_err(|why| {
+            record::add_record(plan, &mut results, r.kind, &payload).map_err(|(why, advice)| {
                 StoreError::NotSquealFile {
                     path: path.clone(),
                     why,
+                    advice,
                 }
             })?;
         }

@@ -1,31 +1,113 @@
-//! The store's errors: each names the file and what is wrong with it.
+//! The store's errors: each names the file and what is wrong with it, and a refusal what
+//! the user can ask for instead as data ([`Advice`], made of [`Remedy`]s). The library's
+//! own message ([`std::fmt::Display`]) says the remedies in plain words ([`Plain`]); each
+//! door into squeal says them in its own ([`StoreError::worded`] with its [`Words`]): the
+//! command line as its flags, the Python package as its keyword arguments.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// Something a user can ask of a run instead of what was refused; each door names it
+/// ([`Words::remedy`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Remedy {
+    /// Overwrite the output, or start an interrupted run over (`--force`).
+    Force,
+    /// Continue the interrupted run (`--resume`).
+    Resume,
+    /// Write to another output (`-o`).
+    OtherOutput,
+}
+
+/// What a refusal advises, as data: the sentence is made in a door's [`Words`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Advice {
+    /// Overwrite the output.
+    Force,
+    /// Overwrite the output, or write another.
+    ForceOrOtherOutput,
+    /// Continue the interrupted run, or start it over.
+    ResumeOrForce,
+    /// Start the run over (the journal's records are not used).
+    StartOver,
+    /// Restore the inputs that changed, or start the run over.
+    RestoreOrStartOver,
+    /// Finish the run with the version of squeal that started it, or start it over.
+    OtherVersionOrStartOver,
+}
+
+impl Advice {
+    /// The advice in the words `w` of a door.
+    pub fn worded(self, w: &dyn Words) -> String {
+        let force = w.remedy(Remedy::Force);
+        match self {
+            Advice::Force => format!("use {force}"),
+            Advice::ForceOrOtherOutput => format!(
+                "use {force} to overwrite it, or {} for another output",
+                w.remedy(Remedy::OtherOutput)
+            ),
+            Advice::ResumeOrForce => {
+                format!("use {}, or {force} to start over", w.remedy(Remedy::Resume))
+            }
+            Advice::StartOver => format!("use {force} to start over"),
+            Advice::RestoreOrStartOver => format!("restore them, or use {force} to start over"),
+            Advice::OtherVersionOrStartOver => {
+                format!("finish it with that version, or use {force} to start over")
+            }
+        }
+    }
+}
+
+/// How a door into squeal names what a user can ask for: the command line's flags
+/// (`--force`), the Python package's keyword arguments (`force=True`).
+pub trait Words {
+    /// The name of `remedy` in this door.
+    fn remedy(&self, remedy: Remedy) -> &'static str;
+    /// How a finished file `path` is looked at in this door, if it has a way to say.
+    fn show(&self, _path: &Path) -> Option<String> {
+        None
+    }
+}
+
+/// The library's own words: no door's options.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Plain;
+
+impl Words for Plain {
+    fn remedy(&self, remedy: Remedy) -> &'static str {
+        match remedy {
+            Remedy::Force => "the force option",
+            Remedy::Resume => "the resume option",
+            Remedy::OtherOutput => "another path",
+        }
+    }
+}
+
+/// `: <advice>` in the words `w`, or nothing.
+fn advised(advice: &Option<Advice>, w: &dyn Words) -> String {
+    advice.map_or_else(String::new, |a| format!(": {}", a.worded(w)))
+}
 
 /// What went wrong reading or writing a squeal file, its journal or its shards.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum StoreError {
-    /// The output exists and `--force` was not given.
-    #[error("refusing to overwrite {}: use --force", path.display())]
+    /// The output exists and overwriting it was not asked for.
+    #[error("{}", self.worded(&Plain))]
     Exists {
         /// The file.
         path: PathBuf,
     },
-    /// The output is a finished file of another spec and `--force` was not given.
-    #[error(
-        "{} exists and was made from a different spec (`{key}` differs): use --force to overwrite it, or -o for another output", path.display()
-    )]
+    /// The output is a finished file of another spec and overwriting it was not asked for.
+    #[error("{}", self.worded(&Plain))]
     OtherSpec {
         /// The file.
         path: PathBuf,
         /// The first key that differs.
         key: String,
     },
-    /// The output is not a finished file of the plan's kind and `--force` was not given.
-    #[error(
-        "{} exists and is not a finished file of this spec's kind ({why}): use --force to overwrite it, or -o for another output", path.display()
-    )]
+    /// The output is not a finished file of the plan's kind and overwriting it was not
+    /// asked for.
+    #[error("{}", self.worded(&Plain))]
     NotThisKind {
         /// The file.
         path: PathBuf,
@@ -33,7 +115,7 @@ pub enum StoreError {
         why: String,
     },
     /// A journal of an interrupted scan is next to the output.
-    #[error("an interrupted scan is there ({}): use --resume, or --force to start over", path.display())]
+    #[error("{}", self.worded(&Plain))]
     Interrupted {
         /// The journal.
         path: PathBuf,
@@ -121,7 +203,7 @@ pub enum StoreError {
         path: PathBuf,
     },
     /// Resume found a complete file and no journal.
-    #[error("{} is already complete: nothing to resume (draw its picture with: squeal render {})", path.display(), path.display())]
+    #[error("{}", self.worded(&Plain))]
     AlreadyComplete {
         /// The file.
         path: PathBuf,
@@ -133,20 +215,24 @@ pub enum StoreError {
         path: PathBuf,
     },
     /// The file is not a squeal file (not HDF5, foreign schema, bad journal...).
-    #[error("{} is not a squeal file: {why}", path.display())]
+    #[error("{}", self.worded(&Plain))]
     NotSquealFile {
         /// The file.
         path: PathBuf,
         /// What is wrong.
         why: String,
+        /// What the user can do about it (a journal that cannot be used: start over).
+        advice: Option<Advice>,
     },
     /// The journal or file belongs to another spec or shard.
-    #[error("{} belongs to a different scan: {why}", path.display())]
+    #[error("{}", self.worded(&Plain))]
     SpecMismatch {
         /// The file.
         path: PathBuf,
         /// What differs.
         why: String,
+        /// What the user can do about it (a journal of another spec: start over).
+        advice: Option<Advice>,
     },
     /// An HDF5 call failed.
     #[error("HDF5 error on {}: {msg}", path.display())]
@@ -206,6 +292,53 @@ pub enum StoreError {
         /// What is wrong.
         why: String,
     },
+}
+
+impl StoreError {
+    /// The message in the words `w` of a door into squeal: the same as the error's
+    /// [`std::fmt::Display`] (which is in [`Plain`] words) but for the remedies it advises.
+    pub fn worded(&self, w: &dyn Words) -> String {
+        use StoreError::*;
+        match self {
+            Exists { path } => {
+                let advice = Advice::Force.worded(w);
+                format!("refusing to overwrite {}: {advice}", path.display())
+            }
+            OtherSpec { path, key } => format!(
+                "{} exists and was made from a different spec (`{key}` differs): {}",
+                path.display(),
+                Advice::ForceOrOtherOutput.worded(w)
+            ),
+            NotThisKind { path, why } => format!(
+                "{} exists and is not a finished file of this spec's kind ({why}): {}",
+                path.display(),
+                Advice::ForceOrOtherOutput.worded(w)
+            ),
+            Interrupted { path } => format!(
+                "an interrupted scan is there ({}): {}",
+                path.display(),
+                Advice::ResumeOrForce.worded(w)
+            ),
+            AlreadyComplete { path } => {
+                let show = w.show(path).map_or_else(String::new, |s| format!(" ({s})"));
+                format!(
+                    "{} is already complete: nothing to resume{show}",
+                    path.display()
+                )
+            }
+            NotSquealFile { path, why, advice } => format!(
+                "{} is not a squeal file: {why}{}",
+                path.display(),
+                advised(advice, w)
+            ),
+            SpecMismatch { path, why, advice } => format!(
+                "{} belongs to a different scan: {why}{}",
+                path.display(),
+                advised(advice, w)
+            ),
+            e => e.to_string(),
+        }
+    }
 }
 
 pub(crate) trait H5Ctx<T> {

@@ -42,7 +42,7 @@ use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num, cell_bytes};
 
 use crate::StoreError;
-use crate::error::io;
+use crate::error::{Advice, io};
 
 const MAGIC: &[u8; 4] = b"SQJR";
 // 3: cells carry t_squeal (an older journal's records have another width). 4: the header
@@ -485,11 +485,13 @@ impl Journal {
         file.read_to_end(&mut bytes)
             .map_err(io(path, "cannot read the journal"))?;
         let (mut recs, at, damage) = scan(&bytes);
-        let header =
-            read_header(&bytes, &recs, owner).map_err(|why| StoreError::NotSquealFile {
+        let header = read_header(&bytes, &recs, owner).map_err(|(why, advice)| {
+            StoreError::NotSquealFile {
                 path: path.to_path_buf(),
                 why,
-            })?;
+                advice,
+            }
+        })?;
         if (at as u64) < bytes.len() as u64 {
             // A torn last record: drop it so appends continue from a clean end.
             file.set_len(at as u64)
@@ -586,55 +588,73 @@ pub(crate) fn framed(kind: u8, payload: Vec<u8>) -> Vec<u8> {
     buf
 }
 
+/// Why a journal cannot be used, and what the user can do about it.
+pub(crate) type Unusable = (String, Option<Advice>);
+
 /// The header of `owner`'s journal: the first record, which must be intact (it says which
 /// spec the records belong to).
-fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, String> {
+fn read_header(bytes: &[u8], recs: &[Rec], owner: Owner) -> Result<Header, Unusable> {
+    let plain = |why: String| (why, None);
     let first = recs.first().copied().filter(|r| r.offset == FRAME as u64);
     let Some(first) = first else {
         if bytes.first() == Some(&b'{') {
-            return Err(
-                "a JSON-lines atlas journal of an earlier squeal: finish it with that \
-                        version, or use --force to start over (its records are then discarded)"
+            return Err((
+                "a JSON-lines atlas journal of an earlier squeal (starting over discards its \
+                 records)"
                     .into(),
-            );
+                Some(Advice::OtherVersionOrStartOver),
+            ));
         }
-        return Err(format!(
-            "the journal's header record is corrupt or missing, so its {} intact later \
-             record(s) cannot be matched to a spec and are not used: use --force to start \
-             over (the journal is then removed)",
-            recs.len()
+        return Err((
+            format!(
+                "the journal's header record is corrupt or missing, so its {} intact later \
+                 record(s) cannot be matched to a spec and are not used (starting over \
+                 removes the journal)",
+                recs.len()
+            ),
+            Some(Advice::StartOver),
         ));
     };
     let found = match first.kind {
         KIND_HEADER => Owner::Scan,
         KIND_ATLAS_HEADER => Owner::Atlas,
-        _ => return Err("the journal does not start with a header record".into()),
+        _ => {
+            return Err(plain(
+                "the journal does not start with a header record".into(),
+            ));
+        }
     };
     if found != owner {
-        return Err(format!("{} journal, not {}", found.words(), owner.words()));
+        return Err(plain(format!(
+            "{} journal, not {}",
+            found.words(),
+            owner.words()
+        )));
     }
     let mut d = Dec::new(&bytes[first.offset as usize..][..first.len as usize]);
     match d.u32() {
         Some(FORMAT) => {}
         // Formats 2 and 3 have no columns' checksum; format 2 cells had no t_squeal.
         Some(f) if f < FORMAT => {
-            return Err(format!(
-                "journal format {f}, written by an older squeal (this one writes {FORMAT}): \
-                 finish it with that version, or use --force to start over"
+            return Err((
+                format!(
+                    "journal format {f}, written by an older squeal (this one writes {FORMAT})"
+                ),
+                Some(Advice::OtherVersionOrStartOver),
             ));
         }
-        _ => return Err("unknown journal format".into()),
+        _ => return Err(plain("unknown journal format".into())),
     }
     let (Some(spec), Some(shard), Some(columns)) = (d.str(), d.str(), d.u64()) else {
-        return Err("the journal header is malformed".into());
+        return Err(plain("the journal header is malformed".into()));
     };
     if columns != owner.columns_checksum() {
-        return Err(
+        return Err((
             "the journal's records carry other columns than this squeal stores (it was \
-             written by another version): finish it with that version, or use --force to \
-             start over"
+             written by another version)"
                 .into(),
-        );
+            Some(Advice::OtherVersionOrStartOver),
+        ));
     }
     // A header of a build before the table was recorded ends here.
     let table = d.str();

@@ -14,8 +14,8 @@
 //!   files into the file a single run writes.
 //! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
 //!   finished units and, as a [`squeal_scan::Sink`], the blocks of the optional basin maps,
-//!   holds the [`OutputLock`], and writes the file; [`run_atlas`] computes what it is
-//!   missing; [`atlas::read_atlas`], [`atlas::merge_atlas`].
+//!   holds the [`OutputLock`], and writes the file (what it is missing is computed above
+//!   the store: `squeal_cli::run_atlas`); [`atlas::read_atlas`], [`atlas::merge_atlas`].
 //! * [`read_info`], [`read_atlas_info`], [`read_trajectory_info`], [`read_map`],
 //!   [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
@@ -124,7 +124,6 @@
 
 pub mod atlas;
 mod atlas_json;
-mod atlas_run;
 mod cycle;
 mod error;
 mod h5columns;
@@ -147,8 +146,7 @@ pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
 pub use atlas::{AtlasInfo, read_atlas_info};
 pub use atlas_json::atlas_json;
-pub use atlas_run::{AtlasRunError, run_atlas};
-pub use error::StoreError;
+pub use error::{Advice, Plain, Remedy, StoreError, Words};
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use merge::merge;
 pub use output::{
@@ -512,6 +510,7 @@ impl squeal_scan::Sink for ScanWriter {
         let (_, _, cells) = journal::decode_block(&p).ok_or_else(|| StoreError::NotSquealFile {
             path: self.journal.path.clone(),
             why: "a block record changed on disk".into(),
+            advice: None,
         })?;
         Ok(Some(cells))
     }
@@ -627,6 +626,7 @@ fn same_shard(jpath: &Path, recorded: &str, shard: Option<Shard>) -> Result<(), 
             show(recorded),
             show(&shard_text(shard))
         ),
+        advice: None,
     })
 }
 
@@ -645,6 +645,7 @@ fn index_records(
     let corrupt = |why: String| StoreError::NotSquealFile {
         path: path.clone(),
         why,
+        advice: None,
     };
     for r in recs {
         let payload = journal.read(&r)?;
@@ -713,6 +714,7 @@ impl Source for JournalSource<'_> {
         let (_, _, cells) = journal::decode_block(&p).ok_or_else(|| StoreError::NotSquealFile {
             path: self.journal.path.clone(),
             why: "a block record changed on disk".into(),
+            advice: None,
         })?;
         Ok(Some(cells))
     }
@@ -725,6 +727,7 @@ impl Source for JournalSource<'_> {
         let (_, rec) = journal::decode_cycle(&p).ok_or_else(|| StoreError::NotSquealFile {
             path: self.journal.path.clone(),
             why: "a cycle record changed on disk".into(),
+            advice: None,
         })?;
         Ok(Some(rec))
     }

@@ -127,6 +127,7 @@ fn check_owned_blocks(files: &[ShardFile], plan: &Plan) -> Result<(), StoreError
                     done.len(),
                     plan.maps.len() * nb
                 ),
+                advice: None,
             });
         }
         let (mut missing, mut total) = (0, 0);
@@ -212,6 +213,7 @@ pub fn merge(
         .map_err(|e| StoreError::NotSquealFile {
             path: h.path.clone(),
             why: format!("its spec no longer validates: {e}"),
+            advice: None,
         })?;
     plan.name = h.name.clone();
     check_owned_blocks(&files, &plan)?;

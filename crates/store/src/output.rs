@@ -9,7 +9,7 @@ use squeal_scan::atlas::AtlasPlan;
 use squeal_scan::{Plan, Shard};
 
 use crate::ATLAS_SCHEMA;
-use crate::error::H5Ctx;
+use crate::error::{Advice, H5Ctx};
 use crate::{SCHEMA, StoreError, TRAJECTORY_SCHEMA, read};
 
 /// A checked plan whose finished file records its spec text and name: a scan's [`Plan`]
@@ -47,18 +47,19 @@ pub(crate) fn started_plan<P: Recorded + Clone>(
     plan: &P,
     plan_text: &str,
 ) -> Result<P, StoreError> {
-    let mismatch = |why: String| StoreError::SpecMismatch {
+    let mismatch = |why: String, advice| StoreError::SpecMismatch {
         path: journal.to_path_buf(),
         why,
+        advice,
     };
     let table = crate::journal::table_text(plan.spec_table());
     // A journal of an earlier build did not record its table: its spec decides alone.
     if started.table.as_ref().is_some_and(|t| *t != table) {
         return Err(mismatch(
             "the journal was written for another friction table (friction_csv: the file's \
-             rows changed since the run started, or friction_table was edited): restore \
-             them, or use --force to start over"
+             rows changed since the run started, or friction_table was edited)"
                 .into(),
+            Some(Advice::RestoreOrStartOver),
         ));
     }
     let started_text = started.spec.as_str();
@@ -66,13 +67,14 @@ pub(crate) fn started_plan<P: Recorded + Clone>(
         return Ok(plan.clone());
     }
     let started = P::stored(started_text, plan.spec_table(), None, plan)
-        .ok_or_else(|| mismatch("the journal's spec no longer validates".into()))?;
+        .ok_or_else(|| mismatch("the journal's spec no longer validates".into(), None))?;
     let started = started.writing_to(plan);
     match started.first_difference(plan) {
         None => Ok(started),
-        Some(key) => Err(mismatch(format!(
-            "the journal was written for another spec ({key} differs): use --force to start over"
-        ))),
+        Some(key) => Err(mismatch(
+            format!("the journal was written for another spec ({key} differs)"),
+            Some(Advice::StartOver),
+        )),
     }
 }
 
@@ -237,6 +239,7 @@ pub fn file_kind(path: &Path) -> Result<FileKind, StoreError> {
             why: format!(
                 "schema is {s:?}, expected one of {SCHEMA:?}, {ATLAS_SCHEMA:?}, {TRAJECTORY_SCHEMA:?}"
             ),
+            advice: None,
         }),
     }
 }

@@ -32,6 +32,7 @@ pub fn file_schema(path: &Path) -> Result<String, StoreError> {
     str_attr(&file, "schema").map_err(|_| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why: "an HDF5 file without the `schema` attribute (not written by squeal)".into(),
+        advice: None,
     })
 }
 
@@ -50,6 +51,7 @@ fn open_hdf5(path: &Path) -> Result<File, StoreError> {
     let not = |why: String| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why,
+        advice: None,
     };
     // A FIFO here blocked the open for ever.
     squeal_scan::files::refuse_non_regular(path)?;
@@ -74,6 +76,7 @@ pub(crate) fn open_with_schema(path: &Path, schema: &str) -> Result<File, StoreE
     let not = |why: String| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why,
+        advice: None,
     };
     let file = open_hdf5(path)?;
     match str_attr(&file, "schema") {
@@ -320,6 +323,7 @@ pub(crate) fn rd_n<T: hdf5::H5Type>(
                  written for another spec, or by a version that read the spec differently",
                 v.len()
             ),
+            advice: None,
         });
     }
     Ok(v)
@@ -814,6 +818,7 @@ pub fn content_digest(path: &Path) -> Result<String, StoreError> {
     let file = File::open(path).map_err(|e| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why: format!("cannot open it as HDF5: {e}"),
+        advice: None,
     })?;
     let mut h = Hasher(0x6c62_272e_07bb_0142_62b8_2175_6295_c58d);
     hash_group(&file, &file, &mut h).h5(path)?;

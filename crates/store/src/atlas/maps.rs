@@ -257,6 +257,7 @@ fn not_atlas(path: &Path, why: String) -> StoreError {
     StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why,
+        advice: None,
     }
 }
 

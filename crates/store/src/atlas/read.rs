@@ -60,6 +60,7 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     let not = |why: String| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why,
+        advice: None,
     };
     squeal_scan::files::refuse_non_regular(path)?;
     if !is_atlas_file(path) {
@@ -252,6 +253,7 @@ fn read_shards(shards: &[PathBuf]) -> Result<(AtlasPlan, AtlasResults), StoreErr
             return Err(StoreError::SpecMismatch {
                 path: p.clone(),
                 why: "different spec text".into(),
+                advice: None,
             });
         }
         add_shard(all, r);

@@ -12,7 +12,8 @@ use squeal_scan::atlas::{
 };
 
 use super::schema::{SEARCHES, note_of, set_landscape};
-use crate::journal::{KIND_BLOCK, KIND_CYCLE, KIND_UNIT, decode_block, decode_cycle};
+use crate::error::Advice;
+use crate::journal::{KIND_BLOCK, KIND_CYCLE, KIND_UNIT, Unusable, decode_block, decode_cycle};
 
 fn num(v: f64) -> Value {
     if v.is_finite() { json!(v) } else { Value::Null }
@@ -133,13 +134,13 @@ fn unit_from_json(v: &Value) -> Option<UnitResult> {
 /// A record whose checksum holds but that this build cannot decode: it was written whole, so
 /// by another version of squeal (a unit record of a journal from before the transient
 /// lifetimes lacks their six values), not torn by a crash.
-fn unreadable(what: &str) -> String {
-    format!(
+fn unreadable(what: &str) -> Unusable {
+    let why = format!(
         "a {what} record this squeal ({}) cannot read; its checksum holds, so another \
-         version of squeal wrote it: finish the run with that version, or start over with \
-         --force",
+         version of squeal wrote it",
         env!("CARGO_PKG_VERSION")
-    )
+    );
+    (why, Some(Advice::OtherVersionOrStartOver))
 }
 
 /// Adds one journal record to `results`: a unit, or a map's block or cycle search. A record
@@ -149,7 +150,8 @@ pub(super) fn add_record(
     results: &mut AtlasResults,
     kind: u8,
     payload: &[u8],
-) -> Result<(), String> {
+) -> Result<(), Unusable> {
+    let plain = |why: String| (why, None);
     let grid = plan.maps.as_ref().map(|m| m.grid);
     match (kind, grid) {
         (KIND_UNIT, _) => {
@@ -162,18 +164,21 @@ pub(super) fn add_record(
         (KIND_BLOCK, Some(_)) => {
             let (m, b, cells) = decode_block(payload).ok_or_else(|| unreadable("block"))?;
             if !super::block_fits(plan, m, b, cells.len()) {
-                return Err("a map block that does not fit the spec".into());
+                return Err(plain("a map block that does not fit the spec".into()));
             }
             results.blocks.insert((m, b), cells);
         }
         (KIND_CYCLE, Some(_)) => {
             let (m, c) = decode_cycle(payload).ok_or_else(|| unreadable("cycle"))?;
             if m >= plan.n_points() {
-                return Err("a map cycle that does not fit the spec".into());
+                return Err(plain("a map cycle that does not fit the spec".into()));
             }
             results.map_cycles.insert(m, c);
         }
-        (k, _) => return Err(format!("a record of kind {k} that an atlas does not write")),
+        (k, _) => {
+            let why = format!("a record of kind {k} that an atlas does not write");
+            return Err(plain(why));
+        }
     }
     Ok(())
 }
@@ -218,11 +223,12 @@ mod tests {
         v.as_object_mut().unwrap().remove("line");
         let payload = serde_json::to_vec(&v).unwrap();
         let mut res = AtlasResults::new(&plan);
-        let e = add_record(&plan, &mut res, KIND_UNIT, &payload).unwrap_err();
+        let (why, advice) = add_record(&plan, &mut res, KIND_UNIT, &payload).unwrap_err();
         assert!(
-            e.contains("unit record") && e.contains("another version") && e.contains("--force"),
-            "{e}"
+            why.contains("unit record") && why.contains("another version"),
+            "{why}"
         );
+        assert_eq!(advice, Some(Advice::OtherVersionOrStartOver));
     }
 
     #[test]

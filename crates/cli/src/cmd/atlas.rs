@@ -92,7 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
     // When the last unit reached the sink: the units' phase ends there, the maps' begins.
     let units_done = std::sync::Mutex::new(t0);
-    let result = squeal_store::run_atlas(
+    let result = crate::run_atlas(
         &plan,
         shard,
         writer,

@@ -281,15 +281,11 @@ mod tests {
     /// an earlier spec (`--force`) must not outlive a drawing that a signal stops.
     #[test]
     fn finishing_removes_the_pictures_about_to_be_drawn() {
-        // A folder of its own (not tempfile: this module is also built into the Python
-        // package, which has no dev-dependencies).
-        let d = std::env::temp_dir().join(format!("squeal-finishing-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        let (old, absent) = (d.join("x.png"), d.join("x-cycle.png"));
+        let d = tempfile::tempdir().unwrap();
+        let (old, absent) = (d.path().join("x.png"), d.path().join("x-cycle.png"));
         std::fs::write(&old, b"an earlier picture").unwrap();
         let s = Signals::new("blocks");
         s.finishing(&[old.clone(), absent.clone()]).unwrap();
         assert!(!old.exists() && !absent.exists());
-        std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -1,14 +1,15 @@
 //! The atlas run: every unit an [`AtlasWriter`] is missing, then the missing blocks of the
 //! atlas's basin maps, journalled as they finish. `squeal atlas` and the Python package
-//! both call [`run_atlas`]; they add the progress display, the signals and the report.
+//! both call [`run_atlas`]; they add the progress display, the signals and the report. It
+//! lives above the store, which persists what it is handed and computes nothing.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use squeal_scan::atlas::{AtlasPlan, driver};
 use squeal_scan::{DriveError, Observer, ScanError, Shard};
 
-use crate::StoreError;
-use crate::atlas::AtlasWriter;
+use squeal_store::StoreError;
+use squeal_store::atlas::AtlasWriter;
 
 /// Why an atlas run failed.
 #[derive(Debug, thiserror::Error)]
@@ -19,8 +20,8 @@ pub enum AtlasRunError {
     /// The journal refused a record.
     #[error(transparent)]
     Store(#[from] StoreError),
-    /// The basin maps failed.
-    #[error("basin maps: {0}")]
+    /// The basin maps failed (the cause follows in the error's chain).
+    #[error("basin maps")]
     Maps(#[from] DriveError<StoreError>),
 }
 
