@@ -267,6 +267,29 @@ pub fn drive<S: Sink>(
     stop: &AtomicBool,
 ) -> Result<DriveReport, DriveError<S::Error>> {
     let pending = Pending::of(plan, shard, &*sink);
+    let mut report = DriveReport::default();
+    let (ctxs, cycles_missing) = prepare_maps(plan, &pending, sink, observer, stop, &mut report)?;
+    compute_blocks(plan, &pending, &ctxs, sink, observer, stop, &mut report)?;
+    report.interrupted = report.blocks < pending.blocks.len() || cycles_missing;
+    Ok(report)
+}
+
+/// Each map's context, once prepared (`None`: no pending work, or not prepared).
+type Contexts = Vec<Option<Arc<MapContext>>>;
+
+/// Prepares every map with pending work (in parallel over the maps, and each map's census
+/// in parallel over its starts) and writes the cycles the sink lacks: the maps' contexts,
+/// and whether a wanted cycle was not written (`stop` raised). Before, the first block of a
+/// map prepared it behind a `OnceLock` while the other workers waited on the lock: the
+/// 4096 x 4096 map's 7.7 s of preparation ran on one of two threads.
+fn prepare_maps<S: Sink>(
+    plan: &Plan,
+    pending: &Pending,
+    sink: &mut S,
+    observer: &dyn Observer,
+    stop: &AtomicBool,
+    report: &mut DriveReport,
+) -> Result<(Contexts, bool), DriveError<S::Error>> {
     // The groups an audit withdrew before a resume: the map's blocks still to compute are
     // decided without them (a census withdraws its own again when the map is prepared).
     let recorded = (0..plan.maps.len())
@@ -274,10 +297,6 @@ pub fn drive<S: Sink>(
         .collect::<Result<Vec<_>, _>>()
         .map_err(DriveError::Sink)?;
     let need_cycle: Vec<bool> = (0..plan.maps.len()).map(|m| !sink.has_cycle(m)).collect();
-    // Every map to prepare, prepared first (in parallel over the maps, and each map's census
-    // in parallel over its starts), then the blocks. Before, the first block of a map
-    // prepared it behind a `OnceLock` while the other workers waited on the lock: the
-    // 4096 x 4096 map's 7.7 s of preparation ran on one of two threads.
     let mut maps: Vec<usize> = pending
         .prepare_only
         .iter()
@@ -287,10 +306,8 @@ pub fn drive<S: Sink>(
     maps.sort_unstable();
     maps.dedup();
     let cycles_wanted = maps.iter().filter(|&&m| need_cycle[m]).count();
-    let mut ctxs: Vec<Option<Arc<MapContext>>> = vec![None; plan.maps.len()];
-    let mut report = DriveReport::default();
+    let mut ctxs: Contexts = vec![None; plan.maps.len()];
     let mut cycles_written = 0usize;
-    let mut sink_time = Duration::ZERO;
     let prepare_started = Instant::now();
     let prepare = |m: usize, emit: &dyn Fn(Emit<Msg, ScanError>)| match MapContext::prepare_without(
         plan,
@@ -324,17 +341,30 @@ pub fn drive<S: Sink>(
             }
             Msg::Block(..) => unreachable!("no block before every map is prepared"),
         };
-        sink_time += t.elapsed();
+        report.sink += t.elapsed();
         r
     })?;
     report.prepare = prepare_started.elapsed();
+    Ok((ctxs, cycles_written < cycles_wanted))
+}
+
+/// Computes the pending blocks of the prepared maps `ctxs` into `sink`, counting them in
+/// `report`.
+fn compute_blocks<S: Sink>(
+    plan: &Plan,
+    pending: &Pending,
+    ctxs: &[Option<Arc<MapContext>>],
+    sink: &mut S,
+    observer: &dyn Observer,
+    stop: &AtomicBool,
+    report: &mut DriveReport,
+) -> Result<(), DriveError<S::Error>> {
     let jobs: Vec<(usize, usize)> = pending
         .blocks
         .iter()
         .copied()
         .filter(|&(m, _)| ctxs[m].is_some())
         .collect();
-    let ctxs = &ctxs;
     let work = |(m, b): (usize, usize), emit: &dyn Fn(Emit<Msg, ScanError>)| {
         let Some(ctx) = &ctxs[m] else {
             return;
@@ -362,12 +392,10 @@ pub fn drive<S: Sink>(
             }
             Msg::Prepared(..) | Msg::Cycle(..) => unreachable!("maps are prepared before"),
         };
-        sink_time += t.elapsed();
+        report.sink += t.elapsed();
         r
     })?;
-    report.sink = sink_time;
-    report.interrupted = report.blocks < pending.blocks.len() || cycles_written < cycles_wanted;
-    Ok(report)
+    Ok(())
 }
 
 #[cfg(test)]
