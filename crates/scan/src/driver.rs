@@ -412,7 +412,7 @@ nu = [1e-3, 1e-2]
 [grid]
 x0 = { min = -1.0, max = 2.0, count = 5 }
 v0 = { min = -1.0, max = 1.0, count = 5 }
-block_rows = 2
+block_rows = 1
 [classifier]
 t_max = 2000.0
 [output]
@@ -423,8 +423,23 @@ path = "t.h5"
         .unwrap()
     }
 
-    /// One and two threads for real: the executor runs its jobs with the installed pool's
-    /// count (`executor::tests::jobs_run_with_the_threads_of_the_installed_pool`).
+    /// Records, on the worker that finished each block, how many threads its pool has and
+    /// which of them it is: the premise of the thread-independence test.
+    #[derive(Default)]
+    struct Workers(std::sync::Mutex<Vec<(usize, Option<usize>)>>);
+    impl crate::Observer for Workers {
+        fn block_done(&self, _map: usize, _block: usize) {
+            let seen = (rayon::current_num_threads(), rayon::current_thread_index());
+            self.0.lock().unwrap().push(seen);
+        }
+    }
+
+    /// One, two and three threads for real: the executor runs its jobs with the installed
+    /// pool's count (`executor::tests::jobs_run_with_the_threads_of_the_installed_pool`), and
+    /// each run checks that its blocks were computed on a pool of that size. With a result
+    /// made to depend on the worker's index (`+ rayon::current_thread_index()` on each
+    /// cell's time), the two- and three-thread runs differ from the one-thread run and the
+    /// test fails.
     #[test]
     fn results_do_not_depend_on_threads_and_shards_partition_the_work() {
         let plan = tiny();
@@ -434,32 +449,31 @@ path = "t.h5"
                 .build()
                 .unwrap();
             let mut sink = MemorySink::default();
+            let workers = Workers::default();
             let r = pool
-                .install(|| {
-                    drive(
-                        &plan,
-                        shard,
-                        &mut sink,
-                        &crate::NoObserver,
-                        &AtomicBool::new(false),
-                    )
-                })
+                .install(|| drive(&plan, shard, &mut sink, &workers, &AtomicBool::new(false)))
                 .unwrap();
             assert!(!r.interrupted);
+            let seen = workers.0.into_inner().unwrap();
+            assert_eq!(seen.len(), sink.blocks.len());
+            assert!(
+                seen.iter()
+                    .all(|&(n, i)| n == threads && i.is_some_and(|i| i < threads)),
+                "{threads} threads asked, blocks computed on {seen:?}"
+            );
             sink
         };
         // Bit-identical, NaN included: compare the printed records.
         let same = |a: &BlockResult, b: &BlockResult| format!("{a:?}") == format!("{b:?}");
         let one = run(1, None);
-        let two = run(2, None);
-        assert!(
-            one.blocks
-                .values()
-                .zip(two.blocks.values())
-                .all(|(a, b)| same(a, b))
-        );
-        assert_eq!(one.blocks.len(), two.blocks.len());
         assert_eq!(one.blocks.len(), plan.total_blocks());
+        for threads in [2, 3] {
+            let many = run(threads, None);
+            assert_eq!(one.blocks.len(), many.blocks.len());
+            for (k, v) in &many.blocks {
+                assert!(same(&one.blocks[k], v), "{threads} threads, block {k:?}");
+            }
+        }
         let (a, b) = (
             run(2, Some(Shard { k: 1, n: 2 })),
             run(1, Some(Shard { k: 2, n: 2 })),
