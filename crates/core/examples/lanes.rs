@@ -74,7 +74,7 @@ impl Coeffs {
     fn new(st: &Stepper) -> Coeffs {
         let p = st.params();
         assert!(st.scheme() == Scheme::Foh && st.solver().kind == SolverKind::Robust);
-        assert!(p.kind() == FrictionLaw::McMillan && !st.has_true_stick());
+        assert!(p.kind() == FrictionLaw::McMillan && !st.locates_stick());
         let c = Propagator::new(p.nu, st.dt()).expect("the stepper's own step");
         let (w_x1, w_v1) = (1.0 - c.c11 - c.q1, -c.c21 - c.q2);
         let k = Coeffs {

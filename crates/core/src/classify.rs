@@ -322,7 +322,7 @@ impl Classifier {
             stuck_now: false,
             sticks: 0,
             multi_root: 0,
-            true_stick: p.law.has_true_stick(),
+            true_stick: p.law.family().locates_stick(),
             broke_away: false,
             fp_repels: p.fixed_point_damping().is_some_and(|d| d < 0.0),
             crossings: 0,

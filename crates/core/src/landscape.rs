@@ -32,7 +32,7 @@ pub enum StickCycle {
 pub fn stick_slip_cycle(stepper: &Stepper, t_max: f64, fp_radius: f64) -> Option<StickCycle> {
     let p = stepper.params();
     let mu_s = stepper.law().static_limit()?;
-    if !p.law.has_true_stick() {
+    if !p.law.family().has_landscape() {
         return None;
     }
     let fp = p.fixed_point();

@@ -85,13 +85,14 @@ impl FrictionLaw {
         FrictionLaw::ALL.map(FrictionLaw::name).join(", ")
     }
 
-    /// Whether the law sticks with a static limit, stepped with located stick events
-    /// ([`crate::stick`]).
-    pub fn has_true_stick(self) -> bool {
-        matches!(
-            self,
-            FrictionLaw::Stribeck | FrictionLaw::Cubic | FrictionLaw::Table
-        )
+    /// The law's family: which algorithms compute it ([`LawFamily`]).
+    pub fn family(self) -> LawFamily {
+        match self {
+            FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic | FrictionLaw::Coulomb => {
+                LawFamily::Regularised
+            }
+            FrictionLaw::Stribeck | FrictionLaw::Cubic | FrictionLaw::Table => LawFamily::TrueStick,
+        }
     }
 
     /// The names of the law's own parameters, damping and belt speed first, as they appear in
@@ -108,6 +109,65 @@ impl FrictionLaw {
                 &["nu", "lambda", "tau", "phi"]
             }
         }
+    }
+}
+
+/// How a family of friction laws is computed: the one value, taken from the law when a plan
+/// is made, that the computation asks which algorithms, shortcuts, names and figures apply,
+/// so that no caller tests the law itself. A new family is a new variant, and every `match`
+/// on it names the places it must answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LawFamily {
+    /// McMillan's laws and Coulomb friction: the force switches with the sign of the slip
+    /// velocity (set-valued or smoothed at zero, never stuck at a static limit); stick-slip
+    /// is a band of the Poincare section bounded by the unstable cycle. States are in units
+    /// of the kinetic friction, damping and belt speed are McMillan's `nu` and `lambda`.
+    Regularised,
+    /// The Stribeck, cubic and tabulated laws: a static limit, with stick phases located as
+    /// events ([`crate::stick`]); the stick-slip cycle runs from breakaway (the landscape,
+    /// [`crate::landscape`]). States are in units of the normal load, damping and belt speed
+    /// are the law's own `xi` and `v_d`.
+    TrueStick,
+}
+
+impl LawFamily {
+    /// Whether the law is stepped with located stick and breakaway events ([`crate::stick`]):
+    /// its stick phases are the block stuck to the belt, not quasi-static stretches of a
+    /// regularised force.
+    pub fn locates_stick(self) -> bool {
+        self == LawFamily::TrueStick
+    }
+
+    /// Whether the law has a stick-slip cycle from breakaway and its landscape
+    /// ([`crate::landscape`]), computed, stored and read beside each map.
+    pub fn has_landscape(self) -> bool {
+        self == LawFamily::TrueStick
+    }
+
+    /// Whether the section's fates can be certified by witnesses ([`crate::witness`]): the
+    /// law depends on the slip velocity alone and sticks, so its return map is monotone.
+    pub fn has_section_witnesses(self) -> bool {
+        self == LawFamily::TrueStick
+    }
+
+    /// Whether stick-slip is a band of the section bounded by the unstable cycle: the
+    /// classifier's band rules apply (so each map's section is searched), and the band has
+    /// a crisis to bisect for.
+    pub fn has_band(self) -> bool {
+        self == LawFamily::Regularised
+    }
+
+    /// Whether damping and belt speed go by the law's own keys (`xi`, `v_d`, each with a
+    /// default, stored with its long name and units) rather than McMillan's `nu` and
+    /// `lambda` (the damping required).
+    pub fn has_own_names(self) -> bool {
+        self == LawFamily::TrueStick
+    }
+
+    /// Whether states and forces are in units of the normal load `m g` rather than of the
+    /// kinetic friction `mu_k m g`.
+    pub fn in_normal_load(self) -> bool {
+        self == LawFamily::TrueStick
     }
 }
 
@@ -291,9 +351,9 @@ impl Friction {
         }
     }
 
-    /// Whether the law sticks with a static limit ([`FrictionLaw::has_true_stick`]).
-    pub fn has_true_stick(&self) -> bool {
-        self.kind().has_true_stick()
+    /// The law's family: which algorithms compute it ([`FrictionLaw::family`]).
+    pub fn family(&self) -> LawFamily {
+        self.kind().family()
     }
 }
 

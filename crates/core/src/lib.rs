@@ -74,7 +74,7 @@ pub use classify::{
 pub use error::CoreError;
 pub use friction::Law;
 pub use landscape::{Landscape, LandscapeEvidence, StickCycle};
-pub use params::{Cubic, Friction, FrictionLaw, Named, Params, Stribeck, Surface};
+pub use params::{Cubic, Friction, FrictionLaw, LawFamily, Named, Params, Stribeck, Surface};
 pub use propagator::{Propagator, Scheme};
 pub use region::Region;
 pub use run::{Run, Samples, Step};

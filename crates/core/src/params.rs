@@ -3,7 +3,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
-pub use crate::law::{Cubic, Friction, FrictionLaw, FrictionTable, PerV0, Stribeck, Surface};
+pub use crate::law::{
+    Cubic, Friction, FrictionLaw, FrictionTable, LawFamily, PerV0, Stribeck, Surface,
+};
 
 /// Nondimensional parameters of the oscillator `x'' + 2 nu x' + x = F` (paper Section 4).
 ///

@@ -151,7 +151,7 @@ impl Stepper {
     }
 
     /// Whether the law sticks with located events.
-    pub fn has_true_stick(&self) -> bool {
+    pub fn locates_stick(&self) -> bool {
         self.stick.is_some()
     }
 

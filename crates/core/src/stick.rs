@@ -133,7 +133,7 @@ enum Mode {
 impl StickStepper {
     /// `None` for laws without a static limit.
     pub(crate) fn new(p: &Params, law: &Law, prop: &Propagator, scheme: Scheme) -> Option<Self> {
-        if !p.law.has_true_stick() {
+        if !p.law.family().locates_stick() {
             return None;
         }
         Some(StickStepper {

@@ -175,7 +175,7 @@ pub fn section_evidence(
     shortcuts: Shortcuts,
     r_max: f64,
 ) -> Option<Evidence> {
-    if !stepper.params().law.has_true_stick() || r_max.is_nan() || r_max <= 0.0 {
+    if !stepper.params().law.family().has_section_witnesses() || r_max.is_nan() || r_max <= 0.0 {
         return None;
     }
     let mut ev = Evidence::default();

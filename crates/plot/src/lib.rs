@@ -339,7 +339,7 @@ impl StateScale {
     /// friction.
     pub fn of_law(law: &str) -> StateScale {
         match law.parse::<squeal_core::FrictionLaw>() {
-            Ok(l) if l.has_true_stick() => StateScale::NormalLoad,
+            Ok(l) if l.family().in_normal_load() => StateScale::NormalLoad,
             _ => StateScale::KineticFriction,
         }
     }

@@ -11,7 +11,7 @@
 //! * [`columns`]: the stored figures as one table (HDF5, journal and JSON walk it).
 //! * [`maps`]: optional basin maps, one per point, made by the scan's spine
 //!   ([`AtlasPlan::map_plan`]), and the basin fraction read off a map ([`maps::map_fraction`]).
-//! * [`stribeck`]: laws with true stick: each point's section search checked against the
+//! * [`true_stick`]: laws with true stick: each point's section search checked against the
 //!   landscape (undecided where they disagree), boundaries bisected on the landscape.
 //! * [`driver`]: the work units (lines of points along the last axis, warm-started from the
 //!   previous point; boundary searches), run in parallel, results by index.
@@ -44,7 +44,7 @@ pub mod note;
 pub mod point;
 mod results;
 pub mod spec;
-pub mod stribeck;
+pub mod true_stick;
 
 pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};

@@ -267,6 +267,29 @@ pub fn drive<S: Sink>(
     stop: &AtomicBool,
 ) -> Result<DriveReport, DriveError<S::Error>> {
     let pending = Pending::of(plan, shard, &*sink);
+    let mut report = DriveReport::default();
+    let (ctxs, cycles_missing) = prepare_maps(plan, &pending, sink, observer, stop, &mut report)?;
+    compute_blocks(plan, &pending, &ctxs, sink, observer, stop, &mut report)?;
+    report.interrupted = report.blocks < pending.blocks.len() || cycles_missing;
+    Ok(report)
+}
+
+/// Each map's context, once prepared (`None`: no pending work, or not prepared).
+type Contexts = Vec<Option<Arc<MapContext>>>;
+
+/// Prepares every map with pending work (in parallel over the maps, and each map's census
+/// in parallel over its starts) and writes the cycles the sink lacks: the maps' contexts,
+/// and whether a wanted cycle was not written (`stop` raised). Before, the first block of a
+/// map prepared it behind a `OnceLock` while the other workers waited on the lock: the
+/// 4096 x 4096 map's 7.7 s of preparation ran on one of two threads.
+fn prepare_maps<S: Sink>(
+    plan: &Plan,
+    pending: &Pending,
+    sink: &mut S,
+    observer: &dyn Observer,
+    stop: &AtomicBool,
+    report: &mut DriveReport,
+) -> Result<(Contexts, bool), DriveError<S::Error>> {
     // The groups an audit withdrew before a resume: the map's blocks still to compute are
     // decided without them (a census withdraws its own again when the map is prepared).
     let recorded = (0..plan.maps.len())
@@ -274,10 +297,6 @@ pub fn drive<S: Sink>(
         .collect::<Result<Vec<_>, _>>()
         .map_err(DriveError::Sink)?;
     let need_cycle: Vec<bool> = (0..plan.maps.len()).map(|m| !sink.has_cycle(m)).collect();
-    // Every map to prepare, prepared first (in parallel over the maps, and each map's census
-    // in parallel over its starts), then the blocks. Before, the first block of a map
-    // prepared it behind a `OnceLock` while the other workers waited on the lock: the
-    // 4096 x 4096 map's 7.7 s of preparation ran on one of two threads.
     let mut maps: Vec<usize> = pending
         .prepare_only
         .iter()
@@ -287,10 +306,8 @@ pub fn drive<S: Sink>(
     maps.sort_unstable();
     maps.dedup();
     let cycles_wanted = maps.iter().filter(|&&m| need_cycle[m]).count();
-    let mut ctxs: Vec<Option<Arc<MapContext>>> = vec![None; plan.maps.len()];
-    let mut report = DriveReport::default();
+    let mut ctxs: Contexts = vec![None; plan.maps.len()];
     let mut cycles_written = 0usize;
-    let mut sink_time = Duration::ZERO;
     let prepare_started = Instant::now();
     let prepare = |m: usize, emit: &dyn Fn(Emit<Msg, ScanError>)| match MapContext::prepare_without(
         plan,
@@ -324,17 +341,30 @@ pub fn drive<S: Sink>(
             }
             Msg::Block(..) => unreachable!("no block before every map is prepared"),
         };
-        sink_time += t.elapsed();
+        report.sink += t.elapsed();
         r
     })?;
     report.prepare = prepare_started.elapsed();
+    Ok((ctxs, cycles_written < cycles_wanted))
+}
+
+/// Computes the pending blocks of the prepared maps `ctxs` into `sink`, counting them in
+/// `report`.
+fn compute_blocks<S: Sink>(
+    plan: &Plan,
+    pending: &Pending,
+    ctxs: &[Option<Arc<MapContext>>],
+    sink: &mut S,
+    observer: &dyn Observer,
+    stop: &AtomicBool,
+    report: &mut DriveReport,
+) -> Result<(), DriveError<S::Error>> {
     let jobs: Vec<(usize, usize)> = pending
         .blocks
         .iter()
         .copied()
         .filter(|&(m, _)| ctxs[m].is_some())
         .collect();
-    let ctxs = &ctxs;
     let work = |(m, b): (usize, usize), emit: &dyn Fn(Emit<Msg, ScanError>)| {
         let Some(ctx) = &ctxs[m] else {
             return;
@@ -362,12 +392,10 @@ pub fn drive<S: Sink>(
             }
             Msg::Prepared(..) | Msg::Cycle(..) => unreachable!("maps are prepared before"),
         };
-        sink_time += t.elapsed();
+        report.sink += t.elapsed();
         r
     })?;
-    report.sink = sink_time;
-    report.interrupted = report.blocks < pending.blocks.len() || cycles_written < cycles_wanted;
-    Ok(report)
+    Ok(())
 }
 
 #[cfg(test)]
@@ -384,7 +412,7 @@ nu = [1e-3, 1e-2]
 [grid]
 x0 = { min = -1.0, max = 2.0, count = 5 }
 v0 = { min = -1.0, max = 1.0, count = 5 }
-block_rows = 2
+block_rows = 1
 [classifier]
 t_max = 2000.0
 [output]
@@ -395,8 +423,23 @@ path = "t.h5"
         .unwrap()
     }
 
-    /// One and two threads for real: the executor runs its jobs with the installed pool's
-    /// count (`executor::tests::jobs_run_with_the_threads_of_the_installed_pool`).
+    /// Records, on the worker that finished each block, how many threads its pool has and
+    /// which of them it is: the premise of the thread-independence test.
+    #[derive(Default)]
+    struct Workers(std::sync::Mutex<Vec<(usize, Option<usize>)>>);
+    impl crate::Observer for Workers {
+        fn block_done(&self, _map: usize, _block: usize) {
+            let seen = (rayon::current_num_threads(), rayon::current_thread_index());
+            self.0.lock().unwrap().push(seen);
+        }
+    }
+
+    /// One, two and three threads for real: the executor runs its jobs with the installed
+    /// pool's count (`executor::tests::jobs_run_with_the_threads_of_the_installed_pool`), and
+    /// each run checks that its blocks were computed on a pool of that size. With a result
+    /// made to depend on the worker's index (`+ rayon::current_thread_index()` on each
+    /// cell's time), the two- and three-thread runs differ from the one-thread run and the
+    /// test fails.
     #[test]
     fn results_do_not_depend_on_threads_and_shards_partition_the_work() {
         let plan = tiny();
@@ -406,32 +449,31 @@ path = "t.h5"
                 .build()
                 .unwrap();
             let mut sink = MemorySink::default();
+            let workers = Workers::default();
             let r = pool
-                .install(|| {
-                    drive(
-                        &plan,
-                        shard,
-                        &mut sink,
-                        &crate::NoObserver,
-                        &AtomicBool::new(false),
-                    )
-                })
+                .install(|| drive(&plan, shard, &mut sink, &workers, &AtomicBool::new(false)))
                 .unwrap();
             assert!(!r.interrupted);
+            let seen = workers.0.into_inner().unwrap();
+            assert_eq!(seen.len(), sink.blocks.len());
+            assert!(
+                seen.iter()
+                    .all(|&(n, i)| n == threads && i.is_some_and(|i| i < threads)),
+                "{threads} threads asked, blocks computed on {seen:?}"
+            );
             sink
         };
         // Bit-identical, NaN included: compare the printed records.
         let same = |a: &BlockResult, b: &BlockResult| format!("{a:?}") == format!("{b:?}");
         let one = run(1, None);
-        let two = run(2, None);
-        assert!(
-            one.blocks
-                .values()
-                .zip(two.blocks.values())
-                .all(|(a, b)| same(a, b))
-        );
-        assert_eq!(one.blocks.len(), two.blocks.len());
         assert_eq!(one.blocks.len(), plan.total_blocks());
+        for threads in [2, 3] {
+            let many = run(threads, None);
+            assert_eq!(one.blocks.len(), many.blocks.len());
+            for (k, v) in &many.blocks {
+                assert!(same(&one.blocks[k], v), "{threads} threads, block {k:?}");
+            }
+        }
         let (a, b) = (
             run(2, Some(Shard { k: 1, n: 2 })),
             run(1, Some(Shard { k: 2, n: 2 })),

@@ -266,10 +266,7 @@ pub fn search_seconds(
 /// Seconds (one thread) of preparing one map of `plan`, at most ([`search_seconds`]): the
 /// cycle search where the map needs one (as [`MapContext::prepare`] decides), 0 otherwise.
 pub fn prepare_seconds(plan: &Plan) -> f64 {
-    let needs_search = plan.early_stop == crate::spec::EarlyStop::Cycle
-        || plan.cycle.locate
-        || !plan.law().has_true_stick();
-    match needs_search {
+    match crate::scanner::searches_section(plan, plan.law().family()) {
         true => search_seconds(&plan.cycle.search, plan.dt, plan.cycle.locate, 1.0),
         false => 0.0,
     }

@@ -52,39 +52,7 @@ where
     std::thread::scope(|scope| {
         let work = &work;
         let workers = scope.spawn(move || {
-            let run = move || {
-                // One shared queue, taken in the jobs' order by as many loops as the pool
-                // has threads: the first jobs (the atlas puts its longest units first) start
-                // first, and each thread takes the next job when it is free. Before, rayon
-                // split the list into contiguous halves, so the atlas's long boundary
-                // searches bunched on a few threads while the others ran out of lines.
-                let queue: Vec<Mutex<Option<J>>> =
-                    jobs.into_iter().map(|j| Mutex::new(Some(j))).collect();
-                let next = AtomicUsize::new(0);
-                let (queue, next) = (&queue, &next);
-                rayon::scope(|s| {
-                    for _ in 0..rayon::current_num_threads().min(queue.len()) {
-                        let tx = tx.clone();
-                        s.spawn(move |_| {
-                            loop {
-                                if stop.load(Ordering::SeqCst) {
-                                    return;
-                                }
-                                let i = next.fetch_add(1, Ordering::Relaxed);
-                                let Some(job) = queue.get(i).and_then(|j| {
-                                    j.lock().unwrap_or_else(|e| e.into_inner()).take()
-                                }) else {
-                                    return;
-                                };
-                                work(job, &|m| {
-                                    let _ = tx.send(m);
-                                });
-                            }
-                        });
-                    }
-                });
-                drop(tx);
-            };
+            let run = move || take_in_order(jobs, stop, work, tx);
             match pool {
                 Some(pool) => pool.install(run),
                 None => run(),
@@ -108,6 +76,50 @@ where
         }
     });
     failure.map_or(Ok(()), Err)
+}
+
+/// Runs `work` on every job of `jobs` on the current rayon pool, handing its results to
+/// `tx`: one shared queue, taken in the jobs' order by as many loops as the pool has
+/// threads, so the first jobs (the atlas puts its longest units first) start first and each
+/// thread takes the next job when it is free. Before, rayon split the list into contiguous
+/// halves, so the atlas's long boundary searches bunched on a few threads while the others
+/// ran out of lines. Raising `stop` hands out no further job.
+fn take_in_order<J, M, JE>(
+    jobs: Vec<J>,
+    stop: &AtomicBool,
+    work: &(impl Fn(J, &dyn Fn(Emit<M, JE>)) + Sync),
+    tx: mpsc::Sender<Emit<M, JE>>,
+) where
+    J: Send,
+    M: Send,
+    JE: Send,
+{
+    let queue: Vec<Mutex<Option<J>>> = jobs.into_iter().map(|j| Mutex::new(Some(j))).collect();
+    let next = AtomicUsize::new(0);
+    let (queue, next) = (&queue, &next);
+    rayon::scope(|s| {
+        for _ in 0..rayon::current_num_threads().min(queue.len()) {
+            let tx = tx.clone();
+            s.spawn(move |_| {
+                loop {
+                    if stop.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(job) = queue
+                        .get(i)
+                        .and_then(|j| j.lock().unwrap_or_else(|e| e.into_inner()).take())
+                    else {
+                        return;
+                    };
+                    work(job, &|m| {
+                        let _ = tx.send(m);
+                    });
+                }
+            });
+        }
+    });
+    drop(tx);
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ use crate::spec::Plan;
 /// The landscape of parameters `params` with the plan's step and classifier settings
 /// (`None` for laws without true stick).
 pub fn of_params(plan: &Plan, params: Params) -> Result<Option<LandscapeEvidence>, ScanError> {
-    if !params.law.has_true_stick() {
+    if !params.law.family().has_landscape() {
         return Ok(None);
     }
     let stepper = Stepper::new(params, plan.dt, plan.solver)?;

@@ -4,21 +4,23 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
-use squeal_core::classify::Half;
 use squeal_core::landscape::StickCycle;
 use squeal_core::{
-    Classifier, FrictionLaw, LandscapeEvidence, Outcome, Params, Reason, Regime, Region, Shortcuts,
-    SolverStats, State, Stepper, Trap,
+    Classifier, FrictionLaw, LandscapeEvidence, LawFamily, Outcome, Params, Reason, Regime, Region,
+    Shortcuts, SolverStats, State, Stepper, Trap,
 };
 
 use crate::cell::Audit;
 pub use crate::cell::Cell;
 use crate::census::{self, Census, Rules};
-use crate::curve::{ClosedCurve, CurveLocator};
 use crate::error::ScanError;
 use crate::section::{self, SectionCycles};
 use crate::spec::{EarlyStop, Plan};
 use crate::ulc::{self, CycleOutcome, CycleSettings};
+
+mod start_rule;
+use start_rule::decaying_turns;
+pub use start_rule::{StartRule, decaying_turn};
 
 /// Progress callbacks (no-op defaults); called from worker threads.
 pub trait Observer: Sync {
@@ -50,191 +52,6 @@ pub struct BlockResult {
     pub block: usize,
     /// The cells.
     pub cells: Vec<Cell>,
-}
-
-/// Early stopping at the start: a start farther than `margin` from the located unstable
-/// cycle is labelled by the side of the cycle it lies on, without a run.
-///
-/// This is the argument of the classifier's trap ([`Reason::InsideCycle`],
-/// [`Reason::OutsideCycle`]) applied to the whole closed curve instead of its crossing of
-/// the section: the flow near the cycle is planar, so a trajectory cannot cross it; inside
-/// it the runs settle on the fixed point, outside it on stick-slip. It rests on the same
-/// assumption (one unstable cycle, found as the first sign change of the sampled return
-/// map), and the same audit checks it: audited cells are also run to settlement.
-///
-/// Where no unstable cycle was found and the whole sampled section decays
-/// ([`Shortcuts::decay_below`]), the curves are decaying turns ([`decaying_turn`]): one
-/// revolution from a half of the line `x = x*`, closed by the piece of that half between
-/// its start and its return ([`StartRule::decaying`]). A start inside one cannot leave it
-/// (MODEL.md section 9), and its next crossing of the section lies below the top, where the
-/// return map decays: steady slip ([`Reason::StartInsideDecayingTurn`]).
-///
-/// The margin is the trap's band at the section, `trap_margin r_u`, plus a bound on how far
-/// the polygon of one revolution's steps strays from the smooth curve between its points:
-/// for each segment, its length times the larger turning angle at its ends (for a circle
-/// of `N` points this is 8 times the true sagitta `L theta / 8`). The closing piece of a
-/// decaying turn lies on the section itself, so it and its corners add nothing. Starts
-/// within the margin are run as before.
-#[derive(Clone, Debug)]
-pub struct StartRule {
-    curve: CurveLocator,
-    margin: f64,
-    /// A second curve, with its margin, whose inside is decided too (the lower decaying
-    /// turn).
-    also: Option<(CurveLocator, f64)>,
-    centre: State,
-    /// The reason for a start inside the curve.
-    inside: Reason,
-    /// Whether starts outside the cycle are decided (off where the return map jumps past
-    /// the cycle: [`crate::section::escape_above`], and for a decaying turn).
-    outside: bool,
-}
-
-impl StartRule {
-    /// The rule for `curve` around the fixed point `centre` with the trap's relative margin
-    /// at the section crossing `r_section`.
-    pub fn new(
-        curve: ClosedCurve,
-        centre: State,
-        r_section: f64,
-        trap_margin: f64,
-        outside: bool,
-    ) -> StartRule {
-        let n = curve.len();
-        let margin = trap_margin * r_section + polygon_sag(&curve, 0..n, |_| true);
-        StartRule {
-            margin,
-            curve: CurveLocator::new(curve),
-            also: None,
-            centre,
-            inside: Reason::StartInsideCycle,
-            outside,
-        }
-    }
-
-    /// The rule for a decaying section: the decaying turns `upper` and `lower`
-    /// ([`decaying_turn`]), each with the margin `trap_margin r` plus the polygon's sag
-    /// (without the closing piece, which lies on the line `x = x*`); only starts inside are
-    /// decided. `None` without either turn.
-    pub fn decaying(
-        centre: State,
-        upper: Option<(f64, ClosedCurve)>,
-        lower: Option<(f64, ClosedCurve)>,
-        trap_margin: f64,
-    ) -> Option<StartRule> {
-        let with_margin = |(r, curve): (f64, ClosedCurve)| {
-            let n = curve.len();
-            // Segments 0..n-1 are steps of the orbit; the closing one lies on the line
-            // `x = x*`, and its two corners are not turns of the orbit.
-            let sag = polygon_sag(&curve, 0..n - 1, |i| i > 0 && i < n - 1);
-            (CurveLocator::new(curve), trap_margin * r + sag)
-        };
-        let (mut upper, mut lower) = (upper.map(with_margin), lower.map(with_margin));
-        let (curve, margin) = upper.take().or_else(|| lower.take())?;
-        Some(StartRule {
-            curve,
-            margin,
-            also: lower,
-            centre,
-            inside: Reason::StartInsideDecayingTurn,
-            outside: false,
-        })
-    }
-
-    /// The margin: starts closer than this to the curve are run.
-    pub fn margin(&self) -> f64 {
-        self.margin
-    }
-
-    /// The closed curve whose sides the rule decides (the located cycle, or the upper
-    /// decaying turn).
-    pub fn curve(&self) -> &ClosedCurve {
-        self.curve.curve()
-    }
-
-    /// The label of start `p`, if it lies farther than the margin from the curve.
-    pub fn decide(&self, p: State) -> Option<(Regime, Reason)> {
-        let inside = (Regime::SteadySlip, self.inside);
-        match self.curve.side(p, self.margin) {
-            Some(true) => return Some(inside),
-            Some(false) if self.outside => {
-                return Some((Regime::StickSlip, Reason::StartOutsideCycle));
-            }
-            _ => {}
-        }
-        let (also, margin) = self.also.as_ref()?;
-        also.side(p, *margin)?.then_some(inside)
-    }
-}
-
-/// A decaying turn below `top` (a map with [`Shortcuts::decay_below`] = `top`): the first
-/// revolution from amplitude `r` on `half`, for the highest `r` of `from, 0.85 from,
-/// 0.85^2 from, ...` (16 tries), whose states all have one root on the slip branch
-/// ([`ulc::Turn::slip_only`]: where the force's branch is history two orbits can pass each
-/// other and the argument fails), that returns lower (else the flow would leave through the
-/// closing piece instead of entering) and that stays at or below `top` (so its crossing of the
-/// section decays, and so does every crossing inside it); with that `r`. `None` if no try
-/// qualifies.
-pub fn decaying_turn(
-    st: &Stepper,
-    half: Half,
-    from: f64,
-    top: f64,
-    t_return: f64,
-) -> Option<(f64, ClosedCurve)> {
-    std::iter::successors(Some(from), |r| Some(0.85 * r))
-        .take(16)
-        .find_map(|r| {
-            let t = ulc::turn(st, half, r, t_return, &mut SolverStats::default())?;
-            let below = t.curve.v_range()[1] <= top;
-            (t.slip_only && t.returns_to < r && below).then_some((r, t.curve))
-        })
-}
-
-/// The start rule of a map whose section decays below `top`, with `shortcuts`'s threshold
-/// for the lower half set: the turn from the section's own top, and one from its lower
-/// half, which may start far lower than `-top` where the orbit from there stays below it
-/// (MODEL.md section 9, "A decaying section").
-fn decaying_turns(
-    stepper: &Stepper,
-    cs: &CycleSettings,
-    trap_margin: f64,
-    top: f64,
-    shortcuts: &mut Shortcuts,
-) -> Option<StartRule> {
-    let upper = decaying_turn(stepper, Half::Upper, top, top, cs.t_return);
-    let lower = decaying_turn(stepper, Half::Lower, cs.r_max, top, cs.t_return);
-    shortcuts.decay_lower_below = lower.as_ref().map(|(s, _)| s * (1.0 - trap_margin));
-    let fp = stepper.params().fixed_point();
-    StartRule::decaying(fp, upper, lower, trap_margin)
-}
-
-/// The largest of `segment length x larger turning angle at its ends` over the segments
-/// `segs` of the closed polygon `curve`, counting the turn at vertex `i` only where
-/// `is_turn(i)`.
-fn polygon_sag(
-    curve: &ClosedCurve,
-    segs: std::ops::Range<usize>,
-    is_turn: impl Fn(usize) -> bool,
-) -> f64 {
-    let n = curve.len();
-    let seg = |i: usize| {
-        let j = (i + 1) % n;
-        (curve.x[j] - curve.x[i], curve.v[j] - curve.v[i])
-    };
-    // Turning angle at vertex i, between segments i - 1 and i.
-    let turn = |i: usize| {
-        if !is_turn(i) {
-            return 0.0;
-        }
-        let (a, b) = (seg((i + n - 1) % n), seg(i));
-        (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).abs()
-    };
-    segs.map(|i| {
-        let (dx, dv) = seg(i);
-        dx.hypot(dv) * turn(i).max(turn((i + 1) % n))
-    })
-    .fold(0.0f64, f64::max)
 }
 
 /// The outcome of start `p` decided without a run (fixed point `centre`): at `t = 0`, no
@@ -322,6 +139,76 @@ fn with_section_fates(
         section: squeal_core::witness::section_fates(stepper, classifier, base, r_max),
         ..base
     }
+}
+
+/// Whether the maps of `plan` (of a law of `family`) search the section when prepared:
+/// for early stopping, for the located cycle, and for every law whose stick-slip is a band
+/// ([`LawFamily::has_band`]), early stopping or not: the classifier's band rules need to
+/// know whether the outside of the cycle is invariant ([`Outside`]).
+pub(crate) fn searches_section(plan: &Plan, family: LawFamily) -> bool {
+    plan.early_stop == EarlyStop::Cycle || plan.cycle.locate || family.has_band()
+}
+
+/// What the section search of map `map` found, and the rules it sets up.
+#[derive(Default)]
+struct Searched {
+    section: Option<SectionCycles>,
+    cycle: Option<CycleOutcome>,
+    start_rule: Option<StartRule>,
+    outside: Option<Outside>,
+}
+
+/// The section search of map `map` ([`section::section_cycles`]), with the unstable cycle
+/// located where the plan asks, and the rules it sets: the classifier's band rules and trap
+/// (in `classifier`), the start rule.
+fn search_map(
+    plan: &Plan,
+    map: usize,
+    (stepper, cs): (&Stepper, &CycleSettings),
+    classifier: &mut Classifier,
+) -> Result<Searched, ScanError> {
+    let params = *stepper.params();
+    let (mut cycle, mut start_rule) = (None, None);
+    let mut stats = Default::default();
+    let mut returns = 0;
+    let found = section::section_cycles(stepper, cs, &mut stats, &mut returns);
+    if let SectionCycles::Unstable { lo, .. } = found {
+        crate::bounds::fp_radius_inside(classifier.fp_radius, lo, map)?;
+    }
+    // Outside the unstable cycle a run ends on a self-excited oscillation (bounded
+    // friction, nu > 0: nothing escapes to infinity, and an attracting cycle out
+    // there is stick-slip) unless it falls back inside: where a sampled start does
+    // ([`Outside::Escapes`]) no outside rule applies, and the band rules only where
+    // the band is trapped ([`crate::band`]).
+    let outside = outside_of(stepper, cs, &found);
+    if let Some(o) = outside {
+        classifier.band_rules = o.band_rules();
+    }
+    if plan.early_stop == EarlyStop::Cycle {
+        classifier.trap = trap_of(&found, plan.trap_margin);
+    }
+    if plan.cycle.locate {
+        cycle = Some(match ulc::locate_from(stepper, found, cs, stats, returns) {
+            Ok(c) => Ok(c),
+            Err(ScanError::NoCycle(why)) => Err(why),
+            Err(e) => return Err(e),
+        });
+    }
+    if let (Some(_), SectionCycles::Unstable { r, .. }) = (classifier.trap, found) {
+        let fp = params.fixed_point();
+        let curve = match &cycle {
+            Some(Ok(c)) => Some(c.curve.clone()),
+            _ => ulc::cycle_curve(stepper, r, cs.t_return, &mut Default::default()).map(|(c, _)| c),
+        };
+        let invariant = outside == Some(Outside::Invariant);
+        start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.trap_margin, invariant));
+    }
+    Ok(Searched {
+        section: Some(found),
+        cycle,
+        start_rule,
+        outside,
+    })
 }
 
 /// Everything one map needs: stepper, classifier with its trap, the located cycle.
@@ -436,7 +323,7 @@ pub use crate::band::{Outside, outside_of, outside_on, outside_with};
 /// (`squeal trajectory`, the atlas's confirmation run) uses, so that it labels as the scan
 /// does. Laws with true stick are returned unchanged (their band rules are not used).
 pub fn classifier_for(stepper: &Stepper, base: Classifier, r_max: f64) -> Classifier {
-    if stepper.params().law.has_true_stick() {
+    if !stepper.params().law.family().has_band() {
         return base;
     }
     let cs = CycleSettings {
@@ -505,56 +392,15 @@ impl MapContext {
         let stepper = Stepper::new(params, plan.dt, plan.solver)?;
         let cs = cycle_settings(plan, &params);
         let mut classifier = plan.classifier;
-        // The section is searched for every law without true stick, early stopping or not:
-        // the classifier's band rules need to know whether the outside of the cycle is
-        // invariant ([`Outside`]).
-        let needs_search = plan.early_stop == EarlyStop::Cycle
-            || plan.cycle.locate
-            || !params.law.has_true_stick();
-        let mut section = None;
-        let mut cycle = None;
-        let mut start_rule = None;
-        let mut outside = None;
-        if needs_search {
-            let mut stats = Default::default();
-            let mut returns = 0;
-            let found = section::section_cycles(&stepper, &cs, &mut stats, &mut returns);
-            if let SectionCycles::Unstable { lo, .. } = found {
-                crate::bounds::fp_radius_inside(classifier.fp_radius, lo, map)?;
-            }
-            // Outside the unstable cycle a run ends on a self-excited oscillation (bounded
-            // friction, nu > 0: nothing escapes to infinity, and an attracting cycle out
-            // there is stick-slip) unless it falls back inside: where a sampled start does
-            // ([`Outside::Escapes`]) no outside rule applies, and the band rules only where
-            // the band is trapped ([`crate::band`]).
-            outside = outside_of(&stepper, &cs, &found);
-            if let Some(o) = outside {
-                classifier.band_rules = o.band_rules();
-            }
-            if plan.early_stop == EarlyStop::Cycle {
-                classifier.trap = trap_of(&found, plan.trap_margin);
-            }
-            if plan.cycle.locate {
-                cycle = Some(
-                    match ulc::locate_from(&stepper, found, &cs, stats, returns) {
-                        Ok(c) => Ok(c),
-                        Err(ScanError::NoCycle(why)) => Err(why),
-                        Err(e) => return Err(e),
-                    },
-                );
-            }
-            if let (Some(_), SectionCycles::Unstable { r, .. }) = (classifier.trap, found) {
-                let fp = params.fixed_point();
-                let curve = match &cycle {
-                    Some(Ok(c)) => Some(c.curve.clone()),
-                    _ => ulc::cycle_curve(&stepper, r, cs.t_return, &mut Default::default())
-                        .map(|(c, _)| c),
-                };
-                let invariant = outside == Some(Outside::Invariant);
-                start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.trap_margin, invariant));
-            }
-            section = Some(found);
-        }
+        let Searched {
+            section,
+            cycle,
+            mut start_rule,
+            outside,
+        } = match searches_section(plan, params.law.family()) {
+            true => search_map(plan, map, (&stepper, &cs), &mut classifier)?,
+            false => Searched::default(),
+        };
         let landscape = crate::landscape::of_params(plan, params)?;
         let mut shortcuts = with_section_fates(
             shortcuts(plan, &params, landscape.as_ref(), section.as_ref()),

@@ -60,8 +60,12 @@ use crate::error::ScanError;
 use crate::grid::{Axis, Grid, RandomSample};
 use crate::values::{Value, expand};
 
+mod classifier;
 pub(crate) mod physical;
 mod tables;
+
+pub use classifier::EarlyStop;
+pub(crate) use classifier::{ClassifierPlan, ClassifierSpec};
 
 pub use tables::{CycleOptions, MAX_CSV_BYTES, read_friction_csv};
 pub(crate) use tables::{CycleTable, IntegrationTable, ModelTable, OutputTable, Shape, check_name};
@@ -141,42 +145,6 @@ struct SampleSpec {
 pub const DEFAULT_SAMPLE_BLOCK: i64 = 256;
 /// Largest number of random samples per map.
 pub const MAX_SAMPLES: i64 = 1 << 26;
-
-/// Early stopping of the classifier.
-#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[serde(rename_all = "lowercase")]
-pub enum EarlyStop {
-    /// Locate the unstable cycle's crossing of the section first, then stop each run at its
-    /// first crossing clearly inside or outside it.
-    #[default]
-    Cycle,
-    /// Run every cell to settlement (fixed point reached or stick-slip band settled).
-    None,
-}
-
-impl EarlyStop {
-    /// The name used in specs and files.
-    pub fn name(self) -> &'static str {
-        match self {
-            EarlyStop::Cycle => "cycle",
-            EarlyStop::None => "none",
-        }
-    }
-}
-
-/// The `[classifier]` table (also read by the atlas spec, [`crate::atlas::spec`]).
-#[derive(Deserialize, Debug, Default)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct ClassifierSpec {
-    t_max: Option<f64>,
-    fp_radius: Option<f64>,
-    settle_cycles: Option<i64>,
-    settle_rtol: Option<f64>,
-    #[serde(default)]
-    early_stop: EarlyStop,
-    trap_margin: Option<f64>,
-    audit_every: Option<i64>,
-}
 
 /// Largest spec file read, in bytes. The shipped specs are under 3 kB; a spec is a few
 /// tables of numbers. The cap keeps a wrong path (`/dev/zero`, a data file) from filling
@@ -289,127 +257,6 @@ impl GridSpec {
     }
 }
 
-/// The checked `[classifier]` table.
-pub(crate) struct ClassifierPlan {
-    pub classifier: Classifier,
-    pub early_stop: EarlyStop,
-    pub trap_margin: f64,
-    pub audit_every: u64,
-}
-
-impl ClassifierSpec {
-    /// The checked classifier settings for step `dt` on maps of `cells` cells; errors name
-    /// `classifier.<key>`.
-    pub(crate) fn check(
-        &self,
-        dt: f64,
-        cells: usize,
-        invalid: Invalid,
-    ) -> Result<ClassifierPlan, ScanError> {
-        let c = self;
-        let d = Classifier::default();
-        let settle_cycles = c.settle_cycles.unwrap_or(d.settle_cycles as i64);
-        if !(4..=100_000).contains(&settle_cycles) {
-            return Err(invalid(
-                "classifier.settle_cycles",
-                settle_cycles.to_string(),
-                "a crossing count in 4..=100000",
-            ));
-        }
-        let classifier = Classifier {
-            t_max: c.t_max.unwrap_or(d.t_max),
-            fp_radius: c.fp_radius.unwrap_or(d.fp_radius),
-            settle_cycles: settle_cycles as u32,
-            settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
-            max_radius: d.max_radius,
-            trap: None,
-            band_rules: true,
-        };
-        classifier.validate().map_err(|e| match e {
-            squeal_core::CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            } => invalid(
-                &format!("classifier.{name}"),
-                Number(value).to_string(),
-                expected,
-            ),
-            other => invalid("classifier", String::new(), &other.to_string()),
-        })?;
-        if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
-            return Err(invalid(
-                "classifier.fp_radius",
-                Number(classifier.fp_radius).to_string(),
-                "a radius in [1e-10, 0.01]: the ball must lie inside the unstable cycle, below \
-                 the cycle search's first sample",
-            ));
-        }
-        if classifier.fp_radius < crate::bounds::MIN_FP_RADIUS {
-            return Err(invalid(
-                "classifier.fp_radius",
-                Number(classifier.fp_radius).to_string(),
-                "a radius in [1e-10, 0.01]: a settled run jitters about the fixed point at the \
-                 step's rounding, and a narrower ball is entered by chance or never (at 1e-15 \
-                 runs that settle were labelled stick-slip)",
-            ));
-        }
-        if classifier.t_max / dt > crate::bounds::MAX_STEPS {
-            return Err(invalid(
-                "classifier.t_max",
-                Number(classifier.t_max).to_string(),
-                &format!(
-                    "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
-                    classifier.t_max / dt
-                ),
-            ));
-        }
-        Ok(ClassifierPlan {
-            classifier,
-            early_stop: c.early_stop,
-            trap_margin: self.trap_margin(invalid)?,
-            audit_every: self.audit_every(cells, invalid)?,
-        })
-    }
-
-    /// The checked `classifier.trap_margin`.
-    fn trap_margin(&self, invalid: Invalid) -> Result<f64, ScanError> {
-        let trap_margin = self
-            .trap_margin
-            .unwrap_or(squeal_core::defaults::TRAP_MARGIN);
-        if !(crate::bounds::MIN_TRAP_MARGIN..0.5).contains(&trap_margin) {
-            return Err(invalid(
-                "classifier.trap_margin",
-                Number(trap_margin).to_string(),
-                "a relative margin in [1e-10, 0.5): a narrower band is narrower than the error \
-                 of the cycle's located crossing (about 1e-11 at the default step), and below \
-                 1.1e-16 it is no band at all in f64",
-            ));
-        }
-        Ok(trap_margin)
-    }
-
-    /// The checked `classifier.audit_every` for maps of `cells` cells.
-    fn audit_every(&self, cells: usize, invalid: Invalid) -> Result<u64, ScanError> {
-        // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
-        // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
-        // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
-        // as its 16384 early-stopped cells.
-        let audit_every = self.audit_every.unwrap_or_else(|| {
-            let cells = cells as i64;
-            (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
-        });
-        if !(0..=1 << 40).contains(&audit_every) {
-            return Err(invalid(
-                "classifier.audit_every",
-                audit_every.to_string(),
-                "0 (no audit) or a sampling interval in 1..=2^40 cells",
-            ));
-        }
-        Ok(audit_every as u64)
-    }
-}
-
 /// A swept parameter: one basin map per value.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Sweep {
@@ -492,6 +339,34 @@ fn fixed_params(m: &ModelTable, invalid: Invalid) -> Result<Vec<(&'static str, f
     }
     Ok(fixed)
 }
+/// Refuses a given `cycle.r_max` that does not reach every start of the grid on every map:
+/// the start rule and the band's fates are read off the searched stretch of the section.
+fn check_reach(
+    cycle: &CycleOptions,
+    maps: &[Params],
+    grid: &Grid,
+    invalid: Invalid,
+) -> Result<(), ScanError> {
+    if !cycle.r_max_given {
+        return Ok(());
+    }
+    let reach = maps
+        .iter()
+        .map(|p| crate::grid::grid_reach(grid, p))
+        .fold(0.0f64, f64::max);
+    if cycle.search.r_max < reach {
+        return Err(invalid(
+            "cycle.r_max",
+            format!("{:?}", cycle.search.r_max),
+            &format!(
+                "an amplitude reaching the grid's farthest start from the fixed point \
+                 ({reach:.4}), or no key (then 1.2 times that, at least 4)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The maps of a `[model]` table: one parameter set per value of the swept key (the damping
 /// or the belt speed, not both), each checked.
 fn model_maps(
@@ -500,7 +375,7 @@ fn model_maps(
     invalid: Invalid,
 ) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
     // The laws with true stick default their damping (bSTAB's case); McMillan's need it.
-    let stribeck = m.law.has_true_stick();
+    let stribeck = m.law.family().has_own_names();
     let (damping_key, speed_key) = (m.law.keys()[0], m.law.keys()[1]);
     let (damping, speed) = (m.given(damping_key), m.given(speed_key));
     let (damping, speed) = (damping.as_ref(), speed.as_ref());
@@ -732,24 +607,7 @@ impl Plan {
             audit_every,
         } = spec.classifier.check(dt, grid.cells(), &invalid)?;
         let cycle = spec.cycle.check(Shape::Scan, &invalid)?;
-        if cycle.r_max_given {
-            // The section search must reach every start of the grid: the start rule and the
-            // band's fates are read off the searched stretch of the section.
-            let reach = maps
-                .iter()
-                .map(|p| crate::grid::grid_reach(&grid, p))
-                .fold(0.0f64, f64::max);
-            if cycle.search.r_max < reach {
-                return Err(invalid(
-                    "cycle.r_max",
-                    format!("{:?}", cycle.search.r_max),
-                    &format!(
-                        "an amplitude reaching the grid's farthest start from the fixed point \
-                         ({reach:.4}), or no key (then 1.2 times that, at least 4)"
-                    ),
-                ));
-            }
-        }
+        check_reach(&cycle, &maps, &grid, &invalid)?;
         let output = spec.output.check(&invalid)?;
         let name = tables::check_name(spec.name.as_deref(), path, "", &invalid)?;
         Ok(Plan {
@@ -843,391 +701,4 @@ pub fn first_difference<T: Serialize>(a: &T, b: &T, ignore: &[&str]) -> Option<S
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    pub(crate) const GOOD: &str = r#"
-version = 1
-[model]
-law = "mcmillan"
-nu = 1e-3
-[grid]
-x0 = { min = -3.0, max = 5.0, count = 4 }
-v0 = { min = -4.0, max = 4.0, count = 3 }
-[output]
-path = "x.h5"
-"#;
-
-    fn err(text: &str) -> String {
-        Plan::from_toml(text, "t.toml").unwrap_err().to_string()
-    }
-
-    #[test]
-    fn good_spec_gives_defaults() {
-        let p = Plan::from_toml(GOOD, "scans/t.toml").unwrap();
-        assert_eq!(p.maps.len(), 1);
-        assert_eq!(p.maps[0].lambda, 3.0);
-        assert_eq!(p.name, "t");
-        assert_eq!(p.grid.cells(), 12);
-        assert!(p.sweep.is_none());
-        assert_eq!(p.early_stop, EarlyStop::Cycle);
-    }
-
-    #[test]
-    fn bad_specs_name_the_problem() {
-        let cases: Vec<(String, &str)> = vec![
-            (GOOD.replace("version = 1", "version = 2"), "version"),
-            (
-                GOOD.replace("nu = 1e-3", "nu = 1e-3\nmu = 2"),
-                "unknown field `mu`",
-            ),
-            (GOOD.replace("nu = 1e-3\n", ""), "`model.nu` = missing"),
-            (
-                GOOD.replace("min = -3.0, max = 5.0", "min = 5.0, max = -3.0"),
-                "inverted",
-            ),
-            (
-                GOOD.replace("min = -3.0, max = 5.0", "min = 1.0, max = 1.0"),
-                "empty range",
-            ),
-            (GOOD.replace("count = 4", "count = 0"), "grid.x0.count"),
-            (
-                GOOD.replace("count = 4", "count = 100000000"),
-                "grid.x0.count",
-            ),
-            (GOOD.replace("nu = 1e-3", "nu = -1.0"), "model.nu"),
-            (GOOD.replace("nu = 1e-3", "nu = []"), "non-empty"),
-            (
-                GOOD.replace("nu = 1e-3", "nu = [1e-3, 3e-3, 2e-3]"),
-                "monotone",
-            ),
-            (GOOD.replace("nu = 1e-3", "nu = nan"), "model.nu"),
-            (
-                GOOD.replace("law = \"mcmillan\"", "law = \"stribeck\""),
-                "stribeck",
-            ),
-            (
-                GOOD.replace("[output]", "[integration]\ndt = 0.0\n[output]"),
-                "integration.dt",
-            ),
-            (
-                GOOD.replace("nu = 1e-3", "nu = 1e-3\nlambda = [1.0, 2.0]")
-                    .replace("nu = 1e-3\n", "nu = [1e-3, 2e-3]\n"),
-                "only one",
-            ),
-            (GOOD.replace("[model]", "[model\n"), "line"),
-            (
-                GOOD.replace("version = 1", "version = 1\nname = \"a\\u0000b\""),
-                "`name`",
-            ),
-            (
-                GOOD.replace("nu = 1e-3", "nu = \"small\""),
-                // The TOML error quotes the line (naming the key) and says what is accepted.
-                "nu = \"small\"\n  |      ^^^^^^^\na number, a list of numbers",
-            ),
-        ];
-        for (text, want) in cases {
-            let e = err(&text);
-            assert!(e.contains(want), "expected '{want}' in: {e}");
-        }
-    }
-
-    pub(crate) const SAMPLED: &str = r#"
-version = 1
-[model]
-law = "mcmillan"
-nu = 1e-3
-[sample]
-kind = "random"
-n = 50
-seed = 3
-region = { x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }
-[output]
-path = "x.h5"
-"#;
-
-    #[test]
-    fn a_random_sample_is_a_list_of_points_in_the_region() {
-        let p = Plan::from_toml(SAMPLED, "t.toml").unwrap();
-        let g = p.grid;
-        assert_eq!((g.cells(), g.x0.count, g.v0.count), (50, 1, 50));
-        assert_eq!(g.block_rows, DEFAULT_SAMPLE_BLOCK as usize);
-        assert_eq!(g.blocks(), 1);
-        for i in 0..50 {
-            let (x, v) = g.state(i, 0);
-            assert!(
-                (-2.0..2.0).contains(&x) && (0.0..2.0).contains(&v),
-                "{x} {v}"
-            );
-        }
-        // Another seed is another plan (a resume refuses it).
-        let q = Plan::from_toml(&SAMPLED.replace("seed = 3", "seed = 4"), "t.toml").unwrap();
-        assert_eq!(p.differs_from(&q).as_deref(), Some("grid"));
-    }
-
-    #[test]
-    fn bad_samples_name_the_problem() {
-        let cases: Vec<(String, &str)> = vec![
-            (SAMPLED.replace("n = 50", "n = 0"), "sample.n"),
-            (SAMPLED.replace("n = 50", "n = -5"), "sample.n"),
-            (
-                SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [2.0, -2.0]"),
-                "`sample.region.x0` = [2.0, -2.0]: min <= max (the range is inverted)",
-            ),
-            (
-                SAMPLED.replace("v0 = [0.0, 2.0]", "v0 = [nan, 2.0]"),
-                "sample.region.v0",
-            ),
-            // A NaN (or any float) seed: the TOML error quotes the `seed` line.
-            (SAMPLED.replace("seed = 3", "seed = nan"), "seed = nan"),
-            (SAMPLED.replace("seed = 3", "seed = -1"), "seed = -1"),
-            (SAMPLED.replace("kind = \"random\"", "kind = \"sobol\""), "sobol"),
-            (
-                SAMPLED.replace("[output]", "block = 0\n[output]"),
-                "sample.block",
-            ),
-            (
-                SAMPLED.replace("[output]", "[grid]\nx0 = { min = 0.0, max = 1.0, count = 2 }\nv0 = { min = 0.0, max = 1.0, count = 2 }\n[output]"),
-                "one of [grid]",
-            ),
-            (
-                SAMPLED.replace("[sample]", "[unused]").replace("kind = \"random\"\n", ""),
-                "unknown field `unused`",
-            ),
-            (
-                GOOD.replace("[grid]", "[other]"),
-                "unknown field `other`",
-            ),
-        ];
-        for (text, want) in cases {
-            let e = err(&text);
-            assert!(e.contains(want), "expected '{want}' in: {e}");
-        }
-        let neither = GOOD
-            .replace("[grid]\n", "")
-            .replace("x0 = { min = -3.0, max = 5.0, count = 4 }\n", "")
-            .replace("v0 = { min = -4.0, max = 4.0, count = 3 }\n", "");
-        let e = err(&neither);
-        assert!(e.contains("`grid`") && e.contains("neither"), "{e}");
-    }
-
-    #[test]
-    fn comment_edits_do_not_change_the_plan() {
-        let a = Plan::from_toml(GOOD, "t.toml").unwrap();
-        let b = Plan::from_toml(&format!("# a note\n{GOOD}"), "t.toml").unwrap();
-        assert_ne!(a.spec_text, b.spec_text);
-        assert_eq!(a.differs_from(&b), None);
-        let c = Plan::from_toml(&GOOD.replace("nu = 1e-3", "nu = 2e-3"), "t.toml").unwrap();
-        assert_eq!(a.differs_from(&c).as_deref(), Some("maps"));
-    }
-
-    #[test]
-    fn sweeps_expand() {
-        let p = Plan::from_toml(
-            &GOOD.replace(
-                "nu = 1e-3",
-                "nu = { from = 1e-3, to = 1e-1, count = 3, spacing = \"log\" }",
-            ),
-            "t.toml",
-        )
-        .unwrap();
-        let s = p.sweep.unwrap();
-        assert_eq!(s.name, "nu");
-        assert!((s.values[1] - 1e-2).abs() < 1e-15);
-        assert_eq!(p.maps.len(), 3);
-    }
-
-    /// Every key of a spec, valid as a whole: (table, key, value). The grid axes are written
-    /// as sub-tables so that each of their keys is a line of its own.
-    const FULL: &[(&str, &str, &str)] = &[
-        ("", "version", "1"),
-        ("", "name", "\"fuzz\""),
-        ("model", "law", "\"mcmillan\""),
-        ("model", "nu", "1e-3"),
-        ("model", "lambda", "3.0"),
-        ("model", "tau", "0.31622776601683794"),
-        ("model", "phi", "1.0"),
-        ("grid", "block_rows", "8"),
-        ("grid.x0", "min", "-3.0"),
-        ("grid.x0", "max", "5.0"),
-        ("grid.x0", "count", "4"),
-        ("grid.v0", "min", "-4.0"),
-        ("grid.v0", "max", "4.0"),
-        ("grid.v0", "count", "3"),
-        ("integration", "dt", "0.01"),
-        ("integration", "solver", "\"robust\""),
-        ("integration", "max_iter", "100"),
-        ("classifier", "t_max", "5000.0"),
-        ("classifier", "fp_radius", "1e-3"),
-        ("classifier", "settle_cycles", "20"),
-        ("classifier", "settle_rtol", "0.05"),
-        ("classifier", "early_stop", "\"cycle\""),
-        ("classifier", "trap_margin", "1e-5"),
-        ("cycle", "locate", "true"),
-        ("output", "path", "\"x.h5\""),
-    ];
-
-    /// What to do to one key of [`FULL`].
-    #[derive(Clone, Debug)]
-    enum Mutation {
-        /// Give it this TOML value (any type).
-        Set(String),
-        /// Remove the line.
-        Delete,
-        /// Write the line twice.
-        Duplicate,
-    }
-
-    /// The spec of [`FULL`] with `mutation` applied to key number `at`.
-    fn mutated(at: usize, mutation: &Mutation) -> String {
-        let mut text = String::new();
-        let mut table = "";
-        for (i, &(t, key, value)) in FULL.iter().enumerate() {
-            if t != table {
-                text += &format!("[{t}]\n");
-                table = t;
-            }
-            let line = format!("{key} = {value}\n");
-            match (i == at, mutation) {
-                (false, _) => text += &line,
-                (true, Mutation::Set(v)) => text += &format!("{key} = {v}\n"),
-                (true, Mutation::Delete) => {}
-                (true, Mutation::Duplicate) => {
-                    text += &line;
-                    text += &line;
-                }
-            }
-        }
-        text
-    }
-
-    /// TOML literals of every type, in and out of range.
-    fn toml_value() -> impl proptest::strategy::Strategy<Value = String> {
-        use proptest::prelude::*;
-        let float = proptest::num::f64::ANY.prop_map(|f| {
-            if f.is_nan() {
-                "nan".to_string()
-            } else if f.is_infinite() {
-                if f > 0.0 { "inf" } else { "-inf" }.to_string()
-            } else {
-                format!("{f:?}")
-            }
-        });
-        let small = (-10.0f64..10.0).prop_map(|f| format!("{f:?}"));
-        let string = "\\PC{0,12}"
-            .prop_map(|s| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\"")));
-        let word = proptest::sample::select(vec![
-            "\"mcmillan\"",
-            "\"coulomb\"",
-            "\"none\"",
-            "\"paper\"",
-            "\"log\"",
-            "\"\"",
-        ])
-        .prop_map(str::to_string);
-        // Weighted towards numbers of the right type, which get past the parser.
-        prop_oneof![
-            2 => float,
-            4 => small,
-            1 => any::<i64>().prop_map(|n| n.to_string()),
-            3 => (-5i64..300).prop_map(|n| n.to_string()),
-            1 => any::<bool>().prop_map(|b| b.to_string()),
-            1 => string,
-            2 => word,
-            1 => proptest::collection::vec(-1.0f64..1.0, 0..4)
-                .prop_map(|v| format!("{v:?}")),
-            1 => Just("{ from = 1e-3, to = 1e-2, count = 3, spacing = \"log\" }".to_string()),
-            1 => Just("{ min = -1.0, max = 1.0, count = 2 }".to_string()),
-            1 => Just("{}".to_string()),
-        ]
-    }
-
-    #[test]
-    fn the_full_spec_is_valid_and_mutations_reach_validation() {
-        // The base of the mutations is accepted, so an error comes from the mutation.
-        Plan::from_toml(&mutated(usize::MAX, &Mutation::Delete), "full.toml").unwrap();
-        // Out-of-range values of the right type get past the TOML parser to validation.
-        let e = err(&mutated(3, &Mutation::Set("-1.0".into())));
-        assert!(e.contains("model.nu"), "{e}");
-        assert!(!e.contains("TOML parse error"), "{e}");
-    }
-
-    proptest::proptest! {
-        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
-        /// A valid spec with one key changed (any value of any type), deleted or duplicated:
-        /// never a panic, and a refusal names the key it is about.
-        #[test]
-        fn mutated_specs_never_panic_and_errors_name_the_key(
-            at in 0..FULL.len(),
-            mutation in proptest::prop_oneof![
-                6 => proptest::strategy::Strategy::prop_map(toml_value(), Mutation::Set),
-                1 => proptest::strategy::Just(Mutation::Delete),
-                1 => proptest::strategy::Just(Mutation::Duplicate),
-            ],
-        ) {
-            use proptest::prelude::*;
-            let text = mutated(at, &mutation);
-            if let Err(e) = Plan::from_toml(&text, "fuzz.toml") {
-                let (table, key) = (FULL[at].0, FULL[at].1);
-                let msg = e.to_string();
-                // An axis's min, max and count are checked together (an empty range, too
-                // many cells): naming the axis (`grid.v0`) names the key's table.
-                let names_axis = table.starts_with("grid.") && msg.contains(table);
-                prop_assert!(
-                    msg.contains(key) || names_axis,
-                    "{mutation:?} of `{table}.{key}`: {msg}\n{text}"
-                );
-            }
-        }
-
-        #[test]
-        fn mutated_numbers_never_panic(a in proptest::num::f64::ANY, n in proptest::num::i64::ANY) {
-            let t = GOOD.replace("-3.0", &format!("{a:?}")).replace("count = 4", &format!("count = {n}"));
-            let _ = Plan::from_toml(&t, "fuzz.toml");
-        }
-    }
-
-    /// A spec stored by a squeal before the lower bounds on phi, fp_radius and trap_margin,
-    /// with a value below one, is refused naming the key and bound and saying that files of
-    /// squeal before those bounds may break them (before, only "does not validate" and the
-    /// bound, as if the user had typed it); given by a user it is refused as before.
-    #[test]
-    fn a_stored_spec_below_a_newer_bound_says_older_files_may_break_it() {
-        use crate::Plan;
-        use crate::atlas::AtlasPlan;
-        let classifier =
-            |line: &str| GOOD.replace("[output]", &format!("[classifier]\n{line}\n[output]"));
-        for (text, key) in [
-            (
-                GOOD.replace("nu = 1e-3", "nu = 1e-3\nphi = 2e-6"),
-                "model.phi",
-            ),
-            (classifier("fp_radius = 1e-12"), "classifier.fp_radius"),
-            (classifier("trap_margin = 1e-12"), "classifier.trap_margin"),
-        ] {
-            let e = Plan::from_stored_toml(&text, "t.toml")
-                .unwrap_err()
-                .to_string();
-            assert!(
-                e.contains(&format!("`{key}`")) && e.contains("squeal before the lower bounds"),
-                "{e}"
-            );
-            let e = Plan::from_toml(&text, "t.toml").unwrap_err().to_string();
-            assert!(
-                e.contains(&format!("`{key}`")) && !e.contains("squeal before the lower bounds"),
-                "{e}"
-            );
-        }
-        // mu_s = 2e5 against mu_k = 0.35: Phi = arcsin(0.35 / 2e5) = 1.75e-6, below 1e-5.
-        let atlas = "version = 1\n[model]\nlaw = \"mcmillan\"\n[physical]\nm = 2.0\n\
-                     k = 5.0e4\nc = 10.0\nv_belt = 0.05\nmu_k = 0.35\nmu_s = 2e5\ntau = 1e-3\n\
-                     [boundaries]\nfold = false\ncritical = false\n[output]\npath = \"a.h5\"\n";
-        let e = AtlasPlan::from_stored_toml(atlas, "a.toml")
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("`physical.mu_s`") && e.contains("squeal before the lower bounds"),
-            "{e}"
-        );
-    }
-}
+mod tests;

@@ -8,7 +8,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde::Serialize;
-use squeal_core::classify::crossing;
+use squeal_core::classify::{Watch, crossing};
 use squeal_core::{
     Classifier, Lasting, Outcome, Reason, Regime, Run, Sample, Samples, Shortcuts, SolverStats,
     State, Step, Stepper, TurnSettings, TurnWatch,
@@ -238,7 +238,7 @@ fn watch_run(
     if span.every > 0 {
         samples.push(run.sample());
     }
-    let mut stick = p.law.has_true_stick().then(StickPhases::default);
+    let mut stick = p.law.family().locates_stick().then(StickPhases::default);
     let mut osc = Oscillation::NONE;
     let mut turns = TurnWatch::new(&p, TurnSettings::of(label));
     let mut lasting = None;
@@ -250,23 +250,11 @@ fn watch_run(
         if let Some(sp) = stick.as_mut() {
             sp.observe(&step);
         }
-        if outcome.is_none() {
-            if let Some(decision) = watch.observe(&run, &step) {
-                outcome = Some(watch.finish(decision, &run));
-            }
-        }
-        if own.is_none() {
-            if let Some(decision) = own_watch.observe(&run, &step) {
-                own = Some(own_watch.finish(decision, &run));
-            }
-        }
-        if rest.is_none() {
-            if let Some(decision) = rest_watch.observe(&run, &step) {
-                rest = Some(rest_watch.finish(decision, &run));
-                if until_settled && decision.0 == Regime::SteadySlip {
-                    break;
-                }
-            }
+        verdict(&mut watch, &mut outcome, (&run, &step));
+        verdict(&mut own_watch, &mut own, (&run, &step));
+        let settled = verdict(&mut rest_watch, &mut rest, (&run, &step));
+        if until_settled && settled == Some(Regime::SteadySlip) {
+            break;
         }
         if let Some(c) = crossing(fp.x, &step.prev, &n) {
             osc.observe(c.t, c.r);
@@ -306,6 +294,21 @@ fn watch_run(
         max_residual: run.max_residual(),
         steps: run.steps(),
     }
+}
+
+/// Feeds `step` to `watch` while `verdict` is not yet taken, and takes it at the watch's
+/// decision: the regime decided at this step, if any.
+fn verdict(
+    watch: &mut Watch,
+    verdict: &mut Option<Outcome>,
+    (run, step): (&Run, &Step),
+) -> Option<Regime> {
+    if verdict.is_some() {
+        return None;
+    }
+    let decision = watch.observe(run, step)?;
+    *verdict = Some(watch.finish(decision, run));
+    Some(decision.0)
 }
 
 /// One run from `span`'s start to its end in the map context `ctx` ([`MapContext::prepare`]),

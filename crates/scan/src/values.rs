@@ -47,6 +47,59 @@ impl Value {
     }
 }
 
+/// The values of the range `r` of key `key`, checked: a count in `1..=max`, finite bounds,
+/// positive ones for log spacing, and a single value only where `from = to`.
+fn range_values(
+    r: &RangeSpec,
+    key: &str,
+    max: i64,
+    invalid: &dyn Fn(&str, String, &str) -> ScanError,
+) -> Result<Vec<f64>, ScanError> {
+    if r.count < 1 || r.count > max {
+        return Err(invalid(
+            &format!("{key}.count"),
+            r.count.to_string(),
+            &format!("a count in 1..={max}"),
+        ));
+    }
+    if !r.from.is_finite() || !r.to.is_finite() {
+        return Err(invalid(
+            key,
+            format!("from {} to {}", Number(r.from), Number(r.to)),
+            "finite bounds",
+        ));
+    }
+    if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
+        return Err(invalid(
+            key,
+            format!("from {} to {}", Number(r.from), Number(r.to)),
+            "positive bounds for log spacing",
+        ));
+    }
+    // As a grid axis's: one value cannot stand for a range, and `to` would be dropped.
+    if r.count == 1 && r.from != r.to {
+        return Err(invalid(
+            &format!("{key}.count"),
+            format!("1 from {} to {}", Number(r.from), Number(r.to)),
+            "count >= 2 for a range, or from = to for a single value",
+        ));
+    }
+    let a = Axis {
+        min: 0.0,
+        max: 1.0,
+        count: r.count as usize,
+    };
+    Ok((0..a.count)
+        .map(|i| {
+            let t = a.value(i);
+            match r.spacing {
+                Spacing::Linear => r.from + t * (r.to - r.from),
+                Spacing::Log => (r.from.ln() + t * (r.to.ln() - r.from.ln())).exp(),
+            }
+        })
+        .collect())
+}
+
 /// The values of `v`, checked: at most `max` of them, finite, strictly monotone. `invalid`
 /// builds the error from the key, the value given and what is accepted.
 pub(crate) fn expand(
@@ -63,51 +116,7 @@ pub(crate) fn expand(
             }
             xs.clone()
         }
-        Value::Range(r) => {
-            if r.count < 1 || r.count > max {
-                return Err(invalid(
-                    &format!("{key}.count"),
-                    r.count.to_string(),
-                    &format!("a count in 1..={max}"),
-                ));
-            }
-            if !r.from.is_finite() || !r.to.is_finite() {
-                return Err(invalid(
-                    key,
-                    format!("from {} to {}", Number(r.from), Number(r.to)),
-                    "finite bounds",
-                ));
-            }
-            if r.spacing == Spacing::Log && (r.from <= 0.0 || r.to <= 0.0) {
-                return Err(invalid(
-                    key,
-                    format!("from {} to {}", Number(r.from), Number(r.to)),
-                    "positive bounds for log spacing",
-                ));
-            }
-            // As a grid axis's: one value cannot stand for a range, and `to` would be dropped.
-            if r.count == 1 && r.from != r.to {
-                return Err(invalid(
-                    &format!("{key}.count"),
-                    format!("1 from {} to {}", Number(r.from), Number(r.to)),
-                    "count >= 2 for a range, or from = to for a single value",
-                ));
-            }
-            let a = Axis {
-                min: 0.0,
-                max: 1.0,
-                count: r.count as usize,
-            };
-            (0..a.count)
-                .map(|i| {
-                    let t = a.value(i);
-                    match r.spacing {
-                        Spacing::Linear => r.from + t * (r.to - r.from),
-                        Spacing::Log => (r.from.ln() + t * (r.to.ln() - r.from.ln())).exp(),
-                    }
-                })
-                .collect()
-        }
+        Value::Range(r) => range_values(r, key, max, invalid)?,
     };
     if values.len() as i64 > max {
         return Err(invalid(

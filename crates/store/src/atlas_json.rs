@@ -153,7 +153,7 @@ fn boundary_json(plan: &AtlasPlan, j: usize, b: Option<&BoundaryResult>) -> Valu
 /// time stuck under its own name.
 fn landscape_json(p: &PointResult, o: &mut Value) {
     if let Some(l) = p.landscape {
-        use squeal_scan::atlas::stribeck::{LANDSCAPE_COLUMNS, STUCK_SHARE};
+        use squeal_scan::atlas::true_stick::{LANDSCAPE_COLUMNS, STUCK_SHARE};
         let mut e = serde_json::Map::new();
         e.insert(
             "landscape".into(),

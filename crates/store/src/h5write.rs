@@ -93,7 +93,7 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     str_attr(file, "name", &plan.name)?;
     str_attr(file, "law", p0.kind().name())?;
     let swept = plan.sweep.as_ref().map(|s| s.name);
-    if p0.law.has_true_stick() {
+    if p0.law.family().has_own_names() {
         // The law's own parameters, each with its long name and units beside it.
         for n in p0.named() {
             if swept != Some(n.name) {
@@ -480,7 +480,7 @@ fn per_map<'l>(
         let vals: Vec<i64> = maps.checks.iter().map(|c| c.values()[i]).collect();
         o.put(over, *named, Some("1"), vals)?;
     }
-    if plan.maps[0].law.has_true_stick() {
+    if plan.maps[0].law.family().has_landscape() {
         let vals: Vec<LandscapeH5> = (0..nmaps)
             .map(|m| LandscapeH5::of(landscape(m).map(|l| l.landscape)))
             .collect();

@@ -38,7 +38,7 @@ use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, COLUMNS as POINT_COLUMNS};
-use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
+use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num, cell_bytes};
 
 use crate::StoreError;

@@ -409,7 +409,11 @@ impl ScanWriter {
         mut self,
         landscapes: &[Option<squeal_core::LandscapeEvidence>],
     ) -> Result<Vec<MapChecks>, StoreError> {
-        let stated = self.plan.maps.iter().all(|p| !p.law.has_true_stick())
+        let stated = self
+            .plan
+            .maps
+            .iter()
+            .all(|p| !p.law.family().has_landscape())
             || landscapes.len() == self.plan.maps.len();
         if !stated {
             return Err(StoreError::Landscape {

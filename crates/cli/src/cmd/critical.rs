@@ -42,7 +42,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let inv = super::physical::start_invalid("command line".into(), scales.is_some());
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
-    let stribeck = plan.maps[setup.map].law.has_true_stick();
+    let stribeck = plan.maps[setup.map].law.family().has_own_names();
     let args = match (args.in_.as_str(), stribeck) {
         ("xi" | "v_d", false) => bail!(
             "--in {}: a name under the laws with true stick (stribeck, cubic); with law {} use --in nu or --in lambda",
@@ -121,7 +121,7 @@ fn names(
     param: BoundaryParam,
 ) -> anyhow::Result<(BoundaryParam, &'static str, &'static str)> {
     let (_, flag) = args.range(param)?;
-    let name = match (param, plan.maps[map].law.has_true_stick()) {
+    let name = match (param, plan.maps[map].law.family().has_own_names()) {
         (BoundaryParam::Nu, true) => "xi",
         (BoundaryParam::Lambda, true) => "v_d",
         _ => flag,

@@ -136,7 +136,7 @@ fn the_law_is_named_and_bounded() {
     assert_eq!(law, FrictionLaw::Table);
     assert_eq!(law.title(), "tabulated law with true stick");
     assert_eq!(law.keys(), ["xi", "v_d"]);
-    assert!(law.has_true_stick());
+    assert_eq!(law.family(), squeal_core::LawFamily::TrueStick);
     // The wire form carries the rows and reads back to the same interned table.
     let json = serde_json::to_string(&p).unwrap();
     assert!(

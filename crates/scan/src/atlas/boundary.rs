@@ -397,7 +397,7 @@ pub fn fold_in(
 /// `the_non_hysteretic_crisis_lies_where_runs_put_it`), where the window bisection gave
 /// 0.04106, below runs that keep squealing.
 pub fn crisis_applies(law: squeal_core::FrictionLaw) -> bool {
-    !law.has_true_stick()
+    law.family().has_band()
 }
 
 /// The crisis of the stick-slip band in `param` over `range` ([`crate::band::crisis_in`]:

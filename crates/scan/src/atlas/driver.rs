@@ -10,11 +10,12 @@
 use std::sync::atomic::AtomicBool;
 
 use serde::{Deserialize, Serialize};
+use squeal_core::{LawFamily, Setup};
 
 pub use super::boundary::BoundaryResult;
-use super::boundary::{self, Boundary, BoundaryStatus};
+use super::boundary::{self, Boundary, BoundaryParam, BoundaryStatus};
 use super::note::{Note, NoteKind};
-use super::point::{PointResult, compute_point};
+use super::point::{PointResult, PointSettings, compute_point};
 use super::spec::AtlasPlan;
 use crate::error::ScanError;
 use crate::executor::{Emit, execute};
@@ -83,10 +84,9 @@ impl AtlasPlan {
 /// section crossing on its line). Laws with true stick check the section search against the
 /// landscape. A failure is data: an undecided point with its reason.
 pub fn compute_at(plan: &AtlasPlan, i: usize, warm: Option<f64>) -> PointResult {
-    let compute = if plan.law.has_true_stick() {
-        super::stribeck::compute_point
-    } else {
-        compute_point
+    let compute = match plan.law.family() {
+        LawFamily::TrueStick => super::true_stick::compute_point,
+        LawFamily::Regularised => compute_point,
     };
     compute(plan.setup_at(i), &plan.settings_at(i), warm).unwrap_or_else(|e| {
         let mut p = super::columns::empty_point();
@@ -97,124 +97,151 @@ pub fn compute_at(plan: &AtlasPlan, i: usize, warm: Option<f64>) -> PointResult 
 
 /// Runs one unit.
 pub fn run_unit(plan: &AtlasPlan, unit: Unit) -> Result<UnitResult, ScanError> {
-    match unit {
-        Unit::Line(line) => {
-            let len = plan.line_len();
-            let mut points = Vec::with_capacity(len);
-            let mut warm = None;
-            for i in line * len..(line + 1) * len {
-                let p = compute_at(plan, i, warm);
-                warm = p.cycle.map(|c| c.r_section);
-                points.push(p);
-            }
-            Ok(UnitResult::Line(LineResult { line, points }))
+    Ok(match unit {
+        Unit::Line(line) => UnitResult::Line(run_line(plan, line)),
+        Unit::Boundary(j) => UnitResult::Boundary(run_boundary(plan, j)),
+    })
+}
+
+/// The points of line `line`, each warm-started from the previous point's crossing.
+fn run_line(plan: &AtlasPlan, line: usize) -> LineResult {
+    let len = plan.line_len();
+    let mut points = Vec::with_capacity(len);
+    let mut warm = None;
+    for i in line * len..(line + 1) * len {
+        let p = compute_at(plan, i, warm);
+        warm = p.cycle.map(|c| c.r_section);
+        points.push(p);
+    }
+    LineResult { line, points }
+}
+
+/// Boundary `j`: the fold and the critical value, each through the gate of `critical`
+/// ([`gated`]), and the lifetimes above the fold. A failed run inside a bisection leaves
+/// that boundary not computed, with the reason: one hard point does not abort the atlas.
+fn run_boundary(plan: &AtlasPlan, j: usize) -> BoundaryResult {
+    let (i, range) = plan.boundary_setup(j);
+    let ps = plan.settings_at(i);
+    let mut notes: Option<Note> = None;
+    let range = ParamRange {
+        lo: range[0],
+        hi: range[1],
+        rtol: plan.boundary_rtol,
+    };
+    let (param, setup, which) = (
+        plan.boundary_in,
+        plan.setup_at(i),
+        [plan.fold, plan.critical],
+    );
+    let [f, c] = shortcut_boundaries(plan, setup, &ps, range);
+    let at = ((param, setup), &ps, range);
+    let fold = gated(at, (which[0], true), f, &mut notes);
+    let critical = gated(at, (which[1], false), c, &mut notes);
+    let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
+        Ok(b) => b,
+        Err(e) => {
+            let n = Note::new(NoteKind::Failure, format!("{what}: {e}"));
+            notes = Some(Note::add(notes.take(), n));
+            Boundary::none()
         }
-        Unit::Boundary(j) => {
-            let (i, range) = plan.boundary_setup(j);
-            let ps = plan.settings_at(i);
-            // A failed run inside a bisection leaves that boundary not computed, with the
-            // reason: one hard point does not abort the atlas.
-            let mut notes: Option<Note> = None;
-            let range = ParamRange {
-                lo: range[0],
-                hi: range[1],
-                rtol: plan.boundary_rtol,
-            };
-            let (param, setup, which) = (
-                plan.boundary_in,
-                plan.setup_at(i),
-                [plan.fold, plan.critical],
-            );
-            // The shortcuts' answers where the checked region holds (else not computed: the
-            // gate answers by runs without them), each through the gate of `critical`.
-            let checked = crate::fates::unchecked(&setup.params).is_none();
-            let [f, c] = match (checked, plan.law.has_true_stick()) {
-                (false, _) => [None, None],
-                (true, true) => {
-                    super::stribeck::both_in(param, setup, &ps, ps.operating, range, which)
-                }
-                (true, false) => {
-                    let coarse = plan.boundary_coarse;
-                    boundary::both_with(param, setup, (&ps, ps.operating), range, which, coarse)
-                }
-            };
-            let mut gate = |asked: bool, found: Option<Result<Boundary, ScanError>>, fold: bool| {
-                if !asked {
-                    return None;
-                }
-                let starts = crate::fates::starts(fold, (param, setup), range.lo, ps.operating);
-                let shortcut = || {
-                    let b = found.unwrap_or_else(|| Ok(Boundary::none()))?;
-                    let bracket = b.bracket;
-                    Ok((b, (b.status == BoundaryStatus::Found).then_some(bracket)))
-                };
-                let what = if fold { "fold" } else { "critical" };
-                let d = crate::fates::decide(
-                    (setup, param),
-                    &starts,
-                    (range, range.hi),
-                    crate::fates::HORIZON,
-                    shortcut,
-                );
-                Some(d.map(|d| match d {
-                    crate::fates::Decided::Shortcut { answer, confirmed } => {
-                        if let Some(c) = confirmed.filter(|c| !c.confirmed) {
-                            let n = Note::new(NoteKind::Unconfirmed, format!("{what}: {}", c.line));
-                            notes = Some(Note::add(notes.take(), n));
-                        }
-                        answer
-                    }
-                    crate::fates::Decided::Runs { boundary, why } => {
-                        let n = Note::new(
-                            NoteKind::Finding,
-                            format!("{what} by runs because {}", why.words()),
-                        );
-                        notes = Some(Note::add(notes.take(), n));
-                        boundary.as_boundary()
-                    }
-                }))
-            };
-            let fold = gate(which[0], f, true);
-            let critical = gate(which[1], c, false);
-            let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
-                Ok(b) => b,
-                Err(e) => {
-                    let n = Note::new(NoteKind::Failure, format!("{what}: {e}"));
-                    notes = Some(Note::add(notes.take(), n));
-                    Boundary::none()
-                }
-            };
-            let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));
-            let critical = critical.map_or_else(Boundary::none, |r| keep("critical", r));
-            if fold.changes > 1 {
-                let n = Note::new(
-                    NoteKind::Finding,
-                    format!(
-                        "fold: the regime changes {} times along {} in the coarse scan ({} steps): the fold is the last change",
-                        fold.changes,
-                        plan.boundary_words(),
-                        plan.boundary_coarse
-                    ),
-                );
-                notes = Some(Note::add(notes, n));
-            }
-            let lifetime = match fold_lifetime(plan, setup, &ps, &fold) {
-                Ok(l) => l,
-                Err(e) => {
-                    let n = Note::new(NoteKind::Failure, format!("lifetimes: {e}"));
-                    notes = Some(Note::add(notes.take(), n));
-                    crate::lifetime::FoldLifetime::none()
-                }
-            };
-            Ok(UnitResult::Boundary(BoundaryResult {
-                index: j,
-                fold,
-                critical,
-                lifetime,
-                note: notes,
-            }))
+    };
+    let fold = fold.map_or_else(Boundary::none, |r| keep("fold", r));
+    let critical = critical.map_or_else(Boundary::none, |r| keep("critical", r));
+    if fold.changes > 1 {
+        let n = Note::new(
+            NoteKind::Finding,
+            format!(
+                "fold: the regime changes {} times along {} in the coarse scan ({} steps): the fold is the last change",
+                fold.changes,
+                plan.boundary_words(),
+                plan.boundary_coarse
+            ),
+        );
+        notes = Some(Note::add(notes, n));
+    }
+    let lifetime = match fold_lifetime(plan, setup, &ps, &fold) {
+        Ok(l) => l,
+        Err(e) => {
+            let n = Note::new(NoteKind::Failure, format!("lifetimes: {e}"));
+            notes = Some(Note::add(notes.take(), n));
+            crate::lifetime::FoldLifetime::none()
+        }
+    };
+    BoundaryResult {
+        index: j,
+        fold,
+        critical,
+        lifetime,
+        note: notes,
+    }
+}
+
+/// The shortcuts' answers for the fold and the critical value, as the law's family
+/// searches a boundary, where the checked region holds (else not computed: the gate
+/// answers by runs without them).
+fn shortcut_boundaries(
+    plan: &AtlasPlan,
+    setup: Setup,
+    ps: &PointSettings,
+    range: ParamRange,
+) -> [Option<Result<Boundary, ScanError>>; 2] {
+    let (param, which) = (plan.boundary_in, [plan.fold, plan.critical]);
+    let checked = crate::fates::unchecked(&setup.params).is_none();
+    match (checked, plan.law.family()) {
+        (false, _) => [None, None],
+        (true, LawFamily::TrueStick) => {
+            super::true_stick::both_in(param, setup, ps, ps.operating, range, which)
+        }
+        (true, LawFamily::Regularised) => {
+            let coarse = plan.boundary_coarse;
+            boundary::both_with(param, setup, (ps, ps.operating), range, which, coarse)
         }
     }
+}
+
+/// The fold (`fold`) or the critical value, where `asked`, through the gate of `critical`
+/// ([`crate::fates::decide`]): the shortcut's answer `found` where it holds, else by runs;
+/// an unconfirmed answer or an answer by runs adds its note to `notes`.
+fn gated(
+    ((param, setup), ps, range): ((BoundaryParam, Setup), &PointSettings, ParamRange),
+    (asked, fold): (bool, bool),
+    found: Option<Result<Boundary, ScanError>>,
+    notes: &mut Option<Note>,
+) -> Option<Result<Boundary, ScanError>> {
+    if !asked {
+        return None;
+    }
+    let starts = crate::fates::starts(fold, (param, setup), range.lo, ps.operating);
+    let shortcut = || {
+        let b = found.unwrap_or_else(|| Ok(Boundary::none()))?;
+        let bracket = b.bracket;
+        Ok((b, (b.status == BoundaryStatus::Found).then_some(bracket)))
+    };
+    let what = if fold { "fold" } else { "critical" };
+    let d = crate::fates::decide(
+        (setup, param),
+        &starts,
+        (range, range.hi),
+        crate::fates::HORIZON,
+        shortcut,
+    );
+    Some(d.map(|d| match d {
+        crate::fates::Decided::Shortcut { answer, confirmed } => {
+            if let Some(c) = confirmed.filter(|c| !c.confirmed) {
+                let n = Note::new(NoteKind::Unconfirmed, format!("{what}: {}", c.line));
+                *notes = Some(Note::add(notes.take(), n));
+            }
+            answer
+        }
+        crate::fates::Decided::Runs { boundary, why } => {
+            let n = Note::new(
+                NoteKind::Finding,
+                format!("{what} by runs because {}", why.words()),
+            );
+            *notes = Some(Note::add(notes.take(), n));
+            boundary.as_boundary()
+        }
+    }))
 }
 
 /// The transient lifetimes above `fold` where the plan asks for them (`[boundaries]

@@ -1,7 +1,7 @@
 //! What an atlas point computes, and with which settings: its regime, the unstable cycle's,
 //! the stick-slip attractor's and the landscape's figures of merit, gathered in
 //! [`PointResult`]. The computations live in [`super::point`], [`super::attractor`] and
-//! [`super::stribeck`]; these types sit below all three, so each can name the others'
+//! [`super::true_stick`]; these types sit below all three, so each can name the others'
 //! results without a circle of imports.
 
 use serde::{Deserialize, Serialize};
@@ -213,7 +213,7 @@ pub struct PointResult {
     pub failures: u64,
     /// Why the point is undecided, or the caveat its label rests on ([`Note`]).
     pub note: Option<Note>,
-    /// The landscape and its evidence, for laws with true stick ([`super::stribeck`]).
+    /// The landscape and its evidence, for laws with true stick ([`super::true_stick`]).
     #[serde(default)]
     pub landscape: Option<LandscapeRecord>,
 }

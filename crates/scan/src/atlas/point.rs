@@ -457,6 +457,25 @@ mod tests {
         assert!(p.stick_slip.is_some());
     }
 
+    /// The scales of the brake of scans/brake.toml (2 kg, 50 kN/m, mu_k 0.35).
+    fn brake_scales() -> squeal_core::Scales {
+        squeal_core::Physical {
+            m: 2.0,
+            k: 5.0e4,
+            c: 10.0,
+            v_belt: 0.05,
+            friction: squeal_core::FrictionSi::Kinetic {
+                mu_k: 0.35,
+                surface: Some(squeal_core::SurfaceSi {
+                    mu_s: 0.45,
+                    tau: 1e-3,
+                }),
+            },
+            load: squeal_core::Load::Weight(9.80665),
+        }
+        .scales()
+    }
+
     #[test]
     fn conflicting_evidence_is_undecided() {
         // `scans/atlas-lambda-nu.toml` at nu index 52, lambda index 12, warm-started from
@@ -485,23 +504,8 @@ mod tests {
         assert!(!note.contains("m/s"), "{note}");
         // The same point in a physical plan (issue 21: notes of physical files gave r and t
         // nondimensionally): the note states the cycle's crossing in m/s and the time in s,
-        // each the nondimensional value times the system's scale (the brake of scans/
-        // brake.toml: 2 kg, 50 kN/m, mu_k 0.35).
-        let units = squeal_core::Physical {
-            m: 2.0,
-            k: 5.0e4,
-            c: 10.0,
-            v_belt: 0.05,
-            friction: squeal_core::FrictionSi::Kinetic {
-                mu_k: 0.35,
-                surface: Some(squeal_core::SurfaceSi {
-                    mu_s: 0.45,
-                    tau: 1e-3,
-                }),
-            },
-            load: squeal_core::Load::Weight(9.80665),
-        }
-        .scales();
+        // each the nondimensional value times the system's scale.
+        let units = brake_scales();
         let ps = PointSettings {
             units: Some(units),
             ..PointSettings::default()

@@ -9,7 +9,9 @@
 //! block on the belt in place of its weight `m g` ([`Load`]); `g` beside it is refused.
 
 use squeal_core::units::{G_STANDARD, SURFACE_KEYS, check_friction_keys, takes_surface};
-use squeal_core::{CoreError, FrictionLaw, FrictionSi, FrictionTable, Load, Physical};
+use squeal_core::{
+    CoreError, FrictionLaw, FrictionSi, FrictionTable, Load, Params, Physical, Scales,
+};
 
 use super::{Invalid, MAX_MAPS, ModelTable};
 use crate::error::ScanError;
@@ -258,7 +260,19 @@ pub(super) fn model(
         load,
     };
     let p0 = check_each(&base, (&cs, &vs), m.law, invalid)?;
-    let s = base.scales();
+    let model = model_in_units(ph, m.law, &p0, (&cs, &vs), &base.scales());
+    Ok((base, model))
+}
+
+/// The `[model]` table that the physical system `ph` stands for, with first map `p0`, at
+/// each swept damping `cs` and belt speed `vs` under `law`, in the units of `s`.
+fn model_in_units(
+    ph: &PhysicalFile,
+    law: FrictionLaw,
+    p0: &Params,
+    (cs, vs): (&[f64], &[f64]),
+    s: &Scales,
+) -> ModelTable {
     let scaled = |given: &Value, xs: &[f64], unit: f64| {
         if given.is_sweep() {
             Value::List(xs.iter().map(|x| x / unit).collect())
@@ -269,12 +283,12 @@ pub(super) fn model(
     let surface =
         |f: fn(&squeal_core::Surface) -> f64, k| p0.law.surface().map(|c| (k, Value::One(f(&c))));
     // The law's damping and belt speed (nu and lambda; xi and v_d for a table).
-    let (damping, speed) = (m.law.keys()[0], m.law.keys()[1]);
-    let model = ModelTable {
-        law: m.law,
+    let (damping, speed) = (law.keys()[0], law.keys()[1]);
+    ModelTable {
+        law,
         keys: [
-            Some((damping, scaled(&ph.c, &cs, s.damping))),
-            Some((speed, scaled(&ph.v_belt, &vs, s.velocity))),
+            Some((damping, scaled(&ph.c, cs, s.damping))),
+            Some((speed, scaled(&ph.v_belt, vs, s.velocity))),
             surface(|c| c.tau, "tau"),
             surface(|c| c.phi, "phi"),
         ]
@@ -287,8 +301,7 @@ pub(super) fn model(
             .table()
             .map(|t| t.rows().into_iter().map(|(s, mu)| [s, mu]).collect()),
         friction_csv: None,
-    };
-    Ok((base, model))
+    }
 }
 
 /// Checks the system `base` at every swept damping `cs` and belt speed `vs` under `law`,

@@ -321,6 +321,20 @@ fn the_decaying_section_needs_a_resolved_search_and_mcmillans_laws() {
     assert_eq!(with_stick.decay_below, None);
 }
 
+/// McMillan's law at nu = 0.3 on a 12 x 12 grid, with early stopping `early_stop`.
+fn damped_plan(early_stop: &str) -> Plan {
+    Plan::from_toml(
+        &format!(
+            "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.3\n[grid]\n\
+             x0 = {{ min = -3.0, max = 5.0, count = 12 }}\n\
+             v0 = {{ min = -4.0, max = 4.0, count = 12 }}\n\
+             [classifier]\nearly_stop = \"{early_stop}\"\n[output]\npath = \"t.h5\"\n"
+        ),
+        "t.toml",
+    )
+    .unwrap()
+}
+
 /// McMillan's hysteretic law at nu = 0.3 (Table 1's lambda, tau and phi; far above the fold):
 /// the search's top `r_max` = 6.79 lies above lambda = 3, so the turn from the top of the
 /// section passes zero slip velocity and the decaying turn from the section is small. The
@@ -342,19 +356,7 @@ fn runs_entering_the_lower_decaying_turn_stay_in_it_and_settle() {
     use squeal_core::Run;
     use squeal_core::classify::Half;
     use squeal_scan::curve::CurveLocator;
-    let spec = |early_stop: &str| {
-        Plan::from_toml(
-            &format!(
-                "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.3\n[grid]\n\
-                 x0 = {{ min = -3.0, max = 5.0, count = 12 }}\n\
-                 v0 = {{ min = -4.0, max = 4.0, count = 12 }}\n\
-                 [classifier]\nearly_stop = \"{early_stop}\"\n[output]\npath = \"t.h5\"\n"
-            ),
-            "t.toml",
-        )
-        .unwrap()
-    };
-    let (plan, slow_plan) = (spec("cycle"), spec("none"));
+    let (plan, slow_plan) = (damped_plan("cycle"), damped_plan("none"));
     let fast = cells(&plan);
     for (k, (f, s)) in fast.iter().zip(&cells(&slow_plan)).enumerate() {
         assert_eq!(f.0, s.0, "cell {k}: {f:?} vs settled {s:?}");

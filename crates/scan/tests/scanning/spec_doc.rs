@@ -230,6 +230,42 @@ fn documented_keys_are_the_accepted_keys() {
     assert_eq!(checked, 11);
 }
 
+/// The spec a documented key `key` of `section` is checked in, from the section's `base`
+/// at `path`. The keys of the laws with true stick are checked in a spec of the first such law
+/// that has them (a McMillan spec refuses them, and the other way round): xi and
+/// v_d (documented at the Stribeck law's defaults) in a Stribeck spec.
+/// The table keys (no scalars, so not in `keys()`) in a spec of the table law.
+fn base_for_key(section: &str, (path, base): (&[&str], &Table), key: &str) -> Table {
+    let table_key = ["friction_table", "friction_csv"].contains(&key);
+    let stick_law = [FrictionLaw::Stribeck, FrictionLaw::Cubic]
+        .into_iter()
+        .find(|l| l.keys().contains(&key))
+        .or(table_key.then_some(FrictionLaw::Table));
+    match stick_law {
+        Some(law) if section == "[model]" => {
+            let mut b = without_key(base.clone(), path, "nu");
+            b["model"]
+                .as_table_mut()
+                .unwrap()
+                .insert("law".into(), Value::String(law.name().into()));
+            b
+        }
+        // A measured curve in m/s under `[physical]`: a table-law system, which
+        // has no mu_k and no surfaces.
+        Some(FrictionLaw::Table) if section == "[physical]" => {
+            let mut b = ["mu_k", "mu_s", "tau"]
+                .into_iter()
+                .fold(base.clone(), |b, k| without_key(b, path, k));
+            b["model"]
+                .as_table_mut()
+                .unwrap()
+                .insert("law".into(), Value::String("table".into()));
+            b
+        }
+        _ => base.clone(),
+    }
+}
+
 #[test]
 fn documented_examples_parse_and_defaults_hold() {
     let mut examples = 0;
@@ -238,38 +274,7 @@ fn documented_examples_parse_and_defaults_hold() {
         let (path, base) = location(&section);
         parse(&base).expect("the base spec parses");
         for row in rows {
-            // The keys of the laws with true stick are checked in a spec of the first such law
-            // that has them (a McMillan spec refuses them, and the other way round): xi and
-            // v_d (documented at the Stribeck law's defaults) in a Stribeck spec.
-            // The table keys (no scalars, so not in `keys()`) in a spec of the table law.
-            let table_key = ["friction_table", "friction_csv"].contains(&row.key.as_str());
-            let stick_law = [FrictionLaw::Stribeck, FrictionLaw::Cubic]
-                .into_iter()
-                .find(|l| l.keys().contains(&row.key.as_str()))
-                .or(table_key.then_some(FrictionLaw::Table));
-            let base = match stick_law {
-                Some(law) if section == "[model]" => {
-                    let mut b = without_key(base.clone(), &path, "nu");
-                    b["model"]
-                        .as_table_mut()
-                        .unwrap()
-                        .insert("law".into(), Value::String(law.name().into()));
-                    b
-                }
-                // A measured curve in m/s under `[physical]`: a table-law system, which
-                // has no mu_k and no surfaces.
-                Some(FrictionLaw::Table) if section == "[physical]" => {
-                    let mut b = ["mu_k", "mu_s", "tau"]
-                        .into_iter()
-                        .fold(base.clone(), |b, k| without_key(b, &path, k));
-                    b["model"]
-                        .as_table_mut()
-                        .unwrap()
-                        .insert("law".into(), Value::String("table".into()));
-                    b
-                }
-                _ => base.clone(),
-            };
+            let base = base_for_key(&section, (&path, &base), &row.key);
             // A key of the shared `[cycle]` table that only an atlas reads: a scan spec
             // refuses it, naming it.
             if row.range.starts_with("atlas only") {

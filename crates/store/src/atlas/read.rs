@@ -8,7 +8,7 @@ use hdf5::types::VarLenUnicode;
 use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, COLUMNS, Kind, empty_boundary, empty_point, finish_point,
 };
-use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
+use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus, PointResult};
 
 use super::schema::{
@@ -112,7 +112,7 @@ fn read_points(
             (c.set)(p, v);
         }
     }
-    if plan.law.has_true_stick() {
+    if plan.law.family().has_landscape() {
         for c in LANDSCAPE_COLUMNS {
             for (p, v) in pts.iter_mut().zip(rd_n::<f64>(file, path, c.name, n)?) {
                 (c.set)(p, v);

@@ -5,7 +5,7 @@ use serde_json::{Value, json};
 use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, COLUMNS, empty_boundary, empty_point, finish_point,
 };
-use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
+use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{
     AtlasPlan, AtlasRegime, AtlasResults, BoundaryResult, BoundaryStatus, LineResult, PointResult,
     UnitResult,

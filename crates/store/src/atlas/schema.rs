@@ -1,6 +1,6 @@
 //! The atlas file's datasets that are not rows of the scan crate's tables
 //! ([`squeal_scan::atlas::columns::COLUMNS`], [`BOUNDARY_COLUMNS`](squeal_scan::atlas::columns::BOUNDARY_COLUMNS),
-//! [`LANDSCAPE_COLUMNS`](squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS)): their names,
+//! [`LANDSCAPE_COLUMNS`](squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS)): their names,
 //! long names and stored enums, in one place for the writer, the reader and the journal.
 
 use hdf5::H5Type;
@@ -218,7 +218,7 @@ pub(super) fn set_landscape(p: &mut PointResult, v: u8) {
     if let Some(l) = p.landscape.as_mut() {
         l.landscape = v;
     } else {
-        p.landscape = Some(squeal_scan::atlas::stribeck::LandscapeRecord {
+        p.landscape = Some(squeal_scan::atlas::true_stick::LandscapeRecord {
             landscape: v,
             damping: f64::NAN,
             cycle_period: f64::NAN,
@@ -232,8 +232,8 @@ pub(super) fn set_landscape(p: &mut PointResult, v: u8) {
 /// `basin_fraction_cycle` and `basin_fraction_cycle_err`; laws with true stick store
 /// `stick_quasi_static_share` as `stick_stuck_share`.
 pub(super) fn stored_name(plan: &AtlasPlan, c: &Column) -> (String, String) {
-    if plan.law.has_true_stick() && c.name == "stick_quasi_static_share" {
-        let (name, long) = squeal_scan::atlas::stribeck::STUCK_SHARE;
+    if plan.law.family().locates_stick() && c.name == "stick_quasi_static_share" {
+        let (name, long) = squeal_scan::atlas::true_stick::STUCK_SHARE;
         return (name.into(), long.into());
     }
     match (plan.maps.is_some(), c.name) {

@@ -8,7 +8,7 @@ use squeal_core::Scales;
 use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, BoundarySi, COLUMNS, Column, Kind, Si, status_meanings,
 };
-use squeal_scan::atlas::stribeck::LANDSCAPE_COLUMNS;
+use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, Units};
 
 use super::schema::{
@@ -209,7 +209,7 @@ fn write_points(
             o.put(over, ("normal_force", long), Some("N"), n)?;
         }
     }
-    if plan.law.has_true_stick() {
+    if plan.law.family().has_landscape() {
         write_landscape(o, over, res)?;
     }
     let (notes, kinds) = note_columns(pts.iter().map(|p| p.as_ref().and_then(|p| p.note.as_ref())));

@@ -6,76 +6,21 @@ use squeal_core::{FrictionLaw, Params, State};
 
 use super::{
     AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings,
-    NONDIMENSIONAL, PHYSICAL, SPEED_RANGE, Units, expand, invalid, law_params,
+    NONDIMENSIONAL, PHYSICAL, PhysicalFile, SPEED_RANGE, Units, expand, invalid, law_params,
 };
 use crate::atlas::geometry::Region;
 use crate::atlas::point::PointSettings;
 use crate::error::ScanError;
-use crate::spec::Invalid;
+use crate::spec::{Invalid, ModelTable};
 use crate::values::Value;
 
 /// The model's axes (`[model]` or `[physical]`), their units, and the check of the number of
 /// points.
 pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasAxis>), ScanError> {
     let m = &f.model;
-    let stribeck = m.law.has_true_stick();
-    let (units, params) = if let Some(ph) = &f.physical {
-        let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
-        let load = ph.load(&inv)?;
-        // The keys given, in key order: a Coulomb system has no mu_s and tau, McMillan's
-        // laws both, a measured curve no mu_k either (checked by the caller, so `zip` drops
-        // none alone; the curve is no axis).
-        let vals = squeal_core::Physical {
-            m: Some(&ph.m),
-            k: Some(&ph.k),
-            c: Some(&ph.c),
-            v_belt: Some(&ph.v_belt),
-            friction: squeal_core::FrictionSi::Kinetic {
-                mu_k: ph.mu_k.as_ref(),
-                surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref())).map(|(mu_s, tau)| {
-                    squeal_core::SurfaceSi {
-                        mu_s: Some(mu_s),
-                        tau: Some(tau),
-                    }
-                }),
-            },
-            load: match &load {
-                squeal_core::Load::Weight(g) => squeal_core::Load::Weight(Some(g)),
-                squeal_core::Load::NormalForce(n) => squeal_core::Load::NormalForce(Some(n)),
-            },
-        }
-        .values();
-        let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
-            .into_iter()
-            .zip(vals)
-            .filter_map(|(name, v)| Some((name, v.flatten()?)))
-            .unzip();
-        (Units::Physical, axes(path, "physical", &names, vals)?)
-    } else {
-        if !stribeck && m.given("nu").is_none() {
-            return Err(invalid(
-                path,
-                "model.nu",
-                "missing",
-                "a damping ratio (or a [physical] table instead)",
-            ));
-        }
-        // The law's own keys in their order, each as given or at the law's default.
-        let vals: Vec<Value> = Params::defaults(m.law)
-            .named()
-            .iter()
-            .map(|n| m.given(n.name).unwrap_or(Value::One(n.value)))
-            .collect();
-        let names = if stribeck {
-            law_params(m.law)
-        } else {
-            let own = m.law.keys();
-            NONDIMENSIONAL
-                .into_iter()
-                .filter(|(k, ..)| own.contains(k))
-                .collect()
-        };
-        (Units::Nondimensional, axes(path, "model", &names, &vals)?)
+    let (units, params) = match &f.physical {
+        Some(ph) => (Units::Physical, physical_axes(ph, path)?),
+        None => (Units::Nondimensional, model_table_axes(m, path)?),
     };
     let n: usize = params
         .iter()
@@ -96,6 +41,71 @@ pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasA
         ));
     }
     Ok((units, params))
+}
+
+/// The axes of a `[physical]` table, in SI units.
+fn physical_axes(ph: &PhysicalFile, path: &str) -> Result<Vec<AtlasAxis>, ScanError> {
+    let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
+    let load = ph.load(&inv)?;
+    // The keys given, in key order: a Coulomb system has no mu_s and tau, McMillan's
+    // laws both, a measured curve no mu_k either (checked by the caller, so `zip` drops
+    // none alone; the curve is no axis).
+    let vals = squeal_core::Physical {
+        m: Some(&ph.m),
+        k: Some(&ph.k),
+        c: Some(&ph.c),
+        v_belt: Some(&ph.v_belt),
+        friction: squeal_core::FrictionSi::Kinetic {
+            mu_k: ph.mu_k.as_ref(),
+            surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref())).map(|(mu_s, tau)| {
+                squeal_core::SurfaceSi {
+                    mu_s: Some(mu_s),
+                    tau: Some(tau),
+                }
+            }),
+        },
+        load: match &load {
+            squeal_core::Load::Weight(g) => squeal_core::Load::Weight(Some(g)),
+            squeal_core::Load::NormalForce(n) => squeal_core::Load::NormalForce(Some(n)),
+        },
+    }
+    .values();
+    let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
+        .into_iter()
+        .zip(vals)
+        .filter_map(|(name, v)| Some((name, v.flatten()?)))
+        .unzip();
+    axes(path, "physical", &names, vals)
+}
+
+/// The axes of a `[model]` table, in the model's units: the law's own keys in their order,
+/// each as given or at the law's default (the laws named by McMillan's keys need `nu`).
+fn model_table_axes(m: &ModelTable, path: &str) -> Result<Vec<AtlasAxis>, ScanError> {
+    let stribeck = m.law.family().has_own_names();
+    if !stribeck && m.given("nu").is_none() {
+        return Err(invalid(
+            path,
+            "model.nu",
+            "missing",
+            "a damping ratio (or a [physical] table instead)",
+        ));
+    }
+    // The law's own keys in their order, each as given or at the law's default.
+    let vals: Vec<Value> = Params::defaults(m.law)
+        .named()
+        .iter()
+        .map(|n| m.given(n.name).unwrap_or(Value::One(n.value)))
+        .collect();
+    let names = if stribeck {
+        law_params(m.law)
+    } else {
+        let own = m.law.keys();
+        NONDIMENSIONAL
+            .into_iter()
+            .filter(|(k, ..)| own.contains(k))
+            .collect()
+    };
+    axes(path, "model", &names, &vals)
 }
 
 /// The axes named `names` (key, long name, units) with the values `vals` of table `table`,
@@ -384,7 +394,7 @@ fn own_ranges(
     law: FrictionLaw,
     path: &str,
 ) -> Result<[Option<f64>; 4], ScanError> {
-    let (own, foreign) = if law.has_true_stick() {
+    let (own, foreign) = if law.family().has_own_names() {
         (
             [bd.xi_lo, bd.xi_hi, bd.v_d_lo, bd.v_d_hi],
             [

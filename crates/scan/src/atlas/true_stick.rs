@@ -1,4 +1,5 @@
-//! The atlas for laws with true stick (the Stribeck law, `law = "stribeck"`).
+//! The atlas for the laws with true stick ([`squeal_core::LawFamily::TrueStick`]: the
+//! Stribeck, cubic and tabulated laws).
 //!
 //! Each point is computed twice over, by independent evidence, and labelled only where
 //! the two agree:
@@ -425,7 +426,6 @@ path = "s.h5"
     fn boundaries_in_v_d_lie_where_the_labels_flip() {
         let p = plan("[1.0, 2.2]");
         let ps = p.settings_at(0);
-        let base = p.params_at(0);
         let [fold, crit] = both_in(
             BoundaryParam::Lambda,
             p.setup_at(0),
@@ -441,10 +441,17 @@ path = "s.h5"
         assert!(fold.nu > 1.8 && fold.nu < 2.0, "{fold:?}");
         // Rest squeals at least where the fixed point repels (v_d < 1.151).
         assert!(crit.nu > 1.151 && crit.nu <= fold.nu, "{crit:?}");
-        // `squeal critical --fold` / `squeal critical --in lambda` bisect the section
-        // method's predicates instead (super::boundary: stick-slip runs outside the located
-        // cycle; the cycle enclosing the point): independent evidence, the same brackets
-        // to their width.
+        section_method_agrees(&p, fold, crit);
+        labels_flip_across(&p, fold, crit);
+    }
+
+    /// `squeal critical --fold` / `squeal critical --in lambda` bisect the section
+    /// method's predicates instead (super::boundary: stick-slip runs outside the located
+    /// cycle; the cycle enclosing the point): independent evidence, the same brackets to
+    /// their width as `fold` and `crit` of plan `p`.
+    fn section_method_agrees(p: &AtlasPlan, fold: Boundary, crit: Boundary) {
+        let ps = p.settings_at(0);
+        let base = p.params_at(0);
         for (ours, theirs) in [
             (
                 fold,
@@ -476,8 +483,14 @@ path = "s.h5"
                 theirs.bracket
             );
         }
-        // The atlas's own labels (section search and landscape together) flip across each
-        // bracket, 1% either side.
+    }
+
+    /// The atlas's own labels (section search and landscape together) flip across the
+    /// brackets of `fold` and `crit` of plan `p`, 1% either side, and so does the operating
+    /// point's own run to settlement.
+    fn labels_flip_across(p: &AtlasPlan, fold: Boundary, crit: Boundary) {
+        let ps = p.settings_at(0);
+        let base = p.params_at(0);
         let at = |v_d: f64| {
             compute_point(
                 Setup::new(BoundaryParam::Lambda.with(base, v_d), p.dt, p.solver),

@@ -1,0 +1,135 @@
+use super::*;
+use squeal_core::{FrictionLaw, SolverConfig};
+
+/// Table 1's model at damping `nu`, step `dt`.
+fn paper(nu: f64, dt: f64) -> Setup {
+    Setup::new(
+        Params::paper(FrictionLaw::McMillan, nu),
+        dt,
+        SolverConfig::default(),
+    )
+}
+
+const REST: State = State { x: 0.0, v: 0.0 };
+
+/// The spread: rest first, then twelve starts at four distances from the fixed point.
+#[test]
+fn the_spread_is_rest_and_four_rings() {
+    let p = Params::paper(FrictionLaw::McMillan, 0.001);
+    let s = Spread::of(&p);
+    assert_eq!(s.starts.len(), 13);
+    assert_eq!(s.starts[0], REST);
+    let fp = p.fixed_point();
+    let r: Vec<f64> = s.starts[1..]
+        .iter()
+        .map(|q| (q.x - fp.x).hypot(q.v))
+        .collect();
+    // Radii s/2, s, 2 s, 4 s with s = lambda = 3 (Table 1).
+    for (i, want) in [1.5, 3.0, 6.0, 12.0].into_iter().enumerate() {
+        for k in 0..3 {
+            assert!((r[3 * i + k] - want).abs() < 1e-12, "{r:?}");
+        }
+    }
+}
+
+/// At Table 1's nu = 1e-3 rest lies outside the unstable cycle (its critical damping is
+/// 3.02e-3, MODEL.md section 13) and squeals (the paper's Fig. 9): the run lasts. At
+/// nu = 0.03, above the fold of cycles (2.38e-2 +- 4e-4, `squeal critical --fold`),
+/// it reaches the fixed point.
+#[test]
+fn fates_at_table_1() {
+    let (f, _) = fate(paper(1e-3, 0.005), REST, 3000.0, None).unwrap();
+    assert!(f.lasts(), "{f:?}");
+    let Fate::Lasts {
+        lasting: Some(l), ..
+    } = f
+    else {
+        panic!("no figures: {f:?}")
+    };
+    assert!(l.stuck, "the paper's stick-slip loop sticks: {l:?}");
+    let (f, _) = fate(paper(0.03, 0.005), REST, 3000.0, None).unwrap();
+    assert!(f.settles(), "{f:?}");
+}
+
+/// The runs' critical damping of rest at Table 1 holds the unstable cycle's, found by an
+/// independent method (the damping at which the cycle first encloses rest,
+/// [`crate::ulc::critical_nu`]).
+#[test]
+#[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
+fn the_runs_find_the_cycles_critical_damping_at_table_1() {
+    let s = paper(1e-3, 0.005);
+    let cs = crate::ulc::CycleSettings::default();
+    let range = ParamRange::new(2.5e-3, 3.5e-3, 1e-3);
+    let cycle = crate::ulc::critical_nu(s, &cs, REST, ParamRange::new(1e-3, 5e-2, 1e-5));
+    let cycle = cycle.unwrap().nu;
+    let rb = critical(BoundaryParam::Nu, s, REST, (range, range.hi), HORIZON).unwrap();
+    assert_eq!(rb.status, BoundaryStatus::Found);
+    let [lo, hi] = rb.interval;
+    assert!(
+        lo <= cycle && cycle <= hi,
+        "{cycle} not in {:?}",
+        rb.interval
+    );
+    assert!(hi / lo - 1.0 < 0.01, "{:?}", rb.interval);
+    // The bracket's ends are runs: the start does not settle below, settles above.
+    assert!(!rb.below.as_ref().unwrap().all_settle());
+    assert!(rb.above.as_ref().unwrap().all_settle());
+}
+
+/// The gate: a shortcut whose bracket a run contradicts (rest squeals at nu = 1e-3, so
+/// a "critical damping" just below it is refuted by the run above it) hands over to the
+/// runs, which say why; a bracket the runs confirm is kept; outside the checked region
+/// (lambda 0.2) the shortcut is not even asked.
+#[test]
+fn the_gate_confirms_refutes_or_skips_the_shortcut() {
+    let s = paper(1e-3, 0.005);
+    let range = ParamRange::new(2.5e-3, 3.5e-3, 1e-2);
+    let gate = (s, BoundaryParam::Nu);
+    let wrong = || Ok(((), Some([0.9e-3, 1e-3])));
+    match decide(gate, &[REST], (range, range.hi), 3000.0, wrong).unwrap() {
+        Decided::Runs {
+            why: Why::Refuted(w),
+            boundary,
+        } => {
+            assert!(w.contains("above the answer"), "{w}");
+            assert!(boundary.value() > 2.5e-3, "{boundary:?}");
+        }
+        d => panic!("not refuted: {d:?}"),
+    }
+    // Rest lasts at 2.9e-3 and settles at 3.2e-3 (the cycle's 3.02e-3 between them),
+    // by t = 20000.
+    let right = || Ok(((), Some([2.9e-3, 3.2e-3])));
+    match decide(gate, &[REST], (range, range.hi), HORIZON, right).unwrap() {
+        Decided::Shortcut {
+            confirmed: Some(c), ..
+        } => assert!(c.confirmed && c.refuted.is_none(), "{c:?}"),
+        d => panic!("not confirmed: {d:?}"),
+    }
+    let low = Setup::new(
+        Params {
+            lambda: 0.2,
+            ..Params::paper(FrictionLaw::McMillan, 0.2)
+        },
+        0.005,
+        SolverConfig::default(),
+    );
+    let never = || -> Result<((), Option<[f64; 2]>), ScanError> { panic!("asked") };
+    let range = ParamRange::new(0.05, 0.4, 0.05);
+    let d = decide(
+        (low, BoundaryParam::Nu),
+        &[REST],
+        (range, 0.4),
+        3000.0,
+        never,
+    );
+    assert!(
+        matches!(
+            d,
+            Ok(Decided::Runs {
+                why: Why::Unchecked(_),
+                ..
+            }) | Err(_)
+        ),
+        "{d:?}"
+    );
+}

@@ -1,0 +1,166 @@
+//! The `[classifier]` table: its serde mirror ([`ClassifierSpec`]), early stopping
+//! ([`EarlyStop`]) and the checked settings ([`ClassifierPlan`]).
+
+use serde::{Deserialize, Serialize};
+use squeal_core::Classifier;
+use squeal_core::error::Number;
+
+use super::{DEFAULT_AUDIT_EVERY, Invalid};
+use crate::error::ScanError;
+
+/// Early stopping of the classifier.
+#[derive(Deserialize, Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum EarlyStop {
+    /// Locate the unstable cycle's crossing of the section first, then stop each run at its
+    /// first crossing clearly inside or outside it.
+    #[default]
+    Cycle,
+    /// Run every cell to settlement (fixed point reached or stick-slip band settled).
+    None,
+}
+
+impl EarlyStop {
+    /// The name used in specs and files.
+    pub fn name(self) -> &'static str {
+        match self {
+            EarlyStop::Cycle => "cycle",
+            EarlyStop::None => "none",
+        }
+    }
+}
+
+/// The `[classifier]` table (also read by the atlas spec, [`crate::atlas::spec`]).
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ClassifierSpec {
+    t_max: Option<f64>,
+    fp_radius: Option<f64>,
+    settle_cycles: Option<i64>,
+    settle_rtol: Option<f64>,
+    #[serde(default)]
+    early_stop: EarlyStop,
+    trap_margin: Option<f64>,
+    audit_every: Option<i64>,
+}
+
+/// The checked `[classifier]` table.
+pub(crate) struct ClassifierPlan {
+    pub classifier: Classifier,
+    pub early_stop: EarlyStop,
+    pub trap_margin: f64,
+    pub audit_every: u64,
+}
+
+impl ClassifierSpec {
+    /// The checked classifier settings for step `dt` on maps of `cells` cells; errors name
+    /// `classifier.<key>`.
+    pub(crate) fn check(
+        &self,
+        dt: f64,
+        cells: usize,
+        invalid: Invalid,
+    ) -> Result<ClassifierPlan, ScanError> {
+        let c = self;
+        let d = Classifier::default();
+        let settle_cycles = c.settle_cycles.unwrap_or(d.settle_cycles as i64);
+        if !(4..=100_000).contains(&settle_cycles) {
+            return Err(invalid(
+                "classifier.settle_cycles",
+                settle_cycles.to_string(),
+                "a crossing count in 4..=100000",
+            ));
+        }
+        let classifier = Classifier {
+            t_max: c.t_max.unwrap_or(d.t_max),
+            fp_radius: c.fp_radius.unwrap_or(d.fp_radius),
+            settle_cycles: settle_cycles as u32,
+            settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
+            max_radius: d.max_radius,
+            trap: None,
+            band_rules: true,
+        };
+        classifier.validate().map_err(|e| match e {
+            squeal_core::CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => invalid(
+                &format!("classifier.{name}"),
+                Number(value).to_string(),
+                expected,
+            ),
+            other => invalid("classifier", String::new(), &other.to_string()),
+        })?;
+        if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
+            return Err(invalid(
+                "classifier.fp_radius",
+                Number(classifier.fp_radius).to_string(),
+                "a radius in [1e-10, 0.01]: the ball must lie inside the unstable cycle, below \
+                 the cycle search's first sample",
+            ));
+        }
+        if classifier.fp_radius < crate::bounds::MIN_FP_RADIUS {
+            return Err(invalid(
+                "classifier.fp_radius",
+                Number(classifier.fp_radius).to_string(),
+                "a radius in [1e-10, 0.01]: a settled run jitters about the fixed point at the \
+                 step's rounding, and a narrower ball is entered by chance or never (at 1e-15 \
+                 runs that settle were labelled stick-slip)",
+            ));
+        }
+        if classifier.t_max / dt > crate::bounds::MAX_STEPS {
+            return Err(invalid(
+                "classifier.t_max",
+                Number(classifier.t_max).to_string(),
+                &format!(
+                    "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
+                    classifier.t_max / dt
+                ),
+            ));
+        }
+        Ok(ClassifierPlan {
+            classifier,
+            early_stop: c.early_stop,
+            trap_margin: self.trap_margin(invalid)?,
+            audit_every: self.audit_every(cells, invalid)?,
+        })
+    }
+
+    /// The checked `classifier.trap_margin`.
+    fn trap_margin(&self, invalid: Invalid) -> Result<f64, ScanError> {
+        let trap_margin = self
+            .trap_margin
+            .unwrap_or(squeal_core::defaults::TRAP_MARGIN);
+        if !(crate::bounds::MIN_TRAP_MARGIN..0.5).contains(&trap_margin) {
+            return Err(invalid(
+                "classifier.trap_margin",
+                Number(trap_margin).to_string(),
+                "a relative margin in [1e-10, 0.5): a narrower band is narrower than the error \
+                 of the cycle's located crossing (about 1e-11 at the default step), and below \
+                 1.1e-16 it is no band at all in f64",
+            ));
+        }
+        Ok(trap_margin)
+    }
+
+    /// The checked `classifier.audit_every` for maps of `cells` cells.
+    fn audit_every(&self, cells: usize, invalid: Invalid) -> Result<u64, ScanError> {
+        // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
+        // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
+        // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
+        // as its 16384 early-stopped cells.
+        let audit_every = self.audit_every.unwrap_or_else(|| {
+            let cells = cells as i64;
+            (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
+        });
+        if !(0..=1 << 40).contains(&audit_every) {
+            return Err(invalid(
+                "classifier.audit_every",
+                audit_every.to_string(),
+                "0 (no audit) or a sampling interval in 1..=2^40 cells",
+            ));
+        }
+        Ok(audit_every as u64)
+    }
+}

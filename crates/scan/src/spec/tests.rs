@@ -1,0 +1,386 @@
+use super::*;
+
+pub(crate) const GOOD: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 4 }
+v0 = { min = -4.0, max = 4.0, count = 3 }
+[output]
+path = "x.h5"
+"#;
+
+fn err(text: &str) -> String {
+    Plan::from_toml(text, "t.toml").unwrap_err().to_string()
+}
+
+#[test]
+fn good_spec_gives_defaults() {
+    let p = Plan::from_toml(GOOD, "scans/t.toml").unwrap();
+    assert_eq!(p.maps.len(), 1);
+    assert_eq!(p.maps[0].lambda, 3.0);
+    assert_eq!(p.name, "t");
+    assert_eq!(p.grid.cells(), 12);
+    assert!(p.sweep.is_none());
+    assert_eq!(p.early_stop, EarlyStop::Cycle);
+}
+
+#[test]
+fn bad_specs_name_the_problem() {
+    let cases: Vec<(String, &str)> = vec![
+        (GOOD.replace("version = 1", "version = 2"), "version"),
+        (
+            GOOD.replace("nu = 1e-3", "nu = 1e-3\nmu = 2"),
+            "unknown field `mu`",
+        ),
+        (GOOD.replace("nu = 1e-3\n", ""), "`model.nu` = missing"),
+        (
+            GOOD.replace("min = -3.0, max = 5.0", "min = 5.0, max = -3.0"),
+            "inverted",
+        ),
+        (
+            GOOD.replace("min = -3.0, max = 5.0", "min = 1.0, max = 1.0"),
+            "empty range",
+        ),
+        (GOOD.replace("count = 4", "count = 0"), "grid.x0.count"),
+        (
+            GOOD.replace("count = 4", "count = 100000000"),
+            "grid.x0.count",
+        ),
+        (GOOD.replace("nu = 1e-3", "nu = -1.0"), "model.nu"),
+        (GOOD.replace("nu = 1e-3", "nu = []"), "non-empty"),
+        (
+            GOOD.replace("nu = 1e-3", "nu = [1e-3, 3e-3, 2e-3]"),
+            "monotone",
+        ),
+        (GOOD.replace("nu = 1e-3", "nu = nan"), "model.nu"),
+        (
+            GOOD.replace("law = \"mcmillan\"", "law = \"stribeck\""),
+            "stribeck",
+        ),
+        (
+            GOOD.replace("[output]", "[integration]\ndt = 0.0\n[output]"),
+            "integration.dt",
+        ),
+        (
+            GOOD.replace("nu = 1e-3", "nu = 1e-3\nlambda = [1.0, 2.0]")
+                .replace("nu = 1e-3\n", "nu = [1e-3, 2e-3]\n"),
+            "only one",
+        ),
+        (GOOD.replace("[model]", "[model\n"), "line"),
+        (
+            GOOD.replace("version = 1", "version = 1\nname = \"a\\u0000b\""),
+            "`name`",
+        ),
+        (
+            GOOD.replace("nu = 1e-3", "nu = \"small\""),
+            // The TOML error quotes the line (naming the key) and says what is accepted.
+            "nu = \"small\"\n  |      ^^^^^^^\na number, a list of numbers",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = err(&text);
+        assert!(e.contains(want), "expected '{want}' in: {e}");
+    }
+}
+
+pub(crate) const SAMPLED: &str = r#"
+version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+[sample]
+kind = "random"
+n = 50
+seed = 3
+region = { x0 = [-2.0, 2.0], v0 = [0.0, 2.0] }
+[output]
+path = "x.h5"
+"#;
+
+#[test]
+fn a_random_sample_is_a_list_of_points_in_the_region() {
+    let p = Plan::from_toml(SAMPLED, "t.toml").unwrap();
+    let g = p.grid;
+    assert_eq!((g.cells(), g.x0.count, g.v0.count), (50, 1, 50));
+    assert_eq!(g.block_rows, DEFAULT_SAMPLE_BLOCK as usize);
+    assert_eq!(g.blocks(), 1);
+    for i in 0..50 {
+        let (x, v) = g.state(i, 0);
+        assert!(
+            (-2.0..2.0).contains(&x) && (0.0..2.0).contains(&v),
+            "{x} {v}"
+        );
+    }
+    // Another seed is another plan (a resume refuses it).
+    let q = Plan::from_toml(&SAMPLED.replace("seed = 3", "seed = 4"), "t.toml").unwrap();
+    assert_eq!(p.differs_from(&q).as_deref(), Some("grid"));
+}
+
+#[test]
+fn bad_samples_name_the_problem() {
+    let cases: Vec<(String, &str)> = vec![
+            (SAMPLED.replace("n = 50", "n = 0"), "sample.n"),
+            (SAMPLED.replace("n = 50", "n = -5"), "sample.n"),
+            (
+                SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [2.0, -2.0]"),
+                "`sample.region.x0` = [2.0, -2.0]: min <= max (the range is inverted)",
+            ),
+            (
+                SAMPLED.replace("v0 = [0.0, 2.0]", "v0 = [nan, 2.0]"),
+                "sample.region.v0",
+            ),
+            // A NaN (or any float) seed: the TOML error quotes the `seed` line.
+            (SAMPLED.replace("seed = 3", "seed = nan"), "seed = nan"),
+            (SAMPLED.replace("seed = 3", "seed = -1"), "seed = -1"),
+            (SAMPLED.replace("kind = \"random\"", "kind = \"sobol\""), "sobol"),
+            (
+                SAMPLED.replace("[output]", "block = 0\n[output]"),
+                "sample.block",
+            ),
+            (
+                SAMPLED.replace("[output]", "[grid]\nx0 = { min = 0.0, max = 1.0, count = 2 }\nv0 = { min = 0.0, max = 1.0, count = 2 }\n[output]"),
+                "one of [grid]",
+            ),
+            (
+                SAMPLED.replace("[sample]", "[unused]").replace("kind = \"random\"\n", ""),
+                "unknown field `unused`",
+            ),
+            (
+                GOOD.replace("[grid]", "[other]"),
+                "unknown field `other`",
+            ),
+        ];
+    for (text, want) in cases {
+        let e = err(&text);
+        assert!(e.contains(want), "expected '{want}' in: {e}");
+    }
+    let neither = GOOD
+        .replace("[grid]\n", "")
+        .replace("x0 = { min = -3.0, max = 5.0, count = 4 }\n", "")
+        .replace("v0 = { min = -4.0, max = 4.0, count = 3 }\n", "");
+    let e = err(&neither);
+    assert!(e.contains("`grid`") && e.contains("neither"), "{e}");
+}
+
+#[test]
+fn comment_edits_do_not_change_the_plan() {
+    let a = Plan::from_toml(GOOD, "t.toml").unwrap();
+    let b = Plan::from_toml(&format!("# a note\n{GOOD}"), "t.toml").unwrap();
+    assert_ne!(a.spec_text, b.spec_text);
+    assert_eq!(a.differs_from(&b), None);
+    let c = Plan::from_toml(&GOOD.replace("nu = 1e-3", "nu = 2e-3"), "t.toml").unwrap();
+    assert_eq!(a.differs_from(&c).as_deref(), Some("maps"));
+}
+
+#[test]
+fn sweeps_expand() {
+    let p = Plan::from_toml(
+        &GOOD.replace(
+            "nu = 1e-3",
+            "nu = { from = 1e-3, to = 1e-1, count = 3, spacing = \"log\" }",
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    let s = p.sweep.unwrap();
+    assert_eq!(s.name, "nu");
+    assert!((s.values[1] - 1e-2).abs() < 1e-15);
+    assert_eq!(p.maps.len(), 3);
+}
+
+/// Every key of a spec, valid as a whole: (table, key, value). The grid axes are written
+/// as sub-tables so that each of their keys is a line of its own.
+const FULL: &[(&str, &str, &str)] = &[
+    ("", "version", "1"),
+    ("", "name", "\"fuzz\""),
+    ("model", "law", "\"mcmillan\""),
+    ("model", "nu", "1e-3"),
+    ("model", "lambda", "3.0"),
+    ("model", "tau", "0.31622776601683794"),
+    ("model", "phi", "1.0"),
+    ("grid", "block_rows", "8"),
+    ("grid.x0", "min", "-3.0"),
+    ("grid.x0", "max", "5.0"),
+    ("grid.x0", "count", "4"),
+    ("grid.v0", "min", "-4.0"),
+    ("grid.v0", "max", "4.0"),
+    ("grid.v0", "count", "3"),
+    ("integration", "dt", "0.01"),
+    ("integration", "solver", "\"robust\""),
+    ("integration", "max_iter", "100"),
+    ("classifier", "t_max", "5000.0"),
+    ("classifier", "fp_radius", "1e-3"),
+    ("classifier", "settle_cycles", "20"),
+    ("classifier", "settle_rtol", "0.05"),
+    ("classifier", "early_stop", "\"cycle\""),
+    ("classifier", "trap_margin", "1e-5"),
+    ("cycle", "locate", "true"),
+    ("output", "path", "\"x.h5\""),
+];
+
+/// What to do to one key of [`FULL`].
+#[derive(Clone, Debug)]
+enum Mutation {
+    /// Give it this TOML value (any type).
+    Set(String),
+    /// Remove the line.
+    Delete,
+    /// Write the line twice.
+    Duplicate,
+}
+
+/// The spec of [`FULL`] with `mutation` applied to key number `at`.
+fn mutated(at: usize, mutation: &Mutation) -> String {
+    let mut text = String::new();
+    let mut table = "";
+    for (i, &(t, key, value)) in FULL.iter().enumerate() {
+        if t != table {
+            text += &format!("[{t}]\n");
+            table = t;
+        }
+        let line = format!("{key} = {value}\n");
+        match (i == at, mutation) {
+            (false, _) => text += &line,
+            (true, Mutation::Set(v)) => text += &format!("{key} = {v}\n"),
+            (true, Mutation::Delete) => {}
+            (true, Mutation::Duplicate) => {
+                text += &line;
+                text += &line;
+            }
+        }
+    }
+    text
+}
+
+/// TOML literals of every type, in and out of range.
+fn toml_value() -> impl proptest::strategy::Strategy<Value = String> {
+    use proptest::prelude::*;
+    let float = proptest::num::f64::ANY.prop_map(|f| {
+        if f.is_nan() {
+            "nan".to_string()
+        } else if f.is_infinite() {
+            if f > 0.0 { "inf" } else { "-inf" }.to_string()
+        } else {
+            format!("{f:?}")
+        }
+    });
+    let small = (-10.0f64..10.0).prop_map(|f| format!("{f:?}"));
+    let string =
+        "\\PC{0,12}".prop_map(|s| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\"")));
+    let word = proptest::sample::select(vec![
+        "\"mcmillan\"",
+        "\"coulomb\"",
+        "\"none\"",
+        "\"paper\"",
+        "\"log\"",
+        "\"\"",
+    ])
+    .prop_map(str::to_string);
+    // Weighted towards numbers of the right type, which get past the parser.
+    prop_oneof![
+        2 => float,
+        4 => small,
+        1 => any::<i64>().prop_map(|n| n.to_string()),
+        3 => (-5i64..300).prop_map(|n| n.to_string()),
+        1 => any::<bool>().prop_map(|b| b.to_string()),
+        1 => string,
+        2 => word,
+        1 => proptest::collection::vec(-1.0f64..1.0, 0..4)
+            .prop_map(|v| format!("{v:?}")),
+        1 => Just("{ from = 1e-3, to = 1e-2, count = 3, spacing = \"log\" }".to_string()),
+        1 => Just("{ min = -1.0, max = 1.0, count = 2 }".to_string()),
+        1 => Just("{}".to_string()),
+    ]
+}
+
+#[test]
+fn the_full_spec_is_valid_and_mutations_reach_validation() {
+    // The base of the mutations is accepted, so an error comes from the mutation.
+    Plan::from_toml(&mutated(usize::MAX, &Mutation::Delete), "full.toml").unwrap();
+    // Out-of-range values of the right type get past the TOML parser to validation.
+    let e = err(&mutated(3, &Mutation::Set("-1.0".into())));
+    assert!(e.contains("model.nu"), "{e}");
+    assert!(!e.contains("TOML parse error"), "{e}");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+    /// A valid spec with one key changed (any value of any type), deleted or duplicated:
+    /// never a panic, and a refusal names the key it is about.
+    #[test]
+    fn mutated_specs_never_panic_and_errors_name_the_key(
+        at in 0..FULL.len(),
+        mutation in proptest::prop_oneof![
+            6 => proptest::strategy::Strategy::prop_map(toml_value(), Mutation::Set),
+            1 => proptest::strategy::Just(Mutation::Delete),
+            1 => proptest::strategy::Just(Mutation::Duplicate),
+        ],
+    ) {
+        use proptest::prelude::*;
+        let text = mutated(at, &mutation);
+        if let Err(e) = Plan::from_toml(&text, "fuzz.toml") {
+            let (table, key) = (FULL[at].0, FULL[at].1);
+            let msg = e.to_string();
+            // An axis's min, max and count are checked together (an empty range, too
+            // many cells): naming the axis (`grid.v0`) names the key's table.
+            let names_axis = table.starts_with("grid.") && msg.contains(table);
+            prop_assert!(
+                msg.contains(key) || names_axis,
+                "{mutation:?} of `{table}.{key}`: {msg}\n{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn mutated_numbers_never_panic(a in proptest::num::f64::ANY, n in proptest::num::i64::ANY) {
+        let t = GOOD.replace("-3.0", &format!("{a:?}")).replace("count = 4", &format!("count = {n}"));
+        let _ = Plan::from_toml(&t, "fuzz.toml");
+    }
+}
+
+/// A spec stored by a squeal before the lower bounds on phi, fp_radius and trap_margin,
+/// with a value below one, is refused naming the key and bound and saying that files of
+/// squeal before those bounds may break them (before, only "does not validate" and the
+/// bound, as if the user had typed it); given by a user it is refused as before.
+#[test]
+fn a_stored_spec_below_a_newer_bound_says_older_files_may_break_it() {
+    use crate::Plan;
+    use crate::atlas::AtlasPlan;
+    let classifier =
+        |line: &str| GOOD.replace("[output]", &format!("[classifier]\n{line}\n[output]"));
+    for (text, key) in [
+        (
+            GOOD.replace("nu = 1e-3", "nu = 1e-3\nphi = 2e-6"),
+            "model.phi",
+        ),
+        (classifier("fp_radius = 1e-12"), "classifier.fp_radius"),
+        (classifier("trap_margin = 1e-12"), "classifier.trap_margin"),
+    ] {
+        let e = Plan::from_stored_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("`{key}`")) && e.contains("squeal before the lower bounds"),
+            "{e}"
+        );
+        let e = Plan::from_toml(&text, "t.toml").unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("`{key}`")) && !e.contains("squeal before the lower bounds"),
+            "{e}"
+        );
+    }
+    // mu_s = 2e5 against mu_k = 0.35: Phi = arcsin(0.35 / 2e5) = 1.75e-6, below 1e-5.
+    let atlas = "version = 1\n[model]\nlaw = \"mcmillan\"\n[physical]\nm = 2.0\n\
+                     k = 5.0e4\nc = 10.0\nv_belt = 0.05\nmu_k = 0.35\nmu_s = 2e5\ntau = 1e-3\n\
+                     [boundaries]\nfold = false\ncritical = false\n[output]\npath = \"a.h5\"\n";
+    let e = AtlasPlan::from_stored_toml(atlas, "a.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("`physical.mu_s`") && e.contains("squeal before the lower bounds"),
+        "{e}"
+    );
+}
