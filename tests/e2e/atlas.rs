@@ -113,9 +113,16 @@ fn atlas_reproduces_the_single_point_commands() {
         regimes,
         ["bistable_squeals", "bistable_quiet", "steady_slip_only"]
     );
+    cycles_agree_with_ulc(dir.path(), pts);
+    let fold = boundaries_agree_with_critical(dir.path(), &a);
+    the_paper_file_has_its_coordinate(dir.path(), fold);
+}
+
+/// The cycles of the atlas's first two points (`pts`, Figs 9 and 10) against `squeal ulc`'s.
+fn cycles_agree_with_ulc(dir: &Path, pts: &[Value]) {
     for (k, nu) in ["1e-3", "1e-2"].iter().enumerate() {
         let u = json(&ok(squeal(
-            dir.path(),
+            dir,
             &["ulc", "--nu", nu, "--json", "--no-half-dt"],
         )));
         let (ra, ru) = (
@@ -134,8 +141,13 @@ fn atlas_reproduces_the_single_point_commands() {
             u["encloses_origin"].as_bool().unwrap()
         );
     }
+}
+
+/// The atlas's critical damping and fold (`a`, its JSON) against `squeal critical`'s and
+/// `squeal critical --fold`'s; the fold.
+fn boundaries_agree_with_critical(dir: &Path, a: &Value) -> f64 {
     let c = json(&ok(squeal(
-        dir.path(),
+        dir,
         &["critical", "--json", "--nu-lo", "1e-3", "--nu-hi", "5e-2"],
     )));
     let b = &a["boundaries"][0]["critical"];
@@ -156,7 +168,7 @@ fn atlas_reproduces_the_single_point_commands() {
     // range, rtol 1e-4 and 64 coarse steps): each value inside the other's stated
     // uncertainty (issue 17, item 5).
     let cf = json(&ok(squeal(
-        dir.path(),
+        dir,
         &[
             "critical", "--fold", "--json", "--nu-lo", "1e-3", "--nu-hi", "5e-2",
         ],
@@ -170,9 +182,13 @@ fn atlas_reproduces_the_single_point_commands() {
         (fold - cn).abs() <= ce.min(fe),
         "{fold} +- {fe} vs {cn} +- {ce}"
     );
+    fold
+}
 
-    // The file: a coordinate nu (dimension scale, long name, units), datasets over it.
-    let f = hdf5::File::open(dir.path().join("paper.h5")).unwrap();
+/// The atlas's file `paper.h5` in `dir`: a coordinate nu (dimension scale, long name,
+/// units), datasets over it, the fold's uncertainty below `fold`.
+fn the_paper_file_has_its_coordinate(dir: &Path, fold: f64) {
+    let f = hdf5::File::open(dir.join("paper.h5")).unwrap();
     let nu = f.dataset("nu").unwrap();
     assert_eq!(nu.read_raw::<f64>().unwrap(), vec![1e-3, 1e-2, 5e-2]);
     assert!(nu.attr("CLASS").is_ok() && nu.attr("REFERENCE_LIST").is_ok());
@@ -194,7 +210,7 @@ fn atlas_reproduces_the_single_point_commands() {
     }
     let err = f.dataset("fold_nu_err").unwrap().read_raw::<f64>().unwrap();
     assert!(err[0] > 0.0 && err[0] < fold, "{err:?}");
-    assert!(dir.path().join("paper.png").exists());
+    assert!(dir.join("paper.png").exists());
 }
 
 /// Table 1 (Fig 10's damping nu = 1e-2) over belt speeds: the boundaries are bisected in
@@ -353,8 +369,15 @@ path = "nond.h5"
     let hz = si["stick_omega_mean"]["value"].as_f64().unwrap();
     let om = np["stick_omega_mean"].as_f64().unwrap();
     assert!((hz - om * w0 / std::f64::consts::TAU).abs() <= 1e-6 * hz);
+    the_physical_file_states_its_units(&dir.path().join("phys.h5"));
+    assert_eq!(p["disturbance"]["x"], serde_json::json!([-2.0, 4.0]));
+}
+
+/// The physical atlas's file `p`: its SI figures with units and long names, the normal force
+/// in newtons, the default disturbance box said to be nondimensional.
+fn the_physical_file_states_its_units(p: &Path) {
     // The file holds the SI figures with units.
-    let f = hdf5::File::open(dir.path().join("phys.h5")).unwrap();
+    let f = hdf5::File::open(p).unwrap();
     let u: hdf5::types::VarLenUnicode = f
         .dataset("stick_omega_mean_si")
         .unwrap()
@@ -385,7 +408,6 @@ path = "nond.h5"
         .read_scalar()
         .unwrap();
     assert!(du.as_str().starts_with("1 (the default box"), "{du}");
-    assert_eq!(p["disturbance"]["x"], serde_json::json!([-2.0, 4.0]));
 }
 
 #[test]

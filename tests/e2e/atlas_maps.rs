@@ -89,21 +89,25 @@ fn maps_are_stored_over_the_parameters_with_the_cell_schema() {
     assert!(dir.path().join("maps.png").exists());
     assert!(dir.path().join("maps-maps.png").exists());
 
+    shards_merge_into_the_same_maps(dir.path(), &labels);
+}
+
+/// The atlas `maps.toml` in `dir` run as two shards, merged, and rendered: the merged file
+/// holds the single run's (`maps.h5`) `labels` and figures, and its pictures are drawn.
+fn shards_merge_into_the_same_maps(dir: &Path, labels: &[u8]) {
+    let h5 = dir.join("maps.h5");
     // Shards (units and map blocks both split) merge into the single run's file.
     for k in ["1/2", "2/2"] {
         let out = format!("s{}.h5", &k[..1]);
         ok(squeal(
-            dir.path(),
+            dir,
             &["atlas", "maps.toml", "--shard", k, "-o", &out],
         ));
     }
-    let s1 = read_u8(&dir.path().join("s1.h5"), "blocks_done");
+    let s1 = read_u8(&dir.join("s1.h5"), "blocks_done");
     assert!(s1.contains(&0) && s1.contains(&1), "{s1:?}");
-    ok(squeal(
-        dir.path(),
-        &["merge", "s1.h5", "s2.h5", "-o", "merged.h5"],
-    ));
-    let merged = dir.path().join("merged.h5");
+    ok(squeal(dir, &["merge", "s1.h5", "s2.h5", "-o", "merged.h5"]));
+    let merged = dir.join("merged.h5");
     assert_eq!(read_u8(&merged, "map_labels"), labels);
     for name in [
         "map_t_decision",
@@ -115,13 +119,10 @@ fn maps_are_stored_over_the_parameters_with_the_cell_schema() {
     ] {
         assert_eq!(read_f64(&h5, name), read_f64(&merged, name), "{name}");
     }
-    assert!(dir.path().join("merged-maps.png").exists());
+    assert!(dir.join("merged-maps.png").exists());
     // render redraws both pictures.
-    ok(squeal(
-        dir.path(),
-        &["render", "merged.h5", "-o", "again.png"],
-    ));
-    assert!(dir.path().join("again-maps.png").exists());
+    ok(squeal(dir, &["render", "merged.h5", "-o", "again.png"]));
+    assert!(dir.join("again-maps.png").exists());
 }
 
 #[test]
@@ -227,46 +228,7 @@ fn killed_maps_resume_to_the_same_file_and_the_output_is_locked() {
         dir.path(),
         &["atlas", "slow.toml", "-o", "full.h5", "--no-render"],
     ));
-    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args([
-            "atlas",
-            "slow.toml",
-            "-o",
-            "cut.h5",
-            "--threads",
-            "1",
-            "--no-render",
-        ])
-        .current_dir(dir.path())
-        .spawn()
-        .unwrap();
-    // Wait for a map block record (kind `B`), then kill without warning.
-    let journal = dir.path().join("cut.h5.journal");
-    let blocks_in = || records_in(&journal, b'B');
-    let t0 = std::time::Instant::now();
-    while blocks_in() == 0 && t0.elapsed().as_secs() < 300 {
-        std::thread::sleep(std::time::Duration::from_millis(10));
-    }
-    let stored = blocks_in();
-    assert!(
-        stored > 0,
-        "no map block reached the journal before the kill"
-    );
-    // While it runs, a second run or a resume on the same output is refused, naming it.
-    let pid = child.id().to_string();
-    for extra in ["--force", "--resume"] {
-        let o = squeal(
-            dir.path(),
-            &["atlas", "slow.toml", "-o", "cut.h5", "--no-render", extra],
-        );
-        refused(o.clone(), "being written by process");
-        assert!(String::from_utf8_lossy(&o.stderr).contains(&pid));
-    }
-    child.kill().unwrap();
-    child.wait().unwrap();
-    assert!(!dir.path().join("cut.h5").exists(), "killed before the end");
-    // SIGKILL leaves the lock; its process is gone, so the resume takes it over.
-    assert!(dir.path().join("cut.h5.lock").exists());
+    let stored = killed_after_a_map_block_while_locked(dir.path());
     let out = ok(squeal(
         dir.path(),
         &[
@@ -300,7 +262,55 @@ fn killed_maps_resume_to_the_same_file_and_the_output_is_locked() {
     ] {
         assert_eq!(read_f64(&a, name), read_f64(&b, name), "{name}");
     }
+    let journal = dir.path().join("cut.h5.journal");
     assert!(!journal.exists() && !dir.path().join("cut.h5.lock").exists());
+}
+
+/// Runs the atlas `slow.toml` in `dir` to `cut.h5` on one thread, checks that a second run
+/// or a resume is refused while it runs, and kills it once a map block is in its journal;
+/// the blocks stored by then.
+fn killed_after_a_map_block_while_locked(dir: &Path) -> usize {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args([
+            "atlas",
+            "slow.toml",
+            "-o",
+            "cut.h5",
+            "--threads",
+            "1",
+            "--no-render",
+        ])
+        .current_dir(dir)
+        .spawn()
+        .unwrap();
+    // Wait for a map block record (kind `B`), then kill without warning.
+    let journal = dir.join("cut.h5.journal");
+    let blocks_in = || records_in(&journal, b'B');
+    let t0 = std::time::Instant::now();
+    while blocks_in() == 0 && t0.elapsed().as_secs() < 300 {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let stored = blocks_in();
+    assert!(
+        stored > 0,
+        "no map block reached the journal before the kill"
+    );
+    // While it runs, a second run or a resume on the same output is refused, naming it.
+    let pid = child.id().to_string();
+    for extra in ["--force", "--resume"] {
+        let o = squeal(
+            dir,
+            &["atlas", "slow.toml", "-o", "cut.h5", "--no-render", extra],
+        );
+        refused(o.clone(), "being written by process");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(&pid));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!dir.join("cut.h5").exists(), "killed before the end");
+    // SIGKILL leaves the lock; its process is gone, so the resume takes it over.
+    assert!(dir.join("cut.h5.lock").exists());
+    stored
 }
 
 /// Map blocks stored in a file.

@@ -70,36 +70,7 @@ fn physical_atlas_summary_gives_the_fold_uncertainty_in_both_units() {
 #[test]
 fn physical_trajectory_file_stores_the_system_and_its_units() {
     let dir = tempfile::tempdir().unwrap();
-    // README's brake at c = 10 N s/m, started 100 um from rest.
-    let args = [
-        "trajectory",
-        "--m",
-        "2",
-        "--k",
-        "5e4",
-        "--c",
-        "10",
-        "--v-belt",
-        "0.05",
-        "--mu-k",
-        "0.35",
-        "--mu-s",
-        "0.45",
-        "--tau-s",
-        "1e-3",
-        "--x0",
-        "1e-4",
-        "--t-end",
-        "10",
-        "--out",
-        "run.h5",
-    ];
-    let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args(args)
-        .current_dir(dir.path())
-        .output()
-        .expect("the squeal binary runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    brake_trajectory_to_run_h5(dir.path());
     let f = hdf5::File::open(dir.path().join("run.h5")).unwrap();
     let num = |k: &str| -> f64 {
         f.attr(k)
@@ -152,6 +123,40 @@ fn physical_trajectory_file_stores_the_system_and_its_units() {
     for ds in ["x", "v", "a", "force", "x_si", "v_si"] {
         assert_eq!(ds_text(ds, "coordinates"), "t_si", "{ds}");
     }
+}
+
+/// `squeal trajectory` of README's brake in `dir`, written to `run.h5`.
+fn brake_trajectory_to_run_h5(dir: &std::path::Path) {
+    // README's brake at c = 10 N s/m, started 100 um from rest.
+    let args = [
+        "trajectory",
+        "--m",
+        "2",
+        "--k",
+        "5e4",
+        "--c",
+        "10",
+        "--v-belt",
+        "0.05",
+        "--mu-k",
+        "0.35",
+        "--mu-s",
+        "0.45",
+        "--tau-s",
+        "1e-3",
+        "--x0",
+        "1e-4",
+        "--t-end",
+        "10",
+        "--out",
+        "run.h5",
+    ];
+    let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the squeal binary runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 /// README's brake oscillator under Coulomb friction: m, k, c, v_belt, mu_k alone (Coulomb's

@@ -182,8 +182,38 @@ fn killed_sweep_resumes_to_the_same_file() {
         d.path(),
         &["scan", "slow.toml", "-o", "full.h5", "--quiet"],
     ));
+    scan_killed_after_a_block_while_locked(d.path());
+    assert!(
+        !d.path().join("cut.h5").exists(),
+        "an interrupted scan must not look complete"
+    );
+    // SIGKILL leaves the lock behind; it is stale (no such process) and taken over below.
+    assert!(d.path().join("cut.h5.lock").exists());
+    fails(
+        &squeal(d.path(), &["scan", "slow.toml", "-o", "cut.h5", "--quiet"]),
+        "--resume",
+    );
+    let out = ok(&squeal(
+        d.path(),
+        &["scan", "slow.toml", "-o", "cut.h5", "--quiet", "--resume"],
+    ));
+    // Resuming computes only what the journal lacks: fewer than the 24 x 16 cells.
+    let computed: usize = out
+        .lines()
+        .find_map(|l| l.trim().split(" cells in ").next()?.parse().ok())
+        .unwrap_or(0);
+    assert!(computed < 24 * 16, "resume recomputed everything: {out}");
+    assert_eq!(
+        digest(&d.path().join("full.h5")),
+        digest(&d.path().join("cut.h5"))
+    );
+}
+
+/// Runs `slow.toml` in `dir` to `cut.h5` on one thread, checks that a second scan or a
+/// resume is refused while it runs, and kills it once a block is in its journal.
+fn scan_killed_after_a_block_while_locked(dir: &Path) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .current_dir(d.path())
+        .current_dir(dir)
         .args([
             "scan",
             "slow.toml",
@@ -199,7 +229,7 @@ fn killed_sweep_resumes_to_the_same_file() {
     // `SQJR`, a kind byte (`H`eader, `C`ycle, `B`lock), a little-endian u32 length, the
     // payload and an 8-byte checksum (crates/store/src/journal.rs); the cycle record comes
     // first and is large, so the file's size alone says nothing about blocks.
-    let journal = d.path().join("cut.h5.journal");
+    let journal = dir.join("cut.h5.journal");
     let blocks_in = |p: &Path| -> usize {
         let b = std::fs::read(p).unwrap_or_default();
         let (mut at, mut n) = (0usize, 0usize);
@@ -226,7 +256,7 @@ fn killed_sweep_resumes_to_the_same_file() {
     let pid = child.id().to_string();
     for extra in ["--force", "--resume"] {
         let o = squeal(
-            d.path(),
+            dir,
             &["scan", "slow.toml", "-o", "cut.h5", "--quiet", extra],
         );
         fails(&o, "being written by process");
@@ -234,30 +264,6 @@ fn killed_sweep_resumes_to_the_same_file() {
     }
     child.kill().unwrap();
     child.wait().unwrap();
-    assert!(
-        !d.path().join("cut.h5").exists(),
-        "an interrupted scan must not look complete"
-    );
-    // SIGKILL leaves the lock behind; it is stale (no such process) and taken over below.
-    assert!(d.path().join("cut.h5.lock").exists());
-    fails(
-        &squeal(d.path(), &["scan", "slow.toml", "-o", "cut.h5", "--quiet"]),
-        "--resume",
-    );
-    let out = ok(&squeal(
-        d.path(),
-        &["scan", "slow.toml", "-o", "cut.h5", "--quiet", "--resume"],
-    ));
-    // Resuming computes only what the journal lacks: fewer than the 24 x 16 cells.
-    let computed: usize = out
-        .lines()
-        .find_map(|l| l.trim().split(" cells in ").next()?.parse().ok())
-        .unwrap_or(0);
-    assert!(computed < 24 * 16, "resume recomputed everything: {out}");
-    assert_eq!(
-        digest(&d.path().join("full.h5")),
-        digest(&d.path().join("cut.h5"))
-    );
 }
 
 #[test]

@@ -117,8 +117,13 @@ fn stribeck_scan_states_the_landscape_of_every_map() {
     let ij: serde_json::Value =
         serde_json::from_str(&ok(&squeal(d.path(), &["info", "st.h5", "--json"]))).unwrap();
     assert_eq!(ij["landscape"][0]["landscape"], "stick_slip_only");
+    the_stribeck_file_states_its_landscapes(&d.path().join("st.h5"));
+}
+
+/// The Stribeck sweep's file `p`: its landscapes, their evidence, and the law's own names.
+fn the_stribeck_file_states_its_landscapes(p: &std::path::Path) {
     // The file: an enum per map with CF flags and a long name, and its evidence.
-    let f = hdf5::File::open(d.path().join("st.h5")).unwrap();
+    let f = hdf5::File::open(p).unwrap();
     let ds = f.dataset("landscape").unwrap();
     let vals: Vec<u8> = ds.read_raw().unwrap();
     assert_eq!(vals, vec![1, 2, 3]);
