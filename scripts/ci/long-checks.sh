@@ -51,10 +51,10 @@ checks=(
   # SI, an atlas's maps over its parameters (with shards and merge), an atlas killed and
   # resumed, a belt-speed sweep end to end.
   "--test e2e cli_doc::the_readme_tour_prints_what_it_shows"
-  "--test e2e cli_core::physical_flags_give_si_answers"
+  "--test e2e cli_ulc_critical::physical_flags_give_si_answers"
   "--test e2e physical_outputs::physical_atlas_summary_gives_the_fold_uncertainty_in_both_units"
-  "--test e2e atlas::maps_are_stored_over_the_parameters_with_the_cell_schema"
-  "--test e2e atlas::resume_after_a_kill_gives_the_same_file"
+  "--test e2e atlas_maps::maps_are_stored_over_the_parameters_with_the_cell_schema"
+  "--test e2e atlas_files::resume_after_a_kill_gives_the_same_file"
   "--test e2e cli_scan_cases::a_lambda_sweep_end_to_end"
   # The boundary searches: the critical damping of rest within the fold's uncertainty on the
   # shipped chart, shared searches bit for bit the separate ones, and the runs' critical

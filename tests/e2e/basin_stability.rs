@@ -83,9 +83,24 @@ fn random_samples_agree_with_the_grid_within_three_standard_errors() {
         );
     }
 
+    let steady = the_sample_file_is_a_list_over_sample(&d.path().join("s.h5"));
+
+    // `info` reads the same shares back.
+    let i = json(&squeal(d.path(), &["info", "s.h5", "--json"]));
+    assert_eq!(
+        i["basin_stability"][0]["steady_slip"]["p"].as_f64(),
+        Some(steady)
+    );
+    let text = ok(&squeal(d.path(), &["info", "s.h5"]));
+    assert!(text.contains("2000 random samples"), "{text}");
+}
+
+/// The sampled scan's file `p` (2000 samples, seed 1) as h5py or xarray sees it; its share
+/// of steady slip.
+fn the_sample_file_is_a_list_over_sample(p: &Path) -> f64 {
     // The file, as h5py or xarray sees it: a list over `sample`, the points in the region,
     // the basin stability per map with long names.
-    let f = hdf5::File::open(d.path().join("s.h5")).unwrap();
+    let f = hdf5::File::open(p).unwrap();
     let attr = |name: &str| -> String {
         let a: hdf5::types::VarLenUnicode = f.attr(name).unwrap().read_scalar().unwrap();
         a.to_string()
@@ -113,15 +128,7 @@ fn random_samples_agree_with_the_grid_within_three_standard_errors() {
         .read_raw()
         .unwrap();
     assert!((se[0] - (steady * (1.0 - steady) / 2000.0).sqrt()).abs() < 1e-15);
-
-    // `info` reads the same shares back.
-    let i = json(&squeal(d.path(), &["info", "s.h5", "--json"]));
-    assert_eq!(
-        i["basin_stability"][0]["steady_slip"]["p"].as_f64(),
-        Some(steady)
-    );
-    let text = ok(&squeal(d.path(), &["info", "s.h5"]));
-    assert!(text.contains("2000 random samples"), "{text}");
+    steady
 }
 
 #[test]
@@ -160,44 +167,7 @@ fn a_random_sample_depends_on_the_seed_only_and_resumes() {
     let digest = |n: &str| squeal_store::content_digest(&d.path().join(n)).unwrap();
     assert_eq!(digest("one.h5"), digest("two.h5"));
 
-    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .current_dir(d.path())
-        .args([
-            "scan",
-            "s.toml",
-            "-o",
-            "cut.h5",
-            "--quiet",
-            "--threads",
-            "1",
-        ])
-        .spawn()
-        .unwrap();
-    // Journal frames: `SQJR`, a kind byte (`B` for a block), a little-endian u32 length,
-    // the payload and an 8-byte checksum (crates/store/src/journal.rs).
-    let journal = d.path().join("cut.h5.journal");
-    let blocks_in = |p: &Path| -> usize {
-        let b = std::fs::read(p).unwrap_or_default();
-        let (mut at, mut n) = (0usize, 0usize);
-        while at + 9 <= b.len() && &b[at..at + 4] == b"SQJR" {
-            let len = u32::from_le_bytes(b[at + 5..at + 9].try_into().unwrap()) as usize;
-            if at + 9 + len + 8 > b.len() {
-                break;
-            }
-            n += (b[at + 4] == b'B') as usize;
-            at += 9 + len + 8;
-        }
-        n
-    };
-    for _ in 0..4000 {
-        if blocks_in(&journal) > 0 {
-            break;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    assert!(blocks_in(&journal) > 0, "no block reached the journal");
-    child.kill().unwrap();
-    child.wait().unwrap();
+    scan_killed_after_a_block(d.path());
     let out = ok(&squeal(
         d.path(),
         &["scan", "s.toml", "-o", "cut.h5", "--quiet", "--resume"],
@@ -220,4 +190,47 @@ fn a_random_sample_depends_on_the_seed_only_and_resumes() {
         &["scan", "s7.toml", "-o", "seven.h5", "--quiet"],
     ));
     assert_ne!(digest("one.h5"), digest("seven.h5"));
+}
+
+/// Runs `s.toml` in `dir` to `cut.h5` on one thread and kills it once a block is in its
+/// journal.
+fn scan_killed_after_a_block(dir: &Path) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
+        .current_dir(dir)
+        .args([
+            "scan",
+            "s.toml",
+            "-o",
+            "cut.h5",
+            "--quiet",
+            "--threads",
+            "1",
+        ])
+        .spawn()
+        .unwrap();
+    // Journal frames: `SQJR`, a kind byte (`B` for a block), a little-endian u32 length,
+    // the payload and an 8-byte checksum (crates/store/src/journal.rs).
+    let journal = dir.join("cut.h5.journal");
+    let blocks_in = |p: &Path| -> usize {
+        let b = std::fs::read(p).unwrap_or_default();
+        let (mut at, mut n) = (0usize, 0usize);
+        while at + 9 <= b.len() && &b[at..at + 4] == b"SQJR" {
+            let len = u32::from_le_bytes(b[at + 5..at + 9].try_into().unwrap()) as usize;
+            if at + 9 + len + 8 > b.len() {
+                break;
+            }
+            n += (b[at + 4] == b'B') as usize;
+            at += 9 + len + 8;
+        }
+        n
+    };
+    for _ in 0..4000 {
+        if blocks_in(&journal) > 0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert!(blocks_in(&journal) > 0, "no block reached the journal");
+    child.kill().unwrap();
+    child.wait().unwrap();
 }

@@ -442,23 +442,7 @@ fn a_signal_while_drawing_stops_the_drawing() {
                 [output]\npath = \"d.h5\"\n";
     // (t_max = 300 bounds each map's census runs: 4 s of CPU for the 12 maps in a release
     // build against 44 s at the default; the labels are not what is tested.)
-    // An earlier run of another spec (2 maps on 3 x 3 cells) left its pictures: the run
-    // below overwrites them with --force. A signal that stopped its drawing used to leave
-    // them beside the new data, and the rerun called them up to date.
-    let older = spec
-        .replace(
-            "nu = [1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3, 7e-3, 8e-3, 9e-3, 1e-2, 1.1e-2, 1.2e-2]",
-            "nu = [1e-3, 2e-3]",
-        )
-        .replace("count = 2", "count = 3");
-    std::fs::write(d.path().join("d.toml"), older).unwrap();
-    let o = squeal(d.path(), &["scan", "d.toml", "--quiet"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let old_pictures: Vec<(&str, Vec<u8>)> = ["d.png", "d-cycle.png"]
-        .into_iter()
-        .map(|p| (p, std::fs::read(d.path().join(p)).unwrap()))
-        .collect();
-    std::fs::remove_file(d.path().join("d.h5")).unwrap();
+    let old_pictures = pictures_of_an_older_spec(d.path(), spec);
     std::fs::write(d.path().join("d.toml"), spec).unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .current_dir(d.path())
@@ -513,6 +497,29 @@ fn a_signal_while_drawing_stops_the_drawing() {
         let b = std::fs::read(d.path().join(png)).unwrap();
         assert!(&b != old, "{png} is still the earlier spec's picture");
     }
+}
+
+/// The pictures (name, bytes) that a scan of a smaller version of `spec` leaves in `dir`, its
+/// data file removed.
+fn pictures_of_an_older_spec(dir: &Path, spec: &str) -> Vec<(&'static str, Vec<u8>)> {
+    // An earlier run of another spec (2 maps on 3 x 3 cells) left its pictures: the run
+    // below overwrites them with --force. A signal that stopped its drawing used to leave
+    // them beside the new data, and the rerun called them up to date.
+    let older = spec
+        .replace(
+            "nu = [1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3, 7e-3, 8e-3, 9e-3, 1e-2, 1.1e-2, 1.2e-2]",
+            "nu = [1e-3, 2e-3]",
+        )
+        .replace("count = 2", "count = 3");
+    std::fs::write(dir.join("d.toml"), older).unwrap();
+    let o = squeal(dir, &["scan", "d.toml", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let old_pictures: Vec<(&'static str, Vec<u8>)> = ["d.png", "d-cycle.png"]
+        .into_iter()
+        .map(|p| (p, std::fs::read(dir.join(p)).unwrap()))
+        .collect();
+    std::fs::remove_file(dir.join("d.h5")).unwrap();
+    old_pictures
 }
 
 /// `squeal info f.h5 | head`: a reader that stops early ends the output quietly. Every line

@@ -2,6 +2,9 @@
 //! One test binary (a module per subject), so that cargo builds and links it once.
 
 mod atlas;
+mod atlas_files;
+mod atlas_laws;
+mod atlas_maps;
 mod basin_stability;
 mod bstab_friction;
 mod cli_core;
@@ -10,10 +13,13 @@ mod cli_files;
 mod cli_hostile;
 mod cli_hostile_msgs;
 mod cli_scan_cases;
+mod cli_ulc_critical;
 mod first_use;
 mod fuzz;
+mod physical_clamp;
 mod physical_outputs;
 mod plot_script;
 mod same_content;
 mod scan;
+mod scan_laws;
 mod table_law;

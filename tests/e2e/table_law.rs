@@ -192,23 +192,7 @@ fn pad_curves(dir: &Path) {
 fn a_clamped_pad_with_a_measured_curve_is_its_nondimensional_model() {
     let dir = tempfile::tempdir().unwrap();
     pad_curves(dir.path());
-    let si_starts = [
-        (0.003, 0.0),
-        (0.0, 0.0),
-        (0.003, 0.05),
-        (-0.01, 0.0),
-        (0.003, -0.3),
-        (0.003, 0.2),
-        (0.01, -1.0),
-    ];
-    let mut si = String::from("x0,v0\n");
-    let mut nd = String::from("x0,v0\n");
-    for (x, v) in si_starts {
-        si.push_str(&format!("{x:?},{v:?}\n"));
-        nd.push_str(&format!("{:?},{:?}\n", x / 7.5e-3, v / 3.75));
-    }
-    std::fs::write(dir.path().join("si.csv"), si).unwrap();
-    std::fs::write(dir.path().join("nd-ics.csv"), nd).unwrap();
+    write_pad_starts(dir.path());
     let pad = |c: &str, load: [&'static str; 2]| {
         let mut a = vec!["--law", "table", "--friction-csv", "pad.csv", "--m", "0.8"];
         a.extend(["--k", "2e5", "--v-belt", "0.3", load[0], load[1], "--c"]);
@@ -279,6 +263,28 @@ fn a_clamped_pad_with_a_measured_curve_is_its_nondimensional_model() {
     assert_eq!(si_run, run(pad("20", ["--g", "1875"])));
 }
 
+/// The pad's starts in `dir`: `si.csv` in m and m/s, `nd-ics.csv` the same starts in the
+/// model's units (x0 / 7.5 mm, v0 / 3.75 m/s).
+fn write_pad_starts(dir: &Path) {
+    let si_starts = [
+        (0.003, 0.0),
+        (0.0, 0.0),
+        (0.003, 0.05),
+        (-0.01, 0.0),
+        (0.003, -0.3),
+        (0.003, 0.2),
+        (0.01, -1.0),
+    ];
+    let mut si = String::from("x0,v0\n");
+    let mut nd = String::from("x0,v0\n");
+    for (x, v) in si_starts {
+        si.push_str(&format!("{x:?},{v:?}\n"));
+        nd.push_str(&format!("{:?},{:?}\n", x / 7.5e-3, v / 3.75));
+    }
+    std::fs::write(dir.join("si.csv"), si).unwrap();
+    std::fs::write(dir.join("nd-ics.csv"), nd).unwrap();
+}
+
 /// The pad's run stores its curve in m/s with units beside the model's speeds, and
 /// `squeal info` prints the table: its rows when few, else their count and ranges (before,
 /// fdec01a printed none, and listed the table's datasets among the variables over t). A
@@ -331,30 +337,7 @@ fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
         .find(|l| l.contains("variables over t"))
         .unwrap();
     assert!(!vars.contains("friction_table"), "{vars}");
-    // A long table is summarised: bSTAB's Stribeck law at 2001 rows (`fine_csv`).
-    let csv = fine_csv(dir.path());
-    let (ok, text) = squeal(
-        dir.path(),
-        &[
-            "trajectory",
-            "--law",
-            "table",
-            "--friction-csv",
-            &csv,
-            "--t-end",
-            "1",
-            "--out",
-            "f.h5",
-        ],
-    );
-    assert!(ok, "{text}");
-    let (_, info) = squeal(dir.path(), &["info", "f.h5"]);
-    assert!(
-        info.contains(
-            "friction table: 2001 rows, slip speed 0 to 20 (the model's units), mu 1 at rest"
-        ),
-        "{info}"
-    );
+    a_long_table_is_summarised_by_info(dir.path());
     // Refusals by flag: a speed below zero in m/s (the CSV's line named), `--mu-k`.
     std::fs::write(dir.path().join("bad.csv"), "s,mu\n0,0.48\n-0.1,0.45\n").unwrap();
     let mut bad = pad.to_vec();
@@ -374,6 +357,34 @@ fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
     assert!(
         !ok && text.contains("--mu-k") && text.contains("does not use"),
         "{text}"
+    );
+}
+
+/// `squeal info` of a run in `dir` on a long table (2001 rows) gives its count and ranges.
+fn a_long_table_is_summarised_by_info(dir: &Path) {
+    // A long table is summarised: bSTAB's Stribeck law at 2001 rows (`fine_csv`).
+    let csv = fine_csv(dir);
+    let (ok, text) = squeal(
+        dir,
+        &[
+            "trajectory",
+            "--law",
+            "table",
+            "--friction-csv",
+            &csv,
+            "--t-end",
+            "1",
+            "--out",
+            "f.h5",
+        ],
+    );
+    assert!(ok, "{text}");
+    let (_, info) = squeal(dir, &["info", "f.h5"]);
+    assert!(
+        info.contains(
+            "friction table: 2001 rows, slip speed 0 to 20 (the model's units), mu 1 at rest"
+        ),
+        "{info}"
     );
 }
 
