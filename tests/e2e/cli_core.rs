@@ -505,7 +505,8 @@ fn spec_and_explicit_model_flags_are_refused_together() {
         assert!(stderr(&o).contains("--spec"), "{all:?}: {}", stderr(&o));
     }
     // The refusal names the flag given, not every flag --spec refuses (the law flags are
-    // made from the laws' keys, src/cmd/law_flags.rs; as a group they were all listed).
+    // made from the laws' keys, crates/cli/src/cmd/law_flags.rs; as a group they were all
+    // listed).
     let o = squeal(dir.path(), &["ulc", "--mu-0", "0.3", "--spec", "s.toml"]);
     let e = stderr(&o);
     assert!(e.contains("'--mu-0 <MU_0>'") && !e.contains("--nu"), "{e}");

@@ -15,10 +15,6 @@
 //! failure printed as `case k` comes back with the same seed whatever the time budget
 //! (default 100 s, two cases at a time).
 
-#[path = "../../crates/scan/tests/mutate/mod.rs"]
-#[allow(dead_code)]
-mod mutate;
-
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -26,7 +22,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use mutate::{Shipped, Step, at, shipped};
+use squeal_mutate::{Shipped, Step, at, shipped};
 use toml::Value;
 
 const BIN: &str = env!("CARGO_BIN_EXE_squeal");

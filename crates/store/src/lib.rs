@@ -125,6 +125,7 @@
 pub mod atlas;
 mod atlas_json;
 mod cycle;
+mod digest;
 mod error;
 mod h5columns;
 mod h5out;
@@ -146,6 +147,7 @@ pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
 pub use atlas::{AtlasInfo, read_atlas_info};
 pub use atlas_json::atlas_json;
+pub use digest::content_digest;
 pub use error::{Advice, Plain, Remedy, StoreError, Words};
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use merge::merge;
@@ -154,8 +156,8 @@ pub use output::{
     refuse_input_as_output,
 };
 pub use read::{
-    FileInfo, FrictionTables, LandscapeInfo, MapData, content_digest, file_schema, friction_tables,
-    map_count, read_cycle_summary, read_info, read_map,
+    FileInfo, FrictionTables, LandscapeInfo, MapData, file_schema, friction_tables, map_count,
+    read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,

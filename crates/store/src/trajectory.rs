@@ -70,23 +70,7 @@ pub fn write_trajectory(
     .h5(path)?;
     let mut dims = Dims::new(class_type(path)?);
     (|| -> hdf5::Result<()> {
-        str_attr(&file, "schema", TRAJECTORY_SCHEMA)?;
-        str_attr(&file, "squeal_version", &prov.version)?;
-        str_attr(&file, "git_revision", &prov.git_revision)?;
-        for (k, v) in &attrs.text {
-            str_attr(&file, k, v)?;
-        }
-        for (k, v) in &attrs.numbers {
-            num_attr(&file, k, *v)?;
-        }
-        for (k, v) in &attrs.counts {
-            num_attr(&file, k, *v)?;
-        }
-        if let Some(ph) = attrs.physical {
-            crate::h5write::physical_attrs(&file, ph, None)?;
-        }
-        let si = attrs.physical.and_then(|ph| ph.friction.table());
-        crate::h5out::friction_table(&file, &mut dims, attrs.table, si)?;
+        trajectory_attrs(&file, &mut dims, prov, attrs)?;
         let t = file
             .new_dataset_builder()
             .obj_track_times(false)
@@ -99,47 +83,87 @@ pub fn write_trajectory(
         )?;
         str_attr(&t, "units", "1")?;
         dims.scale(&t, "t")?;
-        // A physical run: the time in seconds and the series of [`SI_SERIES`] in SI units
-        // beside the nondimensional ones; `t_si` a CF auxiliary coordinate of every variable.
-        let scales = attrs.physical.map(|ph| ph.scales());
-        let mut all: Vec<(String, &str, Vec<f64>, &str)> = series
-            .iter()
-            .map(|(name, long, data)| (name.to_string(), *long, data.to_vec(), "1"))
-            .collect();
-        if let Some(s) = &scales {
-            for (name, si, long) in SI_SERIES {
-                if let Some((_, _, data)) = series.iter().find(|(n, ..)| *n == name) {
-                    let v = data.iter().map(|&x| si.convert(x, s)).collect();
-                    all.push((format!("{name}_si"), long, v, si.units()));
-                }
-            }
-            let ts = time.iter().map(|&x| Si::Time.convert(x, s)).collect();
-            all.push(("t_si".into(), "time (seconds)", ts, "s"));
-        }
-        for (name, long, data, units) in &all {
-            if data.len() != time.len() {
-                return Err(hdf5::Error::from(format!(
-                    "{name} has {} samples, t has {}",
-                    data.len(),
-                    time.len()
-                )));
-            }
-            let ds = file
-                .new_dataset_builder()
-                .obj_track_times(false)
-                .with_data(data.as_slice())
-                .create(name.as_str())?;
-            str_attr(&ds, "long_name", long)?;
-            str_attr(&ds, "units", units)?;
-            dims.attach(&file, &ds, &[&t])?;
-            if scales.is_some() && name != "t_si" {
-                str_attr(&ds, "coordinates", "t_si")?;
-            }
-        }
+        trajectory_series(&file, &mut dims, &t, attrs, time, series)?;
         dims.finish()
     })()
     .h5(path)?;
     file.close().h5(path)
+}
+
+/// A trajectory file's root attributes: schema, provenance, the run's settings, the
+/// physical system if any, and the friction table.
+fn trajectory_attrs(
+    file: &File,
+    dims: &mut Dims,
+    prov: &Provenance,
+    attrs: &RunAttrs,
+) -> hdf5::Result<()> {
+    str_attr(file, "schema", TRAJECTORY_SCHEMA)?;
+    str_attr(file, "squeal_version", &prov.version)?;
+    str_attr(file, "git_revision", &prov.git_revision)?;
+    for (k, v) in &attrs.text {
+        str_attr(file, k, v)?;
+    }
+    for (k, v) in &attrs.numbers {
+        num_attr(file, k, *v)?;
+    }
+    for (k, v) in &attrs.counts {
+        num_attr(file, k, *v)?;
+    }
+    if let Some(ph) = attrs.physical {
+        crate::h5write::physical_attrs(file, ph, None)?;
+    }
+    let si = attrs.physical.and_then(|ph| ph.friction.table());
+    crate::h5out::friction_table(file, dims, attrs.table, si)
+}
+
+/// A trajectory file's variables over `t`. A physical run: the time in seconds and the
+/// series of [`SI_SERIES`] in SI units beside the nondimensional ones; `t_si` a CF auxiliary
+/// coordinate of every variable.
+fn trajectory_series(
+    file: &File,
+    dims: &mut Dims,
+    t: &hdf5::Dataset,
+    attrs: &RunAttrs,
+    time: &[f64],
+    series: &[Series],
+) -> hdf5::Result<()> {
+    let scales = attrs.physical.map(|ph| ph.scales());
+    let mut all: Vec<(String, &str, Vec<f64>, &str)> = series
+        .iter()
+        .map(|(name, long, data)| (name.to_string(), *long, data.to_vec(), "1"))
+        .collect();
+    if let Some(s) = &scales {
+        for (name, si, long) in SI_SERIES {
+            if let Some((_, _, data)) = series.iter().find(|(n, ..)| *n == name) {
+                let v = data.iter().map(|&x| si.convert(x, s)).collect();
+                all.push((format!("{name}_si"), long, v, si.units()));
+            }
+        }
+        let ts = time.iter().map(|&x| Si::Time.convert(x, s)).collect();
+        all.push(("t_si".into(), "time (seconds)", ts, "s"));
+    }
+    for (name, long, data, units) in &all {
+        if data.len() != time.len() {
+            return Err(hdf5::Error::from(format!(
+                "{name} has {} samples, t has {}",
+                data.len(),
+                time.len()
+            )));
+        }
+        let ds = file
+            .new_dataset_builder()
+            .obj_track_times(false)
+            .with_data(data.as_slice())
+            .create(name.as_str())?;
+        str_attr(&ds, "long_name", long)?;
+        str_attr(&ds, "units", units)?;
+        dims.attach(file, &ds, &[t])?;
+        if scales.is_some() && name != "t_si" {
+            str_attr(&ds, "coordinates", "t_si")?;
+        }
+    }
+    Ok(())
 }
 
 /// A trajectory file's summary for `squeal info`.

@@ -83,6 +83,34 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
+    let Some((writer, computed)) = compute(&args, &plan, shard, writer, &signals, &out, started)?
+    else {
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
+    };
+    signals.finishing(&pics)?;
+    let mut phases = super::timings::Phases::start();
+    let res = writer.finish()?;
+    phases.end("finish");
+    let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
+        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
+    };
+    phases.end("picture");
+    report(&args, &plan, &res, &out, computed, &pictures)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Computes the units and map blocks `writer` is missing, with a progress bar: the writer
+/// to finish and what was computed, or `None` when a signal interrupted the run (what is
+/// left, and how to finish it, said).
+fn compute(
+    args: &Args,
+    plan: &AtlasPlan,
+    shard: Option<squeal_store::Shard>,
+    writer: AtlasWriter,
+    signals: &super::signals::Signals,
+    out: &Path,
+    started: Instant,
+) -> anyhow::Result<Option<(AtlasWriter, Computed)>> {
     signals.computing("units and map blocks");
     let todo = writer.missing();
     let todo_blocks = writer.missing_blocks().len();
@@ -93,7 +121,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // When the last unit reached the sink: the units' phase ends there, the maps' begins.
     let units_done = std::sync::Mutex::new(t0);
     let result = crate::run_atlas(
-        &plan,
+        plan,
         shard,
         writer,
         signals.stop(),
@@ -118,25 +146,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if signals.stop().load(Ordering::SeqCst) && left > 0 {
         eprintln!(
             "squeal: interrupted; {left} units and map blocks left. Finish with: {}",
-            args.run.resume_command("atlas", &args.spec, &out)
+            args.run.resume_command("atlas", &args.spec, out)
         );
-        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
+        return Ok(None);
     }
-    signals.finishing(&pics)?;
-    let mut phases = super::timings::Phases::start();
-    let res = writer.finish()?;
-    phases.end("finish");
-    let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
-        return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
-    };
-    phases.end("picture");
     let computed = Computed {
         seconds,
         units: todo.len(),
         blocks: todo_blocks,
     };
-    report(&args, &plan, &res, &out, computed, &pictures)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(Some((writer, computed)))
 }
 
 /// The pictures of a finished atlas file `out` (none where `pics` is empty: a shard or

@@ -42,23 +42,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let inv = super::physical::start_invalid("command line".into(), scales.is_some());
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
-    let stribeck = plan.maps[setup.map].law.family().has_own_names();
-    let args = match (args.in_.as_str(), stribeck) {
-        ("xi" | "v_d", false) => bail!(
-            "--in {}: a name under the laws with true stick (stribeck, cubic); with law {} use --in nu or --in lambda",
-            args.in_,
-            plan.maps[setup.map].law.name()
-        ),
-        ("xi", true) => Args {
-            in_: "nu".into(),
-            ..args
-        },
-        ("v_d", true) => Args {
-            in_: "lambda".into(),
-            ..args
-        },
-        _ => args,
-    };
+    let args = in_by_law(args, plan, setup.map)?;
     args.check_horizon(plan.dt)?;
     if args.crisis {
         return crisis(&args, plan, setup.map, t0);
@@ -110,6 +94,28 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         )?;
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `args` with `--in` named as the scan names it: `xi` is `nu` and `v_d` is `lambda`, names
+/// refused under a law without true stick.
+fn in_by_law(args: Args, plan: &squeal_scan::Plan, map: usize) -> anyhow::Result<Args> {
+    let stribeck = plan.maps[map].law.family().has_own_names();
+    Ok(match (args.in_.as_str(), stribeck) {
+        ("xi" | "v_d", false) => bail!(
+            "--in {}: a name under the laws with true stick (stribeck, cubic); with law {} use --in nu or --in lambda",
+            args.in_,
+            plan.maps[map].law.name()
+        ),
+        ("xi", true) => Args {
+            in_: "nu".into(),
+            ..args
+        },
+        ("v_d", true) => Args {
+            in_: "lambda".into(),
+            ..args
+        },
+        _ => args,
+    })
 }
 
 /// The bisected parameter (`--in`), its name by the law (the Stribeck law: xi, v_d) and its

@@ -58,19 +58,7 @@ fn print(
         ),
     }
     if args.json {
-        let mut v = serde_json::to_value(rb)?;
-        v["in"] = name.into();
-        v[name] = rb.value().into();
-        v["by"] = "runs".into();
-        v["why_runs"] = why.words().into();
-        v["seconds"] = seconds.into();
-        if let Some((key, unit, units)) = si {
-            v[key] = (rb.value() * unit).into();
-            v[format!("{key}_interval")] = serde_json::json!(rb.interval.map(|x| x * unit));
-            v[format!("{key}_units")] = units.into();
-        }
-        println!("{}", serde_json::to_string(&v)?);
-        return Ok(());
+        return print_json((rb, why), name, si, seconds);
     }
     let what = if args.fold {
         "fold (no sampled start squeals above it)".to_string()
@@ -91,6 +79,59 @@ fn print(
         seconds
     );
     println!("  by runs because {}", why.words());
+    print_ends(args, rb, name);
+    println!(
+        "  {}",
+        match (rb.half_dt_holds, rb.half_dt_bracket) {
+            (Some(true), _) =>
+                "at dt/2 the bracket holds (the same verdicts at both ends)".to_string(),
+            (Some(false), Some([l, h])) =>
+                format!("at dt/2 the boundary lies in [{l:.6e}, {h:.6e}]: the interval covers both"),
+            _ => "at dt/2 the boundary lies beyond the range's end: the interval reaches it".into(),
+        }
+    );
+    if rb.undecided > 0 {
+        println!(
+            "  {} of {} runs were undecided by t = {} (counted as not settling)",
+            rb.undecided, rb.runs, rb.horizon
+        );
+    }
+    if let Some((key, unit, units)) = si {
+        println!(
+            "  in SI units: {key} = {:.4} {units}, interval [{:.4}, {:.4}] {units}",
+            Number(rb.value() * unit),
+            Number(rb.interval[0] * unit),
+            Number(rb.interval[1] * unit)
+        );
+    }
+    Ok(())
+}
+
+/// The runs' boundary as one JSON object.
+fn print_json(
+    (rb, why): (&RunBoundary, &Why),
+    name: &str,
+    si: Option<(&'static str, f64, &'static str)>,
+    seconds: f64,
+) -> anyhow::Result<()> {
+    let mut v = serde_json::to_value(rb)?;
+    v["in"] = name.into();
+    v[name] = rb.value().into();
+    v["by"] = "runs".into();
+    v["why_runs"] = why.words().into();
+    v["seconds"] = seconds.into();
+    if let Some((key, unit, units)) = si {
+        v[key] = (rb.value() * unit).into();
+        v[format!("{key}_interval")] = serde_json::json!(rb.interval.map(|x| x * unit));
+        v[format!("{key}_units")] = units.into();
+    }
+    println!("{}", serde_json::to_string(&v)?);
+    Ok(())
+}
+
+/// The runs at the bracket's two ends: what lasts below it (and the lasting oscillation's
+/// shape), what settles above it.
+fn print_ends(args: &Args, rb: &RunBoundary, name: &str) {
     let starts = if args.fold {
         "every start of the spread (rest and 12 around the fixed point)"
     } else {
@@ -128,29 +169,4 @@ fn print(
             );
         }
     }
-    println!(
-        "  {}",
-        match (rb.half_dt_holds, rb.half_dt_bracket) {
-            (Some(true), _) =>
-                "at dt/2 the bracket holds (the same verdicts at both ends)".to_string(),
-            (Some(false), Some([l, h])) =>
-                format!("at dt/2 the boundary lies in [{l:.6e}, {h:.6e}]: the interval covers both"),
-            _ => "at dt/2 the boundary lies beyond the range's end: the interval reaches it".into(),
-        }
-    );
-    if rb.undecided > 0 {
-        println!(
-            "  {} of {} runs were undecided by t = {} (counted as not settling)",
-            rb.undecided, rb.runs, rb.horizon
-        );
-    }
-    if let Some((key, unit, units)) = si {
-        println!(
-            "  in SI units: {key} = {:.4} {units}, interval [{:.4}, {:.4}] {units}",
-            Number(rb.value() * unit),
-            Number(rb.interval[0] * unit),
-            Number(rb.interval[1] * unit)
-        );
-    }
-    Ok(())
 }

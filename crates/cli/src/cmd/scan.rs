@@ -110,10 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
     phases.end("start");
     let started = Instant::now();
-    let done = drive(&plan, shard, &mut writer, &bars, signals.stop()).map_err(|e| match e {
-        squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
-        squeal_scan::DriveError::Sink(e) => anyhow::Error::new(e),
-    })?;
+    let done = drive(&plan, shard, &mut writer, &bars, signals.stop()).map_err(drive_error)?;
     bars.finish();
     let secs = started.elapsed().as_secs_f64();
     phases.end("cells");
@@ -128,19 +125,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
-    // The audit acts before the file is written: a refuted rule is withdrawn and its cells
-    // decided again by runs (journalled: a resume after a signal here redoes what is left).
-    let acted =
-        squeal_scan::redo::act_on_audits(&plan, shard, &mut writer).map_err(|e| match e {
-            squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
-            squeal_scan::DriveError::Sink(e) => anyhow::Error::new(e),
-        })?;
-    for a in &acted {
-        eprintln!(
-            "squeal: map {}: {} cells decided again by runs, without the rules their audit refuted",
-            a.map, a.cells
-        );
-    }
+    act_on_audits(&plan, shard, &mut writer)?;
     phases.end("redo");
     signals.finishing(&may_draw(&pics))?;
     finish(
@@ -150,6 +135,32 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         (&out, &pics),
         (done.cells, secs),
     )
+}
+
+/// The driver's error, a map's or the store's, with its sources.
+fn drive_error(e: squeal_scan::DriveError<squeal_store::StoreError>) -> anyhow::Error {
+    match e {
+        squeal_scan::DriveError::Scan(e) => anyhow::Error::new(e),
+        squeal_scan::DriveError::Sink(e) => anyhow::Error::new(e),
+    }
+}
+
+/// The audit acts before the file is written: a refuted rule is withdrawn and its cells
+/// decided again by runs (journalled: a resume after a signal here redoes what is left).
+/// Says how many cells of each map were decided again.
+fn act_on_audits(
+    plan: &Plan,
+    shard: Option<squeal_scan::Shard>,
+    writer: &mut ScanWriter,
+) -> anyhow::Result<()> {
+    let acted = squeal_scan::redo::act_on_audits(plan, shard, writer).map_err(drive_error)?;
+    for a in &acted {
+        eprintln!(
+            "squeal: map {}: {} cells decided again by runs, without the rules their audit refuted",
+            a.map, a.cells
+        );
+    }
+    Ok(())
 }
 
 /// Like make (the same rule as the atlas's): a finished output of the same parsed spec (and

@@ -186,39 +186,7 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     if let Some(w) = s.validated.warning() {
         println!("{w}");
     }
-    let c = &s.classification;
-    let label = match c.label.regime {
-        "steady_slip" => "steady slip",
-        "stick_slip" => "stick-slip",
-        _ => "not yet settled",
-    };
-    let l = &c.label;
-    match (c.refuted, c.at_start) {
-        (Some(rule), _) => println!(
-            "ended: {label} (the run: {} at t = {:.6}; the rule {rule}, which squeal scan and \
-             classify label this start by, said stick_slip and is refuted by the run)",
-            l.reason, l.t_decision
-        ),
-        (None, false) => println!(
-            "ended: {label} (classifier: {}, {} at t = {:.6})",
-            l.regime, l.reason, l.t_decision
-        ),
-        (None, true) => println!(
-            "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)",
-            l.reason
-        ),
-    }
-    if c.refuted.is_none() {
-        let r = &c.run;
-        println!(
-            "the run itself: {} ({} at t = {:.6})",
-            r.regime, r.reason, r.t_decision
-        );
-    }
-    for w in &s.rules_withdrawn {
-        println!("rule withdrawn for this model (the label is decided without it): {w}");
-    }
-    println!("squeal: {}", c.squeal.words());
+    print_ended(s);
     let f = &s.final_state;
     println!(
         "final state: t = {} x = {:.9} x' = {:.9} x'' = {:.9} F = {:.9}",
@@ -256,6 +224,44 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     if let Some(plot) = &s.plot {
         println!("wrote {}", plot.display());
     }
+}
+
+/// How the run ended: its label and by what it was decided (the classifier, the rule
+/// decided at the start, or the run refuting a rule), the rules withdrawn, and the squeal.
+fn print_ended(s: &Summary) {
+    let c = &s.classification;
+    let label = match c.label.regime {
+        "steady_slip" => "steady slip",
+        "stick_slip" => "stick-slip",
+        _ => "not yet settled",
+    };
+    let l = &c.label;
+    match (c.refuted, c.at_start) {
+        (Some(rule), _) => println!(
+            "ended: {label} (the run: {} at t = {:.6}; the rule {rule}, which squeal scan and \
+             classify label this start by, said stick_slip and is refuted by the run)",
+            l.reason, l.t_decision
+        ),
+        (None, false) => println!(
+            "ended: {label} (classifier: {}, {} at t = {:.6})",
+            l.regime, l.reason, l.t_decision
+        ),
+        (None, true) => println!(
+            "ended: {label} ({}: decided at the start, as squeal scan and classify decide it)",
+            l.reason
+        ),
+    }
+    if c.refuted.is_none() {
+        let r = &c.run;
+        println!(
+            "the run itself: {} ({} at t = {:.6})",
+            r.regime, r.reason, r.t_decision
+        );
+    }
+    for w in &s.rules_withdrawn {
+        println!("rule withdrawn for this model (the label is decided without it): {w}");
+    }
+    println!("squeal: {}", c.squeal.words());
 }
 
 /// The lasting oscillation of the last turns.

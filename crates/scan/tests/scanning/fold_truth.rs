@@ -125,7 +125,8 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
         kept.is_empty(),
         "lambda {lambda} nu {nu}: the scan ends with disagreeing audited cells {kept:?}"
     );
-    // `squeal classify --lambda L --nu N` (src/cmd/model.rs: its grid is the one point (0, 0)).
+    // `squeal classify --lambda L --nu N` (crates/cli/src/cmd/model.rs: its grid is the one
+    // point (0, 0)).
     let one = spec(lambda, nu, Some((0.0, 0.0, 0.0, 0.0)));
     let ctx = MapContext::prepare(&one, 0).expect("prepared");
     let g = &plan.grid;

@@ -1,9 +1,6 @@
 //! The scan crate's tests: specs, shortcuts and labels against runs and the paper. One test
 //! binary, a module per subject, so that cargo builds and links it once.
 
-#[path = "../mutate/mod.rs"]
-mod mutate;
-
 mod accuracy;
 mod edge;
 mod fold_crisis;

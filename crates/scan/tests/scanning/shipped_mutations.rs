@@ -6,12 +6,10 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use proptest::strategy::Strategy;
+use squeal_mutate::{Shipped, Step, at, shipped};
 use squeal_scan::Plan;
 use squeal_scan::atlas::AtlasPlan;
 use toml::Value;
-
-use crate::mutate;
-use mutate::{Shipped, Step, at, shipped};
 
 /// Whether a refusal names the value at `path`: its dotted key (`grid.x0.min`, also where a
 /// bound on another key depends on it: `t_max / integration.dt`), the key

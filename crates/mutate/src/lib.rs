@@ -1,6 +1,6 @@
 //! The shipped specs of `scans/` and paths to their numbers, shared by the spec mutations
-//! of `crates/scan/tests/scanning/shipped_mutations.rs` (the parser) and the fuzz run of the binary
-//! (`tests/e2e/fuzz.rs`).
+//! of `crates/scan/tests/scanning/shipped_mutations.rs` (the parser) and the fuzz run of the
+//! binary (`tests/e2e/fuzz.rs`). A dev-dependency of both; no product code uses it.
 
 use toml::Value;
 
