@@ -3,28 +3,18 @@
 
 use std::process::Command;
 
-/// The disc-brake pad of issue 34 (0.8 kg on a 200 kN/m mount, 20 N s/m, disc at 0.3 m/s,
-/// mu_k 0.38, mu_s 0.48, tau 0.5 ms), with the trajectory flags after `extra`.
+/// The disc-brake pad of issue 34 (README section 4): 0.8 kg on a 200 kN/m mount, the disc
+/// at 0.3 m/s, mu_k 0.38, mu_s 0.48, tau 0.5 ms; its dashpot and load are each test's.
+pub(crate) const PAD: [&str; 12] = [
+    "--m", "0.8", "--k", "2e5", "--v-belt", "0.3", "--mu-k", "0.38", "--mu-s", "0.48", "--tau-s",
+    "5e-4",
+];
+
+/// The pad with 20 N s/m, with the trajectory flags after `extra`.
 fn pad_trajectory(dir: &std::path::Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "trajectory",
-        "--m",
-        "0.8",
-        "--k",
-        "2e5",
-        "--v-belt",
-        "0.3",
-        "--mu-k",
-        "0.38",
-        "--mu-s",
-        "0.48",
-        "--tau-s",
-        "5e-4",
-        "--c",
-        "20",
-        "--t-end",
-        "1",
-    ];
+    let mut args = vec!["trajectory"];
+    args.extend(PAD);
+    args.extend(["--c", "20", "--t-end", "1"]);
     args.extend(extra);
     Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args(args)

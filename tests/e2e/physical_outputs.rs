@@ -3,6 +3,7 @@
 //! it belongs to, in nu and in N s/m), and a trajectory file says how to read its numbers
 //! in SI units.
 
+use crate::physical_clamp::PAD;
 use std::process::Command;
 
 /// README's brake (scans/brake.toml) at one dashpot value: the fold only, bisected over a
@@ -390,20 +391,9 @@ fn a_stored_spec_of_another_size_is_refused() {
 /// The clamped brake of issue 31 (the pad of `physical_clamp.rs` with `--normal-force
 /// 1500`), `squeal critical` with `extra`, as JSON.
 fn brake_critical(extra: &[&str]) -> serde_json::Value {
-    let mut args = vec![
-        "critical",
-        "--m",
-        "0.8",
-        "--k",
-        "2e5",
-        "--v-belt",
-        "0.3",
-        "--mu-k",
-        "0.38",
-        "--mu-s",
-        "0.48",
-        "--tau-s",
-        "5e-4",
+    let mut args = vec!["critical"];
+    args.extend(PAD);
+    args.extend([
         "--normal-force",
         "1500",
         "--c",
@@ -411,7 +401,7 @@ fn brake_critical(extra: &[&str]) -> serde_json::Value {
         "--rtol",
         "1e-3",
         "--json",
-    ];
+    ]);
     args.extend(extra);
     let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args(args)
