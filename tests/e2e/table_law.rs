@@ -337,6 +337,15 @@ fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
         .find(|l| l.contains("variables over t"))
         .unwrap();
     assert!(!vars.contains("friction_table"), "{vars}");
+    // `info --json` holds the same table (before, it had none): mu and both speeds.
+    let (ok, json) = squeal(dir.path(), &["info", "run.h5", "--json"]);
+    assert!(ok, "{json}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let t = &v["friction_table"];
+    let at = |key: &str| t[key][7].as_f64().unwrap();
+    assert_eq!(t["mu"].as_array().map(Vec::len), Some(8), "{t}");
+    assert_eq!((at("slip_speed_si"), at("mu")), (2.0, 0.36), "{t}");
+    assert!((at("slip_speed") - 2.0 / 3.75).abs() < 1e-15, "{t}");
     a_long_table_is_summarised_by_info(dir.path());
     // Refusals by flag: a speed below zero in m/s (the CSV's line named), `--mu-k`.
     std::fs::write(dir.path().join("bad.csv"), "s,mu\n0,0.48\n-0.1,0.45\n").unwrap();

@@ -37,6 +37,28 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Writes the JSON description `v` of `args.file` with the friction table it stores
+/// ([`table_json`]): `info --json` says what `info` prints.
+fn write_json(mut v: serde_json::Value, args: &Args, o: &mut String) -> anyhow::Result<()> {
+    v["friction_table"] = table_json(&squeal_store::friction_tables(&args.file)?);
+    writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
+    Ok(())
+}
+
+/// A file's friction table as JSON (`null` for a law without one): `mu` per row, the slip
+/// speeds in the model's units (`slip_speed`, absent in a physical atlas, whose points each
+/// have their own velocity unit) and in m/s (`slip_speed_si`, a physical system's).
+fn table_json((nd, si): &squeal_store::FrictionTables) -> serde_json::Value {
+    let Some(t) = si.or(*nd) else {
+        return serde_json::Value::Null;
+    };
+    serde_json::json!({
+        "mu": t.coefficients(),
+        "slip_speed": nd.map(|t| t.slip_speeds().to_vec()),
+        "slip_speed_si": si.map(|t| t.slip_speeds().to_vec()),
+    })
+}
+
 /// Root attributes as one JSON object.
 fn attrs_json(attrs: &[(String, String)]) -> serde_json::Value {
     attrs
@@ -115,7 +137,7 @@ fn atlas(args: &Args, o: &mut String) -> anyhow::Result<()> {
         v["git_revision"] = attr("git_revision").into();
         v["attributes"] = attrs_json(&a.attrs);
         v["shard"] = a.shard.map(|s| s.to_string()).into();
-        writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
+        write_json(v, args, o)?;
         return Ok(());
     }
     writeln!(
@@ -139,7 +161,7 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
     let info = squeal_store::read_info(&args.file)?;
     if args.json {
         let v = scan_json(&info);
-        writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
+        write_json(v, args, o)?;
         return Ok(());
     }
     writeln!(
@@ -220,7 +242,7 @@ fn trajectory(args: &Args, o: &mut String) -> anyhow::Result<()> {
             "t": t.t_range.map(|(a, b)| [a, b]),
             "variables": t.variables,
         });
-        writeln!(o, "{}", serde_json::to_string_pretty(&v)?)?;
+        write_json(v, args, o)?;
         return Ok(());
     }
     writeln!(o, "{} (trajectory)", args.file.display())?;
