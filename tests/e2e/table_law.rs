@@ -439,3 +439,61 @@ fn the_shipped_pad_atlas_stores_its_boundaries_in_si() {
         .unwrap();
     assert_eq!(s.last(), Some(&2.0));
 }
+
+/// `squeal critical` of the clamped pad on its measured curve, with the default bracket
+/// (nu up to 0.05): the unstable cycle encloses rest only above that top, and the command
+/// refused with "raise it" where the runs would raise the top themselves (as they do for
+/// McMillan's laws outside the checked region). It now answers from runs, saying why, and
+/// two trajectories 1% either side of the answer (an independent door) squeal below it
+/// and settle above it.
+#[test]
+fn critical_on_a_measured_curve_raises_the_default_top() {
+    let dir = tempfile::tempdir().unwrap();
+    pad_curves(dir.path());
+    let pad = [
+        "--law",
+        "table",
+        "--friction-csv",
+        "pad.csv",
+        "--m",
+        "0.8",
+        "--k",
+        "2e5",
+        "--v-belt",
+        "0.3",
+        "--normal-force",
+        "1500",
+    ];
+    let mut args = vec!["critical", "--c", "20", "--horizon", "3000", "--json"];
+    args.extend(pad);
+    let (ok, text) = squeal(dir.path(), &args);
+    assert!(ok, "{text}");
+    let v = first_json(&text);
+    assert_eq!(v["by"], "runs", "{v}");
+    assert!(
+        v["why_runs"]
+            .as_str()
+            .unwrap()
+            .contains("no answer in the range"),
+        "{v}"
+    );
+    let c = v["c"].as_f64().unwrap();
+    // Above the default top: c = 0.05 * 2 sqrt(m k) = 40 N s/m.
+    assert!(c > 40.0, "{v}");
+    for (factor, regime) in [(0.99, "stick_slip"), (1.01, "steady_slip")] {
+        let c = format!("{}", c * factor);
+        let mut args = vec!["trajectory", "--c", &c, "--t-end", "3000", "--json"];
+        args.extend(pad);
+        let (ok, text) = squeal(dir.path(), &args);
+        assert!(ok, "{text}");
+        let t = first_json(&text);
+        assert_eq!(t["classification"]["regime"], regime, "c = {c}: {t}");
+    }
+}
+
+/// The first JSON value of a command's output (stdout, then stderr's words).
+fn first_json(text: &str) -> serde_json::Value {
+    let at = text.find('{').expect("a JSON object");
+    let mut values = serde_json::Deserializer::from_str(&text[at..]).into_iter();
+    values.next().expect("a value").expect("valid JSON")
+}

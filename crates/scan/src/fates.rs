@@ -566,6 +566,8 @@ pub enum Why {
     Unchecked(String),
     /// A run at the shortcut's answer contradicted it (what the run did).
     Refuted(String),
+    /// The shortcut found no answer in the range, whose top the runs may raise (why not).
+    BeyondRange(String),
 }
 
 impl Why {
@@ -574,6 +576,9 @@ impl Why {
         match self {
             Why::Unchecked(w) => format!("the shortcuts are not checked here ({w})"),
             Why::Refuted(w) => format!("the shortcut's answer was refuted by a run: {w}"),
+            Why::BeyondRange(w) => {
+                format!("the shortcut has no answer in the range ({w}), whose top the runs raise")
+            }
         }
     }
 }
@@ -716,7 +721,8 @@ pub enum Decided<T> {
 /// outside the region its shortcuts were checked in ([`Validity`]) the answer is the runs'
 /// ([`boundary`]); inside, the `shortcut` (its answer and the bracket to confirm, `None`
 /// outside its range) is confirmed by runs at its bracket's ends ([`confirm`]), and where a
-/// run contradicts it the answer is the runs' again, saying why. `CLI` and Python both
+/// run contradicts it the answer is the runs' again, saying why. Where the shortcut finds
+/// the range's top too low and the top may be raised (`ceiling` above it), the runs answer. `CLI` and Python both
 /// decide here.
 pub fn decide<T>(
     (setup, param): (Setup, BoundaryParam),
@@ -732,7 +738,22 @@ pub fn decide<T>(
     if let Some(w) = unchecked(&setup.params) {
         return runs(Why::Unchecked(w));
     }
-    let (answer, bracket) = shortcut()?;
+    let (answer, bracket) = match shortcut() {
+        // The cycle encloses the start only above the range's top: the runs raise the top
+        // (to `ceiling`) as they do where the shortcut is not checked.
+        Err(ScanError::Bracket {
+            problem: crate::error::BracketProblem::NotEnclosedAtHigh,
+            nu_hi,
+            ..
+        }) if ceiling > range.hi => {
+            let w = format!(
+                "the unstable cycle does not enclose the start yet at the top, {}",
+                squeal_core::error::Number(nu_hi)
+            );
+            return runs(Why::BeyondRange(w));
+        }
+        r => r?,
+    };
     let Some(bracket) = bracket else {
         return Ok(Decided::Shortcut {
             answer,
