@@ -608,22 +608,11 @@ fn a_physical_scan_stores_its_coordinates_in_si_units() {
 #[test]
 fn a_brake_trajectory_file_stores_its_squeal_in_si_units() {
     let dir = tempfile::tempdir().unwrap();
-    let args = [
-        "trajectory",
-        "--m",
-        "0.8",
-        "--k",
-        "2e5",
+    let mut args = vec!["trajectory"];
+    args.extend(PAD);
+    args.extend([
         "--c",
         "100",
-        "--v-belt",
-        "0.3",
-        "--mu-k",
-        "0.38",
-        "--mu-s",
-        "0.48",
-        "--tau-s",
-        "5e-4",
         "--normal-force",
         "1500",
         "--t-end",
@@ -632,7 +621,7 @@ fn a_brake_trajectory_file_stores_its_squeal_in_si_units() {
         "1000",
         "--out",
         "pad.h5",
-    ];
+    ]);
     let (ok, out) = run(dir.path(), &args);
     assert!(ok, "{out}");
     let f = hdf5::File::open(dir.path().join("pad.h5")).unwrap();

@@ -161,6 +161,23 @@ fn the_shipped_table_spec_scans_and_stores_its_table() {
     }
 }
 
+/// The clamped pad on its measured curve (`pad.csv` of [`pad_curves`]): 0.8 kg on a
+/// 200 kN/m mount, the disc at 0.3 m/s, clamped with 1500 N; the dashpot is each test's.
+const PAD_CURVE: [&str; 12] = [
+    "--law",
+    "table",
+    "--friction-csv",
+    "pad.csv",
+    "--m",
+    "0.8",
+    "--k",
+    "2e5",
+    "--v-belt",
+    "0.3",
+    "--normal-force",
+    "1500",
+];
+
 /// The shipped pad curve (`scans/data/pad-mu.csv`, slip speed in m/s) copied into `dir`,
 /// and the same curve in the model's units written beside it (`nd.csv`): the law is
 /// written in the normal load (crates/core/MODEL.md section 8), so for the clamped pad
@@ -293,24 +310,9 @@ fn write_pad_starts(dir: &Path) {
 fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
     let dir = tempfile::tempdir().unwrap();
     pad_curves(dir.path());
-    let pad = [
-        "--law",
-        "table",
-        "--friction-csv",
-        "pad.csv",
-        "--m",
-        "0.8",
-        "--k",
-        "2e5",
-        "--c",
-        "20",
-        "--v-belt",
-        "0.3",
-        "--normal-force",
-        "1500",
-    ];
+    let pad = [&PAD_CURVE[..], &["--c", "20"]].concat();
     let mut args = vec!["trajectory", "--t-end", "10", "--out", "run.h5"];
-    args.extend(pad);
+    args.extend(&pad);
     let (ok, text) = squeal(dir.path(), &args);
     assert!(ok, "{text}");
     let f = hdf5::File::open(dir.path().join("run.h5")).unwrap();
@@ -361,7 +363,7 @@ fn the_pads_curve_is_stored_in_si_and_shown_by_info() {
     let mut args = vec![
         "classify", "--ics", "x.csv", "--out", "o.csv", "--mu-k", "0.4",
     ];
-    args.extend(pad);
+    args.extend(&pad);
     let (ok, text) = squeal(dir.path(), &args);
     assert!(
         !ok && text.contains("--mu-k") && text.contains("does not use"),
@@ -450,20 +452,7 @@ fn the_shipped_pad_atlas_stores_its_boundaries_in_si() {
 fn critical_on_a_measured_curve_raises_the_default_top() {
     let dir = tempfile::tempdir().unwrap();
     pad_curves(dir.path());
-    let pad = [
-        "--law",
-        "table",
-        "--friction-csv",
-        "pad.csv",
-        "--m",
-        "0.8",
-        "--k",
-        "2e5",
-        "--v-belt",
-        "0.3",
-        "--normal-force",
-        "1500",
-    ];
+    let pad = PAD_CURVE;
     let mut args = vec!["critical", "--c", "20", "--horizon", "3000", "--json"];
     args.extend(pad);
     let (ok, text) = squeal(dir.path(), &args);
