@@ -198,10 +198,17 @@ try:
     data = open(sys.argv[1], "rb").read()
 except FileNotFoundError:
     print(0, 0); sys.exit()
-def fnv(b):
-    h = 0xcbf29ce484222325
-    for x in b:
-        h = ((h ^ x) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+M = 0xFFFFFFFFFFFFFFFF
+def step(h, w):
+    h = ((h ^ w) * 0x100000001b3) & M
+    return h ^ (h >> 29)
+def record_sum(kind, payload):
+    # The journal's checksum (crates/store/src/journal.rs, record_sum): FNV-1a's basis and
+    # prime over the payload's little-endian 8-byte words, the last zero-padded, each
+    # product folded; the kind and the length start the sum.
+    h = step(0xcbf29ce484222325, kind | (len(payload) << 8))
+    for i in range(0, len(payload), 8):
+        h = step(h, int.from_bytes(payload[i:i + 8].ljust(8, b"\0"), "little"))
     return h
 pos, blocks, cells = 0, 0, 0
 while pos + 9 <= len(data) and data[pos:pos + 4] == b"SQJR":
@@ -210,7 +217,7 @@ while pos + 9 <= len(data) and data[pos:pos + 4] == b"SQJR":
     if end > len(data):
         break
     payload = data[pos + 9:pos + 9 + n]
-    if fnv(bytes([kind]) + payload) != struct.unpack_from("<Q", data, end - 8)[0]:
+    if record_sum(kind, payload) != struct.unpack_from("<Q", data, end - 8)[0]:
         break
     if kind == ord("B"):
         blocks += 1
