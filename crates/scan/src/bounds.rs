@@ -83,6 +83,30 @@ pub enum Width {
     Positive,
 }
 
+/// The two numbers `[min, max]` of a list (TOML arrays are read as lists so that a third
+/// element is refused here instead of being dropped): what a range is under any [`Rules`].
+pub(crate) fn pair(key: &str, list: &[f64], invalid: Invalid) -> Result<[f64; 2], ScanError> {
+    match *list {
+        [lo, hi] => Ok([lo, hi]),
+        _ => Err(invalid(
+            key,
+            shown_list(list),
+            &format!("exactly two numbers [min, max] (got {})", list.len()),
+        )),
+    }
+}
+
+/// A list as an error shows it, `[a, b, c]`.
+fn shown_list(list: &[f64]) -> String {
+    format!(
+        "[{}]",
+        list.iter()
+            .map(|v| format!("{v:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
+}
+
 /// A `[min, max]` pair of phase-plane coordinates: exactly two finite numbers within
 /// [`MAX_STATE`], in order. TOML arrays are read as lists so that a third element is
 /// refused here instead of being dropped.
@@ -92,20 +116,8 @@ pub fn state_range(
     width: Width,
     invalid: Invalid,
 ) -> Result<[f64; 2], ScanError> {
-    let shown = format!(
-        "[{}]",
-        list.iter()
-            .map(|v| format!("{v:?}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    let &[lo, hi] = list else {
-        return Err(invalid(
-            key,
-            shown,
-            &format!("exactly two numbers [min, max] (got {})", list.len()),
-        ));
-    };
+    let shown = shown_list(list);
+    let [lo, hi] = pair(key, list, invalid)?;
     if !(lo.is_finite() && hi.is_finite() && lo.abs() <= MAX_STATE && hi.abs() <= MAX_STATE) {
         return Err(invalid(
             key,
@@ -262,44 +274,88 @@ pub const MIN_FP_RADIUS: f64 = 1e-10;
 /// for; the bound only refuses margins that are too narrow at any step.
 pub const MIN_TRAP_MARGIN: f64 = 1e-10;
 
-/// The keys whose lower bound ([`squeal_core::law::MIN_PHI`], reached through `mu_s` in
-/// physical units; [`MIN_FP_RADIUS`], [`MIN_TRAP_MARGIN`]) came after files were written with
-/// values below it, whose stored spec therefore no longer validates. Reading them would need
-/// the stored-spec path to skip these bounds, and they sit in every check of a model
-/// (`Surface::validate`, through `Params::validate` and `Physical::params`) and of the
-/// classifier table: a mode threaded through all of them, or a second copy of the checks.
-/// Instead the file is refused with the bound's error (key, value, range) and a sentence
-/// saying that files written before these bounds may break them ([`stored_spec_error`]).
-const NEWER_LOWER_BOUNDS: [&str; 4] = [
-    "model.phi",
-    "physical.mu_s",
-    "classifier.fp_radius",
-    "classifier.trap_margin",
-];
+/// Which rules a spec is read under. A spec given to run is held to every bound of today
+/// ([`Rules::Today`]); the spec a file (or journal) stores is read as a description of
+/// what was run ([`Rules::Stored`]), so a bound added or tightened since (a `t_max`, `dt`,
+/// `fp_radius` or sample count a newer squeal refuses) does not make the file unreadable.
+/// Under both, what the plan cannot be built without is refused: text that is not TOML, a
+/// missing table or key, a law or key this squeal does not know, a count that is no count,
+/// a list that is no pair, and the sizes of a plan (axis and cell counts, sweeps, points),
+/// which bound what a reader of the file holds in memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Rules {
+    /// Every bound: the spec is about to be run.
+    Today,
+    /// Only what the plan needs to exist: the spec is a file's record of what was run.
+    Stored,
+}
 
-/// The error of a spec stored in a file (or journal): one naming a key of
-/// [`NEWER_LOWER_BOUNDS`] adds that files written before those bounds may break them, and
-/// what then; any other error is as the spec's. The sentence is conditional: the same keys
-/// have older bounds too (`phi <= pi/2`, `fp_radius <= 0.01`, `mu_s > mu_k`), and the error
-/// says which was broken, not when.
-pub(crate) fn stored_spec_error(e: ScanError) -> ScanError {
+impl Rules {
+    /// Runs `check`, a bound on a value, under [`Rules::Today`]; under [`Rules::Stored`]
+    /// the value stands as stored.
+    pub(crate) fn bound(
+        self,
+        check: impl FnOnce() -> Result<(), ScanError>,
+    ) -> Result<(), ScanError> {
+        match self {
+            Rules::Today => check(),
+            Rules::Stored => Ok(()),
+        }
+    }
+
+    /// Under [`Rules::Today`], the error `error` unless `ok` (a bound on a value); under
+    /// [`Rules::Stored`] the value stands as stored.
+    pub(crate) fn require(
+        self,
+        ok: bool,
+        error: impl FnOnce() -> ScanError,
+    ) -> Result<(), ScanError> {
+        self.bound(|| if ok { Ok(()) } else { Err(error()) })
+    }
+}
+
+/// The error of a spec stored in a file (or journal), read under [`Rules::Stored`]: what
+/// it names is the stored spec's, not one the user gave (the error names the key).
+pub(crate) fn in_stored_spec(e: ScanError) -> ScanError {
     match e {
         ScanError::Invalid {
             path,
             key,
             value,
             expected,
-        } if NEWER_LOWER_BOUNDS.contains(&key.as_str()) => ScanError::Invalid {
-            expected: format!(
-                "{expected} (the file's spec comes from a squeal before the lower bounds on \
-                 phi, fp_radius and trap_margin: rerun it with `{key}` within the bound)"
-            ),
-            path,
+        } => ScanError::Invalid {
+            path: format!("{path}: this file's stored spec"),
             key,
             value,
+            expected,
+        },
+        ScanError::Parse { path, message } => ScanError::Parse {
+            path: format!("{path}: this file's stored spec"),
+            message,
         },
         e => e,
     }
+}
+
+/// A count read from a spec as the integer type the plan holds it in (`u32`, `u64`,
+/// `usize`): a negative one or one too large for the type is refused under any
+/// [`Rules`] (the plan could not hold it); `what` says what it counts.
+pub(crate) fn count<T: TryFrom<i64>>(
+    key: &str,
+    n: i64,
+    what: &str,
+    invalid: Invalid,
+) -> Result<T, ScanError> {
+    T::try_from(n).map_err(|_| {
+        invalid(
+            key,
+            n.to_string(),
+            &format!(
+                "{what}: a whole number >= 0 that fits a {}",
+                std::any::type_name::<T>()
+            ),
+        )
+    })
 }
 
 /// The fixed point's ball against the located unstable cycle of map `map`: its radius must

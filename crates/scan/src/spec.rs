@@ -176,13 +176,16 @@ pub(crate) fn read_spec(path: &std::path::Path) -> Result<String, ScanError> {
 }
 
 pub use crate::bounds::Invalid;
+use crate::bounds::Rules;
 
 impl GridSpec {
-    /// The checked grid; errors name `grid.<key>`.
-    pub(crate) fn check(&self, invalid: Invalid) -> Result<Grid, ScanError> {
+    /// The grid, its ends checked under [`Rules::Today`] (its shape under any rules);
+    /// errors name `grid.<key>`.
+    pub(crate) fn check(&self, rules: Rules, invalid: Invalid) -> Result<Grid, ScanError> {
         let axis = |a: &AxisSpec, key: &str| -> Result<Axis, ScanError> {
             for (end, v) in [("min", a.min), ("max", a.max)] {
-                crate::bounds::state(&format!("{key}.{end}"), v, invalid)?;
+                let key = format!("{key}.{end}");
+                rules.bound(|| crate::bounds::state(&key, v, invalid).map(|_| ()))?;
             }
             if a.count < 1 || a.count > MAX_AXIS {
                 return Err(invalid(
@@ -367,8 +370,28 @@ fn check_reach(
     Ok(())
 }
 
+/// Today's bounds on each map's parameters (the core's [`Params::validate`]); errors name
+/// `model.<key>`.
+fn check_maps(maps: &[Params], invalid: Invalid) -> Result<(), ScanError> {
+    for p in maps {
+        p.validate().map_err(|e| match e {
+            squeal_core::CoreError::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => invalid(
+                &format!("model.{name}"),
+                Number(value).to_string(),
+                expected,
+            ),
+            other => invalid("model", String::new(), &other.to_string()),
+        })?;
+    }
+    Ok(())
+}
+
 /// The maps of a `[model]` table: one parameter set per value of the swept key (the damping
-/// or the belt speed, not both), each checked.
+/// or the belt speed, not both), unchecked ([`check_maps`]).
 fn model_maps(
     m: &ModelTable,
     table: Option<&'static squeal_core::FrictionTable>,
@@ -426,18 +449,6 @@ fn model_maps(
                 k => fixed.iter().find(|(f, _)| *f == k).map(|(_, v)| *v),
             })
             .expect("every key of the law has a value");
-            p.validate().map_err(|e| match e {
-                squeal_core::CoreError::InvalidParameter {
-                    name,
-                    value,
-                    expected,
-                } => invalid(
-                    &format!("model.{name}"),
-                    Number(value).to_string(),
-                    expected,
-                ),
-                other => invalid("model", String::new(), &other.to_string()),
-            })?;
             maps.push(p);
         }
     }
@@ -448,6 +459,7 @@ fn model_maps(
 fn initial_conditions(
     grid: Option<&GridSpec>,
     sample: Option<&SampleSpec>,
+    rules: Rules,
     invalid: Invalid,
 ) -> Result<Grid, ScanError> {
     let grid = match (grid, sample) {
@@ -465,7 +477,7 @@ fn initial_conditions(
                 "one of [grid] (a grid of initial conditions) or [sample] (random ones)",
             ));
         }
-        (Some(gs), None) => gs.check(&invalid)?,
+        (Some(gs), None) => gs.check(rules, &invalid)?,
         (None, Some(ss)) => {
             let SampleKind::Random = ss.kind;
             if !(1..=MAX_SAMPLES).contains(&ss.n) {
@@ -476,8 +488,11 @@ fn initial_conditions(
                 ));
             }
             let bound = |b: &[f64], key: &str| -> Result<Axis, ScanError> {
-                let [min, max] =
-                    crate::bounds::state_range(key, b, crate::bounds::Width::MayBeEmpty, &invalid)?;
+                use crate::bounds::{Width, pair, state_range};
+                let [min, max] = match rules {
+                    Rules::Today => state_range(key, b, Width::MayBeEmpty, &invalid)?,
+                    Rules::Stored => pair(key, b, &invalid)?,
+                };
                 Ok(Axis { min, max, count: 1 })
             };
             let x0 = bound(&ss.region.x0, "sample.region.x0")?;
@@ -527,14 +542,16 @@ impl Plan {
 
     /// Parses and checks spec text; `path` is used in messages and for the default name.
     pub fn from_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
-        Plan::from_parsed(parse_spec(text, path)?, text, path, None)
+        Plan::from_parsed(parse_spec(text, path)?, text, path, None, Rules::Today)
     }
 
-    /// Parses and checks the spec stored in a file (or journal) this or an older squeal
-    /// wrote: as [`Plan::from_toml`], except that `[physical]` keys the law does not use,
-    /// which older versions required and then ignored (`mu_s`, `tau` under Coulomb), are
-    /// dropped rather than refused, so those files still read (one swept is refused: that
-    /// version made each of its values a point of an atlas).
+    /// Reads the spec stored in a file (or journal) this or an older squeal wrote, as the
+    /// plan of what was run ([`Rules::Stored`]): a value outside a bound of today reads as
+    /// stored, and only what the plan cannot be built without is refused, as "this file's
+    /// stored spec" naming the key. `[physical]` keys the law does not use, which older
+    /// versions required and then ignored (`mu_s`, `tau` under Coulomb), are dropped rather
+    /// than refused (one swept is refused: that version made each of its values a point of
+    /// an atlas).
     pub fn from_stored_toml(text: &str, path: &str) -> Result<Plan, ScanError> {
         Plan::from_stored_toml_table(text, path, None)
     }
@@ -547,24 +564,28 @@ impl Plan {
         path: &str,
         table: Option<&'static squeal_core::FrictionTable>,
     ) -> Result<Plan, ScanError> {
-        let mut spec = parse_spec(text, path)?;
-        if let Some(ph) = &mut spec.physical {
-            ph.forget_unused(spec.model.law, &|key, value, expected| ScanError::Invalid {
-                path: path.to_string(),
-                key: key.to_string(),
-                value,
-                expected: expected.to_string(),
-            })?;
-        }
-        Plan::from_parsed(spec, text, path, table).map_err(crate::bounds::stored_spec_error)
+        let read = || {
+            let mut spec = parse_spec(text, path)?;
+            if let Some(ph) = &mut spec.physical {
+                ph.forget_unused(spec.model.law, &|key, value, expected| ScanError::Invalid {
+                    path: path.to_string(),
+                    key: key.to_string(),
+                    value,
+                    expected: expected.to_string(),
+                })?;
+            }
+            Plan::from_parsed(spec, text, path, table, Rules::Stored)
+        };
+        read().map_err(crate::bounds::in_stored_spec)
     }
 
-    /// Checks the parsed spec `spec` of text `text`.
+    /// The plan of the parsed spec `spec` of text `text`, read under `rules`.
     fn from_parsed(
         spec: SpecFile,
         text: &str,
         path: &str,
         stored: Option<&'static squeal_core::FrictionTable>,
+        rules: Rules,
     ) -> Result<Plan, ScanError> {
         let invalid = |key: &str, value: String, expected: &str| ScanError::Invalid {
             path: path.to_string(),
@@ -586,7 +607,8 @@ impl Plan {
         // physical spec, whose `[model]` then carries it converted.
         let (physical, converted, stored) = match &spec.physical {
             Some(ph) => {
-                let (base, model) = physical::model(ph, &spec.model, folder, stored, &invalid)?;
+                let (base, model) =
+                    physical::model(ph, &spec.model, folder, stored, rules, &invalid)?;
                 (Some(base), Some(model), None)
             }
             None => (None, None, stored),
@@ -595,19 +617,21 @@ impl Plan {
         m.check_law(&invalid)?;
         let table = m.table(folder, stored, &invalid)?;
         let (maps, sweep) = model_maps(m, table, &invalid)?;
-        let mut grid = initial_conditions(spec.grid.as_ref(), spec.sample.as_ref(), &invalid)?;
+        rules.bound(|| check_maps(&maps, &invalid))?;
+        let (grid, sample) = (spec.grid.as_ref(), spec.sample.as_ref());
+        let mut grid = initial_conditions(grid, sample, rules, &invalid)?;
         if let Some(ph) = &physical {
-            physical::grid_to_nondimensional(&mut grid, ph, &invalid)?;
+            physical::grid_to_nondimensional(&mut grid, ph, rules, &invalid)?;
         }
-        let (dt, solver) = spec.integration.check(&invalid)?;
+        let (dt, solver) = spec.integration.check(rules, &invalid)?;
         let ClassifierPlan {
             classifier,
             early_stop,
             trap_margin,
             audit_every,
-        } = spec.classifier.check(dt, grid.cells(), &invalid)?;
-        let cycle = spec.cycle.check(Shape::Scan, &invalid)?;
-        check_reach(&cycle, &maps, &grid, &invalid)?;
+        } = spec.classifier.check(dt, grid.cells(), rules, &invalid)?;
+        let cycle = spec.cycle.check(Shape::Scan, rules, &invalid)?;
+        rules.bound(|| check_reach(&cycle, &maps, &grid, &invalid))?;
         let output = spec.output.check(&invalid)?;
         let name = tables::check_name(spec.name.as_deref(), path, "", &invalid)?;
         Ok(Plan {

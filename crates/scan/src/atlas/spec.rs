@@ -73,7 +73,6 @@ mod parse;
 pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::error::Number;
 use squeal_core::{
     Classifier, FrictionLaw, LawFamily, Load, Params, Physical, Setup, SolverConfig, SurfaceSi,
 };
@@ -81,6 +80,7 @@ use squeal_core::{
 use super::boundary::BoundaryParam;
 use super::figures::PointSettings;
 use super::geometry::Region;
+use crate::bounds::Rules;
 use crate::error::{ScanError, Shown};
 use crate::grid::Grid;
 use crate::spec::EarlyStop;
@@ -346,14 +346,16 @@ impl AtlasPlan {
 
     /// Checks a spec's text; `path` names it in errors.
     pub fn from_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
-        AtlasPlan::from_parsed(parse_atlas(text, path)?, text, path, None)
+        AtlasPlan::from_parsed(parse_atlas(text, path)?, text, path, None, Rules::Today)
     }
 
-    /// Parses and checks the spec stored in an atlas file this or an older squeal wrote: as
-    /// [`AtlasPlan::from_toml`], except that `[physical]` keys the law does not use, which
-    /// older versions required and then ignored (`mu_s`, `tau` under Coulomb), are dropped
-    /// rather than refused, so those files still read; one swept is refused (that version made
-    /// each of its values a point, so the file holds more points than this plan).
+    /// Reads the spec stored in an atlas file this or an older squeal wrote, as the plan of
+    /// what was run ([`Rules::Stored`], as [`crate::Plan::from_stored_toml`]): a value
+    /// outside a bound of today reads as stored, and only what the plan cannot be built
+    /// without is refused, as "this file's stored spec" naming the key. `[physical]` keys
+    /// the law does not use, which older versions required and then ignored (`mu_s`, `tau`
+    /// under Coulomb), are dropped rather than refused; one swept is refused (that version
+    /// made each of its values a point, so the file holds more points than this plan).
     pub fn from_stored_toml(text: &str, path: &str) -> Result<AtlasPlan, ScanError> {
         AtlasPlan::from_stored_toml_table(text, path, None)
     }
@@ -365,21 +367,25 @@ impl AtlasPlan {
         path: &str,
         table: Option<&'static squeal_core::FrictionTable>,
     ) -> Result<AtlasPlan, ScanError> {
-        let mut f = parse_atlas(text, path)?;
-        if let Some(ph) = &mut f.physical {
-            ph.forget_unused(f.model.law, &|key, value, expected| {
-                invalid(path, key, value, expected)
-            })?;
-        }
-        AtlasPlan::from_parsed(f, text, path, table).map_err(crate::bounds::stored_spec_error)
+        let read = || {
+            let mut f = parse_atlas(text, path)?;
+            if let Some(ph) = &mut f.physical {
+                ph.forget_unused(f.model.law, &|key, value, expected| {
+                    invalid(path, key, value, expected)
+                })?;
+            }
+            AtlasPlan::from_parsed(f, text, path, table, Rules::Stored)
+        };
+        read().map_err(crate::bounds::in_stored_spec)
     }
 
-    /// Checks the parsed spec `f` of text `text`.
+    /// The plan of the parsed spec `f` of text `text`, read under `rules`.
     fn from_parsed(
         f: AtlasFile,
         text: &str,
         path: &str,
         stored: Option<&'static squeal_core::FrictionTable>,
+        rules: Rules,
     ) -> Result<AtlasPlan, ScanError> {
         if f.version != ATLAS_VERSION {
             return Err(invalid(
@@ -404,10 +410,10 @@ impl AtlasPlan {
             None => m.table(folder, stored, &inv)?,
         };
         let (units, params) = parse::model_axes(&f, path)?;
-        let (dt, solver) = f.integration.check(&inv)?;
-        let mut ps = parse::point_settings(&f, path, &inv)?;
-        let maps = parse::map_settings(&f, path, units, dt, &mut ps, &inv)?;
-        let b = parse::boundaries(&f, path, units, &params, &inv)?;
+        let (dt, solver) = f.integration.check(rules, &inv)?;
+        let mut ps = parse::point_settings(&f, path, rules, &inv)?;
+        let maps = parse::map_settings(&f, path, (units, dt), &mut ps, rules, &inv)?;
+        let b = parse::boundaries(&f, path, units, &params, rules, &inv)?;
         let has_disturbance = f.disturbance.is_some();
         let plan = AtlasPlan {
             name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
@@ -434,71 +440,9 @@ impl AtlasPlan {
         };
         // Every point's model, checked before any computing.
         for i in 0..plan.n_points() {
-            plan.check_point(i, path)?;
+            parse::check_point(&plan, i, path, rules)?;
         }
         Ok(plan)
-    }
-
-    fn check_point(&self, i: usize, path: &str) -> Result<(), ScanError> {
-        let prefix = match self.units {
-            Units::Nondimensional => "model",
-            Units::Physical => "physical",
-        };
-        let name_err = |name: &str, value: f64, expected: &str| {
-            invalid(path, &format!("{prefix}.{name}"), Number(value), expected)
-        };
-        let p = match self.physical_at(i) {
-            Some(ph) => ph.params(self.law).map_err(|e| {
-                physical_error(e, &|key: &str, value: String, expected: &str| {
-                    invalid(path, key, value, expected)
-                })
-            })?,
-            None => {
-                let p = self.params_at(i);
-                p.validate().map_err(|e| match e {
-                    squeal_core::CoreError::InvalidParameter {
-                        name,
-                        value,
-                        expected,
-                    } => name_err(name, value, expected),
-                    e => invalid(path, prefix, e, "a valid model"),
-                })?;
-                p
-            }
-        };
-        if self.units == Units::Physical {
-            // The SI box and point, scaled by this point's units, must still be a box and
-            // a point the classifier can run from.
-            let s = self.settings_at(i);
-            let inv = |key: &str, value: String, expected: &str| {
-                invalid(
-                    path,
-                    key,
-                    value,
-                    &format!(
-                        "{expected}, in the model's units at parameter point {i} (lengths \
-                         scaled by [physical] m, k, mu_k and g or normal_force)"
-                    ),
-                )
-            };
-            use crate::bounds::{Width, state, state_range};
-            state_range("disturbance.x", &s.disturbance.x, Width::Positive, &inv)?;
-            state_range("disturbance.v", &s.disturbance.v, Width::Positive, &inv)?;
-            state("operating_point.x", s.operating.x, &inv)?;
-            state("operating_point.v", s.operating.v, &inv)?;
-        }
-        if p.lambda <= 0.0 {
-            return Err(name_err(
-                if self.units == Units::Physical {
-                    "v_belt"
-                } else {
-                    "lambda"
-                },
-                p.lambda,
-                "a belt speed > 0 (lambda <= 0 is outside the model as written)",
-            ));
-        }
-        Ok(())
     }
 
     /// The first setting (top-level field of the plan) in which `other` would compute

@@ -6,6 +6,7 @@ use squeal_core::Classifier;
 use squeal_core::error::Number;
 
 use super::{DEFAULT_AUDIT_EVERY, Invalid};
+use crate::bounds::{Rules, count};
 use crate::error::ScanError;
 
 /// Early stopping of the classifier.
@@ -53,99 +54,65 @@ pub(crate) struct ClassifierPlan {
 }
 
 impl ClassifierSpec {
-    /// The checked classifier settings for step `dt` on maps of `cells` cells; errors name
-    /// `classifier.<key>`.
+    /// The classifier settings for step `dt` on maps of `cells` cells, checked under
+    /// [`Rules::Today`]; errors name `classifier.<key>`.
     pub(crate) fn check(
         &self,
         dt: f64,
         cells: usize,
+        rules: Rules,
         invalid: Invalid,
     ) -> Result<ClassifierPlan, ScanError> {
         let c = self;
         let d = Classifier::default();
         let settle_cycles = c.settle_cycles.unwrap_or(d.settle_cycles as i64);
-        if !(4..=100_000).contains(&settle_cycles) {
-            return Err(invalid(
+        rules.require((4..=100_000).contains(&settle_cycles), || {
+            invalid(
                 "classifier.settle_cycles",
                 settle_cycles.to_string(),
                 "a crossing count in 4..=100000",
-            ));
-        }
+            )
+        })?;
+        let key = "classifier.settle_cycles";
         let classifier = Classifier {
             t_max: c.t_max.unwrap_or(d.t_max),
             fp_radius: c.fp_radius.unwrap_or(d.fp_radius),
-            settle_cycles: settle_cycles as u32,
+            settle_cycles: count(key, settle_cycles, "a crossing count", invalid)?,
             settle_rtol: c.settle_rtol.unwrap_or(d.settle_rtol),
             max_radius: d.max_radius,
             trap: None,
             band_rules: true,
         };
-        classifier.validate().map_err(|e| match e {
-            squeal_core::CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            } => invalid(
-                &format!("classifier.{name}"),
-                Number(value).to_string(),
-                expected,
-            ),
-            other => invalid("classifier", String::new(), &other.to_string()),
-        })?;
-        if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
-            return Err(invalid(
-                "classifier.fp_radius",
-                Number(classifier.fp_radius).to_string(),
-                "a radius in [1e-10, 0.01]: the ball must lie inside the unstable cycle, below \
-                 the cycle search's first sample",
-            ));
-        }
-        if classifier.fp_radius < crate::bounds::MIN_FP_RADIUS {
-            return Err(invalid(
-                "classifier.fp_radius",
-                Number(classifier.fp_radius).to_string(),
-                "a radius in [1e-10, 0.01]: a settled run jitters about the fixed point at the \
-                 step's rounding, and a narrower ball is entered by chance or never (at 1e-15 \
-                 runs that settle were labelled stick-slip)",
-            ));
-        }
-        if classifier.t_max / dt > crate::bounds::MAX_STEPS {
-            return Err(invalid(
-                "classifier.t_max",
-                Number(classifier.t_max).to_string(),
-                &format!(
-                    "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
-                    classifier.t_max / dt
-                ),
-            ));
-        }
+        rules.bound(|| classifier_bounds(&classifier, dt, invalid))?;
         Ok(ClassifierPlan {
             classifier,
             early_stop: c.early_stop,
-            trap_margin: self.trap_margin(invalid)?,
-            audit_every: self.audit_every(cells, invalid)?,
+            trap_margin: self.trap_margin(rules, invalid)?,
+            audit_every: self.audit_every(cells, rules, invalid)?,
         })
     }
 
-    /// The checked `classifier.trap_margin`.
-    fn trap_margin(&self, invalid: Invalid) -> Result<f64, ScanError> {
+    /// The `classifier.trap_margin`, checked under [`Rules::Today`].
+    fn trap_margin(&self, rules: Rules, invalid: Invalid) -> Result<f64, ScanError> {
         let trap_margin = self
             .trap_margin
             .unwrap_or(squeal_core::defaults::TRAP_MARGIN);
-        if !(crate::bounds::MIN_TRAP_MARGIN..0.5).contains(&trap_margin) {
-            return Err(invalid(
+        let bound = crate::bounds::MIN_TRAP_MARGIN..0.5;
+        rules.require(bound.contains(&trap_margin), || {
+            invalid(
                 "classifier.trap_margin",
                 Number(trap_margin).to_string(),
                 "a relative margin in [1e-10, 0.5): a narrower band is narrower than the error \
                  of the cycle's located crossing (about 1e-11 at the default step), and below \
                  1.1e-16 it is no band at all in f64",
-            ));
-        }
+            )
+        })?;
         Ok(trap_margin)
     }
 
-    /// The checked `classifier.audit_every` for maps of `cells` cells.
-    fn audit_every(&self, cells: usize, invalid: Invalid) -> Result<u64, ScanError> {
+    /// The `classifier.audit_every` for maps of `cells` cells, checked under
+    /// [`Rules::Today`].
+    fn audit_every(&self, cells: usize, rules: Rules, invalid: Invalid) -> Result<u64, ScanError> {
         // Default: about one cell in 1024, at most about 16 cells per map. A cell run to
         // settlement near the cycle can take all of t_max: measured on 2 threads, the 16
         // audited cells of a 128 x 128 zoom on the fig9 boundary cost about 0.45 s, as much
@@ -154,13 +121,59 @@ impl ClassifierSpec {
             let cells = cells as i64;
             (DEFAULT_AUDIT_EVERY as i64).max(cells / 16)
         });
-        if !(0..=1 << 40).contains(&audit_every) {
-            return Err(invalid(
-                "classifier.audit_every",
+        let key = "classifier.audit_every";
+        rules.require((0..=1 << 40).contains(&audit_every), || {
+            invalid(
+                key,
                 audit_every.to_string(),
                 "0 (no audit) or a sampling interval in 1..=2^40 cells",
-            ));
-        }
-        Ok(audit_every as u64)
+            )
+        })?;
+        count(key, audit_every, "a sampling interval", invalid)
     }
+}
+
+/// Today's bounds on the classifier's settings at step `dt` (the core's own check, the
+/// fixed point's ball, the steps of a run); errors name `classifier.<key>`.
+fn classifier_bounds(classifier: &Classifier, dt: f64, invalid: Invalid) -> Result<(), ScanError> {
+    classifier.validate().map_err(|e| match e {
+        squeal_core::CoreError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => invalid(
+            &format!("classifier.{name}"),
+            Number(value).to_string(),
+            expected,
+        ),
+        other => invalid("classifier", String::new(), &other.to_string()),
+    })?;
+    if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
+        return Err(invalid(
+            "classifier.fp_radius",
+            Number(classifier.fp_radius).to_string(),
+            "a radius in [1e-10, 0.01]: the ball must lie inside the unstable cycle, below \
+                 the cycle search's first sample",
+        ));
+    }
+    if classifier.fp_radius < crate::bounds::MIN_FP_RADIUS {
+        return Err(invalid(
+            "classifier.fp_radius",
+            Number(classifier.fp_radius).to_string(),
+            "a radius in [1e-10, 0.01]: a settled run jitters about the fixed point at the \
+                 step's rounding, and a narrower ball is entered by chance or never (at 1e-15 \
+                 runs that settle were labelled stick-slip)",
+        ));
+    }
+    if classifier.t_max / dt > crate::bounds::MAX_STEPS {
+        return Err(invalid(
+            "classifier.t_max",
+            Number(classifier.t_max).to_string(),
+            &format!(
+                "at most 1e10 steps per run (t_max / integration.dt = {:.3e} steps)",
+                classifier.t_max / dt
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -14,6 +14,7 @@ use squeal_core::{
 };
 
 use super::{Invalid, MAX_MAPS, ModelTable};
+use crate::bounds::Rules;
 use crate::error::ScanError;
 use crate::grid::Grid;
 use crate::values::{Value, expand};
@@ -207,13 +208,14 @@ pub(crate) fn physical_key(name: &str) -> &str {
 }
 
 /// The physical system of the first map and the `[model]` table it stands for (a measured
-/// curve's slip speeds there in the model's units); `folder` and `stored` as for
-/// [`PhysicalFile::table`].
+/// curve's slip speeds there in the model's units), each map's system checked under
+/// `rules`; `folder` and `stored` as for [`PhysicalFile::table`].
 pub(super) fn model(
     ph: &PhysicalFile,
     m: &ModelTable,
     folder: &std::path::Path,
     stored: Option<&'static FrictionTable>,
+    rules: Rules,
     invalid: Invalid,
 ) -> Result<(Physical, ModelTable), ScanError> {
     m.check_physical(invalid)?;
@@ -259,7 +261,7 @@ pub(super) fn model(
         },
         load,
     };
-    let p0 = check_each(&base, (&cs, &vs), m.law, invalid)?;
+    let p0 = check_each(&base, (&cs, &vs), m.law, rules, invalid)?;
     let model = model_in_units(ph, m.law, &p0, (&cs, &vs), &base.scales());
     Ok((base, model))
 }
@@ -304,20 +306,25 @@ fn model_in_units(
     }
 }
 
-/// Checks the system `base` at every swept damping `cs` and belt speed `vs` under `law`,
-/// naming the physical key a derived value comes from; the first map's parameters.
+/// Checks the system `base` at every swept damping `cs` and belt speed `vs` under `law`
+/// (under [`Rules::Stored`] only that it converts), naming the physical key a derived value
+/// comes from; the first map's parameters.
 fn check_each(
     base: &Physical,
     (cs, vs): (&[f64], &[f64]),
     law: squeal_core::FrictionLaw,
+    rules: Rules,
     invalid: Invalid,
 ) -> Result<squeal_core::Params, ScanError> {
     let mut first = None;
     for &c in cs {
         for &v_belt in vs {
-            let p = Physical { c, v_belt, ..*base }
-                .params(law)
-                .map_err(|e| physical_error(e, invalid))?;
+            let ph = Physical { c, v_belt, ..*base };
+            let p = match rules {
+                Rules::Today => ph.params(law),
+                Rules::Stored => ph.nondimensional(law),
+            }
+            .map_err(|e| physical_error(e, invalid))?;
             first.get_or_insert(p);
         }
     }
@@ -325,12 +332,14 @@ fn check_each(
 }
 
 /// The grid (or sample region) given in metres and m/s, in nondimensional units, checked
-/// there as a nondimensional one is (the atlas's box likewise): with `m = 1e300` a grid
-/// 0.4 mm wide became 6e-300 units wide, 36 cells at one state; with x0 in +-3 km (length
-/// unit 69 um) its starts lay beyond the classifier's escape radius.
+/// there under [`Rules::Today`] as a nondimensional one is (the atlas's box likewise):
+/// with `m = 1e300` a grid 0.4 mm wide became 6e-300 units wide, 36 cells at one state;
+/// with x0 in +-3 km (length unit 69 um) its starts lay beyond the classifier's escape
+/// radius.
 pub(super) fn grid_to_nondimensional(
     grid: &mut Grid,
     ph: &Physical,
+    rules: Rules,
     invalid: Invalid,
 ) -> Result<(), ScanError> {
     use crate::bounds::{Width, state_range};
@@ -359,7 +368,11 @@ pub(super) fn grid_to_nondimensional(
         } else {
             Width::MayBeEmpty
         };
-        [axis.min, axis.max] = state_range(key, &[axis.min / unit, axis.max / unit], width, &inv)?;
+        let scaled = [axis.min / unit, axis.max / unit];
+        [axis.min, axis.max] = match rules {
+            Rules::Today => state_range(key, &scaled, width, &inv)?,
+            Rules::Stored => scaled,
+        };
     }
     Ok(())
 }

@@ -10,6 +10,7 @@ use squeal_core::error::Number;
 use squeal_core::{FrictionLaw, Scheme, SolverConfig, SolverKind};
 
 use super::Invalid;
+use crate::bounds::{Rules, count};
 use crate::error::ScanError;
 use crate::ulc::CycleSettings;
 use crate::values::Value;
@@ -282,30 +283,40 @@ pub(crate) struct IntegrationTable {
 pub const MAX_ITER_CAP: i64 = 100_000;
 
 impl IntegrationTable {
-    /// The step and the solver, checked: `0 < dt <= 1`, `max_iter` in `1..=100000`.
-    pub(crate) fn check(&self, invalid: Invalid) -> Result<(f64, SolverConfig), ScanError> {
+    /// The step and the solver; under [`Rules::Today`] checked: `0 < dt <= 1`, `max_iter`
+    /// in `1..=100000`.
+    pub(crate) fn check(
+        &self,
+        rules: Rules,
+        invalid: Invalid,
+    ) -> Result<(f64, SolverConfig), ScanError> {
         let dt = self.dt.unwrap_or(squeal_core::defaults::DT);
-        if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
-            return Err(invalid(
+        rules.require(dt.is_finite() && dt > 0.0 && dt <= 1.0, || {
+            invalid(
                 "integration.dt",
                 Number(dt).to_string(),
                 "a finite step in (0, 1]",
-            ));
-        }
+            )
+        })?;
         let max_iter = self
             .max_iter
             .unwrap_or(squeal_core::defaults::MAX_ITER as i64);
-        if !(1..=MAX_ITER_CAP).contains(&max_iter) {
-            return Err(invalid(
+        rules.require((1..=MAX_ITER_CAP).contains(&max_iter), || {
+            invalid(
                 "integration.max_iter",
                 max_iter.to_string(),
                 "an iteration cap in 1..=100000",
-            ));
-        }
+            )
+        })?;
         let solver = SolverConfig {
             kind: self.solver,
             scheme: self.scheme,
-            max_iter: max_iter as u32,
+            max_iter: count(
+                "integration.max_iter",
+                max_iter,
+                "an iteration cap",
+                invalid,
+            )?,
             ..SolverConfig::default()
         };
         Ok((dt, solver))
@@ -338,8 +349,14 @@ pub(crate) enum Shape {
 }
 
 impl CycleTable {
-    /// The checked settings. Defaults: [`CycleOptions::scan`] and [`CycleOptions::atlas`].
-    pub(crate) fn check(&self, shape: Shape, invalid: Invalid) -> Result<CycleOptions, ScanError> {
+    /// The settings, checked under [`Rules::Today`]. Defaults: [`CycleOptions::scan`] and
+    /// [`CycleOptions::atlas`].
+    pub(crate) fn check(
+        &self,
+        shape: Shape,
+        rules: Rules,
+        invalid: Invalid,
+    ) -> Result<CycleOptions, ScanError> {
         let mut o = match shape {
             Shape::Scan => CycleOptions::scan(),
             Shape::Atlas => CycleOptions::atlas(),
@@ -372,24 +389,28 @@ impl CycleTable {
         c.t_return = self.t_return.unwrap_or(c.t_return);
         c.check_half_dt = self.half_dt.unwrap_or(c.check_half_dt);
         let samples = self.samples.unwrap_or(c.samples as i64);
-        if !(3..=crate::bounds::MAX_CYCLE_SAMPLES as i64).contains(&samples) {
-            return Err(invalid(
-                "cycle.samples",
-                samples.to_string(),
-                "a count in 3..=100000",
-            ));
-        }
-        c.samples = samples as usize;
-        crate::bounds::cycle_search(c, &|k| format!("cycle.{k}"), invalid)?;
+        rules.require(
+            (3..=crate::bounds::MAX_CYCLE_SAMPLES as i64).contains(&samples),
+            || {
+                invalid(
+                    "cycle.samples",
+                    samples.to_string(),
+                    "a count in 3..=100000",
+                )
+            },
+        )?;
+        c.samples = count("cycle.samples", samples, "a count of samples", invalid)?;
+        rules.bound(|| crate::bounds::cycle_search(c, &|k| format!("cycle.{k}"), invalid))?;
         let ti = self.tangency_iters.unwrap_or(o.tangency_iters as i64);
-        if !(0..=200).contains(&ti) {
-            return Err(invalid(
-                "cycle.tangency_iters",
-                ti.to_string(),
-                "a count in 0..=200",
-            ));
-        }
-        o.tangency_iters = ti as u32;
+        rules.require((0..=200).contains(&ti), || {
+            invalid("cycle.tangency_iters", ti.to_string(), "a count in 0..=200")
+        })?;
+        o.tangency_iters = count(
+            "cycle.tangency_iters",
+            ti,
+            "a count of refinements",
+            invalid,
+        )?;
         Ok(o)
     }
 }
@@ -498,16 +519,18 @@ mod tests {
         // The scan refused max_iter above 100000 and the atlas accepted up to 1000000: one
         // table, one rule now.
         let t: IntegrationTable = toml::from_str("max_iter = 200000").unwrap();
-        let e = t.check(&invalid).unwrap_err().to_string();
+        let e = t.check(Rules::Today, &invalid).unwrap_err().to_string();
         assert!(e.contains("integration.max_iter"), "{e}");
         let t: IntegrationTable = toml::from_str("dt = 0.0").unwrap();
         assert!(
-            t.check(&invalid)
+            t.check(Rules::Today, &invalid)
                 .unwrap_err()
                 .to_string()
                 .contains("integration.dt")
         );
-        let (dt, s) = IntegrationTable::default().check(&invalid).unwrap();
+        let (dt, s) = IntegrationTable::default()
+            .check(Rules::Today, &invalid)
+            .unwrap();
         assert_eq!(dt, squeal_core::defaults::DT);
         assert_eq!(s.max_iter, squeal_core::defaults::MAX_ITER);
     }

@@ -5,11 +5,13 @@ use squeal_core::error::Number;
 use squeal_core::{FrictionLaw, Params, State};
 
 use super::{
-    AtlasAxis, AtlasFile, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS, MapSettings,
-    NONDIMENSIONAL, PHYSICAL, PhysicalFile, SPEED_RANGE, Units, expand, invalid, law_params,
+    AtlasAxis, AtlasFile, AtlasPlan, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS,
+    MapSettings, NONDIMENSIONAL, PHYSICAL, PhysicalFile, SPEED_RANGE, Units, expand, invalid,
+    law_params, physical_error,
 };
 use crate::atlas::geometry::Region;
 use crate::atlas::point::PointSettings;
+use crate::bounds::{Rules, count};
 use crate::error::ScanError;
 use crate::spec::{Invalid, ModelTable};
 use crate::values::Value;
@@ -134,10 +136,12 @@ fn axes<'a>(
 /// docs/atlas-spec.md; a test holds the two together).
 pub const ATTRACTOR_REVOLUTIONS: std::ops::RangeInclusive<i64> = 4..=100_000;
 
-/// The point settings: `[cycle]`, `[attractor]`, `[operating_point]`, `[disturbance]`.
+/// The point settings: `[cycle]`, `[attractor]`, `[operating_point]`, `[disturbance]`,
+/// checked under `rules`.
 pub(super) fn point_settings(
     f: &AtlasFile,
     path: &str,
+    rules: Rules,
     inv: Invalid,
 ) -> Result<PointSettings, ScanError> {
     let mut ps = PointSettings::default();
@@ -145,7 +149,7 @@ pub(super) fn point_settings(
         .cycle
         .clone()
         .unwrap_or_default()
-        .check(crate::spec::Shape::Atlas, inv)?;
+        .check(crate::spec::Shape::Atlas, rules, inv)?;
     ps.cycle = cycle.search;
     ps.tangency_iters = cycle.tangency_iters;
     let at = f.attractor.clone().unwrap_or_default();
@@ -154,31 +158,30 @@ pub(super) fn point_settings(
         ("attractor.window", at.window, &mut ps.window),
     ] {
         if let Some(v) = v {
-            if !ATTRACTOR_REVOLUTIONS.contains(&v) {
-                return Err(invalid(
-                    path,
-                    key,
-                    v,
-                    "a count of revolutions in 4..=100000",
-                ));
-            }
-            *slot = v as u32;
+            rules.require(ATTRACTOR_REVOLUTIONS.contains(&v), || {
+                invalid(path, key, v, "a count of revolutions in 4..=100000")
+            })?;
+            *slot = count(key, v, "a count of revolutions", inv)?;
         }
     }
     if let Some(op) = &f.operating_point {
         let d = ps.operating;
+        let state = |key: &str, v: f64| match rules {
+            Rules::Today => crate::bounds::state(key, v, &inv),
+            Rules::Stored => Ok(v),
+        };
         ps.operating = State {
-            x: crate::bounds::state("operating_point.x", op.x.unwrap_or(d.x), &inv)?,
-            v: crate::bounds::state("operating_point.v", op.v.unwrap_or(d.v), &inv)?,
+            x: state("operating_point.x", op.x.unwrap_or(d.x))?,
+            v: state("operating_point.v", op.v.unwrap_or(d.v))?,
         };
     }
     if let Some(b) = &f.disturbance {
+        use crate::bounds::{Width, pair, state_range};
         let d = ps.disturbance;
-        let range = |key: &str, given: Option<Vec<f64>>, default: [f64; 2]| match given {
-            Some(list) => {
-                crate::bounds::state_range(key, &list, crate::bounds::Width::Positive, &inv)
-            }
-            None => Ok(default),
+        let range = |key: &str, given: Option<Vec<f64>>, default: [f64; 2]| match (given, rules) {
+            (Some(list), Rules::Today) => state_range(key, &list, Width::Positive, &inv),
+            (Some(list), Rules::Stored) => pair(key, &list, &inv),
+            (None, _) => Ok(default),
         };
         ps.disturbance = Region {
             x: range("disturbance.x", b.x.clone(), d.x)?,
@@ -188,14 +191,14 @@ pub(super) fn point_settings(
     Ok(ps)
 }
 
-/// The basin maps (`[grid]`, `[classifier]`), if asked for; their cells' box becomes the
-/// disturbance box of `ps`.
+/// The basin maps (`[grid]`, `[classifier]`) of a plan in `units` at step `dt`, if asked
+/// for, checked under `rules`; their cells' box becomes the disturbance box of `ps`.
 pub(super) fn map_settings(
     f: &AtlasFile,
     path: &str,
-    units: Units,
-    dt: f64,
+    (units, dt): (Units, f64),
     ps: &mut PointSettings,
+    rules: Rules,
     inv: Invalid,
 ) -> Result<Option<MapSettings>, ScanError> {
     let has_disturbance = f.disturbance.is_some();
@@ -218,7 +221,7 @@ pub(super) fn map_settings(
                     "a nondimensional spec ([model] nu, lambda, tau, phi): basin maps are on the nondimensional grid",
                 ));
             }
-            let grid = g.check(&inv)?;
+            let grid = g.check(rules, &inv)?;
             // The cells' box is the disturbance box: each axis needs two points or more
             // to span one (a single point has no spacing and so no box).
             for (key, a) in [("grid.x0.count", grid.x0), ("grid.v0.count", grid.v0)] {
@@ -230,10 +233,9 @@ pub(super) fn map_settings(
                     ));
                 }
             }
-            let c = match c {
-                Some(c) => c.check(dt, grid.cells(), &inv)?,
-                None => crate::spec::ClassifierSpec::default().check(dt, grid.cells(), &inv)?,
-            };
+            let default = crate::spec::ClassifierSpec::default();
+            let c = c.as_ref().unwrap_or(&default);
+            let c = c.check(dt, grid.cells(), rules, &inv)?;
             // One box: the basin fraction from the map and from the cycle cover the
             // same initial conditions, the area the cells tile (each cell centred on
             // its grid point, half a spacing beyond the first and last).
@@ -290,12 +292,13 @@ pub(super) struct BoundaryPlan {
 }
 
 /// Reads `[boundaries]`: the bisected parameter, its ranges under the law's own names, the
-/// relative width.
+/// relative width; the values checked under `rules`.
 pub(super) fn boundaries(
     f: &AtlasFile,
     path: &str,
     units: Units,
     params: &[AtlasAxis],
+    rules: Rules,
     inv: Invalid,
 ) -> Result<BoundaryPlan, ScanError> {
     let law = f.model.law;
@@ -306,39 +309,39 @@ pub(super) fn boundaries(
         own[0].unwrap_or(DAMPING_RANGE[0]),
         own[1].unwrap_or(DAMPING_RANGE[1]),
     ];
-    bisection_range(&inv, dk, nu_range, 10.0)?;
+    rules.bound(|| bisection_range(&inv, dk, nu_range, 10.0))?;
     let lambda_range = [
         own[2].unwrap_or(SPEED_RANGE[0]),
         own[3].unwrap_or(SPEED_RANGE[1]),
     ];
-    bisection_range(&inv, sk, lambda_range, 1e3)?;
+    rules.bound(|| bisection_range(&inv, sk, lambda_range, 1e3))?;
     let boundary_in = bisected(&bd, law, path, params)?;
     if units == Units::Physical {
         swept_alone(&bd, boundary_in, path, params)?;
     }
     let boundary_rtol = bd.rtol.unwrap_or(1e-3);
-    if !(boundary_rtol > 0.0 && boundary_rtol < 0.5) {
-        return Err(invalid(
+    rules.require(boundary_rtol > 0.0 && boundary_rtol < 0.5, || {
+        invalid(
             path,
             "boundaries.rtol",
             Number(boundary_rtol),
             "a relative width in (0, 0.5)",
-        ));
-    }
+        )
+    })?;
     // The fold's coarse scan before bisecting: one step would see no change of regime it
     // could not bisect; more than 1000 is more verdicts than the chart's whole boundary.
     let coarse = bd.coarse.unwrap_or(FOLD_COARSE as i64);
-    if !(2..=1000).contains(&coarse) {
-        return Err(invalid(
+    rules.require((2..=1000).contains(&coarse), || {
+        invalid(
             path,
             "boundaries.coarse",
             coarse,
             "a number of steps in [2, 1000]",
-        ));
-    }
-    let lifetime_starts = lifetime_starts(&bd, law, boundary_in, inv)?;
+        )
+    })?;
+    let lifetime_starts = lifetime_starts(&bd, law, boundary_in, rules, inv)?;
     Ok(BoundaryPlan {
-        boundary_coarse: coarse as usize,
+        boundary_coarse: count("boundaries.coarse", coarse, "a number of steps", inv)?,
         lifetime_starts,
         fold: bd.fold.unwrap_or(true),
         critical: bd.critical.unwrap_or(true),
@@ -350,24 +353,27 @@ pub(super) fn boundaries(
 }
 
 /// `[boundaries] lifetime_starts`: starts on the band per damping for the transient
-/// lifetimes above each fold, 0 (the default) for none. They follow the crisis of the band,
-/// so only McMillan's laws with boundaries in the damping (as `squeal critical
-/// --fold --lifetimes`), and the fold must be asked for.
+/// lifetimes above each fold, 0 (the default) for none, its bound checked under `rules`.
+/// They follow the crisis of the band, so only McMillan's laws with boundaries in the
+/// damping (as `squeal critical --fold --lifetimes`), and the fold must be asked for.
 fn lifetime_starts(
     bd: &BoundariesFile,
     law: FrictionLaw,
     boundary_in: BoundaryParam,
+    rules: Rules,
     inv: Invalid,
 ) -> Result<usize, ScanError> {
     let key = "boundaries.lifetime_starts";
     let n = bd.lifetime_starts.unwrap_or(0);
-    if !(0..=crate::bounds::MAX_LIFETIME_STARTS as i64).contains(&n) {
-        return Err(inv(
+    let most = crate::bounds::MAX_LIFETIME_STARTS as i64;
+    rules.require((0..=most).contains(&n), || {
+        inv(
             key,
             n.to_string(),
             "a number of starts in [0, 4096] (0: none)",
-        ));
-    }
+        )
+    })?;
+    let n: usize = count(key, n, "a number of starts", inv)?;
     if n > 0 && !crate::atlas::boundary::crisis_applies(law) {
         return Err(inv(
             key,
@@ -384,7 +390,7 @@ fn lifetime_starts(
             "0 unless the fold is bisected in the damping (in = \"nu\", fold = true)",
         ));
     }
-    Ok(n as usize)
+    Ok(n)
 }
 
 /// The bisection ranges under the law's own names (`nu_lo` or `xi_lo`, ...), in the order
@@ -513,6 +519,84 @@ fn bisection_range(inv: Invalid, key: &str, [lo, hi]: [f64; 2], top: f64) -> Res
             &format!("boundaries.{key}_lo/{key}_hi"),
             format!("[{}, {}]", Number(lo), Number(hi)),
             &expected,
+        ));
+    }
+    Ok(())
+}
+
+/// The model at point `i` of `plan`: under [`Rules::Today`] checked (its parameters, and in a
+/// physical plan its box and operating point in the model's units), under
+/// [`Rules::Stored`] only that a physical system converts to one.
+pub(super) fn check_point(
+    plan: &AtlasPlan,
+    i: usize,
+    path: &str,
+    rules: Rules,
+) -> Result<(), ScanError> {
+    let prefix = match plan.units {
+        Units::Nondimensional => "model",
+        Units::Physical => "physical",
+    };
+    let name_err = |name: &str, value: f64, expected: &str| {
+        invalid(path, &format!("{prefix}.{name}"), Number(value), expected)
+    };
+    let p = match plan.physical_at(i) {
+        Some(ph) => match rules {
+            Rules::Today => ph.params(plan.law),
+            Rules::Stored => ph.nondimensional(plan.law),
+        }
+        .map_err(|e| {
+            physical_error(e, &|key: &str, value: String, expected: &str| {
+                invalid(path, key, value, expected)
+            })
+        })?,
+        None if rules == Rules::Stored => return Ok(()),
+        None => {
+            let p = plan.params_at(i);
+            p.validate().map_err(|e| match e {
+                squeal_core::CoreError::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                } => name_err(name, value, expected),
+                e => invalid(path, prefix, e, "a valid model"),
+            })?;
+            p
+        }
+    };
+    if rules == Rules::Stored {
+        return Ok(());
+    }
+    if plan.units == Units::Physical {
+        // The SI box and point, scaled by this point's units, must still be a box and
+        // a point the classifier can run from.
+        let s = plan.settings_at(i);
+        let inv = |key: &str, value: String, expected: &str| {
+            invalid(
+                path,
+                key,
+                value,
+                &format!(
+                    "{expected}, in the model's units at parameter point {i} (lengths \
+                     scaled by [physical] m, k, mu_k and g or normal_force)"
+                ),
+            )
+        };
+        use crate::bounds::{Width, state, state_range};
+        state_range("disturbance.x", &s.disturbance.x, Width::Positive, &inv)?;
+        state_range("disturbance.v", &s.disturbance.v, Width::Positive, &inv)?;
+        state("operating_point.x", s.operating.x, &inv)?;
+        state("operating_point.v", s.operating.v, &inv)?;
+    }
+    if p.lambda <= 0.0 {
+        return Err(name_err(
+            if plan.units == Units::Physical {
+                "v_belt"
+            } else {
+                "lambda"
+            },
+            p.lambda,
+            "a belt speed > 0 (lambda <= 0 is outside the model as written)",
         ));
     }
     Ok(())

@@ -473,9 +473,88 @@ fn every_shipped_atlas_spec_validates() {
         // atlas-*.toml, or a spec without [grid] and [sample] (a scan needs one of them).
         let t: toml::Table = toml::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
         if name.starts_with("atlas-") || !t.contains_key("grid") && !t.contains_key("sample") {
-            AtlasPlan::from_file(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let plan = AtlasPlan::from_file(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
+            // Read back from a file, the spec is the same plan (the stored reading is the
+            // checked one with today's bounds left out).
+            let stored = AtlasPlan::from_stored_toml(&plan.spec_text, &plan.spec_path).unwrap();
+            assert_eq!(stored.differs_from(&plan), None, "{name}");
             n += 1;
         }
     }
     assert!(n >= 2, "expected the shipped atlas specs in scans/");
+}
+
+/// An atlas file's stored spec describes what was run: values a squeal of today refuses
+/// (each outside a bound of parse.rs, classifier.rs or tables.rs) read back as stored,
+/// where before the file was refused with the bound's error; given to run, the same spec
+/// is refused naming the key.
+#[test]
+fn a_stored_atlas_spec_outside_todays_bounds_reads_as_stored() {
+    let with = |table: &str| GOOD.replace("[output]", &format!("{table}\n[output]"));
+    let g = GOOD.replace("[output]", GRID);
+    let cases = [
+        // coarse below 2, rtol at or above 0.5, lifetime_starts above 4096.
+        (with("[boundaries]\ncoarse = 1"), "boundaries.coarse"),
+        (with("[boundaries]\nrtol = 0.7"), "boundaries.rtol"),
+        (
+            with("[boundaries]\nlifetime_starts = 5000"),
+            "boundaries.lifetime_starts",
+        ),
+        // Below 4 revolutions; beyond the escape radius 1e6; cycle rtol outside (0, 0.1).
+        (with("[attractor]\ntransient = 2"), "attractor.transient"),
+        (with("[operating_point]\nx = 2e6"), "operating_point.x"),
+        (with("[cycle]\nrtol = 0.5"), "cycle.rtol"),
+        // A map's classifier: trap_margin above 0.5, t_max / dt = 1e12 / 0.005 above 1e10.
+        (
+            g.replace("[output]", "[classifier]\ntrap_margin = 0.9\n[output]"),
+            "classifier.trap_margin",
+        ),
+        (
+            g.replace("[output]", "[classifier]\nt_max = 1e12\n[output]"),
+            "classifier.t_max",
+        ),
+        // Phi above pi/2 at one point of the sweep.
+        (
+            GOOD.replace(
+                "lambda = [2.0, 3.0]",
+                "lambda = [2.0, 3.0]\nphi = [1.0, 2.0]",
+            ),
+            "model.phi",
+        ),
+    ];
+    for (text, key) in &cases {
+        assert!(err(text).contains(key), "{key}: {}", err(text));
+        AtlasPlan::from_stored_toml(text, "a.toml").unwrap_or_else(|e| panic!("{key}: {e}"));
+    }
+    let stored = |i: usize| AtlasPlan::from_stored_toml(&cases[i].0, "a.toml").unwrap();
+    assert_eq!(stored(0).boundary_coarse, 1);
+    assert_eq!(stored(1).boundary_rtol, 0.7);
+    assert_eq!(stored(2).lifetime_starts, 5000);
+    assert_eq!(stored(3).point.transient, 2);
+    assert_eq!(stored(4).point.operating.x, 2e6);
+    assert_eq!(stored(5).point.cycle.rtol, 0.5);
+    assert_eq!(stored(6).maps.unwrap().trap_margin, 0.9);
+    assert_eq!(stored(7).maps.unwrap().classifier.t_max, 1e12);
+    let phi = stored(8)
+        .params
+        .iter()
+        .find(|a| a.key == "phi")
+        .unwrap()
+        .values
+        .clone();
+    assert_eq!(phi, [1.0, 2.0]);
+    // What the plan cannot be built without is still refused, as the file's: a range of
+    // no values, a map grid of one column (its cells tile no box).
+    for (text, key) in [
+        (GOOD.replace("count = 3", "count = 0"), "model.nu.count"),
+        (g.replace("count = 8 }", "count = 1 }"), "grid.x0.count"),
+    ] {
+        let e = AtlasPlan::from_stored_toml(&text, "a.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("a.toml: this file's stored spec") && e.contains(key),
+            "{e}"
+        );
+    }
 }
