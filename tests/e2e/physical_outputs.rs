@@ -205,7 +205,7 @@ fn with_surfaces(spec: &str) -> String {
 }
 
 /// `squeal args...` in `dir`: its status and stderr.
-fn run(dir: &std::path::Path, args: &[&str]) -> (bool, String) {
+pub(crate) fn run(dir: &std::path::Path, args: &[&str]) -> (bool, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_squeal"))
         .args(args)
         .current_dir(dir)
@@ -313,7 +313,7 @@ fn the_physical_flags_take_the_laws_surfaces() {
 
 /// Replaces the `spec` attribute of `path` by `text`: a file as an older squeal wrote it,
 /// whose stored spec gave Coulomb the mu_s and tau it required.
-fn store_spec(path: &std::path::Path, text: &str) {
+pub(crate) fn store_spec(path: &std::path::Path, text: &str) {
     let f = hdf5::File::open_rw(path).unwrap();
     f.delete_attr("spec").unwrap();
     let v: hdf5::types::VarLenUnicode = text.parse().unwrap();

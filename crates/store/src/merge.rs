@@ -212,7 +212,7 @@ pub fn merge(
     let mut plan = Plan::from_stored_toml_table(&h.spec, &format!("{}.toml", h.name), table)
         .map_err(|e| StoreError::NotSquealFile {
             path: h.path.clone(),
-            why: format!("its spec no longer validates: {e}"),
+            why: e.to_string(),
             advice: None,
         })?;
     plan.name = h.name.clone();

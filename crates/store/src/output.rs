@@ -67,7 +67,7 @@ pub(crate) fn started_plan<P: Recorded + Clone>(
         return Ok(plan.clone());
     }
     let started = P::stored(started_text, plan.spec_table(), None, plan)
-        .ok_or_else(|| mismatch("the journal's spec no longer validates".into(), None))?;
+        .ok_or_else(|| mismatch("the journal's stored spec cannot be read".into(), None))?;
     let started = started.writing_to(plan);
     match started.first_difference(plan) {
         None => Ok(started),

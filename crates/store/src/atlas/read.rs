@@ -70,7 +70,7 @@ pub fn read_atlas(path: &Path) -> Result<(AtlasPlan, AtlasResults, Option<Shard>
     let spec = crate::read::str_attr(&file, "spec").h5(path)?;
     let table = crate::read::stored_table(&file).h5(path)?;
     let mut plan = AtlasPlan::from_stored_toml_table(&spec, &path.display().to_string(), table)
-        .map_err(|e| not(format!("its spec does not validate: {e}")))?;
+        .map_err(|e| not(e.to_string()))?;
     // A spec without `name` is named after its own file, not this one (a shard `s1.h5`).
     plan.name = crate::read::str_attr(&file, "name").h5(path)?;
     let shard = crate::read::str_attr(&file, "shard")
