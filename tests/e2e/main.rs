@@ -22,4 +22,5 @@ mod plot_script;
 mod same_content;
 mod scan;
 mod scan_laws;
+mod scan_sweeps;
 mod table_law;

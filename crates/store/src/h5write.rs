@@ -52,17 +52,16 @@ use crate::h5columns::{si_dataset, write_si_column};
 pub(crate) fn physical_attrs(
     file: &File,
     ph: &squeal_core::Physical,
-    swept: Option<&str>,
+    swept: &[&str],
 ) -> hdf5::Result<()> {
     let mut values = ph.values();
     values[8] = Some(ph.normal_force());
-    let skip = match swept {
-        Some("nu") => "c",
-        Some("lambda") => "v_belt",
-        _ => "",
+    // A swept key's SI twin is a coordinate over the maps, no attribute.
+    let skip = |key: &str| {
+        (key == "c" && swept.contains(&"nu")) || (key == "v_belt" && swept.contains(&"lambda"))
     };
     for ((key, long, units), v) in squeal_scan::atlas::spec::PHYSICAL.iter().zip(values) {
-        let Some(v) = v.filter(|_| *key != skip) else {
+        let Some(v) = v.filter(|_| !skip(key)) else {
             continue;
         };
         num_attr(file, &format!("physical_{key}"), v)?;
@@ -92,11 +91,15 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     str_attr(file, "spec", &plan.spec_text)?;
     str_attr(file, "name", &plan.name)?;
     str_attr(file, "law", p0.kind().name())?;
-    let swept = plan.sweep.as_ref().map(|s| s.name);
+    let swept = plan.sweep.as_ref().map_or(Vec::new(), |s| s.names());
+    if let Some(s) = plan.sweep.as_ref().filter(|s| !is_legacy(s)) {
+        // Readers find the sweep by this list (files before it: by the four names).
+        str_attr(file, "swept", &s.names().join(" "))?;
+    }
     if p0.law.family().has_own_names() {
         // The law's own parameters, each with its long name and units beside it.
         for n in p0.named() {
-            if swept != Some(n.name) {
+            if !swept.contains(&n.name) {
                 num_attr(file, n.name, n.value)?;
             }
             str_attr(file, &format!("{}_long_name", n.name), n.long_name)?;
@@ -104,18 +107,20 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
         }
     } else {
         if let Some(c) = p0.law.surface() {
-            num_attr(file, "tau", c.tau)?;
-            num_attr(file, "phi", c.phi)?;
+            for (key, v) in [("tau", c.tau), ("phi", c.phi)] {
+                if !swept.contains(&key) {
+                    num_attr(file, key, v)?;
+                }
+            }
         }
-        if swept != Some("nu") {
-            num_attr(file, "nu", p0.nu)?;
-        }
-        if swept != Some("lambda") {
-            num_attr(file, "lambda", p0.lambda)?;
+        for (key, v) in [("nu", p0.nu), ("lambda", p0.lambda)] {
+            if !swept.contains(&key) {
+                num_attr(file, key, v)?;
+            }
         }
     }
     if let Some(ph) = &plan.physical {
-        physical_attrs(file, ph, plan.sweep.as_ref().map(|s| s.name))?;
+        physical_attrs(file, ph, &swept)?;
     }
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;
@@ -259,14 +264,7 @@ fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
         ),
     };
     let map = match &plan.sweep {
-        Some(s) => {
-            let named = plan.maps[0].named();
-            let long = named
-                .iter()
-                .find(|n| n.name == s.name)
-                .map_or(s.name, |n| n.long_name);
-            o.scale(s.name, &s.values, long, Some("1"))?
-        }
+        Some(s) => sweep_scales(o, plan, s)?,
         None => o.index("map", plan.maps.len(), "map index")?,
     };
     let block = match g.sample {
@@ -278,6 +276,40 @@ fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
         si_coordinates(o, plan, &ph.scales(), [&x0, &v0, &map])?;
     }
     Ok(Scales { x0, v0, map, block })
+}
+
+/// Whether a sweep is stored as files before sweeps of every key were: one of `nu`,
+/// `lambda`, `xi`, `v_d` swept alone (readers find it by that name, with no `swept` list).
+fn is_legacy(s: &squeal_scan::Sweep) -> bool {
+    s.single()
+        .is_some_and(|a| ["nu", "lambda", "xi", "v_d"].contains(&a.name))
+}
+
+/// The maps' dimension of a sweep: one swept key is the dimension scale itself (`nu` over
+/// its values); several make the index `map` (C order, the last key fastest) with each
+/// key's value at every map as an auxiliary coordinate over it.
+fn sweep_scales(o: &mut Out, plan: &Plan, s: &squeal_scan::Sweep) -> hdf5::Result<Dataset> {
+    let named = plan.maps[0].named();
+    let words = |key: &'static str| {
+        (named.iter().find(|n| n.name == key)).map_or((key, "1"), |n| (n.long_name, n.units))
+    };
+    if let Some(a) = s.single() {
+        let (long, units) = words(a.name);
+        return o.scale(a.name, &a.values, long, Some(units));
+    }
+    let long = "map index (one map per point of the swept keys' product, the last fastest)";
+    let map = o.index("map", plan.maps.len(), long)?;
+    let over = Over {
+        shape: vec![plan.maps.len()],
+        scales: vec![map.clone()],
+    };
+    for a in &s.axes {
+        let (long, units) = words(a.name);
+        let per_map = s.per_map(a.name).expect("a swept key");
+        o.put(&over, (a.name, long), Some(units), per_map)?;
+        o.aux_coordinate(&map, a.name);
+    }
+    Ok(map)
 }
 
 /// A physical scan's coordinates in SI units beside the nondimensional ones (CF auxiliary
@@ -324,9 +356,16 @@ fn si_coordinates(
         o.put(&over(d), (name, long), Some(units), si)?;
         aux.push((d, name.to_string()));
     }
-    let swept = (plan.sweep.as_ref()).and_then(|sw| Some((sw, SweptSi::of(sw.name, s)?)));
-    if let Some((sw, si)) = swept {
-        let v = sw.values.iter().map(|v| v * si.unit).collect();
+    for sw in plan.sweep.iter().flat_map(|sw| sw.names()) {
+        let Some(si) = SweptSi::of(sw, s) else {
+            continue;
+        };
+        let per_map = plan.sweep.as_ref().and_then(|p| p.per_map(sw));
+        let v = per_map
+            .expect("a swept key")
+            .iter()
+            .map(|v| v * si.unit)
+            .collect();
         o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
         aux.push((map, si.key.to_string()));
     }

@@ -54,7 +54,7 @@ fn map_json(
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
     let (c, checks) = (&info.counts[i], tallies.checks);
     let mut o = serde_json::Map::new();
-    if let Some((name, vals)) = &info.sweep {
+    for (name, vals) in info.sweep.iter().flat_map(|s| &s.keys) {
         o.insert(name.clone(), vals[i].into());
     }
     for (k, n) in names.iter().zip(c) {
@@ -101,10 +101,13 @@ fn map_json(
 /// Map `i` of a finished scan in words.
 fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: usize) {
     let (c, checks) = (&info.counts[i], tallies.checks);
-    let label = info
-        .sweep
-        .as_ref()
-        .map_or(String::new(), |(n, v)| format!("{n} = {:<10.4e} ", v[i]));
+    let label = info.sweep.as_ref().map_or(String::new(), |s| {
+        let each = s
+            .keys
+            .iter()
+            .map(|(n, v)| format!("{n} = {:<10.4e} ", v[i]));
+        each.collect()
+    });
     let mut line = format!(
         "  {label}steady_slip {:>7}  stick_slip {:>7}  undecided {:>5}",
         c[1], c[2], c[0]
