@@ -58,7 +58,7 @@ use squeal_core::error::Number;
 use squeal_core::{Classifier, FrictionLaw, Params, Setup, SolverConfig};
 
 use crate::error::ScanError;
-use crate::grid::{Axis, Grid, RandomSample};
+use crate::grid::{Axis, Grid, RandomSample, Starts};
 use crate::values::{Value, expand};
 
 mod classifier;
@@ -253,7 +253,7 @@ impl GridSpec {
             x0,
             v0,
             block_rows: block_rows as usize,
-            sample: None,
+            starts: Starts::Grid,
         })
     }
 }
@@ -520,7 +520,7 @@ fn initial_conditions(
                 x0,
                 v0,
                 block_rows: block as usize,
-                sample: Some(RandomSample {
+                starts: Starts::Sample(RandomSample {
                     n: ss.n as usize,
                     seed: ss.seed,
                 }),

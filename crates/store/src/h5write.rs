@@ -11,7 +11,7 @@ use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::si::{Si, SweptSi};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
-use squeal_scan::{Grid, MapChecks, MapTally, Plan};
+use squeal_scan::{Grid, MapChecks, MapTally, Plan, Starts};
 
 use crate::cycle::CycleRecord;
 use crate::cycle::Flat;
@@ -134,9 +134,9 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     num_attr(file, "trap_margin", plan.trap_margin)?;
     num_attr(file, "locate_cycle", plan.cycle.locate as u8)?;
     num_attr(file, "block_rows", g.block_rows as u64)?;
-    match &g.sample {
-        None => str_attr(file, "sampling", "grid")?,
-        Some(smp) => {
+    match &g.starts {
+        Starts::Grid => str_attr(file, "sampling", "grid")?,
+        Starts::Sample(smp) => {
             str_attr(file, "sampling", "random")?;
             num_attr(file, "sample_n", smp.n as u64)?;
             num_attr(file, "sample_seed", smp.seed)?;
@@ -256,9 +256,9 @@ fn write_all(
 /// the points' x0 and v0 as variables over it; the sweep or map index; the blocks.
 fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
     let g = &plan.grid;
-    let (x0, v0) = match g.sample {
-        Some(_) => sample_scales(o, g)?,
-        None => (
+    let (x0, v0) = match g.starts {
+        Starts::Sample(_) => sample_scales(o, g)?,
+        Starts::Grid => (
             o.scale("x0", &g.x0.values(), "initial displacement x(0)", Some("1"))?,
             o.scale("v0", &g.v0.values(), "initial velocity x'(0)", Some("1"))?,
         ),
@@ -267,9 +267,9 @@ fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
         Some(s) => sweep_scales(o, plan, s)?,
         None => o.index("map", plan.maps.len(), "map index")?,
     };
-    let block = match g.sample {
-        Some(_) => "block of random samples",
-        None => "block of grid rows",
+    let block = match g.starts {
+        Starts::Sample(_) => "block of random samples",
+        Starts::Grid => "block of grid rows",
     };
     let block = o.index("block", g.blocks(), block)?;
     if let Some(ph) = &plan.physical {
@@ -325,9 +325,9 @@ fn si_coordinates(
     [x0, v0, map]: [&Dataset; 3],
 ) -> hdf5::Result<()> {
     let g = &plan.grid;
-    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.sample {
-        Some(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
-        None => (g.x0.values(), g.v0.values()),
+    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.starts {
+        Starts::Sample(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
+        Starts::Grid => (g.x0.values(), g.v0.values()),
     };
     let over = |d: &Dataset| Over {
         shape: vec![d.size()],
@@ -409,7 +409,7 @@ fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
     }
     over = over.and(nv, &sc.v0);
     chunk.push(rows_per_chunk);
-    if g.sample.is_none() {
+    if !g.is_sample() {
         over = over.and(nx, &sc.x0);
         chunk.push(nx);
     }

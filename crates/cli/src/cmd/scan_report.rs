@@ -11,12 +11,12 @@ use super::map_words::{check_words, escape_words, landscape_json, landscape_word
 /// "256 x 128 cells" or "5000 random samples in [-2, 2] x [0, 2] (seed 1)".
 pub fn layout(plan: &Plan) -> String {
     let g = &plan.grid;
-    match &g.sample {
-        Some(s) => format!(
+    match &g.starts {
+        squeal_scan::Starts::Sample(s) => format!(
             "{} random samples in x0 [{}, {}] x v0 [{}, {}] (seed {})",
             s.n, g.x0.min, g.x0.max, g.v0.min, g.v0.max, s.seed
         ),
-        None => format!("{} x {} cells", g.x0.count, g.v0.count),
+        squeal_scan::Starts::Grid => format!("{} x {} cells", g.x0.count, g.v0.count),
     }
 }
 

@@ -171,7 +171,7 @@ mod tests {
                 count: n,
             },
             block_rows: 4,
-            sample: None,
+            starts: crate::grid::Starts::Grid,
         }
     }
 
