@@ -160,3 +160,47 @@ path = "brake.h5"
     assert!(f.attr("physical_m").is_ok());
     assert_eq!(labels(d.path(), "brake.h5").0, vec![6, 4, 5]);
 }
+
+/// An atlas of a physical system draws basin maps on a grid in m and m/s, as a scan of the
+/// same system does: over the dashpot, each of its maps is the scan's map at that `c`, cell
+/// for cell (the same scanner, classifier and grid in the model's units), and the grid is
+/// stored in SI beside the model's. Before, `[grid]` with `[physical]` was refused.
+#[test]
+fn a_physical_atlas_draws_the_scans_maps_in_si_units() {
+    let d = tempfile::tempdir().unwrap();
+    let system = "[model]\nlaw = \"mcmillan\"\n[physical]\nm = 2.0\nk = 5.0e4\nc = [5.0, 10.0]\n\
+                  v_belt = 0.05\nmu_k = 0.35\nmu_s = 0.45\ntau = 1e-3\n";
+    let grid = "[grid]\nx0 = { min = -1e-4, max = 2e-4, count = 5 }\n\
+                v0 = { min = -0.01, max = 0.01, count = 4 }\n[classifier]\nt_max = 3000.0\n";
+    let atlas = format!(
+        "version = 1\nname = \"pad\"\n{system}[boundaries]\nfold = false\ncritical = false\n\
+         {grid}[output]\npath = \"atlas.h5\"\n"
+    );
+    let scan = format!("version = 1\n{system}{grid}[output]\npath = \"scan.h5\"\n");
+    spec(d.path(), "atlas.toml", &atlas);
+    spec(d.path(), "scan.toml", &scan);
+    ok(&squeal(d.path(), &["atlas", "atlas.toml", "--quiet"]));
+    ok(&squeal(d.path(), &["scan", "scan.toml", "--quiet"]));
+    let a = hdf5::File::open(d.path().join("atlas.h5")).unwrap();
+    let maps = a.dataset("map_labels").unwrap();
+    assert_eq!(maps.shape(), vec![2, 4, 5]);
+    let (shape, cells) = labels(d.path(), "scan.h5");
+    assert_eq!(shape, vec![2, 4, 5]);
+    assert_eq!(maps.read_raw::<u8>().unwrap(), cells);
+    let s = hdf5::File::open(d.path().join("scan.h5")).unwrap();
+    for name in ["x0", "v0", "x0_si", "v0_si"] {
+        assert_eq!(f64s(&a, name), f64s(&s, name), "{name}");
+    }
+    assert!((f64s(&a, "x0_si")[4] - 2e-4).abs() < 1e-15);
+    assert!(d.path().join("atlas-maps.png").exists());
+    // The units must be one for every map: a swept mass is refused by name.
+    let swept_m = atlas.replace("m = 2.0", "m = [2.0, 3.0]");
+    spec(
+        d.path(),
+        "mass.toml",
+        &swept_m.replace("atlas.h5", "mass.h5"),
+    );
+    let o = squeal(d.path(), &["atlas", "mass.toml", "--quiet"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("physical.m"), "{err}");
+}

@@ -324,14 +324,42 @@ fn si_coordinates(
     s: &squeal_core::Scales,
     [x0, v0, map]: [&Dataset; 3],
 ) -> hdf5::Result<()> {
-    let g = &plan.grid;
-    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.starts {
-        Starts::Sample(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
-        Starts::Grid => (g.x0.values(), g.v0.values()),
-    };
     let over = |d: &Dataset| Over {
         shape: vec![d.size()],
         scales: vec![d.clone()],
+    };
+    let mut aux = state_si(o, &plan.grid, s, [x0, v0])?;
+    for sw in plan.sweep.iter().flat_map(|sw| sw.names()) {
+        let Some(si) = SweptSi::of(sw, s) else {
+            continue;
+        };
+        let per_map = plan.sweep.as_ref().and_then(|p| p.per_map(sw));
+        let v = per_map
+            .expect("a swept key")
+            .iter()
+            .map(|v| v * si.unit)
+            .collect();
+        o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
+        aux.push((map, si.key.to_string()));
+    }
+    for (d, name) in aux {
+        o.aux_coordinate(d, &name);
+    }
+    Ok(())
+}
+
+/// The SI twins `x0_si` (m) and `v0_si` (m/s) of the starts of `g` over their scales `x0`
+/// and `v0` (a random sample's: both its index), by the scales `s`; returns each scale
+/// with its twin's name, to declare as auxiliary coordinates once every twin is written.
+pub(crate) fn state_si<'d>(
+    o: &mut Out,
+    g: &Grid,
+    s: &squeal_core::Scales,
+    [x0, v0]: [&'d Dataset; 2],
+) -> hdf5::Result<Vec<(&'d Dataset, String)>> {
+    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.starts {
+        Starts::Sample(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
+        Starts::Grid => (g.x0.values(), g.v0.values()),
     };
     let mut aux = Vec::new();
     for (name, d, vals, unit, units, long) in [
@@ -352,27 +380,15 @@ fn si_coordinates(
             "initial velocity x'(0) (m/s)",
         ),
     ] {
+        let over = Over {
+            shape: vec![d.size()],
+            scales: vec![d.clone()],
+        };
         let si = vals.iter().map(|v| v * unit).collect();
-        o.put(&over(d), (name, long), Some(units), si)?;
+        o.put(&over, (name, long), Some(units), si)?;
         aux.push((d, name.to_string()));
     }
-    for sw in plan.sweep.iter().flat_map(|sw| sw.names()) {
-        let Some(si) = SweptSi::of(sw, s) else {
-            continue;
-        };
-        let per_map = plan.sweep.as_ref().and_then(|p| p.per_map(sw));
-        let v = per_map
-            .expect("a swept key")
-            .iter()
-            .map(|v| v * si.unit)
-            .collect();
-        o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
-        aux.push((map, si.key.to_string()));
-    }
-    for (d, name) in aux {
-        o.aux_coordinate(d, &name);
-    }
-    Ok(())
+    Ok(aux)
 }
 
 /// A random sample's index (as both x0 and v0 scales), with its points' x0 and v0.

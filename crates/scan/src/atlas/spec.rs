@@ -406,10 +406,11 @@ impl AtlasPlan {
         let (units, params) = parse::model_axes(&f, path)?;
         let (dt, solver) = f.integration.check(&inv)?;
         let mut ps = parse::point_settings(&f, path, &inv)?;
-        let maps = parse::map_settings(&f, path, units, dt, &mut ps, &inv)?;
+        let maps = parse::map_settings(&f, path, dt, &mut ps, &inv)?;
         let b = parse::boundaries(&f, path, units, &params, &inv)?;
-        let has_disturbance = f.disturbance.is_some();
-        let plan = AtlasPlan {
+        // A physical spec's own box is in SI units: [disturbance], or the [grid]'s cells.
+        let si_box = f.disturbance.is_some() || maps.is_some();
+        let mut plan = AtlasPlan {
             name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
             law: m.law,
             table,
@@ -418,7 +419,7 @@ impl AtlasPlan {
             dt,
             solver,
             point: ps,
-            disturbance_nondimensional: units == Units::Physical && !has_disturbance,
+            disturbance_nondimensional: units == Units::Physical && !si_box,
             fold: b.fold,
             critical: b.critical,
             nu_range: b.nu_range,
@@ -436,6 +437,7 @@ impl AtlasPlan {
         for i in 0..plan.n_points() {
             plan.check_point(i, path)?;
         }
+        parse::physical_grid(&mut plan, path, &inv)?;
         Ok(plan)
     }
 

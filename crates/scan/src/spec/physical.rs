@@ -322,7 +322,7 @@ fn check_each(
 /// there as a nondimensional one is (the atlas's box likewise): with `m = 1e300` a grid
 /// 0.4 mm wide became 6e-300 units wide, 36 cells at one state; with x0 in +-3 km (length
 /// unit 69 um) its starts lay beyond the classifier's escape radius.
-pub(super) fn grid_to_nondimensional(
+pub(crate) fn grid_to_nondimensional(
     grid: &mut Grid,
     ph: &Physical,
     invalid: Invalid,
