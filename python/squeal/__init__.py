@@ -189,7 +189,8 @@ class BasinStability:
     conditions in a region ending in each regime, with the binomial standard error
     ``sqrt(p (1 - p) / n)``. For a sweep, ``shares[r]``, ``errors[r]`` are arrays over
     ``values`` of the swept parameter ``parameter`` (a physical system's ``c`` in N s/m or
-    ``v_belt`` in m/s, as swept); else floats."""
+    ``v_belt`` in m/s, as swept), or, when several keys are swept, over ``parameter =
+    "map"`` (each swept key a coordinate over ``map`` in ``dataset``); else floats."""
 
     shares: dict
     errors: dict
@@ -202,9 +203,10 @@ class BasinStability:
 
 
 def _swept(ds) -> Optional[str]:
-    """The sweep dimension of a scan Dataset (None for one map)."""
+    """The sweep dimension of a scan Dataset (None for one map): the swept key, or ``map``
+    when several keys are swept (each then a coordinate over ``map``)."""
     dims = [d for d in ds["labels"].dims if d not in ("v0", "x0", "sample")]
-    return dims[0] if dims and dims[0] in ds.coords and dims[0] != "map" else None
+    return dims[0] if dims and dims[0] in ds.coords else None
 
 
 def basin_stability(
@@ -224,11 +226,12 @@ def basin_stability(
     classifier. ``params`` are the model's (``xi``, ``v_d``, ``mu_d``, ... for the Stribeck
     law; ``nu``, ``lambda``, ... for McMillan's; for ``law="table"`` its curve as
     ``friction_table=[(s, mu), ...]`` or ``friction_csv="pad.csv"``, relative to the working
-    folder); one of them may be a list or array (a
-    sweep, e.g. ``v_d=numpy.linspace(0.8, 2.225, 20)``, the belt-speed study).
+    folder); any of them may be a list or array (a
+    sweep, e.g. ``v_d=numpy.linspace(0.8, 2.225, 20)``, the belt-speed study; several
+    make one map per point of their product, over the Dataset's ``map``).
     Or, for McMillan's laws and Coulomb, the physical system in SI units, as keywords
     (``m, k, c, v_belt, mu_k, mu_s, tau_s`` and ``g`` or ``normal_force``, as the command
-    line's flags; ``c`` or ``v_belt`` may be swept) or as ``physical=`` (a ``[physical]``
+    line's flags; ``c`` and ``v_belt`` may be swept) or as ``physical=`` (a ``[physical]``
     table); then ``region`` is in m and m/s and must be given.
     Defaults: bSTAB's friction case region and 5000 samples."""
     names = _Names("basin_stability")

@@ -140,6 +140,19 @@ def test_belt_speed_sweep_gives_one_share_per_speed():
     np.testing.assert_allclose(total, 1.0, rtol=1e-12)
 
 
+def test_a_sweep_of_two_keys_gives_one_share_per_pair():
+    # One map per point of the product, the last key fastest: each map's shares are those
+    # of its pair swept alone (the same seeded samples, the same classifier).
+    pairs = dict(xi=[0.05, 0.1], v_d=[1.0, 2.0])
+    bs = squeal.basin_stability("stribeck", n=100, seed=3, **{**BSTAB, **pairs})
+    assert bs.parameter == "map"
+    np.testing.assert_allclose(bs.dataset["xi"].values, [0.05, 0.05, 0.1, 0.1])
+    np.testing.assert_allclose(bs.dataset["v_d"].values, [1.0, 2.0, 1.0, 2.0])
+    one = squeal.basin_stability("stribeck", n=100, seed=3, **{**BSTAB, "xi": 0.1, "v_d": 1.0})
+    for r in squeal.REGIMES:
+        assert bs.shares[r][2] == one.shares[r], r
+
+
 def test_spec_error_raises_value_error_with_the_cli_message(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(SMALL.replace("count = 24", "count = 0"))

@@ -89,7 +89,8 @@ fn a_lambda_sweep_end_to_end() {
     let l: Vec<u8> = labels.read_raw().unwrap();
     assert!(l.iter().all(|&v| v == 1 || v == 2), "every cell decided");
     let info = squeal_store::read_info(&dir.path().join("sweep.h5")).unwrap();
-    assert_eq!(info.sweep, Some(("lambda".into(), vec![2.0, 3.0])));
+    let sweep = info.sweep.expect("a lambda sweep");
+    assert_eq!(sweep.single(), Some(("lambda", &[2.0, 3.0][..])));
     // Each map used its own lambda: its stored cycle is the one `squeal ulc --lambda L`
     // locates, and its label at rest (cell x0 = 0, v0 = 0: column 3, row 4) is the one
     // `squeal classify --lambda L` gives. The cycles differ (0.164 vs 0.365 at the section).

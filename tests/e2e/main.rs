@@ -22,5 +22,6 @@ mod plot_script;
 mod same_content;
 mod scan;
 mod scan_laws;
+mod scan_sweeps;
 mod stored_specs;
 mod table_law;

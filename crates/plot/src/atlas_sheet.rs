@@ -115,13 +115,20 @@ pub fn atlas_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(
         return Ok(());
     };
     let g = m.grid;
+    // A physical atlas's maps in um and mm/s (one system's units serve every map).
+    let si = plan
+        .physical_at(0)
+        .map(|ph| ph.scales())
+        .map(|s| (s.length * 1e6, s.velocity * 1e3));
+    let (lx, lv) = si.unwrap_or((1.0, 1.0));
     let sheet = Sheet {
         plan,
         res,
         picks: drawn_indices(plan),
-        x0: g.x0.values(),
-        v0: g.v0.values(),
+        x0: g.x0.values().iter().map(|x| x * lx).collect(),
+        v0: g.v0.values().iter().map(|v| v * lv).collect(),
         scale: crate::StateScale::of_law(plan.law.name()),
+        si,
     };
     let data: Vec<(usize, Vec<u8>)> = sheet
         .points()
@@ -170,6 +177,8 @@ struct Sheet<'a> {
     x0: Vec<f64>,
     v0: Vec<f64>,
     scale: crate::StateScale,
+    /// Micrometres and mm/s per model unit of length and velocity (physical plans).
+    si: Option<(f64, f64)>,
 }
 
 impl Sheet<'_> {
@@ -212,15 +221,24 @@ impl Sheet<'_> {
             .map(|(_, (a, v))| value_text(a, *v))
             .collect::<Vec<_>>()
             .join(", ");
+        let (lx, lv) = self.si.unwrap_or((1.0, 1.0));
+        let si = |xs: &[f64], l: f64| xs.iter().map(|x| x * l).collect::<Vec<_>>();
         let overlays = self
             .res
             .map_cycle(i)
-            .map(|r| crate::cycle_overlay(&r.curve.x, &r.curve.v))
+            .map(|r| crate::cycle_overlay(&si(&r.curve.x, lx), &si(&r.curve.v, lv)))
             .into_iter()
             .collect();
         let fp = plan.params_at(i).fixed_point();
+        let axis_labels = match self.si {
+            Some(_) => [
+                "initial displacement x0 (um)".to_string(),
+                "initial velocity x'0 (mm/s)".to_string(),
+            ],
+            None => self.scale.initial_labels().map(String::from),
+        };
         crate::BasinPanel {
-            axis_labels: Some(self.scale.initial_labels().map(String::from)),
+            axis_labels: Some(axis_labels),
             title: if title.is_empty() {
                 plan.name.clone()
             } else {
@@ -230,7 +248,7 @@ impl Sheet<'_> {
             v0: &self.v0,
             labels,
             overlays,
-            markers: crate::state_markers((fp.x, fp.v), &self.x0, &self.v0),
+            markers: crate::state_markers((fp.x * lx, fp.v * lv), &self.x0, &self.v0),
         }
     }
 

@@ -213,13 +213,13 @@ impl MapChecks {
         let rows = g.block_rows(block);
         // A random sample has no pixel: its mean spacing sqrt(area / n) stands in for one,
         // and no cell sits at the state at rest.
-        let (diag, origin) = match &g.sample {
-            Some(s) => (
+        let (diag, origin) = match &g.starts {
+            crate::grid::Starts::Sample(s) => (
                 ((g.x0.max - g.x0.min) * (g.v0.max - g.v0.min) / s.n as f64).sqrt()
                     * std::f64::consts::SQRT_2,
                 None,
             ),
-            None => (
+            crate::grid::Starts::Grid => (
                 g.x0.spacing().hypot(g.v0.spacing()),
                 nearest(g.x0, 0.0).zip(nearest(g.v0, 0.0)),
             ),
@@ -336,9 +336,9 @@ impl<'a> MapTally<'a> {
     /// The checks and the basin stability of the map (a random sample's shares without
     /// sub-grids).
     pub fn finish(self, plan: &Plan) -> (MapChecks, GridShares) {
-        let shares = match plan.grid.sample {
-            Some(_) => GridShares::random(&self.labels),
-            None => GridShares::of(&self.labels, plan.grid.x0.count),
+        let shares = match plan.grid.starts {
+            crate::grid::Starts::Sample(_) => GridShares::random(&self.labels),
+            crate::grid::Starts::Grid => GridShares::of(&self.labels, plan.grid.x0.count),
         };
         (self.checks, shares)
     }

@@ -99,23 +99,33 @@ pub struct Grid {
     pub v0: Axis,
     /// Rows of `v0` per block (the unit of storage, resume and sharding).
     pub block_rows: usize,
-    /// Random initial conditions instead of the grid.
-    pub sample: Option<RandomSample>,
+    /// Where the runs start: the grid's cells or random samples.
+    pub starts: Starts,
+}
+
+/// Where a map's runs start.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum Starts {
+    /// The cells of the grid: cell `(row, col)` starts at `(x0[col], v0[row])`.
+    Grid,
+    /// Random initial conditions in the rectangle of `x0`'s and `v0`'s bounds, a list in
+    /// rows (`x0.count = 1`, `v0.count = n`): sample `row` is [`RandomSample::point`].
+    Sample(RandomSample),
 }
 
 impl Grid {
     /// The initial condition `(x0, v0)` of the cell at `row`, `col`.
     #[inline]
     pub fn state(&self, row: usize, col: usize) -> (f64, f64) {
-        match &self.sample {
-            Some(s) => s.point(row, &self.x0, &self.v0),
-            None => (self.x0.value(col), self.v0.value(row)),
+        match &self.starts {
+            Starts::Sample(s) => s.point(row, &self.x0, &self.v0),
+            Starts::Grid => (self.x0.value(col), self.v0.value(row)),
         }
     }
 
     /// Whether the initial conditions are random samples (a list, not a grid).
     pub fn is_sample(&self) -> bool {
-        self.sample.is_some()
+        matches!(self.starts, Starts::Sample(_))
     }
 
     /// Cells in one map.
@@ -221,7 +231,7 @@ mod tests {
                 count: 10,
             },
             block_rows: 4,
-            sample: None,
+            starts: Starts::Grid,
         };
         assert_eq!(g.blocks(), 3);
         let rows: Vec<usize> = (0..g.blocks()).flat_map(|b| g.block_rows(b)).collect();

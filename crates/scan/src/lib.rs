@@ -91,7 +91,7 @@ pub use checks::{LandscapeCheck, MapChecks, MapTally, WrongSide};
 pub use curve::ClosedCurve;
 pub use driver::{DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns};
 pub use error::{NoCycle, ScanError};
-pub use grid::{Axis, Grid};
+pub use grid::{Axis, Grid, Starts};
 pub use scanner::{BlockResult, MapContext, NoObserver, Observer};
 pub use spec::{EarlyStop, Plan, Sweep};
 pub use ulc::{CycleOutcome, CycleReport};

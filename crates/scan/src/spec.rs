@@ -10,11 +10,12 @@
 //! law = "mcmillan"                 # mcmillan | mcmillan-nonhysteretic | coulomb | stribeck | cubic
 //! nu = 1e-3                        # a number, a list [1e-3, 2e-3], or
 //!                                  # { from = 1e-3, to = 5e-2, count = 8, spacing = "log" }
-//! lambda = 3.0                     # default 3; a list or range sweeps lambda instead of nu
+//! lambda = 3.0                     # default 3; any key may be a list or range: one map
+//!                                  # per point of the swept keys' product
 //! tau = 0.31622776601683794        # default 0.1 sqrt(10)
 //! phi = 1.0                        # default 1
 //! # law = "stribeck" takes instead: xi (damping ratio, default 0.05), v_d (belt speed,
-//! # default 1.5; xi or v_d may be swept), mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0
+//! # default 1.5), mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0
 //! [grid]
 //! x0 = { min = -3.0, max = 5.0, count = 64 }
 //! v0 = { min = -4.0, max = 4.0, count = 64 }
@@ -57,7 +58,7 @@ use squeal_core::error::Number;
 use squeal_core::{Classifier, FrictionLaw, Params, Setup, SolverConfig};
 
 use crate::error::ScanError;
-use crate::grid::{Axis, Grid, RandomSample};
+use crate::grid::{Axis, Grid, RandomSample, Starts};
 use crate::values::{Value, expand};
 
 mod classifier;
@@ -255,18 +256,68 @@ impl GridSpec {
             x0,
             v0,
             block_rows: block_rows as usize,
-            sample: None,
+            starts: Starts::Grid,
         })
     }
 }
 
-/// A swept parameter: one basin map per value.
+/// One swept key of a scan: its name and its values (a list or a range in the spec, even
+/// of one value).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Sweep {
-    /// `nu` or `lambda` (McMillan's laws), `xi` or `v_d` (Stribeck's).
+pub struct SweepAxis {
+    /// A key of the law (`nu`, `lambda`, `tau`, `phi`; `xi`, `v_d`, ...), in the model's units.
     pub name: &'static str,
     /// The values, strictly monotone.
     pub values: Vec<f64>,
+}
+
+/// The swept keys of a scan: one basin map per point of their product, in the law's key
+/// order with the last key fastest (C order, as an atlas's points, [`crate::AtlasPlan::unravel`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sweep {
+    /// The swept keys, at least one.
+    pub axes: Vec<SweepAxis>,
+}
+
+impl Sweep {
+    /// The number of values of each swept key.
+    pub fn shape(&self) -> Vec<usize> {
+        self.axes.iter().map(|a| a.values.len()).collect()
+    }
+
+    /// The number of maps (the product of [`Sweep::shape`]).
+    pub fn maps(&self) -> usize {
+        self.shape().iter().product()
+    }
+
+    /// Each swept key's value at map `map`, in axis order.
+    pub fn values_at(&self, mut map: usize) -> Vec<f64> {
+        let mut out = vec![0.0; self.axes.len()];
+        for (d, a) in self.axes.iter().enumerate().rev() {
+            out[d] = a.values[map % a.values.len()];
+            map /= a.values.len();
+        }
+        out
+    }
+
+    /// The value of key `name` at every map, in map order (`None`: not swept).
+    pub fn per_map(&self, name: &str) -> Option<Vec<f64>> {
+        let d = self.axes.iter().position(|a| a.name == name)?;
+        Some((0..self.maps()).map(|m| self.values_at(m)[d]).collect())
+    }
+
+    /// The names of the swept keys.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.axes.iter().map(|a| a.name).collect()
+    }
+
+    /// The single swept key, if only one is swept (its values are then the maps').
+    pub fn single(&self) -> Option<&SweepAxis> {
+        match self.axes.as_slice() {
+            [a] => Some(a),
+            _ => None,
+        }
+    }
 }
 
 /// A checked scan: what the scanner and the store accept.
@@ -318,30 +369,6 @@ pub const MAX_CELLS: i64 = 1 << 26;
 /// Largest number of maps in a sweep.
 pub const MAX_MAPS: i64 = 10_000;
 
-/// The model's keys a scan does not sweep (all but the damping and the belt speed:
-/// McMillan's `tau` and `phi`, Stribeck's `mu_d`, `mu_sd`, `v_0`, `mu_v`), each its default
-/// when left out.
-fn fixed_params(m: &ModelTable, invalid: Invalid) -> Result<Vec<(&'static str, f64)>, ScanError> {
-    let defaults = Params::defaults(m.law).named();
-    let mut fixed = Vec::new();
-    for n in defaults.into_iter().skip(2) {
-        let value = match m.given(n.name) {
-            None => n.value,
-            Some(Value::One(x)) => x,
-            // A scan sweeps one of the damping and the belt speed; the others are numbers.
-            Some(_) => {
-                return Err(invalid(
-                    &format!("model.{}", n.name),
-                    "a list or range".into(),
-                    "a number: a scan sweeps only the damping or the belt speed (sweep the \
-                     others with squeal atlas)",
-                ));
-            }
-        };
-        fixed.push((n.name, value));
-    }
-    Ok(fixed)
-}
 /// Refuses a given `cycle.r_max` that does not reach every start of the grid on every map:
 /// the start rule and the band's fates are read off the searched stretch of the section.
 fn check_reach(
@@ -390,8 +417,9 @@ fn check_maps(maps: &[Params], invalid: Invalid) -> Result<(), ScanError> {
     Ok(())
 }
 
-/// The maps of a `[model]` table: one parameter set per value of the swept key (the damping
-/// or the belt speed, not both), unchecked ([`check_maps`]).
+/// The maps of a `[model]` table: one parameter set per point of the product of its swept
+/// keys (any key of the law given as a list or a range; [`Sweep`]), unchecked
+/// ([`check_maps`]).
 fn model_maps(
     m: &ModelTable,
     table: Option<&'static squeal_core::FrictionTable>,
@@ -399,58 +427,56 @@ fn model_maps(
 ) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
     // The laws with true stick default their damping (bSTAB's case); McMillan's need it.
     let stribeck = m.law.family().has_own_names();
-    let (damping_key, speed_key) = (m.law.keys()[0], m.law.keys()[1]);
-    let (damping, speed) = (m.given(damping_key), m.given(speed_key));
-    let (damping, speed) = (damping.as_ref(), speed.as_ref());
-    let nus = match damping {
-        Some(v) => expand(v, &format!("model.{damping_key}"), MAX_MAPS, &invalid)?,
-        None if stribeck => vec![Params::defaults(m.law).nu],
-        None => {
-            return Err(invalid(
-                "model.nu",
-                "missing".into(),
-                "a damping ratio (a number, a list or a range)",
-            ));
+    let mut fixed = Vec::new();
+    let mut axes = Vec::new();
+    for (i, n) in Params::defaults(m.law).named().into_iter().enumerate() {
+        let key = format!("model.{}", n.name);
+        match m.given(n.name) {
+            Some(v) if v.is_sweep() => axes.push(SweepAxis {
+                name: n.name,
+                values: expand(&v, &key, MAX_MAPS, &invalid)?,
+            }),
+            // The damping and the belt speed are checked as values first (finite), the
+            // others by the law's validation ([`check_maps`]), as before sweeps of every key.
+            Some(Value::One(x)) if i >= 2 => fixed.push((n.name, x)),
+            Some(v) => fixed.push((n.name, expand(&v, &key, MAX_MAPS, &invalid)?[0])),
+            None if stribeck || n.name != "nu" => fixed.push((n.name, n.value)),
+            None => {
+                return Err(invalid(
+                    "model.nu",
+                    "missing".into(),
+                    "a damping ratio (a number, a list or a range)",
+                ));
+            }
         }
-    };
-    let lambdas = match speed {
-        Some(v) => expand(v, &format!("model.{speed_key}"), MAX_MAPS, &invalid)?,
-        None => vec![Params::defaults(m.law).lambda],
-    };
-    if nus.len() > 1 && lambdas.len() > 1 {
+    }
+    let sweep = (!axes.is_empty()).then_some(Sweep { axes });
+    let n = sweep.as_ref().map_or(Some(1), |s| {
+        s.shape()
+            .iter()
+            .try_fold(1usize, |acc, &k| acc.checked_mul(k))
+    });
+    if n.is_none_or(|n| n as i64 > MAX_MAPS) {
+        let counts: Vec<String> = (sweep.iter().flat_map(|s| &s.axes))
+            .map(|a| format!("{}: {} values", a.name, a.values.len()))
+            .collect();
         return Err(invalid(
-            &format!("model.{speed_key}"),
-            format!("{} values", lambdas.len()),
-            &format!(
-                "only one of model.{damping_key} and model.{speed_key} may be swept in one spec"
-            ),
+            "model",
+            format!("a sweep of {}", counts.join(", ")),
+            &format!("at most {MAX_MAPS} maps (the product of the swept keys' value counts)"),
         ));
     }
-    let sweep = if nus.len() > 1 || damping.is_some_and(Value::is_sweep) {
-        Some(Sweep {
-            name: damping_key,
-            values: nus.clone(),
-        })
-    } else if lambdas.len() > 1 || speed.is_some_and(Value::is_sweep) {
-        Some(Sweep {
-            name: speed_key,
-            values: lambdas.clone(),
-        })
-    } else {
-        None
-    };
-    let fixed = fixed_params(m, invalid)?;
     let mut maps = Vec::new();
-    for &nu in &nus {
-        for &lambda in &lambdas {
-            let p = Params::from_named_table(m.law, table, |k| match k {
-                k if k == damping_key => Some(nu),
-                k if k == speed_key => Some(lambda),
-                k => fixed.iter().find(|(f, _)| *f == k).map(|(_, v)| *v),
-            })
-            .expect("every key of the law has a value");
-            maps.push(p);
-        }
+    for map in 0..n.unwrap_or(1) {
+        let swept = sweep.as_ref().map(|s| (s.names(), s.values_at(map)));
+        let p = Params::from_named_table(m.law, table, |k| {
+            let at = swept
+                .as_ref()
+                .and_then(|(names, v)| names.iter().position(|x| *x == k).map(|d| v[d]));
+            at.or_else(|| fixed.iter().find(|(f, _)| *f == k).map(|(_, v)| *v))
+        })
+        .expect("every key of the law has a value");
+        maps.push(p);
     }
     Ok((maps, sweep))
 }
@@ -510,7 +536,7 @@ fn initial_conditions(
                 x0,
                 v0,
                 block_rows: block as usize,
-                sample: Some(RandomSample {
+                starts: Starts::Sample(RandomSample {
                     n: ss.n as usize,
                     seed: ss.seed,
                 }),

@@ -11,7 +11,7 @@ use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::si::{Si, SweptSi};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{BASIN_FIELDS, GridShares};
-use squeal_scan::{Grid, MapChecks, MapTally, Plan};
+use squeal_scan::{Grid, MapChecks, MapTally, Plan, Starts};
 
 use crate::cycle::CycleRecord;
 use crate::cycle::Flat;
@@ -52,17 +52,16 @@ use crate::h5columns::{si_dataset, write_si_column};
 pub(crate) fn physical_attrs(
     file: &File,
     ph: &squeal_core::Physical,
-    swept: Option<&str>,
+    swept: &[&str],
 ) -> hdf5::Result<()> {
     let mut values = ph.values();
     values[8] = Some(ph.normal_force());
-    let skip = match swept {
-        Some("nu") => "c",
-        Some("lambda") => "v_belt",
-        _ => "",
+    // A swept key's SI twin is a coordinate over the maps, no attribute.
+    let skip = |key: &str| {
+        (key == "c" && swept.contains(&"nu")) || (key == "v_belt" && swept.contains(&"lambda"))
     };
     for ((key, long, units), v) in squeal_scan::atlas::spec::PHYSICAL.iter().zip(values) {
-        let Some(v) = v.filter(|_| *key != skip) else {
+        let Some(v) = v.filter(|_| !skip(key)) else {
             continue;
         };
         num_attr(file, &format!("physical_{key}"), v)?;
@@ -92,11 +91,15 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     str_attr(file, "spec", &plan.spec_text)?;
     str_attr(file, "name", &plan.name)?;
     str_attr(file, "law", p0.kind().name())?;
-    let swept = plan.sweep.as_ref().map(|s| s.name);
+    let swept = plan.sweep.as_ref().map_or(Vec::new(), |s| s.names());
+    if let Some(s) = plan.sweep.as_ref().filter(|s| !is_legacy(s)) {
+        // Readers find the sweep by this list (files before it: by the four names).
+        str_attr(file, "swept", &s.names().join(" "))?;
+    }
     if p0.law.family().has_own_names() {
         // The law's own parameters, each with its long name and units beside it.
         for n in p0.named() {
-            if swept != Some(n.name) {
+            if !swept.contains(&n.name) {
                 num_attr(file, n.name, n.value)?;
             }
             str_attr(file, &format!("{}_long_name", n.name), n.long_name)?;
@@ -104,18 +107,20 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
         }
     } else {
         if let Some(c) = p0.law.surface() {
-            num_attr(file, "tau", c.tau)?;
-            num_attr(file, "phi", c.phi)?;
+            for (key, v) in [("tau", c.tau), ("phi", c.phi)] {
+                if !swept.contains(&key) {
+                    num_attr(file, key, v)?;
+                }
+            }
         }
-        if swept != Some("nu") {
-            num_attr(file, "nu", p0.nu)?;
-        }
-        if swept != Some("lambda") {
-            num_attr(file, "lambda", p0.lambda)?;
+        for (key, v) in [("nu", p0.nu), ("lambda", p0.lambda)] {
+            if !swept.contains(&key) {
+                num_attr(file, key, v)?;
+            }
         }
     }
     if let Some(ph) = &plan.physical {
-        physical_attrs(file, ph, plan.sweep.as_ref().map(|s| s.name))?;
+        physical_attrs(file, ph, &swept)?;
     }
     num_attr(file, "dt", plan.dt)?;
     str_attr(file, "solver", plan.solver.kind.name())?;
@@ -129,9 +134,9 @@ fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     num_attr(file, "trap_margin", plan.trap_margin)?;
     num_attr(file, "locate_cycle", plan.cycle.locate as u8)?;
     num_attr(file, "block_rows", g.block_rows as u64)?;
-    match &g.sample {
-        None => str_attr(file, "sampling", "grid")?,
-        Some(smp) => {
+    match &g.starts {
+        Starts::Grid => str_attr(file, "sampling", "grid")?,
+        Starts::Sample(smp) => {
             str_attr(file, "sampling", "random")?;
             num_attr(file, "sample_n", smp.n as u64)?;
             num_attr(file, "sample_seed", smp.seed)?;
@@ -251,33 +256,60 @@ fn write_all(
 /// the points' x0 and v0 as variables over it; the sweep or map index; the blocks.
 fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
     let g = &plan.grid;
-    let (x0, v0) = match g.sample {
-        Some(_) => sample_scales(o, g)?,
-        None => (
+    let (x0, v0) = match g.starts {
+        Starts::Sample(_) => sample_scales(o, g)?,
+        Starts::Grid => (
             o.scale("x0", &g.x0.values(), "initial displacement x(0)", Some("1"))?,
             o.scale("v0", &g.v0.values(), "initial velocity x'(0)", Some("1"))?,
         ),
     };
     let map = match &plan.sweep {
-        Some(s) => {
-            let named = plan.maps[0].named();
-            let long = named
-                .iter()
-                .find(|n| n.name == s.name)
-                .map_or(s.name, |n| n.long_name);
-            o.scale(s.name, &s.values, long, Some("1"))?
-        }
+        Some(s) => sweep_scales(o, plan, s)?,
         None => o.index("map", plan.maps.len(), "map index")?,
     };
-    let block = match g.sample {
-        Some(_) => "block of random samples",
-        None => "block of grid rows",
+    let block = match g.starts {
+        Starts::Sample(_) => "block of random samples",
+        Starts::Grid => "block of grid rows",
     };
     let block = o.index("block", g.blocks(), block)?;
     if let Some(ph) = &plan.physical {
         si_coordinates(o, plan, &ph.scales(), [&x0, &v0, &map])?;
     }
     Ok(Scales { x0, v0, map, block })
+}
+
+/// Whether a sweep is stored as files before sweeps of every key were: one of `nu`,
+/// `lambda`, `xi`, `v_d` swept alone (readers find it by that name, with no `swept` list).
+fn is_legacy(s: &squeal_scan::Sweep) -> bool {
+    s.single()
+        .is_some_and(|a| ["nu", "lambda", "xi", "v_d"].contains(&a.name))
+}
+
+/// The maps' dimension of a sweep: one swept key is the dimension scale itself (`nu` over
+/// its values); several make the index `map` (C order, the last key fastest) with each
+/// key's value at every map as an auxiliary coordinate over it.
+fn sweep_scales(o: &mut Out, plan: &Plan, s: &squeal_scan::Sweep) -> hdf5::Result<Dataset> {
+    let named = plan.maps[0].named();
+    let words = |key: &'static str| {
+        (named.iter().find(|n| n.name == key)).map_or((key, "1"), |n| (n.long_name, n.units))
+    };
+    if let Some(a) = s.single() {
+        let (long, units) = words(a.name);
+        return o.scale(a.name, &a.values, long, Some(units));
+    }
+    let long = "map index (one map per point of the swept keys' product, the last fastest)";
+    let map = o.index("map", plan.maps.len(), long)?;
+    let over = Over {
+        shape: vec![plan.maps.len()],
+        scales: vec![map.clone()],
+    };
+    for a in &s.axes {
+        let (long, units) = words(a.name);
+        let per_map = s.per_map(a.name).expect("a swept key");
+        o.put(&over, (a.name, long), Some(units), per_map)?;
+        o.aux_coordinate(&map, a.name);
+    }
+    Ok(map)
 }
 
 /// A physical scan's coordinates in SI units beside the nondimensional ones (CF auxiliary
@@ -292,14 +324,42 @@ fn si_coordinates(
     s: &squeal_core::Scales,
     [x0, v0, map]: [&Dataset; 3],
 ) -> hdf5::Result<()> {
-    let g = &plan.grid;
-    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.sample {
-        Some(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
-        None => (g.x0.values(), g.v0.values()),
-    };
     let over = |d: &Dataset| Over {
         shape: vec![d.size()],
         scales: vec![d.clone()],
+    };
+    let mut aux = state_si(o, &plan.grid, s, [x0, v0])?;
+    for sw in plan.sweep.iter().flat_map(|sw| sw.names()) {
+        let Some(si) = SweptSi::of(sw, s) else {
+            continue;
+        };
+        let per_map = plan.sweep.as_ref().and_then(|p| p.per_map(sw));
+        let v = per_map
+            .expect("a swept key")
+            .iter()
+            .map(|v| v * si.unit)
+            .collect();
+        o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
+        aux.push((map, si.key.to_string()));
+    }
+    for (d, name) in aux {
+        o.aux_coordinate(d, &name);
+    }
+    Ok(())
+}
+
+/// The SI twins `x0_si` (m) and `v0_si` (m/s) of the starts of `g` over their scales `x0`
+/// and `v0` (a random sample's: both its index), by the scales `s`; returns each scale
+/// with its twin's name, to declare as auxiliary coordinates once every twin is written.
+pub(crate) fn state_si<'d>(
+    o: &mut Out,
+    g: &Grid,
+    s: &squeal_core::Scales,
+    [x0, v0]: [&'d Dataset; 2],
+) -> hdf5::Result<Vec<(&'d Dataset, String)>> {
+    let (xs, vs): (Vec<f64>, Vec<f64>) = match g.starts {
+        Starts::Sample(_) => (0..g.v0.count).map(|i| g.state(i, 0)).unzip(),
+        Starts::Grid => (g.x0.values(), g.v0.values()),
     };
     let mut aux = Vec::new();
     for (name, d, vals, unit, units, long) in [
@@ -320,20 +380,15 @@ fn si_coordinates(
             "initial velocity x'(0) (m/s)",
         ),
     ] {
+        let over = Over {
+            shape: vec![d.size()],
+            scales: vec![d.clone()],
+        };
         let si = vals.iter().map(|v| v * unit).collect();
-        o.put(&over(d), (name, long), Some(units), si)?;
+        o.put(&over, (name, long), Some(units), si)?;
         aux.push((d, name.to_string()));
     }
-    let swept = (plan.sweep.as_ref()).and_then(|sw| Some((sw, SweptSi::of(sw.name, s)?)));
-    if let Some((sw, si)) = swept {
-        let v = sw.values.iter().map(|v| v * si.unit).collect();
-        o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
-        aux.push((map, si.key.to_string()));
-    }
-    for (d, name) in aux {
-        o.aux_coordinate(d, &name);
-    }
-    Ok(())
+    Ok(aux)
 }
 
 /// A random sample's index (as both x0 and v0 scales), with its points' x0 and v0.
@@ -370,7 +425,7 @@ fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
     }
     over = over.and(nv, &sc.v0);
     chunk.push(rows_per_chunk);
-    if g.sample.is_none() {
+    if !g.is_sample() {
         over = over.and(nx, &sc.x0);
         chunk.push(nx);
     }

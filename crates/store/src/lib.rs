@@ -63,8 +63,9 @@
 //!   max_iter, settle_cycles (u32), block_rows, audit_every (u64), locate_cycle (u8 0/1)
 //!   shard                "K/N", only in shard files
 //! coordinates (dimension scales; attrs long_name, units = "1"):
-//!   x0 (nx) f64, v0 (nv) f64, and for sweeps nu or lambda (nmaps) f64
-//!   map (nmaps) u64 index, only when not swept; block (nblocks) u64 index
+//!   x0 (nx) f64, v0 (nv) f64, and for sweeps of one key that key (nmaps) f64
+//!   map (nmaps) u64 index, when not swept or several keys are swept (each then an f64
+//!   auxiliary coordinate over map, listed by the root attribute `swept`); block u64 index
 //! basin map, shape (v0, x0), or (nu|lambda, v0, x0) for a sweep; chunked one block of
 //! rows per chunk, deflate:
 //! the columns of squeal_scan::cell::COLUMNS, each with long_name, units (not on enums),
@@ -156,8 +157,8 @@ pub use output::{
     refuse_input_as_output,
 };
 pub use read::{
-    FileInfo, FrictionTables, LandscapeInfo, MapData, file_schema, friction_tables, map_count,
-    read_cycle_summary, read_info, read_map,
+    FileInfo, FrictionTables, LandscapeInfo, MapData, Swept, file_schema, friction_tables,
+    map_count, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,

@@ -111,7 +111,7 @@ fn check_owned_blocks(files: &[ShardFile], plan: &Plan) -> Result<(), StoreError
     let shape: Vec<usize> = [
         plan.sweep.as_ref().map(|_| plan.maps.len()),
         Some(g.v0.count),
-        g.sample.is_none().then_some(g.x0.count),
+        (!g.is_sample()).then_some(g.x0.count),
     ]
     .into_iter()
     .flatten()

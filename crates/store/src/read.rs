@@ -169,17 +169,63 @@ fn table_of(
         .map_err(|e| hdf5::Error::from(format!("the stored {e}")))
 }
 
-/// The sweep axis (name, values), if the file holds a sweep.
-pub(crate) fn sweep_of(file: &File) -> hdf5::Result<Option<(String, Vec<f64>)>> {
-    for name in ["nu", "lambda", "xi", "v_d"] {
-        if file.link_exists(name) {
-            return Ok(Some((
-                name.to_string(),
-                file.dataset(name)?.read_raw::<f64>()?,
-            )));
+/// The swept keys of a sweep file, each with its value at every map (in map order).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Swept {
+    /// Each swept key (the model's: `nu`, `lambda`, `tau`, ...) and its value at each map.
+    pub keys: Vec<(String, Vec<f64>)>,
+}
+
+impl Swept {
+    /// The value of key `name` at map `map`, if `name` is swept.
+    pub fn value(&self, name: &str, map: usize) -> Option<f64> {
+        let (_, v) = self.keys.iter().find(|(k, _)| k == name)?;
+        v.get(map).copied()
+    }
+
+    /// The single swept key and its values, if only one key is swept.
+    pub fn single(&self) -> Option<(&str, &[f64])> {
+        match self.keys.as_slice() {
+            [(k, v)] => Some((k, v)),
+            _ => None,
         }
     }
-    Ok(None)
+
+    /// The names of the swept keys.
+    pub fn names(&self) -> Vec<&str> {
+        self.keys.iter().map(|(k, _)| k.as_str()).collect()
+    }
+
+    /// Map `map`'s swept values in words: `nu = 0.001, lambda = 2`.
+    pub fn words(&self, map: usize) -> String {
+        let word = |(k, v): &(String, Vec<f64>)| match v.get(map) {
+            Some(&x) => format!("{k} = {}", Number(x)),
+            None => format!("{k} = ?"),
+        };
+        self.keys.iter().map(word).collect::<Vec<_>>().join(", ")
+    }
+}
+
+/// The swept keys, if the file holds a sweep: those its `swept` attribute lists (each a
+/// dataset over the maps), or, in files before sweeps of every key, the one of `nu`,
+/// `lambda`, `xi` and `v_d` stored as the maps' dimension.
+pub(crate) fn sweep_of(file: &File) -> hdf5::Result<Option<Swept>> {
+    let names: Vec<String> = match str_attr(file, "swept") {
+        Ok(list) => list.split_whitespace().map(str::to_string).collect(),
+        Err(_) => ["nu", "lambda", "xi", "v_d"]
+            .into_iter()
+            .find(|n| file.link_exists(n))
+            .map(str::to_string)
+            .into_iter()
+            .collect(),
+    };
+    if names.is_empty() {
+        return Ok(None);
+    }
+    let keys = (names.into_iter())
+        .map(|n| Ok((n.clone(), file.dataset(&n)?.read_raw::<f64>()?)))
+        .collect::<hdf5::Result<_>>()?;
+    Ok(Some(Swept { keys }))
 }
 
 /// A summary of a squeal file for `squeal info`.
@@ -198,7 +244,7 @@ pub struct FileInfo {
     /// Every root attribute as text, by name.
     pub attrs: Vec<(String, String)>,
     /// The swept parameter and its values.
-    pub sweep: Option<(String, Vec<f64>)>,
+    pub sweep: Option<Swept>,
     /// `x0` values.
     pub x0: Vec<f64>,
     /// `v0` values.
@@ -505,16 +551,13 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
             .parse()
             .map_err(|e: squeal_core::CoreError| hdf5::Error::from(e.to_string()))?;
         let value = |name: &str| -> Option<f64> {
-            match &sweep {
-                Some((n, v)) if n == name => Some(v[map]),
-                _ => f64_attr(&file, name).ok(),
-            }
+            (sweep.as_ref().and_then(|s| s.value(name, map))).or_else(|| f64_attr(&file, name).ok())
         };
         let params = squeal_core::Params::from_named_table(law, friction_table(&file)?, value)
             .map_err(|k| hdf5::Error::from(format!("attribute {k} is missing")))?;
         // Exponent form for a huge or tiny value (`nu = 1e-300` had 300 zeros).
         let title = match &sweep {
-            Some((n, v)) => format!("{law_name} {n} = {}", Number(v[map])),
+            Some(s) => format!("{law_name} {}", s.words(map)),
             None => format!(
                 "{law_name} {} = {}",
                 params.damping_key(),
@@ -575,8 +618,9 @@ pub fn read_cycle_summary(path: &Path) -> Result<Vec<CycleSummary>, StoreError> 
         let sweep = sweep_of(&file)?;
         let mut out = Vec::with_capacity(n);
         for m in 0..n {
+            // The first swept key's value (the chart is drawn for one swept key).
             let value = match &sweep {
-                Some((_, v)) => v[m],
+                Some(s) => s.keys[0].1[m],
                 None => f64_attr(&file, "nu").or_else(|_| f64_attr(&file, "xi"))?,
             };
             let rec = read_cycle(&file, sweep.is_some(), m)?;

@@ -218,7 +218,7 @@ fn round_trip_sweep() {
             .contains("decays")
     );
     let info = read_info(&out).unwrap();
-    assert_eq!(info.sweep.as_ref().unwrap().0, "nu");
+    assert_eq!(info.sweep.as_ref().unwrap().names(), ["nu"]);
     assert_eq!(info.counts.len(), 3);
     assert!(!info.attrs.iter().any(|(k, _)| k == "nu"));
     let m = read_map(&out, 2).unwrap();

@@ -111,7 +111,7 @@ fn trajectory_attrs(
         num_attr(file, k, *v)?;
     }
     if let Some(ph) = attrs.physical {
-        crate::h5write::physical_attrs(file, ph, None)?;
+        crate::h5write::physical_attrs(file, ph, &[])?;
     }
     let si = attrs.physical.and_then(|ph| ph.friction.table());
     crate::h5out::friction_table(file, dims, attrs.table, si)

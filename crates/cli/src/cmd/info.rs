@@ -193,10 +193,12 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
         writeln!(o, "  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0))?;
     }
     for (i, c) in info.counts.iter().enumerate() {
-        let label = info
-            .sweep
-            .as_ref()
-            .map_or(String::new(), |(n, v)| format!("{n} = {:.4e}: ", v[i]));
+        let label = info.sweep.as_ref().map_or(String::new(), |s| {
+            let each: Vec<_> = (s.keys.iter())
+                .map(|(n, v)| format!("{n} = {:.4e}", v[i]))
+                .collect();
+            each.join(", ") + ": "
+        });
         writeln!(
             o,
             "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
@@ -279,7 +281,13 @@ fn scan_json(info: &squeal_store::FileInfo) -> serde_json::Value {
         "squeal_version": info.version,
         "git_revision": info.git_revision,
         "attributes": attrs,
-        "sweep": info.sweep.as_ref().map(|(n, v)| serde_json::json!({"name": n, "values": v})),
+        // One swept key: its name and values (as before sweeps of every key); several:
+        // each key with its value at every map.
+        "sweep": info.sweep.as_ref().map(|s| match s.single() {
+            Some((n, v)) => serde_json::json!({"name": n, "values": v}),
+            None => serde_json::json!({"keys": s.keys.iter()
+                .map(|(n, v)| serde_json::json!({"name": n, "values": v})).collect::<Vec<_>>()}),
+        }),
         "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
         "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},
         "counts": counts,

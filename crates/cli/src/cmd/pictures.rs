@@ -11,9 +11,9 @@ use super::common::{attr, check_new, discard, sibling};
 /// swept parameter's value of that map).
 pub fn model_params(info: &squeal_store::FileInfo, map: usize) -> squeal_plot::ModelParams {
     let num = |key: &str| -> f64 {
-        match &info.sweep {
-            Some((name, values)) if name == key => values.get(map).copied().unwrap_or(f64::NAN),
-            _ => attr(info, key)
+        match info.sweep.as_ref().filter(|s| s.names().contains(&key)) {
+            Some(s) => s.value(key, map).unwrap_or(f64::NAN),
+            None => attr(info, key)
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(f64::NAN),
         }
@@ -101,13 +101,20 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
             .chain(transient)
             .collect());
     }
-    let size = sibling(png, "-cycle", "png");
+    // The cycle's size is charted against one swept key; a sweep of several keys has its
+    // sizes per map in the file (`cycle_r_section`, ... over `map`).
+    let one_key = info.sweep.as_ref().is_none_or(|s| s.single().is_some());
+    let size = one_key.then(|| sibling(png, "-cycle", "png"));
     check_new(png, force, "picture")?;
-    check_new(&size, force, "picture")?;
+    if let Some(size) = &size {
+        check_new(size, force, "picture")?;
+    }
     let transient = render_sheet(h5, (png, force), &info, scale)?;
-    render_cycle_sizes(h5, &size, &info)?;
-    Ok([png.to_path_buf(), size]
-        .into_iter()
+    if let Some(size) = &size {
+        render_cycle_sizes(h5, size, &info)?;
+    }
+    Ok(std::iter::once(png.to_path_buf())
+        .chain(size)
         .chain(transient)
         .collect())
 }
@@ -129,7 +136,7 @@ fn render_sheet(
         .iter()
         .map(|m| units.map(|u| scaled_axes(m, u)))
         .collect();
-    let axis = SweepAxis::of(info);
+    let axes = SweepAxis::all(info);
     let panels: Vec<_> = maps
         .iter()
         .enumerate()
@@ -138,16 +145,25 @@ fn render_sheet(
             if let (Some(u), Some((xs, vs))) = (units, &scaled[i]) {
                 to_si(&mut p, xs, vs, u);
             }
-            let value = info.sweep.as_ref().map_or(f64::NAN, |s| s.1[i]);
-            p.title = axis.panel_title(value);
+            let value = |a: &SweepAxis| info.sweep.as_ref().and_then(|s| s.value(&a.swept, i));
+            let titles: Vec<_> = (axes.iter())
+                .map(|a| a.panel_title(value(a).unwrap_or(f64::NAN)))
+                .collect();
+            p.title = titles.join(", ");
             p
         })
         .collect();
+    // The shared line names every key but the swept ones.
+    let mut params = model_params(info, 0);
+    params
+        .params
+        .retain(|(k, _)| !axes.iter().skip(1).any(|a| a.swept == *k));
+    let per: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
     let title = squeal_plot::sheet_title_per(
         attr(info, "name").unwrap_or("squeal"),
-        &model_params(info, 0),
-        &axis.swept,
-        &axis.key,
+        &params,
+        &axes[0].swept,
+        &per.join(" and "),
     ) + &physical_line(info);
     let ncols = (n as f64).sqrt().ceil() as usize;
     // The transient sheet first, as for one map (`render_file`).
@@ -158,11 +174,11 @@ fn render_sheet(
     Ok(transient)
 }
 
-/// The swept parameter of a sweep file.
+/// The swept parameter of a sweep file (the first of several).
 fn swept(info: &squeal_store::FileInfo) -> String {
     info.sweep
         .as_ref()
-        .map(|s| s.0.clone())
+        .map(|s| s.keys[0].0.clone())
         .unwrap_or_else(|| "nu".into())
 }
 
@@ -232,9 +248,21 @@ pub struct SweepAxis {
 }
 
 impl SweepAxis {
-    /// The axis of a sweep file (its physical scales from its attributes).
+    /// The axis of a sweep file (its physical scales from its attributes; the first
+    /// swept key of several).
     pub fn of(info: &squeal_store::FileInfo) -> SweepAxis {
         SweepAxis::new(&swept(info), file_scales(info).as_ref())
+    }
+
+    /// The axis of every swept key of a sweep file (`nu` for a file of one map).
+    pub fn all(info: &squeal_store::FileInfo) -> Vec<SweepAxis> {
+        let scales = file_scales(info);
+        match &info.sweep {
+            Some(s) => (s.names().into_iter())
+                .map(|k| SweepAxis::new(k, scales.as_ref()))
+                .collect(),
+            None => vec![SweepAxis::of(info)],
+        }
     }
 
     /// The axis of the swept parameter `swept` of a file with physical `scales`, if any.

@@ -54,10 +54,12 @@ impl Bars {
         let maps = if plan.maps.len() > 1 {
             (0..plan.maps.len())
                 .map(|m| {
-                    let label = plan
-                        .sweep
-                        .as_ref()
-                        .map_or(String::new(), |s| format!("{}={:.3e}", s.name, s.values[m]));
+                    let label = plan.sweep.as_ref().map_or(String::new(), |s| {
+                        let v = s.values_at(m);
+                        let each = s.names().into_iter().zip(v);
+                        let each: Vec<_> = each.map(|(n, x)| format!("{n}={x:.3e}")).collect();
+                        each.join(",")
+                    });
                     let n = pending.cells_of(plan, m) as u64;
                     if n == 0 {
                         ProgressBar::hidden()

@@ -11,12 +11,12 @@ use super::map_words::{check_words, escape_words, landscape_json, landscape_word
 /// "256 x 128 cells" or "5000 random samples in [-2, 2] x [0, 2] (seed 1)".
 pub fn layout(plan: &Plan) -> String {
     let g = &plan.grid;
-    match &g.sample {
-        Some(s) => format!(
+    match &g.starts {
+        squeal_scan::Starts::Sample(s) => format!(
             "{} random samples in x0 [{}, {}] x v0 [{}, {}] (seed {})",
             s.n, g.x0.min, g.x0.max, g.v0.min, g.v0.max, s.seed
         ),
-        None => format!("{} x {} cells", g.x0.count, g.v0.count),
+        squeal_scan::Starts::Grid => format!("{} x {} cells", g.x0.count, g.v0.count),
     }
 }
 
@@ -54,7 +54,7 @@ fn map_json(
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
     let (c, checks) = (&info.counts[i], tallies.checks);
     let mut o = serde_json::Map::new();
-    if let Some((name, vals)) = &info.sweep {
+    for (name, vals) in info.sweep.iter().flat_map(|s| &s.keys) {
         o.insert(name.clone(), vals[i].into());
     }
     for (k, n) in names.iter().zip(c) {
@@ -101,10 +101,13 @@ fn map_json(
 /// Map `i` of a finished scan in words.
 fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: usize) {
     let (c, checks) = (&info.counts[i], tallies.checks);
-    let label = info
-        .sweep
-        .as_ref()
-        .map_or(String::new(), |(n, v)| format!("{n} = {:<10.4e} ", v[i]));
+    let label = info.sweep.as_ref().map_or(String::new(), |s| {
+        let each = s
+            .keys
+            .iter()
+            .map(|(n, v)| format!("{n} = {:<10.4e} ", v[i]));
+        each.collect()
+    });
     let mut line = format!(
         "  {label}steady_slip {:>7}  stick_slip {:>7}  undecided {:>5}",
         c[1], c[2], c[0]

@@ -38,7 +38,8 @@ impl AtlasPlan {
             audit_every: m.audit_every,
             cycle: crate::spec::CycleOptions::scan(),
             output: self.out.clone(),
-            physical: None,
+            // One system's units serve every map (parse::physical_grid).
+            physical: self.physical_at(0),
         })
     }
 }
@@ -171,7 +172,7 @@ mod tests {
                 count: n,
             },
             block_rows: 4,
-            sample: None,
+            starts: crate::grid::Starts::Grid,
         }
     }
 

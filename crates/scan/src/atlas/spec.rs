@@ -412,10 +412,11 @@ impl AtlasPlan {
         let (units, params) = parse::model_axes(&f, path)?;
         let (dt, solver) = f.integration.check(rules, &inv)?;
         let mut ps = parse::point_settings(&f, path, rules, &inv)?;
-        let maps = parse::map_settings(&f, path, (units, dt), &mut ps, rules, &inv)?;
+        let maps = parse::map_settings(&f, path, dt, &mut ps, rules, &inv)?;
         let b = parse::boundaries(&f, path, units, &params, rules, &inv)?;
-        let has_disturbance = f.disturbance.is_some();
-        let plan = AtlasPlan {
+        // A physical spec's own box is in SI units: [disturbance], or the [grid]'s cells.
+        let si_box = f.disturbance.is_some() || maps.is_some();
+        let mut plan = AtlasPlan {
             name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
             law: m.law,
             table,
@@ -424,7 +425,7 @@ impl AtlasPlan {
             dt,
             solver,
             point: ps,
-            disturbance_nondimensional: units == Units::Physical && !has_disturbance,
+            disturbance_nondimensional: units == Units::Physical && !si_box,
             fold: b.fold,
             critical: b.critical,
             nu_range: b.nu_range,
@@ -442,6 +443,7 @@ impl AtlasPlan {
         for i in 0..plan.n_points() {
             parse::check_point(&plan, i, path, rules)?;
         }
+        parse::physical_grid(&mut plan, path, rules, &inv)?;
         Ok(plan)
     }
 

@@ -1,6 +1,6 @@
 //! `[physical]`: the table both kinds of spec read ([`PhysicalFile`],
 //! converted by [`Physical::params`], McMillan's scaling) read as the nondimensional
-//! `[model]` it stands for. `c` or `v_belt` may be swept (then `nu` or `lambda` is); the
+//! `[model]` it stands for. `c` and `v_belt` may be swept (then `nu` and `lambda` are); the
 //! other keys are numbers, since a scan's grid has one length and one velocity unit. The
 //! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
 //! are McMillan's surfaces: his laws need them, Coulomb refuses them; `law = "table"` takes
@@ -226,19 +226,13 @@ pub(super) fn model(
             _ => Err(invalid(
                 &format!("physical.{key}"),
                 "a list or range".into(),
-                "a number: a scan sweeps only c or v_belt (sweep the others with squeal atlas)",
+                "a number: a scan sweeps c and v_belt, which leave the units of its grid (in m and \
+                 m/s) alone (sweep the others with squeal atlas)",
             )),
         }
     };
     let cs = expand(&ph.c, "physical.c", MAX_MAPS, invalid)?;
     let vs = expand(&ph.v_belt, "physical.v_belt", MAX_MAPS, invalid)?;
-    if cs.len() > 1 && vs.len() > 1 {
-        return Err(invalid(
-            "physical.v_belt",
-            format!("{} values", vs.len()),
-            "only one of physical.c and physical.v_belt may be swept in one spec",
-        ));
-    }
     let load = match ph.load(invalid)? {
         Load::Weight(g) => Load::Weight(one("g", &g)?),
         Load::NormalForce(n) => Load::NormalForce(one("normal_force", &n)?),
@@ -336,7 +330,7 @@ fn check_each(
 /// with `m = 1e300` a grid 0.4 mm wide became 6e-300 units wide, 36 cells at one state;
 /// with x0 in +-3 km (length unit 69 um) its starts lay beyond the classifier's escape
 /// radius.
-pub(super) fn grid_to_nondimensional(
+pub(crate) fn grid_to_nondimensional(
     grid: &mut Grid,
     ph: &Physical,
     rules: Rules,
@@ -409,8 +403,8 @@ path = "b.h5"
         // omega_0 = sqrt(5e4 / 2) = 158.1 rad/s; c = 2 sqrt(m k) nu = 632.5 nu.
         assert!((s.damping - 2.0 * (1.0e5f64).sqrt()).abs() < 1e-9);
         let sweep = p.sweep.as_ref().expect("c swept: nu swept");
-        assert_eq!(sweep.name, "nu");
-        for (nu, c) in sweep.values.iter().zip([5.0, 10.0]) {
+        assert_eq!(sweep.names(), ["nu"]);
+        for (nu, c) in sweep.axes[0].values.iter().zip([5.0, 10.0]) {
             assert!((nu * s.damping - c).abs() < 1e-12, "{nu}");
         }
         let want = ph.params(squeal_core::FrictionLaw::McMillan).unwrap();
@@ -432,8 +426,10 @@ path = "b.h5"
             (BRAKE.replace("m = 2.0", "m = [1.0, 2.0]"), "physical.m"),
             (BRAKE.replace("mu_s = 0.45", "mu_s = 0.3"), "physical.mu_s"),
             (BRAKE.replace("k = 5.0e4", "k = -1.0"), "physical.k"),
+            // c and v_belt may be swept together; a range of v_belt with one bad value
+            // is named by its key.
             (
-                BRAKE.replace("v_belt = 0.05", "v_belt = [0.05, 0.1]"),
+                BRAKE.replace("v_belt = 0.05", "v_belt = [0.05, -0.1]"),
                 "physical.v_belt",
             ),
             (

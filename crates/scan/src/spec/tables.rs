@@ -565,13 +565,19 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("integration.max_iter"), "{e}");
-        let scan = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 0.01\ntau = [0.1, 0.2]\n\
-                    [grid]\nx0 = { min = -1.0, max = 1.0, count = 2 }\n\
-                    v0 = { min = -1.0, max = 1.0, count = 2 }\n[output]\npath = \"s.h5\"\n";
+        // A scan sweeps any key of [model], but of [physical] only those that leave its
+        // grid's units alone: the mass is swept by an atlas.
+        let scan = "version = 1\n[model]\nlaw = \"mcmillan\"\n[physical]\nm = [1.0, 2.0]\n\
+                    k = 5e4\nc = 5.0\nv_belt = 0.05\nmu_k = 0.35\nmu_s = 0.45\ntau = 1e-3\n\
+                    [grid]\nx0 = { min = -1e-4, max = 1e-4, count = 2 }\n\
+                    v0 = { min = -0.01, max = 0.01, count = 2 }\n[output]\npath = \"s.h5\"\n";
         let e = crate::Plan::from_toml(scan, "s.toml")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("model.tau") && e.contains("squeal atlas"), "{e}");
+        assert!(
+            e.contains("physical.m") && e.contains("squeal atlas"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -65,9 +65,8 @@ fn bad_specs_name_the_problem() {
             "integration.dt",
         ),
         (
-            GOOD.replace("nu = 1e-3", "nu = 1e-3\nlambda = [1.0, 2.0]")
-                .replace("nu = 1e-3\n", "nu = [1e-3, 2e-3]\n"),
-            "only one",
+            GOOD.replace("nu = 1e-3", "nu = [1e-3, 2e-3]\nlambda = [1.0, 1.0]"),
+            "model.lambda",
         ),
         (GOOD.replace("[model]", "[model\n"), "line"),
         (
@@ -186,9 +185,37 @@ fn sweeps_expand() {
     )
     .unwrap();
     let s = p.sweep.unwrap();
-    assert_eq!(s.name, "nu");
-    assert!((s.values[1] - 1e-2).abs() < 1e-15);
+    assert_eq!(s.names(), ["nu"]);
+    assert!((s.axes[0].values[1] - 1e-2).abs() < 1e-15);
     assert_eq!(p.maps.len(), 3);
+}
+
+/// Several swept keys make one map per point of their product, in the law's key order with
+/// the last key fastest; a key neither the damping nor the belt speed may be swept too.
+#[test]
+fn sweeps_of_several_keys_are_their_product() {
+    let text = GOOD.replace("nu = 1e-3", "nu = [1e-3, 2e-3]\nphi = [0.5, 0.7, 0.9]");
+    let p = Plan::from_toml(&text, "t.toml").unwrap();
+    let s = p.sweep.as_ref().unwrap();
+    assert_eq!(s.names(), ["nu", "phi"]);
+    assert_eq!(s.shape(), [2, 3]);
+    assert_eq!(p.maps.len(), 6);
+    let phi = |m: usize| p.maps[m].law.surface().unwrap().phi;
+    assert_eq!((p.maps[2].nu, phi(2)), (1e-3, 0.9));
+    assert_eq!((p.maps[3].nu, phi(3)), (2e-3, 0.5));
+    assert_eq!(s.values_at(4), [2e-3, 0.7]);
+    assert_eq!(s.per_map("phi").unwrap(), [0.5, 0.7, 0.9, 0.5, 0.7, 0.9]);
+    // A value of one swept key out of range is named by its key, as for a single value.
+    let bad = text.replace("phi = [0.5, 0.7, 0.9]", "phi = [0.5, 2.0]");
+    let e = Plan::from_toml(&bad, "t.toml").unwrap_err().to_string();
+    assert!(e.contains("model.phi"), "{e}");
+    // The product is bounded as a single key's values are.
+    let big = GOOD.replace(
+        "nu = 1e-3",
+        "nu = { from = 1e-3, to = 1e-2, count = 200 }\nlambda = { from = 1, to = 3, count = 60 }",
+    );
+    let e = Plan::from_toml(&big, "t.toml").unwrap_err().to_string();
+    assert!(e.contains("at most 10000 maps"), "{e}");
 }
 
 /// Every key of a spec, valid as a whole: (table, key, value). The grid axes are written

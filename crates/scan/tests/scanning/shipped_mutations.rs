@@ -50,7 +50,7 @@ fn scan_wrong(p: &Plan) -> Option<String> {
         }
     }
     let corners = [(0, 0), (g.v0.count - 1, g.x0.count - 1)];
-    if g.sample.is_none()
+    if !g.is_sample()
         && corners
             .iter()
             .any(|&(r, c)| !(g.state(r, c).0.is_finite() && g.state(r, c).1.is_finite()))

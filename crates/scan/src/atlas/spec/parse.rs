@@ -196,7 +196,7 @@ pub(super) fn point_settings(
 pub(super) fn map_settings(
     f: &AtlasFile,
     path: &str,
-    (units, dt): (Units, f64),
+    dt: f64,
     ps: &mut PointSettings,
     rules: Rules,
     inv: Invalid,
@@ -213,14 +213,7 @@ pub(super) fn map_settings(
         }
         (None, None) => None,
         (Some(g), c) => {
-            if units == Units::Physical {
-                return Err(invalid(
-                    path,
-                    "grid",
-                    "given with [physical]",
-                    "a nondimensional spec ([model] nu, lambda, tau, phi): basin maps are on the nondimensional grid",
-                ));
-            }
+            // A physical spec's grid is in m and m/s, as a scan's ([`physical_grid`]).
             let grid = g.check(rules, &inv)?;
             // The cells' box is the disturbance box: each axis needs two points or more
             // to span one (a single point has no spacing and so no box).
@@ -271,6 +264,39 @@ pub(super) fn map_settings(
         }
     };
     Ok(maps)
+}
+
+/// The keys of `[physical]` that set the units of the state (the length mu_k N / k and the
+/// velocity mu_k N / sqrt(m k)): with a grid in m and m/s, each must have one value.
+const SCALE_KEYS: [&str; 5] = ["m", "k", "mu_k", "g", "normal_force"];
+
+/// A physical spec's map grid, given in m and m/s, in the model's units: every point has
+/// the same units (no key of [`SCALE_KEYS`] swept), so one grid serves every map, checked
+/// there as a scan's ([`crate::spec::physical::grid_to_nondimensional`]).
+pub(super) fn physical_grid(
+    plan: &mut AtlasPlan,
+    path: &str,
+    rules: Rules,
+    inv: Invalid,
+) -> Result<(), ScanError> {
+    let (Some(ph), Some(m)) = (plan.physical_at(0), plan.maps.as_ref()) else {
+        return Ok(());
+    };
+    if let Some(a) =
+        (plan.params.iter()).find(|a| a.values.len() > 1 && SCALE_KEYS.contains(&a.key))
+    {
+        return Err(invalid(
+            path,
+            &format!("physical.{}", a.key),
+            format!("{} values with [grid]", a.values.len()),
+            "a single value with basin maps: the grid is in m and m/s, and this key sets the \
+             units that scale it (sweep it without [grid])",
+        ));
+    }
+    let mut grid = m.grid;
+    crate::spec::physical::grid_to_nondimensional(&mut grid, &ph, rules, inv)?;
+    plan.maps.as_mut().expect("maps").grid = grid;
+    Ok(())
 }
 
 /// Steps of the atlas's coarse scan along the bisected parameter before the fold's

@@ -448,7 +448,15 @@ fn bad_grids_name_the_key() {
             ),
             "disturbance",
         ),
-        (PHYS.replace("[output]", GRID), "grid"),
+        // A physical grid is in m and m/s; with a swept mass the maps' units would differ.
+        (
+            PHYS.replace(
+                "[output]",
+                &format!("[boundaries]\nfold = false\ncritical = false\n{GRID}"),
+            )
+            .replace("m = 1.0", "m = [1.0, 2.0]"),
+            "physical.m",
+        ),
         (
             GOOD.replace("[output]", "[integration]\nscheme = \"rk4\"\n[output]"),
             "scheme",
