@@ -322,7 +322,7 @@ fn a_stribeck_spec_has_its_own_axes_and_defaults() {
     let d = AtlasPlan::from_toml(&STRIBECK.replace("xi = [0.02, 0.05]\n", ""), "s.toml")
         .unwrap()
         .params_at(0);
-    assert_eq!(d.nu, squeal_core::defaults::XI);
+    assert_eq!(d.nu, squeal_core::Stribeck::XI);
 }
 
 #[test]
