@@ -21,7 +21,7 @@
 use std::f64::consts::{FRAC_2_PI, PI};
 
 use crate::atan::atan_ratio;
-use crate::law::{Cubic, Friction, FrictionLaw, FrictionTable, PerV0, Stribeck, Surface};
+use crate::law::{Friction, FrictionLaw, PerV0, Stribeck, Surface};
 use crate::params::Params;
 
 /// Which piece of the law was used.
@@ -105,14 +105,16 @@ enum Form {
     NonHysteretic(McMillanConsts),
     Coulomb,
     Stribeck(StribeckConsts),
-    Cubic(Cubic),
-    Table(&'static FrictionTable),
+    /// Every other law with true stick: `mu` and the static limit are the law's own
+    /// ([`Friction::mu`], [`Friction::static_limit`]).
+    Stick(Friction),
 }
 
 /// A friction law with its constants computed once (`sin Phi`, `pi - Phi`, ...): what the
-/// stepper and the solver evaluate. Built from the law's parameters ([`Friction`]); adding
-/// a law is one [`Friction`] variant and one arm in [`Law::new`], [`Law::eval`] and, for a
-/// law with true stick, [`Law::mu`].
+/// stepper and the solver evaluate. Built from the law's parameters ([`Friction`]): a law
+/// with true stick needs nothing here (its `mu` and static limit are [`Friction`]'s); a
+/// law of another family is a variant of its own with arms in [`Law::new`] and
+/// [`Law::eval`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Law {
     form: Form,
@@ -131,8 +133,10 @@ impl Law {
                 params: s,
                 per_v0: PerV0::new(s.v_0),
             }),
-            Friction::Cubic(c) => Form::Cubic(c),
-            Friction::Table(t) => Form::Table(t),
+            stick => {
+                debug_assert!(stick.family().locates_stick(), "{stick}");
+                Form::Stick(stick)
+            }
         };
         Law {
             form,
@@ -147,8 +151,7 @@ impl Law {
             Form::NonHysteretic(_) => FrictionLaw::McMillanNonHysteretic,
             Form::Coulomb => FrictionLaw::Coulomb,
             Form::Stribeck(_) => FrictionLaw::Stribeck,
-            Form::Cubic(_) => FrictionLaw::Cubic,
-            Form::Table(_) => FrictionLaw::Table,
+            Form::Stick(f) => f.kind(),
         }
     }
 
@@ -173,7 +176,7 @@ impl Law {
             Form::McMillan(c) => mcmillan_k(v, a, c.tau, c.phi, c.inv_sin_phi, c.pi_minus_phi),
             Form::NonHysteretic(c) => nonhysteretic_k(v, a, c.tau, c.inv_sin_phi, c.pi_minus_phi),
             Form::Coulomb => coulomb(v),
-            Form::Stribeck(_) | Form::Cubic(_) | Form::Table(_) => {
+            Form::Stribeck(_) | Form::Stick(_) => {
                 if v == 0.0 {
                     // Set-valued: the middle of [-mu_s, mu_s], as Coulomb's F(0) = 0.
                     return ForceEval {
@@ -200,8 +203,7 @@ impl Law {
     fn mu(&self, s: f64) -> (f64, f64) {
         match &self.form {
             Form::Stribeck(c) => c.params.mu_by(s, &c.per_v0),
-            Form::Cubic(c) => c.mu(s),
-            Form::Table(t) => t.mu(s),
+            Form::Stick(f) => f.mu(s).unwrap_or((0.0, 0.0)),
             _ => (0.0, 0.0),
         }
     }
@@ -212,8 +214,7 @@ impl Law {
     pub fn static_limit(&self) -> Option<f64> {
         match &self.form {
             Form::Stribeck(c) => Some(c.params.mu_s()),
-            Form::Cubic(c) => Some(c.mu_0),
-            Form::Table(t) => Some(t.mu_s()),
+            Form::Stick(f) => f.static_limit(),
             _ => None,
         }
     }

@@ -2,11 +2,26 @@
 //! what each law needs (and nothing else), and [`FrictionLaw`], the law's name alone (what a
 //! spec's `law = "..."`, `--law` and the files' `law` attribute give before the parameters
 //! are read).
+//!
+//! This file is where a law is registered: its two variants and one arm in each `match`
+//! below. A law's own parameters live in a module of their own ([`Stribeck`] in
+//! `law/stribeck.rs`, [`Cubic`] in `law/cubic.rs`, [`FrictionTable`] in `table.rs`), with
+//! `mu(s)`, the checks that name each key, the keys' long names and units, and the defaults
+//! with their sources. Flags, `--help`, spec keys, files, JSON and Python keywords are all
+//! made from [`FrictionLaw::keys`] and [`Friction::named`], so a law with true stick needs no
+//! edit elsewhere (`docs/extending.md` counts it).
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::CoreError;
+use crate::params::Named;
 pub use crate::table::FrictionTable;
+
+mod cubic;
+mod stribeck;
+
+pub use cubic::Cubic;
+pub use stribeck::{PerV0, Stribeck};
 
 /// Which friction law closes the equation of motion `x'' + 2 nu x' + x = F(x' - lambda, x'')`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -99,15 +114,29 @@ impl FrictionLaw {
     /// specs, flags and files ([`crate::Params::named`] gives their values).
     pub fn keys(self) -> &'static [&'static str] {
         match self {
-            FrictionLaw::Stribeck => &["xi", "v_d", "mu_d", "mu_sd", "v_0", "mu_v"],
-            FrictionLaw::Cubic => &["xi", "v_d", "mu_0", "a1", "a3"],
-            // The table itself is no scalar key (`friction_table`, `friction_csv`).
-            FrictionLaw::Table => &["xi", "v_d"],
+            FrictionLaw::Stribeck => &Stribeck::KEYS,
+            FrictionLaw::Cubic => &Cubic::KEYS,
+            FrictionLaw::Table => &FrictionTable::KEYS,
             // Coulomb's force has no surface time and no static limit of its own.
             FrictionLaw::Coulomb => &["nu", "lambda"],
             FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic => {
                 &["nu", "lambda", "tau", "phi"]
             }
+        }
+    }
+
+    /// The default damping ratio and belt speed of the law (`nu` and `lambda`, or its own
+    /// `xi` and `v_d`): the paper's Table 1 with `nu = 1e-3` for McMillan's laws and Coulomb,
+    /// the law's own module's for the others.
+    pub fn default_damping_and_speed(self) -> (f64, f64) {
+        use crate::defaults::{LAMBDA, NU};
+        match self {
+            FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic | FrictionLaw::Coulomb => {
+                (NU, LAMBDA)
+            }
+            FrictionLaw::Stribeck => (Stribeck::XI, Stribeck::V_D),
+            FrictionLaw::Cubic => (Cubic::XI, Cubic::V_D),
+            FrictionLaw::Table => (FrictionTable::XI, FrictionTable::V_D),
         }
     }
 }
@@ -219,6 +248,24 @@ pub struct Surface {
 pub const MIN_PHI: f64 = 1e-5;
 
 impl Surface {
+    /// `tau` and `phi` with their names (after `nu` and `lambda`).
+    pub fn named(&self) -> Vec<Named> {
+        vec![
+            Named::new("tau", self.tau, "surface time tau", "1 / omega_n"),
+            Named::new("phi", self.phi, "Phi = arcsin(mu_k / mu_s)", "rad"),
+        ]
+    }
+
+    /// The inverse of [`Surface::named`]: the first missing key is the error.
+    pub fn from_named(
+        mut val: impl FnMut(&'static str) -> Result<f64, &'static str>,
+    ) -> Result<Surface, &'static str> {
+        Ok(Surface {
+            tau: val("tau")?,
+            phi: val("phi")?,
+        })
+    }
+
     /// Checks `tau` and `phi`; the error names the key.
     pub fn validate(&self) -> Result<(), CoreError> {
         if !self.tau.is_finite() || self.tau <= 0.0 {
@@ -289,7 +336,7 @@ impl Friction {
 
     /// The law `kind` with its default parameters (the paper's Table 1 for McMillan's laws,
     /// bSTAB's friction case for the Stribeck law, that law tabulated for the table law:
-    /// [`crate::defaults::table`]).
+    /// [`FrictionTable::default_table`]).
     pub fn default_of(kind: FrictionLaw) -> Friction {
         match kind {
             FrictionLaw::McMillan => Friction::McMillan(Surface::default()),
@@ -297,7 +344,77 @@ impl Friction {
             FrictionLaw::Coulomb => Friction::Coulomb,
             FrictionLaw::Stribeck => Friction::Stribeck(Stribeck::default()),
             FrictionLaw::Cubic => Friction::Cubic(Cubic::default()),
-            FrictionLaw::Table => Friction::Table(crate::defaults::table()),
+            FrictionLaw::Table => Friction::Table(FrictionTable::default_table()),
+        }
+    }
+
+    /// The parameters of law `kind` from named values (the inverse of [`Friction::named`]):
+    /// `val` gives a key's value or the key as the error. The table law takes `table`
+    /// (`None` is its missing key, `friction_table`).
+    pub fn from_named(
+        kind: FrictionLaw,
+        table: Option<&'static FrictionTable>,
+        mut val: impl FnMut(&'static str) -> Result<f64, &'static str>,
+    ) -> Result<Friction, &'static str> {
+        Ok(match kind {
+            FrictionLaw::McMillan => Friction::McMillan(Surface::from_named(&mut val)?),
+            FrictionLaw::McMillanNonHysteretic => {
+                Friction::NonHysteretic(Surface::from_named(&mut val)?)
+            }
+            FrictionLaw::Coulomb => Friction::Coulomb,
+            FrictionLaw::Stribeck => Friction::Stribeck(Stribeck::from_named(&mut val)?),
+            FrictionLaw::Cubic => Friction::Cubic(Cubic::from_named(&mut val)?),
+            FrictionLaw::Table => Friction::Table(table.ok_or("friction_table")?),
+        })
+    }
+
+    /// The law's own values with their names, after damping and belt speed (McMillan's
+    /// `tau` and `phi`; none for Coulomb and the table law, whose table is no scalar:
+    /// stored beside the keys as `friction_table`).
+    pub fn named(&self) -> Vec<Named> {
+        match self {
+            Friction::McMillan(c) | Friction::NonHysteretic(c) => c.named(),
+            Friction::Coulomb | Friction::Table(_) => Vec::new(),
+            Friction::Stribeck(s) => s.named(),
+            Friction::Cubic(c) => c.named(),
+        }
+    }
+
+    /// Checks the law's own values; the error names the key. (Damping and belt speed are
+    /// [`crate::Params::validate`]'s; a table's rows were checked when it was made,
+    /// [`FrictionTable::new`].)
+    pub fn validate(&self) -> Result<(), CoreError> {
+        match self {
+            Friction::McMillan(c) | Friction::NonHysteretic(c) => c.validate(),
+            Friction::Coulomb | Friction::Table(_) => Ok(()),
+            Friction::Stribeck(s) => s.validate(),
+            Friction::Cubic(c) => c.validate(),
+        }
+    }
+
+    /// An upper bound on `|F|` over all states at belt speed `lambda`
+    /// ([`crate::Params::force_bound`]).
+    pub fn force_bound(&self, lambda: f64) -> f64 {
+        match self {
+            Friction::Coulomb => 1.0,
+            // |F1| < 1 and |F2| <= 1 / sin(Phi) on the quasi-static branch, <= 1 on the slip
+            // branches.
+            Friction::McMillan(c) | Friction::NonHysteretic(c) => 1.0 + 1.0 / c.phi.sin(),
+            Friction::Stribeck(s) => s.force_bound(lambda),
+            Friction::Cubic(c) => c.force_bound(lambda),
+            // The monotone interpolation stays within its rows' values.
+            Friction::Table(t) => t.max_mu(),
+        }
+    }
+
+    /// The static limit of a law with true stick: while stuck the force can take any value in
+    /// `[-limit, limit]` (`= mu(0)`); `None` for the others.
+    pub fn static_limit(&self) -> Option<f64> {
+        match self {
+            Friction::Stribeck(s) => Some(s.mu_s()),
+            Friction::Cubic(c) => Some(c.mu_0),
+            Friction::Table(t) => Some(t.mu_s()),
+            Friction::McMillan(_) | Friction::NonHysteretic(_) | Friction::Coulomb => None,
         }
     }
 
@@ -334,12 +451,13 @@ impl Friction {
 
     /// `mu(s)` and `mu'(s)` at slip speed `s >= 0` of a law with true stick (the force is
     /// `-sgn(v) mu(|v|)` while slipping); `None` for the others.
+    #[inline]
     pub fn mu(&self, s: f64) -> Option<(f64, f64)> {
         match self {
             Friction::Stribeck(l) => Some(l.mu(s)),
             Friction::Cubic(l) => Some(l.mu(s)),
             Friction::Table(t) => Some(t.mu(s)),
-            _ => None,
+            Friction::McMillan(_) | Friction::NonHysteretic(_) | Friction::Coulomb => None,
         }
     }
 
@@ -363,221 +481,9 @@ impl std::fmt::Display for Friction {
     }
 }
 
-/// The Stribeck law's own parameters (bSTAB's friction case): the friction coefficient
-/// while slipping at speed `s = |v|` is
-///
-/// ```text
-/// mu(s) = mu_d + mu_d (mu_sd - 1) exp(-s / v_0) + mu_v s / v_0,    static limit mu_s = mu_d mu_sd
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Stribeck {
-    /// Dynamic (kinetic) coefficient `mu_d > 0`.
-    pub mu_d: f64,
-    /// Static-to-dynamic ratio `mu_sd >= 1`.
-    pub mu_sd: f64,
-    /// Reference slip velocity of the exponential decay, `v_0 > 0`.
-    pub v_0: f64,
-    /// Linear viscous strengthening `mu_v >= 0`.
-    pub mu_v: f64,
-}
-
-impl Default for Stribeck {
-    /// bSTAB's friction case.
-    fn default() -> Self {
-        Stribeck {
-            mu_d: crate::defaults::MU_D,
-            mu_sd: crate::defaults::MU_SD,
-            v_0: crate::defaults::V_0,
-            mu_v: crate::defaults::MU_V,
-        }
-    }
-}
-
-impl Stribeck {
-    /// The static limit `mu_s = mu_d mu_sd` (`= mu(0)`).
-    pub fn mu_s(&self) -> f64 {
-        self.mu_d * self.mu_sd
-    }
-
-    /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
-    #[inline]
-    pub fn mu(&self, s: f64) -> (f64, f64) {
-        self.mu_by(s, &PerV0::new(self.v_0))
-    }
-
-    /// [`Stribeck::mu`] with the divisions by `v_0` done by `per` (built once per law: the
-    /// stepper's hot path).
-    #[inline]
-    pub fn mu_by(&self, s: f64, per: &PerV0) -> (f64, f64) {
-        let amp = self.mu_d * (self.mu_sd - 1.0);
-        let e = per.of(-s).exp();
-        (
-            self.mu_d + amp * e + per.of(self.mu_v * s),
-            per.of(self.mu_v - amp * e),
-        )
-    }
-}
-
-/// The cubic law's own parameters (Popp and Stelter; Thomsen 1999): the friction
-/// coefficient while slipping at speed `s = |v|` is
-///
-/// ```text
-/// mu(s) = mu_0 - a1 s + a3 s^3,    static limit mu_0 = mu(0)
-/// ```
-///
-/// falling from `mu_0` to its least value `mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3))` at
-/// `s = sqrt(a1 / (3 a3))`, then rising. The static limit is named `mu_0` (Thomsen's `mu_s`):
-/// `mu_s` is the physical system's static coefficient in specs and flags.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Cubic {
-    /// Static limit `mu_0 > 0`.
-    pub mu_0: f64,
-    /// Linear (falling) coefficient `a1 >= 0`.
-    pub a1: f64,
-    /// Cubic (rising) coefficient `a3 >= 0`.
-    pub a3: f64,
-}
-
-impl Default for Cubic {
-    /// Thomsen's shape ([`crate::defaults::CUBIC_MU_0`]).
-    fn default() -> Self {
-        Cubic {
-            mu_0: crate::defaults::CUBIC_MU_0,
-            a1: crate::defaults::CUBIC_A1,
-            a3: crate::defaults::CUBIC_A3,
-        }
-    }
-}
-
-impl Cubic {
-    /// `mu(s)` and `mu'(s)` for a slip speed `s >= 0`.
-    #[inline]
-    pub fn mu(&self, s: f64) -> (f64, f64) {
-        (
-            self.mu_0 - self.a1 * s + self.a3 * s * s * s,
-            -self.a1 + 3.0 * self.a3 * s * s,
-        )
-    }
-
-    /// Checks each coefficient and that `mu` stays positive for every slip speed (a
-    /// friction coefficient that changes sign would drive the block, not hold it); the error
-    /// names the key.
-    pub fn validate(&self) -> Result<(), CoreError> {
-        let bad = CoreError::invalid::<()>;
-        if !self.mu_0.is_finite() || self.mu_0 <= 0.0 || self.mu_0 > 1e6 {
-            return bad(
-                "mu_0",
-                self.mu_0,
-                "a static friction coefficient in (0, 1e6]",
-            );
-        }
-        if !self.a1.is_finite() || self.a1 < 0.0 || self.a1 > 1e6 {
-            return bad("a1", self.a1, "a linear coefficient in [0, 1e6]");
-        }
-        if !self.a3.is_finite() || self.a3 < 0.0 || self.a3 > 1e6 {
-            return bad("a3", self.a3, "a cubic coefficient in [0, 1e6]");
-        }
-        if self.least().is_nan() || self.least() <= 0.0 {
-            return bad(
-                "a1",
-                self.a1,
-                "a coefficient that keeps mu(s) = mu_0 - a1 s + a3 s^3 positive for every slip \
-                 speed s >= 0: its least value mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3)) must be > 0 \
-                 (lower a1 or raise a3 or mu_0)",
-            );
-        }
-        Ok(())
-    }
-
-    /// The least value of `mu` over `s >= 0`: `mu_0 - (2 a1 / 3) sqrt(a1 / (3 a3))` (where
-    /// `mu' = 0`), `mu_0` when `a1 = 0`, `-inf` when `a3 = 0 < a1` (`mu` falls for ever).
-    pub fn least(&self) -> f64 {
-        if self.a1 == 0.0 {
-            self.mu_0
-        } else if self.a3 == 0.0 {
-            f64::NEG_INFINITY
-        } else {
-            self.mu_0 - 2.0 * self.a1 / 3.0 * (self.a1 / (3.0 * self.a3)).sqrt()
-        }
-    }
-}
-
-/// Division by `v_0`, as a multiplication by `1 / v_0` where that gives the same bits: when
-/// `v_0` is a power of two its reciprocal is exact, and `x / v_0` and `x * (1 / v_0)` are then
-/// both the correctly rounded value of the same real number (IEEE 754 rounds each operation
-/// correctly, overflow and subnormal results included). For any other `v_0` the reciprocal is
-/// rounded and the product could differ in the last bit, so it divides. A division sits on
-/// the critical path of every slip solve (before the `exp`); bSTAB's `v_0 = 0.5` takes the
-/// multiplication.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PerV0 {
-    v_0: f64,
-    /// `1 / v_0` when it is exact.
-    recip: Option<f64>,
-}
-
-impl PerV0 {
-    /// The division by `v_0`.
-    pub fn new(v_0: f64) -> PerV0 {
-        const MANTISSA: u64 = (1 << 52) - 1;
-        let r = 1.0 / v_0;
-        let exact = v_0.is_normal() && r.is_normal() && v_0.to_bits() & MANTISSA == 0;
-        PerV0 {
-            v_0,
-            recip: exact.then_some(r),
-        }
-    }
-
-    /// `x / v_0`.
-    #[inline]
-    pub fn of(&self, x: f64) -> f64 {
-        match self.recip {
-            Some(r) => x * r,
-            None => x / self.v_0,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `PerV0` multiplies only where that is the division bit for bit: powers of two (bSTAB's
-    /// 0.5, and 1, 2, 2^-10) take the exact reciprocal, other values (0.3, 0.75) divide.
-    #[test]
-    fn per_v0_is_the_division_bit_for_bit() {
-        for v_0 in [0.5, 1.0, 2.0, 0.0009765625, 0.3, 0.75] {
-            let per = PerV0::new(v_0);
-            assert_eq!(
-                per.recip.is_some(),
-                [0.5, 1.0, 2.0, 0.0009765625].contains(&v_0)
-            );
-            // Values over many binades, both signs, and the ends of the range.
-            let mut x = 1e-300f64;
-            while x < 1e300 {
-                for y in [x, -x, x * 1.234_567_891, f64::MIN_POSITIVE * 0.75] {
-                    assert_eq!(per.of(y).to_bits(), (y / v_0).to_bits(), "{y} / {v_0}");
-                }
-                x *= 3.7;
-            }
-        }
-        let s = Stribeck::default();
-        for slip in [0.0, 1e-9, 0.3, 1.7, 40.0] {
-            let (mu, dmu) = s.mu(slip);
-            let amp = s.mu_d * (s.mu_sd - 1.0);
-            let e = (-slip / s.v_0).exp();
-            let want = (
-                s.mu_d + amp * e + s.mu_v * slip / s.v_0,
-                (s.mu_v - amp * e) / s.v_0,
-            );
-            assert_eq!(
-                (mu.to_bits(), dmu.to_bits()),
-                (want.0.to_bits(), want.1.to_bits())
-            );
-        }
-    }
 
     /// The refusal of a small `Phi` names the key, the value and the range in one sentence,
     /// and the why it points to (docs/spec.md's `phi` row) states the orbit's reach, `|x|`

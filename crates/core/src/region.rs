@@ -37,7 +37,8 @@
 
 use serde::Serialize;
 
-use crate::params::{Friction, Params, Stribeck, Surface};
+use crate::law::{Friction, Stribeck, Surface};
+use crate::params::Params;
 use crate::stepper::State;
 
 /// The share of the fixed point's damping kept everywhere in the disc (the margin).
@@ -236,7 +237,7 @@ fn mcmillan(p: &Params, surface: Surface, hysteretic: bool) -> Option<Region> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::{FrictionLaw, Stribeck};
+    use crate::law::{FrictionLaw, Stribeck};
 
     /// bSTAB's case at v_d = 2.0 (xi = 0.05, mu_d = 0.5, mu_sd = 2, v_0 = 0.5, mu_v = 0):
     /// k0 = 0.1 - e^{-4} = 0.0816844; k(R) = 0.1 - e^{-(2 - R)/0.5} = k0 / 4 gives

@@ -51,6 +51,26 @@ impl std::fmt::Debug for FrictionTable {
 static INTERNED: Mutex<Vec<&'static FrictionTable>> = Mutex::new(Vec::new());
 
 impl FrictionTable {
+    /// The table law's keys in specs, flags and files: damping and belt speed only (the table
+    /// itself is no scalar key: `friction_table`, `friction_csv`).
+    pub const KEYS: [&'static str; 2] = ["xi", "v_d"];
+    /// The table law's default damping ratio `xi`: bSTAB's ([`crate::Stribeck::XI`]).
+    pub const XI: f64 = crate::Stribeck::XI;
+    /// The table law's default belt speed `v_d`: bSTAB's ([`crate::Stribeck::V_D`]).
+    pub const V_D: f64 = crate::Stribeck::V_D;
+
+    /// The table law's default table: bSTAB's Stribeck law (`mu_d = 0.5`, `mu_sd = 2`,
+    /// `v_0 = 0.5`, `mu_v = 0`) sampled at 201 rows, slip speeds `0, 0.05, ..., 10` (where
+    /// its `mu` is within `0.5 exp(-20) = 1e-9` of `mu_d`). A run names its table by
+    /// `friction_table` or `friction_csv`; this one is what help lines and defaults show.
+    pub fn default_table() -> &'static FrictionTable {
+        static T: std::sync::OnceLock<&'static FrictionTable> = std::sync::OnceLock::new();
+        T.get_or_init(|| {
+            let s = crate::Stribeck::default();
+            FrictionTable::sampled(|v| s.mu(v).0, 10.0, 201).expect("a valid table")
+        })
+    }
+
     /// The table of `rows` `(s, mu)`, checked and interned: at least 2 rows, at most
     /// [`MAX_ROWS`]; slip speeds finite and strictly increasing, the first exactly 0; every
     /// `mu` finite and `> 0`. The error names the row (counted from 1).

@@ -131,8 +131,8 @@ mod tests {
         assert_eq!(f.0, [("v_d", -1.0), ("mu_0", 0.3)]);
         assert_eq!(
             help("v_d"),
-            // The defaults of crates/core/src/defaults.rs: V_D (bSTAB's, also the table
-            // law's) and CUBIC_V_D.
+            // The laws' own defaults: Stribeck::V_D (bSTAB's, also the table law's) and
+            // Cubic::V_D (crates/core/src/law/).
             "Belt speed v_d (--law stribeck, table: default 1.5; --law cubic: default 0.3)"
         );
     }

@@ -318,11 +318,11 @@ fn a_stribeck_spec_has_its_own_axes_and_defaults() {
     assert_eq!(name, "critical_v_d");
     assert!(long.starts_with("critical belt speed v_d"), "{long}");
     assert_eq!(v.boundary_words(), "belt speed v_d");
-    // Unset keys take the scan spec's defaults (crates/core/src/defaults.rs).
+    // Unset keys take the scan spec's defaults (the law's own: crates/core/src/law/).
     let d = AtlasPlan::from_toml(&STRIBECK.replace("xi = [0.02, 0.05]\n", ""), "s.toml")
         .unwrap()
         .params_at(0);
-    assert_eq!(d.nu, squeal_core::defaults::XI);
+    assert_eq!(d.nu, squeal_core::Stribeck::XI);
 }
 
 #[test]
