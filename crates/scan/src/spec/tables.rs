@@ -15,9 +15,8 @@ use crate::error::ScanError;
 use crate::ulc::CycleSettings;
 use crate::values::Value;
 
-/// The `[model]` table: the law and its own keys. A scan sweeps one of the damping and the
-/// belt speed (`nu` or `lambda`; `xi` or `v_d`); an atlas sweeps any of the sweepable keys
-/// ([`sweepable`]). The accepted keys are every law's ([`FrictionLaw::keys`]), so a new law's
+/// The `[model]` table: the law and its own keys, each a number, a list or a range (a scan
+/// and an atlas sweep any of them, one map or point per point of the product). The accepted keys are every law's ([`FrictionLaw::keys`]), so a new law's
 /// keys need no edit here; an unknown key is refused as serde refuses an unknown field.
 #[derive(Debug, Clone)]
 pub(crate) struct ModelTable {
@@ -112,18 +111,6 @@ fn model_fields() -> &'static [&'static str] {
     })
 }
 
-/// Whether a key may be a list or a range (swept by an atlas; a scan sweeps the damping or
-/// the belt speed): McMillan's four and every law's damping and belt speed. A law's other
-/// coefficients are numbers.
-pub(crate) fn sweepable(key: &str) -> bool {
-    FrictionLaw::MCMILLAN
-        .iter()
-        .any(|l| l.keys().contains(&key))
-        || FrictionLaw::ALL
-            .iter()
-            .any(|l| l.keys()[..2].contains(&key))
-}
-
 impl<'de> Deserialize<'de> for ModelTable {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct Visit;
@@ -149,10 +136,9 @@ impl<'de> Deserialize<'de> for ModelTable {
                         friction_table = Some(a.next_value::<Vec<[f64; 2]>>()?);
                     } else if key == "friction_csv" {
                         friction_csv = Some(a.next_value::<String>()?);
-                    } else if sweepable(key) {
-                        keys.push((key, a.next_value::<Value>()?));
                     } else {
-                        keys.push((key, Value::One(a.next_value::<f64>()?)));
+                        // Every key of every law may be a list or a range (swept).
+                        keys.push((key, a.next_value::<Value>()?));
                     }
                 }
                 let law = law.ok_or_else(|| A::Error::missing_field("law"))?;
