@@ -151,6 +151,9 @@ def test_a_sweep_of_two_keys_gives_one_share_per_pair():
     one = squeal.basin_stability("stribeck", n=100, seed=3, **{**BSTAB, "xi": 0.1, "v_d": 1.0})
     for r in squeal.REGIMES:
         assert bs.shares[r][2] == one.shares[r], r
+    # The keys are coordinates over map: docs/python.md's unstack gives the grid of maps.
+    grid = bs.dataset["labels"].set_index(map=["xi", "v_d"]).unstack("map")
+    assert grid.sizes["xi"] == 2 and grid.sizes["v_d"] == 2
 
 
 def test_spec_error_raises_value_error_with_the_cli_message(tmp_path):
