@@ -89,7 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     signals.finishing(&pics)?;
     let mut phases = super::timings::Phases::start();
-    let res = writer.finish()?;
+    let res = crate::finish_atlas(writer)?;
     phases.end("finish");
     let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
