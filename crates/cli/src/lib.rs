@@ -14,6 +14,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod atlas_json;
 mod atlas_run;
 mod cmd;
 mod finishing;

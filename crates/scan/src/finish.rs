@@ -1,6 +1,7 @@
-//! A scan's finish: the stored blocks read back once, each written into the file as it comes
-//! and tallied into its map's checks and basin stability ([`MapTally`]) on the worker
-//! threads, and the per-map figures then handed to the writer. The writer (the store's, a
+//! A scan's finish: the stored blocks read back once (and made ready to be written, as
+//! compressed chunks) and tallied into their map's checks and basin stability
+//! ([`MapTally`]) on the worker threads, each then written into the file, and the per-map
+//! figures handed to the writer. The writer (the store's, a
 //! shard merge's) only reads and writes ([`Finishing`]); what the cells add up to is computed
 //! here.
 
@@ -29,6 +30,9 @@ pub struct MapFigures {
 pub trait Finishing: Sync {
     /// What reading or writing fails with.
     type Error: Send;
+    /// A block read back and made ready to be written: its cells, and what the writer
+    /// prepares from them on the reading thread (as compressed chunks).
+    type Block: AsRef<[Cell]> + Send;
     /// The plan the blocks belong to.
     fn plan(&self) -> &Plan;
     /// The located cycle of `map`, as stored (none: not searched, or none found).
@@ -37,18 +41,16 @@ pub trait Finishing: Sync {
     fn withdrawn(&self, map: usize) -> Vec<Rules>;
     /// The landscape stated for `map` (laws with true stick), if any.
     fn landscape(&self, map: usize) -> Option<Landscape>;
-    /// Block `block` of `map` as stored (`None`: not stored, as another shard's).
-    fn read_block(&self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, Self::Error>;
+    /// Block `block` of `map` as stored, made ready to be written (`None`: not stored, as
+    /// another shard's).
+    fn read_block(&self, map: usize, block: usize) -> Result<Option<Self::Block>, Self::Error>;
     /// Writes a block read back into the file.
-    fn write_block(&self, map: usize, block: usize, cells: &[Cell]) -> Result<(), Self::Error>;
+    fn write_block(&self, block: Self::Block) -> Result<(), Self::Error>;
     /// Writes every map's figures (in map order) and completes the file.
     fn complete(self, figures: &[MapFigures]) -> Result<(), Self::Error>
     where
         Self: Sized;
 }
-
-/// A block read back: its map, its number and its cells.
-type Read = (usize, usize, Vec<Cell>);
 
 /// Finishes the file of `f`: every stored block read back once and written, tallied on the
 /// worker threads of the current rayon pool (the next window of blocks read and tallied
@@ -75,24 +77,21 @@ fn tally_and_write<F: Finishing>(f: &F) -> Result<Vec<MapFigures>, F::Error> {
         .collect();
     // Two blocks per thread in memory at once, read while the previous window is written.
     let window = 2 * rayon::current_num_threads().max(1);
-    let read = |ids: &[(usize, usize)]| -> Result<Vec<Read>, F::Error> {
-        let got: Vec<Option<Read>> = ids
+    let read = |ids: &[(usize, usize)]| -> Result<Vec<F::Block>, F::Error> {
+        let got: Vec<Option<F::Block>> = ids
             .par_iter()
             .map(|&(m, b)| {
-                let Some(cells) = f.read_block(m, b)? else {
+                let Some(block) = f.read_block(m, b)? else {
                     return Ok(None);
                 };
-                tallies[m].add_block(plan, b, &cells);
-                Ok(Some((m, b, cells)))
+                tallies[m].add_block(plan, b, block.as_ref());
+                Ok(Some(block))
             })
             .collect::<Result<_, F::Error>>()?;
         Ok(got.into_iter().flatten().collect())
     };
-    let write = |blocks: Vec<Read>| -> Result<(), F::Error> {
-        blocks
-            .iter()
-            .try_for_each(|(m, b, cells)| f.write_block(*m, *b, cells))
-    };
+    let write =
+        |blocks: Vec<F::Block>| -> Result<(), F::Error> { blocks.into_iter().try_for_each(|b| f.write_block(b)) };
     let mut windows = ids.chunks(window);
     let mut last = match windows.next() {
         Some(w) => read(w)?,

@@ -61,6 +61,23 @@ impl Drop for Tmp {
     }
 }
 
+/// A block of a scan read back for its file: its cells and, where each block of rows is one
+/// chunk, every cell dataset's chunk (the columns, then their SI twins), compressed on the
+/// thread that read it.
+#[derive(Debug)]
+pub struct StoredBlock {
+    map: usize,
+    block: usize,
+    cells: Vec<Cell>,
+    chunks: Option<Vec<Vec<u8>>>,
+}
+
+impl AsRef<[Cell]> for StoredBlock {
+    fn as_ref(&self) -> &[Cell] {
+        &self.cells
+    }
+}
+
 /// A scan file being finished: its root attributes, coordinates and empty cell datasets
 /// written, its blocks to be read back and written ([`Finishing::read_block`],
 /// [`Finishing::write_block`]), and the maps' figures to be handed to
@@ -78,6 +95,9 @@ pub struct Assembly {
     cycles: Vec<Option<CycleRecord>>,
     withdrawn: Vec<Vec<Withdrawn>>,
     landscapes: Vec<Option<LandscapeInfo>>,
+    /// The rows of a chunk, where each block is one chunk and is written whole
+    /// ([`crate::chunks`]); `None`: blocks are written as selections.
+    whole_chunks: Option<usize>,
     publish: Publish,
     tmp: Tmp,
 }
@@ -122,6 +142,7 @@ impl Assembly {
         let n = plan.maps.len();
         let cycles = (0..n).map(|m| src.cycle(m)).collect::<Result<_, _>>()?;
         let withdrawn = (0..n).map(|m| src.withdrawn(m)).collect();
+        let whole_chunks = whole_chunks(&plan, &vars);
         Ok(Assembly {
             plan,
             file,
@@ -133,6 +154,7 @@ impl Assembly {
             cycles,
             withdrawn,
             landscapes,
+            whole_chunks,
             publish,
             tmp,
         })
@@ -146,8 +168,20 @@ impl Assembly {
     }
 }
 
+/// The rows of a chunk where every block of `plan` is one chunk of the cell datasets `vars`
+/// (a grid, blocks as tall as a chunk, the last one no taller) and the datasets take chunks
+/// deflated as [`crate::chunks`] deflates them.
+fn whole_chunks(plan: &Plan, vars: &CellVars) -> Option<usize> {
+    let g = &plan.grid;
+    let rows = vars.chunk_rows;
+    let datasets = vars.vars.iter().chain(vars.si.iter().map(|(d, _)| d));
+    let deflated = datasets.into_iter().all(crate::chunks::takes_deflated_chunks);
+    (g.sample.is_none() && rows == g.block_rows.min(g.v0.count) && deflated).then_some(rows)
+}
+
 impl Finishing for Assembly {
     type Error = StoreError;
+    type Block = StoredBlock;
 
     fn plan(&self) -> &Plan {
         &self.plan
@@ -166,7 +200,7 @@ impl Finishing for Assembly {
         l.map(|l| l.landscape)
     }
 
-    fn read_block(&self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError> {
+    fn read_block(&self, map: usize, block: usize) -> Result<Option<StoredBlock>, StoreError> {
         let Some(cells) = self.src.block(map, block)? else {
             return Ok(None);
         };
@@ -177,14 +211,37 @@ impl Finishing for Assembly {
                 "map {map} block {block} holds {n} cells, expected {want}"
             )));
         }
-        Ok(Some(cells))
+        let chunks = match self.whole_chunks {
+            Some(rows) => Some(self.chunks(&cells, rows).map_err(|e| {
+                self.bad(format!("map {map} block {block}: {e}"))
+            })?),
+            None => None,
+        };
+        Ok(Some(StoredBlock {
+            map,
+            block,
+            cells,
+            chunks,
+        }))
     }
 
-    fn write_block(&self, map: usize, block: usize, cells: &[Cell]) -> Result<(), StoreError> {
+    fn write_block(&self, b: StoredBlock) -> Result<(), StoreError> {
+        let (map, block, cells) = (b.map, b.block, &b.cells[..]);
         let g = &self.plan.grid;
         let (rows, nx) = (g.block_rows(block), g.x0.count);
         let prefix: &[usize] = if self.plan.sweep.is_some() { &[map] } else { &[] };
         let bad = |e: hdf5::Error| self.bad(format!("map {map} block {block}: {e}"));
+        if let Some(chunks) = &b.chunks {
+            let offset: Vec<u64> = (prefix.iter().copied())
+                .chain([rows.start, 0])
+                .map(|i| i as u64)
+                .collect();
+            let datasets = self.vars.vars.iter().chain(self.vars.si.iter().map(|(d, _)| d));
+            for (ds, chunk) in datasets.zip(chunks) {
+                crate::chunks::write_chunk(ds, &offset, chunk).map_err(bad)?;
+            }
+            return Ok(());
+        }
         for (ds, col) in self.vars.vars.iter().zip(COLUMNS) {
             write_column(ds, col, cells, prefix, rows.clone(), nx).map_err(bad)?;
         }
@@ -210,6 +267,7 @@ impl Finishing for Assembly {
             landscapes,
             publish,
             mut tmp,
+            ..
         } = self;
         let path = tmp.path.clone();
         let n = plan.maps.len();
@@ -249,6 +307,37 @@ impl Finishing for Assembly {
         // The journal (or the shard files) closed before the file takes the output's place.
         drop(src);
         publish.place(&mut tmp)
+    }
+}
+
+impl Assembly {
+    /// Every cell dataset's chunk of a block's `cells` (chunks of `rows` rows).
+    fn chunks(&self, cells: &[Cell], rows: usize) -> hdf5::Result<Vec<Vec<u8>>> {
+        let size = (rows, self.plan.grid.x0.count);
+        let mut out: Vec<Vec<u8>> = COLUMNS
+            .iter()
+            .map(|col| crate::chunks::column_chunk(col, cells, size))
+            .collect::<hdf5::Result<_>>()?;
+        if let Some(s) = &self.vars.scales {
+            for (_, col) in &self.vars.si {
+                out.push(crate::chunks::si_chunk(col, (cells, s), size)?);
+            }
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+impl Assembly {
+    /// Whether blocks are written as whole chunks.
+    pub(crate) fn writes_whole_chunks(&self) -> bool {
+        self.whole_chunks.is_some()
+    }
+
+    /// The same file, its blocks written as selections through HDF5's filters.
+    pub(crate) fn by_selections(mut self) -> Assembly {
+        self.whole_chunks = None;
+        self
     }
 }
 

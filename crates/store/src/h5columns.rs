@@ -173,6 +173,27 @@ pub(crate) fn write_column(
     }
 }
 
+/// Refuses a value of an enum column that is no member of its stored type, as the typed
+/// write of [`write_column`] refuses it (`<name>: unknown value <v>`).
+pub(crate) fn check_member(col: &Column, v: squeal_scan::cell::Num) -> hdf5::Result<()> {
+    let Some(e) = EnumColumn::of(col) else {
+        return Ok(());
+    };
+    let v = v.as_u64();
+    let b = v as u8;
+    let member = v <= u8::MAX as u64
+        && match e {
+            EnumColumn::Label => Label::from_u8(b).is_some(),
+            EnumColumn::Reason => ReasonH5::from_u8(b).is_some(),
+            EnumColumn::Audit => AuditH5::from_u8(b).is_some(),
+            EnumColumn::YesNo => YesNoH5::from_u8(b).is_some(),
+        };
+    match member {
+        true => Ok(()),
+        false => Err(hdf5::Error::from(format!("{}: unknown value {v}", col.name))),
+    }
+}
+
 /// The rows `rows` after the leading indices `prefix` (a sweep's map, an atlas point's
 /// parameter indices; none for a single map): a hyperslab over `(.., v0, x0)`, or over
 /// `(.., sample)` for a `list` (random samples).

@@ -313,7 +313,12 @@ pub(crate) fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<C
         o.declare_coordinates(v, &over)?;
     }
     let scales = plan.physical.as_ref().map(|ph| ph.scales());
-    Ok(CellVars { vars, si, scales })
+    Ok(CellVars {
+        vars,
+        si,
+        scales,
+        chunk_rows: rows_per_chunk,
+    })
 }
 
 /// The datasets of the cell columns ([`cell_vars`]) and, in a physical scan, their SI twins
@@ -322,6 +327,8 @@ pub(crate) struct CellVars {
     pub vars: Vec<Dataset>,
     pub si: Vec<(Dataset, &'static squeal_scan::Column)>,
     pub scales: Option<squeal_core::Scales>,
+    /// Rows of the grid per chunk.
+    pub chunk_rows: usize,
 }
 
 /// The per-map datasets over `over` (the map dimension): the blocks stored (with `block`),

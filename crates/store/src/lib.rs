@@ -127,7 +127,7 @@
 
 pub mod atlas;
 mod assembly;
-mod atlas_json;
+mod chunks;
 mod cycle;
 mod digest;
 mod error;
@@ -149,9 +149,8 @@ use squeal_scan::scanner::{BlockResult, Cell};
 use squeal_scan::Plan;
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
-pub use assembly::Assembly;
+pub use assembly::{Assembly, StoredBlock};
 pub use atlas::{AtlasInfo, read_atlas_info};
-pub use atlas_json::atlas_json;
 pub use digest::content_digest;
 pub use error::{Advice, Plain, Remedy, StoreError, Words};
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};

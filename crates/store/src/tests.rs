@@ -718,6 +718,8 @@ fn an_output_not_ending_in_h5_is_refused_by_the_writers() {
 }
 
 #[cfg(test)]
+mod chunks;
+#[cfg(test)]
 mod journal_fuzz;
 #[cfg(test)]
 mod journal_resume;

@@ -301,7 +301,7 @@ fn report(
     pictures: &[PathBuf],
 ) -> anyhow::Result<()> {
     if args.json {
-        let mut v = squeal_store::atlas_json(plan, res);
+        let mut v = crate::atlas_json::atlas_json(plan, res);
         v["file"] = out.display().to_string().into();
         v["seconds"] = computed.seconds.into();
         v["units_computed"] = computed.units.into();
