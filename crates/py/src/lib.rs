@@ -259,7 +259,8 @@ pub fn atlas(
             out.display()
         )));
     }
-    py.detach(|| squeal_cli::finish_atlas(writer)).map_err(store_error)?;
+    py.detach(|| squeal_cli::finish_atlas(writer))
+        .map_err(store_error)?;
     Ok(Some(todo))
 }
 

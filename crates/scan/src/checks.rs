@@ -381,7 +381,10 @@ impl<'a> MapTally<'a> {
     /// The checks and the basin stability of the map (a random sample's shares without
     /// sub-grids).
     pub fn finish(self, plan: &Plan) -> (MapChecks, GridShares) {
-        let g = self.gathered.into_inner().unwrap_or_else(|e| e.into_inner());
+        let g = self
+            .gathered
+            .into_inner()
+            .unwrap_or_else(|e| e.into_inner());
         let shares = match plan.grid.sample {
             Some(_) => GridShares::random(&g.labels),
             None => GridShares::of(&g.labels, plan.grid.x0.count),
@@ -518,7 +521,7 @@ path = "t.h5"
             c.regime = regime as u8;
             vec![c; 3]
         };
-        let mut t = MapTally::new(&plan, None, None);
+        let t = MapTally::new(&plan, None, None);
         t.add_block(&plan, 2, &row(Regime::StickSlip));
         t.add_block(&plan, 1, &row(Regime::SteadySlip));
         t.add_block(&plan, 0, &row(Regime::StickSlip));

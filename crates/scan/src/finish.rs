@@ -90,8 +90,9 @@ fn tally_and_write<F: Finishing>(f: &F) -> Result<Vec<MapFigures>, F::Error> {
             .collect::<Result<_, F::Error>>()?;
         Ok(got.into_iter().flatten().collect())
     };
-    let write =
-        |blocks: Vec<F::Block>| -> Result<(), F::Error> { blocks.into_iter().try_for_each(|b| f.write_block(b)) };
+    let write = |blocks: Vec<F::Block>| -> Result<(), F::Error> {
+        blocks.into_iter().try_for_each(|b| f.write_block(b))
+    };
     let mut windows = ids.chunks(window);
     let mut last = match windows.next() {
         Some(w) => read(w)?,
@@ -110,4 +111,178 @@ fn tally_and_write<F: Finishing>(f: &F) -> Result<Vec<MapFigures>, F::Error> {
             MapFigures { checks, shares }
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Mutex;
+
+    use super::*;
+    use crate::cell::Audit;
+    use crate::curve::ClosedCurve;
+
+    /// Stored blocks in memory; the blocks written and the figures handed over are kept.
+    struct Memory<'a> {
+        plan: &'a Plan,
+        cycle: CycleReport,
+        written: Mutex<Vec<(usize, usize)>>,
+        figures: Mutex<Vec<MapFigures>>,
+    }
+
+    struct Block(usize, usize, Vec<Cell>);
+
+    impl AsRef<[Cell]> for Block {
+        fn as_ref(&self) -> &[Cell] {
+            &self.2
+        }
+    }
+
+    impl Finishing for &Memory<'_> {
+        type Error = String;
+        type Block = Block;
+        fn plan(&self) -> &Plan {
+            self.plan
+        }
+        fn cycle(&self, map: usize) -> Option<&CycleReport> {
+            (map == 0).then_some(&self.cycle)
+        }
+        fn withdrawn(&self, _: usize) -> Vec<Rules> {
+            Vec::new()
+        }
+        fn landscape(&self, map: usize) -> Option<Landscape> {
+            (map == 1).then_some(Landscape::StickSlipOnly)
+        }
+        fn read_block(&self, map: usize, block: usize) -> Result<Option<Block>, String> {
+            Ok(Some(Block(map, block, cells(self.plan, map, block))))
+        }
+        fn write_block(&self, b: Block) -> Result<(), String> {
+            self.written.lock().unwrap().push((b.0, b.1));
+            Ok(())
+        }
+        fn complete(self, figures: &[MapFigures]) -> Result<(), String> {
+            *self.figures.lock().unwrap() = figures.to_vec();
+            Ok(())
+        }
+    }
+
+    /// Cells that exercise every count: labels by distance from (1, 0) (some on the wrong
+    /// side of the circle of radius 2 around it), audits, reasons and `t_squeal` varying.
+    fn cells(plan: &Plan, map: usize, block: usize) -> Vec<Cell> {
+        let g = &plan.grid;
+        let rows = g.block_rows(block);
+        let nx = g.x0.count;
+        (0..rows.len() * nx)
+            .map(|k| {
+                let (x, v) = g.state(rows.start + k / nx, k % nx);
+                let r = (x - 1.0).hypot(v);
+                let i = map * 7 + block * 3 + k;
+                let mut c = Cell::fill();
+                c.regime = match (r < 2.0) ^ (i % 11 == 0) {
+                    _ if i % 13 == 0 => 0,
+                    true => 1,
+                    false => 2,
+                };
+                c.reason = (i % 21) as u8;
+                c.audit = [
+                    Audit::NotAudited,
+                    Audit::Agrees,
+                    Audit::Disagrees,
+                    Audit::Undecided,
+                ][i % 4] as u8;
+                c.t_squeal = [0.0, 1.5, f64::INFINITY][i % 3];
+                c
+            })
+            .collect()
+    }
+
+    /// The figures do not depend on the threads that tally them: the same under pools of
+    /// 1, 2 and 3 threads, and the same as one `MapChecks` fed every block in order on one
+    /// thread (the tally before blocks were tallied apart and summed). Every block is
+    /// written once.
+    #[test]
+    fn figures_do_not_depend_on_the_threads() {
+        let mut plan = Plan::from_toml(
+            "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 2e-3]\n[grid]\n\
+             x0 = { min = -3.0, max = 5.0, count = 13 }\nv0 = { min = -4.0, max = 4.0, count = 11 }\n\
+             [output]\npath = \"t.h5\"\n",
+            "t.toml",
+        )
+        .unwrap();
+        plan.grid.block_rows = 1;
+        let n = 64;
+        let (xs, vs) = (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                (1.0 + 2.0 * a.cos(), 2.0 * a.sin())
+            })
+            .unzip();
+        let cycle = CycleReport {
+            params: plan.maps[0],
+            dt: 0.01,
+            r_section: 2.0,
+            bracket: [1.999, 2.001],
+            period: 6.5,
+            omega: 1.0,
+            x_range: [-1.0, 3.0],
+            v_range: [-2.0, 2.0],
+            distance_plus_x: 2.0,
+            area: 12.5,
+            multiplier: 1.3,
+            encloses_origin: true,
+            half_dt: None,
+            returns: 120,
+            solver: Default::default(),
+            stable_above: None,
+            escape: None,
+            curve: ClosedCurve::new(xs, vs),
+        };
+        let want: Vec<MapFigures> = (0..2)
+            .map(|m| {
+                let curve = (m == 0).then_some(&cycle.curve);
+                let landscape = (m == 1).then_some(Landscape::StickSlipOnly);
+                let mut checks = MapChecks::new(curve, landscape, false);
+                let mut labels = Vec::new();
+                for b in 0..plan.grid.blocks() {
+                    let c = cells(&plan, m, b);
+                    checks.add_block(&plan, curve, b, &c);
+                    labels.extend(c.iter().map(|c| c.regime));
+                }
+                let shares = GridShares::of(&labels, plan.grid.x0.count);
+                MapFigures { checks, shares }
+            })
+            .collect();
+        assert!(want[0].checks.wrong_side.is_some_and(|w| w.cells > 0));
+        assert!(
+            want[1]
+                .checks
+                .landscape
+                .is_some_and(|l| l.contradictions > 0)
+        );
+        assert!(want[0].checks.origin.is_some());
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mem = Memory {
+                plan: &plan,
+                cycle: cycle.clone(),
+                written: Mutex::new(Vec::new()),
+                figures: Mutex::new(Vec::new()),
+            };
+            let checks = pool.install(|| {
+                assert_eq!(rayon::current_num_threads(), threads);
+                finish(&mem).unwrap()
+            });
+            let figures = mem.figures.into_inner().unwrap();
+            assert_eq!(figures, want, "{threads} thread(s)");
+            assert_eq!(checks, vec![want[0].checks, want[1].checks]);
+            let mut written = mem.written.into_inner().unwrap();
+            written.sort();
+            let all: Vec<_> = (0..2)
+                .flat_map(|m| (0..plan.grid.blocks()).map(move |b| (m, b)))
+                .collect();
+            assert_eq!(written, all, "{threads} thread(s)");
+        }
+    }
 }

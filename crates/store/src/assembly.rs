@@ -134,8 +134,7 @@ impl Assembly {
         };
         h5write::root_attrs(&file, &plan, meta).h5(path)?;
         let si = plan.physical.and_then(|ph| ph.friction.table());
-        crate::h5out::friction_table(&file, &mut o.dims, plan.maps[0].law.table(), si)
-            .h5(path)?;
+        crate::h5out::friction_table(&file, &mut o.dims, plan.maps[0].law.table(), si).h5(path)?;
         let scales = h5write::scales(&mut o, &plan).h5(path)?;
         let vars = h5write::cell_vars(&mut o, &plan, &scales).h5(path)?;
         let (dims, aux) = (o.dims, o.aux);
@@ -175,7 +174,9 @@ fn whole_chunks(plan: &Plan, vars: &CellVars) -> Option<usize> {
     let g = &plan.grid;
     let rows = vars.chunk_rows;
     let datasets = vars.vars.iter().chain(vars.si.iter().map(|(d, _)| d));
-    let deflated = datasets.into_iter().all(crate::chunks::takes_deflated_chunks);
+    let deflated = datasets
+        .into_iter()
+        .all(crate::chunks::takes_deflated_chunks);
     (g.sample.is_none() && rows == g.block_rows.min(g.v0.count) && deflated).then_some(rows)
 }
 
@@ -212,9 +213,10 @@ impl Finishing for Assembly {
             )));
         }
         let chunks = match self.whole_chunks {
-            Some(rows) => Some(self.chunks(&cells, rows).map_err(|e| {
-                self.bad(format!("map {map} block {block}: {e}"))
-            })?),
+            Some(rows) => Some(
+                self.chunks(&cells, rows)
+                    .map_err(|e| self.bad(format!("map {map} block {block}: {e}")))?,
+            ),
             None => None,
         };
         Ok(Some(StoredBlock {
@@ -229,14 +231,22 @@ impl Finishing for Assembly {
         let (map, block, cells) = (b.map, b.block, &b.cells[..]);
         let g = &self.plan.grid;
         let (rows, nx) = (g.block_rows(block), g.x0.count);
-        let prefix: &[usize] = if self.plan.sweep.is_some() { &[map] } else { &[] };
+        let prefix: &[usize] = if self.plan.sweep.is_some() {
+            &[map]
+        } else {
+            &[]
+        };
         let bad = |e: hdf5::Error| self.bad(format!("map {map} block {block}: {e}"));
         if let Some(chunks) = &b.chunks {
             let offset: Vec<u64> = (prefix.iter().copied())
                 .chain([rows.start, 0])
                 .map(|i| i as u64)
                 .collect();
-            let datasets = self.vars.vars.iter().chain(self.vars.si.iter().map(|(d, _)| d));
+            let datasets = self
+                .vars
+                .vars
+                .iter()
+                .chain(self.vars.si.iter().map(|(d, _)| d));
             for (ds, chunk) in datasets.zip(chunks) {
                 crate::chunks::write_chunk(ds, &offset, chunk).map_err(bad)?;
             }

@@ -98,9 +98,7 @@ use crate::journal::{
 };
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
-pub use read::{
-    AtlasInfo, AtlasMerge, is_atlas_file, merging_atlas, read_atlas, read_atlas_info,
-};
+pub use read::{AtlasInfo, AtlasMerge, is_atlas_file, merging_atlas, read_atlas, read_atlas_info};
 pub use record::unit_json;
 pub use schema::map_name;
 pub use write::write_atlas;

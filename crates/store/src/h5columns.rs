@@ -173,25 +173,16 @@ pub(crate) fn write_column(
     }
 }
 
-/// Refuses a value of an enum column that is no member of its stored type, as the typed
-/// write of [`write_column`] refuses it (`<name>: unknown value <v>`).
-pub(crate) fn check_member(col: &Column, v: squeal_scan::cell::Num) -> hdf5::Result<()> {
-    let Some(e) = EnumColumn::of(col) else {
-        return Ok(());
-    };
-    let v = v.as_u64();
-    let b = v as u8;
-    let member = v <= u8::MAX as u64
-        && match e {
-            EnumColumn::Label => Label::from_u8(b).is_some(),
-            EnumColumn::Reason => ReasonH5::from_u8(b).is_some(),
-            EnumColumn::Audit => AuditH5::from_u8(b).is_some(),
-            EnumColumn::YesNo => YesNoH5::from_u8(b).is_some(),
-        };
-    match member {
-        true => Ok(()),
-        false => Err(hdf5::Error::from(format!("{}: unknown value {v}", col.name))),
-    }
+/// Whether a value is a member of an enum column's stored type, for the columns whose type
+/// is an enum (`None`: any value is stored as is), as the typed write of [`write_column`]
+/// tells them.
+pub(crate) fn membership(col: &Column) -> Option<fn(u8) -> bool> {
+    Some(match EnumColumn::of(col)? {
+        EnumColumn::Label => |b| Label::from_u8(b).is_some(),
+        EnumColumn::Reason => |b| ReasonH5::from_u8(b).is_some(),
+        EnumColumn::Audit => |b| AuditH5::from_u8(b).is_some(),
+        EnumColumn::YesNo => |b| YesNoH5::from_u8(b).is_some(),
+    })
 }
 
 /// The rows `rows` after the leading indices `prefix` (a sweep's map, an atlas point's

@@ -6,11 +6,11 @@ use std::path::Path;
 
 use crate::LandscapeInfo;
 use hdf5::{Dataset, File, Group};
+use squeal_scan::BASIN_FIELDS;
 use squeal_scan::cell::COLUMNS;
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::si::{Si, SweptSi};
 use squeal_scan::ulc::CycleReport;
-use squeal_scan::BASIN_FIELDS;
 use squeal_scan::{Grid, MapFigures, Plan};
 
 use crate::cycle::CycleRecord;
@@ -27,9 +27,9 @@ pub(crate) struct Meta<'a> {
     pub shard: Option<String>,
 }
 
-pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
-pub(crate) use crate::h5columns::write_si_column;
 use crate::h5columns::si_dataset;
+pub(crate) use crate::h5columns::write_si_column;
+pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
 
 /// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and

@@ -125,8 +125,8 @@
 //! `CLASS = "DIMENSION_SCALE"`, `NAME` and `REFERENCE_LIST`; each variable has
 //! `DIMENSION_LIST`.
 
-pub mod atlas;
 mod assembly;
+pub mod atlas;
 mod chunks;
 mod cycle;
 mod digest;
@@ -145,8 +145,8 @@ mod trajectory;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use squeal_scan::scanner::{BlockResult, Cell};
 use squeal_scan::Plan;
+use squeal_scan::scanner::{BlockResult, Cell};
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
 pub use assembly::{Assembly, StoredBlock};
@@ -168,8 +168,8 @@ pub use trajectory::{
     write_trajectory,
 };
 
-use error::io;
 use assembly::{Publish, Source};
+use error::io;
 use h5write::Meta;
 use journal::{CycleRecord, Header, Journal, Rec};
 use squeal_scan::ulc::CycleOutcome;

@@ -24,8 +24,9 @@ impl ShardSource {
     /// The shard that holds block `block` of `map`, if one does.
     fn holder(&self, map: usize, block: usize) -> Option<&ShardFile> {
         let nb = self.plan.grid.blocks();
-        (self.files.iter())
-            .find(|(_, _, s, done)| shard_owns(Some(*s), &self.plan, map, block) && done[map * nb + block] == 1)
+        (self.files.iter()).find(|(_, _, s, done)| {
+            shard_owns(Some(*s), &self.plan, map, block) && done[map * nb + block] == 1
+        })
     }
 }
 

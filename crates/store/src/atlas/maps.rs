@@ -35,7 +35,11 @@ pub(super) fn write_maps(
     let block = o.index("block", g.blocks(), "block of grid rows")?;
     map_attrs(o.file, &mp)?;
     if maps.len() != plan.n_points() {
-        let why = format!("map figures for {} points of {}", maps.len(), plan.n_points());
+        let why = format!(
+            "map figures for {} points of {}",
+            maps.len(),
+            plan.n_points()
+        );
         return Err(hdf5::Error::from(why));
     }
     let done = write_cells(o, over, (plan, &mp), res, [&v0, &x0])?;

@@ -9,9 +9,7 @@ use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, BoundarySi, COLUMNS, Column, Kind, Si, status_meanings,
 };
 use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
-use squeal_scan::atlas::{
-    AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, PointMap, Units,
-};
+use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, PointMap, Units};
 
 use super::schema::{
     BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
