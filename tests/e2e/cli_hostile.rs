@@ -433,7 +433,7 @@ fn info_writes_the_grid_in_exponent_form() {
 /// printed "stopping after the blocks in flight" (there were none) and the drawing went on
 /// to the end (exit 0). Now it ends the run at once (code 130), saying the data file is
 /// complete and how to draw the pictures, and leaves no cut picture. The signal is sent the
-/// moment the finished file appears and the journal is gone (`ScanWriter::finish_with`
+/// moment the finished file appears and the journal is gone (`squeal_scan::finish::finish`
 /// publishes the file, then removes the journal; the drawing follows, about 0.2 s for these
 /// 12 maps in the debug build).
 #[test]

@@ -5,20 +5,24 @@
 //! prints reports. [`run_from`] runs it: the `squeal` binary (the root package's
 //! `src/main.rs`) with the process's arguments, the Python package's `squeal` command with
 //! its own. The library API the Python package shares with the command line:
-//! [`provenance`], what both record in the files they write, and [`run_atlas`], which
-//! computes what an atlas file is missing; [`words`], each door's words for what the
-//! library's refusals advise.
+//! [`provenance`], what both record in the files they write, [`run_atlas`], which
+//! computes what an atlas file is missing, [`finish_scan`] and [`finish_atlas`], which end
+//! a run (what the engine computes from the stored results, handed to the writer); and
+//! [`words`], each door's words for what the library's refusals advise.
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod atlas_json;
 mod atlas_run;
 mod cmd;
+mod finishing;
 pub mod words;
 
 pub use atlas_run::{AtlasRunError, run_atlas};
 pub use cmd::common::provenance;
+pub use finishing::{FinishError, finish_atlas, finish_scan, merge_atlas, merge_scan};
 
 /// Basins of attraction of McMillan's friction oscillator: steady slip or stick-slip squeal.
 #[derive(Parser, Debug)]

@@ -204,11 +204,11 @@ pub fn scan(
                 DriveError::Sink(e) => store_error(e),
             })?;
     }
-    let landscapes = py
-        .detach(|| squeal_scan::landscape::of_plan(&plan))
-        .map_err(value_error)?;
-    py.detach(|| writer.finish_with(&landscapes))
-        .map_err(store_error)?;
+    py.detach(|| squeal_cli::finish_scan(writer))
+        .map_err(|e| match e {
+            squeal_cli::FinishError::Scan(e) => value_error(e),
+            squeal_cli::FinishError::Store(e) => store_error(e),
+        })?;
     Ok(Some(report.cells))
 }
 
@@ -259,7 +259,8 @@ pub fn atlas(
             out.display()
         )));
     }
-    py.detach(|| writer.finish()).map_err(store_error)?;
+    py.detach(|| squeal_cli::finish_atlas(writer))
+        .map_err(store_error)?;
     Ok(Some(todo))
 }
 

@@ -49,7 +49,7 @@ pub mod true_stick;
 pub use boundary::{Boundary, BoundaryParam, BoundaryStatus};
 pub use driver::{BoundaryResult, LineResult, Unit, UnitResult};
 pub use geometry::Region;
-pub use maps::{MapFraction, map_fraction};
+pub use maps::{MapFraction, PointMap, finish, map_fraction, point_maps};
 pub use note::{Note, NoteKind};
 pub use point::{AtlasRegime, PointResult, PointSettings};
 pub use results::AtlasResults;

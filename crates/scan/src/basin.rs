@@ -111,13 +111,13 @@ impl GridShares {
     /// From a map's labels, row-major `(v0, x0)` with `nx` columns.
     pub fn of(labels: &[u8], nx: usize) -> GridShares {
         let nx = nx.max(1);
+        // Every `s`-th row, and in it every `s`-th column.
         let level = |s: usize| {
             Shares::of(
                 labels
-                    .iter()
-                    .enumerate()
-                    .filter(|(k, _)| (k / nx) % s == 0 && (k % nx) % s == 0)
-                    .map(|(_, l)| l),
+                    .chunks(nx)
+                    .step_by(s)
+                    .flat_map(|row| row.iter().step_by(s)),
             )
         };
         GridShares {

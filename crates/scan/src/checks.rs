@@ -278,6 +278,31 @@ impl MapChecks {
         }
     }
 
+    /// Adds the counts of `other`, the checks of other cells of the same map (started
+    /// alike: the same cycle, landscape and withdrawn rules). The cell nearest the state at
+    /// rest lies in one block, so at most one of the two holds its origin check.
+    pub fn add(&mut self, other: &MapChecks) {
+        if let (Some(w), Some(o)) = (self.wrong_side.as_mut(), other.wrong_side) {
+            w.cells += o.cells;
+            w.beyond_pixel += o.beyond_pixel;
+        }
+        let (a, b) = (&mut self.audit, other.audit);
+        a.audited += b.audited;
+        a.agrees += b.agrees;
+        a.disagrees += b.disagrees;
+        a.undecided += b.undecided;
+        self.origin = self.origin.or(other.origin);
+        if let (Some(l), Some(o)) = (self.landscape.as_mut(), other.landscape) {
+            l.contradictions += o.contradictions;
+        }
+        self.settled.steady_slip += other.settled.steady_slip;
+        self.settled.stick_slip += other.settled.stick_slip;
+        for (n, k) in self.reasons.iter_mut().zip(other.reasons) {
+            *n += k;
+        }
+        self.transient += other.transient;
+    }
+
     /// Whether any check found a disagreement.
     pub fn any_disagreement(&self) -> bool {
         self.wrong_side.is_some_and(|w| w.cells > 0)
@@ -287,13 +312,22 @@ impl MapChecks {
     }
 }
 /// What a map's cells add up to, gathered block by block as the blocks arrive (one block in
-/// memory at a time, in any order): its [`MapChecks`] and its basin stability
-/// ([`GridShares`]). The scan's and the atlas's writers feed it the stored blocks; which
-/// figures of the cycle the checks rest on and how the shares are taken is decided here.
+/// memory at a time per caller, in any order, from any thread): its [`MapChecks`] and its
+/// basin stability ([`GridShares`]). A scan's finish ([`crate::finish`]) and an atlas's
+/// ([`crate::atlas::map_figures`]) feed it the stored blocks; which figures of the cycle the
+/// checks rest on and how the shares are taken is decided here.
 pub struct MapTally<'a> {
-    checks: MapChecks,
+    /// The checks before any cell: what the cycle, the landscape and the withdrawn rules
+    /// make of the map.
+    start: MapChecks,
     curve: Option<&'a ClosedCurve>,
-    /// Every cell's label, row-major `(v0, x0)`; not computed until its block arrives.
+    gathered: std::sync::Mutex<Gathered>,
+}
+
+/// The blocks added so far: the sum of their checks, and every cell's label, row-major
+/// `(v0, x0)` (not computed until its block arrives).
+struct Gathered {
+    checks: MapChecks,
     labels: Vec<u8>,
 }
 
@@ -307,10 +341,14 @@ impl<'a> MapTally<'a> {
     ) -> MapTally<'a> {
         let curve = cycle.map(|r| &r.curve);
         let escapes = cycle.is_some_and(|r| r.escape.is_some());
+        let start = MapChecks::new(curve, landscape, escapes);
         MapTally {
-            checks: MapChecks::new(curve, landscape, escapes),
+            start,
             curve,
-            labels: vec![NOT_COMPUTED; plan.grid.cells()],
+            gathered: std::sync::Mutex::new(Gathered {
+                checks: start,
+                labels: vec![NOT_COMPUTED; plan.grid.cells()],
+            }),
         }
     }
 
@@ -320,15 +358,22 @@ impl<'a> MapTally<'a> {
     /// check no longer counts them.
     pub fn withdrawn(&mut self, groups: &[crate::census::Rules]) {
         use crate::census::Rules;
-        self.checks.escapes |= groups.contains(&Rules::Outside);
-        self.checks.inside_open |= groups.contains(&Rules::Inside);
+        self.start.escapes |= groups.contains(&Rules::Outside);
+        self.start.inside_open |= groups.contains(&Rules::Inside);
+        let g = self.gathered.get_mut().unwrap_or_else(|e| e.into_inner());
+        g.checks.escapes = self.start.escapes;
+        g.checks.inside_open = self.start.inside_open;
     }
 
-    /// Adds the cells of block `block` (row-major over its rows and all `x0`).
-    pub fn add_block(&mut self, plan: &Plan, block: usize, cells: &[Cell]) {
-        self.checks.add_block(plan, self.curve, block, cells);
+    /// Adds the cells of block `block` (row-major over its rows and all `x0`): checked on
+    /// the calling thread, then summed in (the sums do not depend on the order).
+    pub fn add_block(&self, plan: &Plan, block: usize, cells: &[Cell]) {
+        let mut checks = self.start;
+        checks.add_block(plan, self.curve, block, cells);
         let start = plan.grid.block_rows(block).start * plan.grid.x0.count;
-        for (l, c) in self.labels[start..].iter_mut().zip(cells) {
+        let mut g = self.gathered.lock().unwrap_or_else(|e| e.into_inner());
+        g.checks.add(&checks);
+        for (l, c) in g.labels[start..].iter_mut().zip(cells) {
             *l = c.regime;
         }
     }
@@ -336,11 +381,15 @@ impl<'a> MapTally<'a> {
     /// The checks and the basin stability of the map (a random sample's shares without
     /// sub-grids).
     pub fn finish(self, plan: &Plan) -> (MapChecks, GridShares) {
+        let g = self
+            .gathered
+            .into_inner()
+            .unwrap_or_else(|e| e.into_inner());
         let shares = match plan.grid.starts {
-            crate::grid::Starts::Sample(_) => GridShares::random(&self.labels),
-            crate::grid::Starts::Grid => GridShares::of(&self.labels, plan.grid.x0.count),
+            crate::grid::Starts::Sample(_) => GridShares::random(&g.labels),
+            crate::grid::Starts::Grid => GridShares::of(&g.labels, plan.grid.x0.count),
         };
-        (self.checks, shares)
+        (g.checks, shares)
     }
 }
 
@@ -472,7 +521,7 @@ path = "t.h5"
             c.regime = regime as u8;
             vec![c; 3]
         };
-        let mut t = MapTally::new(&plan, None, None);
+        let t = MapTally::new(&plan, None, None);
         t.add_block(&plan, 2, &row(Regime::StickSlip));
         t.add_block(&plan, 1, &row(Regime::SteadySlip));
         t.add_block(&plan, 0, &row(Regime::StickSlip));

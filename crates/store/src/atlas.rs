@@ -89,7 +89,7 @@ mod write;
 
 use std::path::{Path, PathBuf};
 
-use squeal_scan::atlas::{AtlasPlan, Unit, UnitResult};
+use squeal_scan::atlas::{AtlasPlan, PointMap, Unit, UnitResult};
 use squeal_scan::ulc::CycleOutcome;
 
 use crate::error::io;
@@ -98,7 +98,7 @@ use crate::journal::{
 };
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
-pub use read::{AtlasInfo, is_atlas_file, merge_atlas, read_atlas, read_atlas_info};
+pub use read::{AtlasInfo, AtlasMerge, is_atlas_file, merging_atlas, read_atlas, read_atlas_info};
 pub use record::unit_json;
 pub use schema::map_name;
 pub use write::write_atlas;
@@ -291,8 +291,10 @@ impl AtlasWriter {
     }
 
     /// Writes the HDF5 file (via `<out>.tmp`, renamed) and removes the journal. Every owned
-    /// unit must be stored.
-    pub fn finish(self) -> Result<AtlasResults, StoreError> {
+    /// unit must be stored, and [`AtlasWriter::results`] made ready by the engine
+    /// ([`squeal_scan::atlas::finish`]: the folds reconciled), which also computed `maps`,
+    /// each point's map figures.
+    pub fn finish(self, maps: &[PointMap]) -> Result<AtlasResults, StoreError> {
         let missing = self.missing();
         if !missing.is_empty() {
             return Err(StoreError::Incomplete {
@@ -309,13 +311,11 @@ impl AtlasWriter {
                 total: self.plan.map_plan().map_or(0, |p| p.total_blocks()),
             });
         }
-        // The labels that contradict a fold, once every unit is in (computed in scan).
-        let mut results = self.results;
-        results.reconcile_folds(&self.plan);
-        write_atlas(&self.out, &self.plan, &results, &self.prov, self.shard)?;
+        let res = (&self.results, maps);
+        write_atlas(&self.out, &self.plan, res, &self.prov, self.shard)?;
         let path = self.journal.path.clone();
         std::fs::remove_file(&path).map_err(io(&path, "cannot remove"))?;
-        Ok(results)
+        Ok(self.results)
     }
 }
 

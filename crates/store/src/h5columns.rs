@@ -173,6 +173,18 @@ pub(crate) fn write_column(
     }
 }
 
+/// Whether a value is a member of an enum column's stored type, for the columns whose type
+/// is an enum (`None`: any value is stored as is), as the typed write of [`write_column`]
+/// tells them.
+pub(crate) fn membership(col: &Column) -> Option<fn(u8) -> bool> {
+    Some(match EnumColumn::of(col)? {
+        EnumColumn::Label => |b| Label::from_u8(b).is_some(),
+        EnumColumn::Reason => |b| ReasonH5::from_u8(b).is_some(),
+        EnumColumn::Audit => |b| AuditH5::from_u8(b).is_some(),
+        EnumColumn::YesNo => |b| YesNoH5::from_u8(b).is_some(),
+    })
+}
+
 /// The rows `rows` after the leading indices `prefix` (a sweep's map, an atlas point's
 /// parameter indices; none for a single map): a hyperslab over `(.., v0, x0)`, or over
 /// `(.., sample)` for a `list` (random samples).

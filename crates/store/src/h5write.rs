@@ -1,36 +1,24 @@
-//! Writes the HDF5 file of a scan from a source of blocks and cycles (the journal, or shard
-//! files): root attributes, coordinates, the cell columns block by block, the per-map
-//! checks, landscape and basin stability, and the cycles.
+//! The parts of a scan's HDF5 file ([`crate::assembly`] puts them together): root
+//! attributes, coordinates, the cell columns' datasets, the per-map checks, landscape and
+//! basin stability, and the cycles.
 
 use std::path::Path;
 
 use crate::LandscapeInfo;
 use hdf5::{Dataset, File, Group};
-use squeal_scan::cell::{COLUMNS, Cell};
+use squeal_scan::BASIN_FIELDS;
+use squeal_scan::cell::COLUMNS;
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::si::{Si, SweptSi};
 use squeal_scan::ulc::CycleReport;
-use squeal_scan::{BASIN_FIELDS, GridShares};
-use squeal_scan::{Grid, MapChecks, MapTally, Plan, Starts};
+use squeal_scan::{Grid, MapFigures, Plan, Starts};
 
 use crate::cycle::CycleRecord;
 use crate::cycle::Flat;
 use crate::error::H5Ctx;
-use crate::h5out::{Dims, Out, Over, class_type, num_attr, str_attr};
+use crate::h5out::{Out, Over, num_attr, str_attr};
 use crate::h5types::LandscapeH5;
 use crate::{SCHEMA, StoreError};
-
-/// Where the writer gets its blocks and cycles from.
-pub(crate) trait Source {
-    /// The cells of a block, if stored.
-    fn block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError>;
-    /// The recorded cycle of a map, if any.
-    fn cycle(&mut self, map: usize) -> Result<Option<CycleRecord>, StoreError>;
-    /// The rule groups withdrawn from a map (issue 31), each with why.
-    fn withdrawn(&mut self, _map: usize) -> Vec<squeal_scan::scanner::Withdrawn> {
-        Vec::new()
-    }
-}
 
 /// What goes in the root attributes besides the plan.
 pub(crate) struct Meta<'a> {
@@ -39,8 +27,9 @@ pub(crate) struct Meta<'a> {
     pub shard: Option<String>,
 }
 
+use crate::h5columns::si_dataset;
+pub(crate) use crate::h5columns::write_si_column;
 pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
-use crate::h5columns::{si_dataset, write_si_column};
 
 /// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
 /// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
@@ -82,7 +71,7 @@ pub(crate) fn physical_attrs(
 }
 
 /// The root attributes: provenance, the spec and every setting of the plan.
-fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
+pub(crate) fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
     let g = &plan.grid;
     let p0 = plan.maps[0];
     str_attr(file, "schema", SCHEMA)?;
@@ -173,88 +162,20 @@ pub(crate) fn preflight(path: &Path, plan: &Plan, meta: &Meta) -> Result<(), Sto
     res
 }
 
-/// Writes the whole file at `path` (which must not exist). Memory: one block at a time.
-pub(crate) fn assemble(
-    path: &Path,
-    plan: &Plan,
-    meta: &Meta,
-    src: &mut dyn Source,
-    landscapes: &[Option<LandscapeInfo>],
-) -> Result<Vec<MapChecks>, StoreError> {
-    let file = File::create_excl(path).h5(path)?;
-    let out = write_all(&file, plan, meta, src, path, landscapes);
-    let closed = file.close().h5(path);
-    let out = out?;
-    closed?;
-    Ok(out)
-}
-
 /// The dimension scales of a scan file.
-struct Scales {
+pub(crate) struct Scales {
     /// The grid's columns, or a random sample's index.
-    x0: Dataset,
+    pub x0: Dataset,
     /// The grid's rows, or a random sample's index.
-    v0: Dataset,
+    pub v0: Dataset,
     /// The swept parameter, or the map index.
-    map: Dataset,
-    block: Dataset,
-}
-
-/// What the pass over the blocks gathered, by map.
-struct Maps {
-    /// 1 where a block is stored, map-major.
-    done: Vec<u8>,
-    checks: Vec<MapChecks>,
-    basins: Vec<GridShares>,
-    cycles: Vec<Option<CycleRecord>>,
-}
-
-fn write_all(
-    file: &File,
-    plan: &Plan,
-    meta: &Meta,
-    src: &mut dyn Source,
-    path: &Path,
-    landscapes: &[Option<LandscapeInfo>],
-) -> Result<Vec<MapChecks>, StoreError> {
-    let mut o = Out {
-        file,
-        dims: Dims::new(class_type(path)?),
-        aux: Vec::new(),
-    };
-    root_attrs(file, plan, meta).h5(path)?;
-    let si = plan.physical.and_then(|ph| ph.friction.table());
-    crate::h5out::friction_table(file, &mut o.dims, plan.maps[0].law.table(), si).h5(path)?;
-    let sc = scales(&mut o, plan).h5(path)?;
-    let vars = cell_vars(&mut o, plan, &sc).h5(path)?;
-    // The landscape of each map (laws with true stick), computed before the writer: one
-    // per map, or none at all for laws without it.
-    let landscape = |m: usize| landscapes.get(m).and_then(Option::as_ref);
-    let maps = write_cells(plan, src, path, &vars, &landscape)?;
-    // The rules withdrawn from each map, with why: one line per group, `map M: ...`
-    // (empty where every rule's premise held and no audit refuted one).
-    let withdrawn: Vec<String> = (0..plan.maps.len())
-        .flat_map(|m| {
-            src.withdrawn(m)
-                .into_iter()
-                .map(move |w| format!("map {m}: {}", w.why))
-        })
-        .collect();
-    str_attr(file, "rules_withdrawn", &withdrawn.join("\n")).h5(path)?;
-    let over = Over {
-        shape: vec![plan.maps.len()],
-        scales: vec![sc.map.clone()],
-    };
-    per_map(&mut o, plan, (&over, &sc.block), &maps, &landscape).h5(path)?;
-    let si = (plan.sweep.is_some(), vars.scales.as_ref());
-    write_cycles(&mut o, &over, &maps.cycles, si).h5(path)?;
-    o.dims.finish().h5(path)?;
-    Ok(maps.checks)
+    pub map: Dataset,
+    pub block: Dataset,
 }
 
 /// Coordinates: a grid's axes x0 (columns) and v0 (rows), or a random sample's index with
 /// the points' x0 and v0 as variables over it; the sweep or map index; the blocks.
-fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
+pub(crate) fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
     let g = &plan.grid;
     let (x0, v0) = match g.starts {
         Starts::Sample(_) => sample_scales(o, g)?,
@@ -410,7 +331,7 @@ fn sample_scales(o: &mut Out, g: &Grid) -> hdf5::Result<(Dataset, Dataset)> {
 /// The datasets of the cell columns, empty (filled block by block), over (map, v0, x0):
 /// without the map for one map, without x0 for a random sample (a list over `sample`).
 /// A physical scan also has each column's SI twin ([`si_dataset`]), after the columns.
-fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
+pub(crate) fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
     let g = &plan.grid;
     let (nx, nv) = (g.x0.count, g.v0.count);
     let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
@@ -447,92 +368,39 @@ fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
         o.declare_coordinates(v, &over)?;
     }
     let scales = plan.physical.as_ref().map(|ph| ph.scales());
-    Ok(CellVars { vars, si, scales })
+    Ok(CellVars {
+        vars,
+        si,
+        scales,
+        chunk_rows: rows_per_chunk,
+    })
 }
 
 /// The datasets of the cell columns ([`cell_vars`]) and, in a physical scan, their SI twins
 /// with the scales that convert them.
-struct CellVars {
-    vars: Vec<Dataset>,
-    si: Vec<(Dataset, &'static squeal_scan::Column)>,
-    scales: Option<squeal_core::Scales>,
-}
-
-/// Writes every stored block of every map into `vars`, one block in memory at a time, and
-/// hands each to the map's [`MapTally`] (its checks and basin stability).
-fn write_cells<'l>(
-    plan: &Plan,
-    src: &mut dyn Source,
-    path: &Path,
-    cv: &CellVars,
-    landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
-) -> Result<Maps, StoreError> {
-    let g = &plan.grid;
-    let (nx, nmaps, nblocks) = (g.x0.count, plan.maps.len(), g.blocks());
-    let bad = |why: String| StoreError::BadBlock {
-        path: path.to_path_buf(),
-        why,
-    };
-    let mut maps = Maps {
-        done: vec![0u8; nmaps * nblocks],
-        checks: Vec::with_capacity(nmaps),
-        basins: Vec::with_capacity(nmaps),
-        cycles: Vec::with_capacity(nmaps),
-    };
-    for m in 0..nmaps {
-        let cyc = src.cycle(m)?;
-        let mut tally = MapTally::new(plan, report_of(&cyc), landscape(m).map(|l| l.landscape));
-        let groups: Vec<_> = src.withdrawn(m).iter().map(|w| w.rules).collect();
-        tally.withdrawn(&groups);
-        for b in 0..nblocks {
-            let Some(cells) = src.block(m, b)? else {
-                continue;
-            };
-            let rows = g.block_rows(b);
-            if cells.len() != rows.len() * nx {
-                let want = rows.len() * nx;
-                let n = cells.len();
-                return Err(bad(format!(
-                    "map {m} block {b} holds {n} cells, expected {want}"
-                )));
-            }
-            maps.done[m * nblocks + b] = 1;
-            tally.add_block(plan, b, &cells);
-            let prefix: &[usize] = if plan.sweep.is_some() { &[m] } else { &[] };
-            for (ds, col) in cv.vars.iter().zip(COLUMNS) {
-                write_column(ds, col, &cells, prefix, rows.clone(), nx)
-                    .map_err(|e| bad(format!("map {m} block {b}: {e}")))?;
-            }
-            if let Some(s) = &cv.scales {
-                for (ds, col) in &cv.si {
-                    write_si_column(ds, col, (&cells, s), prefix, rows.clone(), nx)
-                        .map_err(|e| bad(format!("map {m} block {b}: {e}")))?;
-                }
-            }
-        }
-        let (checks, shares) = tally.finish(plan);
-        maps.checks.push(checks);
-        maps.basins.push(shares);
-        maps.cycles.push(cyc);
-    }
-    Ok(maps)
+pub(crate) struct CellVars {
+    pub vars: Vec<Dataset>,
+    pub si: Vec<(Dataset, &'static squeal_scan::Column)>,
+    pub scales: Option<squeal_core::Scales>,
+    /// Rows of the grid per chunk.
+    pub chunk_rows: usize,
 }
 
 /// The per-map datasets over `over` (the map dimension): the blocks stored (with `block`),
 /// the checks, the landscape and its evidence (laws with true stick), basin stability.
-fn per_map<'l>(
+pub(crate) fn per_map<'l>(
     o: &mut Out,
     plan: &Plan,
     (over, block): (&Over, &Dataset),
-    maps: &Maps,
+    (done, figures): (Vec<u8>, &[MapFigures]),
     landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
 ) -> hdf5::Result<()> {
     let nmaps = plan.maps.len();
     let blocks = over.and(plan.grid.blocks(), block);
-    let done = ("blocks_done", "1 where the block of rows is stored");
-    o.put(&blocks, done, None, maps.done.clone())?;
+    let named = ("blocks_done", "1 where the block of rows is stored");
+    o.put(&blocks, named, None, done)?;
     for (i, named) in CHECK_FIELDS.iter().enumerate() {
-        let vals: Vec<i64> = maps.checks.iter().map(|c| c.values()[i]).collect();
+        let vals: Vec<i64> = figures.iter().map(|f| f.checks.values()[i]).collect();
         o.put(over, *named, Some("1"), vals)?;
     }
     if plan.maps[0].law.family().has_landscape() {
@@ -555,7 +423,7 @@ fn per_map<'l>(
     }
     // Basin stability (squeal_scan::basin).
     for (i, named) in BASIN_FIELDS.iter().enumerate() {
-        let vals: Vec<f64> = maps.basins.iter().map(|b| b.values()[i]).collect();
+        let vals: Vec<f64> = figures.iter().map(|f| f.shares.values()[i]).collect();
         o.put(over, *named, Some("1"), vals)?;
     }
     Ok(())
@@ -601,7 +469,7 @@ const SERIES: [Series; 5] = [
 /// The cycles: group `/cycle` (one map) or `/cycles/map_NNNN` (a sweep, with the figures
 /// of [`SERIES`] over the maps, and their SI twins by `scales` in a physical scan), for the
 /// maps whose search was recorded.
-fn write_cycles(
+pub(crate) fn write_cycles(
     o: &mut Out,
     over: &Over,
     cycles: &[Option<CycleRecord>],

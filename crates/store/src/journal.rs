@@ -571,6 +571,33 @@ impl Journal {
             .map_err(io(&self.path, "cannot read the journal"))?;
         Ok(buf)
     }
+
+    /// The payload of record `r`, read at its offset without moving the journal's position
+    /// (from any thread, while others read).
+    pub fn read_at(&self, r: &Rec) -> Result<Vec<u8>, StoreError> {
+        let mut buf = vec![0u8; r.len as usize];
+        read_exact_at(&self.file, &mut buf, r.offset)
+            .map_err(io(&self.path, "cannot read the journal"))?;
+        Ok(buf)
+    }
+}
+
+#[cfg(unix)]
+fn read_exact_at(f: &File, buf: &mut [u8], offset: u64) -> std::io::Result<()> {
+    std::os::unix::fs::FileExt::read_exact_at(f, buf, offset)
+}
+
+#[cfg(windows)]
+fn read_exact_at(f: &File, buf: &mut [u8], offset: u64) -> std::io::Result<()> {
+    use std::os::windows::fs::FileExt;
+    let mut done = 0;
+    while done < buf.len() {
+        match f.seek_read(&mut buf[done..], offset + done as u64)? {
+            0 => return Err(std::io::ErrorKind::UnexpectedEof.into()),
+            n => done += n,
+        }
+    }
+    Ok(())
 }
 
 /// Record `kind` of `payload` as the journal stores it: magic, kind, length, payload and

@@ -4,14 +4,17 @@
 //!   searches from [`squeal_scan::drive`], appends each to a journal `<out>.journal`
 //!   (written at once and synced in groups, so an interrupted scan resumes with
 //!   [`ScanWriter::resume`] losing at most the blocks in flight, or after a crash of the
-//!   machine the blocks since the last sync: `journal`'s overview), and at [`ScanWriter::finish`] writes the HDF5 file `<out>.tmp`,
-//!   renames it to `<out>` and removes the journal. While it lives it holds the
+//!   machine the blocks since the last sync: `journal`'s overview). [`ScanWriter::finishing`]
+//!   then starts the HDF5 file `<out>.tmp` (an [`Assembly`]), which
+//!   [`squeal_scan::finish::finish`] completes: the blocks read back once and written, the
+//!   maps' checks and basin stability computed by the engine and handed to the file, which
+//!   is renamed to `<out>`, and the journal removed. While it lives it holds the
 //!   [`OutputLock`] `<out>.lock`, so two runs never write one output.
 //! * [`output_state`] says whether an output is absent, interrupted, complete for this plan
 //!   or made from another spec (compared as parsed plans, not text), for a scan's plan and
 //!   an atlas's alike ([`Recorded`]); [`file_kind`] tells the kinds of file apart.
-//! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merge`] joins the shard
-//!   files into the file a single run writes.
+//! * [`Shard`] `K/N` splits a scan over machines ([`shard_owns`]); [`merging`] joins the shard
+//!   files into the file a single run writes (an [`Assembly`], as a scan's).
 //! * [`atlas`]: atlas files (schema `squeal-atlas/1`): [`atlas::AtlasWriter`] journals
 //!   finished units and, as a [`squeal_scan::Sink`], the blocks of the optional basin maps,
 //!   holds the [`OutputLock`], and writes the file (what it is missing is computed above
@@ -47,7 +50,7 @@
 //! let mut w = ScanWriter::create(&out, &plan, None, &prov, false).unwrap();
 //! let stop = AtomicBool::new(false);
 //! squeal_scan::drive(&plan, None, &mut w, &squeal_scan::NoObserver, &stop).unwrap();
-//! w.finish().unwrap();
+//! squeal_scan::finish::finish(w.finishing(&[]).unwrap()).unwrap();
 //! assert_eq!(read_info(&out).unwrap().counts[0].iter().sum::<u64>(), 2);
 //! ```
 //!
@@ -123,8 +126,9 @@
 //! `CLASS = "DIMENSION_SCALE"`, `NAME` and `REFERENCE_LIST`; each variable has
 //! `DIMENSION_LIST`.
 
+mod assembly;
 pub mod atlas;
-mod atlas_json;
+mod chunks;
 mod cycle;
 mod digest;
 mod error;
@@ -142,16 +146,16 @@ mod trajectory;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use squeal_scan::Plan;
 use squeal_scan::scanner::{BlockResult, Cell};
-use squeal_scan::{MapChecks, Plan};
 pub use squeal_scan::{Shard, WrongSide, shard_owns};
 
+pub use assembly::{Assembly, StoredBlock};
 pub use atlas::{AtlasInfo, read_atlas_info};
-pub use atlas_json::atlas_json;
 pub use digest::content_digest;
 pub use error::{Advice, Plain, Remedy, StoreError, Words};
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
-pub use merge::merge;
+pub use merge::merging;
 pub use output::{
     FileKind, OutputState, Recorded, check_output, file_kind, output_state, refuse_existing,
     refuse_input_as_output,
@@ -165,8 +169,9 @@ pub use trajectory::{
     write_trajectory,
 };
 
+use assembly::{Publish, Source};
 use error::io;
-use h5write::{Meta, Source};
+use h5write::Meta;
 use journal::{CycleRecord, Header, Journal, Rec};
 use squeal_scan::ulc::CycleOutcome;
 
@@ -211,7 +216,7 @@ fn remove_if_exists(path: &Path) -> Result<(), StoreError> {
 /// The journal's block records by `(map, block)`.
 type Blocks = BTreeMap<(usize, usize), Rec>;
 
-/// Writes a scan: blocks and cycles go to the journal, [`ScanWriter::finish`] writes the file.
+/// Writes a scan: blocks and cycles go to the journal, [`ScanWriter::finishing`] starts the file.
 pub struct ScanWriter {
     out: PathBuf,
     plan: Plan,
@@ -399,19 +404,16 @@ impl ScanWriter {
         &self.plan
     }
 
-    /// [`ScanWriter::finish_with`] for a plan whose law states no landscape (McMillan's
-    /// laws); a law with true stick is refused here, its landscape must be given.
-    pub fn finish(self) -> Result<Vec<MapChecks>, StoreError> {
-        self.finish_with(&[])
-    }
-
-    /// Writes the HDF5 file once every owned block is stored, with the landscape of each map
+    /// Starts the HDF5 file once every owned block is stored, with the landscape of each map
     /// (laws with true stick: [`squeal_scan::landscape::of_plan`], computed by the caller:
-    /// the writer runs no model); returns each map's consistency checks.
-    pub fn finish_with(
-        mut self,
+    /// the writer runs no model; none for McMillan's laws): finish it with
+    /// [`squeal_scan::finish::finish`], which reads the blocks back once, writes them,
+    /// tallies each map's checks and basin stability and hands them to the file, which then
+    /// takes the output's place (the journal removed).
+    pub fn finishing(
+        self,
         landscapes: &[Option<squeal_core::LandscapeEvidence>],
-    ) -> Result<Vec<MapChecks>, StoreError> {
+    ) -> Result<Assembly, StoreError> {
         let stated = self
             .plan
             .maps
@@ -447,25 +449,29 @@ impl ScanWriter {
             git_revision: &self.prov.git_revision,
             shard: self.shard.map(|s| s.to_string()),
         };
-        let plan = self.plan.clone();
-        let mut src = JournalSource {
-            journal: &mut self.journal,
-            blocks: &self.blocks,
-            cycles: &self.cycles,
-            withdrawn: &self.withdrawn,
+        let ScanWriter {
+            out,
+            plan,
+            journal,
+            blocks,
+            cycles,
+            withdrawn,
+            _lock,
+            ..
+        } = self;
+        let publish = Publish {
+            out,
+            replace: false,
+            journal: Some(journal.path.clone()),
+            _lock,
         };
-        let wrong = match h5write::assemble(&tmp, &plan, &meta, &mut src, &landscapes) {
-            Ok(w) => w,
-            Err(e) => {
-                let _ = std::fs::remove_file(&tmp);
-                return Err(e);
-            }
+        let src = JournalSource {
+            journal,
+            blocks,
+            cycles,
+            withdrawn,
         };
-        publish(&tmp, &self.out)?;
-        let jpath = self.journal.path.clone();
-        drop(self);
-        remove_if_exists(&jpath)?;
-        Ok(wrong)
+        Assembly::begin(tmp, (plan, &meta), Box::new(src), landscapes, publish)
     }
 }
 
@@ -705,41 +711,48 @@ fn add_withdrawn(
     }
 }
 
-struct JournalSource<'a> {
-    journal: &'a mut Journal,
-    blocks: &'a Blocks,
-    cycles: &'a BTreeMap<usize, Rec>,
-    withdrawn: &'a Withdrawals,
+/// A scan's journal as the source of its file: the records by block and by map.
+struct JournalSource {
+    journal: Journal,
+    blocks: Blocks,
+    cycles: BTreeMap<usize, Rec>,
+    withdrawn: Withdrawals,
 }
 
-impl Source for JournalSource<'_> {
-    fn block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError> {
+impl JournalSource {
+    fn changed(&self, what: &str) -> StoreError {
+        StoreError::NotSquealFile {
+            path: self.journal.path.clone(),
+            why: format!("a {what} record changed on disk"),
+            advice: None,
+        }
+    }
+}
+
+impl Source for JournalSource {
+    fn stored(&self, map: usize, block: usize) -> bool {
+        self.blocks.contains_key(&(map, block))
+    }
+
+    fn block(&self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError> {
         let Some(r) = self.blocks.get(&(map, block)) else {
             return Ok(None);
         };
-        let p = self.journal.read(r)?;
-        let (_, _, cells) = journal::decode_block(&p).ok_or_else(|| StoreError::NotSquealFile {
-            path: self.journal.path.clone(),
-            why: "a block record changed on disk".into(),
-            advice: None,
-        })?;
+        let p = self.journal.read_at(r)?;
+        let (_, _, cells) = journal::decode_block(&p).ok_or_else(|| self.changed("block"))?;
         Ok(Some(cells))
     }
 
-    fn cycle(&mut self, map: usize) -> Result<Option<CycleRecord>, StoreError> {
+    fn cycle(&self, map: usize) -> Result<Option<CycleRecord>, StoreError> {
         let Some(r) = self.cycles.get(&map) else {
             return Ok(None);
         };
-        let p = self.journal.read(r)?;
-        let (_, rec) = journal::decode_cycle(&p).ok_or_else(|| StoreError::NotSquealFile {
-            path: self.journal.path.clone(),
-            why: "a cycle record changed on disk".into(),
-            advice: None,
-        })?;
+        let p = self.journal.read_at(r)?;
+        let (_, rec) = journal::decode_cycle(&p).ok_or_else(|| self.changed("cycle"))?;
         Ok(Some(rec))
     }
 
-    fn withdrawn(&mut self, map: usize) -> Vec<squeal_scan::scanner::Withdrawn> {
+    fn withdrawn(&self, map: usize) -> Vec<squeal_scan::scanner::Withdrawn> {
         self.withdrawn.get(&map).cloned().unwrap_or_default()
     }
 }

@@ -1,37 +1,50 @@
-//! Joining shard files into the file a single run would have written (`squeal merge`).
+//! Joining shard files into the file a single run would have written (`squeal merge`): the
+//! shards as the source of an [`Assembly`].
 
 use std::path::{Path, PathBuf};
 
 use squeal_scan::Plan;
 use squeal_scan::scanner::Cell;
 
+use crate::assembly::{Assembly, Publish, Source};
 use crate::error::H5Ctx;
-use crate::h5write::{self, Meta, Source};
+use crate::h5write::Meta;
 use crate::journal::CycleRecord;
 use crate::{
-    OutputLock, Provenance, Shard, StoreError, publish, read, refuse_input_as_output,
-    remove_if_exists, shard_owns, tmp_path,
+    OutputLock, Shard, StoreError, read, refuse_input_as_output, remove_if_exists, shard_owns,
+    tmp_path,
 };
 
 struct ShardSource {
     plan: Plan,
-    files: Vec<(PathBuf, hdf5::File, Shard, Vec<u8>)>,
+    files: Vec<ShardFile>,
+}
+
+impl ShardSource {
+    /// The shard that holds block `block` of `map`, if one does.
+    fn holder(&self, map: usize, block: usize) -> Option<&ShardFile> {
+        let nb = self.plan.grid.blocks();
+        (self.files.iter()).find(|(_, _, s, done)| {
+            shard_owns(Some(*s), &self.plan, map, block) && done[map * nb + block] == 1
+        })
+    }
 }
 
 impl Source for ShardSource {
-    fn block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError> {
-        let nb = self.plan.grid.blocks();
-        let sweep = self.plan.sweep.is_some();
-        for (path, f, s, done) in &self.files {
-            if shard_owns(Some(*s), &self.plan, map, block) && done[map * nb + block] == 1 {
-                let rows = self.plan.grid.block_rows(block);
-                return read::read_block(f, sweep, map, rows).h5(path).map(Some);
-            }
-        }
-        Ok(None)
+    fn stored(&self, map: usize, block: usize) -> bool {
+        self.holder(map, block).is_some()
     }
 
-    fn cycle(&mut self, map: usize) -> Result<Option<CycleRecord>, StoreError> {
+    fn block(&self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, StoreError> {
+        let Some((path, f, _, _)) = self.holder(map, block) else {
+            return Ok(None);
+        };
+        let rows = self.plan.grid.block_rows(block);
+        let sweep = self.plan.sweep.is_some();
+        read::read_block(f, sweep, map, rows).h5(path).map(Some)
+    }
+
+    fn cycle(&self, map: usize) -> Result<Option<CycleRecord>, StoreError> {
         let sweep = self.plan.sweep.is_some();
         for (path, f, _, _) in &self.files {
             if let Some(c) = read::read_cycle(f, sweep, map).h5(path)? {
@@ -186,16 +199,12 @@ fn open_shards(shards: &[PathBuf]) -> Result<(ShardHeader, Vec<ShardFile>), Stor
     Ok((first, files))
 }
 
-/// Joins shard files into the file a single run would have written (the same datasets and
-/// attributes, without `shard`; provenance is taken from the shards, which must agree).
-/// `prov` is accepted for symmetry and not stored. Returns the merged file's plan (what
-/// the caller draws, or not: random samples are no map).
-pub fn merge(
-    shards: &[PathBuf],
-    out: &Path,
-    force: bool,
-    _prov: &Provenance,
-) -> Result<Plan, StoreError> {
+/// Starts joining shard files into the file a single run would have written (the same
+/// datasets and attributes, without `shard`; provenance is taken from the shards, which
+/// must agree): finish it with [`squeal_scan::finish::finish`], as a scan's file. Its plan
+/// ([`squeal_scan::Finishing::plan`]) says what the caller draws, or not: random samples
+/// are no map.
+pub fn merging(shards: &[PathBuf], out: &Path, force: bool) -> Result<Assembly, StoreError> {
     if shards.is_empty() {
         return Err(StoreError::Shards("no shard files given".into()));
     }
@@ -206,7 +215,7 @@ pub fn merge(
             path: out.to_path_buf(),
         });
     }
-    let _lock = OutputLock::acquire(out)?;
+    let lock = OutputLock::acquire(out)?;
     let (h, files) = open_shards(shards)?;
     let table = read::stored_table(&files[0].1).h5(&files[0].0)?;
     let mut plan = Plan::from_stored_toml_table(&h.spec, &format!("{}.toml", h.name), table)
@@ -227,21 +236,17 @@ pub fn merge(
         git_revision: &h.git,
         shard: None,
     };
-    let mut src = ShardSource {
+    let src = ShardSource {
         plan: plan.clone(),
         files,
     };
-    if let Err(e) = h5write::assemble(&tmp, &plan, &meta, &mut src, &landscapes) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    drop(src);
-    let replaced = if force { remove_if_exists(out) } else { Ok(()) };
-    if let Err(e) = replaced {
-        // The output could not be replaced: no temporary file is left behind.
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    publish(&tmp, out)?;
-    Ok(plan)
+    // The output is replaced only once the merged file is complete: a failed merge leaves
+    // it as it was, and no temporary file behind.
+    let publish = Publish {
+        out: out.to_path_buf(),
+        replace: force,
+        journal: None,
+        _lock: lock,
+    };
+    Assembly::begin(tmp, (plan, &meta), Box::new(src), landscapes, publish)
 }

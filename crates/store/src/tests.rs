@@ -20,6 +20,40 @@ block_rows = 2
 path = "t.h5"
 "#;
 
+/// A scan's file finished as `squeal scan` finishes it: the engine reads the blocks back
+/// through the writer and tallies them ([`squeal_scan::finish::finish`]).
+trait Finish: Sized {
+    fn finish_with(
+        self,
+        landscapes: &[Option<squeal_core::LandscapeEvidence>],
+    ) -> Result<Vec<MapChecks>, StoreError>;
+    fn finish(self) -> Result<Vec<MapChecks>, StoreError> {
+        self.finish_with(&[])
+    }
+}
+
+impl Finish for ScanWriter {
+    fn finish_with(
+        self,
+        landscapes: &[Option<squeal_core::LandscapeEvidence>],
+    ) -> Result<Vec<MapChecks>, StoreError> {
+        squeal_scan::finish::finish(self.finishing(landscapes)?)
+    }
+}
+
+/// Shard files joined as `squeal merge` joins them; the merged file's plan.
+fn merge(
+    shards: &[PathBuf],
+    out: &Path,
+    force: bool,
+    _prov: &Provenance,
+) -> Result<Plan, StoreError> {
+    let f = merging(shards, out, force)?;
+    let plan = squeal_scan::Finishing::plan(&f).clone();
+    squeal_scan::finish::finish(f)?;
+    Ok(plan)
+}
+
 fn plan() -> Plan {
     Plan::from_toml(SPEC, "t.toml").unwrap()
 }
@@ -683,6 +717,8 @@ fn an_output_not_ending_in_h5_is_refused_by_the_writers() {
     assert!(!lock_path(&out).exists() && !journal_path(&out).exists());
 }
 
+#[cfg(test)]
+mod chunks;
 #[cfg(test)]
 mod journal_fuzz;
 #[cfg(test)]

@@ -89,7 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     signals.finishing(&pics)?;
     let mut phases = super::timings::Phases::start();
-    let res = writer.finish()?;
+    let res = crate::finish_atlas(writer)?;
     phases.end("finish");
     let Some(pictures) = draw(&args, &signals, &out, (&png, &pics))? else {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
@@ -301,7 +301,7 @@ fn report(
     pictures: &[PathBuf],
 ) -> anyhow::Result<()> {
     if args.json {
-        let mut v = squeal_store::atlas_json(plan, res);
+        let mut v = crate::atlas_json::atlas_json(plan, res);
         v["file"] = out.display().to_string().into();
         v["seconds"] = computed.seconds.into();
         v["units_computed"] = computed.units.into();

@@ -131,7 +131,7 @@ fn atlas(args: &Args, o: &mut String) -> anyhow::Result<()> {
     let a = squeal_store::read_atlas_info(&args.file)?;
     let attr = |k: &str| a.attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
     if args.json {
-        let mut v = squeal_store::atlas_json(&a.plan, &a.results);
+        let mut v = crate::atlas_json::atlas_json(&a.plan, &a.results);
         v["path"] = args.file.display().to_string().into();
         v["squeal_version"] = attr("squeal_version").into();
         v["git_revision"] = attr("git_revision").into();

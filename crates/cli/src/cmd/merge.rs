@@ -36,15 +36,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // Random samples are a list of points, not a map: nothing to draw (the merge used to
     // end with an error after the file was written).
     let samples = if atlas {
-        squeal_store::atlas::merge_atlas(
-            &args.shards,
-            &args.out,
-            args.force,
-            &common::provenance(),
-        )?;
+        crate::merge_atlas(&args.shards, &args.out, args.force, &common::provenance())?;
         false
     } else {
-        let plan = squeal_store::merge(&args.shards, &args.out, args.force, &common::provenance())?;
+        let plan = crate::merge_scan(&args.shards, &args.out, args.force)?;
         plan.grid.is_sample()
     };
     println!("{}", args.out.display());

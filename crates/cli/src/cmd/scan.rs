@@ -228,8 +228,7 @@ fn finish(
     (out, pics): (&Path, &[PathBuf]),
     (computed, secs): (usize, f64),
 ) -> anyhow::Result<ExitCode> {
-    let landscapes = squeal_scan::landscape::of_plan(plan)?;
-    let finished = writer.finish_with(&landscapes)?;
+    let finished = crate::finish_scan(writer)?;
     phases.end("finish");
     let redraw = args.run.resume_command("scan", &args.spec, out);
     let note = super::signals::drawing_note(out, &redraw);

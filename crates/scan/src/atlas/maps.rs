@@ -44,6 +44,51 @@ impl AtlasPlan {
     }
 }
 
+/// What point `i`'s map adds up to, as the atlas file stores it per point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointMap {
+    /// The consistency checks of the blocks stored (a shard's own, in a shard file).
+    pub checks: crate::MapChecks,
+    /// The basin fraction, where the map is complete.
+    pub fraction: Option<MapFraction>,
+}
+
+/// Every point's [`PointMap`] (point order; none without maps), the points in parallel.
+/// Laws with true stick: the cells are checked against the point's landscape (every cell
+/// steady slip, or every cell stick-slip, where it says so).
+pub fn point_maps(plan: &AtlasPlan, res: &super::AtlasResults) -> Vec<PointMap> {
+    use rayon::prelude::*;
+    let Some(mp) = plan.map_plan() else {
+        return Vec::new();
+    };
+    (0..plan.n_points())
+        .into_par_iter()
+        .map(|i| {
+            let landscape = (res.points[i].as_ref())
+                .and_then(|p| p.landscape)
+                .and_then(|l| l.verdict());
+            let tally = crate::MapTally::new(&mp, res.map_cycle(i), landscape);
+            for b in 0..mp.grid.blocks() {
+                if let Some(cells) = res.blocks.get(&(i, b)) {
+                    tally.add_block(&mp, b, cells);
+                }
+            }
+            PointMap {
+                checks: tally.finish(&mp).0,
+                fraction: res.map_fraction(plan, i),
+            }
+        })
+        .collect()
+}
+
+/// What an atlas's finish computes once every unit is in: the labels that contradict a
+/// fold reconciled ([`super::AtlasResults::reconcile_folds`]; a point and its fold may
+/// come from different shards), then every point's map figures. The writer stores them.
+pub fn finish(plan: &AtlasPlan, res: &mut super::AtlasResults) -> Vec<PointMap> {
+    res.reconcile_folds(plan);
+    point_maps(plan, res)
+}
+
 /// The basin fraction of steady slip read off one map.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MapFraction {

@@ -1,15 +1,16 @@
 //! The atlas's basin maps in its file: every column of [`squeal_scan::cell::COLUMNS`] over
 //! (the swept parameters..., v0, x0), the per-map checks and cycles, and the basin fraction
-//! read off each map; and reading the blocks and cycles back.
+//! read off each map (computed by the engine: [`squeal_scan::atlas::PointMap`]); and
+//! reading the blocks and cycles back.
 
 use std::path::Path;
 
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, File};
-use squeal_scan::atlas::{AtlasPlan, AtlasResults, MapFraction};
+use squeal_scan::atlas::{AtlasPlan, AtlasResults, MapFraction, PointMap};
 use squeal_scan::cell::{COLUMNS as CELLS, Cell, Kind as CellKind, Num};
 use squeal_scan::ulc::CycleReport;
-use squeal_scan::{Grid, MapChecks, MapTally, Plan};
+use squeal_scan::{Grid, Plan};
 
 use super::schema::map_name;
 use crate::StoreError;
@@ -23,7 +24,7 @@ pub(super) fn write_maps(
     o: &mut Out,
     over: &Over,
     plan: &AtlasPlan,
-    res: &AtlasResults,
+    (res, maps): (&AtlasResults, &[PointMap]),
 ) -> hdf5::Result<()> {
     let Some(mp) = plan.map_plan() else {
         return Ok(());
@@ -39,7 +40,15 @@ pub(super) fn write_maps(
         }
     }
     map_attrs(o.file, &mp)?;
-    let (done, checks) = write_cells(o, over, (plan, &mp), res, [&v0, &x0])?;
+    if maps.len() != plan.n_points() {
+        let why = format!(
+            "map figures for {} points of {}",
+            maps.len(),
+            plan.n_points()
+        );
+        return Err(hdf5::Error::from(why));
+    }
+    let done = write_cells(o, over, (plan, &mp), res, [&v0, &x0])?;
     let blocks = over.and(g.blocks(), &block);
     o.put(
         &blocks,
@@ -48,10 +57,10 @@ pub(super) fn write_maps(
         done,
     )?;
     for (k, (name, long)) in squeal_scan::checks::CHECK_FIELDS.iter().enumerate() {
-        let v: Vec<i64> = checks.iter().map(|c| c.values()[k]).collect();
+        let v: Vec<i64> = maps.iter().map(|m| m.checks.values()[k]).collect();
         o.put(over, (&map_name(name), long), Some("1"), v)?;
     }
-    write_fractions(o, over, plan, res)?;
+    write_fractions(o, over, maps)?;
     write_cycles(o, over, res, plan.n_points())
 }
 
@@ -77,14 +86,14 @@ fn map_attrs(file: &File, mp: &Plan) -> hdf5::Result<()> {
 }
 
 /// Every stored block of every map, column by column; returns which blocks are stored
-/// (point-major) and each map's checks.
+/// (point-major).
 fn write_cells(
     o: &mut Out,
     over: &Over,
     (plan, mp): (&AtlasPlan, &Plan),
     res: &AtlasResults,
     [v0, x0]: [&Dataset; 2],
-) -> hdf5::Result<(Vec<u8>, Vec<MapChecks>)> {
+) -> hdf5::Result<Vec<u8>> {
     let g = mp.grid;
     let (nx, nv, nb) = (g.x0.count, g.v0.count, g.blocks());
     let cells = over.and(nv, v0).and(nx, x0);
@@ -101,44 +110,28 @@ fn write_cells(
     }
     let n = plan.n_points();
     let mut done = vec![0u8; n * nb];
-    let mut checks = Vec::with_capacity(n);
     for i in 0..n {
         // The point's indices (`[0]`: the single point of a spec that sweeps nothing).
         let prefix = match plan.axes().is_empty() {
             true => vec![0],
             false => plan.unravel(i),
         };
-        // Laws with true stick: the map's cells are checked against the point's landscape
-        // (every cell steady slip, or every cell stick-slip, where it says so).
-        let landscape = (res.points[i].as_ref())
-            .and_then(|p| p.landscape)
-            .and_then(|l| l.verdict());
-        let mut tally = MapTally::new(mp, res.map_cycle(i), landscape);
         for b in 0..nb {
             let Some(cells) = res.blocks.get(&(i, b)) else {
                 continue;
             };
             done[i * nb + b] = 1;
-            tally.add_block(mp, b, cells);
             for (ds, col) in vars.iter().zip(CELLS) {
                 write_column(ds, col, cells, &prefix, g.block_rows(b), nx)?;
             }
         }
-        checks.push(tally.finish(mp).0);
     }
-    Ok((done, checks))
+    Ok(done)
 }
 
 /// The basin fraction read off each map, with the counts behind its uncertainty.
-fn write_fractions(
-    o: &mut Out,
-    over: &Over,
-    plan: &AtlasPlan,
-    res: &AtlasResults,
-) -> hdf5::Result<()> {
-    let fr: Vec<Option<MapFraction>> = (0..plan.n_points())
-        .map(|i| res.map_fraction(plan, i))
-        .collect();
+fn write_fractions(o: &mut Out, over: &Over, maps: &[PointMap]) -> hdf5::Result<()> {
+    let fr: Vec<Option<MapFraction>> = maps.iter().map(|m| m.fraction).collect();
     let real = |f: fn(&MapFraction) -> f64| -> Vec<f64> {
         fr.iter().map(|x| x.as_ref().map_or(f64::NAN, f)).collect()
     };

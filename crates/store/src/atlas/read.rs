@@ -9,7 +9,9 @@ use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, COLUMNS, Kind, empty_boundary, empty_point, finish_point,
 };
 use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
-use squeal_scan::atlas::{AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus, PointResult};
+use squeal_scan::atlas::{
+    AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus, PointMap, PointResult,
+};
 
 use super::schema::{
     BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FOLD_CHANGES, LANDSCAPE_NOT_COMPUTED, NOTE,
@@ -188,23 +190,37 @@ fn read_boundaries(
     Ok(())
 }
 
-/// Joins atlas shard files (all `N` shards of one spec) into the file one run writes.
-pub fn merge_atlas(
+/// Atlas shard files (all `N` shards of one spec) being joined into the file one run writes:
+/// their plan and everything they hold together, which the engine makes ready
+/// ([`squeal_scan::atlas::finish`]: a point and its fold may come from different shards)
+/// before [`AtlasMerge::finish`] writes the file. Holds the output's lock.
+#[derive(Debug)]
+pub struct AtlasMerge {
+    /// The shards' plan.
+    pub plan: AtlasPlan,
+    /// Everything the shards hold.
+    pub results: AtlasResults,
+    out: PathBuf,
+    _lock: OutputLock,
+}
+
+/// Starts joining atlas shard files into `out` ([`AtlasMerge`]): refuses an existing `out`
+/// without `force`, and shards that miss units or map blocks.
+pub fn merging_atlas(
     shards: &[PathBuf],
     out: &Path,
     force: bool,
-    prov: &Provenance,
-) -> Result<(), StoreError> {
+) -> Result<AtlasMerge, StoreError> {
     crate::check_output(out)?;
     crate::refuse_input_as_output(shards, out)?;
-    let _lock = OutputLock::acquire(out)?;
+    let lock = OutputLock::acquire(out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {
             path: out.to_path_buf(),
         });
     }
-    let (plan, mut res) = read_shards(shards)?;
-    let missing = missing_units(&plan, &res, None);
+    let (plan, results) = read_shards(shards)?;
+    let missing = missing_units(&plan, &results, None);
     if !missing.is_empty() {
         return Err(StoreError::Incomplete {
             path: out.to_path_buf(),
@@ -212,7 +228,7 @@ pub fn merge_atlas(
             total: plan.units().len(),
         });
     }
-    let blocks = missing_blocks(&plan, &res, None);
+    let blocks = missing_blocks(&plan, &results, None);
     if !blocks.is_empty() {
         return Err(StoreError::Incomplete {
             path: out.to_path_buf(),
@@ -220,9 +236,20 @@ pub fn merge_atlas(
             total: plan.map_plan().map_or(0, |p| p.total_blocks()),
         });
     }
-    // A point and its fold may come from different shards: reconciled here (computed in scan).
-    res.reconcile_folds(&plan);
-    write_atlas(out, &plan, &res, prov, None)
+    Ok(AtlasMerge {
+        plan,
+        results,
+        out: out.to_path_buf(),
+        _lock: lock,
+    })
+}
+
+impl AtlasMerge {
+    /// Writes the joined file, with each point's map figures `maps` (computed by the engine
+    /// from [`AtlasMerge::results`]; none without maps).
+    pub fn finish(self, maps: &[PointMap], prov: &Provenance) -> Result<(), StoreError> {
+        write_atlas(&self.out, &self.plan, (&self.results, maps), prov, None)
+    }
 }
 
 /// The plan of the shards and everything they hold together: each of `1..=N` once, all of

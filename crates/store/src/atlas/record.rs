@@ -250,7 +250,8 @@ mod tests {
             version: "test".into(),
             git_revision: "test".into(),
         };
-        crate::atlas::write_atlas(&out, &plan, &res, &prov, None).unwrap();
+        let maps = squeal_scan::atlas::point_maps(&plan, &res);
+        crate::atlas::write_atlas(&out, &plan, (&res, &maps), &prov, None).unwrap();
         let (_, read, _) = crate::atlas::read_atlas(&out).unwrap();
         assert_eq!(notes_of(&read), want);
     }

@@ -9,7 +9,7 @@ use squeal_scan::atlas::columns::{
     BOUNDARY_COLUMNS, BoundarySi, COLUMNS, Column, Kind, Si, status_meanings,
 };
 use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
-use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, Units};
+use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, PointMap, Units};
 
 use super::schema::{
     BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
@@ -21,11 +21,13 @@ use crate::error::{H5Ctx, io};
 use crate::h5out::{Dims, Out, Over, class_type, num_attr, str_attr};
 use crate::{Provenance, Shard, StoreError};
 
-/// Writes the atlas file `out` (through `<out>.tmp`, then renamed).
+/// Writes the atlas file `out` (through `<out>.tmp`, then renamed) from everything stored and
+/// what the engine computed from it: each point's map figures ([`squeal_scan::atlas::finish`];
+/// none without maps).
 pub fn write_atlas(
     out: &Path,
     plan: &AtlasPlan,
-    res: &AtlasResults,
+    (res, maps): (&AtlasResults, &[PointMap]),
     prov: &Provenance,
     shard: Option<Shard>,
 ) -> Result<(), StoreError> {
@@ -40,7 +42,7 @@ pub fn write_atlas(
             dims,
             aux: Vec::new(),
         };
-        write_all(&mut o, plan, res, prov, shard).h5(&tmp)?;
+        write_all(&mut o, plan, (res, maps), prov, shard).h5(&tmp)?;
         o.dims.finish().h5(&tmp)?;
         file.close().h5(&tmp)
     })();
@@ -56,7 +58,7 @@ pub fn write_atlas(
 fn write_all(
     o: &mut Out,
     plan: &AtlasPlan,
-    res: &AtlasResults,
+    (res, point_maps): (&AtlasResults, &[PointMap]),
     prov: &Provenance,
     shard: Option<Shard>,
 ) -> hdf5::Result<()> {
@@ -84,7 +86,7 @@ fn write_all(
             scales: scales.clone(),
         }
     };
-    write_points(o, &points, plan, res)?;
+    write_points(o, &points, plan, (res, point_maps))?;
     if plan.n_boundaries() > 0 {
         // The boundaries lie over the swept axes but the bisected one.
         let (_, d) = plan.boundary_axis();
@@ -167,7 +169,7 @@ fn write_points(
     o: &mut Out,
     over: &Over,
     plan: &AtlasPlan,
-    res: &AtlasResults,
+    (res, point_maps): (&AtlasResults, &[PointMap]),
 ) -> hdf5::Result<()> {
     let pts = &res.points;
     let regimes = pts
@@ -216,7 +218,7 @@ fn write_points(
     o.put_notes(over, NOTE, notes.into_iter())?;
     put_note_kinds(o, over, NOTE_KIND, kinds)?;
     if plan.maps.is_some() {
-        maps::write_maps(o, over, plan, res)?;
+        maps::write_maps(o, over, plan, (res, point_maps))?;
     }
     let done: Vec<u8> = pts.iter().map(|p| u8::from(p.is_some())).collect();
     o.put(over, POINTS_DONE, None, done)?;

@@ -6,7 +6,7 @@ use squeal_scan::atlas::AtlasPlan;
 use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, empty_boundary, empty_point};
 use squeal_scan::atlas::{LineResult, UnitResult};
 
-use super::{block, cycle, journal_of, plan, prov};
+use super::{Finish, block, cycle, journal_of, plan, prov};
 use crate::atlas::AtlasWriter;
 use crate::journal::{self, Journal, KIND_BLOCK, Owner, Rec};
 use crate::{ScanWriter, StoreError};

@@ -6,7 +6,7 @@ use serde_json::{Value, json};
 use squeal_scan::atlas::columns::{COLUMNS, Si};
 use squeal_scan::atlas::{AtlasPlan, BoundaryResult, PointResult};
 
-use crate::atlas::AtlasResults;
+use squeal_scan::atlas::AtlasResults;
 
 fn num(v: f64) -> Value {
     if v.is_finite() { json!(v) } else { Value::Null }
@@ -14,7 +14,7 @@ fn num(v: f64) -> Value {
 
 /// Every point and boundary as JSON (nondimensional figures, and SI ones for physical
 /// specs), with the coordinates of each.
-pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
+pub(crate) fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
     let axes: Vec<Value> = plan
         .axes()
         .iter()
@@ -38,7 +38,7 @@ pub fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
         .map(|(j, b)| boundary_json(plan, j, b.as_ref()))
         .collect();
     json!({
-        "schema": crate::atlas::ATLAS_SCHEMA,
+        "schema": squeal_store::ATLAS_SCHEMA,
         "name": plan.name,
         "law": plan.law.name(),
         "units": plan.units.name(),
