@@ -158,6 +158,37 @@ impl GridShares {
     }
 }
 
+/// A stored map read back: its cells per label and its basin stability.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapSummary {
+    /// Cells undecided, steady_slip, stick_slip and not computed.
+    pub counts: [u64; 4],
+    /// The basin stability of its labels ([`GridShares`]).
+    pub basin: GridShares,
+}
+
+impl MapSummary {
+    /// Of a map's labels, row-major `(v0, x0)` with `nx` columns, or a list of random
+    /// samples (`random`).
+    pub fn of(labels: &[u8], nx: usize, random: bool) -> MapSummary {
+        let mut counts = [0u64; 4];
+        for &l in labels {
+            counts[match l {
+                0 => 0,
+                1 => 1,
+                2 => 2,
+                _ => 3,
+            }] += 1;
+        }
+        let basin = if random {
+            GridShares::random(labels)
+        } else {
+            GridShares::of(labels, nx)
+        };
+        MapSummary { counts, basin }
+    }
+}
+
 /// What a file stores per map (dataset name, long name), in the order of
 /// [`GridShares::values`]: five per regime of [`REGIMES`].
 pub const BASIN_FIELDS: &[(&str, &str)] = &[

@@ -86,7 +86,7 @@ pub mod trajectory;
 pub mod ulc;
 mod values;
 
-pub use basin::{BASIN_FIELDS, GridShares, Share, Shares};
+pub use basin::{BASIN_FIELDS, GridShares, MapSummary, Share, Shares};
 pub use cell::{COLUMNS, Cell, Column};
 pub use checks::{LandscapeCheck, MapChecks, MapTally, WrongSide};
 pub use curve::ClosedCurve;

@@ -19,7 +19,7 @@
 //!   finished units and, as a [`squeal_scan::Sink`], the blocks of the optional basin maps,
 //!   holds the [`OutputLock`], and writes the file (what it is missing is computed above
 //!   the store: `squeal_cli::run_atlas`); [`atlas::read_atlas`], [`atlas::merge_atlas`].
-//! * [`read_info`], [`read_atlas_info`], [`read_trajectory_info`], [`read_map`],
+//! * [`read_info`], [`map_labels`], [`read_atlas_info`], [`read_trajectory_info`], [`read_map`],
 //!   [`map_count`], [`read_cycle_summary`] read files back;
 //!   [`content_digest`] hashes a file's content (for "same file" tests).
 //!
@@ -30,7 +30,7 @@
 //!
 //! ```
 //! use std::sync::atomic::AtomicBool;
-//! use squeal_store::{Provenance, ScanWriter, read_info};
+//! use squeal_store::{Provenance, ScanWriter};
 //! let plan = squeal_scan::Plan::from_toml(r#"
 //! version = 1
 //! [model]
@@ -51,7 +51,7 @@
 //! let stop = AtomicBool::new(false);
 //! squeal_scan::drive(&plan, None, &mut w, &squeal_scan::NoObserver, &stop).unwrap();
 //! squeal_scan::finish::finish(w.finishing(&[]).unwrap()).unwrap();
-//! assert_eq!(read_info(&out).unwrap().counts[0].iter().sum::<u64>(), 2);
+//! assert_eq!(squeal_store::map_labels(&out, 0).unwrap().len(), 2);
 //! ```
 //!
 //! ## HDF5 schema `squeal-basins/1`
@@ -162,7 +162,7 @@ pub use output::{
 };
 pub use read::{
     FileInfo, FrictionTables, LandscapeInfo, MapData, Swept, file_schema, friction_tables,
-    map_count, read_cycle_summary, read_info, read_map,
+    map_count, map_labels, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
     RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,

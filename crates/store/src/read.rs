@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 use hdf5::{Attribute, Dataset, File, Group, Location};
 use squeal_scan::ClosedCurve;
-use squeal_scan::GridShares;
 use squeal_scan::cell::{COLUMNS, Cell, Kind, Num};
 use squeal_scan::checks::CHECK_FIELDS;
 
@@ -249,10 +248,10 @@ pub struct FileInfo {
     pub x0: Vec<f64>,
     /// `v0` values.
     pub v0: Vec<f64>,
-    /// Per map: cells undecided, steady_slip, stick_slip, not_computed.
-    pub counts: Vec<[u64; 4]>,
-    /// Per map: basin stability, computed from the labels ([`squeal_scan::GridShares`]).
-    pub basin: Vec<GridShares>,
+    /// The number of maps.
+    pub maps: usize,
+    /// Whether the starts are random samples (a list over `sample`), not a grid.
+    pub sample: bool,
     /// `K/N` in shard files.
     pub shard: Option<String>,
     /// Per map: the values of [`squeal_scan::checks::CHECK_FIELDS`] (-1: not applicable).
@@ -395,27 +394,6 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
         let shape = labels.shape();
         let nmaps = if is_sweep { shape[0] } else { 1 };
         let sample = is_sample(&file);
-        let mut counts = Vec::with_capacity(nmaps);
-        let mut basin = Vec::with_capacity(nmaps);
-        let nx = file.dataset("x0")?.size();
-        for m in 0..nmaps {
-            let l = read_labels(&labels, m, is_sweep)?;
-            basin.push(if sample {
-                GridShares::random(&l)
-            } else {
-                GridShares::of(&l, nx)
-            });
-            let mut c = [0u64; 4];
-            for v in l {
-                c[match v {
-                    0 => 0,
-                    1 => 1,
-                    2 => 2,
-                    _ => 3,
-                }] += 1;
-            }
-            counts.push(c);
-        }
         Ok(FileInfo {
             path: path.to_path_buf(),
             schema: str_attr(&file, "schema")?,
@@ -458,10 +436,20 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                 })
                 .collect::<hdf5::Result<_>>()?,
             landscapes: read_landscapes(&file, nmaps)?,
-            counts,
-            basin,
+            maps: nmaps,
+            sample,
             shard: str_attr(&file, "shard").ok(),
         })
+    })()
+    .h5(path)
+}
+
+/// The labels of map `map` of a scan file, row-major `(v0, x0)` (a random sample's: a list).
+pub fn map_labels(path: &Path, map: usize) -> Result<Vec<u8>, StoreError> {
+    let file = open_squeal(path)?;
+    (|| {
+        let sweep = sweep_of(&file)?.is_some();
+        read_labels(&file.dataset("labels")?, map, sweep)
     })()
     .h5(path)
 }

@@ -201,9 +201,10 @@ fn round_trip_single_map() {
     assert_eq!(info.v0, p.grid.v0.values());
     assert!(info.sweep.is_none());
     assert!(info.shard.is_none());
-    assert_eq!(info.counts.len(), 1);
-    assert_eq!(info.counts[0].iter().sum::<u64>(), 35);
-    assert_eq!(info.counts[0][3], 0);
+    assert_eq!(info.maps, 1);
+    let labels = crate::map_labels(&info.path, 0).unwrap();
+    assert_eq!(labels.len(), 35);
+    assert!(!labels.contains(&squeal_scan::cell::NOT_COMPUTED));
     assert!(
         info.attrs
             .iter()
@@ -253,7 +254,7 @@ fn round_trip_sweep() {
     );
     let info = read_info(&out).unwrap();
     assert_eq!(info.sweep.as_ref().unwrap().names(), ["nu"]);
-    assert_eq!(info.counts.len(), 3);
+    assert_eq!(info.maps, 3);
     assert!(!info.attrs.iter().any(|(k, _)| k == "nu"));
     let m = read_map(&out, 2).unwrap();
     assert_eq!(m.title, "mcmillan nu = 0.005");
@@ -398,7 +399,8 @@ fn shards_merge_to_the_single_file() {
             .collect();
         let info = read_info(&shards[1]).unwrap();
         assert_eq!(info.shard.as_deref(), Some("2/3"));
-        assert!(info.counts[0][3] > 0);
+        let labels = crate::map_labels(&info.path, 0).unwrap();
+        assert!(labels.contains(&squeal_scan::cell::NOT_COMPUTED));
         let merged = dir.path().join("merged.h5");
         merge(&shards, &merged, false, &prov()).unwrap();
         assert_eq!(

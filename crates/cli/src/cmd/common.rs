@@ -211,6 +211,23 @@ fn capped_threads(n: usize, cores: usize) -> usize {
 /// Basin stability of one map as JSON: per regime the share `p` of the computed cells, its
 /// binomial `se`, the shares on the nested `2h` and `4h` sub-grids and the change
 /// `p_h - p_2h` (the grid error bar); `n` is the number of computed cells.
+/// Each map of a scan file read back and summarised by the engine: its cells per label and
+/// its basin stability ([`squeal_scan::MapSummary`]; the store only reads the labels).
+pub fn map_summaries(
+    info: &squeal_store::FileInfo,
+) -> Result<Vec<squeal_scan::MapSummary>, squeal_store::StoreError> {
+    (0..info.maps)
+        .map(|m| {
+            let labels = squeal_store::map_labels(&info.path, m)?;
+            Ok(squeal_scan::MapSummary::of(
+                &labels,
+                info.x0.len(),
+                info.sample,
+            ))
+        })
+        .collect()
+}
+
 pub fn basin_json(b: &squeal_scan::GridShares) -> serde_json::Value {
     let mut o = serde_json::Map::new();
     o.insert(

@@ -159,8 +159,9 @@ fn atlas(args: &Args, o: &mut String) -> anyhow::Result<()> {
 /// A scan file: parameters, grid, label counts and checks per map.
 fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
     let info = squeal_store::read_info(&args.file)?;
+    let maps = common::map_summaries(&info)?;
     if args.json {
-        let v = scan_json(&info);
+        let v = scan_json(&info, &maps);
         write_json(v, args, o)?;
         return Ok(());
     }
@@ -192,7 +193,7 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
     } else {
         writeln!(o, "  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0))?;
     }
-    for (i, c) in info.counts.iter().enumerate() {
+    for (i, c) in maps.iter().map(|m| m.counts).enumerate() {
         let label = info.sweep.as_ref().map_or(String::new(), |s| {
             let each: Vec<_> = (s.keys.iter())
                 .map(|(n, v)| format!("{n} = {:.4e}", v[i]))
@@ -204,7 +205,7 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
             "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
             c[0], c[1], c[2], c[3]
         )?;
-        if let Some(b) = info.basin.get(i) {
+        if let Some(b) = maps.get(i).map(|m| &m.basin) {
             writeln!(o, "    {}", super::common::basin_words(b))?;
         }
         if let Some(Some(why)) = info.no_cycle.get(i) {
@@ -260,12 +261,12 @@ fn trajectory(args: &Args, o: &mut String) -> anyhow::Result<()> {
 }
 
 /// A scan file as one JSON object.
-fn scan_json(info: &squeal_store::FileInfo) -> serde_json::Value {
+fn scan_json(info: &squeal_store::FileInfo, maps: &[squeal_scan::MapSummary]) -> serde_json::Value {
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
     let attrs = attrs_json(&info.attrs);
-    let counts: Vec<serde_json::Value> = info
-        .counts
+    let counts: Vec<serde_json::Value> = maps
         .iter()
+        .map(|m| &m.counts)
         .map(|c| {
             names
                 .iter()
@@ -300,7 +301,7 @@ fn scan_json(info: &squeal_store::FileInfo) -> serde_json::Value {
         }).collect::<Vec<_>>(),
         "no_cycle": info.no_cycle,
         "landscape": info.landscapes.iter().map(|l| super::map_words::landscape_json(l.as_ref())).collect::<Vec<_>>(),
-        "basin_stability": info.basin.iter().map(super::common::basin_json).collect::<Vec<_>>(),
+        "basin_stability": maps.iter().map(|m| super::common::basin_json(&m.basin)).collect::<Vec<_>>(),
         "shard": info.shard,
     })
 }

@@ -127,7 +127,7 @@ fn render_sheet(
     info: &squeal_store::FileInfo,
     scale: squeal_plot::StateScale,
 ) -> anyhow::Result<Option<PathBuf>> {
-    let n = info.counts.len();
+    let n = info.maps;
     let maps: Vec<_> = (0..n)
         .map(|i| squeal_store::read_map(h5, i))
         .collect::<Result<_, _>>()?;
@@ -206,7 +206,10 @@ fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> 
         .collect();
     let log_x = ["nu", "xi"].contains(&axis.swept.as_str());
     let missing = squeal_plot::missing_values(&curves, log_x);
-    let gaps = squeal_plot::cycle_gaps(&missing, &xs, &info.counts);
+    let counts: Vec<[u64; 4]> = (super::common::map_summaries(info)?.iter())
+        .map(|m| m.counts)
+        .collect();
+    let gaps = squeal_plot::cycle_gaps(&missing, &xs, &counts);
     let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&axis.swept));
     shared.insert_str(
         0,

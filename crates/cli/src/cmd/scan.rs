@@ -180,7 +180,9 @@ fn up_to_date(
     }
     let info = squeal_store::read_info(out)?;
     // Nothing computed: the file holds the checks, no per-reason tally.
+    let maps = super::common::map_summaries(&info)?;
     let tallies = Tallies {
+        maps: &maps,
         checks: &info.checks,
         reasons: &[],
         transient: &[],
@@ -246,7 +248,9 @@ fn finish(
     phases.end("picture");
     signals.done();
     let info = squeal_store::read_info(out)?;
+    let maps = super::common::map_summaries(&info)?;
     let tallies = Tallies {
+        maps: &maps,
         checks: &checks,
         reasons: &reasons,
         transient: &transient,

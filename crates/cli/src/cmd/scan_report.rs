@@ -22,6 +22,8 @@ pub fn layout(plan: &Plan) -> String {
 
 /// What the writer counted per map: the stored checks and the cells per reason.
 pub struct Tallies<'a> {
+    /// Each map's cells per label and basin stability.
+    pub maps: &'a [squeal_scan::MapSummary],
     pub checks: &'a [Vec<i64>],
     pub reasons: &'a [[u64; squeal_core::Reason::ALL.len()]],
     /// Steady-slip cells with `t_squeal > 0`, per map.
@@ -52,7 +54,7 @@ fn map_json(
     i: usize,
 ) -> anyhow::Result<serde_json::Value> {
     let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
-    let (c, checks) = (&info.counts[i], tallies.checks);
+    let (c, checks) = (&tallies.maps[i].counts, tallies.checks);
     let mut o = serde_json::Map::new();
     for (name, vals) in info.sweep.iter().flat_map(|s| &s.keys) {
         o.insert(name.clone(), vals[i].into());
@@ -92,15 +94,15 @@ fn map_json(
             landscape_json(info.landscapes.get(i).and_then(Option::as_ref)),
         );
     }
-    if let Some(b) = info.basin.get(i) {
-        o.insert("basin_stability".into(), common::basin_json(b));
+    if let Some(m) = tallies.maps.get(i) {
+        o.insert("basin_stability".into(), common::basin_json(&m.basin));
     }
     Ok(serde_json::Value::Object(o))
 }
 
 /// Map `i` of a finished scan in words.
 fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: usize) {
-    let (c, checks) = (&info.counts[i], tallies.checks);
+    let (c, checks) = (&tallies.maps[i].counts, tallies.checks);
     let label = info.sweep.as_ref().map_or(String::new(), |s| {
         let each = s
             .keys
@@ -116,8 +118,8 @@ fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: u
         line += &format!("  not_computed {}", c[3]);
     }
     println!("{line}");
-    if let Some(b) = info.basin.get(i) {
-        println!("    {}", common::basin_words(b));
+    if let Some(m) = tallies.maps.get(i) {
+        println!("    {}", common::basin_words(&m.basin));
     }
     if let Some(Some(why)) = info.no_cycle.get(i) {
         println!("    no unstable cycle: {why}");
@@ -168,7 +170,7 @@ pub fn report(
         .find(|(k, _)| k == "rules_withdrawn")
         .map_or_else(Vec::new, |(_, v)| v.lines().collect());
     if json {
-        let maps: Vec<_> = (0..info.counts.len())
+        let maps: Vec<_> = (0..info.maps)
             .map(|i| map_json(info, &tallies, i))
             .collect::<anyhow::Result<_>>()?;
         let v = serde_json::json!({
@@ -190,7 +192,7 @@ pub fn report(
         layout(plan),
         info.path.display()
     );
-    for i in 0..info.counts.len() {
+    for i in 0..info.maps {
         print_map(plan, info, &tallies, i);
     }
     for w in &withdrawn {
