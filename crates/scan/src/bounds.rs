@@ -314,6 +314,23 @@ impl Rules {
     }
 }
 
+/// A core check's refusal as a spec error naming `table.<key>` (the parameter the core
+/// names); any other core error as the table's.
+pub(crate) fn core_error(table: &str, e: squeal_core::CoreError, invalid: Invalid) -> ScanError {
+    match e {
+        squeal_core::CoreError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => invalid(
+            &format!("{table}.{name}"),
+            Number(value).to_string(),
+            expected,
+        ),
+        other => invalid(table, String::new(), &other.to_string()),
+    }
+}
+
 /// The error of a spec stored in a file (or journal), read under [`Rules::Stored`]: what
 /// it names is the stored spec's, not one the user gave (the error names the key).
 pub(crate) fn in_stored_spec(e: ScanError) -> ScanError {

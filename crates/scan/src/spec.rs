@@ -401,18 +401,8 @@ fn check_reach(
 /// `model.<key>`.
 fn check_maps(maps: &[Params], invalid: Invalid) -> Result<(), ScanError> {
     for p in maps {
-        p.validate().map_err(|e| match e {
-            squeal_core::CoreError::InvalidParameter {
-                name,
-                value,
-                expected,
-            } => invalid(
-                &format!("model.{name}"),
-                Number(value).to_string(),
-                expected,
-            ),
-            other => invalid("model", String::new(), &other.to_string()),
-        })?;
+        p.validate()
+            .map_err(|e| crate::bounds::core_error("model", e, invalid))?;
     }
     Ok(())
 }

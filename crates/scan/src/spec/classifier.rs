@@ -136,18 +136,9 @@ impl ClassifierSpec {
 /// Today's bounds on the classifier's settings at step `dt` (the core's own check, the
 /// fixed point's ball, the steps of a run); errors name `classifier.<key>`.
 fn classifier_bounds(classifier: &Classifier, dt: f64, invalid: Invalid) -> Result<(), ScanError> {
-    classifier.validate().map_err(|e| match e {
-        squeal_core::CoreError::InvalidParameter {
-            name,
-            value,
-            expected,
-        } => invalid(
-            &format!("classifier.{name}"),
-            Number(value).to_string(),
-            expected,
-        ),
-        other => invalid("classifier", String::new(), &other.to_string()),
-    })?;
+    classifier
+        .validate()
+        .map_err(|e| crate::bounds::core_error("classifier", e, invalid))?;
     if classifier.fp_radius > crate::bounds::MAX_FP_RADIUS {
         return Err(invalid(
             "classifier.fp_radius",
