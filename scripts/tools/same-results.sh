@@ -44,6 +44,8 @@ fi
 work=$root/target/same-results/run
 rm -rf "$work"
 mkdir -p "$work/old" "$work/new" "$work/specs"
+# Specs name their data (a friction CSV) relative to their folder, scans/.
+ln -s "$root/scans/data" "$work/specs/data"
 status=0
 echo "same-results: $rev ($old) against the working tree ($new); counts <= $count, sweeps <= $sweep"
 for spec in ${SPECS:-scans/*.toml}; do

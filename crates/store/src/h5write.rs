@@ -211,8 +211,10 @@ fn is_legacy(s: &squeal_scan::Sweep) -> bool {
 /// key's value at every map as an auxiliary coordinate over it.
 fn sweep_scales(o: &mut Out, plan: &Plan, s: &squeal_scan::Sweep) -> hdf5::Result<Dataset> {
     let named = plan.maps[0].named();
+    // Units "1": every swept key is in the model's units (as files before sweeps of
+    // every key stored `nu`, `lambda`, `xi` and `v_d`).
     let words = |key: &'static str| {
-        (named.iter().find(|n| n.name == key)).map_or((key, "1"), |n| (n.long_name, n.units))
+        (named.iter().find(|n| n.name == key)).map_or((key, "1"), |n| (n.long_name, "1"))
     };
     if let Some(a) = s.single() {
         let (long, units) = words(a.name);
