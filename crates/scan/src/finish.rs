@@ -195,20 +195,8 @@ mod tests {
             .collect()
     }
 
-    /// The figures do not depend on the threads that tally them: the same under pools of
-    /// 1, 2 and 3 threads, and the same as one `MapChecks` fed every block in order on one
-    /// thread (the tally before blocks were tallied apart and summed). Every block is
-    /// written once.
-    #[test]
-    fn figures_do_not_depend_on_the_threads() {
-        let mut plan = Plan::from_toml(
-            "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 2e-3]\n[grid]\n\
-             x0 = { min = -3.0, max = 5.0, count = 13 }\nv0 = { min = -4.0, max = 4.0, count = 11 }\n\
-             [output]\npath = \"t.h5\"\n",
-            "t.toml",
-        )
-        .unwrap();
-        plan.grid.block_rows = 1;
+    /// A located cycle of the first map: a circle of radius 2 around (1, 0), 64 points.
+    fn circle_cycle(plan: &Plan) -> CycleReport {
         let n = 64;
         let (xs, vs) = (0..n)
             .map(|i| {
@@ -216,7 +204,7 @@ mod tests {
                 (1.0 + 2.0 * a.cos(), 2.0 * a.sin())
             })
             .unzip();
-        let cycle = CycleReport {
+        CycleReport {
             params: plan.maps[0],
             dt: 0.01,
             r_section: 2.0,
@@ -235,7 +223,24 @@ mod tests {
             stable_above: None,
             escape: None,
             curve: ClosedCurve::new(xs, vs),
-        };
+        }
+    }
+
+    /// The figures do not depend on the threads that tally them: the same under pools of
+    /// 1, 2 and 3 threads, and the same as one `MapChecks` fed every block in order on one
+    /// thread (the tally before blocks were tallied apart and summed). Every block is
+    /// written once.
+    #[test]
+    fn figures_do_not_depend_on_the_threads() {
+        let mut plan = Plan::from_toml(
+            "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 2e-3]\n[grid]\n\
+             x0 = { min = -3.0, max = 5.0, count = 13 }\nv0 = { min = -4.0, max = 4.0, count = 11 }\n\
+             [output]\npath = \"t.h5\"\n",
+            "t.toml",
+        )
+        .unwrap();
+        plan.grid.block_rows = 1;
+        let cycle = circle_cycle(&plan);
         let want: Vec<MapFigures> = (0..2)
             .map(|m| {
                 let curve = (m == 0).then_some(&cycle.curve);
