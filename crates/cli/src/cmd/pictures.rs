@@ -109,9 +109,16 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
     if let Some(size) = &size {
         check_new(size, force, "picture")?;
     }
-    let transient = render_sheet(h5, (png, force), &info, scale)?;
+    // Each map read once: the sheet draws them, the cycle chart counts their labels.
+    let maps: Vec<_> = (0..info.maps)
+        .map(|i| squeal_store::read_map(h5, i))
+        .collect::<Result<_, _>>()?;
+    let transient = render_sheet((png, force), &info, &maps, scale)?;
     if let Some(size) = &size {
-        render_cycle_sizes(h5, size, &info)?;
+        let counts: Vec<[u64; 4]> = (maps.iter())
+            .map(|m| squeal_scan::MapSummary::of(&m.labels, m.x0.len(), false).counts)
+            .collect();
+        render_cycle_sizes(h5, size, &info, &counts)?;
     }
     Ok(std::iter::once(png.to_path_buf())
         .chain(size)
@@ -122,15 +129,12 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
 /// The sheet of a sweep's maps, one panel per swept value, and beside it their transient
 /// squeal where some start squealed first (returned).
 fn render_sheet(
-    h5: &Path,
     (png, force): (&Path, bool),
     info: &squeal_store::FileInfo,
+    maps: &[squeal_store::MapData],
     scale: squeal_plot::StateScale,
 ) -> anyhow::Result<Option<PathBuf>> {
-    let n = info.maps;
-    let maps: Vec<_> = (0..n)
-        .map(|i| squeal_store::read_map(h5, i))
-        .collect::<Result<_, _>>()?;
+    let n = maps.len();
     let units = physical_units(info);
     let scaled: Vec<_> = maps
         .iter()
@@ -168,7 +172,7 @@ fn render_sheet(
     let ncols = (n as f64).sqrt().ceil() as usize;
     // The transient sheet first, as for one map (`render_file`).
     let transient =
-        super::transient::draw_sheet((png, force), info, &maps, &panels, (&title, ncols))?;
+        super::transient::draw_sheet((png, force), info, maps, &panels, (&title, ncols))?;
     squeal_plot::basin_sheet(png, &title, &panels, &squeal_plot::label_classes(), ncols)
         .map_err(|e| discard(png, e))?;
     Ok(transient)
@@ -185,7 +189,12 @@ fn swept(info: &squeal_store::FileInfo) -> String {
 /// The unstable cycle's size against the swept parameter; values without a cycle marked by
 /// what the map found instead (every start squeals, none does, or neither). A physical
 /// sweep's in SI units: against `c` (N s/m) or `v_belt` (m/s), the sizes in um and mm/s.
-fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> anyhow::Result<()> {
+fn render_cycle_sizes(
+    h5: &Path,
+    size: &Path,
+    info: &squeal_store::FileInfo,
+    counts: &[[u64; 4]],
+) -> anyhow::Result<()> {
     let summary = squeal_store::read_cycle_summary(h5)?;
     let axis = SweepAxis::of(info);
     let words = CycleWords::of(physical_units(info));
@@ -206,10 +215,7 @@ fn render_cycle_sizes(h5: &Path, size: &Path, info: &squeal_store::FileInfo) -> 
         .collect();
     let log_x = ["nu", "xi"].contains(&axis.swept.as_str());
     let missing = squeal_plot::missing_values(&curves, log_x);
-    let counts: Vec<[u64; 4]> = (super::common::map_summaries(info)?.iter())
-        .map(|m| m.counts)
-        .collect();
-    let gaps = squeal_plot::cycle_gaps(&missing, &xs, &counts);
+    let gaps = squeal_plot::cycle_gaps(&missing, &xs, counts);
     let mut shared = squeal_plot::params_line(&model_params(info, 0), Some(&axis.swept));
     shared.insert_str(
         0,
