@@ -16,11 +16,12 @@ fn num(v: f64) -> Value {
 /// specs), with the coordinates of each.
 pub(crate) fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
     let axes: Vec<Value> = plan
-        .axes()
+        .space.axes()
         .iter()
         .map(|a| json!({"key": a.key, "long_name": a.long_name, "units": a.units, "values": a.values}))
         .collect();
     let fixed: serde_json::Map<String, Value> = plan
+        .space
         .fixed()
         .iter()
         .map(|(a, v)| (a.key.to_string(), json!({"value": v, "units": a.units})))
@@ -40,8 +41,8 @@ pub(crate) fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
     json!({
         "schema": squeal_store::ATLAS_SCHEMA,
         "name": plan.name,
-        "law": plan.law.name(),
-        "units": plan.units.name(),
+        "law": plan.space.law.name(),
+        "units": plan.space.units.name(),
         "axes": axes,
         "fixed": fixed,
         "operating_point": {"x": plan.point.operating.x, "v": plan.point.operating.v},
@@ -61,15 +62,16 @@ pub(crate) fn atlas_json(plan: &AtlasPlan, res: &AtlasResults) -> Value {
 
 /// Point `i`: its coordinates, parameters and figures (`not_computed` without `p`).
 fn point_json(plan: &AtlasPlan, res: &AtlasResults, i: usize, p: Option<&PointResult>) -> Value {
-    let values = plan.values_at(i);
+    let values = plan.space.values_at(i);
     let coords: serde_json::Map<String, Value> = plan
+        .space
         .params
         .iter()
         .zip(&values)
         .filter(|(a, _)| a.values.len() > 1)
         .map(|(a, v)| (a.key.to_string(), json!(v)))
         .collect();
-    let q = plan.params_at(i);
+    let q = plan.space.params_at(i);
     let mut o = json!({
         "index": i,
         "coords": coords,
@@ -83,7 +85,7 @@ fn point_json(plan: &AtlasPlan, res: &AtlasResults, i: usize, p: Option<&PointRe
     o["operating_point_squeals"] = json!(p.regime.operating_point_squeals());
     o["note"] = json!(p.note.as_ref().map(|n| &n.text));
     o["note_kind"] = json!(p.note.as_ref().map(|n| n.kind.name()));
-    let scales = plan.physical_at(i).map(|ph| ph.scales());
+    let scales = plan.space.physical_at(i).map(|ph| ph.scales());
     let mut si = serde_json::Map::new();
     for c in COLUMNS {
         let v = (c.get)(p);
@@ -108,10 +110,11 @@ fn point_json(plan: &AtlasPlan, res: &AtlasResults, i: usize, p: Option<&PointRe
 /// Boundary search `j`: where it searched, and the fold and the critical value it found.
 fn boundary_json(plan: &AtlasPlan, j: usize, b: Option<&BoundaryResult>) -> Value {
     let (i, range) = plan.boundary_setup(j);
-    let values = plan.values_at(i);
+    let values = plan.space.values_at(i);
     let (dkey, _) = plan.boundary_axis();
     let bkey = plan.boundary_key();
     let coords: serde_json::Map<String, Value> = plan
+        .space
         .params
         .iter()
         .zip(&values)

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use squeal_scan::atlas::{
-    AtlasAxis, AtlasPlan, AtlasRegime, AtlasResults, Boundary, BoundaryResult, BoundaryStatus,
+    AtlasPlan, AtlasRegime, AtlasResults, Boundary, BoundaryResult, BoundaryStatus, ParamAxis,
     PointResult, Units,
 };
 
@@ -15,7 +15,7 @@ use crate::{Curve, Glyph, Marks, PlotError, Rgb, StabilityChart};
 /// Draws the chart of an atlas: a stability chart (2 swept parameters) or a bifurcation
 /// diagram (1); nothing for other counts.
 pub fn atlas_chart(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), PlotError> {
-    match plan.axes().len() {
+    match plan.space.axes().len() {
         2 => stability(plan, res, png),
         1 => bifurcation(plan, res, png),
         _ => Ok(()),
@@ -47,7 +47,7 @@ fn boundary_values(
 
 /// The stability chart over the swept axes `(y, x)`.
 fn stability(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), PlotError> {
-    let axes = plan.axes();
+    let axes = plan.space.axes();
     let (ya, xa) = (axes[0], axes[1]);
     let classes: Vec<u8> = res
         .points
@@ -99,7 +99,7 @@ fn stability(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), Plo
 fn boundary_lines(
     plan: &AtlasPlan,
     res: &AtlasResults,
-    (xa, ya): (&AtlasAxis, &AtlasAxis),
+    (xa, ya): (&ParamAxis, &ParamAxis),
 ) -> (Vec<Curve>, Vec<Marks>) {
     let (_, dpos) = plan.boundary_axis();
     if dpos.is_none() {
@@ -235,7 +235,7 @@ fn repeat3(v: &[f64]) -> Vec<f64> {
 fn stability_subtitle(plan: &AtlasPlan) -> String {
     let op = plan.point.operating;
     let d = plan.point.disturbance;
-    let (units, box_units) = match (plan.units, plan.disturbance_nondimensional) {
+    let (units, box_units) = match (plan.space.units, plan.disturbance_nondimensional) {
         (Units::Physical, false) => (" (m, m/s)", " (m, m/s)"),
         (Units::Physical, true) => (
             " (m, m/s)",
@@ -251,13 +251,13 @@ fn stability_subtitle(plan: &AtlasPlan) -> String {
 
 /// The bifurcation diagram over the one swept axis.
 fn bifurcation(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), PlotError> {
-    let a = plan.axes()[0];
+    let a = plan.space.axes()[0];
     let (mut curves, top) = cycle_and_band(plan, res, &a.values);
     let (dkey, _) = plan.boundary_axis();
     if a.key == dkey {
         curves.extend(boundary_verticals(plan, res, a, top));
     }
-    let y_label = if plan.units == Units::Physical {
+    let y_label = if plan.space.units == Units::Physical {
         "x' at the section x = x* (m/s)"
     } else {
         "x' at the section x = x* (nondimensional)"
@@ -276,7 +276,7 @@ fn bifurcation(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), P
 /// The unstable cycle and the stick-slip band at the section against the swept values `xs`
 /// (m/s for a physical plan), and the largest value drawn.
 fn cycle_and_band(plan: &AtlasPlan, res: &AtlasResults, xs: &[f64]) -> (Vec<Curve>, f64) {
-    let scale = |i: usize, v: f64| match plan.physical_at(i) {
+    let scale = |i: usize, v: f64| match plan.space.physical_at(i) {
         Some(ph) => v * ph.scales().velocity,
         None => v,
     };
@@ -351,7 +351,7 @@ fn cycle_and_band(plan: &AtlasPlan, res: &AtlasResults, xs: &[f64]) -> (Vec<Curv
 
 /// The fold and the critical value as vertical lines from 0 to just above `top`, their
 /// values (with the axis's units) in the legend.
-fn boundary_verticals(plan: &AtlasPlan, res: &AtlasResults, a: &AtlasAxis, top: f64) -> Vec<Curve> {
+fn boundary_verticals(plan: &AtlasPlan, res: &AtlasResults, a: &ParamAxis, top: f64) -> Vec<Curve> {
     let units = if a.units == "1" {
         String::new()
     } else {

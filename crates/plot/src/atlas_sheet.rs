@@ -53,7 +53,7 @@ pub(crate) fn is_log(v: &[f64]) -> bool {
     }
 }
 
-pub(crate) fn axis_label(a: &squeal_scan::atlas::AtlasAxis) -> String {
+pub(crate) fn axis_label(a: &squeal_scan::atlas::ParamAxis) -> String {
     if a.units == "1" {
         a.long_name.to_string()
     } else {
@@ -63,6 +63,7 @@ pub(crate) fn axis_label(a: &squeal_scan::atlas::AtlasAxis) -> String {
 
 pub(crate) fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
     let fixed: Vec<String> = plan
+        .space
         .fixed()
         .iter()
         .map(|(a, v)| {
@@ -76,8 +77,18 @@ pub(crate) fn title(plan: &AtlasPlan, what: Option<&str>) -> String {
         .collect();
     // The spec's name first (docs/atlas-spec.md: "used in titles").
     match what {
-        Some(w) => format!("{}: {} law, {w}; {}", plan.name, plan.law, fixed.join(", ")),
-        None => format!("{}: {} law; {}", plan.name, plan.law, fixed.join(", ")),
+        Some(w) => format!(
+            "{}: {} law, {w}; {}",
+            plan.name,
+            plan.space.law,
+            fixed.join(", ")
+        ),
+        None => format!(
+            "{}: {} law; {}",
+            plan.name,
+            plan.space.law,
+            fixed.join(", ")
+        ),
     }
 }
 
@@ -97,7 +108,7 @@ fn pick(n: usize, m: usize) -> Vec<usize> {
     v
 }
 
-fn value_text(a: &squeal_scan::atlas::AtlasAxis, v: f64) -> String {
+fn value_text(a: &squeal_scan::atlas::ParamAxis, v: f64) -> String {
     let u = if a.units == "1" {
         String::new()
     } else {
@@ -117,6 +128,7 @@ pub fn atlas_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(
     let g = m.grid;
     // A physical atlas's maps in um and mm/s (one system's units serve every map).
     let si = plan
+        .space
         .physical_at(0)
         .map(|ph| ph.scales())
         .map(|s| (s.length * 1e6, s.velocity * 1e3));
@@ -127,7 +139,7 @@ pub fn atlas_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(
         picks: drawn_indices(plan),
         x0: g.x0.values().iter().map(|x| x * lx).collect(),
         v0: g.v0.values().iter().map(|v| v * lv).collect(),
-        scale: crate::StateScale::of_law(plan.law.name()),
+        scale: crate::StateScale::of_law(plan.space.law.name()),
         si,
     };
     let data: Vec<(usize, Vec<u8>)> = sheet
@@ -145,7 +157,7 @@ pub fn atlas_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(
         .iter()
         .map(|(i, labels)| sheet.panel(*i, labels))
         .collect();
-    let ncols = match plan.axes().len() {
+    let ncols = match plan.space.axes().len() {
         0 => 1,
         1 => (panels.len() as f64).sqrt().ceil() as usize,
         _ => sheet.picks[1].len(),
@@ -156,8 +168,9 @@ pub fn atlas_sheet(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(
 /// The drawn indices per swept axis: at most 6 of each of the first two (24 in 1-D), evenly
 /// spread with both ends; further axes at their first value.
 fn drawn_indices(plan: &AtlasPlan) -> Vec<Vec<usize>> {
-    let axes = plan.axes().len();
-    plan.shape()
+    let axes = plan.space.axes().len();
+    plan.space
+        .shape()
         .iter()
         .enumerate()
         .map(|(k, &n)| match (axes, k) {
@@ -184,7 +197,7 @@ struct Sheet<'a> {
 impl Sheet<'_> {
     /// The drawn points (flat indices, C order), in reading order.
     fn points(&self) -> Vec<usize> {
-        let shape = self.plan.shape();
+        let shape = self.plan.space.shape();
         let mut points: Vec<Vec<usize>> = vec![vec![]];
         for p in &self.picks {
             points = points
@@ -205,8 +218,9 @@ impl Sheet<'_> {
     /// Point `i`'s panel: titled by the parameters that differ between panels, its cycle,
     /// fixed point and the state at rest drawn on its map.
     fn panel<'p>(&'p self, i: usize, labels: &'p [u8]) -> crate::BasinPanel<'p> {
-        let (plan, values) = (self.plan, self.plan.values_at(i));
-        let swept: Vec<(&squeal_scan::atlas::AtlasAxis, f64)> = plan
+        let (plan, values) = (self.plan, self.plan.space.values_at(i));
+        let swept: Vec<(&squeal_scan::atlas::ParamAxis, f64)> = plan
+            .space
             .params
             .iter()
             .zip(&values)
@@ -229,7 +243,7 @@ impl Sheet<'_> {
             .map(|r| crate::cycle_overlay(&si(&r.curve.x, lx), &si(&r.curve.v, lv)))
             .into_iter()
             .collect();
-        let fp = plan.params_at(i).fixed_point();
+        let fp = plan.space.params_at(i).fixed_point();
         let axis_labels = match self.si {
             Some(_) => [
                 "initial displacement x0 (um)".to_string(),
@@ -255,7 +269,7 @@ impl Sheet<'_> {
     /// The sheet's title: the name, the law, every fixed parameter, and which panels of
     /// each swept axis are drawn.
     fn title(&self) -> String {
-        let (plan, axes) = (self.plan, self.plan.axes());
+        let (plan, axes) = (self.plan, self.plan.space.axes());
         let drawn: Vec<String> = axes
             .iter()
             .zip(&self.picks)
@@ -278,7 +292,7 @@ impl Sheet<'_> {
         format!(
             "{}: basins of attraction, {}, one map per parameter point\n{}, dt = {}, scheme {}\npanels: {}{layout}",
             plan.name,
-            crate::law_title(plan.law.name()),
+            crate::law_title(plan.space.law.name()),
             title(plan, None)
                 .split_once(": ")
                 .map_or(String::new(), |(_, f)| f.to_string()),

@@ -27,22 +27,23 @@ pub fn fold_lifetime_charts(
     paths: [&Path; 2],
 ) -> Result<(), PlotError> {
     let (dkey, _) = plan.boundary_axis();
-    let Some(axis) = plan.axes().into_iter().find(|a| a.key != dkey) else {
+    let Some(axis) = plan.space.axes().into_iter().find(|a| a.key != dkey) else {
         return Ok(());
     };
     let at = plan
+        .space
         .params
         .iter()
         .position(|a| a.key == axis.key)
         .unwrap_or(0);
     let xs: Vec<f64> = (0..res.boundaries.len())
-        .map(|j| plan.values_at(plan.boundary_setup(j).0)[at])
+        .map(|j| plan.space.values_at(plan.boundary_setup(j).0)[at])
         .collect();
     let log_x = is_log(&axis.values);
     // Times in natural periods, or in seconds for a physical plan (the time unit at each
     // boundary's parameters).
-    let physical = plan.units == Units::Physical;
-    let per = |j: usize| match plan.physical_at(plan.boundary_setup(j).0) {
+    let physical = plan.space.units == Units::Physical;
+    let per = |j: usize| match plan.space.physical_at(plan.boundary_setup(j).0) {
         Some(ph) if physical => 1.0 / ph.scales().time,
         _ => std::f64::consts::TAU,
     };

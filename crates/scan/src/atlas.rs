@@ -53,4 +53,4 @@ pub use maps::{MapFraction, PointMap, finish, map_fraction, point_maps};
 pub use note::{Note, NoteKind};
 pub use point::{AtlasRegime, PointResult, PointSettings};
 pub use results::AtlasResults;
-pub use spec::{AtlasAxis, AtlasPlan, MapSettings, Units};
+pub use spec::{AtlasPlan, MapSettings, ParamAxis, Units};

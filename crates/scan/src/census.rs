@@ -165,7 +165,7 @@ enum Side {
 /// and `trajectory`), and, with a cycle, 4 points of the ring [`RING_OUTSIDE`] times the
 /// cycle and 3 inside it (0.9 and 0.5 times). Each with its side of the cycle.
 fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> Vec<(State, Side)> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let (x0, v0) = (g.x0, g.v0);
     let mid = |a: f64, b: f64| 0.5 * (a + b);
     let mut box_points = Vec::new();
@@ -345,7 +345,7 @@ path = "t.h5"
         let plain = Classifier {
             trap: None,
             band_rules: false,
-            ..plan.classifier
+            ..plan.map.classifier
         };
         for (x, v) in [(0.0, 0.0), (2.0, 0.5), (-1.0, -0.5), (2.0, -0.5)] {
             let ic = State { x, v };

@@ -208,7 +208,7 @@ impl MapChecks {
         block: usize,
         cells: &[Cell],
     ) {
-        let g = &plan.grid;
+        let g = &plan.map.grid;
         let nx = g.x0.count;
         let rows = g.block_rows(block);
         // A random sample has no pixel: its mean spacing sqrt(area / n) stands in for one,
@@ -347,7 +347,7 @@ impl<'a> MapTally<'a> {
             curve,
             gathered: std::sync::Mutex::new(Gathered {
                 checks: start,
-                labels: vec![NOT_COMPUTED; plan.grid.cells()],
+                labels: vec![NOT_COMPUTED; plan.map.grid.cells()],
             }),
         }
     }
@@ -370,7 +370,7 @@ impl<'a> MapTally<'a> {
     pub fn add_block(&self, plan: &Plan, block: usize, cells: &[Cell]) {
         let mut checks = self.start;
         checks.add_block(plan, self.curve, block, cells);
-        let start = plan.grid.block_rows(block).start * plan.grid.x0.count;
+        let start = plan.map.grid.block_rows(block).start * plan.map.grid.x0.count;
         let mut g = self.gathered.lock().unwrap_or_else(|e| e.into_inner());
         g.checks.add(&checks);
         for (l, c) in g.labels[start..].iter_mut().zip(cells) {
@@ -385,9 +385,9 @@ impl<'a> MapTally<'a> {
             .gathered
             .into_inner()
             .unwrap_or_else(|e| e.into_inner());
-        let shares = match plan.grid.starts {
+        let shares = match plan.map.grid.starts {
             crate::grid::Starts::Sample(_) => GridShares::random(&g.labels),
-            crate::grid::Starts::Grid => GridShares::of(&g.labels, plan.grid.x0.count),
+            crate::grid::Starts::Grid => GridShares::of(&g.labels, plan.map.grid.x0.count),
         };
         (g.checks, shares)
     }
@@ -430,7 +430,7 @@ path = "t.h5"
             "t.toml",
         )
         .unwrap();
-        plan.grid.block_rows = 3;
+        plan.map.grid.block_rows = 3;
         let sq = ClosedCurve::new(vec![-0.5, 0.5, 0.5, -0.5], vec![-0.5, -0.5, 0.5, 0.5]);
         let mut cell = Cell::fill();
         cell.regime = 2;
@@ -515,7 +515,7 @@ path = "t.h5"
             "t.toml",
         )
         .unwrap();
-        plan.grid.block_rows = 1;
+        plan.map.grid.block_rows = 1;
         let row = |regime: Regime| {
             let mut c = Cell::fill();
             c.regime = regime as u8;

@@ -83,8 +83,8 @@ pub struct MemorySink {
 impl MemorySink {
     /// The cells of map `map`, row-major `(v0, x0)`, if every block is there.
     pub fn map_cells(&self, plan: &Plan, map: usize) -> Option<Vec<crate::Cell>> {
-        let mut out = Vec::with_capacity(plan.grid.cells());
-        for b in 0..plan.grid.blocks() {
+        let mut out = Vec::with_capacity(plan.map.grid.cells());
+        for b in 0..plan.map.grid.blocks() {
             out.extend_from_slice(&self.blocks.get(&(map, b))?.cells);
         }
         Some(out)
@@ -158,7 +158,7 @@ impl std::str::FromStr for Shard {
 pub fn shard_owns(shard: Option<Shard>, plan: &Plan, map: usize, block: usize) -> bool {
     match shard {
         None => true,
-        Some(s) => (map * plan.grid.blocks() + block) % s.n == s.k - 1,
+        Some(s) => (map * plan.map.grid.blocks() + block) % s.n == s.k - 1,
     }
 }
 
@@ -177,7 +177,7 @@ pub struct Pending {
 impl Pending {
     /// The work left for `shard` of `plan`, given what `sink` holds.
     pub fn of<S: Sink + ?Sized>(plan: &Plan, shard: Option<Shard>, sink: &S) -> Pending {
-        let g = &plan.grid;
+        let g = &plan.map.grid;
         let mut p = Pending::default();
         for m in 0..plan.maps.len() {
             let before = p.blocks.len();
@@ -205,7 +205,7 @@ impl Pending {
 
     /// Pending cells of map `map`.
     pub fn cells_of(&self, plan: &Plan, map: usize) -> usize {
-        let g = &plan.grid;
+        let g = &plan.map.grid;
         self.blocks
             .iter()
             .filter(|(m, _)| *m == map)
@@ -548,7 +548,7 @@ path = "t.h5"
         for (&(m, b), block) in &sink.blocks {
             assert_eq!(
                 block.cells.len(),
-                plan.grid.block_rows(b).len() * 5,
+                plan.map.grid.block_rows(b).len() * 5,
                 "map {m}"
             );
         }

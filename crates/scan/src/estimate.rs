@@ -277,11 +277,11 @@ pub fn prepare_seconds(plan: &Plan) -> f64 {
 /// the cells ([`Plan::estimate_seconds`]); their audited share, each a run to `t_max`.
 pub fn documented_seconds(plan: &Plan, pending: &Pending, threads: usize) -> f64 {
     let maps = pending.maps_to_prepare();
-    let audits = match plan.early_stop {
-        crate::spec::EarlyStop::Cycle if plan.audit_every > 0 => {
+    let audits = match plan.map.early_stop {
+        crate::spec::EarlyStop::Cycle if plan.map.audit_every > 0 => {
             // About one cell in `audit_every`, and cell 0 of each map.
-            let n = pending.cells as f64 / plan.audit_every as f64 + maps as f64;
-            n * (plan.classifier.t_max / plan.dt).ceil() * STEP_SECONDS / threads.max(1) as f64
+            let n = pending.cells as f64 / plan.map.audit_every as f64 + maps as f64;
+            n * (plan.map.classifier.t_max / plan.dt).ceil() * STEP_SECONDS / threads.max(1) as f64
         }
         _ => 0.0,
     };
@@ -297,7 +297,7 @@ pub const PILOT_MAX_SECONDS: f64 = 30.0;
 /// its time budget, then one more map (prepared, one cell run to `t_max`, its audited
 /// samples run to `t_max`), which it starts before looking at the clock.
 pub fn pilot_bound(plan: &Plan) -> f64 {
-    let cell = (plan.classifier.t_max / plan.dt).ceil() * STEP_SECONDS;
+    let cell = (plan.map.classifier.t_max / plan.dt).ceil() * STEP_SECONDS;
     2.0 * PILOT_BUDGET.as_secs_f64() + prepare_seconds(plan) + (1 + AUDIT_SAMPLES) as f64 * cell
 }
 
@@ -324,7 +324,7 @@ fn picked_maps(n: usize) -> Vec<usize> {
 
 /// Cell `idx` of a map (row-major) as `(row, col)`.
 fn cell_at(plan: &Plan, idx: usize) -> (usize, usize) {
-    (idx / plan.grid.x0.count, idx % plan.grid.x0.count)
+    (idx / plan.map.grid.x0.count, idx % plan.map.grid.x0.count)
 }
 
 /// Runs the pilot on `plan` (single-threaded): the maps of [`picked_maps`], then more
@@ -333,9 +333,9 @@ fn cell_at(plan: &Plan, idx: usize) -> (usize, usize) {
 pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
     let t0 = Instant::now();
     let core = CoreShare::start();
-    let per_map = plan.grid.cells();
+    let per_map = plan.map.grid.cells();
     let audited: Vec<usize> = (0..per_map)
-        .filter(|&i| crate::scanner::audited(i as u64, plan.audit_every))
+        .filter(|&i| crate::scanner::audited(i as u64, plan.map.audit_every))
         .collect();
     let first = picked_maps(plan.maps.len());
     let budget = PILOT_BUDGET / first.len() as u32;
@@ -377,7 +377,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
     // AUDIT_PER_RULE cells for each of the start rule's groups and as many run-decided cells,
     // beside the plan's own interval. Counted at that bound.
     let groups = crate::census::Rules::ALL.len() + 1;
-    let audited_per_map = match plan.audit_every {
+    let audited_per_map = match plan.map.audit_every {
         0 => 0,
         _ => audited
             .len()
@@ -415,14 +415,14 @@ fn measure(
         (Some(a), Some(b)) if b > a => b - a,
         _ => t.elapsed().as_secs_f64(),
     };
-    let per_map = plan.grid.cells() as u64;
+    let per_map = plan.map.grid.cells() as u64;
     let t1 = Instant::now();
     let mut done = 0usize;
     for j in 0..per_map.min(cells as u64) {
         // A spread sample: Fibonacci hashing (the top bits of j * 2^64 / phi) over the cells.
         let idx = ((j.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) % per_map) as usize;
         let (row, col) = cell_at(plan, idx);
-        let (x, v) = plan.grid.state(row, col);
+        let (x, v) = plan.map.grid.state(row, col);
         ctx.classify(squeal_core::State { x, v });
         done += 1;
         if t1.elapsed() >= budget {
@@ -451,7 +451,7 @@ fn audit_seconds(plan: &Plan, ctx: &MapContext, audited: &[usize]) -> f64 {
     let n = audited.len().min(AUDIT_SAMPLES);
     for &idx in &audited[..n] {
         let (row, col) = cell_at(plan, idx);
-        let (x, v) = plan.grid.state(row, col);
+        let (x, v) = plan.map.grid.state(row, col);
         ctx.settle(squeal_core::State { x, v });
     }
     t.elapsed().as_secs_f64() / n as f64
@@ -488,12 +488,12 @@ impl AtlasEstimate {
         // A line's points run one after another (each warm-starts the next), and so does a
         // boundary unit: neither is shared between threads.
         let line = plan.line_len() as f64 * self.point_seconds;
-        let units = ((plan.n_points() as f64 * self.point_seconds + boundaries)
+        let units = ((plan.space.n_points() as f64 * self.point_seconds + boundaries)
             / threads.max(1) as f64)
             .max(line)
             .max(self.boundary_seconds);
         let maps = match (&self.maps, plan.map_plan()) {
-            (Some(e), Some(mp)) => e.seconds(mp.maps.len(), |_| mp.grid.cells(), threads),
+            (Some(e), Some(mp)) => e.seconds(mp.maps.len(), |_| mp.map.grid.cells(), threads),
             _ => 0.0,
         };
         units + maps
@@ -534,7 +534,7 @@ fn boundary_pilot(plan: &AtlasPlan) -> Result<f64, ScanError> {
 pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
     let t0 = Instant::now();
     let core = CoreShare::start();
-    let n = plan.n_points();
+    let n = plan.space.n_points();
     let k = ATLAS_PILOT_POINTS.min(n).max(1);
     let mut points = 0usize;
     for j in 0..k {
@@ -589,7 +589,7 @@ fn boundary_bound(plan: &AtlasPlan) -> f64 {
 pub fn atlas_documented_seconds(plan: &AtlasPlan, threads: usize) -> f64 {
     let t = threads.max(1) as f64;
     let (point, unit) = (point_bound(plan), boundary_bound(plan));
-    let units = ((plan.n_points() as f64 * point + plan.n_boundaries() as f64 * unit) / t)
+    let units = ((plan.space.n_points() as f64 * point + plan.n_boundaries() as f64 * unit) / t)
         .max(plan.line_len() as f64 * point)
         .max(if plan.n_boundaries() > 0 { unit } else { 0.0 });
     let maps = plan.map_plan().map_or(0.0, |mp| {

@@ -71,7 +71,7 @@ fn tally_and_write<F: Finishing>(f: &F) -> Result<Vec<MapFigures>, F::Error> {
             t
         })
         .collect();
-    let nb = plan.grid.blocks();
+    let nb = plan.map.grid.blocks();
     let ids: Vec<(usize, usize)> = (0..plan.maps.len())
         .flat_map(|m| (0..nb).map(move |b| (m, b)))
         .collect();
@@ -168,7 +168,7 @@ mod tests {
     /// Cells that exercise every count: labels by distance from (1, 0) (some on the wrong
     /// side of the circle of radius 2 around it), audits, reasons and `t_squeal` varying.
     fn cells(plan: &Plan, map: usize, block: usize) -> Vec<Cell> {
-        let g = &plan.grid;
+        let g = &plan.map.grid;
         let rows = g.block_rows(block);
         let nx = g.x0.count;
         (0..rows.len() * nx)
@@ -239,7 +239,7 @@ mod tests {
             "t.toml",
         )
         .unwrap();
-        plan.grid.block_rows = 1;
+        plan.map.grid.block_rows = 1;
         let cycle = circle_cycle(&plan);
         let want: Vec<MapFigures> = (0..2)
             .map(|m| {
@@ -247,12 +247,12 @@ mod tests {
                 let landscape = (m == 1).then_some(Landscape::StickSlipOnly);
                 let mut checks = MapChecks::new(curve, landscape, false);
                 let mut labels = Vec::new();
-                for b in 0..plan.grid.blocks() {
+                for b in 0..plan.map.grid.blocks() {
                     let c = cells(&plan, m, b);
                     checks.add_block(&plan, curve, b, &c);
                     labels.extend(c.iter().map(|c| c.regime));
                 }
-                let shares = GridShares::of(&labels, plan.grid.x0.count);
+                let shares = GridShares::of(&labels, plan.map.grid.x0.count);
                 MapFigures { checks, shares }
             })
             .collect();
@@ -285,7 +285,7 @@ mod tests {
             let mut written = mem.written.into_inner().unwrap();
             written.sort();
             let all: Vec<_> = (0..2)
-                .flat_map(|m| (0..plan.grid.blocks()).map(move |b| (m, b)))
+                .flat_map(|m| (0..plan.map.grid.blocks()).map(move |b| (m, b)))
                 .collect();
             assert_eq!(written, all, "{threads} thread(s)");
         }

@@ -28,8 +28,8 @@ pub fn of_params(plan: &Plan, params: Params) -> Result<Option<LandscapeEvidence
     let stepper = Stepper::new(params, plan.dt, plan.solver)?;
     Ok(landscape::landscape_evidence(
         &stepper,
-        plan.classifier.t_max,
-        plan.classifier.fp_radius,
+        plan.map.classifier.t_max,
+        plan.map.classifier.fp_radius,
     ))
 }
 

@@ -49,7 +49,7 @@ fn group(c: &Cell) -> Option<Rules> {
 /// cells whose run to settlement gave the other decided label, each with the first such
 /// cell as why.
 fn refuted(plan: &Plan, block: usize, cells: &[Cell], known: &[Withdrawn]) -> Vec<Withdrawn> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let rows = g.block_rows(block);
     let mut out: Vec<Withdrawn> = Vec::new();
     for (k, c) in cells.iter().enumerate() {
@@ -82,7 +82,7 @@ pub fn act_on_audits<S: Sink>(
     shard: Option<Shard>,
     sink: &mut S,
 ) -> Result<Vec<Acted>, DriveError<S::Error>> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let mut acted = Vec::new();
     for m in 0..plan.maps.len() {
         let blocks: Vec<usize> = (0..g.blocks())
@@ -184,7 +184,7 @@ path = "t.h5"
             "t.toml",
         )
         .unwrap();
-        plan.grid.block_rows = 1;
+        plan.map.grid.block_rows = 1;
         plan
     }
 
@@ -193,7 +193,7 @@ path = "t.h5"
     fn unchecked(plan: &Plan) -> MemorySink {
         let ctx = MapContext::prepare_checked(plan, 0, false).unwrap();
         let mut sink = MemorySink::default();
-        for b in 0..plan.grid.blocks() {
+        for b in 0..plan.map.grid.blocks() {
             let r = crate::scanner::run_block(plan, &ctx, b, &crate::NoObserver, None).unwrap();
             sink.blocks.insert((0, b), r);
         }

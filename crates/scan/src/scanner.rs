@@ -85,7 +85,7 @@ pub fn shortcuts(
     landscape: Option<&LandscapeEvidence>,
     found: Option<&SectionCycles>,
 ) -> Shortcuts {
-    if plan.early_stop != EarlyStop::Cycle {
+    if plan.map.early_stop != EarlyStop::Cycle {
         return Shortcuts::NONE;
     }
     // No unstable cycle, and the search's resolution statement holds over its whole range:
@@ -103,7 +103,7 @@ pub fn shortcuts(
         Some(&SectionCycles::NoneBelow {
             r_max,
             unresolved: 0,
-        }) if smooth => Some(r_max * (1.0 - plan.trap_margin)),
+        }) if smooth => Some(r_max * (1.0 - plan.map.trap_margin)),
         _ => None,
     };
     // The orbit from breakaway decides every run that sticks: a stick-slip cycle where it
@@ -146,7 +146,7 @@ fn with_section_fates(
 /// ([`LawFamily::has_band`]), early stopping or not: the classifier's band rules need to
 /// know whether the outside of the cycle is invariant ([`Outside`]).
 pub(crate) fn searches_section(plan: &Plan, family: LawFamily) -> bool {
-    plan.early_stop == EarlyStop::Cycle || plan.cycle.locate || family.has_band()
+    plan.map.early_stop == EarlyStop::Cycle || plan.cycle.locate || family.has_band()
 }
 
 /// What the section search of map `map` found, and the rules it sets up.
@@ -184,8 +184,8 @@ fn search_map(
     if let Some(o) = outside {
         classifier.band_rules = o.band_rules();
     }
-    if plan.early_stop == EarlyStop::Cycle {
-        classifier.trap = trap_of(&found, plan.trap_margin);
+    if plan.map.early_stop == EarlyStop::Cycle {
+        classifier.trap = trap_of(&found, plan.map.trap_margin);
     }
     if plan.cycle.locate {
         cycle = Some(match ulc::locate_from(stepper, found, cs, stats, returns) {
@@ -201,7 +201,7 @@ fn search_map(
             _ => ulc::cycle_curve(stepper, r, cs.t_return, &mut Default::default()).map(|(c, _)| c),
         };
         let invariant = outside == Some(Outside::Invariant);
-        start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.trap_margin, invariant));
+        start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.map.trap_margin, invariant));
     }
     Ok(Searched {
         section: Some(found),
@@ -280,7 +280,7 @@ impl AuditRates {
     /// The rates of `ctx`'s map of `plan`: the start rule's decisions counted over the
     /// grid (a test of the start's side, no run).
     fn of_plan(ctx: &MapContext, plan: &Plan) -> AuditRates {
-        let (every, g) = (plan.audit_every, &plan.grid);
+        let (every, g) = (plan.map.audit_every, &plan.map.grid);
         if every == 0 {
             return AuditRates::default();
         }
@@ -346,7 +346,7 @@ pub fn cycle_settings(plan: &Plan, params: &Params) -> CycleSettings {
         return search;
     }
     CycleSettings {
-        r_max: (1.2 * crate::grid::grid_reach(&plan.grid, params)).max(4.0),
+        r_max: (1.2 * crate::grid::grid_reach(&plan.map.grid, params)).max(4.0),
         ..search
     }
 }
@@ -391,7 +391,7 @@ impl MapContext {
         let params = plan.maps[map];
         let stepper = Stepper::new(params, plan.dt, plan.solver)?;
         let cs = cycle_settings(plan, &params);
-        let mut classifier = plan.classifier;
+        let mut classifier = plan.map.classifier;
         let Searched {
             section,
             cycle,
@@ -409,7 +409,7 @@ impl MapContext {
             cs.r_max,
         );
         if let (None, Some(top)) = (&start_rule, shortcuts.decay_below) {
-            start_rule = decaying_turns(&stepper, &cs, plan.trap_margin, top, &mut shortcuts);
+            start_rule = decaying_turns(&stepper, &cs, plan.map.trap_margin, top, &mut shortcuts);
         }
         let mut ctx = MapContext {
             map,
@@ -568,7 +568,7 @@ impl MapContext {
     /// Classifies one cell (and audits it when it is in the sample and an early decision
     /// could apply: the cycle's trap or a certified shortcut).
     pub fn cell(&self, plan: &Plan, row: usize, col: usize) -> Cell {
-        let g = &plan.grid;
+        let g = &plan.map.grid;
         let (x, v) = g.state(row, col);
         let ic = State { x, v };
         let at = self.decide_at_start(ic);
@@ -605,7 +605,7 @@ pub fn run_block(
     observer: &dyn Observer,
     stop: Option<&AtomicBool>,
 ) -> Option<BlockResult> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let rows = g.block_rows(block);
     let nx = g.x0.count;
     let n = rows.len() * nx;

@@ -59,7 +59,7 @@ use squeal_core::{Classifier, FrictionLaw, Params, Setup, SolverConfig};
 
 use crate::error::ScanError;
 use crate::grid::{Axis, Grid, RandomSample, Starts};
-use crate::values::{Value, expand};
+use crate::space::{Limit, Space};
 
 mod classifier;
 pub(crate) mod physical;
@@ -333,21 +333,13 @@ pub struct Plan {
     pub maps: Vec<Params>,
     /// The swept parameter, if any.
     pub sweep: Option<Sweep>,
-    /// The grid of initial conditions.
-    pub grid: Grid,
+    /// The grid (or sample) of initial conditions and how each cell is classified.
+    #[serde(flatten)]
+    pub map: MapSettings,
     /// Time step.
     pub dt: f64,
     /// Solver settings.
     pub solver: SolverConfig,
-    /// Classifier settings (the trap is filled in per map from the located cycle).
-    pub classifier: Classifier,
-    /// Early-stopping rule.
-    pub early_stop: EarlyStop,
-    /// Relative half-width of the band around the cycle where runs go on.
-    pub trap_margin: f64,
-    /// With early stopping: about one cell in `audit_every` is also run to settlement
-    /// (classifier without the trap) and the agreement stored; 0: no audit.
-    pub audit_every: u64,
     /// `[cycle]`: whether to locate, store and draw the unstable cycle, and the search.
     pub cycle: CycleOptions,
     /// The output file.
@@ -356,6 +348,24 @@ pub struct Plan {
     /// maps' `nu` or `lambda` are its `c` or `v_belt` over [`squeal_core::Physical::scales`]). The grid is
     /// stored nondimensional: its spec values were metres and m/s.
     pub physical: Option<squeal_core::Physical>,
+}
+
+/// The basin maps of a plan: the grid (or random sample) of initial conditions and the
+/// classifier of each cell, read from `[grid]` or `[sample]` and `[classifier]` by the same
+/// code in a scan spec and an atlas spec (whose maps are one per parameter point).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MapSettings {
+    /// The grid of initial conditions (an atlas's: its box is also the disturbance box).
+    pub grid: Grid,
+    /// Classifier settings (the trap is filled in per map from its located cycle).
+    pub classifier: Classifier,
+    /// Early-stopping rule.
+    pub early_stop: EarlyStop,
+    /// Relative half-width of the band around the cycle where runs go on.
+    pub trap_margin: f64,
+    /// With early stopping: about one cell in `audit_every` is also run to settlement
+    /// (classifier without the trap) and the agreement stored; 0: no audit.
+    pub audit_every: u64,
 }
 
 /// Default of `classifier.audit_every`: the audit then costs a few percent of an
@@ -395,80 +405,6 @@ fn check_reach(
         ));
     }
     Ok(())
-}
-
-/// Today's bounds on each map's parameters (the core's [`Params::validate`]); errors name
-/// `model.<key>`.
-fn check_maps(maps: &[Params], invalid: Invalid) -> Result<(), ScanError> {
-    for p in maps {
-        p.validate()
-            .map_err(|e| crate::bounds::core_error("model", e, invalid))?;
-    }
-    Ok(())
-}
-
-/// The maps of a `[model]` table: one parameter set per point of the product of its swept
-/// keys (any key of the law given as a list or a range; [`Sweep`]), unchecked
-/// ([`check_maps`]).
-fn model_maps(
-    m: &ModelTable,
-    table: Option<&'static squeal_core::FrictionTable>,
-    invalid: Invalid,
-) -> Result<(Vec<Params>, Option<Sweep>), ScanError> {
-    // The laws with true stick default their damping (bSTAB's case); McMillan's need it.
-    let stribeck = m.law.family().has_own_names();
-    let mut fixed = Vec::new();
-    let mut axes = Vec::new();
-    for (i, n) in Params::defaults(m.law).named().into_iter().enumerate() {
-        let key = format!("model.{}", n.name);
-        match m.given(n.name) {
-            Some(v) if v.is_sweep() => axes.push(SweepAxis {
-                name: n.name,
-                values: expand(&v, &key, MAX_MAPS, &invalid)?,
-            }),
-            // The damping and the belt speed are checked as values first (finite), the
-            // others by the law's validation ([`check_maps`]), as before sweeps of every key.
-            Some(Value::One(x)) if i >= 2 => fixed.push((n.name, x)),
-            Some(v) => fixed.push((n.name, expand(&v, &key, MAX_MAPS, &invalid)?[0])),
-            None if stribeck || n.name != "nu" => fixed.push((n.name, n.value)),
-            None => {
-                return Err(invalid(
-                    "model.nu",
-                    "missing".into(),
-                    "a damping ratio (a number, a list or a range)",
-                ));
-            }
-        }
-    }
-    let sweep = (!axes.is_empty()).then_some(Sweep { axes });
-    let n = sweep.as_ref().map_or(Some(1), |s| {
-        s.shape()
-            .iter()
-            .try_fold(1usize, |acc, &k| acc.checked_mul(k))
-    });
-    if n.is_none_or(|n| n as i64 > MAX_MAPS) {
-        let counts: Vec<String> = (sweep.iter().flat_map(|s| &s.axes))
-            .map(|a| format!("{}: {} values", a.name, a.values.len()))
-            .collect();
-        return Err(invalid(
-            "model",
-            format!("a sweep of {}", counts.join(", ")),
-            &format!("at most {MAX_MAPS} maps (the product of the swept keys' value counts)"),
-        ));
-    }
-    let mut maps = Vec::new();
-    for map in 0..n.unwrap_or(1) {
-        let swept = sweep.as_ref().map(|s| (s.names(), s.values_at(map)));
-        let p = Params::from_named_table(m.law, table, |k| {
-            let at = swept
-                .as_ref()
-                .and_then(|(names, v)| names.iter().position(|x| *x == k).map(|d| v[d]));
-            at.or_else(|| fixed.iter().find(|(f, _)| *f == k).map(|(_, v)| *v))
-        })
-        .expect("every key of the law has a value");
-        maps.push(p);
-    }
-    Ok((maps, sweep))
 }
 
 /// The initial conditions: `[grid]` or `[sample]`, exactly one of them.
@@ -619,21 +555,18 @@ impl Plan {
         let folder = std::path::Path::new(path)
             .parent()
             .unwrap_or(std::path::Path::new(""));
-        // A stored table stands for the key that gave it: `[physical]`'s (in m/s) for a
-        // physical spec, whose `[model]` then carries it converted.
-        let (physical, converted, stored) = match &spec.physical {
-            Some(ph) => {
-                let (base, model) =
-                    physical::model(ph, &spec.model, folder, stored, rules, &invalid)?;
-                (Some(base), Some(model), None)
-            }
-            None => (None, None, stored),
+        let limit = Limit {
+            per_key: MAX_MAPS,
+            points: MAX_MAPS as usize,
+            noun: "maps",
         };
-        let m = converted.as_ref().unwrap_or(&spec.model);
-        m.check_law(&invalid)?;
-        let table = m.table(folder, stored, &invalid)?;
-        let (maps, sweep) = model_maps(m, table, &invalid)?;
-        rules.bound(|| check_maps(&maps, &invalid))?;
+        let ph = spec.physical.as_ref();
+        let space = Space::read(&spec.model, ph, (folder, stored), limit, &invalid)?;
+        space.check_map_units(&invalid)?;
+        physical::scan_sweeps_only_c_and_v_belt(&space, &invalid)?;
+        space.check_points(rules, &invalid)?;
+        let maps: Vec<Params> = (0..space.n_points()).map(|i| space.params_at(i)).collect();
+        let (sweep, physical) = (space.sweep(), space.physical_at(0));
         let (grid, sample) = (spec.grid.as_ref(), spec.sample.as_ref());
         let mut grid = initial_conditions(grid, sample, rules, &invalid)?;
         if let Some(ph) = &physical {
@@ -656,13 +589,15 @@ impl Plan {
             name,
             maps,
             sweep,
-            grid,
+            map: MapSettings {
+                grid,
+                classifier,
+                early_stop,
+                trap_margin,
+                audit_every,
+            },
             dt,
             solver,
-            classifier,
-            early_stop,
-            trap_margin,
-            audit_every,
             cycle,
             output,
             physical,
@@ -688,8 +623,8 @@ impl Plan {
     /// model, and with `tau = 1e300` a 4-row block took 20 s where the rate promised
     /// "roughly 0 s". No cell costs more than its run to `t_max`, the bound used then.
     pub fn estimate_seconds(&self, cells: usize, threads: usize) -> f64 {
-        let to_t_max = (self.classifier.t_max / self.dt) * 250e-9;
-        let per_cell = match self.early_stop {
+        let to_t_max = (self.map.classifier.t_max / self.dt) * 250e-9;
+        let per_cell = match self.map.early_stop {
             EarlyStop::Cycle => {
                 let slowest = self
                     .maps
@@ -706,12 +641,12 @@ impl Plan {
 
     /// Blocks in the whole scan (all maps).
     pub fn total_blocks(&self) -> usize {
-        self.maps.len() * self.grid.blocks()
+        self.maps.len() * self.map.grid.blocks()
     }
 
     /// Cells in the whole scan.
     pub fn total_cells(&self) -> usize {
-        self.maps.len() * self.grid.cells()
+        self.maps.len() * self.map.grid.cells()
     }
 
     /// The law (the same for every map).

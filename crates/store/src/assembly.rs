@@ -171,7 +171,7 @@ impl Assembly {
 /// (a grid, blocks as tall as a chunk, the last one no taller) and the datasets take chunks
 /// deflated as [`crate::chunks`] deflates them.
 fn whole_chunks(plan: &Plan, vars: &CellVars) -> Option<usize> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let rows = vars.chunk_rows;
     let datasets = vars.vars.iter().chain(vars.si.iter().map(|(d, _)| d));
     let deflated = datasets
@@ -205,7 +205,7 @@ impl Finishing for Assembly {
         let Some(cells) = self.src.block(map, block)? else {
             return Ok(None);
         };
-        let want = self.plan.grid.block_rows(block).len() * self.plan.grid.x0.count;
+        let want = self.plan.map.grid.block_rows(block).len() * self.plan.map.grid.x0.count;
         if cells.len() != want {
             let n = cells.len();
             return Err(self.bad(format!(
@@ -229,7 +229,7 @@ impl Finishing for Assembly {
 
     fn write_block(&self, b: StoredBlock) -> Result<(), StoreError> {
         let (map, block, cells) = (b.map, b.block, &b.cells[..]);
-        let g = &self.plan.grid;
+        let g = &self.plan.map.grid;
         let (rows, nx) = (g.block_rows(block), g.x0.count);
         let prefix: &[usize] = if self.plan.sweep.is_some() {
             &[map]
@@ -302,7 +302,7 @@ impl Finishing for Assembly {
             shape: vec![n],
             scales: vec![sc.map.clone()],
         };
-        let nb = plan.grid.blocks();
+        let nb = plan.map.grid.blocks();
         let done: Vec<u8> = (0..n * nb)
             .map(|k| u8::from(src.stored(k / nb, k % nb)))
             .collect();
@@ -323,7 +323,7 @@ impl Finishing for Assembly {
 impl Assembly {
     /// Every cell dataset's chunk of a block's `cells` (chunks of `rows` rows).
     fn chunks(&self, cells: &[Cell], rows: usize) -> hdf5::Result<Vec<Vec<u8>>> {
-        let size = (rows, self.plan.grid.x0.count);
+        let size = (rows, self.plan.map.grid.x0.count);
         let mut out: Vec<Vec<u8>> = COLUMNS
             .iter()
             .map(|col| crate::chunks::column_chunk(col, cells, size))

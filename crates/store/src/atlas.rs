@@ -133,7 +133,7 @@ pub fn missing_blocks(
     let Some(mp) = plan.map_plan() else {
         return Vec::new();
     };
-    let nb = mp.grid.blocks();
+    let nb = mp.map.grid.blocks();
     (0..mp.maps.len())
         .flat_map(|m| (0..nb).map(move |b| (m, b)))
         .filter(|&(m, b)| {
@@ -145,7 +145,7 @@ pub fn missing_blocks(
 /// Whether block `b` of map `m` holding `cells` cells fits the plan's maps.
 fn block_fits(plan: &AtlasPlan, m: usize, b: usize, cells: usize) -> bool {
     plan.maps.as_ref().map(|p| p.grid).is_some_and(|g| {
-        m < plan.n_points() && b < g.blocks() && cells == g.block_rows(b).len() * g.x0.count
+        m < plan.space.n_points() && b < g.blocks() && cells == g.block_rows(b).len() * g.x0.count
     })
 }
 

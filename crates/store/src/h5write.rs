@@ -72,7 +72,7 @@ pub(crate) fn physical_attrs(
 
 /// The root attributes: provenance, the spec and every setting of the plan.
 pub(crate) fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<()> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let p0 = plan.maps[0];
     str_attr(file, "schema", SCHEMA)?;
     str_attr(file, "squeal_version", meta.version)?;
@@ -115,12 +115,12 @@ pub(crate) fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<
     str_attr(file, "solver", plan.solver.kind.name())?;
     str_attr(file, "scheme", plan.solver.scheme.name())?;
     num_attr(file, "max_iter", plan.solver.max_iter)?;
-    num_attr(file, "t_max", plan.classifier.t_max)?;
-    num_attr(file, "fp_radius", plan.classifier.fp_radius)?;
-    num_attr(file, "settle_cycles", plan.classifier.settle_cycles)?;
-    num_attr(file, "settle_rtol", plan.classifier.settle_rtol)?;
-    str_attr(file, "early_stop", plan.early_stop.name())?;
-    num_attr(file, "trap_margin", plan.trap_margin)?;
+    num_attr(file, "t_max", plan.map.classifier.t_max)?;
+    num_attr(file, "fp_radius", plan.map.classifier.fp_radius)?;
+    num_attr(file, "settle_cycles", plan.map.classifier.settle_cycles)?;
+    num_attr(file, "settle_rtol", plan.map.classifier.settle_rtol)?;
+    str_attr(file, "early_stop", plan.map.early_stop.name())?;
+    num_attr(file, "trap_margin", plan.map.trap_margin)?;
     num_attr(file, "locate_cycle", plan.cycle.locate as u8)?;
     num_attr(file, "block_rows", g.block_rows as u64)?;
     match &g.starts {
@@ -135,7 +135,7 @@ pub(crate) fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<
             num_attr(file, "sample_v0_max", g.v0.max)?;
         }
     }
-    num_attr(file, "audit_every", plan.audit_every)?;
+    num_attr(file, "audit_every", plan.map.audit_every)?;
     if let Some(s) = &meta.shard {
         str_attr(file, "shard", s)?;
     }
@@ -153,7 +153,7 @@ pub(crate) fn preflight(path: &Path, plan: &Plan, meta: &Meta) -> Result<(), Sto
         let f = File::create_excl(&scratch)?;
         root_attrs(&f, plan, meta)?;
         f.new_dataset_builder()
-            .with_data(&plan.grid.x0.values())
+            .with_data(&plan.map.grid.x0.values())
             .create("x0")?;
         f.close()
     })()
@@ -176,7 +176,7 @@ pub(crate) struct Scales {
 /// Coordinates: a grid's axes x0 (columns) and v0 (rows), or a random sample's index with
 /// the points' x0 and v0 as variables over it; the sweep or map index; the blocks.
 pub(crate) fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let (x0, v0) = match g.starts {
         Starts::Sample(_) => sample_scales(o, g)?,
         Starts::Grid => (
@@ -251,7 +251,7 @@ fn si_coordinates(
         shape: vec![d.size()],
         scales: vec![d.clone()],
     };
-    let mut aux = state_si(o, &plan.grid, s, [x0, v0])?;
+    let mut aux = state_si(o, &plan.map.grid, s, [x0, v0])?;
     for sw in plan.sweep.iter().flat_map(|sw| sw.names()) {
         let Some(si) = SweptSi::of(sw, s) else {
             continue;
@@ -334,7 +334,7 @@ fn sample_scales(o: &mut Out, g: &Grid) -> hdf5::Result<(Dataset, Dataset)> {
 /// without the map for one map, without x0 for a random sample (a list over `sample`).
 /// A physical scan also has each column's SI twin ([`si_dataset`]), after the columns.
 pub(crate) fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<CellVars> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let (nx, nv) = (g.x0.count, g.v0.count);
     let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
     let mut over = Over {
@@ -398,7 +398,7 @@ pub(crate) fn per_map<'l>(
     landscape: &dyn Fn(usize) -> Option<&'l LandscapeInfo>,
 ) -> hdf5::Result<()> {
     let nmaps = plan.maps.len();
-    let blocks = over.and(plan.grid.blocks(), block);
+    let blocks = over.and(plan.map.grid.blocks(), block);
     let named = ("blocks_done", "1 where the block of rows is stored");
     o.put(&blocks, named, None, done)?;
     for (i, named) in CHECK_FIELDS.iter().enumerate() {

@@ -340,7 +340,7 @@ impl ScanWriter {
 
     /// Blocks this shard owns in all.
     pub fn owned_blocks(&self) -> usize {
-        let nb = self.plan.grid.blocks();
+        let nb = self.plan.map.grid.blocks();
         (0..self.plan.maps.len())
             .map(|m| {
                 (0..nb)
@@ -577,7 +577,7 @@ fn check_block(
     block: usize,
     n: usize,
 ) -> Result<(), String> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     if map >= plan.maps.len() || block >= g.blocks() {
         return Err(format!(
             "map {map} block {block} is outside the plan ({} maps of {} blocks)",

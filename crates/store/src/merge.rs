@@ -23,7 +23,7 @@ struct ShardSource {
 impl ShardSource {
     /// The shard that holds block `block` of `map`, if one does.
     fn holder(&self, map: usize, block: usize) -> Option<&ShardFile> {
-        let nb = self.plan.grid.blocks();
+        let nb = self.plan.map.grid.blocks();
         (self.files.iter()).find(|(_, _, s, done)| {
             shard_owns(Some(*s), &self.plan, map, block) && done[map * nb + block] == 1
         })
@@ -39,7 +39,7 @@ impl Source for ShardSource {
         let Some((path, f, _, _)) = self.holder(map, block) else {
             return Ok(None);
         };
-        let rows = self.plan.grid.block_rows(block);
+        let rows = self.plan.map.grid.block_rows(block);
         let sweep = self.plan.sweep.is_some();
         read::read_block(f, sweep, map, rows).h5(path).map(Some)
     }
@@ -117,7 +117,7 @@ fn belong_together(a: &ShardHeader, b: &ShardHeader) -> Result<(), StoreError> {
 /// plan's shape: a file whose stored spec now reads to another grid or map count would have
 /// its blocks read as the wrong rows or maps.
 fn check_owned_blocks(files: &[ShardFile], plan: &Plan) -> Result<(), StoreError> {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let nb = g.blocks();
     // The cells' dimensions as written (h5write's cell_vars): (map, v0, x0), without the
     // map for one map and without x0 for random samples.

@@ -127,7 +127,7 @@ impl Recorded for AtlasPlan {
         self.differs_from(other)
     }
     fn spec_table(&self) -> Option<&'static squeal_core::FrictionTable> {
-        self.table
+        self.space.table
     }
     fn writing_to(self, other: &AtlasPlan) -> AtlasPlan {
         AtlasPlan {

@@ -75,7 +75,7 @@ fn prov() -> Provenance {
 
 /// A fabricated block: labels by distance from (1, 0), diagnostics from the index.
 fn block(plan: &Plan, map: usize, block: usize) -> BlockResult {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     let rows = g.block_rows(block);
     let nx = g.x0.count;
     let cells = (0..rows.len() * nx)
@@ -149,7 +149,7 @@ fn cycle() -> CycleReport {
 
 fn write_cycles(w: &mut ScanWriter, plan: &Plan, shard: Option<Shard>) {
     for m in 0..plan.maps.len() {
-        let owns = (0..plan.grid.blocks()).any(|b| shard_owns(shard, plan, m, b));
+        let owns = (0..plan.map.grid.blocks()).any(|b| shard_owns(shard, plan, m, b));
         if !owns || w.has_cycle(m) {
             continue;
         }
@@ -169,7 +169,7 @@ fn full_run(plan: &Plan, out: &Path, shard: Option<Shard>) -> Vec<MapChecks> {
     let mut w = ScanWriter::create(out, plan, shard, &prov(), false).unwrap();
     write_cycles(&mut w, plan, shard);
     for m in 0..plan.maps.len() {
-        for b in 0..plan.grid.blocks() {
+        for b in 0..plan.map.grid.blocks() {
             if shard_owns(shard, plan, m, b) {
                 w.write_block(&block(plan, m, b)).unwrap();
             }
@@ -197,8 +197,8 @@ fn round_trip_single_map() {
     assert_eq!(info.schema, SCHEMA);
     assert_eq!(info.spec, SPEC);
     assert_eq!(info.version, "0.1.0");
-    assert_eq!(info.x0, p.grid.x0.values());
-    assert_eq!(info.v0, p.grid.v0.values());
+    assert_eq!(info.x0, p.map.grid.x0.values());
+    assert_eq!(info.v0, p.map.grid.v0.values());
     assert!(info.sweep.is_none());
     assert!(info.shard.is_none());
     assert_eq!(info.maps, 1);
@@ -213,7 +213,7 @@ fn round_trip_single_map() {
     assert!(info.attrs.iter().any(|(k, _)| k == "nu"));
 
     let map = read_map(&out, 0).unwrap();
-    let want: Vec<u8> = (0..p.grid.blocks())
+    let want: Vec<u8> = (0..p.map.grid.blocks())
         .flat_map(|b| block(&p, 0, b).cells)
         .map(|c| c.regime)
         .collect();
@@ -231,8 +231,8 @@ fn round_trip_single_map() {
 
     // Every cell comes back exactly.
     let f = read::open_squeal(&out).unwrap();
-    for b in 0..p.grid.blocks() {
-        let got = read::read_block(&f, false, 0, p.grid.block_rows(b)).unwrap();
+    for b in 0..p.map.grid.blocks() {
+        let got = read::read_block(&f, false, 0, p.map.grid.block_rows(b)).unwrap();
         let want = block(&p, 0, b).cells;
         assert_eq!(format!("{got:?}"), format!("{want:?}"));
     }
@@ -333,7 +333,7 @@ fn resume_gives_the_same_file() {
     drop(w);
     let mut w = ScanWriter::resume(&out, &p, None, &prov()).unwrap();
     for m in 0..p.maps.len() {
-        for b in 0..p.grid.blocks() {
+        for b in 0..p.map.grid.blocks() {
             if !w.is_done(m, b) {
                 w.write_block(&block(&p, m, b)).unwrap();
             }
@@ -372,7 +372,7 @@ fn digests_differ_when_content_differs() {
     full_run(&p, &a, None);
     let mut w = ScanWriter::create(&b, &p, None, &prov(), false).unwrap();
     write_cycles(&mut w, &p, None);
-    for blk in 0..p.grid.blocks() {
+    for blk in 0..p.map.grid.blocks() {
         let mut r = block(&p, 0, blk);
         if blk == 2 {
             r.cells[3].evaluations += 1;
@@ -467,7 +467,7 @@ fn shard_parsing() {
         assert!(e.to_string().contains("K/N"), "{e}");
     }
     let p = plan();
-    let owners: Vec<usize> = (0..p.grid.blocks())
+    let owners: Vec<usize> = (0..p.map.grid.blocks())
         .map(|b| {
             (1..=3)
                 .filter(|&k| shard_owns(Some(Shard { k, n: 3 }), &p, 0, b))
@@ -563,7 +563,7 @@ fn a_second_writer_is_refused_while_the_first_holds_the_output() {
     // The first writer's journal is intact: it finishes.
     let mut w = w;
     write_cycles(&mut w, &p, None);
-    for b in 0..p.grid.blocks() {
+    for b in 0..p.map.grid.blocks() {
         Sink::write_block(&mut w, &block(&p, 0, b)).unwrap();
     }
     w.finish().unwrap();
@@ -584,7 +584,7 @@ fn a_comment_edit_does_not_block_resume() {
     // The file records the spec the scan started with.
     assert_eq!(w.plan().spec_text, SPEC);
     write_cycles(&mut w, &p, None);
-    for b in 1..p.grid.blocks() {
+    for b in 1..p.map.grid.blocks() {
         w.write_block(&block(&p, 0, b)).unwrap();
     }
     w.finish().unwrap();
@@ -741,7 +741,7 @@ fn the_landscape_is_given_to_the_writer_not_computed_by_it() {
     let run = |out: &Path| {
         let mut w = ScanWriter::create(out, &plan, None, &prov(), false).unwrap();
         w.write_cycle(0, Some(&Ok(cycle()))).unwrap();
-        for b in 0..plan.grid.blocks() {
+        for b in 0..plan.map.grid.blocks() {
             w.write_block(&block(&plan, 0, b)).unwrap();
         }
         w

@@ -202,11 +202,11 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
     use squeal_scan::estimate::{atlas_documented_seconds, bounded_atlas_pilot};
     let threads = rayon::current_num_threads();
     let maps = plan.map_plan().map_or(String::new(), |mp| {
-        format!(", {} map cells", mp.grid.cells() * mp.maps.len())
+        format!(", {} map cells", mp.map.grid.cells() * mp.maps.len())
     });
     let what = format!(
         "{} points, {} boundary searches{maps}",
-        plan.n_points(),
+        plan.space.n_points(),
         plan.n_boundaries()
     );
     let refuse = |secs: f64, how: &str| -> anyhow::Result<()> {
@@ -269,7 +269,7 @@ fn progress(total: u64, quiet: bool) -> ProgressBar {
 /// The pictures of a finished atlas whose chart is `png`: the chart (one or two swept
 /// parameters: a bifurcation diagram or a stability chart), then with maps their sheet.
 fn pictures(plan: &AtlasPlan, png: &Path) -> Vec<PathBuf> {
-    let chartable = matches!(plan.axes().len(), 1 | 2);
+    let chartable = matches!(plan.space.axes().len(), 1 | 2);
     let mut v = Vec::new();
     if chartable {
         v.push(png.to_path_buf());
@@ -327,12 +327,12 @@ pub fn sheet_path(png: &Path) -> PathBuf {
 /// (1-D), and with maps a sheet of them ([`sheet_path`]). Returns the files written.
 pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
     let (plan, res, _) = read_atlas(h5)?;
-    let chartable = matches!(plan.axes().len(), 1 | 2);
+    let chartable = matches!(plan.space.axes().len(), 1 | 2);
     if !chartable && plan.maps.is_none() {
         bail!(
             "{}: {} swept parameters; charts are drawn for 1 (bifurcation diagram) or 2 (stability chart); read the file with h5py/xarray",
             h5.display(),
-            plan.axes().len()
+            plan.space.axes().len()
         )
     }
     let mut drawn = Vec::new();

@@ -13,14 +13,14 @@ pub fn print_summary(
     out: &Path,
     computed: Option<(f64, usize)>,
 ) {
-    let axes = plan.axes();
+    let axes = plan.space.axes();
     let over = if axes.is_empty() {
         "1 parameter point (nothing swept: no chart; the figures are below and in the file)"
             .to_string()
     } else {
         format!(
             "{} points over {}",
-            plan.n_points(),
+            plan.space.n_points(),
             axes.iter()
                 .map(|a| format!("{} ({} values)", a.key, a.values.len()))
                 .collect::<Vec<_>>()
@@ -30,7 +30,7 @@ pub fn print_summary(
     println!(
         "atlas {}: {} law, {over}{}",
         plan.name,
-        plan.law,
+        plan.space.law,
         computed.map_or(String::new(), |(seconds, units)| format!(
             ", {units} units computed in {seconds:.1} s"
         ))
@@ -146,9 +146,10 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
         let Some(b) = b else { continue };
         let (i, _) = plan.boundary_setup(j);
         let at: Vec<String> = plan
+            .space
             .params
             .iter()
-            .zip(plan.values_at(i))
+            .zip(plan.space.values_at(i))
             .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
             .map(|(a, v)| match a.units {
                 "1" => format!("{} = {v:.4}", a.key),

@@ -128,7 +128,7 @@ fn estimate(args: &Args, plan: &squeal_scan::Plan, starts: usize) -> anyhow::Res
         bail!(
             "{starts} initial conditions would take roughly {} on {threads} thread(s) at the documented rate (t_max = {}, the cycle search included): split {}, shorten t_max, or pass --allow-long",
             common::duration(secs),
-            squeal_core::error::Number(plan.classifier.t_max),
+            squeal_core::error::Number(plan.map.classifier.t_max),
             args.ics.display()
         );
     }

@@ -40,7 +40,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         false
     } else {
         let plan = crate::merge_scan(&args.shards, &args.out, args.force)?;
-        plan.grid.is_sample()
+        plan.map.grid.is_sample()
     };
     println!("{}", args.out.display());
     if !args.no_render && !samples {

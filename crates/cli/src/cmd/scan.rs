@@ -72,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let pics = pictures(
         &out,
         plan.maps.len(),
-        plan.grid.is_sample(),
+        plan.map.grid.is_sample(),
         shard.is_some(),
     );
     if up_to_date(&args, &plan, (&out, shard), &pics)? {

@@ -10,7 +10,7 @@ use super::map_words::{check_words, escape_words, landscape_json, landscape_word
 
 /// "256 x 128 cells" or "5000 random samples in [-2, 2] x [0, 2] (seed 1)".
 pub fn layout(plan: &Plan) -> String {
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     match &g.starts {
         squeal_scan::Starts::Sample(s) => format!(
             "{} random samples in x0 [{}, {}] x v0 [{}, {}] (seed {})",
@@ -132,7 +132,7 @@ fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: u
             println!("    {w}");
         }
     }
-    let sample = plan.grid.is_sample();
+    let sample = plan.map.grid.is_sample();
     for w in checks
         .get(i)
         .map(|c| check_words(c, sample))

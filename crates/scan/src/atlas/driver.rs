@@ -63,12 +63,12 @@ impl UnitResult {
 impl AtlasPlan {
     /// Points per line (the last swept axis' length, 1 with no axes).
     pub fn line_len(&self) -> usize {
-        self.shape().last().copied().unwrap_or(1)
+        self.space.shape().last().copied().unwrap_or(1)
     }
 
     /// Number of lines.
     pub fn n_lines(&self) -> usize {
-        self.n_points() / self.line_len()
+        self.space.n_points() / self.line_len()
     }
 
     /// Every unit: the boundary searches first (the longest), then the lines.
@@ -84,7 +84,7 @@ impl AtlasPlan {
 /// section crossing on its line). Laws with true stick check the section search against the
 /// landscape. A failure is data: an undecided point with its reason.
 pub fn compute_at(plan: &AtlasPlan, i: usize, warm: Option<f64>) -> PointResult {
-    let compute = match plan.law.family() {
+    let compute = match plan.space.law.family() {
         LawFamily::TrueStick => super::true_stick::compute_point,
         LawFamily::Regularised => compute_point,
     };
@@ -187,7 +187,7 @@ fn shortcut_boundaries(
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
     let (param, which) = (plan.boundary_in, [plan.fold, plan.critical]);
     let checked = crate::fates::unchecked(&setup.params).is_none();
-    match (checked, plan.law.family()) {
+    match (checked, plan.space.law.family()) {
         (false, _) => [None, None],
         (true, LawFamily::TrueStick) => {
             super::true_stick::both_in(param, setup, ps, ps.operating, range, which)

@@ -27,19 +27,17 @@ impl AtlasPlan {
             spec_text: self.spec_text.clone(),
             spec_path: self.spec_path.clone(),
             name: self.name.clone(),
-            maps: (0..self.n_points()).map(|i| self.params_at(i)).collect(),
+            maps: (0..self.space.n_points())
+                .map(|i| self.space.params_at(i))
+                .collect(),
             sweep: None,
-            grid: m.grid,
+            map: *m,
             dt: self.dt,
             solver: self.solver,
-            classifier: m.classifier,
-            early_stop: m.early_stop,
-            trap_margin: m.trap_margin,
-            audit_every: m.audit_every,
             cycle: crate::spec::CycleOptions::scan(),
             output: self.out.clone(),
             // One system's units serve every map (parse::physical_grid).
-            physical: self.physical_at(0),
+            physical: self.space.physical_at(0),
         })
     }
 }
@@ -61,14 +59,14 @@ pub fn point_maps(plan: &AtlasPlan, res: &super::AtlasResults) -> Vec<PointMap> 
     let Some(mp) = plan.map_plan() else {
         return Vec::new();
     };
-    (0..plan.n_points())
+    (0..plan.space.n_points())
         .into_par_iter()
         .map(|i| {
             let landscape = (res.points[i].as_ref())
                 .and_then(|p| p.landscape)
                 .and_then(|l| l.verdict());
             let tally = crate::MapTally::new(&mp, res.map_cycle(i), landscape);
-            for b in 0..mp.grid.blocks() {
+            for b in 0..mp.map.grid.blocks() {
                 if let Some(cells) = res.blocks.get(&(i, b)) {
                     tally.add_block(&mp, b, cells);
                 }

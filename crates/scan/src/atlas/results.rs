@@ -29,7 +29,7 @@ impl AtlasResults {
     /// Nothing computed yet.
     pub fn new(plan: &AtlasPlan) -> AtlasResults {
         AtlasResults {
-            points: vec![None; plan.n_points()],
+            points: vec![None; plan.space.n_points()],
             boundaries: vec![None; plan.n_boundaries()],
             blocks: BTreeMap::new(),
             map_cycles: BTreeMap::new(),
@@ -105,7 +105,7 @@ impl AtlasResults {
         let (_, Some(dk)) = plan.boundary_axis() else {
             return Vec::new();
         };
-        let shape = plan.shape();
+        let shape = plan.space.shape();
         let stride: usize = shape[dk + 1..].iter().product();
         let mut out = Vec::new();
         for (j, b) in self.boundaries.iter().enumerate() {
@@ -119,7 +119,9 @@ impl AtlasResults {
             out.extend(
                 (0..shape[dk])
                     .map(|k| i0 + k * stride)
-                    .filter(|&i| plan.boundary_in.get(&plan.params_at(i)) > f.nu + f.uncertainty)
+                    .filter(|&i| {
+                        plan.boundary_in.get(&plan.space.params_at(i)) > f.nu + f.uncertainty
+                    })
                     .filter(|&i| self.points[i].is_some()),
             );
         }
@@ -213,7 +215,7 @@ mod tests {
         let mut seen = 0;
         for (i, p) in res.points.iter().enumerate() {
             let p = p.as_ref().unwrap();
-            let nu = plan.params_at(i).nu;
+            let nu = plan.space.params_at(i).nu;
             if nu > 0.021 {
                 assert_eq!(p.regime, AtlasRegime::Undecided, "nu {nu}");
                 let note = p.note.as_ref().unwrap();

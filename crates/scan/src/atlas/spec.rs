@@ -73,19 +73,14 @@ mod parse;
 pub use parse::FOLD_COARSE;
 
 use serde::{Deserialize, Serialize};
-use squeal_core::{
-    Classifier, FrictionLaw, LawFamily, Load, Params, Physical, Setup, SolverConfig, SurfaceSi,
-};
+use squeal_core::{LawFamily, Setup, SolverConfig};
 
 use super::boundary::BoundaryParam;
 use super::figures::PointSettings;
 use super::geometry::Region;
 use crate::bounds::Rules;
 use crate::error::{ScanError, Shown};
-use crate::grid::Grid;
-use crate::spec::EarlyStop;
-pub(crate) use crate::spec::physical::{PhysicalFile, physical_error};
-use crate::values::Value;
+pub(crate) use crate::spec::physical::PhysicalFile;
 
 /// The atlas spec version this build reads.
 pub const ATLAS_VERSION: u32 = 1;
@@ -166,75 +161,9 @@ struct BoundariesFile {
     lifetime_starts: Option<i64>,
 }
 
-/// Whether the spec describes the nondimensional model or the physical system.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Units {
-    /// `nu, lambda, tau, phi` (paper Section 4).
-    Nondimensional,
-    /// `m, k, c, v_belt, mu_k, mu_s, tau, g` in SI units (no `mu_s, tau` under Coulomb).
-    Physical,
-}
-
-impl Units {
-    /// The name in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Units::Nondimensional => "nondimensional",
-            Units::Physical => "physical",
-        }
-    }
-}
-
-/// One parameter of the spec: its key, words, units and values.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct AtlasAxis {
-    /// The key (`nu`, `v_belt`, ...), also the dataset name of the coordinate.
-    pub key: &'static str,
-    /// Words for axes and `long_name`.
-    pub long_name: &'static str,
-    /// Units (`"1"` for nondimensional).
-    pub units: &'static str,
-    /// The values (one: fixed; more: swept).
-    pub values: Vec<f64>,
-}
-
-/// `(key, long name, units)` of the nondimensional parameters, in axis order.
-pub const NONDIMENSIONAL: [(&str, &str, &str); 4] = [
-    ("nu", "damping ratio nu", "1"),
-    ("lambda", "belt speed lambda (nondimensional)", "1"),
-    ("tau", "surface time tau' (nondimensional)", "1"),
-    ("phi", "Phi = arcsin(mu_k / mu_s)", "rad"),
-];
-
-/// `(key, long name, units)` of the physical parameters, in axis order.
-pub const PHYSICAL: [(&str, &str, &str); 9] = [
-    ("m", "mass m", "kg"),
-    ("k", "stiffness k", "N/m"),
-    ("c", "damping coefficient c", "N s/m"),
-    ("v_belt", "belt speed v_belt", "m/s"),
-    ("mu_k", "kinetic friction coefficient mu_k", "1"),
-    ("mu_s", "static friction coefficient mu_s", "1"),
-    ("tau", "surface time tau", "s"),
-    ("g", "gravitational acceleration g", "m/s^2"),
-    (
-        "normal_force",
-        "normal force N pressing the block on the belt (friction is mu N)",
-        "N",
-    ),
-];
-
-/// `(key, long name, units)` of a law's parameters in axis order ([`FrictionLaw::keys`];
-/// the words of [`Params::named`]), for the laws with true stick. All are nondimensional
-/// (`"1"`, as [`NONDIMENSIONAL`]'s): velocities in units of the natural-frequency velocity
-/// scale.
-pub fn law_params(law: FrictionLaw) -> Vec<(&'static str, &'static str, &'static str)> {
-    Params::defaults(law)
-        .named()
-        .into_iter()
-        .map(|n| (n.name, n.long_name, "1"))
-        .collect()
-}
+use crate::space::{Limit, Space};
+pub use crate::space::{NONDIMENSIONAL, PHYSICAL, ParamAxis, Units, law_params};
+pub use crate::spec::MapSettings;
 
 /// Default bisection range of the damping (`nu` or `xi`) when it is not swept.
 pub const DAMPING_RANGE: [f64; 2] = [1e-4, 0.2];
@@ -246,16 +175,9 @@ pub const SPEED_RANGE: [f64; 2] = [0.1, 10.0];
 pub struct AtlasPlan {
     /// Name for titles.
     pub name: String,
-    /// Friction law.
-    pub law: FrictionLaw,
-    /// The table law's table (`friction_table` or `friction_csv`); `None` for other laws.
-    /// In a physical plan its slip speeds are in m/s (as `[physical]` gives them; each
-    /// point's model has them over its own velocity unit, [`AtlasPlan::params_at`]).
-    pub table: Option<&'static squeal_core::FrictionTable>,
-    /// Nondimensional or physical.
-    pub units: Units,
-    /// Every parameter in axis order (fixed ones have one value).
-    pub params: Vec<AtlasAxis>,
+    /// The parameter space: the law and every key, one point per element of the product.
+    #[serde(flatten)]
+    pub space: Space,
     /// Time step.
     pub dt: f64,
     /// Solver.
@@ -295,22 +217,6 @@ pub struct AtlasPlan {
     pub spec_path: String,
 }
 
-/// The basin maps of an atlas: the grid and classifier of the scan spec (same keys, same
-/// checks), one map per parameter point.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct MapSettings {
-    /// The grid of initial conditions (its box is also the disturbance box).
-    pub grid: Grid,
-    /// Classifier settings (the trap is filled in per map from its located cycle).
-    pub classifier: Classifier,
-    /// Early-stopping rule.
-    pub early_stop: EarlyStop,
-    /// Relative half-width of the band around the cycle where runs go on.
-    pub trap_margin: f64,
-    /// About one cell in this many is also run to settlement (0: none).
-    pub audit_every: u64,
-}
-
 /// The atlas spec text parsed into its tables (a TOML error names the file).
 fn parse_atlas(text: &str, path: &str) -> Result<AtlasFile, ScanError> {
     toml::from_str(text).map_err(|e| ScanError::Parse {
@@ -329,12 +235,6 @@ fn invalid(path: &str, key: &str, value: impl Shown, expected: &str) -> ScanErro
         value: value.shown(),
         expected: expected.to_string(),
     }
-}
-
-fn expand(path: &str, key: &str, v: &Value) -> Result<Vec<f64>, ScanError> {
-    crate::values::expand(v, key, 100_000, &|key, value, expected| {
-        invalid(path, key, value, expected)
-    })
 }
 
 impl AtlasPlan {
@@ -396,32 +296,25 @@ impl AtlasPlan {
             ));
         }
         let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
-        let m = &f.model;
-        m.check_law(&inv)?;
         let folder = std::path::Path::new(path)
             .parent()
             .unwrap_or(std::path::Path::new(""));
-        let table = match &f.physical {
-            Some(ph) => {
-                m.check_physical(&inv)?;
-                ph.check_friction_keys(m.law, &inv)?;
-                ph.table(folder, stored, &inv)?
-            }
-            None => m.table(folder, stored, &inv)?,
+        let limit = Limit {
+            per_key: 100_000,
+            points: MAX_POINTS,
+            noun: "parameter points",
         };
-        let (units, params) = parse::model_axes(&f, path)?;
+        let space = Space::read(&f.model, f.physical.as_ref(), (folder, stored), limit, &inv)?;
+        let units = space.units;
         let (dt, solver) = f.integration.check(rules, &inv)?;
         let mut ps = parse::point_settings(&f, path, rules, &inv)?;
         let maps = parse::map_settings(&f, path, dt, &mut ps, rules, &inv)?;
-        let b = parse::boundaries(&f, path, units, &params, rules, &inv)?;
+        let b = parse::boundaries(&f, path, units, &space.params, rules, &inv)?;
         // A physical spec's own box is in SI units: [disturbance], or the [grid]'s cells.
         let si_box = f.disturbance.is_some() || maps.is_some();
         let mut plan = AtlasPlan {
             name: crate::spec::check_name(f.name.as_deref(), path, "atlas", &inv)?,
-            law: m.law,
-            table,
-            units,
-            params,
+            space,
             dt,
             solver,
             point: ps,
@@ -440,10 +333,10 @@ impl AtlasPlan {
             spec_path: path.to_string(),
         };
         // Every point's model, checked before any computing.
-        for i in 0..plan.n_points() {
+        for i in 0..plan.space.n_points() {
             parse::check_point(&plan, i, path, rules)?;
         }
-        parse::physical_grid(&mut plan, path, rules, &inv)?;
+        parse::physical_grid(&mut plan, rules, &inv)?;
         Ok(plan)
     }
 
@@ -454,117 +347,16 @@ impl AtlasPlan {
         crate::spec::first_difference(self, other, &["spec_text", "spec_path", "out"])
     }
 
-    /// The swept parameters (more than one value), in axis order.
-    pub fn axes(&self) -> Vec<&AtlasAxis> {
-        self.params.iter().filter(|a| a.values.len() > 1).collect()
-    }
-
-    /// The fixed parameters with their value.
-    pub fn fixed(&self) -> Vec<(&AtlasAxis, f64)> {
-        self.params
-            .iter()
-            .filter(|a| a.values.len() == 1)
-            .map(|a| (a, a.values[0]))
-            .collect()
-    }
-
-    /// Shape of the point array (the swept axes' lengths).
-    pub fn shape(&self) -> Vec<usize> {
-        self.axes().iter().map(|a| a.values.len()).collect()
-    }
-
-    /// Number of parameter points.
-    pub fn n_points(&self) -> usize {
-        self.shape().iter().product()
-    }
-
-    /// The index of each swept axis at point `i` (C order).
-    pub fn unravel(&self, mut i: usize) -> Vec<usize> {
-        let shape = self.shape();
-        let mut idx = vec![0; shape.len()];
-        for d in (0..shape.len()).rev() {
-            idx[d] = i % shape[d];
-            i /= shape[d];
-        }
-        idx
-    }
-
-    /// Every parameter's value at point `i`, in `params` order.
-    pub fn values_at(&self, i: usize) -> Vec<f64> {
-        let idx = self.unravel(i);
-        let mut k = 0;
-        self.params
-            .iter()
-            .map(|a| {
-                if a.values.len() > 1 {
-                    k += 1;
-                    a.values[idx[k - 1]]
-                } else {
-                    a.values[0]
-                }
-            })
-            .collect()
-    }
-
-    /// The physical system at point `i` (physical plans only).
-    pub fn physical_at(&self, i: usize) -> Option<Physical> {
-        if self.units != Units::Physical {
-            return None;
-        }
-        let v = self.values_at(i);
-        // Axes by key: a Coulomb system has no mu_s and tau axes.
-        let at = |key: &str| self.params.iter().position(|a| a.key == key).map(|j| v[j]);
-        let need = |key: &str| {
-            at(key).expect("every physical key but mu_s, tau and a table's mu_k has an axis")
-        };
-        Some(Physical {
-            m: need("m"),
-            k: need("k"),
-            c: need("c"),
-            v_belt: need("v_belt"),
-            friction: match self.table {
-                Some(friction_table) => squeal_core::FrictionSi::Table { friction_table },
-                None => squeal_core::FrictionSi::Kinetic {
-                    mu_k: need("mu_k"),
-                    surface: match (at("mu_s"), at("tau")) {
-                        (Some(mu_s), Some(tau)) => Some(SurfaceSi { mu_s, tau }),
-                        _ => None,
-                    },
-                },
-            },
-            load: match at("normal_force") {
-                Some(n) => Load::NormalForce(n),
-                None => Load::Weight(need("g")),
-            },
-        })
-    }
-
     /// The integration setting at point `i`: its parameters with the plan's step and solver.
     pub fn setup_at(&self, i: usize) -> Setup {
-        Setup::new(self.params_at(i), self.dt, self.solver)
-    }
-
-    /// The model parameters at point `i`.
-    pub fn params_at(&self, i: usize) -> Params {
-        if let Some(ph) = self.physical_at(i) {
-            return ph
-                .nondimensional(self.law)
-                .expect("a physical plan has a McMillan law (checked when it was read)");
-        }
-        // Axis order is the law's keys (FrictionLaw::keys).
-        let v = self.values_at(i);
-        let keys = self.law.keys();
-        Params::from_named_table(self.law, self.table, |k| {
-            keys.iter().position(|x| *x == k).map(|j| v[j])
-        })
-        .expect("every key of the law has an axis")
+        Setup::new(self.space.params_at(i), self.dt, self.solver)
     }
 
     /// The point settings at `i`, operating point and disturbance box in nondimensional
     /// units (converted with the point's scales in physical plans).
     pub fn settings_at(&self, i: usize) -> PointSettings {
         let mut ps = self.point;
-        if let Some(ph) = self.physical_at(i) {
+        if let Some(ph) = self.space.physical_at(i) {
             let s = ph.scales();
             ps.units = Some(s);
             ps.operating = s.state(ps.operating);
@@ -581,9 +373,9 @@ impl AtlasPlan {
     /// The units of the disturbance box (`[disturbance]`, stored as `disturbance_x`,
     /// `disturbance_v`), in words.
     pub fn disturbance_units(&self) -> [&'static str; 2] {
-        if self.units == Units::Physical && !self.disturbance_nondimensional {
+        if self.space.units == Units::Physical && !self.disturbance_nondimensional {
             ["m", "m/s"]
-        } else if self.units == Units::Physical {
+        } else if self.space.units == Units::Physical {
             [
                 "1 (the default box, nondimensional at each point: units of mu_k g / omega_0^2)",
                 "1 (the default box, nondimensional at each point: units of mu_k g / omega_0)",
@@ -595,25 +387,25 @@ impl AtlasPlan {
 
     /// The damping parameter's key (`nu` or `c`) and its position among the swept axes.
     pub fn damping_axis(&self) -> (&'static str, Option<usize>) {
-        let key = match self.units {
-            Units::Nondimensional => self.law.keys()[0],
+        let key = match self.space.units {
+            Units::Nondimensional => self.space.law.keys()[0],
             Units::Physical => "c",
         };
-        (key, self.axes().iter().position(|a| a.key == key))
+        (key, self.space.axes().iter().position(|a| a.key == key))
     }
 
     /// The bisected parameter's nondimensional key under the law's names (`nu`, `lambda`;
     /// Stribeck: `xi`, `v_d`), also the suffix of the stored boundary datasets.
     pub fn boundary_key(&self) -> &'static str {
         match self.boundary_in {
-            BoundaryParam::Nu => self.law.keys()[0],
-            BoundaryParam::Lambda => self.law.keys()[1],
+            BoundaryParam::Nu => self.space.law.keys()[0],
+            BoundaryParam::Lambda => self.space.law.keys()[1],
         }
     }
 
     /// Words for the bisected parameter (`damping ratio nu`, `belt speed v_d`, ...).
     pub fn boundary_words(&self) -> &'static str {
-        match (self.law.family().has_own_names(), self.boundary_in) {
+        match (self.space.law.family().has_own_names(), self.boundary_in) {
             (true, BoundaryParam::Nu) => "damping ratio xi",
             (true, BoundaryParam::Lambda) => "belt speed v_d",
             (false, b) => b.words(),
@@ -623,17 +415,17 @@ impl AtlasPlan {
     /// The bisected parameter's key (`nu`/`c` or `lambda`/`v_belt`) and its position among
     /// the swept axes: the boundary array spans the other swept axes.
     pub fn boundary_axis(&self) -> (&'static str, Option<usize>) {
-        let key = match self.units {
+        let key = match self.space.units {
             Units::Nondimensional => self.boundary_key(),
             Units::Physical => self.boundary_in.physical_key(),
         };
-        (key, self.axes().iter().position(|a| a.key == key))
+        (key, self.space.axes().iter().position(|a| a.key == key))
     }
 
     /// A boundary value `v` (nondimensional, in the bisected parameter) in SI units at point
     /// `i` of a physical plan, with the units; `None` in nondimensional plans.
     pub fn boundary_si(&self, i: usize, v: f64) -> Option<(f64, &'static str)> {
-        let (unit, units) = self.boundary_in.si(&self.physical_at(i)?.scales());
+        let (unit, units) = self.boundary_in.si(&self.space.physical_at(i)?.scales());
         Some((v * unit, units))
     }
 
@@ -643,7 +435,7 @@ impl AtlasPlan {
         // A long name that cites a dataset (`fold_nu -+ fold_nu_err`) cites it by its name here.
         let cited = format!("fold_{}", self.boundary_key());
         let long_name = &long_name.replace("fold_nu", &cited);
-        if self.law.family() == LawFamily::TrueStick {
+        if self.space.law.family() == LawFamily::TrueStick {
             // The words of the laws with true stick: the fold is where the stick-slip cycle
             // ends.
             let name = name.replace("_nu", &format!("_{}", self.boundary_key()));
@@ -677,7 +469,8 @@ impl AtlasPlan {
     /// Shape of the boundary array: the swept axes except the bisected one.
     pub fn boundary_shape(&self) -> Vec<usize> {
         let (_, d) = self.boundary_axis();
-        self.shape()
+        self.space
+            .shape()
             .into_iter()
             .enumerate()
             .filter(|(k, _)| Some(*k) != d)
@@ -698,7 +491,7 @@ impl AtlasPlan {
     /// and the bisection range in the bisected parameter (the swept axis' range there, or
     /// `nu_range` / `lambda_range`).
     pub fn boundary_setup(&self, j: usize) -> (usize, [f64; 2]) {
-        let shape = self.shape();
+        let shape = self.space.shape();
         let (_, d) = self.boundary_axis();
         let bshape = self.boundary_shape();
         let mut rem = j;
@@ -722,8 +515,8 @@ impl AtlasPlan {
             Some(dk) => {
                 let n = shape[dk];
                 let stride: usize = shape[dk + 1..].iter().product();
-                let a = bp.get(&self.params_at(i));
-                let z = bp.get(&self.params_at(i + (n - 1) * stride));
+                let a = bp.get(&self.space.params_at(i));
+                let z = bp.get(&self.space.params_at(i + (n - 1) * stride));
                 [a.min(z), a.max(z)]
             }
             None => match bp {

@@ -324,7 +324,7 @@ path = "s.h5"
             let scan = crate::Plan::from_toml(
                 &format!(
                     "version = 1\n[model]\nlaw = \"stribeck\"\nv_d = {}\n[grid]\nx0 = {{ min = -2.0, max = 2.0, count = 2 }}\nv0 = {{ min = 0.0, max = 2.0, count = 2 }}\n[output]\npath = \"t.h5\"\n",
-                    p.params_at(i).lambda
+                    p.space.params_at(i).lambda
                 ),
                 "t.toml",
             )
@@ -401,7 +401,7 @@ path = "s.h5"
         // against the atlas's (false position to rtol 1e-9): the same root of D.
         let p = plan("[1.4, 1.5, 1.7]");
         for (i, q) in line(&p).iter().enumerate() {
-            let params = p.params_at(i);
+            let params = p.space.params_at(i);
             let rep = ulc::locate(
                 Setup::new(params, p.dt, p.solver),
                 &CycleSettings::default(),
@@ -451,7 +451,7 @@ path = "s.h5"
     /// their width as `fold` and `crit` of plan `p`.
     fn section_method_agrees(p: &AtlasPlan, fold: Boundary, crit: Boundary) {
         let ps = p.settings_at(0);
-        let base = p.params_at(0);
+        let base = p.space.params_at(0);
         for (ours, theirs) in [
             (
                 fold,
@@ -490,7 +490,7 @@ path = "s.h5"
     /// point's own run to settlement.
     fn labels_flip_across(p: &AtlasPlan, fold: Boundary, crit: Boundary) {
         let ps = p.settings_at(0);
-        let base = p.params_at(0);
+        let base = p.space.params_at(0);
         let at = |v_d: f64| {
             compute_point(
                 Setup::new(BoundaryParam::Lambda.with(base, v_d), p.dt, p.solver),
@@ -543,7 +543,7 @@ path = "s.h5"
         // The landscape of v_d = 1.5 (bistable) against a section search that (say) found
         // nothing: the point is undecided and its note names both.
         let p = plan("1.5");
-        let ev = evidence(Setup::new(p.params_at(0), p.dt, p.solver)).unwrap();
+        let ev = evidence(Setup::new(p.space.params_at(0), p.dt, p.solver)).unwrap();
         assert_eq!(ev.landscape, Landscape::Bistable);
         let mut r = crate::atlas::columns::empty_point();
         r.regime = AtlasRegime::SteadySlipOnly;

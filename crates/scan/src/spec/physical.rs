@@ -9,15 +9,13 @@
 //! block on the belt in place of its weight `m g` ([`Load`]); `g` beside it is refused.
 
 use squeal_core::units::{G_STANDARD, SURFACE_KEYS, check_friction_keys, takes_surface};
-use squeal_core::{
-    CoreError, FrictionLaw, FrictionSi, FrictionTable, Load, Params, Physical, Scales,
-};
+use squeal_core::{CoreError, FrictionLaw, FrictionTable, Load, Physical};
 
-use super::{Invalid, MAX_MAPS, ModelTable};
+use super::Invalid;
 use crate::bounds::Rules;
 use crate::error::ScanError;
 use crate::grid::Grid;
-use crate::values::{Value, expand};
+use crate::values::Value;
 use serde::Deserialize;
 
 /// The `[physical]` table: the physical system in SI units (read by the scan spec and
@@ -207,122 +205,24 @@ pub(crate) fn physical_key(name: &str) -> &str {
     }
 }
 
-/// The physical system of the first map and the `[model]` table it stands for (a measured
-/// curve's slip speeds there in the model's units), each map's system checked under
-/// `rules`; `folder` and `stored` as for [`PhysicalFile::table`].
-pub(super) fn model(
-    ph: &PhysicalFile,
-    m: &ModelTable,
-    folder: &std::path::Path,
-    stored: Option<&'static FrictionTable>,
-    rules: Rules,
+/// Refuses a physical key other than `c` and `v_belt` given as a list or a range in a scan
+/// spec: a scan's maps are indexed by the model's damping and belt speed (files store their
+/// values, with `c` and `v_belt` as SI twins); the keys that set the grid's units are refused
+/// first, by [`crate::space::Space::check_map_units`].
+pub(crate) fn scan_sweeps_only_c_and_v_belt(
+    space: &crate::space::Space,
     invalid: Invalid,
-) -> Result<(Physical, ModelTable), ScanError> {
-    m.check_physical(invalid)?;
-    ph.check_friction_keys(m.law, invalid)?;
-    let one = |key: &str, v: &Value| -> Result<f64, ScanError> {
-        match v {
-            Value::One(x) => Ok(*x),
-            _ => Err(invalid(
-                &format!("physical.{key}"),
-                "a list or range".into(),
-                "a number: a scan sweeps c and v_belt, which leave the units of its grid (in m and \
-                 m/s) alone (sweep the others with squeal atlas)",
-            )),
-        }
-    };
-    let cs = expand(&ph.c, "physical.c", MAX_MAPS, invalid)?;
-    let vs = expand(&ph.v_belt, "physical.v_belt", MAX_MAPS, invalid)?;
-    let load = match ph.load(invalid)? {
-        Load::Weight(g) => Load::Weight(one("g", &g)?),
-        Load::NormalForce(n) => Load::NormalForce(one("normal_force", &n)?),
-    };
-    let base = Physical {
-        m: one("m", &ph.m)?,
-        k: one("k", &ph.k)?,
-        c: cs[0],
-        v_belt: vs[0],
-        friction: {
-            let one = |key: &str, v: &Option<Value>| v.as_ref().map(|v| one(key, v)).transpose();
-            FrictionSi::of(
-                m.law,
-                one("mu_k", &ph.mu_k)?,
-                one("mu_s", &ph.mu_s)?,
-                one("tau", &ph.tau)?,
-                ph.table(folder, stored, invalid)?,
-            )
-            .map_err(|e| physical_error(e, invalid))?
-        },
-        load,
-    };
-    let p0 = check_each(&base, (&cs, &vs), m.law, rules, invalid)?;
-    let model = model_in_units(ph, m.law, &p0, (&cs, &vs), &base.scales());
-    Ok((base, model))
-}
-
-/// The `[model]` table that the physical system `ph` stands for, with first map `p0`, at
-/// each swept damping `cs` and belt speed `vs` under `law`, in the units of `s`.
-fn model_in_units(
-    ph: &PhysicalFile,
-    law: FrictionLaw,
-    p0: &Params,
-    (cs, vs): (&[f64], &[f64]),
-    s: &Scales,
-) -> ModelTable {
-    let scaled = |given: &Value, xs: &[f64], unit: f64| {
-        if given.is_sweep() {
-            Value::List(xs.iter().map(|x| x / unit).collect())
-        } else {
-            Value::One(xs[0] / unit)
-        }
-    };
-    let surface =
-        |f: fn(&squeal_core::Surface) -> f64, k| p0.law.surface().map(|c| (k, Value::One(f(&c))));
-    // The law's damping and belt speed (nu and lambda; xi and v_d for a table).
-    let (damping, speed) = (law.keys()[0], law.keys()[1]);
-    ModelTable {
-        law,
-        keys: [
-            Some((damping, scaled(&ph.c, cs, s.damping))),
-            Some((speed, scaled(&ph.v_belt, vs, s.velocity))),
-            surface(|c| c.tau, "tau"),
-            surface(|c| c.phi, "phi"),
-        ]
-        .into_iter()
-        .flatten()
-        .collect(),
-        // The measured curve in the model's units (Physical::table_in_units).
-        friction_table: p0
-            .law
-            .table()
-            .map(|t| t.rows().into_iter().map(|(s, mu)| [s, mu]).collect()),
-        friction_csv: None,
+) -> Result<(), ScanError> {
+    let other = (space.params.iter()).find(|a| a.listed && !["c", "v_belt"].contains(&a.key));
+    match (space.units, other) {
+        (crate::space::Units::Physical, Some(a)) => Err(invalid(
+            &format!("physical.{}", a.key),
+            "a list or range".into(),
+            "a number: a scan sweeps c and v_belt, which leave the units of its grid (in m and \
+             m/s) alone (sweep the others with squeal atlas)",
+        )),
+        _ => Ok(()),
     }
-}
-
-/// Checks the system `base` at every swept damping `cs` and belt speed `vs` under `law`
-/// (under [`Rules::Stored`] only that it converts), naming the physical key a derived value
-/// comes from; the first map's parameters.
-fn check_each(
-    base: &Physical,
-    (cs, vs): (&[f64], &[f64]),
-    law: squeal_core::FrictionLaw,
-    rules: Rules,
-    invalid: Invalid,
-) -> Result<squeal_core::Params, ScanError> {
-    let mut first = None;
-    for &c in cs {
-        for &v_belt in vs {
-            let ph = Physical { c, v_belt, ..*base };
-            let p = match rules {
-                Rules::Today => ph.params(law),
-                Rules::Stored => ph.nondimensional(law),
-            }
-            .map_err(|e| physical_error(e, invalid))?;
-            first.get_or_insert(p);
-        }
-    }
-    Ok(first.expect("at least one value of c and v_belt"))
 }
 
 /// The grid (or sample region) given in metres and m/s, in nondimensional units, checked
@@ -416,8 +316,8 @@ path = "b.h5"
         assert!((got.tau - want.tau).abs() < 1e-12);
         assert!((got.phi - want.phi).abs() < 1e-12);
         // The grid was given in metres and m/s.
-        assert!((p.grid.x0.max * s.length - 2e-4).abs() < 1e-15);
-        assert!((p.grid.v0.min * s.velocity + 0.01).abs() < 1e-15);
+        assert!((p.map.grid.x0.max * s.length - 2e-4).abs() < 1e-15);
+        assert!((p.map.grid.v0.min * s.velocity + 0.01).abs() < 1e-15);
     }
 
     #[test]
@@ -463,7 +363,7 @@ path = "b.h5"
             Plan::from_toml(&hack, "b.toml").unwrap(),
         );
         assert_eq!(p.maps, h.maps);
-        assert_eq!(p.grid.x0.max, h.grid.x0.max);
+        assert_eq!(p.map.grid.x0.max, h.map.grid.x0.max);
         let ph = p.physical.unwrap();
         assert_eq!(ph.load, squeal_core::Load::NormalForce(1500.0));
         assert_eq!(ph.normal_force(), 1500.0);
@@ -565,7 +465,7 @@ path = "b.h5"
             )
         };
         let one = AtlasPlan::from_stored_toml(&atlas("mu_s = 0.45\ntau = 1e-3"), "a.toml");
-        assert_eq!(one.unwrap().n_points(), 2);
+        assert_eq!(one.unwrap().space.n_points(), 2);
         for (surfaces, key) in [
             ("mu_s = [0.45, 0.5]\ntau = 1e-3", "physical.mu_s"),
             (
@@ -634,7 +534,9 @@ path = "p.h5"
         for ((s1, m1), (s2, m2)) in ta.iter().zip(&tb) {
             assert!((s1 - s2).abs() < 1e-16 && m1 == m2, "{s1} vs {s2}");
         }
-        assert!((p.grid.x0.max - 0.8).abs() < 1e-15 && (p.grid.v0.min + 0.08).abs() < 1e-15);
+        assert!(
+            (p.map.grid.x0.max - 0.8).abs() < 1e-15 && (p.map.grid.v0.min + 0.08).abs() < 1e-15
+        );
         let hack = Plan::from_toml(
             &PAD.replace("normal_force = 1500.0", "g = 1875.0"),
             "p.toml",

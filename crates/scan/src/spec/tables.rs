@@ -595,7 +595,7 @@ mod tests {
         // limit): (-3, 4) and (-3, -4), sqrt(4^2 + 4^2) away.
         let plan = crate::Plan::from_toml(&scan("samples = 200"), "s").unwrap();
         let cs = crate::scanner::cycle_settings(&plan, &plan.maps[0]);
-        let reach = crate::grid::grid_reach(&plan.grid, &plan.maps[0]);
+        let reach = crate::grid::grid_reach(&plan.map.grid, &plan.maps[0]);
         assert!((reach - 32f64.sqrt()).abs() < 1e-12, "{reach}");
         assert_eq!(cs.r_max, 1.2 * reach);
         // An r_max short of the grid is refused, naming the key.

@@ -22,9 +22,9 @@ fn good_spec_gives_defaults() {
     assert_eq!(p.maps.len(), 1);
     assert_eq!(p.maps[0].lambda, 3.0);
     assert_eq!(p.name, "t");
-    assert_eq!(p.grid.cells(), 12);
+    assert_eq!(p.map.grid.cells(), 12);
     assert!(p.sweep.is_none());
-    assert_eq!(p.early_stop, EarlyStop::Cycle);
+    assert_eq!(p.map.early_stop, EarlyStop::Cycle);
 }
 
 #[test]
@@ -102,7 +102,7 @@ path = "x.h5"
 #[test]
 fn a_random_sample_is_a_list_of_points_in_the_region() {
     let p = Plan::from_toml(SAMPLED, "t.toml").unwrap();
-    let g = p.grid;
+    let g = p.map.grid;
     assert_eq!((g.cells(), g.x0.count, g.v0.count), (50, 1, 50));
     assert_eq!(g.block_rows, DEFAULT_SAMPLE_BLOCK as usize);
     assert_eq!(g.blocks(), 1);
@@ -426,16 +426,16 @@ fn a_stored_spec_outside_todays_bounds_reads_as_stored() {
         let e = Plan::from_toml(text, "t.toml").unwrap_err().to_string();
         assert!(e.contains(&format!("`{key}`")), "{e}");
         let p = Plan::from_stored_toml(text, "t.toml").unwrap_or_else(|e| panic!("{key}: {e}"));
-        assert_eq!(p.grid.cells(), 12, "{key}");
+        assert_eq!(p.map.grid.cells(), 12, "{key}");
     }
     let stored = |i: usize| Plan::from_stored_toml(&cases[i].0, "t.toml").unwrap();
     let phi = stored(0).maps[0].law.surface().unwrap().phi;
     assert_eq!(phi, 2e-6);
-    assert_eq!(stored(1).classifier.fp_radius, 1e-12);
-    assert_eq!(stored(2).trap_margin, 1e-12);
-    assert_eq!(stored(3).classifier.t_max, 1e12);
+    assert_eq!(stored(1).map.classifier.fp_radius, 1e-12);
+    assert_eq!(stored(2).map.trap_margin, 1e-12);
+    assert_eq!(stored(3).map.classifier.t_max, 1e12);
     assert_eq!(stored(4).dt, 2.0);
-    assert_eq!(stored(5).classifier.settle_cycles, 2);
+    assert_eq!(stored(5).map.classifier.settle_cycles, 2);
     assert_eq!(stored(6).solver.max_iter, 200_000);
     assert_eq!(stored(7).cycle.search.samples, 2);
     assert_eq!(stored(8).cycle.search.r_max, 3.0);
@@ -448,7 +448,7 @@ fn a_stored_spec_outside_todays_bounds_reads_as_stored() {
         .to_string();
     assert!(e.contains("`physical.mu_s`"), "{e}");
     let a = AtlasPlan::from_stored_toml(atlas, "a.toml").unwrap();
-    let phi = a.params_at(0).law.surface().unwrap().phi;
+    let phi = a.space.params_at(0).law.surface().unwrap().phi;
     assert!((phi - (0.35f64 / 2e5).asin()).abs() < 1e-20, "{phi}");
 }
 

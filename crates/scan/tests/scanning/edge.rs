@@ -238,7 +238,7 @@ fn labels_near_the_fold_agree_with_long_runs_on_every_path() {
     let mut decided = 0;
     for nu in [0.0236, 0.0240, 0.0242, 0.0245, 0.025] {
         let mut p = plan(nu, 8.0, "cycle");
-        p.grid.x0.min = -6.0;
+        p.map.grid.x0.min = -6.0;
         let cycle = MapContext::prepare(&p, 0).unwrap();
         let none = MapContext::prepare(&plan(nu, 8.0, "none"), 0).unwrap();
         let st = &cycle.stepper;
@@ -305,7 +305,7 @@ fn critical_from_a_far_start_counts_a_leaking_band_as_quiet() {
 fn the_band_is_trapped_below_the_crisis_and_leaks_above() {
     let verdict = |nu: f64| {
         let mut p = plan(nu, 8.0, "cycle");
-        p.grid.x0.min = -6.0;
+        p.map.grid.x0.min = -6.0;
         MapContext::prepare(&p, 0).unwrap().outside
     };
     let band = |o: Option<Outside>| match o {
@@ -363,8 +363,8 @@ fn neither_grid_extent_labels_a_transient_stick_slip() {
     for x_max in [10.0, 5.0] {
         let p = plan(0.025, x_max, "none");
         let ctx = MapContext::prepare(&p, 0).unwrap();
-        let stick = (0..p.grid.v0.count)
-            .flat_map(|row| (0..p.grid.x0.count).map(move |col| (row, col)))
+        let stick = (0..p.map.grid.v0.count)
+            .flat_map(|row| (0..p.map.grid.x0.count).map(move |col| (row, col)))
             .filter(|&(row, col)| ctx.cell(&p, row, col).regime == Regime::StickSlip as u8)
             .count();
         assert_eq!(stick, 0, "x0 in [-3, {x_max}]");

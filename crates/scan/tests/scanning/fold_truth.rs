@@ -129,7 +129,7 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
     // point (0, 0)).
     let one = spec(lambda, nu, Some((0.0, 0.0, 0.0, 0.0)));
     let ctx = MapContext::prepare(&one, 0).expect("prepared");
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     (0..g.cells())
         .into_par_iter()
         .map(|k| {

@@ -110,7 +110,7 @@ fn bounds_beyond_the_escape_radius_are_refused() {
         "t.toml",
     )
     .unwrap();
-    let g = p.grid;
+    let g = p.map.grid;
     assert!((0..g.x0.count).all(|i| g.state(0, i).0.is_finite()));
 }
 

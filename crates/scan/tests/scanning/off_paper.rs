@@ -81,7 +81,7 @@ fn plan(case: &Case, n: usize, dt: f64, rule: &str) -> Plan {
 /// Labels (regime, reason) of every cell, row-major.
 fn labels(plan: &Plan) -> Vec<(Regime, Reason)> {
     let ctx = MapContext::prepare(plan, 0).expect("prepared");
-    let g = &plan.grid;
+    let g = &plan.map.grid;
     (0..g.x0.count * g.v0.count)
         .into_par_iter()
         .map(|k| {
@@ -221,7 +221,7 @@ fn probe_disagreements() {
     let ca = MapContext::prepare(&pa, 0).unwrap();
     let cb = MapContext::prepare(&pb, 0).unwrap();
     println!("trap {:?}", ca.classifier.trap);
-    let g = &pa.grid;
+    let g = &pa.map.grid;
     let bad: Vec<String> = (0..n * n)
         .into_par_iter()
         .filter_map(|k| {

@@ -27,8 +27,8 @@ fn labels(plan: &Plan) -> (Option<CycleReport>, Vec<u8>) {
 }
 
 fn coarse(mut plan: Plan, n: usize) -> Plan {
-    plan.grid.x0.count = n;
-    plan.grid.v0.count = n;
+    plan.map.grid.x0.count = n;
+    plan.map.grid.v0.count = n;
     plan
 }
 
@@ -214,7 +214,7 @@ fn cycle_matches_the_label_boundary_of_a_fine_scan() {
     let plan = coarse(plan, 96);
     let (rep, l) = labels(&plan);
     let rep = rep.unwrap();
-    let g = plan.grid;
+    let g = plan.map.grid;
     let pixel = g.x0.spacing().hypot(g.v0.spacing());
     let mut wrong_beyond = 0;
     for j in 0..g.v0.count {

@@ -43,7 +43,7 @@ fn names_it(path: &[Step], msg: &str) -> bool {
 
 /// Why an accepted scan plan is wrong, if it is.
 fn scan_wrong(p: &Plan) -> Option<String> {
-    let g = &p.grid;
+    let g = &p.map.grid;
     for a in [&g.x0, &g.v0] {
         if ![a.min, a.max, a.spacing()].iter().all(|v| v.is_finite()) {
             return Some(format!("axis {a:?}"));
@@ -78,7 +78,8 @@ fn scan_wrong(p: &Plan) -> Option<String> {
 
 /// Why an accepted atlas plan is wrong, if it is.
 fn atlas_wrong(p: &AtlasPlan) -> Option<String> {
-    if p.params
+    if p.space
+        .params
         .iter()
         .any(|a| a.values.iter().any(|v| !v.is_finite()))
     {

@@ -312,7 +312,7 @@ fn the_decaying_section_needs_a_resolved_search_and_mcmillans_laws() {
         unresolved,
     };
     let top = squeal_scan::scanner::shortcuts(&mcmillan, &p, None, Some(&found(0))).decay_below;
-    assert_eq!(top, Some(8.0 * (1.0 - mcmillan.trap_margin)));
+    assert_eq!(top, Some(8.0 * (1.0 - mcmillan.map.trap_margin)));
     let unresolved = squeal_scan::scanner::shortcuts(&mcmillan, &p, None, Some(&found(1)));
     assert_eq!(unresolved.decay_below, None);
     let stribeck = plan(2.0, 2, "cycle");
@@ -376,10 +376,10 @@ fn runs_entering_the_lower_decaying_turn_stay_in_it_and_settle() {
             .expect("a lower turn");
     assert_eq!(
         ctx.shortcuts.decay_lower_below,
-        Some(s * (1.0 - plan.trap_margin))
+        Some(s * (1.0 - plan.map.trap_margin))
     );
     eprintln!("top {top}, lower turn from s = {s}");
-    let margin = plan.trap_margin * s + 0.01;
+    let margin = plan.map.trap_margin * s + 0.01;
     let turn = CurveLocator::new(curve);
     let settle = Classifier::default();
     let fp = plan.maps[0].fixed_point();

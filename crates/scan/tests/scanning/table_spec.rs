@@ -45,9 +45,12 @@ fn an_inline_table_scans_and_atlases() {
         "version = 1\n[model]\nlaw = \"table\"\n{rows}\nv_d = [1.0, 1.5]\n[output]\npath = \"out/a.h5\"\n"
     );
     let a = AtlasPlan::from_toml(&atlas, "a.toml").unwrap();
-    assert_eq!(a.n_points(), 2);
-    assert!(std::ptr::eq(a.params_at(1).law.table().unwrap(), want));
-    assert_eq!(a.params_at(1).lambda, 1.5);
+    assert_eq!(a.space.n_points(), 2);
+    assert!(std::ptr::eq(
+        a.space.params_at(1).law.table().unwrap(),
+        want
+    ));
+    assert_eq!(a.space.params_at(1).lambda, 1.5);
 }
 
 /// Hostile tables and keys, each refused naming the key (and the row or line).

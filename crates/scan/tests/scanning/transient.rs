@@ -96,7 +96,7 @@ fn the_trap_keeps_the_runs_t_squeal() {
         (Reason::StartInsideCycle, 0.0)
     );
     // The same start through the scan's cell (the stored column).
-    let g = &plan("cycle").grid;
+    let g = &plan("cycle").map.grid;
     let (row, col) = (3, 13);
     assert_eq!(g.state(row, col), (10.0, 0.0));
     assert_eq!(early.cell(&plan("cycle"), row, col).t_squeal, b.t_squeal);

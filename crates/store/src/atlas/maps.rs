@@ -29,7 +29,7 @@ pub(super) fn write_maps(
     let Some(mp) = plan.map_plan() else {
         return Ok(());
     };
-    let g = mp.grid;
+    let g = mp.map.grid;
     let x0 = o.scale("x0", &g.x0.values(), "initial displacement x(0)", Some("1"))?;
     let v0 = o.scale("v0", &g.v0.values(), "initial velocity x'(0)", Some("1"))?;
     let block = o.index("block", g.blocks(), "block of grid rows")?;
@@ -40,11 +40,11 @@ pub(super) fn write_maps(
         }
     }
     map_attrs(o.file, &mp)?;
-    if maps.len() != plan.n_points() {
+    if maps.len() != plan.space.n_points() {
         let why = format!(
             "map figures for {} points of {}",
             maps.len(),
-            plan.n_points()
+            plan.space.n_points()
         );
         return Err(hdf5::Error::from(why));
     }
@@ -61,12 +61,12 @@ pub(super) fn write_maps(
         o.put(over, (&map_name(name), long), Some("1"), v)?;
     }
     write_fractions(o, over, maps)?;
-    write_cycles(o, over, res, plan.n_points())
+    write_cycles(o, over, res, plan.space.n_points())
 }
 
 /// The maps' settings as root attributes.
 fn map_attrs(file: &File, mp: &Plan) -> hdf5::Result<()> {
-    let (g, cl) = (&mp.grid, &mp.classifier);
+    let (g, cl) = (&mp.map.grid, &mp.map.classifier);
     for (k, v) in [
         ("x0_min", g.x0.min),
         ("x0_max", g.x0.max),
@@ -80,9 +80,9 @@ fn map_attrs(file: &File, mp: &Plan) -> hdf5::Result<()> {
     num_attr(file, "fp_radius", cl.fp_radius)?;
     num_attr(file, "settle_cycles", cl.settle_cycles)?;
     num_attr(file, "settle_rtol", cl.settle_rtol)?;
-    str_attr(file, "early_stop", mp.early_stop.name())?;
-    num_attr(file, "trap_margin", mp.trap_margin)?;
-    num_attr(file, "audit_every", mp.audit_every)
+    str_attr(file, "early_stop", mp.map.early_stop.name())?;
+    num_attr(file, "trap_margin", mp.map.trap_margin)?;
+    num_attr(file, "audit_every", mp.map.audit_every)
 }
 
 /// Every stored block of every map, column by column; returns which blocks are stored
@@ -94,7 +94,7 @@ fn write_cells(
     res: &AtlasResults,
     [v0, x0]: [&Dataset; 2],
 ) -> hdf5::Result<Vec<u8>> {
-    let g = mp.grid;
+    let g = mp.map.grid;
     let (nx, nv, nb) = (g.x0.count, g.v0.count, g.blocks());
     let cells = over.and(nv, v0).and(nx, x0);
     let rows_per_chunk = g.block_rows.min(nv).min((1usize << 24) / nx.max(1)).max(1);
@@ -108,13 +108,13 @@ fn write_cells(
     for v in &vars {
         o.dims.attach(o.file, v, &scales)?;
     }
-    let n = plan.n_points();
+    let n = plan.space.n_points();
     let mut done = vec![0u8; n * nb];
     for i in 0..n {
         // The point's indices (`[0]`: the single point of a spec that sweeps nothing).
-        let prefix = match plan.axes().is_empty() {
+        let prefix = match plan.space.axes().is_empty() {
             true => vec![0],
-            false => plan.unravel(i),
+            false => plan.space.unravel(i),
         };
         for b in 0..nb {
             let Some(cells) = res.blocks.get(&(i, b)) else {
@@ -225,7 +225,7 @@ pub(super) fn read_maps(
     let Some(g) = plan.maps.as_ref().map(|m| m.grid) else {
         return Ok(());
     };
-    let n = plan.n_points();
+    let n = plan.space.n_points();
     let done: Vec<u8> = rd(file, path, "blocks_done")?;
     if done.len() != n * g.blocks() {
         return Err(not_atlas(

@@ -97,7 +97,7 @@ fn read_points(
     plan: &AtlasPlan,
     res: &mut AtlasResults,
 ) -> Result<(), StoreError> {
-    let n = plan.n_points();
+    let n = plan.space.n_points();
     let mut pts: Vec<PointResult> = (0..n).map(|_| empty_point()).collect();
     for c in COLUMNS {
         let (name, _) = stored_name(plan, c);
@@ -114,7 +114,7 @@ fn read_points(
             (c.set)(p, v);
         }
     }
-    if plan.law.family().has_landscape() {
+    if plan.space.law.family().has_landscape() {
         for c in LANDSCAPE_COLUMNS {
             for (p, v) in pts.iter_mut().zip(rd_n::<f64>(file, path, c.name, n)?) {
                 (c.set)(p, v);

@@ -170,7 +170,7 @@ pub(super) fn add_record(
         }
         (KIND_CYCLE, Some(_)) => {
             let (m, c) = decode_cycle(payload).ok_or_else(|| unreadable("cycle"))?;
-            if m >= plan.n_points() {
+            if m >= plan.space.n_points() {
                 return Err(plain("a map cycle that does not fit the spec".into()));
             }
             results.map_cycles.insert(m, c);

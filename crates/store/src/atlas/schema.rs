@@ -232,7 +232,7 @@ pub(super) fn set_landscape(p: &mut PointResult, v: u8) {
 /// `basin_fraction_cycle` and `basin_fraction_cycle_err`; laws with true stick store
 /// `stick_quasi_static_share` as `stick_stuck_share`.
 pub(super) fn stored_name(plan: &AtlasPlan, c: &Column) -> (String, String) {
-    if plan.law.family().locates_stick() && c.name == "stick_quasi_static_share" {
+    if plan.space.law.family().locates_stick() && c.name == "stick_quasi_static_share" {
         let (name, long) = squeal_scan::atlas::true_stick::STUCK_SHARE;
         return (name.into(), long.into());
     }

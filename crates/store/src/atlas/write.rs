@@ -64,12 +64,13 @@ fn write_all(
 ) -> hdf5::Result<()> {
     root_attrs(o.file, plan, prov, shard)?;
     // A physical atlas's table is the measured one, in m/s (AtlasPlan::table).
-    let (nd, si) = match plan.units {
-        Units::Physical => (None, plan.table),
-        Units::Nondimensional => (plan.table, None),
+    let (nd, si) = match plan.space.units {
+        Units::Physical => (None, plan.space.table),
+        Units::Nondimensional => (plan.space.table, None),
     };
     crate::h5out::friction_table(o.file, &mut o.dims, nd, si)?;
     let scales = plan
+        .space
         .axes()
         .iter()
         .map(|a| o.scale(a.key, &a.values, a.long_name, Some(a.units)))
@@ -82,7 +83,7 @@ fn write_all(
         }
     } else {
         Over {
-            shape: plan.shape(),
+            shape: plan.space.shape(),
             scales: scales.clone(),
         }
     };
@@ -124,20 +125,20 @@ fn root_attrs(
         ("git_revision", &prov.git_revision),
         ("spec", &plan.spec_text),
         ("name", &plan.name),
-        ("law", plan.law.name()),
-        ("units", plan.units.name()),
+        ("law", plan.space.law.name()),
+        ("units", plan.space.units.name()),
         ("solver", plan.solver.kind.name()),
         ("scheme", plan.solver.scheme.name()),
     ] {
         str_attr(file, k, v)?;
     }
     num_attr(file, "dt", plan.dt)?;
-    for (a, v) in plan.fixed() {
+    for (a, v) in plan.space.fixed() {
         num_attr(file, a.key, v)?;
         str_attr(file, &format!("{}_units", a.key), a.units)?;
     }
     let ps = &plan.point;
-    let op_units = match plan.units {
+    let op_units = match plan.space.units {
         Units::Physical => ["m", "m/s"],
         Units::Nondimensional => ["1", "1"],
     };
@@ -177,8 +178,8 @@ fn write_points(
         .map(|p| RegimeH5::from(p.as_ref().map(|p| p.regime)));
     let (meanings, values) = RegimeH5::flags();
     o.put_flags(over, REGIME, regimes.collect(), (&meanings, &values))?;
-    let scales: Vec<Option<Scales>> = (0..plan.n_points())
-        .map(|i| plan.physical_at(i).map(|p| p.scales()))
+    let scales: Vec<Option<Scales>> = (0..plan.space.n_points())
+        .map(|i| plan.space.physical_at(i).map(|p| p.scales()))
         .collect();
     for c in COLUMNS {
         let vals: Vec<f64> = pts
@@ -187,13 +188,17 @@ fn write_points(
             .collect();
         write_column(o, over, plan, c, (vals, &scales))?;
     }
-    if plan.units == Units::Physical {
+    if plan.space.units == Units::Physical {
         // The nondimensional parameters of each point, beside the physical axes.
         let nd = squeal_scan::atlas::spec::NONDIMENSIONAL;
-        let ps: Vec<squeal_core::Params> =
-            (0..plan.n_points()).map(|i| plan.params_at(i)).collect();
+        let ps: Vec<squeal_core::Params> = (0..plan.space.n_points())
+            .map(|i| plan.space.params_at(i))
+            .collect();
         // The law's own keys only (Coulomb has no tau and phi).
-        for (key, long, units) in nd.iter().filter(|(k, ..)| plan.law.keys().contains(k)) {
+        for (key, long, units) in nd
+            .iter()
+            .filter(|(k, ..)| plan.space.law.keys().contains(k))
+        {
             let value = |p: &squeal_core::Params| {
                 let n = p.named().into_iter().find(|n| n.name == *key);
                 n.expect("a key of the law").value
@@ -203,15 +208,15 @@ fn write_points(
         }
         // A block under its own weight: its normal force m g at each point (one given is an
         // axis of its own).
-        if !plan.params.iter().any(|a| a.key == "normal_force") {
-            let n: Vec<f64> = (0..plan.n_points())
-                .filter_map(|i| plan.physical_at(i).map(|p| p.normal_force()))
+        if !plan.space.params.iter().any(|a| a.key == "normal_force") {
+            let n: Vec<f64> = (0..plan.space.n_points())
+                .filter_map(|i| plan.space.physical_at(i).map(|p| p.normal_force()))
                 .collect();
             let long = "normal force N = m g (the block's weight; friction is mu N)";
             o.put(over, ("normal_force", long), Some("N"), n)?;
         }
     }
-    if plan.law.family().has_landscape() {
+    if plan.space.law.family().has_landscape() {
         write_landscape(o, over, res)?;
     }
     let (notes, kinds) = note_columns(pts.iter().map(|p| p.as_ref().and_then(|p| p.note.as_ref())));
@@ -253,7 +258,7 @@ fn write_column(
             o.put(over, named, None, v.collect())?;
         }
     }
-    if plan.units == Units::Physical && c.si != Si::None {
+    if plan.space.units == Units::Physical && c.si != Si::None {
         let si: Vec<f64> = (vals.iter().zip(scales))
             .map(|(&v, s)| s.map_or(f64::NAN, |s| c.si.convert(v, &s)))
             .collect();
@@ -329,7 +334,7 @@ fn write_boundaries(
             .collect();
         let (name, long) = plan.boundary_dataset(c.name, c.long_name);
         o.put(over, (&name, &long), Some("1"), v.clone())?;
-        if plan.units == Units::Physical {
+        if plan.space.units == Units::Physical {
             match c.si {
                 BoundarySi::Bisected => write_boundary_si(o, over, plan, (&name, &long), &v)?,
                 BoundarySi::Time => write_boundary_seconds(o, over, plan, (&name, &long), &v)?,
@@ -397,7 +402,8 @@ fn write_boundary_seconds(
     let s: Vec<f64> = (v.iter().enumerate())
         .map(|(j, &x)| {
             let (i, _) = plan.boundary_setup(j);
-            plan.physical_at(i)
+            plan.space
+                .physical_at(i)
                 .map_or(f64::NAN, |ph| x * ph.scales().time)
         })
         .collect();

@@ -23,7 +23,7 @@ fn assembly(plan: &Plan, out: &Path) -> Assembly {
     let mut w = ScanWriter::create(out, plan, None, &prov(), false).unwrap();
     write_cycles(&mut w, plan, None);
     for m in 0..plan.maps.len() {
-        for b in 0..plan.grid.blocks() {
+        for b in 0..plan.map.grid.blocks() {
             w.write_block(&block(plan, m, b)).unwrap();
         }
     }
@@ -52,7 +52,7 @@ fn whole_chunks_read_back_as_the_selections_write_them() {
         let (da, db) = (content_digest(&a).unwrap(), content_digest(&b).unwrap());
         assert_eq!(da, db, "{name}: the files differ");
         // The cells read back are the cells written, the padded last row included.
-        let g = &plan.grid;
+        let g = &plan.map.grid;
         let last = g.blocks() - 1;
         let m = plan.maps.len() - 1;
         let want = block(&plan, m, last).cells;
@@ -75,7 +75,7 @@ fn whole_chunks_refuse_a_label_outside_the_enum() {
     let out = dir.path().join("bad.h5");
     let mut w = ScanWriter::create(&out, &plan, None, &prov(), false).unwrap();
     write_cycles(&mut w, &plan, None);
-    for b in 0..plan.grid.blocks() {
+    for b in 0..plan.map.grid.blocks() {
         let mut blk = block(&plan, 0, b);
         if b == 1 {
             blk.cells[0].regime = 7;

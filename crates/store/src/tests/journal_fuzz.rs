@@ -58,7 +58,7 @@ fn a_corrupt_cycle_record_keeps_the_blocks_after_it() {
     let out = dir.path().join("c.h5");
     let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
     w.write_cycle(0, Some(&Ok(cycle()))).unwrap();
-    for b in 0..p.grid.blocks() {
+    for b in 0..p.map.grid.blocks() {
         w.write_block(&block(&p, 0, b)).unwrap();
     }
     drop(w);
@@ -66,7 +66,7 @@ fn a_corrupt_cycle_record_keeps_the_blocks_after_it() {
     flip(&journal_of(&out), f[1].0 + 40);
     let mut w = ScanWriter::resume(&out, &p, None, &prov()).unwrap();
     // Before: every block after the cycle record was discarded.
-    assert_eq!(w.done_blocks(), p.grid.blocks());
+    assert_eq!(w.done_blocks(), p.map.grid.blocks());
     assert!(!w.has_cycle(0));
     // The cycle is searched again and the file is the one a clean run writes.
     w.write_cycle(0, Some(&Ok(cycle()))).unwrap();

@@ -18,11 +18,11 @@ fn t_squeal_survives_a_journal_resume() {
     drop(w);
     let mut w = ScanWriter::resume(&out, &p, None, &prov()).unwrap();
     assert!(w.is_done(0, 1) && !w.is_done(0, 2));
-    for b in 2..p.grid.blocks() {
+    for b in 2..p.map.grid.blocks() {
         w.write_block(&block(&p, 0, b)).unwrap();
     }
     w.finish().unwrap();
-    let want: Vec<f64> = (0..p.grid.blocks())
+    let want: Vec<f64> = (0..p.map.grid.blocks())
         .flat_map(|b| block(&p, 0, b).cells.into_iter().map(|c| c.t_squeal))
         .collect();
     assert!(want.iter().any(|t| t.is_infinite()) && want.contains(&-1.0));
@@ -101,7 +101,7 @@ fn damaged_trailing_records_are_counted() {
     let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
     let mut written = 0;
     'all: for m in 0..p.maps.len() {
-        for b in 0..p.grid.blocks() {
+        for b in 0..p.map.grid.blocks() {
             w.write_block(&block(&p, m, b)).unwrap();
             written += 1;
             if written == 6 {
@@ -146,7 +146,7 @@ fn withdrawn_rules_survive_a_resume_and_reach_the_file() {
     {
         let mut s = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
         write_cycles(&mut s, &p, None);
-        for b in 0..p.grid.blocks() {
+        for b in 0..p.map.grid.blocks() {
             s.write_block(&block(&p, 0, b)).unwrap();
         }
         Sink::write_withdrawn(&mut s, 0, std::slice::from_ref(&w)).unwrap();

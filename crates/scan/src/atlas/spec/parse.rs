@@ -2,135 +2,17 @@
 //! function per part, each checking its keys (errors name the key).
 
 use squeal_core::error::Number;
-use squeal_core::{FrictionLaw, Params, State};
+use squeal_core::{FrictionLaw, State};
 
 use super::{
-    AtlasAxis, AtlasFile, AtlasPlan, BoundariesFile, BoundaryParam, DAMPING_RANGE, MAX_POINTS,
-    MapSettings, NONDIMENSIONAL, PHYSICAL, PhysicalFile, SPEED_RANGE, Units, expand, invalid,
-    law_params, physical_error,
+    AtlasFile, AtlasPlan, BoundariesFile, BoundaryParam, DAMPING_RANGE, MapSettings, ParamAxis,
+    SPEED_RANGE, Units, invalid,
 };
 use crate::atlas::geometry::Region;
 use crate::atlas::point::PointSettings;
 use crate::bounds::{Rules, count};
 use crate::error::ScanError;
-use crate::spec::{Invalid, ModelTable};
-use crate::values::Value;
-
-/// The model's axes (`[model]` or `[physical]`), their units, and the check of the number of
-/// points.
-pub(super) fn model_axes(f: &AtlasFile, path: &str) -> Result<(Units, Vec<AtlasAxis>), ScanError> {
-    let m = &f.model;
-    let (units, params) = match &f.physical {
-        Some(ph) => (Units::Physical, physical_axes(ph, path)?),
-        None => (Units::Nondimensional, model_table_axes(m, path)?),
-    };
-    let n: usize = params
-        .iter()
-        .map(|a| a.values.len())
-        .try_fold(1usize, |acc, n| acc.checked_mul(n))
-        .unwrap_or(usize::MAX);
-    if n > MAX_POINTS {
-        let counts: Vec<String> = params
-            .iter()
-            .filter(|a| a.values.len() > 1)
-            .map(|a| format!("{}: {} values", a.key, a.values.len()))
-            .collect();
-        return Err(invalid(
-            path,
-            "model",
-            format!("{n} parameter points ({})", counts.join(", ")),
-            "at most 1000000 points (the product of the value counts)",
-        ));
-    }
-    Ok((units, params))
-}
-
-/// The axes of a `[physical]` table, in SI units.
-fn physical_axes(ph: &PhysicalFile, path: &str) -> Result<Vec<AtlasAxis>, ScanError> {
-    let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
-    let load = ph.load(&inv)?;
-    // The keys given, in key order: a Coulomb system has no mu_s and tau, McMillan's
-    // laws both, a measured curve no mu_k either (checked by the caller, so `zip` drops
-    // none alone; the curve is no axis).
-    let vals = squeal_core::Physical {
-        m: Some(&ph.m),
-        k: Some(&ph.k),
-        c: Some(&ph.c),
-        v_belt: Some(&ph.v_belt),
-        friction: squeal_core::FrictionSi::Kinetic {
-            mu_k: ph.mu_k.as_ref(),
-            surface: (ph.mu_s.as_ref().zip(ph.tau.as_ref())).map(|(mu_s, tau)| {
-                squeal_core::SurfaceSi {
-                    mu_s: Some(mu_s),
-                    tau: Some(tau),
-                }
-            }),
-        },
-        load: match &load {
-            squeal_core::Load::Weight(g) => squeal_core::Load::Weight(Some(g)),
-            squeal_core::Load::NormalForce(n) => squeal_core::Load::NormalForce(Some(n)),
-        },
-    }
-    .values();
-    let (names, vals): (Vec<_>, Vec<_>) = PHYSICAL
-        .into_iter()
-        .zip(vals)
-        .filter_map(|(name, v)| Some((name, v.flatten()?)))
-        .unzip();
-    axes(path, "physical", &names, vals)
-}
-
-/// The axes of a `[model]` table, in the model's units: the law's own keys in their order,
-/// each as given or at the law's default (the laws named by McMillan's keys need `nu`).
-fn model_table_axes(m: &ModelTable, path: &str) -> Result<Vec<AtlasAxis>, ScanError> {
-    let stribeck = m.law.family().has_own_names();
-    if !stribeck && m.given("nu").is_none() {
-        return Err(invalid(
-            path,
-            "model.nu",
-            "missing",
-            "a damping ratio (or a [physical] table instead)",
-        ));
-    }
-    // The law's own keys in their order, each as given or at the law's default.
-    let vals: Vec<Value> = Params::defaults(m.law)
-        .named()
-        .iter()
-        .map(|n| m.given(n.name).unwrap_or(Value::One(n.value)))
-        .collect();
-    let names = if stribeck {
-        law_params(m.law)
-    } else {
-        let own = m.law.keys();
-        NONDIMENSIONAL
-            .into_iter()
-            .filter(|(k, ..)| own.contains(k))
-            .collect()
-    };
-    axes(path, "model", &names, &vals)
-}
-
-/// The axes named `names` (key, long name, units) with the values `vals` of table `table`,
-/// each expanded (a number, a list or a range; errors name `table.key`).
-fn axes<'a>(
-    path: &str,
-    table: &str,
-    names: &[(&'static str, &'static str, &'static str)],
-    vals: impl IntoIterator<Item = &'a Value>,
-) -> Result<Vec<AtlasAxis>, ScanError> {
-    names
-        .iter()
-        .zip(vals)
-        .map(|(&(key, long_name, units), v)| {
-            Ok(AtlasAxis {
-                key,
-                long_name,
-                units,
-                values: expand(path, &format!("{table}.{key}"), v)?,
-            })
-        })
-        .collect()
-}
+use crate::spec::Invalid;
 
 /// The counts of revolutions `[attractor] transient` and `window` may take (stated in
 /// docs/atlas-spec.md; a test holds the two together).
@@ -266,33 +148,18 @@ pub(super) fn map_settings(
     Ok(maps)
 }
 
-/// The keys of `[physical]` that set the units of the state (the length mu_k N / k and the
-/// velocity mu_k N / sqrt(m k)): with a grid in m and m/s, each must have one value.
-const SCALE_KEYS: [&str; 5] = ["m", "k", "mu_k", "g", "normal_force"];
-
 /// A physical spec's map grid, given in m and m/s, in the model's units: every point has
-/// the same units (no key of [`SCALE_KEYS`] swept), so one grid serves every map, checked
+/// the same units (no key of [`crate::space::SCALE_KEYS`] swept), so one grid serves every map, checked
 /// there as a scan's ([`crate::spec::physical::grid_to_nondimensional`]).
 pub(super) fn physical_grid(
     plan: &mut AtlasPlan,
-    path: &str,
     rules: Rules,
     inv: Invalid,
 ) -> Result<(), ScanError> {
-    let (Some(ph), Some(m)) = (plan.physical_at(0), plan.maps.as_ref()) else {
+    let (Some(ph), Some(m)) = (plan.space.physical_at(0), plan.maps.as_ref()) else {
         return Ok(());
     };
-    if let Some(a) =
-        (plan.params.iter()).find(|a| a.values.len() > 1 && SCALE_KEYS.contains(&a.key))
-    {
-        return Err(invalid(
-            path,
-            &format!("physical.{}", a.key),
-            format!("{} values with [grid]", a.values.len()),
-            "a single value with basin maps: the grid is in m and m/s, and this key sets the \
-             units that scale it (sweep it without [grid])",
-        ));
-    }
+    plan.space.check_map_units(inv)?;
     let mut grid = m.grid;
     crate::spec::physical::grid_to_nondimensional(&mut grid, &ph, rules, inv)?;
     plan.maps.as_mut().expect("maps").grid = grid;
@@ -323,7 +190,7 @@ pub(super) fn boundaries(
     f: &AtlasFile,
     path: &str,
     units: Units,
-    params: &[AtlasAxis],
+    params: &[ParamAxis],
     rules: Rules,
     inv: Invalid,
 ) -> Result<BoundaryPlan, ScanError> {
@@ -463,7 +330,7 @@ fn own_ranges(
 }
 
 /// Whether the parameter `key` is swept (more than one value) in `params`.
-fn is_swept(params: &[AtlasAxis], key: &str) -> bool {
+fn is_swept(params: &[ParamAxis], key: &str) -> bool {
     params.iter().any(|a| a.key == key && a.values.len() > 1)
 }
 
@@ -473,7 +340,7 @@ fn bisected(
     bd: &BoundariesFile,
     law: FrictionLaw,
     path: &str,
-    params: &[AtlasAxis],
+    params: &[ParamAxis],
 ) -> Result<BoundaryParam, ScanError> {
     let (dk, sk) = (law.keys()[0], law.keys()[1]);
     let swept = |k: &str| is_swept(params, k);
@@ -500,7 +367,7 @@ fn swept_alone(
     bd: &BoundariesFile,
     boundary_in: BoundaryParam,
     path: &str,
-    params: &[AtlasAxis],
+    params: &[ParamAxis],
 ) -> Result<(), ScanError> {
     let others: &[&str] = match boundary_in {
         BoundaryParam::Nu => &["m", "k"],
@@ -559,41 +426,19 @@ pub(super) fn check_point(
     path: &str,
     rules: Rules,
 ) -> Result<(), ScanError> {
-    let prefix = match plan.units {
-        Units::Nondimensional => "model",
-        Units::Physical => "physical",
-    };
+    let units = plan.space.units;
     let name_err = |name: &str, value: f64, expected: &str| {
-        invalid(path, &format!("{prefix}.{name}"), Number(value), expected)
+        let key = format!("{}.{name}", units.table());
+        invalid(path, &key, Number(value), expected)
     };
-    let p = match plan.physical_at(i) {
-        Some(ph) => match rules {
-            Rules::Today => ph.params(plan.law),
-            Rules::Stored => ph.nondimensional(plan.law),
-        }
-        .map_err(|e| {
-            physical_error(e, &|key: &str, value: String, expected: &str| {
-                invalid(path, key, value, expected)
-            })
-        })?,
-        None if rules == Rules::Stored => return Ok(()),
-        None => {
-            let p = plan.params_at(i);
-            p.validate().map_err(|e| match e {
-                squeal_core::CoreError::InvalidParameter {
-                    name,
-                    value,
-                    expected,
-                } => name_err(name, value, expected),
-                e => invalid(path, prefix, e, "a valid model"),
-            })?;
-            p
-        }
+    let inv = |key: &str, value: String, expected: &str| invalid(path, key, value, expected);
+    let Some(p) = plan.space.check_point(i, rules, &inv)? else {
+        return Ok(());
     };
     if rules == Rules::Stored {
         return Ok(());
     }
-    if plan.units == Units::Physical {
+    if units == Units::Physical {
         // The SI box and point, scaled by this point's units, must still be a box and
         // a point the classifier can run from.
         let s = plan.settings_at(i);
@@ -616,7 +461,7 @@ pub(super) fn check_point(
     }
     if p.lambda <= 0.0 {
         return Err(name_err(
-            if plan.units == Units::Physical {
+            if units == Units::Physical {
                 "v_belt"
             } else {
                 "lambda"

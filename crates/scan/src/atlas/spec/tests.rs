@@ -1,4 +1,6 @@
 use super::*;
+use crate::spec::EarlyStop;
+use squeal_core::{FrictionLaw, Load};
 
 /// docs/atlas-spec.md states the range of `[attractor] transient` and `window`, the one
 /// the parser holds (issue 32: it gave only the default): both ends taken, one past
@@ -37,8 +39,8 @@ fn a_huge_physical_system_has_the_nondimensional_numbers_of_its_scaled_one() {
             .replace("k = 1.0e4", &format!("k = 1{scale}"))
             .replace("c = [2.0, 4.0]", &format!("c = [1{scale}, 2{scale}]"));
         let p = AtlasPlan::from_toml(&text, "p.toml").unwrap();
-        (0..p.n_points())
-            .map(|i| p.params_at(i).nu)
+        (0..p.space.n_points())
+            .map(|i| p.space.params_at(i).nu)
             .collect::<Vec<_>>()
     };
     let (one, big) = (nus(".0"), nus("e200"));
@@ -83,17 +85,17 @@ fn err(text: &str) -> String {
 #[test]
 fn cartesian_product_in_c_order() {
     let p = AtlasPlan::from_toml(GOOD, "t.toml").unwrap();
-    assert_eq!(p.shape(), vec![3, 2]);
-    assert_eq!(p.n_points(), 6);
+    assert_eq!(p.space.shape(), vec![3, 2]);
+    assert_eq!(p.space.n_points(), 6);
     // Point 3 = (nu index 1, lambda index 1).
-    let q = p.params_at(3);
+    let q = p.space.params_at(3);
     assert!((q.nu - (1e-3f64 * 4e-2).sqrt()).abs() < 1e-15);
     assert_eq!(q.lambda, 3.0);
     assert_eq!(q.law.surface().unwrap().tau, squeal_core::defaults::TAU);
     // Boundaries over lambda, bisected over nu's range.
     assert_eq!(p.boundary_shape(), vec![2]);
     let (i, r) = p.boundary_setup(1);
-    assert_eq!(p.params_at(i).lambda, 3.0);
+    assert_eq!(p.space.params_at(i).lambda, 3.0);
     assert!((r[0] - 1e-3).abs() < 1e-15 && (r[1] - 4e-2).abs() < 1e-15);
 }
 
@@ -106,11 +108,11 @@ fn a_coulomb_atlas_has_no_surface_axes() {
         .replace("\"mcmillan\"", "\"coulomb\"")
         .replace("mu_s = 0.4\ntau = 3e-3\n", "");
     let p = AtlasPlan::from_toml(&coulomb, "c.toml").unwrap();
-    let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
+    let keys: Vec<&str> = p.space.params.iter().map(|a| a.key).collect();
     assert_eq!(keys, ["m", "k", "c", "v_belt", "mu_k", "g"]);
-    assert_eq!(p.physical_at(0).unwrap().friction.surface(), None);
+    assert_eq!(p.space.physical_at(0).unwrap().friction.surface(), None);
     // nu = c / (2 sqrt(m k)) = 2 / 200, as under McMillan's law (physical_spec_converts).
-    assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
+    assert!((p.space.params_at(0).nu - 0.01).abs() < 1e-15);
     let old = coulomb.replace("mu_k = 0.3", "mu_k = 0.3\ntau = 3e-3");
     let e = err(&old);
     assert!(
@@ -124,14 +126,14 @@ fn a_coulomb_atlas_has_no_surface_axes() {
 #[test]
 fn physical_spec_converts() {
     let p = AtlasPlan::from_toml(PHYS, "p.toml").unwrap();
-    assert_eq!(p.units, Units::Physical);
-    assert_eq!(p.shape(), vec![2]);
+    assert_eq!(p.space.units, Units::Physical);
+    assert_eq!(p.space.shape(), vec![2]);
     // nu = c / (2 sqrt(m k)) = 2 / 200.
-    assert!((p.params_at(0).nu - 0.01).abs() < 1e-15);
+    assert!((p.space.params_at(0).nu - 0.01).abs() < 1e-15);
     assert_eq!(p.damping_axis(), ("c", Some(0)));
     assert_eq!(p.n_boundaries(), 1);
     // Its points' notes speak SI (issue 21): the settings carry the point's scales.
-    let scales = p.physical_at(1).unwrap().scales();
+    let scales = p.space.physical_at(1).unwrap().scales();
     assert_eq!(p.settings_at(1).units, Some(scales));
     assert!(p.settings_at(1).time_words(2.0, 1).ends_with(" s"));
 }
@@ -145,15 +147,15 @@ fn a_physical_atlas_takes_the_normal_force() {
         .replace("c = [2.0, 4.0]", "c = 2.0")
         .replace("tau = 3e-3", "tau = 3e-3\nnormal_force = [10.0, 20.0]");
     let p = AtlasPlan::from_toml(&text, "p.toml").unwrap();
-    let keys: Vec<_> = p.params.iter().map(|a| (a.key, a.units)).collect();
+    let keys: Vec<_> = p.space.params.iter().map(|a| (a.key, a.units)).collect();
     assert_eq!(keys.last(), Some(&("normal_force", "N")));
     assert!(!keys.iter().any(|(k, _)| *k == "g"), "{keys:?}");
-    assert_eq!(p.shape(), vec![2]);
+    assert_eq!(p.space.shape(), vec![2]);
     for (i, n) in [10.0, 20.0].into_iter().enumerate() {
-        let ph = p.physical_at(i).unwrap();
+        let ph = p.space.physical_at(i).unwrap();
         assert_eq!(ph.load, Load::NormalForce(n));
         // lambda = v_B sqrt(m k) / (mu_k N) = 0.1 * 100 / (0.3 N).
-        assert!((p.params_at(i).lambda - 10.0 / (0.3 * n)).abs() < 1e-13);
+        assert!((p.space.params_at(i).lambda - 10.0 / (0.3 * n)).abs() < 1e-13);
     }
     let both = text.replace("tau = 3e-3", "tau = 3e-3\ng = 9.81");
     assert!(
@@ -181,7 +183,7 @@ fn physical_default_disturbance_scales_with_the_system() {
         "[disturbance]\nx = [-1e-3, 1e-3]\nv = [-0.05, 0.05]\n[output]",
     );
     let p = AtlasPlan::from_toml(&given, "p.toml").unwrap();
-    let s = p.physical_at(0).unwrap().scales();
+    let s = p.space.physical_at(0).unwrap().scales();
     let d = p.settings_at(0).disturbance;
     assert!((d.x[1] * s.length - 1e-3).abs() < 1e-15);
     assert!((d.v[0] * s.velocity + 0.05).abs() < 1e-15);
@@ -279,11 +281,11 @@ path = "s.h5"
 #[test]
 fn a_stribeck_spec_has_its_own_axes_and_defaults() {
     let p = AtlasPlan::from_toml(STRIBECK, "s.toml").unwrap();
-    let keys: Vec<&str> = p.params.iter().map(|a| a.key).collect();
+    let keys: Vec<&str> = p.space.params.iter().map(|a| a.key).collect();
     assert_eq!(keys, FrictionLaw::Stribeck.keys());
-    assert_eq!(p.shape(), vec![2, 4]);
+    assert_eq!(p.space.shape(), vec![2, 4]);
     // Point 5 = (xi index 1, v_d index 1); the fixed keys at bSTAB's case.
-    let q = p.params_at(5);
+    let q = p.space.params_at(5);
     assert_eq!((q.nu, q.lambda), (0.05, 1.4));
     assert_eq!(q.law.stribeck(), Some(squeal_core::Stribeck::default()));
     assert_eq!(p.damping_axis(), ("xi", Some(0)));
@@ -321,6 +323,7 @@ fn a_stribeck_spec_has_its_own_axes_and_defaults() {
     // Unset keys take the scan spec's defaults (the law's own: crates/core/src/law/).
     let d = AtlasPlan::from_toml(&STRIBECK.replace("xi = [0.02, 0.05]\n", ""), "s.toml")
         .unwrap()
+        .space
         .params_at(0);
     assert_eq!(d.nu, squeal_core::Stribeck::XI);
 }
@@ -397,9 +400,9 @@ fn a_grid_makes_maps_with_the_scan_rules() {
     assert_eq!(p.point.disturbance.x, [-2.0 - 3.0 / 7.0, 4.0 + 3.0 / 7.0]);
     assert_eq!(p.point.disturbance.v, [-3.0 - 0.6, 3.0 + 0.6]);
     let mp = p.map_plan().unwrap();
-    assert_eq!(mp.maps.len(), p.n_points());
-    assert_eq!(mp.maps[3], p.params_at(3));
-    assert_eq!(mp.early_stop, EarlyStop::Cycle);
+    assert_eq!(mp.maps.len(), p.space.n_points());
+    assert_eq!(mp.maps[3], p.space.params_at(3));
+    assert_eq!(mp.map.early_stop, EarlyStop::Cycle);
     assert!(
         AtlasPlan::from_toml(GOOD, "t.toml")
             .unwrap()
@@ -544,6 +547,7 @@ fn a_stored_atlas_spec_outside_todays_bounds_reads_as_stored() {
     assert_eq!(stored(6).maps.unwrap().trap_margin, 0.9);
     assert_eq!(stored(7).maps.unwrap().classifier.t_max, 1e12);
     let phi = stored(8)
+        .space
         .params
         .iter()
         .find(|a| a.key == "phi")
@@ -565,4 +569,50 @@ fn a_stored_atlas_spec_outside_todays_bounds_reads_as_stored() {
             "{e}"
         );
     }
+}
+
+/// One parameter space: a scan spec and an atlas spec with the same `[physical]` (or
+/// `[model]`) table read the same points, in the same order, with the same models (the
+/// scan's maps are the atlas's points); before, each kind of spec had its own reader and a
+/// scan converted its physical keys by its own scaling.
+#[test]
+fn a_scan_and_an_atlas_read_one_parameter_space() {
+    let grid = "[grid]\nx0 = { min = -1e-4, max = 1e-4, count = 2 }\n\
+                v0 = { min = -0.01, max = 0.01, count = 2 }\n[output]";
+    let physical = PHYS.replace("v_belt = 0.1", "v_belt = [0.1, 0.2, 0.3]");
+    for text in [
+        GOOD.replace("[output]", GRID),
+        physical.replace("[output]", grid),
+    ] {
+        let atlas = AtlasPlan::from_toml(&text, "a.toml").unwrap();
+        let scan = crate::Plan::from_toml(&text, "s.toml").unwrap();
+        assert_eq!(scan.maps.len(), atlas.space.n_points());
+        for (i, p) in scan.maps.iter().enumerate() {
+            assert_eq!(*p, atlas.space.params_at(i), "point {i}");
+        }
+        assert_eq!(scan.physical, atlas.space.physical_at(0));
+        // The scan indexes its maps by the swept keys in the model's units.
+        let sweep = scan.sweep.unwrap();
+        let names: Vec<&str> = sweep.axes.iter().map(|a| a.name).collect();
+        let swept: Vec<&str> = atlas.space.axes().iter().map(|a| a.key).collect();
+        match atlas.space.units {
+            Units::Nondimensional => assert_eq!(names, swept),
+            Units::Physical => {
+                assert_eq!((names, swept), (vec!["nu", "lambda"], vec!["c", "v_belt"]))
+            }
+        }
+        for (m, p) in scan.maps.iter().enumerate() {
+            assert_eq!(sweep.values_at(m), [p.nu, p.lambda], "map {m}");
+        }
+    }
+}
+
+/// A changed parameter is a changed plan: `differs_from` names the space's keys (it
+/// compares the plans as TOML, where the space is flattened into the plan's table).
+#[test]
+fn a_changed_parameter_is_a_different_atlas() {
+    let a = AtlasPlan::from_toml(GOOD, "a.toml").unwrap();
+    let b = AtlasPlan::from_toml(&GOOD.replace("[2.0, 3.0]", "[2.0, 3.5]"), "a.toml").unwrap();
+    assert_eq!(a.differs_from(&a.clone()), None);
+    assert_eq!(a.differs_from(&b).as_deref(), Some("params"));
 }
