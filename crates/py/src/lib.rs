@@ -198,11 +198,13 @@ pub fn scan(
     })?;
     // The audit acts before the file is written, as `squeal scan` makes it (issue 31).
     if !report.interrupted {
-        py.detach(|| squeal_scan::redo::act_on_audits(&plan, None, &mut writer))
-            .map_err(|e| match e {
-                DriveError::Scan(e) => value_error(e),
-                DriveError::Sink(e) => store_error(e),
-            })?;
+        py.detach(|| {
+            squeal_scan::redo::act_on_audits(&plan, None, &mut writer, Some(&report.computed))
+        })
+        .map_err(|e| match e {
+            DriveError::Scan(e) => value_error(e),
+            DriveError::Sink(e) => store_error(e),
+        })?;
     }
     py.detach(|| squeal_cli::finish_scan(writer))
         .map_err(|e| match e {

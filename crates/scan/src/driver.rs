@@ -10,6 +10,7 @@
 //! result depends only on the plan and the cell, never on the thread count or the order in
 //! which blocks finish.
 
+use std::collections::HashSet;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
@@ -215,7 +216,7 @@ impl Pending {
 }
 
 /// What a drive did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct DriveReport {
     /// Blocks computed and handed to the sink.
     pub blocks: usize,
@@ -228,6 +229,19 @@ pub struct DriveReport {
     pub prepare: Duration,
     /// Time the sink's thread spent in the sink (the rest of the drive it waits).
     pub sink: Duration,
+    /// The blocks this drive computed, and which of them hold a cell whose audit disagrees
+    /// with its label ([`crate::redo::act_on_audits`] reads only those of the computed ones).
+    pub computed: Computed,
+}
+
+/// The `(map, block)` pairs a drive computed and handed to the sink.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Computed {
+    /// Every block computed.
+    pub blocks: HashSet<(usize, usize)>,
+    /// Those with a cell whose run to settlement disagrees with its label
+    /// ([`crate::cell::Audit::Disagrees`]).
+    pub disagreeing: HashSet<(usize, usize)>,
 }
 
 /// Why a drive failed.
@@ -250,8 +264,9 @@ impl<E> From<ScanError> for DriveError<E> {
 enum Msg {
     Prepared(usize, Arc<MapContext>),
     Cycle(usize, Box<Option<CycleOutcome>>, Vec<Withdrawn>),
-    /// A block and the sink's record of it ([`Sink::encode_block`]).
-    Block(BlockResult, Option<Vec<u8>>),
+    /// A block, the sink's record of it ([`Sink::encode_block`]) and whether an audit of
+    /// its cells disagrees.
+    Block(BlockResult, Option<Vec<u8>>, bool),
 }
 
 /// Runs the pending work of `shard` of `plan` into `sink` through the one executor
@@ -375,15 +390,20 @@ fn compute_blocks<S: Sink>(
             // The sink's record of the block made here, on the worker, not on the sink's
             // one thread.
             let record = S::encode_block(&r);
-            emit(Emit::Done(Msg::Block(r, record)));
+            let disagrees = r.cells.iter().any(crate::redo::disagrees);
+            emit(Emit::Done(Msg::Block(r, record, disagrees)));
         }
     };
     execute(jobs, stop, work, |msg| {
         let t = Instant::now();
         let r = match msg {
-            Msg::Block(r, record) => {
+            Msg::Block(r, record, disagrees) => {
                 report.blocks += 1;
                 report.cells += r.cells.len();
+                report.computed.blocks.insert((r.map, r.block));
+                if disagrees {
+                    report.computed.disagreeing.insert((r.map, r.block));
+                }
                 match record {
                     Some(bytes) => sink.write_encoded(&r, bytes),
                     None => sink.write_block(&r),

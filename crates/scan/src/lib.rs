@@ -91,7 +91,9 @@ pub use basin::{BASIN_FIELDS, GridShares, MapSummary, Share, Shares};
 pub use cell::{COLUMNS, Cell, Column};
 pub use checks::{LandscapeCheck, MapChecks, MapTally, WrongSide};
 pub use curve::ClosedCurve;
-pub use driver::{DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns};
+pub use driver::{
+    Computed, DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns,
+};
 pub use error::{NoCycle, ScanError};
 pub use finish::{Finishing, MapFigures};
 pub use grid::{Axis, Grid, Starts};

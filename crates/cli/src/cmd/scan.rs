@@ -125,7 +125,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     }
-    act_on_audits(&plan, shard, &mut writer)?;
+    act_on_audits(&plan, shard, &mut writer, &done.computed)?;
     phases.end("redo");
     signals.finishing(&may_draw(&pics))?;
     finish(
@@ -152,8 +152,10 @@ fn act_on_audits(
     plan: &Plan,
     shard: Option<squeal_scan::Shard>,
     writer: &mut ScanWriter,
+    computed: &squeal_scan::Computed,
 ) -> anyhow::Result<()> {
-    let acted = squeal_scan::redo::act_on_audits(plan, shard, writer).map_err(drive_error)?;
+    let acted = squeal_scan::redo::act_on_audits(plan, shard, writer, Some(computed))
+        .map_err(drive_error)?;
     for a in &acted {
         eprintln!(
             "squeal: map {}: {} cells decided again by runs, without the rules their audit refuted",

@@ -115,8 +115,9 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
     let plan = spec(lambda, nu, None);
     let mut sink = MemorySink::default();
     let stop = AtomicBool::new(false);
-    drive(&plan, None, &mut sink, &NoObserver, &stop).expect("the scan runs");
-    squeal_scan::redo::act_on_audits(&plan, None, &mut sink).expect("the audit acts");
+    let done = drive(&plan, None, &mut sink, &NoObserver, &stop).expect("the scan runs");
+    squeal_scan::redo::act_on_audits(&plan, None, &mut sink, Some(&done.computed))
+        .expect("the audit acts");
     let cells = sink.map_cells(&plan, 0).expect("every block");
     let kept: Vec<usize> = (0..cells.len())
         .filter(|&k| cells[k].audit == Audit::Disagrees as u8)
