@@ -13,7 +13,7 @@ With --names it prints only the names that differ, as markdown tables (one row p
 the specs where it differs; digits of record groups such as cycles/map_0003 shown as N):
 the datasets, groups and attributes added or removed, the attributes whose value changed,
 the datasets whose type or shape changed, and the datasets whose values changed. The
-specs a binary did not write are listed first. Without it, for each file name present in both folders (or only the SPECs named), it prints:
+specs that are equal and those a binary did not write are listed first. Without it, for each file name present in both folders (or only the SPECs named), it prints:
 - datasets and attributes found in one file only, and attributes whose text changed;
 - for every dataset whose values differ: how many elements, the largest |new - old| and the
   largest |new - old| / |old| (over elements finite in both; elements finite in one file only
@@ -121,6 +121,8 @@ def accuracy(path, fa, fb):
         if not name.startswith(kind) or name.endswith(("_lo", "_hi", "_err", "_half_dt",
                                                        "_status", "_changes")):
             continue
+        if any(name + end not in f for end in ("_lo", "_hi") for f in (fa, fb)):
+            continue  # a figure of the fold without a bracket (fold_lifetime_*)
         lo0, hi0 = fa[name + "_lo"][()], fa[name + "_hi"][()]
         lo1, hi1 = fb[name + "_lo"][()], fb[name + "_hi"][()]
         for i in np.flatnonzero(both):
@@ -265,6 +267,14 @@ def name_classes(fa, fb):
     return out
 
 
+def spec_list(specs, compared):
+    """The specs, or "all N" / "all N but ..." where that is shorter."""
+    rest = [n for n in compared if n not in specs]
+    if len(rest) < len(specs):
+        return f"all {len(compared)}" + (f" but {', '.join(rest)}" if rest else "")
+    return ", ".join(specs)
+
+
 def name_tables(old_dir, new_dir, specs):
     """The --names tables: each class's names, each with the specs where it differs."""
     where, alone = {}, []
@@ -276,15 +286,19 @@ def name_tables(old_dir, new_dir, specs):
         with h5py.File(pa, "r") as fa, h5py.File(pb, "r") as fb:
             for key in name_classes(fa, fb):
                 where.setdefault(key, []).append(n)
-    both = len(specs) - len(alone)
-    print(f"Specs compared: {both}. Written by one binary only: {', '.join(alone) or 'none'}.")
+    compared = [n for n in specs if n not in {a.split("`")[1] for a in alone}]
+    both = len(compared)
+    differ = {n for s in where.values() for n in s}
+    equal = [n for n in compared if n not in differ]
+    print(f"Specs compared: {both}; equal: {', '.join(equal) or 'none'}. "
+          f"Written by one binary only: {', '.join(alone) or 'none'}.")
     for cls in NAME_CLASSES:
         rows = sorted((name, kind, s) for (c, name, kind), s in where.items() if c == cls)
         print(f"\n**{cls}**: {len(rows) or 'none'}")
         if rows:
             print("\n| name | kind | specs |\n|---|---|---|")
         for name, kind, s in rows:
-            print(f"| `{name}` | {kind} | {f'all {both}' if len(s) == both else ', '.join(s)} |")
+            print(f"| `{name}` | {kind} | {spec_list(s, compared)} |")
 
 
 def main():
