@@ -267,8 +267,13 @@ def name_classes(fa, fb):
     return out
 
 
-def spec_list(specs, compared):
-    """The specs, or "all N" / "all N but ..." where that is shorter."""
+def spec_list(specs, compared, kinds):
+    """The specs, or "every scan" / "every atlas" (by `kinds`, spec -> kind), or "all N" /
+    "all N but ..." where that is shorter."""
+    for kind in ("scan", "atlas"):
+        every = [n for n in compared if kinds[n] == kind]
+        if len(every) > 1 and sorted(specs) == every:
+            return f"every {kind} ({len(every)})"
     rest = [n for n in compared if n not in specs]
     if len(rest) < len(specs):
         return f"all {len(compared)}" + (f" but {', '.join(rest)}" if rest else "")
@@ -277,13 +282,14 @@ def spec_list(specs, compared):
 
 def name_tables(old_dir, new_dir, specs):
     """The --names tables: each class's names, each with the specs where it differs."""
-    where, alone = {}, []
+    where, alone, kinds = {}, [], {}
     for n in specs:
         pa, pb = os.path.join(old_dir, n + ".h5"), os.path.join(new_dir, n + ".h5")
         if not (os.path.exists(pa) and os.path.exists(pb)):
             alone.append(f"`{n}` ({'new' if os.path.exists(pb) else 'old'} only)")
             continue
         with h5py.File(pa, "r") as fa, h5py.File(pb, "r") as fb:
+            kinds[n] = "atlas" if "atlas" in text(fb.attrs.get("schema", "")) else "scan"
             for key in name_classes(fa, fb):
                 where.setdefault(key, []).append(n)
     compared = [n for n in specs if n not in {a.split("`")[1] for a in alone}]
@@ -298,7 +304,7 @@ def name_tables(old_dir, new_dir, specs):
         if rows:
             print("\n| name | kind | specs |\n|---|---|---|")
         for name, kind, s in rows:
-            print(f"| `{name}` | {kind} | {spec_list(s, compared)} |")
+            print(f"| `{name}` | {kind} | {spec_list(s, compared, kinds)} |")
 
 
 def main():
