@@ -7,8 +7,13 @@
 the two that scripts/tools/same-results.sh leaves in target/same-results/run/{old,new}.
 
     python3 scripts/tools/same-results-summary.py OLD_DIR NEW_DIR [SPEC ...]
+    python3 scripts/tools/same-results-summary.py --names OLD_DIR NEW_DIR [SPEC ...]
 
-For each file name present in both folders (or only the SPECs named), it prints:
+With --names it prints only the names that differ, as markdown tables (one row per name,
+the specs where it differs; digits of record groups such as cycles/map_0003 shown as N):
+the datasets, groups and attributes added or removed, the attributes whose value changed,
+the datasets whose type or shape changed, and the datasets whose values changed. The
+specs that are equal and those a binary did not write are listed first. Without it, for each file name present in both folders (or only the SPECs named), it prints:
 - datasets and attributes found in one file only, and attributes whose text changed;
 - for every dataset whose values differ: how many elements, the largest |new - old| and the
   largest |new - old| / |old| (over elements finite in both; elements finite in one file only
@@ -28,13 +33,14 @@ For each file name present in both folders (or only the SPECs named), it prints:
 Provenance (git_revision, squeal_version, created) and dimension-scale bookkeeping
 (REFERENCE_LIST, DIMENSION_LIST) are left out; scripts/tools/h5_same.py reports those."""
 import os
+import re
 import sys
 
 import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from h5_same import pairs  # noqa: E402  (the walk over both files, written once)
+from h5_same import pairs, same_values  # noqa: E402  (the walk over both files, written once)
 
 SKIP_ATTRS = {"git_revision", "squeal_version", "software_version", "created", "version",
               "history", "date_created", "creation_time", "REFERENCE_LIST", "DIMENSION_LIST",
@@ -115,6 +121,8 @@ def accuracy(path, fa, fb):
         if not name.startswith(kind) or name.endswith(("_lo", "_hi", "_err", "_half_dt",
                                                        "_status", "_changes")):
             continue
+        if any(name + end not in f for end in ("_lo", "_hi") for f in (fa, fb)):
+            continue  # a figure of the fold without a bracket (fold_lifetime_*)
         lo0, hi0 = fa[name + "_lo"][()], fa[name + "_hi"][()]
         lo1, hi1 = fb[name + "_lo"][()], fb[name + "_hi"][()]
         for i in np.flatnonzero(both):
@@ -232,10 +240,83 @@ def walk(fa, fb, out):
                     out.append(f"{p}: values differ")
 
 
+NAME_CLASSES = ("added", "removed", "attribute value changed", "type or shape changed",
+                "values changed")
+
+
+def name_classes(fa, fb):
+    """Each difference as (class, name): the class one of NAME_CLASSES, record digits as N."""
+    def put(cls, name, kind="dataset"):
+        out.add((cls, re.sub(r"_\d+(?=/|@|$)", "_N", name), kind))
+    out = set()
+    for p, x, y in pairs(fa, fb):
+        if x is None or y is None:
+            kind = "group" if isinstance(x or y, h5py.Group) else "dataset"
+            put("added" if x is None else "removed", p, kind)
+            continue
+        for k in sorted((set(x.attrs) | set(y.attrs)) - SKIP_ATTRS):
+            if k not in x.attrs or k not in y.attrs:
+                put("added" if k not in x.attrs else "removed", f"{p}@{k}", "attribute")
+            elif not same_values(x.attrs[k], y.attrs[k]):
+                put("attribute value changed", f"{p}@{k}", "attribute")
+        if isinstance(x, h5py.Dataset) and isinstance(y, h5py.Dataset):
+            if x.shape != y.shape or (x.dtype != y.dtype and enum_names(x) is None):
+                put("type or shape changed", p)
+            elif not same_values(x[()].astype(y.dtype) if enum_names(x) else x[()], y[()]):
+                put("values changed", p)
+    return out
+
+
+def spec_list(specs, compared, kinds):
+    """The specs, or "every scan" / "every atlas" (by `kinds`, spec -> kind), or "all N" /
+    "all N but ..." where that is shorter."""
+    for kind in ("scan", "atlas"):
+        every = [n for n in compared if kinds[n] == kind]
+        if len(every) > 1 and sorted(specs) == every:
+            return f"every {kind} ({len(every)})"
+    rest = [n for n in compared if n not in specs]
+    if len(rest) < len(specs):
+        return f"all {len(compared)}" + (f" but {', '.join(rest)}" if rest else "")
+    return ", ".join(specs)
+
+
+def name_tables(old_dir, new_dir, specs):
+    """The --names tables: each class's names, each with the specs where it differs."""
+    where, alone, kinds = {}, [], {}
+    for n in specs:
+        pa, pb = os.path.join(old_dir, n + ".h5"), os.path.join(new_dir, n + ".h5")
+        if not (os.path.exists(pa) and os.path.exists(pb)):
+            alone.append(f"`{n}` ({'new' if os.path.exists(pb) else 'old'} only)")
+            continue
+        with h5py.File(pa, "r") as fa, h5py.File(pb, "r") as fb:
+            kinds[n] = "atlas" if "atlas" in text(fb.attrs.get("schema", "")) else "scan"
+            for key in name_classes(fa, fb):
+                where.setdefault(key, []).append(n)
+    compared = [n for n in specs if n not in {a.split("`")[1] for a in alone}]
+    both = len(compared)
+    differ = {n for s in where.values() for n in s}
+    equal = [n for n in compared if n not in differ]
+    print(f"Specs compared: {both}; equal: {', '.join(equal) or 'none'}. "
+          f"Written by one binary only: {', '.join(alone) or 'none'}.")
+    for cls in NAME_CLASSES:
+        rows = sorted((name, kind, s) for (c, name, kind), s in where.items() if c == cls)
+        print(f"\n**{cls}**: {len(rows) or 'none'}")
+        if rows:
+            print("\n| name | kind | specs |\n|---|---|---|")
+        for name, kind, s in rows:
+            print(f"| `{name}` | {kind} | {spec_list(s, compared, kinds)} |")
+
+
 def main():
-    if len(sys.argv) < 3:
+    args = [a for a in sys.argv[1:] if a != "--names"]
+    if len(args) < 2:
         sys.exit(__doc__)
-    old_dir, new_dir, only = sys.argv[1], sys.argv[2], set(sys.argv[3:])
+    old_dir, new_dir, only = args[0], args[1], set(args[2:])
+    if "--names" in sys.argv:
+        name_tables(old_dir, new_dir, sorted(
+            n[:-3] for n in set(os.listdir(old_dir)) | set(os.listdir(new_dir))
+            if n.endswith(".h5") and (not only or n[:-3] in only)))
+        return
     names = sorted(set(os.listdir(old_dir)) | set(os.listdir(new_dir)))
     for n in names:
         if not n.endswith(".h5") or (only and n[:-3] not in only):

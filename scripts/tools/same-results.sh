@@ -7,6 +7,7 @@
 #   COUNT=12 SWEEP=4 scripts/tools/same-results.sh REV        # reduction (defaults 16 and 5)
 #   LABELS=1 COUNT=64 SWEEP=100 scripts/tools/same-results.sh REV   # labels only, cell by cell
 #   SPECS="scans/fig9.toml scans/fig10.toml" scripts/tools/same-results.sh REV   # these specs only
+#   WORK=target/same-results/run2 scripts/tools/same-results.sh REV   # another folder, so runs go side by side
 #
 # With LABELS=1 only the scan specs run (not the atlases), and each pair of files is
 # compared cell by cell with `squeal compare` instead of bit for bit: the check that an
@@ -41,7 +42,7 @@ if ! python3 -c 'import h5py, numpy' 2>/dev/null; then
     "$venv/bin/python" -m pip install --quiet h5py numpy
   py=$venv/bin/python
 fi
-work=$root/target/same-results/run
+work=$root/${WORK:-target/same-results/run}
 rm -rf "$work"
 mkdir -p "$work/old" "$work/new" "$work/specs"
 # Specs name their data (a friction CSV) relative to their folder, scans/.
