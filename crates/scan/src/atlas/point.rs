@@ -252,7 +252,9 @@ pub const LANDSCAPE_HORIZON: f64 = 3000.0;
 /// that lasts where the section saw no squeal (or no verdict) makes the point squeal (the
 /// operating point's own run says whether it is the one), with the oscillation's figures in
 /// the note; every start settling where the section's stick-slip run lasted is a conflict
-/// (undecided). Runs agreeing with the section add a note saying they were made.
+/// (undecided). Where a start lasts, the basin fraction is withdrawn (NaN), also when the
+/// runs agree with the section's label: it is the area inside the section's unstable cycle,
+/// which is what is not checked here; the note says runs decided.
 fn runs_landscape(
     setup: Setup,
     ps: &PointSettings,
