@@ -3,7 +3,7 @@
 //! coordinates of each.
 
 use serde_json::{Value, json};
-use squeal_scan::atlas::columns::{COLUMNS, Si};
+use squeal_scan::atlas::columns::COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, BoundaryResult, PointResult};
 
 use squeal_scan::atlas::AtlasResults;
@@ -88,12 +88,11 @@ fn point_json(plan: &AtlasPlan, res: &AtlasResults, i: usize, p: Option<&PointRe
     let scales = plan.space.physical_at(i).map(|ph| ph.scales());
     let mut si = serde_json::Map::new();
     for c in COLUMNS {
-        let v = (c.get)(p);
-        o[c.name] = num(v);
-        if let (Some(s), true) = (scales, c.si != Si::None) {
+        o[c.name] = num(c.value(p));
+        if let (Some(s), Some((twin, _))) = (scales, c.si_twin()) {
             si.insert(
                 c.name.to_string(),
-                json!({"value": num(c.si.convert(v, &s)), "units": c.si.units()}),
+                json!({"value": num(c.si_value(p, &s)), "units": twin.units()}),
             );
         }
     }
@@ -163,7 +162,7 @@ fn landscape_json(p: &PointResult, o: &mut Value) {
             l.verdict().map_or("unknown", |v| v.name()).into(),
         );
         for c in LANDSCAPE_COLUMNS {
-            e.insert(c.name.into(), num((c.get)(p)));
+            e.insert(c.name.into(), num(c.value(p)));
         }
         o["landscape"] = Value::Object(e);
         if let Some(v) = o

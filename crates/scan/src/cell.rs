@@ -7,8 +7,9 @@
 //! field.
 
 use serde::Serialize;
-use squeal_core::{Outcome, Regime, Scales};
+use squeal_core::{Outcome, Regime};
 
+use crate::column::{Kind, Num, Twin};
 use crate::si::Si;
 
 /// One classified cell: the label and the diagnostics stored beside it.
@@ -153,120 +154,8 @@ impl Audit {
     }
 }
 
-/// How a column is stored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// An 8-bit enum with named values ([`Column::flags`]).
-    Enum,
-    /// Unsigned 8-bit.
-    U8,
-    /// Unsigned 32-bit.
-    U32,
-    /// Unsigned 64-bit.
-    U64,
-    /// 64-bit float.
-    F64,
-}
-
-impl Kind {
-    /// Bytes in the journal.
-    pub fn bytes(self) -> usize {
-        match self {
-            Kind::Enum | Kind::U8 => 1,
-            Kind::U32 => 4,
-            Kind::U64 | Kind::F64 => 8,
-        }
-    }
-}
-
-/// One column's value.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Num {
-    /// An unsigned integer (enums, flags, counters).
-    U(u64),
-    /// A float.
-    F(f64),
-}
-
-impl Num {
-    /// As an unsigned integer (floats truncate).
-    pub fn as_u64(self) -> u64 {
-        match self {
-            Num::U(u) => u,
-            Num::F(f) => f as u64,
-        }
-    }
-
-    /// As a float.
-    pub fn as_f64(self) -> f64 {
-        match self {
-            Num::U(u) => u as f64,
-            Num::F(f) => f,
-        }
-    }
-}
-
 /// One stored per-cell quantity.
-#[derive(Clone, Copy, Debug)]
-pub struct Column {
-    /// Dataset / CSV column name.
-    pub name: &'static str,
-    /// CF `long_name`.
-    pub long_name: &'static str,
-    /// CF `units` (`"1"` for dimensionless numbers; `""` for enums and counters' flags).
-    pub units: &'static str,
-    /// Storage type.
-    pub kind: Kind,
-    /// For [`Kind::Enum`]: `(value, name)` of each member, including the fill.
-    pub flags: &'static [(u8, &'static str)],
-    /// The value where nothing was computed.
-    pub fill: Num,
-    /// Reads the column from a cell.
-    pub get: fn(&Cell) -> Num,
-    /// Writes the column into a cell.
-    pub set: fn(&mut Cell, Num),
-    /// Its SI twin in a physical scan (`<name>_si`): how it converts, and the twin's long
-    /// name; `None` for a ratio, a count or a flag.
-    pub si: Option<(Si, &'static str)>,
-}
-
-impl Column {
-    /// The name of an enum value (`None` if not a member).
-    pub fn flag_name(&self, v: u64) -> Option<&'static str> {
-        self.flags
-            .iter()
-            .find(|(k, _)| *k as u64 == v)
-            .map(|(_, n)| *n)
-    }
-
-    /// The value as text (enum members by name; floats shortest round-trip).
-    pub fn text(&self, c: &Cell) -> String {
-        let v = (self.get)(c);
-        match (self.kind, v) {
-            (Kind::Enum, v) => self
-                .flag_name(v.as_u64())
-                .map_or_else(|| v.as_u64().to_string(), str::to_string),
-            (_, Num::U(u)) => u.to_string(),
-            (_, Num::F(f)) => f.to_string(),
-        }
-    }
-
-    /// The column's value in a cell in SI units by the scales `s` (NaN for a column without
-    /// an SI twin). A time keeps [`squeal_core::T_SQUEAL_UNKNOWN`] (`t_squeal`'s "not
-    /// known", no time); infinity stays infinite, NaN NaN.
-    pub fn si_value(&self, c: &Cell, s: &Scales) -> f64 {
-        self.si_of((self.get)(c).as_f64(), s)
-    }
-
-    /// [`Column::si_value`] of a value `v` of the column.
-    pub fn si_of(&self, v: f64, s: &Scales) -> f64 {
-        match self.si {
-            None => f64::NAN,
-            Some((Si::Time, _)) if v == squeal_core::T_SQUEAL_UNKNOWN => v,
-            Some((si, _)) => si.convert(v, s),
-        }
-    }
-}
+pub type Column = crate::column::Column<Cell>;
 
 /// Value of the `regime` (labels) fill: not computed.
 pub const NOT_COMPUTED: u8 = 255;
@@ -336,11 +225,11 @@ macro_rules! col {
             fill: Num::U($fill),
             get: |c| Num::U(c.$name as u64),
             set: |c, v| c.$name = v.as_u64() as _,
-            si: None,
+            si: Twin::None,
         }
     };
     ($name:ident, $long:expr, $units:expr, F64, f) => {
-        col!($name, $long, $units, F64, f, None)
+        col!($name, $long, $units, F64, f, Twin::None)
     };
     ($name:ident, $long:expr, $units:expr, F64, f, $si:expr) => {
         Column {
@@ -368,7 +257,7 @@ pub const COLUMNS: &[Column] = &[
         fill: Num::U(NOT_COMPUTED as u64),
         get: |c| Num::U(c.regime as u64),
         set: |c, v| c.regime = v.as_u64() as u8,
-        si: None,
+        si: Twin::None,
     },
     col!(
         reason,
@@ -385,7 +274,7 @@ pub const COLUMNS: &[Column] = &[
         "1",
         F64,
         f,
-        Some((Si::Time, "time at the decision (seconds)"))
+        Twin::Named(Si::Time, "time at the decision (seconds)")
     ),
     col!(
         amplitude,
@@ -393,10 +282,10 @@ pub const COLUMNS: &[Column] = &[
         "1",
         F64,
         f,
-        Some((
+        Twin::Named(
             Si::Velocity,
             "last section amplitude: x' at the last crossing of x = x* (m/s)"
-        ))
+        )
     ),
     col!(
         omega,
@@ -404,7 +293,7 @@ pub const COLUMNS: &[Column] = &[
         "1",
         F64,
         f,
-        Some((Si::Frequency, "frequency of the last revolution (Hz)"))
+        Twin::Named(Si::Frequency, "frequency of the last revolution (Hz)")
     ),
     col!(
         quasi_static,
@@ -467,12 +356,12 @@ pub const COLUMNS: &[Column] = &[
         "1",
         F64,
         f,
-        Some((
+        Twin::Named(
             Si::Time,
             "time on stick-slip before the run settled: end of its last stuck step (seconds); 0 \
              never stuck, inf stick-slip for good, -1 not known (undecided, or stopped before \
              its last stick)"
-        ))
+        )
     ),
     col!(
         sticks,
@@ -499,11 +388,11 @@ pub const COLUMNS: &[Column] = &[
         "1",
         F64,
         f,
-        Some((
+        Twin::Named(
             Si::Length,
             "half the range of x over the lasting oscillation the run reached (metres); NaN \
              where none was identified"
-        ))
+        )
     ),
     col!(
         v_amplitude,
@@ -512,11 +401,11 @@ pub const COLUMNS: &[Column] = &[
         "1",
         F64,
         f,
-        Some((
+        Twin::Named(
             Si::Velocity,
             "half the range of x' over the lasting oscillation the run reached (m/s); NaN \
              where none was identified"
-        ))
+        )
     ),
 ];
 

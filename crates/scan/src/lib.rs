@@ -5,6 +5,8 @@
 //! * [`grid`]: the grid of initial conditions `(x0, v0)` and its blocks.
 //! * [`cell`]: one classified [`Cell`] and [`cell::COLUMNS`], the one table of its stored
 //!   columns (name, long name, units, type, fill) that every writer and reader follows.
+//! * [`column`]: the one [`column::Column`] type of the stored tables, a scan's cells and an
+//!   atlas's points and boundary searches alike.
 //! * [`scanner`]: a map's preparation ([`scanner::MapContext`]: the section searched once,
 //!   the trap and the located cycle) and one block of cells, classified in parallel.
 //! * [`executor`]: the one executor of every kind of work (a scan's map blocks, an atlas's
@@ -64,6 +66,7 @@ pub mod bounds;
 pub mod cell;
 pub mod census;
 pub mod checks;
+pub mod column;
 pub mod compare;
 pub mod curve;
 pub mod driver;

@@ -9,7 +9,8 @@
 use std::io::Write;
 
 use hdf5::Dataset;
-use squeal_scan::cell::{Cell, Column, Kind, Num};
+use squeal_scan::cell::{Cell, Column};
+use squeal_scan::column::{Kind, Num};
 
 use crate::h5columns::membership;
 

@@ -1,10 +1,12 @@
-//! One per-cell column of [`squeal_scan::cell::COLUMNS`] in a file: its dataset with CF attributes, and the
-//! writing and selecting of a block's rows (grids over `(.., v0, x0)`, random samples over
-//! `(.., sample)`).
+//! One per-cell column of [`squeal_scan::cell::COLUMNS`] in a file: its dataset with CF
+//! attributes, and the writing and selecting of a block's rows (grids over `(.., v0, x0)`,
+//! random samples over `(.., sample)`); and the typed read of a column of any table
+//! ([`read_nums`]).
 
 use hdf5::{Dataset, File, H5Type};
-use ndarray::{Array1, Array2};
-use squeal_scan::cell::{Cell, Column, Kind};
+use ndarray::{Array1, Array2, IxDyn};
+use squeal_scan::cell::{Cell, Column};
+use squeal_scan::column::{Kind, Num};
 
 use crate::h5out::str_attr;
 use crate::h5types::{AuditH5, EnumColumn, Label, ReasonH5, YesNoH5};
@@ -88,19 +90,19 @@ pub(crate) fn column_dataset(
     Ok(ds)
 }
 
-/// Creates the SI twin `<name>_si` of a column with an SI notion ([`Column::si`]): f64, fill
-/// NaN, its own long name and SI units (a physical scan's cells).
+/// Creates the SI twin `<name>_si` of a column with an SI notion ([`Column::si_twin`]): f64,
+/// fill NaN, its own long name and SI units (a physical scan's cells).
 pub(crate) fn si_dataset(
     file: &File,
     col: &Column,
     shape: &[usize],
     chunk: &[usize],
 ) -> hdf5::Result<Option<Dataset>> {
-    let Some((si, long)) = col.si else {
+    let Some((si, long)) = col.si_twin() else {
         return Ok(None);
     };
     let ds = chunked(file, &format!("{}_si", col.name), shape, chunk, f64::NAN)?;
-    str_attr(&ds, "long_name", long)?;
+    str_attr(&ds, "long_name", &long)?;
     str_attr(&ds, "units", si.units())?;
     Ok(Some(ds))
 }
@@ -201,6 +203,28 @@ pub(crate) fn sel(prefix: &[usize], rows: std::ops::Range<usize>, list: bool) ->
 /// parameter dimensions) one dimension, where a grid variable has two.
 pub(crate) fn is_list(ds: &Dataset, leading: usize) -> bool {
     ds.ndim() == leading + 1
+}
+
+/// The values of a column of any table stored as `kind` in `ds` (at `sel`; all of it where
+/// `None`), read as its stored type, in C order.
+pub(crate) fn read_nums(
+    ds: &Dataset,
+    kind: Kind,
+    sel: Option<hdf5::Hyperslab>,
+) -> hdf5::Result<Vec<Num>> {
+    fn rd<T: H5Type + Clone>(ds: &Dataset, sel: Option<hdf5::Hyperslab>) -> hdf5::Result<Vec<T>> {
+        match sel {
+            None => ds.read_raw(),
+            Some(s) => Ok(ds.read_slice::<T, _, IxDyn>(s)?.into_iter().collect()),
+        }
+    }
+    let u = |v: Vec<u64>| v.into_iter().map(Num::U).collect();
+    Ok(match kind {
+        Kind::Enum | Kind::U8 => u(rd::<u8>(ds, sel)?.into_iter().map(u64::from).collect()),
+        Kind::U32 => u(rd::<u32>(ds, sel)?.into_iter().map(u64::from).collect()),
+        Kind::U64 => u(rd::<u64>(ds, sel)?),
+        Kind::F64 => rd::<f64>(ds, sel)?.into_iter().map(Num::F).collect(),
+    })
 }
 
 fn write_rows<T: H5Type>(

@@ -203,7 +203,7 @@ impl EnumColumn {
     /// The stored enum of a column with these flags (`None`: not an enum column).
     pub(crate) fn of(col: &squeal_scan::Column) -> Option<EnumColumn> {
         use squeal_scan::cell::{AUDIT_FLAGS, REASON_FLAGS, REGIME_FLAGS, YES_NO_FLAGS};
-        if col.kind != squeal_scan::cell::Kind::Enum {
+        if col.kind != squeal_scan::column::Kind::Enum {
             None
         } else if col.flags == REGIME_FLAGS {
             Some(EnumColumn::Label)
@@ -245,7 +245,7 @@ mod tests {
     #[test]
     fn every_enum_column_has_a_stored_type_with_its_flags() {
         for col in squeal_scan::COLUMNS {
-            if col.kind != squeal_scan::cell::Kind::Enum {
+            if col.kind != squeal_scan::column::Kind::Enum {
                 continue;
             }
             let e = EnumColumn::of(col).unwrap_or_else(|| panic!("{}", col.name));

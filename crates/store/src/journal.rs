@@ -39,7 +39,8 @@ use std::path::{Path, PathBuf};
 
 use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, COLUMNS as POINT_COLUMNS};
 use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
-use squeal_scan::cell::{COLUMNS, Cell, Kind, Num, cell_bytes};
+use squeal_scan::cell::{COLUMNS, Cell, cell_bytes};
+use squeal_scan::column::{Kind, Num};
 
 use crate::StoreError;
 use crate::error::{Advice, io};

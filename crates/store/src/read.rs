@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 use hdf5::types::{TypeDescriptor, VarLenAscii, VarLenUnicode};
 use hdf5::{Attribute, Dataset, File, Group, Location};
 use squeal_scan::ClosedCurve;
-use squeal_scan::cell::{COLUMNS, Cell, Kind, Num};
+use squeal_scan::cell::{COLUMNS, Cell};
 use squeal_scan::checks::CHECK_FIELDS;
+use squeal_scan::column::{Kind, Num};
 
 use crate::error::{H5Ctx, io};
 use crate::journal::CycleRecord;
@@ -356,18 +357,38 @@ pub(crate) fn rd_n<T: hdf5::H5Type>(
     n: usize,
 ) -> Result<Vec<T>, StoreError> {
     let v = rd(file, path, name)?;
-    if v.len() != n {
+    check_n(path, name, v.len(), n)?;
+    Ok(v)
+}
+
+/// [`rd_n`] of a column stored as `kind`, as [`Num`]s ([`crate::h5columns::read_nums`]).
+pub(crate) fn rd_nums_n(
+    file: &File,
+    path: &Path,
+    (name, kind): (&str, Kind),
+    n: usize,
+) -> Result<Vec<Num>, StoreError> {
+    let v = (file.dataset(name))
+        .and_then(|ds| crate::h5columns::read_nums(&ds, kind, None))
+        .h5(path)?;
+    check_n(path, name, v.len(), n)?;
+    Ok(v)
+}
+
+/// Refuses a dataset `name` of `len` values where its stored spec has `n` entries.
+fn check_n(path: &Path, name: &str, len: usize, n: usize) -> Result<(), StoreError> {
+    if len != n {
         return Err(StoreError::NotSquealFile {
             path: path.to_path_buf(),
             why: format!(
                 "dataset {name} holds {} values where its stored spec has {n}: the file was \
                  written for another spec, or by a version that read the spec differently",
-                v.len()
+                len
             ),
             advice: None,
         });
     }
-    Ok(v)
+    Ok(())
 }
 
 /// [`rd_n`] of a dataset files written before it lack (then empty).
@@ -658,26 +679,11 @@ pub(crate) fn read_block(
     map: usize,
     rows: std::ops::Range<usize>,
 ) -> hdf5::Result<Vec<Cell>> {
-    fn rd<T: hdf5::H5Type + Clone>(
-        file: &File,
-        name: &str,
-        sweep: bool,
-        map: usize,
-        r: &std::ops::Range<usize>,
-    ) -> hdf5::Result<Vec<T>> {
-        let ds = file.dataset(name)?;
-        let m: &[usize] = if sweep {
-            std::slice::from_ref(&map)
-        } else {
-            &[]
-        };
-        if crate::h5write::is_list(&ds, m.len()) {
-            let a = ds.read_slice_1d::<T, _>(crate::h5write::sel(m, r.clone(), true))?;
-            return Ok(a.into_iter().collect());
-        }
-        let a = ds.read_slice_2d::<T, _>(crate::h5write::sel(m, r.clone(), false))?;
-        Ok(a.into_iter().collect())
-    }
+    let m: &[usize] = if sweep {
+        std::slice::from_ref(&map)
+    } else {
+        &[]
+    };
     let mut cells: Vec<Cell> = Vec::new();
     for col in COLUMNS {
         // A column newer than the file (a file of an earlier version): its fill value, as
@@ -688,24 +694,9 @@ pub(crate) fn read_block(
             }
             continue;
         }
-        let vals: Vec<Num> = match col.kind {
-            Kind::Enum | Kind::U8 => rd::<u8>(file, col.name, sweep, map, &rows)?
-                .into_iter()
-                .map(|v| Num::U(v as u64))
-                .collect(),
-            Kind::U32 => rd::<u32>(file, col.name, sweep, map, &rows)?
-                .into_iter()
-                .map(|v| Num::U(v as u64))
-                .collect(),
-            Kind::U64 => rd::<u64>(file, col.name, sweep, map, &rows)?
-                .into_iter()
-                .map(Num::U)
-                .collect(),
-            Kind::F64 => rd::<f64>(file, col.name, sweep, map, &rows)?
-                .into_iter()
-                .map(Num::F)
-                .collect(),
-        };
+        let ds = file.dataset(col.name)?;
+        let sel = crate::h5write::sel(m, rows.clone(), crate::h5write::is_list(&ds, m.len()));
+        let vals = crate::h5columns::read_nums(&ds, col.kind, Some(sel))?;
         if cells.is_empty() {
             cells = vec![Cell::fill(); vals.len()];
         }

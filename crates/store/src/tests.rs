@@ -633,7 +633,7 @@ fn variables_carry_cf_attributes_and_no_dimensions_string() {
         let names = ds.attr_names().unwrap();
         assert!(names.iter().any(|n| n == "long_name"), "{}", col.name);
         assert!(!names.iter().any(|n| n == "dimensions"), "{}", col.name);
-        if col.kind == squeal_scan::cell::Kind::Enum {
+        if col.kind == squeal_scan::column::Kind::Enum {
             assert!(names.iter().any(|n| n == "flag_values"), "{}", col.name);
             let m = read::str_attr(&ds, "flag_meanings").unwrap();
             assert_eq!(m.split(' ').count(), col.flags.len(), "{}", col.name);

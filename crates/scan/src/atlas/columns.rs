@@ -1,37 +1,40 @@
 //! The atlas schema as a table: one row per stored figure (name, long name, units, how to
-//! read it from and write it into a [`PointResult`]). The HDF5 writer and reader, the
+//! read it from and write it into a [`PointResult`] or a [`BoundaryResult`]), in the one
+//! column type of every stored table ([`crate::column::Column`]). The HDF5 writer and reader, the
 //! journal and `--json` all walk this table, so adding a figure of merit is one line.
 
 use super::boundary::{Boundary, BoundaryResult, BoundaryStatus};
 use super::figures::{AtlasRegime, CycleFigures, PointResult, StickSlipFigures};
 use super::spec::AtlasPlan;
+pub use crate::column::{Kind, Num, Twin};
 pub use crate::si::Si;
 
-/// How a column is stored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// f64, fill NaN.
-    Real,
-    /// u8 0/1, fill 255 (unknown).
-    Flag,
-    /// u64 count, fill 0.
-    Count,
+/// One stored figure of a point.
+pub type Column = crate::column::Column<PointResult>;
+
+/// One stored figure of a boundary search.
+pub type BoundaryColumn = crate::column::Column<BoundaryResult>;
+
+/// Members of a point's yes/no figures (`cycle_encloses_operating_point`, `warm_started`).
+pub const YES_NO_UNKNOWN: &[(u8, &str)] = &[(0, "no"), (1, "yes"), (UNKNOWN, "unknown")];
+
+/// The fill of a point's yes/no figures: not known.
+const UNKNOWN: u8 = 255;
+
+/// The SI twin of a point's figure converted by `si`.
+const fn twin(si: Si) -> Twin {
+    match si {
+        Si::None => Twin::None,
+        si => Twin::Si(si),
+    }
 }
 
-/// One stored figure of a point.
-pub struct Column {
-    /// Dataset name.
-    pub name: &'static str,
-    /// `long_name`.
-    pub long_name: &'static str,
-    /// Storage.
-    pub kind: Kind,
-    /// SI conversion (physical plans also store `<name>_si`).
-    pub si: Si,
-    /// Reads the value (NaN where absent).
-    pub get: fn(&PointResult) -> f64,
-    /// Writes the value (see [`finish_point`]).
-    pub set: fn(&mut PointResult, f64),
+/// The units of a point's nondimensional figure converted by `si`.
+const fn nd_units(si: Si) -> &'static str {
+    match si {
+        Si::Frequency => "1 (angular frequency, nondimensional)",
+        _ => "1",
+    }
 }
 
 fn cyc(p: &mut PointResult) -> &mut CycleFigures {
@@ -64,8 +67,8 @@ fn stk(p: &mut PointResult) -> &mut StickSlipFigures {
     })
 }
 
-fn flag(b: bool) -> f64 {
-    if b { 1.0 } else { 0.0 }
+fn flag(b: bool) -> Num {
+    Num::U(u64::from(b))
 }
 
 macro_rules! cycle_col {
@@ -73,10 +76,13 @@ macro_rules! cycle_col {
         Column {
             name: $name,
             long_name: $long,
-            kind: Kind::Real,
-            si: $si,
-            get: |p| p.cycle.as_ref().map_or(f64::NAN, |c| c.$($f)+),
-            set: |p, v| cyc(p).$($f)+ = v,
+            units: nd_units($si),
+            kind: Kind::F64,
+            flags: &[],
+            fill: Num::F(f64::NAN),
+            get: |p| Num::F(p.cycle.as_ref().map_or(f64::NAN, |c| c.$($f)+)),
+            set: |p, v| cyc(p).$($f)+ = v.as_f64(),
+            si: twin($si),
         }
     };
 }
@@ -86,10 +92,13 @@ macro_rules! stick_col {
         Column {
             name: $name,
             long_name: $long,
-            kind: Kind::Real,
-            si: $si,
-            get: |p| p.stick_slip.as_ref().map_or(f64::NAN, |c| c.$($f)+),
-            set: |p, v| stk(p).$($f)+ = v,
+            units: nd_units($si),
+            kind: Kind::F64,
+            flags: &[],
+            fill: Num::F(f64::NAN),
+            get: |p| Num::F(p.stick_slip.as_ref().map_or(f64::NAN, |c| c.$($f)+)),
+            set: |p, v| stk(p).$($f)+ = v.as_f64(),
+            si: twin($si),
         }
     };
 }
@@ -178,18 +187,21 @@ pub const COLUMNS: &[Column] = &[
     Column {
         name: "cycle_encloses_operating_point",
         long_name: "unstable cycle encloses the operating point (1: it does not squeal)",
-        kind: Kind::Flag,
-        si: Si::None,
+        units: "",
+        kind: Kind::Enum,
+        flags: YES_NO_UNKNOWN,
+        fill: Num::U(UNKNOWN as u64),
         get: |p| {
             p.cycle
                 .as_ref()
-                .map_or(f64::NAN, |c| flag(c.encloses_operating))
+                .map_or(Num::U(UNKNOWN as u64), |c| flag(c.encloses_operating))
         },
         set: |p, v| {
-            if !v.is_nan() {
-                cyc(p).encloses_operating = v == 1.0
+            if v.as_u64() != UNKNOWN as u64 {
+                cyc(p).encloses_operating = v.as_u64() == 1
             }
         },
+        si: Twin::None,
     },
     stick_col!(
         "stick_r_min",
@@ -266,50 +278,68 @@ pub const COLUMNS: &[Column] = &[
     Column {
         name: "basin_fraction",
         long_name: "share of the disturbance box that returns to steady slip",
-        kind: Kind::Real,
-        si: Si::None,
-        get: |p| p.basin_fraction,
-        set: |p, v| p.basin_fraction = v,
+        units: "1",
+        kind: Kind::F64,
+        flags: &[],
+        fill: Num::F(f64::NAN),
+        get: |p| Num::F(p.basin_fraction),
+        set: |p, v| p.basin_fraction = v.as_f64(),
+        si: Twin::None,
     },
     Column {
         name: "basin_fraction_err",
         long_name: "uncertainty of basin_fraction (dt/2 shift of the cycle plus polygon chord error)",
-        kind: Kind::Real,
-        si: Si::None,
-        get: |p| p.basin_fraction_err,
-        set: |p, v| p.basin_fraction_err = v,
+        units: "1",
+        kind: Kind::F64,
+        flags: &[],
+        fill: Num::F(f64::NAN),
+        get: |p| Num::F(p.basin_fraction_err),
+        set: |p, v| p.basin_fraction_err = v.as_f64(),
+        si: Twin::None,
     },
     Column {
         name: "warm_started",
         long_name: "1 if the cycle search kept the neighbour's bracket",
-        kind: Kind::Flag,
-        si: Si::None,
+        units: "",
+        kind: Kind::Enum,
+        flags: YES_NO_UNKNOWN,
+        fill: Num::U(UNKNOWN as u64),
         get: |p| flag(p.warm_started),
-        set: |p, v| p.warm_started = v == 1.0,
+        set: |p, v| p.warm_started = v.as_u64() == 1,
+        si: Twin::None,
     },
     Column {
         name: "returns",
         long_name: "section returns computed (each one revolution)",
-        kind: Kind::Count,
-        si: Si::None,
-        get: |p| p.returns as f64,
-        set: |p, v| p.returns = v as u64,
+        units: "",
+        kind: Kind::U64,
+        flags: &[],
+        fill: Num::U(0),
+        get: |p| Num::U(p.returns),
+        set: |p, v| p.returns = v.as_u64(),
+        si: Twin::None,
     },
     Column {
         name: "evaluations",
         long_name: "friction-law evaluations",
-        kind: Kind::Count,
-        si: Si::None,
-        get: |p| p.evaluations as f64,
-        set: |p, v| p.evaluations = v as u64,
+        units: "",
+        kind: Kind::U64,
+        flags: &[],
+        fill: Num::U(0),
+        get: |p| Num::U(p.evaluations),
+        set: |p, v| p.evaluations = v.as_u64(),
+        si: Twin::None,
     },
     Column {
         name: "failures",
         long_name: "solver failures",
-        kind: Kind::Count,
-        si: Si::None,
-        get: |p| p.failures as f64,
-        set: |p, v| p.failures = v as u64,
+        units: "",
+        kind: Kind::U64,
+        flags: &[],
+        fill: Num::U(0),
+        get: |p| Num::U(p.failures),
+        set: |p, v| p.failures = v.as_u64(),
+        si: Twin::None,
     },
 ];
 
@@ -340,142 +370,114 @@ pub fn finish_point(p: &mut PointResult) {
     }
 }
 
-/// One stored figure of a boundary search.
-pub struct BoundaryColumn {
-    /// Dataset name.
-    pub name: &'static str,
-    /// `long_name`.
-    pub long_name: &'static str,
-    /// Reads the value.
-    pub get: fn(&BoundaryResult) -> f64,
-    /// Writes it.
-    pub set: fn(&mut BoundaryResult, f64),
-    /// Its SI twin in a physical plan.
-    pub si: BoundarySi,
-    /// Whether a plan stores it (the lifetimes only where measured).
-    pub stored: fn(&AtlasPlan) -> bool,
-}
-
-/// The SI twin of a boundary figure in a physical plan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BoundarySi {
-    /// A value of the bisected parameter: `<name>` with `nu` replaced by `c` (N s/m), or
-    /// `lambda` by `v_belt` (m/s).
-    Bisected,
-    /// A nondimensional time: `<name>_s`, in seconds.
-    Time,
-    /// A ratio or exponent: no twin.
-    None,
+macro_rules! boundary_col {
+    ($name:literal, $long:literal, $twin:expr, $($f:tt)+) => {
+        BoundaryColumn {
+            name: $name,
+            long_name: $long,
+            units: "1",
+            kind: Kind::F64,
+            flags: &[],
+            fill: Num::F(f64::NAN),
+            get: |b| Num::F(b.$($f)+),
+            set: |b, v| b.$($f)+ = v.as_f64(),
+            si: $twin,
+        }
+    };
 }
 
 /// The boundary figures in `nu` (physical plans also store `<name>` with `nu` replaced by
-/// `c`, in N s/m). The statuses are stored separately as enums.
+/// `c`, in N s/m). The statuses are stored separately as enums. The `fold_lifetime*`
+/// figures are stored only where a plan measures them ([`boundary_stored`]).
 pub const BOUNDARY_COLUMNS: &[BoundaryColumn] = &[
-    BoundaryColumn {
-        name: "fold_nu",
-        long_name: "fold of cycles: damping ratio above which no start squeals",
-        get: |b| b.fold.nu,
-        set: |b, v| b.fold.nu = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
-    BoundaryColumn {
-        name: "fold_nu_lo",
-        long_name: "fold of cycles: lower end of the bracket (squeal possible)",
-        get: |b| b.fold.bracket[0],
-        set: |b, v| b.fold.bracket[0] = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
-    BoundaryColumn {
-        name: "fold_nu_hi",
-        long_name: "fold of cycles: upper end of the bracket (no start squeals)",
-        get: |b| b.fold.bracket[1],
-        set: |b, v| b.fold.bracket[1] = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
-    BoundaryColumn {
-        name: "fold_nu_err",
-        long_name: "fold of cycles: uncertainty, half the width of the interval that holds the fold at dt, dt/2 and the longer horizon (fold_nu -+ fold_nu_err; NaN: not estimated)",
-        get: |b| b.fold.uncertainty,
-        set: |b, v| b.fold.uncertainty = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
-    BoundaryColumn {
-        name: "fold_lifetime_nu",
-        long_name: "transient lifetimes above the fold: the damping ratio of the nearest measurement, about 1% above fold_nu ([boundaries] lifetime_starts; NaN: not measured)",
-        get: |b| b.lifetime.nu,
-        set: |b, v| b.lifetime.nu = v,
-        si: BoundarySi::Bisected,
-        stored: |p| p.lifetime_starts > 0,
-    },
-    BoundaryColumn {
-        name: "fold_lifetime",
-        long_name: "transient lifetimes above the fold: mean time a start on the leaking stick-slip band squeals before it settles, at fold_lifetime_nu (nondimensional time; the natural period is 2 pi)",
-        get: |b| b.lifetime.mean,
-        set: |b, v| b.lifetime.mean = v,
-        si: BoundarySi::Time,
-        stored: |p| p.lifetime_starts > 0,
-    },
-    BoundaryColumn {
-        name: "fold_lifetime_err",
-        long_name: "transient lifetimes above the fold: standard error of fold_lifetime",
-        get: |b| b.lifetime.se,
-        set: |b, v| b.lifetime.se = v,
-        si: BoundarySi::Time,
-        stored: |p| p.lifetime_starts > 0,
-    },
-    BoundaryColumn {
-        name: "fold_lifetime_censored",
-        long_name: "transient lifetimes above the fold: share of the starts at fold_lifetime_nu still squealing at the time limit (censored)",
-        get: |b| b.lifetime.censored,
-        set: |b, v| b.lifetime.censored = v,
-        si: BoundarySi::None,
-        stored: |p| p.lifetime_starts > 0,
-    },
-    BoundaryColumn {
-        name: "fold_lifetime_exponent",
-        long_name: "transient lifetimes above the fold: exponent gamma of mean lifetime ~ (nu - fold_nu)^(-gamma), fitted over 1% to 7.5% above the fold",
-        get: |b| b.lifetime.exponent,
-        set: |b, v| b.lifetime.exponent = v,
-        si: BoundarySi::None,
-        stored: |p| p.lifetime_starts > 0,
-    },
-    BoundaryColumn {
-        name: "fold_lifetime_exponent_err",
-        long_name: "transient lifetimes above the fold: standard error of fold_lifetime_exponent",
-        get: |b| b.lifetime.exponent_se,
-        set: |b, v| b.lifetime.exponent_se = v,
-        si: BoundarySi::None,
-        stored: |p| p.lifetime_starts > 0,
-    },
-    BoundaryColumn {
-        name: "critical_nu",
-        long_name: "critical damping ratio: the operating point stops squealing above it",
-        get: |b| b.critical.nu,
-        set: |b, v| b.critical.nu = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
-    BoundaryColumn {
-        name: "critical_nu_lo",
-        long_name: "critical damping: lower end of the bracket (operating point squeals)",
-        get: |b| b.critical.bracket[0],
-        set: |b, v| b.critical.bracket[0] = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
-    BoundaryColumn {
-        name: "critical_nu_hi",
-        long_name: "critical damping: upper end of the bracket (operating point quiet)",
-        get: |b| b.critical.bracket[1],
-        set: |b, v| b.critical.bracket[1] = v,
-        si: BoundarySi::Bisected,
-        stored: |_| true,
-    },
+    boundary_col!(
+        "fold_nu",
+        "fold of cycles: damping ratio above which no start squeals",
+        Twin::Bisected,
+        fold.nu
+    ),
+    boundary_col!(
+        "fold_nu_lo",
+        "fold of cycles: lower end of the bracket (squeal possible)",
+        Twin::Bisected,
+        fold.bracket[0]
+    ),
+    boundary_col!(
+        "fold_nu_hi",
+        "fold of cycles: upper end of the bracket (no start squeals)",
+        Twin::Bisected,
+        fold.bracket[1]
+    ),
+    boundary_col!(
+        "fold_nu_err",
+        "fold of cycles: uncertainty, half the width of the interval that holds the fold at dt, dt/2 and the longer horizon (fold_nu -+ fold_nu_err; NaN: not estimated)",
+        Twin::Bisected,
+        fold.uncertainty
+    ),
+    boundary_col!(
+        "fold_lifetime_nu",
+        "transient lifetimes above the fold: the damping ratio of the nearest measurement, about 1% above fold_nu ([boundaries] lifetime_starts; NaN: not measured)",
+        Twin::Bisected,
+        lifetime.nu
+    ),
+    boundary_col!(
+        "fold_lifetime",
+        "transient lifetimes above the fold: mean time a start on the leaking stick-slip band squeals before it settles, at fold_lifetime_nu (nondimensional time; the natural period is 2 pi)",
+        Twin::Seconds,
+        lifetime.mean
+    ),
+    boundary_col!(
+        "fold_lifetime_err",
+        "transient lifetimes above the fold: standard error of fold_lifetime",
+        Twin::Seconds,
+        lifetime.se
+    ),
+    boundary_col!(
+        "fold_lifetime_censored",
+        "transient lifetimes above the fold: share of the starts at fold_lifetime_nu still squealing at the time limit (censored)",
+        Twin::None,
+        lifetime.censored
+    ),
+    boundary_col!(
+        "fold_lifetime_exponent",
+        "transient lifetimes above the fold: exponent gamma of mean lifetime ~ (nu - fold_nu)^(-gamma), fitted over 1% to 7.5% above the fold",
+        Twin::None,
+        lifetime.exponent
+    ),
+    boundary_col!(
+        "fold_lifetime_exponent_err",
+        "transient lifetimes above the fold: standard error of fold_lifetime_exponent",
+        Twin::None,
+        lifetime.exponent_se
+    ),
+    boundary_col!(
+        "critical_nu",
+        "critical damping ratio: the operating point stops squealing above it",
+        Twin::Bisected,
+        critical.nu
+    ),
+    boundary_col!(
+        "critical_nu_lo",
+        "critical damping: lower end of the bracket (operating point squeals)",
+        Twin::Bisected,
+        critical.bracket[0]
+    ),
+    boundary_col!(
+        "critical_nu_hi",
+        "critical damping: upper end of the bracket (operating point quiet)",
+        Twin::Bisected,
+        critical.bracket[1]
+    ),
 ];
+
+/// The names of the boundary figures of the transient lifetimes above the fold.
+const LIFETIME: &str = "fold_lifetime";
+
+/// Whether a plan stores a boundary figure: the lifetimes only where measured
+/// (`[boundaries] lifetime_starts` above 0).
+pub fn boundary_stored(plan: &AtlasPlan, c: &BoundaryColumn) -> bool {
+    !c.name.starts_with(LIFETIME) || plan.lifetime_starts > 0
+}
 
 /// An empty boundary result for index `j`.
 pub fn empty_boundary(j: usize) -> BoundaryResult {
@@ -505,23 +507,17 @@ mod tests {
     fn columns_round_trip_a_point() {
         let mut p = empty_point();
         p.regime = AtlasRegime::BistableQuiet;
+        let want = |k: usize, c: &Column| match c.kind {
+            Kind::F64 => k as f64 + 0.5,
+            Kind::Enum => 1.0,
+            _ => k as f64,
+        };
         for (k, c) in COLUMNS.iter().enumerate() {
-            let v = match c.kind {
-                Kind::Flag => 1.0,
-                _ => k as f64 + 0.5,
-            };
-            (c.set)(&mut p, if c.kind == Kind::Count { k as f64 } else { v });
+            c.set_value(&mut p, want(k, c));
         }
         finish_point(&mut p);
         for (k, c) in COLUMNS.iter().enumerate() {
-            let want = match c.kind {
-                Kind::Flag => 1.0,
-                Kind::Count => k as f64,
-                Kind::Real => k as f64 + 0.5,
-            };
-            assert_eq!((c.get)(&p), want, "{}", c.name);
+            assert_eq!(c.value(&p), want(k, c), "{}", c.name);
         }
-        let names: std::collections::HashSet<_> = COLUMNS.iter().map(|c| c.name).collect();
-        assert_eq!(names.len(), COLUMNS.len(), "duplicate column names");
     }
 }

@@ -34,7 +34,7 @@ use squeal_core::{Classifier, Landscape, Setup, State};
 use crate::section::{ParamRange, Search};
 
 use super::boundary::{Boundary, BoundaryParam, bisect_nu};
-use super::columns::{Column, Kind, Si};
+use super::columns::{Column, Kind, Num, Twin};
 pub use super::figures::LandscapeRecord;
 use super::note::{Note, NoteKind};
 use super::point::{self, AtlasRegime, PointResult, PointSettings, analyse};
@@ -56,26 +56,35 @@ pub const LANDSCAPE_COLUMNS: &[Column] = &[
     Column {
         name: LANDSCAPE_FIELDS[0].0,
         long_name: LANDSCAPE_FIELDS[0].1,
-        kind: Kind::Real,
-        si: Si::None,
-        get: |p| p.landscape.map_or(f64::NAN, |l| l.damping),
-        set: |p, v| rec(p).damping = v,
+        units: "1",
+        kind: Kind::F64,
+        flags: &[],
+        fill: Num::F(f64::NAN),
+        get: |p| Num::F(p.landscape.map_or(f64::NAN, |l| l.damping)),
+        set: |p, v| rec(p).damping = v.as_f64(),
+        si: Twin::None,
     },
     Column {
         name: LANDSCAPE_FIELDS[1].0,
         long_name: LANDSCAPE_FIELDS[1].1,
-        kind: Kind::Real,
-        si: Si::None,
-        get: |p| p.landscape.map_or(f64::NAN, |l| l.cycle_period),
-        set: |p, v| rec(p).cycle_period = v,
+        units: "1",
+        kind: Kind::F64,
+        flags: &[],
+        fill: Num::F(f64::NAN),
+        get: |p| Num::F(p.landscape.map_or(f64::NAN, |l| l.cycle_period)),
+        set: |p, v| rec(p).cycle_period = v.as_f64(),
+        si: Twin::None,
     },
     Column {
         name: LANDSCAPE_FIELDS[2].0,
         long_name: LANDSCAPE_FIELDS[2].1,
-        kind: Kind::Real,
-        si: Si::None,
-        get: |p| p.landscape.map_or(f64::NAN, |l| l.cycle_stuck),
-        set: |p, v| rec(p).cycle_stuck = v,
+        units: "1",
+        kind: Kind::F64,
+        flags: &[],
+        fill: Num::F(f64::NAN),
+        get: |p| Num::F(p.landscape.map_or(f64::NAN, |l| l.cycle_stuck)),
+        set: |p, v| rec(p).cycle_stuck = v.as_f64(),
+        si: Twin::None,
     },
 ];
 

@@ -8,7 +8,7 @@ use std::path::Path;
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, File};
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, MapFraction, PointMap};
-use squeal_scan::cell::{COLUMNS as CELLS, Cell, Kind as CellKind, Num};
+use squeal_scan::cell::{COLUMNS as CELLS, Cell};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{Grid, Plan};
 
@@ -266,22 +266,9 @@ fn read_cells(file: &File, path: &Path, g: &Grid, n: usize) -> Result<Vec<Vec<Ce
     let mut maps = vec![vec![Cell::fill(); per_map]; n];
     for col in CELLS {
         let name = map_name(col.name);
-        let vals: Vec<Num> = match col.kind {
-            CellKind::Enum | CellKind::U8 => (rd::<u8>(file, path, &name)?.into_iter())
-                .map(|x| Num::U(x as u64))
-                .collect(),
-            CellKind::U32 => (rd::<u32>(file, path, &name)?.into_iter())
-                .map(|x| Num::U(x as u64))
-                .collect(),
-            CellKind::U64 => rd::<u64>(file, path, &name)?
-                .into_iter()
-                .map(Num::U)
-                .collect(),
-            CellKind::F64 => rd::<f64>(file, path, &name)?
-                .into_iter()
-                .map(Num::F)
-                .collect(),
-        };
+        let vals = (file.dataset(&name))
+            .and_then(|ds| crate::h5columns::read_nums(&ds, col.kind, None))
+            .h5(path)?;
         if vals.len() != n * per_map {
             let why = format!(
                 "{name} holds {} values, expected {}",

@@ -6,12 +6,13 @@ use std::path::{Path, PathBuf};
 use hdf5::File;
 use hdf5::types::VarLenUnicode;
 use squeal_scan::atlas::columns::{
-    BOUNDARY_COLUMNS, COLUMNS, Kind, empty_boundary, empty_point, finish_point,
+    BOUNDARY_COLUMNS, COLUMNS, empty_boundary, empty_point, finish_point,
 };
 use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{
-    AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus, PointMap, PointResult,
+    AtlasPlan, AtlasRegime, AtlasResults, BoundaryResult, BoundaryStatus, PointMap, PointResult,
 };
+use squeal_scan::column::Column;
 
 use super::schema::{
     BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FOLD_CHANGES, LANDSCAPE_NOT_COMPUTED, NOTE,
@@ -20,7 +21,7 @@ use super::schema::{
 };
 use super::{ATLAS_SCHEMA, maps, missing_blocks, missing_units, write_atlas};
 use crate::error::H5Ctx;
-use crate::read::{rd_n, rd_new_n};
+use crate::read::{rd_n, rd_new_n, rd_nums_n};
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
 /// Whether `path` is an atlas file (HDF5 with schema `squeal-atlas/...`).
@@ -99,27 +100,13 @@ fn read_points(
 ) -> Result<(), StoreError> {
     let n = plan.space.n_points();
     let mut pts: Vec<PointResult> = (0..n).map(|_| empty_point()).collect();
-    for c in COLUMNS {
-        let (name, _) = stored_name(plan, c);
-        let vals: Vec<f64> = match c.kind {
-            Kind::Real => rd_n(file, path, &name, n)?,
-            Kind::Flag => (rd_n::<u8>(file, path, &name, n)?.into_iter())
-                .map(|v| if v == 255 { f64::NAN } else { v as f64 })
-                .collect(),
-            Kind::Count => (rd_n::<u64>(file, path, &name, n)?.into_iter())
-                .map(|v| v as f64)
-                .collect(),
-        };
-        for (p, v) in pts.iter_mut().zip(vals) {
-            (c.set)(p, v);
-        }
-    }
+    let stored = |c: &_| Some(stored_name(plan, c).0);
+    read_columns(file, path, COLUMNS.iter().map(|c| (c, stored(c))), &mut pts)?;
     if plan.space.law.family().has_landscape() {
-        for c in LANDSCAPE_COLUMNS {
-            for (p, v) in pts.iter_mut().zip(rd_n::<f64>(file, path, c.name, n)?) {
-                (c.set)(p, v);
-            }
-        }
+        let named = LANDSCAPE_COLUMNS
+            .iter()
+            .map(|c| (c, Some(c.name.to_string())));
+        read_columns(file, path, named, &mut pts)?;
         let (name, _) = squeal_scan::landscape::LANDSCAPE;
         for (p, v) in pts.iter_mut().zip(rd_n::<u8>(file, path, name, n)?) {
             if v == LANDSCAPE_NOT_COMPUTED {
@@ -162,30 +149,46 @@ fn read_boundaries(
         .collect::<Result<_, _>>()?;
     let changes: Vec<u32> = rd_new_n(file, path, FOLD_CHANGES.0, n)?;
     let mut notes = notes(file, path, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, n)?.into_iter();
-    let cols: Vec<Vec<f64>> = BOUNDARY_COLUMNS
-        .iter()
-        .map(|c| {
-            let v = rd_new_n(file, path, &plan.boundary_dataset(c.name, c.long_name).0, n)?;
-            Ok(if v.is_empty() { vec![f64::NAN; n] } else { v })
-        })
-        .collect::<Result<_, StoreError>>()?;
-    for j in 0..n {
+    let mut bs: Vec<BoundaryResult> = (0..n).map(empty_boundary).collect();
+    // A figure files written before it lack (or not measured) reads as its fill.
+    let named = BOUNDARY_COLUMNS.iter().map(|c| {
+        let (name, _) = plan.boundary_dataset(c.name, c.long_name);
+        (c, file.link_exists(&name).then_some(name))
+    });
+    read_columns(file, path, named, &mut bs)?;
+    for (j, mut b) in bs.into_iter().enumerate() {
         let note = notes.next().flatten();
         if done.get(j) != Some(&1) {
             continue;
         }
-        let mut b = empty_boundary(j);
         for (k, s) in SEARCHES.iter().enumerate() {
             let d = (s.get_mut)(&mut b);
             d.status = BoundaryStatus::from_u8(status[k][j]).unwrap_or(BoundaryStatus::NotComputed);
             d.half_dt_holds = half_dt_of(half_dt[k].get(j));
         }
         b.fold.changes = changes.get(j).copied().unwrap_or(0);
-        for (c, v) in BOUNDARY_COLUMNS.iter().zip(&cols) {
-            (c.set)(&mut b, v[j]);
-        }
         b.note = note;
         res.boundaries[j] = Some(b);
+    }
+    Ok(())
+}
+
+/// Every column of a table into `rows` (one record per entry of the stored spec's plan:
+/// [`rd_nums_n`]), each from the dataset named beside it; `None`: not in the file, the fill.
+fn read_columns<'c, R: 'c>(
+    file: &File,
+    path: &Path,
+    cols: impl Iterator<Item = (&'c Column<R>, Option<String>)>,
+    rows: &mut [R],
+) -> Result<(), StoreError> {
+    for (c, name) in cols {
+        let vals = match name {
+            Some(name) => rd_nums_n(file, path, (&name, c.kind), rows.len())?,
+            None => vec![c.fill; rows.len()],
+        };
+        for (r, v) in rows.iter_mut().zip(vals) {
+            (c.set)(r, v);
+        }
     }
     Ok(())
 }

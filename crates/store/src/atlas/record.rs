@@ -24,12 +24,12 @@ fn point_json(p: &PointResult) -> Value {
         "regime": p.regime as u8,
         "note": p.note.as_ref().map(|n| &n.text),
         "note_kind": p.note.as_ref().map(|n| n.kind as u8),
-        "v": COLUMNS.iter().map(|c| num((c.get)(p))).collect::<Vec<_>>(),
+        "v": COLUMNS.iter().map(|c| num(c.value(p))).collect::<Vec<_>>(),
     });
     if let Some(l) = p.landscape {
         // Laws with true stick: the landscape and the numbers it rests on.
         let mut v = vec![json!(l.landscape)];
-        v.extend(LANDSCAPE_COLUMNS.iter().map(|c| num((c.get)(p))));
+        v.extend(LANDSCAPE_COLUMNS.iter().map(|c| num(c.value(p))));
         o["l"] = Value::Array(v);
     }
     o
@@ -47,7 +47,7 @@ fn point_from_json(v: &Value) -> Option<PointResult> {
         return None;
     }
     for (c, x) in COLUMNS.iter().zip(vals) {
-        (c.set)(&mut p, x.as_f64().unwrap_or(f64::NAN));
+        c.set_value(&mut p, x.as_f64().unwrap_or(f64::NAN));
     }
     if let Some(l) = v.get("l") {
         let l = l.as_array()?;
@@ -55,7 +55,7 @@ fn point_from_json(v: &Value) -> Option<PointResult> {
             return None;
         }
         for (c, x) in LANDSCAPE_COLUMNS.iter().zip(&l[1..]) {
-            (c.set)(&mut p, x.as_f64().unwrap_or(f64::NAN));
+            c.set_value(&mut p, x.as_f64().unwrap_or(f64::NAN));
         }
         set_landscape(&mut p, l[0].as_u64()? as u8);
     }
@@ -69,7 +69,7 @@ fn boundary_json(b: &BoundaryResult) -> Value {
         "fold_changes": b.fold.changes,
         "note": b.note.as_ref().map(|n| &n.text),
         "note_kind": b.note.as_ref().map(|n| n.kind as u8),
-        "v": BOUNDARY_COLUMNS.iter().map(|c| num((c.get)(b))).collect::<Vec<_>>(),
+        "v": BOUNDARY_COLUMNS.iter().map(|c| num(c.value(b))).collect::<Vec<_>>(),
     });
     for s in &SEARCHES {
         let d = (s.get)(b);
@@ -99,7 +99,7 @@ fn boundary_from_json(v: &Value) -> Option<BoundaryResult> {
         return None;
     }
     for (c, x) in BOUNDARY_COLUMNS.iter().zip(vals) {
-        (c.set)(&mut b, x.as_f64().unwrap_or(f64::NAN));
+        c.set_value(&mut b, x.as_f64().unwrap_or(f64::NAN));
     }
     Some(b)
 }

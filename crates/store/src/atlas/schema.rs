@@ -109,9 +109,6 @@ impl Search {
 /// CF flags of `<key>_half_dt`.
 pub(super) const HALF_DT_FLAGS: (&str, &[u8]) = ("moves holds not_checked", &[0, 1, 255]);
 
-/// CF flags of a [`Kind::Flag`](squeal_scan::atlas::columns::Kind::Flag) column.
-pub(super) const FLAG_FLAGS: (&str, &[u8]) = ("no yes unknown", &[0, 1, 255]);
-
 /// The stored value of a dt/2 check.
 pub(super) fn half_dt_u8(h: Option<bool>) -> u8 {
     match h {

@@ -5,14 +5,13 @@ use std::path::{Path, PathBuf};
 
 use hdf5::File;
 use squeal_core::Scales;
-use squeal_scan::atlas::columns::{
-    BOUNDARY_COLUMNS, BoundarySi, COLUMNS, Column, Kind, Si, status_meanings,
-};
+use squeal_scan::atlas::columns::{BOUNDARY_COLUMNS, COLUMNS, boundary_stored, status_meanings};
 use squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS;
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, BoundaryParam, BoundaryStatus, PointMap, Units};
+use squeal_scan::column::{Column, Kind, Num, Twin};
 
 use super::schema::{
-    BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FLAG_FLAGS, FOLD_CHANGES, HALF_DT_FLAGS,
+    BOUNDARIES_DONE, BOUNDARY_NOTE, BOUNDARY_NOTE_KIND, FOLD_CHANGES, HALF_DT_FLAGS,
     LANDSCAPE_NOT_COMPUTED, NOTE, NOTE_KIND, Named, POINTS_DONE, REGIME, RegimeH5, SEARCHES,
     StatusH5, half_dt_u8, landscape_flags, note_columns, stored_name,
 };
@@ -182,11 +181,7 @@ fn write_points(
         .map(|i| plan.space.physical_at(i).map(|p| p.scales()))
         .collect();
     for c in COLUMNS {
-        let vals: Vec<f64> = pts
-            .iter()
-            .map(|p| p.as_ref().map_or(f64::NAN, |p| (c.get)(p)))
-            .collect();
-        write_column(o, over, plan, c, (vals, &scales))?;
+        put_column(o, (over, plan), c, stored_name(plan, c), (pts, &scales))?;
     }
     if plan.space.units == Units::Physical {
         // The nondimensional parameters of each point, beside the physical axes.
@@ -217,7 +212,7 @@ fn write_points(
         }
     }
     if plan.space.law.family().has_landscape() {
-        write_landscape(o, over, res)?;
+        write_landscape(o, (over, plan), (res, &scales))?;
     }
     let (notes, kinds) = note_columns(pts.iter().map(|p| p.as_ref().and_then(|p| p.note.as_ref())));
     o.put_notes(over, NOTE, notes.into_iter())?;
@@ -230,52 +225,81 @@ fn write_points(
     Ok(())
 }
 
-/// One figure of the points as its [`Kind`] stores it, and in SI units for physical specs
-/// (`scales`: each point's, `None` in nondimensional specs).
-fn write_column(
+/// One column of the points or the boundary searches, as its [`Kind`] stores it with its
+/// CF attributes (`rows`: one record each, the fill where `None`: not computed), and its SI
+/// twin in a physical plan (`scales`: each record's, `None` in nondimensional plans).
+fn put_column<R>(
     o: &mut Out,
-    over: &Over,
-    plan: &AtlasPlan,
-    c: &Column,
-    (vals, scales): (Vec<f64>, &[Option<Scales>]),
+    (over, plan): (&Over, &AtlasPlan),
+    c: &Column<R>,
+    (name, long): (String, String),
+    (rows, scales): (&[Option<R>], &[Option<Scales>]),
 ) -> hdf5::Result<()> {
-    let (name, long) = stored_name(plan, c);
+    let vals: Vec<Num> = (rows.iter())
+        .map(|r| r.as_ref().map_or(c.fill, |r| (c.get)(r)))
+        .collect();
     let named = (name.as_str(), long.as_str());
+    let units = (!c.units.is_empty()).then_some(c.units);
+    let u = || vals.iter().map(|v| v.as_u64());
     match c.kind {
-        Kind::Real => {
-            let units = match c.si {
-                Si::Frequency => "1 (angular frequency, nondimensional)",
-                _ => "1",
-            };
-            o.put(over, named, Some(units), vals.clone())?;
-        }
-        Kind::Flag => {
-            let v = vals.iter().map(|&v| if v.is_nan() { 255 } else { v as u8 });
-            o.put_flags(over, named, v.collect(), FLAG_FLAGS)?;
-        }
-        Kind::Count => {
-            let v = vals.iter().map(|&v| if v.is_nan() { 0 } else { v as u64 });
-            o.put(over, named, None, v.collect())?;
-        }
-    }
-    if plan.space.units == Units::Physical && c.si != Si::None {
-        let si: Vec<f64> = (vals.iter().zip(scales))
-            .map(|(&v, s)| s.map_or(f64::NAN, |s| c.si.convert(v, &s)))
-            .collect();
-        let si_long = c.si.long_name(c.long_name);
-        o.put(
+        Kind::F64 => o.put(
             over,
-            (&format!("{}_si", c.name), &si_long),
-            Some(c.si.units()),
-            si,
-        )?;
+            named,
+            units,
+            vals.iter().map(|v| v.as_f64()).collect(),
+        )?,
+        Kind::Enum => {
+            let meanings: Vec<&str> = c.flags.iter().map(|(_, n)| *n).collect();
+            let values: Vec<u8> = c.flags.iter().map(|(v, _)| *v).collect();
+            let v = u().map(|v| v as u8).collect();
+            o.put_flags(over, named, v, (&meanings.join(" "), &values))?
+        }
+        Kind::U8 => o.put(over, named, units, u().map(|v| v as u8).collect())?,
+        Kind::U32 => o.put(over, named, units, u().map(|v| v as u32).collect())?,
+        Kind::U64 => o.put(over, named, units, u().collect())?,
+    };
+    if plan.space.units == Units::Physical {
+        let x: Vec<f64> = vals.iter().map(|v| v.as_f64()).collect();
+        put_twin(o, (over, plan), c, named, (&x, scales))?;
+    }
+    Ok(())
+}
+
+/// The SI twin of a column of a physical plan ([`Twin`]), `x` its values.
+fn put_twin<R>(
+    o: &mut Out,
+    (over, plan): (&Over, &AtlasPlan),
+    c: &Column<R>,
+    (name, long): (&str, &str),
+    (x, scales): (&[f64], &[Option<Scales>]),
+) -> hdf5::Result<()> {
+    match c.si {
+        Twin::None => {}
+        Twin::Named(..) | Twin::Si(_) => {
+            let (si, si_long) = c.si_twin().expect("a column with an SI twin");
+            let v: Vec<f64> = (x.iter().zip(scales))
+                .map(|(&v, s)| s.map_or(f64::NAN, |s| c.si_of(v, &s)))
+                .collect();
+            o.put(
+                over,
+                (&format!("{}_si", c.name), &si_long),
+                Some(si.units()),
+                v,
+            )?;
+        }
+        Twin::Bisected => write_boundary_si(o, over, plan, (name, long), x)?,
+        Twin::Seconds => write_boundary_seconds(o, over, (name, long), (x, scales))?,
     }
     Ok(())
 }
 
 /// Laws with true stick: the landscape of each point (as `squeal scan` stores per map) and
 /// its evidence.
-fn write_landscape(o: &mut Out, over: &Over, res: &AtlasResults) -> hdf5::Result<()> {
+fn write_landscape(
+    o: &mut Out,
+    (over, plan): (&Over, &AtlasPlan),
+    (res, scales): (&AtlasResults, &[Option<Scales>]),
+) -> hdf5::Result<()> {
     let v: Vec<u8> = (res.points.iter())
         .map(|p| p.as_ref().and_then(|p| p.landscape))
         .map(|l| l.map_or(LANDSCAPE_NOT_COMPUTED, |l| l.landscape))
@@ -284,10 +308,8 @@ fn write_landscape(o: &mut Out, over: &Over, res: &AtlasResults) -> hdf5::Result
     let landscape = squeal_scan::landscape::LANDSCAPE;
     o.put_flags(over, landscape, v, (&meanings, &values))?;
     for c in LANDSCAPE_COLUMNS {
-        let vals: Vec<f64> = (res.points.iter())
-            .map(|p| p.as_ref().map_or(f64::NAN, |p| (c.get)(p)))
-            .collect();
-        o.put(over, (c.name, c.long_name), Some("1"), vals)?;
+        let named = (c.name.to_string(), c.long_name.to_string());
+        put_column(o, (over, plan), c, named, (&res.points, scales))?;
     }
     Ok(())
 }
@@ -327,20 +349,17 @@ fn write_boundaries(
             HALF_DT_FLAGS,
         )?;
     }
-    for c in BOUNDARY_COLUMNS.iter().filter(|c| (c.stored)(plan)) {
-        let v: Vec<f64> = bs
-            .iter()
-            .map(|b| b.as_ref().map_or(f64::NAN, |b| (c.get)(b)))
-            .collect();
-        let (name, long) = plan.boundary_dataset(c.name, c.long_name);
-        o.put(over, (&name, &long), Some("1"), v.clone())?;
-        if plan.space.units == Units::Physical {
-            match c.si {
-                BoundarySi::Bisected => write_boundary_si(o, over, plan, (&name, &long), &v)?,
-                BoundarySi::Time => write_boundary_seconds(o, over, plan, (&name, &long), &v)?,
-                BoundarySi::None => {}
-            }
-        }
+    // Each search's scales: those of the point it starts from.
+    let scales: Vec<Option<Scales>> = (0..bs.len())
+        .map(|j| {
+            plan.space
+                .physical_at(plan.boundary_setup(j).0)
+                .map(|p| p.scales())
+        })
+        .collect();
+    for c in BOUNDARY_COLUMNS.iter().filter(|c| boundary_stored(plan, c)) {
+        let named = plan.boundary_dataset(c.name, c.long_name);
+        put_column(o, (over, plan), c, named, (bs, &scales))?;
     }
     let (notes, kinds) = note_columns(bs.iter().map(|b| b.as_ref().and_then(|b| b.note.as_ref())));
     o.put_notes(over, BOUNDARY_NOTE, notes.into_iter())?;
@@ -391,21 +410,15 @@ fn write_boundary_si(
 }
 
 /// A boundary figure of a physical spec that is a nondimensional time, in seconds:
-/// `<name>_s` (the time unit at each boundary's parameters).
+/// `<name>_s` (the time unit at each boundary's parameters, `scales`).
 fn write_boundary_seconds(
     o: &mut Out,
     over: &Over,
-    plan: &AtlasPlan,
     (name, long): (&str, &str),
-    v: &[f64],
+    (v, scales): (&[f64], &[Option<Scales>]),
 ) -> hdf5::Result<()> {
-    let s: Vec<f64> = (v.iter().enumerate())
-        .map(|(j, &x)| {
-            let (i, _) = plan.boundary_setup(j);
-            plan.space
-                .physical_at(i)
-                .map_or(f64::NAN, |ph| x * ph.scales().time)
-        })
+    let s: Vec<f64> = (v.iter().zip(scales))
+        .map(|(&x, s)| s.map_or(f64::NAN, |s| x * s.time))
         .collect();
     let long = long.replace("nondimensional time; the natural period is 2 pi", "seconds");
     o.put(over, (&format!("{name}_s"), &long), Some("s"), s)?;

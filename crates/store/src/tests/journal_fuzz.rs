@@ -128,7 +128,7 @@ fn a_flipped_digit_in_an_atlas_record_is_detected() {
         .iter()
         .find(|c| c.name == "fold_nu")
         .unwrap();
-    (fold.set)(&mut b, 0.0202);
+    fold.set_value(&mut b, 0.0202);
     w.record(UnitResult::Boundary(b)).unwrap();
     w.record(UnitResult::Line(LineResult {
         line: 0,
