@@ -135,14 +135,8 @@ fn run_boundary(plan: &AtlasPlan, j: usize) -> BoundaryResult {
     );
     let [f, c] = shortcut_boundaries(plan, setup, &ps, range);
     let at = ((param, setup), &ps, range);
-    // The two gates' runs side by side; their notes in the order fold, critical.
-    let ((fold, fold_note), (critical, critical_note)) = rayon::join(
-        || gated(at, (which[0], true), f),
-        || gated(at, (which[1], false), c),
-    );
-    for n in [fold_note, critical_note].into_iter().flatten() {
-        notes = Some(Note::add(notes.take(), n));
-    }
+    let fold = gated(at, (which[0], true), f, &mut notes);
+    let critical = gated(at, (which[1], false), c, &mut notes);
     let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
         Ok(b) => b,
         Err(e) => {
@@ -207,16 +201,16 @@ fn shortcut_boundaries(
 
 /// The fold (`fold`) or the critical value, where `asked`, through the gate of `critical`
 /// ([`crate::fates::decide`]): the shortcut's answer `found` where it holds, else by runs;
-/// with the note of an unconfirmed answer or of an answer by runs.
+/// an unconfirmed answer or an answer by runs adds its note to `notes`.
 fn gated(
     ((param, setup), ps, range): ((BoundaryParam, Setup), &PointSettings, ParamRange),
     (asked, fold): (bool, bool),
     found: Option<Result<Boundary, ScanError>>,
-) -> (Option<Result<Boundary, ScanError>>, Option<Note>) {
+    notes: &mut Option<Note>,
+) -> Option<Result<Boundary, ScanError>> {
     if !asked {
-        return (None, None);
+        return None;
     }
-    let mut note = None;
     let starts = crate::fates::starts(fold, (param, setup), range.lo, ps.operating);
     let shortcut = || {
         let b = found.unwrap_or_else(|| Ok(Boundary::none()))?;
@@ -231,25 +225,23 @@ fn gated(
         crate::fates::HORIZON,
         shortcut,
     );
-    let got = d.map(|d| match d {
+    Some(d.map(|d| match d {
         crate::fates::Decided::Shortcut { answer, confirmed } => {
             if let Some(c) = confirmed.filter(|c| !c.confirmed) {
-                note = Some(Note::new(
-                    NoteKind::Unconfirmed,
-                    format!("{what}: {}", c.line),
-                ));
+                let n = Note::new(NoteKind::Unconfirmed, format!("{what}: {}", c.line));
+                *notes = Some(Note::add(notes.take(), n));
             }
             answer
         }
         crate::fates::Decided::Runs { boundary, why } => {
-            note = Some(Note::new(
+            let n = Note::new(
                 NoteKind::Finding,
                 format!("{what} by runs because {}", why.words()),
-            ));
+            );
+            *notes = Some(Note::add(notes.take(), n));
             boundary.as_boundary()
         }
-    });
-    (Some(got), note)
+    }))
 }
 
 /// The transient lifetimes above `fold` where the plan asks for them (`[boundaries]
