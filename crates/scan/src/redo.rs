@@ -81,6 +81,15 @@ fn refuted(plan: &Plan, block: usize, cells: &[Cell], known: &[Withdrawn]) -> Ve
     out
 }
 
+/// The blocks of map `m` among `blocks` whose audits can refute a rule: those `computed`
+/// marks disagreeing, and every block it does not hold (all, without it).
+fn to_search(blocks: &[usize], m: usize, computed: Option<&Computed>) -> Vec<usize> {
+    let keep = |b: usize| {
+        computed.is_none_or(|c| !c.blocks.contains(&(m, b)) || c.disagreeing.contains(&(m, b)))
+    };
+    blocks.iter().copied().filter(|&b| keep(b)).collect()
+}
+
 /// Acts on the audits of every map `shard` owns in `sink` (see the module's overview): the
 /// maps where cells were decided again, with how many. `computed`: the blocks the drive
 /// into this `sink` just computed ([`crate::DriveReport::computed`]), or `None`.
@@ -103,12 +112,7 @@ pub fn act_on_audits<S: Sink>(
         let blocks: Vec<usize> = (0..g.blocks())
             .filter(|&b| shard_owns(shard, plan, m, b))
             .collect();
-        let mut search: Vec<usize> = (blocks.iter().copied())
-            .filter(|&b| {
-                computed
-                    .is_none_or(|c| !c.blocks.contains(&(m, b)) || c.disagreeing.contains(&(m, b)))
-            })
-            .collect();
+        let mut search = to_search(&blocks, m, computed);
         let mut redone = 0usize;
         for _round in 0..=Rules::ALL.len() {
             let mut known = sink.withdrawn(m).map_err(DriveError::Sink)?;
@@ -169,12 +173,8 @@ pub fn act_on_audits<S: Sink>(
             }
             search = rewritten;
         }
-        if redone > 0 {
-            acted.push(Acted {
-                map: m,
-                cells: redone,
-            });
-        }
+        let cells = redone;
+        acted.extend((cells > 0).then_some(Acted { map: m, cells }));
     }
     Ok(acted)
 }
