@@ -331,6 +331,22 @@ impl Space {
         .expect("every key of the law has an axis")
     }
 
+    /// A scan's map `i`: [`Space::params_at`], where in a physical space the damping and
+    /// the belt speed are `c` and `v_belt` divided by the system's scales
+    /// ([`squeal_core::Physical::scales`]), as scans have always converted them. The
+    /// atlas's points ([`squeal_core::Physical::nondimensional`]) can differ from them in
+    /// the last bit; at the clamped brake that bit moves `squeal critical`'s answer from
+    /// runs by half a percent (c in [149.84, 159.51] against [150.54, 159.88] N s/m), so
+    /// the scans keep theirs until the two are made one on purpose.
+    pub fn map_params(&self, i: usize) -> Params {
+        let mut p = self.params_at(i);
+        if let Some(ph) = self.physical_at(i) {
+            let s = ph.scales();
+            (p.nu, p.lambda) = (ph.c / s.damping, ph.v_belt / s.velocity);
+        }
+        p
+    }
+
     /// The keys a scan indexes its maps by: those given as a list or a range, in the model's
     /// units (a physical space's `c` and `v_belt` as the law's damping and belt speed, the
     /// only physical keys a scan sweeps, [`Space::check_map_units`]); `None` if none.
@@ -356,7 +372,7 @@ impl Space {
                 crate::spec::SweepAxis {
                     name: key,
                     values: (0..a.values.len())
-                        .map(|j| pick(&self.params_at(at(j))))
+                        .map(|j| pick(&self.map_params(at(j))))
                         .collect(),
                 }
             })
