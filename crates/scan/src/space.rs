@@ -351,7 +351,8 @@ impl Space {
     /// units (a physical space's `c` and `v_belt` as the law's damping and belt speed, the
     /// only physical keys a scan sweeps, [`Space::check_map_units`]); `None` if none.
     pub fn sweep(&self) -> Option<crate::Sweep> {
-        let stride = |d: usize| self.shape()[d + 1..].iter().product::<usize>();
+        let shape = self.shape();
+        let stride = |d: usize| shape[d + 1..].iter().product::<usize>();
         let swept: Vec<&ParamAxis> = self.axes();
         let axes: Vec<crate::spec::SweepAxis> = (self.params.iter())
             .filter(|a| a.listed)
@@ -365,7 +366,8 @@ impl Space {
                 // The damping or the belt speed, read off the points along this key.
                 let (key, pick): (_, fn(&Params) -> f64) = match physical {
                     "c" => (self.law.keys()[0], |p| p.nu),
-                    _ => (self.law.keys()[1], |p| p.lambda),
+                    "v_belt" => (self.law.keys()[1], |p| p.lambda),
+                    k => unreachable!("a scan sweeps no physical {k} (checked when read)"),
                 };
                 let d = swept.iter().position(|s| s.key == a.key);
                 let at = |j: usize| d.map_or(0, |d| j * stride(d));
