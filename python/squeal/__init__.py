@@ -188,8 +188,8 @@ class BasinStability:
     """Basin stability (Menck et al. 2013; bSTAB, pyBasin): the share of random initial
     conditions in a region ending in each regime, with the binomial standard error
     ``sqrt(p (1 - p) / n)``. For a sweep, ``shares[r]``, ``errors[r]`` are arrays over
-    ``values`` of the swept parameter ``parameter`` (a physical system's ``c`` in N s/m or
-    ``v_belt`` in m/s, as swept), or, when several keys are swept, over ``parameter =
+    ``values`` of the swept parameter ``parameter`` (a physical system's key as swept: ``c``
+    in N s/m, ``v_belt`` in m/s, ``mu_s``, or ``tau_si`` in s for ``tau_s=``), or, when several keys are swept, over ``parameter =
     "map"`` (each swept key a coordinate over ``map`` in ``dataset``); else floats."""
 
     shares: dict
@@ -231,7 +231,7 @@ def basin_stability(
     make one map per point of their product, over the Dataset's ``map``).
     Or, for McMillan's laws and Coulomb, the physical system in SI units, as keywords
     (``m, k, c, v_belt, mu_k, mu_s, tau_s`` and ``g`` or ``normal_force``, as the command
-    line's flags; ``c`` and ``v_belt`` may be swept) or as ``physical=`` (a ``[physical]``
+    line's flags; ``c``, ``v_belt``, ``mu_s`` and ``tau_s`` may be swept) or as ``physical=`` (a ``[physical]``
     table); then ``region`` is in m and m/s and must be given.
     Defaults: bSTAB's friction case region and 5000 samples."""
     names = _Names("basin_stability")
@@ -265,9 +265,9 @@ def basin_stability(
     ds = names(scan, spec, out)
     dim = _swept(ds)
     # A physical sweep's parameter as the caller swept it: the Dataset's SI coordinate over
-    # nu or lambda (c in N s/m, v_belt in m/s).
-    shown = {"nu": "c", "lambda": "v_belt"}.get(dim)
-    shown = shown if shown in ds.coords else dim
+    # the model's key (c in N s/m over nu or xi, v_belt in m/s, mu_s over phi, tau_si in s).
+    twin = _squeal.si_twin(dim) if dim else None
+    shown = twin[1] if twin and twin[1] in ds.coords else dim
 
     def pick(var):
         a = ds[var].values

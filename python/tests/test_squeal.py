@@ -464,6 +464,25 @@ def test_physical_datasets_carry_si_coordinates(tmp_path):
     assert bs.dataset["x0_si"].attrs["units"] == "m"
 
 
+def test_a_physical_sweep_of_the_surfaces_answers_in_its_keys():
+    # Before, a scan under [physical] refused a list of any key but c and v_belt. The maps
+    # are indexed by the model's phi and tau (MODEL.md: phi = arcsin(mu_k / mu_s), tau' =
+    # tau omega_0 / mu_k), with mu_s and the surface time in s (`tau_si`) as given.
+    pad = {k: v for k, v in PAD.items() if k not in ("mu_s", "tau_s")}
+    region = ((-2e-3, 6e-3), (-0.5, 0.5))
+    bs = squeal.basin_stability("mcmillan", mu_s=[0.45, 0.5], tau_s=5e-4, n=4, region=region, **pad)
+    assert bs.parameter == "mu_s"
+    np.testing.assert_array_equal(bs.values, [0.45, 0.5])
+    np.testing.assert_allclose(bs.dataset["phi"].values, np.arcsin(0.38 / np.array([0.45, 0.5])),
+                               rtol=1e-14)
+    bs = squeal.basin_stability("mcmillan", mu_s=0.48, tau_s=[5e-4, 1e-3], n=4, region=region, **pad)
+    assert bs.parameter == "tau_si" and bs.dataset["tau_si"].attrs["units"] == "s"
+    np.testing.assert_array_equal(bs.values, [5e-4, 1e-3])
+    # tau' = tau omega_0 / mu_k with omega_0 = sqrt(k / m) = 500 rad/s.
+    np.testing.assert_allclose(bs.dataset["tau"].values, np.array([5e-4, 1e-3]) * 500 / 0.38,
+                               rtol=1e-14)
+
+
 def test_physical_errors_name_the_python_keyword():
     with pytest.raises(ValueError, match=r"`normal_force=` = 0"):
         squeal.ulc(law="mcmillan", **{**PAD, "normal_force": 0.0})

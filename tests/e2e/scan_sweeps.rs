@@ -204,3 +204,101 @@ fn a_physical_atlas_draws_the_scans_maps_in_si_units() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("physical.m"), "{err}");
 }
+
+/// The brake of `a_physical_scan_sweeps_the_dashpot_and_the_disc_speed` with `surfaces`
+/// for its `mu_s` and `tau` lines, on that test's grid in metres and m/s.
+fn brake_surfaces(surfaces: &str, out: &str) -> String {
+    format!(
+        "version = 1\n[model]\nlaw = \"mcmillan\"\n[physical]\nm = 2.0\nk = 5.0e4\nc = 5.0\n\
+         v_belt = 0.05\nmu_k = 0.35\n{surfaces}\n[grid]\n\
+         x0 = {{ min = -1e-4, max = 2e-4, count = 5 }}\n\
+         v0 = {{ min = -0.01, max = 0.01, count = 4 }}\n[classifier]\nt_max = 3000.0\n\
+         [output]\npath = \"{out}\"\n"
+    )
+}
+
+/// A physical scan sweeps the static friction coefficient and the surface time, the keys
+/// of `[physical]` that leave the grid's units alone besides `c` and `v_belt`: the maps
+/// are indexed by the model's `phi` and `tau`, with `mu_s` and `tau_si` (s) as given
+/// beside them, and each map is the one-map scan of its own point (the model's values
+/// and the labels equal, cell for cell). Before, a scan refused any physical key but `c`
+/// and `v_belt` given as a list.
+#[test]
+fn a_physical_scan_sweeps_the_static_friction_and_the_surface_time() {
+    let d = tempfile::tempdir().unwrap();
+    let swept = brake_surfaces("mu_s = [0.45, 0.5]\ntau = [1e-3, 2e-3]", "s.h5");
+    spec(d.path(), "s.toml", &swept);
+    ok(&squeal(d.path(), &["scan", "s.toml", "--quiet"]));
+    let f = hdf5::File::open(d.path().join("s.h5")).unwrap();
+    assert_eq!(text_attr(&f, "swept"), "phi tau");
+    // C order, the last key fastest: mu_s at maps 0 1 2 3 is 0.45 0.45 0.5 0.5.
+    assert_eq!(f64s(&f, "mu_s"), [0.45, 0.45, 0.5, 0.5]);
+    assert_eq!(f64s(&f, "tau_si"), [1e-3, 2e-3, 1e-3, 2e-3]);
+    let units = |n: &str| -> String {
+        let a: hdf5::types::VarLenUnicode = f
+            .dataset(n)
+            .unwrap()
+            .attr("units")
+            .unwrap()
+            .read_scalar()
+            .unwrap();
+        a.as_str().to_string()
+    };
+    assert_eq!((units("mu_s"), units("tau_si")), ("1".into(), "s".into()));
+    // A swept key is a coordinate over the maps, no attribute of the first map's value.
+    assert!(f.attr("physical_mu_s").is_err() && f.attr("physical_tau").is_err());
+    assert!(f.attr("physical_mu_k").is_ok());
+    let (shape, cells) = labels(d.path(), "s.h5");
+    assert_eq!(shape, vec![4, 4, 5]);
+    let (phi, tau) = (f64s(&f, "phi"), f64s(&f, "tau"));
+    for (m, (mu_s, tau_si)) in [(0.45, 1e-3), (0.45, 2e-3), (0.5, 1e-3), (0.5, 2e-3)]
+        .into_iter()
+        .enumerate()
+    {
+        let one = format!("one{m}.h5");
+        let text = brake_surfaces(&format!("mu_s = {mu_s}\ntau = {tau_si}"), &one);
+        spec(d.path(), "one.toml", &text);
+        ok(&squeal(d.path(), &["scan", "one.toml", "--quiet"]));
+        let g = hdf5::File::open(d.path().join(&one)).unwrap();
+        let attr = |n: &str| g.attr(n).unwrap().read_scalar::<f64>().unwrap();
+        assert_eq!((phi[m], tau[m]), (attr("phi"), attr("tau")), "map {m}");
+        assert_eq!(
+            labels(d.path(), &one).1,
+            cells[m * 20..(m + 1) * 20],
+            "map {m}"
+        );
+    }
+    // A key that sets the grid's units is refused as a list, even of one value.
+    let mass = swept.replace("m = 2.0", "m = [2.0]");
+    spec(d.path(), "m.toml", &mass);
+    let o = squeal(d.path(), &["scan", "m.toml", "--quiet"]);
+    let text = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && text.contains("`physical.m`"),
+        "{text}"
+    );
+}
+
+/// A physical scan on a measured friction curve sweeping the dashpot stores `c` (N s/m)
+/// beside the model's `xi`, as a McMillan scan stores it beside `nu`. Before, the twin
+/// was found for `nu` and `lambda` only: the file had no `c` and said `physical_c` = the
+/// first map's 20 N s/m for all of them.
+#[test]
+fn a_physical_scan_on_a_measured_curve_stores_its_swept_c() {
+    let d = tempfile::tempdir().unwrap();
+    // The clamped pad of issue 34 on a four-point curve (crates/scan's spec tests' PAD).
+    let text = "version = 1\n[model]\nlaw = \"table\"\n[physical]\nm = 0.8\nk = 2e5\n\
+                c = [20.0, 40.0]\nv_belt = 0.3\nnormal_force = 1500.0\n\
+                friction_table = [[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]\n\
+                [grid]\nx0 = { min = -1e-3, max = 1e-3, count = 3 }\n\
+                v0 = { min = -0.1, max = 0.1, count = 3 }\n[classifier]\nt_max = 300.0\n\
+                [output]\npath = \"pad.h5\"\n";
+    spec(d.path(), "pad.toml", text);
+    ok(&squeal(d.path(), &["scan", "pad.toml", "--quiet"]));
+    let f = hdf5::File::open(d.path().join("pad.h5")).unwrap();
+    assert_eq!(f64s(&f, "c"), [20.0, 40.0]);
+    // xi = c / (2 sqrt(m k)) = c / 800 (MODEL.md section 8).
+    let xi = f64s(&f, "xi");
+    assert!((xi[1] - 0.05).abs() < 1e-15, "{xi:?}");
+    assert!(f.attr("physical_c").is_err());
+}

@@ -450,6 +450,14 @@ pub fn cli(argv: Vec<String>) -> u8 {
         .unwrap_or(1)
 }
 
+/// The `[physical]` key a model's swept key `model` stands for in a physical scan's file,
+/// and the dataset that holds its values as given (`("c", "c")` for `nu`, `("tau",
+/// "tau_si")` for `tau`); `None` for a key no physical key becomes.
+#[pyfunction]
+pub fn si_twin(model: &str) -> Option<(&'static str, String)> {
+    squeal_scan::space::si_twin(model)
+}
+
 /// The module `squeal._squeal`.
 #[pymodule]
 fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -461,5 +469,6 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(boundary, m)?)?;
     m.add_function(wrap_pyfunction!(trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
+    m.add_function(wrap_pyfunction!(si_twin, m)?)?;
     Ok(())
 }

@@ -3,6 +3,7 @@
 //! beside a nondimensional figure: the atlas's points ([`crate::atlas::columns::COLUMNS`])
 //! and a scan's cells ([`crate::cell::COLUMNS`]).
 
+use serde::Serialize;
 use squeal_core::Scales;
 
 /// How a nondimensional figure converts to SI units.
@@ -63,40 +64,29 @@ impl Si {
     }
 }
 
-/// A swept parameter of a physical scan in SI units (a `[physical]` table sweeps `c` or
-/// `v_belt`; the maps' values are `nu` or `lambda`, [`crate::atlas::BoundaryParam`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The SI twin of a key a physical scan sweeps: the `[physical]` key with its values as the
+/// spec gave them, stored beside the model's key the maps are indexed by
+/// ([`crate::space::si_twin`] names the dataset; [`crate::space::model_key`] the model's key).
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SweptSi {
-    /// The physical key: `c` or `v_belt`.
+    /// The physical key: `c`, `v_belt`, `mu_s` or `tau`.
     pub key: &'static str,
-    /// The SI value of one unit of the nondimensional parameter.
-    pub unit: f64,
-    /// The SI units: `N s/m` or `m/s`.
-    pub units: &'static str,
-    /// The long name ([`crate::atlas::spec::PHYSICAL`]'s).
+    /// Its long name ([`crate::space::PHYSICAL`]'s).
     pub long_name: &'static str,
+    /// Its SI units: `N s/m`, `m/s`, `1` or `s`.
+    pub units: &'static str,
+    /// Its values, one per value of the swept model key, in the same order.
+    pub values: Vec<f64>,
 }
 
 impl SweptSi {
-    /// The SI twin of the nondimensional swept parameter `name` of a system with scales
-    /// `s`: `c` for `nu`, `v_belt` for `lambda`; `None` for any other (the laws with true
-    /// stick have no physical units).
-    pub fn of(name: &str, s: &Scales) -> Option<SweptSi> {
-        use crate::atlas::BoundaryParam;
-        let param = [BoundaryParam::Nu, BoundaryParam::Lambda]
-            .into_iter()
-            .find(|b| b.key() == name)?;
-        let key = param.physical_key();
-        let (unit, units) = param.si(s);
-        let (_, long_name, _) = crate::atlas::spec::PHYSICAL
-            .iter()
-            .find(|(k, ..)| *k == key)
-            .copied()?;
-        Some(SweptSi {
-            key,
-            unit,
-            units,
-            long_name,
-        })
+    /// The twin of a physical space's axis `a`.
+    pub fn of(a: &crate::space::ParamAxis) -> SweptSi {
+        SweptSi {
+            key: a.key,
+            long_name: a.long_name,
+            units: a.units,
+            values: a.values.clone(),
+        }
     }
 }

@@ -227,7 +227,8 @@ impl Space {
                 &format!("physical.{}", a.key),
                 format!("{} values with basin maps", a.values.len()),
                 "a single value: the grid is in m and m/s, and this key sets the units that \
-                 scale it (sweep c and v_belt here, or this key with squeal atlas and no [grid])",
+                 scale it (sweep c, v_belt, mu_s or tau here, or this key with squeal atlas \
+                 and no [grid])",
             )),
         }
     }
@@ -348,8 +349,11 @@ impl Space {
     }
 
     /// The keys a scan indexes its maps by: those given as a list or a range, in the model's
-    /// units (a physical space's `c` and `v_belt` as the law's damping and belt speed, the
-    /// only physical keys a scan sweeps, [`Space::check_map_units`]); `None` if none.
+    /// units. A physical space's keys become the model's ([`model_key`]: `c` the law's
+    /// damping, `v_belt` its belt speed, `mu_s` the angle `phi`, `tau` the surface time),
+    /// each with its values as given beside them ([`crate::si::SweptSi`]); the keys that
+    /// set the grid's units are refused when read ([`Space::check_map_units`]). `None`
+    /// if no key is listed.
     pub fn sweep(&self) -> Option<crate::Sweep> {
         let shape = self.shape();
         let stride = |d: usize| shape[d + 1..].iter().product::<usize>();
@@ -357,30 +361,68 @@ impl Space {
         let axes: Vec<crate::spec::SweepAxis> = (self.params.iter())
             .filter(|a| a.listed)
             .map(|a| {
-                let Some(physical) = self.units.eq(&Units::Physical).then_some(a.key) else {
+                if self.units != Units::Physical {
                     return crate::spec::SweepAxis {
                         name: a.key,
                         values: a.values.clone(),
+                        si: None,
                     };
-                };
-                // The damping or the belt speed, read off the points along this key.
-                let (key, pick): (_, fn(&Params) -> f64) = match physical {
-                    "c" => (self.law.keys()[0], |p| p.nu),
-                    "v_belt" => (self.law.keys()[1], |p| p.lambda),
-                    k => unreachable!("a scan sweeps no physical {k} (checked when read)"),
-                };
+                }
+                let model = model_key(self.law, a.key).unwrap_or_else(|| {
+                    unreachable!("a scan sweeps no {} (checked when read)", a.key)
+                });
+                // The model's value, read off the points along this key.
                 let d = swept.iter().position(|s| s.key == a.key);
                 let at = |j: usize| d.map_or(0, |d| j * stride(d));
+                let pick = |j: usize| {
+                    (self.map_params(at(j)).named().iter())
+                        .find(|n| n.name == model)
+                        .map(|n| n.value)
+                        .expect("the model has every key of its law")
+                };
                 crate::spec::SweepAxis {
-                    name: key,
-                    values: (0..a.values.len())
-                        .map(|j| pick(&self.map_params(at(j))))
-                        .collect(),
+                    name: model,
+                    values: (0..a.values.len()).map(pick).collect(),
+                    si: Some(crate::si::SweptSi::of(a)),
                 }
             })
             .collect();
         (!axes.is_empty()).then_some(crate::Sweep { axes })
     }
+}
+
+/// Each `[physical]` key a scan's maps may be indexed by, with the model's keys it becomes
+/// (a law's damping and belt speed are `nu` and `lambda`, a measured curve's `xi` and
+/// `v_d`). The other physical keys set the units of the state ([`SCALE_KEYS`]).
+const TWINS: [(&str, &str); 6] = [
+    ("c", "nu"),
+    ("c", "xi"),
+    ("v_belt", "lambda"),
+    ("v_belt", "v_d"),
+    ("mu_s", "phi"),
+    ("tau", "tau"),
+];
+
+/// The model's key that the `[physical]` key `key` becomes under `law`; `None` for a key
+/// that sets the units ([`SCALE_KEYS`]).
+pub fn model_key(law: FrictionLaw, key: &str) -> Option<&'static str> {
+    (TWINS.iter())
+        .find(|(p, m)| *p == key && law.keys().contains(m))
+        .map(|(_, m)| *m)
+}
+
+/// The `[physical]` key a model's key `model` comes from, and the name of the dataset a
+/// physical scan stores its values in beside the model's: the key itself, or `<key>_si`
+/// where both share a name (`tau_si` beside the model's `tau`); `None` for a key no
+/// physical key becomes.
+pub fn si_twin(model: &str) -> Option<(&'static str, String)> {
+    let (p, _) = TWINS.iter().find(|(_, m)| *m == model)?;
+    let name = if *p == model {
+        format!("{p}_si")
+    } else {
+        p.to_string()
+    };
+    Some((p, name))
 }
 
 /// The axes of a `[physical]` table, in SI units.

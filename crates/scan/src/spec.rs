@@ -269,6 +269,9 @@ pub struct SweepAxis {
     pub name: &'static str,
     /// The values, strictly monotone.
     pub values: Vec<f64>,
+    /// In a physical scan, the `[physical]` key given and its values (`None` in a
+    /// nondimensional one).
+    pub si: Option<crate::si::SweptSi>,
 }
 
 /// The swept keys of a scan: one basin map per point of their product, in the law's key
@@ -304,6 +307,21 @@ impl Sweep {
     pub fn per_map(&self, name: &str) -> Option<Vec<f64>> {
         let d = self.axes.iter().position(|a| a.name == name)?;
         Some((0..self.maps()).map(|m| self.values_at(m)[d]).collect())
+    }
+
+    /// The SI twin of key `name` at every map, in map order, with its words (`None`: not
+    /// swept, or not in a physical scan).
+    pub fn si_per_map(&self, name: &str) -> Option<(&crate::si::SweptSi, Vec<f64>)> {
+        let d = self.axes.iter().position(|a| a.name == name)?;
+        let si = self.axes[d].si.as_ref()?;
+        let n = self.axes[d].values.len();
+        let stride: usize = self.shape()[d + 1..].iter().product();
+        Some((
+            si,
+            (0..self.maps())
+                .map(|m| si.values[(m / stride) % n])
+                .collect(),
+        ))
     }
 
     /// The names of the swept keys.
@@ -344,8 +362,8 @@ pub struct Plan {
     pub cycle: CycleOptions,
     /// The output file.
     pub output: PathBuf,
-    /// The physical system of the first map when the spec gives `[physical]` (SI units; the
-    /// maps' `nu` or `lambda` are its `c` or `v_belt` over [`squeal_core::Physical::scales`]). The grid is
+    /// The physical system of the first map when the spec gives `[physical]` (SI units; a
+    /// swept key's values are the sweep's SI twins, [`crate::si::SweptSi`]). The grid is
     /// stored nondimensional: its spec values were metres and m/s.
     pub physical: Option<squeal_core::Physical>,
 }
@@ -563,7 +581,7 @@ impl Plan {
         let ph = spec.physical.as_ref();
         let space = Space::read(&spec.model, ph, (folder, stored), limit, &invalid)?;
         space.check_map_units(&invalid)?;
-        physical::scan_sweeps_only_c_and_v_belt(&space, &invalid)?;
+        physical::scan_sweeps_keys_with_a_model_twin(&space, &invalid)?;
         space.check_points(rules, &invalid)?;
         let maps: Vec<Params> = (0..space.n_points()).map(|i| space.map_params(i)).collect();
         let (sweep, physical) = (space.sweep(), space.physical_at(0));

@@ -9,7 +9,8 @@ use hdf5::{Dataset, File, Group};
 use squeal_scan::BASIN_FIELDS;
 use squeal_scan::cell::COLUMNS;
 use squeal_scan::checks::CHECK_FIELDS;
-use squeal_scan::si::{Si, SweptSi};
+use squeal_scan::si::Si;
+use squeal_scan::space::si_twin;
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{Grid, MapFigures, Plan, Starts};
 
@@ -31,8 +32,8 @@ use crate::h5columns::si_dataset;
 pub(crate) use crate::h5columns::write_si_column;
 pub(crate) use crate::h5columns::{column_dataset, is_list, sel, write_column};
 
-/// A physical spec's system (`physical_<key>` with `physical_<key>_units`; the swept one of
-/// `c` and `v_belt` is left out: its maps' values are `nu` or `lambda` times the unit) and
+/// A physical spec's system (`physical_<key>` with `physical_<key>_units`; a swept key is
+/// left out: it is a coordinate over the maps, the SI twin of the model's key, [`si_coordinates`]) and
 /// the SI size of one nondimensional unit. A system without McMillan's surfaces (Coulomb)
 /// has no `physical_mu_s` and `physical_tau` (files of older versions carry the values they
 /// were given, which that law never used). `physical_normal_force` (N) is always there: the
@@ -46,9 +47,7 @@ pub(crate) fn physical_attrs(
     let mut values = ph.values();
     values[8] = Some(ph.normal_force());
     // A swept key's SI twin is a coordinate over the maps, no attribute.
-    let skip = |key: &str| {
-        (key == "c" && swept.contains(&"nu")) || (key == "v_belt" && swept.contains(&"lambda"))
-    };
+    let skip = |key: &str| (swept.iter()).any(|m| si_twin(m).is_some_and(|(p, _)| p == key));
     for ((key, long, units), v) in squeal_scan::atlas::spec::PHYSICAL.iter().zip(values) {
         let Some(v) = v.filter(|_| !skip(key)) else {
             continue;
@@ -238,9 +237,11 @@ fn sweep_scales(o: &mut Out, plan: &Plan, s: &squeal_scan::Sweep) -> hdf5::Resul
 /// A physical scan's coordinates in SI units beside the nondimensional ones (CF auxiliary
 /// coordinates, named in the `coordinates` attribute of every variable over their
 /// dimension): `x0_si` (m) and `v0_si` (m/s) over the grid's axes (or the random sample's
-/// index), and the swept `c` (N s/m) or `v_belt` (m/s) over the swept `nu` or `lambda`.
-/// One nondimensional unit is the same length, velocity, time and damping at every map (the
-/// units depend on m, k, mu_k and the load, which a scan does not sweep).
+/// index), and each swept `[physical]` key as given (`c` in N s/m, `v_belt` in m/s, `mu_s`,
+/// `tau_si` in s) over the maps, beside the model's key it became (`nu` or `xi`, `lambda`
+/// or `v_d`, `phi`, `tau`; [`squeal_scan::space::si_twin`]). One nondimensional unit is
+/// the same length, velocity, time and damping at every map (the units depend on m, k,
+/// mu_k and the load, which a scan does not sweep).
 fn si_coordinates(
     o: &mut Out,
     plan: &Plan,
@@ -252,18 +253,14 @@ fn si_coordinates(
         scales: vec![d.clone()],
     };
     let mut aux = state_si(o, &plan.map.grid, s, [x0, v0])?;
-    for sw in plan.sweep.iter().flat_map(|sw| sw.names()) {
-        let Some(si) = SweptSi::of(sw, s) else {
-            continue;
-        };
-        let per_map = plan.sweep.as_ref().and_then(|p| p.per_map(sw));
-        let v = per_map
-            .expect("a swept key")
-            .iter()
-            .map(|v| v * si.unit)
-            .collect();
-        o.put(&over(map), (si.key, si.long_name), Some(si.units), v)?;
-        aux.push((map, si.key.to_string()));
+    let sweep = plan.sweep.iter();
+    for (sw, (si, per_map)) in sweep
+        .flat_map(|sw| sw.names().into_iter().map(move |n| (n, sw)))
+        .filter_map(|(n, sw)| Some((n, sw.si_per_map(n)?)))
+    {
+        let (_, name) = si_twin(sw).expect("a physical scan's swept key has a twin");
+        o.put(&over(map), (&name, si.long_name), Some(si.units), per_map)?;
+        aux.push((map, name));
     }
     for (d, name) in aux {
         o.aux_coordinate(d, &name);

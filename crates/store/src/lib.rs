@@ -161,7 +161,7 @@ pub use output::{
     refuse_input_as_output,
 };
 pub use read::{
-    FileInfo, FrictionTables, LandscapeInfo, MapData, Swept, file_schema, friction_tables,
+    FileInfo, FrictionTables, LandscapeInfo, MapData, Swept, SweptSi, file_schema, friction_tables,
     map_count, map_labels, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{

@@ -174,6 +174,35 @@ fn table_of(
 pub struct Swept {
     /// Each swept key (the model's: `nu`, `lambda`, `tau`, ...) and its value at each map.
     pub keys: Vec<(String, Vec<f64>)>,
+    /// Each swept key's SI twin in a physical scan's file (`None` in others, and in
+    /// files before twins of every key; same order as `keys`).
+    pub si: Vec<Option<SweptSi>>,
+}
+
+/// The SI twin of a swept key in a file ([`squeal_scan::space::si_twin`]): the
+/// `[physical]` key, its units and its value at each map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweptSi {
+    /// The physical key (`c`, `v_belt`, `mu_s`, `tau`).
+    pub key: String,
+    /// Its `units` attribute.
+    pub units: String,
+    /// Its value at each map.
+    pub values: Vec<f64>,
+}
+
+impl SweptSi {
+    /// Its value at map `map` in words: `c = 5 N s/m`, `mu_s = 0.45` (a ratio: no units).
+    pub fn words(&self, map: usize) -> String {
+        let units = match self.units.as_str() {
+            "" | "1" => String::new(),
+            u => format!(" {u}"),
+        };
+        match self.values.get(map) {
+            Some(&x) => format!("{} = {}{units}", self.key, Number(x)),
+            None => format!("{} = ?", self.key),
+        }
+    }
 }
 
 impl Swept {
@@ -196,13 +225,22 @@ impl Swept {
         self.keys.iter().map(|(k, _)| k.as_str()).collect()
     }
 
-    /// Map `map`'s swept values in words: `nu = 0.001, lambda = 2`.
+    /// Map `map`'s swept values in words: `nu = 0.001, lambda = 2`; a physical scan's
+    /// with the keys given: `nu = 0.007906 (c = 5 N s/m)`.
     pub fn words(&self, map: usize) -> String {
-        let word = |(k, v): &(String, Vec<f64>)| match v.get(map) {
-            Some(&x) => format!("{k} = {}", Number(x)),
-            None => format!("{k} = ?"),
+        let word = |((k, v), si): (&(String, Vec<f64>), &Option<SweptSi>)| {
+            let twin = si
+                .as_ref()
+                .map_or(String::new(), |t| format!(" ({})", t.words(map)));
+            match v.get(map) {
+                Some(&x) => format!("{k} = {}{twin}", Number(x)),
+                None => format!("{k} = ?"),
+            }
         };
-        self.keys.iter().map(word).collect::<Vec<_>>().join(", ")
+        (self.keys.iter().zip(&self.si))
+            .map(word)
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -222,10 +260,31 @@ pub(crate) fn sweep_of(file: &File) -> hdf5::Result<Option<Swept>> {
     if names.is_empty() {
         return Ok(None);
     }
-    let keys = (names.into_iter())
+    let keys: Vec<(String, Vec<f64>)> = (names.into_iter())
         .map(|n| Ok((n.clone(), file.dataset(&n)?.read_raw::<f64>()?)))
         .collect::<hdf5::Result<_>>()?;
-    Ok(Some(Swept { keys }))
+    let si = (keys.iter())
+        .map(|(n, v)| swept_si(file, n, v.len()))
+        .collect::<hdf5::Result<_>>()?;
+    Ok(Some(Swept { keys, si }))
+}
+
+/// The SI twin of the swept key `name` over `maps` maps, where the file holds one.
+fn swept_si(file: &File, name: &str, maps: usize) -> hdf5::Result<Option<SweptSi>> {
+    let Some((key, dataset)) = squeal_scan::space::si_twin(name) else {
+        return Ok(None);
+    };
+    if !file.link_exists(&dataset) {
+        return Ok(None);
+    }
+    let ds = file.dataset(&dataset)?;
+    let values = ds.read_raw::<f64>()?;
+    let units = str_attr(&ds, "units").unwrap_or_default();
+    Ok((values.len() == maps).then(|| SweptSi {
+        key: key.to_string(),
+        units,
+        values,
+    }))
 }
 
 /// A summary of a squeal file for `squeal info`.

@@ -195,8 +195,12 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
     }
     for (i, c) in maps.iter().map(|m| m.counts).enumerate() {
         let label = info.sweep.as_ref().map_or(String::new(), |s| {
-            let each: Vec<_> = (s.keys.iter())
-                .map(|(n, v)| format!("{n} = {:.4e}", v[i]))
+            // A physical scan's key as given beside the model's: `nu = 7.9057e-3 (c = 5 N s/m)`.
+            let each: Vec<_> = (s.keys.iter().zip(&s.si))
+                .map(|((n, v), si)| match si {
+                    Some(t) => format!("{n} = {:.4e} ({})", v[i], t.words(i)),
+                    None => format!("{n} = {:.4e}", v[i]),
+                })
                 .collect();
             each.join(", ") + ": "
         });
@@ -283,11 +287,21 @@ fn scan_json(info: &squeal_store::FileInfo, maps: &[squeal_scan::MapSummary]) ->
         "git_revision": info.git_revision,
         "attributes": attrs,
         // One swept key: its name and values (as before sweeps of every key); several:
-        // each key with its value at every map.
-        "sweep": info.sweep.as_ref().map(|s| match s.single() {
-            Some((n, v)) => serde_json::json!({"name": n, "values": v}),
-            None => serde_json::json!({"keys": s.keys.iter()
-                .map(|(n, v)| serde_json::json!({"name": n, "values": v})).collect::<Vec<_>>()}),
+        // each key with its value at every map. A physical scan's keys carry the
+        // `[physical]` key each stands for, as given (`si`: key, units, values).
+        "sweep": info.sweep.as_ref().map(|s| {
+            let key = |(n, v): &(String, Vec<f64>), si: &Option<squeal_store::SweptSi>| {
+                let mut k = serde_json::json!({"name": n, "values": v});
+                if let Some(t) = si {
+                    k["si"] = serde_json::json!({"key": t.key, "units": t.units, "values": t.values});
+                }
+                k
+            };
+            match s.keys.as_slice() {
+                [one] => key(one, &s.si[0]),
+                all => serde_json::json!({"keys": all.iter().zip(&s.si)
+                    .map(|(k, si)| key(k, si)).collect::<Vec<_>>()}),
+            }
         }),
         "x0": {"min": info.x0.first(), "max": info.x0.last(), "count": info.x0.len()},
         "v0": {"min": info.v0.first(), "max": info.v0.last(), "count": info.v0.len()},

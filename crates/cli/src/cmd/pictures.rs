@@ -178,14 +178,6 @@ fn render_sheet(
     Ok(transient)
 }
 
-/// The swept parameter of a sweep file (the first of several).
-fn swept(info: &squeal_store::FileInfo) -> String {
-    info.sweep
-        .as_ref()
-        .map(|s| s.keys[0].0.clone())
-        .unwrap_or_else(|| "nu".into())
-}
-
 /// The unstable cycle's size against the swept parameter; values without a cycle marked by
 /// what the map found instead (every start squeals, none does, or neither). A physical
 /// sweep's in SI units: against `c` (N s/m) or `v_belt` (m/s), the sizes in um and mm/s.
@@ -241,71 +233,79 @@ fn render_cycle_sizes(
     .map_err(|e| discard(size, e))
 }
 
-/// How a sweep's pictures show its swept parameter: a physical scan's `nu` as the damping
-/// `c` in N s/m, its `lambda` as the belt speed `v_belt` in m/s
-/// ([`squeal_scan::si::SweptSi`]); any other as stored.
+/// How a sweep's pictures show its swept parameter: a physical scan's model key as the
+/// `[physical]` key given (`nu` as the damping `c` in N s/m, `lambda` as the belt speed
+/// `v_belt` in m/s, `phi` as `mu_s`, `tau` in s), from the SI twins the file holds
+/// ([`squeal_store::SweptSi`]); any other as stored.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepAxis {
-    /// The stored swept parameter (`nu`, `lambda`, `xi`, `v_d`).
+    /// The stored swept parameter (`nu`, `lambda`, `phi`, `xi`, ...).
     pub swept: String,
-    /// The name shown: `c` or `v_belt` in a physical scan, else `swept`.
+    /// The name shown: the physical key in a physical scan, else `swept`.
     pub key: String,
-    /// The shown value of one stored unit (1 but in a physical scan).
-    pub unit: f64,
     /// The shown value's units (`None`: nondimensional).
-    pub units: Option<&'static str>,
+    pub units: Option<String>,
+    /// Each map's stored value with its SI twin (empty: shown as stored).
+    pub si: Vec<(f64, f64)>,
 }
 
 impl SweepAxis {
-    /// The axis of a sweep file (its physical scales from its attributes; the first
-    /// swept key of several).
+    /// The axis of a sweep file (the first swept key of several; `nu` for a file of one
+    /// map).
     pub fn of(info: &squeal_store::FileInfo) -> SweepAxis {
-        SweepAxis::new(&swept(info), file_scales(info).as_ref())
+        (SweepAxis::all(info).into_iter().next()).unwrap_or_else(|| SweepAxis::new("nu", &[], None))
     }
 
     /// The axis of every swept key of a sweep file (`nu` for a file of one map).
     pub fn all(info: &squeal_store::FileInfo) -> Vec<SweepAxis> {
-        let scales = file_scales(info);
         match &info.sweep {
-            Some(s) => (s.names().into_iter())
-                .map(|k| SweepAxis::new(k, scales.as_ref()))
+            Some(s) => (s.keys.iter().zip(&s.si))
+                .map(|((k, v), si)| SweepAxis::new(k, v, si.as_ref()))
                 .collect(),
-            None => vec![SweepAxis::of(info)],
+            None => vec![SweepAxis::new("nu", &[], None)],
         }
     }
 
-    /// The axis of the swept parameter `swept` of a file with physical `scales`, if any.
-    pub fn new(swept: &str, scales: Option<&squeal_core::Scales>) -> SweepAxis {
-        let si = scales.and_then(|s| squeal_scan::si::SweptSi::of(swept, s));
-        match si.filter(|si| si.unit.is_finite()) {
+    /// The axis of the swept parameter `swept` with its values at each map, shown as its
+    /// twin `si` (the same maps' values in SI units) where the file holds one.
+    pub fn new(swept: &str, values: &[f64], si: Option<&squeal_store::SweptSi>) -> SweepAxis {
+        match si {
             Some(si) => SweepAxis {
                 swept: swept.into(),
-                key: si.key.into(),
-                unit: si.unit,
-                units: Some(si.units),
+                key: si.key.clone(),
+                // A ratio (mu_s) is shown without units.
+                units: Some(si.units.clone()).filter(|u| !u.is_empty() && u != "1"),
+                si: values
+                    .iter()
+                    .copied()
+                    .zip(si.values.iter().copied())
+                    .collect(),
             },
             None => SweepAxis {
                 swept: swept.into(),
                 key: swept.into(),
-                unit: 1.0,
                 units: None,
+                si: Vec::new(),
             },
         }
     }
 
-    /// A stored value as shown.
+    /// A stored value as shown: its twin at the map that holds it (NaN if none does).
     pub fn value(&self, v: f64) -> f64 {
-        v * self.unit
+        if self.si.is_empty() {
+            return v;
+        }
+        (self.si.iter().find(|(m, _)| *m == v)).map_or(f64::NAN, |(_, si)| *si)
     }
 
     /// The title of the panel of the stored value `v`: `c = 4 N s/m`, `nu = 0.001`.
     pub fn panel_title(&self, v: f64) -> String {
-        squeal_plot::panel_title_in(&self.key, self.value(v), self.units)
+        squeal_plot::panel_title_in(&self.key, self.value(v), self.units.as_deref())
     }
 
     /// The words of a chart's axis over it.
     pub fn label(&self) -> String {
-        match self.units {
+        match &self.units {
             Some(u) => format!("{} ({u}; swept parameter)", self.key),
             None => format!("{} (swept parameter)", self.key),
         }
@@ -458,20 +458,40 @@ mod tests {
         }
     }
 
+    /// The twin a physical scan's file holds beside its swept model key.
+    fn twin(key: &str, units: &str, values: &[f64]) -> squeal_store::SweptSi {
+        squeal_store::SweptSi {
+            key: key.into(),
+            units: units.into(),
+            values: values.to_vec(),
+        }
+    }
+
     /// Issue 34, item 4: a physical sweep's pictures name its parameter in SI units: the
     /// panels `c = 4 N s/m` (the map at nu = 4 / 632.456), the cycle chart against
     /// `c (N s/m)` with the sizes in um and mm/s, the transient map's colour bar in
     /// seconds. Before, they said `nu = 0.006325` and "nondimensional". A nondimensional
-    /// sweep's words are as they were.
+    /// sweep's words are as they were. The shown value is the file's twin at the map
+    /// whose stored value it is (`mu_s` beside `phi`, a ratio: no units).
     #[test]
     fn a_physical_sweeps_pictures_are_in_si_units() {
         let s = brake();
-        let c = SweepAxis::new("nu", Some(&s));
+        let nus = [2.0 / s.damping, 4.0 / s.damping];
+        let c = SweepAxis::new("nu", &nus, Some(&twin("c", "N s/m", &[2.0, 4.0])));
         assert_eq!(c.panel_title(4.0 / s.damping), "c = 4 N s/m");
         assert_eq!(c.label(), "c (N s/m; swept parameter)");
         assert_eq!(c.value(4.0 / s.damping), 4.0);
-        let v = SweepAxis::new("lambda", Some(&s));
+        assert!(c.value(3.0 / s.damping).is_nan(), "no map holds it");
+        let v = SweepAxis::new(
+            "lambda",
+            &[0.05 / s.velocity],
+            Some(&twin("v_belt", "m/s", &[0.05])),
+        );
         assert_eq!(v.panel_title(0.05 / s.velocity), "v_belt = 0.05 m/s");
+        let phi = (0.35f64 / 0.45).asin();
+        let mu_s = SweepAxis::new("phi", &[phi], Some(&twin("mu_s", "1", &[0.45])));
+        assert_eq!(mu_s.panel_title(phi), "mu_s = 0.45");
+        assert_eq!(mu_s.label(), "mu_s (swept parameter)");
         let w = CycleWords::of(Some((s.length * 1e6, s.velocity * 1e3)));
         assert_eq!(w.y_label, "size of the unstable cycle (um; mm/s)");
         assert!(w.curves[0].ends_with("(um)") && w.curves[1].ends_with("(mm/s)"));
@@ -482,7 +502,7 @@ mod tests {
         // inf (squeals for good) and -1 (not known) are no times: kept as they are.
         assert_eq!(shown, [f64::INFINITY, -1.0, 0.0, 100.0 * s.time]);
 
-        let nu = SweepAxis::new("nu", None);
+        let nu = SweepAxis::new("nu", &[0.001], None);
         assert_eq!(nu.panel_title(0.001), "nu = 0.001");
         assert_eq!(nu.label(), "nu (swept parameter)");
         let w = CycleWords::of(None);
@@ -492,7 +512,7 @@ mod tests {
             super::super::transient::bar_words(None),
             ["t_squeal", "nondimensional time", "(natural period 2π)"]
         );
-        // The laws with true stick have no physical units: xi stays xi.
-        assert_eq!(SweepAxis::new("xi", Some(&s)).key, "xi");
+        // A nondimensional file (the laws with true stick's) has no twin: xi stays xi.
+        assert_eq!(SweepAxis::new("xi", &[0.1], None).key, "xi");
     }
 }

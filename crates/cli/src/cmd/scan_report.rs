@@ -59,6 +59,13 @@ fn map_json(
     for (name, vals) in info.sweep.iter().flat_map(|s| &s.keys) {
         o.insert(name.clone(), vals[i].into());
     }
+    // A physical scan's swept keys as given, by their `[physical]` names.
+    let si: serde_json::Map<_, _> = (info.sweep.iter().flat_map(|s| s.si.iter().flatten()))
+        .map(|t| (t.key.clone(), t.values[i].into()))
+        .collect();
+    if !si.is_empty() {
+        o.insert("si".into(), si.into());
+    }
     for (k, n) in names.iter().zip(c) {
         o.insert((*k).into(), (*n).into());
     }
@@ -104,10 +111,10 @@ fn map_json(
 fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: usize) {
     let (c, checks) = (&tallies.maps[i].counts, tallies.checks);
     let label = info.sweep.as_ref().map_or(String::new(), |s| {
-        let each = s
-            .keys
-            .iter()
-            .map(|(n, v)| format!("{n} = {:<10.4e} ", v[i]));
+        let each = (s.keys.iter().zip(&s.si)).map(|((n, v), si)| match si {
+            Some(t) => format!("{n} = {:<10.4e} ({}) ", v[i], t.words(i)),
+            None => format!("{n} = {:<10.4e} ", v[i]),
+        });
         each.collect()
     });
     let mut line = format!(

@@ -1,7 +1,8 @@
 //! `[physical]`: the table both kinds of spec read ([`PhysicalFile`],
 //! converted by [`Physical::params`], McMillan's scaling) read as the nondimensional
-//! `[model]` it stands for. `c` and `v_belt` may be swept (then `nu` and `lambda` are); the
-//! other keys are numbers, since a scan's grid has one length and one velocity unit. The
+//! `[model]` it stands for. `c`, `v_belt`, `mu_s` and `tau` may be swept (then the model's keys
+//! they become are, [`crate::space::model_key`]); the other keys are numbers, since a
+//! scan's grid has one length and one velocity unit. The
 //! grid (or the sample region) of a physical spec is in metres and m/s. `mu_s` and `tau`
 //! are McMillan's surfaces: his laws need them, Coulomb refuses them; `law = "table"` takes
 //! its measured curve here (`friction_table` or `friction_csv`, slip speed in m/s) and no
@@ -205,21 +206,23 @@ pub(crate) fn physical_key(name: &str) -> &str {
     }
 }
 
-/// Refuses a physical key other than `c` and `v_belt` given as a list or a range in a scan
-/// spec: a scan's maps are indexed by the model's damping and belt speed (files store their
-/// values, with `c` and `v_belt` as SI twins); the keys that set the grid's units are refused
-/// first, by [`crate::space::Space::check_map_units`].
-pub(crate) fn scan_sweeps_only_c_and_v_belt(
+/// Refuses a physical key given as a list or a range in a scan spec (even of one value)
+/// that no model key stands for: a scan's maps are indexed by the model's keys (files store
+/// their values, with the physical keys as SI twins, [`crate::space::model_key`]), and the
+/// keys that set the grid's units are such keys ([`crate::space::SCALE_KEYS`]; swept, they
+/// are refused first by [`crate::space::Space::check_map_units`]).
+pub(crate) fn scan_sweeps_keys_with_a_model_twin(
     space: &crate::space::Space,
     invalid: Invalid,
 ) -> Result<(), ScanError> {
-    let other = (space.params.iter()).find(|a| a.listed && !["c", "v_belt"].contains(&a.key));
+    let other = (space.params.iter())
+        .find(|a| a.listed && crate::space::model_key(space.law, a.key).is_none());
     match (space.units, other) {
         (crate::space::Units::Physical, Some(a)) => Err(invalid(
             &format!("physical.{}", a.key),
             "a list or range".into(),
-            "a number: a scan sweeps c and v_belt, which leave the units of its grid (in m and \
-             m/s) alone (sweep the others with squeal atlas)",
+            "a number: a scan sweeps c, v_belt, mu_s and tau, which leave the units of its \
+             grid (in m and m/s) alone (sweep the others with squeal atlas)",
         )),
         _ => Ok(()),
     }
