@@ -113,12 +113,26 @@ impl<'c> Classes<'c> {
         self.index[value as usize].map_or(OTHER, |k| self.classes[k].2)
     }
 
-    /// Cell counts per class, plus the count of cells with other values (last entry).
+    /// Cell counts per class, plus the count of cells with other values (last entry); the
+    /// cells counted in parallel, by chunks (a 4096 x 4096 map has 16.8M).
     pub(crate) fn counts(&self, labels: &[u8]) -> Vec<usize> {
-        let mut per_value = [0usize; 256];
-        for &l in labels {
-            per_value[l as usize] += 1;
-        }
+        use rayon::prelude::*;
+        let per_value = labels
+            .par_chunks(1 << 16)
+            .map(|chunk| {
+                let mut n = [0usize; 256];
+                for &l in chunk {
+                    n[l as usize] += 1;
+                }
+                n
+            })
+            .reduce(
+                || [0usize; 256],
+                |mut a, b| {
+                    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                    a
+                },
+            );
         let mut counts = vec![0; self.classes.len() + 1];
         for (value, &n) in per_value.iter().enumerate() {
             match self.index[value] {
@@ -241,8 +255,9 @@ pub(crate) fn draw_basin_chart(
     Ok(())
 }
 
-/// The image: one nearest-cell lookup per pixel of the plotting area, blitted at once, and
-/// its frame.
+/// The image: one nearest-cell lookup per pixel of the plotting area (the rows in
+/// parallel, each into its own part of the buffer: the same bytes as one row after the
+/// other), blitted at once, and its frame.
 fn draw_image(
     chart: &Plane,
     panel: &BasinPanel<'_>,
@@ -257,14 +272,19 @@ fn draw_image(
         let cols: Vec<usize> = (0..w)
             .map(|px| ax.index(xr.start + (px as f64 + 0.5) / w as f64 * (xr.end - xr.start)))
             .collect();
-        let mut buf = Vec::with_capacity(w as usize * h as usize * 3);
-        for py in 0..h {
-            let v = vr.end - (py as f64 + 0.5) / h as f64 * (vr.end - vr.start);
-            let row = &panel.labels[av.index(v) * nx..][..nx];
-            for &i in &cols {
-                let Rgb(r, g, b) = classes.color(row[i]);
-                buf.extend_from_slice(&[r, g, b]);
-            }
+        let mut buf = vec![0u8; w as usize * h as usize * 3];
+        {
+            use rayon::prelude::*;
+            buf.par_chunks_mut(w as usize * 3)
+                .enumerate()
+                .for_each(|(py, out)| {
+                    let v = vr.end - (py as f64 + 0.5) / h as f64 * (vr.end - vr.start);
+                    let row = &panel.labels[av.index(v) * nx..][..nx];
+                    for (px, &i) in out.chunks_exact_mut(3).zip(&cols) {
+                        let Rgb(r, g, b) = classes.color(row[i]);
+                        px.copy_from_slice(&[r, g, b]);
+                    }
+                });
         }
         let image = BitMapElement::with_owned_buffer((0, 0), (w, h), buf)
             .ok_or("image buffer has the wrong size")?;

@@ -50,7 +50,11 @@ fn transient(label: u8, t: f64) -> bool {
 /// Whether any cell of `labels` (the stored label values) squealed before it settled in
 /// steady slip: the transient map is drawn only then.
 pub fn has_transients(labels: &[u8], t_squeal: &[f64]) -> bool {
-    labels.iter().zip(t_squeal).any(|(&l, &t)| transient(l, t))
+    use rayon::prelude::*;
+    labels
+        .par_iter()
+        .zip(t_squeal)
+        .any(|(&l, &t)| transient(l, t))
 }
 
 /// The colour scale of the transient times `lo..=hi`: logarithmic where they span more than
@@ -63,8 +67,17 @@ struct Scale {
 }
 
 impl Scale {
-    fn of(times: impl Iterator<Item = f64>) -> Scale {
-        let (lo, hi) = times.fold((f64::INFINITY, 0.0f64), |(l, h), t| (l.min(t), h.max(t)));
+    /// No times yet: the start of [`Scale::widen`].
+    const NONE: (f64, f64) = (f64::INFINITY, 0.0);
+
+    /// The span of two spans of times (`(lo, hi)`): exact in any order, the times being
+    /// positive and finite.
+    fn widen((l, h): (f64, f64), (a, b): (f64, f64)) -> (f64, f64) {
+        (l.min(a), h.max(b))
+    }
+
+    /// The scale of times spanning `lo..=hi`.
+    fn spanning((lo, hi): (f64, f64)) -> Scale {
         let log = hi > 10.0 * lo;
         Scale {
             lo: if log { lo } else { 0.0 },
@@ -105,8 +118,9 @@ impl Scale {
 
 /// The cell codes of the picture: the fixed classes, or [`RAMP`] plus the ramp level.
 fn codes(labels: &[u8], t_squeal: &[f64], scale: &Scale) -> Vec<u8> {
+    use rayon::prelude::*;
     labels
-        .iter()
+        .par_iter()
         .zip(t_squeal)
         .map(|(&l, &t)| match l {
             _ if transient(l, t) => RAMP + (scale.at(t) * (LEVELS - 1) as f64).round() as u8,
@@ -147,12 +161,13 @@ fn coded(panels: &[BasinPanel<'_>], t_squeal: &[&[f64]]) -> Result<Option<Coded>
     {
         return Ok(None);
     }
-    let scale = Scale::of(panels.iter().zip(t_squeal).flat_map(|(p, t)| {
-        p.labels
-            .iter()
-            .zip(t.iter())
+    let scale = Scale::spanning(panels.iter().zip(t_squeal).fold(Scale::NONE, |s, (p, t)| {
+        use rayon::prelude::*;
+        let span = (p.labels.par_iter().zip(t.par_iter()))
             .filter(|&(&l, &t)| transient(l, t))
-            .map(|(_, &t)| t)
+            .map(|(_, &t)| (t, t))
+            .reduce(|| Scale::NONE, Scale::widen);
+        Scale::widen(s, span)
     }));
     let codes = panels
         .iter()
@@ -367,7 +382,7 @@ mod tests {
     fn codes_place_times_on_the_ramp() {
         let labels = [1, 1, 1, 2, 0, 255];
         let t = [1.0, 100.0, 0.0, f64::INFINITY, -1.0, f64::NAN];
-        let s = Scale::of([1.0, 100.0].into_iter());
+        let s = Scale::spanning((1.0, 100.0));
         assert!(s.log);
         // 10 is half way on a log scale from 1 to 100.
         assert!((s.at(10.0) - 0.5).abs() < 1e-12);

@@ -616,7 +616,9 @@ pub fn confirm(
             fates: out.into_iter().map(|(f, _)| f).collect(),
         })
     };
-    let (below, above) = (at(lo)?, at(hi)?);
+    // The two ends side by side (a failure below is the one returned, as one after the other).
+    let (below, above) = rayon::join(|| at(lo), || at(hi));
+    let (below, above) = (below?, above?);
     let k = param.key();
     let start = |i: usize| format!("({}, {})", Number(starts[i].x), Number(starts[i].v));
     // A contradiction: one start lasts above the answer, or the one start of a critical

@@ -41,6 +41,21 @@ pub fn observed<R>(obs: Arc<dyn Observer>, f: impl FnOnce() -> R) -> R {
     f()
 }
 
+/// This thread's observer, if it has one: for the pieces of a search this thread hands to
+/// other threads ([`observed_by`]).
+pub(crate) fn current() -> Option<Arc<dyn Observer>> {
+    CURRENT.with(|c| c.borrow().clone())
+}
+
+/// Runs `f` with `obs` (if any) as this thread's observer: a piece of a search run on
+/// another thread reports to the observer of the thread that started the search.
+pub(crate) fn observed_by<R>(obs: Option<&Arc<dyn Observer>>, f: impl FnOnce() -> R) -> R {
+    match obs {
+        Some(o) => observed(o.clone(), f),
+        None => f(),
+    }
+}
+
 /// Calls `f` with this thread's observer, if it has one (cloned out of the cell first, so an
 /// observer may start a search of its own).
 fn with(f: impl FnOnce(&dyn Observer)) {

@@ -22,8 +22,9 @@ mod start_rule;
 use start_rule::decaying_turns;
 pub use start_rule::{StartRule, decaying_turn};
 
-/// Progress callbacks (no-op defaults); called from worker threads.
-pub trait Observer: Sync {
+/// Progress callbacks (no-op defaults); called from worker threads (a search's observer
+/// is handed to the threads that run its pieces, hence `Send`).
+pub trait Observer: Send + Sync {
     /// Map `map` is prepared (its cycle searched, if asked for).
     fn map_prepared(&self, _map: usize) {}
     /// `n` more cells of map `map` finished: reported once per [`CELL_CHUNK`] cells of a

@@ -110,9 +110,11 @@ pub fn log_samples(r_min: f64, r_max: f64, n: usize) -> Vec<f64> {
 /// A run to the section does not depend on its time limit until it stops (the limit only
 /// counts its steps), so a return found within one limit is the same return under any
 /// longer limit, bit for bit; one not found counts as decay under that same limit only.
-/// Never share one between steppers (another step, law or parameter set).
+/// Never share one between steppers (another step, law or parameter set). Behind a lock so
+/// that the verdicts at several parameter values (each with its own cache) can run on
+/// several threads.
 #[derive(Debug, Default)]
-pub struct ReturnCache(std::cell::RefCell<std::collections::HashMap<u64, Cached>>);
+pub struct ReturnCache(std::sync::Mutex<std::collections::HashMap<u64, Cached>>);
 
 /// One cached return: the time limit it ran under, and the returned amplitude (`None`: no
 /// return within that limit).
@@ -125,7 +127,7 @@ struct Cached {
 impl ReturnCache {
     /// The return from `r` under the limit `t_return`, if known: `Some(None)` for no return.
     fn get(&self, r: f64, t_return: f64) -> Option<Option<f64>> {
-        let c = *self.0.borrow().get(&r.to_bits())?;
+        let c = *self.map().get(&r.to_bits())?;
         match c.p {
             Some(_) if t_return >= c.t_return => Some(c.p),
             None if t_return == c.t_return => Some(None),
@@ -134,9 +136,12 @@ impl ReturnCache {
     }
 
     fn put(&self, r: f64, t_return: f64, p: Option<f64>) {
-        self.0
-            .borrow_mut()
-            .insert(r.to_bits(), Cached { t_return, p });
+        self.map().insert(r.to_bits(), Cached { t_return, p });
+    }
+
+    /// The returns (a panic elsewhere leaves them valid: each entry is written whole).
+    fn map(&self) -> std::sync::MutexGuard<'_, std::collections::HashMap<u64, Cached>> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 

@@ -571,6 +571,39 @@ fn basin_map_writes_png() {
 }
 
 #[test]
+fn basin_map_is_the_same_file_at_any_thread_count() {
+    // The image's rows and the cell counts are made on the rayon pool: the PNG must be the
+    // same bytes in a pool of 1 thread and of 4 (a grid of 300 x 257 cells, not a multiple
+    // of the pixels, so that rows map to cells unevenly).
+    let dir = tempfile::tempdir().unwrap();
+    let x0 = linspace(-1.0, 3.0, 300);
+    let v0 = linspace(-2.0, 2.0, 257);
+    let labels = grid_labels(&x0, &v0, 0.9);
+    let panel = BasinPanel {
+        axis_labels: None,
+        title: map_title(&table1("mcmillan")),
+        x0: &x0,
+        v0: &v0,
+        labels: &labels,
+        overlays: vec![circle(0.9, 1.0, 300)],
+        markers: vec![fixed_point()],
+    };
+    let bytes: Vec<Vec<u8>> = [1, 4]
+        .into_iter()
+        .map(|n| {
+            let path = dir.path().join(format!("basin-{n}.png"));
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(|| basin_map(&path, &panel, &classes()).unwrap());
+            std::fs::read(&path).unwrap()
+        })
+        .collect();
+    assert!(bytes[0] == bytes[1], "the pictures differ");
+}
+
+#[test]
 fn basin_map_degenerate_axes() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("row.png");

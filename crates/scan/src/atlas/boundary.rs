@@ -487,16 +487,37 @@ pub fn both_with(
     [fold, critical]: [bool; 2],
     coarse: usize,
 ) -> [Option<Result<Boundary, ScanError>>; 2] {
-    let at_dt = Evaluator::new(param, setup, ps, point);
-    let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), range);
     // The fold of McMillan's laws is the crisis, its uncertainty covering dt/2 already.
     let crisis = crisis_applies(setup.params.kind());
-    let fold_of = || match crisis {
-        true => fold_crisis(param, setup, ps, range, (coarse, Budget::Standard))
-            .map(|c| Boundary::from_crisis(&c)),
-        false => run(Which::Fold),
+    let mut out = match crisis {
+        // The crisis shares nothing with the critical value's bisection: the two run side
+        // by side, each as it runs alone.
+        true => {
+            let (f, c) = rayon::join(
+                || {
+                    fold.then(|| {
+                        fold_crisis(param, setup, ps, range, (coarse, Budget::Standard))
+                            .map(|c| Boundary::from_crisis(&c))
+                    })
+                },
+                || {
+                    let at_dt = Evaluator::new(param, setup, ps, point);
+                    critical.then(|| bisect_nu(|v| at_dt.answer(v, Which::Critical), range))
+                },
+            );
+            [f, c]
+        }
+        // Both bisections read one analysis per value, warm-started from the values either
+        // analysed before: one after the other.
+        false => {
+            let at_dt = Evaluator::new(param, setup, ps, point);
+            let run = |which: Which| bisect_nu(|v| at_dt.answer(v, which), range);
+            [
+                fold.then(|| run(Which::Fold)),
+                critical.then(|| run(Which::Critical)),
+            ]
+        }
     };
-    let mut out = [fold.then(fold_of), critical.then(|| run(Which::Critical))];
     // The accuracy of each bracket: its predicate again at its ends with dt / 2. Near the
     // fold the stick-slip test is a finite run beside a boundary crisis (runs outside the
     // cycle can linger for many revolutions and then fall inside), so the bracket at dt can

@@ -135,8 +135,14 @@ fn run_boundary(plan: &AtlasPlan, j: usize) -> BoundaryResult {
     );
     let [f, c] = shortcut_boundaries(plan, setup, &ps, range);
     let at = ((param, setup), &ps, range);
-    let fold = gated(at, (which[0], true), f, &mut notes);
-    let critical = gated(at, (which[1], false), c, &mut notes);
+    // The two gates' runs side by side; their notes in the order fold, critical.
+    let ((fold, fold_note), (critical, critical_note)) = rayon::join(
+        || gated(at, (which[0], true), f),
+        || gated(at, (which[1], false), c),
+    );
+    for n in [fold_note, critical_note].into_iter().flatten() {
+        notes = Some(Note::add(notes.take(), n));
+    }
     let mut keep = |what: &str, r: Result<Boundary, ScanError>| match r {
         Ok(b) => b,
         Err(e) => {
@@ -201,16 +207,16 @@ fn shortcut_boundaries(
 
 /// The fold (`fold`) or the critical value, where `asked`, through the gate of `critical`
 /// ([`crate::fates::decide`]): the shortcut's answer `found` where it holds, else by runs;
-/// an unconfirmed answer or an answer by runs adds its note to `notes`.
+/// with the note of an unconfirmed answer or of an answer by runs.
 fn gated(
     ((param, setup), ps, range): ((BoundaryParam, Setup), &PointSettings, ParamRange),
     (asked, fold): (bool, bool),
     found: Option<Result<Boundary, ScanError>>,
-    notes: &mut Option<Note>,
-) -> Option<Result<Boundary, ScanError>> {
+) -> (Option<Result<Boundary, ScanError>>, Option<Note>) {
     if !asked {
-        return None;
+        return (None, None);
     }
+    let mut note = None;
     let starts = crate::fates::starts(fold, (param, setup), range.lo, ps.operating);
     let shortcut = || {
         let b = found.unwrap_or_else(|| Ok(Boundary::none()))?;
@@ -225,23 +231,25 @@ fn gated(
         crate::fates::HORIZON,
         shortcut,
     );
-    Some(d.map(|d| match d {
+    let got = d.map(|d| match d {
         crate::fates::Decided::Shortcut { answer, confirmed } => {
             if let Some(c) = confirmed.filter(|c| !c.confirmed) {
-                let n = Note::new(NoteKind::Unconfirmed, format!("{what}: {}", c.line));
-                *notes = Some(Note::add(notes.take(), n));
+                note = Some(Note::new(
+                    NoteKind::Unconfirmed,
+                    format!("{what}: {}", c.line),
+                ));
             }
             answer
         }
         crate::fates::Decided::Runs { boundary, why } => {
-            let n = Note::new(
+            note = Some(Note::new(
                 NoteKind::Finding,
                 format!("{what} by runs because {}", why.words()),
-            );
-            *notes = Some(Note::add(notes.take(), n));
+            ));
             boundary.as_boundary()
         }
-    }))
+    });
+    (Some(got), note)
 }
 
 /// The transient lifetimes above `fold` where the plan asks for them (`[boundaries]

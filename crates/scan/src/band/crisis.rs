@@ -26,6 +26,9 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use rayon::prelude::*;
 
 use serde::Serialize;
 use squeal_core::{Params, Setup};
@@ -87,14 +90,16 @@ impl Variant {
 }
 
 /// One [`ReturnCache`] per parameter value: what a verdict function passed to [`crisis_in`]
-/// shares between the verdicts at one value ([`Variant::lasting_sharing`]).
+/// shares between the verdicts at one value ([`Variant::lasting_sharing`]). Behind a lock:
+/// [`crisis_in`] runs the verdicts at several values on several threads.
 #[derive(Debug, Default)]
-pub struct SharedReturns(RefCell<HashMap<u64, std::rc::Rc<ReturnCache>>>);
+pub struct SharedReturns(Mutex<HashMap<u64, Arc<ReturnCache>>>);
 
 impl SharedReturns {
     /// The returns at value `v`.
-    pub fn at(&self, v: f64) -> std::rc::Rc<ReturnCache> {
-        self.0.borrow_mut().entry(v.to_bits()).or_default().clone()
+    pub fn at(&self, v: f64) -> Arc<ReturnCache> {
+        let mut m = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        m.entry(v.to_bits()).or_default().clone()
     }
 }
 
@@ -149,12 +154,24 @@ impl Crisis {
 }
 
 /// Remembered verdicts: `verdict(v, variant)` computed once per value and variant.
+///
+/// A verdict depends on its value and variant only (the returns two verdicts at one value
+/// share are the same returns, [`ReturnCache`]), so verdicts known to be needed are computed
+/// on several threads at once ([`Verdicts::fill`]): the coarse scan's, the samples above the
+/// interval, the other computations at the interval's ends. The search then reads them in
+/// its own order and finds what it found one verdict at a time, bit for bit; only its wall
+/// clock changes. Nothing is computed that the search one at a time would not compute,
+/// except where a verdict at an interval's end would have cut the others short.
 struct Verdicts<F> {
     verdict: F,
     memo: RefCell<HashMap<(u64, Variant), Lasting>>,
 }
 
-impl<F: Fn(f64, Variant) -> Result<Lasting, ScanError>> Verdicts<F> {
+/// A verdict function as [`crisis_in`] takes it: called from several threads at once.
+pub trait VerdictFn: Fn(f64, Variant) -> Result<Lasting, ScanError> + Sync {}
+impl<F: Fn(f64, Variant) -> Result<Lasting, ScanError> + Sync> VerdictFn for F {}
+
+impl<F: VerdictFn> Verdicts<F> {
     fn new(verdict: F) -> Verdicts<F> {
         Verdicts {
             verdict,
@@ -162,14 +179,50 @@ impl<F: Fn(f64, Variant) -> Result<Lasting, ScanError>> Verdicts<F> {
         }
     }
 
-    /// Whether every [`Variant`] gives `want` at `x`.
+    /// Whether every [`Variant`] gives `want` at `x` (the one at the setup's step first; only
+    /// where it agrees are the two others computed, side by side).
     fn agree(&self, x: f64, want: Lasting) -> Result<bool, ScanError> {
+        if self.at(x, Variant::Dt)? != want {
+            return Ok(false);
+        }
+        self.fill(&[(x, Variant::HalfDt), (x, Variant::Longer)])?;
         for w in Variant::ALL {
             if self.at(x, w)? != want {
                 return Ok(false);
             }
         }
         Ok(true)
+    }
+
+    /// Computes the verdicts at `wanted` (value, variant) not yet remembered, in parallel on
+    /// the current rayon pool, and remembers them. Returns the first failure in the order of
+    /// `wanted`: the one a loop over them would stop at.
+    fn fill(&self, wanted: &[(f64, Variant)]) -> Result<(), ScanError> {
+        let mut todo: Vec<(f64, Variant)> = Vec::with_capacity(wanted.len());
+        {
+            let memo = self.memo.borrow();
+            for &(x, w) in wanted {
+                let key = (x.to_bits(), w);
+                if !memo.contains_key(&key) && !todo.iter().any(|&(y, u)| (y.to_bits(), u) == key) {
+                    todo.push((x, w));
+                }
+            }
+        }
+        if todo.len() < 2 {
+            return todo
+                .first()
+                .map_or(Ok(()), |&(x, w)| self.at(x, w).map(|_| ()));
+        }
+        let (verdict, observer) = (&self.verdict, crate::observe::current());
+        let got: Vec<Result<Lasting, ScanError>> = todo
+            .par_iter()
+            .map(|&(x, w)| crate::observe::observed_by(observer.as_ref(), || verdict(x, w)))
+            .collect();
+        let mut memo = self.memo.borrow_mut();
+        for (&(x, w), l) in todo.iter().zip(got) {
+            memo.insert((x.to_bits(), w), l?);
+        }
+        Ok(())
     }
 
     fn at(&self, v: f64, which: Variant) -> Result<Lasting, ScanError> {
@@ -217,13 +270,20 @@ pub fn crisis_nu(
 /// module's comment. `coarse` steps of the coarse scan; the bisections stop at
 /// `range.rtol`.
 pub fn crisis_in(
-    verdict: impl Fn(f64, Variant) -> Result<Lasting, ScanError>,
+    verdict: impl VerdictFn,
     range: ParamRange,
     coarse: usize,
 ) -> Result<Crisis, ScanError> {
     let v = Verdicts::new(verdict);
     let (lo, hi) = (range.lo, range.hi);
     let coarse = coarse.max(1);
+    // The coarse values side by side; the scan below reads them.
+    let steps: Vec<(f64, Variant)> = geometric_steps((lo, hi), coarse)
+        .into_iter()
+        .map(|x| (x, Variant::Dt))
+        .collect();
+    crate::observe::stage("coarse scan", Some(steps.len() as u64));
+    v.fill(&steps)?;
     let changes = coarse_changes(
         |x| Ok::<_, ScanError>(v.at(x, Variant::Dt)? != Lasting::Squeals),
         (lo, hi),
@@ -267,7 +327,7 @@ pub fn crisis_in(
 
 /// The last value where squeal lasts (bisected in `(s, next)`, squeal lasting at `s` and
 /// not at `next`) and the first where it is quiet (below `quiet`, where it is).
-fn bisect_both<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
+fn bisect_both<F: VerdictFn>(
     v: &Verdicts<F>,
     (s, next, quiet): (f64, f64, f64),
     rtol: f64,
@@ -300,11 +360,19 @@ fn bisect_both<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
 /// Widens `[a, b]` until every [`Variant`] says squeal lasts at its lower end and is quiet
 /// at its upper end (at most to the range's ends); returns it and whether `[a, b]` held at
 /// dt/2 and with the longer horizon as it was.
-fn widen<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
+fn widen<F: VerdictFn>(
     v: &Verdicts<F>,
     [a, b]: [f64; 2],
     (lo, hi, rtol): (f64, f64, f64),
 ) -> Result<([f64; 2], [bool; 2]), ScanError> {
+    // The ends at dt/2 and with the longer horizon side by side (the step out from each end
+    // asks for them too, unless a verdict at dt/2 already disagrees).
+    v.fill(&[
+        (a, Variant::HalfDt),
+        (b, Variant::HalfDt),
+        (a, Variant::Longer),
+        (b, Variant::Longer),
+    ])?;
     let holds = |w: Variant| -> Result<bool, ScanError> {
         Ok(v.at(a, w)? == Lasting::Squeals && v.at(b, w)? == Lasting::Quiet)
     };
@@ -341,17 +409,27 @@ pub const ABOVE_SAMPLES: usize = 12;
 /// does not. Windows narrower than the spacing, farther above than the stretch, or seen at
 /// dt/2 or with the longer horizon only, can still hide: the samples are at dt, the
 /// cheapest verdict (about 0.06 s where quiet on that chart, against 0.12 s at dt/2).
-fn clear_above<F: Fn(f64, Variant) -> Result<Lasting, ScanError>>(
+fn clear_above<F: VerdictFn>(
     v: &Verdicts<F>,
     y: f64,
     (hi, coarse_log): (f64, f64),
 ) -> Result<f64, ScanError> {
     let d = coarse_log / 8.0 / ABOVE_SAMPLES as f64;
+    let sample = |top: f64, j: usize| (top * (j as f64 * d).exp()).min(hi);
     let mut top = y;
     while top < hi {
+        // The samples side by side (up to the first at `hi`); the loop below reads them.
+        let mut samples = Vec::with_capacity(ABOVE_SAMPLES);
+        for j in 1..=ABOVE_SAMPLES {
+            samples.push((sample(top, j), Variant::Dt));
+            if sample(top, j) >= hi {
+                break;
+            }
+        }
+        v.fill(&samples)?;
         let mut last = None;
         for j in 1..=ABOVE_SAMPLES {
-            let s = (top * (j as f64 * d).exp()).min(hi);
+            let s = sample(top, j);
             if v.at(s, Variant::Dt)? != Lasting::Quiet {
                 last = Some(s);
             }
@@ -399,7 +477,7 @@ fn step_out(
 /// (the critical damping of a start, whose bisection counts an undecided band as
 /// squealing), the fold's interval must reach above it to cover the truth.
 pub fn raise_top(
-    verdict: impl Fn(f64, Variant) -> Result<Lasting, ScanError>,
+    verdict: impl VerdictFn,
     (nu, uncertainty): (f64, f64),
     at: f64,
     (hi, rtol): (f64, f64),
@@ -529,6 +607,76 @@ mod tests {
         for w in Variant::ALL {
             assert_eq!(v(hi, w).unwrap(), Lasting::Quiet);
         }
+    }
+
+    /// `verdict` of `crisis_in`'s tests, slowed down (a millisecond a verdict, so that idle
+    /// threads steal work) and logging the threads it ran on.
+    fn slow_verdict(
+        threads: &Mutex<std::collections::HashSet<std::thread::ThreadId>>,
+    ) -> impl Fn(f64, Variant) -> Result<Lasting, ScanError> + Sync + '_ {
+        let v = verdict(0.024, 0.0242, 1.01);
+        move |x, w| {
+            threads.lock().unwrap().insert(std::thread::current().id());
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            v(x, w)
+        }
+    }
+
+    #[test]
+    fn the_verdicts_run_side_by_side_and_give_the_same_crisis() {
+        // The same search in a pool of 1 thread and of 4: the same crisis, field by field
+        // (its verdicts count included), its verdicts computed on more than one thread in
+        // the second (one thread before they were computed side by side).
+        let mut seen = Vec::new();
+        let mut crises = Vec::new();
+        for n in [1, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            let threads = Mutex::new(std::collections::HashSet::new());
+            let c = pool.install(|| {
+                crisis_in(
+                    slow_verdict(&threads),
+                    ParamRange::new(1e-3, 0.05, 1e-4),
+                    64,
+                )
+                .unwrap()
+            });
+            seen.push(threads.into_inner().unwrap().len());
+            crises.push(c);
+        }
+        assert_eq!(format!("{:?}", crises[0]), format!("{:?}", crises[1]));
+        assert_eq!(seen[0], 1);
+        assert!(seen[1] > 1, "{seen:?}");
+    }
+
+    #[test]
+    fn a_failing_verdict_fails_the_search_with_the_lowest_failure() {
+        // Verdicts fail at two coarse values: the error is the one at the lower, which a
+        // scan one value after the other stops at.
+        let v = |x: f64, _: Variant| {
+            if x > 0.01 && x < 0.02 {
+                Err(ScanError::Undetermined(format!("at {x}")))
+            } else {
+                Ok(Lasting::Squeals)
+            }
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap();
+        let e = pool
+            .install(|| crisis_in(v, ParamRange::new(1e-3, 0.05, 1e-4), 64))
+            .unwrap_err();
+        let first = geometric_steps((1e-3, 0.05), 64)
+            .into_iter()
+            .find(|x| *x > 0.01)
+            .unwrap();
+        assert_eq!(
+            e.to_string(),
+            ScanError::Undetermined(format!("at {first}")).to_string()
+        );
     }
 
     #[test]
