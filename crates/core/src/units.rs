@@ -561,13 +561,16 @@ impl Physical {
                     .unwrap_or(CoreError::NoPhysicalUnits(law.name())));
             }
         };
+        // The damping and the belt speed over their units ([`Physical::scales`], each
+        // computed so that it overflows only where it is itself out of range, and refused
+        // then by `check_scales`): one division each, so that a model's `nu` times the
+        // damping unit gives back `c` as closely as one rounding allows, and so that every
+        // door (a scan's maps, an atlas's points, a trajectory) converts alike.
+        let s = self.scales();
         Ok(Params {
             law,
-            nu: ratio(&[self.c], &[2.0, sm, sk]),
-            lambda: {
-                let ([a, b, c], [d, e]) = self.velocity_factors();
-                ratio(&[self.v_belt, d, e], &[a, b, c])
-            },
+            nu: self.c / s.damping,
+            lambda: self.v_belt / s.velocity,
         })
     }
 

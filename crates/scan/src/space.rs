@@ -332,22 +332,6 @@ impl Space {
         .expect("every key of the law has an axis")
     }
 
-    /// A scan's map `i`: [`Space::params_at`], where in a physical space the damping and
-    /// the belt speed are `c` and `v_belt` divided by the system's scales
-    /// ([`squeal_core::Physical::scales`]), as scans have always converted them. The
-    /// atlas's points ([`squeal_core::Physical::nondimensional`]) can differ from them in
-    /// the last bit; at the clamped brake that bit moves `squeal critical`'s answer from
-    /// runs by half a percent (c in [149.84, 159.51] against [150.54, 159.88] N s/m), so
-    /// the scans keep theirs until the two are made one on purpose.
-    pub fn map_params(&self, i: usize) -> Params {
-        let mut p = self.params_at(i);
-        if let Some(ph) = self.physical_at(i) {
-            let s = ph.scales();
-            (p.nu, p.lambda) = (ph.c / s.damping, ph.v_belt / s.velocity);
-        }
-        p
-    }
-
     /// The keys a scan indexes its maps by: those given as a list or a range, in the model's
     /// units. A physical space's keys become the model's ([`model_key`]: `c` the law's
     /// damping, `v_belt` its belt speed, `mu_s` the angle `phi`, `tau` the surface time),
@@ -375,7 +359,7 @@ impl Space {
                 let d = swept.iter().position(|s| s.key == a.key);
                 let at = |j: usize| d.map_or(0, |d| j * stride(d));
                 let pick = |j: usize| {
-                    (self.map_params(at(j)).named().iter())
+                    (self.params_at(at(j)).named().iter())
                         .find(|n| n.name == model)
                         .map(|n| n.value)
                         .expect("the model has every key of its law")

@@ -583,7 +583,7 @@ impl Plan {
         space.check_map_units(&invalid)?;
         physical::scan_sweeps_keys_with_a_model_twin(&space, &invalid)?;
         space.check_points(rules, &invalid)?;
-        let maps: Vec<Params> = (0..space.n_points()).map(|i| space.map_params(i)).collect();
+        let maps: Vec<Params> = (0..space.n_points()).map(|i| space.params_at(i)).collect();
         let (sweep, physical) = (space.sweep(), space.physical_at(0));
         let (grid, sample) = (spec.grid.as_ref(), spec.sample.as_ref());
         let mut grid = initial_conditions(grid, sample, rules, &invalid)?;
