@@ -63,9 +63,18 @@ pub fn trajectory(
     let t = interruptible(py, &stop, || {
         squeal_scan::trajectory::run_in(&ctx, span, Some(&stop))
     })?;
-    let physical = plan.physical.as_ref();
+    let physical = plan.physical();
     // An existing `out` is refused unless `force` (it overwrote a finished scan's file).
-    write_run(&out, force, &provenance(), stepper, span, &t, physical).map_err(store_error)?;
+    write_run(
+        &out,
+        force,
+        &provenance(),
+        stepper,
+        span,
+        &t,
+        physical.as_ref(),
+    )
+    .map_err(store_error)?;
     let o = &t.outcome;
     let verdict = (o.regime.name(), o.reason.name(), o.t_decision, o.t_squeal);
     Ok(verdict)

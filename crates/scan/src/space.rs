@@ -112,7 +112,7 @@ pub struct Limit {
 }
 
 /// The parameter space: the law, its table, and every key with its values.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Space {
     /// Friction law.
     pub law: FrictionLaw,

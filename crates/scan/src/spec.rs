@@ -351,6 +351,10 @@ pub struct Plan {
     pub maps: Vec<Params>,
     /// The swept parameter, if any.
     pub sweep: Option<Sweep>,
+    /// The parameter space the maps are the points of (an atlas's too: one reader,
+    /// [`Space::read`]); `maps` and `sweep` are read off it once.
+    #[serde(flatten)]
+    pub space: Space,
     /// The grid (or sample) of initial conditions and how each cell is classified.
     #[serde(flatten)]
     pub map: MapSettings,
@@ -362,10 +366,6 @@ pub struct Plan {
     pub cycle: CycleOptions,
     /// The output file.
     pub output: PathBuf,
-    /// The physical system of the first map when the spec gives `[physical]` (SI units; a
-    /// swept key's values are the sweep's SI twins, [`crate::si::SweptSi`]). The grid is
-    /// stored nondimensional: its spec values were metres and m/s.
-    pub physical: Option<squeal_core::Physical>,
 }
 
 /// The basin maps of a plan: the grid (or random sample) of initial conditions and the
@@ -607,6 +607,7 @@ impl Plan {
             name,
             maps,
             sweep,
+            space,
             map: MapSettings {
                 grid,
                 classifier,
@@ -618,8 +619,14 @@ impl Plan {
             solver,
             cycle,
             output,
-            physical,
         })
+    }
+
+    /// The physical system of the first map when the spec gives `[physical]` (SI units; a
+    /// swept key's values are the sweep's SI twins, [`crate::si::SweptSi`]). The grid is
+    /// stored nondimensional: its spec values were metres and m/s.
+    pub fn physical(&self) -> Option<squeal_core::Physical> {
+        self.space.physical_at(0)
     }
 
     /// The first setting (top-level field of the plan) in which `other` would compute

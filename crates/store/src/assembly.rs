@@ -133,7 +133,7 @@ impl Assembly {
             aux: Vec::new(),
         };
         h5write::root_attrs(&file, &plan, meta).h5(path)?;
-        let si = plan.physical.and_then(|ph| ph.friction.table());
+        let si = plan.physical().and_then(|ph| ph.friction.table());
         crate::h5out::friction_table(&file, &mut o.dims, plan.maps[0].law.table(), si).h5(path)?;
         let scales = h5write::scales(&mut o, &plan).h5(path)?;
         let vars = h5write::cell_vars(&mut o, &plan, &scales).h5(path)?;

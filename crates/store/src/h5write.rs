@@ -107,7 +107,7 @@ pub(crate) fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<
             }
         }
     }
-    if let Some(ph) = &plan.physical {
+    if let Some(ph) = &plan.physical() {
         physical_attrs(file, ph, &swept)?;
     }
     num_attr(file, "dt", plan.dt)?;
@@ -192,7 +192,7 @@ pub(crate) fn scales(o: &mut Out, plan: &Plan) -> hdf5::Result<Scales> {
         Starts::Grid => "block of grid rows",
     };
     let block = o.index("block", g.blocks(), block)?;
-    if let Some(ph) = &plan.physical {
+    if let Some(ph) = &plan.physical() {
         si_coordinates(o, plan, &ph.scales(), [&x0, &v0, &map])?;
     }
     Ok(Scales { x0, v0, map, block })
@@ -354,7 +354,7 @@ pub(crate) fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<C
         .map(|col| column_dataset(o.file, col, col.name, &over.shape, &chunk))
         .collect::<hdf5::Result<_>>()?;
     let mut si = Vec::new();
-    if plan.physical.is_some() {
+    if plan.physical().is_some() {
         for col in COLUMNS {
             if let Some(ds) = si_dataset(o.file, col, &over.shape, &chunk)? {
                 si.push((ds, col));
@@ -366,7 +366,7 @@ pub(crate) fn cell_vars(o: &mut Out, plan: &Plan, sc: &Scales) -> hdf5::Result<C
         o.dims.attach(o.file, v, &scales)?;
         o.declare_coordinates(v, &over)?;
     }
-    let scales = plan.physical.as_ref().map(|ph| ph.scales());
+    let scales = plan.physical().as_ref().map(|ph| ph.scales());
     Ok(CellVars {
         vars,
         si,

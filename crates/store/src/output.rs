@@ -96,10 +96,7 @@ impl Recorded for Plan {
         self.differs_from(other)
     }
     fn spec_table(&self) -> Option<&'static squeal_core::FrictionTable> {
-        match &self.physical {
-            Some(ph) => ph.friction.table(),
-            None => self.maps[0].law.table(),
-        }
+        self.space.table
     }
     fn writing_to(self, other: &Plan) -> Plan {
         Plan {

@@ -146,7 +146,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
     let lines = read_ics(&args.ics)?;
     // A physical system: the file's x0, v0 are in m and m/s (written back as given).
-    let scales = setup.plan.physical.map(|ph| ph.scales());
+    let scales = setup.plan.physical().map(|ph| ph.scales());
     let mut given = Vec::with_capacity(lines.len());
     let mut ics = Vec::with_capacity(lines.len());
     for &(line, ic) in &lines {

@@ -31,7 +31,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     check_lifetimes(&args, plan.dt)?;
     let t0 = std::time::Instant::now();
     // A physical system: --x0/--v0 are in m and m/s, results also in SI units.
-    let scales = plan.physical.map(|ph| ph.scales());
+    let scales = plan.physical().map(|ph| ph.scales());
     let given = State {
         x: args.x0,
         v: args.v0,

@@ -105,7 +105,7 @@ pub(super) fn si_unit(
     plan: &squeal_scan::Plan,
     param: squeal_scan::atlas::BoundaryParam,
 ) -> Option<(&'static str, f64, &'static str)> {
-    plan.physical.map(|ph| {
+    plan.physical().map(|ph| {
         let (unit, units) = param.si(&ph.scales());
         (param.physical_key(), unit, units)
     })

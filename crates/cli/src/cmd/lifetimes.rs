@@ -30,7 +30,7 @@ pub fn table(
 
 /// The seconds of one nondimensional time unit of a physical system.
 fn time_unit(plan: &squeal_scan::Plan) -> Option<f64> {
-    plan.physical.map(|ph| ph.scales().time)
+    plan.physical().map(|ph| ph.scales().time)
 }
 
 /// The table as JSON (times nondimensional; `time_unit_s` for a physical system).

@@ -83,7 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let scale = squeal_plot::StateScale::of_law(params.law.name());
         // A physical system's cycle in metres and m/s, the system in the title (this map's
         // c and v_belt).
-        let system = (plan.physical.as_ref()).map(|ph| Physical::from_params(ph, &params));
+        let system = (plan.physical().as_ref()).map(|ph| Physical::from_params(ph, &params));
         let line = system.as_ref().map(pictures::physical_system_line);
         let si = (system.as_ref().zip(line.as_deref()))
             .map(|(ph, line)| (pictures::si_state(&ph.scales()), line));
@@ -98,7 +98,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         rays: rays.as_ref(),
         seconds,
         r_max: cs.r_max,
-        si: plan.physical.map(|ph| rep.si(&ph.scales())),
+        si: plan.physical().map(|ph| rep.si(&ph.scales())),
     };
     if args.json {
         println!("{}", serde_json::to_string(&found.json()?)?);

@@ -31,13 +31,12 @@ impl AtlasPlan {
                 .map(|i| self.space.params_at(i))
                 .collect(),
             sweep: None,
+            space: self.space.clone(),
             map: *m,
             dt: self.dt,
             solver: self.solver,
             cycle: crate::spec::CycleOptions::scan(),
             output: self.out.clone(),
-            // One system's units serve every map (parse::physical_grid).
-            physical: self.space.physical_at(0),
         })
     }
 }

@@ -301,7 +301,7 @@ path = "b.h5"
     #[test]
     fn physical_spec_is_the_scaled_model_and_grid() {
         let p = Plan::from_toml(BRAKE, "b.toml").unwrap();
-        let ph = p.physical.expect("the physical system is kept");
+        let ph = p.physical().expect("the physical system is kept");
         let s = ph.scales();
         // omega_0 = sqrt(5e4 / 2) = 158.1 rad/s; c = 2 sqrt(m k) nu = 632.5 nu.
         assert!((s.damping - 2.0 * (1.0e5f64).sqrt()).abs() < 1e-9);
@@ -367,7 +367,7 @@ path = "b.h5"
         );
         assert_eq!(p.maps, h.maps);
         assert_eq!(p.map.grid.x0.max, h.map.grid.x0.max);
-        let ph = p.physical.unwrap();
+        let ph = p.physical().unwrap();
         assert_eq!(ph.load, squeal_core::Load::NormalForce(1500.0));
         assert_eq!(ph.normal_force(), 1500.0);
         let bad = [
@@ -398,7 +398,7 @@ path = "b.h5"
     #[test]
     fn a_coulomb_system_needs_no_surfaces() {
         let p = Plan::from_toml(&coulomb(), "c.toml").unwrap();
-        let ph = p.physical.expect("the physical system is kept");
+        let ph = p.physical().expect("the physical system is kept");
         assert_eq!(ph.friction.surface(), None);
         assert_eq!(p.maps[0].law, squeal_core::Friction::Coulomb);
         // nu = c / (2 sqrt(m k)) = 5 / (2 sqrt(1e5)) (README, "Units").
@@ -448,7 +448,7 @@ path = "b.h5"
         let stored = Plan::from_stored_toml(&old, "c.toml").unwrap();
         let now = Plan::from_toml(&coulomb(), "c.toml").unwrap();
         assert_eq!(stored.differs_from(&now), None);
-        assert_eq!(stored.physical.unwrap().friction.surface(), None);
+        assert_eq!(stored.physical().unwrap().friction.surface(), None);
         // McMillan's laws use them: a stored spec without them is refused as before.
         assert!(Plan::from_stored_toml(&BRAKE.replace("tau = 1e-3\n", ""), "b.toml").is_err());
     }
@@ -545,7 +545,7 @@ path = "p.h5"
             "p.toml",
         );
         assert_eq!(hack.unwrap().maps, p.maps);
-        let ph = p.physical.unwrap();
+        let ph = p.physical().unwrap();
         assert_eq!(ph.friction.table().unwrap().rows()[3], (1.0, 0.37));
     }
 

@@ -34,7 +34,7 @@ pub(super) fn write_maps(
     let v0 = o.scale("v0", &g.v0.values(), "initial velocity x'(0)", Some("1"))?;
     let block = o.index("block", g.blocks(), "block of grid rows")?;
     // A physical atlas's grid in m and m/s beside it (every map has the same units).
-    if let Some(ph) = &mp.physical {
+    if let Some(ph) = &mp.physical() {
         for (d, name) in crate::h5write::state_si(o, &g, &ph.scales(), [&x0, &v0])? {
             o.aux_coordinate(d, &name);
         }

@@ -592,7 +592,7 @@ fn a_scan_and_an_atlas_read_one_parameter_space() {
             // atlas took another order of the same factors: the last bit differed).
             assert_eq!(*p, atlas.space.params_at(i), "point {i}");
         }
-        assert_eq!(scan.physical, atlas.space.physical_at(0));
+        assert_eq!(scan.physical(), atlas.space.physical_at(0));
         // The scan indexes its maps by the swept keys in the model's units.
         let sweep = scan.sweep.unwrap();
         let names: Vec<&str> = sweep.axes.iter().map(|a| a.name).collect();
