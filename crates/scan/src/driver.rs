@@ -70,6 +70,48 @@ pub trait Sink {
     }
 }
 
+/// A sink that two runs share at once (an atlas's units and its maps' blocks, each run by
+/// [`execute`] with the sink on its own thread): every call locks it. A poisoned lock (a
+/// panic on the other thread) is taken as it is; the panic itself reaches the caller.
+pub struct Shared<'a, S>(pub &'a std::sync::Mutex<S>);
+
+impl<S> Shared<'_, S> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, S> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl<S: Sink> Sink for Shared<'_, S> {
+    type Error = S::Error;
+    fn is_done(&self, map: usize, block: usize) -> bool {
+        self.lock().is_done(map, block)
+    }
+    fn has_cycle(&self, map: usize) -> bool {
+        self.lock().has_cycle(map)
+    }
+    fn write_cycle(&mut self, map: usize, cycle: Option<&CycleOutcome>) -> Result<(), S::Error> {
+        self.lock().write_cycle(map, cycle)
+    }
+    fn write_block(&mut self, block: &BlockResult) -> Result<(), S::Error> {
+        self.lock().write_block(block)
+    }
+    fn encode_block(block: &BlockResult) -> Option<Vec<u8>> {
+        S::encode_block(block)
+    }
+    fn write_encoded(&mut self, block: &BlockResult, record: Vec<u8>) -> Result<(), S::Error> {
+        self.lock().write_encoded(block, record)
+    }
+    fn withdrawn(&mut self, map: usize) -> Result<Vec<Withdrawn>, S::Error> {
+        self.lock().withdrawn(map)
+    }
+    fn write_withdrawn(&mut self, map: usize, w: &[Withdrawn]) -> Result<(), S::Error> {
+        self.lock().write_withdrawn(map, w)
+    }
+    fn stored_block(&mut self, map: usize, block: usize) -> Result<Option<Vec<Cell>>, S::Error> {
+        self.lock().stored_block(map, block)
+    }
+}
+
 /// A sink that keeps everything in memory (tests, small scans, examples).
 #[derive(Clone, Debug, Default)]
 pub struct MemorySink {

@@ -95,7 +95,7 @@ pub use cell::{COLUMNS, Cell, Column};
 pub use checks::{LandscapeCheck, MapChecks, MapTally, WrongSide};
 pub use curve::ClosedCurve;
 pub use driver::{
-    Computed, DriveError, DriveReport, MemorySink, Pending, Shard, Sink, drive, shard_owns,
+    Computed, DriveError, DriveReport, MemorySink, Pending, Shard, Shared, Sink, drive, shard_owns,
 };
 pub use error::{NoCycle, ScanError};
 pub use finish::{Finishing, MapFigures};
