@@ -226,9 +226,12 @@ impl Space {
             Some(a) => Err(inv(
                 &format!("physical.{}", a.key),
                 format!("{} values with basin maps", a.values.len()),
-                "a single value: the grid is in m and m/s, and this key sets the units that \
-                 scale it (sweep c, v_belt, mu_s or tau here, or this key with squeal atlas \
-                 and no [grid])",
+                &format!(
+                    "a single value: the grid is in m and m/s, and this key sets the units \
+                     that scale it (sweep {} here, or this key with squeal atlas and no \
+                     [grid])",
+                    scan_keys_in_words()
+                ),
             )),
         }
     }
@@ -386,6 +389,14 @@ const TWINS: [(&str, &str); 6] = [
     ("mu_s", "phi"),
     ("tau", "tau"),
 ];
+
+/// The `[physical]` keys a scan's maps may be indexed by, in words: "c, v_belt, mu_s and tau".
+pub fn scan_keys_in_words() -> String {
+    let mut keys: Vec<&str> = TWINS.iter().map(|(p, _)| *p).collect();
+    keys.dedup();
+    let last = keys.pop().unwrap_or_default();
+    format!("{} and {last}", keys.join(", "))
+}
 
 /// The model's key that the `[physical]` key `key` becomes under `law`; `None` for a key
 /// that sets the units ([`SCALE_KEYS`]).

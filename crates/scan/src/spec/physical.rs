@@ -221,8 +221,11 @@ pub(crate) fn scan_sweeps_keys_with_a_model_twin(
         (crate::space::Units::Physical, Some(a)) => Err(invalid(
             &format!("physical.{}", a.key),
             "a list or range".into(),
-            "a number: a scan sweeps c, v_belt, mu_s and tau, which leave the units of its \
-             grid (in m and m/s) alone (sweep the others with squeal atlas)",
+            &format!(
+                "a number: a scan sweeps {}, which leave the units of its grid (in m and \
+                 m/s) alone (sweep the others with squeal atlas)",
+                crate::space::scan_keys_in_words()
+            ),
         )),
         _ => Ok(()),
     }
