@@ -435,18 +435,28 @@ impl MapContext {
             withdrawn: Vec::new(),
             audit_rates: AuditRates::default(),
         };
-        if census {
-            ctx.check_premises(plan, cs.r_max / 1.2);
+        // The census's runs and the audit's count over the grid side by side: the count
+        // fills the threads that the census's last runs leave idle, and holds unless the
+        // census withdraws a group (then it is counted again).
+        let (found, rates) = rayon::join(
+            || {
+                census
+                    .then(|| ctx.census_of(plan, cs.r_max / 1.2))
+                    .flatten()
+            },
+            || AuditRates::of_plan(&ctx, plan),
+        );
+        ctx.audit_rates = rates;
+        if found.is_some_and(|c| ctx.apply_census(c)) {
+            ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
         }
-        ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
         Ok(ctx)
     }
 
     /// The census of [`crate::census`] for McMillan's laws where the start rule, the trap
-    /// or the band rules could decide a cell, and the withdrawal of the rule groups whose
-    /// premise a run contradicted. `reach` is the radius of its starts around the fixed
-    /// point where the grid is a single point.
-    fn check_premises(&mut self, plan: &Plan, reach: f64) {
+    /// or the band rules could decide a cell (`None`: none is taken). `reach` is the radius
+    /// of its starts around the fixed point where the grid is a single point.
+    fn census_of(&self, plan: &Plan, reach: f64) -> Option<Census> {
         let smooth = matches!(
             self.params.kind(),
             FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic
@@ -458,16 +468,21 @@ impl MapContext {
         let rules_on =
             cycle_rule.is_some() || self.classifier.trap.is_some() || self.classifier.band_rules;
         if !smooth || !rules_on {
-            return;
+            return None;
         }
         let curve = cycle_rule.map(|r| r.curve().clone());
-        let c = census::take(
+        Some(census::take(
             plan,
             &self.stepper,
             &self.classifier,
             (curve.as_ref(), reach),
             |ic| self.classify(ic),
-        );
+        ))
+    }
+
+    /// Keeps census `c` and withdraws the rule groups whose premise a run of it
+    /// contradicted; whether it withdrew any.
+    fn apply_census(&mut self, c: Census) -> bool {
         for w in &c.withdrawn {
             self.withdraw(w.rules);
             self.withdrawn.push(Withdrawn {
@@ -475,7 +490,9 @@ impl MapContext {
                 why: w.to_string(),
             });
         }
+        let withdrew = !c.withdrawn.is_empty();
         self.census = Some(c);
+        withdrew
     }
 
     /// Withdraws the rule group `rules` from this map: its cells are then decided by runs
