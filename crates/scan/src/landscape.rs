@@ -13,6 +13,7 @@
 //! follow. McMillan's laws have no landscape here (`None`): their attractors are found by
 //! the cycle search instead.
 
+use rayon::prelude::*;
 use squeal_core::landscape::{self, LandscapeEvidence, StickCycle};
 use squeal_core::{Landscape, Params, Stepper};
 
@@ -34,9 +35,15 @@ pub fn of_params(plan: &Plan, params: Params) -> Result<Option<LandscapeEvidence
 }
 
 /// The landscape of every map of `plan` (`None` per map for laws without true stick),
-/// computed before the scan's file is written: the writer only stores it.
+/// computed before the scan's file is written: the writer only stores it. The maps are
+/// computed on the rayon pool (each one's orbit from breakaway is independent of the
+/// others); the first error in map order is returned.
 pub fn of_plan(plan: &Plan) -> Result<Vec<Option<LandscapeEvidence>>, ScanError> {
-    (0..plan.maps.len()).map(|m| of_map(plan, m)).collect()
+    let each: Vec<_> = (0..plan.maps.len())
+        .into_par_iter()
+        .map(|m| of_map(plan, m))
+        .collect();
+    each.into_iter().collect()
 }
 
 /// The landscape of map `map` of `plan`.

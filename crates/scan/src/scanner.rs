@@ -285,20 +285,29 @@ impl AuditRates {
         if every == 0 {
             return AuditRates::default();
         }
-        let (mut at_start, mut run) = ([0usize; 4], 0usize);
-        for row in 0..g.v0.count {
-            for col in 0..g.x0.count {
-                let (x, v) = g.state(row, col);
-                match ctx.decide_at_start(State { x, v }) {
-                    Some(o) => {
-                        if let Some(r) = Rules::of(o.reason) {
-                            at_start[r as usize] += 1;
+        // Counted by rows on the pool (a 4096 x 4096 map's 16.8M tests took a second on
+        // one thread while the other waited); integer sums, so the same on any thread count.
+        let (at_start, run) = (0..g.v0.count)
+            .into_par_iter()
+            .map(|row| {
+                let (mut at_start, mut run) = ([0usize; 4], 0usize);
+                for col in 0..g.x0.count {
+                    let (x, v) = g.state(row, col);
+                    match ctx.decide_at_start(State { x, v }) {
+                        Some(o) => {
+                            if let Some(r) = Rules::of(o.reason) {
+                                at_start[r as usize] += 1;
+                            }
                         }
+                        None => run += 1,
                     }
-                    None => run += 1,
                 }
-            }
-        }
+                (at_start, run)
+            })
+            .reduce(
+                || ([0usize; 4], 0usize),
+                |(a, n), (b, m)| (std::array::from_fn(|i| a[i] + b[i]), n + m),
+            );
         let rate = |n: usize| every.min((n / AUDIT_PER_RULE).max(1) as u64);
         AuditRates {
             every,
@@ -427,18 +436,28 @@ impl MapContext {
             withdrawn: Vec::new(),
             audit_rates: AuditRates::default(),
         };
-        if census {
-            ctx.check_premises(plan, cs.r_max / 1.2);
+        // The census's runs and the audit's count over the grid side by side: the count
+        // fills the threads that the census's last runs leave idle, and holds unless the
+        // census withdraws a group (then it is counted again).
+        let (found, rates) = rayon::join(
+            || {
+                census
+                    .then(|| ctx.census_of(plan, cs.r_max / 1.2))
+                    .flatten()
+            },
+            || AuditRates::of_plan(&ctx, plan),
+        );
+        ctx.audit_rates = rates;
+        if found.is_some_and(|c| ctx.apply_census(c)) {
+            ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
         }
-        ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
         Ok(ctx)
     }
 
     /// The census of [`crate::census`] for McMillan's laws where the start rule, the trap
-    /// or the band rules could decide a cell, and the withdrawal of the rule groups whose
-    /// premise a run contradicted. `reach` is the radius of its starts around the fixed
-    /// point where the grid is a single point.
-    fn check_premises(&mut self, plan: &Plan, reach: f64) {
+    /// or the band rules could decide a cell (`None`: none is taken). `reach` is the radius
+    /// of its starts around the fixed point where the grid is a single point.
+    fn census_of(&self, plan: &Plan, reach: f64) -> Option<Census> {
         let smooth = matches!(
             self.params.kind(),
             FrictionLaw::McMillan | FrictionLaw::McMillanNonHysteretic
@@ -450,16 +469,21 @@ impl MapContext {
         let rules_on =
             cycle_rule.is_some() || self.classifier.trap.is_some() || self.classifier.band_rules;
         if !smooth || !rules_on {
-            return;
+            return None;
         }
         let curve = cycle_rule.map(|r| r.curve().clone());
-        let c = census::take(
+        Some(census::take(
             plan,
             &self.stepper,
             &self.classifier,
             (curve.as_ref(), reach),
             |ic| self.classify(ic),
-        );
+        ))
+    }
+
+    /// Keeps census `c` and withdraws the rule groups whose premise a run of it
+    /// contradicted; whether it withdrew any.
+    fn apply_census(&mut self, c: Census) -> bool {
         for w in &c.withdrawn {
             self.withdraw(w.rules);
             self.withdrawn.push(Withdrawn {
@@ -467,7 +491,9 @@ impl MapContext {
                 why: w.to_string(),
             });
         }
+        let withdrew = !c.withdrawn.is_empty();
         self.census = Some(c);
+        withdrew
     }
 
     /// Withdraws the rule group `rules` from this map: its cells are then decided by runs
@@ -514,13 +540,18 @@ impl MapContext {
         withdrawn: &[Withdrawn],
     ) -> Result<MapContext, ScanError> {
         let mut ctx = MapContext::prepare(plan, map)?;
+        let mut changed = false;
         for w in withdrawn {
             if !ctx.withdrawn.iter().any(|x| x.rules == w.rules) {
                 ctx.withdraw(w.rules);
                 ctx.withdrawn.push(w.clone());
+                changed = true;
             }
         }
-        ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
+        // The rates [`MapContext::prepare`] counted hold unless a group was withdrawn here.
+        if changed {
+            ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
+        }
         Ok(ctx)
     }
 
