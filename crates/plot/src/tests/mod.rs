@@ -531,6 +531,25 @@ fn draw_error_names_path() {
     assert!(matches!(err, PlotError::Draw(ref m) if m.contains("missing-dir")));
 }
 
+/// A basin panel of McMillan's law at Table 1 over `x0` and `v0` with `labels`, the fixed
+/// point marked and `overlays` drawn.
+fn table1_panel<'a>(
+    x0: &'a [f64],
+    v0: &'a [f64],
+    labels: &'a [u8],
+    overlays: Vec<Curve>,
+) -> BasinPanel<'a> {
+    BasinPanel {
+        axis_labels: None,
+        title: map_title(&table1("mcmillan")),
+        x0,
+        v0,
+        labels,
+        overlays,
+        markers: vec![fixed_point()],
+    }
+}
+
 #[test]
 fn basin_map_writes_png() {
     let dir = tempfile::tempdir().unwrap();
@@ -538,15 +557,8 @@ fn basin_map_writes_png() {
     let x0 = linspace(-1.0, 3.0, 200);
     let v0 = linspace(-2.0, 2.0, 160);
     let labels = grid_labels(&x0, &v0, 0.9);
-    let panel = BasinPanel {
-        axis_labels: None,
-        title: map_title(&table1("mcmillan")),
-        x0: &x0,
-        v0: &v0,
-        labels: &labels,
-        overlays: vec![circle(0.9, 1.0, 300), circle(2.5, 1.0, 300)],
-        markers: vec![fixed_point()],
-    };
+    let overlays = vec![circle(0.9, 1.0, 300), circle(2.5, 1.0, 300)];
+    let panel = table1_panel(&x0, &v0, &labels, overlays);
     basin_map(&path, &panel, &classes()).unwrap();
     let pic = decode(&path, (900, 800));
     for c in [STEADY, STICK, UNDECIDED, NOT_COMPUTED, OTHER] {
@@ -579,15 +591,7 @@ fn basin_map_is_the_same_file_at_any_thread_count() {
     let x0 = linspace(-1.0, 3.0, 300);
     let v0 = linspace(-2.0, 2.0, 257);
     let labels = grid_labels(&x0, &v0, 0.9);
-    let panel = BasinPanel {
-        axis_labels: None,
-        title: map_title(&table1("mcmillan")),
-        x0: &x0,
-        v0: &v0,
-        labels: &labels,
-        overlays: vec![circle(0.9, 1.0, 300)],
-        markers: vec![fixed_point()],
-    };
+    let panel = table1_panel(&x0, &v0, &labels, vec![circle(0.9, 1.0, 300)]);
     let bytes: Vec<Vec<u8>> = [1, 4]
         .into_iter()
         .map(|n| {
