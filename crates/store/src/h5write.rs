@@ -253,14 +253,15 @@ fn si_coordinates(
         scales: vec![d.clone()],
     };
     let mut aux = state_si(o, &plan.map.grid, s, [x0, v0])?;
-    let sweep = plan.sweep.iter();
-    for (sw, (si, per_map)) in sweep
-        .flat_map(|sw| sw.names().into_iter().map(move |n| (n, sw)))
-        .filter_map(|(n, sw)| Some((n, sw.si_per_map(n)?)))
-    {
-        let (_, name) = si_twin(sw).expect("a physical scan's swept key has a twin");
-        o.put(&over(map), (&name, si.long_name), Some(si.units), per_map)?;
-        aux.push((map, name));
+    for sw in plan.sweep.iter() {
+        for a in &sw.axes {
+            let Some((si, per_map)) = sw.si_per_map(a.name) else {
+                continue;
+            };
+            let (_, name) = si_twin(a.name).expect("a physical scan's swept key has a twin");
+            o.put(&over(map), (&name, si.long_name), Some(si.units), per_map)?;
+            aux.push((map, name));
+        }
     }
     for (d, name) in aux {
         o.aux_coordinate(d, &name);

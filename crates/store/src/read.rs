@@ -192,12 +192,16 @@ pub struct SweptSi {
 }
 
 impl SweptSi {
+    /// Its units as shown: `None` for a ratio (`mu_s`, units "1") or none stored.
+    pub fn shown_units(&self) -> Option<&str> {
+        Some(self.units.as_str()).filter(|u| !u.is_empty() && *u != "1")
+    }
+
     /// Its value at map `map` in words: `c = 5 N s/m`, `mu_s = 0.45` (a ratio: no units).
     pub fn words(&self, map: usize) -> String {
-        let units = match self.units.as_str() {
-            "" | "1" => String::new(),
-            u => format!(" {u}"),
-        };
+        let units = self
+            .shown_units()
+            .map_or(String::new(), |u| format!(" {u}"));
         match self.values.get(map) {
             Some(&x) => format!("{} = {}{units}", self.key, Number(x)),
             None => format!("{} = ?", self.key),

@@ -273,8 +273,7 @@ impl SweepAxis {
             Some(si) => SweepAxis {
                 swept: swept.into(),
                 key: si.key.clone(),
-                // A ratio (mu_s) is shown without units.
-                units: Some(si.units.clone()).filter(|u| !u.is_empty() && u != "1"),
+                units: si.shown_units().map(str::to_string),
                 si: values
                     .iter()
                     .copied()
