@@ -18,6 +18,8 @@
 # others a quarter of the cells or fewer) so that the script is checked in a minute or two.
 # --base BIN also times BIN (an older squeal, no phase times) on fig9-4096 and atlas at
 # N threads, alternating old, new, old, new (ROUNDS=2 by default), and prints the ratio.
+# REPEAT=N runs each shape N times at each thread count, interleaved, and uses each count's
+# fastest run (on a shared machine one run's noise moves the serial fraction by +-3%).
 # The machine is shared: say the load average (printed) beside the figures.
 set -euo pipefail
 bin=${SQUEAL:-target/release/squeal}
@@ -26,13 +28,14 @@ quick=0
 base=""
 shapes="bstab,fig9-4096,atlas,stribeck-steady,nu-sweep"
 rounds=${ROUNDS:-2}
+repeat=${REPEAT:-1}
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
     --threads) threads=$2; shift ;;
     --shapes) shapes=$2; shift ;;
     --base) base=$2; shift ;;
-    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "bench-scaling.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -95,7 +98,7 @@ one() { # binary shape spec threads
 
 date -u '+%Y-%m-%d %H:%M UTC'
 lscpu | grep 'Model name' || true
-echo "cores: $(nproc); threads: $threads; quick: $quick; binary: $bin ($("$bin" --version 2>/dev/null || true))"
+echo "cores: $(nproc); threads: $threads; repeat: $repeat; quick: $quick; binary: $bin ($("$bin" --version 2>/dev/null || true))"
 echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 IFS=, read -r -a slist <<< "$shapes"
 summary=()
@@ -104,13 +107,20 @@ for s in "${slist[@]}"; do
   echo
   echo "== $s ($(cmd_of "$s") $(basename "$spec"))"
   declare -A wall=()
-  for t in "${tlist[@]}"; do
-    r=$(one "$bin" "$s" "$spec" "$t")
-    wall[$t]=${r%% *}
-    printf '  threads %-3s wall %8.2f s  %s  (load %s)\n' "$t" "${r%% *}" \
-      "$(echo "${r#* }" | tr ' ' '\n' | awk -F= 'NF == 2 { printf "%s %.2f  ", $1, $2 }')" \
-      "$(cut -d' ' -f1 /proc/loadavg)"
-    if [ "$t" = "${tlist[0]}" ]; then first="$r"; fi
+  # REPEAT rounds, the thread counts interleaved within each (a drift of the machine's
+  # load then reaches every count alike); each count's fastest run is the one used.
+  for rep in $(seq "$repeat"); do
+    for t in "${tlist[@]}"; do
+      r=$(one "$bin" "$s" "$spec" "$t")
+      w=${r%% *}
+      if [ -z "${wall[$t]:-}" ] || [ "$(echo "$w < ${wall[$t]}" | bc -l)" = 1 ]; then
+        wall[$t]=$w
+        if [ "$t" = "${tlist[0]}" ]; then first="$r"; fi
+      fi
+      printf '  threads %-3s wall %8.2f s  %s  (load %s%s)\n' "$t" "$w" \
+        "$(echo "${r#* }" | tr ' ' '\n' | awk -F= 'NF == 2 { printf "%s %.2f  ", $1, $2 }')" \
+        "$(cut -d' ' -f1 /proc/loadavg)" "$([ "$repeat" = 1 ] || echo ", round $rep")"
+    done
   done
   # Shares of the wall time at the first thread count (the phases inside "cells", prepare
   # and sink, are shown as shares too but overlap it).

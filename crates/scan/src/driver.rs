@@ -2,8 +2,9 @@
 //!
 //! The maps with work left are prepared first (each one's section searched once, the cycle
 //! located, the census taken), in parallel over the maps and over each census's starts;
-//! then every pending `(map, block)` pair is one job on the rayon pool, with no barrier
-//! between blocks or maps. Each block is encoded for the sink on the worker that computed
+//! each map, once prepared, adds its pending `(map, block)` pairs as jobs on the rayon
+//! pool, with no barrier between blocks or maps (nor between one map's preparation and
+//! another's blocks). Each block is encoded for the sink on the worker that computed
 //! it ([`Sink::encode_block`]); finished blocks and located cycles go over a channel to the
 //! one thread that called [`drive`], which hands them to the sink (the store's journal and
 //! its fsync stay off the workers' path). A
@@ -11,13 +12,13 @@
 //! which blocks finish.
 
 use std::collections::HashSet;
-use std::sync::Arc;
+use std::sync::OnceLock;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use crate::cell::Cell;
 use crate::error::ScanError;
-use crate::executor::{Emit, execute};
+use crate::executor::{Emit, execute_growing};
 use crate::scanner::{BlockResult, MapContext, Observer, Withdrawn, run_block};
 use crate::spec::Plan;
 use crate::ulc::CycleOutcome;
@@ -267,7 +268,8 @@ pub struct DriveReport {
     /// Whether `stop` was raised before the work was done (the finished blocks are in the
     /// sink; the rest is pending).
     pub interrupted: bool,
-    /// Wall time of the maps' preparation (before any block).
+    /// Wall time from the start until the last map was prepared (blocks of the maps
+    /// prepared before run meanwhile).
     pub prepare: Duration,
     /// Time the sink's thread spent in the sink (the rest of the drive it waits).
     pub sink: Duration,
@@ -304,18 +306,26 @@ impl<E> From<ScanError> for DriveError<E> {
 }
 
 enum Msg {
-    Prepared(usize, Arc<MapContext>),
+    Prepared,
     Cycle(usize, Box<Option<CycleOutcome>>, Vec<Withdrawn>),
     /// A block, the sink's record of it ([`Sink::encode_block`]) and whether an audit of
     /// its cells disagrees.
     Block(BlockResult, Option<Vec<u8>>, bool),
 }
 
+/// A piece of a drive's work.
+enum Job {
+    /// Prepare map `m`, write its cycle if the sink lacks it, and add its pending blocks.
+    Prepare(usize),
+    /// Compute block `b` of the prepared map `m`.
+    Block(usize, usize),
+}
+
 /// Runs the pending work of `shard` of `plan` into `sink` through the one executor
-/// ([`crate::executor::execute`]: workers on the rayon pool, the sink on this thread).
-/// Raising `stop` hands out no further work: the blocks in flight are finished and go to the
-/// sink (a signal lost them before: one 48-row block interrupted after 15 s left nothing
-/// for the resume), then the drive returns with `interrupted`.
+/// ([`crate::executor::execute_growing`]: workers on the rayon pool, the sink on this
+/// thread). Raising `stop` hands out no further work: the blocks in flight are finished and
+/// go to the sink (a signal lost them before: one 48-row block interrupted after 15 s left
+/// nothing for the resume), then the drive returns with `interrupted`.
 pub fn drive<S: Sink>(
     plan: &Plan,
     shard: Option<Shard>,
@@ -325,28 +335,29 @@ pub fn drive<S: Sink>(
 ) -> Result<DriveReport, DriveError<S::Error>> {
     let pending = Pending::of(plan, shard, &*sink);
     let mut report = DriveReport::default();
-    let (ctxs, cycles_missing) = prepare_maps(plan, &pending, sink, observer, stop, &mut report)?;
-    compute_blocks(plan, &pending, &ctxs, sink, observer, stop, &mut report)?;
+    let cycles_missing = run_maps(plan, &pending, sink, observer, stop, &mut report)?;
     report.interrupted = report.blocks < pending.blocks.len() || cycles_missing;
     Ok(report)
 }
 
-/// Each map's context, once prepared (`None`: no pending work, or not prepared).
-type Contexts = Vec<Option<Arc<MapContext>>>;
-
 /// Prepares every map with pending work (in parallel over the maps, and each map's census
-/// in parallel over its starts) and writes the cycles the sink lacks: the maps' contexts,
-/// and whether a wanted cycle was not written (`stop` raised). Before, the first block of a
-/// map prepared it behind a `OnceLock` while the other workers waited on the lock: the
-/// 4096 x 4096 map's 7.7 s of preparation ran on one of two threads.
-fn prepare_maps<S: Sink>(
+/// in parallel over its starts), writes the cycles the sink lacks and computes the pending
+/// blocks: whether a wanted cycle was not written (`stop` raised). The maps' preparations
+/// are the first jobs of the queue; each one, when done, adds its map's blocks to the end
+/// of the queue, so blocks of the maps already prepared keep the threads busy while the
+/// last maps are prepared. Before, every block waited for every map's preparation (and,
+/// before that, the first block of a map prepared it behind a `OnceLock` while the other
+/// workers waited on the lock: the 4096 x 4096 map's 7.7 s of preparation ran on one of
+/// two threads). A map's cycle (and the rule groups its census withdrew) reaches the sink
+/// before any of its blocks: the preparation emits them before it adds the blocks.
+fn run_maps<S: Sink>(
     plan: &Plan,
     pending: &Pending,
     sink: &mut S,
     observer: &dyn Observer,
     stop: &AtomicBool,
     report: &mut DriveReport,
-) -> Result<(Contexts, bool), DriveError<S::Error>> {
+) -> Result<bool, DriveError<S::Error>> {
     // The groups an audit withdrew before a resume: the map's blocks still to compute are
     // decided without them (a census withdraws its own again when the map is prepared).
     let recorded = (0..plan.maps.len())
@@ -363,30 +374,27 @@ fn prepare_maps<S: Sink>(
     maps.sort_unstable();
     maps.dedup();
     let cycles_wanted = maps.iter().filter(|&&m| need_cycle[m]).count();
-    let mut ctxs: Contexts = vec![None; plan.maps.len()];
-    let mut cycles_written = 0usize;
-    let prepare_started = Instant::now();
-    let prepare = |m: usize, emit: &dyn Fn(Emit<Msg, ScanError>)| match MapContext::prepare_without(
+    let shared = Maps::new(
         plan,
-        m,
-        &recorded[m],
-    ) {
-        Ok(ctx) => {
-            observer.map_prepared(m);
-            let cycle = Box::new(ctx.cycle.clone());
-            let withdrawn = ctx.withdrawn.clone();
-            emit(Emit::Done(Msg::Prepared(m, Arc::new(ctx))));
-            if need_cycle[m] {
-                emit(Emit::Done(Msg::Cycle(m, cycle, withdrawn)));
-            }
-        }
-        Err(e) => emit(Emit::Failed(e)),
+        observer,
+        pending,
+        (recorded, need_cycle),
+        S::encode_block,
+    );
+    let (mut cycles_written, mut prepared) = (0usize, 0usize);
+    let started = Instant::now();
+    let work = |job: Job, emit: &dyn Fn(Emit<Msg, ScanError>), more: &dyn Fn(Vec<Job>)| {
+        shared.run(job, emit, more)
     };
-    execute(maps, stop, prepare, |msg| {
+    let jobs = maps.iter().map(|&m| Job::Prepare(m)).collect();
+    execute_growing(jobs, stop, work, |msg| {
         let t = Instant::now();
         let r = match msg {
-            Msg::Prepared(m, ctx) => {
-                ctxs[m] = Some(ctx);
+            Msg::Prepared => {
+                prepared += 1;
+                if prepared == maps.len() {
+                    report.prepare = started.elapsed();
+                }
                 Ok(())
             }
             Msg::Cycle(m, c, w) => {
@@ -396,49 +404,6 @@ fn prepare_maps<S: Sink>(
                 }
                 sink.write_cycle(m, (*c).as_ref()).map_err(DriveError::Sink)
             }
-            Msg::Block(..) => unreachable!("no block before every map is prepared"),
-        };
-        report.sink += t.elapsed();
-        r
-    })?;
-    report.prepare = prepare_started.elapsed();
-    Ok((ctxs, cycles_written < cycles_wanted))
-}
-
-/// Computes the pending blocks of the prepared maps `ctxs` into `sink`, counting them in
-/// `report`.
-fn compute_blocks<S: Sink>(
-    plan: &Plan,
-    pending: &Pending,
-    ctxs: &[Option<Arc<MapContext>>],
-    sink: &mut S,
-    observer: &dyn Observer,
-    stop: &AtomicBool,
-    report: &mut DriveReport,
-) -> Result<(), DriveError<S::Error>> {
-    let jobs: Vec<(usize, usize)> = pending
-        .blocks
-        .iter()
-        .copied()
-        .filter(|&(m, _)| ctxs[m].is_some())
-        .collect();
-    let work = |(m, b): (usize, usize), emit: &dyn Fn(Emit<Msg, ScanError>)| {
-        let Some(ctx) = &ctxs[m] else {
-            return;
-        };
-        // No stop inside the block: once started it is finished and journalled.
-        if let Some(r) = run_block(plan, ctx, b, observer, None) {
-            observer.block_done(m, b);
-            // The sink's record of the block made here, on the worker, not on the sink's
-            // one thread.
-            let record = S::encode_block(&r);
-            let disagrees = r.cells.iter().any(crate::redo::disagrees);
-            emit(Emit::Done(Msg::Block(r, record, disagrees)));
-        }
-    };
-    execute(jobs, stop, work, |msg| {
-        let t = Instant::now();
-        let r = match msg {
             Msg::Block(r, record, disagrees) => {
                 report.blocks += 1;
                 report.cells += r.cells.len();
@@ -452,12 +417,91 @@ fn compute_blocks<S: Sink>(
                 }
                 .map_err(DriveError::Sink)
             }
-            Msg::Prepared(..) | Msg::Cycle(..) => unreachable!("maps are prepared before"),
         };
         report.sink += t.elapsed();
         r
     })?;
-    Ok(())
+    if prepared < maps.len() {
+        report.prepare = started.elapsed();
+    }
+    Ok(cycles_written < cycles_wanted)
+}
+
+/// What the jobs of one drive share: each map's recorded withdrawals, whether its cycle is
+/// wanted, its pending blocks and, once prepared, its context; and the sink's encoding of a
+/// block ([`Sink::encode_block`]).
+struct Maps<'a> {
+    plan: &'a Plan,
+    observer: &'a dyn Observer,
+    recorded: Vec<Vec<Withdrawn>>,
+    need_cycle: Vec<bool>,
+    blocks_of: Vec<Vec<usize>>,
+    ctxs: Vec<OnceLock<MapContext>>,
+    encode: fn(&BlockResult) -> Option<Vec<u8>>,
+}
+
+impl<'a> Maps<'a> {
+    fn new(
+        plan: &'a Plan,
+        observer: &'a dyn Observer,
+        pending: &Pending,
+        (recorded, need_cycle): (Vec<Vec<Withdrawn>>, Vec<bool>),
+        encode: fn(&BlockResult) -> Option<Vec<u8>>,
+    ) -> Self {
+        let mut blocks_of: Vec<Vec<usize>> = vec![Vec::new(); plan.maps.len()];
+        for &(m, b) in &pending.blocks {
+            blocks_of[m].push(b);
+        }
+        Maps {
+            plan,
+            observer,
+            recorded,
+            need_cycle,
+            blocks_of,
+            ctxs: (0..plan.maps.len()).map(|_| OnceLock::new()).collect(),
+            encode,
+        }
+    }
+
+    /// Runs one job on a worker: a map's preparation (its cycle to the sink, then its
+    /// blocks to the queue) or a block of a prepared map.
+    fn run(&self, job: Job, emit: &dyn Fn(Emit<Msg, ScanError>), more: &dyn Fn(Vec<Job>)) {
+        match job {
+            Job::Prepare(m) => match MapContext::prepare_without(self.plan, m, &self.recorded[m]) {
+                Ok(ctx) => {
+                    self.observer.map_prepared(m);
+                    let cycle = Box::new(ctx.cycle.clone());
+                    let withdrawn = ctx.withdrawn.clone();
+                    emit(Emit::Done(Msg::Prepared));
+                    if self.need_cycle[m] {
+                        emit(Emit::Done(Msg::Cycle(m, cycle, withdrawn)));
+                    }
+                    let _ = self.ctxs[m].set(ctx);
+                    more(
+                        self.blocks_of[m]
+                            .iter()
+                            .map(|&b| Job::Block(m, b))
+                            .collect(),
+                    );
+                }
+                Err(e) => emit(Emit::Failed(e)),
+            },
+            Job::Block(m, b) => {
+                let Some(ctx) = self.ctxs[m].get() else {
+                    return;
+                };
+                // No stop inside the block: once started it is finished and journalled.
+                if let Some(r) = run_block(self.plan, ctx, b, self.observer, None) {
+                    self.observer.block_done(m, b);
+                    // The sink's record of the block made here, on the worker, not on the
+                    // sink's one thread.
+                    let record = (self.encode)(&r);
+                    let disagrees = r.cells.iter().any(crate::redo::disagrees);
+                    emit(Emit::Done(Msg::Block(r, record, disagrees)));
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -496,7 +540,7 @@ path = "t.h5"
         }
     }
 
-    /// One, two and three threads for real: the executor runs its jobs with the installed
+    /// One, two, three and sixteen threads for real: the executor runs its jobs with the installed
     /// pool's count (`executor::tests::jobs_run_with_the_threads_of_the_installed_pool`), and
     /// each run checks that its blocks were computed on a pool of that size. With a result
     /// made to depend on the worker's index (`+ rayon::current_thread_index()` on each
@@ -529,7 +573,7 @@ path = "t.h5"
         let same = |a: &BlockResult, b: &BlockResult| format!("{a:?}") == format!("{b:?}");
         let one = run(1, None);
         assert_eq!(one.blocks.len(), plan.total_blocks());
-        for threads in [2, 3] {
+        for threads in [2, 3, 16] {
             let many = run(threads, None);
             assert_eq!(one.blocks.len(), many.blocks.len());
             for (k, v) in &many.blocks {
@@ -557,6 +601,59 @@ path = "t.h5"
         .unwrap();
         assert_eq!(r.blocks, 1);
         assert!(same(&part.blocks[&(1, 2)], &one.blocks[&(1, 2)]));
+    }
+
+    /// A sink that refuses a block of a map whose cycle (and withdrawn rules) it has not
+    /// been given: what a resume relies on (the journal's cycle record before the map's
+    /// blocks).
+    #[derive(Default)]
+    struct InOrder(MemorySink);
+    impl Sink for InOrder {
+        type Error = String;
+        fn is_done(&self, map: usize, block: usize) -> bool {
+            self.0.is_done(map, block)
+        }
+        fn has_cycle(&self, map: usize) -> bool {
+            self.0.has_cycle(map)
+        }
+        fn write_cycle(&mut self, map: usize, c: Option<&CycleOutcome>) -> Result<(), String> {
+            self.0.cycles.insert(map, c.cloned());
+            Ok(())
+        }
+        fn write_block(&mut self, b: &BlockResult) -> Result<(), String> {
+            if !self.0.cycles.contains_key(&b.map) {
+                return Err(format!(
+                    "block {} of map {} before its cycle",
+                    b.block, b.map
+                ));
+            }
+            self.0.blocks.insert((b.map, b.block), b.clone());
+            Ok(())
+        }
+    }
+
+    /// Each map's blocks are added to the queue when the map is prepared (issue 35: no
+    /// barrier between one map's preparation and another's blocks), after its cycle went to
+    /// the sink: on 1, 2, 3 and 16 threads every block reaches the sink after its map's
+    /// cycle, and every block is there.
+    #[test]
+    fn a_maps_cycle_reaches_the_sink_before_its_blocks() {
+        let plan = tiny();
+        assert!(plan.maps.len() > 1);
+        for threads in [1, 2, 3, 16] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut sink = InOrder::default();
+            let stop = AtomicBool::new(false);
+            let r = pool
+                .install(|| drive(&plan, None, &mut sink, &crate::NoObserver, &stop))
+                .unwrap_or_else(|e| panic!("{threads} threads: {e}"));
+            assert!(!r.interrupted);
+            assert_eq!(sink.0.blocks.len(), plan.total_blocks());
+            assert_eq!(sink.0.cycles.len(), plan.maps.len());
+        }
     }
 
     #[test]

@@ -12,7 +12,8 @@
 //! from a job or from the sink raises `stop` too, and is returned once the jobs in flight
 //! are done (their results are not handed to a sink that has failed).
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, mpsc};
 
 /// What a job sends to the sink's thread: a result, or the error that ends the run.
@@ -31,6 +32,27 @@ pub fn execute<J, M, JE, E>(
     jobs: Vec<J>,
     stop: &AtomicBool,
     work: impl Fn(J, &dyn Fn(Emit<M, JE>)) + Sync,
+    sink: impl FnMut(M) -> Result<(), E>,
+) -> Result<(), E>
+where
+    J: Send,
+    M: Send,
+    JE: Send,
+    E: From<JE>,
+{
+    execute_growing(jobs, stop, |j, emit, _more| work(j, emit), sink)
+}
+
+/// [`execute`] where a job may add jobs to the queue (its third argument, `more`): they
+/// join the end of the queue, and threads that found the queue empty and left are called
+/// back for them. No thread ever waits for a job inside the pool (a worker blocked on
+/// another job's result can deadlock rayon, whose waiting threads run stolen work), so work
+/// that depends on a job (a map's blocks on its preparation) is added by that job when it
+/// is done, and never waits for it.
+pub fn execute_growing<J, M, JE, E>(
+    jobs: Vec<J>,
+    stop: &AtomicBool,
+    work: impl Fn(J, &dyn Fn(Emit<M, JE>), &dyn Fn(Vec<J>)) + Sync,
     mut sink: impl FnMut(M) -> Result<(), E>,
 ) -> Result<(), E>
 where
@@ -78,48 +100,109 @@ where
     failure.map_or(Ok(()), Err)
 }
 
-/// Runs `work` on every job of `jobs` on the current rayon pool, handing its results to
-/// `tx`: one shared queue, taken in the jobs' order by as many loops as the pool has
-/// threads, so the first jobs (the atlas puts its longest units first) start first and each
-/// thread takes the next job when it is free. Before, rayon split the list into contiguous
-/// halves, so the atlas's long boundary searches bunched on a few threads while the others
-/// ran out of lines. Raising `stop` hands out no further job.
-fn take_in_order<J, M, JE>(
+/// The jobs not yet taken, and how many loops ([`job_loop`]) are taking them.
+struct Queue<J> {
+    jobs: VecDeque<J>,
+    live: usize,
+}
+
+/// What every loop of one [`take_in_order`] shares.
+struct Shared<'a, J, M, JE, W> {
+    queue: Mutex<Queue<J>>,
+    threads: usize,
+    stop: &'a AtomicBool,
+    work: &'a W,
+    tx: mpsc::Sender<Emit<M, JE>>,
+}
+
+impl<J, M, JE, W> Shared<'_, J, M, JE, W> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Queue<J>> {
+        self.queue.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Runs `work` on every job of `jobs` (and every job a job adds) on the current rayon pool,
+/// handing its results to `tx`: one shared queue, taken in the jobs' order by as many loops
+/// as the pool has threads, so the first jobs (the atlas puts its longest units first) start
+/// first and each thread takes the next job when it is free. Before, rayon split the list
+/// into contiguous halves, so the atlas's long boundary searches bunched on a few threads
+/// while the others ran out of lines. Raising `stop` hands out no further job.
+fn take_in_order<J, M, JE, W>(
     jobs: Vec<J>,
     stop: &AtomicBool,
-    work: &(impl Fn(J, &dyn Fn(Emit<M, JE>)) + Sync),
+    work: &W,
     tx: mpsc::Sender<Emit<M, JE>>,
 ) where
     J: Send,
     M: Send,
     JE: Send,
+    W: Fn(J, &dyn Fn(Emit<M, JE>), &dyn Fn(Vec<J>)) + Sync,
 {
-    let queue: Vec<Mutex<Option<J>>> = jobs.into_iter().map(|j| Mutex::new(Some(j))).collect();
-    let next = AtomicUsize::new(0);
-    let (queue, next) = (&queue, &next);
+    let threads = rayon::current_num_threads();
+    let live = threads.min(jobs.len());
+    let shared = Shared {
+        queue: Mutex::new(Queue {
+            jobs: jobs.into(),
+            live,
+        }),
+        threads,
+        stop,
+        work,
+        tx,
+    };
+    let shared = &shared;
     rayon::scope(|s| {
-        for _ in 0..rayon::current_num_threads().min(queue.len()) {
-            let tx = tx.clone();
-            s.spawn(move |_| {
-                loop {
-                    if stop.load(Ordering::SeqCst) {
-                        return;
-                    }
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(job) = queue
-                        .get(i)
-                        .and_then(|j| j.lock().unwrap_or_else(|e| e.into_inner()).take())
-                    else {
-                        return;
-                    };
-                    work(job, &|m| {
-                        let _ = tx.send(m);
-                    });
-                }
-            });
+        for _ in 0..live {
+            s.spawn(move |s| job_loop(s, shared));
         }
     });
-    drop(tx);
+}
+
+/// Takes the next job from the queue until it is empty or `stop` is raised; the jobs a job
+/// adds go to the end of the queue, with a loop started for each thread that has none.
+fn job_loop<'s, J, M, JE, W>(s: &rayon::Scope<'s>, shared: &'s Shared<'s, J, M, JE, W>)
+where
+    J: Send,
+    M: Send,
+    JE: Send,
+    W: Fn(J, &dyn Fn(Emit<M, JE>), &dyn Fn(Vec<J>)) + Sync,
+{
+    loop {
+        let job = {
+            let mut q = shared.lock();
+            let next = if shared.stop.load(Ordering::SeqCst) {
+                None
+            } else {
+                q.jobs.pop_front()
+            };
+            match next {
+                Some(j) => j,
+                None => {
+                    // Leaving is decided under the lock, so a job added meanwhile sees
+                    // this loop gone and starts another.
+                    q.live -= 1;
+                    return;
+                }
+            }
+        };
+        let emit = |m| {
+            let _ = shared.tx.send(m);
+        };
+        let more = |jobs: Vec<J>| {
+            let start = {
+                let mut q = shared.lock();
+                let n = jobs.len();
+                q.jobs.extend(jobs);
+                let start = n.min(shared.threads.saturating_sub(q.live));
+                q.live += start;
+                start
+            };
+            for _ in 0..start {
+                s.spawn(move |s| job_loop(s, shared));
+            }
+        };
+        (shared.work)(job, &emit, &more);
+    }
 }
 
 #[cfg(test)]
@@ -233,5 +316,68 @@ mod tests {
         )
         .unwrap();
         assert_eq!(sunk, 0);
+    }
+    /// Jobs a job adds all run, their results reach the sink, and they run while the job
+    /// that added them is still running: job 0 adds job 1 and does not finish until job 1
+    /// has run (it gives up after 20 s), on a pool of 2 threads whose other loop had left the
+    /// empty queue. Before `execute_growing` a job could add none: a map's blocks waited
+    /// for every map's preparation.
+    #[test]
+    fn a_job_adds_jobs_that_run_beside_it() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let ran = AtomicBool::new(false);
+        let mut got = Vec::new();
+        pool.install(|| {
+            execute_growing(
+                vec![0u32],
+                &AtomicBool::new(false),
+                |j, emit: &dyn Fn(Emit<(u32, bool), ()>), more: &dyn Fn(Vec<u32>)| {
+                    if j == 0 {
+                        more(vec![1]);
+                        let until = std::time::Instant::now() + std::time::Duration::from_secs(20);
+                        while !ran.load(Ordering::SeqCst) && std::time::Instant::now() < until {
+                            std::thread::sleep(std::time::Duration::from_millis(1));
+                        }
+                        emit(Emit::Done((0, ran.load(Ordering::SeqCst))));
+                        more((2..40).collect());
+                    } else {
+                        ran.store(true, Ordering::SeqCst);
+                        emit(Emit::Done((j, true)));
+                    }
+                },
+                |m| {
+                    got.push(m);
+                    Ok::<(), ()>(())
+                },
+            )
+            .unwrap()
+        });
+        got.sort_unstable();
+        assert_eq!(got, (0..40).map(|j| (j, true)).collect::<Vec<_>>());
+    }
+
+    /// A raised stop hands out none of the jobs a job adds.
+    #[test]
+    fn a_raised_stop_hands_out_no_added_job() {
+        let stop = AtomicBool::new(false);
+        let mut sunk = Vec::new();
+        execute_growing(
+            vec![0u32],
+            &stop,
+            |j, emit: &dyn Fn(Emit<u32, ()>), more: &dyn Fn(Vec<u32>)| {
+                stop.store(true, Ordering::SeqCst);
+                more(vec![j + 1]);
+                emit(Emit::Done(j));
+            },
+            |m| {
+                sunk.push(m);
+                Ok::<(), ()>(())
+            },
+        )
+        .unwrap();
+        assert_eq!(sunk, vec![0]);
     }
 }
