@@ -61,7 +61,10 @@ where
     JE: Send,
     E: From<JE>,
 {
-    let (tx, rx) = mpsc::channel::<Emit<M, JE>>();
+    // Bounded: a worker whose result finds the channel full waits for the sink, so a sink
+    // slower than the workers (a slow disk) holds at most `in_flight` results in memory,
+    // not every finished block of the run.
+    let (tx, rx) = mpsc::sync_channel::<Emit<M, JE>>(in_flight());
     let mut failure = None;
     // The jobs are handed out from a helper thread, which is no worker of an installed pool:
     // inside one, they get a pool of its size (without, the global pool's size applied).
@@ -100,6 +103,11 @@ where
     failure.map_or(Ok(()), Err)
 }
 
+/// How many finished results may wait for the sink: four per thread of the current pool.
+pub fn in_flight() -> usize {
+    4 * rayon::current_num_threads().max(1)
+}
+
 /// The jobs not yet taken, and how many loops ([`job_loop`]) are taking them.
 struct Queue<J> {
     jobs: VecDeque<J>,
@@ -112,7 +120,7 @@ struct Shared<'a, J, M, JE, W> {
     threads: usize,
     stop: &'a AtomicBool,
     work: &'a W,
-    tx: mpsc::Sender<Emit<M, JE>>,
+    tx: mpsc::SyncSender<Emit<M, JE>>,
 }
 
 impl<J, M, JE, W> Shared<'_, J, M, JE, W> {
@@ -131,7 +139,7 @@ fn take_in_order<J, M, JE, W>(
     jobs: Vec<J>,
     stop: &AtomicBool,
     work: &W,
-    tx: mpsc::Sender<Emit<M, JE>>,
+    tx: mpsc::SyncSender<Emit<M, JE>>,
 ) where
     J: Send,
     M: Send,
@@ -379,5 +387,47 @@ mod tests {
         )
         .unwrap();
         assert_eq!(sunk, vec![0]);
+    }
+    /// The channel to the sink is bounded (issue 35): with a sink that takes 2 ms per
+    /// result and jobs that take none, the results sent and not yet sunk never exceed the
+    /// bound and the one the sink holds. With the unbounded channel of before, all 300
+    /// were sent while the sink was on its first few.
+    #[test]
+    fn a_slow_sink_holds_back_the_workers() {
+        use std::sync::atomic::AtomicUsize;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let (sent, sunk, most) = (
+            AtomicUsize::new(0),
+            AtomicUsize::new(0),
+            AtomicUsize::new(0),
+        );
+        let bound = pool.install(in_flight);
+        pool.install(|| {
+            execute(
+                (0..300u32).collect(),
+                &AtomicBool::new(false),
+                |j, emit: &dyn Fn(Emit<u32, ()>)| {
+                    emit(Emit::Done(j));
+                    let ahead =
+                        sent.fetch_add(1, Ordering::SeqCst) + 1 - sunk.load(Ordering::SeqCst);
+                    most.fetch_max(ahead, Ordering::SeqCst);
+                },
+                |_| {
+                    std::thread::sleep(std::time::Duration::from_millis(2));
+                    sunk.fetch_add(1, Ordering::SeqCst);
+                    Ok::<(), ()>(())
+                },
+            )
+            .unwrap()
+        });
+        assert_eq!(sunk.into_inner(), 300);
+        let most = most.into_inner();
+        assert!(
+            most <= bound + 1 + 2,
+            "{most} results ahead of the sink, bound {bound}"
+        );
     }
 }
