@@ -1,11 +1,12 @@
-//! The one executor: every kind of work (a scan's map blocks, an atlas's lines of points and
-//! boundary searches) runs through [`execute`].
+//! The one executor: every kind of work (a scan's map preparations and blocks, an atlas's
+//! lines of points and boundary searches) runs through [`execute`] or, where a job adds
+//! jobs (a prepared map its blocks), [`execute_growing`].
 //!
 //! Jobs run with as many threads as the caller's rayon context has: the global pool (the
 //! CLI sizes it with `--threads`), or, for a call inside `ThreadPool::install`, a pool of
 //! the same size built for the call (the calling worker waits on the sink meanwhile). Each
-//! job emits its finished results over a channel to the thread that called [`execute`],
-//! the only one that calls the sink. So the journal's
+//! job emits its finished results over a bounded channel ([`in_flight`] results) to the
+//! thread that called [`execute`], the only one that calls the sink. So the journal's
 //! writes and fsyncs stay off the workers' path, whichever engine runs (before, the atlas
 //! called its sink from the workers behind a lock). Raising `stop` hands out no further
 //! job; the jobs in flight finish and their results still reach the sink. The first error
