@@ -337,14 +337,26 @@ impl squeal_scan::Sink for AtlasWriter {
         Ok(())
     }
     fn write_block(&mut self, b: &squeal_scan::BlockResult) -> Result<(), StoreError> {
+        let record = crate::journal::framed(KIND_BLOCK, encode_block(b.map, b.block, &b.cells));
+        self.write_encoded(b, record)
+    }
+    /// The block's record, deflated on the worker that made it (as a scan's).
+    fn encode_block(b: &squeal_scan::BlockResult) -> Option<Vec<u8>> {
+        let payload = encode_block(b.map, b.block, &b.cells);
+        Some(crate::journal::framed(KIND_BLOCK, payload))
+    }
+    fn write_encoded(
+        &mut self,
+        b: &squeal_scan::BlockResult,
+        record: Vec<u8>,
+    ) -> Result<(), StoreError> {
         if !block_fits(&self.plan, b.map, b.block, b.cells.len()) {
             return Err(StoreError::BadBlock {
                 path: self.out.clone(),
                 why: format!("map {} block {} does not fit the atlas", b.map, b.block),
             });
         }
-        self.journal
-            .append(KIND_BLOCK, &encode_block(b.map, b.block, &b.cells))?;
+        self.journal.append_framed(&record)?;
         self.results
             .blocks
             .insert((b.map, b.block), b.cells.clone());

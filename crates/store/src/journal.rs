@@ -212,24 +212,20 @@ pub(crate) fn encode_block(map: usize, block: usize, cells: &[Cell]) -> Vec<u8> 
             put(&mut raw, col.kind, (col.get)(c));
         }
     }
-    let mut e = Enc(Vec::with_capacity(25 + raw.0.len() / 8));
-    e.u64(map as u64);
-    e.u64(block as u64);
-    e.u64(cells.len() as u64);
-    e.u8(BODY_DEFLATE);
-    let mut z = flate2::write::DeflateEncoder::new(e.0, flate2::Compression::fast());
+    let head = |body: u8, capacity: usize| {
+        let mut e = Enc(Vec::with_capacity(25 + capacity));
+        e.u64(map as u64);
+        e.u64(block as u64);
+        e.u64(cells.len() as u64);
+        e.u8(body);
+        e.0
+    };
+    let out = head(BODY_DEFLATE, raw.0.len() / 8);
+    let mut z = flate2::write::DeflateEncoder::new(out, flate2::Compression::fast());
     match z.write_all(&raw.0).and_then(|_| z.finish()) {
         Ok(out) => out,
         // Deflating into memory does not fail; were it to, the block is kept as it is.
-        Err(_) => {
-            let mut e = Enc(Vec::with_capacity(25 + raw.0.len()));
-            e.u64(map as u64);
-            e.u64(block as u64);
-            e.u64(cells.len() as u64);
-            e.u8(BODY_RAW);
-            e.0.extend_from_slice(&raw.0);
-            e.0
-        }
+        Err(_) => [head(BODY_RAW, 0), raw.0].concat(),
     }
 }
 
