@@ -93,9 +93,7 @@ use squeal_scan::atlas::{AtlasPlan, PointMap, Unit, UnitResult};
 use squeal_scan::ulc::CycleOutcome;
 
 use crate::error::io;
-use crate::journal::{
-    Header, Journal, KIND_BLOCK, KIND_CYCLE, KIND_UNIT, Owner, encode_block, encode_cycle,
-};
+use crate::journal::{Header, Journal, KIND_CYCLE, KIND_UNIT, Owner, block_record, encode_cycle};
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
 pub use read::{AtlasInfo, AtlasMerge, is_atlas_file, merging_atlas, read_atlas, read_atlas_info};
@@ -337,13 +335,11 @@ impl squeal_scan::Sink for AtlasWriter {
         Ok(())
     }
     fn write_block(&mut self, b: &squeal_scan::BlockResult) -> Result<(), StoreError> {
-        let record = crate::journal::framed(KIND_BLOCK, encode_block(b.map, b.block, &b.cells));
-        self.write_encoded(b, record)
+        self.write_encoded(b, block_record(b))
     }
     /// The block's record, deflated on the worker that made it (as a scan's).
     fn encode_block(b: &squeal_scan::BlockResult) -> Option<Vec<u8>> {
-        let payload = encode_block(b.map, b.block, &b.cells);
-        Some(crate::journal::framed(KIND_BLOCK, payload))
+        Some(block_record(b))
     }
     fn write_encoded(
         &mut self,

@@ -229,6 +229,12 @@ pub(crate) fn encode_block(map: usize, block: usize, cells: &[Cell]) -> Vec<u8> 
     }
 }
 
+/// A block's whole record, framed ([`framed`] of [`encode_block`]): what a scan's and an
+/// atlas's writer append, made on the worker that computed the block.
+pub(crate) fn block_record(b: &squeal_scan::BlockResult) -> Vec<u8> {
+    framed(KIND_BLOCK, encode_block(b.map, b.block, &b.cells))
+}
+
 /// `(map, block, cells)` of a block payload ([`encode_block`]); `None` for a malformed one
 /// (a body that does not inflate to exactly its cells' bytes).
 pub(crate) fn decode_block(p: &[u8]) -> Option<(usize, usize, Vec<Cell>)> {

@@ -352,13 +352,7 @@ impl ScanWriter {
 
     /// Appends the block to the journal (synced with its group of blocks).
     pub fn write_block(&mut self, b: &BlockResult) -> Result<(), StoreError> {
-        self.check_block(b)?;
-        let rec = self.journal.append(
-            journal::KIND_BLOCK,
-            &journal::encode_block(b.map, b.block, &b.cells),
-        )?;
-        self.blocks.insert((b.map, b.block), rec);
-        Ok(())
+        squeal_scan::Sink::write_encoded(self, b, journal::block_record(b))
     }
 
     /// Refuses a block that is not this shard's or does not fit the plan.
@@ -490,8 +484,7 @@ impl squeal_scan::Sink for ScanWriter {
         ScanWriter::write_block(self, block)
     }
     fn encode_block(b: &BlockResult) -> Option<Vec<u8>> {
-        let payload = journal::encode_block(b.map, b.block, &b.cells);
-        Some(journal::framed(journal::KIND_BLOCK, payload))
+        Some(journal::block_record(b))
     }
     fn write_encoded(&mut self, b: &BlockResult, record: Vec<u8>) -> Result<(), StoreError> {
         self.check_block(b)?;
