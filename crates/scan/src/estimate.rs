@@ -12,6 +12,7 @@
 use std::time::{Duration, Instant};
 
 use crate::atlas::AtlasPlan;
+use crate::atlas::driver::{Unit, UnitResult};
 use crate::driver::Pending;
 use crate::error::ScanError;
 use crate::scanner::MapContext;
@@ -471,6 +472,11 @@ pub struct AtlasEstimate {
     pub point_seconds: f64,
     /// Seconds of the one boundary unit measured (one thread; 0 without boundaries).
     pub boundary_seconds: f64,
+    /// The boundary units the pilot computed, whole: the run journals these rather than
+    /// computing them again (a unit can take minutes: the 4 x 4 chart of
+    /// `scans/atlas-lambda-nu.toml` spent 26 of its 95 s on 2 threads in the pilot's one
+    /// unit, BENCHMARKS.md, session 22).
+    pub units: Vec<UnitResult>,
     /// Seconds the pilot took (points and maps).
     pub pilot_seconds: f64,
     /// The pilot of the basin maps.
@@ -504,11 +510,13 @@ impl AtlasEstimate {
 /// middle, the first and the last), run as the atlas runs them, stopping once
 /// [`PILOT_BUDGET`] is spent (at least one); 0 without boundaries. A unit's cost varies
 /// with its crisis's coarse scan and checks far more than a point's, so it is measured,
-/// not costed in points.
-fn boundary_pilot(plan: &AtlasPlan) -> Result<f64, ScanError> {
+/// not costed in points. The units' results come back too: the same function of the same
+/// plan as the run's ([`crate::atlas::driver::run_unit`]), so the run journals them
+/// instead of computing them again.
+fn boundary_pilot(plan: &AtlasPlan) -> Result<(f64, Vec<UnitResult>), ScanError> {
     let nb = plan.n_boundaries();
     if nb == 0 {
-        return Ok(0.0);
+        return Ok((0.0, Vec::new()));
     }
     let (t0, core) = (Instant::now(), CoreShare::start());
     let mut picks = Vec::new();
@@ -517,15 +525,15 @@ fn boundary_pilot(plan: &AtlasPlan) -> Result<f64, ScanError> {
             picks.push(j);
         }
     }
-    let mut done = 0usize;
+    let mut units = Vec::new();
     for j in picks {
-        crate::atlas::driver::run_unit(plan, crate::atlas::driver::Unit::Boundary(j))?;
-        done += 1;
+        units.push(crate::atlas::driver::run_unit(plan, Unit::Boundary(j))?);
         if t0.elapsed() >= PILOT_BUDGET {
             break;
         }
     }
-    Ok(t0.elapsed().as_secs_f64() * core.share() / done as f64)
+    let seconds = t0.elapsed().as_secs_f64() * core.share() / units.len() as f64;
+    Ok((seconds, units))
 }
 
 /// Runs an atlas's pilot (single-threaded): up to [`ATLAS_PILOT_POINTS`] spread points,
@@ -547,12 +555,13 @@ pub fn atlas_pilot(plan: &AtlasPlan) -> Result<AtlasEstimate, ScanError> {
     }
     let core_share = core.share();
     let point_seconds = t0.elapsed().as_secs_f64() * core_share / points as f64;
-    let boundary_seconds = boundary_pilot(plan)?;
+    let (boundary_seconds, units) = boundary_pilot(plan)?;
     let maps = plan.map_plan().map(|mp| pilot(&mp)).transpose()?;
     Ok(AtlasEstimate {
         points,
         point_seconds,
         boundary_seconds,
+        units,
         pilot_seconds: t0.elapsed().as_secs_f64(),
         maps,
         core_share,
@@ -619,6 +628,23 @@ pub fn bounded_atlas_pilot(plan: &AtlasPlan) -> Result<Option<AtlasEstimate>, Sc
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The pilot's boundary units are the run's own: each is the unit as the atlas computes
+    /// it ([`crate::atlas::driver::run_unit`], compared field by field through `Debug`, where
+    /// NaN equals NaN), so `squeal atlas` journals them rather than computing them again.
+    #[test]
+    fn the_pilots_boundary_units_are_the_runs() {
+        let spec = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 1e-2, 5e-2]\n\
+            [cycle]\nhalf_dt = false\n[attractor]\ntransient = 10\nwindow = 10\n\
+            [boundaries]\nrtol = 1e-2\n[output]\npath = \"x.h5\"\n";
+        let plan = AtlasPlan::from_toml(spec, "x.toml").unwrap();
+        let e = atlas_pilot(&plan).unwrap();
+        assert_eq!(e.units.len(), 1, "the plan has one boundary unit");
+        for r in &e.units {
+            let again = crate::atlas::driver::run_unit(&plan, r.unit()).unwrap();
+            assert_eq!(format!("{r:?}"), format!("{again:?}"));
+        }
+    }
 
     /// A thread that waits (for the pool, here asleep) is not a thread that gets less of a
     /// core: the same 0.3 s of spinning after 0.3 s of waiting, with the wait left out and

@@ -154,7 +154,9 @@ impl Spread {
 /// ([`Fate::Stopped`]). Only later starts are stopped, so the result does not depend on the
 /// threads' timing: the first start that does not settle, and every start before it, always
 /// run to their end (stopping any other run made which start an atlas point named, and
-/// whether its operating point lasted, change from run to run).
+/// whether its operating point lasted, change from run to run). Every start after that one
+/// reads [`Fate::Stopped`] with no solver counts, also where its run ended before the stop
+/// reached it ([`after_the_first_unsettled`]): whether it did is the threads' timing.
 pub fn fates(
     setup: Setup,
     starts: &[State],
@@ -178,7 +180,26 @@ pub fn fates(
             }
             Ok(out)
         })
-        .collect()
+        .collect::<Result<Vec<_>, ScanError>>()
+        .map(|out| match until_one {
+            true => after_the_first_unsettled(out),
+            false => out,
+        })
+}
+
+/// `out` with every start after the first that did not settle (by index) read as
+/// [`Fate::Stopped`] with no solver counts. Such a start's run is stopped once that one is
+/// decided, but a short one may end first: its fate and its counts (an atlas point's
+/// `evaluations`, a boundary's runs) then depended on the threads' timing (the 4 x 4 chart
+/// of `scans/atlas-lambda-nu.toml` gave one point 6136217, 7658863 and 5322316 evaluations
+/// in three runs on 2 threads).
+fn after_the_first_unsettled(mut out: Vec<(Fate, SolverStats)>) -> Vec<(Fate, SolverStats)> {
+    if let Some(first) = out.iter().position(|(f, _)| !f.settles()) {
+        for later in &mut out[first + 1..] {
+            *later = (Fate::Stopped, SolverStats::default());
+        }
+    }
+    out
 }
 
 /// What the runs at one end of a boundary's bracket did.

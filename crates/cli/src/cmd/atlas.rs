@@ -13,6 +13,7 @@ use std::time::Instant;
 use anyhow::bail;
 use indicatif::ProgressBar;
 use squeal_scan::atlas::AtlasPlan;
+use squeal_scan::atlas::driver::UnitResult;
 use squeal_store::atlas::{AtlasResults, AtlasWriter, read_atlas};
 
 use super::common;
@@ -76,17 +77,27 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // after a 74 s pilot. A signal during the pilot ends the run saying so.
     common::prepare_output(&out)?;
     let signals = super::signals::Signals::install()?;
-    estimate(&args, &plan)?;
+    let piloted = estimate(&args, &plan)?;
     let prov = common::provenance();
-    let writer = if args.run.resume {
+    let mut writer = if args.run.resume {
         AtlasWriter::resume(&out, &plan, shard, &prov)?
     } else {
         AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
     };
-    let Some((writer, computed)) = compute(&args, &plan, shard, writer, &signals, &out, started)?
+    // The pilot's units are the run's own (the same function of the same plan): journalled,
+    // not computed again, where this run (its shard, what a resume still lacks) owns them.
+    let missing = writer.missing();
+    let mut from_pilot = 0;
+    for r in piloted.into_iter().filter(|r| missing.contains(&r.unit())) {
+        writer.record(r)?;
+        from_pilot += 1;
+    }
+    let Some((writer, mut computed)) =
+        compute(&args, &plan, shard, writer, &signals, &out, started)?
     else {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     };
+    computed.units += from_pilot;
     signals.finishing(&pics)?;
     let mut phases = super::timings::Phases::start();
     let res = crate::finish_atlas(writer)?;
@@ -197,8 +208,8 @@ fn check_pictures(pics: &[PathBuf], png: &Path, force: bool) -> anyhow::Result<(
 
 /// The work, estimated from a pilot before anything is created (printed unless quiet); over
 /// [`squeal_scan::estimate::LONG_RUN`] it needs `--allow-long`. The whole atlas is estimated, also for a
-/// shard or a resume (an upper bound then).
-fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
+/// shard or a resume (an upper bound then). Returns the units the pilot computed.
+fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<Vec<UnitResult>> {
     use squeal_scan::estimate::{atlas_documented_seconds, bounded_atlas_pilot};
     let threads = rayon::current_num_threads();
     let maps = plan.map_plan().map_or(String::new(), |mp| {
@@ -233,7 +244,10 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
             common::duration(bound)
         );
     }
-    let pilot = bounded_atlas_pilot(plan)?;
+    let mut pilot = bounded_atlas_pilot(plan)?;
+    let units = pilot
+        .as_mut()
+        .map_or_else(Vec::new, |e| std::mem::take(&mut e.units));
     let secs = pilot.as_ref().map_or(rough, |e| e.seconds(plan, threads));
     refuse(secs, "")?;
     if !args.run.quiet {
@@ -253,7 +267,7 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<()> {
             common::duration(secs),
         );
     }
-    Ok(())
+    Ok(units)
 }
 
 /// The progress bar over `total` units and map blocks (hidden when quiet or not a terminal).

@@ -133,3 +133,25 @@ fn the_gate_confirms_refutes_or_skips_the_shortcut() {
         "{d:?}"
     );
 }
+
+/// With `until_one`, every start after the first that does not settle reads stopped, with no
+/// solver counts, whatever the threads' timing. Rest at nu = 1e-3 lasts (the paper's Fig. 9;
+/// its run goes on to the horizon), and the start at the fixed point after it settles at
+/// once, long before rest's run is decided, on a pool of 2 threads. Before, that start read
+/// "settles", its counts added, whenever its run ended before the stop reached it.
+#[test]
+fn after_the_first_unsettled_start_every_start_reads_stopped() {
+    let s = paper(1e-3, 0.005);
+    let starts = [REST, s.params.fixed_point()];
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let out = pool.install(|| fates(s, &starts, 3000.0, true)).unwrap();
+    assert!(out[0].0.lasts(), "{out:?}");
+    assert_eq!(out[1], (Fate::Stopped, SolverStats::default()));
+    // Run on its own, the same start settles: the rule says stopped, not the run.
+    let alone = pool.install(|| fates(s, &starts, 3000.0, false)).unwrap();
+    assert!(alone[1].0.settles(), "{alone:?}");
+    assert!(alone[1].1.evaluations > 0, "{alone:?}");
+}
