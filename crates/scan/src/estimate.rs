@@ -473,9 +473,9 @@ pub struct AtlasEstimate {
     /// Seconds of the one boundary unit measured (one thread; 0 without boundaries).
     pub boundary_seconds: f64,
     /// The boundary units the pilot computed, whole: the run journals these rather than
-    /// computing them again (a unit can take minutes: the 4 x 4 chart of
-    /// `scans/atlas-lambda-nu.toml` spent 26 of its 95 s on 2 threads in the pilot's one
-    /// unit, BENCHMARKS.md, session 22).
+    /// computing them again (a unit can take minutes: on the 4 x 4 chart of
+    /// `scans/atlas-lambda-nu.toml` the pilot, its points stopping after about 1.5 s, took
+    /// 26 s of an 87 s run on 2 threads, BENCHMARKS.md, session 22).
     pub units: Vec<UnitResult>,
     /// Seconds the pilot took (points and maps).
     pub pilot_seconds: f64,
