@@ -196,15 +196,16 @@ def test_a_coulomb_system_in_si_units_takes_no_surfaces():
             squeal.scan(bad)
 
 
-# Slow on purpose: every cell runs to t_max = 400 (no early stop), in blocks of 2 rows:
-# some 8 s at 2 threads, so the signal lands mid-run.
+# Slow on purpose: every cell runs to t_max = 400 (no early stop), in blocks of 2 rows, so
+# the signal lands mid-run. 32 blocks: with 16, a run of `.ci/run` on 2026-12-02 saw the
+# scan end before the signal stopped it ("DID NOT RAISE KeyboardInterrupt").
 SLOW = """version = 1
 [model]
 law = "mcmillan"
 nu = 1e-2
 [grid]
 x0 = { min = -3.0, max = 5.0, count = 16 }
-v0 = { min = -4.0, max = 4.0, count = 32 }
+v0 = { min = -4.0, max = 4.0, count = 64 }
 block_rows = 2
 [classifier]
 early_stop = "none"
