@@ -44,6 +44,8 @@ enum Command {
     Classify(cmd::classify::Args),
     /// Redraw the picture of a scan file.
     Render(cmd::render::Args),
+    /// Write a self-contained interactive page (HTML) of a scan, atlas or trajectory file.
+    Report(cmd::report::Args),
     /// Print a scan file's parameters and label counts.
     Info(cmd::info::Args),
     /// Locate the unstable limit cycle (the basin boundary) as a periodic orbit.
@@ -73,6 +75,7 @@ where
         Command::Scan(a) => cmd::scan::run(a),
         Command::Classify(a) => cmd::classify::run(a),
         Command::Render(a) => cmd::render::run(a),
+        Command::Report(a) => cmd::report::run(a),
         Command::Info(a) => cmd::info::run(a),
         Command::Ulc(a) => cmd::ulc::run(a),
         Command::Critical(a) => cmd::critical::run(a),

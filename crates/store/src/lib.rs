@@ -131,6 +131,7 @@ pub mod atlas;
 mod chunks;
 mod cycle;
 mod digest;
+pub mod dump;
 mod error;
 mod h5columns;
 mod h5out;

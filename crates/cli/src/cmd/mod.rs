@@ -26,6 +26,7 @@ pub mod physical;
 pub mod pictures;
 pub mod progress;
 pub mod render;
+pub mod report;
 pub mod scan;
 pub mod scan_bars;
 pub mod scan_report;
