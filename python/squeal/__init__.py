@@ -45,6 +45,7 @@ __all__ = [
     "critical",
     "flags",
     "open",
+    "report",
     "scan",
     "trajectory",
     "ulc",
@@ -119,6 +120,25 @@ def open(path: Union[str, os.PathLike]) -> "xarray.Dataset":  # noqa: A001 (sque
         decode_timedelta=False,
     ) as ds:
         return ds.load()
+
+
+def report(
+    file: Union[str, os.PathLike],
+    out: Optional[Union[str, os.PathLike]] = None,
+    force: bool = False,
+) -> Path:
+    """Writes the self-contained interactive page of a scan, atlas or trajectory file (what
+    ``squeal report FILE.h5`` writes): one HTML file that opens offline in any browser, with
+    the maps, chart or run, the values under the pointer, and the provenance. ``out``
+    defaults to the file's name with ``.html``; an existing page is refused unless
+    ``force=True``. Returns the page's path."""
+    if not isinstance(file, (str, os.PathLike)):
+        raise TypeError(f"report(file=...): expected a path, got {type(file).__name__}")
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise TypeError(f"report(out=...): expected a path or None, got {type(out).__name__}")
+    if not isinstance(force, bool):
+        raise TypeError(f"report(force=...): expected True or False, got {force!r}")
+    return Path(_squeal.report(os.fspath(file), None if out is None else os.fspath(out), force))
 
 
 def flags(da) -> dict:

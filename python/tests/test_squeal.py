@@ -672,3 +672,27 @@ def test_the_readmes_three_lines_give_the_table_pads_squeal_in_si(capsys, monkey
         squeal.trajectory(law="table", friction_table=[(0.0, 0.48), (-0.1, 0.4)], **pad)
     with pytest.raises(ValueError, match=r"`mu_k=` = given"):
         squeal.trajectory(law="table", friction_csv="scans/data/pad-mu.csv", mu_k=0.4, **pad)
+
+
+def test_report_writes_the_same_page_as_the_cli_and_refuses_what_it_refuses(tmp_path):
+    # One small scan, its page from Python and from the command line: the same bytes (the
+    # same library writes both), beside the file by default, refused over an existing page.
+    (tmp_path / "small.toml").write_text(SMALL)
+    r = cli("scan", "small.toml", "--quiet", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    page = squeal.report(tmp_path / "small.h5")
+    assert page == tmp_path / "small.html"
+    # The page names the file as it was given: the same path from both doors.
+    r = cli("report", str(tmp_path / "small.h5"), "-o", "cli.html", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert page.read_bytes() == (tmp_path / "cli.html").read_bytes()
+    text = page.read_text()
+    assert '<script type="application/json" id="squeal-data">' in text
+    with pytest.raises(ValueError, match="force=True"):
+        squeal.report(tmp_path / "small.h5")
+    assert squeal.report(str(tmp_path / "small.h5"), out=tmp_path / "again.html", force=True).exists()
+    (tmp_path / "foreign.h5").write_bytes(b"not hdf5 at all")
+    with pytest.raises(ValueError, match="not an HDF5 file"):
+        squeal.report(tmp_path / "foreign.h5", out=tmp_path / "f.html")
+    with pytest.raises(TypeError, match="force"):
+        squeal.report(tmp_path / "small.h5", force="yes")

@@ -19,6 +19,7 @@ mod fuzz;
 mod physical_clamp;
 mod physical_outputs;
 mod plot_script;
+mod report;
 mod same_content;
 mod scan;
 mod scan_laws;

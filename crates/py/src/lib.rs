@@ -458,6 +458,24 @@ pub fn si_twin(model: &str) -> Option<(&'static str, String)> {
     squeal_scan::space::si_twin(model)
 }
 
+/// Writes the interactive page of a squeal file (`squeal report`): `out` (default: beside
+/// `file`, `.html`), refused if there without `force`; returns its path. Store refusals in
+/// Python's words (`force=True`), as every other door.
+#[pyfunction]
+#[pyo3(signature = (file, out=None, force=false))]
+pub fn report(file: PathBuf, out: Option<PathBuf>, force: bool) -> PyResult<String> {
+    match squeal_report::write(&file, out.as_deref(), force, env!("CARGO_PKG_VERSION")) {
+        Ok(p) => Ok(p.display().to_string()),
+        Err(squeal_report::ReportError::Store(e)) => Err(store_error(e)),
+        Err(squeal_report::ReportError::Exists(p)) => Err(PyValueError::new_err(format!(
+            "{} exists (pass force=True to overwrite it)",
+            p.display()
+        ))),
+        Err(e @ squeal_report::ReportError::Write { .. }) => Err(PyOSError::new_err(e.to_string())),
+        Err(e) => Err(value_error(e)),
+    }
+}
+
 /// The module `squeal._squeal`.
 #[pymodule]
 fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -470,5 +488,6 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     m.add_function(wrap_pyfunction!(si_twin, m)?)?;
+    m.add_function(wrap_pyfunction!(report, m)?)?;
     Ok(())
 }

@@ -199,7 +199,10 @@ fn encode(data: &Data, two_d: bool) -> Json {
         Data::Text(t) => return json!({"type": "text", "values": t}),
         Data::Byte(b) => ("u8", b.clone()),
         // Per-cell maps as f32 (seven digits: more than a page shows), halving the page.
-        Data::Float(f) if two_d => ("f32", f.iter().flat_map(|x| (*x as f32).to_le_bytes()).collect()),
+        Data::Float(f) if two_d => (
+            "f32",
+            f.iter().flat_map(|x| (*x as f32).to_le_bytes()).collect(),
+        ),
         Data::Float(f) => ("f64", f.iter().flat_map(|x| x.to_le_bytes()).collect()),
     };
     json!({"type": ty, "b64": base64(&deflate(&bytes))})
@@ -272,7 +275,13 @@ mod tests {
             sample_stride: 1,
             samples: Some(0),
         };
-        let p = page(&d, &Source { file: "run.h5", version: "0" });
+        let p = page(
+            &d,
+            &Source {
+                file: "run.h5",
+                version: "0",
+            },
+        );
         assert!(p.contains("Plotly Technologies") && p.contains("a <\\/script> in text"));
         assert_eq!(p.matches("</script>").count(), 3, "data, library, script");
         assert!(!FRAME.contains("src=") && !FRAME.contains("href="));

@@ -330,9 +330,9 @@ fn attrs_of(loc: &hdf5::Location) -> hdf5::Result<Vec<(String, Value)>> {
             TypeDescriptor::VarLenAscii if a.is_scalar() => {
                 Value::Text(a.read_scalar::<VarLenAscii>()?.to_string())
             }
-            TypeDescriptor::Float(_)
-            | TypeDescriptor::Integer(_)
-            | TypeDescriptor::Unsigned(_) => Value::Numbers(a.read_raw::<f64>()?),
+            TypeDescriptor::Float(_) | TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) => {
+                Value::Numbers(a.read_raw::<f64>()?)
+            }
             _ => continue,
         };
         out.push((name, v));
@@ -342,13 +342,42 @@ fn attrs_of(loc: &hdf5::Location) -> hdf5::Result<Vec<(String, Value)>> {
 
 #[cfg(test)]
 mod tests {
-    use super::every;
+    use super::{Thin, every};
+
+    /// A 1500 x 1100 map is read every third row and column (1500 / 512 rounded up): its
+    /// per-cell columns over (map, v0, x0), the grid's coordinates and their SI twins; a
+    /// trajectory of 250 000 samples every third sample; other datasets whole.
+    #[test]
+    fn big_maps_and_long_runs_are_thinned_and_nothing_else() {
+        let t = Thin {
+            map_size: Some((1500, 1100)),
+            map_stride: 1500usize.div_ceil(super::MAX_MAP_SIDE),
+            samples: None,
+            sample_stride: 1,
+        };
+        assert_eq!(t.strides("labels", &[4, 1500, 1100]), vec![1, 3, 3]);
+        assert_eq!(t.strides("x0_si", &[1100]), vec![3]);
+        assert_eq!(t.strides("v0", &[1500]), vec![3]);
+        assert_eq!(t.strides("nu", &[4]), vec![1]);
+        assert_eq!(t.strides("cycles/map_0001/x", &[1100]), vec![1]);
+        let run = Thin {
+            map_size: None,
+            map_stride: 1,
+            samples: Some(250_000),
+            sample_stride: 250_000usize.div_ceil(super::MAX_SAMPLES),
+        };
+        assert_eq!(run.strides("x_si", &[250_000]), vec![3]);
+        assert_eq!(run.strides("x_si", &[7]), vec![1]);
+    }
 
     /// Every second row and column of a 3 x 5 array: rows 0 and 2, columns 0, 2 and 4.
     #[test]
     fn every_other_row_and_column() {
         let a: Vec<u32> = (0..15).collect();
-        assert_eq!(every(a.clone(), &[3, 5], &[2, 2]), vec![0, 2, 4, 10, 12, 14]);
+        assert_eq!(
+            every(a.clone(), &[3, 5], &[2, 2]),
+            vec![0, 2, 4, 10, 12, 14]
+        );
         assert_eq!(every(a.clone(), &[3, 5], &[1, 1]), a);
         // A leading map dimension kept whole.
         let b: Vec<u32> = (0..12).collect();

@@ -68,11 +68,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     })? {
         let (plan, res, _) = read_atlas(&out)?;
         report(&args, &plan, &res, &out, Computed::default(), &pics)?;
+        super::report::after_run(&args.run, &out, args.json)?;
         return Ok(ExitCode::SUCCESS);
     }
     if !args.run.resume {
         check_pictures(&pics, &png, args.run.force)?;
     }
+    super::report::check_before(&args.run, &out)?;
     // The output's folder and lock before the pilot: an unwritable folder was found only
     // after a 74 s pilot. A signal during the pilot ends the run saying so.
     common::prepare_output(&out)?;
@@ -107,6 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     phases.end("picture");
     report(&args, &plan, &res, &out, computed, &pictures)?;
+    super::report::after_run(&args.run, &out, args.json)?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -141,6 +141,10 @@ pub struct RunArgs {
     /// Run only shard K of N (1-based): its own file, joined later by `squeal merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+    /// Also write the interactive page of the finished file beside it, OUT.html (what
+    /// `squeal report OUT.h5` writes); not for a shard (report the merged file).
+    #[arg(long, conflicts_with = "shard")]
+    pub report: bool,
 }
 
 impl RunArgs {

@@ -37,3 +37,39 @@ pub fn write(
         other => anyhow::Error::from(other),
     })
 }
+
+/// `scan --report` and `atlas --report`, before anything is computed: a page already beside
+/// the output is refused without `--force` (a resume keeps what it finds).
+pub fn check_before(run: &super::common::RunArgs, out: &std::path::Path) -> anyhow::Result<()> {
+    let page = squeal_report::default_out(out);
+    if run.report && !run.resume {
+        squeal_scan::files::refuse_non_regular(&page)?;
+        super::common::check_new(&page, run.force, "report of the run")?;
+    }
+    Ok(())
+}
+
+/// `scan --report` and `atlas --report`, once the file is finished: writes the page (a
+/// page already there is kept unless `--force`) and says where it is, on stdout (stderr
+/// beside a JSON summary, which stays one object).
+pub fn after_run(
+    run: &super::common::RunArgs,
+    out: &std::path::Path,
+    json: bool,
+) -> anyhow::Result<()> {
+    if !run.report {
+        return Ok(());
+    }
+    let page = squeal_report::default_out(out);
+    let line = if page.exists() && !run.force {
+        format!("  report: {} (kept: already there)", page.display())
+    } else {
+        format!("  report: {}", write(out, Some(&page), true)?.display())
+    };
+    if json {
+        eprintln!("{}", line.trim_start());
+    } else {
+        println!("{line}");
+    }
+    Ok(())
+}

@@ -84,6 +84,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             common::check_new(p, args.run.force, "picture of the scan")?;
         }
     }
+    super::report::check_before(&args.run, &out)?;
     common::prepare_output(&out)?;
     // The work, estimated before anything is created or computed; a signal meanwhile ends
     // the run saying so.
@@ -190,6 +191,7 @@ fn up_to_date(
         transient: &[],
     };
     report(args.json, plan, &info, tallies, pics, 0, 0.0)?;
+    super::report::after_run(&args.run, out, args.json)?;
     Ok(true)
 }
 
@@ -258,6 +260,7 @@ fn finish(
         transient: &transient,
     };
     report(args.json, plan, &info, tallies, &written, computed, secs)?;
+    super::report::after_run(&args.run, out, args.json)?;
     Ok(ExitCode::SUCCESS)
 }
 
