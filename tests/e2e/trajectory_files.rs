@@ -6,8 +6,8 @@ use crate::cli_core::{ok, squeal, tmp};
 /// README's brake (2 kg on 50 kN/m, c = 10 N s/m, 0.05 m/s belt, mu_k 0.35), started
 /// 100 um from rest.
 const BRAKE: [&str; 16] = [
-    "--m", "2", "--k", "5e4", "--c", "10", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s",
-    "0.45", "--tau-s", "1e-3", "--x0", "1e-4",
+    "--m", "2", "--k", "5e4", "--c", "10", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s", "0.45",
+    "--tau-s", "1e-3", "--x0", "1e-4",
 ];
 
 /// The brake's units (README, "Units"): one length unit is mu_k m g / k, one velocity unit
@@ -64,10 +64,24 @@ fn a_brake_trajectory_csv_is_in_si_with_units_and_a_bounded_sampling() {
     assert!(near(rows[0][6], 1e-4), "x_si at the start: {}", rows[0][6]);
     for (i, r) in rows.iter().enumerate() {
         assert_eq!(r.len(), 8, "row {i}");
-        assert!((r[0] - (12 * i) as f64 * 0.005).abs() < 1e-9, "row {i}: t {}", r[0]);
+        assert!(
+            (r[0] - (12 * i) as f64 * 0.005).abs() < 1e-9,
+            "row {i}: t {}",
+            r[0]
+        );
         assert!(near(r[5], r[0] * time), "row {i}: t_si {} t {}", r[5], r[0]);
-        assert!(near(r[6], r[1] * length), "row {i}: x_si {} x {}", r[6], r[1]);
-        assert!(near(r[7], r[2] * velocity), "row {i}: v_si {} v {}", r[7], r[2]);
+        assert!(
+            near(r[6], r[1] * length),
+            "row {i}: x_si {} x {}",
+            r[6],
+            r[1]
+        );
+        assert!(
+            near(r[7], r[2] * velocity),
+            "row {i}: v_si {} v {}",
+            r[7],
+            r[2]
+        );
     }
     // Six seconds of motion: t_end 1000 times sqrt(2 / 5e4) = 6.32 s.
     assert!((rows[16_666][5] - 999.96 * time).abs() < 1e-9);
@@ -98,15 +112,29 @@ fn a_model_trajectory_csv_states_its_units_and_an_explicit_every_wins() {
         "m.csv",
     ];
     let out = ok(squeal(dir.path(), &args));
-    assert!(out.contains("(2001 rows: one sample every 1 steps"), "{out}");
+    assert!(
+        out.contains("(2001 rows: one sample every 1 steps"),
+        "{out}"
+    );
     let (notes, header, rows) = read_csv(&dir.path().join("m.csv"));
     assert_eq!(header, "t,x,v,a,force");
     assert_eq!(rows.len(), 2001);
     let units = notes.iter().find(|n| n.starts_with("# units:")).unwrap();
-    assert!(units.contains("nondimensional") && !units.contains("_si"), "{units}");
+    assert!(
+        units.contains("nondimensional") && !units.contains("_si"),
+        "{units}"
+    );
     assert!(notes.iter().any(|n| n.ends_with("(as asked)")), "{notes:?}");
     // Without --every: 2 pi / (100 * 0.01) = 6.28, every 6th of the 2000 steps.
-    let args = ["trajectory", "--dt", "0.01", "--t-end", "20", "--out", "d.csv"];
+    let args = [
+        "trajectory",
+        "--dt",
+        "0.01",
+        "--t-end",
+        "20",
+        "--out",
+        "d.csv",
+    ];
     ok(squeal(dir.path(), &args));
     let (_, _, rows) = read_csv(&dir.path().join("d.csv"));
     assert_eq!(rows.len(), 2000 / 6 + 1);
@@ -129,7 +157,12 @@ fn a_trajectory_h5_states_its_sampling() {
             .unwrap()
             .read_scalar()
             .unwrap();
-        (every, s.as_str().to_string(), t.len(), units.as_str().to_string())
+        (
+            every,
+            s.as_str().to_string(),
+            t.len(),
+            units.as_str().to_string(),
+        )
     };
     let mut args = vec!["trajectory", "--t-end", "100", "--out", "d.h5"];
     args.extend(BRAKE);
@@ -137,7 +170,10 @@ fn a_trajectory_h5_states_its_sampling() {
     // 20 000 steps of 0.005: the start and every 12th, 1666 of them.
     let (every, sampling, n, units) = read("d.h5");
     assert_eq!((every, n, units.as_str()), (12, 1667, "m"));
-    assert!(sampling.contains("(the default: at least 100"), "{sampling}");
+    assert!(
+        sampling.contains("(the default: at least 100"),
+        "{sampling}"
+    );
     args.extend(["--every", "5"]);
     args[4] = "g.h5";
     ok(squeal(dir.path(), &args));

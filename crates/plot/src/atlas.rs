@@ -423,7 +423,8 @@ fn draw_curves(
             if r.len() == 1 {
                 c.draw_series(std::iter::once(Circle::new(r[0], 4, color.filled())))?;
             } else if dashed {
-                let dashes = plotters::element::DashedPathElement::new(r, 12, 8, color.stroke_width(3));
+                let dashes =
+                    plotters::element::DashedPathElement::new(r, 12, 8, color.stroke_width(3));
                 c.draw_series(std::iter::once(dashes))?;
             } else {
                 c.draw_series(std::iter::once(PathElement::new(r, color.stroke_width(3))))?;
@@ -591,6 +592,9 @@ mod tests {
         assert_eq!(rows, ["a"], "no contour drawn, none listed");
         assert!(!contour_segments(&xs, &ys, &crossing, 0.5).is_empty());
         let rows = names(&legend_items(&chart(&crossing)));
-        assert!(rows.iter().any(|r| r.contains("basin fraction")), "{rows:?}");
+        assert!(
+            rows.iter().any(|r| r.contains("basin fraction")),
+            "{rows:?}"
+        );
     }
 }

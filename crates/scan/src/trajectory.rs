@@ -544,7 +544,10 @@ mod tests {
         assert_eq!(every, 1001);
         assert!(100_000_000 / every < DEFAULT_MAX_SAMPLES);
         let words = Sampling::Default.words(12, 0.005);
-        assert!(words.contains("every 12 steps of dt = 0.005 (the default"), "{words}");
+        assert!(
+            words.contains("every 12 steps of dt = 0.005 (the default"),
+            "{words}"
+        );
         assert!(Sampling::Given.words(3, 0.01).ends_with("(as asked)"));
     }
 }

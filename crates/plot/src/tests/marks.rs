@@ -295,7 +295,11 @@ fn a_fold_on_the_critical_line_is_seen_on_the_atlas_chart() {
             let nu = 0.01 + 0.005 * j as f64;
             let b = BoundaryResult {
                 index: j,
-                fold: if with_fold { found(nu) } else { Boundary::none() },
+                fold: if with_fold {
+                    found(nu)
+                } else {
+                    Boundary::none()
+                },
                 critical: found(nu),
                 lifetime: Default::default(),
                 note: None,

@@ -204,10 +204,15 @@ fn a_measured_curves_default_box_is_labelled_in_its_own_units() {
     let p = AtlasPlan::from_toml(spec, "t.toml").unwrap();
     let [x, v] = p.disturbance_units();
     assert!(x.contains("units of N / k") && !x.contains("mu_k"), "{x}");
-    assert!(v.contains("units of N / sqrt(m k)") && !v.contains("mu_k"), "{v}");
+    assert!(
+        v.contains("units of N / sqrt(m k)") && !v.contains("mu_k"),
+        "{v}"
+    );
     let s = p.space.physical_at(0).unwrap().scales();
     assert!((s.velocity - 3.75).abs() < 1e-12, "{}", s.velocity);
-    let [x, v] = AtlasPlan::from_toml(PHYS, "p.toml").unwrap().disturbance_units();
+    let [x, v] = AtlasPlan::from_toml(PHYS, "p.toml")
+        .unwrap()
+        .disturbance_units();
     assert!(x.contains("units of mu_k N / k") && v.contains("mu_k N / sqrt(m k)"));
 }
 
