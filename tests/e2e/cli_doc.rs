@@ -328,3 +328,41 @@ fn the_readme_tour_prints_what_it_shows() {
         }
     }
 }
+
+/// docs/model.md and docs/atlas-spec.md said the table law had "no `[physical]` yet", while
+/// README, engineers.md and spec.md use it and `scans/brake-curve.toml` is one: an atlas of a
+/// pad on a measured curve under `[physical]`, which the parser takes. No page says "yet"
+/// of `[physical]` now.
+#[test]
+fn no_page_denies_the_table_law_its_physical_system() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("scans/brake-curve.toml");
+    let spec = std::fs::read_to_string(&path).unwrap();
+    assert!(spec.contains("law = \"table\"") && spec.contains("[physical]"));
+    let plan = squeal_scan::atlas::AtlasPlan::from_toml(&spec, &path.display().to_string())
+        .expect("a [physical] spec of the table law");
+    assert_eq!(plan.space.law, squeal_core::FrictionLaw::Table);
+    // A slice of `s` widened to whole characters (docs have non-ASCII letters).
+    let cut = |s: &str, mut a: usize, mut b: usize| -> String {
+        b = b.min(s.len());
+        while !s.is_char_boundary(a) {
+            a -= 1;
+        }
+        while !s.is_char_boundary(b) {
+            b += 1;
+        }
+        s[a..b].to_string()
+    };
+    for (page, text) in docs() {
+        let flat = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        for (at, _) in flat.match_indices("`[physical]`") {
+            let after = cut(&flat, at, at + 40);
+            let before = cut(&flat, at.saturating_sub(4), at);
+            assert!(
+                !after.contains(" yet") && !before.trim().eq_ignore_ascii_case("no"),
+                "{page}: \"{}\"",
+                cut(&flat, at.saturating_sub(60), at + 60)
+            );
+        }
+    }
+}

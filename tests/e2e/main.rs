@@ -26,3 +26,4 @@ mod scan_laws;
 mod scan_sweeps;
 mod stored_specs;
 mod table_law;
+mod trajectory_files;

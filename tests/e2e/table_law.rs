@@ -440,6 +440,17 @@ fn the_shipped_pad_atlas_stores_its_boundaries_in_si() {
         .read_raw()
         .unwrap();
     assert_eq!(s.last(), Some(&2.0));
+    // `info` labelled the default box "units of mu_k g / omega_0^2", but a measured curve
+    // has no mu_k: its units are those of the normal force (crates/core/MODEL.md section 8).
+    let (ok, info) = squeal(dir.path(), &["info", "out/brake-curve.h5"]);
+    assert!(ok, "{info}");
+    let line = |key: &str| info.lines().find(|l| l.contains(key)).unwrap_or_default();
+    let (x, v) = (line("disturbance_x_units"), line("disturbance_v_units"));
+    assert!(x.contains("units of N / k") && !x.contains("mu_k"), "{x}");
+    assert!(
+        v.contains("units of N / sqrt(m k)") && !v.contains("mu_k"),
+        "{v}"
+    );
 }
 
 /// `squeal critical` of the clamped pad on its measured curve, with the default bracket

@@ -46,6 +46,10 @@ pub struct StabilityChart<'a> {
     pub field_name: String,
     /// Curves on top (in data coordinates; NaN breaks a curve).
     pub curves: Vec<Curve>,
+    /// Curves drawn dashed on top of `curves`: a line that can lie exactly on one of them
+    /// (the fold on the critical line under true stick) shows with the other between its
+    /// dashes.
+    pub dashed: Vec<Curve>,
     /// Flagged points on top of the curves, each set with its own glyph.
     pub marks: Vec<Marks>,
 }
@@ -205,7 +209,7 @@ fn check_chart(chart: &StabilityChart<'_>) -> Result<(), PlotError> {
             });
         }
     }
-    for c in &chart.curves {
+    for c in chart.curves.iter().chain(&chart.dashed) {
         check_curve(c)?;
     }
     for m in &chart.marks {
@@ -225,6 +229,14 @@ fn check_chart(chart: &StabilityChart<'_>) -> Result<(), PlotError> {
         }
     }
     Ok(())
+}
+
+/// Whether any contour of the field is drawn: a level crossed between four neighbouring
+/// values somewhere (the segments do not depend on the axes' scale).
+fn contours_drawn(chart: &StabilityChart<'_>) -> bool {
+    chart.field.is_some_and(|f| {
+        (chart.levels.iter()).any(|&l| !contour_segments(chart.xs, chart.ys, f, l).is_empty())
+    })
 }
 
 /// The legend: the classes present (with their counts), the curves, the marks drawn and the
@@ -249,6 +261,12 @@ fn legend_items(chart: &StabilityChart<'_>) -> Vec<LegendItem> {
             dots: c.points_only,
         });
     }
+    for c in &chart.dashed {
+        items.push(LegendItem::Dashed {
+            name: c.label.clone(),
+            color: c.color,
+        });
+    }
     for m in chart
         .marks
         .iter()
@@ -260,7 +278,7 @@ fn legend_items(chart: &StabilityChart<'_>) -> Vec<LegendItem> {
             fill: m.fill,
         });
     }
-    if chart.field.is_some() && !chart.levels.is_empty() {
+    if contours_drawn(chart) {
         items.push(LegendItem::Line {
             name: "white lines, labelled:".into(),
             color: Rgb(255, 255, 255),
@@ -307,7 +325,8 @@ fn draw_plot(
         let mid = (0.5 * (xr.start + xr.end), 0.5 * (yr.start + yr.end));
         draw_contours(&mut c, chart, (us, vs, f), mid)?;
     }
-    draw_curves(&mut c, chart)?;
+    draw_curves(&mut c, chart, &chart.curves, false)?;
+    draw_curves(&mut c, chart, &chart.dashed, true)?;
     draw_marks(&mut c, chart)?;
     draw_log_ticks(area, &c, chart, (xr, yr))
 }
@@ -378,10 +397,15 @@ fn to_plane(chart: &StabilityChart<'_>, x: f64, y: f64) -> (f64, f64) {
     )
 }
 
-/// The boundary curves, each broken where a point cannot be drawn: a line per run of
-/// drawable points, a dot for a run of one.
-fn draw_curves(c: &mut Plane, chart: &StabilityChart<'_>) -> DrawResult<()> {
-    for curve in &chart.curves {
+/// The boundary curves `curves` (`dashed` or not), each broken where a point cannot be
+/// drawn: a line per run of drawable points, a dot for a run of one.
+fn draw_curves(
+    c: &mut Plane,
+    chart: &StabilityChart<'_>,
+    curves: &[Curve],
+    dashed: bool,
+) -> DrawResult<()> {
+    for curve in curves {
         let color = RGBColor(curve.color.0, curve.color.1, curve.color.2);
         let mut run: Vec<(f64, f64)> = Vec::new();
         let mut runs = Vec::new();
@@ -398,6 +422,10 @@ fn draw_curves(c: &mut Plane, chart: &StabilityChart<'_>) -> DrawResult<()> {
         for r in runs {
             if r.len() == 1 {
                 c.draw_series(std::iter::once(Circle::new(r[0], 4, color.filled())))?;
+            } else if dashed {
+                let dashes =
+                    plotters::element::DashedPathElement::new(r, 12, 8, color.stroke_width(3));
+                c.draw_series(std::iter::once(dashes))?;
             } else {
                 c.draw_series(std::iter::once(PathElement::new(r, color.stroke_width(3))))?;
             }
@@ -501,6 +529,7 @@ mod tests {
             levels: vec![0.25],
             field_name: "f".into(),
             curves: vec![],
+            dashed: vec![],
             marks: vec![],
         };
         stability_chart(&p, &chart).unwrap();
@@ -513,5 +542,59 @@ mod tests {
             stability_chart(&p, &bad),
             Err(PlotError::ShapeMismatch { .. })
         ));
+    }
+
+    /// The names of a legend's rows.
+    fn names(items: &[LegendItem]) -> Vec<String> {
+        items
+            .iter()
+            .map(|i| match i {
+                LegendItem::Swatch { name, .. }
+                | LegendItem::Line { name, .. }
+                | LegendItem::Dashed { name, .. }
+                | LegendItem::Marker { name, .. }
+                | LegendItem::Glyph { name, .. } => name.clone(),
+            })
+            .collect()
+    }
+
+    /// The legend listed "white lines, labelled: basin fraction" wherever a field was given,
+    /// though no contour is drawn where the field has no level crossing between four
+    /// neighbouring values (an atlas's bistable points alone carry it). The legend's rows are
+    /// what is drawn: the contours' only where a segment of them is.
+    #[test]
+    fn the_legend_lists_the_contours_only_where_drawn() {
+        let (xs, ys) = ([1.0, 2.0, 4.0], [0.1, 0.2]);
+        let nan = f64::NAN;
+        // Bistable points apart: no 2 x 2 block of values, so no segment at any level.
+        let apart = [0.3, nan, 0.6, nan, 0.8, nan];
+        let crossing = [0.0, 0.5, 1.0, 0.0, 0.5, 1.0];
+        let chart = |field| StabilityChart {
+            title: "t".into(),
+            subtitle: "s".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            xs: &xs,
+            ys: &ys,
+            log_x: false,
+            log_y: false,
+            classes: &[1; 6],
+            palette: vec![(1, "a", Rgb(1, 2, 3))],
+            field: Some(field),
+            levels: vec![0.25, 0.5],
+            field_name: "basin fraction".into(),
+            curves: vec![],
+            dashed: vec![],
+            marks: vec![],
+        };
+        assert!(contour_segments(&xs, &ys, &apart, 0.5).is_empty());
+        let rows = names(&legend_items(&chart(&apart)));
+        assert_eq!(rows, ["a"], "no contour drawn, none listed");
+        assert!(!contour_segments(&xs, &ys, &crossing, 0.5).is_empty());
+        let rows = names(&legend_items(&chart(&crossing)));
+        assert!(
+            rows.iter().any(|r| r.contains("basin fraction")),
+            "{rows:?}"
+        );
     }
 }

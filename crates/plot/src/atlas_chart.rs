@@ -72,7 +72,7 @@ fn stability(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), Plo
             _ => f64::NAN,
         })
         .collect();
-    let (curves, marks) = boundary_lines(plan, res, (xa, ya));
+    let (curves, dashed, marks) = boundary_lines(plan, res, (xa, ya));
     let chart = StabilityChart {
         title: title(plan, Some("stability chart")),
         subtitle: stability_subtitle(plan),
@@ -88,22 +88,24 @@ fn stability(plan: &AtlasPlan, res: &AtlasResults, png: &Path) -> Result<(), Plo
         levels: vec![0.25, 0.5, 0.75, 0.9],
         field_name: "basin fraction of steady slip".into(),
         curves,
+        dashed,
         marks,
     };
     crate::stability_chart(png, &chart)
 }
 
-/// The fold and critical lines of a stability chart over `(x, y)`, and the fold values whose
-/// bracket does not hold at dt/2 as marks. A boundary is a value of the y axis over x
-/// (bisected in the y parameter) or of the x axis over y.
+/// The critical line and the fold's error bars of a stability chart over `(x, y)`, the fold
+/// line (drawn dashed on top: under true stick it lies exactly on the critical line, which
+/// hid it), and the fold values whose bracket does not hold at dt/2 as marks. A boundary is
+/// a value of the y axis over x (bisected in the y parameter) or of the x axis over y.
 fn boundary_lines(
     plan: &AtlasPlan,
     res: &AtlasResults,
     (xa, ya): (&ParamAxis, &ParamAxis),
-) -> (Vec<Curve>, Vec<Marks>) {
+) -> (Vec<Curve>, Vec<Curve>, Vec<Marks>) {
     let (_, dpos) = plan.boundary_axis();
     if dpos.is_none() {
-        return (Vec::new(), Vec::new());
+        return (Vec::new(), Vec::new(), Vec::new());
     }
     let place = |bs: Vec<f64>| {
         if dpos == Some(0) {
@@ -113,30 +115,29 @@ fn boundary_lines(
         }
     };
     let fold = boundary_values(plan, res, |b| b.fold);
-    let mut curves = Vec::new();
-    for (label, color, bs) in [
-        (
-            "fold: above it no start squeals",
-            Rgb(0, 0, 0),
-            fold.clone(),
-        ),
-        (
-            "critical: above it the operating point is quiet",
-            Rgb(120, 0, 160),
-            boundary_values(plan, res, |b| b.critical),
-        ),
-    ] {
-        if bs.iter().any(|v| v.is_finite()) {
+    let line = |label: &str, color: Rgb, bs: Vec<f64>| {
+        bs.iter().any(|v| v.is_finite()).then(|| {
             let (xs, ys) = place(bs);
-            curves.push(Curve {
+            Curve {
                 label: label.into(),
                 xs,
                 ys,
                 color,
                 points_only: false,
-            });
-        }
-    }
+            }
+        })
+    };
+    let critical = boundary_values(plan, res, |b| b.critical);
+    let mut curves = Vec::from_iter(line(
+        "critical: above it the operating point is quiet",
+        Rgb(120, 0, 160),
+        critical,
+    ));
+    let dashed = Vec::from_iter(line(
+        "fold (dashed): above it no start squeals",
+        Rgb(0, 0, 0),
+        fold.clone(),
+    ));
     if let Some(bars) = fold_error_bars(plan, res, &fold) {
         let (xs, ys) = place(bars);
         // The bars run along the bisected axis: the other coordinate repeats each point's.
@@ -153,7 +154,7 @@ fn boundary_lines(
         });
     }
     let marks = fold_marks(res, &fold, place);
-    (curves, marks)
+    (curves, dashed, marks)
 }
 
 /// The fold values `fold` flagged by [`FOLD_FLAGS`], placed on the chart by `place`.

@@ -16,6 +16,8 @@ pub(crate) enum LegendItem {
         color: Rgb,
         dots: bool,
     },
+    /// A dashed line sample (a curve drawn dashed on top of others).
+    Dashed { name: String, color: Rgb },
     /// A marker sample.
     Marker { name: String, color: Rgb },
     /// A glyph sample: the shape filled with `fill`, outlined in black.
@@ -62,6 +64,17 @@ pub(crate) fn draw_legend(area: &Area<'_>, heading: &str, items: &[LegendItem]) 
                     area.draw(&PathElement::new(
                         vec![(x, y + 11), (x + 22, y + 11)],
                         c.stroke_width(2),
+                    ))?;
+                }
+                area.draw_text(name, &font(17), (x + 32, y + 2))?;
+                y += 34;
+            }
+            LegendItem::Dashed { name, color } => {
+                for k in 0..2 {
+                    let x0 = x + 14 * k;
+                    area.draw(&PathElement::new(
+                        vec![(x0, y + 11), (x0 + 8, y + 11)],
+                        color.color().stroke_width(3),
                     ))?;
                 }
                 area.draw_text(name, &font(17), (x + 32, y + 2))?;

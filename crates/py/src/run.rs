@@ -7,13 +7,13 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
 use pyo3::prelude::*;
-use squeal_scan::trajectory::Span;
-use squeal_store::write_run;
+use squeal_scan::trajectory::{Sampling, Span, default_every};
+use squeal_store::write_run_sampled;
 
 use crate::{interruptible, plan_of, provenance, setup_of, store_error, value_error};
 
 /// Runs map `map` of `spec` from `point = (x0, v0)`, `run = (t_end, every)`, to `t_end` and
-/// writes every `every`-th
+/// writes every `every`-th (`None`: the stride `squeal trajectory` takes without `--every`)
 /// sample (t, x, v, a, force) to the trajectory file `out` (an existing one only with
 /// `force`). Returns the classifier's
 /// `(regime, reason, t_decision, t_squeal)` (`t_squeal` as a scan stores it per cell:
@@ -27,13 +27,17 @@ pub fn trajectory(
     text: Option<&str>,
     map: usize,
     point: (f64, f64),
-    run: (f64, u64),
+    run: (f64, Option<u64>),
     out: PathBuf,
     force: bool,
 ) -> PyResult<(&'static str, &'static str, f64, f64)> {
     let (t_end, every) = run;
     let plan = plan_of(spec, text)?;
     let dt = setup_of(&plan, map)?.stepper().map_err(value_error)?.dt();
+    let (every, sampling) = match every {
+        Some(n) => (n, Sampling::Given),
+        None => (default_every(dt, t_end), Sampling::Default),
+    };
     if every == 0 {
         return Err(value_error(anyhow::anyhow!(
             "every: invalid every = 0: expected a decimation factor >= 1"
@@ -65,12 +69,12 @@ pub fn trajectory(
     })?;
     let physical = plan.physical();
     // An existing `out` is refused unless `force` (it overwrote a finished scan's file).
-    write_run(
+    write_run_sampled(
         &out,
         force,
         &provenance(),
         stepper,
-        span,
+        (span, sampling),
         &t,
         physical.as_ref(),
     )

@@ -119,6 +119,50 @@ impl Unconverged {
     }
 }
 
+/// Samples per natural period `2 pi` that a run keeps by default: a circle drawn through
+/// 100 points strays from its radius by under 0.05% (`1 - cos(pi / 100)`), and a stick-slip
+/// cycle (longer than the natural period) gets more.
+pub const SAMPLES_PER_PERIOD: f64 = 100.0;
+
+/// At most this many samples are kept by default (about 7 MB of CSV for a physical run):
+/// `every = 1` wrote every one of 200 000 steps of a six-second brake run.
+pub const DEFAULT_MAX_SAMPLES: u64 = 100_000;
+
+/// How the stride of the kept samples was chosen: given by the user (`--every N`, Python's
+/// `every=`), or by [`default_every`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// The user's stride.
+    Given,
+    /// The stride [`default_every`] chose.
+    Default,
+}
+
+impl Sampling {
+    /// The stride in words, as files and summaries state it.
+    pub fn words(self, every: u64, dt: f64) -> String {
+        let stride = format!("one sample every {every} steps of dt = {dt}");
+        match self {
+            Sampling::Given => format!("{stride} (as asked)"),
+            Sampling::Default => format!(
+                "{stride} (the default: at least {SAMPLES_PER_PERIOD} samples per natural \
+                 period 2 pi, at most {DEFAULT_MAX_SAMPLES} samples; an explicit every sets it)"
+            ),
+        }
+    }
+}
+
+/// The default stride of a run of `t_end` with steps of `dt`: the largest that keeps at
+/// least [`SAMPLES_PER_PERIOD`] samples per natural period `2 pi`, raised where the run would
+/// keep more than [`DEFAULT_MAX_SAMPLES`] (the start and every `every`-th step).
+pub fn default_every(dt: f64, t_end: f64) -> u64 {
+    let per_period = (std::f64::consts::TAU / (SAMPLES_PER_PERIOD * dt)).floor();
+    let steps = (t_end / dt).ceil();
+    let capped = (steps / (DEFAULT_MAX_SAMPLES - 1) as f64).ceil();
+    // `as` saturates: a NaN (refused before by `Span::check`) gives 0, raised to 1.
+    (per_period.max(capped) as u64).max(1)
+}
+
 /// What to run: the start, the end, and which samples to keep.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Span {
@@ -483,5 +527,27 @@ mod tests {
         })
         .unwrap_err();
         assert!(e.contains("`v` = NaN"), "{e}");
+    }
+
+    /// The default stride: at least 100 samples per period 2 pi, at most 100 000 samples.
+    #[test]
+    fn the_default_stride_suits_the_run() {
+        // dt = 0.005 (the default step): 2 pi / (100 * 0.005) = 12.57, so every 12th step,
+        // 104.7 samples per period; t_end 1000 keeps 200 000 / 12 + 1 = 16 667 samples.
+        assert_eq!(default_every(0.005, 1000.0), 12);
+        // dt = 0.01: 2 pi / 1 = 6.28, so every 6th step.
+        assert_eq!(default_every(0.01, 20.0), 6);
+        // A step longer than a hundredth of the period keeps every step.
+        assert_eq!(default_every(0.1, 20.0), 1);
+        // 1e8 steps of 0.005: the cap, ceil(1e8 / 99 999) = 1001, at most 99 901 samples.
+        let every = default_every(0.005, 5e5);
+        assert_eq!(every, 1001);
+        assert!(100_000_000 / every < DEFAULT_MAX_SAMPLES);
+        let words = Sampling::Default.words(12, 0.005);
+        assert!(
+            words.contains("every 12 steps of dt = 0.005 (the default"),
+            "{words}"
+        );
+        assert!(Sampling::Given.words(3, 0.01).ends_with("(as asked)"));
     }
 }

@@ -166,8 +166,8 @@ pub use read::{
     map_count, map_labels, read_cycle_summary, read_info, read_map,
 };
 pub use trajectory::{
-    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run, write_samples,
-    write_trajectory,
+    RunAttrs, TRAJECTORY_SCHEMA, TrajectoryInfo, read_trajectory_info, write_run,
+    write_run_sampled, write_samples, write_trajectory,
 };
 
 use assembly::{Publish, Source};

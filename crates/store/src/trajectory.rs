@@ -4,7 +4,8 @@
 //! /            attrs schema = "squeal-trajectory/1", squeal_version, git_revision, and the
 //!              run's settings (law, solver text; the law's own parameters, nu, lambda, tau,
 //!              phi or xi, v_d, mu_d, mu_sd, v_0, mu_v, then dt, x0, v0, t_end f64; every
-//!              u64; the Stribeck law adds <key>_long_name, <key>_units text and the
+//!              u64 and sampling text, the stride in words and how it was chosen (given,
+//!              or the default of squeal_scan::trajectory::default_every); the Stribeck law adds <key>_long_name, <key>_units text and the
 //!              counts stick_onsets, breakaways, slip_reversals u64; a run given as a
 //!              physical system adds physical_<key> f64 with its _long_name and _units for
 //!              m, k, c, v_belt, mu_k, mu_s, tau, g (when given or by default),
@@ -29,6 +30,7 @@ use crate::error::H5Ctx;
 use crate::h5out::{Dims, class_type, num_attr, str_attr};
 use crate::{Provenance, StoreError};
 use squeal_scan::si::Si;
+use squeal_scan::trajectory::Sampling;
 
 /// The `schema` attribute of trajectory files.
 pub const TRAJECTORY_SCHEMA: &str = "squeal-trajectory/1";
@@ -241,14 +243,8 @@ pub fn write_samples(
     )
 }
 
-/// Writes the run `traj` of `stepper` over `span` ([`squeal_scan::trajectory::run`]): its
-/// samples with the settings as root attributes (the law and its parameters, the solver, the
-/// step, the start, the end, the stride; under a law with true stick the parameters' long
-/// names and units and the counts of stick onsets, breakaways and slip reversals). One place
-/// for `squeal trajectory --out` and the Python `squeal.trajectory`. A run of a physical
-/// system (`physical`) also stores it and the SI size of one unit, as a physical scan does:
-/// the file's numbers stay nondimensional, and without these an engineer's `--x0` in metres
-/// came back as a bare number in other units.
+/// Writes the run `traj` of `stepper` over `span` ([`squeal_scan::trajectory::run`]) with
+/// the stride given by the caller: [`write_run_sampled`] with [`Sampling::Given`].
 pub fn write_run(
     path: &Path,
     force: bool,
@@ -258,16 +254,40 @@ pub fn write_run(
     traj: &squeal_scan::trajectory::Trajectory,
     physical: Option<&squeal_core::Physical>,
 ) -> Result<(), StoreError> {
+    let sampled = (span, Sampling::Given);
+    write_run_sampled(path, force, prov, stepper, sampled, traj, physical)
+}
+
+/// Writes the run `traj` of `stepper` over `span` ([`squeal_scan::trajectory::run`]): its
+/// samples with the settings as root attributes (the law and its parameters, the solver, the
+/// step, the start, the end, the stride and how it was chosen, `sampling`, in words; under a
+/// law with true stick the parameters' long names and units and the counts of stick onsets,
+/// breakaways and slip reversals). One place for `squeal trajectory --out` and the Python
+/// `squeal.trajectory`. A run of a physical system (`physical`) also stores it and the SI
+/// size of one unit, as a physical scan does, and its samples in SI units beside the
+/// model's: without these an engineer's `--x0` in metres came back as a bare number in
+/// other units.
+pub fn write_run_sampled(
+    path: &Path,
+    force: bool,
+    prov: &Provenance,
+    stepper: &squeal_core::Stepper,
+    (span, sampling): (squeal_scan::trajectory::Span, Sampling),
+    traj: &squeal_scan::trajectory::Trajectory,
+    physical: Option<&squeal_core::Physical>,
+) -> Result<(), StoreError> {
     let p = stepper.params();
     let named = p.named();
     let keys: Vec<(String, String)> = named
         .iter()
         .map(|n| (format!("{}_long_name", n.name), format!("{}_units", n.name)))
         .collect();
+    let sampling = sampling.words(span.every, stepper.dt());
     let mut text = vec![
         ("law", p.kind().name()),
         ("solver", stepper.solver().kind.name()),
         ("scheme", stepper.scheme().name()),
+        ("sampling", sampling.as_str()),
     ];
     if traj.stick.is_some() {
         for ((long, units), n) in keys.iter().zip(&named) {
@@ -284,17 +304,7 @@ pub fn write_run(
     ]);
     // The lasting oscillation the run ended on, if the turn watch identified one: its
     // figures in the model's units, and in SI beside them for a physical system.
-    let lasting = traj.lasting.map(|l| lasting_figures(&l));
-    let scales = physical.map(|ph| ph.scales());
-    let mut si_names = Vec::new();
-    if let Some(figures) = &lasting {
-        for &(name, si, value) in figures {
-            numbers.push((name, value));
-            if let Some(sc) = &scales {
-                si_names.push((format!("{name}_si"), si.convert(value, sc), si.units()));
-            }
-        }
-    }
+    let si_names = lasting_attrs(traj, physical, &mut numbers);
     let si_units: Vec<String> = si_names
         .iter()
         .map(|(n, ..)| format!("{n}_units"))
@@ -319,4 +329,24 @@ pub fn write_run(
         table: p.law.table(),
     };
     write_samples(path, force, prov, &attrs, &traj.samples)
+}
+
+/// The figures of the run's lasting oscillation, if any, pushed onto `numbers`; their SI
+/// twins (name, value, units) for a physical system returned.
+fn lasting_attrs(
+    traj: &squeal_scan::trajectory::Trajectory,
+    physical: Option<&squeal_core::Physical>,
+    numbers: &mut Vec<(&str, f64)>,
+) -> Vec<(String, f64, &'static str)> {
+    let scales = physical.map(|ph| ph.scales());
+    let mut si_names = Vec::new();
+    if let Some(l) = &traj.lasting {
+        for (name, si, value) in lasting_figures(l) {
+            numbers.push((name, value));
+            if let Some(sc) = &scales {
+                si_names.push((format!("{name}_si"), si.convert(value, sc), si.units()));
+            }
+        }
+    }
+    si_names
 }

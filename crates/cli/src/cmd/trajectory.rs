@@ -17,7 +17,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use squeal_core::{State, Stepper};
-use squeal_scan::trajectory::Span;
+use squeal_scan::trajectory::{Sampling, Span, default_every};
 
 use super::model::ModelArgs;
 use super::out_files::{refuse_existing, write_csv};
@@ -39,18 +39,16 @@ pub struct Args {
     /// End time of the run (nondimensional; the unforced period is 2 pi).
     #[arg(long, default_value_t = 1000.0, allow_negative_numbers = true)]
     t_end: f64,
-    /// Write the samples to FILE: .csv (header t,x,v,a,force) or .h5 (datasets t, x, v, a,
-    /// force with the parameters as attributes).
+    /// Write the samples to FILE: .csv (`#` lines with each column's units and the sampling,
+    /// then the header t,x,v,a,force, and t_si,x_si,v_si in s, m, m/s for a physical system)
+    /// or .h5 (datasets t, x, v, a, force, and t_si, x_si, v_si for a physical system, each
+    /// with its units; the parameters and the sampling as attributes).
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
-    /// Write every N-th sample to --out and --plot (the first sample is always written).
-    #[arg(
-        long,
-        value_name = "N",
-        default_value_t = 1,
-        allow_negative_numbers = true
-    )]
-    every: u64,
+    /// Write every N-th step to --out and --plot (the first sample is always written).
+    /// Default: at least 100 samples per natural period 2 pi, at most 100000 in all.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    every: Option<u64>,
     /// Draw the phase plane (x against x') with the fixed point marked to FILE.png.
     #[arg(long, value_name = "FILE")]
     plot: Option<PathBuf>,
@@ -70,8 +68,17 @@ enum Format {
 }
 
 /// Runs `squeal trajectory`.
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub fn run(mut args: Args) -> anyhow::Result<ExitCode> {
     let stepper = args.model.stepper()?;
+    // The stride: `--every N` as given, else one that suits the run (a bounded number of
+    // samples per natural period and in all): every step wrote 46 MB for a six-second run.
+    let sampling = match args.every {
+        Some(_) => Sampling::Given,
+        None => Sampling::Default,
+    };
+    let every = *args
+        .every
+        .get_or_insert_with(|| default_every(stepper.dt(), args.t_end));
     // A physical system: --x0/--v0 are in m and m/s.
     let physical = args.model.physical()?;
     let scales = physical.map(|ph| ph.scales());
@@ -84,7 +91,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let span = Span {
         ic,
         t_end: args.t_end,
-        every: if keep { args.every } else { 0 },
+        every: if keep { every } else { 0 },
     };
     // The map's context (its section searched once, as `squeal classify` prepares it), so
     // the label is the one every path gives this start.
@@ -94,7 +101,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let fp = t.fixed_point;
     let cols = &t.samples;
 
-    write_outputs(&args, &stepper, (format, span), &t)?;
+    write_outputs(&args, &stepper, (format, span, sampling), &t)?;
 
     let summary = Summary {
         squeal_version: env!("CARGO_PKG_VERSION"),
@@ -115,6 +122,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         rows: if keep { cols.len() as u64 } else { 0 },
         out: args.out.clone(),
         plot: args.plot.clone(),
+        sampling: keep.then(|| sampling.words(every, stepper.dt())),
         si: None,
     };
     let mut summary = summary;
@@ -147,18 +155,19 @@ fn checked_outputs(
     // The library's checks of a run (the Python `squeal.trajectory` makes the same), the
     // start in the model's units: `--x0 1e6` metres was 7e9 units for a 2 kg brake.
     let inv = super::physical::start_invalid("command line".into(), physical);
+    let every = args.every.unwrap_or(1);
     let span = Span {
         ic,
         t_end: args.t_end,
-        every: args.every,
+        every,
     };
     span.check(stepper.dt(), ["--x0", "--v0", "--t-end"], &inv)?;
-    if args.every == 0 {
+    if every == 0 {
         bail!("--every: invalid every = 0: expected a decimation factor >= 1");
     }
     let steps = (args.t_end / stepper.dt()).ceil() as u64;
     let keep = args.out.is_some() || args.plot.is_some();
-    let rows = steps / args.every + 1;
+    let rows = steps / every + 1;
     if keep && rows > MAX_ROWS {
         bail!(
             "--every: {rows} samples would be kept for --out/--plot (at most {MAX_ROWS}): \
@@ -189,24 +198,34 @@ fn checked_outputs(
 fn write_outputs(
     args: &Args,
     stepper: &Stepper,
-    (format, span): (Option<Format>, Span),
+    (format, span, sampling): (Option<Format>, Span, Sampling),
     t: &squeal_scan::trajectory::Trajectory,
 ) -> anyhow::Result<()> {
     let cols = &t.samples;
     if let (Some(path), Some(format)) = (&args.out, format) {
+        let every = args.every.unwrap_or(1);
+        let physical = args.model.physical()?;
         let written = match format {
-            Format::Csv => write_csv(path, cols, args.force),
-            Format::Hdf5 => squeal_store::write_run(
+            Format::Csv => {
+                let notes = [
+                    format!(
+                        "squeal {} trajectory, law {}",
+                        env!("CARGO_PKG_VERSION"),
+                        stepper.params().kind().name()
+                    ),
+                    format!("sampling: {}", sampling.words(every, stepper.dt())),
+                ];
+                let scales = physical.as_ref().map(|ph| ph.scales());
+                write_csv(path, cols, args.force, (&notes, scales.as_ref()))
+            }
+            Format::Hdf5 => squeal_store::write_run_sampled(
                 path,
                 args.force,
                 &super::common::provenance(),
                 stepper,
-                Span {
-                    every: args.every,
-                    ..span
-                },
+                (Span { every, ..span }, sampling),
                 t,
-                args.model.physical()?.as_ref(),
+                physical.as_ref(),
             )
             .map_err(anyhow::Error::from),
         };
@@ -244,7 +263,7 @@ fn run_params(args: &Args, stepper: &Stepper) -> RunParams {
         x0: args.x0,
         v0: args.v0,
         t_end: args.t_end,
-        every: args.every,
+        every: args.every.unwrap_or(1),
     }
 }
 

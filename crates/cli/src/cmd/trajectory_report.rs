@@ -123,6 +123,8 @@ pub(super) struct Summary {
     pub(super) rules_withdrawn: Vec<String>,
     /// Rows written to `--out` (and drawn, before any further decimation, in `--plot`).
     pub(super) rows: u64,
+    /// The stride of the rows kept and how it was chosen, in words (`null`: none kept).
+    pub(super) sampling: Option<String>,
     pub(super) out: Option<PathBuf>,
     pub(super) plot: Option<PathBuf>,
     /// A physical system (`--m ...`): the start, the end and the oscillation in SI units.
@@ -219,7 +221,8 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     }
     print_solver(s, kind);
     if let Some(out) = &s.out {
-        println!("wrote {} ({} rows)", out.display(), s.rows);
+        let how = s.sampling.as_deref().unwrap_or_default();
+        println!("wrote {} ({} rows: {how})", out.display(), s.rows);
     }
     if let Some(plot) = &s.plot {
         println!("wrote {}", plot.display());

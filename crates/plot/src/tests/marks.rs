@@ -149,6 +149,7 @@ fn stability_chart_marks_are_glyphs_apart_from_the_line() {
         levels: vec![],
         field_name: String::new(),
         curves: vec![fold],
+        dashed: vec![],
         marks: vec![Marks {
             label: "fold: bracket moves at dt/2".into(),
             xs: vec![f64::NAN, 2.0, 3.0, f64::NAN],
@@ -259,4 +260,72 @@ fn values_without_a_cycle_are_grouped_by_what_the_map_found() {
     assert_eq!(of(Glyph::Diamond), Some(vec![2.2]));
     assert!(gaps[0].label.contains("every start squeals"));
     assert!(gaps[1].label.contains("no start squeals"));
+}
+
+/// Under true stick the fold and the critical line coincide, and the fold (black) was drawn
+/// under the critical line (purple) at the same width: not one black pixel of it showed.
+/// Now the fold is drawn dashed on top: in the plot (the left 900 px) a chart whose fold
+/// lies on its critical line has black pixels that the same chart without the fold lacks,
+/// and the critical line's purple still shows between the dashes.
+#[test]
+fn a_fold_on_the_critical_line_is_seen_on_the_atlas_chart() {
+    use squeal_scan::atlas::driver::{BoundaryResult, UnitResult};
+    use squeal_scan::atlas::{AtlasPlan, AtlasResults, Boundary, BoundaryStatus};
+    let plan = AtlasPlan::from_toml(
+        "version = 1\nname = \"same\"\n[model]\nlaw = \"mcmillan\"\n\
+         nu = { from = 1e-3, to = 0.05, count = 4, spacing = \"log\" }\n\
+         lambda = { from = 1.0, to = 4.0, count = 3 }\n[output]\npath = \"same.h5\"\n",
+        "same.toml",
+    )
+    .unwrap();
+    let (black, purple) = (Rgb(0, 0, 0), Rgb(120, 0, 160));
+    let found = |nu: f64| Boundary {
+        status: BoundaryStatus::Found,
+        nu,
+        bracket: [nu - 1e-4, nu + 1e-4],
+        evaluations: 10,
+        half_dt_holds: Some(true),
+        uncertainty: f64::NAN,
+        changes: 1,
+    };
+    let draw = |with_fold: bool| {
+        let mut res = AtlasResults::new(&plan);
+        for j in 0..plan.n_boundaries() {
+            // The same value for both, as under true stick: the fold is the critical value.
+            let nu = 0.01 + 0.005 * j as f64;
+            let b = BoundaryResult {
+                index: j,
+                fold: if with_fold {
+                    found(nu)
+                } else {
+                    Boundary::none()
+                },
+                critical: found(nu),
+                lifetime: Default::default(),
+                note: None,
+            };
+            res.add(&plan, UnitResult::Boundary(b));
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("same.png");
+        atlas_chart(&plan, &res, &p).unwrap();
+        let pic = decode(&p, (1300, 900));
+        let in_plot = |c: Rgb| {
+            (0..pic.height)
+                .flat_map(|y| (0..900).map(move |x| (x, y)))
+                .filter(|&(x, y)| pic.pixel(x, y) == c)
+                .count()
+        };
+        (in_plot(black), in_plot(purple))
+    };
+    let ((black_both, purple_both), (black_alone, purple_alone)) = (draw(true), draw(false));
+    assert!(purple_alone > 300, "the critical line: {purple_alone} px");
+    assert!(
+        black_both > black_alone + 100,
+        "the fold's black on the critical line: {black_both} px against {black_alone} without it"
+    );
+    assert!(
+        purple_both > purple_alone / 4,
+        "the critical line between the fold's dashes: {purple_both} of {purple_alone} px"
+    );
 }

@@ -371,14 +371,24 @@ impl AtlasPlan {
     }
 
     /// The units of the disturbance box (`[disturbance]`, stored as `disturbance_x`,
-    /// `disturbance_v`), in words.
+    /// `disturbance_v`), in words. The default box of a physical plan is in the model's
+    /// units at each point: of `mu_k N` (`N` the normal force, `m g` without one), or of
+    /// `N` for a measured curve, which has no `mu_k` (crates/core/MODEL.md section 8).
     pub fn disturbance_units(&self) -> [&'static str; 2] {
+        let curve = self.space.law.family().in_normal_load();
         if self.space.units == Units::Physical && !self.disturbance_nondimensional {
             ["m", "m/s"]
+        } else if self.space.units == Units::Physical && curve {
+            [
+                "1 (the default box, nondimensional at each point: units of N / k, N the \
+                 normal force, m g without one)",
+                "1 (the default box, nondimensional at each point: units of N / sqrt(m k))",
+            ]
         } else if self.space.units == Units::Physical {
             [
-                "1 (the default box, nondimensional at each point: units of mu_k g / omega_0^2)",
-                "1 (the default box, nondimensional at each point: units of mu_k g / omega_0)",
+                "1 (the default box, nondimensional at each point: units of mu_k N / k, N \
+                 the normal force, m g without one)",
+                "1 (the default box, nondimensional at each point: units of mu_k N / sqrt(m k))",
             ]
         } else {
             ["1", "1"]

@@ -190,6 +190,32 @@ fn physical_default_disturbance_scales_with_the_system() {
     assert_eq!(p.disturbance_units(), ["m", "m/s"]);
 }
 
+/// `info` labelled a measured curve's default box "in units of mu_k g / omega_0^2", but the
+/// table law has no mu_k: it is written in the normal force, one length unit N / k and one
+/// velocity unit N / sqrt(m k) (crates/core/MODEL.md section 8; scans/brake-curve.toml:
+/// 1500 N / sqrt(0.8 * 2e5) = 3.75 m/s). The laws with mu_k keep it in theirs.
+#[test]
+fn a_measured_curves_default_box_is_labelled_in_its_own_units() {
+    let spec = "version = 1\nname = \"t\"\n[model]\nlaw = \"table\"\n[physical]\nm = 0.8\n\
+                k = 2.0e5\nc = { from = 10.0, to = 400.0, count = 3, spacing = \"log\" }\n\
+                v_belt = 0.3\nnormal_force = 1500.0\n\
+                friction_table = [[0.0, 0.6], [0.1, 0.5], [1.0, 0.45]]\n\
+                [output]\npath = \"t.h5\"\n";
+    let p = AtlasPlan::from_toml(spec, "t.toml").unwrap();
+    let [x, v] = p.disturbance_units();
+    assert!(x.contains("units of N / k") && !x.contains("mu_k"), "{x}");
+    assert!(
+        v.contains("units of N / sqrt(m k)") && !v.contains("mu_k"),
+        "{v}"
+    );
+    let s = p.space.physical_at(0).unwrap().scales();
+    assert!((s.velocity - 3.75).abs() < 1e-12, "{}", s.velocity);
+    let [x, v] = AtlasPlan::from_toml(PHYS, "p.toml")
+        .unwrap()
+        .disturbance_units();
+    assert!(x.contains("units of mu_k N / k") && v.contains("mu_k N / sqrt(m k)"));
+}
+
 #[test]
 fn bad_specs_name_the_key() {
     let cases: Vec<(String, &str)> = vec![
