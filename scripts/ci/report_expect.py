@@ -37,9 +37,10 @@ def main(d):
     d = Path(d)
     out = {}
     with h5py.File(d / "scan.h5", "r") as f:
-        # The state at rest (Fig. 9: it squeals) and a start just beside the fixed point (1, 0).
+        # A start just beside the fixed point (1, 0), then the state at rest (Fig. 9: it
+        # squeals; the screenshot shows the oscillation it reaches).
         out["scan"] = {"report": str(d / "scan.html"),
-                       "cells": [cell(f, "labels", 0, 0.0, 0.0, False), cell(f, "labels", 0, 1.05, 0.05, False)]}
+                       "cells": [cell(f, "labels", 0, 1.05, 0.05, False), cell(f, "labels", 0, 0.0, 0.0, False)]}
     with h5py.File(d / "sweep.h5", "r") as f:
         lu, vu = float(f.attrs["length_unit"]), float(f.attrs["velocity_unit"])
         c = float(f["c"][2])

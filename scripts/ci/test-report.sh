@@ -35,8 +35,8 @@ sed -e 's/count = 64/count = 24/g' -e 's/count = 6,/count = 3,/' -e 's#^path = .
     scans/atlas-maps.toml > "$work/atlas.toml"
 (
     cd "$work"
-    "$squeal" scan scan.toml >/dev/null
-    "$squeal" scan sweep.toml >/dev/null
+    "$squeal" scan scan.toml --quiet >/dev/null
+    "$squeal" scan sweep.toml --quiet >/dev/null
     "$squeal" atlas atlas.toml --quiet --no-render >/dev/null
     "$squeal" trajectory --m 0.8 --k 2e5 --c 20 --v-belt 0.3 --mu-k 0.38 --mu-s 0.48 --tau-s 5e-4 \
         --normal-force 1500 --t-end 300 --out trajectory.h5 >/dev/null
