@@ -14,8 +14,11 @@ pub fn provenance() -> squeal_store::Provenance {
     }
 }
 
-/// Refuses to overwrite `path` unless `force`.
+/// Refuses to overwrite `path` unless `force`, and anything but a regular file there even
+/// with `force` (a FIFO at a picture's or the labels' path blocked the run for ever).
 pub fn check_new(path: &Path, force: bool, what: &str) -> anyhow::Result<()> {
+    squeal_scan::files::refuse_non_regular(path)
+        .map_err(|e| anyhow::anyhow!("cannot write the {what} there: {e}"))?;
     if path.exists() && !force {
         bail!(
             "refusing to overwrite {} ({what}): use --force",

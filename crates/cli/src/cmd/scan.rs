@@ -90,12 +90,21 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let signals = super::signals::Signals::install()?;
     let threads = rayon::current_num_threads();
     let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default());
-    let pilot = checked_estimate(&args, &plan, &owned, threads)?;
     let prov = common::provenance();
-    let mut writer = if args.run.resume {
-        ScanWriter::resume(&out, &plan, shard, &prov)?
-    } else {
-        ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?
+    // A resume reads its journal before any pilot: with every block journalled (a run
+    // stopped while its file was written) the pilot timed work that was not to be done.
+    let resumed = match args.run.resume {
+        true => Some(ScanWriter::resume(&out, &plan, shard, &prov)?),
+        false => None,
+    };
+    let left = resumed.as_ref().map(|w| Pending::of(&plan, shard, w).cells);
+    let pilot = match left {
+        Some(0) => None,
+        _ => checked_estimate(&args, &plan, &owned, threads)?,
+    };
+    let mut writer = match resumed {
+        Some(w) => w,
+        None => ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?,
     };
     signals.computing("blocks");
     let plan = writer.plan().clone();
@@ -104,7 +113,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
 
     let pending = Pending::of(&plan, shard, &writer);
-    if !args.run.quiet {
+    if !args.run.quiet && pending.cells == 0 {
+        eprintln!(
+            "squeal: every block of {} is journalled: writing the file (no pilot)",
+            out.display()
+        );
+    } else if !args.run.quiet {
         announce(&plan, pilot.as_ref(), &pending, (shard, threads));
     }
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
@@ -127,7 +141,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     act_on_audits(&plan, shard, &mut writer, &done.computed)?;
     phases.end("redo");
-    signals.finishing(&may_draw(&pics))?;
+    signals.finishing(&out, &may_draw(&pics))?;
     finish(
         (&args, &signals, phases),
         &plan,
