@@ -48,13 +48,20 @@ fn mkfifo(p: &Path) -> bool {
 /// `args` run in `dir` is refused (code 2, no panic) within [`LIMIT`], its message holding
 /// every one of `needles`; the seconds it took.
 fn refused(dir: &Path, args: &[&str], needles: &[&str]) -> f64 {
-    let (o, secs) =
-        squeal_within(dir, args).unwrap_or_else(|| panic!("blocked (killed after {LIMIT:?}): {args:?}"));
+    let (o, secs) = squeal_within(dir, args)
+        .unwrap_or_else(|| panic!("blocked (killed after {LIMIT:?}): {args:?}"));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{args:?} should fail with code 2: {err}");
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{args:?} should fail with code 2: {err}"
+    );
     assert!(!err.contains("panicked"), "{args:?}: panic: {err}");
     for n in needles {
-        assert!(err.contains(n), "{args:?}: the message should hold {n:?}: {err}");
+        assert!(
+            err.contains(n),
+            "{args:?}: the message should hold {n:?}: {err}"
+        );
     }
     secs
 }
@@ -66,7 +73,11 @@ fn good_scan(dir: &Path) {
          [classifier]\nt_max = 500.0\n[output]\npath = \"good.h5\"\n";
     std::fs::write(dir.join("good.toml"), spec).unwrap();
     let (o, _) = squeal_within(dir, &["scan", "good.toml", "--quiet"]).expect("the tiny scan ends");
-    assert!(dir.join("good.h5").is_file(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        dir.join("good.h5").is_file(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 /// Every output path of `classify`, `trajectory`, `ulc`, `render` and `friction` given a
@@ -85,25 +96,56 @@ fn a_fifo_at_any_commands_path_is_refused_naming_what_it_is() {
     good_scan(dir);
     std::fs::create_dir(dir.join("fr")).unwrap();
     let fifo = "a FIFO (named pipe), not a regular file";
-    let cases: [(&str, &[&str], &str); 8] = [
-        ("in.csv", &["classify", "--ics", "in.csv", "--out", "l.csv"], "--ics"),
-        ("l.csv", &["classify", "--ics", "ics.csv", "--out", "l.csv"], "--out"),
-        ("t.csv", &["trajectory", "--t-end", "10", "--out", "t.csv"], "--out"),
-        ("t.h5", &["trajectory", "--t-end", "10", "--out", "t.h5"], "--out"),
-        ("t.png", &["trajectory", "--t-end", "10", "--plot", "t.png"], "--plot"),
-        ("u.png", &["ulc", "--plot", "u.png"], "--plot"),
-        ("r.png", &["render", "good.h5", "-o", "r.png"], "-o"),
+    // The command line, the path made a FIFO, the flag named ("" where the path is not a
+    // flag's), and whether `--force` is tried too.
+    let cases: [(&str, &[&str], &str, bool); 9] = [
+        (
+            "in.csv",
+            &["classify", "--ics", "in.csv", "--out", "l.csv"],
+            "--ics",
+            true,
+        ),
+        (
+            "l.csv",
+            &["classify", "--ics", "ics.csv", "--out", "l.csv"],
+            "--out",
+            true,
+        ),
+        (
+            "t.csv",
+            &["trajectory", "--t-end", "10", "--out", "t.csv"],
+            "--out",
+            true,
+        ),
+        (
+            "t.h5",
+            &["trajectory", "--t-end", "10", "--out", "t.h5"],
+            "--out",
+            true,
+        ),
+        (
+            "t.png",
+            &["trajectory", "--t-end", "10", "--plot", "t.png"],
+            "--plot",
+            true,
+        ),
+        ("u.png", &["ulc", "--plot", "u.png"], "--plot", true),
+        ("r.png", &["render", "good.h5", "-o", "r.png"], "-o", true),
         (
             "fr/fig6_loop_w200.png",
             &["friction", "--out-dir", "fr"],
             "--out-dir",
+            true,
         ),
+        // A resume draws its picture at the end: the FIFO was met after the whole run.
+        ("good.png", &["scan", "good.toml", "--resume"], "", false),
     ];
-    for (name, args, flag) in cases {
+    for (name, args, flag, force) in cases {
         let p = dir.join(name);
+        let _ = std::fs::remove_file(&p);
         assert!(mkfifo(&p));
         let forced: Vec<&str> = args.iter().copied().chain(["--force"]).collect();
-        for a in [args, &forced[..]] {
+        for a in [args, &forced[..]].into_iter().take(1 + usize::from(force)) {
             refused(dir, a, &[flag, name, fifo]);
         }
         std::fs::remove_file(&p).unwrap();
@@ -130,7 +172,10 @@ fn a_device_as_the_initial_conditions_is_refused_at_once() {
     let secs = refused(
         d.path(),
         &["classify", "--ics", "/dev/zero", "--out", "l.csv"],
-        &["--ics", "/dev/zero is a character device, not a regular file"],
+        &[
+            "--ics",
+            "/dev/zero is a character device, not a regular file",
+        ],
     );
     eprintln!("refused in {secs:.2} s");
     assert!(!d.path().join("l.csv").exists());

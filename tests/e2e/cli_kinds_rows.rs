@@ -33,8 +33,14 @@ fn refused(o: &Output, needles: &[&str]) -> String {
 fn an_initial_conditions_row_of_extra_values_is_refused_naming_the_line() {
     let d = tempfile::tempdir().unwrap();
     std::fs::write(d.path().join("ics.csv"), "x0,v0\n0.5,0.0\n0,0,0\n").unwrap();
-    let o = squeal(d.path(), &["classify", "--ics", "ics.csv", "--out", "l.csv"]);
-    refused(&o, &["ics.csv:3", "`0,0,0` holds 3 value(s)", "`x0,v0` names 2"]);
+    let o = squeal(
+        d.path(),
+        &["classify", "--ics", "ics.csv", "--out", "l.csv"],
+    );
+    refused(
+        &o,
+        &["ics.csv:3", "`0,0,0` holds 3 value(s)", "`x0,v0` names 2"],
+    );
     assert!(!d.path().join("l.csv").exists());
 }
 
@@ -87,8 +93,15 @@ fn info_writes_huge_and_tiny_numbers_compactly() {
     let o = squeal(
         dir,
         &[
-            "trajectory", "--law", "table", "--friction-csv", "pad.csv", "--t-end", "10",
-            "--out", "t.h5",
+            "trajectory",
+            "--law",
+            "table",
+            "--friction-csv",
+            "pad.csv",
+            "--t-end",
+            "10",
+            "--out",
+            "t.h5",
         ],
     );
     assert!(o.status.success(), "{}", stderr(&o));

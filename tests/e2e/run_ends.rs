@@ -129,11 +129,25 @@ fn two_sigterms_while_the_data_file_is_written_let_it_be_written() {
         let said = said.join("\n");
         let out = format!("{name}.h5");
         assert_eq!(code, Some(130), "{cmd}: {said}");
-        assert!(said.contains(&format!("still writing the data file {out}")), "{cmd}: {said}");
-        assert!(said.contains(&format!("the data file {out} is complete")), "{cmd}: {said}");
+        assert!(
+            said.contains(&format!("still writing the data file {out}")),
+            "{cmd}: {said}"
+        );
+        assert!(
+            said.contains(&format!("the data file {out} is complete")),
+            "{cmd}: {said}"
+        );
         assert_eq!(leftovers(dir, &out), Vec::<String>::new(), "{cmd}: {said}");
-        let info = Command::new(BIN).args(["info", &out]).current_dir(dir).output().unwrap();
-        assert!(info.status.success(), "{cmd}: {}", String::from_utf8_lossy(&info.stderr));
+        let info = Command::new(BIN)
+            .args(["info", &out])
+            .current_dir(dir)
+            .output()
+            .unwrap();
+        assert!(
+            info.status.success(),
+            "{cmd}: {}",
+            String::from_utf8_lossy(&info.stderr)
+        );
     }
 }
 
@@ -164,7 +178,10 @@ fn a_resume_with_nothing_left_runs_no_pilot() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success(), "{cmd}: {err}");
         assert!(!err.contains("pilot of"), "{cmd} ran a pilot: {err}");
-        assert!(err.contains(&format!("{what}")) && err.contains("(no pilot)"), "{cmd}: {err}");
+        assert!(
+            err.contains(&format!("{what}")) && err.contains("(no pilot)"),
+            "{cmd}: {err}"
+        );
         assert!(dir.join(&out).is_file() && leftovers(dir, &out).is_empty());
     }
 }

@@ -28,8 +28,9 @@ fn tiny_scan(csv: Option<&str>) -> String {
     )
 }
 
-/// An atlas of one point written to `out.h5`.
-const TINY_ATLAS: &str = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = 1e-2\n[boundaries]\n\
+/// An atlas of two points (a chart: a FIFO at `out.png` is a path it writes), written to
+/// `out.h5`.
+const TINY_ATLAS: &str = "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 1e-2]\n[boundaries]\n\
     fold = false\ncritical = false\n[output]\npath = \"out.h5\"\n";
 
 /// The figures `friction --out-dir fr` writes (each a CSV and a PNG).
@@ -51,7 +52,10 @@ const BESIDE: [&str; 5] = [
 /// Command lines reading or writing one file, and that file (made a FIFO).
 const ONE_FILE: [(&[&str], &str); 12] = [
     (&["scan", "case.toml"], "case.toml"),
-    (&["classify", "--ics", "ics.csv", "--out", "l.csv"], "ics.csv"),
+    (
+        &["classify", "--ics", "ics.csv", "--out", "l.csv"],
+        "ics.csv",
+    ),
     (&["classify", "--ics", "ics.csv", "--out", "l.csv"], "l.csv"),
     (&["trajectory", "--t-end", "10", "--out", "t.csv"], "t.csv"),
     (&["trajectory", "--t-end", "10", "--out", "t.h5"], "t.h5"),
@@ -71,7 +75,11 @@ fn pick(rng: &mut Rng) -> (Vec<String>, String) {
         0 => {
             let f = *rng.pick(&BESIDE);
             // The journal is read by a resume only.
-            let resume: &[&str] = if f.ends_with("journal") { &["--resume"] } else { &[] };
+            let resume: &[&str] = if f.ends_with("journal") {
+                &["--resume"]
+            } else {
+                &[]
+            };
             (v(&[&["scan", "scan.toml"], resume].concat()), f.into())
         }
         1 => (v(&["atlas", "atlas.toml"]), rng.pick(&BESIDE).to_string()),
@@ -80,7 +88,10 @@ fn pick(rng: &mut Rng) -> (Vec<String>, String) {
             let f = format!("fr/{}.{}", rng.pick(&FIGURES), rng.pick(&["csv", "png"]));
             (v(&["friction", "--out-dir", "fr"]), f)
         }
-        4 => (v(&["merge", "good.h5", "good.h5", "-o", "all.h5"]), "all.h5".into()),
+        4 => (
+            v(&["merge", "good.h5", "good.h5", "-o", "all.h5"]),
+            "all.h5".into(),
+        ),
         _ => {
             let (args, f) = *rng.pick(&ONE_FILE);
             (v(args), f.into())
@@ -93,7 +104,9 @@ fn pick(rng: &mut Rng) -> (Vec<String>, String) {
 pub fn fifo_case(rng: &mut Rng, good: &[u8]) -> Case {
     let (mut args, fifo) = pick(rng);
     // `--force` conflicts with `--resume`, and `info`, `compare` take none.
-    let forcible = !args.iter().any(|a| a == "--resume" || a == "info" || a == "compare");
+    let forcible = !args
+        .iter()
+        .any(|a| a == "--resume" || a == "info" || a == "compare");
     if forcible && rng.below(2) == 0 {
         args.push("--force".into());
     }
@@ -146,7 +159,10 @@ pub fn judge(case: &Case, dir: &Path) -> Result<&'static str, String> {
         return Err(format!("panic: {}", tail(&r.output)));
     }
     if r.timed_out {
-        return Err(format!("hang: not refused within {LIMIT:?}: {}", tail(&r.output)));
+        return Err(format!(
+            "hang: not refused within {LIMIT:?}: {}",
+            tail(&r.output)
+        ));
     }
     if r.code != Some(2) || !r.output.contains("FIFO") {
         return Err(format!(

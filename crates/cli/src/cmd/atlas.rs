@@ -60,6 +60,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
+    // Nothing but a regular file at a picture's path, a resume's and a rerun's too (a FIFO
+    // there blocked the check of an up-to-date picture, or the drawing after the run).
+    for p in &pics {
+        squeal_scan::files::refuse_non_regular(p)?;
+    }
     // Like make (the same rule as the scan's): a finished output of the same parsed spec
     // (and shard) is up to date; a picture missing is drawn again.
     let state = squeal_store::output_state(&out, &plan, shard)?;
@@ -289,8 +294,7 @@ fn pilot_words(plan: &AtlasPlan) -> Option<String> {
     use squeal_scan::estimate::{PILOT_MAX_SECONDS, atlas_pilot_bound, atlas_pilot_points_bound};
     let bound = atlas_pilot_points_bound(plan);
     let nb = plan.n_boundaries();
-    if atlas_pilot_bound(plan) > PILOT_MAX_SECONDS || (bound <= common::PILOT_NOTICE && nb == 0)
-    {
+    if atlas_pilot_bound(plan) > PILOT_MAX_SECONDS || (bound <= common::PILOT_NOTICE && nb == 0) {
         return None;
     }
     let points = format!(

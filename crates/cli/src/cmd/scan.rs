@@ -75,6 +75,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         plan.map.grid.is_sample(),
         shard.is_some(),
     );
+    // Nothing but a regular file at a picture's path, a resume's and a rerun's too (a FIFO
+    // there blocked the check of an up-to-date picture, or the drawing after the run).
+    for p in &may_draw(&pics) {
+        squeal_scan::files::refuse_non_regular(p)?;
+    }
     if up_to_date(&args, &plan, (&out, shard), &pics)? {
         return Ok(ExitCode::SUCCESS);
     }

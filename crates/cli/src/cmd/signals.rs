@@ -335,7 +335,11 @@ mod tests {
     fn signals_while_the_data_file_is_written_let_it_be_written() {
         let s = Signals::new("blocks");
         s.finishing(Path::new("x.h5"), &[]).unwrap();
-        for (n, words) in [(1, "stopping once the data file x.h5 is written"), (2, "still writing the data file x.h5"), (3, "still writing")] {
+        for (n, words) in [
+            (1, "stopping once the data file x.h5 is written"),
+            (2, "still writing the data file x.h5"),
+            (3, "still writing"),
+        ] {
             match s.respond() {
                 Response::StopAfter(how) => assert!(how.contains(words), "signal {n}: {how}"),
                 other => panic!("signal {n}: {other:?}"),

@@ -618,10 +618,15 @@ path = "p.h5"
     /// without a word (and a CSV row of three numbers was refused).
     #[test]
     fn a_table_row_of_other_than_two_numbers_is_refused_naming_the_row() {
-        let nd = PAD
-            .replace("[physical]\nm = 0.8\nk = 2e5\nc = 20.0\nv_belt = 0.3\nnormal_force = 1500.0\n", "xi = 0.025\nv_d = 0.08\n");
+        let nd = PAD.replace(
+            "[physical]\nm = 0.8\nk = 2e5\nc = 20.0\nv_belt = 0.3\nnormal_force = 1500.0\n",
+            "xi = 0.025\nv_d = 0.08\n",
+        );
         assert!(Plan::from_toml(&nd, "p.toml").is_ok(), "{nd}");
-        for (text, key) in [(PAD.to_string(), "`physical.friction_table`"), (nd, "`model.friction_table`")] {
+        for (text, key) in [
+            (PAD.to_string(), "`physical.friction_table`"),
+            (nd, "`model.friction_table`"),
+        ] {
             for (row, words) in [("[0.1, 0.43, 7.0]", "row 2"), ("[0.1]", "row 2")] {
                 let bad = text.replace("[0.1, 0.43]", row);
                 let e = Plan::from_toml(&bad, "p.toml").unwrap_err().to_string();
