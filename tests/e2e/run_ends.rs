@@ -179,7 +179,7 @@ fn a_resume_with_nothing_left_runs_no_pilot() {
         assert!(o.status.success(), "{cmd}: {err}");
         assert!(!err.contains("pilot of"), "{cmd} ran a pilot: {err}");
         assert!(
-            err.contains(&format!("{what}")) && err.contains("(no pilot)"),
+            err.contains(what) && err.contains("(no pilot)"),
             "{cmd}: {err}"
         );
         assert!(dir.join(&out).is_file() && leftovers(dir, &out).is_empty());

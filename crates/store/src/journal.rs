@@ -613,14 +613,9 @@ impl Journal {
         Ok(())
     }
 
-    /// Reads a record's payload ([`Journal::checked`]).
+    /// Reads a record's payload ([`Journal::read_at`]; appends seek to the end themselves).
     pub fn read(&mut self, r: &Rec) -> Result<Vec<u8>, StoreError> {
-        let mut buf = vec![0u8; r.len as usize + 8];
-        let read = self
-            .file
-            .seek(SeekFrom::Start(r.offset))
-            .and_then(|_| self.file.read_exact(&mut buf));
-        self.checked(r, read, buf)
+        self.read_at(r)
     }
 
     /// The payload of record `r`, read at its offset without moving the journal's position

@@ -82,38 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // after a 74 s pilot. A signal during the pilot ends the run saying so.
     common::prepare_output(&out)?;
     let signals = super::signals::Signals::install()?;
-    let prov = common::provenance();
-    // A resume reads its journal before any pilot: with every unit and map block journalled
-    // (a run stopped while its file was written) a resume ran a 54 s pilot for nothing.
-    let resumed = match args.run.resume {
-        true => Some(AtlasWriter::resume(&out, &plan, shard, &prov)?),
-        false => None,
-    };
-    let left = resumed
-        .as_ref()
-        .map(|w| w.missing().len() + w.missing_blocks().len());
-    let piloted = match left {
-        Some(0) => {
-            eprintln!(
-                "squeal: every unit and map block of {} is journalled: writing the file (no pilot)",
-                out.display()
-            );
-            Vec::new()
-        }
-        _ => estimate(&args, &plan)?,
-    };
-    let mut writer = match resumed {
-        Some(w) => w,
-        None => AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?,
-    };
-    // The pilot's units are the run's own (the same function of the same plan): journalled,
-    // not computed again, where this run (its shard, what a resume still lacks) owns them.
-    let missing = writer.missing();
-    let mut from_pilot = 0;
-    for r in piloted.into_iter().filter(|r| missing.contains(&r.unit())) {
-        writer.record(r)?;
-        from_pilot += 1;
-    }
+    let (writer, from_pilot) = open_writer(&args, &plan, &out, shard)?;
     let Some((writer, mut computed)) =
         compute(&args, &plan, shard, writer, &signals, &out, started)?
     else {
@@ -130,6 +99,47 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     phases.end("picture");
     report(&args, &plan, &res, &out, computed, &pictures)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The writer of the run (created, or resumed from its journal), with the units the
+/// pilot computed journalled (where this run owns them) and their count. A resume reads
+/// its journal before any pilot: with every unit and map block journalled (a run stopped
+/// while its file was written) a resume ran a 54 s pilot for nothing, and now runs none.
+fn open_writer(
+    args: &Args,
+    plan: &AtlasPlan,
+    out: &Path,
+    shard: Option<squeal_store::Shard>,
+) -> anyhow::Result<(AtlasWriter, usize)> {
+    let prov = common::provenance();
+    let resumed = match args.run.resume {
+        true => Some(AtlasWriter::resume(out, plan, shard, &prov)?),
+        false => None,
+    };
+    let left = (resumed.as_ref()).map(|w| w.missing().len() + w.missing_blocks().len());
+    let piloted = match left {
+        Some(0) => {
+            eprintln!(
+                "squeal: every unit and map block of {} is journalled: writing the file (no pilot)",
+                out.display()
+            );
+            Vec::new()
+        }
+        _ => estimate(args, plan)?,
+    };
+    let mut writer = match resumed {
+        Some(w) => w,
+        None => AtlasWriter::create(out, plan, shard, &prov, args.run.force)?,
+    };
+    // The pilot's units are the run's own (the same function of the same plan): journalled,
+    // not computed again, where this run (its shard, what a resume still lacks) owns them.
+    let missing = writer.missing();
+    let mut from_pilot = 0;
+    for r in piloted.into_iter().filter(|r| missing.contains(&r.unit())) {
+        writer.record(r)?;
+        from_pilot += 1;
+    }
+    Ok((writer, from_pilot))
 }
 
 /// Computes the units and map blocks `writer` is missing, with a progress bar: the writer

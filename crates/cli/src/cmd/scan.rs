@@ -94,23 +94,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // the run saying so.
     let signals = super::signals::Signals::install()?;
     let threads = rayon::current_num_threads();
-    let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default());
-    let prov = common::provenance();
-    // A resume reads its journal before any pilot: with every block journalled (a run
-    // stopped while its file was written) the pilot timed work that was not to be done.
-    let resumed = match args.run.resume {
-        true => Some(ScanWriter::resume(&out, &plan, shard, &prov)?),
-        false => None,
-    };
-    let left = resumed.as_ref().map(|w| Pending::of(&plan, shard, w).cells);
-    let pilot = match left {
-        Some(0) => None,
-        _ => checked_estimate(&args, &plan, &owned, threads)?,
-    };
-    let mut writer = match resumed {
-        Some(w) => w,
-        None => ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?,
-    };
+    let (mut writer, pilot) = open_writer(&args, &plan, (&out, shard), threads)?;
     signals.computing("blocks");
     let plan = writer.plan().clone();
     if let Some(w) = squeal_core::validated::maps_warning(&plan.maps) {
@@ -154,6 +138,34 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         (&out, &pics),
         (done.cells, secs),
     )
+}
+
+/// The writer of the run (created, or resumed from its journal) and the pilot's estimate,
+/// if one ran. A resume reads its journal before any pilot: with every block journalled (a
+/// run stopped while its file was written) the pilot timed work that was not to be done,
+/// and none runs now.
+fn open_writer(
+    args: &Args,
+    plan: &Plan,
+    (out, shard): (&Path, Option<squeal_scan::Shard>),
+    threads: usize,
+) -> anyhow::Result<(ScanWriter, Option<Estimate>)> {
+    let owned = Pending::of(plan, shard, &squeal_scan::MemorySink::default());
+    let prov = common::provenance();
+    let resumed = match args.run.resume {
+        true => Some(ScanWriter::resume(out, plan, shard, &prov)?),
+        false => None,
+    };
+    let left = resumed.as_ref().map(|w| Pending::of(plan, shard, w).cells);
+    let pilot = match left {
+        Some(0) => None,
+        _ => checked_estimate(args, plan, &owned, threads)?,
+    };
+    let writer = match resumed {
+        Some(w) => w,
+        None => ScanWriter::create(out, plan, shard, &prov, args.run.force)?,
+    };
+    Ok((writer, pilot))
 }
 
 /// The driver's error, a map's or the store's, with its sources.
