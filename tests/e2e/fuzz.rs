@@ -3,7 +3,9 @@
 //! command lines with hostile flag values and input files, each run under a time limit in
 //! a fresh folder. A case fails on a panic (exit 101 or "panicked"), a hang (the time limit
 //! reached with nothing said: a long run announces its estimate first) or a lost file (a
-//! file there before the run missing or changed after it; no case passes `--force`).
+//! file there before the run missing or changed after it; no case passes `--force` but
+//! those of [`fifos`], whose only target is the FIFO). The family [`fifos`] puts a FIFO at
+//! one path of a command; it must be refused within seconds.
 //!
 //! Ignored by the quick suite; `scripts/ci/fuzz.sh` runs it by exact name (`.ci/run` calls it):
 //!
@@ -23,6 +25,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use squeal_mutate::{Shipped, Step, at, shipped};
+
+mod fifos;
 use toml::Value;
 
 const BIN: &str = env!("CARGO_BIN_EXE_squeal");
@@ -115,6 +119,11 @@ struct Run {
 }
 
 fn run(dir: &Path, args: &[String]) -> Run {
+    run_within(dir, args, WALL_LIMIT)
+}
+
+/// [`run`] killed after `wall` of wall time.
+fn run_within(dir: &Path, args: &[String], wall: Duration) -> Run {
     let (out, err) = (dir.join(".stdout"), dir.join(".stderr"));
     let mut child = Command::new(BIN)
         .args(args)
@@ -130,7 +139,7 @@ fn run(dir: &Path, args: &[String]) -> Run {
             break (Some(s), false);
         }
         let used = cpu_seconds(child.id()).map_or(t0.elapsed(), Duration::from_secs_f64);
-        if used >= CASE_LIMIT || t0.elapsed() >= WALL_LIMIT {
+        if used >= CASE_LIMIT || t0.elapsed() >= wall {
             let _ = child.kill();
             let _ = child.wait();
             break (None, true);
@@ -174,6 +183,9 @@ struct Case {
     /// Whether a timeout after some output is a long run (scans and atlases announce their
     /// estimate, critical and ulc their search's progress) rather than a hang.
     announces: bool,
+    /// Paths made FIFOs before the run ([`fifos`]): the run must be refused, naming one,
+    /// within [`fifos::LIMIT`].
+    fifos: Vec<String>,
 }
 
 /// Why a case failed, if it did.
@@ -184,6 +196,9 @@ fn judge(case: &Case, dir: &Path) -> Result<&'static str, String> {
             std::fs::create_dir_all(parent).unwrap();
         }
         std::fs::write(p, bytes).unwrap();
+    }
+    if !case.fifos.is_empty() {
+        return fifos::judge(case, dir);
     }
     let before = snapshot(dir);
     let r = run(dir, &case.args);
@@ -309,6 +324,7 @@ fn spec_case(rng: &mut Rng, specs: &[Shipped]) -> Case {
         args: vec![cmd.into(), "case.toml".into()],
         files,
         announces: true,
+        fifos: Vec::new(),
     }
 }
 
@@ -381,6 +397,7 @@ fn flag_case(rng: &mut Rng, flags: &BTreeMap<&str, Vec<String>>) -> Case {
         // after 2 s, then every 10 s): a run-based critical of 36 s is a long run, not a
         // hang (`critical --rtol 1e-2 --lambda 0.5` printed nothing before).
         announces: matches!(cmd, "critical" | "ulc"),
+        fifos: Vec::new(),
     }
 }
 
@@ -419,6 +436,7 @@ fn file_case(rng: &mut Rng, good: &[u8]) -> Case {
         args,
         files,
         announces: false,
+        fifos: Vec::new(),
     }
 }
 
@@ -472,10 +490,11 @@ fn fuzz_specs_flags_and_files() {
                 while t0.elapsed() + CASE_LIMIT <= Duration::from_secs(budget) {
                     let k = next.fetch_add(1, Ordering::Relaxed);
                     let mut rng = Rng::new(seed, k as u64);
-                    let case = match rng.below(10) {
+                    let case = match rng.below(11) {
                         0..=3 => spec_case(&mut rng, &specs),
                         4..=7 => flag_case(&mut rng, &flags),
-                        _ => file_case(&mut rng, &good),
+                        8 | 9 => file_case(&mut rng, &good),
+                        _ => fifos::fifo_case(&mut rng, &good),
                     };
                     let dir = root.path().join(format!("case-{k}"));
                     std::fs::create_dir_all(&dir).unwrap();

@@ -616,6 +616,15 @@ pub fn atlas_pilot_bound(plan: &AtlasPlan) -> f64 {
     (PILOT_BUDGET.as_secs_f64() + point_bound(plan)).max(maps)
 }
 
+/// Seconds (one thread) [`atlas_pilot`]'s points and maps may take on `plan`, at most, at
+/// the documented rates: its points' budget and one more point, then the maps' pilot
+/// ([`pilot_bound`]); its boundary units ([`boundary_pilot`]) are not counted (each is a
+/// whole unit, bounded only by [`boundary_bound`], far above what one takes).
+pub fn atlas_pilot_points_bound(plan: &AtlasPlan) -> f64 {
+    let maps = plan.map_plan().map_or(0.0, |mp| pilot_bound(&mp));
+    PILOT_BUDGET.as_secs_f64() + point_bound(plan) + maps
+}
+
 /// [`atlas_pilot`] where [`atlas_pilot_bound`] is within [`PILOT_MAX_SECONDS`]; `None`
 /// (estimate at the documented rates) otherwise.
 pub fn bounded_atlas_pilot(plan: &AtlasPlan) -> Result<Option<AtlasEstimate>, ScanError> {

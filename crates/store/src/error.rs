@@ -177,6 +177,17 @@ pub enum StoreError {
     /// blocked the open for ever).
     #[error(transparent)]
     NotRegular(#[from] squeal_scan::files::NotRegular),
+    /// A record of a run's journal no longer reads as the run wrote it: another process
+    /// wrote to the journal, or cut it, while the run used it (called "not a squeal file").
+    #[error(
+        "the journal {} changed on disk while this run used it (its {what} record no longer reads as written): another process wrote to it or cut it short. The file was not written; --resume computes again what no longer reads, --force starts over", path.display()
+    )]
+    JournalChanged {
+        /// The journal.
+        path: PathBuf,
+        /// The record that changed (block, cycle).
+        what: String,
+    },
     /// An output whose name does not end in `.h5`.
     #[error("output {}: expected a file name ending in .h5", path.display())]
     NotH5 {

@@ -613,23 +613,54 @@ impl Journal {
         Ok(())
     }
 
-    /// Reads a record's payload.
+    /// Reads a record's payload ([`Journal::read_at`]; appends seek to the end themselves).
     pub fn read(&mut self, r: &Rec) -> Result<Vec<u8>, StoreError> {
-        let mut buf = vec![0u8; r.len as usize];
-        self.file
-            .seek(SeekFrom::Start(r.offset))
-            .and_then(|_| self.file.read_exact(&mut buf))
-            .map_err(io(&self.path, "cannot read the journal"))?;
-        Ok(buf)
+        self.read_at(r)
     }
 
     /// The payload of record `r`, read at its offset without moving the journal's position
-    /// (from any thread, while others read).
+    /// (from any thread, while others read; [`Journal::checked`]).
     pub fn read_at(&self, r: &Rec) -> Result<Vec<u8>, StoreError> {
-        let mut buf = vec![0u8; r.len as usize];
-        read_exact_at(&self.file, &mut buf, r.offset)
-            .map_err(io(&self.path, "cannot read the journal"))?;
+        let mut buf = vec![0u8; r.len as usize + 8];
+        let read = read_exact_at(&self.file, &mut buf, r.offset);
+        self.checked(r, read, buf)
+    }
+
+    /// The payload of `r` read (with its checksum after it) into `buf`, as written: a
+    /// record cut short or whose checksum no longer holds was changed on disk by another
+    /// process while this run used the journal ([`StoreError::JournalChanged`]; a change
+    /// that still decoded went into the file as the run's own).
+    fn checked(
+        &self,
+        r: &Rec,
+        read: std::io::Result<()>,
+        mut buf: Vec<u8>,
+    ) -> Result<Vec<u8>, StoreError> {
+        let changed = || StoreError::JournalChanged {
+            path: self.path.clone(),
+            what: record_word(r.kind).into(),
+        };
+        match read {
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return Err(changed()),
+            r => r.map_err(io(&self.path, "cannot read the journal"))?,
+        }
+        let sum = buf.split_off(r.len as usize);
+        if u64::from_le_bytes(sum.try_into().expect("8 bytes")) != record_sum(r.kind, &buf) {
+            return Err(changed());
+        }
         Ok(buf)
+    }
+}
+
+/// A record's kind in words.
+fn record_word(kind: u8) -> &'static str {
+    match kind {
+        KIND_HEADER | KIND_ATLAS_HEADER => "header",
+        KIND_UNIT => "unit",
+        KIND_BLOCK => "block",
+        KIND_CYCLE => "cycle",
+        KIND_WITHDRAWN => "withdrawn rules",
+        _ => "unknown",
     }
 }
 

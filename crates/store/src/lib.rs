@@ -715,10 +715,9 @@ struct JournalSource {
 
 impl JournalSource {
     fn changed(&self, what: &str) -> StoreError {
-        StoreError::NotSquealFile {
+        StoreError::JournalChanged {
             path: self.journal.path.clone(),
-            why: format!("a {what} record changed on disk"),
-            advice: None,
+            what: what.into(),
         }
     }
 }

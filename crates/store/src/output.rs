@@ -252,8 +252,10 @@ fn beside(out: &Path) -> [(PathBuf, &'static str); 3] {
 }
 
 /// Refuses an existing `path` unless `force` ([`StoreError::Exists`]): the rule of every
-/// door for a file written whole at the end (a trajectory's), checked before the run.
+/// door for a file written whole at the end (a trajectory's), checked before the run; and
+/// anything but a regular file there, even with `force` (HDF5 opening a FIFO blocked).
 pub fn refuse_existing(path: &Path, force: bool) -> Result<(), StoreError> {
+    squeal_scan::files::refuse_non_regular(path)?;
     if !force && path.exists() {
         return Err(StoreError::Exists {
             path: path.to_path_buf(),

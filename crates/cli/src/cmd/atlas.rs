@@ -60,6 +60,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
+    // Nothing but a regular file at a picture's path, a resume's and a rerun's too (a FIFO
+    // there blocked the check of an up-to-date picture, or the drawing after the run).
+    for p in &pics {
+        squeal_scan::files::refuse_non_regular(p)?;
+    }
     // Like make (the same rule as the scan's): a finished output of the same parsed spec
     // (and shard) is up to date; a picture missing is drawn again.
     let state = squeal_store::output_state(&out, &plan, shard)?;
@@ -79,28 +84,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // after a 74 s pilot. A signal during the pilot ends the run saying so.
     common::prepare_output(&out)?;
     let signals = super::signals::Signals::install()?;
-    let piloted = estimate(&args, &plan)?;
-    let prov = common::provenance();
-    let mut writer = if args.run.resume {
-        AtlasWriter::resume(&out, &plan, shard, &prov)?
-    } else {
-        AtlasWriter::create(&out, &plan, shard, &prov, args.run.force)?
-    };
-    // The pilot's units are the run's own (the same function of the same plan): journalled,
-    // not computed again, where this run (its shard, what a resume still lacks) owns them.
-    let missing = writer.missing();
-    let mut from_pilot = 0;
-    for r in piloted.into_iter().filter(|r| missing.contains(&r.unit())) {
-        writer.record(r)?;
-        from_pilot += 1;
-    }
+    let (writer, from_pilot) = open_writer(&args, &plan, &out, shard)?;
     let Some((writer, mut computed)) =
         compute(&args, &plan, shard, writer, &signals, &out, started)?
     else {
         return Ok(ExitCode::from(common::EXIT_INTERRUPTED));
     };
     computed.units += from_pilot;
-    signals.finishing(&pics)?;
+    signals.finishing(&out, &pics)?;
     let mut phases = super::timings::Phases::start();
     let res = crate::finish_atlas(writer)?;
     phases.end("finish");
@@ -111,6 +102,47 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     report(&args, &plan, &res, &out, computed, &pictures)?;
     super::report::after_run(&args.run, &out, args.json)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The writer of the run (created, or resumed from its journal), with the units the
+/// pilot computed journalled (where this run owns them) and their count. A resume reads
+/// its journal before any pilot: with every unit and map block journalled (a run stopped
+/// while its file was written) a resume ran a 54 s pilot for nothing, and now runs none.
+fn open_writer(
+    args: &Args,
+    plan: &AtlasPlan,
+    out: &Path,
+    shard: Option<squeal_store::Shard>,
+) -> anyhow::Result<(AtlasWriter, usize)> {
+    let prov = common::provenance();
+    let resumed = match args.run.resume {
+        true => Some(AtlasWriter::resume(out, plan, shard, &prov)?),
+        false => None,
+    };
+    let left = (resumed.as_ref()).map(|w| w.missing().len() + w.missing_blocks().len());
+    let piloted = match left {
+        Some(0) => {
+            eprintln!(
+                "squeal: every unit and map block of {} is journalled: writing the file (no pilot)",
+                out.display()
+            );
+            Vec::new()
+        }
+        _ => estimate(args, plan)?,
+    };
+    let mut writer = match resumed {
+        Some(w) => w,
+        None => AtlasWriter::create(out, plan, shard, &prov, args.run.force)?,
+    };
+    // The pilot's units are the run's own (the same function of the same plan): journalled,
+    // not computed again, where this run (its shard, what a resume still lacks) owns them.
+    let missing = writer.missing();
+    let mut from_pilot = 0;
+    for r in piloted.into_iter().filter(|r| missing.contains(&r.unit())) {
+        writer.record(r)?;
+        from_pilot += 1;
+    }
+    Ok((writer, from_pilot))
 }
 
 /// Computes the units and map blocks `writer` is missing, with a progress bar: the writer
@@ -236,16 +268,8 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<Vec<UnitResult>> {
     // no pilot runs for an atlas refused on those alone.
     let rough = atlas_documented_seconds(plan, threads);
     refuse(rough, " at the documented rate")?;
-    let bound = squeal_scan::estimate::atlas_pilot_bound(plan);
-    // Announced only where the pilot runs (a longer one is skipped: documented rates).
-    if !args.run.quiet
-        && bound > common::PILOT_NOTICE
-        && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS
-    {
-        eprintln!(
-            "squeal: timing a pilot of the atlas first (up to {} at the documented rate) ...",
-            common::duration(bound)
-        );
+    if let Some(words) = pilot_words(plan).filter(|_| !args.run.quiet) {
+        eprintln!("squeal: {words}");
     }
     let mut pilot = bounded_atlas_pilot(plan)?;
     let units = pilot
@@ -271,6 +295,37 @@ fn estimate(args: &Args, plan: &AtlasPlan) -> anyhow::Result<Vec<UnitResult>> {
         );
     }
     Ok(units)
+}
+
+/// What the atlas's pilot is announced as, where it runs and may take a while: its points
+/// and maps, up to a bound at the documented rate
+/// ([`squeal_scan::estimate::atlas_pilot_points_bound`]), and one to three of its boundary
+/// searches, run whole (and kept by the run), which no bound worth giving covers: a resume
+/// announced as "up to 12 s" took 54 s. `None` for a pilot that is skipped (the documented
+/// rates instead) or short.
+fn pilot_words(plan: &AtlasPlan) -> Option<String> {
+    use squeal_scan::estimate::{PILOT_MAX_SECONDS, atlas_pilot_bound, atlas_pilot_points_bound};
+    let bound = atlas_pilot_points_bound(plan);
+    let nb = plan.n_boundaries();
+    if atlas_pilot_bound(plan) > PILOT_MAX_SECONDS || (bound <= common::PILOT_NOTICE && nb == 0) {
+        return None;
+    }
+    let points = format!(
+        "its points and maps up to {} at the documented rate",
+        common::duration(bound)
+    );
+    Some(match nb {
+        0 => format!("timing a pilot of the atlas first ({points}) ..."),
+        _ => format!(
+            "timing a pilot of the atlas first: {points}, then {} of its {nb} boundary \
+             search(es), each run whole (as long as the run takes for one; the run keeps \
+             them) ...",
+            match nb.min(3) {
+                1 => "1".to_string(),
+                k => format!("1 to {k}"),
+            }
+        ),
+    })
 }
 
 /// The progress bar over `total` units and map blocks (hidden when quiet or not a terminal).
@@ -378,4 +433,36 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
         drawn.extend(paths);
     }
     Ok(drawn)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The atlas's pilot runs 1 to 3 of its boundary searches whole, which the documented
+    /// rate does not bound: it was announced as "up to 12 s" and took 54 s. With boundary
+    /// searches the announcement says so; without, its bound covers the points and maps.
+    #[test]
+    fn the_pilot_is_announced_with_what_bounds_it() {
+        let spec = |b: &str| {
+            format!(
+                "version = 1\n[model]\nlaw = \"mcmillan\"\nnu = [1e-3, 1e-2, 5e-2]\n\
+                 [cycle]\nhalf_dt = false\n[attractor]\ntransient = 10\nwindow = 10\n\
+                 [boundaries]\n{b}\n[output]\npath = \"x.h5\"\n"
+            )
+        };
+        let with = AtlasPlan::from_toml(&spec("rtol = 1e-2"), "x.toml").unwrap();
+        let words = pilot_words(&with).expect("a pilot of boundary searches is announced");
+        assert!(
+            words.contains("then 1 of its 1 boundary search(es), each run whole"),
+            "{words}"
+        );
+        let none = AtlasPlan::from_toml(&spec("fold = false\ncritical = false"), "x.toml").unwrap();
+        assert_eq!(none.n_boundaries(), 0);
+        let bound = squeal_scan::estimate::atlas_pilot_points_bound(&none);
+        match pilot_words(&none) {
+            Some(w) => assert!(w.contains(&common::duration(bound)) && !w.contains("boundary")),
+            None => assert!(bound <= common::PILOT_NOTICE, "{bound}"),
+        }
+    }
 }

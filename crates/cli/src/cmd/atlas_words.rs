@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use squeal_core::error::Number;
 use squeal_scan::atlas::{AtlasPlan, AtlasRegime, AtlasResults, BoundaryStatus};
 
 /// The atlas in words: its axes, the points per regime, the maps and the boundaries found,
@@ -151,9 +152,10 @@ fn print_boundaries(plan: &AtlasPlan, res: &AtlasResults) {
             .iter()
             .zip(plan.space.values_at(i))
             .filter(|(a, _)| a.values.len() > 1 && a.key != dkey)
+            // A huge value in exponent form ([`Number`]), not written out in full.
             .map(|(a, v)| match a.units {
-                "1" => format!("{} = {v:.4}", a.key),
-                u => format!("{} = {v:.4} {u}", a.key),
+                "1" => format!("{} = {:.4}", a.key, Number(v)),
+                u => format!("{} = {:.4} {u}", a.key, Number(v)),
             })
             .collect();
         println!(
@@ -196,14 +198,14 @@ fn boundary_text(plan: &AtlasPlan, i: usize, bd: &squeal_scan::atlas::Boundary) 
     // after the SI value, a nondimensional "+- 0.00128" read as if it were in N s/m.
     let known = bd.uncertainty.is_finite();
     let err = |e: f64, digits: usize| match known {
-        true => format!(" +- {e:.digits$}"),
+        true => format!(" +- {:.digits$}", Number(e)),
         false => String::new(),
     };
     let flips = match bd.changes > 1 {
         true => format!(" [REGIME CHANGES {} TIMES]", bd.changes),
         false => String::new(),
     };
-    let value = format!("{bkey} = {:.5}{}", bd.nu, err(bd.uncertainty, 5));
+    let value = format!("{bkey} = {:.5}{}", Number(bd.nu), err(bd.uncertainty, 5));
     match bd.status {
         BoundaryStatus::Found => match plan.boundary_si(i, bd.nu) {
             Some((v, u)) => {
@@ -212,7 +214,11 @@ fn boundary_text(plan: &AtlasPlan, i: usize, bd: &squeal_scan::atlas::Boundary) 
                 let e = plan
                     .boundary_si(i, bd.uncertainty)
                     .map_or(f64::NAN, |p| p.0);
-                format!("{value} ({dkey} = {v:.4}{} {u}){half}{flips}", err(e, 4))
+                format!(
+                    "{value} ({dkey} = {:.4}{} {u}){half}{flips}",
+                    Number(v),
+                    err(e, 4)
+                )
             }
             None => format!("{value}{half}{flips}"),
         },

@@ -41,6 +41,9 @@ const MAX_ICS_BYTES: u64 = 1 << 30;
 /// The initial conditions of the file and the line each is on.
 fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<(usize, State)>> {
     use std::io::Read;
+    // A FIFO blocked the read for ever, and `/dev/zero` was read for 2 s (a GiB) before
+    // being refused: only a regular file is read.
+    super::out_files::regular("--ics", path)?;
     let reading = || format!("reading {}", path.display());
     let mut text = String::new();
     std::fs::File::open(path)
@@ -76,30 +79,39 @@ fn read_ics(path: &PathBuf) -> anyhow::Result<Vec<(usize, State)>> {
     let (ix, iv) = (find("x0")?, find("v0")?);
     let mut out = Vec::new();
     for (n, line) in lines {
+        let at = format!("{}:{}", path.display(), n + 1);
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let get = |i: usize, name: &str| -> anyhow::Result<f64> {
-            let s = f
-                .get(i)
-                .with_context(|| format!("{}:{}: missing `{name}`", path.display(), n + 1))?;
-            let v: f64 = s.parse().with_context(|| {
-                format!(
-                    "{}:{}: `{name}` = `{s}` is not a number",
-                    path.display(),
-                    n + 1
-                )
-            })?;
-            if !v.is_finite() {
-                bail!("{}:{}: `{name}` = {v} is not finite", path.display(), n + 1);
-            }
-            Ok(v)
-        };
+        // A row of more values than the header's columns had its extra ones dropped
+        // without a word (a friction CSV's row of three numbers is refused).
+        if f.len() != cols.len() {
+            bail!(
+                "{at}: `{}` holds {} value(s) where the header `{header}` names {} column(s)",
+                line.trim(),
+                f.len(),
+                cols.len()
+            );
+        }
         let state = State {
-            x: get(ix, "x0")?,
-            v: get(iv, "v0")?,
+            x: ic_value(&at, &f, (ix, "x0"))?,
+            v: ic_value(&at, &f, (iv, "v0"))?,
         };
         out.push((n + 1, state));
     }
     Ok(out)
+}
+
+/// The number in column `i` (named `name`) of the fields `f` of the line `at`.
+fn ic_value(at: &str, f: &[&str], (i, name): (usize, &str)) -> anyhow::Result<f64> {
+    let s = f
+        .get(i)
+        .with_context(|| format!("{at}: missing `{name}`"))?;
+    let v: f64 = s
+        .parse()
+        .with_context(|| format!("{at}: `{name}` = `{s}` is not a number"))?;
+    if !v.is_finite() {
+        bail!("{at}: `{name}` = {v} is not finite");
+    }
+    Ok(v)
 }
 
 /// A start within the classifier's escape radius, in the model's units: a start at
@@ -144,6 +156,7 @@ fn estimate(args: &Args, plan: &squeal_scan::Plan, starts: usize) -> anyhow::Res
 /// Labels the initial conditions.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let setup = args.setup.setup()?;
+    super::out_files::regular("--out", &args.out)?;
     let lines = read_ics(&args.ics)?;
     // A physical system: the file's x0, v0 are in m and m/s (written back as given).
     let scales = setup.plan.physical().map(|ph| ph.scales());

@@ -14,8 +14,11 @@ pub fn provenance() -> squeal_store::Provenance {
     }
 }
 
-/// Refuses to overwrite `path` unless `force`.
+/// Refuses to overwrite `path` unless `force`, and anything but a regular file there even
+/// with `force` (a FIFO at a picture's or the labels' path blocked the run for ever).
 pub fn check_new(path: &Path, force: bool, what: &str) -> anyhow::Result<()> {
+    squeal_scan::files::refuse_non_regular(path)
+        .map_err(|e| anyhow::anyhow!("cannot write the {what} there: {e}"))?;
     if path.exists() && !force {
         bail!(
             "refusing to overwrite {} ({what}): use --force",
@@ -27,10 +30,14 @@ pub fn check_new(path: &Path, force: bool, what: &str) -> anyhow::Result<()> {
 
 /// Whether `path` holds a whole picture: a file that starts with the PNG signature and
 /// ends with the PNG's closing `IEND` chunk (its name and fixed CRC). A full disk left a
-/// 0-byte or cut PNG that a rerun reported "up to date"; such a file is drawn again.
+/// 0-byte or cut PNG that a rerun reported "up to date"; such a file is drawn again. Only
+/// a regular file is read (a FIFO blocked the read for ever).
 pub fn is_drawn(path: &Path) -> bool {
     const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
     const END: [u8; 8] = [b'I', b'E', b'N', b'D', 0xAE, 0x42, 0x60, 0x82];
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return false;
+    }
     std::fs::read(path)
         .is_ok_and(|b| b.len() > 16 && b.starts_with(&SIGNATURE) && b.ends_with(&END))
 }

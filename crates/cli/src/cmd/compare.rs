@@ -40,6 +40,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             );
         }
     }
+    for f in [&args.first, &args.second] {
+        scan_file(f)?;
+    }
     let n = squeal_store::map_count(&args.first)?;
     let n2 = squeal_store::map_count(&args.second)?;
     if n != n2 {
@@ -65,6 +68,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// Refuses a file squeal wrote that is not a scan, saying what it is: a trajectory or an
+/// atlas was called "not a squeal file".
+fn scan_file(f: &std::path::Path) -> anyhow::Result<()> {
+    use squeal_store::FileKind;
+    let is = match squeal_store::file_kind(f)? {
+        FileKind::Scan => return Ok(()),
+        FileKind::Atlas => "an atlas (written by `squeal atlas`)",
+        FileKind::Trajectory => "a trajectory (written by `squeal trajectory --out`)",
+    };
+    bail!(
+        "{} is {is}: compare takes two scans of the same grid (written by `squeal scan` or \
+         `squeal merge`)",
+        f.display()
+    )
 }
 
 /// Map `m` of both files, refused unless their grids are the same.

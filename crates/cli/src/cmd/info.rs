@@ -98,18 +98,21 @@ fn friction_table((nd, si): &squeal_store::FrictionTables, o: &mut String) -> st
         (None, Some(_)) => "slip speed in m/s, mu",
         _ => "slip speed in the model's units, mu",
     };
-    let last = |s: &Option<Vec<f64>>| s.as_ref().map(|s| s[s.len() - 1]);
+    // As the error messages write values: a slip speed of 1e300 was written in 301 digits.
+    let n = squeal_core::error::Number;
+    let last = |s: &Option<Vec<f64>>| s.as_ref().map(|s| n(s[s.len() - 1]));
     if rows > TABLE_ROWS_SHOWN {
         let to = match (last(&si), last(&nd)) {
             (Some(a), Some(b)) => format!("{a} m/s ({b} in the model's units)"),
             (Some(a), None) => format!("{a} m/s"),
-            (None, b) => format!("{} (the model's units)", b.unwrap_or_default()),
+            (None, b) => format!("{} (the model's units)", b.unwrap_or(n(0.0))),
         };
         return writeln!(
             o,
-            "  friction table: {rows} rows, slip speed 0 to {to}, mu {} at rest, in [{lo}, {}]",
-            mu[0],
-            t.max_mu()
+            "  friction table: {rows} rows, slip speed 0 to {to}, mu {} at rest, in [{}, {}]",
+            n(mu[0]),
+            n(lo),
+            n(t.max_mu())
         );
     }
     writeln!(o, "  friction table: {rows} rows ({columns}):")?;
@@ -117,8 +120,8 @@ fn friction_table((nd, si): &squeal_store::FrictionTables, o: &mut String) -> st
         let cells: Vec<String> = [&si, &nd]
             .into_iter()
             .flatten()
-            .map(|s| s[i].to_string())
-            .chain([m.to_string()])
+            .map(|s| n(s[i]).to_string())
+            .chain([n(*m).to_string()])
             .collect();
         writeln!(o, "    {}", cells.join(", "))?;
     }
@@ -257,7 +260,13 @@ fn trajectory(args: &Args, o: &mut String) -> anyhow::Result<()> {
         writeln!(o, "  {k} = {v}")?;
     }
     match t.t_range {
-        Some((a, b)) => writeln!(o, "  {} samples, t in [{a}, {b}]", t.samples)?,
+        Some((a, b)) => writeln!(
+            o,
+            "  {} samples, t in [{}, {}]",
+            t.samples,
+            squeal_core::error::Number(a),
+            squeal_core::error::Number(b)
+        )?,
         None => writeln!(o, "  no samples")?,
     }
     writeln!(o, "  variables over t: {}", t.variables.join(", "))?;

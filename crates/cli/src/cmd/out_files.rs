@@ -9,8 +9,17 @@ use std::path::Path;
 use anyhow::bail;
 use squeal_core::{Samples, Scales};
 
-/// Refuses to overwrite `path` unless `force`.
+/// Refuses `path`, given to `flag`, where something other than a regular file is there
+/// (the store's check, [`squeal_scan::files::refuse_non_regular`], in the flag's words):
+/// a FIFO blocked the open for ever, and a device was read or written until killed.
+pub fn regular(flag: &str, path: &Path) -> anyhow::Result<()> {
+    squeal_scan::files::refuse_non_regular(path).map_err(|e| anyhow::anyhow!("{flag}: {e}"))
+}
+
+/// Refuses to overwrite `path` unless `force`, and anything but a regular file there even
+/// with `force` ([`regular`]).
 pub fn refuse_existing(flag: &str, path: &Path, force: bool) -> anyhow::Result<()> {
+    regular(flag, path)?;
     if !force && path.exists() {
         bail!(
             "{flag}: '{}' exists (use --force to overwrite it)",

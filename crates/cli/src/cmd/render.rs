@@ -27,6 +27,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if png.extension().and_then(|e| e.to_str()) != Some("png") {
         anyhow::bail!("-o {}: expected a file name ending in .png", png.display());
     }
+    // A FIFO at the picture blocked the drawing for ever (with --force).
+    super::out_files::regular("-o", &png)?;
     // An atlas file (schema squeal-atlas/1) gets its chart; a scan file its basin maps.
     let drawn = if squeal_store::atlas::is_atlas_file(&args.file) {
         super::atlas::render_atlas(&args.file, &png, args.force)?

@@ -75,6 +75,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         plan.map.grid.is_sample(),
         shard.is_some(),
     );
+    // Nothing but a regular file at a picture's path, a resume's and a rerun's too (a FIFO
+    // there blocked the check of an up-to-date picture, or the drawing after the run).
+    for p in &may_draw(&pics) {
+        squeal_scan::files::refuse_non_regular(p)?;
+    }
     if up_to_date(&args, &plan, (&out, shard), &pics)? {
         return Ok(ExitCode::SUCCESS);
     }
@@ -90,14 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // the run saying so.
     let signals = super::signals::Signals::install()?;
     let threads = rayon::current_num_threads();
-    let owned = Pending::of(&plan, shard, &squeal_scan::MemorySink::default());
-    let pilot = checked_estimate(&args, &plan, &owned, threads)?;
-    let prov = common::provenance();
-    let mut writer = if args.run.resume {
-        ScanWriter::resume(&out, &plan, shard, &prov)?
-    } else {
-        ScanWriter::create(&out, &plan, shard, &prov, args.run.force)?
-    };
+    let (mut writer, pilot) = open_writer(&args, &plan, (&out, shard), threads)?;
     signals.computing("blocks");
     let plan = writer.plan().clone();
     if let Some(w) = squeal_core::validated::maps_warning(&plan.maps) {
@@ -105,7 +103,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
 
     let pending = Pending::of(&plan, shard, &writer);
-    if !args.run.quiet {
+    if !args.run.quiet && pending.cells == 0 {
+        eprintln!(
+            "squeal: every block of {} is journalled: writing the file (no pilot)",
+            out.display()
+        );
+    } else if !args.run.quiet {
         announce(&plan, pilot.as_ref(), &pending, (shard, threads));
     }
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
@@ -128,7 +131,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     act_on_audits(&plan, shard, &mut writer, &done.computed)?;
     phases.end("redo");
-    signals.finishing(&may_draw(&pics))?;
+    signals.finishing(&out, &may_draw(&pics))?;
     finish(
         (&args, &signals, phases),
         &plan,
@@ -136,6 +139,34 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         (&out, &pics),
         (done.cells, secs),
     )
+}
+
+/// The writer of the run (created, or resumed from its journal) and the pilot's estimate,
+/// if one ran. A resume reads its journal before any pilot: with every block journalled (a
+/// run stopped while its file was written) the pilot timed work that was not to be done,
+/// and none runs now.
+fn open_writer(
+    args: &Args,
+    plan: &Plan,
+    (out, shard): (&Path, Option<squeal_scan::Shard>),
+    threads: usize,
+) -> anyhow::Result<(ScanWriter, Option<Estimate>)> {
+    let owned = Pending::of(plan, shard, &squeal_scan::MemorySink::default());
+    let prov = common::provenance();
+    let resumed = match args.run.resume {
+        true => Some(ScanWriter::resume(out, plan, shard, &prov)?),
+        false => None,
+    };
+    let left = resumed.as_ref().map(|w| Pending::of(plan, shard, w).cells);
+    let pilot = match left {
+        Some(0) => None,
+        _ => checked_estimate(args, plan, &owned, threads)?,
+    };
+    let writer = match resumed {
+        Some(w) => w,
+        None => ScanWriter::create(out, plan, shard, &prov, args.run.force)?,
+    };
+    Ok((writer, pilot))
 }
 
 /// The driver's error, a map's or the store's, with its sources.

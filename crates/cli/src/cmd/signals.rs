@@ -3,12 +3,15 @@
 //! pilot, before anything is written) it ends the run at once saying so (a signal there
 //! ended the atlas with code 143 and no word); while blocks are computed it stops
 //! the run after those in flight; while the data file is written it lets it be written and
-//! skips the pictures; once the data file is complete and only pictures are left
+//! skips the pictures, whatever signals follow (GNU `timeout` sends its SIGTERM to the run
+//! and to its group, two in all: the second quit with the file half written, leaving its
+//! temporary file, the lock and the journal); once the data file is complete and only
+//! pictures are left
 //! it ends the run at once. A picture is one call into the plotting library and cannot
 //! stop halfway, and before this a signal there was taken as "stop after the blocks in
 //! flight" (there were none), so the drawing went on to the end whatever the signal.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -24,9 +27,10 @@ enum Phase {
     Estimating,
     /// Computing: the first signal stops the run after the `what` in flight.
     Computing { what: &'static str },
-    /// Every block is stored and the data file is being written: the first signal lets it
-    /// be written, and no picture is drawn.
-    Finishing,
+    /// Every block is stored and the data file `out` is being written: every signal lets it
+    /// be written (the first says no picture will be drawn, a later one that the write goes
+    /// on).
+    Finishing { out: PathBuf },
     /// The data file is complete; the pictures are being drawn.
     Drawing(Drawing),
     /// The data file and its pictures are complete; the summary is being printed. The first
@@ -101,17 +105,20 @@ impl Signals {
         &self.stop
     }
 
-    /// Enters the finishing phase: every block is stored, the data file is to be written.
-    /// Every picture the run may draw (`may_draw`) is removed first: they are about to be
-    /// drawn again, and one left from an earlier run (`--force` over another spec) must not
-    /// survive beside the new data when a signal stops the drawing.
-    pub fn finishing(&self, may_draw: &[PathBuf]) -> anyhow::Result<()> {
-        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Finishing;
+    /// Enters the finishing phase: every block is stored, the data file `out` is to be
+    /// written. Every picture the run may draw (`may_draw`) is removed first: they are about
+    /// to be drawn again, and one left from an earlier run (`--force` over another spec)
+    /// must not survive beside the new data when a signal stops the drawing.
+    pub fn finishing(&self, out: &Path, may_draw: &[PathBuf]) -> anyhow::Result<()> {
+        *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = Phase::Finishing {
+            out: out.to_path_buf(),
+        };
         for p in may_draw.iter().filter(|p| p.exists()) {
             std::fs::remove_file(p).with_context(|| {
                 format!("removing the picture {} to draw it again", p.display())
             })?;
         }
+        test_pause_before_write();
         Ok(())
     }
 
@@ -144,15 +151,11 @@ impl Signals {
         match phase {
             Phase::Drawing(d) => Response::QuitDrawing(d),
             Phase::Estimating => Response::QuitEstimating,
-            Phase::Computing { .. } | Phase::Finishing | Phase::Done if again => Response::Quit,
+            Phase::Finishing { out } => Response::StopAfter(finishing_words(&out, again)),
+            Phase::Computing { .. } | Phase::Done if again => Response::Quit,
             Phase::Computing { what } => Response::StopAfter(format!(
                 "stopping after the {what} in flight (signal again to quit at once)"
             )),
-            Phase::Finishing => Response::StopAfter(
-                "stopping once the data file is written; its pictures are not drawn (signal \
-                 again to quit at once)"
-                    .into(),
-            ),
             Phase::Done => Response::StopAfter(
                 "the data file and its pictures are complete; finishing the summary (signal \
                  again to quit at once)"
@@ -178,6 +181,41 @@ impl Signals {
             }
         }
     }
+}
+
+/// What a signal while the data file `out` is written says: the first, that the run stops
+/// once it is written and draws no picture; a later one (`again`), that the write goes on.
+/// Neither quits: a quit there left the file's temporary file, the lock and the journal
+/// (for `--resume`) instead of the file the first signal announced.
+fn finishing_words(out: &Path, again: bool) -> String {
+    let out = out.display();
+    match again {
+        false => format!(
+            "stopping once the data file {out} is written; its pictures are not drawn (the \
+             write is finished whatever signals follow)"
+        ),
+        true => format!(
+            "still writing the data file {out}: the run stops once it is written (SIGKILL \
+             would leave its temporary file and journal, which --resume finishes)"
+        ),
+    }
+}
+
+/// Variable of the environment naming milliseconds to wait once every block is stored,
+/// before the data file is written: a test's small file is written in milliseconds, too
+/// short to aim a signal at (the end-to-end test of a signal during the write sets it).
+pub const TEST_PAUSE_VAR: &str = "SQUEAL_TEST_PAUSE_BEFORE_WRITE_MS";
+
+/// The wait [`TEST_PAUSE_VAR`] asks for, said on stderr (a test waits for the line).
+fn test_pause_before_write() {
+    let Some(ms) = std::env::var(TEST_PAUSE_VAR)
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+    else {
+        return;
+    };
+    eprintln!("squeal: {TEST_PAUSE_VAR}: waiting {ms} ms before writing the data file");
+    std::thread::sleep(std::time::Duration::from_millis(ms));
 }
 
 /// What a run stopped while its work is estimated says.
@@ -237,7 +275,7 @@ mod tests {
         // A signal after the blocks and before the drawing: the file is written, nothing
         // is drawn.
         let s = Signals::new("blocks");
-        s.finishing(&[]).unwrap();
+        s.finishing(Path::new("x.h5"), &[]).unwrap();
         match s.respond() {
             Response::StopAfter(how) => assert!(how.contains("pictures are not drawn"), "{how}"),
             other => panic!("{other:?}"),
@@ -285,7 +323,28 @@ mod tests {
         let (old, absent) = (d.path().join("x.png"), d.path().join("x-cycle.png"));
         std::fs::write(&old, b"an earlier picture").unwrap();
         let s = Signals::new("blocks");
-        s.finishing(&[old.clone(), absent.clone()]).unwrap();
+        s.finishing(Path::new("x.h5"), &[old.clone(), absent.clone()])
+            .unwrap();
         assert!(!old.exists() && !absent.exists());
+    }
+
+    /// While the data file is written, a second signal (GNU `timeout` sends two: to the
+    /// run and to its group) and a third let the write finish, naming the file: the second
+    /// quit at once, leaving the temporary file, the lock and the journal.
+    #[test]
+    fn signals_while_the_data_file_is_written_let_it_be_written() {
+        let s = Signals::new("blocks");
+        s.finishing(Path::new("x.h5"), &[]).unwrap();
+        for (n, words) in [
+            (1, "stopping once the data file x.h5 is written"),
+            (2, "still writing the data file x.h5"),
+            (3, "still writing"),
+        ] {
+            match s.respond() {
+                Response::StopAfter(how) => assert!(how.contains(words), "signal {n}: {how}"),
+                other => panic!("signal {n}: {other:?}"),
+            }
+        }
+        assert!(s.stop().load(Ordering::SeqCst));
     }
 }

@@ -49,6 +49,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let params = plan.maps[setup.map];
     let cs = checked_settings(&args)?;
     if let Some(p) = &args.plot {
+        super::out_files::regular("--plot", p)?;
         common::check_new(p, args.force, "picture")?;
     }
     let t0 = std::time::Instant::now();

@@ -40,7 +40,7 @@ pub(crate) struct PhysicalFile {
     pub(crate) tau: Option<Value>,
     /// `law = "table"`: the measured curve, `[[s, mu], ...]` with `s` in m/s.
     #[serde(default)]
-    pub(crate) friction_table: Option<Vec<[f64; 2]>>,
+    pub(crate) friction_table: Option<Vec<Vec<f64>>>,
     /// `law = "table"`: the measured curve as a CSV file (slip speed in m/s, mu), relative
     /// to the spec's folder.
     #[serde(default)]
@@ -610,6 +610,31 @@ path = "p.h5"
         for (text, key, words) in cases {
             let e = Plan::from_toml(&text, "p.toml").unwrap_err().to_string();
             assert!(e.contains(key) && e.contains(words), "{key}: {e}");
+        }
+    }
+
+    /// A row of three numbers, or of one, is refused naming the key, the row and what a
+    /// row holds, in `[physical]` and in `[model]` alike: the third number was dropped
+    /// without a word (and a CSV row of three numbers was refused).
+    #[test]
+    fn a_table_row_of_other_than_two_numbers_is_refused_naming_the_row() {
+        let nd = PAD.replace(
+            "[physical]\nm = 0.8\nk = 2e5\nc = 20.0\nv_belt = 0.3\nnormal_force = 1500.0\n",
+            "xi = 0.025\nv_d = 0.08\n",
+        );
+        assert!(Plan::from_toml(&nd, "p.toml").is_ok(), "{nd}");
+        for (text, key) in [
+            (PAD.to_string(), "`physical.friction_table`"),
+            (nd, "`model.friction_table`"),
+        ] {
+            for (row, words) in [("[0.1, 0.43, 7.0]", "row 2"), ("[0.1]", "row 2")] {
+                let bad = text.replace("[0.1, 0.43]", row);
+                let e = Plan::from_toml(&bad, "p.toml").unwrap_err().to_string();
+                assert!(
+                    e.contains(key) && e.contains(words) && e.contains("slip speed, mu"),
+                    "{row}: {e}"
+                );
+            }
         }
     }
 }

@@ -23,8 +23,9 @@ pub(crate) struct ModelTable {
     pub(crate) law: FrictionLaw,
     /// The keys given, with their values, in the order written.
     pub(crate) keys: Vec<(&'static str, Value)>,
-    /// The table law's rows, `friction_table = [[s, mu], ...]`, as given.
-    pub(crate) friction_table: Option<Vec<[f64; 2]>>,
+    /// The table law's rows, `friction_table = [[s, mu], ...]`, as given (each row's length
+    /// checked by [`friction_table`]: a third number was dropped without a word).
+    pub(crate) friction_table: Option<Vec<Vec<f64>>>,
     /// The table law's CSV file, `friction_csv = "pad.csv"` (relative to the spec's folder).
     pub(crate) friction_csv: Option<String>,
 }
@@ -66,7 +67,7 @@ pub fn read_friction_csv(
 /// for them when a stored spec is read again. Errors name `<table>.<key>`.
 pub(crate) fn friction_table(
     table: &str,
-    keys: (Option<&[[f64; 2]]>, Option<&str>),
+    keys: (Option<&[Vec<f64>]>, Option<&str>),
     folder: &std::path::Path,
     stored: Option<&'static squeal_core::FrictionTable>,
     invalid: Invalid,
@@ -86,14 +87,35 @@ pub(crate) fn friction_table(
         )),
         (None, None) => Err(invalid(&key("friction_table"), "missing".into(), &how)),
         _ if stored.is_some() => Ok(stored.expect("some")),
-        (Some(rows), None) => {
-            let rows: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[1])).collect();
-            squeal_core::FrictionTable::new(&rows)
-                .map_err(|e| invalid(&key("friction_table"), "given".into(), &e.to_string()))
-        }
+        (Some(rows), None) => pairs(rows)
+            .and_then(|rows| squeal_core::FrictionTable::new(&rows))
+            .map_err(|e| invalid(&key("friction_table"), "given".into(), &e.to_string())),
         (None, Some(csv)) => read_friction_csv(&folder.join(csv))
             .map_err(|e| invalid(&key("friction_csv"), format!("{csv:?}"), &e)),
     }
+}
+
+/// The rows of `friction_table` as pairs, each row two numbers: a row of three was cut to
+/// two without a word (a CSV line of three is refused), a row of one failed unnamed.
+fn pairs(rows: &[Vec<f64>]) -> Result<Vec<(f64, f64)>, squeal_core::CoreError> {
+    rows.iter()
+        .enumerate()
+        .map(|(i, r)| match r[..] {
+            [s, mu] => Ok((s, mu)),
+            _ => Err(squeal_core::CoreError::InvalidTable {
+                unit: "row",
+                row: i + 1,
+                reason: format!(
+                    "[{}] holds {} number(s), expected two: [slip speed, mu]",
+                    r.iter()
+                        .map(|x| Number(*x).to_string())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    r.len()
+                ),
+            }),
+        })
+        .collect()
 }
 
 /// The keys a `[model]` table accepts: `law`, then every law's keys, each once.
@@ -133,7 +155,7 @@ impl<'de> Deserialize<'de> for ModelTable {
                     if key == "law" {
                         law = Some(a.next_value::<FrictionLaw>()?);
                     } else if key == "friction_table" {
-                        friction_table = Some(a.next_value::<Vec<[f64; 2]>>()?);
+                        friction_table = Some(a.next_value::<Vec<Vec<f64>>>()?);
                     } else if key == "friction_csv" {
                         friction_csv = Some(a.next_value::<String>()?);
                     } else {

@@ -279,3 +279,36 @@ fn a_block_record_holds_its_cells_deflated_column_by_column() {
         &alike
     ));
 }
+
+/// A journal changed on disk by another process while a run writes it (a block record's
+/// bytes overwritten, or the journal cut short) is named as the run's journal that
+/// changed, not as "not a squeal file" (and a changed record whose bytes still decode is
+/// not written into the file as if it were the run's).
+#[test]
+fn a_journal_changed_under_a_live_run_is_named_as_changed() {
+    for cut in [false, true] {
+        let dir = tempfile::tempdir().unwrap();
+        let p = plan();
+        let out = dir.path().join("c.h5");
+        let mut w = ScanWriter::create(&out, &p, None, &prov(), false).unwrap();
+        for b in 0..p.map.grid.blocks() {
+            w.write_block(&block(&p, 0, b)).unwrap();
+        }
+        let j = journal_of(&out);
+        let mut bytes = std::fs::read(&j).unwrap();
+        let n = bytes.len();
+        if cut {
+            bytes.truncate(n - 40);
+        } else {
+            // A byte inside the last block record's payload (its 8-byte checksum last).
+            bytes[n - 20] ^= 0x55;
+        }
+        std::fs::write(&j, &bytes).unwrap();
+        let e = w.finish().unwrap_err().to_string();
+        assert!(
+            e.contains(&j.display().to_string()) && e.contains("changed on disk while this run"),
+            "cut {cut}: {e}"
+        );
+        assert!(!e.contains("not a squeal file"), "cut {cut}: {e}");
+    }
+}
