@@ -258,6 +258,7 @@ pub fn write_run(
     traj: &squeal_scan::trajectory::Trajectory,
     physical: Option<&squeal_core::Physical>,
 ) -> Result<(), StoreError> {
+    crate::create_parent(path)?;
     let p = stepper.params();
     let named = p.named();
     let keys: Vec<(String, String)> = named
