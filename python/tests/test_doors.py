@@ -61,7 +61,8 @@ def test_critical_of_the_table_law_bisects_xi(tmp_path):
     r = cli("critical", "--law", "table", "--friction-csv", str(csv), "--x0", "-1", "--v0",
             "0.5", "--rtol", "1e-3", "--json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    assert k.value == json.loads(r.stdout)["xi"]
+    # The command line's JSON names the table law's damping `nu` (the Stribeck law's `xi`).
+    assert k.value == json.loads(r.stdout)["nu"]
 
 
 def test_critical_refuses_xi_under_mcmillans_law_as_the_cli_does(tmp_path):
@@ -274,3 +275,13 @@ def test_errors_name_the_python_argument(call, exc, named):
 def test_the_law_error_lists_the_laws():
     with pytest.raises(ValueError, match=r"law= 'bogus'.*mcmillan, .*table"):
         squeal.trajectory(law="bogus", t_end=1.0)
+
+
+def test_a_run_keeping_too_many_samples_is_refused_as_on_the_cli(tmp_path):
+    # `squeal trajectory --t-end 2e5 --out r.h5` refuses 4e7 kept samples (at most 2e7:
+    # 2e5 / dt 0.005 = 4e7 steps, each kept with every=1); Python ran it, 1.6 GB in memory.
+    r = cli("trajectory", "--t-end", "2e5", "--out", "r.h5", cwd=tmp_path)
+    assert r.returncode == 2 and "at most 20000000" in r.stderr, r.stderr
+    with pytest.raises(ValueError, match=r"every= 1: 40000001 samples .*at most 20000000"):
+        squeal.trajectory(law="mcmillan", t_end=2e5)
+    assert list(tmp_path.iterdir()) == []

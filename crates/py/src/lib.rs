@@ -388,12 +388,12 @@ pub fn boundary(
     bracket: Option<(f64, f64)>,
     horizon: f64,
 ) -> PyResult<String> {
-    use squeal_scan::atlas::{BoundaryStatus, PointSettings, boundary::both_in};
+    use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary::both_in};
     use squeal_scan::fates::decide;
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
     let (key, fold, rtol) = search;
-    let param = bisected(&key, plan.maps[map].law)?;
+    let param = bisected(&key, plan.maps[map].law.kind())?;
     let point = start(&plan, point, "critical")?;
     let inv = keyword("critical");
     squeal_scan::bounds::bisection_rtol("rtol", rtol, &inv).map_err(value_error)?;
@@ -447,13 +447,16 @@ pub fn boundary(
 /// The bisected parameter of `critical(parameter=)` under `law`, as `squeal critical --in`
 /// takes it: `xi` and `v_d` are `nu` and `lambda` under the laws with true stick, and no
 /// name of another law's.
-fn bisected(key: &str, law: squeal_core::FrictionLaw) -> PyResult<squeal_scan::atlas::BoundaryParam> {
+fn bisected(
+    key: &str,
+    law: squeal_core::FrictionLaw,
+) -> PyResult<squeal_scan::atlas::BoundaryParam> {
     use squeal_scan::atlas::BoundaryParam;
     let own = law.family().has_own_names();
     let nd = match (key, own) {
         ("xi" | "v_d", false) => {
             return Err(PyValueError::new_err(format!(
-                "squeal.critical: parameter= {key:?}: a name under the laws with true stick \
+                "squeal.critical: parameter= '{key}': a name under the laws with true stick \
                  (stribeck, cubic, table); with law {} use 'nu' or 'lambda'",
                 law.name()
             )));
@@ -464,7 +467,7 @@ fn bisected(key: &str, law: squeal_core::FrictionLaw) -> PyResult<squeal_scan::a
     };
     BoundaryParam::from_key(nd).ok_or_else(|| {
         PyValueError::new_err(format!(
-            "squeal.critical: parameter= {key:?}: expected one of 'nu', 'lambda', 'xi', 'v_d'"
+            "squeal.critical: parameter= '{key}': expected one of 'nu', 'lambda', 'xi', 'v_d'"
         ))
     })
 }

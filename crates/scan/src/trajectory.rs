@@ -119,6 +119,10 @@ impl Unconverged {
     }
 }
 
+/// At most this many samples of a run are kept in memory for a file or a plot (40 bytes
+/// each), by every door (`squeal trajectory --out/--plot`, Python's `trajectory`).
+pub const MAX_ROWS: u64 = 20_000_000;
+
 /// What to run: the start, the end, and which samples to keep.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Span {

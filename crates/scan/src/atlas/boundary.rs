@@ -159,7 +159,11 @@ impl BoundaryParam {
             BoundaryParam::Nu => 4.0,
             BoundaryParam::Lambda => 16.0 * self.default_bracket().1,
         };
-        if top_given { range.hi } else { raised.max(range.hi) }
+        if top_given {
+            range.hi
+        } else {
+            raised.max(range.hi)
+        }
     }
 }
 
