@@ -297,10 +297,11 @@ def basin_stability(
         },
         "output": {"path": "basin-stability.h5"},
     }
-    if integration is not None:
-        spec["integration"] = _args.settings("basin_stability", "integration", integration)
-    if classifier is not None:
-        spec["classifier"] = _args.settings("basin_stability", "classifier", classifier)
+    for table, given in (("integration", integration), ("classifier", classifier)):
+        if given is not None:
+            spec[table] = _args.settings("basin_stability", table, given)
+            for key in spec[table]:
+                names.keys[f"{table}.{key}"] = f"{table}={{{key!r}: ...}}"
     ds = names(scan, spec, out)
     dim = _swept(ds)
     # A physical sweep's parameter as the caller swept it: the Dataset's SI coordinate over
@@ -368,7 +369,7 @@ class _Names:
         import re
 
         text = re.sub(
-            r"`((?:physical|model|sample\.region)\.\w+)`",
+            r"`((?:physical|model|sample\.region|integration|classifier)\.\w+)`",
             lambda m: f"`{self.keys.get(m.group(1), m.group(1))}`",
             str(e),
         )
@@ -486,6 +487,9 @@ def _model_spec(
         "output": {"path": "unused.h5"},
     }
     s.update({k: _args.settings(names.helper, k, v) for k, v in extra.items() if v is not None})
+    for table in extra:
+        for key in s.get(table, {}):
+            names.keys[f"{table}.{key}"] = f"{table}={{{key!r}: ...}}"
     return s
 
 

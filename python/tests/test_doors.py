@@ -101,7 +101,7 @@ def test_the_helpers_default_the_law_as_the_cli_does():
         ({"lambda": 0.0}, "lambda="),
         ({"tau": 0.0}, "tau="),
         ({"phi": 2.0}, "phi="),
-        ({"integration": {"dt": 0.0}}, "dt"),
+        ({"integration": {"dt": 0.0}}, "integration={'dt'"),
     ],
 )
 def test_a_bad_value_is_named_not_hidden_behind_a_missing_nu(given, named):
@@ -201,6 +201,8 @@ def test_open_refuses_what_info_refuses(tmp_path):
     # Before: h5py's "Unable to synchronously open file (truncated file: ...)".
     assert "truncated or damaged" in refused_alike(cut, tmp_path)
     assert squeal.open(good).attrs["schema"]
+    with pytest.raises(FileNotFoundError, match="nowhere"):
+        squeal.open(tmp_path / "nowhere.h5")
 
 
 def test_open_refuses_a_fifo_without_opening_it(tmp_path):

@@ -86,6 +86,9 @@ fn store_error(e: StoreError) -> PyErr {
 fn store_error_after(before: &str, e: StoreError) -> PyErr {
     let m = format!("{before}{}", store_message(&e, &Keywords));
     match e {
+        StoreError::Io { ref source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
+            pyo3::exceptions::PyFileNotFoundError::new_err(m)
+        }
         StoreError::Io { .. } | StoreError::Hdf5 { .. } => PyOSError::new_err(m),
         _ => PyValueError::new_err(m),
     }
