@@ -108,25 +108,6 @@ def _spec(spec: Spec) -> tuple[str, Optional[str]]:
     raise TypeError(f"spec= {spec!r:.60}: expected a path or a dict, not {type(spec).__name__}")
 
 
-def _import_beside() -> None:
-    """Starts importing xarray and its HDF5 backend on a thread of their own, so that the
-    import (0.45 s of CPU, more than a short run's: BENCHMARKS.md, "Python's trajectory")
-    overlaps the computing, which holds no GIL; :func:`open` then finds them imported."""
-    if "h5netcdf" in sys.modules:
-        return
-
-    def load():
-        try:
-            import h5netcdf  # noqa: F401
-            import xarray  # noqa: F401
-        except ImportError:
-            pass  # open() raises it where it is needed
-
-    import threading
-
-    threading.Thread(target=load, name="squeal-import", daemon=True).start()
-
-
 def open(path: Union[str, os.PathLike]) -> "xarray.Dataset":  # noqa: A001 (squeal.open)
     """Any file squeal writes (scan, sweep, sample, atlas, trajectory ``.h5``), loaded into
     memory as an ``xarray.Dataset``: its variables, dimension coordinates and attributes as
@@ -168,7 +149,6 @@ def _run(kind: str, spec: Spec, out, resume: bool, force: bool, allow_long: bool
     out = None if out is None else _args.path(kind, "out", out)
     name, text = _spec(spec)
     run = getattr(_squeal, kind)
-    _import_beside()
     if out is None:
         if resume:
             raise ValueError("resume=True needs out=: the file of the interrupted run")
@@ -689,8 +669,6 @@ def trajectory(
 
     point = (_real("x0", x0), _real("v0", v0))
     span = (_real("t_end", t_end), _args.whole("trajectory", "every", every, lo=1))
-
-    _import_beside()
 
     def run(path):
         verdict = names(_squeal.trajectory, name, text, map, point, span, str(path), force)
