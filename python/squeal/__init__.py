@@ -307,7 +307,8 @@ def basin_stability(
 
 def _region(region: Any) -> tuple:
     """``region=``: two pairs of numbers, ``((x0_min, x0_max), (v0_min, v0_max))``."""
-    if isinstance(region, (str, bytes, Mapping)) or not hasattr(region, "__len__") or len(region) != 2:
+    shaped = hasattr(region, "__len__") and not isinstance(region, (str, bytes, Mapping))
+    if not shaped or len(region) != 2:
         raise ValueError(
             f"squeal.basin_stability: region= {region!r}: expected "
             "((x0_min, x0_max), (v0_min, v0_max))"
@@ -592,7 +593,8 @@ def critical(
     ``(0.5, 6)`` in ``lambda``/``v_d``; ``nu`` is ``xi`` and ``lambda`` is ``v_d`` under the
     laws with true stick). The model as for :func:`ulc`, its parameters at the command
     line's defaults where not given (with the physical system, the bracket stays in ``nu``
-    or ``lambda``, and ``x0``, ``v0`` are in m and m/s, as on the command line). The answer passes the command line's gate: confirmed by runs
+    or ``lambda``, and ``x0``, ``v0`` are in m and m/s, as on the command line). The
+    answer passes the command line's gate: confirmed by runs
     to ``horizon`` (nondimensional time), or found by them (``Critical.by``); without
     ``bracket`` the runs raise its top while a start still squeals there."""
     if not isinstance(parameter, str) or parameter not in _BOUNDARY_KEYS:
