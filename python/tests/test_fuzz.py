@@ -6,7 +6,11 @@ fresh interpreter under a time limit and must end in a Python error (``ValueErro
 computing), without a Rust panic, and without touching a file that was there before.
 
 Seed and size: ``SQUEAL_FUZZ_SEED`` (default 32) and ``SQUEAL_FUZZ_CASES`` (default 60).
-Run by scripts/ci/test-python.sh with the other tests of the package."""
+
+A second family, the Python type and shape cases (``shape_cases``), gives every argument
+of every public function a value of the wrong type or shape, all of them (about 240 cases,
+a few seconds in this interpreter: each is refused before anything runs).
+Run by scripts/ci/test-python.sh with the other tests of the package (in .ci/run)."""
 
 import os
 import random
