@@ -32,7 +32,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Optional, Union
 
-from . import _squeal
+from . import _args, _squeal
 
 __version__: str = _squeal.__version__
 
@@ -58,9 +58,12 @@ REGIMES = ("steady_slip", "stick_slip", "undecided")
 
 
 def _jsonable(v: Any) -> Any:
-    """numpy scalars and arrays in a spec dict, as JSON numbers and lists."""
+    """numpy scalars and arrays in a spec dict, as JSON numbers and lists; paths
+    (``os.PathLike``) as strings."""
     if hasattr(v, "tolist"):
         return v.tolist()
+    if isinstance(v, os.PathLike):
+        return os.fspath(v)
     raise TypeError(f"spec value {v!r}: expected numbers, strings, lists or tables")
 
 
@@ -103,17 +106,22 @@ def _spec(spec: Spec) -> tuple[str, Optional[str]]:
     if isinstance(spec, Mapping):
         _check_values(spec, "")
         return "spec", _squeal.spec_toml(json.dumps(dict(spec), default=_jsonable))
-    raise TypeError(f"spec: expected a path or a dict, not {type(spec).__name__}")
+    raise TypeError(f"spec= {spec!r:.60}: expected a path or a dict, not {type(spec).__name__}")
 
 
 def open(path: Union[str, os.PathLike]) -> "xarray.Dataset":  # noqa: A001 (squeal.open)
     """Any file squeal writes (scan, sweep, sample, atlas, trajectory ``.h5``), loaded into
     memory as an ``xarray.Dataset``: its variables, dimension coordinates and attributes as
-    stored (integers stay integers; enumerations keep ``flag_values``/``flag_meanings``)."""
+    stored (integers stay integers; enumerations keep ``flag_values``/``flag_meanings``).
+    What ``squeal info`` refuses is refused first, in its words (``ValueError``), before
+    anything opens the file: a FIFO or other non-regular file, a file that is not HDF5, a
+    truncated one, an HDF5 file squeal did not write."""
     import xarray as xr
 
+    path = _args.path("open", "path", path)
+    _squeal.file_kind(path)
     with xr.open_dataset(
-        os.fspath(path),
+        path,
         engine="h5netcdf",
         mask_and_scale=False,
         decode_times=False,
@@ -145,11 +153,20 @@ def flags(da) -> dict:
     """``{value: meaning}`` of a flagged integer variable (CF ``flag_values`` and
     ``flag_meanings``), e.g. ``{0: 'undecided', 1: 'steady_slip', 2: 'stick_slip', 255:
     'not_computed'}`` for a scan's ``labels``."""
-    meanings = da.attrs["flag_meanings"].split()
+    attrs = getattr(da, "attrs", None)
+    if not isinstance(attrs, Mapping) or "flag_meanings" not in attrs:
+        raise TypeError(
+            f"squeal.flags: da= {da!r:.60}: expected a flagged variable of a Dataset "
+            "(with flag_values and flag_meanings), e.g. ds['labels']"
+        )
+    meanings = attrs["flag_meanings"].split()
     return {int(v): m for v, m in zip(da.attrs["flag_values"], meanings)}
 
 
 def _run(kind: str, spec: Spec, out, resume: bool, force: bool, allow_long: bool):
+    resume, force = _args.flag(kind, "resume", resume), _args.flag(kind, "force", force)
+    allow_long = _args.flag(kind, "allow_long", allow_long)
+    out = None if out is None else _args.path(kind, "out", out)
     name, text = _spec(spec)
     run = getattr(_squeal, kind)
     if out is None:
@@ -255,6 +272,8 @@ def basin_stability(
     table); then ``region`` is in m and m/s and must be given.
     Defaults: bSTAB's friction case region and 5000 samples."""
     names = _Names("basin_stability")
+    n = _args.whole("basin_stability", "n", n, lo=1)
+    seed = _args.whole("basin_stability", "seed", seed)
     tables = _model_tables({"law": law, **params}, physical, names)
     if region is None:
         if "physical" in tables:
@@ -263,7 +282,7 @@ def basin_stability(
                 "physical system (the default is bSTAB's, in the model's units)"
             )
         region = ((-2.0, 2.0), (0.0, 2.0))
-    (x_lo, x_hi), (v_lo, v_hi) = region
+    (x_lo, x_hi), (v_lo, v_hi) = _region(region)
     names.keys["sample.region.x0"] = "region="
     names.keys["sample.region.v0"] = "region="
     spec = {
@@ -272,16 +291,17 @@ def basin_stability(
         **tables,
         "sample": {
             "kind": "random",
-            "n": int(n),
-            "seed": int(seed),
+            "n": n,
+            "seed": seed,
             "region": {"x0": [x_lo, x_hi], "v0": [v_lo, v_hi]},
         },
         "output": {"path": "basin-stability.h5"},
     }
-    if integration:
-        spec["integration"] = dict(integration)
-    if classifier:
-        spec["classifier"] = dict(classifier)
+    for table, given in (("integration", integration), ("classifier", classifier)):
+        if given is not None:
+            spec[table] = _args.settings("basin_stability", table, given)
+            for key in spec[table]:
+                names.keys[f"{table}.{key}"] = f"{table}={{{key!r}: ...}}"
     ds = names(scan, spec, out)
     dim = _swept(ds)
     # A physical sweep's parameter as the caller swept it: the Dataset's SI coordinate over
@@ -296,13 +316,24 @@ def basin_stability(
     return BasinStability(
         shares={r: pick(f"basin_stability_{r}") for r in REGIMES},
         errors={r: pick(f"basin_stability_{r}_se") for r in REGIMES},
-        n=int(n),
-        seed=int(seed),
+        n=n,
+        seed=seed,
         region=((x_lo, x_hi), (v_lo, v_hi)),
         parameter=shown,
         values=ds[shown].values if shown else None,
         dataset=ds,
     )
+
+
+def _region(region: Any) -> tuple:
+    """``region=``: two pairs of numbers, ``((x0_min, x0_max), (v0_min, v0_max))``."""
+    shaped = hasattr(region, "__len__") and not isinstance(region, (str, bytes, Mapping))
+    if not shaped or len(region) != 2:
+        raise ValueError(
+            f"squeal.basin_stability: region= {region!r}: expected "
+            "((x0_min, x0_max), (v0_min, v0_max))"
+        )
+    return tuple(_args.pair("basin_stability", "region", r) for r in region)
 
 
 #: The physical system's keywords (the command line's ``--m ... --normal-force``) and the
@@ -339,7 +370,7 @@ class _Names:
         import re
 
         text = re.sub(
-            r"`((?:physical|model|sample\.region)\.\w+)`",
+            r"`((?:physical|model|sample\.region|integration|classifier)\.\w+)`",
             lambda m: f"`{self.keys.get(m.group(1), m.group(1))}`",
             str(e),
         )
@@ -355,12 +386,44 @@ class _Names:
             raise self.rename(e) from None
 
 
+def _checked(helper: str, model: dict[str, Any], physical) -> tuple[dict, Optional[dict]]:
+    """The keywords ``model`` and the mapping ``physical`` with each value checked by its
+    keyword (:mod:`squeal._args`): the law one of the library's, every other key a law's,
+    the physical system's or a measured curve, a number or numbers to sweep, a curve's
+    rows of numbers or its file as a path."""
+    _args.known(helper, model, _PHYSICAL, _TABLE_KEYS)
+
+    def one(k: str, v: Any, shown: str) -> Any:
+        if k == "friction_csv":
+            return _args.path(helper, shown, v)
+        if k == "friction_table":
+            return _args.table_rows(helper, shown, v)
+        return _args.value(helper, shown, v)
+
+    out = {k: _args.law(helper, v) if k == "law" else one(k, v, k) for k, v in model.items()}
+    if physical is None:
+        return out, None
+    if not isinstance(physical, Mapping):
+        raise TypeError(f"squeal.{helper}: physical= {physical!r}: expected a dict of the "
+                        "[physical] table's keys")
+    return out, {k: one(k, v, f"physical[{k!r}]") for k, v in physical.items()}
+
+
 def _model_tables(
-    model: dict[str, Any], physical: Optional[Mapping[str, Any]], names: _Names
+    model: dict[str, Any],
+    physical: Optional[Mapping[str, Any]],
+    names: _Names,
+    defaults: bool = False,
 ) -> dict[str, Any]:
     """The ``[model]`` and ``[physical]`` tables of the keywords ``model`` (the physical
     keys among them, :data:`_PHYSICAL`) and the mapping ``physical`` (its keys as the
-    ``[physical]`` table's); ``names`` learns which keyword each spec key came from."""
+    ``[physical]`` table's); ``names`` learns which keyword each spec key came from. With
+    ``defaults`` (the helpers of one parameter point, as the command line's flags), the law
+    and the law's keys not given take the library's defaults (``law="mcmillan"``,
+    ``nu=1e-3``)."""
+    if defaults:
+        model.setdefault("law", _args.laws()["default"])
+    model, physical = _checked(names.helper, model, physical)
     given = {k: model.pop(k) for k in list(model) if k in _PHYSICAL}
     if given and physical is not None:
         raise ValueError(
@@ -392,6 +455,10 @@ def _model_tables(
                     f"physical system ({', '.join(_PHYSICAL)}) it follows from them "
                     "(tau_s= is the surface time in seconds)"
                 )
+    elif defaults and "law" in tables["model"]:
+        law = _args.laws()["laws"][tables["model"]["law"]]
+        for k, v in law["defaults"].items():
+            tables["model"].setdefault(k, v)
     return tables
 
 
@@ -416,11 +483,14 @@ def _model_spec(
     one = {"min": 0.0, "max": 0.0, "count": 1}
     s = {
         "version": 1,
-        **_model_tables(model, physical, names),
+        **_model_tables(model, physical, names, defaults=True),
         "grid": {"x0": one, "v0": one},
         "output": {"path": "unused.h5"},
     }
-    s.update({k: dict(v) for k, v in extra.items() if v})
+    s.update({k: _args.settings(names.helper, k, v) for k, v in extra.items() if v is not None})
+    for table in extra:
+        for key in s.get(table, {}):
+            names.keys[f"{table}.{key}"] = f"{table}={{{key!r}: ...}}"
     return s
 
 
@@ -468,6 +538,8 @@ def ulc(
     import numpy as np
 
     names = _Names("ulc")
+    map = _args.whole("ulc", "map", map)  # noqa: A001
+    check_half_dt = _args.flag("ulc", "check_half_dt", check_half_dt)
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
     r_max, rtol = _real("r_max", r_max), _real("rtol", rtol)
@@ -515,12 +587,9 @@ class Critical:
     why: Optional[str] = None
 
 
-#: The bisected parameters: the Stribeck law's names, and the bracket defaults of the
-#: command line (--nu-lo/--nu-hi, --lambda-lo/--lambda-hi).
-_BOUNDARY_KEYS = {"nu": "nu", "xi": "nu", "lambda": "lambda", "v_d": "lambda"}
-_BRACKETS = {"nu": (1e-3, 5e-2), "lambda": (0.5, 6.0)}
-#: How far the runs' search raises the default bracket's top (the command line's).
-_CEILINGS = {"nu": 4.0, "lambda": 96.0}
+#: The parameters ``critical`` bisects in: McMillan's names and the laws with true stick's
+#: (the library refuses a name under a law that is not its, as ``squeal critical --in``).
+_BOUNDARY_KEYS = ("nu", "lambda", "xi", "v_d")
 
 
 def critical(
@@ -541,31 +610,31 @@ def critical(
     """The critical value of ``parameter`` for the state ``(x0, v0)``, or with ``fold=True``
     the fold of cycles (``squeal critical [--fold] [--in PARAMETER]``), bisected over
     ``bracket`` (default: the command line's, ``(1e-3, 5e-2)`` in ``nu``/``xi``,
-    ``(0.5, 6)`` in ``lambda``/``v_d``). The model as for :func:`ulc`; the bisected
-    parameter's own value, if not given, is the bracket's low end (with the physical
-    system, the bracket stays in ``nu`` or ``lambda``, and ``x0``, ``v0`` are in m and m/s,
-    as on the command line). The answer passes the command line's gate: confirmed by runs
+    ``(0.5, 6)`` in ``lambda``/``v_d``; ``nu`` is ``xi`` and ``lambda`` is ``v_d`` under the
+    laws with true stick). The model as for :func:`ulc`, its parameters at the command
+    line's defaults where not given (with the physical system, the bracket stays in ``nu``
+    or ``lambda``, and ``x0``, ``v0`` are in m and m/s, as on the command line). The
+    answer passes the command line's gate: confirmed by runs
     to ``horizon`` (nondimensional time), or found by them (``Critical.by``); without
     ``bracket`` the runs raise its top while a start still squeals there."""
-    key = _BOUNDARY_KEYS.get(parameter)
-    if key is None:
-        raise ValueError(f"parameter {parameter!r}: expected one of {', '.join(_BOUNDARY_KEYS)}")
-    lo, hi = bracket if bracket is not None else _BRACKETS[key]
-    is_physical = physical is not None or any(k in _PHYSICAL for k in model)
-    if spec is None and parameter not in model and not is_physical:
-        model[parameter] = lo
+    if not isinstance(parameter, str) or parameter not in _BOUNDARY_KEYS:
+        raise ValueError(
+            f"squeal.critical: parameter= {parameter!r}: expected one of "
+            f"{', '.join(repr(k) for k in _BOUNDARY_KEYS)}"
+        )
+    which = _args.whole("critical", "map", map)
+    fold = _args.flag("critical", "fold", fold)
+    if bracket is not None:
+        bracket = _args.pair("critical", "bracket", bracket)
     names = _Names("critical")
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
     point = (_real("x0", x0), _real("v0", v0))
     rtol = _real("rtol", rtol)
-    ceiling = hi if bracket is not None else _CEILINGS[key]
     horizon = _real("horizon", horizon)
-    b = json.loads(
-        names(
-            _squeal.boundary, name, text, map, point, (key, fold, rtol), (lo, hi), ceiling, horizon
-        )
-    )
+    search = (parameter, fold, rtol)
+    b = json.loads(names(_squeal.boundary, name, text, which, point, search, bracket, horizon))
+    lo = b["range"][0]
     if b["status"] == "below_range":
         what = "nothing squeals there already" if fold else f"{point} is quiet there already"
         raise ValueError(f"bracket low end {parameter} = {lo}: {what}; lower it")
@@ -593,7 +662,7 @@ def trajectory(
     x0: float = 0.0,
     v0: float = 0.0,
     t_end: float = 1000.0,
-    every: int = 1,
+    every: Optional[int] = None,
     out=None,
     force: bool = False,
     map: int = 0,  # noqa: A002 (the command line's --map)
@@ -602,7 +671,9 @@ def trajectory(
     **model: Any,
 ):
     """One run from ``(x0, v0)`` to ``t_end`` (``squeal trajectory``) as a Dataset over the
-    time ``t``: ``x``, ``v``, ``a`` and the friction ``force``, every ``every``-th step, with
+    time ``t``: ``x``, ``v``, ``a`` and the friction ``force``, every ``every``-th step
+    (``None``: the command line's default without ``--every``, at least 100 samples per
+    natural period and at most 100000 in all; the file's ``sampling`` says which), with
     the run's settings as attributes and the start's label (the one ``squeal scan`` and
     ``squeal classify`` give it: decided at the start where the unstable cycle's side decides
     it, else the classifier's verdict on the run) in ``regime``, ``reason``, ``t_decision``
@@ -614,15 +685,15 @@ def trajectory(
     attributes); ``out`` keeps the file (the schema of ``squeal trajectory --out run.h5``;
     an existing file there is refused unless ``force=True``, as on the command line)."""
     names = _Names("trajectory")
+    map = _args.whole("trajectory", "map", map)  # noqa: A001
+    force = _args.flag("trajectory", "force", force)
+    out = None if out is None else _args.path("trajectory", "out", out)
     s = _model_spec(spec, model, {"integration": integration}, names, physical)
     name, text = names(_spec, s)
 
     point = (_real("x0", x0), _real("v0", v0))
-    if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
-        raise ValueError(f"squeal.trajectory: every= = {every!r}: expected a whole number >= 1")
-    if every >= 2**64:
-        raise ValueError(f"squeal.trajectory: every= = {every!r}: expected a count below 2**64")
-    span = (_real("t_end", t_end), int(every))
+    every = None if every is None else _args.whole("trajectory", "every", every, lo=1)
+    span = (_real("t_end", t_end), every)
 
     def run(path):
         verdict = names(_squeal.trajectory, name, text, map, point, span, str(path), force)
@@ -631,7 +702,7 @@ def trajectory(
         return ds
 
     if out is not None:
-        return run(os.fspath(out))
+        return run(out)
     with tempfile.TemporaryDirectory(prefix="squeal-") as d:
         return run(Path(d) / "trajectory.h5")
 

@@ -696,3 +696,15 @@ def test_report_writes_the_same_page_as_the_cli_and_refuses_what_it_refuses(tmp_
         squeal.report(tmp_path / "foreign.h5", out=tmp_path / "f.html")
     with pytest.raises(TypeError, match="force"):
         squeal.report(tmp_path / "small.h5", force="yes")
+
+
+def test_trajectory_without_every_keeps_what_the_cli_keeps(tmp_path):
+    # Without every=, both doors keep every 12th step of dt = 0.005 (at least 100 samples per
+    # natural period 2 pi: floor(2 pi / (100 * 0.005)) = 12); every=1 kept every step.
+    ds = squeal.trajectory(law="mcmillan", nu=1e-2, t_end=200.0)
+    r = cli("trajectory", "--nu", "1e-2", "--t-end", "200", "--out", "run.h5", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    ref = read_cli_file(tmp_path / "run.h5")
+    assert int(ds.attrs["every"]) == int(ref.attrs["every"]) == 12
+    assert ds.sizes["t"] == ref.sizes["t"]
+    assert "default" in ds.attrs["sampling"]

@@ -85,6 +85,10 @@ impl FrictionLaw {
         FrictionLaw::Coulomb,
     ];
 
+    /// The law where none is named: the command line's `--law` and Python's helpers
+    /// (McMillan's hysteretic law, the paper's).
+    pub const DEFAULT: FrictionLaw = FrictionLaw::McMillan;
+
     /// All laws, in a fixed order.
     pub const ALL: [FrictionLaw; 6] = [
         FrictionLaw::McMillan,

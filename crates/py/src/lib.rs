@@ -36,6 +36,8 @@
 //! | [`boundary`] | the fold of cycles, or a critical value in `nu` or `lambda`, as JSON |
 //! | [`trajectory()`] | one run into a trajectory file, and its verdict |
 //! | [`cli`] | the command line |
+//! | [`laws`] | every law's keys and defaults, and the default law, as JSON |
+//! | [`file_kind`] | the kind of a squeal file, checked as `squeal info` checks it |
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -47,6 +49,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use squeal_cli::AtlasRunError;
 use squeal_cli::words::{Keywords, store_message};
+use squeal_core::error::Number;
 use squeal_core::{Setup, State};
 use squeal_scan::DriveError;
 use squeal_scan::atlas::AtlasPlan;
@@ -83,6 +86,9 @@ fn store_error(e: StoreError) -> PyErr {
 fn store_error_after(before: &str, e: StoreError) -> PyErr {
     let m = format!("{before}{}", store_message(&e, &Keywords));
     match e {
+        StoreError::Io { ref source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
+            pyo3::exceptions::PyFileNotFoundError::new_err(m)
+        }
         StoreError::Io { .. } | StoreError::Hdf5 { .. } => PyOSError::new_err(m),
         _ => PyValueError::new_err(m),
     }
@@ -373,7 +379,7 @@ fn decided_json<T: serde::Serialize>(
 /// [`squeal_scan::atlas::boundary::both_in`]) confirmed by runs to `horizon`, or the runs'
 /// answer; as JSON ([`decided_json`]).
 #[pyfunction]
-#[pyo3(signature = (spec, text, map, point, search, bracket, ceiling, horizon))]
+#[pyo3(signature = (spec, text, map, point, search, bracket, horizon))]
 #[allow(clippy::too_many_arguments)]
 pub fn boundary(
     py: Python<'_>,
@@ -382,8 +388,7 @@ pub fn boundary(
     map: usize,
     point: (f64, f64),
     search: (String, bool, f64),
-    bracket: (f64, f64),
-    ceiling: f64,
+    bracket: Option<(f64, f64)>,
     horizon: f64,
 ) -> PyResult<String> {
     use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary::both_in};
@@ -391,15 +396,14 @@ pub fn boundary(
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
     let (key, fold, rtol) = search;
-    let param = BoundaryParam::from_key(&key).ok_or_else(|| {
-        PyValueError::new_err(format!("parameter {key:?}: expected nu or lambda"))
-    })?;
+    let param = bisected(&key, plan.maps[map].law.kind())?;
     let point = start(&plan, point, "critical")?;
     let inv = keyword("critical");
     squeal_scan::bounds::bisection_rtol("rtol", rtol, &inv).map_err(value_error)?;
     squeal_scan::bounds::horizon("horizon", horizon, setup.dt, &inv).map_err(value_error)?;
-    let range = ParamRange::new(bracket.0, bracket.1, rtol);
-    let ceiling = ceiling.max(range.hi);
+    let range = critical_range(param, bracket, rtol)?;
+    // As the command line: a given top is the ceiling, a default one is raised by the runs.
+    let ceiling = param.ceiling(range, bracket.is_some());
     let starts = squeal_scan::fates::starts(fold, (param, setup), range.lo, point);
     let gate = (setup, param);
     let d = py.detach(|| -> Result<_, squeal_scan::ScanError> {
@@ -425,7 +429,7 @@ pub fn boundary(
         })?;
         Ok(Ok(d))
     });
-    match d.map_err(value_error)? {
+    let json = match d.map_err(value_error)? {
         Err(d) => decided_json(d, |r| (r.nu, r.bracket, r.evaluations, None, "found")),
         Ok(d) => decided_json(d, |b| {
             (
@@ -436,7 +440,92 @@ pub fn boundary(
                 b.status.name(),
             )
         }),
+    }?;
+    // The range searched, for the refusals that name its ends.
+    let mut v: serde_json::Value = serde_json::from_str(&json).map_err(value_error)?;
+    v["range"] = serde_json::json!([range.lo, range.hi]);
+    Ok(v.to_string())
+}
+
+/// The bisected parameter of `critical(parameter=)` under `law`, as `squeal critical --in`
+/// takes it: `xi` and `v_d` are `nu` and `lambda` under the laws with true stick, and no
+/// name of another law's.
+fn bisected(
+    key: &str,
+    law: squeal_core::FrictionLaw,
+) -> PyResult<squeal_scan::atlas::BoundaryParam> {
+    use squeal_scan::atlas::BoundaryParam;
+    let own = law.family().has_own_names();
+    let nd = match (key, own) {
+        ("xi" | "v_d", false) => {
+            return Err(PyValueError::new_err(format!(
+                "squeal.critical: parameter= '{key}': a name under the laws with true stick \
+                 (stribeck, cubic, table); with law {} use 'nu' or 'lambda'",
+                law.name()
+            )));
+        }
+        ("xi", true) => "nu",
+        ("v_d", true) => "lambda",
+        (k, _) => k,
+    };
+    BoundaryParam::from_key(nd).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "squeal.critical: parameter= '{key}': expected one of 'nu', 'lambda', 'xi', 'v_d'"
+        ))
+    })
+}
+
+/// The range `bracket` of `critical(bracket=)`, or the library's default for `param`
+/// ([`squeal_scan::atlas::BoundaryParam::default_bracket`], as `squeal critical`'s),
+/// checked as the command line checks it: 0 < lo < hi, finite.
+fn critical_range(
+    param: squeal_scan::atlas::BoundaryParam,
+    bracket: Option<(f64, f64)>,
+    rtol: f64,
+) -> PyResult<ParamRange> {
+    let (lo, hi) = bracket.unwrap_or(param.default_bracket());
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        let (lo, hi) = (Number(lo), Number(hi));
+        return Err(PyValueError::new_err(format!(
+            "squeal.critical: bracket= ({lo}, {hi}): expected 0 < low < high, finite"
+        )));
     }
+    Ok(ParamRange::new(lo, hi, rtol))
+}
+
+/// Every law's keys and defaults, as JSON: `{"default": law, "laws": {name: {"keys": [...],
+/// "defaults": {key: value}}}}` ([`squeal_core::FrictionLaw::DEFAULT`],
+/// [`squeal_core::Params::defaults`]): the defaults the command line's flags take, read by
+/// Python's helpers from the one place they are defined.
+#[pyfunction]
+pub fn laws() -> PyResult<String> {
+    use squeal_core::{FrictionLaw, Params};
+    let mut laws = serde_json::Map::new();
+    for law in FrictionLaw::ALL {
+        let defaults: serde_json::Map<String, serde_json::Value> = Params::defaults(law)
+            .named()
+            .iter()
+            .map(|n| (n.name.to_string(), n.value.into()))
+            .collect();
+        let v = serde_json::json!({ "keys": law.keys(), "defaults": defaults });
+        laws.insert(law.name().into(), v);
+    }
+    let v = serde_json::json!({ "default": FrictionLaw::DEFAULT.name(), "laws": laws });
+    serde_json::to_string(&v).map_err(value_error)
+}
+
+/// The kind of the squeal file at `path` (`"scan"`, `"atlas"`, `"trajectory"`), checked as
+/// `squeal info` checks it before anything reads it ([`squeal_store::file_kind`]): a FIFO
+/// or other non-regular file, a file that is not HDF5, a truncated one and an HDF5 file
+/// without squeal's schema are refused (`ValueError`) in the command line's words.
+#[pyfunction]
+pub fn file_kind(path: PathBuf) -> PyResult<&'static str> {
+    use squeal_store::FileKind;
+    Ok(match squeal_store::file_kind(&path).map_err(store_error)? {
+        FileKind::Scan => "scan",
+        FileKind::Atlas => "atlas",
+        FileKind::Trajectory => "trajectory",
+    })
 }
 
 /// Runs the `squeal` command line with `argv` (the program name first) and returns its
@@ -489,5 +578,7 @@ fn _squeal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cli, m)?)?;
     m.add_function(wrap_pyfunction!(si_twin, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
+    m.add_function(wrap_pyfunction!(laws, m)?)?;
+    m.add_function(wrap_pyfunction!(file_kind, m)?)?;
     Ok(())
 }

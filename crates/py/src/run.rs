@@ -56,6 +56,15 @@ pub fn trajectory(
     };
     span.check(dt, ["x0", "v0", "t_end"], &invalid)
         .map_err(value_error)?;
+    // The command line's bound on the samples kept (`--every`): t_end = 1e6 kept 2e8.
+    let rows = (t_end / dt).ceil() as u64 / every + 1;
+    if rows > squeal_scan::trajectory::MAX_ROWS {
+        return Err(value_error(anyhow::anyhow!(
+            "squeal.trajectory: every= {every}: {rows} samples would be kept (at most {}): \
+             raise every= or lower t_end=",
+            squeal_scan::trajectory::MAX_ROWS
+        )));
+    }
     // An existing `out` is refused before the run, unless `force`.
     squeal_store::refuse_existing(&out, force).map_err(store_error)?;
     // The map's context, as `squeal classify` prepares it: the label is the one every path

@@ -163,6 +163,10 @@ pub fn default_every(dt: f64, t_end: f64) -> u64 {
     (per_period.max(capped) as u64).max(1)
 }
 
+/// At most this many samples of a run are kept in memory for a file or a plot (40 bytes
+/// each), by every door (`squeal trajectory --out/--plot`, Python's `trajectory`).
+pub const MAX_ROWS: u64 = 20_000_000;
+
 /// What to run: the start, the end, and which samples to keep.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Span {

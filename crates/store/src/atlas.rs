@@ -169,9 +169,7 @@ impl AtlasWriter {
         force: bool,
     ) -> Result<AtlasWriter, StoreError> {
         crate::check_output(out)?;
-        if let Some(d) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(d).map_err(io(d, "cannot create folder"))?;
-        }
+        crate::create_parent(out)?;
         // Two runs never write one output: the lock first, then the checks.
         let lock = OutputLock::acquire(out)?;
         let path = crate::journal_path(out);

@@ -158,8 +158,8 @@ pub use error::{Advice, Plain, Remedy, StoreError, Words};
 pub use lock::{LockOwner, OutputLock, hostname, lock_path};
 pub use merge::merging;
 pub use output::{
-    FileKind, OutputState, Recorded, check_output, file_kind, output_state, refuse_existing,
-    refuse_input_as_output,
+    FileKind, OutputState, Recorded, check_output, create_parent, file_kind, output_state,
+    refuse_existing, refuse_input_as_output,
 };
 pub use read::{
     FileInfo, FrictionTables, LandscapeInfo, MapData, Swept, SweptSi, file_schema, friction_tables,
@@ -256,6 +256,7 @@ impl ScanWriter {
         force: bool,
     ) -> Result<ScanWriter, StoreError> {
         check_output(out)?;
+        create_parent(out)?;
         let lock = OutputLock::acquire(out)?;
         let jpath = journal_path(out);
         if !force {

@@ -215,6 +215,7 @@ pub fn merging(shards: &[PathBuf], out: &Path, force: bool) -> Result<Assembly, 
             path: out.to_path_buf(),
         });
     }
+    crate::create_parent(out)?;
     let lock = OutputLock::acquire(out)?;
     let (h, files) = open_shards(shards)?;
     let table = read::stored_table(&files[0].1).h5(&files[0].0)?;

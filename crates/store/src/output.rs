@@ -264,6 +264,17 @@ pub fn refuse_existing(path: &Path, force: bool) -> Result<(), StoreError> {
     Ok(())
 }
 
+/// Makes the missing folders above `out`, the same way for every door that writes a file
+/// (the command line's `scan -o`, `atlas -o`, `merge -o` and `trajectory --out`, Python's
+/// `scan`, `atlas`, `basin_stability` and `trajectory`): some made them and others refused
+/// the output ("cannot create the lock").
+pub fn create_parent(out: &Path) -> Result<(), StoreError> {
+    if let Some(d) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(d).map_err(crate::error::io(d, "cannot create folder"))?;
+    }
+    Ok(())
+}
+
 /// Checks an output path before anything is opened or computed, for every door (the CLI's
 /// `scan`, `atlas` and `merge`, Python's `scan` and `atlas`): a name ending in `.h5`, and at
 /// the output and at its lock, temporary file and journal, where something is there, a

@@ -295,10 +295,16 @@ fn refuses_overwrite_without_force() {
         w.finish(),
         Err(StoreError::Incomplete { missing: 4, .. })
     ));
-    // A missing folder.
+    // A missing folder is made, as by every door (`create_parent`); one that cannot be
+    // made (a file where a folder should be) is refused naming it.
+    let fresh = dir.path().join("no/such/x.h5");
+    drop(ScanWriter::create(&fresh, &p, None, &prov(), false).unwrap());
+    assert!(dir.path().join("no/such").is_dir());
+    std::fs::write(dir.path().join("plain"), b"a file").unwrap();
     let e =
-        ScanWriter::create(&dir.path().join("no/such/x.h5"), &p, None, &prov(), false).unwrap_err();
-    assert!(e.to_string().contains("no/such/x.h5"), "{e}");
+        ScanWriter::create(&dir.path().join("plain/x.h5"), &p, None, &prov(), false).unwrap_err();
+    assert!(e.to_string().contains("cannot create folder"), "{e}");
+    assert!(e.to_string().contains("plain"), "{e}");
 }
 
 #[test]

@@ -276,6 +276,7 @@ pub fn write_run_sampled(
     traj: &squeal_scan::trajectory::Trajectory,
     physical: Option<&squeal_core::Physical>,
 ) -> Result<(), StoreError> {
+    crate::create_parent(path)?;
     let p = stepper.params();
     let named = p.named();
     let keys: Vec<(String, String)> = named

@@ -58,10 +58,7 @@ pub fn print_to_reader(text: &str) -> anyhow::Result<()> {
 /// computing (scans and atlases alike): a live run's lock, another user's, or a folder this
 /// user cannot write is refused here, not after the pilot.
 pub fn prepare_output(out: &Path) -> anyhow::Result<()> {
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("creating the output folder {}", dir.display()))?;
-    }
+    squeal_store::create_parent(out)?;
     squeal_store::OutputLock::check_free(out)?;
     Ok(())
 }

@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub v0: f64,
     /// Lower end of the bracket in nu (cycle must not enclose the state there).
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = BoundaryParam::Nu.default_bracket().0)]
     pub nu_lo: f64,
     /// Upper end (cycle must enclose the state there) [default: 0.05; where the answer
     /// comes from runs, raised by 4 up to 4 while a start still squeals there].
@@ -62,7 +62,7 @@ pub struct Args {
     #[arg(long = "in", default_value = "nu", value_parser = ["nu", "lambda", "xi", "v_d"])]
     pub in_: String,
     /// Lower end of the bracket in lambda (with --in lambda).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = BoundaryParam::Lambda.default_bracket().0)]
     pub lambda_lo: f64,
     /// Upper end of the bracket in lambda (with --in lambda) [default: 6; where the answer
     /// comes from runs, raised by 4 up to 96 while a start still squeals there].
@@ -75,11 +75,6 @@ pub struct Args {
     pub horizon: f64,
 }
 
-/// The default top of the bracket in nu.
-const NU_HI: f64 = 5e-2;
-/// ... in lambda.
-const LAMBDA_HI: f64 = 6.0;
-
 impl Args {
     /// Whether the top of the bracket in `param` was given by its flag.
     pub(super) fn top_given(&self, param: BoundaryParam) -> bool {
@@ -89,22 +84,10 @@ impl Args {
         }
     }
 
-    /// How far the runs' search raises a default top: nu to 4 (four times critical
-    /// damping of the spring), lambda to 16 times its default.
-    pub(super) fn top_ceiling(&self, param: BoundaryParam) -> f64 {
-        match param {
-            BoundaryParam::Nu => 4.0,
-            BoundaryParam::Lambda => 16.0 * LAMBDA_HI,
-        }
-    }
-
-    /// The ceiling of the runs' search in `param` over `range`: the range's top where the
-    /// flag gave it, else [`Args::top_ceiling`].
+    /// The ceiling of the runs' search in `param` over `range`, by the library's rule
+    /// ([`BoundaryParam::ceiling`]).
     pub(super) fn ceiling(&self, param: BoundaryParam, range: ParamRange) -> f64 {
-        match self.top_given(param) {
-            true => range.hi,
-            false => self.top_ceiling(param).max(range.hi),
-        }
+        param.ceiling(range, self.top_given(param))
     }
 
     /// The gate ([`squeal_scan::fates::decide`]) with these flags: the range in `param`
@@ -139,13 +122,10 @@ impl Args {
     /// stem (`--nu-lo`, `--lambda-hi`, ...).
     pub(super) fn range(&self, param: BoundaryParam) -> anyhow::Result<(ParamRange, &'static str)> {
         let (lo, hi, flag) = match param {
-            BoundaryParam::Nu => (self.nu_lo, self.nu_hi.unwrap_or(NU_HI), "nu"),
-            BoundaryParam::Lambda => (
-                self.lambda_lo,
-                self.lambda_hi.unwrap_or(LAMBDA_HI),
-                "lambda",
-            ),
+            BoundaryParam::Nu => (self.nu_lo, self.nu_hi, "nu"),
+            BoundaryParam::Lambda => (self.lambda_lo, self.lambda_hi, "lambda"),
         };
+        let hi = hi.unwrap_or(param.default_bracket().1);
         if !(lo > 0.0 && hi > lo && hi.is_finite()) {
             let (lo, hi) = (Number(lo), Number(hi));
             bail!("--{flag}-lo {lo} / --{flag}-hi {hi}: expected 0 < lo < hi");

@@ -18,7 +18,7 @@ fn law_help() -> String {
 #[derive(clap::Args, Debug, Clone)]
 pub struct ModelArgs {
     /// Friction law (its names: [`FrictionLaw::names`]).
-    #[arg(long, default_value = "mcmillan", help = law_help())]
+    #[arg(long, default_value = FrictionLaw::DEFAULT.name(), help = law_help())]
     pub law: String,
     /// The law's own parameters, one flag per key of any law (`--nu`, `--v-d`, `--mu-0`,
     /// ...); defaults: the paper's Table 1, bSTAB's friction case, or the cubic law's.

@@ -23,8 +23,7 @@ use super::model::ModelArgs;
 use super::out_files::{refuse_existing, write_csv};
 use super::trajectory_report::{Classification, RunParams, Summary, print_summary, si_summary};
 
-/// At most this many rows are kept in memory for `--out` and `--plot` (40 bytes each).
-const MAX_ROWS: u64 = 20_000_000;
+use squeal_scan::trajectory::MAX_ROWS;
 /// Flags of `squeal trajectory`.
 #[derive(clap::Args, Debug)]
 pub struct Args {

@@ -139,6 +139,32 @@ impl BoundaryParam {
             .into_iter()
             .find(|b| b.key() == key)
     }
+
+    /// The bracket a critical value or fold is bisected over when none is given, by every
+    /// door (`squeal critical --nu-lo --nu-hi`, Python's `critical(bracket=)`): nu in
+    /// [1e-3, 5e-2] (the paper's damping range), lambda in [0.5, 6] (Table 1's 3 within).
+    pub fn default_bracket(self) -> (f64, f64) {
+        match self {
+            BoundaryParam::Nu => (1e-3, 5e-2),
+            BoundaryParam::Lambda => (0.5, 6.0),
+        }
+    }
+
+    /// The ceiling of the runs' search over `range`: where the bracket's top was given, the
+    /// top itself; else how far the search raises the default top while a start still
+    /// squeals there: nu to 4 (four times critical damping of the spring), lambda to 16
+    /// times its default top.
+    pub fn ceiling(self, range: ParamRange, top_given: bool) -> f64 {
+        let raised = match self {
+            BoundaryParam::Nu => 4.0,
+            BoundaryParam::Lambda => 16.0 * self.default_bracket().1,
+        };
+        if top_given {
+            range.hi
+        } else {
+            raised.max(range.hi)
+        }
+    }
 }
 
 /// How a boundary search ended. Stored as the HDF5 enum `*_status`.

@@ -216,6 +216,7 @@ pub fn merging_atlas(
 ) -> Result<AtlasMerge, StoreError> {
     crate::check_output(out)?;
     crate::refuse_input_as_output(shards, out)?;
+    crate::create_parent(out)?;
     let lock = OutputLock::acquire(out)?;
     if out.exists() && !force {
         return Err(StoreError::Exists {

@@ -312,3 +312,20 @@ fn the_critical_damping_of_rest_lies_within_the_folds_uncertainty() {
     // The crisis itself stands: the interval still starts where squeal last lasts.
     assert!(fold.nu - fold.uncertainty < 0.0210, "{fold:?}");
 }
+
+/// The default bracket and the runs' ceiling, one rule for every door (`squeal critical`,
+/// Python's `critical`): the values the command line's flags had, `--nu-lo 1e-3 --nu-hi
+/// 0.05` raised to nu = 4, `--lambda-lo 0.5 --lambda-hi 6` raised to 16 x 6 = 96; a top
+/// given is its own ceiling.
+#[test]
+fn the_default_brackets_and_ceilings_are_the_command_lines() {
+    assert_eq!(BoundaryParam::Nu.default_bracket(), (1e-3, 5e-2));
+    assert_eq!(BoundaryParam::Lambda.default_bracket(), (0.5, 6.0));
+    let nu = ParamRange::new(1e-3, 5e-2, 1e-4);
+    assert_eq!(BoundaryParam::Nu.ceiling(nu, false), 4.0);
+    assert_eq!(BoundaryParam::Nu.ceiling(nu, true), 5e-2);
+    let lambda = ParamRange::new(0.5, 200.0, 1e-4);
+    assert_eq!(BoundaryParam::Lambda.ceiling(lambda, false), 200.0);
+    let lambda = ParamRange::new(0.5, 6.0, 1e-4);
+    assert_eq!(BoundaryParam::Lambda.ceiling(lambda, false), 96.0);
+}
