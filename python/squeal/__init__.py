@@ -140,13 +140,10 @@ def report(
     the maps, chart or run, the values under the pointer, and the provenance. ``out``
     defaults to the file's name with ``.html``; an existing page is refused unless
     ``force=True``. Returns the page's path."""
-    if not isinstance(file, (str, os.PathLike)):
-        raise TypeError(f"report(file=...): expected a path, got {type(file).__name__}")
-    if out is not None and not isinstance(out, (str, os.PathLike)):
-        raise TypeError(f"report(out=...): expected a path or None, got {type(out).__name__}")
-    if not isinstance(force, bool):
-        raise TypeError(f"report(force=...): expected True or False, got {force!r}")
-    return Path(_squeal.report(os.fspath(file), None if out is None else os.fspath(out), force))
+    file = _args.path("report", "file", file)
+    out = None if out is None else _args.path("report", "out", out)
+    force = _args.flag("report", "force", force)
+    return Path(_squeal.report(file, out, force))
 
 
 def flags(da) -> dict:

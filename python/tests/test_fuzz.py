@@ -161,6 +161,7 @@ SHAPED = {
                     "force": FLAG, "integration": TABLE, "phi": NUMBER, "m": NUMBER,
                     "friction_table": ["'abc'", "5.0", "[(0.0, 'x')]"]}),
     "open": ({}, {"path": PATH + ["None"]}),
+    "report": ({"file": "'nowhere.h5'"}, {"file": PATH + ["None"], "out": PATH, "force": FLAG}),
     "flags": ({}, {"da": ["3", "None", "'labels'"]}),
 }
 

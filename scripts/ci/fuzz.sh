@@ -10,3 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 cargo test --workspace --test e2e -- --ignored --exact fuzz::fuzz_specs_flags_and_files --nocapture
+# The Python door's family: every public function given arguments of the wrong type or
+# shape (bool for a number, text, floats for counts, tuples of the wrong length, None, NaN),
+# each refused naming the argument (python/tests/test_fuzz.py), in a fresh venv from the wheel.
+scripts/ci/test-python.sh -k "wrong_type_or_shape or shape_cases"
