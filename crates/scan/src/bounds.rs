@@ -327,6 +327,16 @@ pub(crate) fn core_error(table: &str, e: squeal_core::CoreError, invalid: Invali
             Number(value).to_string(),
             expected,
         ),
+        // A belt speed below the step: the message after "invalid lambda = ...: ".
+        e @ squeal_core::CoreError::Unresolved { name, value, .. } => {
+            let text = e.to_string();
+            let expected = text.split_once(": ").map_or(text.as_str(), |(_, rest)| rest);
+            invalid(
+                &format!("{table}.{name}"),
+                Number(value).to_string(),
+                expected,
+            )
+        }
         other => invalid(table, String::new(), &other.to_string()),
     }
 }
