@@ -319,8 +319,11 @@ fn keyword(helper: &'static str) -> impl Fn(&str, String, &str) -> squeal_scan::
 /// refused as the command line refuses `--x0`/`--v0` (finite, within the escape radius).
 fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<State> {
     let given = State { x, v };
-    let point = plan.physical().map_or(given, |ph| ph.scales().state(given));
-    let inv = keyword(helper);
+    let scales = plan.physical().map(|ph| ph.scales());
+    let point = scales.map_or(given, |s| s.state(given));
+    // The value as given, in m and m/s, as the command line reports it.
+    let si = scales.map(|s| (given, s));
+    let inv = squeal_scan::bounds::start_invalid(format!("squeal.{helper}"), si);
     squeal_scan::bounds::state("x0", point.x, &inv).map_err(value_error)?;
     squeal_scan::bounds::state("v0", point.v, &inv).map_err(value_error)?;
     Ok(point)

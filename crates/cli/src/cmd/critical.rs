@@ -39,7 +39,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let point = scales.map_or(given, |s| s.state(given));
     // The start, in the model's units, within the classifier's escape radius (`--x0 1e300`
     // was bisected for).
-    let inv = super::physical::start_invalid("command line".into(), scales.is_some());
+    let inv = super::physical::start_invalid("command line".into(), scales.map(|s| (given, s)));
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let args = in_by_law(args, plan, setup.map)?;

@@ -76,12 +76,8 @@ impl Figure {
             (Figure::Velocity, true) => "the velocity unit N / sqrt(m k)",
             (Figure::Ratio, false) => "the damping ratio nu = c / (2 sqrt(m k))",
             (Figure::Ratio, true) => "the damping ratio xi = c / (2 sqrt(m k))",
-            (Figure::Speed, false) => {
-                "the belt speed lambda = v_belt sqrt(m k) / (mu_k N) in the model's units"
-            }
-            (Figure::Speed, true) => {
-                "the belt speed v_d = v_belt sqrt(m k) / N in the model's units"
-            }
+            (Figure::Speed, false) => "the model's belt speed lambda = v_belt sqrt(m k) / (mu_k N)",
+            (Figure::Speed, true) => "the model's belt speed v_d = v_belt sqrt(m k) / N",
             (Figure::Tau, _) => "the surface time tau' = tau sqrt(k/m) / mu_k",
         }
     }

@@ -330,7 +330,7 @@ fn a_figure_out_of_range_names_the_key_at_fault() {
         (
             |p| p.k = 1e300,
             "k",
-            "invalid k = 1e300: it makes the belt speed lambda",
+            "invalid k = 1e300: it makes the model's belt speed lambda",
             "(0, 1e6]",
         ),
         (
@@ -405,7 +405,7 @@ fn a_belt_speed_below_the_step_names_the_key_at_fault() {
         let text = e.to_string();
         assert_eq!(e.key(), Some(key), "{text}");
         assert!(
-            text.contains("it makes the belt speed lambda") && text.contains("dt = 0.005"),
+            text.contains("it makes the model's belt speed lambda") && text.contains("dt = 0.005"),
             "{text}"
         );
     }
