@@ -389,7 +389,7 @@ pub fn boundary(
     ceiling: f64,
     horizon: f64,
 ) -> PyResult<String> {
-    use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary::both_in};
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
     use squeal_scan::fates::decide;
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
@@ -423,8 +423,8 @@ pub fn boundary(
         let d = decide(gate, &starts, (range, ceiling), horizon, || {
             let [f, c] = both_in(param, setup, &ps, point, range, [fold, !fold]);
             let b = f.or(c).expect("one boundary asked for")?;
-            let found = b.status == BoundaryStatus::Found;
-            Ok((b, found.then_some(b.bracket)))
+            // Above the range, the runs raise a default top, as on the command line.
+            b.gated(point, (range, ceiling))
         })?;
         Ok(Ok(d))
     });

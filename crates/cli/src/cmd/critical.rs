@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use anyhow::bail;
 use squeal_core::Setup;
 use squeal_core::State;
-use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary};
+use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary};
 use squeal_scan::fates::{self, Decided};
 use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
@@ -168,8 +168,9 @@ fn boundary(
             let asked = [args.fold, !args.fold];
             let [f, c] = boundary::both_in(param, setup, &ps, point, range, asked);
             let b = f.or(c).expect("one boundary asked for")?;
+            // Above the range, the runs raise a default top (Boundary::gated).
+            let (b, bracket) = b.gated(point, (range, args.ceiling(param, range)))?;
             let changes = boundary::coarse_scan(param, setup, (&ps, point), which, (lo, hi))?;
-            let bracket = (b.status == BoundaryStatus::Found).then_some(b.bracket);
             Ok(((b, changes), bracket))
         };
         Ok(args.decide((setup, param), &starts, range, shortcut)?)
