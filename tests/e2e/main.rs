@@ -25,3 +25,4 @@ mod scan_laws;
 mod scan_sweeps;
 mod stored_specs;
 mod table_law;
+mod unit_slips;
