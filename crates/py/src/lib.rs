@@ -122,11 +122,28 @@ fn interruptible<T: Send>(
 }
 
 fn plan_of(spec: &str, text: Option<&str>) -> PyResult<Plan> {
-    match text {
+    let plan = match text {
         Some(t) => Plan::from_toml(t, spec),
         None => Plan::from_file(Path::new(spec)),
     }
-    .map_err(value_error)
+    .map_err(value_error)?;
+    warn_space(&plan.space)?;
+    Ok(plan)
+}
+
+/// Says what in a spec looks like a slip of units (a friction coefficient in percent,
+/// speeds in mm/s: [`squeal_scan::space::Space::warnings`]) as a Python `UserWarning` each,
+/// before anything runs, as the command line says it on stderr (an error where the
+/// caller's warning filter makes it one).
+fn warn_space(space: &squeal_scan::space::Space) -> PyResult<()> {
+    Python::attach(|py| {
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        for w in space.warnings() {
+            let text = std::ffi::CString::new(w).unwrap_or_default();
+            PyErr::warn(py, &category, &text, 1)?;
+        }
+        Ok(())
+    })
 }
 
 /// The TOML text of a spec given as JSON (a dict's `json.dumps`): the tables of a spec file.
@@ -232,6 +249,7 @@ pub fn atlas(
         None => AtlasPlan::from_file(Path::new(spec)),
     }
     .map_err(value_error)?;
+    warn_space(&plan.space)?;
     if up_to_date(&out, &plan, force)? {
         return Ok(None);
     }
