@@ -16,6 +16,7 @@ mod cli_scan_cases;
 mod cli_ulc_critical;
 mod first_use;
 mod fuzz;
+mod fuzz_units;
 mod physical_clamp;
 mod physical_outputs;
 mod plot_script;
