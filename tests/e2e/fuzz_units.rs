@@ -27,7 +27,9 @@ const CURVE: [(f64, f64); 8] = [
 /// plausible value slipped by a unit's factor) times a power of ten from 1e-323 to 1e308.
 fn decade_value(rng: &mut Rng, plausible: f64) -> String {
     match rng.below(6) {
-        0 => rng.pick(&["5e-324", "1e308", "1.7976931348623157e308", "2.2e-308"]).to_string(),
+        0 => rng
+            .pick(&["5e-324", "1e308", "1.7976931348623157e308", "2.2e-308"])
+            .to_string(),
         1 => format!("{:e}", plausible * rng.pick(&[1000.0, 100.0, 1e-3, 1e-2])),
         _ => {
             let e = -323 + rng.below(632) as i32;
@@ -74,7 +76,11 @@ pub(crate) fn case(rng: &mut Rng) -> Case {
         args.extend([f.to_string(), v.clone()]);
     }
     let slipped_curve = table && (speed != 1.0 || mu != 1.0);
-    let given: Vec<String> = args.iter().filter(|a| a.starts_with("--")).cloned().collect();
+    let given: Vec<String> = args
+        .iter()
+        .filter(|a| a.starts_with("--"))
+        .cloned()
+        .collect();
     let mu_flags: Vec<String> = (values.iter())
         .filter(|(f, v)| f.starts_with("--mu") && v.parse::<f64>().is_ok_and(|x| x > 2.0))
         .map(|(f, _)| f.to_string())
@@ -103,8 +109,13 @@ fn expect(
     (given, slipped_curve, mu_flags): (&[String], bool, &[String]),
 ) -> Result<(), String> {
     if code != Some(0) {
-        let line = output.lines().find(|l| l.starts_with("error: ")).unwrap_or("");
-        let named = given.iter().any(|f| line.contains(&format!("{f}:")) || line.contains(&format!("{f} ")));
+        let line = output
+            .lines()
+            .find(|l| l.starts_with("error: "))
+            .unwrap_or("");
+        let named = given
+            .iter()
+            .any(|f| line.contains(&format!("{f}:")) || line.contains(&format!("{f} ")));
         return match named {
             true => Ok(()),
             false => Err(format!("refused without naming a flag given: {line:?}")),
@@ -119,7 +130,10 @@ fn expect(
         }
     }
     // The run's line: "run: LAW nu=.. lambda=.. ... dt=0.005 ...".
-    let run = output.lines().find(|l| l.starts_with("run: ")).unwrap_or("");
+    let run = output
+        .lines()
+        .find(|l| l.starts_with("run: "))
+        .unwrap_or("");
     let field = |name: &str| {
         run.split_whitespace()
             .find_map(|w| w.strip_prefix(name)?.parse::<f64>().ok())
@@ -129,7 +143,10 @@ fn expect(
         (Some(s), Some(dt)) if s >= dt => {}
         _ => return Err(format!("a belt speed the step cannot resolve ran: {run:?}")),
     }
-    let last = output.lines().find(|l| l.starts_with("final state: ")).unwrap_or("NaN");
+    let last = output
+        .lines()
+        .find(|l| l.starts_with("final state: "))
+        .unwrap_or("NaN");
     if last.contains("NaN") || last.contains("inf") {
         return Err(format!("nonsense final state: {last:?}"));
     }

@@ -65,7 +65,10 @@ fn a_brake_on_a_curve_in_mm_per_s_or_percent_is_warned_before_any_run() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let cases = [
-        (pad_curve(d, "mm.csv", 1000.0, 1.0), "its slip speeds run to 2000 m/s"),
+        (
+            pad_curve(d, "mm.csv", 1000.0, 1.0),
+            "its slip speeds run to 2000 m/s",
+        ),
         (pad_curve(d, "pct.csv", 1.0, 100.0), "mu reaches 48"),
     ];
     std::fs::write(d.join("ics.csv"), "x0,v0\n0,0\n").unwrap();
@@ -123,8 +126,8 @@ fn a_belt_speed_beyond_the_curve_is_warned_of() {
 
 /// The issue-21 brake (2 kg, 50 kN/m, 10 N s/m, 0.05 m/s, mu_k 0.35, mu_s 0.45, 1 ms).
 const MCMILLAN: [&str; 14] = [
-    "--m", "2", "--k", "5e4", "--c", "10", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s",
-    "0.45", "--tau-s", "1e-3",
+    "--m", "2", "--k", "5e4", "--c", "10", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s", "0.45",
+    "--tau-s", "1e-3",
 ];
 
 /// The issue-21 brake with `flag value` in place of its own (or added).
@@ -144,10 +147,19 @@ fn with(flag: &'static str, value: &'static str) -> Vec<&'static str> {
 fn a_belt_speed_below_the_step_is_refused_by_the_flag_at_fault() {
     let dir = tempfile::tempdir().unwrap();
     let cases = [
-        (with("--normal-force", "1e308"), "error: --normal-force: invalid normal_force = 1e308"),
+        (
+            with("--normal-force", "1e308"),
+            "error: --normal-force: invalid normal_force = 1e308",
+        ),
         (with("--g", "1e308"), "error: --g: invalid g = 1e308"),
-        (with("--v-belt", "1e-12"), "error: --v-belt: invalid v_belt = 1e-12"),
-        (vec!["--lambda", "1e-9"], "error: --lambda: invalid lambda = 1e-9"),
+        (
+            with("--v-belt", "1e-12"),
+            "error: --v-belt: invalid v_belt = 1e-12",
+        ),
+        (
+            vec!["--lambda", "1e-9"],
+            "error: --lambda: invalid lambda = 1e-9",
+        ),
     ];
     for (model, head) in cases {
         for cmd in ["trajectory", "critical", "ulc"] {
@@ -171,10 +183,28 @@ fn a_belt_speed_below_the_step_is_refused_by_the_flag_at_fault() {
 fn a_figure_out_of_range_names_the_flag_at_fault() {
     let dir = tempfile::tempdir().unwrap();
     let pad = [
-        "--m", "0.8", "--k", "2e5", "--c", "20", "--v-belt", "0.3", "--mu-k", "0.38", "--mu-s",
-        "0.48", "--tau-s", "5e-4", "--normal-force", "1500",
+        "--m",
+        "0.8",
+        "--k",
+        "2e5",
+        "--c",
+        "20",
+        "--v-belt",
+        "0.3",
+        "--mu-k",
+        "0.38",
+        "--mu-s",
+        "0.48",
+        "--tau-s",
+        "5e-4",
+        "--normal-force",
+        "1500",
     ];
-    for (flag, value) in [("--normal-force", "5e-324"), ("--m", "1e-300"), ("--k", "1e300")] {
+    for (flag, value) in [
+        ("--normal-force", "5e-324"),
+        ("--m", "1e-300"),
+        ("--k", "1e300"),
+    ] {
         let mut args = vec!["trajectory"];
         args.extend(pad);
         let i = args.iter().position(|a| *a == flag).unwrap();
@@ -216,7 +246,14 @@ fn a_start_out_of_range_is_reported_in_the_units_given() {
 fn critical_fold_raises_its_own_top_and_speaks_in_c() {
     let dir = tempfile::tempdir().unwrap();
     let csv = pad_curve(dir.path(), "m.csv", 1.0, 1.0);
-    let mut args = vec!["critical", "--fold", "--nu-hi", "0.05", "--friction-csv", &csv];
+    let mut args = vec![
+        "critical",
+        "--fold",
+        "--nu-hi",
+        "0.05",
+        "--friction-csv",
+        &csv,
+    ];
     args.extend(BRAKE);
     let err = stderr(&squeal(dir.path(), &args));
     // 2 sqrt(m k) = 2 sqrt(0.8 * 2e5) = 800 N s/m: nu = 0.05 is c = 40 N s/m.

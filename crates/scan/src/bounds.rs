@@ -371,7 +371,9 @@ pub(crate) fn core_error(table: &str, e: squeal_core::CoreError, invalid: Invali
         // A belt speed below the step: the message after "invalid lambda = ...: ".
         e @ squeal_core::CoreError::Unresolved { name, value, .. } => {
             let text = e.to_string();
-            let expected = text.split_once(": ").map_or(text.as_str(), |(_, rest)| rest);
+            let expected = text
+                .split_once(": ")
+                .map_or(text.as_str(), |(_, rest)| rest);
             invalid(
                 &format!("{table}.{name}"),
                 Number(value).to_string(),

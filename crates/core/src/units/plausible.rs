@@ -248,8 +248,9 @@ mod tests {
         );
         let said = d[0].sentence(&flag);
         assert!(
-            said.starts_with("--v-belt = 300 m/s is beyond the friction curve's last slip speed, 2 m/s")
-                && said.ends_with("give 0.3 m/s"),
+            said.starts_with(
+                "--v-belt = 300 m/s is beyond the friction curve's last slip speed, 2 m/s"
+            ) && said.ends_with("give 0.3 m/s"),
             "{said}"
         );
         // Just beyond the curve (1.5 times its last row): a slip there is plausible, no hint.
@@ -276,7 +277,11 @@ mod tests {
             load: Load::NormalForce(1500.0),
         };
         assert_eq!(brake(0.38, 0.48, 0.3).doubts(), []);
-        assert_eq!(brake(0.38, 2.0, 100.0).doubts(), [], "the bounds themselves");
+        assert_eq!(
+            brake(0.38, 2.0, 100.0).doubts(),
+            [],
+            "the bounds themselves"
+        );
         let d = brake(38.0, 48.0, 300.0).doubts();
         assert_eq!(
             d,

@@ -165,11 +165,9 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
             expected,
         ),
         // A figure made of several keys, named by the key at fault with its value.
-        CoreError::Source { key: k, value, why } => invalid(
-            &key(k),
-            squeal_core::error::Number(value).to_string(),
-            &why,
-        ),
+        CoreError::Source { key: k, value, why } => {
+            invalid(&key(k), squeal_core::error::Number(value).to_string(), &why)
+        }
         CoreError::MissingPhysicalKey { key: k, law } => invalid(
             &key(k),
             "missing".into(),
@@ -633,7 +631,10 @@ path = "p.h5"
             w.len() == 1 && w[0].starts_with("`physical.friction_table`: mu reaches 48"),
             "{w:?}"
         );
-        let mm = PAD.replace(rows, "[[0.0, 0.48], [100.0, 0.43], [300.0, 0.4], [1000.0, 0.37]]");
+        let mm = PAD.replace(
+            rows,
+            "[[0.0, 0.48], [100.0, 0.43], [300.0, 0.4], [1000.0, 0.37]]",
+        );
         let w = warnings(&mm);
         assert!(
             w.len() == 1 && w[0].contains("run to 1000 m/s") && w[0].contains("mm/s"),
@@ -656,8 +657,14 @@ path = "p.h5"
     fn a_belt_speed_below_the_step_is_refused_by_its_key() {
         let given = "v_belt = 0.3\nnormal_force = 1500.0";
         for (edit, key) in [
-            ("v_belt = 0.3\nnormal_force = 1e308", "`physical.normal_force` = 1e308"),
-            ("v_belt = 1e-12\nnormal_force = 1500.0", "`physical.v_belt` = 1e-12"),
+            (
+                "v_belt = 0.3\nnormal_force = 1e308",
+                "`physical.normal_force` = 1e308",
+            ),
+            (
+                "v_belt = 1e-12\nnormal_force = 1500.0",
+                "`physical.v_belt` = 1e-12",
+            ),
         ] {
             let text = PAD.replace(given, edit);
             let e = Plan::from_toml(&text, "p.toml").unwrap_err().to_string();
