@@ -690,13 +690,14 @@ def test_a_curve_in_percent_or_mm_per_s_is_warned_of_before_any_run(tmp_path):
         ("mm.csv", (1000.0, 1.0), r"`friction_csv=`: its slip speeds run to 2000 m/s"),
     ]:
         csv = tmp_path / name
-        csv.write_text("".join(f"{s * scale[0]!r},{mu * scale[1]!r}\n" for s, mu in rows))
+        text = [f"{float(s) * scale[0]!r},{float(mu) * scale[1]!r}\n" for s, mu in rows]
+        csv.write_text("".join(text))
         with pytest.warns(UserWarning, match=words):
             squeal.trajectory(law="table", friction_csv=str(csv), t_end=1.0, **pad)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        squeal.trajectory(law="table", friction_csv=str(root / "scans/data/pad-mu.csv"),
-                          t_end=1.0, **pad)
+        shipped = str(root / "scans/data/pad-mu.csv")
+        squeal.trajectory(law="table", friction_csv=shipped, t_end=1.0, **pad)
     brake = dict(m=2.0, k=5e4, c=10.0, v_belt=0.05, mu_k=0.35, mu_s=0.45, tau_s=1e-3)
     with pytest.raises(ValueError, match=r"`normal_force=` = 1e308: .*dt = 0.005"):
         squeal.trajectory(law="mcmillan", normal_force=1e308, t_end=1.0, **brake)
