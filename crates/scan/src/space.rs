@@ -230,13 +230,22 @@ impl Space {
     /// ([`Params::check_step`] gives the argument), naming the key at fault: a physical
     /// key (`physical.normal_force` = 1e308 made lambda 4.5e-307), or the model's belt
     /// speed.
+    /// A point refused for another reason is left to the check that names it
+    /// ([`Space::check_points`]).
     pub(crate) fn check_step(&self, dt: f64, inv: Invalid) -> Result<(), ScanError> {
         for i in 0..self.n_points() {
-            let p = self.params_at(i);
             match self.physical_at(i) {
-                Some(ph) => ph.check_step(&p, dt).map_err(|e| physical_error(e, inv))?,
-                None => (p.check_step(dt))
-                    .map_err(|e| crate::bounds::core_error(self.units.table(), e, inv))?,
+                Some(ph) => match ph.params(self.law) {
+                    Ok(p) => ph.check_step(&p, dt).map_err(|e| physical_error(e, inv))?,
+                    Err(_) => continue,
+                },
+                None => {
+                    let p = self.params_at(i);
+                    if p.validate().is_ok() {
+                        (p.check_step(dt))
+                            .map_err(|e| crate::bounds::core_error(self.units.table(), e, inv))?;
+                    }
+                }
             }
         }
         Ok(())
