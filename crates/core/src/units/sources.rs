@@ -192,7 +192,7 @@ impl Physical {
         let figures = [
             (Figure::LoadAcceleration, load),
             (Figure::Omega, Some(s.omega0)),
-            (Figure::Omega, Some(s.time).map(f64::recip)),
+            (Figure::Omega, Some(s.time.recip())),
             (Figure::Critical, Some(s.damping)),
             (Figure::Length, Some(s.length)),
             (Figure::Velocity, Some(s.velocity)),
