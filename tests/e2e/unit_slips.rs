@@ -176,6 +176,29 @@ fn a_belt_speed_below_the_step_is_refused_by_the_flag_at_fault() {
     }
 }
 
+/// A bracket in the belt speed reaching below the step is refused by its flag before any
+/// run (it was refused at its first run, naming the model's `lambda`, a flag not given).
+#[test]
+fn a_lambda_bracket_below_the_step_is_refused_by_its_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "critical",
+        "--in",
+        "lambda",
+        "--lambda-lo",
+        "0.001",
+        "--rtol",
+        "1e-2",
+    ];
+    let err = stderr(&squeal(dir.path(), &args));
+    assert!(
+        err.starts_with(
+            "error: --lambda-lo 0.001: expected a belt speed of at least the step dt = 0.005"
+        ),
+        "{err}"
+    );
+}
+
 /// A figure made of several keys out of range names the flag whose value is at fault:
 /// `--normal-force 5e-324` (was `--m`), `--m 1e-300` (was `--c`), `--k 1e300` (was
 /// `--v-belt`) on the README's McMillan brake (0.8 kg, 200 kN/m, 1.5 kN).

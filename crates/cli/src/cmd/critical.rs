@@ -43,6 +43,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let args = in_by_law(args, plan, setup.map)?;
+    // A bracket in the belt speed reaching below the step would be refused at its first
+    // run (Params::check_step); named by its flag before any.
+    if args.in_ == "lambda" && args.lambda_lo < plan.dt {
+        bail!(
+            "--lambda-lo {}: expected a belt speed of at least the step dt = {} (below it \
+             the run chatters about zero slip: crates/core/MODEL.md section 3)",
+            Number(args.lambda_lo),
+            Number(plan.dt)
+        );
+    }
     args.check_horizon(plan.dt)?;
     if args.crisis {
         return crisis(&args, plan, setup.map, t0);
