@@ -43,16 +43,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let args = in_by_law(args, plan, setup.map)?;
-    // A bracket in the belt speed reaching below the step would be refused at its first
-    // run (Params::check_step); named by its flag before any.
-    if args.in_ == "lambda" && args.lambda_lo < plan.dt {
-        bail!(
-            "--lambda-lo {}: expected a belt speed of at least the step dt = {} (below it \
-             the run chatters about zero slip: crates/core/MODEL.md section 3)",
-            Number(args.lambda_lo),
-            Number(plan.dt)
-        );
-    }
+    check_speed_bracket(&args, plan.dt)?;
     args.check_horizon(plan.dt)?;
     if args.crisis {
         return crisis(&args, plan, setup.map, t0);
@@ -226,6 +217,21 @@ fn command(args: &Args) -> &'static str {
         (false, true) => "critical --fold",
         _ => "critical",
     }
+}
+
+/// A bracket in the belt speed (`--in lambda`) reaching below the step `dt` would be
+/// refused at its first run (Params::check_step, naming the model's `lambda`); it is
+/// refused by its flag before any.
+fn check_speed_bracket(args: &Args, dt: f64) -> anyhow::Result<()> {
+    if args.in_ == "lambda" && args.lambda_lo < dt {
+        bail!(
+            "--lambda-lo {}: expected a belt speed of at least the step dt = {} (below it \
+             the run chatters about zero slip: crates/core/MODEL.md section 3)",
+            Number(args.lambda_lo),
+            Number(dt)
+        );
+    }
+    Ok(())
 }
 
 /// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in
