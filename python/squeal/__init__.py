@@ -28,6 +28,7 @@ import numbers
 import os
 import sys
 import tempfile
+import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Optional, Union
@@ -377,10 +378,19 @@ class _Names:
         return ValueError(text)
 
     def __call__(self, f, *args):
+        # The library's warnings (a unit slip, said before anything runs) name the spec's
+        # keys too: said again, outside the recording, with the caller's.
+        said: list = []
         try:
-            return f(*args)
+            with warnings.catch_warnings(record=True) as said:
+                warnings.simplefilter("always")
+                return f(*args)
         except ValueError as e:
             raise self.rename(e) from None
+        finally:
+            for w in said:
+                text = self.rename(ValueError(str(w.message))).args[0]
+                warnings.warn(text, w.category, stacklevel=3)
 
 
 def _checked(helper: str, model: dict[str, Any], physical) -> tuple[dict, Optional[dict]]:

@@ -11,6 +11,7 @@ import signal
 import subprocess
 import threading
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -708,3 +709,31 @@ def test_trajectory_without_every_keeps_what_the_cli_keeps(tmp_path):
     assert int(ds.attrs["every"]) == int(ref.attrs["every"]) == 12
     assert ds.sizes["t"] == ref.sizes["t"]
     assert "default" in ds.attrs["sampling"]
+
+
+def test_a_curve_in_percent_or_mm_per_s_is_warned_of_before_any_run(tmp_path):
+    # The brake of README section 4 (0.8 kg, 200 kN/m, c = 60 N s/m, 0.3 m/s, 1.5 kN) on
+    # scans/data/pad-mu.csv written in percent (mu = 48 at rest) or in mm/s (speeds to
+    # 2000): each is said as a UserWarning naming the keyword, as the command line says it
+    # on stderr; the curve as shipped is said nothing. A belt speed the step cannot resolve
+    # (a clamp of 1e308 N: lambda 4.5e-307) is refused naming its keyword. Before, all ran
+    # silently.
+    root = Path(__file__).resolve().parents[2]
+    rows = np.loadtxt(root / "scans/data/pad-mu.csv", delimiter=",", skiprows=4)
+    pad = dict(m=0.8, k=2e5, c=60.0, v_belt=0.3, normal_force=1500.0)
+    for name, scale, words in [
+        ("pct.csv", (1.0, 100.0), r"`friction_csv=`: mu reaches 48 "),
+        ("mm.csv", (1000.0, 1.0), r"`friction_csv=`: its slip speeds run to 2000 m/s"),
+    ]:
+        csv = tmp_path / name
+        text = [f"{float(s) * scale[0]!r},{float(mu) * scale[1]!r}\n" for s, mu in rows]
+        csv.write_text("".join(text))
+        with pytest.warns(UserWarning, match=words):
+            squeal.trajectory(law="table", friction_csv=str(csv), t_end=1.0, **pad)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        shipped = str(root / "scans/data/pad-mu.csv")
+        squeal.trajectory(law="table", friction_csv=shipped, t_end=1.0, **pad)
+    brake = dict(m=2.0, k=5e4, c=10.0, v_belt=0.05, mu_k=0.35, mu_s=0.45, tau_s=1e-3)
+    with pytest.raises(ValueError, match=r"`normal_force=` = 1e308: .*dt = 0.005"):
+        squeal.trajectory(law="mcmillan", normal_force=1e308, t_end=1.0, **brake)

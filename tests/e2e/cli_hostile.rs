@@ -191,7 +191,9 @@ fn classify_refuses_a_start_beyond_the_escape_radius() {
 }
 
 /// `trajectory --x0 1e6` of a physical system (metres: 7.3e9 units for the brake below,
-/// whose length unit is mu_k g m / k = 137 um) ran from beyond the escape radius.
+/// whose length unit is mu_k g m / k = 137 um) ran from beyond the escape radius. It is
+/// refused in the units given (1e6 m, the bound 137.34 m), the model's value after them
+/// (it was reported as "`--x0` = 7281199941.75", a number the user never wrote).
 #[test]
 fn a_physical_start_is_checked_in_the_models_units() {
     let d = tempfile::tempdir().unwrap();
@@ -200,11 +202,12 @@ fn a_physical_start_is_checked_in_the_models_units() {
         "0.45", "--tau-s", "1e-3",
     ];
     let args = [&["trajectory", "--t-end", "1", "--x0", "1e6"][..], &brake].concat();
-    refused(squeal(d.path(), &args), "`--x0` = 7281199941.75");
+    refused(squeal(d.path(), &args), "`--x0` = 1000000 m:");
     refused(
         squeal(d.path(), &args),
-        "a finite coordinate with |value| <= 1e6 (the classifier's escape radius), in the model's units",
+        "a finite coordinate with |value| <= 1e6 (the classifier's escape radius), in the model's units: at most 137.34",
     );
+    refused(squeal(d.path(), &args), "where 1000000 m is 7281199941.75");
 }
 
 /// A full disk left a 0-byte picture; a rerun said "up to date ... picture: b.png" and

@@ -1,11 +1,13 @@
 //! A seeded fuzz run of the binary (issue 32): the shipped specs of `scans/` made small and
 //! mutated (numbers set to hostile values, keys dropped, added or given the wrong type), and
-//! command lines with hostile flag values and input files, each run under a time limit in
-//! a fresh folder. A case fails on a panic (exit 101 or "panicked"), a hang (the time limit
-//! reached with nothing said: a long run announces its estimate first) or a lost file (a
-//! file there before the run missing or changed after it; no case passes `--force` but
-//! those of [`fifos`], whose only target is the FIFO). The family [`fifos`] puts a FIFO at
-//! one path of a command; it must be refused within seconds.
+//! command lines with hostile flag values and input files, and a brake's SI flags at
+//! extreme values or slipped units (`fuzz_units`: refused by a flag given, or warned, never
+//! nonsense), each run under a time limit in a fresh folder. A case fails on a panic (exit
+//! 101 or "panicked"), a hang (the time limit reached with nothing said: a long run
+//! announces its estimate first) or a lost file (a file there before the run missing or
+//! changed after it; no case passes `--force` but those of [`fifos`], whose only target is
+//! the FIFO). The family [`fifos`] puts a FIFO at one path of a command; it must be refused
+//! within seconds.
 //!
 //! Ignored by the quick suite; `scripts/ci/fuzz.sh` runs it by exact name (`.ci/run` calls it):
 //!
@@ -54,10 +56,10 @@ fn cpu_seconds(pid: u32) -> Option<f64> {
 }
 
 /// xorshift64*: small, seeded, the same on every machine.
-struct Rng(u64);
+pub(crate) struct Rng(u64);
 
 impl Rng {
-    fn new(seed: u64, case: u64) -> Rng {
+    pub(crate) fn new(seed: u64, case: u64) -> Rng {
         // splitmix64 of the pair: neighbouring cases draw unrelated streams.
         let mut z = seed ^ case.wrapping_mul(0x9E37_79B9_7F4A_7C15);
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -65,18 +67,18 @@ impl Rng {
         Rng((z ^ (z >> 31)) | 1)
     }
 
-    fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
         self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
     }
 
-    fn below(&mut self, n: usize) -> usize {
+    pub(crate) fn below(&mut self, n: usize) -> usize {
         (self.next() % n.max(1) as u64) as usize
     }
 
-    fn pick<'a, T>(&mut self, xs: &'a [T]) -> &'a T {
+    pub(crate) fn pick<'a, T>(&mut self, xs: &'a [T]) -> &'a T {
         &xs[self.below(xs.len())]
     }
 }
@@ -175,21 +177,28 @@ fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     out
 }
 
+/// What a family expects of a run beyond the rules of every case: given its exit code and
+/// output, why it failed.
+pub(crate) type Check = Box<dyn Fn(Option<i32>, &str) -> Result<(), String>>;
+
 /// A case: its command line, in a folder prepared by `prepare`.
-struct Case {
-    what: String,
-    args: Vec<String>,
-    files: Vec<(String, Vec<u8>)>,
+pub(crate) struct Case {
+    pub(crate) what: String,
+    pub(crate) args: Vec<String>,
+    pub(crate) files: Vec<(String, Vec<u8>)>,
     /// Whether a timeout after some output is a long run (scans and atlases announce their
     /// estimate, critical and ulc their search's progress) rather than a hang.
-    announces: bool,
+    pub(crate) announces: bool,
     /// Paths made FIFOs before the run ([`fifos`]): the run must be refused, naming one,
     /// within [`fifos::LIMIT`].
-    fifos: Vec<String>,
+    pub(crate) fifos: Vec<String>,
+    /// The family's own expectations of a run that ended (`fuzz_units`: refused by a flag
+    /// given, or warned, never nonsense).
+    pub(crate) check: Option<Check>,
 }
 
 /// Why a case failed, if it did.
-fn judge(case: &Case, dir: &Path) -> Result<&'static str, String> {
+pub(crate) fn judge(case: &Case, dir: &Path) -> Result<&'static str, String> {
     for (name, bytes) in &case.files {
         let p = dir.join(name);
         if let Some(parent) = p.parent() {
@@ -222,6 +231,9 @@ fn judge(case: &Case, dir: &Path) -> Result<&'static str, String> {
             }
             _ => {}
         }
+    }
+    if let (Some(check), false) = (&case.check, r.timed_out) {
+        check(r.code, &r.output)?;
     }
     Ok(match (r.timed_out, r.code) {
         (true, _) => "long",
@@ -325,6 +337,7 @@ fn spec_case(rng: &mut Rng, specs: &[Shipped]) -> Case {
         files,
         announces: true,
         fifos: Vec::new(),
+        check: None,
     }
 }
 
@@ -398,6 +411,7 @@ fn flag_case(rng: &mut Rng, flags: &BTreeMap<&str, Vec<String>>) -> Case {
         // hang (`critical --rtol 1e-2 --lambda 0.5` printed nothing before).
         announces: matches!(cmd, "critical" | "ulc"),
         fifos: Vec::new(),
+        check: None,
     }
 }
 
@@ -437,6 +451,7 @@ fn file_case(rng: &mut Rng, good: &[u8]) -> Case {
         files,
         announces: false,
         fifos: Vec::new(),
+        check: None,
     }
 }
 
@@ -490,11 +505,12 @@ fn fuzz_specs_flags_and_files() {
                 while t0.elapsed() + CASE_LIMIT <= Duration::from_secs(budget) {
                     let k = next.fetch_add(1, Ordering::Relaxed);
                     let mut rng = Rng::new(seed, k as u64);
-                    let case = match rng.below(11) {
+                    let case = match rng.below(13) {
                         0..=3 => spec_case(&mut rng, &specs),
                         4..=7 => flag_case(&mut rng, &flags),
                         8 | 9 => file_case(&mut rng, &good),
-                        _ => fifos::fifo_case(&mut rng, &good),
+                        10 => fifos::fifo_case(&mut rng, &good),
+                        _ => super::fuzz_units::case(&mut rng),
                     };
                     let dir = root.path().join(format!("case-{k}"));
                     std::fs::create_dir_all(&dir).unwrap();

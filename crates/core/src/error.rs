@@ -17,6 +17,36 @@ pub enum CoreError {
          parameters"
     )]
     NoPhysicalUnits(&'static str),
+    /// A physical key whose value, valid alone, makes a nondimensional figure the model
+    /// cannot use: the key named is the one of the figure's factors that is furthest from
+    /// a plausible system ([`crate::units`], "the key at fault"), with the value as given.
+    #[error("invalid {key} = {}: {why}", Number(*value))]
+    Source {
+        /// The physical key at fault (`m`, `normal_force`, ...).
+        key: &'static str,
+        /// Its value, as given.
+        value: f64,
+        /// The figure it makes, its value and what that figure must be.
+        why: String,
+    },
+    /// A belt speed below what the step resolves (`lambda < dt` in the model's units;
+    /// [`crate::Params::check_step`] gives the argument).
+    #[error(
+        "invalid {name} = {}: expected a belt speed of at least the step dt = {} in the \
+         model's units: below it one step under the unit friction force changes the velocity \
+         by more than the belt speed, so the run crosses zero slip within a step and chatters \
+         about it, and its labels are the step's, not the model's",
+        Number(*value),
+        Number(*dt)
+    )]
+    Unresolved {
+        /// `lambda` or `v_d`.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// The step.
+        dt: f64,
+    },
     /// A physical key the law needs and was not given (`mu_s` or `tau` for McMillan's laws,
     /// `mu_k` for them and Coulomb, the curve for the table law).
     #[error(
@@ -132,7 +162,10 @@ impl CoreError {
     /// missing or not used): callers turn it into their flag or spec key.
     pub fn key(&self) -> Option<&'static str> {
         match self {
-            CoreError::InvalidParameter { name, .. } => Some(name),
+            CoreError::InvalidParameter { name, .. } | CoreError::Unresolved { name, .. } => {
+                Some(name)
+            }
+            CoreError::Source { key, .. } => Some(key),
             CoreError::MissingPhysicalKey { key, .. }
             | CoreError::UnusedPhysicalKey { key, .. } => Some(key),
             CoreError::BothLoads => Some("normal_force"),

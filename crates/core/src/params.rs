@@ -316,6 +316,37 @@ impl Params {
         Ok(())
     }
 
+    /// Refuses a belt speed the step `dt` cannot resolve: `lambda < dt` (`v_d < dt`), in
+    /// the model's units.
+    ///
+    /// The argument. Friction's force unit is 1 in the model's units (the kinetic force
+    /// `mu_k N`, or `N` for a measured curve), so one step of a slipping block changes its
+    /// velocity by about `dt` from friction alone. A block at rest sees the slip `-lambda`;
+    /// zero slip, where every law turns (stick, the quasi-static branch, the sign of
+    /// Coulomb's force), lies `lambda` away. Below one step's change of velocity, the start
+    /// and every stick phase cross zero slip within one step: which side of it the block is
+    /// on is decided by where the steps fall, not by the model. Runs say the same: Coulomb
+    /// from rest (`nu = 0.01`, 200 time units) flips the sign of its slip 1066 times at
+    /// `lambda = 0.5 dt` (`dt = 0.01`) and 1660 times at `lambda = 0.2 dt` (`dt = 0.005`),
+    /// and never at `lambda = 0.7 dt` and above; at `lambda = dt` its run is the same at
+    /// `dt`, `dt / 2` and `dt / 4`. McMillan's laws at `lambda` below `dt` chatter about
+    /// zero slip as they do at `lambda = 0`, the belt at rest that [`Params::validate`]
+    /// refuses (at `lambda = 1e-9` and `1e-3`: `x'` within +-0.118 at about 13 times the
+    /// natural frequency, whatever `lambda` and `dt`). So a belt speed below `dt` is the belt
+    /// at rest to the integrator, and what such a run reports is the step's chatter, not
+    /// the model: `--normal-force 1e308` made `lambda = 4.5e-307` and a "stick-slip" of
+    /// +-2e304 m/s at 210 Hz. crates/core/MODEL.md, section 3 ("Steady slip"), says it too.
+    pub fn check_step(&self, dt: f64) -> Result<(), CoreError> {
+        if self.lambda < dt {
+            return Err(CoreError::Unresolved {
+                name: self.speed_key(),
+                value: self.lambda,
+                dt,
+            });
+        }
+        Ok(())
+    }
+
     /// The damping and belt speed of a law with true stick, by their names there.
     fn validate_stick(&self) -> Result<(), CoreError> {
         let bad = CoreError::invalid::<()>;
@@ -380,6 +411,37 @@ mod tests {
                 ..Params::paper(FrictionLaw::McMillan, 1e-3)
             };
             assert!(p.validate().is_ok(), "{lambda}");
+        }
+    }
+
+    /// A belt speed below the step is refused naming the step, for every law (`--normal-force
+    /// 1e308` on the issue-21 brake made lambda = 4.5e-307 at dt = 0.005 and a "stick-slip"
+    /// of +-2e304 m/s); the step itself is accepted, and so is a speed below it at a finer
+    /// step. The argument for the bound is [`Params::check_step`]'s.
+    #[test]
+    fn a_belt_speed_below_the_step_is_refused() {
+        let dt = crate::defaults::DT;
+        let cases = [
+            (Params::paper(FrictionLaw::McMillan, 1e-3), "lambda"),
+            (Params::paper(FrictionLaw::Coulomb, 1e-3), "lambda"),
+            (Params::bstab(), "v_d"),
+        ];
+        for (p, name) in cases {
+            for lambda in [4.5e-307, 1e-9, 0.999 * dt] {
+                let e = Params { lambda, ..p }.check_step(dt).unwrap_err();
+                assert!(
+                    matches!(e, CoreError::Unresolved { name: n, .. } if n == name),
+                    "{e:?}"
+                );
+                let text = e.to_string();
+                assert!(text.contains("dt = 0.005") && text.contains(name), "{text}");
+                let stepper = crate::Stepper::new(Params { lambda, ..p }, dt, Default::default());
+                assert!(stepper.is_err(), "{name} = {lambda}");
+            }
+            assert!(Params { lambda: dt, ..p }.check_step(dt).is_ok());
+            // Coulomb at lambda = dt = 0.005 runs alike at dt, dt/2 and dt/4 (section
+            // amplitude 0.001948 at t = 294.26 with nu = 0.01 from rest, squeal trajectory).
+            assert!(Params { lambda: 1e-3, ..p }.check_step(1e-3).is_ok());
         }
     }
 

@@ -40,6 +40,8 @@ impl Stepper {
                 expected: "a finite step in (0, 1] (the oscillator's period is about 6.3)",
             });
         }
+        // A belt speed below what the step resolves (the argument: Params::check_step).
+        params.check_step(dt)?;
         if solver.kind == solver::SolverKind::Paper && solver.max_iter == 0 {
             return Err(CoreError::InvalidParameter {
                 name: "max_iter",

@@ -395,16 +395,6 @@ impl Physical {
         self.friction.mu_k().unwrap_or(1.0)
     }
 
-    /// The key and value a scale of friction's force unit is named by: `mu_k`, or for a
-    /// measured curve the load (`normal_force` or `g`).
-    fn force_key(&self) -> (&'static str, f64) {
-        match (self.friction.mu_k(), self.load) {
-            (Some(mu_k), _) => ("mu_k", mu_k),
-            (None, Load::NormalForce(n)) => ("normal_force", n),
-            (None, Load::Weight(g)) => ("g", g),
-        }
-    }
-
     /// The velocity scale `mu_k a sqrt(m) / sqrt(k)` (`a = N / m`; `mu_k` is 1 for a
     /// measured curve) as factors over factors, for [`ratio`].
     fn velocity_factors(&self) -> ([f64; 3], [f64; 2]) {
@@ -436,104 +426,14 @@ impl Physical {
         }
     }
 
-    /// Refuses a system whose scales are not representable (infinite, or 0 from nonzero
-    /// keys), naming the key they come from: `m = k = 1e308` has a critical damping
-    /// `2 sqrt(m k)` of `inf`, and a clamped `m = 1e-308` an acceleration `N / m` of `inf`.
-    fn check_scales(&self) -> Result<(), CoreError> {
-        let s = self.scales();
-        let fine = |x: f64| x.is_finite() && x > 0.0;
-        if let Load::NormalForce(_) = self.load {
-            if !fine(self.load_acceleration()) {
-                return CoreError::invalid(
-                    "m",
-                    self.m,
-                    "a mass whose ratio N / m to the normal force is finite and nonzero in f64",
-                );
-            }
-        }
-        let (force_key, force_value) = self.force_key();
-        for (value, key, given, expected) in [
-            (
-                s.omega0,
-                "k",
-                self.k,
-                "a stiffness whose ratio to m is representable: omega_0 = sqrt(k/m) and its inverse, the time unit, must be finite and nonzero in f64",
-            ),
-            (
-                s.time,
-                "k",
-                self.k,
-                "a stiffness whose ratio to m is representable: omega_0 = sqrt(k/m) and its inverse, the time unit, must be finite and nonzero in f64",
-            ),
-            (
-                s.damping,
-                "m",
-                self.m,
-                "a mass whose product with k is representable: the critical damping 2 sqrt(m k) must be finite in f64",
-            ),
-            (
-                s.length,
-                force_key,
-                force_value,
-                "a value whose length unit mu_k N / k (N / k for a measured curve) is finite \
-                 and nonzero in f64",
-            ),
-            (
-                s.velocity,
-                force_key,
-                force_value,
-                "a value whose velocity unit mu_k N / sqrt(m k) (N / sqrt(m k) for a measured \
-                 curve) is finite and nonzero in f64",
-            ),
-        ] {
-            if !fine(value) {
-                return CoreError::invalid(key, given, expected);
-            }
-        }
-        Ok(())
-    }
-
-    /// Refuses nondimensional numbers `p` that are not representable (infinite, or 0 from
-    /// nonzero keys), naming the key they come from.
-    fn check_derived(&self, p: &Params) -> Result<(), CoreError> {
-        let fine = |x: f64| x.is_finite() && x > 0.0;
-        for (value, key, given, expected) in [(
-            p.lambda,
-            "lambda",
-            p.lambda,
-            "a belt speed lambda = v_belt sqrt(m k) / (mu_k N) finite and nonzero in f64",
-        )] {
-            if !fine(value) {
-                return CoreError::invalid(key, given, expected);
-            }
-        }
-        if !p.nu.is_finite() || (self.c > 0.0 && p.nu == 0.0) {
-            return CoreError::invalid(
-                "nu",
-                p.nu,
-                "a damping ratio c / (2 sqrt(m k)) finite, and nonzero for c > 0, in f64",
-            );
-        }
-        if let Some(c) = p.law.surface() {
-            if !fine(c.tau) {
-                return CoreError::invalid(
-                    "tau",
-                    c.tau,
-                    "a surface time tau sqrt(k/m) / mu_k finite and nonzero in f64",
-                );
-            }
-        }
-        Ok(())
-    }
-
     /// The nondimensional parameters (paper Section 4), validated.
     pub fn params(&self, law: FrictionLaw) -> Result<Params, CoreError> {
         self.validate()?;
         // The scales first: a measured curve is divided by the velocity unit.
         self.check_scales()?;
         let p = self.nondimensional(law)?;
+        // Every figure out of range names the key at fault (sources.rs), `validate` too.
         self.check_derived(&p)?;
-        p.validate()?;
         Ok(p)
     }
 
@@ -583,13 +483,15 @@ impl Physical {
     pub fn table_in_units(&self, t: &FrictionTable) -> Result<&'static FrictionTable, CoreError> {
         let unit = self.scales().velocity;
         let rows: Vec<(f64, f64)> = t.rows().into_iter().map(|(s, mu)| (s / unit, mu)).collect();
-        FrictionTable::new(&rows).or_else(|_| {
-            let (key, value) = self.force_key();
-            CoreError::invalid(
-                key,
-                value,
-                "a value whose velocity unit N / sqrt(m k) keeps the measured curve's slip \
-                 speeds finite and distinct in f64",
+        FrictionTable::new(&rows).map_err(|_| {
+            // Speeds beyond f64 come from a unit too small, collapsed ones from one too large.
+            let up = rows.iter().all(|r| r.0.is_finite());
+            self.blame(
+                sources::Figure::Velocity,
+                unit,
+                up,
+                "a velocity unit that keeps the measured curve's slip speeds finite and \
+                 distinct in f64",
             )
         })
     }
@@ -647,6 +549,10 @@ fn ratio(num: &[f64], den: &[f64]) -> f64 {
     }
     acc
 }
+
+mod plausible;
+mod sources;
+pub use plausible::{Doubt, MU_PLAUSIBLE, SPEED_PLAUSIBLE, curve_doubts};
 
 #[cfg(test)]
 mod tests;

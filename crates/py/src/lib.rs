@@ -128,11 +128,28 @@ fn interruptible<T: Send>(
 }
 
 fn plan_of(spec: &str, text: Option<&str>) -> PyResult<Plan> {
-    match text {
+    let plan = match text {
         Some(t) => Plan::from_toml(t, spec),
         None => Plan::from_file(Path::new(spec)),
     }
-    .map_err(value_error)
+    .map_err(value_error)?;
+    warn_space(&plan.space)?;
+    Ok(plan)
+}
+
+/// Says what in a spec looks like a slip of units (a friction coefficient in percent,
+/// speeds in mm/s: [`squeal_scan::space::Space::warnings`]) as a Python `UserWarning` each,
+/// before anything runs, as the command line says it on stderr (an error where the
+/// caller's warning filter makes it one).
+fn warn_space(space: &squeal_scan::space::Space) -> PyResult<()> {
+    Python::attach(|py| {
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        for w in space.warnings() {
+            let text = std::ffi::CString::new(w).unwrap_or_default();
+            PyErr::warn(py, &category, &text, 1)?;
+        }
+        Ok(())
+    })
 }
 
 /// The TOML text of a spec given as JSON (a dict's `json.dumps`): the tables of a spec file.
@@ -238,6 +255,7 @@ pub fn atlas(
         None => AtlasPlan::from_file(Path::new(spec)),
     }
     .map_err(value_error)?;
+    warn_space(&plan.space)?;
     if up_to_date(&out, &plan, force)? {
         return Ok(None);
     }
@@ -325,8 +343,11 @@ fn keyword(helper: &'static str) -> impl Fn(&str, String, &str) -> squeal_scan::
 /// refused as the command line refuses `--x0`/`--v0` (finite, within the escape radius).
 fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<State> {
     let given = State { x, v };
-    let point = plan.physical().map_or(given, |ph| ph.scales().state(given));
-    let inv = keyword(helper);
+    let scales = plan.physical().map(|ph| ph.scales());
+    let point = scales.map_or(given, |s| s.state(given));
+    // The value as given, in m and m/s, as the command line reports it.
+    let si = scales.map(|s| (given, s));
+    let inv = squeal_scan::bounds::start_invalid(format!("squeal.{helper}"), si);
     squeal_scan::bounds::state("x0", point.x, &inv).map_err(value_error)?;
     squeal_scan::bounds::state("v0", point.v, &inv).map_err(value_error)?;
     Ok(point)
@@ -391,7 +412,7 @@ pub fn boundary(
     bracket: Option<(f64, f64)>,
     horizon: f64,
 ) -> PyResult<String> {
-    use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary::both_in};
+    use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary::both_in};
     use squeal_scan::fates::decide;
     let plan = plan_of(spec, text)?;
     let setup = setup_of(&plan, map)?;
@@ -424,8 +445,8 @@ pub fn boundary(
         let d = decide(gate, &starts, (range, ceiling), horizon, || {
             let [f, c] = both_in(param, setup, &ps, point, range, [fold, !fold]);
             let b = f.or(c).expect("one boundary asked for")?;
-            let found = b.status == BoundaryStatus::Found;
-            Ok((b, found.then_some(b.bracket)))
+            // Above the range, the runs raise a default top, as on the command line.
+            b.gated(point, (range, ceiling))
         })?;
         Ok(Ok(d))
     });

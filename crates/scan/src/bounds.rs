@@ -68,6 +68,47 @@ pub fn state(key: &str, v: f64, invalid: Invalid) -> Result<f64, ScanError> {
     }
 }
 
+/// How a start refused by the bounds here (in the model's units) is reported from `path`
+/// (the command line, a file's line, a Python helper): where the start was
+/// given in SI units (`si`: the start as given, in m and m/s, and the system's scales),
+/// the message shows the value the user wrote, in m or m/s, and the model's value after
+/// it: `--x0 1e3` (metres) was reported as "`--x0` = 7281199.94". Other keys (`--t-end`)
+/// say their bound is in the model's units. One rule for the command line's `trajectory`,
+/// `critical` and `classify` and Python's helpers.
+pub fn start_invalid(
+    path: String,
+    si: Option<(squeal_core::State, squeal_core::Scales)>,
+) -> impl Fn(&str, String, &str) -> crate::error::ScanError {
+    use squeal_core::error::Number;
+    move |key: &str, value: String, expected: &str| {
+        let axis = match si {
+            Some((given, s)) if key.ends_with("x0") => Some((given.x, "m", s.length)),
+            Some((given, s)) if key.ends_with("v0") => Some((given.v, "m/s", s.velocity)),
+            _ => None,
+        };
+        let (value, expected) = match (axis, si) {
+            (Some((given, unit, scale)), _) => (
+                format!("{} {unit}", Number(given)),
+                format!(
+                    "{expected}, in the model's units: at most {} {unit} for this system \
+                     (one unit is {} {unit}), where {} {unit} is {value}",
+                    Number(MAX_STATE * scale),
+                    Number(scale),
+                    Number(given)
+                ),
+            ),
+            (None, Some(_)) => (value, format!("{expected}, in the model's units")),
+            (None, None) => (value, expected.to_string()),
+        };
+        crate::error::ScanError::Invalid {
+            path: path.clone(),
+            key: key.into(),
+            value,
+            expected,
+        }
+    }
+}
+
 /// Narrowest side of a box with an area (the disturbance box), in the model's units (the
 /// fixed point sits at x = 1). Narrower is a point for a basin fraction, and below about
 /// 1e-154 a side's square underflows: with `[physical] m = 1e308` the disturbance box
@@ -327,6 +368,18 @@ pub(crate) fn core_error(table: &str, e: squeal_core::CoreError, invalid: Invali
             Number(value).to_string(),
             expected,
         ),
+        // A belt speed below the step: the message after "invalid lambda = ...: ".
+        e @ squeal_core::CoreError::Unresolved { name, value, .. } => {
+            let text = e.to_string();
+            let expected = text
+                .split_once(": ")
+                .map_or(text.as_str(), |(_, rest)| rest);
+            invalid(
+                &format!("{table}.{name}"),
+                Number(value).to_string(),
+                expected,
+            )
+        }
         other => invalid(table, String::new(), &other.to_string()),
     }
 }

@@ -192,6 +192,7 @@ pub enum ScanError {
             BracketProblem::Order => "need 0 < lower bound < upper bound",
             BracketProblem::EnclosedAtLow => "the cycle already encloses the point at the lower bound: lower it",
             BracketProblem::NotEnclosedAtHigh => "the cycle does not enclose the point yet at the upper bound: raise it",
+            BracketProblem::SquealsAtHigh => "a start still squeals at the upper bound: raise it",
         }
     )]
     Bracket {
@@ -217,6 +218,23 @@ pub enum BracketProblem {
     EnclosedAtLow,
     /// Not enclosed at `nu_hi`.
     NotEnclosedAtHigh,
+    /// A boundary's predicate (no start squeals, the start settles) not true yet at the
+    /// top of its range: the boundary lies above it.
+    SquealsAtHigh,
+}
+
+impl BracketProblem {
+    /// Where the boundary lies above the range, what the shortcut saw at its top (the runs
+    /// may raise it, [`crate::fates::decide`]); `None` for the other problems.
+    pub fn at_high(self) -> Option<&'static str> {
+        match self {
+            BracketProblem::NotEnclosedAtHigh => {
+                Some("the unstable cycle does not enclose the start yet at the top")
+            }
+            BracketProblem::SquealsAtHigh => Some("a start still squeals at the top"),
+            BracketProblem::Order | BracketProblem::EnclosedAtLow => None,
+        }
+    }
 }
 
 impl From<NoCycle> for ScanError {

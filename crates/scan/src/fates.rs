@@ -764,15 +764,11 @@ pub fn decide<T>(
     let (answer, bracket) = match shortcut() {
         // The cycle encloses the start only above the range's top: the runs raise the top
         // (to `ceiling`) as they do where the shortcut is not checked.
-        Err(ScanError::Bracket {
-            problem: crate::error::BracketProblem::NotEnclosedAtHigh,
-            nu_hi,
-            ..
-        }) if ceiling > range.hi => {
-            let w = format!(
-                "the unstable cycle does not enclose the start yet at the top, {}",
-                squeal_core::error::Number(nu_hi)
-            );
+        Err(ScanError::Bracket { problem, nu_hi, .. })
+            if ceiling > range.hi && problem.at_high().is_some() =>
+        {
+            let at_high = problem.at_high().unwrap_or_default();
+            let w = format!("{at_high}, {}", squeal_core::error::Number(nu_hi));
             return runs(Why::BeyondRange(w));
         }
         r => r?,

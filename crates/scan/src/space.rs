@@ -124,6 +124,10 @@ pub struct Space {
     pub units: Units,
     /// Every parameter in axis order (fixed ones have one value).
     pub params: Vec<ParamAxis>,
+    /// The key the table was given by (`friction_table` or `friction_csv`), for messages;
+    /// `None` without a table. Not a setting: results do not depend on it.
+    #[serde(skip)]
+    pub table_key: Option<&'static str>,
 }
 
 impl Space {
@@ -142,23 +146,30 @@ impl Space {
         inv: Invalid,
     ) -> Result<Space, ScanError> {
         m.check_law(inv)?;
-        let (units, table, params) = match ph {
+        let (units, table, params, csv) = match ph {
             Some(ph) => {
                 m.check_physical(inv)?;
                 ph.check_friction_keys(m.law, inv)?;
                 let table = ph.table(folder, stored, inv)?;
-                (Units::Physical, table, physical_axes(ph, limit, inv)?)
+                let axes = physical_axes(ph, limit, inv)?;
+                (Units::Physical, table, axes, ph.friction_csv.is_some())
             }
             None => {
                 let table = m.table(folder, stored, inv)?;
-                (Units::Nondimensional, table, model_axes(m, limit, inv)?)
+                let axes = model_axes(m, limit, inv)?;
+                (Units::Nondimensional, table, axes, m.friction_csv.is_some())
             }
         };
+        let table_key = table.map(|_| match csv {
+            true => "friction_csv",
+            false => "friction_table",
+        });
         let space = Space {
             law: m.law,
             table,
             units,
             params,
+            table_key,
         };
         space.check_count(limit, inv)?;
         Ok(space)
@@ -213,6 +224,63 @@ impl Space {
         }
         .map(Some)
         .map_err(|e| physical_error(e, inv))
+    }
+
+    /// Refuses a point whose belt speed the step `dt` cannot resolve
+    /// ([`Params::check_step`] gives the argument), naming the key at fault: a physical
+    /// key (`physical.normal_force` = 1e308 made lambda 4.5e-307), or the model's belt
+    /// speed.
+    /// A point refused for another reason is left to the check that names it
+    /// ([`Space::check_points`]).
+    pub(crate) fn check_step(&self, dt: f64, inv: Invalid) -> Result<(), ScanError> {
+        for i in 0..self.n_points() {
+            match self.physical_at(i) {
+                Some(ph) => match ph.params(self.law) {
+                    Ok(p) => ph.check_step(&p, dt).map_err(|e| physical_error(e, inv))?,
+                    Err(_) => continue,
+                },
+                None => {
+                    let p = self.params_at(i);
+                    if p.validate().is_ok() {
+                        (p.check_step(dt))
+                            .map_err(|e| crate::bounds::core_error(self.units.table(), e, inv))?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// What in this space looks like a slip of units ([`squeal_core::units::Doubt`]: a
+    /// friction coefficient in percent, speeds in mm/s), each kind's first over the points,
+    /// said as one sentence naming the spec key given (`` `physical.v_belt` ``).
+    pub fn warnings(&self) -> Vec<String> {
+        use squeal_core::units::{Doubt, curve_doubts};
+        let found: Vec<Doubt> = match self.units {
+            Units::Physical => (0..self.n_points())
+                .filter_map(|i| self.physical_at(i))
+                .flat_map(|ph| ph.doubts())
+                .collect(),
+            Units::Nondimensional => (self.table.iter())
+                .flat_map(|t| curve_doubts(t, false))
+                .collect(),
+        };
+        let mut doubts: Vec<Doubt> = Vec::new();
+        for d in found {
+            let same = |seen: &&Doubt| {
+                seen.key() == d.key() && std::mem::discriminant(*seen) == std::mem::discriminant(&d)
+            };
+            if !doubts.iter().any(|seen| same(&seen)) {
+                doubts.push(d);
+            }
+        }
+        let table = self.units.table();
+        let table_key = self.table_key.unwrap_or("friction_table");
+        let name = |key: &'static str| match key {
+            "friction_table" => format!("`{table}.{table_key}`"),
+            key => format!("`{table}.{key}`"),
+        };
+        doubts.iter().map(|d| d.sentence(&name)).collect()
     }
 
     /// Refuses a swept key that sets the units of a grid in m and m/s

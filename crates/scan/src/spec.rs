@@ -583,6 +583,11 @@ impl Plan {
         space.check_map_units(&invalid)?;
         physical::scan_sweeps_keys_with_a_model_twin(&space, &invalid)?;
         space.check_points(rules, &invalid)?;
+        // The belt speed against the step before the grid: a clamp of 1e308 N makes both
+        // the belt speed and the grid's cells vanish in the model's units, and it is the
+        // clamp's key that the refusal should name.
+        let (dt, solver) = spec.integration.check(rules, &invalid)?;
+        rules.bound(|| space.check_step(dt, &invalid))?;
         let maps: Vec<Params> = (0..space.n_points()).map(|i| space.params_at(i)).collect();
         let (sweep, physical) = (space.sweep(), space.physical_at(0));
         let (grid, sample) = (spec.grid.as_ref(), spec.sample.as_ref());
@@ -590,7 +595,6 @@ impl Plan {
         if let Some(ph) = &physical {
             physical::grid_to_nondimensional(&mut grid, ph, rules, &invalid)?;
         }
-        let (dt, solver) = spec.integration.check(rules, &invalid)?;
         let ClassifierPlan {
             classifier,
             early_stop,

@@ -130,6 +130,7 @@ pub fn fifo_case(rng: &mut Rng, good: &[u8]) -> Case {
         files,
         announces: false,
         fifos: vec![fifo],
+        check: None,
     }
 }
 

@@ -53,6 +53,7 @@ impl squeal_scan::Observer for BarObserver<'_> {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let plan = AtlasPlan::from_file(&args.spec)?;
+    super::doubts::warn_space(&plan.space);
     let (out, shard) = args.run.setup(&plan.out)?;
     let png = common::sibling(&out, "", "png");
     let pics = if shard.is_none() && !args.no_render {

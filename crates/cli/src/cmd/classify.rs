@@ -120,9 +120,9 @@ fn check_start(
     path: &std::path::Path,
     line: usize,
     s: State,
-    physical: bool,
+    si: Option<(State, squeal_core::Scales)>,
 ) -> anyhow::Result<()> {
-    let inv = super::physical::start_invalid(format!("{}:{line}", path.display()), physical);
+    let inv = super::physical::start_invalid(format!("{}:{line}", path.display()), si);
     squeal_scan::bounds::state("x0", s.x, &inv)?;
     squeal_scan::bounds::state("v0", s.v, &inv)?;
     Ok(())
@@ -164,7 +164,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut ics = Vec::with_capacity(lines.len());
     for &(line, ic) in &lines {
         let state = scales.map_or(ic, |s| s.state(ic));
-        check_start(&args.ics, line, state, scales.is_some())?;
+        check_start(&args.ics, line, state, scales.map(|s| (ic, s)))?;
         given.push(ic);
         ics.push(state);
     }

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use anyhow::bail;
 use squeal_core::Setup;
 use squeal_core::State;
-use squeal_scan::atlas::{BoundaryParam, BoundaryStatus, PointSettings, boundary};
+use squeal_scan::atlas::{BoundaryParam, PointSettings, boundary};
 use squeal_scan::fates::{self, Decided};
 use squeal_scan::section::ParamRange;
 use squeal_scan::ulc::{self, CycleSettings};
@@ -39,10 +39,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let point = scales.map_or(given, |s| s.state(given));
     // The start, in the model's units, within the classifier's escape radius (`--x0 1e300`
     // was bisected for).
-    let inv = super::physical::start_invalid("command line".into(), scales.is_some());
+    let inv = super::physical::start_invalid("command line".into(), scales.map(|s| (given, s)));
     squeal_scan::bounds::state("--x0", point.x, &inv)?;
     squeal_scan::bounds::state("--v0", point.v, &inv)?;
     let args = in_by_law(args, plan, setup.map)?;
+    check_speed_bracket(&args, plan.dt)?;
     args.check_horizon(plan.dt)?;
     if args.crisis {
         return crisis(&args, plan, setup.map, t0);
@@ -168,8 +169,9 @@ fn boundary(
             let asked = [args.fold, !args.fold];
             let [f, c] = boundary::both_in(param, setup, &ps, point, range, asked);
             let b = f.or(c).expect("one boundary asked for")?;
+            // Above the range, the runs raise a default top (Boundary::gated).
+            let (b, bracket) = b.gated(point, (range, args.ceiling(param, range)))?;
             let changes = boundary::coarse_scan(param, setup, (&ps, point), which, (lo, hi))?;
-            let bracket = (b.status == BoundaryStatus::Found).then_some(b.bracket);
             Ok(((b, changes), bracket))
         };
         Ok(args.decide((setup, param), &starts, range, shortcut)?)
@@ -215,6 +217,21 @@ fn command(args: &Args) -> &'static str {
         (false, true) => "critical --fold",
         _ => "critical",
     }
+}
+
+/// A bracket in the belt speed (`--in lambda`) reaching below the step `dt` would be
+/// refused at its first run (Params::check_step, naming the model's `lambda`); it is
+/// refused by its flag before any.
+fn check_speed_bracket(args: &Args, dt: f64) -> anyhow::Result<()> {
+    if args.in_ == "lambda" && args.lambda_lo < dt {
+        bail!(
+            "--lambda-lo {}: expected a belt speed of at least the step dt = {} (below it \
+             the run chatters about zero slip: crates/core/MODEL.md section 3)",
+            Number(args.lambda_lo),
+            Number(dt)
+        );
+    }
+    Ok(())
 }
 
 /// The `--lifetimes` flags, checked before any computing: the lifetimes follow the crisis in

@@ -105,7 +105,7 @@ impl Args {
 
     /// The horizon, checked: finite, positive, and at most `MAX_STEPS` steps of `dt`.
     pub(super) fn check_horizon(&self, dt: f64) -> anyhow::Result<()> {
-        let inv = super::physical::start_invalid("command line".into(), false);
+        let inv = super::physical::start_invalid("command line".into(), None);
         squeal_scan::bounds::horizon("--horizon", self.horizon, dt, &inv)?;
         Ok(())
     }

@@ -111,6 +111,25 @@ pub(super) fn si_unit(
     })
 }
 
+/// The end `value` of the bracket flag `--{flag}-{end}` in words, with the value of the
+/// physical key it stands for where the system was given in SI units (`si`: key, scale,
+/// units): "--nu-hi 0.05 (c = 40 N s/m)". A brake given in N s/m was told of `--nu-hi
+/// 0.05` alone, a number in units it never used.
+pub(super) fn end_words(
+    (flag, end): (&str, &str),
+    value: f64,
+    si: Option<(&'static str, f64, &'static str)>,
+) -> String {
+    match si {
+        Some((key, unit, units)) => format!(
+            "--{flag}-{end} {} ({key} = {} {units})",
+            Number(value),
+            Number(value * unit)
+        ),
+        None => format!("--{flag}-{end} {}", Number(value)),
+    }
+}
+
 /// A boundary found by `critical` (the critical value, or the fold of a law without a crisis),
 /// for its two reports.
 pub(super) struct BoundaryFound<'a> {
@@ -184,10 +203,14 @@ impl BoundaryFound<'_> {
                 Number(point.v)
             )
         };
+        let (lo, hi) = (
+            end_words((flag, "lo"), lo.0, self.si),
+            end_words((flag, "hi"), hi.0, self.si),
+        );
         match b.status {
             BoundaryStatus::Found => {}
-            BoundaryStatus::BelowRange => bail!("--{flag}-lo {lo}: {nothing}; lower --{flag}-lo"),
-            _ => bail!("--{flag}-hi {hi}: it still squeals there; raise --{flag}-hi"),
+            BoundaryStatus::BelowRange => bail!("{lo}: {nothing}; lower --{flag}-lo"),
+            _ => bail!("{hi}: it still squeals there; raise --{flag}-hi"),
         }
         println!(
             "{what}: {name} = {:.6e}, bracket [{:.6e}, {:.6e}] ({} evaluations, {:.2} s)\n  {meaning}\n  {}",

@@ -43,17 +43,21 @@ fn print(
     seconds: f64,
 ) -> anyhow::Result<()> {
     let (range, _) = args.range(param)?;
-    let (lo, hi) = (Number(range.lo), Number(rb.bracket[1]));
+    let end = super::critical_report::end_words;
+    let (lo, hi) = (
+        end((flag, "lo"), range.lo, si),
+        end((flag, "hi"), rb.bracket[1], si),
+    );
     match rb.status {
         BoundaryStatus::Found => {}
         BoundaryStatus::BelowRange => {
             bail!(
-                "--{flag}-lo {lo}: every start settles there already (runs to t = {}); lower --{flag}-lo",
+                "{lo}: every start settles there already (runs to t = {}); lower --{flag}-lo",
                 rb.horizon
             )
         }
         _ => bail!(
-            "--{flag}-hi {hi}: a start still does not settle there (runs to t = {}); raise --{flag}-hi",
+            "{hi}: a start still does not settle there (runs to t = {}); raise --{flag}-hi",
             rb.horizon
         ),
     }

@@ -14,6 +14,7 @@ pub mod critical;
 pub mod critical_args;
 pub mod critical_report;
 pub mod critical_runs;
+pub mod doubts;
 pub mod friction;
 pub mod info;
 pub mod law_flags;

@@ -54,7 +54,11 @@ impl ModelArgs {
             true => self.table(law)?,
             false => None,
         };
-        self.system.system(law, table, self.keys.first())
+        let system = self.system.system(law, table, self.keys.first())?;
+        if let Some(ph) = &system {
+            super::doubts::warn_system(ph, self.friction_csv.as_deref());
+        }
+        Ok(system)
     }
 
     /// Checked parameters; errors name the flag.
@@ -73,7 +77,11 @@ impl ModelArgs {
         }
         let defaults = Params::defaults(law);
         let named = defaults.named();
-        let p = Params::from_named_table(law, self.table(law)?, |k| {
+        let table = self.table(law)?;
+        if let Some(t) = table {
+            super::doubts::warn_curve(t, self.friction_csv.as_deref());
+        }
+        let p = Params::from_named_table(law, table, |k| {
             self.keys
                 .get(k)
                 .or_else(|| named.iter().find(|n| n.name == k).map(|n| n.value))
@@ -137,6 +145,14 @@ impl ModelArgs {
     /// The stepper for these flags; errors name the flag.
     pub fn stepper(&self) -> anyhow::Result<Stepper> {
         let p = self.params()?;
+        // A belt speed below the step, named by the physical flag at fault (the stepper
+        // below would name the model's lambda, a flag not given).
+        if let Some(ph) = self.physical()? {
+            if self.dt.is_finite() && self.dt > 0.0 {
+                ph.check_step(&p, self.dt)
+                    .map_err(super::physical::flag_error)?;
+            }
+        }
         let kind: SolverKind = self.solver.parse().context("--solver")?;
         let scheme: Scheme = self.scheme.parse().context("--scheme")?;
         if !self.dt.is_finite() || self.dt <= 0.0 || self.dt > 1.0 {
@@ -187,7 +203,7 @@ impl ModelArgs {
 /// Prefixes a core error with the flag it concerns: "--nu: invalid nu = -1: expected ...".
 pub fn flag_error(e: CoreError) -> anyhow::Error {
     match &e {
-        CoreError::InvalidParameter { name, .. } => {
+        CoreError::InvalidParameter { name, .. } | CoreError::Unresolved { name, .. } => {
             anyhow::anyhow!("{}: {e}", flag(name))
         }
         _ => anyhow::anyhow!(e),
@@ -249,7 +265,11 @@ impl SetupArgs {
     /// The plan and map.
     pub fn setup(&self) -> anyhow::Result<Setup> {
         let plan = match &self.spec {
-            Some(path) => squeal_scan::Plan::from_file(path)?,
+            Some(path) => {
+                let plan = squeal_scan::Plan::from_file(path)?;
+                super::doubts::warn_space(&plan.space);
+                plan
+            }
             None => self.model.plan(self.t_max, "--t-max")?,
         };
         if self.map >= plan.maps.len() {

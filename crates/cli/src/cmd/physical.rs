@@ -180,23 +180,12 @@ pub fn flag_error(e: CoreError) -> anyhow::Error {
     }
 }
 
-/// How a start refused by the library's bounds ([`squeal_scan::bounds`], in the model's
-/// units) is reported from `path` (the command line, a file's line): where the start was
-/// given in SI units (`physical`), the message says the bound is in the model's units, so
-/// `--x0 1e6` (metres) refused as 7.3e9 reads right. One rule for `trajectory`, `critical`
-/// and `classify`.
+/// How a start refused by the library's bounds is reported from `path` (the command line,
+/// a file's line), as the given start in SI units (`si`) where there is one:
+/// [`squeal_scan::bounds::start_invalid`], the one rule of every door.
 pub fn start_invalid(
     path: String,
-    physical: bool,
+    si: Option<(squeal_core::State, squeal_core::Scales)>,
 ) -> impl Fn(&str, String, &str) -> squeal_scan::ScanError {
-    move |key: &str, value: String, expected: &str| squeal_scan::ScanError::Invalid {
-        path: path.clone(),
-        key: key.into(),
-        value,
-        expected: if physical {
-            format!("{expected}, in the model's units")
-        } else {
-            expected.into()
-        },
-    }
+    squeal_scan::bounds::start_invalid(path, si)
 }

@@ -68,6 +68,7 @@ fn may_draw(pics: &[PathBuf]) -> Vec<PathBuf> {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut phases = super::timings::Phases::start();
     let plan = Plan::from_file(&args.spec)?;
+    super::doubts::warn_space(&plan.space);
     let (out, shard) = args.run.setup(&plan.output)?;
     let pics = pictures(
         &out,

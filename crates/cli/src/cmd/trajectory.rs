@@ -86,7 +86,8 @@ pub fn run(mut args: Args) -> anyhow::Result<ExitCode> {
         v: args.v0,
     };
     let ic = scales.map_or(given, |s| s.state(given));
-    let (format, keep) = checked_outputs(&args, &stepper, ic, scales.is_some())?;
+    let si = scales.map(|s| (given, s));
+    let (format, keep) = checked_outputs(&args, &stepper, ic, si)?;
     let span = Span {
         ic,
         t_end: args.t_end,
@@ -149,11 +150,11 @@ fn checked_outputs(
     args: &Args,
     stepper: &Stepper,
     ic: State,
-    physical: bool,
+    si: Option<(State, squeal_core::Scales)>,
 ) -> anyhow::Result<(Option<Format>, bool)> {
     // The library's checks of a run (the Python `squeal.trajectory` makes the same), the
     // start in the model's units: `--x0 1e6` metres was 7e9 units for a 2 kg brake.
-    let inv = super::physical::start_invalid("command line".into(), physical);
+    let inv = super::physical::start_invalid("command line".into(), si);
     let every = args.every.unwrap_or(1);
     let span = Span {
         ic,

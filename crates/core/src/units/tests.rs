@@ -283,11 +283,132 @@ fn huge_and_tiny_systems_scale_without_overflow() {
         .params(FrictionLaw::McMillan)
         .unwrap_err();
     assert_eq!(e.key(), Some("m"), "{e}");
-    // nu = 1e-300 / 2e300 underflows to 0 from c > 0: refused, naming nu (c).
+    // nu = 1e-300 / 2e300 underflows to 0 from c > 0: refused, naming c, the key whose
+    // value (301 decades below a plausible damper) takes it there.
     let e = at(1e300, 1e300, 1e-300)
         .params(FrictionLaw::McMillan)
         .unwrap_err();
-    assert_eq!(e.key(), Some("nu"), "{e}");
+    assert_eq!(e.key(), Some("c"), "{e}");
+}
+
+/// The brake of README section 4 (0.8 kg, 200 kN/m, 20 N s/m, 0.3 m/s, mu_k 0.38, mu_s 0.48,
+/// 0.5 ms, 1.5 kN) with one key pushed out of range: the refusal names that key with the
+/// value given, and the figure it made. Before, `normal_force = 5e-324` was blamed on
+/// `m`, `m = 1e-300` on `nu` (the command line's `--c`) and `k = 1e300` on `lambda`
+/// (`--v-belt`).
+#[test]
+fn a_figure_out_of_range_names_the_key_at_fault() {
+    let brake = Physical {
+        m: 0.8,
+        k: 2e5,
+        c: 20.0,
+        v_belt: 0.3,
+        friction: FrictionSi::Kinetic {
+            mu_k: 0.38,
+            surface: Some(SurfaceSi {
+                mu_s: 0.48,
+                tau: 5e-4,
+            }),
+        },
+        load: Load::NormalForce(1500.0),
+    };
+    assert!(brake.params(FrictionLaw::McMillan).is_ok());
+    type Edit = fn(&mut Physical);
+    let cases: [(Edit, &str, &str, &str); 4] = [
+        (
+            |p| p.load = Load::NormalForce(5e-324),
+            "normal_force",
+            "invalid normal_force = 5e-324: it makes the length unit",
+            "= 0,",
+        ),
+        (
+            |p| p.m = 1e-300,
+            "m",
+            "invalid m = 1e-300: it makes the damping ratio nu",
+            "a damping ratio <= 1e6",
+        ),
+        (
+            |p| p.k = 1e300,
+            "k",
+            "invalid k = 1e300: it makes the model's belt speed lambda",
+            "(0, 1e6]",
+        ),
+        (
+            |p| p.c = 1e300,
+            "c",
+            "invalid c = 1e300: it makes the damping ratio nu",
+            "<= 1e6",
+        ),
+    ];
+    for (edit, key, head, tail) in cases {
+        let mut p = brake;
+        edit(&mut p);
+        let e = p.params(FrictionLaw::McMillan).unwrap_err();
+        let text = e.to_string();
+        assert_eq!(e.key(), Some(key), "{text}");
+        assert!(text.starts_with(head) && text.contains(tail), "{text}");
+    }
+}
+
+/// A belt speed the step cannot resolve (`lambda < dt`, Params::check_step) is refused
+/// naming the key at fault: the issue-21 brake (2 kg, 50 kN/m, 0.05 m/s, mu_k 0.35) under
+/// a clamp of 1e308 N has lambda = 4.5e-307, under g = 1e308 2.3e-307, and on a belt of
+/// 1e-12 m/s 4.6e-11; at the default step each is refused by its key, and the brake
+/// itself (lambda 2.3) is not.
+#[test]
+fn a_belt_speed_below_the_step_names_the_key_at_fault() {
+    let dt = crate::defaults::DT;
+    let brake = Physical {
+        m: 2.0,
+        k: 5e4,
+        c: 10.0,
+        v_belt: 0.05,
+        friction: FrictionSi::Kinetic {
+            mu_k: 0.35,
+            surface: Some(SurfaceSi {
+                mu_s: 0.45,
+                tau: 1e-3,
+            }),
+        },
+        load: Load::Weight(G_STANDARD),
+    };
+    let step = |ph: Physical| {
+        let p = ph.params(FrictionLaw::McMillan).unwrap();
+        ph.check_step(&p, dt)
+    };
+    assert!(step(brake).is_ok());
+    let cases: [(Physical, &str); 3] = [
+        (
+            Physical {
+                load: Load::NormalForce(1e308),
+                ..brake
+            },
+            "normal_force",
+        ),
+        (
+            Physical {
+                load: Load::Weight(1e308),
+                ..brake
+            },
+            "g",
+        ),
+        (
+            Physical {
+                v_belt: 1e-12,
+                ..brake
+            },
+            "v_belt",
+        ),
+    ];
+    for (ph, key) in cases {
+        let e = step(ph).unwrap_err();
+        let text = e.to_string();
+        assert_eq!(e.key(), Some(key), "{text}");
+        assert!(
+            text.contains("it makes the model's belt speed lambda") && text.contains("dt = 0.005"),
+            "{text}"
+        );
+    }
 }
 
 /// A clamped pad of mass 6.6e-309 kg (found by the shipped-spec mutation test on

@@ -270,6 +270,29 @@ impl Boundary {
             changes: c.changes.len() as u32,
         }
     }
+
+    /// This boundary, found by a shortcut over `range` for the start `point`, as the gate
+    /// ([`crate::fates::decide`]) takes it: with its bracket to confirm where found; where
+    /// it lies above the range and the top may be raised (`ceiling` above it), the error
+    /// that has the runs raise it, as they do for the critical damping (`squeal critical
+    /// --fold` of the README's brake stopped at "--nu-hi 0.05: raise --nu-hi").
+    pub fn gated(
+        self,
+        point: squeal_core::State,
+        (range, ceiling): (ParamRange, f64),
+    ) -> Result<(Boundary, Option<[f64; 2]>), crate::ScanError> {
+        match self.status {
+            BoundaryStatus::AboveRange if ceiling > range.hi => Err(crate::ScanError::Bracket {
+                nu_lo: range.lo,
+                nu_hi: range.hi,
+                x: point.x,
+                v: point.v,
+                problem: crate::error::BracketProblem::SquealsAtHigh,
+            }),
+            BoundaryStatus::Found => Ok((self, Some(self.bracket))),
+            _ => Ok((self, None)),
+        }
+    }
 }
 
 /// Geometric bisection of a predicate that is false below the boundary and true above (in

@@ -307,6 +307,7 @@ impl AtlasPlan {
         let space = Space::read(&f.model, f.physical.as_ref(), (folder, stored), limit, &inv)?;
         let units = space.units;
         let (dt, solver) = f.integration.check(rules, &inv)?;
+        rules.bound(|| space.check_step(dt, &inv))?;
         let mut ps = parse::point_settings(&f, path, rules, &inv)?;
         let maps = parse::map_settings(&f, path, dt, &mut ps, rules, &inv)?;
         let b = parse::boundaries(&f, path, units, &space.params, rules, &inv)?;

@@ -164,6 +164,10 @@ pub(crate) fn physical_error(e: CoreError, invalid: Invalid) -> ScanError {
             squeal_core::error::Number(value).to_string(),
             expected,
         ),
+        // A figure made of several keys, named by the key at fault with its value.
+        CoreError::Source { key: k, value, why } => {
+            invalid(&key(k), squeal_core::error::Number(value).to_string(), &why)
+        }
         CoreError::MissingPhysicalKey { key: k, law } => invalid(
             &key(k),
             "missing".into(),
@@ -635,6 +639,61 @@ path = "p.h5"
                     "{row}: {e}"
                 );
             }
+        }
+    }
+
+    /// The pad's curve in percent, in mm/s, or under a belt speed in mm/s reads (each can be
+    /// meant), with one sentence each naming the key as given, before anything runs; the
+    /// curve as measured has none. Fails on d424b26, which had no warnings to give.
+    #[test]
+    fn a_measured_curve_in_percent_or_mm_per_s_is_warned_of() {
+        let rows = "[[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]";
+        let warnings = |text: &str| Plan::from_toml(text, "p.toml").unwrap().space.warnings();
+        assert_eq!(warnings(PAD), Vec::<String>::new());
+        let percent = PAD.replace(rows, "[[0.0, 48.0], [0.1, 43.0], [0.3, 40.0], [1.0, 37.0]]");
+        let w = warnings(&percent);
+        assert!(
+            w.len() == 1 && w[0].starts_with("`physical.friction_table`: mu reaches 48"),
+            "{w:?}"
+        );
+        let mm = PAD.replace(
+            rows,
+            "[[0.0, 0.48], [100.0, 0.43], [300.0, 0.4], [1000.0, 0.37]]",
+        );
+        let w = warnings(&mm);
+        assert!(
+            w.len() == 1 && w[0].contains("run to 1000 m/s") && w[0].contains("mm/s"),
+            "{w:?}"
+        );
+        let fast = warnings(&PAD.replace("v_belt = 0.3", "v_belt = 300.0"));
+        assert!(
+            fast.len() == 1
+                && fast[0].starts_with("`physical.v_belt` = 300 m/s is beyond")
+                && fast[0].ends_with("give 0.3 m/s"),
+            "{fast:?}"
+        );
+    }
+
+    /// A clamp of 1e308 N makes the pad's belt speed v_d = 1.2e-306 in the model's units,
+    /// below the step (Params::check_step): refused naming `physical.normal_force` with the
+    /// value given; a belt of 1e-12 m/s names `physical.v_belt`. Fails on d424b26, which
+    /// ran both.
+    #[test]
+    fn a_belt_speed_below_the_step_is_refused_by_its_key() {
+        let given = "v_belt = 0.3\nnormal_force = 1500.0";
+        for (edit, key) in [
+            (
+                "v_belt = 0.3\nnormal_force = 1e308",
+                "`physical.normal_force` = 1e308",
+            ),
+            (
+                "v_belt = 1e-12\nnormal_force = 1500.0",
+                "`physical.v_belt` = 1e-12",
+            ),
+        ] {
+            let text = PAD.replace(given, edit);
+            let e = Plan::from_toml(&text, "p.toml").unwrap_err().to_string();
+            assert!(e.contains(key) && e.contains("dt = 0.005"), "{e}");
         }
     }
 }

@@ -340,7 +340,7 @@ fn a_range_of_one_value_between_two_ends_is_refused() {
 
 /// A physical spec's grid or sample region is checked in the model's units, as the atlas's
 /// box is: with `m = 1e300` a grid 0.4 mm wide became 6e-300 units wide (every cell the same
-/// state), and x0 in +-3 km (the length unit mu_k g m / k = 69 um for the brake below) put
+/// state; that system is now refused first for its belt speed), and x0 in +-3 km (the length unit mu_k g m / k = 69 um for the brake below) put
 /// the starts beyond the escape radius; both ran.
 #[test]
 fn a_physical_grid_is_checked_in_the_models_units() {
@@ -362,9 +362,14 @@ v0 = { min = -0.02, max = 0.02, count = 6 }
 path = "x.h5"
 "#;
     assert!(Plan::from_toml(brake, "t.toml").is_ok());
-    let e = scan_err(&brake.replace("m = 2.0", "m = 1e300"));
+    // A grid 1e-14 m wide is 7.3e-11 length units of 137 um: no box.
+    let e = scan_err(&brake.replace("min = -1e-4, max = 3e-4", "min = 0.0, max = 1e-14"));
     assert_names(&e, "grid.x0", "a box with an area");
     assert!(e.contains("in the model's units"), "{e}");
+    // m = 1e300 makes the belt speed lambda = 3.3e-150, below the step: refused by its key
+    // before the grid it also collapses (Params::check_step).
+    let e = scan_err(&brake.replace("m = 2.0", "m = 1e300"));
+    assert_names(&e, "physical.m", "dt = 0.005");
     let e = scan_err(&brake.replace("min = -1e-4, max = 3e-4", "min = -3e3, max = 3e3"));
     assert_names(&e, "grid.x0", "<= 1e6");
     // v0 in +-100 km/s: 4.6e6 velocity units of mu_k g / omega_0 = 21.7 mm/s.
