@@ -157,7 +157,9 @@ SHAPED = {
                  {"x0": NUMBER, "v0": NUMBER, "fold": FLAG, "bracket": PAIR, "map": COUNT,
                   "parameter": ["'c'", "3", "None"], "horizon": NUMBER, "tau": NUMBER}),
     "trajectory": ({"law": "'mcmillan'", "t_end": "1.0"},
-                   {"x0": NUMBER, "t_end": NUMBER, "every": COUNT, "map": COUNT, "out": PATH,
+                   {"x0": NUMBER, "t_end": NUMBER,
+                    # every=None is the command line's default stride (no --every).
+                    "every": [c for c in COUNT if c != "None"], "map": COUNT, "out": PATH,
                     "force": FLAG, "integration": TABLE, "phi": NUMBER, "m": NUMBER,
                     "friction_table": ["'abc'", "5.0", "[(0.0, 'x')]"]}),
     "open": ({}, {"path": PATH + ["None"]}),
