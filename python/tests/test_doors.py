@@ -282,8 +282,9 @@ def test_the_law_error_lists_the_laws():
 def test_a_run_keeping_too_many_samples_is_refused_as_on_the_cli(tmp_path):
     # `squeal trajectory --t-end 2e5 --out r.h5` refuses 4e7 kept samples (at most 2e7:
     # 2e5 / dt 0.005 = 4e7 steps, each kept with every=1); Python ran it, 1.6 GB in memory.
-    r = cli("trajectory", "--t-end", "2e5", "--out", "r.h5", cwd=tmp_path)
+    # (every=1 asked for: without it both doors keep every 12th step, 3.3e6 samples.)
+    r = cli("trajectory", "--t-end", "2e5", "--every", "1", "--out", "r.h5", cwd=tmp_path)
     assert r.returncode == 2 and "at most 20000000" in r.stderr, r.stderr
     with pytest.raises(ValueError, match=r"every= 1: 40000001 samples .*at most 20000000"):
-        squeal.trajectory(law="mcmillan", t_end=2e5)
+        squeal.trajectory(law="mcmillan", t_end=2e5, every=1)
     assert list(tmp_path.iterdir()) == []
