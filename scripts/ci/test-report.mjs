@@ -96,6 +96,8 @@ function finish(name, o) {
 
 async function hoverCell(page, chart, cell, name) {
   const p = await pixelOf(page, chart, cell.x, cell.y);
+  // The panel emptied first: what is read next is this hover's, not the last one's.
+  await page.evaluate(() => { document.getElementById("panel").innerHTML = ""; });
   await page.mouse.move(p.x, p.y);
   await page.waitForSelector("#cell-label", { timeout: 5000 });
   const label = await page.textContent("#cell-label");
@@ -140,6 +142,7 @@ const times = {};
   const ink = await inkShare(o.page, await plotBox(o.page, "chart"));
   check(ink > 0.001, `atlas: the chart is drawn (${(ink * 100).toFixed(2)}% not blank)`);
   const p = await pixelOf(o.page, "chart", e.point.x, e.point.y);
+  await o.page.evaluate(() => { document.getElementById("panel").innerHTML = ""; });
   await o.page.mouse.move(p.x, p.y);
   await o.page.waitForSelector("#point-regime", { timeout: 5000 });
   const regime = await o.page.textContent("#point-regime");

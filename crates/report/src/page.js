@@ -307,13 +307,14 @@
       }
       traces = [{ type: "heatmap", name: "points", x: coords[1], y: coords[0], z, zmin: 0, zmax: 6, colorscale: scale, showscale: false, hovertemplate: `${dims[1]} %{x}<br>${dims[0]} %{y}<extra></extra>` }];
       layout = { xaxis: { title: { text: pName(dims[1]) }, type: logAxis(coords[1]) ? "log" : "linear" }, yaxis: { title: { text: pName(dims[0]) }, type: logAxis(coords[0]) ? "log" : "linear" } };
-      // The boundaries over the other parameter, drawn where the damping is the x axis.
-      if (p && dims[1] === p) {
-        for (const [name, color, dash] of [["critical", "black", "solid"], ["fold", "#c0392b", "dash"]]) {
-          const b = V[`${name}_${p}`];
-          if (!b) continue;
-          traces.push({ type: "scatter", mode: "lines+markers", x: Array.from(b.data), y: coords[0], name: `${name} ${p}`, line: { color, dash, width: 2 }, marker: { size: 4 }, hoverinfo: "skip" });
-        }
+      // The boundaries over the other parameter, on whichever axis the damping is.
+      const along = p === dims[1] ? 0 : p === dims[0] ? 1 : -1;
+      for (const [name, color, dash] of [["critical", "black", "solid"], ["fold", "#c0392b", "dash"]]) {
+        const b = V[`${name}_${p}`];
+        if (!b || along < 0) continue;
+        const values = Array.from(b.data), other = coords[along];
+        traces.push({ type: "scatter", mode: "lines", name: `${name} ${p}`, line: { color, dash, width: 2 }, hoverinfo: "skip",
+          x: along === 0 ? values : other, y: along === 0 ? other : values });
       }
     } else {
       const x = coords[0] || Array.from({ length: n }, (_, i) => i);
