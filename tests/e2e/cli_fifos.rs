@@ -6,35 +6,20 @@
 //! fails the test instead of blocking it.
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 /// Longest a refusal may take: it comes before any computing (each case runs in well
 /// under a second alone; the limit leaves room for a machine shared by other builds).
 const LIMIT: Duration = Duration::from_secs(30);
 
-/// Runs squeal in `dir` with `args`, killed after [`LIMIT`]: its output and the seconds it
-/// took, or `None` if it had to be killed.
+/// Runs squeal in `dir` with `args`, killed after [`LIMIT`] (`cli_files`' runner): its
+/// output and the seconds it took, or `None` if it had to be killed.
 fn squeal_within(dir: &Path, args: &[&str]) -> Option<(Output, f64)> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_squeal"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the squeal binary runs");
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_squeal"));
+    cmd.args(args).current_dir(dir);
     let t0 = Instant::now();
-    while t0.elapsed() < LIMIT {
-        if child.try_wait().unwrap().is_some() {
-            let secs = t0.elapsed().as_secs_f64();
-            return Some((child.wait_with_output().unwrap(), secs));
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let _ = child.kill();
-    let _ = child.wait();
-    None
+    super::cli_files::squeal_within(&mut cmd, LIMIT).map(|o| (o, t0.elapsed().as_secs_f64()))
 }
 
 fn mkfifo(p: &Path) -> bool {

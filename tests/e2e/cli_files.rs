@@ -22,7 +22,7 @@ fn bin() -> &'static str {
 
 /// Runs squeal in `dir` with `args`, killed after `limit` (a run blocked on a FIFO never
 /// ends): its output, or `None` if it had to be killed.
-fn squeal_within(cmd: &mut Command, limit: Duration) -> Option<Output> {
+pub(crate) fn squeal_within(cmd: &mut Command, limit: Duration) -> Option<Output> {
     let mut child = cmd
         .stdin(Stdio::null())
         .stdout(Stdio::piped())

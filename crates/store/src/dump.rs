@@ -116,7 +116,7 @@ impl Dump {
 /// Reads `path` (a scan, atlas or trajectory file; anything else is refused as `info`
 /// refuses it) for a page.
 pub fn dump(path: &Path) -> Result<Dump, StoreError> {
-    let schema = crate::file_schema(path)?;
+    let (file, schema) = crate::read::open_with_any_schema(path)?;
     let kind = match schema.as_str() {
         SCHEMA => Kind::Scan,
         ATLAS_SCHEMA => Kind::Atlas,
@@ -129,7 +129,6 @@ pub fn dump(path: &Path) -> Result<Dump, StoreError> {
             });
         }
     };
-    let file = File::open(path).h5(path)?;
     read_all(&file, kind).h5(path)
 }
 

@@ -24,12 +24,19 @@ pub(crate) fn open_squeal(path: &Path) -> Result<File, StoreError> {
 
 /// The `schema` attribute of a squeal file (scan or trajectory).
 pub fn file_schema(path: &Path) -> Result<String, StoreError> {
+    open_with_any_schema(path).map(|(_, schema)| schema)
+}
+
+/// Opens `path` as HDF5 and reads its `schema` attribute (whichever squeal wrote), refusing
+/// a file without one: the file stays open for the caller (`dump` reads it whole).
+pub(crate) fn open_with_any_schema(path: &Path) -> Result<(File, String), StoreError> {
     let file = open_hdf5(path)?;
-    str_attr(&file, "schema").map_err(|_| StoreError::NotSquealFile {
+    let schema = str_attr(&file, "schema").map_err(|_| StoreError::NotSquealFile {
         path: path.to_path_buf(),
         why: "an HDF5 file without the `schema` attribute (not written by squeal)".into(),
         advice: None,
-    })
+    })?;
+    Ok((file, schema))
 }
 
 /// Every root attribute as text, by name.

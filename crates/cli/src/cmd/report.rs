@@ -43,7 +43,7 @@ pub fn write(
 pub fn check_before(run: &super::common::RunArgs, out: &std::path::Path) -> anyhow::Result<()> {
     let page = squeal_report::default_out(out);
     if run.report && !run.resume {
-        squeal_scan::files::refuse_non_regular(&page)?;
+        // `check_new` refuses a FIFO there too, before the existence check.
         super::common::check_new(&page, run.force, "report of the run")?;
     }
     Ok(())
