@@ -55,7 +55,7 @@ __all__ = [
 Spec = Union[str, os.PathLike, Mapping[str, Any]]
 
 #: The regimes of a basin-stability report, in the file's order (squeal_scan::basin::REGIMES).
-REGIMES = ("steady_slip", "stick_slip", "undecided")
+REGIMES = ("steady_slip", "stick_slip", "undecided", "slip_oscillation")
 
 
 def _jsonable(v: Any) -> Any:

@@ -41,6 +41,11 @@ use crate::turns::{Lasting, TurnSettings, TurnWatch};
 pub use crate::section::{Crossing, Half, crossing, section_return};
 pub use crate::verdict::{Reason, Regime};
 
+/// Where steady slip does not attract, the turns' band floor is this share of `fp_radius`:
+/// no run closes on the point, so a small band is the slip oscillation about it (at lambda
+/// 0.35, tau 1, phi 0.9, nu 0.1 its half-range is about 1e-4).
+pub const SLIP_FLOOR: f64 = 1e-3;
+
 /// The unstable cycle's crossing of the section, for early stopping.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Trap {
@@ -106,7 +111,7 @@ impl Shortcuts {
         match self.breakaway? {
             Regime::StickSlip => Some((Regime::StickSlip, Reason::StuckOntoCycle)),
             Regime::SteadySlip => Some((Regime::SteadySlip, Reason::StuckThenSettles)),
-            Regime::Undecided => None,
+            Regime::Undecided | Regime::SlipOscillation => None,
         }
     }
 }
@@ -208,7 +213,7 @@ pub const T_SQUEAL_UNKNOWN: f64 = -1.0;
 pub fn t_squeal(regime: Regime, reason: Reason, last_stuck: f64) -> f64 {
     match (regime, reason) {
         (Regime::StickSlip, _) => f64::INFINITY,
-        (Regime::Undecided, _)
+        (Regime::Undecided | Regime::SlipOscillation, _)
         | (_, Reason::StuckThenSettles)
         | (_, Reason::BelowSettlingStart)
         | (_, Reason::BelowDecayingSection)
@@ -312,6 +317,9 @@ impl Classifier {
 
     /// [`Classifier::watch`] with the certified `shortcuts`.
     pub fn watch_with(&self, p: &Params, shortcuts: Shortcuts) -> Watch<'_> {
+        let steady = crate::steady::SteadySlip::of(p);
+        let fp_repels = !steady.stability.attracts();
+        let turn_settings = self.turn_settings(p);
         Watch {
             cl: self,
             shortcuts,
@@ -324,15 +332,27 @@ impl Classifier {
             multi_root: 0,
             true_stick: p.law.family().locates_stick(),
             broke_away: false,
-            fp_repels: p.fixed_point_damping().is_some_and(|d| d < 0.0),
+            fp_repels,
+            steady,
             crossings: 0,
             last_t: f64::NAN,
             omega: f64::NAN,
             amplitude: f64::NAN,
             last_stuck: 0.0,
-            turns: TurnWatch::new(p, TurnSettings::of(self)),
+            turns: TurnWatch::new(p, turn_settings),
             lasting: None,
         }
+    }
+
+    /// The turns' band test for runs of the model `p`: [`TurnSettings::of`] this classifier,
+    /// with the floor at [`SLIP_FLOOR`] `fp_radius` where steady slip does not attract (no run
+    /// closes on it, so a small band is an oscillation about it, not a decay).
+    pub fn turn_settings(&self, p: &Params) -> TurnSettings {
+        let mut s = TurnSettings::of(self);
+        if !crate::steady::SteadySlip::of(p).stability.attracts() {
+            s.floor = SLIP_FLOOR * self.fp_radius;
+        }
+        s
     }
 
     /// The stick-slip settling test on a full window of section amplitudes
@@ -466,9 +486,12 @@ pub struct Watch<'c> {
     true_stick: bool,
     /// The run has broken away from a stick phase.
     broke_away: bool,
-    /// The fixed point repels (linearisation known: laws of the slip velocity only), so
-    /// coming near it decides nothing.
+    /// The fixed point does not attract every start near it ([`crate::SteadySlip`]: it
+    /// repels, attracts a sector only, or is marginal), so coming near it decides nothing.
     fp_repels: bool,
+    /// Steady slip's linearisation: where it attracts a sector only, a run inside that
+    /// sector near the point closes on it ([`crate::SteadySlip::closes_in_sector`]).
+    steady: crate::steady::SteadySlip,
     crossings: u32,
     last_t: f64,
     omega: f64,
@@ -492,7 +515,9 @@ impl Watch<'_> {
             return Some((Regime::Undecided, Reason::Diverged));
         }
         let (dx, dv) = (n.x - self.fp.x, n.v - self.fp.v);
-        if dx * dx + dv * dv < self.fp_r2 && !self.fp_repels {
+        if dx * dx + dv * dv < self.fp_r2
+            && (!self.fp_repels || self.steady.closes_in_sector(dx, dv, n.a))
+        {
             return Some((Regime::SteadySlip, Reason::NearFixedPoint));
         }
         if self.shortcuts.region.is_some_and(|r| r.contains(n.x, n.v)) {
@@ -519,6 +544,9 @@ impl Watch<'_> {
         // A lasting oscillation off the section: its turns' band, none crossing.
         if self.turns.observe_step(run, step).is_some() {
             self.lasting = self.turns.lasting();
+            if self.fp_repels && self.lasting.is_some_and(|l| !l.stuck && !l.reversed) {
+                return Some((Regime::SlipOscillation, Reason::SlipOscillation));
+            }
             if self.lasting.is_some_and(|l| l.misses_section()) {
                 return Some((Regime::StickSlip, Reason::LastingOscillation));
             }
@@ -575,6 +603,10 @@ impl Watch<'_> {
         self.stuck.push_back(std::mem::take(&mut self.stuck_now));
         if self.ring.len() == window && self.cl.band_rules {
             let ring = self.ring.make_contiguous();
+            let stuck = self.stuck.iter().any(|&s| s);
+            if self.fp_repels && !stuck && narrow_band(ring, self.cl.settle_rtol, 0.0) {
+                return Some((Regime::SlipOscillation, Reason::SlipOscillation));
+            }
             if self.cl.settled(ring) {
                 return Some((Regime::StickSlip, Reason::SettledStickSlip));
             }
@@ -609,7 +641,9 @@ impl Watch<'_> {
     pub fn finish(&self, (regime, reason): (Regime, Reason), run: &Run) -> Outcome {
         let s = run.sample();
         let (amplitude, omega) = match (reason, self.lasting) {
-            (Reason::LastingOscillation, Some(l)) => (l.v_range[1], l.omega),
+            (Reason::LastingOscillation | Reason::SlipOscillation, Some(l)) => {
+                (l.v_range[1], l.omega)
+            }
             _ => (self.amplitude, self.omega),
         };
         Outcome {
@@ -624,7 +658,9 @@ impl Watch<'_> {
             stats: *run.stats(),
             max_residual: run.max_residual(),
             t_squeal: t_squeal(regime, reason, self.last_stuck),
-            lasting: self.lasting.filter(|_| regime == Regime::StickSlip),
+            lasting: self
+                .lasting
+                .filter(|_| matches!(regime, Regime::StickSlip | Regime::SlipOscillation)),
         }
     }
 }

@@ -131,6 +131,11 @@ pub struct Lasting {
 }
 
 impl Lasting {
+    /// Whether a turn of the window stuck or reversed the slip: a sticking oscillation.
+    pub fn sticks(&self) -> bool {
+        self.stuck || self.reversed
+    }
+
     /// Whether no turn of the window crossed the section: the section's rules cannot see
     /// this oscillation.
     pub fn misses_section(&self) -> bool {

@@ -14,11 +14,19 @@ pub enum Regime {
     SteadySlip = 1,
     /// The self-excited stick-slip oscillation ("squeal").
     StickSlip = 2,
+    /// A lasting oscillation that never sticks, about a steady slip that does not attract
+    /// ([`crate::SteadySlip`]): small, not the squeal (MODEL.md section 5).
+    SlipOscillation = 3,
 }
 
 impl Regime {
     /// All labels, in value order.
-    pub const ALL: [Regime; 3] = [Regime::Undecided, Regime::SteadySlip, Regime::StickSlip];
+    pub const ALL: [Regime; 4] = [
+        Regime::Undecided,
+        Regime::SteadySlip,
+        Regime::StickSlip,
+        Regime::SlipOscillation,
+    ];
 
     /// The label's name in files and output.
     pub fn name(self) -> &'static str {
@@ -26,6 +34,7 @@ impl Regime {
             Regime::Undecided => "undecided",
             Regime::SteadySlip => "steady_slip",
             Regime::StickSlip => "stick_slip",
+            Regime::SlipOscillation => "slip_oscillation",
         }
     }
 
@@ -104,11 +113,16 @@ pub enum Reason {
     /// section 10), stick-slip. Decided only there, so it never changes a label the section
     /// decides.
     LastingOscillation = 20,
+    /// Steady slip does not attract ([`crate::SteadySlip`]) and the last `settle_cycles`
+    /// turns of the run (or section crossings) stay in a band without trend, none of them
+    /// stuck or reversed the slip: the small slip oscillation about it
+    /// ([`Regime::SlipOscillation`]).
+    SlipOscillation = 21,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 21] = [
+    pub const ALL: [Reason; 22] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -130,6 +144,7 @@ impl Reason {
         Reason::StartInsideDecayingTurn,
         Reason::EnteredDecayingTurn,
         Reason::LastingOscillation,
+        Reason::SlipOscillation,
     ];
 
     /// The reason's name in files and output.
@@ -156,6 +171,7 @@ impl Reason {
             Reason::StartInsideDecayingTurn => "start_inside_decaying_turn",
             Reason::EnteredDecayingTurn => "entered_decaying_turn",
             Reason::LastingOscillation => "lasting_oscillation",
+            Reason::SlipOscillation => "slip_oscillation",
         }
     }
 }

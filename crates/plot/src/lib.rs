@@ -92,6 +92,8 @@ pub const STICK: Rgb = Rgb(238, 118, 22);
 pub const UNDECIDED: Rgb = Rgb(230, 0, 200);
 /// Not computed (yet): light grey.
 pub const NOT_COMPUTED: Rgb = Rgb(222, 222, 222);
+/// Cells of the small slip oscillation about an unstable steady slip: purple.
+pub const SLIP_OSCILLATION: Rgb = Rgb(148, 103, 189);
 /// Cells whose value is not among the classes passed to [`basin_map`]: neutral grey.
 pub const OTHER: Rgb = Rgb(128, 128, 128);
 /// Overlay curves such as the unstable limit cycle: black.
@@ -104,11 +106,12 @@ pub const REST: Rgb = Rgb(190, 0, 30);
 pub const MISSING: Rgb = Rgb(180, 20, 40);
 
 /// The classes of a basin map's labels (value, name, colour), in the order of the HDF5 enum
-/// of the files: steady slip, stick-slip, undecided, not computed.
+/// of the files: steady slip, stick-slip, slip oscillation, undecided, not computed.
 pub fn label_classes() -> Vec<(u8, &'static str, Rgb)> {
     vec![
         (1, "steady slip", STEADY),
         (2, "stick-slip", STICK),
+        (3, "slip oscillation", SLIP_OSCILLATION),
         (0, "undecided", UNDECIDED),
         (255, "not computed", NOT_COMPUTED),
     ]

@@ -7,7 +7,7 @@
   const A = D.attrs;
   const V = {};
   const PLOT_CONFIG = { displaylogo: false, responsive: true, showLink: false, showSendToCloud: false, showEditInChartStudio: false };
-  const COLORS = { undecided: "#9e9e9e", steady_slip: "#1f77b4", stick_slip: "#ff7f0e", not_computed: "#ffffff" };
+  const COLORS = { undecided: "#9e9e9e", steady_slip: "#1f77b4", stick_slip: "#ff7f0e", slip_oscillation: "#9467bd", not_computed: "#ffffff" };
   const REGIME_COLORS = ["#9e9e9e", "#1f77b4", "#7fb3d5", "#ff7f0e", "#c0392b", "#ffffff"];
 
   // ---- data ---------------------------------------------------------------------------
@@ -103,10 +103,12 @@
   }
 
   // ---- a basin map --------------------------------------------------------------------
-  // Label codes to colour indices: undecided 0, steady slip 1, stick-slip 2, not computed 3.
-  const LABEL_INDEX = { 0: 0, 1: 1, 2: 2, 255: 3 };
-  const LABEL_SCALE = [[0, COLORS.undecided], [0.25, COLORS.undecided], [0.25, COLORS.steady_slip], [0.5, COLORS.steady_slip],
-    [0.5, COLORS.stick_slip], [0.75, COLORS.stick_slip], [0.75, COLORS.not_computed], [1, COLORS.not_computed]];
+  // Label codes to colour indices: undecided 0, steady slip 1, stick-slip 2, slip oscillation 3,
+  // not computed 4.
+  const LABEL_INDEX = { 0: 0, 1: 1, 2: 2, 3: 3, 255: 4 };
+  const LABEL_SCALE = [[0, COLORS.undecided], [0.2, COLORS.undecided], [0.2, COLORS.steady_slip], [0.4, COLORS.steady_slip],
+    [0.4, COLORS.stick_slip], [0.6, COLORS.stick_slip], [0.6, COLORS.slip_oscillation], [0.8, COLORS.slip_oscillation],
+    [0.8, COLORS.not_computed], [1, COLORS.not_computed]];
   function mapAxes(prefix) {
     const si = V[prefix + "x0_si"] !== undefined && V[prefix + "v0_si"] !== undefined;
     const xs = si ? V[prefix + "x0_si"] : V[prefix + "x0"];
@@ -124,7 +126,7 @@
       for (let i = 0; i < nx; i++) row[i] = LABEL_INDEX[labels.data[off + j * nx + i]] ?? 0;
       z.push(row);
     }
-    return { type: "heatmap", x: ax.x, y: ax.v, z, zmin: -0.5, zmax: 3.5, colorscale: LABEL_SCALE, showscale: false,
+    return { type: "heatmap", x: ax.x, y: ax.v, z, zmin: -0.5, zmax: 4.5, colorscale: LABEL_SCALE, showscale: false,
       hovertemplate: "x0 %{x}<br>x'0 %{y}<extra></extra>", name: "labels" };
   }
   function cycleTrace(xs, vs, ax) {
@@ -167,7 +169,7 @@
     if (get("t_squeal") !== undefined) rows.push(["time on stick-slip", fmt(get("t_squeal")) + si("t_squeal")]);
     const omega = get("omega");
     if (omega !== undefined && !Number.isNaN(omega)) {
-      rows.push(["attractor reached", label === "stick_slip" ? "the stick-slip oscillation (squeal)" : label === "steady_slip" ? "the fixed point (steady slip)" : "none identified"]);
+      rows.push(["attractor reached", label === "stick_slip" ? "the stick-slip oscillation (squeal)" : label === "steady_slip" ? "the fixed point (steady slip)" : label === "slip_oscillation" ? "the small slip oscillation about an unstable steady slip" : "none identified"]);
       rows.push(["angular frequency of the last turn", fmt(omega) + (V[prefix + "omega_si"] ? ` (${fmt(V[prefix + "omega_si"].data[k])} Hz)` : "")]);
     }
     if (get("x_amplitude") !== undefined && !Number.isNaN(get("x_amplitude"))) {
@@ -242,7 +244,7 @@
   function scanFacts(m, nm) {
     const at = (name) => (V[name] ? V[name].data[nm > 1 || V[name].shape[0] > m ? m : 0] : undefined);
     const rows = [];
-    for (const r of ["steady_slip", "stick_slip", "undecided"]) {
+    for (const r of ["steady_slip", "stick_slip", "slip_oscillation", "undecided"]) {
       const p = at(`basin_stability_${r}`);
       if (p === undefined) continue;
       rows.push([`basin stability: ${words(r)}`, `<span id="bs-${r}">${fmt(p, 4)} &plusmn; ${fmt(at(`basin_stability_${r}_se`), 2)}</span> (standard error; on every second cell ${fmt(at(`basin_stability_${r}_2h`), 4)})`]);
@@ -260,10 +262,10 @@
     const lab = V.labels, gd = document.getElementById("chart");
     const si = V.x0_si !== undefined;
     const xs = si ? V.x0_si.data : V.x0.data, vs = si ? V.v0_si.data : V.v0.data;
-    const traces = [0, 1, 2].map((code) => {
+    const traces = [0, 1, 2, 3].map((code) => {
       const x = [], y = [], idx = [];
       for (let k = 0; k < lab.data.length && k < xs.length; k++) if (lab.data[k] === code) { x.push(xs[k]); y.push(vs[k]); idx.push(k); }
-      return { type: "scattergl", mode: "markers", x, y, customdata: idx, marker: { size: 4, color: [COLORS.undecided, COLORS.steady_slip, COLORS.stick_slip][code] }, name: ["undecided", "steady slip", "stick-slip"][code] };
+      return { type: "scattergl", mode: "markers", x, y, customdata: idx, marker: { size: 4, color: [COLORS.undecided, COLORS.steady_slip, COLORS.stick_slip, COLORS.slip_oscillation][code] }, name: ["undecided", "steady slip", "stick-slip", "slip oscillation"][code] };
     });
     await Plotly.newPlot(gd, traces, { title: { text: `${A.name || "sample"}: random starts` }, xaxis: { title: { text: si ? "x0 (m)" : "x0" } }, yaxis: { title: { text: si ? "x'0 (m/s)" : "x'0" } } }, PLOT_CONFIG);
     gd.on("plotly_hover", (ev) => {

@@ -55,7 +55,12 @@ impl Share {
 }
 
 /// The regimes a basin-stability report covers, in report order.
-pub const REGIMES: [Regime; 3] = [Regime::SteadySlip, Regime::StickSlip, Regime::Undecided];
+pub const REGIMES: [Regime; 4] = [
+    Regime::SteadySlip,
+    Regime::StickSlip,
+    Regime::Undecided,
+    Regime::SlipOscillation,
+];
 
 /// Shares of each regime among `labels` (stored label values; cells not computed are left
 /// out of `n`).
@@ -64,7 +69,7 @@ pub struct Shares {
     /// Labelled initial conditions.
     pub n: u64,
     /// Per regime of [`REGIMES`].
-    pub shares: [Share; 3],
+    pub shares: [Share; REGIMES.len()],
 }
 
 impl Shares {
@@ -102,7 +107,7 @@ pub struct GridShares {
 /// out): integer sums, so counts of parts added up are those of the whole.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Counts {
-    c: [u64; 3],
+    c: [u64; REGIMES.len()],
     n: u64,
 }
 

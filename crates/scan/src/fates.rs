@@ -59,6 +59,15 @@ pub enum Fate {
         /// closed a window on it.
         lasting: Option<Lasting>,
     },
+    /// Steady slip does not attract ([`squeal_core::SteadySlip`]), and the run ends on the
+    /// small oscillation about it that never sticks ([`Regime::SlipOscillation`]): quiet, as
+    /// far as the squeal goes (its figures, where the turn watch closed a window on it).
+    SlipOscillation {
+        /// When it was identified.
+        t: f64,
+        /// Its figures (frequency, extent) in the last window of the run.
+        lasting: Option<Lasting>,
+    },
     /// Neither by the horizon (or the run failed).
     Undecided,
     /// Not run to its end: another start at the same value had already not settled, which
@@ -70,6 +79,12 @@ impl Fate {
     /// Whether the run settled.
     pub fn settles(&self) -> bool {
         matches!(self, Fate::Settles { .. })
+    }
+
+    /// Whether the run ends without squeal: at the fixed point, or on the slip oscillation
+    /// about an unstable steady slip. What a boundary bisects.
+    pub fn quiet(&self) -> bool {
+        matches!(self, Fate::Settles { .. } | Fate::SlipOscillation { .. })
     }
 
     /// Whether the run lasted.
@@ -84,6 +99,10 @@ impl Fate {
             Fate::Lasts { t, .. } => {
                 format!("on a lasting oscillation from t = {t:.1} to the horizon {horizon}")
             }
+            Fate::SlipOscillation { t, .. } => format!(
+                "on the small slip oscillation about the unstable steady slip from t = {t:.1} to \
+                 the horizon {horizon} (never sticks)"
+            ),
             Fate::Undecided => format!("neither settles nor lasts identifiably by t = {horizon}"),
             Fate::Stopped => "was stopped (another start had decided the value)".into(),
         }
@@ -109,8 +128,15 @@ pub fn fate(
         && t.final_state.t + setup.dt < horizon
     {
         Fate::Stopped
-    } else if t.own.regime == Regime::StickSlip {
+    } else if t.own.regime == Regime::StickSlip
+        || (t.own.regime == Regime::SlipOscillation && t.lasting.is_some_and(|l| l.sticks()))
+    {
         Fate::Lasts {
+            t: t.own.t_decision,
+            lasting: t.lasting,
+        }
+    } else if t.own.regime == Regime::SlipOscillation {
+        Fate::SlipOscillation {
             t: t.own.t_decision,
             lasting: t.lasting,
         }
@@ -173,7 +199,7 @@ pub fn fates(
                 return Ok((Fate::Stopped, SolverStats::default()));
             }
             let out = fate(setup, s, horizon, stop)?;
-            if until_one && !out.0.settles() && out.0 != Fate::Stopped {
+            if until_one && !out.0.quiet() && out.0 != Fate::Stopped {
                 for later in &stops[i + 1..] {
                     later.store(true, Ordering::Relaxed);
                 }
@@ -194,7 +220,7 @@ pub fn fates(
 /// of `scans/atlas-lambda-nu.toml` gave one point 6136217, 7658863 and 5322316 evaluations
 /// in three runs on 2 threads).
 fn after_the_first_unsettled(mut out: Vec<(Fate, SolverStats)>) -> Vec<(Fate, SolverStats)> {
-    if let Some(first) = out.iter().position(|(f, _)| !f.settles()) {
+    if let Some(first) = out.iter().position(|(f, _)| !f.quiet()) {
         for later in &mut out[first + 1..] {
             *later = (Fate::Stopped, SolverStats::default());
         }
@@ -212,9 +238,18 @@ pub struct Ends {
 }
 
 impl Ends {
-    /// Whether every start settled.
+    /// Whether every start ended quiet ([`Fate::quiet`]: settled, or on the slip oscillation
+    /// about an unstable steady slip).
     pub fn all_settle(&self) -> bool {
-        self.fates.iter().all(Fate::settles)
+        self.fates.iter().all(Fate::quiet)
+    }
+
+    /// The first start that ended on the slip oscillation, by index.
+    pub fn first_slip_oscillation(&self) -> Option<(usize, &Fate)> {
+        self.fates
+            .iter()
+            .enumerate()
+            .find(|(_, f)| matches!(f, Fate::SlipOscillation { .. }))
     }
 
     /// The first start that lasted, by index.

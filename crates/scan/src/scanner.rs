@@ -436,6 +436,7 @@ impl MapContext {
             withdrawn: Vec::new(),
             audit_rates: AuditRates::default(),
         };
+        ctx.withdraw_where_steady_slip_does_not_attract();
         // The census's runs and the audit's count over the grid side by side: the count
         // fills the threads that the census's last runs leave idle, and holds unless the
         // census withdraws a group (then it is counted again).
@@ -479,6 +480,25 @@ impl MapContext {
             (curve.as_ref(), reach),
             |ic| self.classify(ic),
         ))
+    }
+
+    /// Where steady slip does not attract ([`squeal_core::SteadySlip`]), every rule that
+    /// concludes steady slip from where a run is (the inside of a cycle, the certified
+    /// shortcuts) rests on a false premise: those groups are withdrawn, saying why, and the
+    /// runs decide (the slip oscillation about the point, stick-slip, or the sector's runs
+    /// that close on it).
+    fn withdraw_where_steady_slip_does_not_attract(&mut self) {
+        let steady = squeal_core::SteadySlip::of(&self.params);
+        if steady.stability.attracts() {
+            return;
+        }
+        for rules in [Rules::Inside, Rules::Shortcuts] {
+            self.withdraw(rules);
+            self.withdrawn.push(Withdrawn {
+                rules,
+                why: format!("{} withdrawn: {}", rules.name(), steady.words(None)),
+            });
+        }
     }
 
     /// Keeps census `c` and withdraws the rule groups whose premise a run of it

@@ -11,7 +11,7 @@ use serde::Serialize;
 use squeal_core::classify::{Watch, crossing};
 use squeal_core::{
     Classifier, Lasting, Outcome, Reason, Regime, Run, Sample, Samples, Shortcuts, SolverStats,
-    State, Step, Stepper, TurnSettings, TurnWatch,
+    State, Step, Stepper, TurnWatch,
 };
 
 use crate::error::ScanError;
@@ -288,7 +288,7 @@ fn watch_run(
     }
     let mut stick = p.law.family().locates_stick().then(StickPhases::default);
     let mut osc = Oscillation::NONE;
-    let mut turns = TurnWatch::new(&p, TurnSettings::of(label));
+    let mut turns = TurnWatch::new(&p, label.turn_settings(&p));
     let mut lasting = None;
     let steps = (span.t_end / stepper.dt()).ceil() as u64;
     for k in 1..=steps {

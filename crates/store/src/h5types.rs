@@ -13,6 +13,8 @@ pub(crate) enum Label {
     SteadySlip = 1,
     #[hdf5(rename = "stick_slip")]
     StickSlip = 2,
+    #[hdf5(rename = "slip_oscillation")]
+    SlipOscillation = 3,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -23,6 +25,7 @@ impl Label {
             0 => Label::Undecided,
             1 => Label::SteadySlip,
             2 => Label::StickSlip,
+            3 => Label::SlipOscillation,
             255 => Label::NotComputed,
             _ => return None,
         })
@@ -77,6 +80,8 @@ pub(crate) enum ReasonH5 {
     // Appended: files written before it hold values up to 19 and still read.
     #[hdf5(rename = "lasting_oscillation")]
     LastingOscillation = 20,
+    #[hdf5(rename = "slip_oscillation")]
+    SlipOscillation = 21,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -105,6 +110,7 @@ impl ReasonH5 {
             18 => ReasonH5::StartInsideDecayingTurn,
             19 => ReasonH5::EnteredDecayingTurn,
             20 => ReasonH5::LastingOscillation,
+            21 => ReasonH5::SlipOscillation,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

@@ -108,6 +108,7 @@ pub fn run(mut args: Args) -> anyhow::Result<ExitCode> {
         params: run_params(&args, &stepper),
         steps: t.steps,
         fixed_point: fp,
+        steady_slip: squeal_core::SteadySlip::of(stepper.params()),
         classification: Classification::of(&t),
         final_state: t.final_state,
         oscillation: t.oscillation,

@@ -99,6 +99,8 @@ pub(super) struct Summary {
     pub(super) params: RunParams,
     pub(super) steps: u64,
     pub(super) fixed_point: State,
+    /// Steady slip's own stability: the linearisation of the law at the fixed point.
+    pub(super) steady_slip: squeal_core::SteadySlip,
     pub(super) classification: Classification,
     pub(super) final_state: Sample,
     pub(super) oscillation: Oscillation,
@@ -134,6 +136,11 @@ pub(super) struct Summary {
 
 /// The start, final state and final oscillation in SI units (lengths in m, velocities in
 /// m/s, times in s, frequencies in Hz) of the system `ph`, with its normal force (N).
+/// `x` where finite (JSON has no NaN).
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
 pub(super) fn si_summary(s: &Summary, ph: &squeal_core::Physical) -> serde_json::Value {
     let sc = &ph.scales();
     let f = &s.final_state;
@@ -157,6 +164,8 @@ pub(super) fn si_summary(s: &Summary, ph: &squeal_core::Physical) -> serde_json:
             squeal_core::Squeal::Transient { t_squeal } => Some(t_squeal * sc.time),
             _ => None,
         },
+        "steady_slip_growth_per_s": finite(s.steady_slip.growth / sc.time),
+        "steady_slip_period_s": s.steady_slip.period.map(|t| t * sc.time),
         "length_unit_m": sc.length,
         "velocity_unit_m_per_s": sc.velocity,
         "time_unit_s": sc.time,
@@ -188,6 +197,8 @@ pub(super) fn print_summary(s: &Summary, kind: SolverKind) {
     if let Some(w) = s.validated.warning() {
         println!("{w}");
     }
+    let time_unit = s.si.as_ref().and_then(|v| v["time_unit_s"].as_f64());
+    println!("{}", s.steady_slip.words(time_unit));
     print_ended(s);
     let f = &s.final_state;
     println!(
@@ -236,6 +247,7 @@ fn print_ended(s: &Summary) {
     let label = match c.label.regime {
         "steady_slip" => "steady slip",
         "stick_slip" => "stick-slip",
+        "slip_oscillation" => "on the small slip oscillation about the unstable steady slip",
         _ => "not yet settled",
     };
     let l = &c.label;

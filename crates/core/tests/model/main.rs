@@ -6,5 +6,6 @@ mod cubic;
 mod lasting;
 mod paper;
 mod solver;
+mod steady;
 mod stribeck;
 mod table;

@@ -269,7 +269,7 @@ fn runs_landscape(
         w.stats.merge(st);
     }
     let lasting = out.iter().enumerate().find(|(_, (f, _))| f.lasts());
-    let all_settle = out.iter().all(|(f, _)| f.settles());
+    let all_settle = out.iter().all(|(f, _)| f.quiet());
     let operating_lasts = out[0].0.lasts();
     let section_squeals = matches!(
         res.regime,
