@@ -51,6 +51,7 @@ pub mod landscape;
 pub mod law;
 #[doc = include_str!("../MODEL.md")]
 pub mod model {}
+pub mod orbit;
 pub mod params;
 pub mod propagator;
 pub mod region;

@@ -48,8 +48,14 @@ pub struct Run<'a> {
 impl<'a> Run<'a> {
     /// Starts at `ic` with the initial force and acceleration solved (paper: from `x''(0) = 0`).
     pub fn new(stepper: &'a Stepper, ic: State) -> Run<'a> {
+        Run::new_near(stepper, ic, None)
+    }
+
+    /// [`Run::new`] on the root nearest the force `near`, where given
+    /// ([`Stepper::initial_near`]).
+    pub fn new_near(stepper: &'a Stepper, ic: State, near: Option<f64>) -> Run<'a> {
         let mut stats = SolverStats::default();
-        let (sample, sol) = stepper.initial(ic, &mut stats);
+        let (sample, sol) = stepper.initial_near(ic, near, &mut stats);
         Run {
             stepper,
             sample,

@@ -130,7 +130,10 @@ impl Oscillator {
             let (re, im) = (-c / (2.0 * m), (-disc).sqrt() / (2.0 * m));
             [(re, im), (re, -im)]
         };
-        Oscillator { mass: m, eigenvalues }
+        Oscillator {
+            mass: m,
+            eigenvalues,
+        }
     }
 
     /// Whether it oscillates (complex eigenvalues).
@@ -186,10 +189,17 @@ impl SteadySlip {
     /// seconds per unit of time adds the rate in 1/s).
     pub fn words(&self, time_unit: Option<f64>) -> String {
         let form = match self.linear {
-            Linear::Smooth { damping } => format!("effective damping 2 nu + mu'(lambda) = {damping:.6}"),
-            Linear::OneSided { k } => format!("one-sided in x'': k = (1 - 2/pi) tau / lambda = {k:.6}"),
+            Linear::Smooth { damping } => {
+                format!("effective damping 2 nu + mu'(lambda) = {damping:.6}")
+            }
+            Linear::OneSided { k } => {
+                format!("one-sided in x'': k = (1 - 2/pi) tau / lambda = {k:.6}")
+            }
         };
-        let mut s = format!("steady slip {} ({form}", self.stability.name().replace('_', " "));
+        let mut s = format!(
+            "steady slip {} ({form}",
+            self.stability.name().replace('_', " ")
+        );
         if let Some(m) = self.multiplier {
             s += &format!(", amplitude x {m:.6} per small revolution");
         }
@@ -239,9 +249,7 @@ impl SteadySlip {
                 "k > 1 with an overdamped decelerating half: only starts in one sector close on it, \
                  every other start near it leaves",
             ),
-            (Stability::Marginal, _) => {
-                Some("marginal: the linear terms decide nothing, runs do")
-            }
+            (Stability::Marginal, _) => Some("marginal: the linear terms decide nothing, runs do"),
         }
     }
 }
@@ -276,7 +284,10 @@ fn smooth(d: f64) -> SteadySlip {
 
 /// The one-sided form of McMillan's laws with damping ratio `nu` and `k`.
 fn one_sided(nu: f64, k: f64) -> SteadySlip {
-    let (dec, acc) = (Oscillator::new(1.0 + k, 2.0 * nu), Oscillator::new(1.0 - k, 2.0 * nu));
+    let (dec, acc) = (
+        Oscillator::new(1.0 + k, 2.0 * nu),
+        Oscillator::new(1.0 - k, 2.0 * nu),
+    );
     let linear = Linear::OneSided { k };
     let both = dec.oscillates() && acc.oscillates() && k < 1.0;
     let (multiplier, period) = match both {

@@ -111,6 +111,18 @@ impl Stepper {
     /// The initial force and acceleration at `(x0, v0)`: `a = F(v0 - lambda, a) - 2 nu v0 - x0`,
     /// solved from the first guess `x''(0) = 0` as in the paper.
     pub fn initial(&self, s: State, stats: &mut SolverStats) -> (Sample, Solution) {
+        self.initial_near(s, None, stats)
+    }
+
+    /// [`Stepper::initial`], with the root nearest the force `near` where one is given (the
+    /// robust solver's rule for a step): a run restarted from a state a run passed through,
+    /// on that run's root (laws with true stick ignore it).
+    pub fn initial_near(
+        &self,
+        s: State,
+        near: Option<f64>,
+        stats: &mut SolverStats,
+    ) -> (Sample, Solution) {
         if let Some(st) = &self.stick {
             stats.solves += 1;
             stats.evaluations += 1;
@@ -124,7 +136,7 @@ impl Stepper {
             qa: 1.0,
         };
         stats.evaluations += 1;
-        let guess = self.law.eval(s.v - p.lambda, 0.0).force;
+        let guess = near.unwrap_or_else(|| self.law.eval(s.v - p.lambda, 0.0).force);
         let sol = solver::solve(&self.law, &self.solver, &eq, guess, stats);
         let a = eq.pa + eq.qa * sol.force;
         (

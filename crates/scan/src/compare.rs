@@ -34,9 +34,7 @@ impl Agreement {
     /// Compares `a` with `b` (same length, row-major over the same grid).
     pub fn of(a: &[u8], b: &[u8]) -> Agreement {
         assert_eq!(a.len(), b.len(), "maps of one grid");
-        let decided = |l: u8| {
-            Regime::from_u8(l).is_some_and(|r| r != Regime::Undecided)
-        };
+        let decided = |l: u8| Regime::from_u8(l).is_some_and(|r| r != Regime::Undecided);
         let mut g = Agreement::default();
         for (k, (&x, &y)) in a.iter().zip(b).enumerate() {
             if x == NOT_COMPUTED || y == NOT_COMPUTED {

@@ -27,8 +27,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 use serde::Serialize;
 use squeal_core::error::Number;
+use squeal_core::orbit::{self, Orbit};
 use squeal_core::validated::Validity;
-use squeal_core::{Classifier, Lasting, Params, Regime, Setup, SolverStats, State};
+use squeal_core::{
+    Classifier, Lasting, Outcome, Params, Regime, Run, Setup, SolverStats, State, SteadySlip,
+    TurnWatch,
+};
 
 use crate::atlas::{BoundaryParam, BoundaryStatus};
 use crate::error::ScanError;
@@ -58,6 +62,9 @@ pub enum Fate {
         /// Its figures (frequency, extent, stick, slip reversal), where the turn watch
         /// closed a window on it.
         lasting: Option<Lasting>,
+        /// The periodic orbit it was certified on, where it was (the run then stopped:
+        /// it lasts for good).
+        certified: Option<Orbit>,
     },
     /// Steady slip does not attract ([`squeal_core::SteadySlip`]), and the run ends on the
     /// small oscillation about it that never sticks ([`Regime::SlipOscillation`]): quiet, as
@@ -67,6 +74,8 @@ pub enum Fate {
         t: f64,
         /// Its figures (frequency, extent) in the last window of the run.
         lasting: Option<Lasting>,
+        /// The periodic orbit it was certified on, where it was.
+        certified: Option<Orbit>,
     },
     /// Neither by the horizon (or the run failed).
     Undecided,
@@ -109,8 +118,18 @@ impl Fate {
     }
 }
 
+/// Attempts at certifying a run's oscillation as a periodic orbit
+/// ([`squeal_core::orbit::certify`]), at most, before it is left to run to the horizon.
+pub const CERTIFY_TRIES: u32 = 8;
+
+/// How close two successive maxima of `x` must be (relative) before a certificate is tried.
+const CONVERGED: f64 = 1e-6;
+
 /// The fate of the run from `start` with `setup` by `horizon`, and the solver's counts;
-/// `stop` raised stops the run ([`Fate::Stopped`]).
+/// `stop` raised stops the run ([`Fate::Stopped`]). The run ends early where it reaches the
+/// fixed point, or where the oscillation it settled on is certified as an attracting
+/// periodic orbit at `dt` and `dt / 2` ([`squeal_core::orbit`]: it lasts for good, the
+/// horizon has nothing to add); else at the horizon.
 pub fn fate(
     setup: Setup,
     start: State,
@@ -118,32 +137,87 @@ pub fn fate(
     stop: Option<&AtomicBool>,
 ) -> Result<(Fate, SolverStats), ScanError> {
     let st = setup.stepper()?;
-    let cl = Classifier::default();
-    let t = crate::trajectory::run_to_fate(&st, &cl, (start, horizon), stop);
-    let f = if t.rest.regime == Regime::SteadySlip {
-        Fate::Settles {
-            t: t.rest.t_decision,
-        }
-    } else if stop.is_some_and(|s| s.load(Ordering::Relaxed))
-        && t.final_state.t + setup.dt < horizon
-    {
-        Fate::Stopped
-    } else if t.own.regime == Regime::StickSlip
-        || (t.own.regime == Regime::SlipOscillation && t.lasting.is_some_and(|l| l.sticks()))
-    {
-        Fate::Lasts {
-            t: t.own.t_decision,
-            lasting: t.lasting,
-        }
-    } else if t.own.regime == Regime::SlipOscillation {
-        Fate::SlipOscillation {
-            t: t.own.t_decision,
-            lasting: t.lasting,
-        }
-    } else {
-        Fate::Undecided
+    let half = setup.half_dt().stepper()?;
+    let p = *st.params();
+    let own_cl = Classifier {
+        t_max: horizon,
+        trap: None,
+        band_rules: true,
+        ..Classifier::default()
     };
-    Ok((f, t.stats))
+    let rest_cl = Classifier {
+        band_rules: false,
+        ..own_cl
+    };
+    let (mut own_w, mut rest_w) = (own_cl.watch(&p), rest_cl.watch(&p));
+    let mut turns = TurnWatch::new(&p, own_cl.turn_settings(&p));
+    let attracts = SteadySlip::of(&p).stability.attracts();
+    let mut run = Run::new(&st, start);
+    let (mut own, mut lasting): (Option<Outcome>, Option<Lasting>) = (None, None);
+    let (mut last_max, mut tries, mut extra) = (f64::NAN, 0, SolverStats::default());
+    let lasting_fate = |own: &Outcome, lasting: Option<Lasting>, certified| {
+        let sticks = lasting.is_none_or(|l| l.sticks());
+        match (own.regime, sticks || attracts) {
+            (Regime::StickSlip | Regime::SlipOscillation, true) => Some(Fate::Lasts {
+                t: own.t_decision,
+                lasting,
+                certified,
+            }),
+            (Regime::StickSlip | Regime::SlipOscillation, false) => Some(Fate::SlipOscillation {
+                t: own.t_decision,
+                lasting,
+                certified,
+            }),
+            _ => None,
+        }
+    };
+    for k in 1..=run.steps_to(horizon) {
+        let step = run.step();
+        if own.is_none() {
+            own = own_w.observe(&run, &step).map(|d| own_w.finish(d, &run));
+        }
+        if let Some((Regime::SteadySlip, _)) = rest_w.observe(&run, &step) {
+            let t = run.sample().t;
+            return Ok((Fate::Settles { t }, merged(run.stats(), &extra)));
+        }
+        if turns.observe_step(&run, &step).is_some() {
+            lasting = turns.lasting();
+        }
+        if let Some((_, x, a)) = orbit::maximum(&step.prev, &step.next) {
+            let converged = (x - last_max).abs() <= CONVERGED * (1.0 + x.abs());
+            if let (Some(o), Some(l), true) = (&own, lasting, converged && tries < CERTIFY_TRIES) {
+                tries += 1;
+                let t_turn = 4.0 * l.period[1];
+                let (orbit, stats) = orbit::certify((&st, &half), (x, a, last_max), t_turn);
+                extra.merge(&stats);
+                if let Some(f) = orbit.and_then(|orb| lasting_fate(o, Some(l), Some(orb))) {
+                    return Ok((f, merged(run.stats(), &extra)));
+                }
+            }
+            last_max = x;
+        }
+        if !step.next.x.is_finite() || run.failed() {
+            break;
+        }
+        if k % 4096 == 0 && stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            let f = match run.sample().t + setup.dt < horizon {
+                true => Fate::Stopped,
+                false => Fate::Undecided,
+            };
+            return Ok((f, merged(run.stats(), &extra)));
+        }
+    }
+    let f = own
+        .and_then(|o| lasting_fate(&o, lasting, None))
+        .unwrap_or(Fate::Undecided);
+    Ok((f, merged(run.stats(), &extra)))
+}
+
+/// The run's solver counts with those of the certificates' turns added.
+fn merged(run: &SolverStats, extra: &SolverStats) -> SolverStats {
+    let mut s = *run;
+    s.merge(extra);
+    s
 }
 
 /// The starts a fold is sampled over: rest, and twelve starts on four rings around the

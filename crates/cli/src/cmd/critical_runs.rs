@@ -25,7 +25,8 @@ pub(super) fn shortcut_or_print<T>(
         Decided::Runs { boundary, why } => {
             let seconds = t0.elapsed().as_secs_f64();
             let si = super::critical_report::si_unit(plan, names.0);
-            print(args, (&boundary, &why), names, point, si, seconds)?;
+            let about = About::of(plan, &boundary);
+            print(args, (&boundary, &why, &about), names, point, si, seconds)?;
             Ok(None)
         }
         Decided::Shortcut { answer, confirmed } => Ok(Some((answer, confirmed.map(|c| c.line)))),
@@ -36,7 +37,7 @@ pub(super) fn shortcut_or_print<T>(
 /// outside the range.
 fn print(
     args: &Args,
-    (rb, why): (&RunBoundary, &Why),
+    (rb, why, about): (&RunBoundary, &Why, &About),
     (param, name, flag): (BoundaryParam, &str, &str),
     point: State,
     si: Option<(&'static str, f64, &'static str)>,
@@ -62,7 +63,18 @@ fn print(
         ),
     }
     if args.json {
-        return print_json((rb, why), name, si, seconds);
+        return print_json((rb, why, about), name, si, seconds);
+    }
+    println!(
+        "{name} = {:.6e}: {}",
+        rb.value(),
+        about.steady.words(about.time_unit)
+    );
+    if !about.steady.stability.attracts() {
+        println!(
+            "  so a start ends on an oscillation, and the question is which: the answer below is \
+             where the squeal (the sticking oscillation) stops"
+        );
     }
     let what = if args.fold {
         "fold (no sampled start squeals above it)".to_string()
@@ -73,17 +85,24 @@ fn print(
             Number(point.v)
         )
     };
-    println!(
-        "{what}: {name} = {:.6e}, interval [{:.6e}, {:.6e}] from runs ({} runs to t = {}, {:.2} s)",
-        rb.value(),
-        rb.interval[0],
-        rb.interval[1],
-        rb.runs,
-        rb.horizon,
-        seconds
-    );
+    match about.upper_bound {
+        false => println!(
+            "{what}: {name} = {:.6e}, interval [{:.6e}, {:.6e}] from runs ({} runs to t = {}, {:.2} s)",
+            rb.value(),
+            rb.interval[0],
+            rb.interval[1],
+            rb.runs,
+            rb.horizon,
+            seconds
+        ),
+        true => println!(
+            "{what}: {name} <= {:.6e}, an upper bound from runs ({} runs to t = {}, {:.2} s): \
+             below it a run was undecided by the horizon, not seen squealing",
+            rb.interval[1], rb.runs, rb.horizon, seconds
+        ),
+    }
     println!("  by runs because {}", why.words());
-    print_ends(args, rb, name);
+    print_ends(args, rb, name, about);
     println!(
         "  {}",
         match (rb.half_dt_holds, rb.half_dt_bracket) {
@@ -96,8 +115,14 @@ fn print(
     );
     if rb.undecided > 0 {
         println!(
-            "  {} of {} runs were undecided by t = {} (counted as not settling)",
-            rb.undecided, rb.runs, rb.horizon
+            "  {} of {} runs were undecided by t = {} (neither quiet nor squealing identifiably){}",
+            rb.undecided,
+            rb.runs,
+            rb.horizon,
+            match about.upper_bound {
+                true => ": the lower end of the bracket is one of them",
+                false => "; neither end of the bracket rests on one",
+            }
         );
     }
     if let Some((key, unit, units)) = si {
@@ -113,7 +138,7 @@ fn print(
 
 /// The runs' boundary as one JSON object.
 fn print_json(
-    (rb, why): (&RunBoundary, &Why),
+    (rb, why, about): (&RunBoundary, &Why, &About),
     name: &str,
     si: Option<(&'static str, f64, &'static str)>,
     seconds: f64,
@@ -123,6 +148,10 @@ fn print_json(
     v[name] = rb.value().into();
     v["by"] = "runs".into();
     v["why_runs"] = why.words().into();
+    v["about"] = "the sticking oscillation (the squeal)".into();
+    v["upper_bound_only"] = about.upper_bound.into();
+    v["steady_slip"] = serde_json::to_value(about.steady)?;
+    v["slip_oscillation_above"] = serde_json::to_value(&about.slip)?;
     v["seconds"] = seconds.into();
     if let Some((key, unit, units)) = si {
         v[key] = (rb.value() * unit).into();
@@ -133,9 +162,72 @@ fn print_json(
     Ok(())
 }
 
+/// What the answer is about: steady slip's stability at it, the slip oscillation that
+/// the start ends on above it (where steady slip does not attract), and whether the bracket's
+/// lower end rests on an undecided run (then the answer is an upper bound).
+struct About {
+    steady: squeal_core::SteadySlip,
+    time_unit: Option<f64>,
+    slip: Option<SlipOscillation>,
+    upper_bound: bool,
+}
+
+/// The small slip oscillation about an unstable steady slip, as a run ended on it.
+#[derive(serde::Serialize)]
+struct SlipOscillation {
+    /// The value of the parameter.
+    value: f64,
+    /// Its angular frequency (units of the natural frequency).
+    omega: f64,
+    /// Half the range of `x` (nondimensional).
+    half_range_x: f64,
+    /// Its range of `x'`.
+    v_range: [f64; 2],
+    /// In a physical system: the frequency (Hz) and the half-range of `x` (m).
+    frequency_hz: Option<f64>,
+    half_range_x_m: Option<f64>,
+}
+
+impl About {
+    fn of(plan: &squeal_scan::Plan, rb: &RunBoundary) -> About {
+        let params = rb.param.with(plan.maps[0], rb.value());
+        let scales = plan.physical().map(|ph| ph.scales());
+        let slip = rb.above.as_ref().and_then(|a| {
+            let (_, f) = a.first_slip_oscillation()?;
+            let Fate::SlipOscillation {
+                lasting: Some(l), ..
+            } = f
+            else {
+                return None;
+            };
+            let half = 0.5 * (l.x_range[1] - l.x_range[0]);
+            Some(SlipOscillation {
+                value: a.value,
+                omega: l.omega,
+                half_range_x: half,
+                v_range: l.v_range,
+                frequency_hz: scales.map(|s| s.hz(l.omega)),
+                half_range_x_m: scales.map(|s| half * s.length),
+            })
+        });
+        let upper_bound = rb
+            .below
+            .as_ref()
+            .and_then(|b| b.first_unsettled())
+            .is_some_and(|(_, f)| matches!(f, Fate::Undecided));
+        About {
+            steady: squeal_core::SteadySlip::of(&params),
+            time_unit: scales.map(|s| s.time),
+            slip,
+            upper_bound,
+        }
+    }
+}
+
 /// The runs at the bracket's two ends: what lasts below it (and the lasting oscillation's
-/// shape), what settles above it.
-fn print_ends(args: &Args, rb: &RunBoundary, name: &str) {
+/// shape), what ends quiet above it (the fixed point, or the slip oscillation about an
+/// unstable steady slip, with its size and frequency).
+fn print_ends(args: &Args, rb: &RunBoundary, name: &str, about: &About) {
     let starts = if args.fold {
         "every start of the spread (rest and 12 around the fixed point)"
     } else {
@@ -146,8 +238,12 @@ fn print_ends(args: &Args, rb: &RunBoundary, name: &str) {
             Some((i, f)) => format!("start {i} {}", f.words(rb.horizon)),
             None => "no start settles".into(),
         };
+        let quiet = match a.first_slip_oscillation() {
+            Some(_) => "ends quiet (at the fixed point, or on the small slip oscillation about it)",
+            None => "reaches the fixed point",
+        };
         println!(
-            "  at {name} = {:.6e} {lasting}; at {:.6e} {starts} reaches the fixed point",
+            "  at {name} = {:.6e} {lasting}; at {:.6e} {starts} {quiet}",
             b.value, a.value
         );
         if let Some((
@@ -170,6 +266,16 @@ fn print_ends(args: &Args, rb: &RunBoundary, name: &str) {
                     ""
                 },
                 if l.stuck { ", sticks" } else { "" },
+            );
+        }
+        if let Some(sl) = &about.slip {
+            let si = match (sl.frequency_hz, sl.half_range_x_m) {
+                (Some(f), Some(x)) => format!(" ({} Hz, half-range {} m)", Number(f), Number(x)),
+                _ => String::new(),
+            };
+            println!(
+                "  the slip oscillation above: omega = {:.4}, half-range of x {:.4e}, x' in [{:.4e}, {:.4e}]{si}; it never sticks: not the squeal",
+                sl.omega, sl.half_range_x, sl.v_range[0], sl.v_range[1]
             );
         }
     }

@@ -70,7 +70,11 @@ fn a_small_revolution_matches_the_multiplier_and_the_period() {
         let c = section_return(&st, r0, 100.0, &mut SolverStats::default(), |_| {}).unwrap();
         let ratio = c.r / r0;
         assert!((ratio / m - 1.0).abs() < 2e-3, "{law}: {ratio} vs {m}");
-        assert!((c.t / period - 1.0).abs() < 1e-3, "{law}: {} vs {period}", c.t);
+        assert!(
+            (c.t / period - 1.0).abs() < 1e-3,
+            "{law}: {} vs {period}",
+            c.t
+        );
     }
 }
 
@@ -84,9 +88,15 @@ fn an_overdamped_decelerating_half_attracts_a_sector_only() {
     assert_eq!(s.stability, Stability::AttractsSector);
     let slow = s.decelerating.eigenvalues[0].0;
     let y = -1e-4;
-    let inside = State { x: 1.0 + y, v: slow * y };
+    let inside = State {
+        x: 1.0 + y,
+        v: slow * y,
+    };
     assert!(distance_at(sector, 0.005, inside, 1000.0) < 1e-9);
-    let other = State { x: 1.0 - y, v: -slow * y };
+    let other = State {
+        x: 1.0 - y,
+        v: -slow * y,
+    };
     assert!(distance_at(sector, 0.005, other, 1000.0) > 1e-5);
     let repels = model(FrictionLaw::McMillan, 2.0, 0.1, 1.0);
     assert_eq!(SteadySlip::of(&repels).stability, Stability::Repels);

@@ -277,7 +277,9 @@ fn runs_landscape(
     );
     let why = format!("the section's picture is not checked here ({warning})");
     match lasting {
-        Some((i, (Fate::Lasts { t, lasting: l }, _))) if !section_squeals || operating_lasts => {
+        Some((i, (Fate::Lasts { t, lasting: l, .. }, _)))
+            if !section_squeals || operating_lasts =>
+        {
             let figures = l.map_or("its figures not measured".into(), |l| ps.lasting_words(&l));
             let who = if i == 0 {
                 "the operating point".to_string()
