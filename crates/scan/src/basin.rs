@@ -202,22 +202,33 @@ impl GridShares {
 /// A stored map read back: its cells per label and its basin stability.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MapSummary {
-    /// Cells undecided, steady_slip, stick_slip and not computed.
-    pub counts: [u64; 4],
+    /// Cells per [`MapSummary::COUNT_NAMES`]: undecided, steady_slip, stick_slip, not
+    /// computed, slip_oscillation.
+    pub counts: [u64; 5],
     /// The basin stability of its labels ([`GridShares`]).
     pub basin: GridShares,
 }
 
 impl MapSummary {
+    /// The names of [`MapSummary::counts`], in order.
+    pub const COUNT_NAMES: [&'static str; 5] = [
+        "undecided",
+        "steady_slip",
+        "stick_slip",
+        "not_computed",
+        "slip_oscillation",
+    ];
+
     /// Of a map's labels, row-major `(v0, x0)` with `nx` columns, or a list of random
     /// samples (`random`).
     pub fn of(labels: &[u8], nx: usize, random: bool) -> MapSummary {
-        let mut counts = [0u64; 4];
+        let mut counts = [0u64; 5];
         for &l in labels {
             counts[match l {
                 0 => 0,
                 1 => 1,
                 2 => 2,
+                3 => 4,
                 _ => 3,
             }] += 1;
         }

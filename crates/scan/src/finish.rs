@@ -22,7 +22,25 @@ pub struct MapFigures {
     pub checks: MapChecks,
     /// The basin stability.
     pub shares: GridShares,
+    /// Steady slip's own stability (the law linearised at the fixed point).
+    pub steady: squeal_core::SteadySlip,
 }
+
+/// Steady slip's stability as stored per map: the verdict's name and long name (an enum of
+/// [`squeal_core::Stability`]), and the growth rate's.
+pub const STEADY_SLIP: (&str, &str) = (
+    "steady_slip_stability",
+    "steady slip's own stability from the law linearised at the fixed point: attracts, repels \
+     (no start near it settles), attracts_a_sector (only starts in one sector near it close on \
+     it), marginal (the linear terms decide nothing)",
+);
+
+/// The stored growth rate of small motions about steady slip: name, long name.
+pub const STEADY_SLIP_GROWTH: (&str, &str) = (
+    "steady_slip_growth",
+    "growth rate of small motions about steady slip per time unit 1/omega_n (negative: they \
+     decay; NaN: McMillan's law with k > 1, where runs near it jump)",
+);
 
 /// A file being finished from stored blocks: the writer's side of [`finish`]. Reading a
 /// block and writing one may run at the same time on different threads (the next blocks are
@@ -120,9 +138,15 @@ fn tally_and_write<F: Finishing>(f: &F, window_cells: usize) -> Result<Vec<MapFi
     write(last)?;
     Ok(tallies
         .into_iter()
-        .map(|t| {
+        .enumerate()
+        .map(|(m, t)| {
             let (checks, shares) = t.finish(plan);
-            MapFigures { checks, shares }
+            let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
+            MapFigures {
+                checks,
+                shares,
+                steady,
+            }
         })
         .collect())
 }
@@ -267,7 +291,12 @@ mod tests {
                     labels.extend(c.iter().map(|c| c.regime));
                 }
                 let shares = GridShares::of(&labels, plan.map.grid.x0.count);
-                MapFigures { checks, shares }
+                let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
+                MapFigures {
+                    checks,
+                    shares,
+                    steady,
+                }
             })
             .collect();
         assert!(want[0].checks.wrong_side.is_some_and(|w| w.cells > 0));

@@ -577,6 +577,9 @@ pub fn search_section_to(
     precision: Precision,
     w: &mut Work,
 ) -> SectionCycles {
+    if !attracts(map.stepper()) {
+        return SectionCycles::FixedPointUnstable { r_min: cs.r_min };
+    }
     let SectionSamples {
         rs, ds, unresolved, ..
     } = adaptive_samples(map, cs, w);
@@ -647,9 +650,21 @@ pub enum Search {
     FixedPointUnstable { r_min: f64 },
 }
 
+/// Whether steady slip attracts every start near it ([`squeal_core::SteadySlip`]): where it
+/// does not, there is no unstable cycle around it to search for, whatever the return map's
+/// samples say (a run near it jumps, or closes on it from one sector only).
+fn attracts(st: &Stepper) -> bool {
+    squeal_core::SteadySlip::of(st.params())
+        .stability
+        .attracts()
+}
+
 /// Cold search: log-spaced samples of `D`, the first `-` to `+` sign change; if none, the
 /// tangency check around the largest `D`.
 pub fn search_cold(st: &Stepper, cs: &CycleSettings, tangency_iters: u32, w: &mut Work) -> Search {
+    if !attracts(st) {
+        return Search::FixedPointUnstable { r_min: cs.r_min };
+    }
     let map = ReturnMap::new(st, cs.t_return);
     let n = cs.samples.max(3);
     let rs = log_samples(cs.r_min, cs.r_max, n);

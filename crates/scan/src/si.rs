@@ -24,6 +24,8 @@ pub enum Si {
     Area,
     /// A damping ratio, converted to a damping coefficient in N s/m.
     Damping,
+    /// A rate per time unit: 1/s.
+    Rate,
 }
 
 impl Si {
@@ -37,6 +39,7 @@ impl Si {
             Si::Frequency => "Hz",
             Si::Area => "m^2/s",
             Si::Damping => "N s/m",
+            Si::Rate => "1/s",
         }
     }
 
@@ -60,6 +63,7 @@ impl Si {
             Si::Frequency => s.hz(v),
             Si::Area => v * s.area(),
             Si::Damping => v * s.damping,
+            Si::Rate => v / s.time,
         }
     }
 }

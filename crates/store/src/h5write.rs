@@ -9,6 +9,7 @@ use hdf5::{Dataset, File, Group};
 use squeal_scan::BASIN_FIELDS;
 use squeal_scan::cell::COLUMNS;
 use squeal_scan::checks::CHECK_FIELDS;
+use squeal_scan::finish::{STEADY_SLIP, STEADY_SLIP_GROWTH};
 use squeal_scan::si::Si;
 use squeal_scan::space::si_twin;
 use squeal_scan::ulc::CycleReport;
@@ -420,6 +421,29 @@ pub(crate) fn per_map<'l>(
                 .collect();
             o.put(over, (name, long), Some(units), vals)?;
         }
+    }
+    // Steady slip's own stability (squeal_core::steady), and its growth rate in 1/s in a
+    // physical scan.
+    let values: Vec<u8> = squeal_core::Stability::ALL
+        .iter()
+        .map(|s| *s as u8)
+        .collect();
+    let names: Vec<&str> = squeal_core::Stability::ALL
+        .iter()
+        .map(|s| s.name())
+        .collect();
+    let stab: Vec<u8> = figures.iter().map(|f| f.steady.stability as u8).collect();
+    o.put_flags(over, STEADY_SLIP, stab, (&names.join(" "), &values))?;
+    let growth: Vec<f64> = figures.iter().map(|f| f.steady.growth).collect();
+    o.put(over, STEADY_SLIP_GROWTH, Some("1"), growth.clone())?;
+    if let Some(s) = plan.physical().map(|ph| ph.scales()) {
+        let (name, long) = STEADY_SLIP_GROWTH;
+        let si = growth.iter().map(|&g| Si::Rate.convert(g, &s)).collect();
+        let named = (
+            &format!("{name}_si") as &str,
+            &format!("{long} (1/s)") as &str,
+        );
+        o.put(over, named, Some(Si::Rate.units()), si)?;
     }
     // Basin stability (squeal_scan::basin).
     for (i, named) in BASIN_FIELDS.iter().enumerate() {

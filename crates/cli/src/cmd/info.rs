@@ -209,8 +209,15 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
         });
         writeln!(
             o,
-            "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}",
-            c[0], c[1], c[2], c[3]
+            "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}{}",
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            match c[4] {
+                0 => String::new(),
+                n => format!("  slip_oscillation {n}"),
+            }
         )?;
         if let Some(b) = maps.get(i).map(|m| &m.basin) {
             writeln!(o, "    {}", super::common::basin_words(b))?;
@@ -275,7 +282,7 @@ fn trajectory(args: &Args, o: &mut String) -> anyhow::Result<()> {
 
 /// A scan file as one JSON object.
 fn scan_json(info: &squeal_store::FileInfo, maps: &[squeal_scan::MapSummary]) -> serde_json::Value {
-    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    let names = squeal_scan::MapSummary::COUNT_NAMES;
     let attrs = attrs_json(&info.attrs);
     let counts: Vec<serde_json::Value> = maps
         .iter()

@@ -115,7 +115,7 @@ pub fn render_file(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pat
         .collect::<Result<_, _>>()?;
     let transient = render_sheet((png, force), &info, &maps, scale)?;
     if let Some(size) = &size {
-        let counts: Vec<[u64; 4]> = (maps.iter())
+        let counts: Vec<[u64; 5]> = (maps.iter())
             .map(|m| squeal_scan::MapSummary::of(&m.labels, m.x0.len(), false).counts)
             .collect();
         render_cycle_sizes(h5, size, &info, &counts)?;
@@ -185,7 +185,7 @@ fn render_cycle_sizes(
     h5: &Path,
     size: &Path,
     info: &squeal_store::FileInfo,
-    counts: &[[u64; 4]],
+    counts: &[[u64; 5]],
 ) -> anyhow::Result<()> {
     let summary = squeal_store::read_cycle_summary(h5)?;
     let axis = SweepAxis::of(info);

@@ -49,11 +49,12 @@ fn reason_words(counts: &[u64]) -> String {
 /// Map `i` of a finished scan as one JSON object: its counts, checks, reasons, transient
 /// squeal, cycle, landscape and basin stability.
 fn map_json(
+    plan: &Plan,
     info: &squeal_store::FileInfo,
     tallies: &Tallies,
     i: usize,
 ) -> anyhow::Result<serde_json::Value> {
-    let names = ["undecided", "steady_slip", "stick_slip", "not_computed"];
+    let names = squeal_scan::MapSummary::COUNT_NAMES;
     let (c, checks) = (&tallies.maps[i].counts, tallies.checks);
     let mut o = serde_json::Map::new();
     for (name, vals) in info.sweep.iter().flat_map(|s| &s.keys) {
@@ -66,6 +67,10 @@ fn map_json(
     if !si.is_empty() {
         o.insert("si".into(), si.into());
     }
+    o.insert(
+        "steady_slip_stability".into(),
+        serde_json::to_value(squeal_core::SteadySlip::of(&plan.maps[i]))?,
+    );
     for (k, n) in names.iter().zip(c) {
         o.insert((*k).into(), (*n).into());
     }
@@ -121,6 +126,9 @@ fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: u
         "  {label}steady_slip {:>7}  stick_slip {:>7}  undecided {:>5}",
         c[1], c[2], c[0]
     );
+    if c[4] > 0 {
+        line += &format!("  slip_oscillation {}", c[4]);
+    }
     if c[3] > 0 {
         line += &format!("  not_computed {}", c[3]);
     }
@@ -128,6 +136,11 @@ fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: u
     if let Some(m) = tallies.maps.get(i) {
         println!("    {}", common::basin_words(&m.basin));
     }
+    let time_unit = plan.physical().map(|ph| ph.scales().time);
+    println!(
+        "    {}",
+        squeal_core::SteadySlip::of(&plan.maps[i]).words(time_unit)
+    );
     if let Some(Some(why)) = info.no_cycle.get(i) {
         println!("    no unstable cycle: {why}");
     }
@@ -178,7 +191,7 @@ pub fn report(
         .map_or_else(Vec::new, |(_, v)| v.lines().collect());
     if json {
         let maps: Vec<_> = (0..info.maps)
-            .map(|i| map_json(info, &tallies, i))
+            .map(|i| map_json(plan, info, &tallies, i))
             .collect::<anyhow::Result<_>>()?;
         let v = serde_json::json!({
             "output": info.path,

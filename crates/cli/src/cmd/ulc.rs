@@ -176,6 +176,7 @@ impl Found<'_> {
         );
         v["resolution"] = squeal_scan::section::RESOLUTION.into();
         v["unresolved"] = self.samples.unresolved.into();
+        v["steady_slip"] = serde_json::to_value(squeal_core::SteadySlip::of(&rep.params))?;
         if let Some(si) = &self.si {
             v["si"] = serde_json::to_value(si)?;
         }
@@ -193,6 +194,7 @@ impl Found<'_> {
             p.speed_key(),
             p.lambda,
         );
+        println!("  {}", squeal_core::SteadySlip::of(p).words(None));
         println!(
             "  section x = {:.6}, x' = {:.10} (bracket width {:.2e})",
             p.fixed_point().x,

@@ -71,10 +71,10 @@ pub fn missing_values(curves: &[Curve], log_x: bool) -> Vec<f64> {
 }
 
 /// The swept values without a cycle (`missing`), grouped by what map `i` (at `xs[i]`, cell
-/// counts `[undecided, steady, stick, not computed]`) found: only stick-slip, only steady
+/// counts `[undecided, steady, stick, not computed, slip oscillation]`) found: only stick-slip, only steady
 /// slip, or neither alone. Each group has its own glyph (issue 21: one triangle for "every
 /// start squeals" and "no start squeals" could not be told apart).
-pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 4]]) -> Vec<Gap> {
+pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 5]]) -> Vec<Gap> {
     let mut gaps = [
         (
             "no unstable cycle: every start squeals",
@@ -101,8 +101,8 @@ pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 4]]) -> Vec<Gap> 
     for &x in missing {
         let c = xs.iter().position(|&v| v == x).and_then(|i| counts.get(i));
         let group = match c {
-            Some([_, 0, stick, _]) if *stick > 0 => 0,
-            Some([_, steady, 0, _]) if *steady > 0 => 1,
+            Some([_, 0, stick, _, 0]) if *stick > 0 => 0,
+            Some([_, steady, 0, _, 0]) if *steady > 0 => 1,
             _ => 2,
         };
         gaps[group].xs.push(x);

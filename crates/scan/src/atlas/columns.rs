@@ -18,8 +18,18 @@ pub type BoundaryColumn = crate::column::Column<BoundaryResult>;
 /// Members of a point's yes/no figures (`cycle_encloses_operating_point`, `warm_started`).
 pub const YES_NO_UNKNOWN: &[(u8, &str)] = &[(0, "no"), (1, "yes"), (UNKNOWN, "unknown")];
 
+/// The flags of `steady_slip_stability`: [`squeal_core::Stability`]'s values and names
+/// (a test holds them equal), and unknown.
+pub const STABILITY_FLAGS: &[(u8, &str)] = &[
+    (1, "attracts"),
+    (2, "repels"),
+    (3, "attracts_a_sector"),
+    (4, "marginal"),
+    (UNKNOWN, "unknown"),
+];
+
 /// The fill of a point's yes/no figures: not known.
-const UNKNOWN: u8 = 255;
+pub(crate) const UNKNOWN: u8 = 255;
 
 /// The SI twin of a point's figure converted by `si`.
 const fn twin(si: Si) -> Twin {
@@ -309,6 +319,28 @@ pub const COLUMNS: &[Column] = &[
         si: Twin::None,
     },
     Column {
+        name: "steady_slip_stability",
+        long_name: "steady slip's own stability from the law linearised at the fixed point",
+        units: "",
+        kind: Kind::Enum,
+        flags: STABILITY_FLAGS,
+        fill: Num::U(UNKNOWN as u64),
+        get: |p| Num::U(p.steady_slip as u64),
+        set: |p, v| p.steady_slip = v.as_u64() as u8,
+        si: Twin::None,
+    },
+    Column {
+        name: "steady_slip_growth",
+        long_name: "growth rate of small motions about steady slip (negative: they decay; NaN: runs near it jump)",
+        units: "1",
+        kind: Kind::F64,
+        flags: &[],
+        fill: Num::F(f64::NAN),
+        get: |p| Num::F(p.steady_slip_growth),
+        set: |p, v| p.steady_slip_growth = v.as_f64(),
+        si: twin(Si::Rate),
+    },
+    Column {
         name: "returns",
         long_name: "section returns computed (each one revolution)",
         units: "",
@@ -357,6 +389,8 @@ pub fn empty_point() -> PointResult {
         failures: 0,
         note: None,
         landscape: None,
+        steady_slip: UNKNOWN,
+        steady_slip_growth: f64::NAN,
     }
 }
 
@@ -519,5 +553,16 @@ mod tests {
         for (k, c) in COLUMNS.iter().enumerate() {
             assert_eq!(c.value(&p), want(k, c), "{}", c.name);
         }
+    }
+
+    /// The stored flags of `steady_slip_stability` are the verdicts' values and names.
+    #[test]
+    fn stability_flags_are_the_verdicts() {
+        let verdicts: Vec<(u8, &str)> = squeal_core::Stability::ALL
+            .iter()
+            .map(|s| (*s as u8, s.name()))
+            .chain([(UNKNOWN, "unknown")])
+            .collect();
+        assert_eq!(STABILITY_FLAGS, &verdicts[..]);
     }
 }

@@ -216,6 +216,20 @@ pub struct PointResult {
     /// The landscape and its evidence, for laws with true stick ([`super::true_stick`]).
     #[serde(default)]
     pub landscape: Option<LandscapeRecord>,
+    /// Steady slip's own stability ([`squeal_core::Stability`] value; 255: unknown).
+    #[serde(default = "unknown_stability")]
+    pub steady_slip: u8,
+    /// The growth rate of small motions about steady slip ([`squeal_core::SteadySlip`]).
+    #[serde(default = "nan")]
+    pub steady_slip_growth: f64,
+}
+
+fn unknown_stability() -> u8 {
+    super::columns::UNKNOWN
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// The stick-slip attractor's figures of merit over a window of revolutions.

@@ -150,6 +150,8 @@ pub fn compute_point(
         failures: 0,
         note: None,
         landscape: None,
+        steady_slip: squeal_core::SteadySlip::of(&setup.params).stability as u8,
+        steady_slip_growth: squeal_core::SteadySlip::of(&setup.params).growth,
     };
     if let Some(rep) = &a.cycle {
         let r = rep.r_section;
