@@ -85,6 +85,10 @@ pub struct Shortcuts {
     /// A crossing of the lower half below it lies inside the turn, which no run leaves:
     /// steady slip ([`Reason::EnteredDecayingTurn`]).
     pub decay_lower_below: Option<f64>,
+    /// The stick-slip band's interval `[lo, hi]` on the section that the return map maps
+    /// into itself with a margin (a trapped band): a crossing inside it with one root never
+    /// leaves it ([`Reason::InTrappedBand`]).
+    pub trapped_band: Option<(f64, f64)>,
 }
 
 impl Shortcuts {
@@ -95,6 +99,7 @@ impl Shortcuts {
         section: None,
         decay_below: None,
         decay_lower_below: None,
+        trapped_band: None,
     };
 
     /// Whether any shortcut applies.
@@ -104,6 +109,7 @@ impl Shortcuts {
             || self.section.is_some()
             || self.decay_below.is_some()
             || self.decay_lower_below.is_some()
+            || self.trapped_band.is_some()
     }
 
     /// The decision for a run that stuck, from the fate of the orbit from breakaway.
@@ -585,6 +591,14 @@ impl Watch<'_> {
         // there (with several, the branch is history): then it is the sampled start at `r`.
         if one_root && self.shortcuts.decay_below.is_some_and(|top| c.r < top) {
             return Some((Regime::SteadySlip, Reason::BelowDecayingSection));
+        }
+        if one_root
+            && self
+                .shortcuts
+                .trapped_band
+                .is_some_and(|(lo, hi)| lo <= c.r && c.r <= hi)
+        {
+            return Some((Regime::StickSlip, Reason::InTrappedBand));
         }
         if let Some(trap) = self.cl.trap {
             if c.r < trap.r_inner {

@@ -118,11 +118,17 @@ pub enum Reason {
     /// stuck or reversed the slip: the small slip oscillation about it
     /// ([`Regime::SlipOscillation`]).
     SlipOscillation = 21,
+    /// The run crossed the section, with one root of the force there, inside the stick-slip
+    /// band's interval that the return map maps into itself with a margin (the band is
+    /// trapped, MODEL.md section 6 "Stick-slip means it stays"): it never leaves it, so it
+    /// squeals for good. A certificate of the attractor, used by the runs that check the
+    /// rules (the census, the audit).
+    InTrappedBand = 22,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 22] = [
+    pub const ALL: [Reason; 23] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -145,6 +151,7 @@ impl Reason {
         Reason::EnteredDecayingTurn,
         Reason::LastingOscillation,
         Reason::SlipOscillation,
+        Reason::InTrappedBand,
     ];
 
     /// The reason's name in files and output.
@@ -172,6 +179,7 @@ impl Reason {
             Reason::EnteredDecayingTurn => "entered_decaying_turn",
             Reason::LastingOscillation => "lasting_oscillation",
             Reason::SlipOscillation => "slip_oscillation",
+            Reason::InTrappedBand => "in_trapped_band",
         }
     }
 }

@@ -29,7 +29,7 @@
 
 use rayon::prelude::*;
 use serde::Serialize;
-use squeal_core::{Classifier, Outcome, Reason, Regime, Run, State, Stepper};
+use squeal_core::{Classifier, Outcome, Reason, Regime, Run, Shortcuts, State, Stepper};
 
 use crate::curve::{ClosedCurve, CurveLocator};
 use crate::spec::Plan;
@@ -82,7 +82,9 @@ impl Rules {
         match reason {
             Reason::StartOutsideCycle | Reason::OutsideCycle => Some(Rules::Outside),
             Reason::StartInsideCycle | Reason::InsideCycle => Some(Rules::Inside),
-            Reason::SettledStickSlip | Reason::StickingBand => Some(Rules::Band),
+            Reason::SettledStickSlip | Reason::StickingBand | Reason::InTrappedBand => {
+                Some(Rules::Band)
+            }
             Reason::EnteredRegion
             | Reason::StartInRegion
             | Reason::StuckOntoCycle
@@ -213,11 +215,17 @@ fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> V
     out
 }
 
-/// The run from `ic` with `plain` (no trap, no band rules, no shortcuts) to its `t_max`:
-/// its outcome (steady slip where it reached the fixed point) and its last state.
-fn plain_run(stepper: &Stepper, plain: &Classifier, ic: State) -> (Outcome, State) {
+/// The run from `ic` with `plain` (no trap, no band rules) and the attractors'
+/// `certificates` (the fixed point's region, the trapped band) to its `t_max`: its outcome
+/// (steady slip where it reached the fixed point or its region, stick-slip where it entered
+/// the trapped band) and its last state.
+fn plain_run(
+    (stepper, certificates): (&Stepper, Shortcuts),
+    plain: &Classifier,
+    ic: State,
+) -> (Outcome, State) {
     let mut run = Run::new(stepper, ic);
-    let mut watch = plain.watch(stepper.params());
+    let mut watch = plain.watch_with(stepper.params(), certificates);
     for _ in 0..run.steps_to(plain.t_max) {
         let step = run.step();
         if let Some(decision) = watch.observe(&run, &step) {
@@ -239,7 +247,7 @@ fn plain_run(stepper: &Stepper, plain: &Classifier, ic: State) -> (Outcome, Stat
 /// here have no rule.
 pub fn take(
     plan: &Plan,
-    stepper: &Stepper,
+    (stepper, certificates): (&Stepper, Shortcuts),
     classifier: &Classifier,
     (curve, reach): (Option<&ClosedCurve>, f64),
     label: impl Fn(State) -> Outcome + Sync,
@@ -255,7 +263,7 @@ pub fn take(
     let found: Vec<Vec<Withdrawal>> = starts
         .par_iter()
         .map(|&(ic, side)| {
-            let (own, end) = plain_run(stepper, &plain, ic);
+            let (own, end) = plain_run((stepper, certificates), &plain, ic);
             let at_fp = own.regime == Regime::SteadySlip;
             let refuted = |rules| Withdrawal {
                 rules,
@@ -349,7 +357,7 @@ path = "t.h5"
         };
         for (x, v) in [(0.0, 0.0), (2.0, 0.5), (-1.0, -0.5), (2.0, -0.5)] {
             let ic = State { x, v };
-            let (truth, _) = plain_run(&ctx.stepper, &plain, ic);
+            let (truth, _) = plain_run((&ctx.stepper, Shortcuts::NONE), &plain, ic);
             assert_eq!(truth.regime, Regime::SteadySlip, "{ic:?}: {truth:?}");
             let label = ctx.classify(ic);
             assert_eq!(label.regime, truth.regime, "{ic:?}: {label:?}");

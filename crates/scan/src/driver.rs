@@ -12,7 +12,7 @@
 //! which blocks finish.
 
 use std::collections::HashSet;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
@@ -333,9 +333,29 @@ pub fn drive<S: Sink>(
     observer: &dyn Observer,
     stop: &AtomicBool,
 ) -> Result<DriveReport, DriveError<S::Error>> {
+    drive_prepared(plan, shard, sink, (observer, stop), Prepared::default())
+}
+
+/// [`drive`], with maps already prepared (by the pilot, [`crate::estimate::Estimate`]): a
+/// map found there is not prepared again, unless the sink recorded withdrawals for it (a
+/// resume decides its blocks without them, [`MapContext::prepare_without`]).
+pub fn drive_prepared<S: Sink>(
+    plan: &Plan,
+    shard: Option<Shard>,
+    sink: &mut S,
+    (observer, stop): (&dyn Observer, &AtomicBool),
+    prepared: Prepared,
+) -> Result<DriveReport, DriveError<S::Error>> {
     let pending = Pending::of(plan, shard, &*sink);
     let mut report = DriveReport::default();
-    let cycles_missing = run_maps(plan, &pending, sink, observer, stop, &mut report)?;
+    let cycles_missing = run_maps(
+        plan,
+        (&pending, prepared),
+        sink,
+        observer,
+        stop,
+        &mut report,
+    )?;
     report.interrupted = report.blocks < pending.blocks.len() || cycles_missing;
     Ok(report)
 }
@@ -352,7 +372,7 @@ pub fn drive<S: Sink>(
 /// before any of its blocks: the preparation emits them before it adds the blocks.
 fn run_maps<S: Sink>(
     plan: &Plan,
-    pending: &Pending,
+    (pending, prepared): (&Pending, Prepared),
     sink: &mut S,
     observer: &dyn Observer,
     stop: &AtomicBool,
@@ -374,13 +394,18 @@ fn run_maps<S: Sink>(
     maps.sort_unstable();
     maps.dedup();
     let cycles_wanted = maps.iter().filter(|&&m| need_cycle[m]).count();
-    let shared = Maps::new(
+    let mut shared = Maps::new(
         plan,
         observer,
         pending,
         (recorded, need_cycle),
         S::encode_block,
     );
+    for (m, ctx) in prepared.0 {
+        if m < plan.maps.len() && shared.recorded[m].is_empty() {
+            shared.seeded[m] = Mutex::new(Some(ctx));
+        }
+    }
     let (mut cycles_written, mut prepared) = (0usize, 0usize);
     let started = Instant::now();
     let work = |job: Job, emit: &dyn Fn(Emit<Msg, ScanError>), more: &dyn Fn(Vec<Job>)| {
@@ -437,7 +462,20 @@ struct Maps<'a> {
     need_cycle: Vec<bool>,
     blocks_of: Vec<Vec<usize>>,
     ctxs: Vec<OnceLock<MapContext>>,
+    /// Contexts prepared before the drive (by the pilot), taken by the map's preparation.
+    seeded: Vec<Mutex<Option<MapContext>>>,
     encode: fn(&BlockResult) -> Option<Vec<u8>>,
+}
+
+/// Maps prepared before a drive, by index ([`drive_prepared`]).
+#[derive(Default)]
+pub struct Prepared(pub Vec<(usize, MapContext)>);
+
+impl std::fmt::Debug for Prepared {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let maps: Vec<usize> = self.0.iter().map(|(m, _)| *m).collect();
+        write!(f, "Prepared(maps {maps:?})")
+    }
 }
 
 impl<'a> Maps<'a> {
@@ -459,6 +497,7 @@ impl<'a> Maps<'a> {
             need_cycle,
             blocks_of,
             ctxs: (0..plan.maps.len()).map(|_| OnceLock::new()).collect(),
+            seeded: (0..plan.maps.len()).map(|_| Mutex::new(None)).collect(),
             encode,
         }
     }
@@ -467,7 +506,14 @@ impl<'a> Maps<'a> {
     /// blocks to the queue) or a block of a prepared map.
     fn run(&self, job: Job, emit: &dyn Fn(Emit<Msg, ScanError>), more: &dyn Fn(Vec<Job>)) {
         match job {
-            Job::Prepare(m) => match MapContext::prepare_without(self.plan, m, &self.recorded[m]) {
+            Job::Prepare(m) => match self.seeded[m]
+                .lock()
+                .ok()
+                .and_then(|mut s| s.take())
+                .map_or_else(
+                    || MapContext::prepare_without(self.plan, m, &self.recorded[m]),
+                    Ok,
+                ) {
                 Ok(ctx) => {
                     self.observer.map_prepared(m);
                     let cycle = Box::new(ctx.cycle.clone());

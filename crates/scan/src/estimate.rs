@@ -152,6 +152,9 @@ impl MapCost {
 /// A pilot's measurements and the estimate they give.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Estimate {
+    /// The maps the pilot prepared, for the run to take instead of preparing them again
+    /// ([`crate::driver::drive_prepared`]).
+    pub prepared: Shelf,
     /// Cells classified by the pilot.
     pub cells: usize,
     /// Seconds the pilot took.
@@ -166,6 +169,40 @@ pub struct Estimate {
     /// [0.05, 1]; 1 where the system does not tell): below [`BUSY_SHARE`] the machine is
     /// busy ([`at_load`]).
     pub core_share: f64,
+}
+
+/// Maps prepared by a pilot, shared until the run takes them ([`Shelf::take`]). Two shelves
+/// compare equal when they hold the same maps.
+#[derive(Clone, Default)]
+pub struct Shelf(std::sync::Arc<std::sync::Mutex<Vec<(usize, MapContext)>>>);
+
+impl Shelf {
+    fn put(&self, map: usize, ctx: MapContext) {
+        if let Ok(mut v) = self.0.lock() {
+            v.push((map, ctx));
+        }
+    }
+
+    /// The prepared maps, taken off the shelf (empty once taken).
+    pub fn take(&self) -> crate::driver::Prepared {
+        crate::driver::Prepared(self.0.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default())
+    }
+
+    fn maps(&self) -> Vec<usize> {
+        self.0.lock().map(|v| v.iter().map(|(m, _)| *m).collect()).unwrap_or_default()
+    }
+}
+
+impl std::fmt::Debug for Shelf {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Shelf(maps {:?})", self.maps())
+    }
+}
+
+impl PartialEq for Shelf {
+    fn eq(&self, o: &Shelf) -> bool {
+        self.maps() == o.maps()
+    }
 }
 
 impl Estimate {
@@ -294,6 +331,10 @@ pub fn documented_seconds(plan: &Plan, pending: &Pending, threads: usize) -> f64
 /// pilot; a pilot could run a whole 29-day search).
 pub const PILOT_MAX_SECONDS: f64 = 30.0;
 
+/// A scan the documented rates put under this many seconds runs without a pilot: its
+/// estimate matters little, and timing it costs about as much as the run.
+pub const PILOT_WORTH: f64 = 10.0;
+
 /// Seconds (one thread) [`pilot`] may take on `plan`, at most, at the documented rates:
 /// its time budget, then one more map (prepared, one cell run to `t_max`, its audited
 /// samples run to `t_max`), which it starts before looking at the clock.
@@ -339,6 +380,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         .filter(|&i| crate::scanner::audited(i as u64, plan.map.audit_every))
         .collect();
     let first = picked_maps(plan.maps.len());
+    let shelf = Shelf::default();
     let budget = PILOT_BUDGET / first.len() as u32;
     let cells = (PILOT_CELLS / first.len()).max(1);
     let mut costs = Vec::with_capacity(2 * first.len());
@@ -347,7 +389,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         if !costs.is_empty() && t0.elapsed() >= 2 * PILOT_BUDGET {
             break;
         }
-        costs.push(measure(plan, m, cells, budget, &audited, &core)?);
+        costs.push(measure(plan, m, (cells, budget), (&audited, &core), &shelf)?);
     }
     while costs.len() < 2 * PILOT_MAPS && t0.elapsed() < 2 * PILOT_BUDGET {
         let per_cell = |c: &MapCost| c.per_cell(audited.len(), per_map);
@@ -362,7 +404,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
             .max_by(|a, b| a.0.total_cmp(&b.0));
         let Some((_, mid)) = jump else { break };
         let at = costs.partition_point(|c| c.map < mid);
-        costs.insert(at, measure(plan, mid, cells, budget, &audited, &core)?);
+        costs.insert(at, measure(plan, mid, (cells, budget), (&audited, &core), &shelf)?);
     }
     let share = core.share();
     for c in &mut costs {
@@ -385,6 +427,7 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
             .max(per_map.min(groups * crate::scanner::AUDIT_PER_RULE)),
     };
     Ok(Estimate {
+        prepared: shelf,
         cells: costs.iter().map(|c| c.cells).sum(),
         pilot_seconds: t0.elapsed().as_secs_f64(),
         per_map: costs,
@@ -400,10 +443,9 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
 fn measure(
     plan: &Plan,
     map: usize,
-    cells: usize,
-    budget: Duration,
-    audited: &[usize],
-    core: &CoreShare,
+    (cells, budget): (usize, Duration),
+    (audited, core): (&[usize], &CoreShare),
+    shelf: &Shelf,
 ) -> Result<MapCost, ScanError> {
     // The preparation runs its census (crate::census) on the whole pool: its cost is the
     // process's CPU time over it (the calling thread mostly waits), taken as seconds of one
@@ -430,13 +472,15 @@ fn measure(
             break;
         }
     }
-    Ok(MapCost {
+    let cost = MapCost {
         map,
         prepare,
         cell: t1.elapsed().as_secs_f64() / done.max(1) as f64,
         cells: done,
         audit: audit_seconds(plan, &ctx, audited),
-    })
+    };
+    shelf.put(map, ctx);
+    Ok(cost)
 }
 
 /// Mean seconds of one audited cell of `ctx`'s map (its run to settlement; 0 where the
@@ -453,7 +497,8 @@ fn audit_seconds(plan: &Plan, ctx: &MapContext, audited: &[usize]) -> f64 {
     for &idx in &audited[..n] {
         let (row, col) = cell_at(plan, idx);
         let (x, v) = plan.map.grid.state(row, col);
-        ctx.settle(squeal_core::State { x, v });
+        let ic = squeal_core::State { x, v };
+        ctx.settle(ic, &ctx.classify(ic));
     }
     t.elapsed().as_secs_f64() / n as f64
 }
@@ -699,6 +744,7 @@ mod tests {
     #[test]
     fn the_estimate_scales_with_cells_threads_and_audits() {
         let e = Estimate {
+            prepared: Shelf::default(),
             cells: 10,
             pilot_seconds: 0.1,
             per_map: vec![cost(0, 0.5, 1e-3, 0.0)],
@@ -711,6 +757,7 @@ mod tests {
         // 10 of a map's 2000 cells audited at 0.1 s each: 1 s per map over 2 threads; half a
         // map's cells pending: half its audits.
         let e = Estimate {
+            prepared: Shelf::default(),
             audited_per_map: 10,
             per_map: vec![cost(0, 0.5, 1e-3, 0.1)],
             ..e
@@ -739,6 +786,7 @@ mod tests {
         // fold of cycles): maps 0-3 cost as map 0, maps 5-8 as map 8 (map 4 is as near to
         // both; either is a measured cost).
         let e = Estimate {
+            prepared: Shelf::default(),
             cells: 20,
             pilot_seconds: 0.1,
             per_map: vec![cost(0, 0.0, 1e-3, 0.0), cost(8, 0.0, 2e-2, 0.0)],

@@ -121,6 +121,7 @@ pub fn shortcuts(
         decay_below,
         // Set with the decaying turns, once the map's stepper exists.
         decay_lower_below: None,
+        trapped_band: None,
     }
 }
 
@@ -157,6 +158,7 @@ struct Searched {
     cycle: Option<CycleOutcome>,
     start_rule: Option<StartRule>,
     outside: Option<Outside>,
+    trapped_band: Option<(f64, f64)>,
 }
 
 /// The section search of map `map` ([`section::section_cycles`]), with the unstable cycle
@@ -204,12 +206,46 @@ fn search_map(
         let invariant = outside == Some(Outside::Invariant);
         start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.map.trap_margin, invariant));
     }
+    let trapped_band = trapped_band(stepper, cs, found, outside);
     Ok(Searched {
         section: Some(found),
         cycle,
         start_rule,
         outside,
+        trapped_band,
     })
+}
+
+/// The stick-slip band above the unstable cycle where it is trapped
+/// ([`crate::band::Band::Trapped`]: an interval of the section mapped into itself with a
+/// margin): the certificate that a run on it squeals for good, for the runs that check the
+/// rules. Where the outside escapes, the band was already examined; where it is invariant
+/// it is examined here (128 returns and their refinement).
+fn trapped_band(
+    stepper: &Stepper,
+    cs: &CycleSettings,
+    found: SectionCycles,
+    outside: Option<Outside>,
+) -> Option<(f64, f64)> {
+    use crate::band::{Band, band_above};
+    let SectionCycles::Unstable {
+        r, stable_above, ..
+    } = found
+    else {
+        return None;
+    };
+    let band = match outside? {
+        Outside::Escapes { band, .. } => band,
+        Outside::Invariant => {
+            let map = section::ReturnMap::new(stepper, cs.t_return);
+            let top = stable_above.unwrap_or(2.0 * r);
+            band_above(&map, r, top, &mut section::Work::default())
+        }
+    };
+    match band {
+        Band::Trapped { lo, hi } => Some((lo, hi)),
+        _ => None,
+    }
 }
 
 /// Everything one map needs: stepper, classifier with its trap, the located cycle.
@@ -236,6 +272,10 @@ pub struct MapContext {
     pub outside: Option<Outside>,
     /// The certified early decisions ([`shortcuts`]).
     pub shortcuts: Shortcuts,
+    /// The certificates of the attractors that the runs checking the rules end on (the
+    /// census's and the audit's): the certified region of the fixed point and the trapped
+    /// stick-slip band. Never withdrawn: each is an argument, not a rule of thumb.
+    pub certificates: Shortcuts,
     /// The runs that checked the premise of the start rule, the trap and the band rules
     /// ([`crate::census`]), and the rules they withdrew; `None` where none was taken.
     pub census: Option<Census>,
@@ -407,6 +447,7 @@ impl MapContext {
             cycle,
             mut start_rule,
             outside,
+            trapped_band,
         } = match searches_section(plan, params.law.family()) {
             true => search_map(plan, map, (&stepper, &cs), &mut classifier)?,
             false => Searched::default(),
@@ -430,6 +471,11 @@ impl MapContext {
             cycle,
             start_rule,
             shortcuts,
+            certificates: Shortcuts {
+                region: squeal_core::Region::of(&params),
+                trapped_band,
+                ..Shortcuts::NONE
+            },
             landscape,
             outside,
             census: None,
@@ -475,7 +521,7 @@ impl MapContext {
         let curve = cycle_rule.map(|r| r.curve().clone());
         Some(census::take(
             plan,
-            &self.stepper,
+            (&self.stepper, self.certificates),
             &self.classifier,
             (curve.as_ref(), reach),
             |ic| self.classify(ic),
@@ -607,14 +653,21 @@ impl MapContext {
         self.classifier.trap.is_some() || self.shortcuts.any()
     }
 
-    /// The audit's reference: the run from `ic` to settlement, without the trap or any
-    /// shortcut.
-    pub fn settle(&self, ic: State) -> Outcome {
+    /// The audit's reference for a cell labelled `label`: the run from `ic` until it reaches
+    /// a certified attractor ([`MapContext::certificates`]: the fixed point's region, the
+    /// trapped band) or settles, with no shortcut. A cell the start rule labelled keeps the
+    /// section's trap: the run's own crossing of the section checks the traced curve the
+    /// rule decided by. A cell a run labelled has no trap (its crossing decided it).
+    pub fn settle(&self, ic: State, label: &Outcome) -> Outcome {
+        let by_start = matches!(
+            label.reason,
+            Reason::StartInsideCycle | Reason::StartOutsideCycle
+        );
         Classifier {
-            trap: None,
+            trap: self.classifier.trap.filter(|_| by_start),
             ..self.classifier
         }
-        .classify(&self.stepper, ic)
+        .classify_with(&self.stepper, ic, self.certificates)
     }
 
     /// Classifies one cell (and audits it when it is in the sample and an early decision
@@ -632,7 +685,7 @@ impl MapContext {
         let mut cell = Cell::from(&out);
         let every = self.audit_rates.for_cell(&out, started);
         if self.audits() && audited((row * g.x0.count + col) as u64, every) {
-            let reference = self.settle(ic).regime;
+            let reference = self.settle(ic, &out).regime;
             cell.audit = match reference {
                 Regime::Undecided => Audit::Undecided,
                 r if r == out.regime => Audit::Agrees,

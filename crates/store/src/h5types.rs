@@ -82,6 +82,8 @@ pub(crate) enum ReasonH5 {
     LastingOscillation = 20,
     #[hdf5(rename = "slip_oscillation")]
     SlipOscillation = 21,
+    #[hdf5(rename = "in_trapped_band")]
+    InTrappedBand = 22,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -111,6 +113,7 @@ impl ReasonH5 {
             19 => ReasonH5::EnteredDecayingTurn,
             20 => ReasonH5::LastingOscillation,
             21 => ReasonH5::SlipOscillation,
+            22 => ReasonH5::InTrappedBand,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

@@ -274,7 +274,13 @@ pub fn basin_words(b: &squeal_scan::GridShares) -> String {
     let parts: Vec<String> = squeal_scan::basin::REGIMES
         .iter()
         .enumerate()
-        .filter(|(i, r)| **r != squeal_core::Regime::Undecided || b.h.shares[*i].count > 0)
+        .filter(|(i, r)| {
+            let quiet = matches!(
+                **r,
+                squeal_core::Regime::Undecided | squeal_core::Regime::SlipOscillation
+            );
+            !quiet || b.h.shares[*i].count > 0
+        })
         .map(|(i, r)| {
             let s = b.h.shares[i];
             if b.random {

@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use anyhow::bail;
 use squeal_scan::estimate::{Estimate, seconds_for};
-use squeal_scan::{Pending, Plan, drive};
+use squeal_scan::{Pending, Plan};
 use squeal_store::ScanWriter;
 
 use super::common;
@@ -115,7 +115,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
     phases.end("start");
     let started = Instant::now();
-    let done = drive(&plan, shard, &mut writer, &bars, signals.stop()).map_err(drive_error)?;
+    let prepared = pilot.as_ref().map(|e| e.prepared.take()).unwrap_or_default();
+    let run = (&bars as &dyn squeal_scan::Observer, signals.stop());
+    let done = squeal_scan::driver::drive_prepared(&plan, shard, &mut writer, run, prepared)
+        .map_err(drive_error)?;
     bars.finish();
     let secs = started.elapsed().as_secs_f64();
     phases.end("cells");
@@ -319,19 +322,20 @@ fn checked_estimate(
         );
     }
     let bound = squeal_scan::estimate::pilot_bound(plan);
+    // A job the documented rates put under PILOT_WORTH runs without a pilot: timing it would
+    // cost as much as running it (the main job's pilot was half its wall time).
+    let worth = seconds_for(plan, None, owned, threads) >= squeal_scan::estimate::PILOT_WORTH;
+    let runs_pilot = !args.run.quiet && worth && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS;
     // Announced only where the pilot runs (a longer one is skipped: documented rates).
-    if !args.run.quiet
-        && bound > common::PILOT_NOTICE
-        && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS
-    {
+    if runs_pilot && bound > common::PILOT_NOTICE {
         eprintln!(
             "squeal: timing a pilot first (up to {} at the documented rate) ...",
             common::duration(bound)
         );
     }
-    let pilot = match args.run.quiet {
-        true => None,
-        false => squeal_scan::estimate::bounded_pilot(plan)?,
+    let pilot = match runs_pilot {
+        false => None,
+        true => squeal_scan::estimate::bounded_pilot(plan)?,
     };
     let estimate = seconds_for(plan, pilot.as_ref(), owned, threads);
     if squeal_scan::estimate::refused_as_long(estimate, args.allow_long) {
