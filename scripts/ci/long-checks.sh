@@ -23,6 +23,9 @@ checks=(
   # Labels of scan, classify and trajectory against runs to t = 20000 around the folds at
   # lambda 0.3, 0.5, 1 (issue 31), 12 x 10 starts (2-3 min).
   "--test scanning fold_truth::labels_agree_with_long_runs_around_the_fold"
+  # Fates and labels against runs to t = 20000 where steady slip is unstable (k > 1), ten
+  # starts at each of lambda 0.1, 0.2, 0.3 (tau = 1, phi = 0.9).
+  "--test scanning unstable_steady::fates_agree_with_long_runs_where_steady_slip_is_unstable"
   # Labels, the crisis and the band's trap near the fold against runs to settlement on every
   # path (scan, classify, trajectory), and the band's transient lifetimes against direct runs.
   "--test scanning edge::labels_near_the_fold_agree_with_long_runs_on_every_path"

@@ -12,8 +12,8 @@
 //! which blocks finish.
 
 use std::collections::HashSet;
-use std::sync::{Mutex, OnceLock};
 use std::sync::atomic::AtomicBool;
+use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use crate::cell::Cell;

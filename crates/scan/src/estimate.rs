@@ -185,11 +185,19 @@ impl Shelf {
 
     /// The prepared maps, taken off the shelf (empty once taken).
     pub fn take(&self) -> crate::driver::Prepared {
-        crate::driver::Prepared(self.0.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default())
+        crate::driver::Prepared(
+            self.0
+                .lock()
+                .map(|mut v| std::mem::take(&mut *v))
+                .unwrap_or_default(),
+        )
     }
 
     fn maps(&self) -> Vec<usize> {
-        self.0.lock().map(|v| v.iter().map(|(m, _)| *m).collect()).unwrap_or_default()
+        self.0
+            .lock()
+            .map(|v| v.iter().map(|(m, _)| *m).collect())
+            .unwrap_or_default()
     }
 }
 
@@ -389,7 +397,13 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
         if !costs.is_empty() && t0.elapsed() >= 2 * PILOT_BUDGET {
             break;
         }
-        costs.push(measure(plan, m, (cells, budget), (&audited, &core), &shelf)?);
+        costs.push(measure(
+            plan,
+            m,
+            (cells, budget),
+            (&audited, &core),
+            &shelf,
+        )?);
     }
     while costs.len() < 2 * PILOT_MAPS && t0.elapsed() < 2 * PILOT_BUDGET {
         let per_cell = |c: &MapCost| c.per_cell(audited.len(), per_map);
@@ -404,7 +418,10 @@ pub fn pilot(plan: &Plan) -> Result<Estimate, ScanError> {
             .max_by(|a, b| a.0.total_cmp(&b.0));
         let Some((_, mid)) = jump else { break };
         let at = costs.partition_point(|c| c.map < mid);
-        costs.insert(at, measure(plan, mid, (cells, budget), (&audited, &core), &shelf)?);
+        costs.insert(
+            at,
+            measure(plan, mid, (cells, budget), (&audited, &core), &shelf)?,
+        );
     }
     let share = core.share();
     for c in &mut costs {

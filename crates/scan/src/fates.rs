@@ -105,9 +105,27 @@ impl Fate {
     pub fn words(&self, horizon: f64) -> String {
         match self {
             Fate::Settles { t } => format!("reaches the fixed point at t = {t:.1}"),
+            Fate::Lasts {
+                t,
+                certified: Some(o),
+                ..
+            } => format!(
+                "on a lasting oscillation from t = {t:.1}, certified as a periodic orbit \
+                 (multiplier {:.4}): it lasts for good",
+                o.multiplier[0]
+            ),
             Fate::Lasts { t, .. } => {
                 format!("on a lasting oscillation from t = {t:.1} to the horizon {horizon}")
             }
+            Fate::SlipOscillation {
+                t,
+                certified: Some(o),
+                ..
+            } => format!(
+                "on the small slip oscillation about the unstable steady slip from t = {t:.1}, \
+                 certified as a periodic orbit (multiplier {:.4}; never sticks)",
+                o.multiplier[0]
+            ),
             Fate::SlipOscillation { t, .. } => format!(
                 "on the small slip oscillation about the unstable steady slip from t = {t:.1} to \
                  the horizon {horizon} (never sticks)"

@@ -538,11 +538,42 @@ impl MapContext {
         if steady.stability.attracts() {
             return;
         }
-        for rules in [Rules::Inside, Rules::Shortcuts] {
-            self.withdraw(rules);
+        let why = |rules: Rules| format!("{} withdrawn: {}", rules.name(), steady.words(None));
+        self.withdraw(Rules::Inside);
+        self.withdrawn.push(Withdrawn {
+            rules: Rules::Inside,
+            why: why(Rules::Inside),
+        });
+        // Of the certified shortcuts, those that conclude steady slip; the ones that conclude
+        // stick-slip (the orbit from breakaway sticks again, a stretch between sticking
+        // starts) stand.
+        let s = &mut self.shortcuts;
+        let steady_ones = s.region.is_some()
+            || s.decay_below.is_some()
+            || s.decay_lower_below.is_some()
+            || s.section.is_some_and(|f| f.settles_up_to.is_some())
+            || s.breakaway == Some(Regime::SteadySlip);
+        s.region = None;
+        s.decay_below = None;
+        s.decay_lower_below = None;
+        if let Some(f) = s.section.as_mut() {
+            f.settles_up_to = None;
+        }
+        s.breakaway = s.breakaway.filter(|r| *r == Regime::StickSlip);
+        let steady_start = self
+            .start_rule
+            .as_ref()
+            .is_some_and(|r| r.inside != Reason::StartInsideCycle);
+        if steady_start {
+            self.start_rule = None;
+        }
+        if steady_ones || steady_start {
             self.withdrawn.push(Withdrawn {
-                rules,
-                why: format!("{} withdrawn: {}", rules.name(), steady.words(None)),
+                rules: Rules::Shortcuts,
+                why: format!(
+                    "the shortcuts that conclude steady slip withdrawn: {}",
+                    steady.words(None)
+                ),
             });
         }
     }

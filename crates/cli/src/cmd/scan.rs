@@ -115,7 +115,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
     phases.end("start");
     let started = Instant::now();
-    let prepared = pilot.as_ref().map(|e| e.prepared.take()).unwrap_or_default();
+    let prepared = pilot
+        .as_ref()
+        .map(|e| e.prepared.take())
+        .unwrap_or_default();
     let run = (&bars as &dyn squeal_scan::Observer, signals.stop());
     let done = squeal_scan::driver::drive_prepared(&plan, shard, &mut writer, run, prepared)
         .map_err(drive_error)?;

@@ -13,3 +13,4 @@ mod shortcuts;
 mod spec_doc;
 mod table_spec;
 mod transient;
+mod unstable_steady;
