@@ -97,11 +97,19 @@ fn stribeck_basin_fraction_agrees_with_bstab_and_the_map() {
 
 /// The cubic law's atlas (issue 16, item 6) over the belt speed. At the defaults the fixed
 /// point's damping 2 xi + mu'(v_d) = 0.1 - 0.45 + 1.8 v_d^2 vanishes at
-/// v_d = sqrt(0.35 / 1.8) = 0.44096 (closed form): below it the fixed point repels, above it
-/// the orbit from breakaway decays (no bistable belt speed, crates/core/tests/model/cubic.rs), so
-/// the fold (no start squeals above) and the critical speed of the operating point both lie
-/// at that loss of stability, within their brackets. Before, the chart refused to draw an
-/// atlas with no unstable cycle beside stick-slip ("curve ... has no drawable point").
+/// v_d = sqrt(0.35 / 1.8) = 0.44096 (closed form): below it steady slip repels, above it
+/// the orbit from breakaway decays (no bistable belt speed, crates/core/tests/model/cubic.rs).
+/// Below that loss of stability a slip oscillation is born that never sticks, and grows as
+/// v_d falls until it reaches the belt's speed and sticks: from rest it sticks at v_d = 0.38
+/// and does not at 0.40 (`squeal trajectory --law cubic --v-d V --x0 0 --v0 0 --t-end 2000`:
+/// stick-slip at 0.38, x' up to 0.380 = v_d; slip_oscillation at 0.40, 0.42, 0.44 with
+/// half-ranges of x 0.379, 0.272, 0.060). The critical speed of rest answers where the squeal
+/// (the sticking oscillation) stops from rest, in [0.38, 0.40], below the loss of stability,
+/// which the points' `steady_slip_stability` states; the fold (no start of the spread sticks
+/// above it) stays at the loss of stability, where the far starts' stick-slip cycle ends. Before, the chart refused to
+/// draw an atlas with no unstable cycle beside stick-slip ("curve ... has no drawable point");
+/// before fates by attractor, both answers sat at the loss of stability, counting the slip
+/// oscillation as squeal.
 #[test]
 fn a_cubic_atlas_finds_its_fold_at_the_loss_of_stability() {
     let spec = r#"
@@ -126,15 +134,31 @@ path = "c.h5"
         .collect();
     assert_eq!(regimes, ["fixed_point_unstable", "steady_slip_only"]);
     let hopf = (0.35f64 / 1.8).sqrt();
-    for which in ["fold", "critical"] {
+    let stability: Vec<f64> = a["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["steady_slip_stability"].as_f64().unwrap_or(f64::NAN))
+        .collect();
+    let (repels, attracts) = (
+        squeal_core::Stability::Repels as u8 as f64,
+        squeal_core::Stability::Attracts as u8 as f64,
+    );
+    assert_eq!(stability, [repels, attracts], "{}", a["points"]);
+    let bracket = |which: &str| {
         let b = &a["boundaries"][0][which];
         assert_eq!(b["status"], "found", "{which}: {b}");
-        let (lo, hi) = (
+        (
             b["bracket"][0].as_f64().unwrap(),
             b["bracket"][1].as_f64().unwrap(),
-        );
-        assert!(lo <= hopf && hopf <= hi, "{which}: {b}");
-    }
+        )
+    };
+    // Some start of the fold's spread still sticks up to the loss of stability.
+    let (lo, hi) = bracket("fold");
+    assert!(lo <= hopf && hopf <= hi, "fold: [{lo}, {hi}]");
+    // From rest the squeal stops where the slip oscillation no longer reaches the belt.
+    let (lo, hi) = bracket("critical");
+    assert!(0.38 <= lo && hi <= 0.40, "critical: [{lo}, {hi}]");
     let f = dir.path().join("c.h5");
     assert_eq!(read_u8(&f, "landscape"), [1, 3]);
     // The fixed parameters are root attributes under the law's own names.

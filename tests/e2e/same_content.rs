@@ -28,7 +28,7 @@ fn files_hold_the_same_content() {
             squeal_store::read_info(&b).expect("second file is a scan file"),
         );
         // The label counts first: a readable difference when the digests differ.
-        let counts = |i: &squeal_store::FileInfo| -> Vec<[u64; 4]> {
+        let counts = |i: &squeal_store::FileInfo| -> Vec<[u64; 5]> {
             (0..i.maps)
                 .map(|m| squeal_store::map_labels(&i.path, m).expect("labels"))
                 .map(|l| squeal_scan::MapSummary::of(&l, i.x0.len(), i.sample).counts)

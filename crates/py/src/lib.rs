@@ -465,6 +465,11 @@ pub fn boundary(
     // The range searched, for the refusals that name its ends.
     let mut v: serde_json::Value = serde_json::from_str(&json).map_err(value_error)?;
     v["range"] = serde_json::json!([range.lo, range.hi]);
+    // Steady slip's own stability at the answer (at the range's low end without one), as
+    // `squeal critical` prints it first.
+    let at = v["value"].as_f64().or(v["nu"].as_f64()).unwrap_or(range.lo);
+    let steady = squeal_core::SteadySlip::of(&param.with(setup.params, at));
+    v["steady_slip"] = serde_json::to_value(steady).map_err(value_error)?;
     Ok(v.to_string())
 }
 

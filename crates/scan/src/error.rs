@@ -71,7 +71,7 @@ pub enum NoCycle {
     },
     /// `D > 0` already at `r_min`: the steady-slip fixed point repels.
     #[error(
-        "the steady-slip fixed point does not attract ({damping}): its linearisation says so, or the return map grows already at r = {}", squeal_core::error::Number(*r_min)
+        "the steady-slip fixed point repels or attracts no whole neighbourhood ({damping}): its linearisation says so, or the return map grows already at r = {}", squeal_core::error::Number(*r_min)
     )]
     FixedPointRepels {
         /// Smallest amplitude sampled.

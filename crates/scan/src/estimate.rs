@@ -339,10 +339,6 @@ pub fn documented_seconds(plan: &Plan, pending: &Pending, threads: usize) -> f64
 /// pilot; a pilot could run a whole 29-day search).
 pub const PILOT_MAX_SECONDS: f64 = 30.0;
 
-/// A scan the documented rates put under this many seconds runs without a pilot: its
-/// estimate matters little, and timing it costs about as much as the run.
-pub const PILOT_WORTH: f64 = 10.0;
-
 /// Seconds (one thread) [`pilot`] may take on `plan`, at most, at the documented rates:
 /// its time budget, then one more map (prepared, one cell run to `t_max`, its audited
 /// samples run to `t_max`), which it starts before looking at the clock.

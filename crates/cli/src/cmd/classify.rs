@@ -213,7 +213,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // The columns are the scan file's (squeal_scan::cell::COLUMNS), in the same order.
     let header: Vec<&str> = squeal_scan::COLUMNS.iter().map(|c| c.name).collect();
     writeln!(w, "x0,v0,{}", header.join(","))?;
-    let mut counts = [0usize; 3];
+    let mut counts = [0usize; squeal_core::Regime::ALL.len()];
     for (ic, o) in given.iter().zip(&outcomes) {
         counts[o.regime as usize] += 1;
         let cell = squeal_scan::Cell::from(o);
@@ -221,8 +221,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         writeln!(w, "{:?},{:?},{}", ic.x, ic.v, cols.join(","))?;
     }
     w.flush()?;
+    let slip = match counts[squeal_core::Regime::SlipOscillation as usize] {
+        0 => String::new(),
+        n => format!(", slip_oscillation {n}"),
+    };
     eprintln!(
-        "{} initial conditions: steady_slip {}, stick_slip {}, undecided {} -> {}",
+        "{} initial conditions: steady_slip {}, stick_slip {}, undecided {}{slip} -> {}",
         ics.len(),
         counts[1],
         counts[2],

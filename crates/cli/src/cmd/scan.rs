@@ -325,20 +325,20 @@ fn checked_estimate(
         );
     }
     let bound = squeal_scan::estimate::pilot_bound(plan);
-    // A job the documented rates put under PILOT_WORTH runs without a pilot: timing it would
-    // cost as much as running it (the main job's pilot was half its wall time).
-    let worth = seconds_for(plan, None, owned, threads) >= squeal_scan::estimate::PILOT_WORTH;
-    let runs_pilot = !args.run.quiet && worth && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS;
     // Announced only where the pilot runs (a longer one is skipped: documented rates).
-    if runs_pilot && bound > common::PILOT_NOTICE {
+    if !args.run.quiet
+        && bound > common::PILOT_NOTICE
+        && bound <= squeal_scan::estimate::PILOT_MAX_SECONDS
+    {
         eprintln!(
             "squeal: timing a pilot first (up to {} at the documented rate) ...",
             common::duration(bound)
         );
     }
-    let pilot = match runs_pilot {
-        false => None,
-        true => squeal_scan::estimate::bounded_pilot(plan)?,
+    // The maps it prepares are the run's own: the run takes them (drive_prepared).
+    let pilot = match args.run.quiet {
+        true => None,
+        false => squeal_scan::estimate::bounded_pilot(plan)?,
     };
     let estimate = seconds_for(plan, pilot.as_ref(), owned, threads);
     if squeal_scan::estimate::refused_as_long(estimate, args.allow_long) {

@@ -246,11 +246,11 @@ fn a_fold_that_flips_is_marked_on_the_atlas_chart() {
 fn values_without_a_cycle_are_grouped_by_what_the_map_found() {
     let xs = [0.8, 1.0, 1.5, 2.0, 2.2];
     let counts = [
-        [0, 0, 100, 0], // stick-slip only: the fixed point repels
-        [3, 0, 97, 0],  // stick-slip and undecided cells: still no steady start
-        [0, 40, 60, 0], // both basins (has a cycle: not among `missing`)
-        [0, 100, 0, 0], // steady slip only: above the fold
-        [10, 45, 45, 0],
+        [0, 0, 100, 0, 0], // stick-slip only: the fixed point repels
+        [3, 0, 97, 0, 0],  // stick-slip and undecided cells: still no steady start
+        [0, 40, 60, 0, 0], // both basins (has a cycle: not among `missing`)
+        [0, 100, 0, 0, 0], // steady slip only: above the fold
+        [10, 45, 45, 0, 0],
     ];
     let missing = [0.8, 1.0, 2.0, 2.2];
     let gaps = cycle_gaps(&missing, &xs, &counts);
