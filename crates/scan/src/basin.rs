@@ -304,6 +304,26 @@ pub const BASIN_FIELDS: &[(&str, &str)] = &[
         "basin_stability_undecided_change",
         "p_h - p_2h: change of the undecided share from the 2h sub-grid to the full grid (the grid error bar)",
     ),
+    (
+        "basin_stability_slip_oscillation",
+        "share of the computed initial conditions labelled slip_oscillation (a steady slip that does not attract, the run on an oscillation about it that never sticks)",
+    ),
+    (
+        "basin_stability_slip_oscillation_se",
+        "sqrt(p (1 - p) / N) of the slip-oscillation share",
+    ),
+    (
+        "basin_stability_slip_oscillation_2h",
+        "slip-oscillation share on the sub-grid of every second point along each axis (spacing 2h; NaN for random samples)",
+    ),
+    (
+        "basin_stability_slip_oscillation_4h",
+        "slip-oscillation share on the sub-grid of every fourth point along each axis (spacing 4h)",
+    ),
+    (
+        "basin_stability_slip_oscillation_change",
+        "p_h - p_2h: change of the slip-oscillation share from the 2h sub-grid to the full grid (the grid error bar)",
+    ),
 ];
 
 #[cfg(test)]

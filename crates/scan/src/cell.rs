@@ -165,6 +165,7 @@ pub const REGIME_FLAGS: &[(u8, &str)] = &[
     (0, "undecided"),
     (1, "steady_slip"),
     (2, "stick_slip"),
+    (3, "slip_oscillation"),
     (NOT_COMPUTED, "not_computed"),
 ];
 
@@ -191,6 +192,8 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (18, "start_inside_decaying_turn"),
     (19, "entered_decaying_turn"),
     (20, "lasting_oscillation"),
+    (21, "slip_oscillation"),
+    (22, "in_trapped_band"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

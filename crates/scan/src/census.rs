@@ -264,7 +264,9 @@ pub fn take(
         .par_iter()
         .map(|&(ic, side)| {
             let (own, end) = plain_run((stepper, certificates), &plain, ic);
-            let at_fp = own.regime == Regime::SteadySlip;
+            // Quiet: the fixed point, or the slip oscillation about a steady slip that does
+            // not attract; either refutes a stick-slip label.
+            let at_fp = matches!(own.regime, Regime::SteadySlip | Regime::SlipOscillation);
             let refuted = |rules| Withdrawal {
                 rules,
                 start: ic,
@@ -340,12 +342,13 @@ path = "t.h5"
     }
 
     /// Issue 31: at the brake's c = 300, `classify` and `scan` on 48d225a labelled these
-    /// starts stick_slip by `start_outside_cycle` without a run, while their runs reach the
-    /// fixed point (`squeal trajectory --nu 0.375 --lambda 0.21053 --tau 0.65789 --phi
-    /// 0.91353 --x0 X --v0 V` on 48d225a: near_fixed_point at t = 35.8 from (0, 0), 21.4
-    /// from (2, 0.5), 38.3 from (-1, -0.5)). The truth here is each start's own run with no
-    /// rule to t = 2000; the map's label must be the same, and the census must say which
-    /// rules it withdrew.
+    /// starts stick_slip by `start_outside_cycle` without a run, while their runs end quiet
+    /// (on d424b26: "near_fixed_point at t = 35.8 from (0, 0), 21.4 from (2, 0.5), 38.3 from
+    /// (-1, -0.5)", a radius crossing). The census withdrew the outside rules there. Steady slip
+    /// itself repels at this brake (k = (1 - 2/pi) tau / lambda = 1.1355 > 1, MODEL.md
+    /// section 5): the runs end on the slip oscillation about it (half-range of x 1.6e-4), the
+    /// section search finds no cycle, and no rule of the paper's picture applies. The truth
+    /// here is each start's own run with no rule to t = 2000; the map's label must be the same.
     #[test]
     fn brake_labels_match_their_runs() {
         let plan = brake();
@@ -358,12 +361,13 @@ path = "t.h5"
         for (x, v) in [(0.0, 0.0), (2.0, 0.5), (-1.0, -0.5), (2.0, -0.5)] {
             let ic = State { x, v };
             let (truth, _) = plain_run((&ctx.stepper, Shortcuts::NONE), &plain, ic);
-            assert_eq!(truth.regime, Regime::SteadySlip, "{ic:?}: {truth:?}");
+            assert_eq!(truth.regime, Regime::SlipOscillation, "{ic:?}: {truth:?}");
             let label = ctx.classify(ic);
             assert_eq!(label.regime, truth.regime, "{ic:?}: {label:?}");
         }
-        let census = ctx.census.as_ref().expect("a census for McMillan's law");
-        assert!(census.withdraws(Rules::Outside), "{census:?}");
-        assert_eq!(census.horizon, 2000.0);
+        assert!(
+            ctx.start_rule.is_none() && ctx.classifier.trap.is_none(),
+            "{ctx:?}"
+        );
     }
 }

@@ -114,9 +114,10 @@ impl Fate {
                  (multiplier {:.4}): it lasts for good",
                 o.multiplier[0]
             ),
-            Fate::Lasts { t, .. } => {
-                format!("on a lasting oscillation from t = {t:.1} to the horizon {horizon}")
-            }
+            Fate::Lasts { t, .. } => format!(
+                "on a lasting oscillation from t = {t:.1} to the horizon {horizon} (no period \
+                 certified: irregular, or a loop whose restarts do not repeat the run)"
+            ),
             Fate::SlipOscillation {
                 t,
                 certified: Some(o),

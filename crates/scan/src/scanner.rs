@@ -519,9 +519,16 @@ impl MapContext {
             return None;
         }
         let curve = cycle_rule.map(|r| r.curve().clone());
+        // The census checks the band's premise too, so its runs end at the fixed point's
+        // region only: a trapped band of the sampled return map can be wrong (at lambda 0.5,
+        // nu 0.0195 it is, and the census's runs find the leak).
+        let region_only = Shortcuts {
+            region: self.certificates.region,
+            ..Shortcuts::NONE
+        };
         Some(census::take(
             plan,
-            (&self.stepper, self.certificates),
+            (&self.stepper, region_only),
             &self.classifier,
             (curve.as_ref(), reach),
             |ic| self.classify(ic),
@@ -690,15 +697,29 @@ impl MapContext {
     /// section's trap: the run's own crossing of the section checks the traced curve the
     /// rule decided by. A cell a run labelled has no trap (its crossing decided it).
     pub fn settle(&self, ic: State, label: &Outcome) -> Outcome {
-        let by_start = matches!(
-            label.reason,
-            Reason::StartInsideCycle | Reason::StartOutsideCycle
-        );
+        let inside_by_start = label.reason == Reason::StartInsideCycle;
+        // Only the trap's inner side: the outside's premise is what an audit of a stick-slip
+        // cell checks, so its run may not assume it.
+        let trap = self
+            .classifier
+            .trap
+            .filter(|_| inside_by_start)
+            .map(|t| Trap {
+                r_outer: f64::INFINITY,
+                ..t
+            });
+        // The trapped band, only where the band rules stand (the census did not refute them)
+        // and the outside of the cycle is invariant.
+        let band = self.classifier.band_rules && self.outside == Some(Outside::Invariant);
+        let certificates = Shortcuts {
+            trapped_band: self.certificates.trapped_band.filter(|_| band),
+            ..self.certificates
+        };
         Classifier {
-            trap: self.classifier.trap.filter(|_| by_start),
+            trap,
             ..self.classifier
         }
-        .classify_with(&self.stepper, ic, self.certificates)
+        .classify_with(&self.stepper, ic, certificates)
     }
 
     /// Classifies one cell (and audits it when it is in the sample and an early decision

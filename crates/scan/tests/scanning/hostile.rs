@@ -308,8 +308,8 @@ fn a_tiny_damping_in_a_no_cycle_note_is_in_exponent_form() {
     };
     assert_eq!(
         repels.to_string(),
-        "the return map grows already at r = 1e-300 (nu = 1e-300): the steady-slip fixed \
-         point repels"
+        "the steady-slip fixed point repels or attracts no whole neighbourhood (nu = 1e-300): \
+         its linearisation says so, or the return map grows already at r = 1e-300"
     );
     // In range, as Rust writes it (what the existing notes read).
     assert_eq!(Damping::Xi(0.05).to_string(), "xi = 0.05");
