@@ -30,18 +30,16 @@ echo "cores: $(nproc); rounds: $rounds; chart: $chart x $chart"
 
 # label binary what -> one line: label what wall user [extra]
 one() {
-  local label=$1 bin=$2 what=$3 log="$tmp/$1-$3.log" t extra=""
+  local label=$1 bin=$2 what=$3 log="$tmp/$1-$3.log" extra=""
+  local timed=(/usr/bin/time -o "$tmp/time" -f "%e %U")
   case $what in
-    fig9) t=$( { /usr/bin/time -f "%e %U" "$bin" scan scans/fig9.toml -o "$tmp/f.h5" --force \
-      >"$log" 2>&1; } 2>&1 | tail -1)
+    fig9) "${timed[@]}" "$bin" scan scans/fig9.toml -o "$tmp/f.h5" --force >"$log" 2>&1
       extra=$(grep -o 'audit (run to settlement) of [0-9]* cells: [0-9]* agree, [0-9]* disagree, [0-9]* undecided' "$log" || true) ;;
-    bstab) t=$( { /usr/bin/time -f "%e %U" "$bin" scan "$tmp/bstab.toml" -o "$tmp/b.h5" --force \
-      --quiet >"$log" 2>&1; } 2>&1 | tail -1) ;;
-    chart) t=$( { /usr/bin/time -f "%e %U" "$bin" atlas "$tmp/chart.toml" -o "$tmp/c.h5" --force \
-      --no-render >"$log" 2>&1; } 2>&1 | tail -1)
+    bstab) "${timed[@]}" "$bin" scan "$tmp/bstab.toml" -o "$tmp/b.h5" --force --quiet >"$log" 2>&1 ;;
+    chart) "${timed[@]}" "$bin" atlas "$tmp/chart.toml" -o "$tmp/c.h5" --force --no-render >"$log" 2>&1
       extra="estimate: $(grep -o 'roughly [^(]*' "$log" | head -1)" ;;
   esac
-  echo "$label $what $t $extra"
+  echo "$label $what $(cat "$tmp/time") $extra"
 }
 for what in fig9 bstab chart; do
   for _ in $(seq "$rounds"); do

@@ -401,11 +401,7 @@ fn run_maps<S: Sink>(
         (recorded, need_cycle),
         S::encode_block,
     );
-    for (m, ctx) in prepared.0 {
-        if m < plan.maps.len() && shared.recorded[m].is_empty() {
-            shared.seeded[m] = Mutex::new(Some(ctx));
-        }
-    }
+    shared.seed(prepared);
     let (mut cycles_written, mut prepared) = (0usize, 0usize);
     let started = Instant::now();
     let work = |job: Job, emit: &dyn Fn(Emit<Msg, ScanError>), more: &dyn Fn(Vec<Job>)| {
@@ -499,6 +495,16 @@ impl<'a> Maps<'a> {
             ctxs: (0..plan.maps.len()).map(|_| OnceLock::new()).collect(),
             seeded: (0..plan.maps.len()).map(|_| Mutex::new(None)).collect(),
             encode,
+        }
+    }
+
+    /// Hands the maps `prepared` before the drive to their preparation jobs, where the sink
+    /// recorded no withdrawal for them (a resume prepares those without the groups).
+    fn seed(&mut self, prepared: Prepared) {
+        for (m, ctx) in prepared.0 {
+            if m < self.plan.maps.len() && self.recorded[m].is_empty() {
+                self.seeded[m] = Mutex::new(Some(ctx));
+            }
         }
     }
 

@@ -221,17 +221,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         writeln!(w, "{:?},{:?},{}", ic.x, ic.v, cols.join(","))?;
     }
     w.flush()?;
+    eprintln!("{} -> {}", counts_words(&counts), args.out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// "N initial conditions: steady_slip A, stick_slip B, undecided C" (and the slip
+/// oscillation's count where there is one), from counts indexed by the regime's value.
+fn counts_words(counts: &[usize]) -> String {
     let slip = match counts[squeal_core::Regime::SlipOscillation as usize] {
         0 => String::new(),
         n => format!(", slip_oscillation {n}"),
     };
-    eprintln!(
-        "{} initial conditions: steady_slip {}, stick_slip {}, undecided {}{slip} -> {}",
-        ics.len(),
+    format!(
+        "{} initial conditions: steady_slip {}, stick_slip {}, undecided {}{slip}",
+        counts.iter().sum::<usize>(),
         counts[1],
         counts[2],
-        counts[0],
-        args.out.display()
-    );
-    Ok(ExitCode::SUCCESS)
+        counts[0]
+    )
 }

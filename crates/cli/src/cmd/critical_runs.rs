@@ -65,6 +65,49 @@ fn print(
     if args.json {
         return print_json((rb, why, about), name, si, seconds);
     }
+    print_heading(args, (rb, about), (name, point), seconds);
+    println!("  by runs because {}", why.words());
+    print_ends(args, rb, name, about);
+    println!(
+        "  {}",
+        match (rb.half_dt_holds, rb.half_dt_bracket) {
+            (Some(true), _) =>
+                "at dt/2 the bracket holds (the same verdicts at both ends)".to_string(),
+            (Some(false), Some([l, h])) =>
+                format!("at dt/2 the boundary lies in [{l:.6e}, {h:.6e}]: the interval covers both"),
+            _ => "at dt/2 the boundary lies beyond the range's end: the interval reaches it".into(),
+        }
+    );
+    if rb.undecided > 0 {
+        println!(
+            "  {} of {} runs were undecided by t = {} (neither quiet nor squealing identifiably){}",
+            rb.undecided,
+            rb.runs,
+            rb.horizon,
+            match about.upper_bound {
+                true => ": the lower end of the bracket is one of them",
+                false => "; neither end of the bracket rests on one",
+            }
+        );
+    }
+    if let Some((key, unit, units)) = si {
+        println!(
+            "  in SI units: {key} = {:.4} {units}, interval [{:.4}, {:.4}] {units}",
+            Number(rb.value() * unit),
+            Number(rb.interval[0] * unit),
+            Number(rb.interval[1] * unit)
+        );
+    }
+    Ok(())
+}
+
+/// The answer's first lines: steady slip's stability at it, and the value (or the bound).
+fn print_heading(
+    args: &Args,
+    (rb, about): (&RunBoundary, &About),
+    (name, point): (&str, State),
+    seconds: f64,
+) {
     println!(
         "{name} = {:.6e}: {}",
         rb.value(),
@@ -101,39 +144,6 @@ fn print(
             rb.interval[1], rb.runs, rb.horizon, seconds
         ),
     }
-    println!("  by runs because {}", why.words());
-    print_ends(args, rb, name, about);
-    println!(
-        "  {}",
-        match (rb.half_dt_holds, rb.half_dt_bracket) {
-            (Some(true), _) =>
-                "at dt/2 the bracket holds (the same verdicts at both ends)".to_string(),
-            (Some(false), Some([l, h])) =>
-                format!("at dt/2 the boundary lies in [{l:.6e}, {h:.6e}]: the interval covers both"),
-            _ => "at dt/2 the boundary lies beyond the range's end: the interval reaches it".into(),
-        }
-    );
-    if rb.undecided > 0 {
-        println!(
-            "  {} of {} runs were undecided by t = {} (neither quiet nor squealing identifiably){}",
-            rb.undecided,
-            rb.runs,
-            rb.horizon,
-            match about.upper_bound {
-                true => ": the lower end of the bracket is one of them",
-                false => "; neither end of the bracket rests on one",
-            }
-        );
-    }
-    if let Some((key, unit, units)) = si {
-        println!(
-            "  in SI units: {key} = {:.4} {units}, interval [{:.4}, {:.4}] {units}",
-            Number(rb.value() * unit),
-            Number(rb.interval[0] * unit),
-            Number(rb.interval[1] * unit)
-        );
-    }
-    Ok(())
 }
 
 /// The runs' boundary as one JSON object.

@@ -207,18 +207,10 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
                 .collect();
             each.join(", ") + ": "
         });
-        writeln!(
-            o,
-            "  {label}undecided {}  steady_slip {}  stick_slip {}  not_computed {}{}",
-            c[0],
-            c[1],
-            c[2],
-            c[3],
-            match c[4] {
-                0 => String::new(),
-                n => format!("  slip_oscillation {n}"),
-            }
-        )?;
+        let slip = (c[4] > 0).then(|| format!("  slip_oscillation {}", c[4]));
+        let [u, st, sk, nc] = [c[0], c[1], c[2], c[3]];
+        let line = format!("undecided {u}  steady_slip {st}  stick_slip {sk}  not_computed {nc}");
+        writeln!(o, "  {label}{line}{}", slip.unwrap_or_default())?;
         if let Some(b) = maps.get(i).map(|m| &m.basin) {
             writeln!(o, "    {}", super::common::basin_words(b))?;
         }

@@ -15,6 +15,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::bail;
+use squeal_scan::driver::drive_prepared;
 use squeal_scan::estimate::{Estimate, seconds_for};
 use squeal_scan::{Pending, Plan};
 use squeal_store::ScanWriter;
@@ -115,13 +116,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let bars = Bars::new(&plan, &pending, pilot.as_ref(), args.run.quiet);
     phases.end("start");
     let started = Instant::now();
-    let prepared = pilot
-        .as_ref()
-        .map(|e| e.prepared.take())
-        .unwrap_or_default();
+    let prepared = pilot.map(|e| e.prepared.take()).unwrap_or_default();
     let run = (&bars as &dyn squeal_scan::Observer, signals.stop());
-    let done = squeal_scan::driver::drive_prepared(&plan, shard, &mut writer, run, prepared)
-        .map_err(drive_error)?;
+    let done = drive_prepared(&plan, shard, &mut writer, run, prepared).map_err(drive_error)?;
     bars.finish();
     let secs = started.elapsed().as_secs_f64();
     phases.end("cells");
