@@ -49,7 +49,7 @@ fn maps_are_stored_over_the_parameters_with_the_cell_schema() {
     }
     assert_eq!(
         str_attr(&h5, Some("map_labels"), "flag_meanings"),
-        "undecided steady_slip stick_slip not_computed"
+        "undecided steady_slip stick_slip slip_oscillation not_computed"
     );
     // Named dimensions: the coordinates are dimension scales, attached in order.
     let f = hdf5::File::open(&h5).unwrap();
