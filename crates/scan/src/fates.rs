@@ -8,9 +8,11 @@
 //! from runs, with no rule about the landscape:
 //!
 //! * [`Fate`]: a run from a start to a horizon `T` either reaches the fixed point
-//!   ([`Fate::Settles`]), or is still oscillating at `T` on an oscillation the classifier's
-//!   band test identified ([`Fate::Lasts`]: "lasts to `T`", the claim a finite run can
-//!   make), or neither ([`Fate::Undecided`]).
+//!   ([`Fate::Settles`]), or ends on an oscillation the classifier's band test identified,
+//!   the squeal ([`Fate::Lasts`]) or the slip oscillation about an unstable steady slip
+//!   ([`Fate::SlipOscillation`]), certified as a periodic orbit (the run then stops) or
+//!   still on it at `T` ("lasts to `T`", the claim a finite run can make), or neither
+//!   ([`Fate::Undecided`]).
 //! * [`Spread`]: the starts a fold is sampled over (rest and twelve starts on four rings
 //!   around the fixed point).
 //! * [`critical`] and [`fold`]: the last change of "the start settles" and "every sampled
@@ -20,7 +22,10 @@
 //!   bracket checked at `dt / 2` and widened to cover the boundary there
 //!   ([`RunBoundary::interval`]).
 //!
-//! An undecided run counts as not settled (squeal is not ruled out), and is counted.
+//! A run ends "quiet" at the fixed point or, where steady slip does not attract, on the slip
+//! oscillation about it ([`Fate::quiet`]): the boundaries are about the squeal. An undecided
+//! run is not quiet (squeal is not ruled out) and is counted; where the bracket's lower end
+//! rests on one, the answer is only an upper bound (`squeal critical` says so).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -197,7 +202,7 @@ pub struct RunBoundary {
     pub interval: [f64; 2],
     /// Runs made, at `dt` and at `dt / 2`.
     pub runs: u64,
-    /// Runs undecided by the horizon (counted as not settled).
+    /// Runs undecided by the horizon (not quiet: squeal is not ruled out).
     pub undecided: u64,
     /// The horizon of every run.
     pub horizon: f64,
