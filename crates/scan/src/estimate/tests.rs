@@ -37,15 +37,24 @@ fn waiting_is_left_out_of_the_core_share() {
         return; // No CPU clock: the share is 1 by definition.
     }
     let wait = Duration::from_millis(300);
-    let left_out = CoreShare::start();
-    left_out.excluding(|| std::thread::sleep(wait));
-    spin(wait);
-    let a = left_out.share();
-    let counted = CoreShare::start();
-    std::thread::sleep(wait);
-    spin(wait);
-    let b = counted.share();
-    assert!(a > 1.5 * b || a <= 0.1, "left out {a}, counted {b}");
+    // On a shared machine the spin's own share moves between the two measurements (a
+    // parallel test starting): up to three pairs, one of which must show the halving.
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        let left_out = CoreShare::start();
+        left_out.excluding(|| std::thread::sleep(wait));
+        spin(wait);
+        let a = left_out.share();
+        let counted = CoreShare::start();
+        std::thread::sleep(wait);
+        spin(wait);
+        let b = counted.share();
+        if a > 1.5 * b || a <= 0.1 {
+            return;
+        }
+        seen.push((a, b));
+    }
+    panic!("left out against counted: {seen:?}");
 }
 
 fn cost(map: usize, prepare: f64, cell: f64, audit: f64) -> MapCost {
