@@ -325,7 +325,7 @@ impl Classifier {
     pub fn watch_with(&self, p: &Params, shortcuts: Shortcuts) -> Watch<'_> {
         let steady = crate::steady::SteadySlip::of(p);
         let fp_repels = !steady.stability.attracts();
-        let turn_settings = self.turn_settings(p);
+        let turn_settings = self.turn_settings_with(!fp_repels);
         Watch {
             cl: self,
             shortcuts,
@@ -354,8 +354,13 @@ impl Classifier {
     /// with the floor at [`SLIP_FLOOR`] `fp_radius` where steady slip does not attract (no run
     /// closes on it, so a small band is an oscillation about it, not a decay).
     pub fn turn_settings(&self, p: &Params) -> TurnSettings {
+        self.turn_settings_with(crate::steady::SteadySlip::of(p).stability.attracts())
+    }
+
+    /// [`Classifier::turn_settings`] where steady slip `attracts` or not.
+    fn turn_settings_with(&self, attracts: bool) -> TurnSettings {
         let mut s = TurnSettings::of(self);
-        if !crate::steady::SteadySlip::of(p).stability.attracts() {
+        if !attracts {
             s.floor = SLIP_FLOOR * self.fp_radius;
         }
         s

@@ -136,6 +136,7 @@ pub fn compute_point(
     warm: Option<f64>,
 ) -> Result<PointResult, ScanError> {
     let mut a = analyse(setup, ps, warm, true)?;
+    let steady = squeal_core::SteadySlip::of(&setup.params);
     let cs = settings_for(&setup.params, &ps.cycle);
     let fp = setup.params.fixed_point();
     let mut res = PointResult {
@@ -150,8 +151,8 @@ pub fn compute_point(
         failures: 0,
         note: None,
         landscape: None,
-        steady_slip: squeal_core::SteadySlip::of(&setup.params).stability as u8,
-        steady_slip_growth: squeal_core::SteadySlip::of(&setup.params).growth,
+        steady_slip: steady.stability as u8,
+        steady_slip_growth: steady.growth,
     };
     if let Some(rep) = &a.cycle {
         let r = rep.r_section;
