@@ -324,8 +324,7 @@ impl Classifier {
     /// [`Classifier::watch`] with the certified `shortcuts`.
     pub fn watch_with(&self, p: &Params, shortcuts: Shortcuts) -> Watch<'_> {
         let steady = crate::steady::SteadySlip::of(p);
-        let fp_repels = !steady.stability.attracts();
-        let turn_settings = self.turn_settings_with(!fp_repels);
+        let turn_settings = self.turn_settings_with(steady.stability.attracts());
         Watch {
             cl: self,
             shortcuts,
@@ -338,7 +337,6 @@ impl Classifier {
             multi_root: 0,
             true_stick: p.law.family().locates_stick(),
             broke_away: false,
-            fp_repels,
             steady,
             crossings: 0,
             last_t: f64::NAN,
@@ -497,11 +495,9 @@ pub struct Watch<'c> {
     true_stick: bool,
     /// The run has broken away from a stick phase.
     broke_away: bool,
-    /// The fixed point does not attract every start near it ([`crate::SteadySlip`]: it
-    /// repels, attracts a sector only, or is marginal), so coming near it decides nothing.
-    fp_repels: bool,
-    /// Steady slip's linearisation: where it attracts a sector only, a run inside that
-    /// sector near the point closes on it ([`crate::SteadySlip::closes_in_sector`]).
+    /// Steady slip's linearisation. Where it does not attract every start near the point
+    /// (it repels, attracts a sector only, or is marginal), coming near it decides nothing,
+    /// except inside the sector it attracts ([`crate::SteadySlip::closes_in_sector`]).
     steady: crate::steady::SteadySlip,
     crossings: u32,
     last_t: f64,
@@ -527,7 +523,7 @@ impl Watch<'_> {
         }
         let (dx, dv) = (n.x - self.fp.x, n.v - self.fp.v);
         if dx * dx + dv * dv < self.fp_r2
-            && (!self.fp_repels || self.steady.closes_in_sector(dx, dv, n.a))
+            && (self.steady.stability.attracts() || self.steady.closes_in_sector(dx, dv, n.a))
         {
             return Some((Regime::SteadySlip, Reason::NearFixedPoint));
         }
@@ -555,7 +551,9 @@ impl Watch<'_> {
         // A lasting oscillation off the section: its turns' band, none crossing.
         if self.turns.observe_step(run, step).is_some() {
             self.lasting = self.turns.lasting();
-            if self.fp_repels && self.lasting.is_some_and(|l| !l.stuck && !l.reversed) {
+            if !self.steady.stability.attracts()
+                && self.lasting.is_some_and(|l| !l.stuck && !l.reversed)
+            {
                 return Some((Regime::SlipOscillation, Reason::SlipOscillation));
             }
             if self.lasting.is_some_and(|l| l.misses_section()) {
@@ -623,7 +621,10 @@ impl Watch<'_> {
         if self.ring.len() == window && self.cl.band_rules {
             let ring = self.ring.make_contiguous();
             let stuck = self.stuck.iter().any(|&s| s);
-            if self.fp_repels && !stuck && narrow_band(ring, self.cl.settle_rtol, 0.0) {
+            if !self.steady.stability.attracts()
+                && !stuck
+                && narrow_band(ring, self.cl.settle_rtol, 0.0)
+            {
                 return Some((Regime::SlipOscillation, Reason::SlipOscillation));
             }
             if self.cl.settled(ring) {

@@ -266,7 +266,7 @@ pub fn take(
             let (own, end) = plain_run((stepper, certificates), &plain, ic);
             // Quiet: the fixed point, or the slip oscillation about a steady slip that does
             // not attract; either refutes a stick-slip label.
-            let at_fp = matches!(own.regime, Regime::SteadySlip | Regime::SlipOscillation);
+            let quiet = matches!(own.regime, Regime::SteadySlip | Regime::SlipOscillation);
             let refuted = |rules| Withdrawal {
                 rules,
                 start: ic,
@@ -274,7 +274,7 @@ pub fn take(
                 t: own.t_decision,
             };
             let mut w = Vec::new();
-            if at_fp {
+            if quiet {
                 // The label every path gives the start, and the run's own verdict with the
                 // band rules alone (no trap, no shortcut): each rule that said stick-slip is
                 // refuted by this run.
@@ -293,7 +293,7 @@ pub fn take(
                 }
             }
             let left = locator.as_ref().is_some_and(|c| !c.encloses(end));
-            if side == Side::Inside && !at_fp && own.reason == Reason::TimeLimit && left {
+            if side == Side::Inside && !quiet && own.reason == Reason::TimeLimit && left {
                 w.push(refuted(Rules::Inside));
             }
             w
