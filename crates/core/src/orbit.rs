@@ -20,10 +20,33 @@
 //! between the steps). Each of the six runs must restart on the run's own root: the
 //! acceleration at its start equals the run's at the maximum (else the force has several
 //! roots there and `(x, 0)` is not the whole state): the certificate is refused.
+//!
+//! **A band of the turn map** ([`certify_band`]). Where a run sticks (or nearly sticks, as
+//! under McMillan's laws), the stick phase forgets where the turn began: the exact turn map
+//! is nearly flat, and what the step adds is a sawtooth of the stick's phase against the
+//! step grid (at Fig. 9, maxima scattered over 0.02 around 4.07, with excursions to 4.43,
+//! at dt = 0.005). Such maxima never converge, and three samples are in no order; yet they
+//! stay in a band, which is what "it lasts" needs. The band certificate takes the hull
+//! `[lo, hi]` of the run's last [`WINDOW`] maxima, stationary (the later half inside the
+//! earlier half's hull widened by half its width), and starts from `J = [lo - w, hi + w]`
+//! (`w` its width). It runs one turn from each of [`BAND_SAMPLES`] evenly spaced points of
+//! `J`, each with one root of the force at its start (so `(x, 0)` is the whole state), at
+//! `dt` and at `dt / 2`. The premise, sampled: between two samples the map strays beyond
+//! their images by no more than `e`, the larger of the run's own scatter `w` and the largest
+//! deviation of an image from the chord of its neighbours' images (a smooth part bends by
+//! less than that, and the step's sawtooth is what the deviations measure). So the images'
+//! hull widened by `e`, inside `J` by the margin at both steps, means `J` is mapped into
+//! itself: the run, whose maxima lie in `J`, never leaves it. Where it does not fit, the side
+//! that failed grows past the images by half `J`'s width, [`BAND_GROWTHS`] intervals at
+//! most. `J` must lie above the caller's floor ([`band_floor`]: the fixed point's radius
+//! where steady slip attracts), so the band is no spiral onto it. An oscillation whose band
+//! is certified lasts for good; its period and shape come from the run's own turns, its
+//! "multiplier" is the secant slope over `J`. Checked against the run itself in
+//! crates/core/tests/model/orbit.rs (every maximum to t = 5000 inside `J`, at two steps).
 
 use serde::Serialize;
 
-use crate::run::Run;
+use crate::run::{Run, Step};
 use crate::section::{hermite, hermite_root};
 use crate::solver::SolverStats;
 use crate::state::Sample;
@@ -81,17 +104,53 @@ fn turn_of(run: &mut Run, t_max: f64) -> Option<(f64, f64, f64)> {
     None
 }
 
-/// A certified attracting periodic orbit, by its turn map.
+/// What a certificate proved about the turn map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OrbitKind {
+    /// The maxima converged and an interval around them is mapped into itself, monotone:
+    /// an attracting periodic orbit ([`certify`]).
+    Periodic,
+    /// The maxima stay scattered (the step's sawtooth on a sticking loop, or an irregular
+    /// motion) inside an interval mapped into itself ([`certify_band`]): an attracting band
+    /// of the turn map, which the run never leaves.
+    Band,
+}
+
+/// A certified attractor of the turn map: a periodic orbit, or a band of maxima.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Orbit {
+    /// Which certificate holds.
+    pub kind: OrbitKind,
     /// The maximum of `x` the certificate is centred on.
     pub x_max: f64,
     /// The half-width `d` of the interval mapped into itself.
     pub half_width: f64,
     /// The period of one turn (nondimensional).
     pub period: f64,
-    /// The Floquet multiplier `T'` at `dt`, and at `dt / 2`.
+    /// The Floquet multiplier `T'` at `dt`, and at `dt / 2` (for a band: the secant slope
+    /// of `T` over the interval).
     pub multiplier: [f64; 2],
+    /// The width of the sampled images of the interval at `dt` and at `dt / 2`: how far the
+    /// maxima scatter (0 for a periodic orbit, where it is not measured).
+    pub spread: [f64; 2],
+}
+
+impl Orbit {
+    /// Words for reports.
+    pub fn words(&self) -> String {
+        match self.kind {
+            OrbitKind::Periodic => format!(
+                "certified as a periodic orbit (multiplier {:.4})",
+                self.multiplier[0]
+            ),
+            OrbitKind::Band => format!(
+                "certified as a band of its maxima (x_max in {:.6} +- {:.2e}, scattered over \
+                 {:.2e} at dt and {:.2e} at dt/2)",
+                self.x_max, self.half_width, self.spread[0], self.spread[1]
+            ),
+        }
+    }
 }
 
 /// Certifies the orbit through the maximum `(c, 0)`, where the run had force `a`,
@@ -137,10 +196,12 @@ fn certify_counted(
     }
     let (d, multiplier) = found?;
     Some(Orbit {
+        kind: OrbitKind::Periodic,
         x_max: c,
         half_width: d,
         period,
         multiplier,
+        spread: [0.0; 2],
     })
 }
 
@@ -164,4 +225,248 @@ fn maps_into_itself(
         multiplier[k] = (hi - lo) / (2.0 * d);
     }
     Some(Some(multiplier))
+}
+
+/// Points of `J` a band certificate runs a turn from, at each step.
+pub const BAND_SAMPLES: usize = 9;
+
+/// Maxima of `x` a [`OrbitWatch`] keeps: the band certificate's window.
+pub const WINDOW: usize = 16;
+
+/// Certificates a [`OrbitWatch`] tries, at most, before the run is left to its horizon.
+pub const TRIES: u32 = 8;
+
+/// How close two successive maxima of `x` must be (relative) before the periodic
+/// certificate is tried.
+pub const CONVERGED: f64 = 1e-6;
+
+/// Intervals a band certificate tries, at most, each grown from the last one's images.
+pub const BAND_GROWTHS: usize = 8;
+
+/// Certifies the band of maxima `[lo, hi]` (a run's stationary window, see the module's
+/// argument) with `steppers` at `dt` and `dt / 2`, each turn run to at most `t_turn`; `J`
+/// must lie above `above`. `J` starts as the window widened by its width at both ends; where
+/// its images do not fit, it grows to hold them (with their jumps and the margin), at most
+/// [`BAND_GROWTHS`] intervals in all. Returns the band (`None`: not certified) and the
+/// solver's counts over its turns.
+pub fn certify_band(
+    steppers: (&Stepper, &Stepper),
+    (lo, hi): (f64, f64),
+    above: f64,
+    t_turn: f64,
+) -> (Option<Orbit>, SolverStats) {
+    let mut stats = SolverStats::default();
+    let w = (hi - lo).max(1e-9 * (1.0 + hi.abs()));
+    let (mut a, mut b) = (lo - w, hi + w);
+    let scatter = w;
+    for _ in 0..BAND_GROWTHS {
+        if a <= above {
+            break;
+        }
+        let Some(images) = band_images(steppers, (a, b), t_turn, &mut stats) else {
+            break;
+        };
+        let m = MARGIN * 0.5 * (b - a);
+
+        let e = images.jump.max(scatter);
+        let (ylo, yhi) = (images.lo - e, images.hi + e);
+        if ylo >= a + m && yhi <= b - m {
+            let orbit = Orbit {
+                kind: OrbitKind::Band,
+                x_max: 0.5 * (a + b),
+                half_width: 0.5 * (b - a),
+                period: images.period,
+                multiplier: images.slope,
+                spread: images.spread,
+            };
+            return (Some(orbit), stats);
+        }
+        // Grow each side that does not hold the images with their excursions, past them by
+        // half the width (room for the margin, and for images that grow with the interval).
+        let grow = (b - a) / 2.0;
+        if ylo < a + m {
+            a = ylo - grow;
+        }
+        if yhi > b - m {
+            b = yhi + grow;
+        }
+    }
+    (None, stats)
+}
+
+/// The images of [`BAND_SAMPLES`] evenly spaced points of `[a, b]` by one turn at `dt` and
+/// at `dt / 2`.
+struct Images {
+    /// Their hull over both steps.
+    lo: f64,
+    hi: f64,
+    /// The largest deviation of an image from the chord of its neighbours' images, over
+    /// both steps.
+    jump: f64,
+    /// The secant slope over `[a, b]` at each step.
+    slope: [f64; 2],
+    /// The width of the images at each step.
+    spread: [f64; 2],
+    /// The mean period of the turns at `dt`.
+    period: f64,
+}
+
+/// [`Images`] of `[a, b]` (`None`: a turn failed, or started where the force has several
+/// roots).
+fn band_images(
+    (dt, half): (&Stepper, &Stepper),
+    (a, b): (f64, f64),
+    t_turn: f64,
+    stats: &mut SolverStats,
+) -> Option<Images> {
+    let mut out = Images {
+        lo: f64::INFINITY,
+        hi: f64::NEG_INFINITY,
+        jump: 0.0,
+        slope: [0.0; 2],
+        spread: [0.0; 2],
+        period: 0.0,
+    };
+    for (k, st) in [dt, half].into_iter().enumerate() {
+        let mut images = [0.0; BAND_SAMPLES];
+        for (i, y) in images.iter_mut().enumerate() {
+            let x = a + (b - a) * i as f64 / (BAND_SAMPLES - 1) as f64;
+            let mut run = Run::new(st, State { x, v: 0.0 });
+            let one_root = run.stats().multi_root == 0;
+            let turned = turn_of(&mut run, t_turn);
+            stats.merge(run.stats());
+            let (xm, t, _) = turned.filter(|_| one_root)?;
+            *y = xm;
+            if k == 0 {
+                out.period += t / BAND_SAMPLES as f64;
+            }
+        }
+        // The largest deviation of an image from the chord of its neighbours' images: the
+        // step's sawtooth (or a bend of the map) at the samples' spacing.
+        let jump = images
+            .windows(3)
+            .map(|p| (p[1] - 0.5 * (p[0] + p[2])).abs())
+            .fold(0.0, f64::max);
+        let (ylo, yhi) = images
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &y| {
+                (l.min(y), h.max(y))
+            });
+        out.lo = out.lo.min(ylo);
+        out.hi = out.hi.max(yhi);
+        out.jump = out.jump.max(jump);
+        out.slope[k] = (images[BAND_SAMPLES - 1] - images[0]) / (b - a);
+        out.spread[k] = yhi - ylo;
+    }
+    Some(out)
+}
+
+/// The least `x` a band certificate's interval may reach for a model with parameters `p`
+/// whose fixed point's radius is `fp_radius`: above that radius where steady slip attracts
+/// (a spiral onto it is no band), above the fixed point's `x` where it does not (the slip
+/// oscillation about it may be smaller than the radius).
+pub fn band_floor(p: &crate::Params, fp_radius: f64) -> f64 {
+    let x = p.fixed_point().x;
+    match crate::SteadySlip::of(p).stability.attracts() {
+        true => x + fp_radius,
+        false => x,
+    }
+}
+
+/// Watches a run's maxima of `x` for an attractor it can certify ([`certify`] where
+/// successive maxima converge, [`certify_band`] where a stationary window of them does
+/// not): at most [`TRIES`] certificates, the band's only once a fresh window has passed
+/// since the last try. Maxima where the step saw several roots of the force restart the
+/// window (their `(x, 0)` is not the whole state).
+#[derive(Debug)]
+pub struct OrbitWatch<'s> {
+    half: &'s Stepper,
+    above: f64,
+    maxima: std::collections::VecDeque<(f64, f64)>,
+    fresh: usize,
+    tries: u32,
+    multi_root: u64,
+    stats: SolverStats,
+}
+
+impl<'s> OrbitWatch<'s> {
+    /// A watch that certifies with `half` (the stepper at `dt / 2`) bands above `above`.
+    pub fn new(half: &'s Stepper, above: f64) -> OrbitWatch<'s> {
+        OrbitWatch {
+            half,
+            above,
+            maxima: std::collections::VecDeque::with_capacity(WINDOW),
+            fresh: 0,
+            tries: 0,
+            multi_root: 0,
+            stats: SolverStats::default(),
+        }
+    }
+
+    /// Observes a step of `run`; the certified attractor once a certificate holds. `try_now`
+    /// false records the maximum without trying (the caller's own premise not yet met).
+    pub fn observe(&mut self, run: &Run, step: &Step, try_now: bool) -> Option<Orbit> {
+        let multi_root = run.stats().multi_root;
+        let one_root = multi_root == self.multi_root;
+        self.multi_root = multi_root;
+        let (t, x, a) = maximum(&step.prev, &step.next)?;
+        if !one_root {
+            self.maxima.clear();
+            self.fresh = 0;
+            return None;
+        }
+        let last = self.maxima.back().map_or(f64::NAN, |m| m.1);
+        let t_turn = 4.0 * self.maxima.back().map_or(f64::NAN, |m| t - m.0);
+        if self.maxima.len() == WINDOW {
+            self.maxima.pop_front();
+        }
+        self.maxima.push_back((t, x));
+        self.fresh += 1;
+        if !try_now || self.tries >= TRIES || !t_turn.is_finite() {
+            return None;
+        }
+        let steppers = (run.stepper(), self.half);
+        if (x - last).abs() <= CONVERGED * (1.0 + x.abs()) {
+            self.tries += 1;
+            let (orbit, stats) = certify(steppers, (x, a, last), t_turn);
+            self.stats.merge(&stats);
+            return orbit;
+        }
+        let (lo, hi) = self.stationary()?;
+        self.tries += 1;
+        self.fresh = 0;
+        let t_turn = 4.0
+            * self
+                .maxima
+                .iter()
+                .zip(self.maxima.iter().skip(1))
+                .map(|(a, b)| b.0 - a.0)
+                .fold(0.0, f64::max);
+        let (orbit, stats) = certify_band(steppers, (lo, hi), self.above, t_turn);
+
+        self.stats.merge(&stats);
+        orbit
+    }
+
+    /// The hull of the window where it is full, fresh since the last try and stationary.
+    fn stationary(&self) -> Option<(f64, f64)> {
+        if self.maxima.len() < WINDOW || self.fresh < WINDOW {
+            return None;
+        }
+        let hull = |it: &mut dyn Iterator<Item = f64>| {
+            it.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+                (a.min(y), b.max(y))
+            })
+        };
+        let h = WINDOW / 2;
+        let (a0, a1) = hull(&mut self.maxima.iter().take(h).map(|m| m.1));
+        let (b0, b1) = hull(&mut self.maxima.iter().skip(h).map(|m| m.1));
+        let slack = 0.5 * (a1 - a0);
+        (b0 >= a0 - slack && b1 <= a1 + slack).then_some((a0.min(b0), a1.max(b1)))
+    }
+
+    /// The solver's counts over the certificates' turns.
+    pub fn stats(&self) -> &SolverStats {
+        &self.stats
+    }
 }

@@ -124,11 +124,16 @@ pub enum Reason {
     /// squeals for good. A certificate of the attractor, used by the runs that check the
     /// rules (the census, the audit).
     InTrappedBand = 22,
+    /// The run's maxima of `x` settled on an attractor of its turn map that the orbit
+    /// certificate holds at `dt` and `dt / 2` (an attracting periodic orbit, or a band of
+    /// maxima mapped into itself: [`crate::orbit`], MODEL.md section 10): it lasts for good.
+    /// Used by the runs that check the rules (the census, the audit).
+    OnCertifiedOrbit = 23,
 }
 
 impl Reason {
     /// All reasons, in value order.
-    pub const ALL: [Reason; 23] = [
+    pub const ALL: [Reason; 24] = [
         Reason::TimeLimit,
         Reason::NearFixedPoint,
         Reason::InsideCycle,
@@ -152,6 +157,7 @@ impl Reason {
         Reason::LastingOscillation,
         Reason::SlipOscillation,
         Reason::InTrappedBand,
+        Reason::OnCertifiedOrbit,
     ];
 
     /// The reason's name in files and output.
@@ -180,6 +186,7 @@ impl Reason {
             Reason::LastingOscillation => "lasting_oscillation",
             Reason::SlipOscillation => "slip_oscillation",
             Reason::InTrappedBand => "in_trapped_band",
+            Reason::OnCertifiedOrbit => "on_certified_orbit",
         }
     }
 }

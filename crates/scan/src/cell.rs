@@ -194,6 +194,7 @@ pub const REASON_FLAGS: &[(u8, &str)] = &[
     (20, "lasting_oscillation"),
     (21, "slip_oscillation"),
     (22, "in_trapped_band"),
+    (23, "on_certified_orbit"),
     (NOT_COMPUTED, "not_computed"),
 ];
 

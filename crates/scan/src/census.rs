@@ -14,12 +14,16 @@
 //! rest, the corners and edge midpoints of the grid, a ring just outside the located cycle
 //! and a few starts inside it) to the horizon [`Census::horizon`] (the classifier's
 //! `t_max`: what a run of the scan itself may take) with no rule at all: a run is at the
-//! fixed point when it comes within `fp_radius` of it, else still moving at the horizon.
+//! fixed point when it comes within `fp_radius` of it or enters its certified region, on a
+//! lasting oscillation when its own maxima settle on an attractor of the turn map that the
+//! orbit certificates hold ([`squeal_core::orbit`], [`Reason::OnCertifiedOrbit`]), else
+//! still moving at the horizon.
 //! A group of rules is withdrawn ([`Withdrawn`]) where a run contradicts its premise:
 //! * the outside rules (`start_outside_cycle`, `outside_cycle`), where a start outside the
 //!   cycle reaches the fixed point;
 //! * the inside rules (`start_inside_cycle`, `inside_cycle`), where a start inside the cycle
-//!   has not reached the fixed point by the horizon and lies outside the cycle there;
+//!   has not reached the fixed point by the horizon and lies outside the cycle there, or is
+//!   certified on a lasting oscillation;
 //! * the rule that labelled a start stick-slip (as every path labels it, or by the band
 //!   rules alone) where that start's run reaches the fixed point.
 //!
@@ -29,7 +33,11 @@
 
 use rayon::prelude::*;
 use serde::Serialize;
-use squeal_core::{Classifier, Outcome, Reason, Regime, Run, Shortcuts, State, Stepper};
+use squeal_core::orbit::{self, OrbitWatch};
+use squeal_core::{
+    Classifier, Lasting, Outcome, Reason, Regime, Run, Shortcuts, State, SteadySlip, Stepper,
+    TurnWatch,
+};
 
 use crate::curve::{ClosedCurve, CurveLocator};
 use crate::spec::Plan;
@@ -218,26 +226,49 @@ fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> V
 /// The run from `ic` with `plain` (no trap, no band rules) and the attractors'
 /// `certificates` (the fixed point's region, the trapped band) to its `t_max`: its outcome
 /// (steady slip where it reached the fixed point or its region, stick-slip where it entered
-/// the trapped band) and its last state.
+/// the trapped band, stick-slip or the slip oscillation where its own turns settled on an
+/// attractor the orbit certificate holds at `dt` and `dt / 2` with `half`:
+/// [`Reason::OnCertifiedOrbit`]; none where `half` is `None`) and its last state.
 fn plain_run(
-    (stepper, certificates): (&Stepper, Shortcuts),
+    (stepper, half, certificates): (&Stepper, Option<&Stepper>, Shortcuts),
     plain: &Classifier,
     ic: State,
 ) -> (Outcome, State) {
+    let p = stepper.params();
+    let attracts = SteadySlip::of(p).stability.attracts();
     let mut run = Run::new(stepper, ic);
-    let mut watch = plain.watch_with(stepper.params(), certificates);
+    let mut watch = plain.watch_with(p, certificates);
+    let mut turns = TurnWatch::new(p, plain.turn_settings(p));
+    let mut orbits = half.map(|h| OrbitWatch::new(h, orbit::band_floor(p, plain.fp_radius)));
+    let mut lasting = None;
+    let end = |run: &Run| State {
+        x: run.sample().x,
+        v: run.sample().v,
+    };
     for _ in 0..run.steps_to(plain.t_max) {
         let step = run.step();
         if let Some(decision) = watch.observe(&run, &step) {
-            let s = run.sample();
-            return (watch.finish(decision, &run), State { x: s.x, v: s.v });
+            return (watch.finish(decision, &run), end(&run));
+        }
+        if turns.observe_step(&run, &step).is_some() {
+            lasting = turns.lasting();
+        }
+        // Certificates are tried once the turns pass a band test (a lasting oscillation).
+        if let Some(w) = orbits.as_mut()
+            && w.observe(&run, &step, lasting.is_some()).is_some()
+        {
+            let sticks = lasting.is_none_or(|l: Lasting| l.sticks());
+            let regime = match attracts || sticks {
+                true => Regime::StickSlip,
+                false => Regime::SlipOscillation,
+            };
+            let own = watch.finish((regime, Reason::OnCertifiedOrbit), &run);
+            return (own, end(&run));
         }
     }
-    let s = run.sample();
-    let end = State { x: s.x, v: s.v };
     (
         watch.finish((Regime::Undecided, Reason::TimeLimit), &run),
-        end,
+        end(&run),
     )
 }
 
@@ -260,10 +291,12 @@ pub fn take(
     };
     let locator = curve.map(|c| CurveLocator::new(c.clone()));
     let starts = starts(plan, fp, reach, locator.as_ref());
+    let half = Stepper::new(*stepper.params(), stepper.dt() / 2.0, *stepper.solver())
+        .expect("half a valid step is valid");
     let found: Vec<Vec<Withdrawal>> = starts
         .par_iter()
         .map(|&(ic, side)| {
-            let (own, end) = plain_run((stepper, certificates), &plain, ic);
+            let (own, end) = plain_run((stepper, Some(&half), certificates), &plain, ic);
             // Quiet: the fixed point, or the slip oscillation about a steady slip that does
             // not attract; either refutes a stick-slip label.
             let quiet = matches!(own.regime, Regime::SteadySlip | Regime::SlipOscillation);
@@ -293,7 +326,11 @@ pub fn take(
                 }
             }
             let left = locator.as_ref().is_some_and(|c| !c.encloses(end));
-            if side == Side::Inside && !quiet && own.reason == Reason::TimeLimit && left {
+            // Inside the cycle: a run still moving outside it at the horizon, or certified on
+            // a lasting oscillation, refutes the inside rules.
+            let lasts = own.reason == Reason::OnCertifiedOrbit;
+            if side == Side::Inside && !quiet && (own.reason == Reason::TimeLimit && left || lasts)
+            {
                 w.push(refuted(Rules::Inside));
             }
             w
@@ -360,7 +397,7 @@ path = "t.h5"
         };
         for (x, v) in [(0.0, 0.0), (2.0, 0.5), (-1.0, -0.5), (2.0, -0.5)] {
             let ic = State { x, v };
-            let (truth, _) = plain_run((&ctx.stepper, Shortcuts::NONE), &plain, ic);
+            let (truth, _) = plain_run((&ctx.stepper, None, Shortcuts::NONE), &plain, ic);
             assert_eq!(truth.regime, Regime::SlipOscillation, "{ic:?}: {truth:?}");
             let label = ctx.classify(ic);
             assert_eq!(label.regime, truth.regime, "{ic:?}: {label:?}");

@@ -47,7 +47,7 @@ use crate::section::ParamRange;
 pub const HORIZON: f64 = 20_000.0;
 
 mod run;
-pub use run::{CERTIFY_TRIES, Fate, fate};
+pub use run::{Fate, fate};
 
 /// The starts a fold is sampled over: rest, and twelve starts on four rings around the
 /// fixed point, of radii `s/2, s, 2 s, 4 s` with `s = max(lambda, 1/4)` (the belt speed

@@ -84,6 +84,8 @@ pub(crate) enum ReasonH5 {
     SlipOscillation = 21,
     #[hdf5(rename = "in_trapped_band")]
     InTrappedBand = 22,
+    #[hdf5(rename = "on_certified_orbit")]
+    OnCertifiedOrbit = 23,
     #[hdf5(rename = "not_computed")]
     NotComputed = 255,
 }
@@ -114,6 +116,7 @@ impl ReasonH5 {
             20 => ReasonH5::LastingOscillation,
             21 => ReasonH5::SlipOscillation,
             22 => ReasonH5::InTrappedBand,
+            23 => ReasonH5::OnCertifiedOrbit,
             255 => ReasonH5::NotComputed,
             _ => return None,
         })

@@ -4,6 +4,7 @@
 mod common;
 mod cubic;
 mod lasting;
+mod orbit;
 mod paper;
 mod solver;
 mod steady;

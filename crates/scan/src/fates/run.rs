@@ -4,7 +4,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use squeal_core::orbit::{self, Orbit};
+use squeal_core::orbit::{self, Orbit, OrbitWatch};
 use squeal_core::{
     Classifier, Lasting, Outcome, Regime, Run, Setup, SolverStats, State, SteadySlip, TurnWatch,
 };
@@ -78,9 +78,8 @@ impl Fate {
                 certified: Some(o),
                 ..
             } => format!(
-                "on a lasting oscillation from t = {t:.1}, certified as a periodic orbit \
-                 (multiplier {:.4}): it lasts for good",
-                o.multiplier[0]
+                "on a lasting oscillation from t = {t:.1}, {}: it lasts for good",
+                o.words()
             ),
             Fate::Lasts { t, .. } => format!(
                 "on a lasting oscillation from t = {t:.1} to the horizon {horizon} (no period \
@@ -92,8 +91,8 @@ impl Fate {
                 ..
             } => format!(
                 "on the small slip oscillation about the unstable steady slip from t = {t:.1}, \
-                 certified as a periodic orbit (multiplier {:.4}; never sticks)",
-                o.multiplier[0]
+                 {} (never sticks)",
+                o.words()
             ),
             Fate::SlipOscillation { t, .. } => format!(
                 "on the small slip oscillation about the unstable steady slip from t = {t:.1} to \
@@ -104,13 +103,6 @@ impl Fate {
         }
     }
 }
-
-/// Attempts at certifying a run's oscillation as a periodic orbit
-/// ([`squeal_core::orbit::certify`]), at most, before it is left to run to the horizon.
-pub const CERTIFY_TRIES: u32 = 8;
-
-/// How close two successive maxima of `x` must be (relative) before a certificate is tried.
-const CONVERGED: f64 = 1e-6;
 
 /// The fate of the run from `start` with `setup` by `horizon`, and the solver's counts;
 /// `stop` raised stops the run ([`Fate::Stopped`]). The run ends early where it reaches the
@@ -130,9 +122,9 @@ pub fn fate(
     let (mut own_w, mut rest_w) = (own_cl.watch(&p), rest_cl.watch(&p));
     let mut turns = TurnWatch::new(&p, own_cl.turn_settings(&p));
     let attracts = SteadySlip::of(&p).stability.attracts();
+    let mut orbits = OrbitWatch::new(&half, orbit::band_floor(&p, own_cl.fp_radius));
     let mut run = Run::new(&st, start);
     let (mut own, mut lasting): (Option<Outcome>, Option<Lasting>) = (None, None);
-    let (mut last_max, mut tries, mut extra) = (f64::NAN, 0, SolverStats::default());
     let lasting_fate =
         |own: &Outcome, lasting, certified| lasting_fate(own, (lasting, certified), attracts);
     for k in 1..=run.steps_to(horizon) {
@@ -142,23 +134,17 @@ pub fn fate(
         }
         if let Some((Regime::SteadySlip, _)) = rest_w.observe(&run, &step) {
             let t = run.sample().t;
-            return Ok((Fate::Settles { t }, merged(run.stats(), &extra)));
+            return Ok((Fate::Settles { t }, merged(run.stats(), orbits.stats())));
         }
         if turns.observe_step(&run, &step).is_some() {
             lasting = turns.lasting();
         }
-        if let Some((_, x, a)) = orbit::maximum(&step.prev, &step.next) {
-            let converged = (x - last_max).abs() <= CONVERGED * (1.0 + x.abs());
-            if let (Some(o), Some(l), true) = (&own, lasting, converged && tries < CERTIFY_TRIES) {
-                tries += 1;
-                let t_turn = 4.0 * l.period[1];
-                let (orbit, stats) = orbit::certify((&st, &half), (x, a, last_max), t_turn);
-                extra.merge(&stats);
-                if let Some(f) = orbit.and_then(|orb| lasting_fate(o, Some(l), Some(orb))) {
-                    return Ok((f, merged(run.stats(), &extra)));
-                }
-            }
-            last_max = x;
+        // A certificate is tried once the run's own watch has identified an oscillation.
+        let ready = own.is_some() && lasting.is_some();
+        if let Some(orb) = orbits.observe(&run, &step, ready)
+            && let Some(f) = own.and_then(|o| lasting_fate(&o, lasting, Some(orb)))
+        {
+            return Ok((f, merged(run.stats(), orbits.stats())));
         }
         if !step.next.x.is_finite() || run.failed() {
             break;
@@ -168,13 +154,13 @@ pub fn fate(
                 true => Fate::Stopped,
                 false => Fate::Undecided,
             };
-            return Ok((f, merged(run.stats(), &extra)));
+            return Ok((f, merged(run.stats(), orbits.stats())));
         }
     }
     let f = own
         .and_then(|o| lasting_fate(&o, lasting, None))
         .unwrap_or(Fate::Undecided);
-    Ok((f, merged(run.stats(), &extra)))
+    Ok((f, merged(run.stats(), orbits.stats())))
 }
 
 /// The fate of a run whose own watch decided `own` and whose last window of turns is
