@@ -144,6 +144,11 @@ pub struct Census {
     pub runs: usize,
     /// Their horizon (the classifier's `t_max`).
     pub horizon: f64,
+    /// Runs that ended on an attractor their own maxima certified
+    /// ([`Reason::OnCertifiedOrbit`]) before the horizon.
+    pub certified: usize,
+    /// Runs that reached the horizon still moving (no certificate held).
+    pub at_horizon: usize,
     /// The groups withdrawn, each with its first refuting run (in start order).
     pub withdrawn: Vec<Withdrawal>,
 }
@@ -293,7 +298,7 @@ pub fn take(
     let starts = starts(plan, fp, reach, locator.as_ref());
     let half = Stepper::new(*stepper.params(), stepper.dt() / 2.0, *stepper.solver())
         .expect("half a valid step is valid");
-    let found: Vec<Vec<Withdrawal>> = starts
+    let found: Vec<(Vec<Withdrawal>, Reason)> = starts
         .par_iter()
         .map(|&(ic, side)| {
             let (own, end) = plain_run((stepper, Some(&half), certificates), &plain, ic);
@@ -333,11 +338,13 @@ pub fn take(
             {
                 w.push(refuted(Rules::Inside));
             }
-            w
+            (w, own.reason)
         })
         .collect();
+    let count = |r: Reason| found.iter().filter(|f| f.1 == r).count();
+    let (certified, at_horizon) = (count(Reason::OnCertifiedOrbit), count(Reason::TimeLimit));
     let mut withdrawn: Vec<Withdrawal> = Vec::new();
-    for w in found.into_iter().flatten() {
+    for w in found.into_iter().flat_map(|f| f.0) {
         if !withdrawn.iter().any(|x| x.rules == w.rules) {
             withdrawn.push(w);
         }
@@ -345,6 +352,8 @@ pub fn take(
     Census {
         runs: starts.len(),
         horizon: plain.t_max,
+        certified,
+        at_horizon,
         withdrawn,
     }
 }
@@ -406,5 +415,42 @@ path = "t.h5"
             ctx.start_rule.is_none() && ctx.classifier.trap.is_none(),
             "{ctx:?}"
         );
+    }
+
+    /// Fig. 9 (the main job's map, its grid's box): every run of the census that does not
+    /// enter the fixed point's region ends on a certified attractor of its own turn map
+    /// before t_max = 5000 (the stick-slip band, whose maxima never converge: section 10's
+    /// band certificate), and no rule is withdrawn. Before the band certificate, the 13 starts
+    /// outside the cycle all ran to t_max (measured: 13 at the horizon, 0 certified). Each
+    /// certificate is checked against its own run in crates/core/tests/model/orbit.rs.
+    #[test]
+    fn fig9_census_runs_end_on_certified_attractors_not_at_the_horizon() {
+        let plan = Plan::from_toml(
+            r#"version = 1
+[model]
+law = "mcmillan"
+nu = 1e-3
+lambda = 3.0
+[grid]
+x0 = { min = -3.0, max = 5.0, count = 4 }
+v0 = { min = -4.0, max = 4.0, count = 4 }
+[classifier]
+t_max = 5000.0
+early_stop = "cycle"
+[cycle]
+locate = true
+[output]
+path = "t.h5"
+"#,
+            "t.toml",
+        )
+        .unwrap();
+        let ctx = MapContext::prepare(&plan, 0).unwrap();
+        let census = ctx.census.expect("McMillan's law takes a census");
+        assert_eq!(census.runs, MAX_STARTS, "{census:?}");
+        assert_eq!(census.at_horizon, 0, "{census:?}");
+        // 1 at rest, 8 on the box, 4 on the ring outside the cycle; the 3 inside settle.
+        assert_eq!(census.certified, 13, "{census:?}");
+        assert!(census.withdrawn.is_empty(), "{census:?}");
     }
 }
