@@ -542,6 +542,28 @@ impl Why {
     }
 }
 
+/// Why the runs at a shortcut's answer did not confirm it (the answer stands, unconfirmed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Unconfirmed {
+    /// A start above the answer neither reached the fixed point nor was certified on an
+    /// oscillation by the horizon (irregular motion, or a transient longer than it).
+    UndecidedAbove,
+    /// Every start below the answer settles: the squeal the shortcut found there (a fold's
+    /// band) lies where none of the starts goes.
+    SettlesBelow,
+}
+
+impl Unconfirmed {
+    /// The name in notes and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Unconfirmed::UndecidedAbove => "undecided_above",
+            Unconfirmed::SettlesBelow => "settles_below",
+        }
+    }
+}
+
 /// What the runs at a shortcut's answer said.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Confirmation {
@@ -550,6 +572,8 @@ pub struct Confirmation {
     /// Whether the runs confirmed it: below it a start lasts, above it every start settles
     /// (`false` with no contradiction: a run was undecided by the horizon).
     pub confirmed: bool,
+    /// Why not, where they did not (and no run refuted it).
+    pub unconfirmed: Option<Unconfirmed>,
     /// The runs in words.
     pub line: String,
     /// The runs below the answer and above it.
@@ -606,6 +630,15 @@ pub fn confirm(
             _ => None,
         })
         .fold(0.0, f64::max);
+    let confirmed = below.first_lasting().is_some() && above.all_settle();
+    // Unconfirmed and not refuted: a start above was undecided, or every start below
+    // settled (a start lasting above refutes the answer).
+    let unconfirmed = match (confirmed || refuted.is_some(), above.first_unsettled()) {
+        (true, _) => None,
+        (false, Some(_)) => Some(Unconfirmed::UndecidedAbove),
+        (false, None) => Some(Unconfirmed::SettlesBelow),
+    };
+    let named = unconfirmed.map_or(String::new(), |u| format!(" ({})", u.name()));
     let line = match (below.first_unsettled(), above.first_unsettled()) {
         (Some((i, f)), None) => format!(
             "confirmed by runs: at {k} = {lo:.6e} the run from {} {}; at {hi:.6e} every start reaches the fixed point (the last at t = {last:.1})",
@@ -613,18 +646,18 @@ pub fn confirm(
             f.words(horizon)
         ),
         (_, Some((i, f))) => format!(
-            "NOT confirmed by runs: at {k} = {hi:.6e}, above the answer, the run from {} {}",
+            "NOT confirmed by runs{named}: at {k} = {hi:.6e}, above the answer, the run from {} {}",
             start(i),
             f.words(horizon)
         ),
         (None, None) => format!(
-            "NOT confirmed by runs: at {k} = {lo:.6e}, below the answer, every start settles by t = {horizon}"
+            "NOT confirmed by runs{named}: at {k} = {lo:.6e}, below the answer, every start settles by t = {horizon}"
         ),
     };
-    let confirmed = below.first_lasting().is_some() && above.all_settle();
     Ok(Confirmation {
         refuted,
         confirmed,
+        unconfirmed,
         line,
         ends: [below, above],
     })

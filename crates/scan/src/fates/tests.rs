@@ -155,3 +155,26 @@ fn after_the_first_unsettled_start_every_start_reads_stopped() {
     assert!(alone[1].0.settles(), "{alone:?}");
     assert!(alone[1].1.evaluations > 0, "{alone:?}");
 }
+
+/// An answer the runs neither refute nor confirm names why. Table 1 at lambda 3, where rest
+/// lasts at nu = 2.9e-3 and settles at 3.2e-3 (the test above): with the horizon at t = 50
+/// no start is decided on either side (`undecided_above`); a bracket above the critical
+/// value, [3.2e-3, 3.3e-3], for two starts (rest and the fixed point) has every start
+/// settling on both sides (`settles_below`, no refutation: with two starts the squeal the
+/// shortcut found below may lie where neither goes).
+#[test]
+fn an_unconfirmed_answer_names_why() {
+    let s = paper(1e-3, 0.005);
+    let c = confirm(s, BoundaryParam::Nu, &[REST], [2.9e-3, 3.2e-3], 50.0).unwrap();
+    assert!(!c.confirmed && c.refuted.is_none(), "{c:?}");
+    assert_eq!(c.unconfirmed, Some(Unconfirmed::UndecidedAbove), "{c:?}");
+    assert!(c.line.contains("(undecided_above)"), "{}", c.line);
+    let starts = [REST, State { x: 1.0, v: 0.0 }];
+    let c = confirm(s, BoundaryParam::Nu, &starts, [3.2e-3, 3.3e-3], HORIZON).unwrap();
+    assert!(!c.confirmed && c.refuted.is_none(), "{c:?}");
+    assert_eq!(c.unconfirmed, Some(Unconfirmed::SettlesBelow), "{c:?}");
+    assert!(c.line.contains("(settles_below)"), "{}", c.line);
+    // Confirmed: no reason.
+    let c = confirm(s, BoundaryParam::Nu, &[REST], [2.9e-3, 3.2e-3], HORIZON).unwrap();
+    assert!(c.confirmed && c.unconfirmed.is_none(), "{c:?}");
+}
