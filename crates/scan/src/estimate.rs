@@ -240,6 +240,18 @@ impl Estimate {
     /// `m` to compute (maps with none are not counted): maps are prepared one at a time; cells and their audits run in
     /// parallel (the audited share of a map's pending cells is its share of all its cells).
     pub fn seconds(&self, maps: usize, cells_of: impl Fn(usize) -> usize, threads: usize) -> f64 {
+        self.seconds_after(maps, cells_of, threads, &[])
+    }
+
+    /// [`Estimate::seconds`] where the maps `ready` need no preparation (the run takes the
+    /// ones the pilot prepared: [`Estimate::prepared`]).
+    fn seconds_after(
+        &self,
+        maps: usize,
+        cells_of: impl Fn(usize) -> usize,
+        threads: usize,
+        ready: &[usize],
+    ) -> f64 {
         let per_map = self.cells_per_map.max(1) as f64;
         (0..maps)
             .map(|m| {
@@ -249,14 +261,27 @@ impl Estimate {
                     return 0.0;
                 }
                 let audits = self.audited_per_map as f64 * n / per_map;
-                c.prepare + (n * c.cell + audits * c.audit) / threads.max(1) as f64
+                let prepare = if ready.contains(&m) { 0.0 } else { c.prepare };
+                prepare + (n * c.cell + audits * c.audit) / threads.max(1) as f64
             })
             .sum()
     }
+
+    /// The estimate of a scan that takes the maps its pilot prepared
+    /// ([`crate::driver::drive_prepared`]): their preparation is done, not to come.
+    pub fn seconds_reusing(
+        &self,
+        maps: usize,
+        cells_of: impl Fn(usize) -> usize,
+        threads: usize,
+    ) -> f64 {
+        self.seconds_after(maps, cells_of, threads, &self.prepared.maps())
+    }
 }
 
-/// Wall seconds for the `pending` cells of `plan` on `threads` threads: from the `pilot`, or
-/// at the documented rate without one ([`documented_seconds`]).
+/// Wall seconds for the `pending` cells of `plan` on `threads` threads: from the `pilot`
+/// (the maps it prepared and the run takes cost no second preparation), or at the
+/// documented rate without one ([`documented_seconds`]).
 pub fn seconds_for(
     plan: &Plan,
     pilot: Option<&Estimate>,
@@ -264,7 +289,7 @@ pub fn seconds_for(
     threads: usize,
 ) -> f64 {
     match pilot {
-        Some(e) => e.seconds(plan.maps.len(), |m| pending.cells_of(plan, m), threads),
+        Some(e) => e.seconds_reusing(plan.maps.len(), |m| pending.cells_of(plan, m), threads),
         None => documented_seconds(plan, pending, threads),
     }
 }
