@@ -6,7 +6,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use squeal_core::orbit::{self, Orbit, OrbitWatch};
 use squeal_core::{
-    Classifier, Lasting, Outcome, Regime, Run, Setup, SolverStats, State, SteadySlip, TurnWatch,
+    Classifier, Lasting, Outcome, Regime, Run, Setup, Shortcuts, SolverStats, State, SteadySlip,
+    TurnWatch,
 };
 
 use serde::Serialize;
@@ -119,7 +120,13 @@ pub fn fate(
     let half = setup.half_dt().stepper()?;
     let p = *st.params();
     let (own_cl, rest_cl) = watchers(horizon);
-    let (mut own_w, mut rest_w) = (own_cl.watch(&p), rest_cl.watch(&p));
+    // The run settles where it comes within the fixed point's radius or enters its
+    // certified region of attraction (squeal_core::Region: every run inside it converges).
+    let region = Shortcuts {
+        region: squeal_core::Region::of(&p),
+        ..Shortcuts::NONE
+    };
+    let (mut own_w, mut rest_w) = (own_cl.watch(&p), rest_cl.watch_with(&p, region));
     let mut turns = TurnWatch::new(&p, own_cl.turn_settings(&p));
     let attracts = SteadySlip::of(&p).stability.attracts();
     let mut orbits = OrbitWatch::new(&half, orbit::band_floor(&p, own_cl.fp_radius));
