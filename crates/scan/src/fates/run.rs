@@ -83,8 +83,9 @@ impl Fate {
                 o.words()
             ),
             Fate::Lasts { t, .. } => format!(
-                "on a lasting oscillation from t = {t:.1} to the horizon {horizon} (no period \
-                 certified: irregular, or a loop whose restarts do not repeat the run)"
+                "on an irregular oscillation from t = {t:.1} to the horizon {horizon} (neither a \
+                 period nor a band of its maxima certified; {} tries at most)",
+                orbit::TRIES
             ),
             Fate::SlipOscillation {
                 t,
