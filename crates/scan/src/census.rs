@@ -149,6 +149,8 @@ pub struct Census {
     pub certified: usize,
     /// Runs that reached the horizon still moving (no certificate held).
     pub at_horizon: usize,
+    /// When each run ended (its decision, or the horizon), in start order.
+    pub ends: Vec<f64>,
     /// The groups withdrawn, each with its first refuting run (in start order).
     pub withdrawn: Vec<Withdrawal>,
 }
@@ -298,7 +300,7 @@ pub fn take(
     let starts = starts(plan, fp, reach, locator.as_ref());
     let half = Stepper::new(*stepper.params(), stepper.dt() / 2.0, *stepper.solver())
         .expect("half a valid step is valid");
-    let found: Vec<(Vec<Withdrawal>, Reason)> = starts
+    let found: Vec<(Vec<Withdrawal>, Reason, f64)> = starts
         .par_iter()
         .map(|&(ic, side)| {
             let (own, end) = plain_run((stepper, Some(&half), certificates), &plain, ic);
@@ -338,11 +340,12 @@ pub fn take(
             {
                 w.push(refuted(Rules::Inside));
             }
-            (w, own.reason)
+            (w, own.reason, own.t_decision)
         })
         .collect();
     let count = |r: Reason| found.iter().filter(|f| f.1 == r).count();
     let (certified, at_horizon) = (count(Reason::OnCertifiedOrbit), count(Reason::TimeLimit));
+    let ends = found.iter().map(|f| f.2).collect();
     let mut withdrawn: Vec<Withdrawal> = Vec::new();
     for w in found.into_iter().flat_map(|f| f.0) {
         if !withdrawn.iter().any(|x| x.rules == w.rules) {
@@ -354,6 +357,7 @@ pub fn take(
         horizon: plain.t_max,
         certified,
         at_horizon,
+        ends,
         withdrawn,
     }
 }
@@ -452,5 +456,10 @@ path = "t.h5"
         // 1 at rest, 8 on the box, 4 on the ring outside the cycle; the 3 inside settle.
         assert_eq!(census.certified, 13, "{census:?}");
         assert!(census.withdrawn.is_empty(), "{census:?}");
+        // When each run ended (printed with --nocapture; MODEL.md section 12 quotes them):
+        // rest and the box by a few hundred time units, the ring and the inside later.
+        println!("census run ends at Fig. 9: {:?}", census.ends);
+        assert!(census.ends[..9].iter().all(|&t| t < 1000.0), "{census:?}");
+        assert!(census.ends.iter().all(|&t| t < 5000.0), "{census:?}");
     }
 }
