@@ -362,12 +362,12 @@ fn band_images(
 }
 
 /// The least `x` a band certificate's interval may reach for a model with parameters `p`
-/// whose fixed point's radius is `fp_radius`: above that radius where steady slip attracts
+/// whose fixed point's radius is `fp_radius`: above that radius where steady slip `attracts`
 /// (a spiral onto it is no band), above the fixed point's `x` where it does not (the slip
 /// oscillation about it may be smaller than the radius).
-pub fn band_floor(p: &crate::Params, fp_radius: f64) -> f64 {
+pub fn band_floor(p: &crate::Params, fp_radius: f64, attracts: bool) -> f64 {
     let x = p.fixed_point().x;
-    match crate::SteadySlip::of(p).stability.attracts() {
+    match attracts {
         true => x + fp_radius,
         false => x,
     }

@@ -26,6 +26,7 @@ use crate::params::Params;
 use crate::run::{Run, Step};
 use crate::section::{crossing, hermite, hermite_root};
 use crate::stepper::Sample;
+use crate::verdict::Regime;
 
 /// The band test's settings: the classifier's window, width and floor.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -134,6 +135,17 @@ impl Lasting {
     /// Whether a turn of the window stuck or reversed the slip: a sticking oscillation.
     pub fn sticks(&self) -> bool {
         self.stuck || self.reversed
+    }
+
+    /// The regime of a lasting oscillation whose last window is `lasting` (`None`: no window
+    /// closed), where steady slip `attracts` or not: the squeal where a turn of it stuck (or
+    /// steady slip attracts: it is then no slip oscillation about it), else the slip
+    /// oscillation about the unstable steady slip. `None` counts as sticking (not quiet).
+    pub fn regime(lasting: Option<&Lasting>, attracts: bool) -> Regime {
+        match attracts || lasting.is_none_or(|l| l.sticks()) {
+            true => Regime::StickSlip,
+            false => Regime::SlipOscillation,
+        }
     }
 
     /// Whether no turn of the window crossed the section: the section's rules cannot see

@@ -246,7 +246,8 @@ fn plain_run(
     let mut run = Run::new(stepper, ic);
     let mut watch = plain.watch_with(p, certificates);
     let mut turns = TurnWatch::new(p, plain.turn_settings(p));
-    let mut orbits = half.map(|h| OrbitWatch::new(h, orbit::band_floor(p, plain.fp_radius)));
+    let floor = orbit::band_floor(p, plain.fp_radius, attracts);
+    let mut orbits = half.map(|h| OrbitWatch::new(h, floor));
     let mut lasting = None;
     let end = |run: &Run| State {
         x: run.sample().x,
@@ -264,11 +265,7 @@ fn plain_run(
         if let Some(w) = orbits.as_mut()
             && w.observe(&run, &step, lasting.is_some()).is_some()
         {
-            let sticks = lasting.is_none_or(|l: Lasting| l.sticks());
-            let regime = match attracts || sticks {
-                true => Regime::StickSlip,
-                false => Regime::SlipOscillation,
-            };
+            let regime = Lasting::regime(lasting.as_ref(), attracts);
             let own = watch.finish((regime, Reason::OnCertifiedOrbit), &run);
             return (own, end(&run));
         }
@@ -298,8 +295,8 @@ pub fn take(
     };
     let locator = curve.map(|c| CurveLocator::new(c.clone()));
     let starts = starts(plan, fp, reach, locator.as_ref());
-    let half = Stepper::new(*stepper.params(), stepper.dt() / 2.0, *stepper.solver())
-        .expect("half a valid step is valid");
+    let halved = stepper.setup().half_dt();
+    let half = halved.stepper().expect("half a valid step is valid");
     let found: Vec<(Vec<Withdrawal>, Reason, f64)> = starts
         .par_iter()
         .map(|&(ic, side)| {

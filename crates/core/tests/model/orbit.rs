@@ -11,7 +11,7 @@ use squeal_core::{FrictionLaw, Params, Run, SolverConfig, State, Stepper};
 fn watched(p: Params, dt: f64, ic: State, t_end: f64) -> (Option<(f64, orbit::Orbit)>, Vec<f64>) {
     let st = Stepper::new(p, dt, SolverConfig::default()).unwrap();
     let half = Stepper::new(p, dt / 2.0, SolverConfig::default()).unwrap();
-    let mut watch = OrbitWatch::new(&half, orbit::band_floor(&p, 1e-3));
+    let mut watch = OrbitWatch::new(&half, orbit::band_floor(&p, 1e-3, true));
     let mut run = Run::new(&st, ic);
     let (mut found, mut after) = (None, Vec::new());
     for _ in 0..run.steps_to(t_end) {

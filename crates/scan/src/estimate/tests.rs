@@ -127,22 +127,26 @@ fn each_map_costs_as_its_nearest_prepared_map() {
     assert!((only(7) - 2.0).abs() < 1e-12);
 }
 
-#[test]
-fn the_pilot_samples_every_prepared_map() {
-    let plan = Plan::from_toml(
+/// McMillan's law over Fig. 9's box at 8 x 8 cells, `nu` as written in the spec.
+fn fig9_box(nu: &str) -> Plan {
+    let text = format!(
         r#"version = 1
 [model]
 law = "mcmillan"
-nu = { from = 1e-3, to = 2e-2, count = 12 }
+nu = {nu}
 [grid]
-x0 = { min = -3.0, max = 5.0, count = 8 }
-v0 = { min = -4.0, max = 4.0, count = 8 }
+x0 = {{ min = -3.0, max = 5.0, count = 8 }}
+v0 = {{ min = -4.0, max = 4.0, count = 8 }}
 [output]
 path = "t.h5"
-"#,
-        "t.toml",
-    )
-    .unwrap();
+"#
+    );
+    Plan::from_toml(&text, "t.toml").unwrap()
+}
+
+#[test]
+fn the_pilot_samples_every_prepared_map() {
+    let plan = fig9_box("{ from = 1e-3, to = 2e-2, count = 12 }");
     let e = pilot(&plan).unwrap();
     // At most PILOT_MAPS maps at first (fewer when preparing them outlasts the budget),
     // then more where the cost per cell jumps: never more than twice that, nor more than
@@ -165,20 +169,7 @@ path = "t.h5"
 /// 2 s (1.6 s)" for a run of 1.0 s).
 #[test]
 fn a_map_the_pilot_prepared_is_not_counted_twice() {
-    let plan = Plan::from_toml(
-        r#"version = 1
-[model]
-law = "mcmillan"
-nu = 1e-3
-[grid]
-x0 = { min = -3.0, max = 5.0, count = 8 }
-v0 = { min = -4.0, max = 4.0, count = 8 }
-[output]
-path = "t.h5"
-"#,
-        "t.toml",
-    )
-    .unwrap();
+    let plan = fig9_box("1e-3");
     let e = pilot(&plan).unwrap();
     let cells = |_| 64;
     let (all, reusing) = (e.seconds(1, cells, 2), e.seconds_reusing(1, cells, 2));

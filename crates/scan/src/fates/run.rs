@@ -130,7 +130,7 @@ pub fn fate(
     let (mut own_w, mut rest_w) = (own_cl.watch(&p), rest_cl.watch_with(&p, region));
     let mut turns = TurnWatch::new(&p, own_cl.turn_settings(&p));
     let attracts = SteadySlip::of(&p).stability.attracts();
-    let mut orbits = OrbitWatch::new(&half, orbit::band_floor(&p, own_cl.fp_radius));
+    let mut orbits = OrbitWatch::new(&half, orbit::band_floor(&p, own_cl.fp_radius, attracts));
     let mut run = Run::new(&st, start);
     let (mut own, mut lasting): (Option<Outcome>, Option<Lasting>) = (None, None);
     let lasting_fate =
@@ -181,21 +181,22 @@ fn lasting_fate(
     (lasting, certified): (Option<Lasting>, Option<Orbit>),
     attracts: bool,
 ) -> Option<Fate> {
-    let sticks = lasting.is_none_or(|l| l.sticks());
-    let t = own.t_decision;
-    match (own.regime, sticks || attracts) {
-        (Regime::StickSlip | Regime::SlipOscillation, true) => Some(Fate::Lasts {
-            t,
-            lasting,
-            certified,
-        }),
-        (Regime::StickSlip | Regime::SlipOscillation, false) => Some(Fate::SlipOscillation {
-            t,
-            lasting,
-            certified,
-        }),
-        _ => None,
+    if !matches!(own.regime, Regime::StickSlip | Regime::SlipOscillation) {
+        return None;
     }
+    let t = own.t_decision;
+    Some(match Lasting::regime(lasting.as_ref(), attracts) {
+        Regime::SlipOscillation => Fate::SlipOscillation {
+            t,
+            lasting,
+            certified,
+        },
+        _ => Fate::Lasts {
+            t,
+            lasting,
+            certified,
+        },
+    })
 }
 
 /// The two watchers of a fate's run to `horizon`: its own (band rules, no trap) and the one
