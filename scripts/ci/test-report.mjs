@@ -95,9 +95,10 @@ function finish(name, o) {
 }
 
 async function hoverCell(page, chart, cell, name) {
-  const p = await pixelOf(page, chart, cell.x, cell.y);
-  // The panel emptied first: what is read next is this hover's, not the last one's.
+  // The panel emptied first: what is read next is this hover's, not the last one's. The
+  // pixel is taken after that, since an emptied panel can shorten the page and move the chart.
   await page.evaluate(() => { document.getElementById("panel").innerHTML = ""; });
+  const p = await pixelOf(page, chart, cell.x, cell.y);
   await page.mouse.move(p.x, p.y);
   await page.waitForSelector("#cell-label", { timeout: 5000 });
   const label = await page.textContent("#cell-label");
