@@ -30,6 +30,8 @@
 //!   stated before the map (every start stick-slip, bistable, every start steady slip).
 //! * [`basin`]: basin stability as bSTAB defines it: each regime's share with its standard
 //!   error, and a grid's shares on nested coarser grids ([`GridShares`]).
+//! * [`sensitivity`]: final-state sensitivity per map: basin entropy and the log 2 test, the
+//!   uncertainty exponent and the share of fates that move when the step halves.
 //! * [`checks`]: where labels, cycle, landscape and the run-to-settlement audit disagree in
 //!   a map.
 //!
@@ -83,6 +85,7 @@ pub mod observe;
 pub mod redo;
 pub mod scanner;
 pub mod section;
+pub mod sensitivity;
 pub mod si;
 pub mod space;
 pub mod spec;

@@ -1,0 +1,465 @@
+//! Final-state sensitivity: how predictable a start's fate is, per map (MODEL.md section
+//! 14). Three measures, each with what it can and cannot tell:
+//!
+//! * **Basin entropy** ([`Entropy`], Daza, Wagemakers, Georgeot, Guery-Odelin and Sanjuan,
+//!   Sci. Rep. 6, 31416, 2016), from the map's labels alone: the grid is cut into boxes of
+//!   `box_cells x box_cells` cells; box `i` has the Gibbs entropy `S_i = -sum_j p_ij ln p_ij`
+//!   of its labels' shares. `S_b` is the mean over every box, `S_bb` the mean over the boxes
+//!   that hold more than one label (the boundary's boxes). The **log 2 test** (Puy,
+//!   Daza, Wagemakers and Sanjuan 2021): `S_bb > ln 2` is sufficient for a fractal boundary.
+//!   A box cut by a smooth boundary between two labels has `S_i <= ln 2`, so with two
+//!   labels the test can never say "fractal": it is then inconclusive, not negative proof.
+//! * **Uncertainty exponent** `alpha` (Grebogi, McDonald, Ott and Yorke, Phys. Lett. A 99,
+//!   415, 1983), from extra runs: `N` starts drawn uniformly in the map's box, each also
+//!   run from a point `eps` away (in a random direction, `eps` a share of the box's sides)
+//!   at [`EPS_LEVELS`] values of `eps`; `f(eps)` is the share of starts whose fate changes.
+//!   Where `f ~ eps^alpha`, `alpha = D - d` (phase-plane dimension `D = 2` less the
+//!   boundary's box-counting dimension): 1 for a smooth boundary, below 1 for a fractal one,
+//!   near 0 for a riddled one. The fit is a weighted least-squares line through the levels
+//!   with at least [`MIN_UNCERTAIN`] changed starts and `f <= 1/2` (the power law holds as
+//!   `eps -> 0`), weights from the binomial counts; its standard error is scaled up by the
+//!   fit's own scatter where that exceeds the counts' (a curved log-log plot).
+//! * **Step sensitivity** ([`StepShare`]): the share of the same `N` starts whose fate at
+//!   `dt / 2` differs from the one at `dt`, with its binomial standard error. Where it is
+//!   above [`STEP_SHARE_SMALL`], a finer grid alone will not settle the map: the step does.
+//!
+//! The fates are the map's own classification (its rules, certificates and runs, as the
+//! scan decides a cell); at `dt / 2` the map is prepared again at half the step, with the
+//! rule groups withdrawn that the map at `dt` withdrew.
+
+use rayon::prelude::*;
+use serde::Serialize;
+use squeal_core::State;
+
+use crate::census::Rules;
+use crate::error::ScanError;
+use crate::scanner::MapContext;
+use crate::spec::Plan;
+
+/// The box side of the basin entropy, in cells (Daza et al. 2016 use boxes of 5 x 5
+/// pixels in their examples).
+pub const ENTROPY_BOX: usize = 5;
+
+/// The number of perturbation sizes: `eps = 2^-3, 2^-4, ..., 2^-10` of the box's sides (at
+/// `2^-2` the Weierstrass boundary of the tests is not yet in its power law: the local
+/// slope there is 0.63 against 0.37).
+pub const EPS_LEVELS: usize = 8;
+
+/// The least number of changed starts at a level for it to enter the fit (its `ln f` then
+/// has a relative error of about `1 / sqrt(8) = 0.35` or less).
+pub const MIN_UNCERTAIN: u64 = 8;
+
+/// Above this share of starts whose fate moves when the step halves, a map's summaries say
+/// that its fates depend on the step.
+pub const STEP_SHARE_SMALL: f64 = 0.01;
+
+/// The seed of the sampled starts (fixed: the same starts for every run of the same map).
+pub const SEED: u64 = 0x5EA1_5E75;
+
+/// The relative sizes of the perturbations, largest first.
+pub fn eps_levels() -> [f64; EPS_LEVELS] {
+    std::array::from_fn(|k| 0.5f64.powi(k as i32 + 3))
+}
+
+/// The number of sampled starts for a map of `cells` cells: one per 32 cells, between 256
+/// and 4096 (each costs `EPS_LEVELS + 2` classifications: about 0.3 of the map's own runs).
+pub fn samples_for(cells: usize) -> usize {
+    (cells / 32).clamp(256, 4096)
+}
+
+/// What the log 2 test says of a map's boundary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[repr(u8)]
+pub enum Log2Test {
+    /// `S_bb <= ln 2`: no conclusion (a smooth boundary, or a fractal one the test misses;
+    /// with two labels the test can never conclude).
+    Inconclusive = 0,
+    /// `S_bb > ln 2`: the boundary is fractal.
+    Fractal = 1,
+    /// No box holds two labels: no boundary at this box size.
+    NoBoundary = 2,
+}
+
+impl Log2Test {
+    /// Every value, in value order.
+    pub const ALL: [Log2Test; 3] = [
+        Log2Test::Inconclusive,
+        Log2Test::Fractal,
+        Log2Test::NoBoundary,
+    ];
+
+    /// The name in files and output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Log2Test::Inconclusive => "inconclusive",
+            Log2Test::Fractal => "fractal",
+            Log2Test::NoBoundary => "no_boundary",
+        }
+    }
+}
+
+/// The basin entropy of a map's labels ([`Entropy::of`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Entropy {
+    /// The box side, in cells.
+    pub box_cells: usize,
+    /// Full boxes with every cell computed.
+    pub boxes: u64,
+    /// Of those, boxes that hold more than one label.
+    pub boundary_boxes: u64,
+    /// `S_b`: the mean entropy over the boxes (natural logarithm; NaN without a box).
+    pub s_b: f64,
+    /// `S_bb`: the mean entropy over the boundary boxes (NaN without one).
+    pub s_bb: f64,
+}
+
+impl Entropy {
+    /// No grid (random samples): every figure NaN.
+    pub const NONE: Entropy = Entropy {
+        box_cells: 0,
+        boxes: 0,
+        boundary_boxes: 0,
+        s_b: f64::NAN,
+        s_bb: f64::NAN,
+    };
+
+    /// Of `labels` (stored label values, row-major with `nx` columns), in boxes of
+    /// `box_cells` cells a side. Boxes that would cross the grid's last row or column are
+    /// left out, and so are boxes with a cell not computed (a value of 4 or more).
+    pub fn of(labels: &[u8], nx: usize, box_cells: usize) -> Entropy {
+        if nx == 0 || box_cells == 0 {
+            return Entropy::NONE;
+        }
+        let nv = labels.len() / nx;
+        let (bx, bv) = (nx / box_cells, nv / box_cells);
+        let per_box: Vec<Option<f64>> = (0..bx * bv)
+            .into_par_iter()
+            .map(|b| {
+                let (i0, j0) = ((b % bx) * box_cells, (b / bx) * box_cells);
+                let mut counts = [0u32; 4];
+                for j in j0..j0 + box_cells {
+                    for &l in &labels[j * nx + i0..j * nx + i0 + box_cells] {
+                        *counts.get_mut(usize::from(l))? += 1;
+                    }
+                }
+                Some(gibbs(&counts))
+            })
+            .collect();
+        let all: Vec<f64> = per_box.into_iter().flatten().collect();
+        let boundary: Vec<f64> = all.iter().copied().filter(|&s| s > 0.0).collect();
+        let mean = |v: &[f64]| match v.len() {
+            0 => f64::NAN,
+            n => v.iter().sum::<f64>() / n as f64,
+        };
+        Entropy {
+            box_cells,
+            boxes: all.len() as u64,
+            boundary_boxes: boundary.len() as u64,
+            s_b: mean(&all),
+            s_bb: mean(&boundary),
+        }
+    }
+
+    /// The log 2 test of Puy et al. (2021) on `S_bb`.
+    pub fn log2_test(&self) -> Log2Test {
+        if self.boundary_boxes == 0 {
+            Log2Test::NoBoundary
+        } else if self.s_bb > std::f64::consts::LN_2 {
+            Log2Test::Fractal
+        } else {
+            Log2Test::Inconclusive
+        }
+    }
+}
+
+/// `-sum p ln p` of the shares of `counts`.
+fn gibbs(counts: &[u32]) -> f64 {
+    let n: u32 = counts.iter().sum();
+    if n == 0 {
+        return 0.0;
+    }
+    counts
+        .iter()
+        .filter(|&&c| c > 0)
+        .map(|&c| {
+            let p = f64::from(c) / f64::from(n);
+            -p * p.ln()
+        })
+        .sum()
+}
+
+/// The uncertainty exponent's counts and fit ([`probe`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Uncertainty {
+    /// Starts sampled.
+    pub samples: u64,
+    /// Per level of [`eps_levels`]: starts whose fate changed at that perturbation.
+    pub changed: [u64; EPS_LEVELS],
+    /// The fitted exponent (NaN: fewer than three levels qualify).
+    pub alpha: f64,
+    /// Its standard error.
+    pub alpha_se: f64,
+    /// The smallest and largest `eps` in the fit (NaN without a fit).
+    pub fit: [f64; 2],
+    /// Levels in the fit.
+    pub fitted: u32,
+}
+
+impl Uncertainty {
+    /// `f(eps)` per level.
+    pub fn shares(&self) -> [f64; EPS_LEVELS] {
+        std::array::from_fn(|k| self.changed[k] as f64 / self.samples.max(1) as f64)
+    }
+
+    /// The fit of `ln f` against `ln eps` over the levels that qualify.
+    fn fitted(samples: u64, changed: [u64; EPS_LEVELS]) -> Uncertainty {
+        let eps = eps_levels();
+        let n = samples as f64;
+        // (ln eps, ln f, weight): the weight is 1 / var(ln f) = count / (1 - f).
+        let pts: Vec<(f64, f64, f64)> = (0..EPS_LEVELS)
+            .filter(|&k| changed[k] >= MIN_UNCERTAIN && 2 * changed[k] <= samples)
+            .map(|k| {
+                let f = changed[k] as f64 / n;
+                (eps[k].ln(), f.ln(), changed[k] as f64 / (1.0 - f))
+            })
+            .collect();
+        let mut out = Uncertainty {
+            samples,
+            changed,
+            alpha: f64::NAN,
+            alpha_se: f64::NAN,
+            fit: [f64::NAN; 2],
+            fitted: pts.len() as u32,
+        };
+        if pts.len() < 3 {
+            return out;
+        }
+        let w: f64 = pts.iter().map(|p| p.2).sum();
+        let mx = pts.iter().map(|p| p.2 * p.0).sum::<f64>() / w;
+        let my = pts.iter().map(|p| p.2 * p.1).sum::<f64>() / w;
+        let sxx: f64 = pts.iter().map(|p| p.2 * (p.0 - mx).powi(2)).sum();
+        let sxy: f64 = pts.iter().map(|p| p.2 * (p.0 - mx) * (p.1 - my)).sum();
+        let slope = sxy / sxx;
+        let chi2: f64 = pts
+            .iter()
+            .map(|p| p.2 * (p.1 - my - slope * (p.0 - mx)).powi(2))
+            .sum();
+        let scatter = (chi2 / (pts.len() - 2) as f64).max(1.0);
+        out.alpha = slope;
+        out.alpha_se = (scatter / sxx).sqrt();
+        let used: Vec<f64> = pts.iter().map(|p| p.0.exp()).collect();
+        out.fit = [
+            used.iter().copied().fold(f64::INFINITY, f64::min),
+            used.iter().copied().fold(0.0, f64::max),
+        ];
+        out
+    }
+}
+
+/// The share of starts whose fate differs between `dt` and `dt / 2`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StepShare {
+    /// Starts compared.
+    pub compared: u64,
+    /// Of those, starts whose fate differs.
+    pub changed: u64,
+    /// `changed / compared` (NaN without a start).
+    pub share: f64,
+    /// `sqrt(share (1 - share) / compared)`.
+    pub se: f64,
+}
+
+impl StepShare {
+    /// Of `changed` in `compared`.
+    pub fn of(changed: u64, compared: u64) -> StepShare {
+        let s = crate::basin::Share::of(changed, compared);
+        StepShare {
+            compared,
+            changed,
+            share: s.p,
+            se: s.se,
+        }
+    }
+
+    /// Whether the share is above [`STEP_SHARE_SMALL`].
+    pub fn not_small(&self) -> bool {
+        self.share > STEP_SHARE_SMALL
+    }
+
+    /// The sentence a summary prints where the share is not small.
+    pub fn warning(&self) -> Option<String> {
+        self.not_small().then(|| {
+            format!(
+                "WARNING: the fate of {} of {} sampled starts ({:.1}% +- {:.1}%) changes when the step halves: the map's labels there depend on dt, and a finer grid will not settle them",
+                self.changed,
+                self.compared,
+                100.0 * self.share,
+                100.0 * self.se
+            )
+        })
+    }
+}
+
+/// The run-based measures of one map ([`probe`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Probed {
+    /// The uncertainty exponent.
+    pub uncertainty: Uncertainty,
+    /// The step sensitivity (`None`: no map at `dt / 2`).
+    pub step: Option<StepShare>,
+    /// Classifications made (starts, their perturbations, and the starts at `dt / 2`).
+    pub runs: u64,
+}
+
+/// A start's fate as a stored label value.
+pub type Fate<'a> = &'a (dyn Fn(State) -> u8 + Sync);
+
+/// The measures from `samples` starts drawn uniformly in the box `x x v` (seeded by
+/// `seed`): each start's `fate`, its fate `eps` away at every level, and its fate at half
+/// the step (`half`).
+pub fn probe(
+    (fate, half): (Fate, Option<Fate>),
+    (x, v): ([f64; 2], [f64; 2]),
+    samples: usize,
+    seed: u64,
+) -> Probed {
+    let sample = crate::grid::RandomSample {
+        n: samples,
+        seed,
+    };
+    let ax = |r: [f64; 2]| crate::grid::Axis {
+        min: r[0],
+        max: r[1],
+        count: 2,
+    };
+    let (xa, va) = (ax(x), ax(v));
+    // The direction's angle from a stream of its own (a different seed).
+    let angles = crate::grid::RandomSample {
+        n: samples,
+        seed: seed ^ 0xA5A5_A5A5_A5A5_A5A5,
+    };
+    let eps = eps_levels();
+    let per: Vec<([bool; EPS_LEVELS], Option<bool>)> = (0..samples)
+        .into_par_iter()
+        .map(|i| {
+            let (x0, v0) = sample.point(i, &xa, &va);
+            let (a, _) = angles.point(i, &ax([0.0, std::f64::consts::TAU]), &va);
+            let base = fate(State { x: x0, v: v0 });
+            let moved = std::array::from_fn(|k| {
+                let (dx, dv) = (
+                    eps[k] * (x[1] - x[0]) * a.cos(),
+                    eps[k] * (v[1] - v[0]) * a.sin(),
+                );
+                fate(State {
+                    x: x0 + dx,
+                    v: v0 + dv,
+                }) != base
+            });
+            let step = half.map(|h| h(State { x: x0, v: v0 }) != base);
+            (moved, step)
+        })
+        .collect();
+    let changed = std::array::from_fn(|k| per.iter().filter(|p| p.0[k]).count() as u64);
+    let step = half.map(|_| {
+        let c = per.iter().filter(|p| p.1 == Some(true)).count() as u64;
+        StepShare::of(c, samples as u64)
+    });
+    let n = samples as u64;
+    Probed {
+        uncertainty: Uncertainty::fitted(n, changed),
+        step,
+        runs: n * (1 + EPS_LEVELS as u64) + if half.is_some() { n } else { 0 },
+    }
+}
+
+/// The run-based measures of map `map` of `plan` ([`probe`] over the map's box, with
+/// [`samples_for`] its cells): its fates as the scan decides them (the map prepared with the
+/// rule groups `withdrawn` that its census withdrew), and at `dt / 2` the same.
+pub fn of_map(plan: &Plan, map: usize, withdrawn: &[Rules]) -> Result<Probed, ScanError> {
+    let prepare = |p: &Plan| -> Result<MapContext, ScanError> {
+        let mut ctx = MapContext::prepare_checked(p, map, false)?;
+        for &r in withdrawn {
+            ctx.withdraw(r);
+        }
+        Ok(ctx)
+    };
+    let mut quiet = plan.clone();
+    quiet.cycle.locate = false;
+    let mut halved = quiet.clone();
+    halved.dt = 0.5 * plan.dt;
+    let (at_dt, at_half) = rayon::join(|| prepare(&quiet), || prepare(&halved));
+    let (at_dt, at_half) = (at_dt?, at_half?);
+    let fate = |s: State| at_dt.classify(s).regime as u8;
+    let half = |s: State| at_half.classify(s).regime as u8;
+    let g = &plan.map.grid;
+    let cells = match g.starts {
+        crate::grid::Starts::Sample(s) => s.n,
+        crate::grid::Starts::Grid => g.x0.count * g.v0.count,
+    };
+    Ok(probe(
+        (&fate, Some(&half)),
+        ([g.x0.min, g.x0.max], [g.v0.min, g.v0.max]),
+        samples_for(cells),
+        SEED,
+    ))
+}
+
+/// A map's final-state sensitivity as a file stores it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Sensitivity {
+    /// The basin entropy of its labels.
+    pub entropy: Entropy,
+    /// The run-based measures (`None`: not measured, as for a map whose preparation failed).
+    pub probed: Option<Probed>,
+}
+
+impl Sensitivity {
+    /// The values of [`SENSITIVITY_FIELDS`], in order.
+    pub fn values(&self) -> Vec<f64> {
+        SENSITIVITY_FIELDS.iter().map(|f| (f.3)(self)).collect()
+    }
+
+    /// The log 2 test's verdict.
+    pub fn log2_test(&self) -> Log2Test {
+        self.entropy.log2_test()
+    }
+
+    /// The uncertainty exponent's counts per level (zeros where not measured).
+    pub fn changed(&self) -> [u64; EPS_LEVELS] {
+        self.probed.map_or([0; EPS_LEVELS], |p| p.uncertainty.changed)
+    }
+}
+
+/// A stored per-map figure: name, long name, units, value.
+pub type Field = (&'static str, &'static str, &'static str, fn(&Sensitivity) -> f64);
+
+fn probed(s: &Sensitivity, f: impl Fn(&Probed) -> f64) -> f64 {
+    s.probed.as_ref().map_or(f64::NAN, f)
+}
+
+fn step(s: &Sensitivity, f: impl Fn(&StepShare) -> f64) -> f64 {
+    s.probed.and_then(|p| p.step).as_ref().map_or(f64::NAN, f)
+}
+
+/// What a file stores per map (beside `log2_test`, an enum, and `uncertainty_changed`
+/// over the levels `uncertainty_eps`): the one table of the sensitivity's fields.
+pub const SENSITIVITY_FIELDS: &[Field] = &[
+    ("basin_entropy", "basin entropy S_b: mean Gibbs entropy (natural log) of the labels over boxes of basin_entropy_box x basin_entropy_box cells (Daza et al. 2016)", "1", |s| s.entropy.s_b),
+    ("boundary_basin_entropy", "boundary basin entropy S_bb: mean entropy over the boxes that hold more than one label; above ln 2 the boundary is fractal (Puy et al. 2021)", "1", |s| s.entropy.s_bb),
+    ("basin_entropy_box", "side of the basin entropy's boxes, in cells", "1", |s| s.entropy.box_cells as f64),
+    ("basin_entropy_boxes", "boxes of the basin entropy (full boxes with every cell computed)", "1", |s| s.entropy.boxes as f64),
+    ("boundary_boxes", "of those, the boxes that hold more than one label", "1", |s| s.entropy.boundary_boxes as f64),
+    ("uncertainty_exponent", "uncertainty exponent alpha: f(eps) ~ eps^alpha, f the share of sampled starts whose fate changes under a perturbation eps (Grebogi et al. 1983); 1 for a smooth boundary, below 1 for a fractal one; NaN: fewer than 3 levels with 8 changed starts", "1", |s| probed(s, |p| p.uncertainty.alpha)),
+    ("uncertainty_exponent_se", "standard error of the uncertainty exponent (weighted least squares on the binomial counts, scaled up by the fit's scatter)", "1", |s| probed(s, |p| p.uncertainty.alpha_se)),
+    ("uncertainty_eps_lo", "smallest eps in the uncertainty exponent's fit, as a share of the box's sides", "1", |s| probed(s, |p| p.uncertainty.fit[0])),
+    ("uncertainty_eps_hi", "largest eps in the uncertainty exponent's fit, as a share of the box's sides", "1", |s| probed(s, |p| p.uncertainty.fit[1])),
+    ("uncertainty_samples", "starts drawn uniformly in the map's box for the uncertainty exponent and the step sensitivity", "1", |s| probed(s, |p| p.uncertainty.samples as f64)),
+    ("step_sensitivity", "share of the sampled starts whose fate at dt/2 differs from the one at dt", "1", |s| step(s, |t| t.share)),
+    ("step_sensitivity_se", "sqrt(p (1 - p) / N) of the step sensitivity", "1", |s| step(s, |t| t.se)),
+    ("step_sensitivity_changed", "sampled starts whose fate at dt/2 differs from the one at dt", "1", |s| step(s, |t| t.changed as f64)),
+    ("sensitivity_runs", "classifications made for the uncertainty exponent and the step sensitivity (starts, their perturbations, and the starts at dt/2)", "1", |s| probed(s, |p| p.runs as f64)),
+];
+
+#[cfg(test)]
+mod tests;
