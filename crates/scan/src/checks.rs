@@ -378,9 +378,9 @@ impl<'a> MapTally<'a> {
         }
     }
 
-    /// The checks and the basin stability of the map (a random sample's shares without
-    /// sub-grids).
-    pub fn finish(self, plan: &Plan) -> (MapChecks, GridShares) {
+    /// The checks, the basin stability (a random sample's shares without sub-grids) and
+    /// the map's labels.
+    pub fn finish(self, plan: &Plan) -> (MapChecks, GridShares, Vec<u8>) {
         let g = self
             .gathered
             .into_inner()
@@ -389,7 +389,7 @@ impl<'a> MapTally<'a> {
             crate::grid::Starts::Sample(_) => GridShares::random(&g.labels),
             crate::grid::Starts::Grid => GridShares::of(&g.labels, plan.map.grid.x0.count),
         };
-        (g.checks, shares)
+        (g.checks, shares, g.labels)
     }
 }
 
@@ -525,7 +525,7 @@ path = "t.h5"
         t.add_block(&plan, 2, &row(Regime::StickSlip));
         t.add_block(&plan, 1, &row(Regime::SteadySlip));
         t.add_block(&plan, 0, &row(Regime::StickSlip));
-        let (checks, shares) = t.finish(&plan);
+        let (checks, shares, _) = t.finish(&plan);
         assert_eq!(shares.h.get(Regime::SteadySlip).count, 3);
         assert_eq!(shares.h.get(Regime::SteadySlip).p, 3.0 / 9.0);
         assert_eq!(shares.h2.get(Regime::SteadySlip).count, 0);

@@ -12,6 +12,7 @@ use crate::basin::GridShares;
 use crate::cell::Cell;
 use crate::census::Rules;
 use crate::checks::{MapChecks, MapTally};
+use crate::sensitivity::Sensitivity;
 use crate::spec::Plan;
 use crate::ulc::CycleReport;
 
@@ -24,6 +25,9 @@ pub struct MapFigures {
     pub shares: GridShares,
     /// Steady slip's own stability (the law linearised at the fixed point).
     pub steady: squeal_core::SteadySlip,
+    /// The final-state sensitivity: the basin entropy of the labels and the measures of
+    /// extra runs ([`crate::sensitivity`]).
+    pub sensitivity: Sensitivity,
 }
 
 /// Steady slip's stability as stored per map: the verdict's name and long name (an enum of
@@ -136,19 +140,20 @@ fn tally_and_write<F: Finishing>(f: &F, window_cells: usize) -> Result<Vec<MapFi
         last = next?;
     }
     write(last)?;
-    Ok(tallies
-        .into_iter()
-        .enumerate()
-        .map(|(m, t)| {
-            let (checks, shares) = t.finish(plan);
-            let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
-            MapFigures {
-                checks,
-                shares,
-                steady,
-            }
-        })
-        .collect())
+    let mut out = Vec::with_capacity(plan.maps.len());
+    for (m, t) in tallies.into_iter().enumerate() {
+        let (checks, shares, labels) = t.finish(plan);
+        let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
+        // The sensitivity's extra runs (on every thread), where the map shows its boundary.
+        let sensitivity = Sensitivity::of_map(plan, m, &f.withdrawn(m), &labels);
+        out.push(MapFigures {
+            checks,
+            shares,
+            steady,
+            sensitivity,
+        });
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -292,10 +297,12 @@ mod tests {
                 }
                 let shares = GridShares::of(&labels, plan.map.grid.x0.count);
                 let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
+                let sensitivity = Sensitivity::of_map(&plan, m, &[], &labels);
                 MapFigures {
                     checks,
                     shares,
                     steady,
+                    sensitivity,
                 }
             })
             .collect();
@@ -328,7 +335,12 @@ mod tests {
                 finish_by(&mem, window_cells).unwrap()
             });
             let figures = mem.figures.into_inner().unwrap();
-            assert_eq!(figures, want, "{threads} thread(s), window {window_cells}");
+            // Compared as printed: a figure not measured is NaN on both sides.
+            assert_eq!(
+                format!("{figures:?}"),
+                format!("{want:?}"),
+                "{threads} thread(s), window {window_cells}"
+            );
             assert_eq!(checks, vec![want[0].checks, want[1].checks]);
             let mut written = mem.written.into_inner().unwrap();
             written.sort();

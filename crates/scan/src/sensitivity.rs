@@ -13,11 +13,16 @@
 //!   415, 1983), from extra runs: `N` starts drawn uniformly in the map's box, each also
 //!   run from a point `eps` away (in a random direction, `eps` a share of the box's sides)
 //!   at [`EPS_LEVELS`] values of `eps`; `f(eps)` is the share of starts whose fate changes.
+//!   The starts are drawn where the map's labels show the boundary ([`Domain`]: its
+//!   boundary boxes and their neighbours), not over the whole box: the exponent is a
+//!   property of the boundary, and a small basin (Fig. 9's covers 0.7% of its box) would
+//!   otherwise leave too few starts near it. So `alpha` is that of the boundary the map
+//!   resolves; a piece of boundary finer than its boxes is not sampled.
 //!   Where `f ~ eps^alpha`, `alpha = D - d` (phase-plane dimension `D = 2` less the
 //!   boundary's box-counting dimension): 1 for a smooth boundary, below 1 for a fractal one,
 //!   near 0 for a riddled one. The fit is a weighted least-squares line through the levels
-//!   with at least [`MIN_UNCERTAIN`] changed starts and `f <= 1/2` (the power law holds as
-//!   `eps -> 0`), weights from the binomial counts; its standard error is scaled up by the
+//!   with at least [`MIN_UNCERTAIN`] changed starts and `f <= 1/2`, the [`FIT_LEVELS`]
+//!   smallest such (the power law holds as `eps -> 0`), weights from the binomial counts; its standard error is scaled up by the
 //!   fit's own scatter where that exceeds the counts' (a curved log-log plot).
 //! * **Step sensitivity** ([`StepShare`]): the share of the same `N` starts whose fate at
 //!   `dt / 2` differs from the one at `dt`, with its binomial standard error. Where it is
@@ -49,6 +54,11 @@ pub const EPS_LEVELS: usize = 8;
 /// has a relative error of about `1 / sqrt(8) = 0.35` or less).
 pub const MIN_UNCERTAIN: u64 = 8;
 
+/// The most levels in the fit: the smallest `eps` that qualify (the power law holds as
+/// `eps -> 0`; at Fig. 9 the two largest, an eighth and a sixteenth of the box, exceed the
+/// unstable cycle's size and `f` is not even monotone there).
+pub const FIT_LEVELS: usize = 5;
+
 /// Above this share of starts whose fate moves when the step halves, a map's summaries say
 /// that its fates depend on the step.
 pub const STEP_SHARE_SMALL: f64 = 0.01;
@@ -61,10 +71,10 @@ pub fn eps_levels() -> [f64; EPS_LEVELS] {
     std::array::from_fn(|k| 0.5f64.powi(k as i32 + 3))
 }
 
-/// The number of sampled starts for a map of `cells` cells: one per 32 cells, between 256
-/// and 4096 (each costs `EPS_LEVELS + 2` classifications: about 0.3 of the map's own runs).
+/// The number of sampled starts for a map of `cells` cells: one per 16 cells, between 1024
+/// and 4096 (each costs `EPS_LEVELS + 2` classifications).
 pub fn samples_for(cells: usize) -> usize {
-    (cells / 32).clamp(256, 4096)
+    (cells / 16).clamp(1024, 4096)
 }
 
 /// What the log 2 test says of a map's boundary.
@@ -131,22 +141,7 @@ impl Entropy {
         if nx == 0 || box_cells == 0 {
             return Entropy::NONE;
         }
-        let nv = labels.len() / nx;
-        let (bx, bv) = (nx / box_cells, nv / box_cells);
-        let per_box: Vec<Option<f64>> = (0..bx * bv)
-            .into_par_iter()
-            .map(|b| {
-                let (i0, j0) = ((b % bx) * box_cells, (b / bx) * box_cells);
-                let mut counts = [0u32; 4];
-                for j in j0..j0 + box_cells {
-                    for &l in &labels[j * nx + i0..j * nx + i0 + box_cells] {
-                        *counts.get_mut(usize::from(l))? += 1;
-                    }
-                }
-                Some(gibbs(&counts))
-            })
-            .collect();
-        let all: Vec<f64> = per_box.into_iter().flatten().collect();
+        let all: Vec<f64> = boxes(labels, nx, box_cells).into_iter().flatten().collect();
         let boundary: Vec<f64> = all.iter().copied().filter(|&s| s > 0.0).collect();
         let mean = |v: &[f64]| match v.len() {
             0 => f64::NAN,
@@ -171,6 +166,29 @@ impl Entropy {
             Log2Test::Inconclusive
         }
     }
+}
+
+/// The entropy of every full box of `box_cells` cells a side, row by row of boxes (`None`:
+/// a cell not computed, a value of 4 or more).
+fn boxes(labels: &[u8], nx: usize, box_cells: usize) -> Vec<Option<f64>> {
+    if nx == 0 || box_cells == 0 {
+        return Vec::new();
+    }
+    let nv = labels.len() / nx;
+    let (bx, bv) = (nx / box_cells, nv / box_cells);
+    (0..bx * bv)
+        .into_par_iter()
+        .map(|b| {
+            let (i0, j0) = ((b % bx) * box_cells, (b / bx) * box_cells);
+            let mut counts = [0u32; 4];
+            for j in j0..j0 + box_cells {
+                for &l in &labels[j * nx + i0..j * nx + i0 + box_cells] {
+                    *counts.get_mut(usize::from(l))? += 1;
+                }
+            }
+            Some(gibbs(&counts))
+        })
+        .collect()
 }
 
 /// `-sum p ln p` of the shares of `counts`.
@@ -212,13 +230,17 @@ impl Uncertainty {
         std::array::from_fn(|k| self.changed[k] as f64 / self.samples.max(1) as f64)
     }
 
-    /// The fit of `ln f` against `ln eps` over the levels that qualify.
-    fn fitted(samples: u64, changed: [u64; EPS_LEVELS]) -> Uncertainty {
+    /// The fit of `ln f` against `ln eps` over the levels that qualify, `eps <= max_eps`.
+    fn fitted(samples: u64, changed: [u64; EPS_LEVELS], max_eps: f64) -> Uncertainty {
         let eps = eps_levels();
         let n = samples as f64;
         // (ln eps, ln f, weight): the weight is 1 / var(ln f) = count / (1 - f).
         let pts: Vec<(f64, f64, f64)> = (0..EPS_LEVELS)
-            .filter(|&k| changed[k] >= MIN_UNCERTAIN && 2 * changed[k] <= samples)
+            .rev()
+            .filter(|&k| {
+                changed[k] >= MIN_UNCERTAIN && 2 * changed[k] <= samples && eps[k] <= max_eps
+            })
+            .take(FIT_LEVELS)
             .map(|k| {
                 let f = changed[k] as f64 / n;
                 (eps[k].ln(), f.ln(), changed[k] as f64 / (1.0 - f))
@@ -310,46 +332,125 @@ pub struct Probed {
     pub step: Option<StepShare>,
     /// Classifications made (starts, their perturbations, and the starts at `dt / 2`).
     pub runs: u64,
+    /// The share of the map's box the starts were drawn from ([`Domain::share`]).
+    pub domain_share: f64,
 }
 
 /// A start's fate as a stored label value.
 pub type Fate<'a> = &'a (dyn Fn(State) -> u8 + Sync);
 
-/// The measures from `samples` starts drawn uniformly in the box `x x v` (seeded by
-/// `seed`): each start's `fate`, its fate `eps` away at every level, and its fate at half
-/// the step (`half`).
+/// Where the starts of [`probe`] are drawn: rectangles of one size in the phase plane
+/// (uniformly over their union), and the box whose sides scale the perturbations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Domain {
+    /// The box `[x_lo, x_hi] x [v_lo, v_hi]` of the map.
+    pub sides: ([f64; 2], [f64; 2]),
+    /// The rectangles, each `(x range, v range)`, all of one size.
+    pub rects: Vec<([f64; 2], [f64; 2])>,
+    /// The largest `eps` (a share of the box's sides) the fit takes: a rectangle's side,
+    /// the scale the domain resolves (1 for the whole box).
+    pub max_eps: f64,
+}
+
+impl Domain {
+    /// The whole box.
+    pub fn whole(x: [f64; 2], v: [f64; 2]) -> Domain {
+        Domain {
+            sides: (x, v),
+            rects: vec![(x, v)],
+            max_eps: 1.0,
+        }
+    }
+
+    /// Where a grid's labels show the boundary: every box of `box_cells` cells that holds
+    /// more than one label, with its eight neighbours (the boundary may run beside a box's
+    /// edge), each box covering its cells' centres plus half a spacing. `None` where no box
+    /// holds two labels.
+    pub fn near_boundary(
+        labels: &[u8],
+        (x0, v0): (crate::grid::Axis, crate::grid::Axis),
+        box_cells: usize,
+    ) -> Option<Domain> {
+        let nx = x0.count;
+        let (bx, bv) = (nx / box_cells, (labels.len() / nx.max(1)) / box_cells);
+        let mixed = boxes(labels, nx, box_cells);
+        let near = |b: usize| {
+            let (i, j) = ((b % bx) as i64, (b / bx) as i64);
+            (-1..=1).any(|dj| {
+                (-1..=1).any(|di| {
+                    let (a, c) = (i + di, j + dj);
+                    a >= 0
+                        && c >= 0
+                        && (a as usize) < bx
+                        && (c as usize) < bv
+                        && mixed[c as usize * bx + a as usize].is_some_and(|s| s > 0.0)
+                })
+            })
+        };
+        let (hx, hv) = (x0.spacing(), v0.spacing());
+        let rects: Vec<_> = (0..bx * bv)
+            .filter(|&b| near(b))
+            .map(|b| {
+                let (i0, j0) = ((b % bx) * box_cells, (b / bx) * box_cells);
+                let span = |a: &crate::grid::Axis, k0: usize, h: f64| {
+                    [a.value(k0) - 0.5 * h, a.value(k0 + box_cells - 1) + 0.5 * h]
+                };
+                (span(&x0, i0, hx), span(&v0, j0, hv))
+            })
+            .collect();
+        let max_eps =
+            box_cells as f64 / (nx.max(2) - 1).min(labels.len() / nx.max(1)).max(1) as f64;
+        (!rects.is_empty()).then(|| Domain {
+            sides: ([x0.min, x0.max], [v0.min, v0.max]),
+            rects,
+            max_eps,
+        })
+    }
+
+    /// The share of the box the rectangles cover.
+    pub fn share(&self) -> f64 {
+        let area = |(x, v): &([f64; 2], [f64; 2])| (x[1] - x[0]) * (v[1] - v[0]);
+        self.rects.iter().map(area).sum::<f64>() / area(&self.sides)
+    }
+}
+
+/// The measures from `samples` starts drawn uniformly over `domain` (seeded by `seed`):
+/// each start's `fate`, its fate `eps` away at every level (`eps` a share of the domain's
+/// box sides), and its fate at half the step (`half`).
 pub fn probe(
     (fate, half): (Fate, Option<Fate>),
-    (x, v): ([f64; 2], [f64; 2]),
+    domain: &Domain,
     samples: usize,
     seed: u64,
 ) -> Probed {
-    let sample = crate::grid::RandomSample {
-        n: samples,
-        seed,
-    };
-    let ax = |r: [f64; 2]| crate::grid::Axis {
-        min: r[0],
-        max: r[1],
+    let unit = crate::grid::Axis {
+        min: 0.0,
+        max: 1.0,
         count: 2,
     };
-    let (xa, va) = (ax(x), ax(v));
-    // The direction's angle from a stream of its own (a different seed).
-    let angles = crate::grid::RandomSample {
+    let stream = |s: u64| crate::grid::RandomSample {
         n: samples,
-        seed: seed ^ 0xA5A5_A5A5_A5A5_A5A5,
+        seed: s,
     };
+    // The point in its rectangle, and (from a stream of its own) the rectangle and the
+    // perturbation's direction.
+    let (at, pick) = (stream(seed), stream(seed ^ 0xA5A5_A5A5_A5A5_A5A5));
+    let (x, v) = domain.sides;
     let eps = eps_levels();
+    let n_rects = domain.rects.len();
     let per: Vec<([bool; EPS_LEVELS], Option<bool>)> = (0..samples)
         .into_par_iter()
         .map(|i| {
-            let (x0, v0) = sample.point(i, &xa, &va);
-            let (a, _) = angles.point(i, &ax([0.0, std::f64::consts::TAU]), &va);
+            let (a, b) = at.point(i, &unit, &unit);
+            let (r, turn) = pick.point(i, &unit, &unit);
+            let (rx, rv) = domain.rects[((r * n_rects as f64) as usize).min(n_rects - 1)];
+            let (x0, v0) = (rx[0] + a * (rx[1] - rx[0]), rv[0] + b * (rv[1] - rv[0]));
+            let angle = std::f64::consts::TAU * turn;
             let base = fate(State { x: x0, v: v0 });
             let moved = std::array::from_fn(|k| {
                 let (dx, dv) = (
-                    eps[k] * (x[1] - x[0]) * a.cos(),
-                    eps[k] * (v[1] - v[0]) * a.sin(),
+                    eps[k] * (x[1] - x[0]) * angle.cos(),
+                    eps[k] * (v[1] - v[0]) * angle.sin(),
                 );
                 fate(State {
                     x: x0 + dx,
@@ -367,16 +468,38 @@ pub fn probe(
     });
     let n = samples as u64;
     Probed {
-        uncertainty: Uncertainty::fitted(n, changed),
+        uncertainty: Uncertainty::fitted(n, changed, domain.max_eps),
         step,
         runs: n * (1 + EPS_LEVELS as u64) + if half.is_some() { n } else { 0 },
+        domain_share: domain.share(),
     }
 }
 
-/// The run-based measures of map `map` of `plan` ([`probe`] over the map's box, with
-/// [`samples_for`] its cells): its fates as the scan decides them (the map prepared with the
-/// rule groups `withdrawn` that its census withdrew), and at `dt / 2` the same.
-pub fn of_map(plan: &Plan, map: usize, withdrawn: &[Rules]) -> Result<Probed, ScanError> {
+/// The run-based measures of map `map` of `plan` ([`probe`] with [`samples_for`] its
+/// cells): its fates as the scan decides them (the map prepared with the rule groups
+/// `withdrawn` that its census withdrew), and at `dt / 2` the same. The starts are drawn
+/// where `labels` show the boundary ([`Domain::near_boundary`]; a random sample's whole
+/// box); a map with no boundary box is not probed.
+pub fn of_map(
+    plan: &Plan,
+    map: usize,
+    withdrawn: &[Rules],
+    labels: &[u8],
+) -> Result<Option<Probed>, ScanError> {
+    let g = &plan.map.grid;
+    let (domain, cells) = match g.starts {
+        crate::grid::Starts::Sample(s) => (
+            Some(Domain::whole([g.x0.min, g.x0.max], [g.v0.min, g.v0.max])),
+            s.n,
+        ),
+        crate::grid::Starts::Grid => (
+            Domain::near_boundary(labels, (g.x0, g.v0), ENTROPY_BOX),
+            g.x0.count * g.v0.count,
+        ),
+    };
+    let Some(domain) = domain else {
+        return Ok(None);
+    };
     let prepare = |p: &Plan| -> Result<MapContext, ScanError> {
         let mut ctx = MapContext::prepare_checked(p, map, false)?;
         for &r in withdrawn {
@@ -392,17 +515,12 @@ pub fn of_map(plan: &Plan, map: usize, withdrawn: &[Rules]) -> Result<Probed, Sc
     let (at_dt, at_half) = (at_dt?, at_half?);
     let fate = |s: State| at_dt.classify(s).regime as u8;
     let half = |s: State| at_half.classify(s).regime as u8;
-    let g = &plan.map.grid;
-    let cells = match g.starts {
-        crate::grid::Starts::Sample(s) => s.n,
-        crate::grid::Starts::Grid => g.x0.count * g.v0.count,
-    };
-    Ok(probe(
+    Ok(Some(probe(
         (&fate, Some(&half)),
-        ([g.x0.min, g.x0.max], [g.v0.min, g.v0.max]),
+        &domain,
         samples_for(cells),
         SEED,
-    ))
+    )))
 }
 
 /// A map's final-state sensitivity as a file stores it.
@@ -415,6 +533,21 @@ pub struct Sensitivity {
 }
 
 impl Sensitivity {
+    /// Of map `map` of `plan` with `labels` (its stored label values): the entropy of a
+    /// grid's labels and the probe of [`of_map`] (`None` where it could not be made: the
+    /// map's preparation failed, which the scan itself reported).
+    pub fn of_map(plan: &Plan, map: usize, withdrawn: &[Rules], labels: &[u8]) -> Sensitivity {
+        let g = &plan.map.grid;
+        let entropy = match g.starts {
+            crate::grid::Starts::Sample(_) => Entropy::NONE,
+            crate::grid::Starts::Grid => Entropy::of(labels, g.x0.count, ENTROPY_BOX),
+        };
+        Sensitivity {
+            entropy,
+            probed: of_map(plan, map, withdrawn, labels).ok().flatten(),
+        }
+    }
+
     /// The values of [`SENSITIVITY_FIELDS`], in order.
     pub fn values(&self) -> Vec<f64> {
         SENSITIVITY_FIELDS.iter().map(|f| (f.3)(self)).collect()
@@ -427,12 +560,18 @@ impl Sensitivity {
 
     /// The uncertainty exponent's counts per level (zeros where not measured).
     pub fn changed(&self) -> [u64; EPS_LEVELS] {
-        self.probed.map_or([0; EPS_LEVELS], |p| p.uncertainty.changed)
+        self.probed
+            .map_or([0; EPS_LEVELS], |p| p.uncertainty.changed)
     }
 }
 
 /// A stored per-map figure: name, long name, units, value.
-pub type Field = (&'static str, &'static str, &'static str, fn(&Sensitivity) -> f64);
+pub type Field = (
+    &'static str,
+    &'static str,
+    &'static str,
+    fn(&Sensitivity) -> f64,
+);
 
 fn probed(s: &Sensitivity, f: impl Fn(&Probed) -> f64) -> f64 {
     s.probed.as_ref().map_or(f64::NAN, f)
@@ -445,21 +584,166 @@ fn step(s: &Sensitivity, f: impl Fn(&StepShare) -> f64) -> f64 {
 /// What a file stores per map (beside `log2_test`, an enum, and `uncertainty_changed`
 /// over the levels `uncertainty_eps`): the one table of the sensitivity's fields.
 pub const SENSITIVITY_FIELDS: &[Field] = &[
-    ("basin_entropy", "basin entropy S_b: mean Gibbs entropy (natural log) of the labels over boxes of basin_entropy_box x basin_entropy_box cells (Daza et al. 2016)", "1", |s| s.entropy.s_b),
-    ("boundary_basin_entropy", "boundary basin entropy S_bb: mean entropy over the boxes that hold more than one label; above ln 2 the boundary is fractal (Puy et al. 2021)", "1", |s| s.entropy.s_bb),
-    ("basin_entropy_box", "side of the basin entropy's boxes, in cells", "1", |s| s.entropy.box_cells as f64),
-    ("basin_entropy_boxes", "boxes of the basin entropy (full boxes with every cell computed)", "1", |s| s.entropy.boxes as f64),
-    ("boundary_boxes", "of those, the boxes that hold more than one label", "1", |s| s.entropy.boundary_boxes as f64),
-    ("uncertainty_exponent", "uncertainty exponent alpha: f(eps) ~ eps^alpha, f the share of sampled starts whose fate changes under a perturbation eps (Grebogi et al. 1983); 1 for a smooth boundary, below 1 for a fractal one; NaN: fewer than 3 levels with 8 changed starts", "1", |s| probed(s, |p| p.uncertainty.alpha)),
-    ("uncertainty_exponent_se", "standard error of the uncertainty exponent (weighted least squares on the binomial counts, scaled up by the fit's scatter)", "1", |s| probed(s, |p| p.uncertainty.alpha_se)),
-    ("uncertainty_eps_lo", "smallest eps in the uncertainty exponent's fit, as a share of the box's sides", "1", |s| probed(s, |p| p.uncertainty.fit[0])),
-    ("uncertainty_eps_hi", "largest eps in the uncertainty exponent's fit, as a share of the box's sides", "1", |s| probed(s, |p| p.uncertainty.fit[1])),
-    ("uncertainty_samples", "starts drawn uniformly in the map's box for the uncertainty exponent and the step sensitivity", "1", |s| probed(s, |p| p.uncertainty.samples as f64)),
-    ("step_sensitivity", "share of the sampled starts whose fate at dt/2 differs from the one at dt", "1", |s| step(s, |t| t.share)),
-    ("step_sensitivity_se", "sqrt(p (1 - p) / N) of the step sensitivity", "1", |s| step(s, |t| t.se)),
-    ("step_sensitivity_changed", "sampled starts whose fate at dt/2 differs from the one at dt", "1", |s| step(s, |t| t.changed as f64)),
-    ("sensitivity_runs", "classifications made for the uncertainty exponent and the step sensitivity (starts, their perturbations, and the starts at dt/2)", "1", |s| probed(s, |p| p.runs as f64)),
+    (
+        "basin_entropy",
+        "basin entropy S_b: mean Gibbs entropy (natural log) of the labels over boxes of basin_entropy_box x basin_entropy_box cells (Daza et al. 2016)",
+        "1",
+        |s| s.entropy.s_b,
+    ),
+    (
+        "boundary_basin_entropy",
+        "boundary basin entropy S_bb: mean entropy over the boxes that hold more than one label; above ln 2 the boundary is fractal (Puy et al. 2021)",
+        "1",
+        |s| s.entropy.s_bb,
+    ),
+    (
+        "basin_entropy_box",
+        "side of the basin entropy's boxes, in cells",
+        "1",
+        |s| s.entropy.box_cells as f64,
+    ),
+    (
+        "basin_entropy_boxes",
+        "boxes of the basin entropy (full boxes with every cell computed)",
+        "1",
+        |s| s.entropy.boxes as f64,
+    ),
+    (
+        "boundary_boxes",
+        "of those, the boxes that hold more than one label",
+        "1",
+        |s| s.entropy.boundary_boxes as f64,
+    ),
+    (
+        "uncertainty_exponent",
+        "uncertainty exponent alpha: f(eps) ~ eps^alpha, f the share of sampled starts whose fate changes under a perturbation eps (Grebogi et al. 1983); 1 for a smooth boundary, below 1 for a fractal one; NaN: fewer than 3 levels with 8 changed starts",
+        "1",
+        |s| probed(s, |p| p.uncertainty.alpha),
+    ),
+    (
+        "uncertainty_exponent_se",
+        "standard error of the uncertainty exponent (weighted least squares on the binomial counts, scaled up by the fit's scatter)",
+        "1",
+        |s| probed(s, |p| p.uncertainty.alpha_se),
+    ),
+    (
+        "uncertainty_eps_lo",
+        "smallest eps in the uncertainty exponent's fit, as a share of the box's sides",
+        "1",
+        |s| probed(s, |p| p.uncertainty.fit[0]),
+    ),
+    (
+        "uncertainty_eps_hi",
+        "largest eps in the uncertainty exponent's fit, as a share of the box's sides",
+        "1",
+        |s| probed(s, |p| p.uncertainty.fit[1]),
+    ),
+    (
+        "uncertainty_samples",
+        "starts drawn uniformly in the map's box for the uncertainty exponent and the step sensitivity",
+        "1",
+        |s| probed(s, |p| p.uncertainty.samples as f64),
+    ),
+    (
+        "step_sensitivity",
+        "share of the sampled starts whose fate at dt/2 differs from the one at dt",
+        "1",
+        |s| step(s, |t| t.share),
+    ),
+    (
+        "step_sensitivity_se",
+        "sqrt(p (1 - p) / N) of the step sensitivity",
+        "1",
+        |s| step(s, |t| t.se),
+    ),
+    (
+        "step_sensitivity_changed",
+        "sampled starts whose fate at dt/2 differs from the one at dt",
+        "1",
+        |s| step(s, |t| t.changed as f64),
+    ),
+    (
+        "sensitivity_domain_share",
+        "share of the map's box the sampled starts were drawn from: the boxes where its labels show the boundary, with their neighbours",
+        "1",
+        |s| probed(s, |p| p.domain_share),
+    ),
+    (
+        "sensitivity_runs",
+        "classifications made for the uncertainty exponent and the step sensitivity (starts, their perturbations, and the starts at dt/2)",
+        "1",
+        |s| probed(s, |p| p.runs as f64),
+    ),
 ];
+
+/// A stored figure of [`SENSITIVITY_FIELDS`] by name, from `values` in the table's order
+/// (NaN where absent).
+fn stored(values: &[f64], name: &str) -> f64 {
+    SENSITIVITY_FIELDS
+        .iter()
+        .position(|f| f.0 == name)
+        .and_then(|i| values.get(i).copied())
+        .unwrap_or(f64::NAN)
+}
+
+/// A map's final-state sensitivity in words, from its stored figures `values` (the order
+/// of [`SENSITIVITY_FIELDS`]): the entropy and the log 2 test, the uncertainty exponent,
+/// the step's share, and a warning where that share is not small. Empty for a file
+/// written before them.
+pub fn words(values: &[f64]) -> Vec<String> {
+    let get = |name| stored(values, name);
+    let mut out = Vec::new();
+    let (boxes, side) = (get("basin_entropy_boxes"), get("basin_entropy_box"));
+    if boxes.is_finite() && boxes > 0.0 {
+        let sbb = get("boundary_basin_entropy");
+        let test = if get("boundary_boxes") == 0.0 {
+            Log2Test::NoBoundary
+        } else if sbb > std::f64::consts::LN_2 {
+            Log2Test::Fractal
+        } else {
+            Log2Test::Inconclusive
+        };
+        out.push(format!(
+            "basin entropy S_b {:.4}, boundary S_bb {:.4} over {} of {} boxes of {side} x {side} cells: log 2 test {}",
+            get("basin_entropy"),
+            sbb,
+            get("boundary_boxes"),
+            boxes,
+            test.name()
+        ));
+    }
+    let samples = get("uncertainty_samples");
+    if samples.is_finite() {
+        let alpha = get("uncertainty_exponent");
+        let fit = if alpha.is_finite() {
+            format!(
+                "uncertainty exponent alpha {alpha:.3} +- {:.3} (eps {:.2e} to {:.2e} of the box; 1: a smooth boundary, below 1: fractal)",
+                get("uncertainty_exponent_se"),
+                get("uncertainty_eps_lo"),
+                get("uncertainty_eps_hi")
+            )
+        } else {
+            format!(
+                "uncertainty exponent: not fitted (fewer than 3 perturbation sizes moved {MIN_UNCERTAIN} starts)"
+            )
+        };
+        out.push(format!(
+            "{fit}; {samples} starts near the boundary ({:.1}% of the box), {} runs",
+            100.0 * get("sensitivity_domain_share"),
+            get("sensitivity_runs")
+        ));
+        let step = StepShare::of(get("step_sensitivity_changed") as u64, samples as u64);
+        out.push(format!(
+            "step sensitivity: {} of {} of those starts change fate at dt/2 ({:.2}% +- {:.2}%)",
+            step.changed,
+            step.compared,
+            100.0 * step.share,
+            100.0 * step.se
+        ));
+        out.extend(step.warning());
+    }
+    out
+}
 
 #[cfg(test)]
 mod tests;

@@ -327,6 +327,9 @@ pub struct FileInfo {
     pub shard: Option<String>,
     /// Per map: the values of [`squeal_scan::checks::CHECK_FIELDS`] (-1: not applicable).
     pub checks: Vec<Vec<i64>>,
+    /// Per map: the values of [`squeal_scan::sensitivity::SENSITIVITY_FIELDS`] (NaN: not
+    /// measured, or a file written before them).
+    pub sensitivity: Vec<Vec<f64>>,
     /// Per map: why no cycle was located, where the search found none.
     pub no_cycle: Vec<Option<String>>,
     /// Per map: the sampled start outside the located cycle that returns inside, where the
@@ -508,6 +511,20 @@ pub fn read_info(path: &Path) -> Result<FileInfo, StoreError> {
                             Ok(v.get(m).copied().unwrap_or(-1))
                         })
                         .collect::<hdf5::Result<Vec<i64>>>()
+                })
+                .collect::<hdf5::Result<_>>()?,
+            sensitivity: (0..nmaps)
+                .map(|m| {
+                    squeal_scan::sensitivity::SENSITIVITY_FIELDS
+                        .iter()
+                        .map(|(name, ..)| {
+                            if !file.link_exists(name) {
+                                return Ok(f64::NAN);
+                            }
+                            let v: Vec<f64> = file.dataset(name)?.read_raw()?;
+                            Ok(v.get(m).copied().unwrap_or(f64::NAN))
+                        })
+                        .collect::<hdf5::Result<Vec<f64>>>()
                 })
                 .collect::<hdf5::Result<_>>()?,
             no_cycle: (0..nmaps)

@@ -262,6 +262,24 @@ pub fn basin_json(b: &squeal_scan::GridShares) -> serde_json::Value {
     o.into()
 }
 
+/// A map's final-state sensitivity as JSON: each stored figure by its file name (null
+/// where not measured).
+pub fn sensitivity_json(values: &[f64]) -> serde_json::Value {
+    squeal_scan::sensitivity::SENSITIVITY_FIELDS
+        .iter()
+        .zip(values)
+        .map(|((name, ..), v)| {
+            let v = if v.is_finite() {
+                (*v).into()
+            } else {
+                serde_json::Value::Null
+            };
+            ((*name).to_string(), v)
+        })
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}
+
 /// Basin stability of one map in words: each decided regime's share, with its change from
 /// the `2h` sub-grid.
 pub fn basin_words(b: &squeal_scan::GridShares) -> String {

@@ -214,6 +214,14 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
         if let Some(b) = maps.get(i).map(|m| &m.basin) {
             writeln!(o, "    {}", super::common::basin_words(b))?;
         }
+        for w in info
+            .sensitivity
+            .get(i)
+            .map(|v| squeal_scan::sensitivity::words(v))
+            .unwrap_or_default()
+        {
+            writeln!(o, "    {w}")?;
+        }
         if let Some(Some(why)) = info.no_cycle.get(i) {
             writeln!(o, "    no unstable cycle: {why}")?;
         }
@@ -324,6 +332,7 @@ fn scan_json(info: &squeal_store::FileInfo, maps: &[squeal_scan::MapSummary]) ->
         "no_cycle": info.no_cycle,
         "landscape": info.landscapes.iter().map(|l| super::map_words::landscape_json(l.as_ref())).collect::<Vec<_>>(),
         "basin_stability": maps.iter().map(|m| super::common::basin_json(&m.basin)).collect::<Vec<_>>(),
+        "sensitivity": info.sensitivity.iter().map(|v| super::common::sensitivity_json(v)).collect::<Vec<_>>(),
         "shard": info.shard,
     })
 }

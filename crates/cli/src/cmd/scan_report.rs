@@ -109,6 +109,9 @@ fn map_json(
     if let Some(m) = tallies.maps.get(i) {
         o.insert("basin_stability".into(), common::basin_json(&m.basin));
     }
+    if let Some(v) = info.sensitivity.get(i) {
+        o.insert("sensitivity".into(), common::sensitivity_json(v));
+    }
     Ok(serde_json::Value::Object(o))
 }
 
@@ -135,6 +138,11 @@ fn print_map(plan: &Plan, info: &squeal_store::FileInfo, tallies: &Tallies, i: u
     println!("{line}");
     if let Some(m) = tallies.maps.get(i) {
         println!("    {}", common::basin_words(&m.basin));
+    }
+    if let Some(v) = info.sensitivity.get(i) {
+        for w in squeal_scan::sensitivity::words(v) {
+            println!("    {w}");
+        }
     }
     let time_unit = plan.physical().map(|ph| ph.scales().time);
     println!(
