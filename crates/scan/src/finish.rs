@@ -145,7 +145,7 @@ fn tally_and_write<F: Finishing>(f: &F, window_cells: usize) -> Result<Vec<MapFi
         let (checks, shares, labels) = t.finish(plan);
         let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
         // The sensitivity's extra runs (on every thread), where the map shows its boundary.
-        let sensitivity = Sensitivity::of_map(plan, m, &f.withdrawn(m), &labels);
+        let sensitivity = Sensitivity::of_map(plan, m, Some(&f.withdrawn(m)), &labels);
         out.push(MapFigures {
             checks,
             shares,
@@ -297,7 +297,7 @@ mod tests {
                 }
                 let shares = GridShares::of(&labels, plan.map.grid.x0.count);
                 let steady = squeal_core::SteadySlip::of(&plan.maps[m]);
-                let sensitivity = Sensitivity::of_map(&plan, m, &[], &labels);
+                let sensitivity = Sensitivity::of_map(&plan, m, Some(&[]), &labels);
                 MapFigures {
                     checks,
                     shares,

@@ -71,10 +71,11 @@ pub fn eps_levels() -> [f64; EPS_LEVELS] {
     std::array::from_fn(|k| 0.5f64.powi(k as i32 + 3))
 }
 
-/// The number of sampled starts for a map of `cells` cells: one per 16 cells, between 1024
-/// and 4096 (each costs `EPS_LEVELS + 2` classifications).
+/// The default number of sampled starts for a map of `cells` cells
+/// (`classifier.sensitivity_samples`): one per 4 cells, between 256 and 4096. Each costs
+/// `EPS_LEVELS + 2` classifications, near the boundary where runs are slowest.
 pub fn samples_for(cells: usize) -> usize {
-    (cells / 16).clamp(1024, 4096)
+    (cells / 4).clamp(256, 4096)
 }
 
 /// What the log 2 test says of a map's boundary.
@@ -204,7 +205,8 @@ fn gibbs(counts: &[u32]) -> f64 {
             let p = f64::from(c) / f64::from(n);
             -p * p.ln()
         })
-        .sum()
+        // From +0: a box of one label has entropy 0, not -0.
+        .fold(0.0, |a, s| a + s)
 }
 
 /// The uncertainty exponent's counts and fit ([`probe`]).
@@ -475,32 +477,30 @@ pub fn probe(
     }
 }
 
-/// The run-based measures of map `map` of `plan` ([`probe`] with [`samples_for`] its
-/// cells): its fates as the scan decides them (the map prepared with the rule groups
-/// `withdrawn` that its census withdrew), and at `dt / 2` the same. The starts are drawn
+/// The run-based measures of map `map` of `plan` ([`probe`] with the plan's
+/// `sensitivity_samples` starts, none where it is 0): its fates as the scan decides them (the map prepared with the rule groups
+/// `withdrawn` that its census withdrew; `None`: not known, the census is taken again),
+/// and at `dt / 2` the same. The starts are drawn
 /// where `labels` show the boundary ([`Domain::near_boundary`]; a random sample's whole
 /// box); a map with no boundary box is not probed.
 pub fn of_map(
     plan: &Plan,
     map: usize,
-    withdrawn: &[Rules],
+    withdrawn: Option<&[Rules]>,
     labels: &[u8],
 ) -> Result<Option<Probed>, ScanError> {
     let g = &plan.map.grid;
-    let (domain, cells) = match g.starts {
-        crate::grid::Starts::Sample(s) => (
-            Some(Domain::whole([g.x0.min, g.x0.max], [g.v0.min, g.v0.max])),
-            s.n,
-        ),
-        crate::grid::Starts::Grid => (
-            Domain::near_boundary(labels, (g.x0, g.v0), ENTROPY_BOX),
-            g.x0.count * g.v0.count,
-        ),
+    let domain = match g.starts {
+        crate::grid::Starts::Sample(_) => {
+            Some(Domain::whole([g.x0.min, g.x0.max], [g.v0.min, g.v0.max]))
+        }
+        crate::grid::Starts::Grid => Domain::near_boundary(labels, (g.x0, g.v0), ENTROPY_BOX),
     };
-    let Some(domain) = domain else {
+    let samples = plan.map.sensitivity_samples as usize;
+    let Some(domain) = domain.filter(|_| samples > 0) else {
         return Ok(None);
     };
-    let prepare = |p: &Plan| -> Result<MapContext, ScanError> {
+    let prepare = |p: &Plan, withdrawn: &[Rules]| -> Result<MapContext, ScanError> {
         let mut ctx = MapContext::prepare_checked(p, map, false)?;
         for &r in withdrawn {
             ctx.withdraw(r);
@@ -511,16 +511,21 @@ pub fn of_map(
     quiet.cycle.locate = false;
     let mut halved = quiet.clone();
     halved.dt = 0.5 * plan.dt;
-    let (at_dt, at_half) = rayon::join(|| prepare(&quiet), || prepare(&halved));
-    let (at_dt, at_half) = (at_dt?, at_half?);
+    let (at_dt, at_half) = match withdrawn {
+        Some(w) => {
+            let (a, b) = rayon::join(|| prepare(&quiet, w), || prepare(&halved, w));
+            (a?, b?)
+        }
+        // Not stored (an atlas's maps): the census at dt says which groups to withdraw.
+        None => {
+            let at_dt = MapContext::prepare(&quiet, map)?;
+            let w: Vec<Rules> = at_dt.withdrawn.iter().map(|w| w.rules).collect();
+            (at_dt, prepare(&halved, &w)?)
+        }
+    };
     let fate = |s: State| at_dt.classify(s).regime as u8;
     let half = |s: State| at_half.classify(s).regime as u8;
-    Ok(Some(probe(
-        (&fate, Some(&half)),
-        &domain,
-        samples_for(cells),
-        SEED,
-    )))
+    Ok(Some(probe((&fate, Some(&half)), &domain, samples, SEED)))
 }
 
 /// A map's final-state sensitivity as a file stores it.
@@ -536,7 +541,12 @@ impl Sensitivity {
     /// Of map `map` of `plan` with `labels` (its stored label values): the entropy of a
     /// grid's labels and the probe of [`of_map`] (`None` where it could not be made: the
     /// map's preparation failed, which the scan itself reported).
-    pub fn of_map(plan: &Plan, map: usize, withdrawn: &[Rules], labels: &[u8]) -> Sensitivity {
+    pub fn of_map(
+        plan: &Plan,
+        map: usize,
+        withdrawn: Option<&[Rules]>,
+        labels: &[u8],
+    ) -> Sensitivity {
         let g = &plan.map.grid;
         let entropy = match g.starts {
             crate::grid::Starts::Sample(_) => Entropy::NONE,

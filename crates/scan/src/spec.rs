@@ -39,6 +39,9 @@
 //! settle_rtol = 0.05
 //! early_stop = "cycle"             # cycle (stop once inside/outside the located cycle) | none
 //! trap_margin = 1e-5               # relative band around the cycle left to run on
+//! sensitivity_samples = 4096       # starts near the boundary for the uncertainty exponent
+//!                                  # and the step sensitivity (default cells / 16 in
+//!                                  # 1024..=4096; 0: none)
 //! audit_every = 1024               # with early_stop = "cycle": also run about 1 cell in
 //!                                  # this many to settlement and count (dis)agreements;
 //!                                  # 0 turns the audit off. Default: 1024, or cells / 16
@@ -384,6 +387,9 @@ pub struct MapSettings {
     /// With early stopping: about one cell in `audit_every` is also run to settlement
     /// (classifier without the trap) and the agreement stored; 0: no audit.
     pub audit_every: u64,
+    /// Starts sampled near each map's boundary for the uncertainty exponent and the step
+    /// sensitivity ([`crate::sensitivity`]); 0: none.
+    pub sensitivity_samples: u64,
 }
 
 /// Default of `classifier.audit_every`: the audit then costs a few percent of an
@@ -600,6 +606,7 @@ impl Plan {
             early_stop,
             trap_margin,
             audit_every,
+            sensitivity_samples,
         } = spec.classifier.check(dt, grid.cells(), rules, &invalid)?;
         let cycle = spec.cycle.check(Shape::Scan, rules, &invalid)?;
         rules.bound(|| check_reach(&cycle, &maps, &grid, &invalid))?;
@@ -618,6 +625,7 @@ impl Plan {
                 early_stop,
                 trap_margin,
                 audit_every,
+                sensitivity_samples,
             },
             dt,
             solver,

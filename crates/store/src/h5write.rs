@@ -10,6 +10,7 @@ use squeal_scan::BASIN_FIELDS;
 use squeal_scan::cell::COLUMNS;
 use squeal_scan::checks::CHECK_FIELDS;
 use squeal_scan::finish::{STEADY_SLIP, STEADY_SLIP_GROWTH};
+use squeal_scan::sensitivity::Sensitivity;
 use squeal_scan::si::Si;
 use squeal_scan::space::si_twin;
 use squeal_scan::ulc::CycleReport;
@@ -450,43 +451,59 @@ pub(crate) fn per_map<'l>(
         let vals: Vec<f64> = figures.iter().map(|f| f.shares.values()[i]).collect();
         o.put(over, *named, Some("1"), vals)?;
     }
-    sensitivity(o, over, figures)
+    let maps: Vec<Option<Sensitivity>> = figures.iter().map(|f| Some(f.sensitivity)).collect();
+    sensitivity(o, over, "", &maps)
 }
 
 /// The final-state sensitivity per map (squeal_scan::sensitivity): its table of figures,
-/// the log 2 test's verdict, and the changed starts per perturbation size.
-fn sensitivity(o: &mut Out, over: &Over, figures: &[MapFigures]) -> hdf5::Result<()> {
+/// the log 2 test's verdict, and the changed starts per perturbation size; each name
+/// after `prefix` (an atlas's `map_`). A map without one (not complete) holds NaN, the
+/// test `no_boundary` and no count.
+pub(crate) fn sensitivity(
+    o: &mut Out,
+    over: &Over,
+    prefix: &str,
+    maps: &[Option<Sensitivity>],
+) -> hdf5::Result<()> {
     use squeal_scan::sensitivity::{EPS_LEVELS, Log2Test, SENSITIVITY_FIELDS, eps_levels};
-    for (i, (name, long, units, _)) in SENSITIVITY_FIELDS.iter().enumerate() {
-        let vals: Vec<f64> = figures.iter().map(|f| f.sensitivity.values()[i]).collect();
-        o.put(over, (name, long), Some(units), vals)?;
+    let name = |n: &str| format!("{prefix}{n}");
+    for (i, (n, long, units, _)) in SENSITIVITY_FIELDS.iter().enumerate() {
+        let vals: Vec<f64> = maps
+            .iter()
+            .map(|s| s.map_or(f64::NAN, |s| s.values()[i]))
+            .collect();
+        o.put(over, (&name(n), long), Some(units), vals)?;
     }
     let names: Vec<&str> = Log2Test::ALL.iter().map(|t| t.name()).collect();
     let values: Vec<u8> = Log2Test::ALL.iter().map(|t| *t as u8).collect();
-    let verdicts: Vec<u8> = figures
+    let verdicts: Vec<u8> = maps
         .iter()
-        .map(|f| f.sensitivity.log2_test() as u8)
+        .map(|s| s.map_or(Log2Test::NoBoundary, |s| s.log2_test()) as u8)
         .collect();
-    let named = (
-        "log2_test",
-        "log 2 test of the boundary (Puy et al. 2021): fractal where boundary_basin_entropy > ln 2; inconclusive otherwise (always so with two labels); no_boundary where no box holds two labels",
-    );
-    o.put_flags(over, named, verdicts, (&names.join(" "), &values))?;
+    let long = "log 2 test of the boundary (Puy et al. 2021): fractal where boundary_basin_entropy > ln 2; inconclusive otherwise (always so with two labels); no_boundary where no box holds two labels";
+    o.put_flags(
+        over,
+        (&name("log2_test"), long),
+        verdicts,
+        (&names.join(" "), &values),
+    )?;
     let scale = o.scale(
         "uncertainty_eps",
         &eps_levels(),
         "perturbation size eps of the uncertainty exponent, as a share of the box's sides",
         Some("1"),
     )?;
-    let changed: Vec<u64> = figures
+    let changed: Vec<u64> = maps
         .iter()
-        .flat_map(|f| f.sensitivity.changed())
+        .flat_map(|s| s.map_or([0; EPS_LEVELS], |s| s.changed()))
         .collect();
-    let named = (
-        "uncertainty_changed",
-        "sampled starts whose fate changes when moved by eps in a random direction (of uncertainty_samples)",
-    );
-    o.put(&over.and(EPS_LEVELS, &scale), named, Some("1"), changed)?;
+    let long = "sampled starts whose fate changes when moved by eps in a random direction (of uncertainty_samples)";
+    o.put(
+        &over.and(EPS_LEVELS, &scale),
+        (&name("uncertainty_changed"), long),
+        Some("1"),
+        changed,
+    )?;
     Ok(())
 }
 

@@ -48,6 +48,9 @@ pub struct PointMap {
     pub checks: crate::MapChecks,
     /// The basin fraction, where the map is complete.
     pub fraction: Option<MapFraction>,
+    /// The final-state sensitivity of the map ([`crate::sensitivity`]), where it is
+    /// complete.
+    pub sensitivity: Option<crate::sensitivity::Sensitivity>,
 }
 
 /// Every point's [`PointMap`] (point order; none without maps), the points in parallel.
@@ -70,9 +73,17 @@ pub fn point_maps(plan: &AtlasPlan, res: &super::AtlasResults) -> Vec<PointMap> 
                     tally.add_block(&mp, b, cells);
                 }
             }
+            let (checks, _, labels) = tally.finish(&mp);
+            let fraction = res.map_fraction(plan, i);
+            // A complete map's sensitivity (its census is taken again: an atlas does not
+            // store which rule groups it withdrew).
+            let complete = !labels.contains(&crate::cell::NOT_COMPUTED);
+            let sensitivity =
+                complete.then(|| crate::sensitivity::Sensitivity::of_map(&mp, i, None, &labels));
             PointMap {
-                checks: tally.finish(&mp).0,
-                fraction: res.map_fraction(plan, i),
+                checks,
+                fraction,
+                sensitivity,
             }
         })
         .collect()

@@ -302,7 +302,7 @@ fn fig9s_smooth_boundary_has_exponent_one() {
             ctx.classify(State { x, v }).regime as u8
         })
         .collect();
-    let s = Sensitivity::of_map(&plan, 0, &[], &labels);
+    let s = Sensitivity::of_map(&plan, 0, None, &labels);
     let p = s.probed.expect("probed");
     let u = p.uncertainty;
     eprintln!("fig9: {s:?}");

@@ -43,6 +43,7 @@ pub(crate) struct ClassifierSpec {
     early_stop: EarlyStop,
     trap_margin: Option<f64>,
     audit_every: Option<i64>,
+    sensitivity_samples: Option<i64>,
 }
 
 /// The checked `[classifier]` table.
@@ -51,6 +52,7 @@ pub(crate) struct ClassifierPlan {
     pub early_stop: EarlyStop,
     pub trap_margin: f64,
     pub audit_every: u64,
+    pub sensitivity_samples: u64,
 }
 
 impl ClassifierSpec {
@@ -89,7 +91,25 @@ impl ClassifierSpec {
             early_stop: c.early_stop,
             trap_margin: self.trap_margin(rules, invalid)?,
             audit_every: self.audit_every(cells, rules, invalid)?,
+            sensitivity_samples: self.sensitivity_samples(cells, invalid)?,
         })
+    }
+
+    /// The `classifier.sensitivity_samples` for maps of `cells` cells: 0 (no extra runs) or
+    /// a count in `64..=2^20` ([`crate::sensitivity::samples_for`] by default).
+    fn sensitivity_samples(&self, cells: usize, invalid: Invalid) -> Result<u64, ScanError> {
+        let key = "classifier.sensitivity_samples";
+        let n = self
+            .sensitivity_samples
+            .unwrap_or(crate::sensitivity::samples_for(cells) as i64);
+        if n != 0 && !(64..=1 << 20).contains(&n) {
+            return Err(invalid(
+                key,
+                n.to_string(),
+                "0 (no uncertainty exponent nor step sensitivity) or a number of starts in 64..=1048576",
+            ));
+        }
+        count(key, n, "a number of starts", invalid)
     }
 
     /// The `classifier.trap_margin`, checked under [`Rules::Today`].

@@ -163,7 +163,8 @@ fn write_fractions(o: &mut Out, over: &Over, maps: &[PointMap]) -> hdf5::Result<
         "decided cells within one cell of the located cycle",
     );
     o.put(over, near, Some("1"), count(|f| f.near_cycle))?;
-    Ok(())
+    let sens: Vec<_> = maps.iter().map(|m| m.sensitivity).collect();
+    crate::h5write::sensitivity(o, over, "map_", &sens)
 }
 
 /// Each map's cycle search: the record (TOML, exact) and the closed curve, NaN-padded.

@@ -142,6 +142,7 @@ pub(super) fn map_settings(
                 early_stop: c.early_stop,
                 trap_margin: c.trap_margin,
                 audit_every: c.audit_every,
+                sensitivity_samples: c.sensitivity_samples,
             })
         }
     };
