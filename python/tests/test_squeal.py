@@ -81,6 +81,41 @@ def test_scan_dataset_equals_what_xarray_reads_from_the_cli_file(tmp_path):
     assert {1, 2} <= labels, labels
 
 
+def test_scan_dataset_carries_the_final_state_sensitivity(tmp_path):
+    spec = tmp_path / "small.toml"
+    spec.write_text(SMALL)
+    ds = squeal.scan(spec)
+    # The basin entropy, recomputed here from the labels with numpy (Daza et al. 2016:
+    # boxes of 5 x 5 cells, the natural log; the boundary boxes hold two labels or more).
+    labels = ds["labels"].values
+    box = int(ds["basin_entropy_box"].values[0])
+    assert box == 5
+    entropies = []
+    for j in range(0, labels.shape[0] - box + 1, box):
+        for i in range(0, labels.shape[1] - box + 1, box):
+            _, counts = np.unique(labels[j : j + box, i : i + box], return_counts=True)
+            p = counts / counts.sum()
+            entropies.append(float(-(p * np.log(p)).sum()))
+    entropies = np.array(entropies)
+    assert ds["basin_entropy_boxes"].values[0] == len(entropies)
+    assert ds["basin_entropy"].values[0] == pytest.approx(entropies.mean(), rel=1e-12)
+    boundary = entropies[entropies > 0]
+    assert len(boundary) > 0, "the small map has both basins"
+    assert ds["boundary_basin_entropy"].values[0] == pytest.approx(boundary.mean(), rel=1e-12)
+    meaning = squeal.flags(ds["log2_test"])[int(ds["log2_test"].values[0])]
+    assert meaning == ("fractal" if boundary.mean() > np.log(2) else "inconclusive")
+    # The runs: every figure with its units and meaning, the changed starts over the sizes.
+    for name in ("uncertainty_exponent", "step_sensitivity", "uncertainty_samples"):
+        assert ds[name].attrs["units"] == "1" and ds[name].attrs["long_name"], name
+    n = ds["uncertainty_samples"].values[0]
+    assert n == 64  # the default for 384 cells: one per 32 cells, at least 64
+    changed = ds["uncertainty_changed"]
+    assert changed.dims == ("map", "uncertainty_eps")
+    assert (changed.values <= n).all()
+    assert 0 <= ds["step_sensitivity"].values[0] <= 1
+    assert ds["sensitivity_runs"].values[0] == n * 10
+
+
 def test_dict_spec_gives_the_same_map_as_the_file(tmp_path):
     spec = {
         "version": 1,

@@ -72,10 +72,12 @@ pub fn eps_levels() -> [f64; EPS_LEVELS] {
 }
 
 /// The default number of sampled starts for a map of `cells` cells
-/// (`classifier.sensitivity_samples`): one per 4 cells, between 256 and 4096. Each costs
-/// `EPS_LEVELS + 2` classifications, near the boundary where runs are slowest.
+/// (`classifier.sensitivity_samples`): one per 32 cells, between 64 and 4096. Each costs
+/// `EPS_LEVELS + 2` classifications, near the boundary where runs are slowest: at the
+/// brake's c = 155 N s/m (`scans/brake-sensitivity.toml`), 512 starts on a map of 1024
+/// cells cost 5 times the map's own runs, so the default stays at a thirty-second.
 pub fn samples_for(cells: usize) -> usize {
-    (cells / 4).clamp(256, 4096)
+    (cells / 32).clamp(64, 4096)
 }
 
 /// What the log 2 test says of a map's boundary.

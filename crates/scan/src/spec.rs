@@ -40,8 +40,8 @@
 //! early_stop = "cycle"             # cycle (stop once inside/outside the located cycle) | none
 //! trap_margin = 1e-5               # relative band around the cycle left to run on
 //! sensitivity_samples = 4096       # starts near the boundary for the uncertainty exponent
-//!                                  # and the step sensitivity (default cells / 16 in
-//!                                  # 1024..=4096; 0: none)
+//!                                  # and the step sensitivity (default cells / 32 in
+//!                                  # 64..=4096; 0: none)
 //! audit_every = 1024               # with early_stop = "cycle": also run about 1 cell in
 //!                                  # this many to settlement and count (dis)agreements;
 //!                                  # 0 turns the audit off. Default: 1024, or cells / 16

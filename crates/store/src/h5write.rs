@@ -137,6 +137,7 @@ pub(crate) fn root_attrs(file: &File, plan: &Plan, meta: &Meta) -> hdf5::Result<
         }
     }
     num_attr(file, "audit_every", plan.map.audit_every)?;
+    num_attr(file, "sensitivity_samples", plan.map.sensitivity_samples)?;
     if let Some(s) = &meta.shard {
         str_attr(file, "shard", s)?;
     }

@@ -63,7 +63,8 @@
 //!                        strings (variable-length UTF-8)
 //!   nu, lambda           f64 scalars, except the swept one (then a coordinate, below)
 //!   tau, phi, dt, t_max, fp_radius, settle_rtol, trap_margin      f64
-//!   max_iter, settle_cycles (u32), block_rows, audit_every (u64), locate_cycle (u8 0/1)
+//!   max_iter, settle_cycles (u32), block_rows, audit_every, sensitivity_samples (u64),
+//!   locate_cycle (u8 0/1)
 //!   shard                "K/N", only in shard files
 //! coordinates (dimension scales; attrs long_name, units = "1"):
 //!   x0 (nx) f64, v0 (nv) f64, and for sweeps of one key that key (nmaps) f64
@@ -110,6 +111,12 @@
 //!   basin_stability_R_se           sqrt(p (1 - p) / N) (standard error of random samples)
 //!   basin_stability_R_2h, _4h      shares on the nested sub-grids of every 2nd / 4th point
 //!   basin_stability_R_change       p_h - p_2h, the grid error bar
+//! per map, final-state sensitivity (squeal_scan::sensitivity::SENSITIVITY_FIELDS, f64):
+//!   basin_entropy, boundary_basin_entropy, basin_entropy_box, basin_entropy_boxes,
+//!   boundary_boxes, uncertainty_exponent(_se), uncertainty_eps_lo/_hi,
+//!   uncertainty_samples, step_sensitivity(_se, _changed), sensitivity_domain_share,
+//!   sensitivity_runs; log2_test u8 enum {inconclusive=0, fractal=1, no_boundary=2};
+//!   uncertainty_changed (map, uncertainty_eps) u64 over the coordinate uncertainty_eps
 //! cycle          group /cycle (one map) or /cycles/map_0000, ... (sweep), present when the
 //!                scan searched: attr record (the search as TOML text, exact), every
 //!                scalar of it flattened into attrs (r_section, bracket[2], period, omega,

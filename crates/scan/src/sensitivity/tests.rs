@@ -292,7 +292,10 @@ fn grebogis_map_has_attractors_jl_entropies_and_a_small_exponent() {
 /// cycle moves by about 1e-4 of its size: MODEL.md section 7).
 #[test]
 fn fig9s_smooth_boundary_has_exponent_one() {
-    let text = include_str!("../../../../scans/fig9.toml").replace("count = 256", "count = 128");
+    // 2048 starts (the default for this grid is 512, too few changed starts for a tight fit).
+    let text = include_str!("../../../../scans/fig9.toml")
+        .replace("count = 256", "count = 128")
+        .replace("[classifier]", "[classifier]\nsensitivity_samples = 2048");
     let plan = Plan::from_toml(&text, "fig9.toml").unwrap();
     let ctx = MapContext::prepare(&plan, 0).unwrap();
     let g = plan.map.grid;
@@ -311,7 +314,7 @@ fn fig9s_smooth_boundary_has_exponent_one() {
     assert_eq!(s.log2_test(), Log2Test::Inconclusive);
     assert!(s.entropy.s_bb < std::f64::consts::LN_2 && s.entropy.boundary_boxes > 0);
     let step = p.step.unwrap();
-    assert_eq!(step.compared, samples_for(128 * 128) as u64);
+    assert_eq!(step.compared, 2048);
     assert!(!step.not_small(), "{step:?}");
     // The starts are drawn near the cycle: a few percent of the box.
     assert!(p.domain_share > 0.0 && p.domain_share < 0.1, "{p:?}");
