@@ -579,7 +579,11 @@ class Critical:
     the band's crisis; ``confirmed`` and ``confirmation`` give the runs at its bracket) or
     ``"runs"`` (outside the checked region, or where a run refuted the shortcut: ``why``;
     the bracket then covers ``dt / 2``), as ``squeal critical`` prints
-    (crates/core/MODEL.md section 13)."""
+    (crates/core/MODEL.md section 13). Where the runs answered, ``step_sensitivity`` is the
+    share of the starts at their bracket's ends whose fate changes at ``dt / 2`` (of
+    ``step_sensitivity_compared`` starts run at both steps, ``step_sensitivity_changed``
+    changed; ``step_sensitivity_se`` its binomial standard error; ``None`` otherwise), as
+    ``squeal critical --json`` names them."""
 
     parameter: str
     value: float
@@ -592,6 +596,10 @@ class Critical:
     confirmed: Optional[bool] = None
     confirmation: Optional[str] = None
     why: Optional[str] = None
+    step_sensitivity: Optional[float] = None
+    step_sensitivity_se: Optional[float] = None
+    step_sensitivity_changed: Optional[int] = None
+    step_sensitivity_compared: Optional[int] = None
 
 
 #: The parameters ``critical`` bisects in: McMillan's names and the laws with true stick's
@@ -660,6 +668,10 @@ def critical(
         b.get("confirmed"),
         b.get("confirmation"),
         b.get("why"),
+        b.get("step_sensitivity"),
+        b.get("step_sensitivity_se"),
+        b.get("step_sensitivity_changed"),
+        b.get("step_sensitivity_compared"),
     )
 
 

@@ -356,7 +356,8 @@ fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<Stat
 /// The answer of [`squeal_scan::fates::decide`] as JSON: `value`, `bracket`, `evaluations`
 /// and `half_dt_holds` read from the shortcut's answer by `figures`, or the runs' (the
 /// interval covering dt/2 as the bracket), with `by` ("shortcut" or "runs"), `why` and the
-/// runs' `confirmation`.
+/// runs' `confirmation`; the runs' step sensitivity at their bracket's ends as `squeal
+/// critical --json` names it (`step_sensitivity`, `_se`, `_changed`, `_compared`).
 fn decided_json<T: serde::Serialize>(
     d: squeal_scan::fates::Decided<T>,
     figures: impl Fn(&T) -> (f64, [f64; 2], u32, Option<bool>, &'static str),
@@ -386,6 +387,10 @@ fn decided_json<T: serde::Serialize>(
             "why": why.words(),
             "horizon": boundary.horizon,
             "undecided": boundary.undecided,
+            "step_sensitivity": boundary.step.map(|s| s.share),
+            "step_sensitivity_se": boundary.step.map(|s| s.se),
+            "step_sensitivity_changed": boundary.step.map(|s| s.changed),
+            "step_sensitivity_compared": boundary.step.map(|s| s.compared),
         }),
     };
     serde_json::to_string(&v).map_err(value_error)

@@ -20,7 +20,7 @@
 //!   geometric steps, then bisected), each end of the bracket a run (so the answer is
 //!   confirmed by runs: below it a start does not settle, above it all do), then the
 //!   bracket checked at `dt / 2` and widened to cover the boundary there
-//!   ([`RunBoundary::interval`]).
+//!   ([`RunBoundary::interval`]), its starts' fates compared there ([`step_share`]).
 //!
 //! A run ends "quiet" at the fixed point or, where steady slip does not attract, on the slip
 //! oscillation about it ([`Fate::quiet`]): the boundaries are about the squeal. An undecided
@@ -38,6 +38,7 @@ use squeal_core::{Params, Setup, SolverStats, State};
 use crate::atlas::{BoundaryParam, BoundaryStatus};
 use crate::error::ScanError;
 use crate::section::ParamRange;
+use crate::sensitivity::StepShare;
 
 /// The horizon of the runs behind a boundary, nondimensional (the unforced period is
 /// `2 pi`): the long checks' (runs to t = 20000 are their truth, `scripts/ci/long-checks.sh`).
@@ -198,6 +199,12 @@ pub struct RunBoundary {
     pub half_dt_bracket: Option<[f64; 2]>,
     /// Whether the bracket at `dt` held at `dt / 2` (the same verdicts at both its ends).
     pub half_dt_holds: Option<bool>,
+    /// The step sensitivity of the starts at the bracket's ends ([`step_share`] of
+    /// `below`, `above` and their runs at `dt / 2`; `None`: not checked at `dt / 2`).
+    /// Not serialised here: the doors write its four figures flat
+    /// (`step_sensitivity`, `_se`, `_changed`, `_compared`).
+    #[serde(skip)]
+    pub step: Option<StepShare>,
     /// The interval holding the boundary at `dt` and at `dt / 2`.
     pub interval: [f64; 2],
     /// Runs made, at `dt` and at `dt / 2`.
@@ -342,7 +349,8 @@ impl Tally<'_> {
 
     /// The bracket `out.bracket` checked at `dt / 2`: where a verdict at an end differs,
     /// the boundary there is searched outward from that end (by factors `g`, not below `lo`
-    /// nor above `ceiling`, bisected to `rtol`) and `out.interval` widened to hold it.
+    /// nor above `ceiling`, bisected to `rtol`) and `out.interval` widened to hold it; the
+    /// fates of the starts at both ends compared with `out.below`, `out.above` (`out.step`).
     fn check_half_dt(
         &mut self,
         out: &mut RunBoundary,
@@ -352,6 +360,9 @@ impl Tally<'_> {
         let (half_lo, half_hi) = (self.ends(a, true)?, self.ends(b, true)?);
         let holds = !half_lo.all_settle() && half_hi.all_settle();
         out.half_dt_holds = Some(holds);
+        if let (Some(l), Some(h)) = (&out.below, &out.above) {
+            out.step = Some(step_share(&[(l, &half_lo), (h, &half_hi)]));
+        }
         if !holds {
             let below_a = half_hi.all_settle();
             let half = if below_a {
@@ -371,6 +382,30 @@ impl Tally<'_> {
         }
         Ok(())
     }
+}
+
+/// Whether two runs of one start end the same way: the same kind of [`Fate`] (settles,
+/// lasts, ends on the slip oscillation, undecided), whatever its times and figures (when it
+/// settled or was identified, the oscillation's frequency and extent, whether its orbit was
+/// certified): a fate names no attractor beyond its kind, and its figures move with the step.
+pub fn same_fate(a: &Fate, b: &Fate) -> bool {
+    std::mem::discriminant(a) == std::mem::discriminant(b)
+}
+
+/// The step sensitivity of a bracket's starts: for each pair (the runs at one end at `dt`,
+/// and at `dt / 2`), start by start, those run at both steps (neither [`Fate::Stopped`])
+/// are compared, and counted as changed where their fates differ ([`same_fate`]).
+pub fn step_share(pairs: &[(&Ends, &Ends)]) -> StepShare {
+    let (mut changed, mut compared) = (0, 0);
+    for (at_dt, at_half) in pairs {
+        for (a, b) in at_dt.fates.iter().zip(&at_half.fates) {
+            if !matches!(a, Fate::Stopped) && !matches!(b, Fate::Stopped) {
+                compared += 1;
+                changed += u64::from(!same_fate(a, b));
+            }
+        }
+    }
+    StepShare::of(changed, compared)
 }
 
 /// Refuses a bracket, tolerance or ceiling the boundary search cannot use, and a horizon
@@ -434,6 +469,7 @@ pub fn boundary(
         above: None,
         half_dt_bracket: None,
         half_dt_holds: None,
+        step: None,
         interval: [lo, hi],
         runs: 0,
         undecided: 0,
@@ -470,10 +506,9 @@ pub fn boundary(
     let [a, b] = [below.value, above.value];
     out.bracket = [a, b];
     out.interval = [a, b];
+    (out.below, out.above) = (Some(below), Some(above));
     crate::observe::stage("the bracket at dt / 2", None);
     t.check_half_dt(&mut out, (g, lo, ceiling, rtol))?;
-    out.below = Some(below);
-    out.above = Some(above);
     finish(out, &t)
 }
 
@@ -704,8 +739,8 @@ pub enum Decided<T> {
     },
     /// The runs' answer ([`boundary`]), and why the shortcut's was not taken.
     Runs {
-        /// The runs' boundary.
-        boundary: RunBoundary,
+        /// The runs' boundary (boxed: it holds every start's fate at the bracket's ends).
+        boundary: Box<RunBoundary>,
         /// Why.
         why: Why,
     },
@@ -726,7 +761,7 @@ pub fn decide<T>(
     shortcut: impl FnOnce() -> Result<(T, Option<[f64; 2]>), ScanError>,
 ) -> Result<Decided<T>, ScanError> {
     let runs = |why: Why| -> Result<Decided<T>, ScanError> {
-        let boundary = boundary(param, setup, starts, (range, ceiling), horizon)?;
+        let boundary = Box::new(boundary(param, setup, starts, (range, ceiling), horizon)?);
         Ok(Decided::Runs { boundary, why })
     };
     if let Some(w) = unchecked(&setup.params) {

@@ -313,11 +313,22 @@ impl StepShare {
         self.share > STEP_SHARE_SMALL
     }
 
-    /// The sentence a summary prints where the share is not small.
-    pub fn warning(&self) -> Option<String> {
+    /// The sentence a summary prints where the share is not small: of a map's sampled
+    /// starts, or of the runs at an answer's bracket (`critical`, `--fold`).
+    pub fn warning(&self, of: StepOf) -> Option<String> {
+        let (whose, means) = match of {
+            StepOf::Map => (
+                "sampled starts",
+                "the map's labels there depend on dt, and a finer grid will not settle them",
+            ),
+            StepOf::Answer => (
+                "starts at the answer's bracket",
+                "the verdicts near the answer depend on dt, and the interval is as wide as both steps' answers",
+            ),
+        };
         self.not_small().then(|| {
             format!(
-                "WARNING: the fate of {} of {} sampled starts ({:.1}% +- {:.1}%) changes when the step halves: the map's labels there depend on dt, and a finer grid will not settle them",
+                "WARNING: the fate of {} of {} {whose} ({:.1}% +- {:.1}%) changes when the step halves: {means}",
                 self.changed,
                 self.compared,
                 100.0 * self.share,
@@ -325,6 +336,15 @@ impl StepShare {
             )
         })
     }
+}
+
+/// Whose fates a [`StepShare`] counts (its warning's words).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepOf {
+    /// A map's starts sampled near its boundary.
+    Map,
+    /// The runs at the bracket's ends of a `critical` or `--fold` answer.
+    Answer,
 }
 
 /// The run-based measures of one map ([`probe`]).
@@ -402,13 +422,14 @@ impl Domain {
                 (span(&x0, i0, hx), span(&v0, j0, hv))
             })
             .collect();
-        let max_eps =
-            box_cells as f64 / (nx.max(2) - 1).min(labels.len() / nx.max(1)).max(1) as f64;
-        (!rects.is_empty()).then(|| Domain {
+        // A box's side as a share of the box's sides: the smaller of the two axes' shares.
+        let max_eps = box_cells as f64 / (nx.max(bv * box_cells).max(2) - 1) as f64;
+        let domain = Domain {
             sides: ([x0.min, x0.max], [v0.min, v0.max]),
             rects,
             max_eps,
-        })
+        };
+        (!domain.rects.is_empty()).then_some(domain)
     }
 
     /// The share of the box the rectangles cover.
@@ -752,7 +773,7 @@ pub fn words(values: &[f64]) -> Vec<String> {
             100.0 * step.share,
             100.0 * step.se
         ));
-        out.extend(step.warning());
+        out.extend(step.warning(StepOf::Map));
     }
     out
 }

@@ -23,10 +23,11 @@ pub(super) fn shortcut_or_print<T>(
 ) -> anyhow::Result<Option<(T, Option<String>)>> {
     match d {
         Decided::Runs { boundary, why } => {
+            let boundary = &*boundary;
             let seconds = t0.elapsed().as_secs_f64();
             let si = super::critical_report::si_unit(plan, names.0);
-            let about = About::of(plan, &boundary);
-            print(args, (&boundary, &why, &about), names, point, si, seconds)?;
+            let about = About::of(plan, boundary);
+            print(args, (boundary, &why, &about), names, point, si, seconds)?;
             Ok(None)
         }
         Decided::Shortcut { answer, confirmed } => Ok(Some((answer, confirmed.map(|c| c.line)))),
@@ -78,6 +79,9 @@ fn print(
             _ => "at dt/2 the boundary lies beyond the range's end: the interval reaches it".into(),
         }
     );
+    for line in step_lines(rb) {
+        println!("  {line}");
+    }
     if rb.undecided > 0 {
         println!(
             "  {} of {} runs were undecided by t = {} (neither quiet nor squealing identifiably){}",
@@ -163,6 +167,7 @@ fn print_json(
     v["steady_slip"] = serde_json::to_value(about.steady)?;
     v["slip_oscillation_above"] = serde_json::to_value(&about.slip)?;
     v["seconds"] = seconds.into();
+    step_json(&mut v, rb);
     if let Some((key, unit, units)) = si {
         v[key] = (rb.value() * unit).into();
         v[format!("{key}_interval")] = serde_json::json!(rb.interval.map(|x| x * unit));
@@ -170,6 +175,33 @@ fn print_json(
     }
     println!("{}", serde_json::to_string(&v)?);
     Ok(())
+}
+
+/// The step sensitivity of the starts at the bracket's ends ([`RunBoundary::step`]) in
+/// words, with [`squeal_scan::sensitivity::StepShare::warning`] where it is not small.
+fn step_lines(rb: &RunBoundary) -> Vec<String> {
+    let Some(s) = rb.step else {
+        return Vec::new();
+    };
+    let mut out = vec![format!(
+        "step sensitivity near the answer: {} of {} starts at the bracket's ends change fate at dt/2 ({:.1}% +- {:.1}%)",
+        s.changed,
+        s.compared,
+        100.0 * s.share,
+        100.0 * s.se
+    )];
+    out.extend(s.warning(squeal_scan::sensitivity::StepOf::Answer));
+    out
+}
+
+/// The step sensitivity's figures in `v` (null where not checked at dt/2): the share, its
+/// standard error, and the starts changed and compared, as Python's `critical()` names them.
+fn step_json(v: &mut serde_json::Value, rb: &RunBoundary) {
+    let s = rb.step;
+    v["step_sensitivity"] = s.map(|s| s.share).into();
+    v["step_sensitivity_se"] = s.map(|s| s.se).into();
+    v["step_sensitivity_changed"] = s.map(|s| s.changed).into();
+    v["step_sensitivity_compared"] = s.map(|s| s.compared).into();
 }
 
 /// What the answer is about: steady slip's stability at it, the slip oscillation that

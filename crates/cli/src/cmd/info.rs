@@ -196,53 +196,66 @@ fn scan(args: &Args, o: &mut String) -> anyhow::Result<()> {
     } else {
         writeln!(o, "  grid: x0 {}, v0 {}", range(&info.x0), range(&info.v0))?;
     }
-    for (i, c) in maps.iter().map(|m| m.counts).enumerate() {
-        let label = info.sweep.as_ref().map_or(String::new(), |s| {
-            // A physical scan's key as given beside the model's: `nu = 7.9057e-3 (c = 5 N s/m)`.
-            let each: Vec<_> = (s.keys.iter().zip(&s.si))
-                .map(|((n, v), si)| match si {
-                    Some(t) => format!("{n} = {:.4e} ({})", v[i], t.words(i)),
-                    None => format!("{n} = {:.4e}", v[i]),
-                })
-                .collect();
-            each.join(", ") + ": "
-        });
-        let slip = (c[4] > 0).then(|| format!("  slip_oscillation {}", c[4]));
-        let [u, st, sk, nc] = [c[0], c[1], c[2], c[3]];
-        let line = format!("undecided {u}  steady_slip {st}  stick_slip {sk}  not_computed {nc}");
-        writeln!(o, "  {label}{line}{}", slip.unwrap_or_default())?;
-        if let Some(b) = maps.get(i).map(|m| &m.basin) {
-            writeln!(o, "    {}", super::common::basin_words(b))?;
-        }
-        for w in info
-            .sensitivity
-            .get(i)
-            .map(|v| squeal_scan::sensitivity::words(v))
-            .unwrap_or_default()
-        {
-            writeln!(o, "    {w}")?;
-        }
-        if let Some(Some(why)) = info.no_cycle.get(i) {
-            writeln!(o, "    no unstable cycle: {why}")?;
-        }
-        if let Some(Some(l)) = info.landscapes.get(i) {
-            for w in super::map_words::landscape_words(l) {
-                writeln!(o, "    {w}")?;
-            }
-        }
-        for w in info
-            .checks
-            .get(i)
-            .map(|c| {
-                super::map_words::check_words(c, common::attr(&info, "sampling") == Some("random"))
-            })
-            .unwrap_or_default()
-        {
-            writeln!(o, "    {w}")?;
-        }
+    for i in 0..maps.len() {
+        map_lines(&info, &maps, i, o)?;
     }
     if let Some(s) = &info.shard {
         writeln!(o, "  shard {s} (join the shards with squeal merge)")?;
+    }
+    Ok(())
+}
+
+/// Map `i` of a scan file in words: its counts, basin stability, final-state
+/// sensitivity, cycle, landscape and checks.
+fn map_lines(
+    info: &squeal_store::FileInfo,
+    maps: &[squeal_scan::MapSummary],
+    i: usize,
+    o: &mut String,
+) -> anyhow::Result<()> {
+    let c = maps[i].counts;
+    let label = info.sweep.as_ref().map_or(String::new(), |s| {
+        // A physical scan's key as given beside the model's: `nu = 7.9057e-3 (c = 5 N s/m)`.
+        let each: Vec<_> = (s.keys.iter().zip(&s.si))
+            .map(|((n, v), si)| match si {
+                Some(t) => format!("{n} = {:.4e} ({})", v[i], t.words(i)),
+                None => format!("{n} = {:.4e}", v[i]),
+            })
+            .collect();
+        each.join(", ") + ": "
+    });
+    let slip = (c[4] > 0).then(|| format!("  slip_oscillation {}", c[4]));
+    let [u, st, sk, nc] = [c[0], c[1], c[2], c[3]];
+    let line = format!("undecided {u}  steady_slip {st}  stick_slip {sk}  not_computed {nc}");
+    writeln!(o, "  {label}{line}{}", slip.unwrap_or_default())?;
+    if let Some(b) = maps.get(i).map(|m| &m.basin) {
+        writeln!(o, "    {}", super::common::basin_words(b))?;
+    }
+    for w in info
+        .sensitivity
+        .get(i)
+        .map(|v| squeal_scan::sensitivity::words(v))
+        .unwrap_or_default()
+    {
+        writeln!(o, "    {w}")?;
+    }
+    if let Some(Some(why)) = info.no_cycle.get(i) {
+        writeln!(o, "    no unstable cycle: {why}")?;
+    }
+    if let Some(Some(l)) = info.landscapes.get(i) {
+        for w in super::map_words::landscape_words(l) {
+            writeln!(o, "    {w}")?;
+        }
+    }
+    for w in info
+        .checks
+        .get(i)
+        .map(|c| {
+            super::map_words::check_words(c, common::attr(&info, "sampling") == Some("random"))
+        })
+        .unwrap_or_default()
+    {
+        writeln!(o, "    {w}")?;
     }
     Ok(())
 }

@@ -178,3 +178,58 @@ fn an_unconfirmed_answer_names_why() {
     let c = confirm(s, BoundaryParam::Nu, &[REST], [2.9e-3, 3.2e-3], HORIZON).unwrap();
     assert!(c.confirmed && c.unconfirmed.is_none(), "{c:?}");
 }
+
+/// The step share compares fates start by start, by kind: at the lower end (value 1) start
+/// 0 lasts at both steps (times and figures differ: the same fate), start 1 lasts at `dt`
+/// and is undecided at `dt / 2` (changed), start 2 was stopped at `dt` (not compared); at
+/// the upper end (value 2) start 0 settles at both, start 1 settles at `dt` and ends on the
+/// slip oscillation at `dt / 2` (changed), start 2 settles at `dt` and was stopped at
+/// `dt / 2` (not compared). So 2 changed of 4 compared: share 1/2, standard error
+/// sqrt(1/2 * 1/2 / 4) = 1/4.
+#[test]
+fn the_step_share_compares_fates_start_by_start() {
+    let lasts = |t| Fate::Lasts {
+        t,
+        lasting: None,
+        certified: None,
+    };
+    let ends = |value, fates| Ends { value, fates };
+    let lo = ends(1.0, vec![lasts(10.0), lasts(20.0), Fate::Stopped]);
+    let lo_half = ends(1.0, vec![lasts(11.0), Fate::Undecided, Fate::Undecided]);
+    let settles = |t| Fate::Settles { t };
+    let hi = ends(2.0, vec![settles(5.0), settles(6.0), settles(7.0)]);
+    let slip = Fate::SlipOscillation {
+        t: 6.0,
+        lasting: None,
+        certified: None,
+    };
+    let hi_half = ends(2.0, vec![settles(5.5), slip, Fate::Stopped]);
+    let s = step_share(&[(&lo, &lo_half), (&hi, &hi_half)]);
+    assert_eq!((s.changed, s.compared), (2, 4), "{s:?}");
+    assert_eq!((s.share, s.se), (0.5, 0.25), "{s:?}");
+    assert!(s.not_small() && s.warning(crate::sensitivity::StepOf::Answer).is_some());
+    // The same runs at both steps: nothing changes.
+    let s = step_share(&[(&lo, &lo), (&hi, &hi)]);
+    assert_eq!((s.changed, s.compared, s.share), (0, 5, 0.0), "{s:?}");
+    assert!(s.warning(crate::sensitivity::StepOf::Answer).is_none());
+}
+
+/// A boundary's search fills its step sensitivity from the runs at its bracket's ends. Rest
+/// and the fixed point at Table 1 (rest's critical damping 3.02e-3, MODEL.md section 13):
+/// below the bracket rest does not settle, so the fixed point's run after it is stopped at
+/// `dt` and not compared; above it both settle at `dt`, and (the bracket holding at
+/// `dt / 2`, as it does here) at `dt / 2`: 3 starts compared. (Rest's fate is the same at
+/// both steps at both ends here, 0 changed, but a lasting run at `dt` that is undecided at
+/// `dt / 2` by t = 3000 would be a change, not an error.)
+#[test]
+fn a_boundary_search_reports_its_step_sensitivity() {
+    let s = paper(1e-3, 0.005);
+    let range = ParamRange::new(2.5e-3, 3.5e-3, 1e-2);
+    let starts = [REST, s.params.fixed_point()];
+    let rb = boundary(BoundaryParam::Nu, s, &starts, (range, range.hi), 3000.0).unwrap();
+    assert_eq!(rb.status, BoundaryStatus::Found, "{rb:?}");
+    assert_eq!(rb.half_dt_holds, Some(true), "{rb:?}");
+    let step = rb.step.expect("checked at dt / 2");
+    assert_eq!(step.compared, 3, "{step:?} {rb:?}");
+    assert!(step.changed <= step.compared, "{step:?}");
+}

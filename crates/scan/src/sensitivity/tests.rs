@@ -97,7 +97,7 @@ fn a_straight_boundary_has_exponent_one() {
     );
     let step = p.step.unwrap();
     assert_eq!((step.changed, step.compared), (0, 100_000));
-    assert!(!step.not_small() && step.warning().is_none());
+    assert!(!step.not_small() && step.warning(StepOf::Map).is_none());
     assert_eq!(p.runs, 100_000 * (EPS_LEVELS as u64 + 2));
 }
 
@@ -118,7 +118,7 @@ fn the_step_share_counts_the_fates_that_move() {
     assert!((s.share - 0.05).abs() < 4.0 * s.se, "{s:?}");
     assert!(s.not_small());
     assert!(
-        s.warning()
+        s.warning(StepOf::Map)
             .unwrap()
             .contains(&format!("{} of 4000", s.changed))
     );
