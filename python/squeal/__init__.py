@@ -579,11 +579,11 @@ class Critical:
     the band's crisis; ``confirmed`` and ``confirmation`` give the runs at its bracket) or
     ``"runs"`` (outside the checked region, or where a run refuted the shortcut: ``why``;
     the bracket then covers ``dt / 2``), as ``squeal critical`` prints
-    (crates/core/MODEL.md section 13). Where the runs answered, ``step_sensitivity`` is the
-    share of the starts at their bracket's ends whose fate changes at ``dt / 2`` (of
-    ``step_sensitivity_compared`` starts run at both steps, ``step_sensitivity_changed``
-    changed; ``step_sensitivity_se`` its binomial standard error; ``None`` otherwise), as
-    ``squeal critical --json`` names them."""
+    (crates/core/MODEL.md section 13). ``step_sensitivity`` is the share of the starts at
+    the bracket's ends (the runs' bracket, or the shortcut's confirmed by runs) whose fate
+    changes at ``dt / 2`` (of ``step_sensitivity_compared`` starts run at both steps,
+    ``step_sensitivity_changed`` changed; ``step_sensitivity_se`` its binomial standard
+    error; ``None`` where no run checked it), as ``squeal critical --json`` names them."""
 
     parameter: str
     value: float

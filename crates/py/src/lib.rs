@@ -356,8 +356,9 @@ fn start(plan: &Plan, (x, v): (f64, f64), helper: &'static str) -> PyResult<Stat
 /// The answer of [`squeal_scan::fates::decide`] as JSON: `value`, `bracket`, `evaluations`
 /// and `half_dt_holds` read from the shortcut's answer by `figures`, or the runs' (the
 /// interval covering dt/2 as the bracket), with `by` ("shortcut" or "runs"), `why` and the
-/// runs' `confirmation`; the runs' step sensitivity at their bracket's ends as `squeal
-/// critical --json` names it (`step_sensitivity`, `_se`, `_changed`, `_compared`).
+/// runs' `confirmation`; the step sensitivity of the runs at the bracket's ends (the
+/// runs' own, or the confirmation's) as `squeal critical --json` names it
+/// (`step_sensitivity`, `_se`, `_changed`, `_compared`).
 fn decided_json<T: serde::Serialize>(
     d: squeal_scan::fates::Decided<T>,
     figures: impl Fn(&T) -> (f64, [f64; 2], u32, Option<bool>, &'static str),
@@ -375,6 +376,10 @@ fn decided_json<T: serde::Serialize>(
                 "by": "shortcut",
                 "confirmed": confirmed.as_ref().map(|c| c.confirmed),
                 "confirmation": confirmed.as_ref().map(|c| c.line.clone()),
+                "step_sensitivity": confirmed.as_ref().map(|c| c.step.share),
+                "step_sensitivity_se": confirmed.as_ref().map(|c| c.step.se),
+                "step_sensitivity_changed": confirmed.as_ref().map(|c| c.step.changed),
+                "step_sensitivity_compared": confirmed.as_ref().map(|c| c.step.compared),
             })
         }
         Decided::Runs { boundary, why } => serde_json::json!({

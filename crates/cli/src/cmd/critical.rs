@@ -80,17 +80,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     })?;
     drop(bar);
     let names = (BoundaryParam::Nu, names.1, names.2);
-    if let Some(((rep, changes), line)) =
+    if let Some(((rep, changes), confirmed)) =
         critical_runs::shortcut_or_print(&args, d, plan, names, (point, t0))?
     {
         let seconds = t0.elapsed().as_secs_f64();
-        let line = line.unwrap_or_default();
         report(
             &args,
             &rep,
             point,
             (key, scales),
-            (seconds, &line),
+            (seconds, confirmed.as_ref()),
             &changes,
         )?;
     }
@@ -185,7 +184,7 @@ fn boundary(
     };
     let seconds = t0.elapsed().as_secs_f64();
     let found = BoundaryFound {
-        confirmed: confirmed.as_deref(),
+        confirmed: confirmed.as_ref(),
         b: &b,
         name,
         flag,
@@ -346,7 +345,7 @@ fn crisis_report(
     };
     drop(bar);
     let report = CrisisFound {
-        confirmed: confirmed.as_deref(),
+        confirmed: confirmed.as_ref(),
         c,
         name,
         seconds: t0.elapsed().as_secs_f64(),

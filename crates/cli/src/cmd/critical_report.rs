@@ -11,6 +11,7 @@ use squeal_scan::section::{Change, ParamRange};
 use squeal_scan::ulc;
 
 use super::critical_args::Args;
+use super::critical_runs::Confirmed;
 use super::lifetimes;
 
 /// The coarse scan's changes in words, when there is more than one: the bisection assumes a
@@ -47,7 +48,7 @@ pub(super) fn report(
     rep: &ulc::CriticalReport,
     point: State,
     (key, scales): (&str, Option<squeal_core::Scales>),
-    (seconds, confirmed): (f64, &str),
+    (seconds, confirmed): (f64, Option<&Confirmed>),
     changes: &[Change],
 ) -> anyhow::Result<()> {
     let warning = warn_changes(changes, key);
@@ -55,7 +56,7 @@ pub(super) fn report(
         let mut v = serde_json::to_value(rep)?;
         v["seconds"] = seconds.into();
         v["coarse_changes"] = serde_json::to_value(changes)?;
-        v["confirmed_by_runs"] = confirmed.into();
+        Confirmed::put_json(confirmed, &mut v);
         if let Some(s) = scales {
             v["c"] = (rep.nu * s.damping).into();
             v["c_bracket"] = serde_json::json!(rep.bracket.map(|b| b * s.damping));
@@ -81,7 +82,9 @@ pub(super) fn report(
             Number(point.x),
             Number(point.v)
         );
-        println!("  {confirmed}");
+        for l in confirmed.map(Confirmed::lines).unwrap_or_default() {
+            println!("  {l}");
+        }
         if let Some(w) = warning {
             println!("  {w}");
         }
@@ -135,7 +138,7 @@ pub(super) fn end_words(
 pub(super) struct BoundaryFound<'a> {
     pub(super) b: &'a squeal_scan::atlas::Boundary,
     /// The runs' confirmation at the bracket's ends (`None`: not found).
-    pub(super) confirmed: Option<&'a str>,
+    pub(super) confirmed: Option<&'a Confirmed>,
     /// The bisected parameter's name and flag.
     pub(super) name: &'a str,
     pub(super) flag: &'a str,
@@ -154,7 +157,7 @@ impl BoundaryFound<'_> {
         v[name] = v["nu"].clone();
         v["seconds"] = self.seconds.into();
         v["coarse_changes"] = serde_json::to_value(self.changes)?;
-        v["confirmed_by_runs"] = self.confirmed.into();
+        Confirmed::put_json(self.confirmed, &mut v);
         if let Some((key, unit, units)) = self.si {
             v[key] = (b.nu * unit).into();
             v[format!("{key}_bracket")] = serde_json::json!(b.bracket.map(|x| x * unit));
@@ -226,8 +229,8 @@ impl BoundaryFound<'_> {
                 None => "at dt/2: not checked (a run failed)",
             }
         );
-        if let Some(c) = self.confirmed {
-            println!("  {c}");
+        for l in self.confirmed.map(Confirmed::lines).unwrap_or_default() {
+            println!("  {l}");
         }
         if let Some(w) = warn_changes(self.changes, name) {
             println!("  {w}");
@@ -263,7 +266,7 @@ pub(super) fn found(range: ParamRange, flag: &str, c: &Crisis) -> anyhow::Result
 pub(super) struct CrisisFound<'a> {
     pub(super) c: &'a Crisis,
     /// `--fold`: the runs' confirmation at the ends of its interval.
-    pub(super) confirmed: Option<&'a str>,
+    pub(super) confirmed: Option<&'a Confirmed>,
     /// The bisected parameter's name.
     pub(super) name: &'a str,
     pub(super) seconds: f64,
@@ -291,7 +294,7 @@ impl CrisisFound<'_> {
             v["bracket"] = serde_json::to_value(c.interval)?;
             v["in"] = name.into();
             v["seconds"] = seconds.into();
-            v["confirmed_by_runs"] = self.confirmed.into();
+            Confirmed::put_json(self.confirmed, &mut v);
             if let Some(t) = table {
                 v["lifetimes"] = lifetimes::json(t, plan)?;
             }
@@ -323,8 +326,8 @@ impl CrisisFound<'_> {
             holds(c.half_dt_holds),
             holds(c.longer_holds)
         );
-        if let Some(c) = self.confirmed {
-            println!("  {c}");
+        for l in self.confirmed.map(Confirmed::lines).unwrap_or_default() {
+            println!("  {l}");
         }
         if let Some(w) = warning {
             println!("  {w}");

@@ -9,18 +9,43 @@ use squeal_core::State;
 use squeal_core::error::Number;
 use squeal_scan::atlas::{BoundaryParam, BoundaryStatus};
 use squeal_scan::fates::{Decided, Fate, RunBoundary, Why};
+use squeal_scan::sensitivity::StepShare;
 
 use super::critical_args::Args;
 
+/// The runs' confirmation of a shortcut's answer as the reports print it: their line and
+/// the step sensitivity of the starts at the bracket's ends.
+pub(super) struct Confirmed {
+    /// The runs in words ([`squeal_scan::fates::Confirmation::line`]).
+    pub(super) line: String,
+    /// The starts whose fate moves at dt/2.
+    pub(super) step: Option<StepShare>,
+}
+
+impl Confirmed {
+    /// The line, then the step sensitivity's (with its warning where not small).
+    pub(super) fn lines(&self) -> Vec<String> {
+        let mut out = vec![self.line.clone()];
+        out.extend(step_lines(self.step));
+        out
+    }
+
+    /// `confirmed_by_runs` and the step sensitivity's figures in `v` (null without `c`).
+    pub(super) fn put_json(c: Option<&Confirmed>, v: &mut serde_json::Value) {
+        v["confirmed_by_runs"] = c.map(|c| c.line.clone()).into();
+        step_json(v, c.and_then(|c| c.step));
+    }
+}
+
 /// The gate's answer `d`: where it is the runs', printed (`None`); else the shortcut's
-/// answer and its runs' confirmation line, for the caller's report.
+/// answer and its runs' confirmation, for the caller's report.
 pub(super) fn shortcut_or_print<T>(
     args: &Args,
     d: Decided<T>,
     plan: &squeal_scan::Plan,
     names: (BoundaryParam, &str, &str),
     (point, t0): (State, std::time::Instant),
-) -> anyhow::Result<Option<(T, Option<String>)>> {
+) -> anyhow::Result<Option<(T, Option<Confirmed>)>> {
     match d {
         Decided::Runs { boundary, why } => {
             let boundary = &*boundary;
@@ -30,7 +55,13 @@ pub(super) fn shortcut_or_print<T>(
             print(args, (boundary, &why, &about), names, point, si, seconds)?;
             Ok(None)
         }
-        Decided::Shortcut { answer, confirmed } => Ok(Some((answer, confirmed.map(|c| c.line)))),
+        Decided::Shortcut { answer, confirmed } => Ok(Some((
+            answer,
+            confirmed.map(|c| Confirmed {
+                line: c.line,
+                step: Some(c.step),
+            }),
+        ))),
     }
 }
 
@@ -79,7 +110,7 @@ fn print(
             _ => "at dt/2 the boundary lies beyond the range's end: the interval reaches it".into(),
         }
     );
-    for line in step_lines(rb) {
+    for line in step_lines(rb.step) {
         println!("  {line}");
     }
     if rb.undecided > 0 {
@@ -167,7 +198,7 @@ fn print_json(
     v["steady_slip"] = serde_json::to_value(about.steady)?;
     v["slip_oscillation_above"] = serde_json::to_value(&about.slip)?;
     v["seconds"] = seconds.into();
-    step_json(&mut v, rb);
+    step_json(&mut v, rb.step);
     if let Some((key, unit, units)) = si {
         v[key] = (rb.value() * unit).into();
         v[format!("{key}_interval")] = serde_json::json!(rb.interval.map(|x| x * unit));
@@ -179,8 +210,8 @@ fn print_json(
 
 /// The step sensitivity of the starts at the bracket's ends ([`RunBoundary::step`]) in
 /// words, with [`squeal_scan::sensitivity::StepShare::warning`] where it is not small.
-fn step_lines(rb: &RunBoundary) -> Vec<String> {
-    let Some(s) = rb.step else {
+fn step_lines(step: Option<StepShare>) -> Vec<String> {
+    let Some(s) = step else {
         return Vec::new();
     };
     let mut out = vec![format!(
@@ -196,8 +227,7 @@ fn step_lines(rb: &RunBoundary) -> Vec<String> {
 
 /// The step sensitivity's figures in `v` (null where not checked at dt/2): the share, its
 /// standard error, and the starts changed and compared, as Python's `critical()` names them.
-fn step_json(v: &mut serde_json::Value, rb: &RunBoundary) {
-    let s = rb.step;
+fn step_json(v: &mut serde_json::Value, s: Option<StepShare>) {
     v["step_sensitivity"] = s.map(|s| s.share).into();
     v["step_sensitivity_se"] = s.map(|s| s.se).into();
     v["step_sensitivity_changed"] = s.map(|s| s.changed).into();

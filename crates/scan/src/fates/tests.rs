@@ -174,9 +174,15 @@ fn an_unconfirmed_answer_names_why() {
     assert!(!c.confirmed && c.refuted.is_none(), "{c:?}");
     assert_eq!(c.unconfirmed, Some(Unconfirmed::SettlesBelow), "{c:?}");
     assert!(c.line.contains("(settles_below)"), "{}", c.line);
-    // Confirmed: no reason.
+    // Both starts ran at both ends at dt and at dt / 2, and settled at all four: the step
+    // moved none of the four fates.
+    assert_eq!((c.step.changed, c.step.compared), (0, 4), "{:?}", c.step);
+    // Confirmed: no reason; the one start at each end compared at both steps, and at dt / 2
+    // it too lasts below and settles above (the bracket is 10% wide about the critical
+    // value 3.02e-3 that `squeal critical` prints at Table 1).
     let c = confirm(s, BoundaryParam::Nu, &[REST], [2.9e-3, 3.2e-3], HORIZON).unwrap();
     assert!(c.confirmed && c.unconfirmed.is_none(), "{c:?}");
+    assert_eq!((c.step.changed, c.step.compared), (0, 2), "{:?}", c.step);
 }
 
 /// The step share compares fates start by start, by kind: at the lower end (value 1) start
