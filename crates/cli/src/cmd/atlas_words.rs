@@ -63,6 +63,9 @@ pub fn print_summary(
             "  basin maps: {} x {} cells per point; basin fraction of steady slip from the maps",
             m.grid.x0.count, m.grid.v0.count
         );
+        for w in sensitivity_lines(plan, out) {
+            println!("  {w}");
+        }
     }
     print_boundaries(plan, res);
     print_fold_warnings(plan, res);
@@ -224,4 +227,62 @@ fn boundary_text(plan: &AtlasPlan, i: usize, bd: &squeal_scan::atlas::Boundary) 
         },
         s => s.name().to_string(),
     }
+}
+
+/// The maps' final-state sensitivity over the atlas (crates/core/MODEL.md section 14), read
+/// from its file: how many mapped points the log 2 test finds fractal, the range of the
+/// uncertainty exponent, and every point whose fates move by more than 1% when the step
+/// halves (loudly). Nothing for a file without them.
+fn sensitivity_lines(plan: &AtlasPlan, out: &Path) -> Vec<String> {
+    let Ok(Some(s)) = squeal_store::atlas::read_map_sensitivity(out, plan) else {
+        return Vec::new();
+    };
+    let mapped = s.log2_test.iter().flatten().count();
+    let fractal = (s.log2_test.iter().flatten())
+        .filter(|t| **t == squeal_scan::sensitivity::Log2Test::Fractal)
+        .count();
+    let alpha: Vec<f64> = (s.field("uncertainty_exponent").into_iter())
+        .filter(|a| a.is_finite())
+        .collect();
+    let range = match alpha.is_empty() {
+        true => "not fitted at any point".to_string(),
+        false => format!(
+            "{:.2} to {:.2} over {} points (1: a smooth boundary, below 1: fractal)",
+            alpha.iter().copied().fold(f64::INFINITY, f64::min),
+            alpha.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            alpha.len()
+        ),
+    };
+    let (share, se) = (s.field("step_sensitivity"), s.field("step_sensitivity_se"));
+    let most = (0..share.len())
+        .filter(|&i| share[i].is_finite())
+        .max_by(|&a, &b| share[a].total_cmp(&share[b]));
+    let step = most.map_or("not measured".to_string(), |i| {
+        format!("at most {:.1}% +- {:.1}%", 100.0 * share[i], 100.0 * se[i])
+    });
+    let mut out = vec![format!(
+        "final-state sensitivity of the maps: log 2 test fractal at {fractal} of {mapped} mapped points; uncertainty exponent {range}; fates moved by halving the step: {step}"
+    )];
+    let moved: Vec<String> = (0..share.len())
+        .filter(|&i| share[i] > squeal_scan::sensitivity::STEP_SHARE_SMALL)
+        .map(|i| {
+            let at: Vec<String> = (plan.space.axes().iter().zip(plan.space.unravel(i)))
+                .map(|(a, k)| format!("{} = {}", a.key, Number(a.values[k])))
+                .collect();
+            format!(
+                "{} ({:.1}% +- {:.1}%)",
+                at.join(", "),
+                100.0 * share[i],
+                100.0 * se[i]
+            )
+        })
+        .collect();
+    if !moved.is_empty() {
+        out.push(format!(
+            "WARNING: at {} of {mapped} mapped points the fates of more than 1% of the starts near the boundary change when the step halves (the map's labels there depend on dt): {}",
+            moved.len(),
+            moved.join("; ")
+        ));
+    }
+    out
 }
