@@ -120,9 +120,10 @@ fn shards_merge_into_the_same_maps(dir: &Path, labels: &[u8]) {
         assert_eq!(read_f64(&h5, name), read_f64(&merged, name), "{name}");
     }
     assert!(dir.join("merged-maps.png").exists());
-    // render redraws both pictures.
+    // render redraws the pictures, the maps' final-state sensitivity too.
     ok(squeal(dir, &["render", "merged.h5", "-o", "again.png"]));
     assert!(dir.join("again-maps.png").exists());
+    assert!(dir.join("again-sensitivity.png").exists());
 }
 
 #[test]
@@ -349,4 +350,10 @@ fn a_2d_atlas_lays_its_maps_out_over_both_parameters() {
     assert_eq!(w, 3 * 440 + 245);
     assert!(h > 2 * 420 && h < 3 * 420, "{h}");
     assert!(dir.path().join("maps.png").exists());
+    // The maps' final-state sensitivity over both parameters, read from the file
+    // (crates/plot/src/atlas_sensitivity.rs: two panels of 2000 x 1000 in all).
+    assert_eq!(
+        png_size(&dir.path().join("maps-sensitivity.png")),
+        (2000, 1000)
+    );
 }

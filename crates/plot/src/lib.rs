@@ -43,6 +43,7 @@
 
 mod atlas;
 mod atlas_chart;
+mod atlas_sensitivity;
 mod atlas_sheet;
 mod basin;
 mod legend;
@@ -52,6 +53,7 @@ mod transient;
 
 pub use atlas::{Marks, StabilityChart, contour_segments, fmt_value, stability_chart};
 pub use atlas_chart::atlas_chart;
+pub use atlas_sensitivity::{atlas_sensitivity, has_sensitivity, sensitivity_path};
 pub use atlas_sheet::{atlas_sheet, regime_classes};
 pub use basin::{basin_map, basin_sheet, cycle_overlay, state_markers};
 pub use lifetime_chart::{fold_lifetime_charts, fold_lifetime_paths, has_fold_lifetimes};

@@ -96,6 +96,7 @@ use crate::error::io;
 use crate::journal::{Header, Journal, KIND_CYCLE, KIND_UNIT, Owner, block_record, encode_cycle};
 use crate::{OutputLock, Provenance, Shard, StoreError};
 
+pub use maps::{MapSensitivity, read_map_sensitivity};
 pub use read::{AtlasInfo, AtlasMerge, is_atlas_file, merging_atlas, read_atlas, read_atlas_info};
 pub use record::unit_json;
 pub use schema::map_name;

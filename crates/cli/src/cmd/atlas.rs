@@ -228,19 +228,26 @@ fn draw(
     Ok(Some(drawn))
 }
 
-/// Refuses to start a run over existing pictures without `--force` (the chart `png` and
-/// the sheet of maps).
+/// Refuses to start a run over existing pictures without `--force` (the chart `png`, the
+/// sheet of maps, the picture of their final-state sensitivity, the lifetimes).
 fn check_pictures(pics: &[PathBuf], png: &Path, force: bool) -> anyhow::Result<()> {
     for p in pics {
         let what = if p == png {
             "chart of the atlas"
-        } else {
+        } else if *p == squeal_plot::sensitivity_path(png) {
+            SENSITIVITY
+        } else if *p == sheet_path(png) {
             "sheet of basin maps"
+        } else {
+            "chart of lifetimes"
         };
         common::check_new(p, force, what)?;
     }
     Ok(())
 }
+
+/// What the picture of final-state sensitivity is called in messages.
+const SENSITIVITY: &str = "picture of the maps' final-state sensitivity";
 
 /// The work, estimated from a pilot before anything is created (printed unless quiet); over
 /// [`squeal_scan::estimate::LONG_RUN`] it needs `--allow-long`. The whole atlas is estimated, also for a
@@ -340,7 +347,8 @@ fn progress(total: u64, quiet: bool) -> ProgressBar {
 }
 
 /// The pictures of a finished atlas whose chart is `png`: the chart (one or two swept
-/// parameters: a bifurcation diagram or a stability chart), then with maps their sheet.
+/// parameters: a bifurcation diagram or a stability chart), then with maps their sheet and
+/// (one or two swept parameters) their final-state sensitivity.
 fn pictures(plan: &AtlasPlan, png: &Path) -> Vec<PathBuf> {
     let chartable = matches!(plan.space.axes().len(), 1 | 2);
     let mut v = Vec::new();
@@ -349,6 +357,9 @@ fn pictures(plan: &AtlasPlan, png: &Path) -> Vec<PathBuf> {
     }
     if plan.maps.is_some() {
         v.push(sheet_path(png));
+    }
+    if squeal_plot::has_sensitivity(plan) {
+        v.push(squeal_plot::sensitivity_path(png));
     }
     if squeal_plot::has_fold_lifetimes(plan) {
         v.extend(squeal_plot::fold_lifetime_paths(png));
@@ -397,7 +408,8 @@ pub fn sheet_path(png: &Path) -> PathBuf {
 }
 
 /// Draws the pictures of an atlas file: a stability chart (2-D), a bifurcation diagram
-/// (1-D), and with maps a sheet of them ([`sheet_path`]). Returns the files written.
+/// (1-D), and with maps a sheet of them ([`sheet_path`]) and their final-state sensitivity
+/// ([`render_sensitivity`]). Returns the files written.
 pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<PathBuf>> {
     let (plan, res, _) = read_atlas(h5)?;
     let chartable = matches!(plan.space.axes().len(), 1 | 2);
@@ -421,6 +433,7 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
         squeal_plot::atlas_sheet(&plan, &res, &sheet).map_err(|e| common::discard(&sheet, e))?;
         drawn.push(sheet);
     }
+    drawn.extend(render_sensitivity(h5, &plan, png, force)?);
     if squeal_plot::has_fold_lifetimes(&plan) {
         let paths = squeal_plot::fold_lifetime_paths(png);
         for p in &paths {
@@ -434,6 +447,29 @@ pub fn render_atlas(h5: &Path, png: &Path, force: bool) -> anyhow::Result<Vec<Pa
         drawn.extend(paths);
     }
     Ok(drawn)
+}
+
+/// The final-state sensitivity of the maps of the atlas file `h5` (of the stored `plan`),
+/// read from the file's `map_` datasets, beside its chart `png`
+/// ([`squeal_plot::sensitivity_path`]): the picture where some point was measured (none
+/// for a file written before the sensitivity was stored, or where no map was measured).
+fn render_sensitivity(
+    h5: &Path,
+    plan: &AtlasPlan,
+    png: &Path,
+    force: bool,
+) -> anyhow::Result<Option<PathBuf>> {
+    if !squeal_plot::has_sensitivity(plan) {
+        return Ok(None);
+    }
+    let path = squeal_plot::sensitivity_path(png);
+    common::check_new(&path, force, SENSITIVITY)?;
+    let Some(s) = squeal_store::atlas::read_map_sensitivity(h5, plan)? else {
+        return Ok(None);
+    };
+    let drawn = squeal_plot::atlas_sensitivity(plan, &s.values, &s.log2_test, &path)
+        .map_err(|e| common::discard(&path, e))?;
+    Ok(drawn.then_some(path))
 }
 
 #[cfg(test)]

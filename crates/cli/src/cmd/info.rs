@@ -251,7 +251,7 @@ fn map_lines(
         .checks
         .get(i)
         .map(|c| {
-            super::map_words::check_words(c, common::attr(&info, "sampling") == Some("random"))
+            super::map_words::check_words(c, common::attr(info, "sampling") == Some("random"))
         })
         .unwrap_or_default()
     {

@@ -1,7 +1,7 @@
 //! The atlas's basin maps in its file: every column of [`squeal_scan::cell::COLUMNS`] over
 //! (the swept parameters..., v0, x0), the per-map checks and cycles, and the basin fraction
 //! read off each map (computed by the engine: [`squeal_scan::atlas::PointMap`]); and
-//! reading the blocks and cycles back.
+//! reading the blocks, cycles and final-state sensitivity back.
 
 use std::path::Path;
 
@@ -9,6 +9,7 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, File};
 use squeal_scan::atlas::{AtlasPlan, AtlasResults, MapFraction, PointMap};
 use squeal_scan::cell::{COLUMNS as CELLS, Cell};
+use squeal_scan::sensitivity::{Log2Test, SENSITIVITY_FIELDS};
 use squeal_scan::ulc::CycleReport;
 use squeal_scan::{Grid, Plan};
 
@@ -82,7 +83,8 @@ fn map_attrs(file: &File, mp: &Plan) -> hdf5::Result<()> {
     num_attr(file, "settle_rtol", cl.settle_rtol)?;
     str_attr(file, "early_stop", mp.map.early_stop.name())?;
     num_attr(file, "trap_margin", mp.map.trap_margin)?;
-    num_attr(file, "audit_every", mp.map.audit_every)
+    num_attr(file, "audit_every", mp.map.audit_every)?;
+    num_attr(file, "sensitivity_samples", mp.map.sensitivity_samples)
 }
 
 /// Every stored block of every map, column by column; returns which blocks are stored
@@ -317,3 +319,69 @@ fn read_cycles(
     }
     Ok(())
 }
+
+/// Each point's final-state sensitivity as an atlas file stores it: the `map_` datasets of
+/// [`SENSITIVITY_FIELDS`] and `map_log2_test` (written by `crate::h5write::sensitivity`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapSensitivity {
+    /// Per point (C order over the swept axes), the figures of [`SENSITIVITY_FIELDS`] in
+    /// their order (NaN: no complete map, not measured, or a figure the file predates), as
+    /// [`squeal_scan::sensitivity::words`] takes them.
+    pub values: Vec<Vec<f64>>,
+    /// Per point, the log 2 test's verdict (`None`: no complete map).
+    pub log2_test: Vec<Option<Log2Test>>,
+}
+
+impl MapSensitivity {
+    /// Figure `name` of [`SENSITIVITY_FIELDS`] per point (NaN where absent; every value NaN
+    /// for a name not in the table).
+    pub fn field(&self, name: &str) -> Vec<f64> {
+        let k = SENSITIVITY_FIELDS.iter().position(|f| f.0 == name);
+        (self.values.iter())
+            .map(|v| k.and_then(|k| v.get(k).copied()).unwrap_or(f64::NAN))
+            .collect()
+    }
+}
+
+/// Reads the final-state sensitivity of every point's map back from the atlas file at
+/// `path` of `plan` (its stored plan, [`super::read_atlas`]). `None` for an atlas without
+/// maps or a file written before the sensitivity was stored (no
+/// `map_boundary_basin_entropy`); a figure added later and absent is NaN.
+pub fn read_map_sensitivity(
+    path: &Path,
+    plan: &AtlasPlan,
+) -> Result<Option<MapSensitivity>, StoreError> {
+    if plan.maps.is_none() {
+        return Ok(None);
+    }
+    let file = crate::read::open_with_schema(path, crate::ATLAS_SCHEMA)?;
+    if !file.link_exists(&map_name("boundary_basin_entropy")) {
+        return Ok(None);
+    }
+    let n = plan.space.n_points();
+    let mut values = vec![vec![f64::NAN; SENSITIVITY_FIELDS.len()]; n];
+    for (k, (name, ..)) in SENSITIVITY_FIELDS.iter().enumerate() {
+        let v: Vec<f64> = crate::read::rd_new_n(&file, path, &map_name(name), n)?;
+        for (point, x) in values.iter_mut().zip(v) {
+            point[k] = x;
+        }
+    }
+    let stored: Vec<u8> = crate::read::rd_new_n(&file, path, &map_name("log2_test"), n)?;
+    let boxes = SENSITIVITY_FIELDS
+        .iter()
+        .position(|f| f.0 == "basin_entropy_boxes");
+    // A point without a complete map holds no_boundary: told apart by its boxes (NaN).
+    let log2_test = (0..n)
+        .map(|i| {
+            let mapped = boxes.is_some_and(|b| values[i][b].is_finite());
+            let test = Log2Test::ALL
+                .into_iter()
+                .find(|t| Some(&(*t as u8)) == stored.get(i));
+            test.filter(|_| mapped)
+        })
+        .collect();
+    Ok(Some(MapSensitivity { values, log2_test }))
+}
+
+#[cfg(test)]
+mod tests;
