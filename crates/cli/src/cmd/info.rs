@@ -250,9 +250,7 @@ fn map_lines(
     for w in info
         .checks
         .get(i)
-        .map(|c| {
-            super::map_words::check_words(c, common::attr(info, "sampling") == Some("random"))
-        })
+        .map(|c| super::map_words::check_words(c, common::attr(info, "sampling") == Some("random")))
         .unwrap_or_default()
     {
         writeln!(o, "    {w}")?;

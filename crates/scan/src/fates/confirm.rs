@@ -66,23 +66,7 @@ pub fn confirm(
     [lo, hi]: [f64; 2],
     horizon: f64,
 ) -> Result<Confirmation, ScanError> {
-    let at = |v: f64, half: bool| -> Result<Ends, ScanError> {
-        let mut s = setup.with_params(param.with(setup.params, v));
-        if half {
-            s = s.half_dt();
-        }
-        let out = fates(s, starts, horizon, true)?;
-        Ok(Ends {
-            value: v,
-            fates: out.into_iter().map(|(f, _)| f).collect(),
-        })
-    };
-    // The two ends side by side, at dt and at dt / 2 (a failure below is the one returned,
-    // as one after the other).
-    let ends = |half: bool| rayon::join(|| at(lo, half), || at(hi, half));
-    let ((below, above), (half_below, half_above)) = rayon::join(|| ends(false), || ends(true));
-    let (below, above) = (below?, above?);
-    let step = step_share(&[(&below, &half_below?), (&above, &half_above?)]);
+    let ([below, above], step) = runs_at(setup, param, starts, [lo, hi], horizon)?;
     let k = param.key();
     let start = |i: usize| format!("({}, {})", Number(starts[i].x), Number(starts[i].v));
     // A contradiction: one start lasts above the answer, or the one start of a critical
@@ -143,6 +127,34 @@ pub fn confirm(
         ends: [below, above],
         step,
     })
+}
+
+/// The runs of `starts` at `lo` and `hi`, at `dt` and at `dt / 2`, all side by side: the
+/// ends at `dt`, and the share of starts whose fate the step moved ([`step_share`]). A
+/// failure at `lo` is the one returned, as one after the other.
+fn runs_at(
+    setup: Setup,
+    param: BoundaryParam,
+    starts: &[State],
+    [lo, hi]: [f64; 2],
+    horizon: f64,
+) -> Result<([Ends; 2], StepShare), ScanError> {
+    let at = |v: f64, half: bool| -> Result<Ends, ScanError> {
+        let mut s = setup.with_params(param.with(setup.params, v));
+        if half {
+            s = s.half_dt();
+        }
+        let out = fates(s, starts, horizon, true)?;
+        Ok(Ends {
+            value: v,
+            fates: out.into_iter().map(|(f, _)| f).collect(),
+        })
+    };
+    let ends = |half: bool| rayon::join(|| at(lo, half), || at(hi, half));
+    let ((below, above), (half_below, half_above)) = rayon::join(|| ends(false), || ends(true));
+    let (below, above) = (below?, above?);
+    let step = step_share(&[(&below, &half_below?), (&above, &half_above?)]);
+    Ok(([below, above], step))
 }
 
 /// Where `p` lies outside the region the shortcuts were checked in, the parameters outside
