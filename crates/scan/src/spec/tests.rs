@@ -25,6 +25,8 @@ fn good_spec_gives_defaults() {
     assert_eq!(p.map.grid.cells(), 12);
     assert!(p.sweep.is_none());
     assert_eq!(p.map.early_stop, EarlyStop::Cycle);
+    // 12 cells: one start per 32 cells, at least 64.
+    assert_eq!(p.map.sensitivity_samples, 64);
 }
 
 #[test]
@@ -56,6 +58,14 @@ fn bad_specs_name_the_problem() {
             "monotone",
         ),
         (GOOD.replace("nu = 1e-3", "nu = nan"), "model.nu"),
+        (
+            format!("{GOOD}\n[classifier]\nsensitivity_samples = 5\n"),
+            "classifier.sensitivity_samples",
+        ),
+        (
+            format!("{GOOD}\n[classifier]\nsensitivity_samples = -1\n"),
+            "classifier.sensitivity_samples",
+        ),
         (
             GOOD.replace("law = \"mcmillan\"", "law = \"stribeck\""),
             "stribeck",
@@ -244,6 +254,7 @@ const FULL: &[(&str, &str, &str)] = &[
     ("classifier", "settle_rtol", "0.05"),
     ("classifier", "early_stop", "\"cycle\""),
     ("classifier", "trap_margin", "1e-5"),
+    ("classifier", "sensitivity_samples", "64"),
     ("cycle", "locate", "true"),
     ("output", "path", "\"x.h5\""),
 ];
