@@ -299,7 +299,14 @@ def test_ulc_and_critical_return_dataclasses_with_the_cli_values(tmp_path):
     assert k.bracket[0] <= k.value <= k.bracket[1]
     r = cli("critical", "--json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    assert k.value == json.loads(r.stdout)["nu"]
+    from_cli = json.loads(r.stdout)
+    assert k.value == from_cli["nu"]
+    # The step sensitivity of the confirming runs: the same figures under the same names
+    # (one start at each end of the bracket, at dt and at dt/2).
+    for name in ("step_sensitivity", "step_sensitivity_se", "step_sensitivity_changed",
+                 "step_sensitivity_compared"):
+        assert getattr(k, name) == from_cli[name], name
+    assert k.step_sensitivity_compared == 2
     # The Stribeck law's fold in the belt speed (squeal critical --law stribeck --in v_d
     # --fold), as the command line finds it.
     f = squeal.critical(law="stribeck", parameter="v_d", fold=True)
