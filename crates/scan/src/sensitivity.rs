@@ -760,9 +760,14 @@ pub fn words(values: &[f64]) -> Vec<String> {
                 "uncertainty exponent: not fitted (fewer than 3 perturbation sizes moved {MIN_UNCERTAIN} starts)"
             )
         };
+        // Random samples draw over the whole box (no grid to show where the boundary is).
+        let share = get("sensitivity_domain_share");
+        let drawn = match share >= 1.0 {
+            true => "over the whole box".to_string(),
+            false => format!("near the boundary ({:.1}% of the box)", 100.0 * share),
+        };
         out.push(format!(
-            "{fit}; {samples} starts near the boundary ({:.1}% of the box), {} runs",
-            100.0 * get("sensitivity_domain_share"),
+            "{fit}; {samples} starts {drawn}, {} runs",
             get("sensitivity_runs")
         ));
         let step = StepShare::of(get("step_sensitivity_changed") as u64, samples as u64);

@@ -319,3 +319,33 @@ fn fig9s_smooth_boundary_has_exponent_one() {
     // The starts are drawn near the cycle: a few percent of the box.
     assert!(p.domain_share > 0.0 && p.domain_share < 0.1, "{p:?}");
 }
+
+/// The words of stored figures: the entropy's line with the test's verdict, the exponent
+/// (or why not fitted), where the starts were drawn, and the step's WARNING above 1%; a file
+/// without the figures (all NaN) gives no line.
+#[test]
+fn the_words_say_what_was_measured_and_warn_above_one_percent() {
+    let fate = |s: State| if s.x > 0.5 { 1 } else { 2 };
+    let half = |s: State| if s.x > 0.5 || s.v > 0.9 { 1 } else { 2 };
+    let probed = probe(
+        (&fate, Some(&half)),
+        &Domain::whole([0.0, 1.0], [0.0, 1.0]),
+        4000,
+        SEED,
+    );
+    let labels: Vec<u8> = (0..100).map(|k| if k % 10 < 3 { 1 } else { 2 }).collect();
+    let s = Sensitivity {
+        entropy: Entropy::of(&labels, 10, 5),
+        probed: Some(probed),
+    };
+    let w = words(&s.values());
+    assert_eq!(w.len(), 4, "{w:?}");
+    assert!(w[0].contains("log 2 test inconclusive"), "{}", w[0]);
+    assert!(
+        w[1].contains("alpha") && w[1].contains("4000 starts over the whole box"),
+        "{}",
+        w[1]
+    );
+    assert!(w[3].starts_with("WARNING"), "{}", w[3]);
+    assert!(words(&[f64::NAN; 16]).is_empty());
+}
