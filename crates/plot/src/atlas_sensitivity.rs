@@ -19,6 +19,8 @@ use squeal_scan::sensitivity::{ENTROPY_BOX, Log2Test, SENSITIVITY_FIELDS, STEP_S
 
 use crate::atlas_sheet::{axis_label, is_log, title};
 use crate::legend::{LegendItem, draw_legend};
+// The colour scale (dark to light: low to high).
+use crate::viridis as ramp;
 use crate::{
     Area, DrawResult, Glyph, Plane, PlotError, Rgb, bold, fmt_sig, font, glyph_element, render,
 };
@@ -638,25 +640,6 @@ fn draw_field(area: &Area<'_>, (x, y): (&Axis, &Axis), f: &Field<'_>) -> DrawRes
         }
     }
     draw_bar(&side, f)
-}
-
-/// Anchors of the colour scale (viridis, dark to light: low to high).
-const ANCHORS: [Rgb; 5] = [
-    Rgb(68, 1, 84),
-    Rgb(59, 82, 139),
-    Rgb(33, 145, 140),
-    Rgb(94, 201, 98),
-    Rgb(253, 231, 37),
-];
-
-/// The colour scale at `s` in `[0, 1]`.
-fn ramp(s: f64) -> Rgb {
-    let x = s.clamp(0.0, 1.0) * (ANCHORS.len() - 1) as f64;
-    let k = (x.floor() as usize).min(ANCHORS.len() - 2);
-    let t = x - k as f64;
-    let (a, b) = (ANCHORS[k], ANCHORS[k + 1]);
-    let mix = |p: u8, q: u8| (p as f64 + t * (q as f64 - p as f64)).round() as u8;
-    Rgb(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// The colour bar of a chart's panel with its ticks and its marked value, then the words

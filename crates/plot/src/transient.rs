@@ -23,24 +23,8 @@ const FIXED: [(u8, &str, Rgb); 4] = [
     (3, "not computed", Rgb(255, 255, 255)),
 ];
 
-/// Anchors of the ramp (viridis, dark to light: short to long squeal).
-const ANCHORS: [Rgb; 5] = [
-    Rgb(68, 1, 84),
-    Rgb(59, 82, 139),
-    Rgb(33, 145, 140),
-    Rgb(94, 201, 98),
-    Rgb(253, 231, 37),
-];
-
-/// The ramp's colour at `s` in `[0, 1]`.
-fn ramp(s: f64) -> Rgb {
-    let x = s.clamp(0.0, 1.0) * (ANCHORS.len() - 1) as f64;
-    let k = (x.floor() as usize).min(ANCHORS.len() - 2);
-    let f = x - k as f64;
-    let (a, b) = (ANCHORS[k], ANCHORS[k + 1]);
-    let mix = |p: u8, q: u8| (p as f64 + f * (q as f64 - p as f64)).round() as u8;
-    Rgb(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
-}
+/// The ramp (dark to light: short to long squeal).
+use crate::viridis as ramp;
 
 /// Whether a cell squealed and then settled: steady slip (label 1) with `0 < t_squeal < inf`.
 fn transient(label: u8, t: f64) -> bool {

@@ -148,8 +148,8 @@ fn a_chart_colours_each_point_and_rings_the_fractal_and_the_step_bound() {
     // The ends of the colour scale (the bars' ends; the largest value of each panel at
     // the top), the rings and the no-boundary triangle.
     for (c, least) in [
-        (ANCHORS[0], 2 * 20),
-        (ANCHORS[4], 2 * 500),
+        (ramp(0.0), 2 * 20),
+        (ramp(1.0), 2 * 500),
         (Rgb(0, 0, 0), 2000),
         (Rgb(150, 150, 150), 2 * 30),
     ] {
