@@ -648,14 +648,7 @@ fn draw_bar(area: &Area<'_>, f: &Field<'_>) -> DrawResult<()> {
     let (x, top, h, w) = (16, 90, 300, 28);
     area.draw_text(f.bar[0], &bold(17), (x, 30))?;
     area.draw_text(f.bar[1], &font(14), (x, 54))?;
-    for k in 0..h {
-        let c = ramp(1.0 - k as f64 / (h - 1) as f64).color();
-        area.draw(&Rectangle::new(
-            [(x, top + k), (x + w, top + k + 1)],
-            c.filled(),
-        ))?;
-    }
-    area.draw(&Rectangle::new([(x, top), (x + w, top + h)], BLACK))?;
+    crate::draw_viridis_strip(area, (x, top, w, h))?;
     let py = |v: f64| top + ((1.0 - v / f.hi) * (h - 1) as f64).round() as i32;
     let (mark, words) = f.mark;
     let ticks = RangedCoordf64::from(0.0..f.hi).key_points(6);

@@ -106,6 +106,23 @@ pub(crate) fn viridis(s: f64) -> Rgb {
     Rgb(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
+/// A vertical strip of the viridis scale, its top at 1 and its bottom at 0, framed in black:
+/// the colour bars of the transient-squeal map and of the sensitivity chart.
+pub(crate) fn draw_viridis_strip(
+    area: &Area<'_>,
+    (x, top, w, h): (i32, i32, i32, i32),
+) -> DrawResult<()> {
+    for k in 0..h {
+        let c = viridis(1.0 - k as f64 / (h - 1) as f64).color();
+        area.draw(&Rectangle::new(
+            [(x, top + k), (x + w, top + k + 1)],
+            c.filled(),
+        ))?;
+    }
+    area.draw(&Rectangle::new([(x, top), (x + w, top + h)], BLACK))?;
+    Ok(())
+}
+
 /// Steady slip (the orbit settles on the fixed point): blue.
 pub const STEADY: Rgb = Rgb(49, 110, 198);
 /// Stick-slip (the orbit settles on the stable stick-slip cycle): orange.

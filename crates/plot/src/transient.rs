@@ -286,14 +286,7 @@ fn draw_bar(area: &Area<'_>, scale: &Scale, words: &[&str], squealed: usize) -> 
     y += 28;
     let (top, h, w) = (y, 300i32, 28i32);
     // Long squeal at the top.
-    for k in 0..h {
-        let c = ramp(1.0 - k as f64 / (h - 1) as f64).color();
-        area.draw(&Rectangle::new(
-            [(x, top + k), (x + w, top + k + 1)],
-            c.filled(),
-        ))?;
-    }
-    area.draw(&Rectangle::new([(x, top), (x + w, top + h)], BLACK))?;
+    crate::draw_viridis_strip(area, (x, top, w, h))?;
     for (v, label) in scale.ticks() {
         let py = top + ((1.0 - scale.at(v)) * (h - 1) as f64).round() as i32;
         area.draw(&PathElement::new(vec![(x + w, py), (x + w + 6, py)], BLACK))?;

@@ -728,21 +728,20 @@ pub fn words(values: &[f64]) -> Vec<String> {
     let mut out = Vec::new();
     let (boxes, side) = (get("basin_entropy_boxes"), get("basin_entropy_box"));
     if boxes.is_finite() && boxes > 0.0 {
-        let sbb = get("boundary_basin_entropy");
-        let test = if get("boundary_boxes") == 0.0 {
-            Log2Test::NoBoundary
-        } else if sbb > std::f64::consts::LN_2 {
-            Log2Test::Fractal
-        } else {
-            Log2Test::Inconclusive
+        let stored = Entropy {
+            box_cells: side as usize,
+            boxes: boxes as u64,
+            boundary_boxes: get("boundary_boxes") as u64,
+            s_b: get("basin_entropy"),
+            s_bb: get("boundary_basin_entropy"),
         };
         out.push(format!(
             "basin entropy S_b {:.4}, boundary S_bb {:.4} over {} of {} boxes of {side} x {side} cells: log 2 test {}",
-            get("basin_entropy"),
-            sbb,
-            get("boundary_boxes"),
-            boxes,
-            test.name()
+            stored.s_b,
+            stored.s_bb,
+            stored.boundary_boxes,
+            stored.boxes,
+            stored.log2_test().name()
         ));
     }
     let samples = get("uncertainty_samples");
