@@ -94,6 +94,15 @@ impl Region {
         }
     }
 
+    /// A radius about the fixed point that the region lies within: the disc's, or for the
+    /// ellipse `|u| <= sqrt(u2)`, `|y| <= |sigma| + 2 nu |u| <= sqrt(s2) + 2 nu sqrt(u2)`.
+    pub fn outer_radius(&self) -> f64 {
+        match self.shape {
+            Shape::Disc { radius, .. } => radius,
+            Shape::Ellipse { two_nu, u2, s2 } => (s2.sqrt() + two_nu * u2.sqrt()).hypot(u2.sqrt()),
+        }
+    }
+
     /// Whether `(x, v)` lies inside the region (strictly).
     #[inline]
     pub fn contains(&self, x: f64, v: f64) -> bool {
@@ -180,27 +189,56 @@ fn mcmillan_bounds(p: &Params, surface: Surface, hysteretic: bool, s: f64) -> Op
     }
     // The conditions used: kappa <= 1/2 (with the c computed from it), the slip branch over
     // the box (w > 2 |a| tau, or > |a| tau without hysteresis), and a single root of the
-    // force equation: every root has |a| < 1 + 1/sin(phi) + |sigma| (F1 > 0 while v < 0),
-    // so with w_min above that times tau (2 tau) every root is on the slip branch, where
-    // the equation is monotone (|dg/da| < 1).
+    // force equation there ([`one_root_at`]).
     let c_kappa = s * s / (2.0 * (1.0 + kappa));
     let kappa_a = tau * w_min / (d * d);
-    let a_all = 1.0 + 1.0 / surface.phi.sin() + s;
     let branch = if hysteretic { 2.0 } else { 1.0 };
-    let d_all = w_min - tau * a_all;
     let ok = kappa <= 0.5
         && c_kappa >= c * (1.0 - 1e-12)
         && kappa_a < 1.0
         && w_min > branch * b1
-        && w_min > branch * tau * a_all
-        && d_all > 0.0
-        && tau * w_min / (d_all * d_all) < 1.0;
+        && one_root_at(surface, hysteretic, w_min, s);
     ok.then_some(Bounds {
         kappa,
         kappa_a,
         d,
         c,
     })
+}
+
+/// Whether McMillan's force equation has exactly one root at every state whose slip speed
+/// `w = lambda - x'` is at least `w` and whose `|sigma| = |x - x* + 2 nu x'|` is at most
+/// `sigma`: every root has `|a| < a_all = 1 + 1/sin(phi) + sigma` (`|F| <= 1 + 1/sin(phi)`
+/// and `a = F - sigma`), so with `w > 2 tau a_all` (`tau a_all` without hysteresis) every
+/// root is on the slip branch, where `|dg/da| <= tau w / (w - tau a_all)^2 < 1` makes the
+/// equation monotone: one root, and the state `(x, x')` is the whole state there.
+fn one_root_at(surface: Surface, hysteretic: bool, w: f64, sigma: f64) -> bool {
+    let tau = surface.tau;
+    let a_all = 1.0 + 1.0 / surface.phi.sin() + sigma;
+    let branch = if hysteretic { 2.0 } else { 1.0 };
+    let d_all = w - tau * a_all;
+    w > branch * tau * a_all && d_all > 0.0 && tau * w / (d_all * d_all) < 1.0
+}
+
+/// Whether the force equation of `p` has exactly one root at the state `(x, v)`, by the
+/// closed-form bound of [`one_root_at`] (McMillan's laws; `false` for every other law,
+/// where no such bound is kept). Where it holds, `(x, x')` determines the force, so two
+/// runs through that state are one run from there on: the premise of the closed turns of
+/// `squeal_scan::census` (MODEL.md section 12).
+pub fn one_root(p: &Params, x: f64, v: f64) -> bool {
+    let sigma = (x - p.fixed_point().x + 2.0 * p.nu * v).abs();
+    one_root_within(p, v, sigma)
+}
+
+/// [`one_root`] at every state with `x' <= v_max` and `|sigma| <= sigma_max` (the bound
+/// only weakens as the slip speed falls and `|sigma|` grows, so its worst corner decides).
+pub fn one_root_within(p: &Params, v_max: f64, sigma_max: f64) -> bool {
+    let (surface, hysteretic) = match p.law {
+        Friction::McMillan(c) => (c, true),
+        Friction::NonHysteretic(c) => (c, false),
+        _ => return false,
+    };
+    one_root_at(surface, hysteretic, p.lambda - v_max, sigma_max)
 }
 
 /// McMillan's laws: the ellipse from `V = u^2/2 + W(sigma, u)` (MODEL.md section 9). The
@@ -263,6 +301,84 @@ mod tests {
         assert_eq!(
             Region::of(&Params::stribeck(0.05, 1.0, Stribeck::default())),
             None
+        );
+    }
+
+    /// The roots of `g(a) = F(x' - lambda, a) - sigma - a` at `(x, x')`, counted by the sign
+    /// changes of `g` on a fine grid over `[-a_all, a_all]` (`|a| < 1 + 1/sin(phi) + |sigma|`
+    /// for every root): the independent count [`one_root`] is checked against.
+    fn roots(p: &Params, x: f64, v: f64) -> usize {
+        let sigma = x - 1.0 + 2.0 * p.nu * v;
+        let phi = p.law.surface().map_or(1.0, |s| s.phi);
+        let a_all = 1.0 + 1.0 / phi.sin() + sigma.abs();
+        let g = |a: f64| crate::friction::force(p, v - p.lambda, a).force - sigma - a;
+        let n = 400_000;
+        let mut count = 0;
+        let mut last = g(-a_all);
+        for i in 1..=n {
+            let now = g(-a_all + 2.0 * a_all * i as f64 / n as f64);
+            if (now > 0.0) != (last > 0.0) {
+                count += 1;
+            }
+            last = now;
+        }
+        count
+    }
+
+    /// [`one_root`] only where the force equation has one root: at Table 1's parameters
+    /// (`lambda = 3`) the states of the plane up to `x' = 1.5` pass the bound and have one
+    /// root each, counted on a grid of `a` (the unstable cycle there reaches `|x'| = 0.41`,
+    /// `|x - 1| = 0.41`); near zero slip (`x' = 2.9`) the bound refuses,
+    /// and there the equation has three roots at some states (the quasi-static branch,
+    /// MODEL.md section 4). At `lambda = 0.5` the bound refuses the small cycle's states
+    /// (`x' = 0.26`), too near zero slip for it. The bound is conservative: far from the
+    /// fixed point (`(-3, 1.5)`, `|sigma| = 4`) it refuses states with one root. Other laws:
+    /// never.
+    #[test]
+    fn one_root_holds_only_where_the_equation_has_one_root() {
+        for law in [FrictionLaw::McMillan, FrictionLaw::McMillanNonHysteretic] {
+            let p = Params::paper(law, 1e-3);
+            for (x, v) in [(1.0, 0.4), (0.6, 0.0), (1.4, -0.4), (1.5, 0.5), (2.0, -1.0)] {
+                assert!(one_root(&p, x, v), "{law:?} ({x}, {v})");
+                assert_eq!(roots(&p, x, v), 1, "{law:?} ({x}, {v})");
+            }
+            assert!(!one_root(&p, 1.0, 2.9), "{law:?}");
+            assert!(
+                !one_root(&p, -3.0, 1.5) && roots(&p, -3.0, 1.5) == 1,
+                "{law:?}"
+            );
+        }
+        let p = Params::paper(FrictionLaw::McMillan, 1e-3);
+        let three = (0..200)
+            .map(|i| -3.0 + 0.04 * i as f64)
+            .any(|x| roots(&p, x, 2.9) == 3);
+        assert!(three, "no state with three roots near zero slip");
+        let mut slow = Params::paper(FrictionLaw::McMillan, 0.0223);
+        slow.lambda = 0.5;
+        assert!(!one_root(&slow, 1.0, 0.26));
+        let c = Params::paper(FrictionLaw::Coulomb, 1e-3);
+        assert!(!one_root(&c, 1.0, 0.1));
+    }
+
+    /// [`Region::outer_radius`] bounds the ellipse: 3600 points on its boundary (the
+    /// closed-form parametrisation `u = sqrt(u2) cos t`, `sigma = sqrt(s2) sin t`) lie
+    /// within it, and the largest is more than half of it (a bound, not a wild one).
+    #[test]
+    fn the_ellipse_lies_within_its_outer_radius() {
+        let r = Region::of(&Params::paper(FrictionLaw::McMillan, 1e-2)).unwrap();
+        let Shape::Ellipse { two_nu, u2, s2 } = r.shape else {
+            panic!("{r:?}")
+        };
+        let far = (0..3600)
+            .map(|i| {
+                let t = i as f64 * std::f64::consts::TAU / 3600.0;
+                let (u, sigma) = (u2.sqrt() * t.cos(), s2.sqrt() * t.sin());
+                (sigma - two_nu * u).hypot(u)
+            })
+            .fold(0.0f64, f64::max);
+        assert!(
+            far <= r.outer_radius() && far > 0.5 * r.outer_radius(),
+            "{far} {r:?}"
         );
     }
 

@@ -29,7 +29,11 @@
 //!
 //! Cells are then decided by runs (the fixed point reached, or undecided at `t_max`). The
 //! census costs at most [`MAX_STARTS`] runs of `t_max` per map, in parallel; the pilot of
-//! [`crate::estimate`] times each map's preparation, so the estimate includes it.
+//! [`crate::estimate`] times each map's preparation, so the estimate includes it. Where
+//! steady slip attracts, closed turns ([`ClosedTurn`]: one revolution that no run crosses)
+//! decide most starts in a revolution or without a run (MODEL.md section 12).
+
+mod turn;
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -41,6 +45,7 @@ use squeal_core::{
 
 use crate::curve::{ClosedCurve, CurveLocator};
 use crate::spec::Plan;
+pub use turn::{ClosedTurn, Kept};
 
 /// At most this many starts per map (1 at rest, 8 on the grid's box, 4 on the ring outside
 /// the cycle, 3 inside it).
@@ -149,6 +154,13 @@ pub struct Census {
     pub certified: usize,
     /// Runs that reached the horizon still moving (no certificate held).
     pub at_horizon: usize,
+    /// Starts outside the cycle shown never to reach the fixed point by a closed turn
+    /// ([`ClosedTurn`], steady slip attracting): their own first revolution, or another
+    /// start's that they lie outside of (no run at all).
+    pub kept_outside: usize,
+    /// Starts inside the cycle shown to reach the fixed point by the run of the outermost
+    /// one, inside whose inward closed turn they lie (no run at all).
+    pub kept_inside: usize,
     /// When each run ended (its decision, or the horizon), in start order.
     pub ends: Vec<f64>,
     /// The groups withdrawn, each with its first refuting run (in start order).
@@ -180,8 +192,14 @@ enum Side {
 /// the state at rest, the corners and edge midpoints of the grid's box (of a circle of
 /// radius `reach` around `fp` where the grid is a single point, as for `squeal classify`
 /// and `trajectory`), and, with a cycle, 4 points of the ring [`RING_OUTSIDE`] times the
-/// cycle and 3 inside it (0.9 and 0.5 times). Each with its side of the cycle.
-fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> Vec<(State, Side)> {
+/// cycle and 3 inside it (0.9 and 0.5 times). Each with its side of the cycle and whether it
+/// lies on the ring.
+fn starts(
+    plan: &Plan,
+    fp: State,
+    reach: f64,
+    curve: Option<&CurveLocator>,
+) -> Vec<(State, Side, bool)> {
     let g = &plan.map.grid;
     let (x0, v0) = (g.x0, g.v0);
     let mid = |a: f64, b: f64| 0.5 * (a + b);
@@ -208,9 +226,9 @@ fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> V
         Some(c) if c.encloses(p) => Side::Inside,
         Some(_) => Side::Outside,
     };
-    let mut out: Vec<(State, Side)> = std::iter::once(State { x: 0.0, v: 0.0 })
+    let mut out: Vec<(State, Side, bool)> = std::iter::once(State { x: 0.0, v: 0.0 })
         .chain(box_points)
-        .map(|p| (p, side(p)))
+        .map(|p| (p, side(p), false))
         .collect();
     if let Some(c) = curve {
         let cv: &ClosedCurve = c.curve();
@@ -220,14 +238,22 @@ fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> V
             v: fp.v + s * (cv.v[i % n] - fp.v),
         };
         for k in 0..4 {
-            out.push((scaled(k * n / 4, RING_OUTSIDE), Side::Outside));
+            out.push((scaled(k * n / 4, RING_OUTSIDE), Side::Outside, true));
         }
         for (i, s) in [(0, 0.9), (n / 2, 0.9), (n / 4, 0.5)] {
-            out.push((scaled(i, s), Side::Inside));
+            out.push((scaled(i, s), Side::Inside, false));
         }
     }
     out.truncate(MAX_STARTS);
     out
+}
+
+/// What a census run did: its own outcome, its last state and, where it was watched with
+/// the band rules too, their verdict on the same run if they reached one by its end.
+struct Ran {
+    own: Outcome,
+    end: State,
+    band: Option<Outcome>,
 }
 
 /// The run from `ic` with `plain` (no trap, no band rules) and the attractors'
@@ -235,28 +261,42 @@ fn starts(plan: &Plan, fp: State, reach: f64, curve: Option<&CurveLocator>) -> V
 /// (steady slip where it reached the fixed point or its region, stick-slip where it entered
 /// the trapped band, stick-slip or the slip oscillation where its own turns settled on an
 /// attractor the orbit certificate holds at `dt` and `dt / 2` with `half`:
-/// [`Reason::OnCertifiedOrbit`]; none where `half` is `None`) and its last state.
+/// [`Reason::OnCertifiedOrbit`]; none where `half` is `None`) and its last state. With
+/// `band` (the map's classifier without its trap), the same steps are watched by the band
+/// rules too: one run gives both verdicts.
 fn plain_run(
     (stepper, half, certificates): (&Stepper, Option<&Stepper>, Shortcuts),
-    plain: &Classifier,
+    (plain, band): (&Classifier, Option<&Classifier>),
     ic: State,
-) -> (Outcome, State) {
+) -> Ran {
     let p = stepper.params();
     let attracts = SteadySlip::of(p).stability.attracts();
     let mut run = Run::new(stepper, ic);
     let mut watch = plain.watch_with(p, certificates);
+    let mut band_watch = band.map(|b| b.watch_with(p, certificates));
+    let mut band_said = None;
     let mut turns = TurnWatch::new(p, plain.turn_settings(p));
     let floor = orbit::band_floor(p, plain.fp_radius, attracts);
     let mut orbits = half.map(|h| OrbitWatch::new(h, floor));
     let mut lasting = None;
-    let end = |run: &Run| State {
-        x: run.sample().x,
-        v: run.sample().v,
+    let ran = |own: Outcome, run: &Run, band: Option<Outcome>| Ran {
+        own,
+        end: State {
+            x: run.sample().x,
+            v: run.sample().v,
+        },
+        band,
     };
     for _ in 0..run.steps_to(plain.t_max) {
         let step = run.step();
+        if band_said.is_none()
+            && let Some(w) = band_watch.as_mut()
+            && let Some(decision) = w.observe(&run, &step)
+        {
+            band_said = Some(w.finish(decision, &run));
+        }
         if let Some(decision) = watch.observe(&run, &step) {
-            return (watch.finish(decision, &run), end(&run));
+            return ran(watch.finish(decision, &run), &run, band_said);
         }
         if turns.observe_step(&run, &step).is_some() {
             lasting = turns.lasting();
@@ -267,19 +307,60 @@ fn plain_run(
         {
             let regime = Lasting::regime(lasting.as_ref(), attracts);
             let own = watch.finish((regime, Reason::OnCertifiedOrbit), &run);
-            return (own, end(&run));
+            return ran(own, &run, band_said);
         }
     }
-    (
-        watch.finish((Regime::Undecided, Reason::TimeLimit), &run),
-        end(&run),
-    )
+    let own = watch.finish((Regime::Undecided, Reason::TimeLimit), &run);
+    ran(own, &run, band_said)
+}
+
+/// How a start of the census ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ended {
+    /// Its own run, with this reason.
+    Run(Reason),
+    /// Outside an outward closed turn: it never reaches the fixed point (no run past the
+    /// turn's, none at all where the turn was another start's).
+    KeptOutside,
+    /// Inside the inward closed turn of the outermost start inside the cycle, whose run
+    /// reached the fixed point: so does its own (no run).
+    KeptInside,
+}
+
+/// What one start of the census found: the rule groups its run refuted, how it ended and
+/// when.
+struct Found {
+    withdrawn: Vec<Withdrawal>,
+    ended: Ended,
+    t: f64,
+}
+
+impl Found {
+    /// A start kept by a closed turn, decided at time `t`: it refutes nothing.
+    fn kept(ended: Ended, t: f64) -> Found {
+        Found {
+            withdrawn: Vec::new(),
+            ended,
+            t,
+        }
+    }
 }
 
 /// The census of a map of `plan` whose stepper is `stepper`, whose rules label a start as
 /// `label` does and whose located cycle (if any) is `curve`; `reach` is the radius of the
 /// starts' circle where the grid is a single point. `classifier` is the map's; its runs
 /// here have no rule.
+///
+/// Where steady slip attracts, closed turns ([`ClosedTurn`]) spare most runs:
+/// * a start on the ring outside the cycle first tries the turn from its first crossing
+///   of the section: an outward one shows that it, and every other start outside the
+///   cycle that lies outside that turn, never reaches the fixed point, which is all the
+///   outside rules' premise asks of them;
+/// * the outermost start inside the cycle tries the same: where its turn is inward and the
+///   force has one root everywhere inside it, and its run reaches the fixed point, so does
+///   every start inside that turn (no periodic orbit there could let it through), and the
+///   band rules cannot label them (their amplitudes fall every revolution, never
+///   reversing, and they never stick).
 pub fn take(
     plan: &Plan,
     (stepper, certificates): (&Stepper, Shortcuts),
@@ -287,76 +368,242 @@ pub fn take(
     (curve, reach): (Option<&ClosedCurve>, f64),
     label: impl Fn(State) -> Outcome + Sync,
 ) -> Census {
-    let fp = stepper.params().fixed_point();
+    let p = stepper.params();
     let plain = Classifier {
         trap: None,
         band_rules: false,
         ..*classifier
     };
     let locator = curve.map(|c| CurveLocator::new(c.clone()));
-    let starts = starts(plan, fp, reach, locator.as_ref());
+    let starts = starts(plan, p.fixed_point(), reach, locator.as_ref());
     let halved = stepper.setup().half_dt();
     let half = halved.stepper().expect("half a valid step is valid");
-    let found: Vec<(Vec<Withdrawal>, Reason, f64)> = starts
-        .par_iter()
-        .map(|&(ic, side)| {
-            let (own, end) = plain_run((stepper, Some(&half), certificates), &plain, ic);
-            // Quiet: the fixed point, or the slip oscillation about a steady slip that does
-            // not attract; either refutes a stick-slip label.
-            let quiet = matches!(own.regime, Regime::SteadySlip | Regime::SlipOscillation);
-            let refuted = |rules| Withdrawal {
-                rules,
-                start: ic,
-                run: own.regime,
-                t: own.t_decision,
-            };
-            let mut w = Vec::new();
-            if quiet {
-                // The label every path gives the start, and the run's own verdict with the
-                // band rules alone (no trap, no shortcut): each rule that said stick-slip is
-                // refuted by this run.
-                let band_only = Classifier {
-                    trap: None,
-                    ..*classifier
-                }
-                .classify(stepper, ic);
-                for l in [label(ic), band_only] {
-                    if l.regime == Regime::StickSlip {
-                        w.extend(Rules::of(l.reason).map(refuted));
-                    }
-                }
-                if side == Side::Outside {
-                    w.push(refuted(Rules::Outside));
-                }
-            }
-            let left = locator.as_ref().is_some_and(|c| !c.encloses(end));
-            // Inside the cycle: a run still moving outside it at the horizon, or certified on
-            // a lasting oscillation, refutes the inside rules.
-            let lasts = own.reason == Reason::OnCertifiedOrbit;
-            if side == Side::Inside && !quiet && (own.reason == Reason::TimeLimit && left || lasts)
-            {
-                w.push(refuted(Rules::Inside));
-            }
-            (w, own.reason, own.t_decision)
-        })
-        .collect();
-    let count = |r: Reason| found.iter().filter(|f| f.1 == r).count();
-    let (certified, at_horizon) = (count(Reason::OnCertifiedOrbit), count(Reason::TimeLimit));
-    let ends = found.iter().map(|f| f.2).collect();
+    let band = Classifier {
+        trap: None,
+        ..*classifier
+    };
+    let taker = Taker {
+        steppers: (stepper, &half),
+        certificates,
+        classifiers: (&plain, &band),
+        locator: locator.as_ref(),
+        label: &label,
+        turns: SteadySlip::of(p).stability.attracts() && locator.is_some(),
+    };
+    let (inside, outside) = rayon::join(|| taker.inside(&starts), || taker.outside(&starts));
+    let mut found: Vec<(usize, Found)> = inside.into_iter().chain(outside).collect();
+    found.sort_by_key(|f| f.0);
+    let count = |e: Ended| found.iter().filter(|f| f.1.ended == e).count();
+    let ends = found.iter().map(|f| f.1.t).collect();
     let mut withdrawn: Vec<Withdrawal> = Vec::new();
-    for w in found.into_iter().flat_map(|f| f.0) {
+    for w in found.iter().flat_map(|f| f.1.withdrawn.iter()) {
         if !withdrawn.iter().any(|x| x.rules == w.rules) {
-            withdrawn.push(w);
+            withdrawn.push(*w);
         }
     }
     Census {
         runs: starts.len(),
         horizon: plain.t_max,
-        certified,
-        at_horizon,
+        certified: count(Ended::Run(Reason::OnCertifiedOrbit)),
+        at_horizon: count(Ended::Run(Reason::TimeLimit)),
+        kept_outside: count(Ended::KeptOutside),
+        kept_inside: count(Ended::KeptInside),
         ends,
         withdrawn,
     }
+}
+
+/// What the census's starts are run and judged with.
+struct Taker<'a, L> {
+    /// The map's stepper and the same at half the step.
+    steppers: (&'a Stepper, &'a Stepper),
+    /// The certificates the runs end at.
+    certificates: Shortcuts,
+    /// The runs' classifier (no rule) and the band rules' (no trap).
+    classifiers: (&'a Classifier, &'a Classifier),
+    locator: Option<&'a CurveLocator>,
+    label: &'a L,
+    /// Whether closed turns may decide (steady slip attracts, a cycle was located).
+    turns: bool,
+}
+
+impl<L: Fn(State) -> Outcome + Sync> Taker<'_, L> {
+    /// The run of start `ic` (on `side` of the cycle) and what it refutes.
+    fn run(&self, ic: State, side: Side) -> Found {
+        let (stepper, half) = self.steppers;
+        let (plain, band) = self.classifiers;
+        let ran = plain_run(
+            (stepper, Some(half), self.certificates),
+            (plain, Some(band)),
+            ic,
+        );
+        let band_only = || {
+            ran.band
+                .unwrap_or_else(|| band.classify_with(stepper, ic, self.certificates))
+        };
+        refutations((ic, side, &ran), band_only, self.locator, self.label)
+    }
+
+    /// The closed turn from the first crossing of the section by the run from `ic`, and the
+    /// time of that crossing.
+    fn turn_from(&self, ic: State) -> Option<(f64, ClosedTurn)> {
+        let (stepper, half) = self.steppers;
+        let near = (
+            self.classifiers.0.fp_radius,
+            self.certificates.region.as_ref(),
+        );
+        let (t, r) = first_crossing(stepper, ic, near)?;
+        Some((t, ClosedTurn::certify((stepper, half), r, near)?))
+    }
+
+    /// The starts outside the cycle (or with no cycle): the ring's first, each with its own
+    /// outward turn where it has one, then the others, kept outside any such turn or run.
+    fn outside(&self, starts: &[(State, Side, bool)]) -> Vec<(usize, Found)> {
+        let index: Vec<usize> = (0..starts.len()).collect();
+        let ring: Vec<(usize, Found, Option<ClosedTurn>)> = index
+            .par_iter()
+            .filter(|&&i| starts[i].2)
+            .map(|&i| {
+                let (ic, side, _) = starts[i];
+                let outward = self.turns.then(|| self.turn_from(ic)).flatten();
+                match outward.filter(|(_, turn)| turn.kept() == Kept::Outside) {
+                    Some((t, turn)) => (i, Found::kept(Ended::KeptOutside, t), Some(turn)),
+                    None => (i, self.run(ic, side), None),
+                }
+            })
+            .collect();
+        let turns: Vec<&ClosedTurn> = ring.iter().filter_map(|r| r.2.as_ref()).collect();
+        let rest: Vec<(usize, Found)> = index
+            .par_iter()
+            .filter(|&&i| starts[i].1 != Side::Inside && !starts[i].2)
+            .map(|&i| {
+                let (ic, side, _) = starts[i];
+                let kept = side == Side::Outside && turns.iter().any(|t| t.keeps(ic));
+                match kept {
+                    true => (i, Found::kept(Ended::KeptOutside, 0.0)),
+                    false => (i, self.run(ic, side)),
+                }
+            })
+            .collect();
+        let ring = ring.into_iter().map(|(i, f, _)| (i, f));
+        ring.chain(rest).collect()
+    }
+
+    /// The starts inside the cycle: the outermost one's run, and every other one inside its
+    /// inward closed turn decided by it where it reached the fixed point; the rest run.
+    fn inside(&self, starts: &[(State, Side, bool)]) -> Vec<(usize, Found)> {
+        let inner: Vec<usize> = (0..starts.len())
+            .filter(|&i| starts[i].1 == Side::Inside)
+            .collect();
+        let Some((&outer, others)) = inner.split_first() else {
+            return Vec::new();
+        };
+        let p = self.steppers.0.params();
+        let inward = self
+            .turns
+            .then(|| self.turn_from(starts[outer].0))
+            .flatten()
+            .filter(|(_, turn)| turn.kept() == Kept::Inside && turn.one_root_inside(p));
+        // Kept inside the turn, and labelled steady slip by the map (a stick-slip label is
+        // refuted by its own run, so that start runs).
+        let covered = |i: usize| {
+            let ic = starts[i].0;
+            inward.as_ref().is_some_and(|(_, turn)| turn.keeps(ic))
+                && (self.label)(ic).regime != Regime::StickSlip
+        };
+        let (first, spared): (Vec<usize>, Vec<usize>) = others.iter().partition(|&&i| !covered(i));
+        let mut found: Vec<(usize, Found)> = std::iter::once(outer)
+            .chain(first)
+            .collect::<Vec<_>>()
+            .par_iter()
+            .map(|&i| (i, self.run(starts[i].0, starts[i].1)))
+            .collect();
+        let reached = found[0].1.ended;
+        let settled = matches!(
+            reached,
+            Ended::Run(Reason::EnteredRegion | Reason::NearFixedPoint)
+        );
+        let t = found[0].1.t;
+        let rest: Vec<(usize, Found)> = spared
+            .par_iter()
+            .map(|&i| match settled {
+                true => (i, Found::kept(Ended::KeptInside, t)),
+                false => (i, self.run(starts[i].0, starts[i].1)),
+            })
+            .collect();
+        found.extend(rest);
+        found
+    }
+}
+
+/// The rule groups that the run `ran` of the start `ic` (on `side` of the cycle) refutes;
+/// `band_only` gives the start's verdict with the band rules alone (no trap).
+fn refutations(
+    (ic, side, ran): (State, Side, &Ran),
+    band_only: impl FnOnce() -> Outcome,
+    locator: Option<&CurveLocator>,
+    label: &impl Fn(State) -> Outcome,
+) -> Found {
+    let own = ran.own;
+    // Quiet: the fixed point, or the slip oscillation about a steady slip that does not
+    // attract; either refutes a stick-slip label.
+    let quiet = matches!(own.regime, Regime::SteadySlip | Regime::SlipOscillation);
+    let refuted = |rules| Withdrawal {
+        rules,
+        start: ic,
+        run: own.regime,
+        t: own.t_decision,
+    };
+    let mut w = Vec::new();
+    if quiet {
+        // The label every path gives the start, and the run's own verdict with the band
+        // rules alone (no trap; the region ends it, where the band rules cannot fire):
+        // each rule that said stick-slip is refuted by this run.
+        for l in [label(ic), band_only()] {
+            if l.regime == Regime::StickSlip {
+                w.extend(Rules::of(l.reason).map(refuted));
+            }
+        }
+        if side == Side::Outside {
+            w.push(refuted(Rules::Outside));
+        }
+    }
+    let left = locator.is_some_and(|c| !c.encloses(ran.end));
+    // Inside the cycle: a run still moving outside it at the horizon, or certified on a
+    // lasting oscillation, refutes the inside rules.
+    let lasts = own.reason == Reason::OnCertifiedOrbit;
+    if side == Side::Inside && !quiet && (own.reason == Reason::TimeLimit && left || lasts) {
+        w.push(refuted(Rules::Inside));
+    }
+    Found {
+        withdrawn: w,
+        ended: Ended::Run(own.reason),
+        t: own.t_decision,
+    }
+}
+
+/// The time and amplitude of the first crossing of the section by the run from `ic` (no
+/// rule), within [`turn::MAX_PERIODS`] periods; `None` where it comes first within
+/// `fp_radius` of the fixed point or into its `region`, or does not cross by then.
+fn first_crossing(
+    stepper: &Stepper,
+    ic: State,
+    (fp_radius, region): (f64, Option<&squeal_core::Region>),
+) -> Option<(f64, f64)> {
+    let fp = stepper.params().fixed_point();
+    let mut run = Run::new(stepper, ic);
+    for _ in 0..run.steps_to(turn::MAX_PERIODS * std::f64::consts::TAU) {
+        let step = run.step();
+        let s = step.next;
+        let near = (s.x - fp.x).hypot(s.v - fp.v) <= fp_radius;
+        if near || region.is_some_and(|r| r.contains(s.x, s.v)) || run.failed() {
+            return None;
+        }
+        if let Some(c) = squeal_core::section::crossing(fp.x, &step.prev, &step.next) {
+            return Some((c.t, c.r));
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -407,7 +654,7 @@ path = "t.h5"
         };
         for (x, v) in [(0.0, 0.0), (2.0, 0.5), (-1.0, -0.5), (2.0, -0.5)] {
             let ic = State { x, v };
-            let (truth, _) = plain_run((&ctx.stepper, None, Shortcuts::NONE), &plain, ic);
+            let truth = plain_run((&ctx.stepper, None, Shortcuts::NONE), (&plain, None), ic).own;
             assert_eq!(truth.regime, Regime::SlipOscillation, "{ic:?}: {truth:?}");
             let label = ctx.classify(ic);
             assert_eq!(label.regime, truth.regime, "{ic:?}: {label:?}");
@@ -418,15 +665,9 @@ path = "t.h5"
         );
     }
 
-    /// Fig. 9 (the main job's map, its grid's box): every run of the census that does not
-    /// enter the fixed point's region ends on a certified attractor of its own turn map
-    /// before t_max = 5000 (the stick-slip band, whose maxima never converge: section 10's
-    /// band certificate), and no rule is withdrawn. Before the band certificate, the 13 starts
-    /// outside the cycle all ran to t_max (measured: 13 at the horizon, 0 certified). Each
-    /// certificate is checked against its own run in crates/core/tests/model/orbit.rs.
-    #[test]
-    fn fig9_census_runs_end_on_certified_attractors_not_at_the_horizon() {
-        let plan = Plan::from_toml(
+    /// Fig. 9's plan (the main job's map, its grid's box) on a 4 x 4 grid.
+    fn fig9() -> Plan {
+        Plan::from_toml(
             r#"version = 1
 [model]
 law = "mcmillan"
@@ -445,18 +686,95 @@ path = "t.h5"
 "#,
             "t.toml",
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    /// Fig. 9: the closed turns decide every start but the outermost inside the cycle, and
+    /// what they decide agrees with each start's own run with no rule to t_max. The four
+    /// starts on the ring make an outward turn at their first crossing (t < 7); the state at
+    /// rest and the box's eight lie outside those turns, so no run is made for them; their
+    /// own runs end on the stick-slip band's certificate instead (t = 129-370). The
+    /// outermost start inside makes an inward turn with one root everywhere inside it and
+    /// its run enters the region at t = 4059; the start at half the cycle, inside that turn,
+    /// is decided by that run (its own enters the region at t = 1884). The other start at 0.9
+    /// times the cycle lies on the turn's level, not inside it by the margin: it runs (to
+    /// t = 4059, on the other thread). Before closed turns
+    /// every start ran: 13 certified on the band by t = 130-2270, 3 in the region by
+    /// t = 1880-4060 (MODEL.md section 12).
+    #[test]
+    fn fig9_census_closed_turns_agree_with_each_start_run() {
+        let plan = fig9();
         let ctx = MapContext::prepare(&plan, 0).unwrap();
-        let census = ctx.census.expect("McMillan's law takes a census");
+        let census = ctx.census.clone().expect("McMillan's law takes a census");
         assert_eq!(census.runs, MAX_STARTS, "{census:?}");
-        assert_eq!(census.at_horizon, 0, "{census:?}");
-        // 1 at rest, 8 on the box, 4 on the ring outside the cycle; the 3 inside settle.
-        assert_eq!(census.certified, 13, "{census:?}");
+        assert_eq!(
+            (census.kept_outside, census.kept_inside, census.at_horizon),
+            (13, 1, 0),
+            "{census:?}"
+        );
         assert!(census.withdrawn.is_empty(), "{census:?}");
-        // When each run ended (printed with --nocapture; MODEL.md section 12 quotes them):
-        // rest and the box by a few hundred time units, the ring and the inside later.
-        println!("census run ends at Fig. 9: {:?}", census.ends);
-        assert!(census.ends[..9].iter().all(|&t| t < 1000.0), "{census:?}");
-        assert!(census.ends.iter().all(|&t| t < 5000.0), "{census:?}");
+        assert!(census.ends[9..13].iter().all(|&t| t < 7.0), "{census:?}");
+        assert!(census.ends[..9].iter().all(|&t| t == 0.0), "{census:?}");
+        let plain = Classifier {
+            trap: None,
+            band_rules: false,
+            ..plan.map.classifier
+        };
+        let fp = ctx.params.fixed_point();
+        let reach = crate::scanner::cycle_settings(&plan, &ctx.params).r_max / 1.2;
+        let curve = ctx
+            .start_rule
+            .as_ref()
+            .map(|r| CurveLocator::new(r.curve().clone()));
+        let half = ctx.stepper.setup().half_dt();
+        let half = half.stepper().unwrap();
+        for (i, (ic, side, _)) in starts(&plan, fp, reach, curve.as_ref())
+            .into_iter()
+            .enumerate()
+        {
+            let certs = (&ctx.stepper, Some(&half), ctx.certificates);
+            let own = plain_run(certs, (&plain, None), ic).own;
+            match side {
+                Side::Outside => assert_eq!(own.regime, Regime::StickSlip, "{i}: {own:?}"),
+                _ => assert_eq!(own.reason, Reason::EnteredRegion, "{i}: {own:?}"),
+            }
+        }
+    }
+
+    /// The closed turn's own numbers at Fig. 9: from just outside the cycle's crossing
+    /// `r_u = 0.4028` (the located cycle) the turn grows, from just inside it shrinks, each by
+    /// about `(P'(r_u) - 1) (r - r_u)` with `P'(r_u) = 1.0064` (MODEL.md section 12). At
+    /// `lambda = 0.5`, `nu = 0.0223`, whose return map jumps past its cycle (MODEL.md
+    /// section 6), the one-root bound fails on the small cycle's turns: no closed turn.
+    #[test]
+    fn closed_turns_grow_outside_the_cycle_shrink_inside_and_need_one_root() {
+        let plan = fig9();
+        let ctx = MapContext::prepare(&plan, 0).unwrap();
+        let half = ctx.stepper.setup().half_dt();
+        let half = half.stepper().unwrap();
+        let near = (1e-3, ctx.certificates.region.as_ref());
+        let r_u = match &ctx.cycle {
+            Some(Ok(c)) => c.r_section,
+            other => panic!("no located cycle: {other:?}"),
+        };
+        for (r, kept) in [(1.1 * r_u, Kept::Outside), (0.9 * r_u, Kept::Inside)] {
+            let turn = ClosedTurn::certify((&ctx.stepper, &half), r, near).expect("a turn");
+            assert_eq!(turn.kept(), kept, "{turn:?}");
+            let slope = (turn.r1 - r_u) / (turn.r0 - r_u);
+            assert!((slope - 1.0064).abs() < 1.5e-3, "{slope} {turn:?}");
+            assert!(turn.one_root_inside(&ctx.params));
+        }
+        let mut slow = ctx.params;
+        slow.lambda = 0.5;
+        slow.nu = 0.0223;
+        let st = Stepper::new(slow, plan.dt, plan.solver).unwrap();
+        let half = st.setup().half_dt();
+        let half = half.stepper().unwrap();
+        for r in [0.2, 0.26, 0.5] {
+            assert!(
+                ClosedTurn::certify((&st, &half), r, (1e-3, None)).is_none(),
+                "{r}"
+            );
+        }
     }
 }
