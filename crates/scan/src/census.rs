@@ -47,6 +47,10 @@ use crate::curve::{ClosedCurve, CurveLocator};
 use crate::spec::Plan;
 pub use turn::{ClosedTurn, Kept};
 
+/// How many of its crossings of the section a start inside the cycle is followed for, to
+/// enter the outermost inside start's inward closed turn, before it is run in full.
+pub const ENTRY_CROSSINGS: usize = 32;
+
 /// At most this many starts per map (1 at rest, 8 on the grid's box, 4 on the ring outside
 /// the cycle, 3 inside it).
 pub const MAX_STARTS: usize = 16;
@@ -504,31 +508,49 @@ impl<L: Fn(State) -> Outcome + Sync> Taker<'_, L> {
             .then(|| self.turn_from(starts[outer].0))
             .flatten()
             .filter(|(_, turn)| turn.kept() == Kept::Inside && turn.one_root_inside(p));
-        // Kept inside the turn, and labelled steady slip by the map (a stick-slip label is
-        // refuted by its own run, so that start runs).
-        let covered = |i: usize| {
-            let ic = starts[i].0;
-            inward.as_ref().is_some_and(|(_, turn)| turn.keeps(ic))
-                && (self.label)(ic).regime != Regime::StickSlip
+        // Labelled steady slip by the map (a stick-slip label is refuted by its own run, so
+        // that start runs), and inside the turn from the start or from one of its first
+        // crossings of the section (the run to it never came near the fixed point): the
+        // time it entered.
+        let covered = |i: usize| -> Option<f64> {
+            let (stepper, ic) = (self.steppers.0, starts[i].0);
+            let (_, turn) = inward.as_ref()?;
+            if (self.label)(ic).regime == Regime::StickSlip {
+                return None;
+            }
+            if turn.keeps(ic) {
+                return Some(0.0);
+            }
+            let x_star = p.fixed_point().x;
+            let near = (self.classifiers.0.fp_radius, self.certificates.region.as_ref());
+            let inside = |r: f64| turn.keeps(State { x: x_star, v: r });
+            crossing_where(stepper, ic, near, ENTRY_CROSSINGS, inside).map(|(t, _)| t)
         };
-        let (first, spared): (Vec<usize>, Vec<usize>) = others.iter().partition(|&&i| !covered(i));
-        let mut found: Vec<(usize, Found)> = std::iter::once(outer)
-            .chain(first)
-            .collect::<Vec<_>>()
-            .par_iter()
-            .map(|&i| (i, self.run(starts[i].0, starts[i].1)))
-            .collect();
-        let reached = found[0].1.ended;
+        // The outermost start's run, beside the others' entries into its turn (or their own
+        // runs where they do not enter).
+        let (outer_found, others_found) = rayon::join(
+            || self.run(starts[outer].0, starts[outer].1),
+            || {
+                others
+                    .par_iter()
+                    .map(|&i| match covered(i) {
+                        Some(t) => (i, Err(t)),
+                        None => (i, Ok(self.run(starts[i].0, starts[i].1))),
+                    })
+                    .collect::<Vec<_>>()
+            },
+        );
         let settled = matches!(
-            reached,
+            outer_found.ended,
             Ended::Run(Reason::EnteredRegion | Reason::NearFixedPoint)
         );
-        let t = found[0].1.t;
-        let rest: Vec<(usize, Found)> = spared
-            .par_iter()
-            .map(|&i| match settled {
-                true => (i, Found::kept(Ended::KeptInside, t)),
-                false => (i, self.run(starts[i].0, starts[i].1)),
+        let mut found = vec![(outer, outer_found)];
+        let rest: Vec<(usize, Found)> = others_found
+            .into_par_iter()
+            .map(|(i, f)| match (f, settled) {
+                (Ok(f), _) => (i, f),
+                (Err(t), true) => (i, Found::kept(Ended::KeptInside, t)),
+                (Err(_), false) => (i, self.run(starts[i].0, starts[i].1)),
             })
             .collect();
         found.extend(rest);
@@ -588,19 +610,45 @@ fn refutations(
 fn first_crossing(
     stepper: &Stepper,
     ic: State,
+    near: (f64, Option<&squeal_core::Region>),
+) -> Option<(f64, f64)> {
+    crossing_where(stepper, ic, near, 1, |_| true)
+}
+
+/// The time and amplitude of the first of the first `crossings` crossings of the section by
+/// the run from `ic` (no rule) at which `stop` holds; `None` where none does, where the run
+/// comes first within `fp_radius` of the fixed point or into its `region`, or where it
+/// does not cross within [`turn::MAX_PERIODS`] periods of the last crossing.
+fn crossing_where(
+    stepper: &Stepper,
+    ic: State,
     (fp_radius, region): (f64, Option<&squeal_core::Region>),
+    crossings: usize,
+    mut stop: impl FnMut(f64) -> bool,
 ) -> Option<(f64, f64)> {
     let fp = stepper.params().fixed_point();
     let mut run = Run::new(stepper, ic);
-    for _ in 0..run.steps_to(turn::MAX_PERIODS * std::f64::consts::TAU) {
-        let step = run.step();
-        let s = step.next;
-        let near = (s.x - fp.x).hypot(s.v - fp.v) <= fp_radius;
-        if near || region.is_some_and(|r| r.contains(s.x, s.v)) || run.failed() {
-            return None;
-        }
-        if let Some(c) = squeal_core::section::crossing(fp.x, &step.prev, &step.next) {
-            return Some((c.t, c.r));
+    let per_turn = run.steps_to(turn::MAX_PERIODS * std::f64::consts::TAU);
+    let mut since = 0;
+    for _ in 0..crossings {
+        loop {
+            let step = run.step();
+            let s = step.next;
+            let near = (s.x - fp.x).hypot(s.v - fp.v) <= fp_radius;
+            if near || region.is_some_and(|r| r.contains(s.x, s.v)) || run.failed() {
+                return None;
+            }
+            since += 1;
+            if let Some(c) = squeal_core::section::crossing(fp.x, &step.prev, &step.next) {
+                since = 0;
+                if stop(c.r) {
+                    return Some((c.t, c.r));
+                }
+                break;
+            }
+            if since > per_turn {
+                return None;
+            }
         }
     }
     None
@@ -697,8 +745,9 @@ path = "t.h5"
     /// outermost start inside makes an inward turn with one root everywhere inside it and
     /// its run enters the region at t = 4059; the start at half the cycle, inside that turn,
     /// is decided by that run (its own enters the region at t = 1884). The other start at 0.9
-    /// times the cycle lies on the turn's level, not inside it by the margin: it runs (to
-    /// t = 4059, on the other thread). Before closed turns
+    /// times the cycle lies on the turn's level, not inside it by the margin; it is followed
+    /// until a crossing of the section falls inside (t = 66, ten revolutions) and is then
+    /// decided by the same run (its own enters the region at t = 4059). Before closed turns
     /// every start ran: 13 certified on the band by t = 130-2270, 3 in the region by
     /// t = 1880-4060 (MODEL.md section 12).
     #[test]
@@ -709,9 +758,10 @@ path = "t.h5"
         assert_eq!(census.runs, MAX_STARTS, "{census:?}");
         assert_eq!(
             (census.kept_outside, census.kept_inside, census.at_horizon),
-            (13, 1, 0),
+            (13, 2, 0),
             "{census:?}"
         );
+        assert!(census.ends[14] > 0.0 && census.ends[14] < 100.0, "{census:?}");
         assert!(census.withdrawn.is_empty(), "{census:?}");
         assert!(census.ends[9..13].iter().all(|&t| t < 7.0), "{census:?}");
         assert!(census.ends[..9].iter().all(|&t| t == 0.0), "{census:?}");
