@@ -522,7 +522,10 @@ impl<L: Fn(State) -> Outcome + Sync> Taker<'_, L> {
                 return Some(0.0);
             }
             let x_star = p.fixed_point().x;
-            let near = (self.classifiers.0.fp_radius, self.certificates.region.as_ref());
+            let near = (
+                self.classifiers.0.fp_radius,
+                self.certificates.region.as_ref(),
+            );
             let inside = |r: f64| turn.keeps(State { x: x_star, v: r });
             crossing_where(stepper, ic, near, ENTRY_CROSSINGS, inside).map(|(t, _)| t)
         };
@@ -761,7 +764,10 @@ path = "t.h5"
             (13, 2, 0),
             "{census:?}"
         );
-        assert!(census.ends[14] > 0.0 && census.ends[14] < 100.0, "{census:?}");
+        assert!(
+            census.ends[14] > 0.0 && census.ends[14] < 100.0,
+            "{census:?}"
+        );
         assert!(census.withdrawn.is_empty(), "{census:?}");
         assert!(census.ends[9..13].iter().all(|&t| t < 7.0), "{census:?}");
         assert!(census.ends[..9].iter().all(|&t| t == 0.0), "{census:?}");

@@ -218,7 +218,7 @@ path = "t.h5"
     /// audit's finding injected: every audited cell the outside rules decided reads
     /// `disagrees`, as where its run to settlement reached the fixed point.
     fn unchecked(plan: &Plan) -> MemorySink {
-        let ctx = MapContext::prepare_checked(plan, 0, false).unwrap();
+        let ctx = MapContext::prepare_checked(plan, 0, crate::scanner::Checks::NoCensus).unwrap();
         let mut sink = MemorySink::default();
         for b in 0..plan.map.grid.blocks() {
             let mut r = crate::scanner::run_block(plan, &ctx, b, &crate::NoObserver, None).unwrap();

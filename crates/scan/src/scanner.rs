@@ -151,6 +151,20 @@ pub(crate) fn searches_section(plan: &Plan, family: LawFamily) -> bool {
     plan.map.early_stop == EarlyStop::Cycle || plan.cycle.locate || family.has_band()
 }
 
+/// Which checks of its rules' premise a map is prepared with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Checks {
+    /// The census, and the certificates that the audit's runs end at: a map that is scanned.
+    Full,
+    /// No census (tests of what acts on a rule that was not withdrawn).
+    #[cfg(test)]
+    NoCensus,
+    /// Labels only: no census, and no trapped band (a certificate only the runs that check
+    /// the rules use: [`MapContext::settle`], the census), for a map whose starts are only
+    /// classified (the sensitivity's probes, [`crate::sensitivity`]).
+    LabelsOnly,
+}
+
 /// What the section search of map `map` found, and the rules it sets up.
 #[derive(Default)]
 struct Searched {
@@ -163,12 +177,13 @@ struct Searched {
 
 /// The section search of map `map` ([`section::section_cycles`]), with the unstable cycle
 /// located where the plan asks, and the rules it sets: the classifier's band rules and trap
-/// (in `classifier`), the start rule.
+/// (in `classifier`), the start rule; the trapped band where `checks` keeps certificates.
 fn search_map(
     plan: &Plan,
     map: usize,
     (stepper, cs): (&Stepper, &CycleSettings),
     classifier: &mut Classifier,
+    checks: Checks,
 ) -> Result<Searched, ScanError> {
     let params = *stepper.params();
     let (mut cycle, mut start_rule) = (None, None);
@@ -206,7 +221,10 @@ fn search_map(
         let invariant = outside == Some(Outside::Invariant);
         start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.map.trap_margin, invariant));
     }
-    let trapped_band = trapped_band(stepper, cs, found, outside);
+    let trapped_band = match checks {
+        Checks::LabelsOnly => None,
+        _ => trapped_band(stepper, cs, found, outside),
+    };
     Ok(Searched {
         section: Some(found),
         cycle,
@@ -428,15 +446,14 @@ impl MapContext {
     /// Builds the stepper and, as the plan asks, searches the section once: the trap for
     /// early stopping and the located cycle both come from that one search.
     pub fn prepare(plan: &Plan, map: usize) -> Result<MapContext, ScanError> {
-        MapContext::prepare_checked(plan, map, true)
+        MapContext::prepare_checked(plan, map, Checks::Full)
     }
 
-    /// [`MapContext::prepare`], with the census of the rules' premise or without it (tests
-    /// of what acts on a rule that was not withdrawn).
+    /// [`MapContext::prepare`], with the checks `checks` of the rules' premise.
     pub(crate) fn prepare_checked(
         plan: &Plan,
         map: usize,
-        census: bool,
+        checks: Checks,
     ) -> Result<MapContext, ScanError> {
         let params = plan.maps[map];
         let stepper = Stepper::new(params, plan.dt, plan.solver)?;
@@ -449,7 +466,7 @@ impl MapContext {
             outside,
             trapped_band,
         } = match searches_section(plan, params.law.family()) {
-            true => search_map(plan, map, (&stepper, &cs), &mut classifier)?,
+            true => search_map(plan, map, (&stepper, &cs), &mut classifier, checks)?,
             false => Searched::default(),
         };
         let landscape = crate::landscape::of_params(plan, params)?;
@@ -488,7 +505,7 @@ impl MapContext {
         // census withdraws a group (then it is counted again).
         let (found, rates) = rayon::join(
             || {
-                census
+                (checks == Checks::Full)
                     .then(|| ctx.census_of(plan, cs.r_max / 1.2))
                     .flatten()
             },

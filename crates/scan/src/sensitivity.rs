@@ -524,7 +524,7 @@ pub fn of_map(
         return Ok(None);
     };
     let prepare = |p: &Plan, withdrawn: &[Rules]| -> Result<MapContext, ScanError> {
-        let mut ctx = MapContext::prepare_checked(p, map, false)?;
+        let mut ctx = MapContext::prepare_checked(p, map, crate::scanner::Checks::LabelsOnly)?;
         for &r in withdrawn {
             ctx.withdraw(r);
         }
