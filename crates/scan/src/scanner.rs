@@ -159,9 +159,9 @@ pub(crate) enum Checks {
     /// No census (tests of what acts on a rule that was not withdrawn).
     #[cfg(test)]
     NoCensus,
-    /// Labels only: no census, and no trapped band (a certificate only the runs that check
-    /// the rules use: [`MapContext::settle`], the census), for a map whose starts are only
-    /// classified (the sensitivity's probes, [`crate::sensitivity`]).
+    /// Labels only: no census, and no trapped band (a certificate only the audit's runs use:
+    /// [`MapContext::settle`]), for a map whose starts are only classified (the
+    /// sensitivity's probes, [`crate::sensitivity`]).
     LabelsOnly,
 }
 
@@ -172,18 +172,16 @@ struct Searched {
     cycle: Option<CycleOutcome>,
     start_rule: Option<StartRule>,
     outside: Option<Outside>,
-    trapped_band: Option<(f64, f64)>,
 }
 
 /// The section search of map `map` ([`section::section_cycles`]), with the unstable cycle
 /// located where the plan asks, and the rules it sets: the classifier's band rules and trap
-/// (in `classifier`), the start rule; the trapped band where `checks` keeps certificates.
+/// (in `classifier`), the start rule.
 fn search_map(
     plan: &Plan,
     map: usize,
     (stepper, cs): (&Stepper, &CycleSettings),
     classifier: &mut Classifier,
-    checks: Checks,
 ) -> Result<Searched, ScanError> {
     let params = *stepper.params();
     let (mut cycle, mut start_rule) = (None, None);
@@ -221,16 +219,11 @@ fn search_map(
         let invariant = outside == Some(Outside::Invariant);
         start_rule = curve.map(|c| StartRule::new(c, fp, r, plan.map.trap_margin, invariant));
     }
-    let trapped_band = match checks {
-        Checks::LabelsOnly => None,
-        _ => trapped_band(stepper, cs, found, outside),
-    };
     Ok(Searched {
         section: Some(found),
         cycle,
         start_rule,
         outside,
-        trapped_band,
     })
 }
 
@@ -464,9 +457,8 @@ impl MapContext {
             cycle,
             mut start_rule,
             outside,
-            trapped_band,
         } = match searches_section(plan, params.law.family()) {
-            true => search_map(plan, map, (&stepper, &cs), &mut classifier, checks)?,
+            true => search_map(plan, map, (&stepper, &cs), &mut classifier)?,
             false => Searched::default(),
         };
         let landscape = crate::landscape::of_params(plan, params)?;
@@ -490,7 +482,6 @@ impl MapContext {
             shortcuts,
             certificates: Shortcuts {
                 region: squeal_core::Region::of(&params),
-                trapped_band,
                 ..Shortcuts::NONE
             },
             landscape,
@@ -500,18 +491,24 @@ impl MapContext {
             audit_rates: AuditRates::default(),
         };
         ctx.withdraw_where_steady_slip_does_not_attract();
-        // The census's runs and the audit's count over the grid side by side: the count
-        // fills the threads that the census's last runs leave idle, and holds unless the
-        // census withdraws a group (then it is counted again).
-        let (found, rates) = rayon::join(
+        // The census's runs, the audit's count over the grid and the trapped band side by
+        // side (the census does not end its runs in the band: it checks it): the count and
+        // the band fill the threads that the census's last runs leave idle. The count holds
+        // unless the census withdraws a group (then it is counted again).
+        let band = |ctx: &MapContext| match (checks, ctx.section) {
+            (Checks::LabelsOnly, _) | (_, None) => None,
+            (_, Some(found)) => trapped_band(&ctx.stepper, &cs, found, ctx.outside),
+        };
+        let (found, (rates, band)) = rayon::join(
             || {
                 (checks == Checks::Full)
                     .then(|| ctx.census_of(plan, cs.r_max / 1.2))
                     .flatten()
             },
-            || AuditRates::of_plan(&ctx, plan),
+            || rayon::join(|| AuditRates::of_plan(&ctx, plan), || band(&ctx)),
         );
         ctx.audit_rates = rates;
+        ctx.certificates.trapped_band = band;
         if found.is_some_and(|c| ctx.apply_census(c)) {
             ctx.audit_rates = AuditRates::of_plan(&ctx, plan);
         }
