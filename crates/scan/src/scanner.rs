@@ -159,9 +159,8 @@ pub(crate) enum Checks {
     /// No census (tests of what acts on a rule that was not withdrawn).
     #[cfg(test)]
     NoCensus,
-    /// Labels only: no census, and no trapped band (a certificate only the audit's runs use:
-    /// [`MapContext::settle`]), for a map whose starts are only classified (the
-    /// sensitivity's probes, [`crate::sensitivity`]).
+    /// Labels only: no census, no trapped band (only the audit's runs use it,
+    /// [`MapContext::settle`]), for a map whose starts are only classified (the sensitivity).
     LabelsOnly,
 }
 
