@@ -18,7 +18,7 @@ import pytest
 
 import squeal
 
-# README's clamped pad (issue 34): 0.8 kg on a 200 kN/m mount, the disc at 0.3 m/s, 1.5 kN.
+# README's clamped pad (section 4): 0.8 kg on a 200 kN/m mount, the disc at 0.3 m/s, 1.5 kN.
 PAD = dict(m=0.8, k=2e5, v_belt=0.3, mu_k=0.38, mu_s=0.48, tau_s=5e-4, normal_force=1500.0)
 
 # A small one-map scan (the hysteretic law at nu = 1e-2, 3 x 2 cells).

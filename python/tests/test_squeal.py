@@ -395,7 +395,7 @@ path = "atlas.h5"
 def test_the_gil_is_released_while_computing(tmp_path):
     # The whole of SLOW (64 blocks, every cell run to settlement): seconds of computing in
     # the main thread. With 4 rows it took under 0.5 s on an idle machine once the certified
-    # early decisions (issue 18) came, too quick to tell.
+    # early decisions (MODEL.md section 9) came, too quick to tell.
     spec = tmp_path / "gil.toml"
     spec.write_text(SLOW)
     ticks = []
@@ -431,7 +431,7 @@ def test_the_namespace_is_the_api():
     assert "__version__" in dir(squeal)
 
 
-# The disc-brake pad of issue 34 in SI units: 0.8 kg on a 200 kN/m mount, 20 N s/m, disc at
+# README's disc-brake pad (section 4) in SI units: 0.8 kg on a 200 kN/m mount, 20 N s/m, disc at
 # 0.3 m/s, mu_k 0.38, mu_s 0.48, surface time 0.5 ms, clamped with 1.5 kN.
 PAD = dict(m=0.8, k=2e5, c=20.0, v_belt=0.3, mu_k=0.38, mu_s=0.48, tau_s=5e-4, normal_force=1500.0)
 
@@ -466,7 +466,7 @@ def test_the_helpers_take_the_physical_system():
 
 
 def test_physical_datasets_carry_si_coordinates(tmp_path):
-    # Issue 34, item 4: before, a physical run's Dataset was in the model's units only
+    # Before, a physical run's Dataset was in the model's units only
     # (x0, v0, nu, t). Now the SI coordinates come beside them, as coordinates: the
     # trajectory's time in s (its x and x' in m and m/s as variables), a scan's grid in m
     # and m/s and its swept dashpot in N s/m. The clamped pad's length unit is
@@ -561,7 +561,7 @@ def test_critical_of_the_clamped_brake_comes_from_runs_as_on_the_command_line(tm
 
 
 def test_the_readmes_three_lines_give_the_pads_squeal_in_si(capsys):
-    # Issue 34: the clamped pad's squeal frequency and amplitude from Python in three lines,
+    # The clamped pad's squeal frequency and amplitude from Python in three lines,
     # as README's section 5 shows them (run here as written). The command line's run of the
     # same pad (README section 4, `squeal trajectory ... --c 20 --t-end 3000`) ends on the
     # lasting oscillation at 279 Hz, x in 1.59..1.97 mm, x' in -0.43..+0.42 m/s. Before, the
@@ -578,7 +578,7 @@ def test_the_readmes_three_lines_give_the_pads_squeal_in_si(capsys):
 
 
 def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
-    # Issue 33: squeal.trajectory(out=...) overwrote any file there, a finished scan's
+    # squeal.trajectory(out=...) once overwrote any file there, a finished scan's
     # included, where `squeal trajectory --out` refuses without --force. And the store's
     # refusals named the command line's flags (`use --force`) to Python users.
     precious = tmp_path / "precious.h5"
@@ -601,7 +601,7 @@ def test_an_existing_out_is_refused_without_force_in_pythons_words(tmp_path):
 
 
 def test_a_finished_scan_is_up_to_date_with_and_without_resume(tmp_path, capsys):
-    # Issue 33: scan(out=<finished file>) and resume=True on it raised "use --force", where
+    # scan(out=<finished file>) and resume=True on it once raised "use --force", where
     # the command line says "up to date" and exits 0, so the documented "same call with
     # resume=True" failed when Ctrl-C landed after the run had finished. A file of another
     # spec is still refused, naming force=True.
@@ -627,7 +627,7 @@ def test_a_finished_scan_is_up_to_date_with_and_without_resume(tmp_path, capsys)
 
 
 def test_a_month_long_scan_is_refused_without_allow_long(tmp_path):
-    # Issue 33: squeal.scan started a run the command line refuses before anything runs
+    # squeal.scan once started a run the command line refuses before anything runs
     # ("64000000 cells ... would take roughly 1852 days on 2 thread(s) at the documented
     # rate: ... or pass --allow-long", `squeal scan` of this spec). Python refuses it the
     # same way, in its own words, and touches no file.
@@ -679,7 +679,7 @@ def test_the_tabulated_law_takes_a_table_or_a_csv(tmp_path):
 
 
 def test_the_readmes_three_lines_give_the_table_pads_squeal_in_si(capsys, monkeypatch):
-    # Issue 34: the pad clamped with 1500 N on a measured curve (scans/data/pad-mu.csv, slip
+    # The pad clamped with 1500 N on a measured curve (scans/data/pad-mu.csv, slip
     # speed in m/s), its squeal in Hz, m and m/s from Python in three lines, as README's
     # section 5 shows them (run here as written, from the repository's root where its path
     # points). Before, law="table" with the physical keywords was refused ("the physical

@@ -16,7 +16,7 @@
 # reported but not checked: their lines run points in sequence, so CPU / threads is not
 # their time (the check is of `squeal scan`'s estimate).
 #
-# Needs target/release/squeal (cargo build --release). Results: BENCHMARKS.md, "Scan time
+# Needs target/release/squeal (cargo build --release). Results: docs/history/benchmarks.md, "Scan time
 # estimates".
 set -euo pipefail
 cd "$(dirname "$0")/../.."

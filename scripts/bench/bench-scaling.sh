@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# How squeal scales with the threads (issue 35): each shape run at 1, 2, ... N threads
+# How squeal scales with the threads: each shape run at 1, 2, ... N threads
 # (N = nproc; --threads LIST to choose), with the phase times the binary itself prints under
 # SQUEAL_TIMINGS=1 (crates/cli/src/cmd/timings.rs: a scan's start, cells, prepare, sink, redo, finish,
 # picture; an atlas's start, units, maps, finish, picture). Prints each run's wall time and
@@ -17,7 +17,7 @@
 #
 # --atlas-threads LIST: the atlas's own thread counts (default: --threads). Its 64 x 64
 # chart takes about 1500 s of CPU (the runs that confirm each line's fold and critical
-# damping, issue 31), too long for one thread within a lent machine's 15 minutes; on 16
+# damping), too long for one thread within a lent machine's 15 minutes; on 16
 # cores, --threads 1,16 --atlas-threads 8,16 runs in about 8 minutes.
 #
 # Shapes: bSTAB's belt-speed study (scans/bstab-friction.toml); Fig. 9 at 4096 x 4096

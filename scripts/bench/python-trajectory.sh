@@ -2,7 +2,7 @@
 # Python's `squeal.trajectory` of README's pad (t_end = 50) in a fresh interpreter against
 # the command line's same run: median wall and CPU (user + system) of 5, interleaved.
 #   scripts/bench/python-trajectory.sh BEFORE_PYTHON AFTER_PYTHON SQUEAL
-# (two venvs' python with the wheels to compare, and a `squeal` command). BENCHMARKS.md,
+# (two venvs' python with the wheels to compare, and a `squeal` command). docs/history/benchmarks.md,
 # "Python's trajectory against the command line's".
 set -euo pipefail
 before=$1 after=$2 squeal=$3

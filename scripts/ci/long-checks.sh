@@ -21,7 +21,7 @@ checks=(
   # suite's time on a loaded 2-core machine).
   "--test e2e atlas::atlas_reproduces_the_single_point_commands"
   # Labels of scan, classify and trajectory against runs to t = 20000 around the folds at
-  # lambda 0.3, 0.5, 1 (issue 31), 12 x 10 starts (2-3 min).
+  # lambda 0.3, 0.5, 1, 12 x 10 starts (2-3 min).
   "--test scanning fold_truth::labels_agree_with_long_runs_around_the_fold"
   # Fates and labels against runs to t = 20000 where steady slip is unstable (k > 1), ten
   # starts at each of lambda 0.1, 0.2, 0.3 (tau = 1, phi = 0.9).

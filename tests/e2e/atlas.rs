@@ -166,7 +166,7 @@ fn boundaries_agree_with_critical(dir: &Path, a: &Value) -> f64 {
     assert!(fold > 0.019 && fold < 0.031, "fold {fold}");
     // `squeal critical --fold` finds the same fold (the same crisis search, over its own
     // range, rtol 1e-4 and 64 coarse steps): each value inside the other's stated
-    // uncertainty (issue 17, item 5).
+    // uncertainty.
     let cf = json(&ok(squeal(
         dir,
         &[
@@ -198,7 +198,7 @@ fn the_paper_file_has_its_coordinate(dir: &Path, fold: f64) {
     assert_eq!(reg, vec![3, 2, 1]);
     assert!(f.dataset("fold_nu").is_ok() && f.dataset("critical_nu_hi").is_ok());
     // The fold's uncertainty and the coarse scan's count of regime changes, each with its
-    // units and long name (issue 17, items 4 and 5).
+    // units and long name.
     for name in ["fold_nu_err", "fold_changes"] {
         let d = f.dataset(name).unwrap();
         let attr = |a: &str| -> String {
@@ -386,7 +386,7 @@ fn the_physical_file_states_its_units(p: &Path) {
         .read_scalar()
         .unwrap();
     assert_eq!(u.as_str(), "Hz");
-    // Issue 21: an SI frequency is called a frequency, and the default disturbance box
+    // An SI frequency is called a frequency, and the default disturbance box
     // (no [disturbance]) says it is nondimensional at each point rather than metres.
     let long: hdf5::types::VarLenUnicode = f
         .dataset("stick_omega_mean_si")
@@ -396,7 +396,7 @@ fn the_physical_file_states_its_units(p: &Path) {
         .read_scalar()
         .unwrap();
     assert_eq!(long.as_str(), "stick-slip: mean frequency");
-    // Issue 34: the block under its own weight presses the belt with m g = 2 * 9.81 N,
+    // The block under its own weight presses the belt with m g = 2 * 9.81 N,
     // stored per point in newtons (a normal force given is an axis of its own).
     let n = f.dataset("normal_force").unwrap();
     assert_eq!(n.read_raw::<f64>().unwrap(), vec![2.0 * 9.81]);
@@ -456,11 +456,11 @@ fn bad_specs_are_refused_before_computing() {
     refused(squeal(dir.path(), &["atlas", "s.toml"]), "--force");
 }
 
-/// Issue 16: every atlas prints its work estimate before it starts, and one estimated above
+/// Every atlas prints its work estimate before it starts, and one estimated above
 /// 30 days is refused without `--allow-long`, before any file is made. 1000 dampings with a
 /// 4096 x 4096 basin map each, every cell run to settlement (`early_stop = "none"`), are
 /// 1.7e10 runs of hundreds of time units: at the fastest settled rate measured
-/// (BENCHMARKS.md, issue 18: about 2,000 cells/s on 2 threads) that is 98 days, so the
+/// (docs/history/benchmarks.md: about 2,000 cells/s on 2 threads) that is 98 days, so the
 /// estimate is above 30 days on any machine of ours; the old code started it without a word.
 #[test]
 fn an_atlas_estimates_its_work_and_refuses_a_huge_one() {
@@ -520,7 +520,7 @@ path = "huge.h5"
     assert!(!dir.path().join("huge.h5.journal").exists());
 }
 
-/// Issue 17, item 3: the mean transient lifetime above each fold as an atlas figure, with
+/// The mean transient lifetime above each fold as an atlas figure, with
 /// its scaling. Two belt speeds at Table 1's tau and phi, 8 band starts per damping: each
 /// fold gets the table `squeal critical --fold --lifetimes` prints (`lifetime_table`),
 /// stored as its nearest row with a mean (`fold_lifetime_nu = (1 + f) fold_nu`, `f` one of

@@ -95,7 +95,7 @@ fn stribeck_basin_fraction_agrees_with_bstab_and_the_map() {
     assert_eq!(contradictions, [0, -1, 0]);
 }
 
-/// The cubic law's atlas (issue 16, item 6) over the belt speed. At the defaults the fixed
+/// The cubic law's atlas over the belt speed. At the defaults the fixed
 /// point's damping 2 xi + mu'(v_d) = 0.1 - 0.45 + 1.8 v_d^2 vanishes at
 /// v_d = sqrt(0.35 / 1.8) = 0.44096 (closed form): below it steady slip repels, above it
 /// the orbit from breakaway decays (no bistable belt speed, crates/core/tests/model/cubic.rs).

@@ -167,7 +167,7 @@ fn map_basin_fraction_agrees_with_the_cycle_at_fig_10() {
         shape(&dir.path().join("maps.h5"), "map_labels"),
         [1, 48, 48]
     );
-    // Issue 21: a one-point atlas drew no chart without a word and printed "1 points over ,".
+    // A one-point atlas drew no chart without a word and printed "1 points over ,".
     // The make-like rerun (up to date) prints the summary in words.
     let words = ok(squeal(dir.path(), &["atlas", "one.toml", "--no-render"]));
     assert!(

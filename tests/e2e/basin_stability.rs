@@ -1,4 +1,4 @@
-//! Basin stability end to end (issue 11): random samples against the grid on McMillan's
+//! Basin stability end to end: random samples against the grid on McMillan's
 //! law, the sample file read back with the hdf5 crate as a user would, thread independence
 //! and resume of a random sample.
 

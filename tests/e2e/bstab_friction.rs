@@ -1,4 +1,4 @@
-//! bSTAB's friction benchmark (issue 11): the published basin-stability values, the
+//! bSTAB's friction benchmark: the published basin-stability values, the
 //! independent plain-numpy computation by bSTAB's approach, and squeal against both.
 //!
 //! * `tests/data/bstab_friction_published.json`: MATLAB bSTAB's values as kept in pyBasin's

@@ -199,11 +199,11 @@ fn trajectory_json_summary_has_the_fields() {
     assert_eq!(j["params"]["nu"], 1e-3);
     assert_eq!(j["steps"], 50_000);
     // nu = 1e-3 from rest: stick-slip (paper Fig 9). Rest lies outside the unstable cycle,
-    // whose outside is invariant: labelled at the start, as a scan labels it (issue 17).
+    // whose outside is invariant: labelled at the start, as a scan labels it.
     assert_eq!(j["classification"]["regime"], "stick_slip");
     assert_eq!(j["classification"]["reason"], "start_outside_cycle");
     // The run's own verdict, well before t = 500, by the attractor test: the quasi-periodic
-    // band with sticking (issue 9's wide-band rule fires first here; the 5% settling rule a
+    // band with sticking (the wide-band rule fires first here; the 5% settling rule a
     // few crossings later).
     assert_eq!(j["classification"]["run"]["regime"], "stick_slip");
     let reason = j["classification"]["run"]["reason"].as_str().unwrap();
@@ -571,7 +571,7 @@ fn stribeck_trajectory_names_its_parameters_and_stick_phases() {
     let breaks = st["breakaways"].as_u64().unwrap();
     assert!(onsets >= 2 && breaks.abs_diff(onsets) <= 1, "{st}");
     assert_eq!(j["stats"]["stick_onsets"].as_u64(), Some(onsets));
-    // Labelled at the start as a scan labels it (outside the unstable cycle, issue 17);
+    // Labelled at the start as a scan labels it (outside the unstable cycle);
     // the run's own verdict: it stuck again after a breakaway.
     assert_eq!(j["classification"]["reason"], "start_outside_cycle");
     assert_eq!(j["classification"]["run"]["reason"], "stick_cycle");
@@ -649,7 +649,7 @@ fn trajectory_json(
     serde_json::from_str(&ok(squeal(dir, &args))).expect("one JSON object")
 }
 
-/// Issue 31, items 2 and 5: at lambda = 0.5, nu = 0.0197 the run from (0, 1) has its last
+/// At lambda = 0.5, nu = 0.0197 the run from (0, 1) has its last
 /// section crossing at t = 3001.7 and ends at the fixed point (`squeal trajectory ... --t-end
 /// 20000` on 48d225a: final state x = 1, x' = 0). There, 48d225a's `trajectory` labelled it
 /// stick_slip (sticking_band at t = 153.85, its band rules set from a section search of
@@ -672,7 +672,7 @@ fn trajectory_and_classify_agree_and_the_run_keeps_its_label() {
     assert_eq!(c["reason"].as_str().unwrap(), labels[0].1, "{c} {labels:?}");
 }
 
-/// Issue 31: the disc brake at c = 300 N s/m (nu = c / 800 = 0.375, lambda 0.21053, tau
+/// The README's clamped disc brake at c = 300 N s/m (nu = c / 800 = 0.375, lambda 0.21053, tau
 /// 0.65789, phi 0.91353). On 48d225a `classify` labelled these starts stick_slip by
 /// start_outside_cycle while each run ends quiet. Quiet is not steady slip there: with
 /// `k = (1 - 2/pi) tau / lambda = 1.1355 > 1` steady slip repels (crates/core/MODEL.md

@@ -1,4 +1,4 @@
-//! Odd files and other users at the paths squeal reads and writes (issue 32): another
+//! Odd files and other users at the paths squeal reads and writes: another
 //! user's lock is refused naming its owner and never removed; an input of a merge is never
 //! removed or renamed; a FIFO is refused instead of blocking for ever; pictures are not
 //! overwritten; the output's folder and lock come before the pilot, and a signal during the
@@ -12,7 +12,7 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// The user owning the foreign lock ("nobody") and the user running squeal: two ordinary
-/// users, as in the issue's shared folder.
+/// users, as in a shared folder.
 const OWNER: u32 = 65534;
 const OTHER: u32 = 65533;
 
@@ -135,7 +135,7 @@ fn owned_by_other(p: &Path, text: &str) {
     std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o600)).unwrap();
 }
 
-/// Issue 32, item 1: user A (umask 077) runs a scan in a shared folder; user B runs the
+/// User A (umask 077) runs a scan in a shared folder; user B runs the
 /// same. B could not read A's lock, took it for garbage and removed it; with `--force` it
 /// removed A's journal too, and both wrote `out.h5`. In a sticky folder the removal failed
 /// and B was told the output was written by "process 0 on host ?". Now B is refused,
@@ -177,7 +177,7 @@ fn another_users_unreadable_lock_is_refused_naming_its_owner_and_kept() {
     }
 }
 
-/// Issue 32, item 7: with an output folder this user cannot write, an atlas ran its pilot
+/// With an output folder this user cannot write, an atlas ran its pilot
 /// (74 s) before "cannot create the lock ... Permission denied". The lock comes first now:
 /// refused before any estimate is printed.
 #[test]
@@ -207,7 +207,7 @@ fn an_unwritable_output_folder_is_refused_before_the_pilot() {
     }
 }
 
-/// Issue 32, item 2: `merge a.h5 all.h5.lock -o all.h5` removed the input as a garbage
+/// `merge a.h5 all.h5.lock -o all.h5` removed the input as a garbage
 /// lock; an input `all2.h5.tmp` (`-o all2.h5`) was consumed. Both are refused, and the
 /// inputs stay as they were.
 #[test]
@@ -242,7 +242,7 @@ fn a_merge_never_removes_or_renames_an_input() {
     }
 }
 
-/// Issue 32, item 7: `merge -o dir.h5 --force` (a folder at the output) left `dir.h5.tmp`
+/// `merge -o dir.h5 --force` (a folder at the output) left `dir.h5.tmp`
 /// behind; a merge to a name not ending in `.h5` was accepted.
 #[test]
 fn a_merge_refuses_a_folder_or_a_name_without_h5_and_leaves_nothing() {
@@ -271,7 +271,7 @@ fn a_merge_refuses_a_folder_or_a_name_without_h5_and_leaves_nothing() {
     assert!(!d.path().join("all.txt").exists());
 }
 
-/// Issue 32, item 6: a FIFO at the spec's path, at `OUT.h5`, at `OUT.h5.lock`, or at the
+/// A FIFO at the spec's path, at `OUT.h5`, at `OUT.h5.lock`, or at the
 /// journal under `--resume` blocked for ever with no message. Each is refused naming what
 /// is there, within seconds (the limit here is 60 s).
 #[test]
@@ -318,7 +318,7 @@ fn a_fifo_anywhere_is_refused_instead_of_blocking() {
     }
 }
 
-/// Issue 32, item 7: a fresh scan overwrote an existing `NAME-t_squeal.png` without
+/// A fresh scan overwrote an existing `NAME-t_squeal.png` without
 /// `--force` (the other pictures were refused). It is refused as they are.
 #[test]
 fn a_fresh_scan_does_not_overwrite_the_transient_picture() {
@@ -335,7 +335,7 @@ fn a_fresh_scan_does_not_overwrite_the_transient_picture() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
-/// Issue 32, item 7: `--threads 4096` turned a 0.4 s scan into 63 s. The threads are
+/// `--threads 4096` turned a 0.4 s scan into 63 s. The threads are
 /// capped at 8 per core, and the run says so.
 #[test]
 fn too_many_threads_are_capped_saying_so() {
@@ -359,7 +359,7 @@ fn too_many_threads_are_capped_saying_so() {
     }
 }
 
-/// Issue 32, item 7: a signal during the atlas's pilot ended it with code 143 and no word
+/// A signal during the atlas's pilot ended it with code 143 and no word
 /// (the handler was installed after the pilot). It now says that nothing was computed or
 /// written and exits with code 130.
 #[test]

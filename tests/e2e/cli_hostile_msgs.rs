@@ -1,4 +1,4 @@
-//! Hostile input, round 3 (issue 32): unbounded searches estimated and refused, physical
+//! More hostile input: unbounded searches estimated and refused, physical
 //! units that overflowed, a damaged file that panicked `compare`, a plot that hung, and
 //! messages that printed 300-digit numbers or blamed the wrong key. Each test failed on
 //! 48d225a.
@@ -83,7 +83,7 @@ x0 = { min = -3.0, max = 5.0, count = 4 }
 v0 = { min = -4.0, max = 4.0, count = 3 }
 "#;
 
-/// Item 3: `[cycle] samples = 100000, t_return = 1e6` is about 29 days of cycle search per
+/// `[cycle] samples = 100000, t_return = 1e6` is about 29 days of cycle search per
 /// map (1e5 returns of up to 1e8 steps at 250 ns), and was accepted for a sweep of two maps
 /// without `--allow-long` and ran on. It is refused before anything runs, naming the
 /// search; on 48d225a nothing was said within the limit.
@@ -105,7 +105,7 @@ fn an_endless_cycle_search_is_refused_before_it_runs() {
     }
 }
 
-/// Item 3: `samples = 65537` ran a silent 51 s pilot (its cycle search alone is up to
+/// `samples = 65537` ran a silent 51 s pilot (its cycle search alone is up to
 /// 65537 x 2e4 steps). The pilot is skipped where it could itself run long: the estimate,
 /// at the documented rates, is printed at once.
 #[test]
@@ -125,7 +125,7 @@ fn a_pilot_that_could_run_long_is_not_run() {
     assert!(t0.elapsed() < Duration::from_secs(15), "{:?}", t0.elapsed());
 }
 
-/// Item 4: a system 1e200 times heavier, stiffer and more damped than `m = k = 1, c = [1,
+/// A system 1e200 times heavier, stiffer and more damped than `m = k = 1, c = [1,
 /// 2]` has its nondimensional numbers (nu = 0.5 and 1): its scan stored `damping_unit =
 /// inf` (2 sqrt(m k) overflowed).
 #[test]
@@ -164,7 +164,7 @@ fn scan_file(dir: &Path, name: &str) {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
-/// Item 5: a file whose `labels` do not match its axes made `compare` panic (exit 101,
+/// A file whose `labels` do not match its axes made `compare` panic (exit 101,
 /// "maps of one grid"); `render` refused it. The shape is checked where a map is read.
 #[test]
 fn a_file_whose_labels_miss_its_axes_is_refused_by_compare() {
@@ -201,7 +201,7 @@ fn a_file_whose_labels_miss_its_axes_is_refused_by_compare() {
     }
 }
 
-/// Item 8: an HDF5 file with squeal's schema but no `spec` or `name` attribute gave the
+/// An HDF5 file with squeal's schema but no `spec` or `name` attribute gave the
 /// library's "can't locate attribute in name index"; it is now called not a squeal file,
 /// with its path.
 #[test]
@@ -230,7 +230,7 @@ fn a_file_without_the_spec_attribute_is_not_a_squeal_file() {
     }
 }
 
-/// Item 6: `squeal friction --mu-k 5e307` looped for ever in the plotting library's tick
+/// `squeal friction --mu-k 5e307` looped for ever in the plotting library's tick
 /// search. The range is refused before anything is written, naming the flag.
 #[test]
 fn a_friction_range_the_plot_cannot_draw_names_the_flag() {
@@ -253,7 +253,7 @@ fn a_friction_range_the_plot_cannot_draw_names_the_flag() {
     assert!(longest_digits(&all) < 20, "{all}");
 }
 
-/// Item 8: a float for an integer key printed it in full (`count = 1e308`: 309 digits).
+/// A float for an integer key printed it in full (`count = 1e308`: 309 digits).
 #[test]
 fn a_float_for_an_integer_key_is_named_as_written() {
     let d = tempfile::tempdir().unwrap();
@@ -265,7 +265,7 @@ fn a_float_for_an_integer_key_is_named_as_written() {
     assert!(err.contains("1e308") && longest_digits(&err) < 20, "{err}");
 }
 
-/// Item 8: normal output printed 300-digit numbers: the fixed point of `--mu-d 1e-300`,
+/// Normal output printed 300-digit numbers: the fixed point of `--mu-d 1e-300`,
 /// a start of 1e-320, a damping range up to 1e308.
 #[test]
 fn normal_output_writes_huge_and_tiny_numbers_in_exponent_form() {
@@ -290,7 +290,7 @@ fn normal_output_writes_huge_and_tiny_numbers_in_exponent_form() {
     }
 }
 
-/// Item 8: a CSV written with a UTF-8 byte-order mark (as spreadsheets write it) was
+/// A CSV written with a UTF-8 byte-order mark (as spreadsheets write it) was
 /// refused: "no column `x0` in the header `x0,v0`".
 #[test]
 fn classify_reads_a_csv_with_a_byte_order_mark() {
@@ -307,7 +307,7 @@ fn classify_reads_a_csv_with_a_byte_order_mark() {
     assert_eq!(out.lines().count(), 2, "{out}");
 }
 
-/// Item 8: `classify` said nothing of the work before it (rows x t_max); it now prints its
+/// `classify` said nothing of the work before it (rows x t_max); it now prints its
 /// estimate as scans do.
 #[test]
 fn classify_estimates_its_work() {
@@ -332,7 +332,7 @@ fn classify_estimates_its_work() {
     );
 }
 
-/// Item 8: `[cycle] r_min = 1e-320` was blamed on `r_max` (r_max / r_min overflowed).
+/// `[cycle] r_min = 1e-320` was blamed on `r_max` (r_max / r_min overflowed).
 #[test]
 fn a_tiny_r_min_is_named() {
     let d = tempfile::tempdir().unwrap();

@@ -59,8 +59,8 @@ const START_INSIDE: u8 = 8;
 const START_OUTSIDE: u8 = 9;
 const NEAR_FIXED_POINT: u8 = 1;
 /// `Reason::EnteredRegion` and `Reason::StartInRegion`: the run entered (or started in) the
-/// certified region of attraction around the fixed point (issue 18, crates/core/MODEL.md
-/// section 9), which proves it settles there.
+/// certified region of attraction around the fixed point (crates/core/MODEL.md section 9),
+/// which proves it settles there.
 const IN_CERTIFIED_REGION: [u8; 2] = [11, 12];
 /// `Reason::BelowDecayingSection`, `Reason::StartInsideDecayingTurn` and
 /// `Reason::EnteredDecayingTurn`: McMillan's smooth laws with no unstable cycle found

@@ -154,7 +154,7 @@ fn critical_and_ulc_agree_that_coulomb_has_no_cycle() {
     assert_eq!(j["classification"]["regime"], "steady_slip", "{j}");
 }
 
-/// Issue 21's brake as flags: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
+/// The brake of scans/brake.toml as flags: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
 const BRAKE: [&str; 14] = [
     "--m", "2", "--k", "5e4", "--c", "5", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s", "0.45",
     "--tau-s", "1e-3",
@@ -282,7 +282,7 @@ fn lifetime_flags_are_checked_before_computing() {
     );
 }
 
-/// The cubic law in `ulc` and `critical` (issue 16, item 6). At its defaults (xi = 0.05,
+/// The cubic law in `ulc` and `critical`. At its defaults (xi = 0.05,
 /// v_d = 0.3, mu(s) = 0.4 - 0.45 s + 0.6 s^3) the fixed point's damping is
 /// 2 xi + mu'(v_d) = 2 xi - 0.45 + 1.8 * 0.09 (closed form), negative: `ulc` finds no cycle
 /// because the fixed point repels. It turns stable at xi = (0.45 - 0.162) / 2 = 0.144, and

@@ -1,4 +1,4 @@
-//! A seeded fuzz run of the binary (issue 32): the shipped specs of `scans/` made small and
+//! A seeded fuzz run of the binary: the shipped specs of `scans/` made small and
 //! mutated (numbers set to hostile values, keys dropped, added or given the wrong type), and
 //! command lines with hostile flag values and input files, and a brake's SI flags at
 //! extreme values or slipped units (`fuzz_units`: refused by a flag given, or warned, never

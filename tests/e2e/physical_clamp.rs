@@ -3,7 +3,7 @@
 
 use std::process::Command;
 
-/// The disc-brake pad of issue 34 (README section 4): 0.8 kg on a 200 kN/m mount, the disc
+/// The disc-brake pad of the README (section 4): 0.8 kg on a 200 kN/m mount, the disc
 /// at 0.3 m/s, mu_k 0.38, mu_s 0.48, tau 0.5 ms; its dashpot and load are each test's.
 pub(crate) const PAD: [&str; 12] = [
     "--m", "0.8", "--k", "2e5", "--v-belt", "0.3", "--mu-k", "0.38", "--mu-s", "0.48", "--tau-s",

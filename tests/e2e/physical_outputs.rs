@@ -96,7 +96,7 @@ fn physical_trajectory_file_stores_the_system_and_its_units() {
     assert_eq!(text("physical_c_units"), "N s/m");
     // The stored start is nondimensional; times the length unit it is the --x0 given in m.
     assert!((num("x0") * num("length_unit") - 1e-4).abs() <= 1e-15);
-    // Issue 34, item 4: the samples in SI units beside them, the time in seconds an
+    // The samples in SI units beside them, the time in seconds an
     // auxiliary coordinate of each (before: t, x, v in the model's units only).
     let f64s = |k: &str| -> Vec<f64> {
         let ds = f.dataset(k).unwrap_or_else(|e| panic!("dataset {k}: {e}"));
@@ -388,7 +388,7 @@ fn a_stored_spec_of_another_size_is_refused() {
     );
 }
 
-/// The clamped brake of issue 31 (the pad of `physical_clamp.rs` with `--normal-force
+/// The README's clamped disc brake (the pad of `physical_clamp.rs` with `--normal-force
 /// 1500`), `squeal critical` with `extra`, as JSON.
 fn brake_critical(extra: &[&str]) -> serde_json::Value {
     let mut args = vec!["critical"];
@@ -415,7 +415,7 @@ fn brake_critical(extra: &[&str]) -> serde_json::Value {
 /// the fold come from runs, and agree with runs: from rest the run at dt = 0.005 still lasts
 /// at c = 140 N s/m and reaches the fixed point at 150 (`squeal trajectory ... --c 140
 /// --t-end 3000`, crates/core/MODEL.md section 13), at dt/2 it lasts up to about 160. The
-/// unstable cycle's answer was 13.77 N s/m, ten times too low (issue 31): the interval
+/// unstable cycle's answer was 13.77 N s/m, ten times too low: the interval
 /// must hold c = 150 and lie within 140-175, and the fold must not lie below it.
 #[test]
 #[ignore = "long check against long runs (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
@@ -453,7 +453,7 @@ fn the_brakes_critical_damping_and_fold_agree_with_runs() {
     );
 }
 
-/// Issue 31, item 1: a scan's file says which attractor each cell reached. At the clamped
+/// A scan's file says which attractor each cell reached. At the clamped
 /// brake with c = 100 N s/m (a 4 x 4 grid around the fixed point) the runs that squeal are
 /// on the lasting oscillation of crates/core/MODEL.md section 13: it sticks and overtakes
 /// the disc, at about 247 Hz with x' within +-0.403 m/s (the one-point atlas's note; the
@@ -531,7 +531,7 @@ v0 = { min = -0.05, max = 0.05, count = 2 }
 path = "sweep.h5"
 "#;
 
-/// Issue 34, item 4: a physical scan's file carries its coordinates in SI units beside the
+/// A physical scan's file carries its coordinates in SI units beside the
 /// nondimensional ones, as CF auxiliary coordinates (`x0_si` in m, `v0_si` in m/s, the
 /// swept `c` in N s/m over `nu`, named in each variable's `coordinates`), and the cells'
 /// times, frequencies and amplitudes as `<name>_si`. Before, the Dataset of a physical
@@ -610,7 +610,7 @@ fn a_physical_scan_stores_its_coordinates_in_si_units() {
     }
 }
 
-/// Issue 34, item 3: a trajectory's file says what the squeal is, in SI for a physical
+/// A trajectory's file says what the squeal is, in SI for a physical
 /// system. The pad clamped with 1.5 kN at c = 100 N s/m, from rest to t = 3000: the run
 /// ends on the lasting oscillation at about 247 Hz, x' within -0.43..+0.37 m/s (`squeal
 /// trajectory ... --c 100 --t-end 3000`: "lasting_frequency_hz":246.9,

@@ -57,7 +57,7 @@ fn squeal_store_digest(p: &Path) -> String {
 
 #[test]
 fn progress_lines_off_a_terminal_wait_for_the_first_second() {
-    // Issue 21: with stderr not a terminal (a batch log), a scan of a fraction of a second
+    // With stderr not a terminal (a batch log), a scan of a fraction of a second
     // printed twenty lines such as "5% (3/63 cells) after 0 s, 3 cell/s, about 19 s left":
     // a rate and a time left from a few cells in a few milliseconds. Lines now start after
     // the first second, so none can say "after 0 s" (a slower run under load may print
@@ -135,7 +135,7 @@ fn tiny_scan_writes_a_self_describing_file() {
     assert!(d.path().join("again.png").exists());
 }
 
-/// The file does not depend on the thread count: 1, 2, 3 and 16 threads (issue 35; more
+/// The file does not depend on the thread count: 1, 2, 3 and 16 threads (more
 /// threads than the machine's cores included) write the same datasets and attributes.
 #[test]
 fn one_and_many_threads_give_identical_files() {

@@ -19,7 +19,7 @@ t_max = 2000.0
 path = "st.h5"
 "#;
 
-/// The cubic law (issue 16, item 6) at two belt speeds, one per landscape. Its fixed point's
+/// The cubic law at two belt speeds, one per landscape. Its fixed point's
 /// damping is 2 xi + mu'(v_d) = 0.1 - 0.45 + 1.8 v_d^2 at the defaults (closed form): -0.188
 /// at v_d = 0.3 (it repels: every start squeals) and 0.1 at v_d = 0.5, where the orbit from
 /// breakaway decays (steady slip only; crates/core/tests/model/cubic.rs). The file carries the

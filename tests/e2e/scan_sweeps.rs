@@ -116,7 +116,7 @@ fn a_surface_time_sweep_is_stored_and_read_back() {
 #[test]
 fn a_physical_scan_sweeps_the_dashpot_and_the_disc_speed() {
     let d = tempfile::tempdir().unwrap();
-    // The brake of issue 21 (scans/brake.toml's pad), its grid in metres and m/s.
+    // The brake of scans/brake.toml, its grid in metres and m/s.
     let text = r#"version = 1
 [model]
 law = "mcmillan"
@@ -286,7 +286,7 @@ fn a_physical_scan_sweeps_the_static_friction_and_the_surface_time() {
 #[test]
 fn a_physical_scan_on_a_measured_curve_stores_its_swept_c() {
     let d = tempfile::tempdir().unwrap();
-    // The clamped pad of issue 34 on a four-point curve (crates/scan's spec tests' PAD).
+    // The README's clamped disc brake on a four-point curve (crates/scan's spec tests' PAD).
     let text = "version = 1\n[model]\nlaw = \"table\"\n[physical]\nm = 0.8\nk = 2e5\n\
                 c = [20.0, 40.0]\nv_belt = 0.3\nnormal_force = 1500.0\n\
                 friction_table = [[0.0, 0.48], [0.1, 0.43], [0.3, 0.4], [1.0, 0.37]]\n\

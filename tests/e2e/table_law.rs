@@ -1,4 +1,4 @@
-//! The tabulated law through the binary (issue 34, item 2): `--law table --friction-csv`
+//! The tabulated law through the binary: `--law table --friction-csv`
 //! on the commands that take the model, the shipped CSV in a scan spec, and the table stored
 //! in the scan's and the trajectory's file. New flags and law: each test fails on the code
 //! before (there `--law table` was an unknown law and `--friction-csv` an unknown flag).
@@ -196,7 +196,7 @@ fn pad_curves(dir: &Path) {
     std::fs::write(dir.join("nd.csv"), nd).unwrap();
 }
 
-/// The pad of issue 34 stated as an engineer states it: 0.8 kg on a 200 kN/m mount, disc
+/// The README's disc brake stated as an engineer states it: 0.8 kg on a 200 kN/m mount, disc
 /// at 0.3 m/s, clamped with `--normal-force 1500`, and a measured curve in m/s. It is the
 /// nondimensional table law with xi = c / (2 sqrt(m k)) = c / 800, v_d = v_B sqrt(m k) /
 /// N = 0.3 * 400 / 1500 = 0.08 and the curve's speeds over 3.75 m/s (`pad_curves`); starts

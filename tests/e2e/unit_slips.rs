@@ -124,13 +124,13 @@ fn a_belt_speed_beyond_the_curve_is_warned_of() {
     );
 }
 
-/// The issue-21 brake (2 kg, 50 kN/m, 10 N s/m, 0.05 m/s, mu_k 0.35, mu_s 0.45, 1 ms).
+/// The brake of scans/brake.toml (2 kg, 50 kN/m, 10 N s/m, 0.05 m/s, mu_k 0.35, mu_s 0.45, 1 ms).
 const MCMILLAN: [&str; 14] = [
     "--m", "2", "--k", "5e4", "--c", "10", "--v-belt", "0.05", "--mu-k", "0.35", "--mu-s", "0.45",
     "--tau-s", "1e-3",
 ];
 
-/// The issue-21 brake with `flag value` in place of its own (or added).
+/// `MCMILLAN` with `flag value` in place of its own (or added).
 fn with(flag: &'static str, value: &'static str) -> Vec<&'static str> {
     let mut args: Vec<&str> = MCMILLAN.to_vec();
     match args.iter().position(|a| *a == flag) {

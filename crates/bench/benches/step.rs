@@ -172,7 +172,7 @@ fn bench_atan(c: &mut Criterion) {
     group.finish();
 }
 
-/// The clamped disc brake of issue 31 (crates/core/MODEL.md section 13: lambda = 120 / 570,
+/// The README's clamped disc brake (crates/core/MODEL.md section 13: lambda = 120 / 570,
 /// tau = 0.25 / 0.38, phi = arcsin(0.38 / 0.48), nu = 140 / 800, c = 140 N s/m) along one
 /// turn of its lasting oscillation from rest (after 1600 time units: identified at t = 1528),
 /// which overtakes the belt and never crosses the section `x = 1`: turns are taken from one
@@ -232,7 +232,8 @@ fn bench_brake(c: &mut Criterion) {
 
 fn steps(c: &mut Criterion) {
     if std::env::var_os("STEP_BENCH_BRAKE_ONLY").is_some() {
-        // The brake against Table 1's cycle alone (BENCHMARKS.md, "A step at the brake").
+        // The brake against Table 1's cycle alone (docs/history/benchmarks.md, "A step at the
+        // brake").
         bench_brake(c);
         bench_case(c, "stick_slip", State { x: 0.0, v: 0.0 }, 1000.0);
         return;

@@ -1,7 +1,7 @@
 //! Does stepping several independent runs in turn hide the latency of one run's solve?
 //!
-//! The McMillan step is latency bound (BENCHMARKS.md, "Cost per step, reduced"): each Newton
-//! iterate waits for the law at the last one. Runs of a section search or of a line's points
+//! The McMillan step is latency bound (docs/history/benchmarks.md, "Cost per step, reduced"): each
+//! Newton iterate waits for the law at the last one. Runs of a section search or of a line's points
 //! are independent, so stepping `n` of them in turn, one step each, would let the processor
 //! overlap their chains if the step were short and branch-free enough. This measures it: the
 //! same `n` runs (nu = 1e-3, Table 1, starts (1.2 + 0.3 i, 0.1 i)), first one after the

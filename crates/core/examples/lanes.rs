@@ -1,9 +1,9 @@
 //! Would a step that advances `W` independent McMillan runs at once, in vector lanes, be
 //! faster than the scalar step? A measurement, not a library change.
 //!
-//! The scalar step is latency bound (BENCHMARKS.md, "Interleaving independent runs does not
-//! hide the step's latency"): each Newton iterate waits for the law at the last one. Here the
-//! hot path of [`squeal_core::Run::step`] for McMillan's law with the default solver (robust,
+//! The scalar step is latency bound (docs/history/benchmarks.md, "Interleaving independent runs
+//! does not hide the step's latency"): each Newton iterate waits for the law at the last one. Here
+//! the hot path of [`squeal_core::Run::step`] for McMillan's law with the default solver (robust,
 //! first-order hold) is written over `[f64; W]` with selects instead of branches, so that the
 //! compiler can put the `W` chains side by side in vector registers: the affine update of the
 //! propagator, the law on its slip branch (with the library's arctangent table), the first
@@ -566,8 +566,8 @@ fn samples<const W: usize>(st: &Stepper, ic: State, skip: usize, every: usize) -
 }
 
 /// Starts inside the unstable cycle (it crosses the section at about 0.37 from the fixed point
-/// (1, 0), BENCHMARKS.md "Scan speed with early stopping"), at radii 0.05-0.26, their initial
-/// force solved by the library.
+/// (1, 0), docs/history/benchmarks.md "Scan speed with early stopping"), at radii 0.05-0.26, their
+/// initial force solved by the library.
 fn inside<const W: usize>(st: &Stepper) -> [Sample; W] {
     std::array::from_fn(|i| {
         let (r, th) = (0.05 + 0.03 * i as f64, 0.7 * i as f64);

@@ -5,8 +5,8 @@
 //! one, so the law's latency, not its throughput, sets the cost of a step. The C library's
 //! `atan` took about 45 ns from argument to result on the measurement machine (10 ns per call
 //! when calls are independent), and 32-40% of the time of a McMillan scan in a profile
-//! (BENCHMARKS.md, "Cost per step, reduced (issue 18, item 3)"). This one takes one division (the one that formed `v / b` before) and a
-//! table look-up with a polynomial evaluated in parallel halves.
+//! (docs/history/benchmarks.md, "Cost per step, reduced"). This one takes one division (the one
+//! that formed `v / b` before) and a table look-up with a polynomial evaluated in parallel halves.
 //!
 //! **How.** With `n = |y|`, the argument is reduced to `t` in `[0, 1]`: `t = n / x` if
 //! `n <= x`, else `t = x / n` and `atan = pi/2 - atan(t)`. Then

@@ -19,7 +19,7 @@
 //! * [`Reason::LastingOscillation`]: the last `settle_cycles` turns of the run (maximum of
 //!   `x` to maximum, [`crate::turns`]) stay in a band without trend and none crossed the
 //!   section: an oscillation the section's rules cannot see (a real brake's swing below
-//!   `x*`, issue 31). Stick-slip; decided only where no turn of the window crossed, so no
+//!   `x*`). Stick-slip; decided only where no turn of the window crossed, so no
 //!   label the section rules give changes.
 //! * Otherwise, at `t_max`: [`Regime::Undecided`] with [`Reason::TimeLimit`]; never a guess.
 //!   A run that blows up or whose robust solve fails is undecided too.
@@ -407,8 +407,8 @@ pub fn narrow_band(ring: &[f64], rtol: f64, floor: f64) -> bool {
 /// toward a limit inside the band: with `d1`, `d2` the changes of the thirds' means and
 /// `q = d2 / d1` in `[0, 1)`, the rest of the trend, `d2 q / (1 - q)`, is at most `rtol`
 /// times the last third's mean. A run settling onto a cycle whose changes have shrunk below
-/// [`narrow_band`]'s reversal threshold (`1e-4` of the mean: measured at the brake of issue
-/// 31, the turns' half-ranges converge to 0.066782 with changes of `1e-6` and no counted
+/// [`narrow_band`]'s reversal threshold (`1e-4` of the mean: measured at the README's disc
+/// brake, the turns' half-ranges converge to 0.066782 with changes of `1e-6` and no counted
 /// reversal) passes. A decay to a point does not, however slow: for `a_k = A q^k` the rest
 /// of the trend is the whole last mean. Nor does a drift away from an unstable orbit (`q >=
 /// 1`).

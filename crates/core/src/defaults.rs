@@ -15,7 +15,8 @@ pub const NU: f64 = 1e-3;
 /// cycle's section crossing and distance along +x (nu = 1e-3, 1e-2), the stick-slip frequency
 /// (nu = 1e-3) and the critical damping for (0, 0) are within 0.1% of their dt -> 0 limits
 /// (at dt = 0.01 the stick-slip frequency is 0.22% off; the cycle figures would allow it).
-/// BENCHMARKS.md, "Step size", gives the study; `crates/scan/tests/scanning/accuracy.rs` checks it.
+/// docs/history/benchmarks.md, "Step size", gives the study;
+/// `crates/scan/tests/scanning/accuracy.rs` checks it.
 pub const DT: f64 = 0.005;
 /// Relative half-width of the band around the located unstable cycle in which early
 /// stopping leaves runs going (`r_u (1 -+ TRAP_MARGIN)` at the section). It only has to
@@ -24,7 +25,7 @@ pub const DT: f64 = 0.005;
 /// `1e-11` at the default step), so `1e-5` leaves five orders to spare. Larger margins
 /// give the same labels and cost more: a start at distance `d` inside the band takes
 /// `ln(margin / d) / ln(m)` revolutions to leave it (Floquet multiplier `m` = 1.0064 at
-/// nu = 1e-3). BENCHMARKS.md, "Early stopping", compares 1e-3, 1e-4, 1e-5 and 1e-6.
+/// nu = 1e-3). docs/history/benchmarks.md, "Early stopping", compares 1e-3, 1e-4, 1e-5 and 1e-6.
 pub const TRAP_MARGIN: f64 = 1e-5;
 /// Classifier time limit.
 pub const T_MAX: f64 = 5000.0;

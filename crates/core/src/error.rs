@@ -191,8 +191,8 @@ impl CoreError {
 mod tests {
     use super::*;
 
-    /// serde writes a float given for an integer key in full (`count = 1e308`: 309 digits,
-    /// issue 32); rewritten, it reads as given. Short numbers and names are left alone.
+    /// serde writes a float given for an integer key in full (`count = 1e308`: 309 digits);
+    /// rewritten, it reads as given. Short numbers and names are left alone.
     #[test]
     fn long_numbers_in_other_messages_are_shortened() {
         let long = format!("floating point `{}`, expected usize", 1e308);

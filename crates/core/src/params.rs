@@ -304,7 +304,7 @@ impl Params {
         // A belt at rest or reversed is outside the model as written: there is no steady slip
         // at x' = 0 (the fixed point's slip velocity -lambda vanishes or changes sign), the law
         // chatters about v = 0 (a "stick-slip" at about 14 times the natural frequency at
-        // lambda = 0), and labels change with dt (MODEL.md, issue 9).
+        // lambda = 0), and labels change with dt (MODEL.md section 3).
         if !self.lambda.is_finite() || self.lambda <= 0.0 || self.lambda > 1e6 {
             return bad(
                 "lambda",
@@ -415,7 +415,7 @@ mod tests {
     }
 
     /// A belt speed below the step is refused naming the step, for every law (`--normal-force
-    /// 1e308` on the issue-21 brake made lambda = 4.5e-307 at dt = 0.005 and a "stick-slip"
+    /// 1e308` on the engineers' brake made lambda = 4.5e-307 at dt = 0.005 and a "stick-slip"
     /// of +-2e304 m/s); the step itself is accepted, and so is a speed below it at a finer
     /// step. The argument for the bound is [`Params::check_step`]'s.
     #[test]

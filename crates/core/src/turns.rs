@@ -3,7 +3,7 @@
 //!
 //! The classifier's band rules read the Poincare section `x = x*, x' > 0`: an oscillation
 //! that never reaches the fixed point's `x*` (at a real brake's parameters, a swing around
-//! `x ~ 0.6` with the slip reversing, issue 31) never crosses it, and they never see it.
+//! `x ~ 0.6` with the slip reversing) never crosses it, and they never see it.
 //! This watch reads the run itself: every maximum and minimum of `x` (where `x'` changes
 //! sign, located on the step's cubic Hermite interpolant as the section's crossings are),
 //! and per *turn*, from one maximum of `x` to the next, its period, the extent of `x` and
@@ -294,7 +294,7 @@ impl TurnWatch {
     /// The lasting oscillation of the last `turns` turns, if their half-ranges of `x` and
     /// their periods each pass the narrow or the converging band test, or (where a turn
     /// stuck or reversed its slip) the wide one. The periods are read too: a run still
-    /// settling can hold its half-range while its period drifts (at the brake of issue 31
+    /// settling can hold its half-range while its period drifts (at the README's disc brake
     /// the first turns from rest last 1.05, 1.16, 1.30, ... 1.79 at a nearly constant
     /// half-range, and the wide test alone took them for a band at omega 3.81).
     pub fn lasting(&mut self) -> Option<Lasting> {
@@ -396,7 +396,7 @@ mod tests {
         (tw, turns)
     }
 
-    /// A pure sinusoid `x = 0.6 + 0.3 cos(3.5 t)` (the shape of the brake's swing, issue 31)
+    /// A pure sinusoid `x = 0.6 + 0.3 cos(3.5 t)` (the shape of a real brake's swing)
     /// sampled at dt = 0.005: every turn lasts `2 pi / 3.5` and spans `[0.3, 0.9]` to the
     /// Hermite interpolation's accuracy (`O(dt^4)`: below 1e-9 here), never reaches the
     /// section `x = 1` nor `x' > lambda = 3` (its `x'` peaks at 1.05), and the window is a

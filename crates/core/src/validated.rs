@@ -179,7 +179,7 @@ mod tests {
     use super::*;
     use crate::{Friction, Surface};
 
-    /// Table 1 is inside; the brake of issue 31 (lambda = 0.21053) is outside by its belt
+    /// Table 1 is inside; the README's disc brake (lambda = 0.21053) is outside by its belt
     /// speed alone, and the warning names the key, the range and the check; a law without a
     /// checked region always warns.
     #[test]

@@ -219,7 +219,7 @@ pub fn scan(
         DriveError::Scan(e) => value_error(e),
         DriveError::Sink(e) => store_error(e),
     })?;
-    // The audit acts before the file is written, as `squeal scan` makes it (issue 31).
+    // The audit acts before the file is written, as `squeal scan` makes it.
     if !report.interrupted {
         py.detach(|| {
             squeal_scan::redo::act_on_audits(&plan, None, &mut writer, Some(&report.computed))

@@ -2,7 +2,7 @@
 //!
 //! Near the fold of cycles the stick-slip band is chaotic, and past its crisis it leaks: runs
 //! spend hundreds or thousands of revolutions on it and then fall inside the unstable cycle
-//! and end in steady slip (issue 17; at Table 1, nu = 0.0242, all ten far starts of the issue
+//! and end in steady slip (at Table 1, nu = 0.0242, all ten far starts of `edge_long_runs.csv`
 //! were at the fixed point by t = 20000 after looking settled at t = 130). A band that looks
 //! settled over a window of crossings is no proof of squeal, so the band rules of the
 //! classifier ([`squeal_core::Reason::SettledStickSlip`], [`squeal_core::Reason::StickingBand`])
@@ -177,7 +177,7 @@ fn refine_dips(
         // Both ends without a return (`P = 0`, the least `P` there is: a time-out, or a run
         // settled on an oscillation off the section): no sample between them can lower the
         // band's bottom, nor come before the first of them, so the verdict and its values
-        // are those of the unrefined interval (issue 31: at a real brake every start of the
+        // are those of the unrefined interval (at a real brake every start of the
         // band falls into such an oscillation, and halving them spent the whole budget).
         if floor > r_u || (ps[i] <= 0.0 && ps[i + 1] <= 0.0) {
             i += 1;

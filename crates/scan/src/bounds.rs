@@ -34,8 +34,8 @@ pub const MAX_STATE: f64 = 1e6;
 pub const MAX_SAMPLE_RATIO: f64 = 1.25;
 
 /// Most steps of one run (`t_max / dt` of the classifier, `t_end / dt` of a trajectory):
-/// at up to about 250 ns per step with the robust solver (BENCHMARKS.md, "Time per step")
-/// one run then takes at most about 40 minutes; `--dt 1e-12` with `--t-end 5000` asked
+/// at up to about 250 ns per step with the robust solver (docs/history/benchmarks.md, "Time per
+/// step") one run then takes at most about 40 minutes; `--dt 1e-12` with `--t-end 5000` asked
 /// for 5e15 steps (about 40 years).
 pub const MAX_STEPS: f64 = 1e10;
 
@@ -304,8 +304,8 @@ pub const MIN_FP_RADIUS: f64 = 1e-10;
 /// cycle's location as the classifier sees it (the bisection bracket is covered by taking
 /// the band outside the bracket's ends): the crossings' cubic Hermite interpolation errs by
 /// up to about `1e-11` relative at the default step (`squeal_core::defaults::TRAP_MARGIN`,
-/// BENCHMARKS.md "Early stopping"; it grows as `dt^4`). A narrower band is narrower than what
-/// the cycle is known to, and below about `1.1e-16` it is nothing at all in `f64`
+/// docs/history/benchmarks.md "Early stopping"; it grows as `dt^4`). A narrower band is narrower
+/// than what the cycle is known to, and below about `1.1e-16` it is nothing at all in `f64`
 /// (`r (1 - margin)` rounds to `r`): `trap_margin = 1e-300` was accepted. `1e-10` is one order
 /// above the interpolation's error at the default step; the default `1e-5` is five orders
 /// above the bound, six above that error. The argument holds at the default step only: the

@@ -1,4 +1,4 @@
-//! The premise of a map's rules, checked by runs before they decide anything (issue 31).
+//! The premise of a map's rules, checked by runs before they decide anything.
 //!
 //! The start rule ([`crate::scanner::StartRule`]), the trap of the unstable cycle
 //! ([`squeal_core::Trap`]) and the band rules ([`squeal_core::Reason::SettledStickSlip`],
@@ -6,7 +6,7 @@
 //! around the fixed point, every start inside it ending at the fixed point, every start
 //! outside it on a lasting oscillation. The section search that enables them samples one
 //! line of the plane for one revolution at a time; it cannot see a picture that is not the
-//! paper's. At the disc brake of issue 31 (nu = 0.2, 0.375) it found a sign change of the
+//! paper's. At the README's clamped disc brake (nu = 0.2, 0.375) it found a sign change of the
 //! return map, the start rule labelled 96% of random starts stick-slip, and their runs
 //! reached the fixed point by t = 33-55.
 //!

@@ -101,7 +101,7 @@ pub struct MapChecks {
     /// may end in steady slip, so only stick-slip inside counts as the wrong side.
     #[serde(default)]
     pub escapes: bool,
-    /// The inside rules were withdrawn from the map (issue 31: a run from inside the cycle
+    /// The inside rules were withdrawn from the map (a run from inside the cycle
     /// did not end at the fixed point), so stick-slip inside is no wrong side either.
     #[serde(default)]
     pub inside_open: bool,
@@ -352,7 +352,7 @@ impl<'a> MapTally<'a> {
         }
     }
 
-    /// The rule groups withdrawn from the map (issue 31; before any block is added): where
+    /// The rule groups withdrawn from the map (before any block is added): where
     /// the census or the audit refuted the cycle's outside (inside) rules, its cells decided
     /// by runs may end in steady slip outside it (stick-slip inside it), and the wrong-side
     /// check no longer counts them.

@@ -684,7 +684,7 @@ path = "t.h5"
         }
     }
 
-    /// Each map's blocks are added to the queue when the map is prepared (issue 35: no
+    /// Each map's blocks are added to the queue when the map is prepared (no
     /// barrier between one map's preparation and another's blocks), after its cycle went to
     /// the sink: on 1, 2, 3 and 16 threads every block reaches the sink after its map's
     /// cycle, and every block is there.

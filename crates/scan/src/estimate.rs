@@ -4,10 +4,10 @@
 //! stopping, the start rule, the audit). Its time per cell therefore follows the law, each
 //! map's landscape and whether early stopping holds there (near the fold of cycles it does
 //! not, and cells run to settlement): a fixed "documented rate" was off 50-fold on
-//! `scans/nu-sweep.toml` and on `scans/bstab-friction.toml` (issue 21).
+//! `scans/nu-sweep.toml` and on `scans/bstab-friction.toml`.
 //!
 //! `scripts/bench/bench-estimate.sh` checks the estimate against the measured time of shipped
-//! specs (BENCHMARKS.md, "Scan time estimates").
+//! specs (docs/history/benchmarks.md, "Scan time estimates").
 
 use std::time::{Duration, Instant};
 
@@ -109,7 +109,7 @@ pub fn refused_as_long(seconds: f64, allow_long: bool) -> bool {
 /// The wall seconds `secs` (on free cores) take at the load where the pilot's thread got
 /// `share` of a core, when that share says the machine is busy ([`BUSY_SHARE`]); `None` on
 /// a machine that is not (or where the share is not known: 1). A scan estimated at 66 s took
-/// 323 s on a machine at load 8 (issue 34): each thread gets its share of a core there, so
+/// 323 s on a machine at load 8: each thread gets its share of a core there, so
 /// the work takes about `secs / share`.
 pub fn at_load(secs: f64, share: f64) -> Option<f64> {
     (share.is_finite() && share > 0.0 && share < BUSY_SHARE).then(|| secs / share)
@@ -295,7 +295,7 @@ pub fn seconds_for(
 }
 
 /// Seconds of one integration step at the documented rate: up to about 250 ns per step with
-/// the robust solver (BENCHMARKS.md, "Time per step").
+/// the robust solver (docs/history/benchmarks.md, "Time per step").
 pub const STEP_SECONDS: f64 = 250e-9;
 
 /// Seconds (one thread) of `returns` section returns that each run their whole `t_return`
@@ -317,8 +317,8 @@ fn halvings(rtol: f64) -> f64 {
 /// ([`crate::band::NSAMPLES`], `band_factor` times that many returns at the horizon's
 /// longer `t_return` for an atlas's lasting band), each return running its whole
 /// `t_return`; with `locate` and the half-step check, the search again at `dt / 2` (twice
-/// the steps). `[cycle] samples = 100000, t_return = 1e6` is about 29 days per map: it was
-/// in no estimate (issue 32).
+/// the steps). `[cycle] samples = 100000, t_return = 1e6` is about 29 days per map, which no
+/// estimate may leave out.
 pub fn search_seconds(
     cs: &crate::section::CycleSettings,
     dt: f64,
@@ -558,7 +558,8 @@ pub struct AtlasEstimate {
     /// The boundary units the pilot computed, whole: the run journals these rather than
     /// computing them again (a unit can take minutes: on the 4 x 4 chart of
     /// `scans/atlas-lambda-nu.toml` the pilot, its points stopping after about 1.5 s, took
-    /// 26 s of an 87 s run on 2 threads, BENCHMARKS.md, session 22).
+    /// 26 s of an 87 s run on 2 threads, docs/history/benchmarks.md, "The 64 x 64 atlas against
+    /// 48d225a").
     pub units: Vec<UnitResult>,
     /// Seconds the pilot took (points and maps).
     pub pilot_seconds: f64,

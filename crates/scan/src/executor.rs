@@ -389,7 +389,7 @@ mod tests {
         .unwrap();
         assert_eq!(sunk, vec![0]);
     }
-    /// The channel to the sink is bounded (issue 35): with a sink that takes 2 ms per
+    /// The channel to the sink is bounded: with a sink that takes 2 ms per
     /// result and jobs that take none, the results sent and not yet sunk never exceed the
     /// bound and the one the sink holds. With the unbounded channel of before, all 300
     /// were sent while the sink was on its first few.

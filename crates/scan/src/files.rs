@@ -1,5 +1,5 @@
 //! What is at a path before squeal opens it. A FIFO at a spec, an output, a lock or a
-//! journal blocked the open for ever with no message (issue 32); a directory or a socket
+//! journal blocked the open for ever with no message; a directory or a socket
 //! gave the file system's or HDF5's words, or a Rust debug dump of the file type. Every
 //! path squeal reads or writes is judged here first ([`refuse_non_regular`]), and named in
 //! words ([`what_is`]).

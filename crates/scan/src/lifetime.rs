@@ -1,4 +1,4 @@
-//! Transient lifetimes of the leaking stick-slip band, past its crisis (issue 17).
+//! Transient lifetimes of the leaking stick-slip band, past its crisis.
 //!
 //! Above the crisis ([`crate::band::crisis_nu`]) the stick-slip band above the unstable
 //! cycle has a hole: every run on it falls inside the cycle sooner or later and ends in

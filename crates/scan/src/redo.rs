@@ -1,4 +1,4 @@
-//! The audit that acts (issue 31): a rule an audited cell refutes is withdrawn from its map,
+//! The audit that acts: a rule an audited cell refutes is withdrawn from its map,
 //! and every cell it decided there is decided again without it, before the file is written.
 //!
 //! The audit ([`crate::cell::Audit`]) runs a sample of a map's cells to settlement beside
@@ -187,7 +187,7 @@ mod tests {
     /// Fig. 9's model on a 4 x 3 grid over its box, in blocks of one row: every start lies
     /// outside the unstable cycle and is labelled by the start rule.
     ///
-    /// The leak these tests act on used to be the disc brake of issue 31 at c = 300 N s/m,
+    /// The leak these tests act on used to be the README's clamped disc brake at c = 300 N s/m,
     /// where the start rule labelled starts stick-slip and their runs ended quiet. Steady
     /// slip repels there (k = 1.1355 > 1, crates/core/MODEL.md section 5): the section search
     /// now finds no cycle and no start rule applies, so no model on record makes the audit
@@ -236,7 +236,7 @@ path = "t.h5"
         sink.map_cells(plan, 0).unwrap()
     }
 
-    /// Issue 31: "no scan ends with a DISAGREEMENT whose cells keep refuted labels". Every
+    /// No scan may end with a DISAGREEMENT whose cells keep refuted labels. Every
     /// cell of this small map is audited (fewer than AUDIT_PER_RULE per rule), and the audit's
     /// finding against the outside rules is injected ([`unchecked`]); acting on it withdraws
     /// the outside rules, records why,

@@ -360,7 +360,7 @@ pub struct Change {
 /// Every change of `pred` between neighbours of `n` geometric steps over `[lo, hi]` (`n +
 /// 1` values, both ends included). A bisection assumes one change; where the coarse scan
 /// finds more, the regime flips back and forth along the parameter and the bisected value
-/// is one of several (issue 17: along the damping of one brake it did, and nothing warned).
+/// is one of several (as along the damping of `scans/brake.toml`, where nothing warned).
 /// Changes closer together than a step can still hide between two values.
 pub fn coarse_changes<E>(
     mut pred: impl FnMut(f64) -> Result<bool, E>,

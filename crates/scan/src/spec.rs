@@ -649,7 +649,7 @@ impl Plan {
     }
 
     /// A rough time for `cells` cells on `threads` threads, in seconds, from documented rates
-    /// (BENCHMARKS.md, "Basin scans": about 25 000 cells/s on 2 threads with
+    /// (docs/history/benchmarks.md, "Basin scans": about 25 000 cells/s on 2 threads with
     /// `early_stop = "cycle"` on the paper's grids; without early stopping a cell may run to
     /// `t_max`, at up to about 250 ns per step with the robust solver, "Time per step").
     /// An order of magnitude, not a promise: cells near the boundary and off-paper

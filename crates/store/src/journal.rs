@@ -57,7 +57,7 @@ pub(crate) const KIND_ATLAS_HEADER: u8 = b'A';
 pub(crate) const KIND_UNIT: u8 = b'U';
 pub(crate) const KIND_BLOCK: u8 = b'B';
 pub(crate) const KIND_CYCLE: u8 = b'C';
-/// Rule groups withdrawn from a map (issue 31: its census or its audit refuted them).
+/// Rule groups withdrawn from a map (its census or its audit refuted them).
 pub(crate) const KIND_WITHDRAWN: u8 = b'W';
 const FRAME: usize = 4 + 1 + 4;
 /// Block records are synced to disk at least this often while they come.
@@ -202,8 +202,8 @@ const MAX_BODY: usize = 1 << 31;
 /// (each of [`COLUMNS`] in order, its `n` values at their storage width), deflated
 /// (`body` 1: raw deflate, the fastest level) or as they are (`body` 0). Column by column,
 /// a map's runs of equal labels, reasons and fill values compress to a few percent: the
-/// journal of Fig. 9 at 4096 x 4096 is 17 MB, not 1.4 GB, and the sink's one thread no
-/// longer spends seconds copying it into the kernel (issue 35). Deflated on the worker
+/// journal of Fig. 9 at 4096 x 4096 is 17 MB, not 1.4 GB, and the sink's one thread does
+/// not spend seconds copying it into the kernel. Deflated on the worker
 /// that made the block.
 pub(crate) fn encode_block(map: usize, block: usize, cells: &[Cell]) -> Vec<u8> {
     let mut raw = Enc(Vec::with_capacity(cells.len() * cell_bytes()));

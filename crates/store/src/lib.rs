@@ -233,7 +233,7 @@ pub struct ScanWriter {
     journal: Journal,
     blocks: Blocks,
     cycles: BTreeMap<usize, Rec>,
-    /// Rule groups withdrawn, by map (issue 31), in the order recorded.
+    /// Rule groups withdrawn, by map, in the order recorded.
     withdrawn: Withdrawals,
     _lock: OutputLock,
 }
@@ -532,7 +532,7 @@ impl squeal_scan::Sink for ScanWriter {
 }
 
 impl ScanWriter {
-    /// The rule groups withdrawn from each map so far (issue 31), one line each with why:
+    /// The rule groups withdrawn from each map so far, one line each with why:
     /// `(map, line)` in map order.
     pub fn withdrawn_lines(&self) -> Vec<(usize, String)> {
         self.withdrawn

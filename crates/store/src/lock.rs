@@ -161,8 +161,8 @@ fn judge(out: &Path, lock: &Path) -> Result<Seen, StoreError> {
         uid,
         why,
     };
-    // A lock this user cannot read is another user's (umask 077): it was taken for garbage
-    // and removed, and two users then wrote one output (issue 32).
+    // A lock this user cannot read is another user's (umask 077): taken for garbage and
+    // removed, it would let two users write one output.
     let text = match std::fs::read_to_string(lock) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Seen::Gone),

@@ -680,8 +680,8 @@ pub fn read_map(path: &Path, map: usize) -> Result<MapData, StoreError> {
             fixed_point: (fp.x, fp.v),
         };
         // A map's columns hold one value per cell of its axes: every reader of a map
-        // (render, compare) may then index them by the axes (`compare` panicked on a file
-        // whose labels had another shape, issue 32).
+        // (render, compare) may then index them by the axes (`compare` would panic on a file
+        // whose labels had another shape).
         let cells = data.x0.len() * data.v0.len();
         let columns = [
             ("labels", Some(data.labels.len())),

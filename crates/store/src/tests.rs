@@ -732,8 +732,8 @@ mod journal_fuzz;
 #[cfg(test)]
 mod journal_resume;
 
-/// Issue 16: the store ran the model (`landscape::of_map`) while writing. The landscape is
-/// now computed by the caller and only stored: a Stribeck scan finished without it is refused,
+/// The store must not run the model (`landscape::of_map`) while writing: the landscape is
+/// computed by the caller and only stored: a Stribeck scan finished without it is refused,
 /// and what the caller gives is what the file holds (the damping 0.125 and period 7.5 below
 /// are made up; no run of the model gives them at these parameters).
 #[test]

@@ -108,9 +108,9 @@ pub fn check_words(values: &[i64], sample: bool) -> Vec<String> {
 mod tests {
     use super::check_words;
 
-    /// Issue 21: "wrong side of cycle: N (M beyond a pixel)" was printed for random samples,
-    /// where there is no pixel. The values follow `checks::CHECK_FIELDS`: 3 wrong-side cells,
-    /// 1 of them beyond a pixel, every other check -1 (not applicable).
+    /// "wrong side of cycle: N (M beyond a pixel)" is a grid's words: random samples have no
+    /// pixel. The values follow `checks::CHECK_FIELDS`: 3 wrong-side cells, 1 of them beyond a
+    /// pixel, every other check -1 (not applicable).
     #[test]
     fn random_samples_have_no_pixel() {
         let fields = squeal_scan::checks::CHECK_FIELDS;

@@ -31,7 +31,7 @@ pub struct ModelArgs {
     /// The physical system's flags (the paper's laws, instead of --nu --lambda [--tau --phi]).
     #[command(flatten)]
     pub system: PhysicalArgs,
-    /// Time step (see BENCHMARKS.md for the convergence study behind the default).
+    /// Time step (see docs/history/benchmarks.md for the convergence study behind the default).
     #[arg(long, default_value_t = squeal_core::defaults::DT, allow_negative_numbers = true)]
     pub dt: f64,
     /// Implicit force solver: robust (true root nearest the previous force) or paper.

@@ -466,7 +466,7 @@ mod tests {
         }
     }
 
-    /// Issue 34, item 4: a physical sweep's pictures name its parameter in SI units: the
+    /// A physical sweep's pictures name its parameter in SI units: the
     /// panels `c = 4 N s/m` (the map at nu = 4 / 632.456), the cycle chart against
     /// `c (N s/m)` with the sizes in um and mm/s, the transient map's colour bar in
     /// seconds. Before, they said `nu = 0.006325` and "nondimensional". A nondimensional

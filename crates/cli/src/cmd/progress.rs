@@ -452,7 +452,7 @@ mod tests {
         assert_eq!(t.words("nu"), "bisection, 2 section returns");
     }
 
-    /// Issue 34: an estimate of 66 s on a machine where the pilot got a fifth of a core says
+    /// An estimate of 66 s on a machine where the pilot got a fifth of a core says
     /// the machine is busy and gives the time at that load; on a free machine it says nothing.
     #[test]
     fn the_estimate_says_when_the_machine_is_busy() {

@@ -190,8 +190,8 @@ pub fn report(
     secs: f64,
 ) -> anyhow::Result<()> {
     let rate = computed as f64 / secs.max(1e-9);
-    // Rules whose premise a census run or an audit refuted, withdrawn from their maps
-    // (issue 31): one line each, `map M: ... withdrawn: why` (the file's `rules_withdrawn`).
+    // Rules whose premise a census run or an audit refuted, withdrawn from their maps:
+    // one line each, `map M: ... withdrawn: why` (the file's `rules_withdrawn`).
     let withdrawn: Vec<&str> = info
         .attrs
         .iter()

@@ -120,7 +120,7 @@ pub(super) struct Summary {
     pub(super) unconverged_steps: u64,
     /// Times of the first few of them.
     pub(super) first_unconverged_times: Vec<f64>,
-    /// The rule groups withdrawn from this model's map (issue 31: a census run refuted
+    /// The rule groups withdrawn from this model's map (a census run refuted
     /// their premise), each with why; the label was decided without them.
     pub(super) rules_withdrawn: Vec<String>,
     /// Rows written to `--out` (and drawn, before any further decimation, in `--plot`).

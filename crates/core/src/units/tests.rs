@@ -159,7 +159,7 @@ fn each_law_takes_its_own_surface_keys() {
     ));
 }
 
-/// The disc-brake pad of issue 34: 0.8 kg on a 200 kN/m mount, clamped with 1.5 kN.
+/// The README's disc-brake pad: 0.8 kg on a 200 kN/m mount, clamped with 1.5 kN.
 fn clamped(load: Load) -> Physical {
     Physical {
         m: 0.8,
@@ -247,7 +247,7 @@ fn the_static_peak_takes_phis_bound() {
     );
 }
 
-/// Issue 32: `m = k = 1e200` overflowed `m k` (the critical damping was `inf`, `nu` 0
+/// Computed plainly, `m = k = 1e200` overflows `m k` (the critical damping `inf`, `nu` 0
 /// and "every start squeals"). The same system scaled by 1e200 in m, k and c has the
 /// same nondimensional numbers as `m = k = 1, c = [1, 2]` (nu = c / (2 sqrt(m k)) =
 /// 0.5 and 1, computed in ratios); one whose scales no f64 holds is refused by key.
@@ -351,7 +351,7 @@ fn a_figure_out_of_range_names_the_key_at_fault() {
 }
 
 /// A belt speed the step cannot resolve (`lambda < dt`, Params::check_step) is refused
-/// naming the key at fault: the issue-21 brake (2 kg, 50 kN/m, 0.05 m/s, mu_k 0.35) under
+/// naming the key at fault: the engineers' brake (2 kg, 50 kN/m, 0.05 m/s, mu_k 0.35) under
 /// a clamp of 1e308 N has lambda = 4.5e-307, under g = 1e308 2.3e-307, and on a belt of
 /// 1e-12 m/s 4.6e-11; at the default step each is refused by its key, and the brake
 /// itself (lambda 2.3) is not.
@@ -463,7 +463,7 @@ fn pad_curve() -> &'static FrictionTable {
     .unwrap()
 }
 
-/// The clamped pad of issue 34 with a measured curve: the law is written in the normal
+/// The README's clamped pad with a measured curve: the law is written in the normal
 /// load (MODEL.md section 8), so with m = 0.8 kg, k = 2e5 N/m, c = 20 N s/m, v_B = 0.3
 /// m/s, N = 1500 N: omega_0 = 500 rad/s, sqrt(m k) = 400 kg/s, the force unit N =
 /// 1500 N, the length unit N / k = 7.5 mm, the velocity unit N / sqrt(m k) = 3.75 m/s,

@@ -1,4 +1,4 @@
-//! The cubic law with true stick (issue 16, item 6): `mu(s) = mu_0 - a1 s + a3 s^3` (Popp
+//! The cubic law with true stick: `mu(s) = mu_0 - a1 s + a3 s^3` (Popp
 //! and Stelter; Thomsen 1999). Its stick phases and events are tested as the Stribeck law's
 //! are (`stribeck.rs`): located events against a closed form, convergence order of event
 //! times, the energy of a stick phase, one stick per period, the landscape, bad input.

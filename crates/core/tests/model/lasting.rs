@@ -1,5 +1,5 @@
-//! Issue 31: a lasting oscillation that never crosses the section `x = x*, x' > 0`. At a
-//! real brake's parameters (disc-brake pad of the issue: m = 0.8 kg, k = 2e5 N/m, disc
+//! A lasting oscillation that never crosses the section `x = x*, x' > 0`. At a
+//! real brake's parameters (the README's disc-brake pad: m = 0.8 kg, k = 2e5 N/m, disc
 //! 0.3 m/s, mu_k 0.38, mu_s 0.48, tau 0.5 ms, 1.5 kN clamp, c = 20 N s/m) the run from rest
 //! swings for good around x ~ 0.6, below x* = 1, at about 3.5 times the natural frequency.
 
@@ -9,7 +9,7 @@ use squeal_core::{
     Surface,
 };
 
-/// The brake of issue 31 at c = 20 N s/m: `--nu 0.025 --lambda 0.21053 --tau 0.65789
+/// The README's disc brake at c = 20 N s/m: `--nu 0.025 --lambda 0.21053 --tau 0.65789
 /// --phi 0.91353`, McMillan's hysteretic law, the default step 0.005.
 fn brake() -> Stepper {
     let p = Params {
@@ -25,7 +25,7 @@ fn brake() -> Stepper {
 
 /// From rest the classifier labels the brake's swing stick-slip by its turns (it never
 /// crosses the section, so on 48d225a the run was `undecided`, `time_limit`, to any
-/// t_max), with the swing's frequency (about 3.5, the issue's independent integration:
+/// t_max), with the swing's frequency (about 3.5, as an independent integration found:
 /// 280 Hz against the natural 79.6 Hz) and its largest x' (above lambda: the slip reverses).
 #[test]
 fn the_brakes_swing_off_the_section_is_stick_slip() {

@@ -10,7 +10,7 @@
 //! * A snapshot of the solver counters, to flag unintended algorithm changes in review.
 //!
 //! `cargo test -p squeal-core --test model -- --ignored --nocapture paper::dt_study` prints the
-//! convergence study recorded in BENCHMARKS.md.
+//! convergence study recorded in docs/history/benchmarks.md.
 
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
@@ -375,7 +375,7 @@ fn paper_iteration_fails_on_part_of_the_stick_slip_cycle() {
 /// Fig 9: at nu = 1e-3 the unstable cycle does not enclose the rest state, so the block goes
 /// to stick-slip; its angular frequency is about 0.96. Measured mean over t in [1000, 3000]:
 /// 0.9614 (single revolutions vary by about +-0.006 in the quasi-periodic band; the dt study
-/// in BENCHMARKS.md gives 0.9558 as dt -> 0).
+/// in docs/history/benchmarks.md gives 0.9558 as dt -> 0).
 #[test]
 fn light_damping_from_rest_is_stick_slip_at_0_96() {
     let st = robust(FrictionLaw::McMillan, 1e-3);
@@ -472,19 +472,19 @@ fn nonhysteretic_loop_is_flat_topped() {
 /// numbers; if the change is intended, record the new ones here and say so in review. (The
 /// counts depend on libm's `sin`, so another platform may differ slightly.)
 ///
-/// Last recorded with certified Newton and the first-order hold (issue 7). The zero-order-hold
+/// Last recorded with certified Newton and the first-order hold. The zero-order-hold
 /// trajectories are bit for bit those of the code before (c44a1a5 gives the same newton_steps,
 /// bisections, expansions, iterations and unconverged; its own snapshot was stale there).
 /// Evaluations: robust 56_508 -> 44_205 (hysteretic) and 63_026 -> 50_711 (non-hysteretic)
 /// from certified Newton; paper +10_002 because the final residual evaluation of every solve
 /// (and the initial guess) is now counted.
 ///
-/// Re-recorded when McMillan's laws took their own arctangent (`squeal_core::atan`, issue 18
-/// item 3): it differs from libm's in the last bit for a few percent of arguments, and these
+/// Re-recorded when McMillan's laws took their own arctangent (`squeal_core::atan`):
+/// it differs from libm's in the last bit for a few percent of arguments, and these
 /// stick-slip runs pass that difference on (hysteretic robust 44_205 -> 44_212 evaluations,
 /// paper 236_139 -> 234_338; non-hysteretic robust 50_711 -> 49_990, 50_913 -> 50_877). The
 /// counts of both are within the spread of rounding; the labels of the shipped specs are the
-/// same (BENCHMARKS.md, issue 18, "Cost per step, reduced").
+/// same (docs/history/benchmarks.md, "Cost per step, reduced").
 #[test]
 fn solver_counters_snapshot() {
     let mut got = Vec::new();
@@ -564,7 +564,7 @@ fn solver_counters_snapshot() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Convergence study (BENCHMARKS.md)
+// Convergence study (docs/history/benchmarks.md)
 // ---------------------------------------------------------------------------------------------
 
 /// The unstable cycle's crossing `r_u` of the section `x = 1, x' > 0`: the first `r` where the
@@ -600,7 +600,7 @@ fn unstable_cycle(st: &Stepper) -> Option<f64> {
     Some(0.5 * (lo + hi))
 }
 
-/// Prints the dt study recorded in BENCHMARKS.md:
+/// Prints the dt study recorded in docs/history/benchmarks.md:
 /// `cargo test -p squeal-core --test model -- --ignored --nocapture paper::dt_study`.
 #[test]
 #[ignore]

@@ -1,4 +1,4 @@
-//! The Stribeck law with true stick (issue 11): located events against closed forms,
+//! The Stribeck law with true stick: located events against closed forms,
 //! convergence of event times, the energy of a stick phase, no chattering, bad input, counters.
 
 use squeal_core::landscape::{Landscape, StickCycle, stick_slip_cycle};

@@ -1,4 +1,4 @@
-//! The tabulated law with true stick (issue 34, item 2): `mu` against slip speed from a
+//! The tabulated law with true stick: `mu` against slip speed from a
 //! table, interpolated monotonically (PCHIP), static limit the row at slip speed 0. Its stick
 //! phases are located as the Stribeck law's are (the same `stick` machinery); tested against
 //! a closed form (a constant table is Coulomb friction with static limit, exact at any step)

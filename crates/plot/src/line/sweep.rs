@@ -72,7 +72,7 @@ pub fn missing_values(curves: &[Curve], log_x: bool) -> Vec<f64> {
 
 /// The swept values without a cycle (`missing`), grouped by what map `i` (at `xs[i]`, cell
 /// counts `[undecided, steady, stick, not computed, slip oscillation]`) found: only stick-slip, only steady
-/// slip, or neither alone. Each group has its own glyph (issue 21: one triangle for "every
+/// slip, or neither alone. Each group has its own glyph (under one triangle, "every
 /// start squeals" and "no start squeals" could not be told apart).
 pub fn cycle_gaps(missing: &[f64], xs: &[f64], counts: &[[u64; 5]]) -> Vec<Gap> {
     let mut gaps = [

@@ -3,7 +3,7 @@
 use super::*;
 use crate::line::{Corner, densify, place_legend};
 
-/// Issue 21: "every start squeals" and "no start squeals" were one hollow triangle. Two gap
+/// One hollow triangle cannot tell "every start squeals" from "no start squeals". Two gap
 /// groups of one colour each are drawn as two shapes: a triangle up has its widest row at
 /// the bottom, a triangle down at the top.
 #[test]
@@ -59,7 +59,7 @@ fn sweep_chart_gap_groups_have_their_own_glyph() {
     );
 }
 
-/// Issue 21: the legend of `stribeck-vd.png` covered a vertical line whose ends lie outside
+/// The legend of `stribeck-vd.png` once covered a vertical line whose ends lie outside
 /// the legend's corner. Every corner holds data here: the vertical line at x = 0.1 crosses the
 /// upper left, a curve runs through the upper right and points sit in the lower corners. The
 /// legend must then go where no data is, which takes room above the data.
@@ -88,7 +88,7 @@ fn the_legend_covers_no_data() {
     assert_eq!(place_legend(&free, size), (Corner::UpperRight, 1.0));
 }
 
-/// Issue 21: Stribeck pictures said "(unit: μk m g / k)". The Stribeck law is divided by the
+/// Stribeck pictures must not say "(unit: μk m g / k)": the Stribeck law is divided by the
 /// normal load (MODEL.md section 8: the friction coefficient is the force), so its axes
 /// carry no μk; McMillan's keep it.
 #[test]
@@ -116,7 +116,7 @@ fn each_law_has_its_own_axis_units() {
     }
 }
 
-/// Issue 21: the fold and its "bracket moves at dt/2" points were a black line and small
+/// The fold and its "bracket moves at dt/2" points once were a black line and small
 /// yellow dots on it (a run of them a yellow line). Marks are now glyphs: a yellow diamond
 /// (`Glyph::Diamond`'s outline spans y = -8..8, its fill at least 11 px of it inside the
 /// black border) on the black line, never joined.
@@ -184,7 +184,7 @@ fn stability_chart_marks_are_glyphs_apart_from_the_line() {
     assert!(gap > 50, "the marks are not joined ({gap} px apart)");
 }
 
-/// Issue 17, item 5: a fold whose coarse scan found more than one change of regime along the
+/// A fold whose coarse scan found more than one change of regime along the
 /// damping is marked on the atlas's chart with its own glyph (a red square, in the chart and
 /// its legend); the same chart with one change per fold has no red at all.
 #[test]
@@ -240,7 +240,7 @@ fn a_fold_that_flips_is_marked_on_the_atlas_chart() {
     assert_eq!(plain, 0);
 }
 
-/// Issue 21: a sweep's values without a cycle were one triangle whatever the map found.
+/// A sweep's values without a cycle are grouped by what the map found, not one triangle.
 /// Counts are `[undecided, steady, stick, not computed]` per map (as `FileInfo::counts`).
 #[test]
 fn values_without_a_cycle_are_grouped_by_what_the_map_found() {

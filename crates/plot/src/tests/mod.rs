@@ -132,7 +132,7 @@ fn tick_formatting() {
     assert_eq!(fmt_sig(0.01), "0.01");
     assert_eq!(fmt_sig(20.0), "20");
     assert_eq!(fmt_sig(1.5e-5), "1.5e-5");
-    // The sweep value the issue quotes (1e-3 computed as a log-spaced grid point).
+    // A sweep value of 1e-3 as a log-spaced grid computes it.
     assert_eq!(fmt_number(0.0010000000000000002), "0.001");
     assert_eq!(fmt_number(0.316_227_766_016_837_94), "0.3162");
     assert_eq!(fmt_number(3.0), "3");
@@ -321,7 +321,7 @@ fn phase_plot_draws_circles_round() {
     assert!((y1 - y0) as f64 > 1.5 * (x1 - x0) as f64);
 }
 
-/// Issue 34, item 4: a physical system's phase plane (`squeal ulc --plot`) is drawn in
+/// A physical system's phase plane (`squeal ulc --plot`) is drawn in
 /// metres and m/s, and still at equal scales in the model's units: the clamped pad's length
 /// unit is 2.85 mm and its velocity unit 1.425 m/s (crates/core/src/units.rs's
 /// `a_normal_force_stands_for_the_weight`), so at equal scales in m and m/s a circle would be

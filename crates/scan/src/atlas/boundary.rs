@@ -589,7 +589,7 @@ pub fn both_with(
 /// crisis), the fold's interval is raised to cover it ([`crate::band::raise_top`]: above
 /// the crisis the band can be undecided again over narrow windows the crisis's coarse scan
 /// stepped over). Then the critical damping of the operating point never exceeds the fold
-/// beyond its uncertainty (issue 17, item 5). A failed verdict leaves the fold as it was
+/// beyond its uncertainty. A failed verdict leaves the fold as it was
 /// and says so in its place ([`Boundary::none`] is not used: the crisis itself stands).
 fn cover_critical(
     param: BoundaryParam,

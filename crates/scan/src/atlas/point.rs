@@ -509,7 +509,7 @@ mod tests {
         let note = note.text;
         assert!(note.contains("steady_slip"), "{note}");
         assert!(!note.contains("m/s"), "{note}");
-        // The same point in a physical plan (issue 21: notes of physical files gave r and t
+        // The same point in a physical plan (notes of physical files must not give r and t
         // nondimensionally): the note states the cycle's crossing in m/s and the time in s,
         // each the nondimensional value times the system's scale.
         let units = brake_scales();

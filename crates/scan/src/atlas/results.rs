@@ -179,7 +179,7 @@ mod tests {
     use crate::atlas::Boundary;
     use crate::atlas::columns::{empty_boundary, empty_point};
 
-    /// Issue 17, item 2, for the atlas's points: on the shipped chart (`scans/atlas-lambda-
+    /// No point past its fold may be called bistable: on the shipped chart (`scans/atlas-lambda-
     /// nu.toml` at 280889b) 2 of 880 points above their fold's interval were labelled
     /// bistable by a stick-slip run that stayed for the attractor's window, where the crisis
     /// says no start squeals for good. Here: folds at nu = 0.02 +- 0.001 at each of three

@@ -1,7 +1,7 @@
 //! The fold as the crisis of the stick-slip band along one parameter (the damping or the
 //! belt speed): where squeal stops lasting ([`super::Lasting`]), with an uncertainty that
 //! covers the step and the band's budget. One search for `squeal critical --crisis`,
-//! `critical --fold` and the atlas's fold (issue 17, items 4 and 5).
+//! `critical --fold` and the atlas's fold.
 //!
 //! **The search.**
 //! 1. A coarse scan: the verdict at `coarse + 1` geometric steps over the range
@@ -398,7 +398,7 @@ pub const ABOVE_SAMPLES: usize = 12;
 /// Why: above the crisis the verdict is not monotone. Narrow windows where the band is
 /// undecided again, or trapped (squeal lasts), lie between the coarse values, and a search
 /// at dt/2 or with the longer horizon can land its bisection in one (`scripts/bench/fold-coverage.sh`
-/// on `scans/atlas-lambda-nu.toml` at session 8: lambda = 0.6590, undecided at dt on about
+/// on `scans/atlas-lambda-nu.toml`: lambda = 0.6590, undecided at dt on about
 /// [0.02271, 0.02291] and at dt/2 on [0.02283, 0.02311] above a top of 0.022674; lambda =
 /// 4.9261, squeal lasting at all three on [0.02061, 0.02070] above 0.020472; lambda = 4.7356,
 /// trapped at 0.021403 and 0.021494 above 0.020984; `cargo run --release -p squeal-scan

@@ -1,7 +1,7 @@
 use super::*;
 use crate::MapContext;
 
-/// The disc brake of issue 31 at c = 300 N s/m: nu = c / 800 = 0.375, lambda = 0.21053,
+/// The README's clamped disc brake at c = 300 N s/m: nu = c / 800 = 0.375, lambda = 0.21053,
 /// tau = 0.65789, phi = 0.91353, on a 3 x 3 grid over x0 in [-1, 2], x'0 in [-0.5, 0.5].
 fn brake() -> Plan {
     Plan::from_toml(
@@ -25,7 +25,7 @@ path = "t.h5"
     .unwrap()
 }
 
-/// Issue 31: at the brake's c = 300, `classify` and `scan` on 48d225a labelled these
+/// At the brake's c = 300, `classify` and `scan` on 48d225a labelled these
 /// starts stick_slip by `start_outside_cycle` without a run, while their runs end quiet
 /// (on d424b26: "near_fixed_point at t = 35.8 from (0, 0), 21.4 from (2, 0.5), 38.3 from
 /// (-1, -0.5)", a radius crossing). The census withdrew the outside rules there. Steady slip

@@ -92,7 +92,7 @@ fn the_estimate_scales_with_cells_threads_and_audits() {
     assert!((e.seconds(1, |_| 1000, 2) - (0.5 + 0.5 + 0.25)).abs() < 1e-12);
 }
 
-/// Issue 34: a scan estimated at 66 s took 323 s at load 8. The pilot's thread got its
+/// A scan estimated at 66 s took 323 s at load 8. The pilot's thread got its
 /// share of a core there; the estimate at that load is the free-core time over the
 /// share. A machine that gives the pilot most of a core is not called busy.
 #[test]

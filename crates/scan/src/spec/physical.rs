@@ -285,7 +285,7 @@ pub(crate) fn grid_to_nondimensional(
 mod tests {
     use crate::Plan;
 
-    /// The brake of issue 21: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
+    /// The brake of `scans/brake.toml`: 2 kg, 50 kN/m, mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s.
     const BRAKE: &str = r#"
 version = 1
 [model]
@@ -358,7 +358,7 @@ path = "b.h5"
         }
     }
 
-    /// The clamped pad of issue 34 (0.8 kg, 200 kN/m, 1.5 kN) with `normal_force` reads as
+    /// The README's clamped pad (0.8 kg, 200 kN/m, 1.5 kN) with `normal_force` reads as
     /// the g-hack `g = N / m = 1875` read (the only way to state it before the key), map
     /// for map; `g` beside it, or a force <= 0 or not finite, is refused naming the key.
     #[test]
@@ -493,7 +493,7 @@ path = "b.h5"
         }
     }
 
-    /// The clamped pad of issue 34 on a measured curve under `[physical]` (slip speed in
+    /// The README's clamped pad on a measured curve under `[physical]` (slip speed in
     /// m/s): 0.8 kg, 200 kN/m, c = 20 N s/m, 0.3 m/s, N = 1500 N.
     const PAD: &str = r#"
 version = 1

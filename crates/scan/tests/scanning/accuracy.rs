@@ -1,4 +1,4 @@
-//! Accuracy of the default step and scheme (issue 7): the figures the engine reports about
+//! Accuracy of the default step and scheme: the figures the engine reports about
 //! the unstable cycle and the stick-slip oscillation move by less than 0.1% between the
 //! default `dt` and their `dt -> 0` limit.
 //!
@@ -7,7 +7,7 @@
 //! first-order hold), so the bound does not rest on a number recorded elsewhere.
 //!
 //! `cargo test --release -p squeal-scan --test scanning -- --ignored --nocapture accuracy::study` prints
-//! the step-size study recorded in BENCHMARKS.md (both schemes).
+//! the step-size study recorded in docs/history/benchmarks.md (both schemes).
 
 use squeal_core::classify::crossing;
 use squeal_core::{FrictionLaw, Params, Run, Scheme, Setup, SolverConfig, State, Stepper};
@@ -105,8 +105,8 @@ fn order(scheme: Scheme) -> i32 {
 
 /// At the default dt and scheme every figure is within 0.1% of its Richardson limit.
 ///
-/// Measured (default dt = 0.005, first-order hold, Hermite crossings; BENCHMARKS.md): relative
-/// distances 1.1e-5 and 1.3e-5 (r_u and d+x at nu = 1e-3), below 3e-6 (nu = 1e-2), 7.6e-4
+/// Measured (default dt = 0.005, first-order hold, Hermite crossings; docs/history/benchmarks.md):
+/// relative distances 1.1e-5 and 1.3e-5 (r_u and d+x at nu = 1e-3), below 3e-6 (nu = 1e-2), 7.6e-4
 /// (stick-slip omega, the tightest: a mean over an irregular band, which converges less
 /// cleanly; 2.2e-3 at dt = 0.01, which is why the default is 0.005) and below 1e-6
 /// (critical damping).

@@ -1,4 +1,4 @@
-//! Issue 17, truth at the edge of squeal: near the fold of cycles (Table 1's lambda, tau
+//! Truth at the edge of squeal: near the fold of cycles (Table 1's lambda, tau
 //! and phi, hysteretic law) the answers must not follow incidental settings.
 
 use squeal_core::{
@@ -80,7 +80,7 @@ fn the_cycle_search_finds_a_window_behind_a_jump_whatever_r_max() {
     }
 }
 
-/// The fold of McMillan's non-hysteretic law as the crisis of its band (issue 17, item 4),
+/// The fold of McMillan's non-hysteretic law as the crisis of its band,
 /// checked against runs to t = 20000 at Table 1's lambda, tau, phi and dt 0.01: from (1, 3)
 /// and (-4, 0) the block still swings on stick-slip at nu = 0.0413 (section amplitude about
 /// 2.936 at the end) and is at the fixed point by t = 530 at 0.0420 (`squeal trajectory
@@ -167,7 +167,7 @@ path = "x.h5"
 }
 
 /// A scan's `r_max` follows its grid, so before the adaptive sampling the cycle did too:
-/// at nu = 0.025, `x0 in [-3, 10]` found no cycle and `[-3, 5]` found it (issue 17). Both
+/// at nu = 0.025, `x0 in [-3, 10]` found no cycle and `[-3, 5]` found it. Both
 /// extents now find the same cycle and the same outside.
 #[test]
 fn the_cycle_does_not_depend_on_the_grid_extent() {
@@ -220,8 +220,8 @@ fn long_runs() -> Vec<(f64, State, End)> {
         .collect()
 }
 
-/// Items 2 and 6 of issue 17: at Table 1's lambda, tau, phi and five dampings around the
-/// fold, the ten starts of the issue are labelled by every path alike (the scan with and
+/// At Table 1's lambda, tau, phi and five dampings around the fold, the ten far starts of
+/// `tests/data/edge_long_runs.csv` are labelled by every path alike (the scan with and
 /// without early stopping, and a single run as `squeal trajectory` and the atlas's
 /// confirmation run set it up, [`classifier_for`]), and no label contradicts the run
 /// taken to t = 40000 (`scripts/tools/edge-long-runs.sh`): steady slip only where the long run
@@ -282,7 +282,7 @@ fn labels_near_the_fold_agree_with_long_runs_on_every_path() {
 }
 
 /// `squeal critical --x0 10 --v0 0` said (10, 0) squeals below nu = 0.026945, yet runs from
-/// it end in steady slip at nu = 0.0245 and 0.026 (issue 17). Past the crisis the band
+/// it end in steady slip at nu = 0.0245 and 0.026. Past the crisis the band
 /// above the cycle leaks, so that start is quiet there.
 #[test]
 fn critical_from_a_far_start_counts_a_leaking_band_as_quiet() {
@@ -321,7 +321,7 @@ fn the_band_is_trapped_below_the_crisis_and_leaks_above() {
     }
 }
 
-/// Items 4 and 5 of issue 17: the fold as the crisis of the band, with an uncertainty that
+/// The fold as the crisis of the band, with an uncertainty that
 /// covers its change at dt/2 and with a longer horizon, agrees with the long runs, and squeal
 /// from a far start stops at or below it. The long runs (`tests/data/edge_long_runs.csv`,
 /// t = 40000): at nu = 0.0236 eight of the ten starts still swing, at 0.0242 all ten are at
@@ -353,8 +353,8 @@ fn the_crisis_lies_where_long_runs_put_it_and_far_starts_stop_below_it() {
     }
 }
 
-/// The labels of issue 17's two grids at nu = 0.025 (14 x 7 cells, runs to settlement):
-/// the issue measured on 6685246 that `x0 in [-3, 10]` found no cycle and labelled 28 of 98
+/// The labels of two grids at nu = 0.025 (14 x 7 cells, runs to settlement): measured on
+/// 6685246, `x0 in [-3, 10]` found no cycle and labelled 28 of 98
 /// cells `stick_slip` (`sticking_band`) while `[-3, 5]` labelled all 98 steady slip; on
 /// 793d9b4 these two plans give the reverse (`[-3, 5]`: no cycle, 15 of 98 stick-slip;
 /// `[-3, 10]`: 98 steady slip): which extent fails depends on where the fixed samples fall. Every start there ends at
@@ -373,12 +373,12 @@ fn neither_grid_extent_labels_a_transient_stick_slip() {
     }
 }
 
-/// Item 2 of issue 17 for a run that never sticks: McMillan's non-hysteretic law at
-/// nu = 1e-3, lambda = 4, tau = 0.5, phi = 1.2, from the issue's start (1.3529..,
+/// Every path labels alike, for a run that never sticks: McMillan's non-hysteretic law at
+/// nu = 1e-3, lambda = 4, tau = 0.5, phi = 1.2, from the start (1.3529..,
 /// -0.2253..). The start lies outside the unstable cycle, whose outside is invariant, so a
 /// scan and `squeal classify` label it stick-slip at the start (`start_outside_cycle`); the
 /// run itself swings at a section amplitude of about the belt speed without a stick and is
-/// still undecided at t = 20000 (the issue), so before `run_in` `squeal trajectory` said
+/// still undecided at t = 20000, so before `run_in` `squeal trajectory` said
 /// "undecided" where the other paths said stick-slip. Now it gives their label, with the
 /// run's own verdict beside it.
 #[test]

@@ -1,4 +1,4 @@
-//! The fold as the crisis of the stick-slip band (issue 17, items 4 and 5): however it is
+//! The fold as the crisis of the stick-slip band: however it is
 //! asked for, it agrees within its stated uncertainty.
 
 use squeal_core::{Friction, FrictionLaw, Params, Physical, Setup, SolverConfig, Surface};
@@ -7,8 +7,8 @@ use squeal_scan::atlas::{AtlasPlan, BoundaryParam, BoundaryStatus, PointSettings
 use squeal_scan::atlas::{Unit, UnitResult};
 use squeal_scan::section::ParamRange;
 
-/// Issue 17's brake (README, "Quickstart for engineers"; `scans/brake.toml`): 2 kg, 50 kN/m,
-/// mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s, with g = 9.81 m/s^2, whose belt speed the issue
+/// The brake (README, "Quickstart for engineers"; `scans/brake.toml`): 2 kg, 50 kN/m,
+/// mu_k 0.35, mu_s 0.45, 1 ms, 0.05 m/s, with g = 9.81 m/s^2, its belt speed
 /// rounded to lambda = 2.3025 (0.05 / (0.35 * 9.81 / sqrt(2.5e4)) = 2.30254; with g =
 /// 9.80665 it would be 2.30333).
 fn brake() -> Physical {
@@ -46,19 +46,19 @@ fn fold(p: Params, range: ParamRange) -> [f64; 2] {
     [c.nu, c.uncertainty]
 }
 
-/// Issue 17 measured on main 6685246, for the brake at lambda = 2.3025, tau = 0.45175, phi
+/// Measured on main 6685246, for the brake at lambda = 2.3025, tau = 0.45175, phi
 /// = 0.89112: `critical --fold` gave 0.02659 with those rounded values, 0.02814 with
 /// `--nu-lo 1e-4 --nu-hi 0.2 --rtol 1e-3`, 0.02867 at full precision and from a one-point
 /// atlas, each with a bracket 1e-3 (relative) wide: four answers that did not agree. Now
 /// each value lies inside every other's stated interval `nu -+ uncertainty`, and so do the
-/// folds with only the range or only rtol changed (issue 17, item 5).
+/// folds with only the range or only rtol changed.
 #[test]
 #[ignore = "long check (a minute or more on 2 cores): run by scripts/ci/long-checks.sh, which .ci/run calls"]
-// 2.3025 is the issue's rounded belt speed, not an approximation of ln 10.
+// 2.3025 is the brake's belt speed rounded, not an approximation of ln 10.
 #[allow(clippy::approx_constant)]
 fn the_brakes_fold_agrees_however_it_is_asked_for() {
     let full = brake().params(FrictionLaw::McMillan).unwrap();
-    // The issue's rounded values of the same brake (5 significant digits).
+    // The same brake's values rounded (5 significant digits).
     let rounded = Params {
         lambda: 2.3025,
         law: Friction::McMillan(Surface {
@@ -95,8 +95,8 @@ path = "brake-one-point.h5"
     )
     .unwrap();
     // The six in parallel (two cores): the rounded values over the CLI's default range and
-    // rtol, over the issue's wider range and coarser rtol, over each of those changes
-    // alone (item 5: the fold depends on neither the range nor rtol beyond its stated
+    // rtol, over a wider range and coarser rtol, over each of those changes
+    // alone (the fold depends on neither the range nor rtol beyond its stated
     // uncertainty), the full precision, the atlas.
     let [a, b, e, g, c, d] = std::thread::scope(|s| {
         let a = s.spawn(|| fold(rounded, default));
@@ -131,11 +131,11 @@ path = "brake-one-point.h5"
     }
 }
 
-/// Issue 17, item 4: on the shipped chart (`scans/atlas-lambda-nu.toml`: Table 1's tau and
+/// On the shipped chart (`scans/atlas-lambda-nu.toml`: Table 1's tau and
 /// phi, dt 0.005, damping range [1e-4, 0.1], rtol 1e-3, 32 coarse steps) the stored fold
 /// `nu -+ uncertainty` must hold the crisis that the whole search finds at dt/2 and with the
 /// longer horizon. `scripts/bench/fold-coverage.sh` found three belt speeds where it did not (the
-/// chart of 8238684, BENCHMARKS.md "The coverage again, at the end of session 8"): above the
+/// chart of 8238684, docs/history/benchmarks.md, "The coverage again"): above the
 /// stored interval the verdict is undecided again, or squeal lasts, over windows the coarse
 /// scan stepped over, and the other search's bracket ends above them. The references (last
 /// value where squeal lasts, first where it is quiet), each from

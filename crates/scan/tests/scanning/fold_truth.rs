@@ -1,7 +1,7 @@
-//! Labels against long runs around the fold of the stick-slip band (issue 31, "Done when"):
+//! Labels against long runs around the fold of the stick-slip band:
 //! ten starts at each of three dampings around the fold at lambda = 0.3, 0.5 and 1 (the
 //! paper's tau = 1/sqrt(10), Phi = 1, McMillan's law), and the lambda = 0.5, nu = 0.0197
-//! case of the issue. The truth is each start's own run to t = 20000: it settles where it
+//! long transient. The truth is each start's own run to t = 20000: it settles where it
 //! ends within the classifier's `fp_radius` (1e-3) of the fixed point, else it swings. No
 //! label of the start, as `scan`, `classify` or `trajectory` gives it, says stick_slip where
 //! the run settles, nor steady_slip where it swings; undecided is allowed, counted and
@@ -20,7 +20,7 @@ use squeal_scan::scanner::MapContext;
 use squeal_scan::trajectory::{Span, run_in};
 use squeal_scan::{MemorySink, NoObserver, Plan, drive};
 
-/// The truth's horizon (the issue's): a run still off the fixed point here swings.
+/// The truth's horizon: a run still off the fixed point here swings.
 const T_TRUTH: f64 = 20000.0;
 
 /// The paper's surface time, tau = 1/sqrt(10) (Table 1), written as the specs write it.
@@ -36,7 +36,7 @@ const FOLDS: [(f64, f64); 3] = [(0.3, 1.013146e-2), (0.5, 2.013934e-2), (1.0, 2.
 /// The three dampings around a fold: 2% below, at, and 2% above it.
 const AROUND: [f64; 3] = [0.98, 1.0, 1.02];
 
-/// Cases beside the three dampings, each `(lambda, nu)`. The issue's: `squeal trajectory
+/// Cases beside the three dampings, each `(lambda, nu)`. The first: `squeal trajectory
 /// --lambda 0.5 --nu 0.0197 --x0=0 --v0=1 --t-end 20000` said stick_slip (`sticking_band`)
 /// on 48d225a while its run ended at the fixed point; (0, 1) is a start of the spread at
 /// lambda = 0.5 ([`spec`]). And two where the spread's runs at lambda = 0.5 do not all
@@ -57,7 +57,7 @@ const EXTRA: [(f64, f64); 3] = [
 /// is about 0.12, 0.4 and 0.67 lambda (`squeal ulc` at nu = 0.0099, 0.0197, 0.0237), so the
 /// spread has starts inside it (x0 = 1, v0 = -0.1 lambda) and outside it out to 3 lambda
 /// from the fixed point, starts below the belt's speed and starts above it (slip reversed),
-/// and at lambda = 0.5 it holds the issue's start (0, 1). The classifier's settings are the
+/// and at lambda = 0.5 it holds the mislabelled start (0, 1). The classifier's settings are the
 /// defaults, as `squeal scan` and `squeal classify` take them (t_max = 5000).
 fn spec(lambda: f64, nu: f64, grid: Option<(f64, f64, f64, f64)>) -> Plan {
     let (x0, x1, v0, v1) = grid.unwrap_or((
@@ -165,7 +165,7 @@ fn case(lambda: f64, nu: f64) -> Vec<Row> {
 }
 
 /// Ten starts at each of three dampings around the fold at lambda = 0.3, 0.5 and 1, and at
-/// the dampings of [`EXTRA`] (the issue's lambda = 0.5, nu = 0.0197 among them): no label
+/// the dampings of [`EXTRA`] (the transient at lambda = 0.5, nu = 0.0197 among them): no label
 /// (scan, classify, trajectory) contradicts the start's run to t = 20000, and no scan keeps
 /// a disagreeing audited cell.
 ///

@@ -1,4 +1,4 @@
-//! Hostile and careless specs (issue "Hostile and careless input"): each case was accepted
+//! Hostile and careless specs: each case was accepted
 //! and silently wrong, or unbounded, before the checks of `squeal_scan::bounds`; each is now
 //! refused before any computing with a message naming the key.
 
@@ -63,7 +63,7 @@ fn assert_names(e: &str, key: &str, why: &str) {
     );
 }
 
-/// Item 1: `[cycle] r_max = 1e100` was accepted ("> 2 r_min" only): the section search's
+/// `[cycle] r_max = 1e100` was accepted ("> 2 r_min" only): the section search's
 /// samples then lie too far apart to see the cycle (see `bounds::MAX_SAMPLE_RATIO`).
 #[test]
 fn a_cycle_search_beyond_the_escape_radius_or_too_coarse_is_refused() {
@@ -76,7 +76,7 @@ fn a_cycle_search_beyond_the_escape_radius_or_too_coarse_is_refused() {
     AtlasPlan::from_toml(&with(ATLAS, "[cycle]\nr_max = 1e3"), "t.toml").unwrap();
 }
 
-/// Item 2: `fp_radius = 10` labelled every cell of Fig. 9 steady slip.
+/// `fp_radius = 10` labelled every cell of Fig. 9 steady slip.
 #[test]
 fn a_fixed_point_ball_as_large_as_the_cycle_is_refused() {
     for fp in ["10.0", "0.5", "0.011"] {
@@ -89,7 +89,7 @@ fn a_fixed_point_ball_as_large_as_the_cycle_is_refused() {
     Plan::from_toml(&with(SCAN, "[classifier]\nfp_radius = 0.01"), "t.toml").unwrap();
 }
 
-/// Item 3: huge finite bounds overflowed the grid spacing (x0 = [NaN, inf, ...]) and the
+/// Huge finite bounds overflowed the grid spacing (x0 = [NaN, inf, ...]) and the
 /// box area (basin fraction NaN); a huge sample region gave 500 solver failures.
 #[test]
 fn bounds_beyond_the_escape_radius_are_refused() {
@@ -114,7 +114,7 @@ fn bounds_beyond_the_escape_radius_are_refused() {
     assert!((0..g.x0.count).all(|i| g.state(0, i).0.is_finite()));
 }
 
-/// Item 4: a third list element was dropped (`[0, 1, 2]` used as `[0, 1]`).
+/// A third list element was dropped (`[0, 1, 2]` used as `[0, 1]`).
 #[test]
 fn extra_list_elements_are_refused() {
     let e = scan_err(&SAMPLED.replace("x0 = [-2.0, 2.0]", "x0 = [-2.0, 2.0, 3.0]"));
@@ -133,7 +133,7 @@ fn extra_list_elements_are_refused() {
     assert_names(&e, "disturbance.v", "(got 1)");
 }
 
-/// Item 5: an atlas `[grid]` with `count = 1` ran (docs: count >= 2), and `count = 1` with
+/// An atlas `[grid]` with `count = 1` ran (docs: count >= 2), and `count = 1` with
 /// `min != max` ignored `max`, in atlases and scans.
 #[test]
 fn single_point_axes_are_refused_where_they_mean_nothing() {
@@ -158,7 +158,7 @@ fn single_point_axes_are_refused_where_they_mean_nothing() {
     .unwrap();
 }
 
-/// Item 9: with `tau = 1e300` a 4-row block took 20 s where the estimate said "roughly
+/// With `tau = 1e300` a 4-row block took 20 s where the estimate said "roughly
 /// 0 s" (2 / 25000 s per cell). The estimate now grows with tau, up to a run to t_max.
 #[test]
 fn the_estimate_of_a_slow_model_is_not_zero() {
@@ -169,17 +169,17 @@ fn the_estimate_of_a_slow_model_is_not_zero() {
     .unwrap();
     let paper = Plan::from_toml(SCAN, "t.toml").unwrap();
     let cells = slow.total_cells();
-    // Run to t_max: (t_max / dt) steps at 250 ns (BENCHMARKS.md, "Time per step").
+    // Run to t_max: (t_max / dt) steps at 250 ns (docs/history/benchmarks.md, "Time per step").
     let to_t_max = 5000.0 / 0.005 * 250e-9 * cells as f64;
     assert_eq!(slow.estimate_seconds(cells, 1), to_t_max);
-    // The paper's tau keeps the measured rate of BENCHMARKS.md ("Basin scans").
+    // The paper's tau keeps the measured rate of docs/history/benchmarks.md ("Basin scans").
     assert_eq!(
         paper.estimate_seconds(cells, 1),
         cells as f64 * 2.0 / 25_000.0
     );
 }
 
-/// Item 9: a spec read from /dev/zero grew memory at about 250 MB/s until killed. A device
+/// A spec read from /dev/zero grew memory at about 250 MB/s until killed. A device
 /// is now refused before it is opened (not a regular file); a regular file longer than the
 /// limit is refused by its size.
 #[test]
@@ -203,7 +203,7 @@ fn an_endless_spec_file_is_refused() {
     std::fs::remove_file(&long).unwrap();
 }
 
-/// Item 10: a bad `boundaries.nu_hi` was reported as `boundaries.nu_lo`.
+/// A bad `boundaries.nu_hi` was reported as `boundaries.nu_lo`.
 #[test]
 fn a_bad_upper_bisection_end_is_named() {
     let e = atlas_err(&with(ATLAS, "[boundaries]\nnu_hi = 20.0"));
@@ -214,7 +214,7 @@ fn a_bad_upper_bisection_end_is_named() {
     assert_names(&e, "boundaries.nu_lo", "0 < nu_lo");
 }
 
-/// Item 10: `[operating_point]` or `[disturbance]` with one key failed with "missing field
+/// `[operating_point]` or `[disturbance]` with one key failed with "missing field
 /// `v`" though the docs give each key a default.
 #[test]
 fn one_key_of_a_point_or_box_takes_the_others_default() {
@@ -228,7 +228,7 @@ fn one_key_of_a_point_or_box_takes_the_others_default() {
     );
 }
 
-/// Item 2, once the cycle is known: at nu = 5e-5 (Table 1 otherwise) the unstable cycle
+/// `fp_radius` against the located cycle: at nu = 5e-5 (Table 1 otherwise) the unstable cycle
 /// crosses the section at x' = 0.01845 (`squeal ulc --nu 5e-5`), so a ball of radius 0.01,
 /// within the spec's bound, reaches past half of it and is refused before any cell runs.
 #[test]

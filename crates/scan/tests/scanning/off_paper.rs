@@ -1,4 +1,4 @@
-//! Off the paper's parameters the two labelling rules agree (issue 9, item 1): early stopping
+//! Off the paper's parameters the two labelling rules agree: early stopping
 //! on the located unstable cycle (`early_stop = "cycle"`) and runs taken to settlement
 //! (`early_stop = "none"`), on 64 x 64 grids at lambda in {0.5, 1, 5}, tau in {0.05, 1} and
 //! Phi in {0.3, 1.4}, each varied alone from Table 1.
@@ -136,7 +136,7 @@ fn measure() {
     }
 }
 
-/// Both rules on 64 x 64 grids of every case (the grids of issue 9): they agree on every cell both decide, and
+/// Both rules on 64 x 64 grids of every case: they agree on every cell both decide, and
 /// neither leaves more than 1% of the cells undecided.
 ///
 /// Why these settings. nu = 1e-2 where both basins then exist (lambda = 0.5, 1, tau = 1,
@@ -155,7 +155,7 @@ fn measure() {
 /// lambda = 1: 467 / 3629 / 0; lambda = 5: 2047 / 2049 / 0; tau = 0.05: 1196 / 2900 / 0 with
 /// 8 cells undecided by settlement (slow decay at nu = 2e-3, time limit); tau = 1:
 /// 346 / 3750 / 0; Phi = 0.3 and Phi = 1.4: 1158 / 2938 / 0. Before the wide-band rule the
-/// settlement rule left every stick-slip cell undecided at lambda = 0.5 and 1 (issue 9).
+/// settlement rule left every stick-slip cell undecided at lambda = 0.5 and 1.
 /// That run also found 5 cells (the same at both Phi: slip-branch dynamics) that settlement
 /// called stick-slip and the cycle called steady slip: starts just inside the nu = 1e-2
 /// cycle whose amplitudes drifted inward at an accelerating pace inside a 5% band, which the

@@ -333,8 +333,8 @@ fn starts_outside_a_cycle_the_return_map_jumps_past_are_not_guessed() {
     // samples), and the section's analysis finds the band above the cycle trapped
     // (squeal_scan::band). The map's census of long runs (crates/core/MODEL.md, section 12)
     // refutes that: a start the band rules label stick-slip reaches the fixed point (the
-    // band is a long transient here, as issue 31 found at nu = 0.0197 with runs to
-    // t = 20000), so the band rules are withdrawn too, and the outside rules go.
+    // band is a long transient here, as runs at nu = 0.0197 to t = 20000 found), so the
+    // band rules are withdrawn too, and the outside rules go.
     let ctx = MapContext::prepare(&point_plan(0.0195, 0.5, "cycle"), 0).unwrap();
     assert!(
         matches!(

@@ -61,7 +61,7 @@ fn scan_wrong(p: &Plan) -> Option<String> {
     if !e.is_finite() || e < 0.0 {
         return Some(format!("estimate {e}"));
     }
-    // Every kind of work at the documented rates (the cycle searches included, issue 32).
+    // Every kind of work at the documented rates (the cycle searches included).
     let all = squeal_scan::Pending::of(p, None, &squeal_scan::MemorySink::default());
     let e = squeal_scan::estimate::documented_seconds(p, &all, 2);
     if !e.is_finite() || e < 0.0 {

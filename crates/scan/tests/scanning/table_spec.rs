@@ -1,4 +1,4 @@
-//! The table law in specs (issue 34, item 2): `friction_table = [[s, mu], ...]` or
+//! The table law in specs: `friction_table = [[s, mu], ...]` or
 //! `friction_csv = "file.csv"` under `[model]` with `law = "table"`, exactly one, for scans
 //! and atlases; hostile tables refused naming the key and the row or line. New keys: each
 //! test fails on the code before (there `law = "table"` was an unknown variant).

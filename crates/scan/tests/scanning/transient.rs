@@ -1,4 +1,4 @@
-//! Issue 17, item 3: transient squeal is a result. `t_squeal`, the time a run spent on
+//! Transient squeal is a result. `t_squeal`, the time a run spent on
 //! stick-slip before it settled, as every path stores it.
 
 use squeal_core::friction::on_quasi_static_branch;
@@ -9,7 +9,7 @@ use squeal_scan::trajectory::{Span, run};
 
 /// At nu = 0.025 (Table 1's lambda, tau, phi, hysteretic law) the band above the unstable
 /// cycle leaks: the run from (10, 0) sticks on the band for about 150 time units and then
-/// falls inside the cycle (issue 17: it was once labelled `sticking_band` at t = 134.2).
+/// falls inside the cycle (it was once labelled `sticking_band` at t = 134.2).
 const NU: f64 = 0.025;
 const START: State = State { x: 10.0, v: 0.0 };
 

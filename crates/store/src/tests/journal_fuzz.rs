@@ -114,7 +114,7 @@ nu = [1e-3, 2e-3]
 path = "a.h5"
 "#;
 
-/// The issue's case: `fold_nu` = 0.0202 with one digit changed was accepted by `--resume`
+/// A flipped digit: `fold_nu` = 0.0202 with one digit changed was once accepted by `--resume`
 /// from the JSON-lines journal and landed in the file as 9.0202.
 #[test]
 fn a_flipped_digit_in_an_atlas_record_is_detected() {

@@ -129,7 +129,7 @@ fn damaged_trailing_records_are_counted() {
     assert!(!w.contains("torn last record"), "{w}");
 }
 
-/// Issue 31: rule groups withdrawn from a map (journal record `W`) survive a resume, a
+/// Rule groups withdrawn from a map (journal record `W`) survive a resume, a
 /// block stored again replaces the one before, and the file says which groups and why
 /// (root attribute `rules_withdrawn`, one line per group).
 #[test]
@@ -172,7 +172,7 @@ fn withdrawn_rules_survive_a_resume_and_reach_the_file() {
     assert_eq!(attr, Some(format!("map 0: {}", w.why)));
 }
 
-/// Issue 34: a journal records the rows of the friction table its spec stood on, not only
+/// A journal records the rows of the friction table its spec stood on, not only
 /// the CSV's name in the spec text. A CSV changed since the run started is refused at the
 /// resume, naming `friction_csv` (before, the same spec text resumed, and the file would
 /// have mixed cells of two curves); unchanged, it resumes. Both where the curve is the
@@ -224,7 +224,7 @@ fn same_cells(a: &[Cell], b: &[Cell]) -> bool {
         })
 }
 
-/// Journal format 6 (issue 35): a block's record holds its cells column by column,
+/// Journal format 6: a block's record holds its cells column by column,
 /// deflated. They come back bit for bit (NaN, infinities, every column), from a deflated
 /// body and from one stored as it is; a body that inflates to one byte more or less than
 /// its cells', or an unknown body kind, is refused; and a block whose cells are alike (a

@@ -74,7 +74,7 @@ fn runs_agree_with_the_fold(law: FrictionLaw, base: Params, b: &Boundary) {
     // (-4, 0) is labelled stick-slip (steady slip, or undecided while a transient
     // lasts). Before the fold was the crisis, the 80-revolution fold lay above the
     // crisis and the raw band rules labelled runs there stick-slip that end at the
-    // fixed point (issue 17).
+    // fixed point.
     // The crisis (hysteretic law) states an uncertainty; the non-hysteretic fold its
     // bracket.
     let (lo, hi) = match b.uncertainty.is_finite() {
@@ -275,7 +275,7 @@ fn shared_boundaries_equal_separate_ones() {
     }
 }
 
-/// Issue 17, item 5, on the shipped chart: at lambda = 0.562807125806235 (the 4th belt speed
+/// On the shipped chart: at lambda = 0.562807125806235 (the 4th belt speed
 /// of `scans/atlas-lambda-nu.toml`, Table 1's tau and phi, its 32 coarse steps over
 /// [1e-4, 0.1]) the critical damping of rest was bisected to [0.022273, 0.022292], above the
 /// fold's stated 0.020905 +- 0.000239 (main at 280889b; its summary warned so at 5 of 64

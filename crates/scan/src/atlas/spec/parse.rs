@@ -169,8 +169,8 @@ pub(super) fn physical_grid(
 
 /// Steps of the atlas's coarse scan along the bisected parameter before the fold's
 /// bisection, by default: fewer than `squeal critical`'s [`crate::band::COARSE`] (64) to keep
-/// the 64 boundaries of the shipped chart affordable (BENCHMARKS.md); flips of the regime
-/// closer together than one step (a factor 1.24 over the chart's 1e-4 to 0.1) can hide.
+/// the 64 boundaries of the shipped chart affordable (docs/history/benchmarks.md); flips of the
+/// regime closer together than one step (a factor 1.24 over the chart's 1e-4 to 0.1) can hide.
 pub const FOLD_COARSE: usize = 32;
 
 /// The boundaries' settings (`[boundaries]`).

@@ -3,7 +3,7 @@ use crate::spec::EarlyStop;
 use squeal_core::{FrictionLaw, Load};
 
 /// docs/atlas-spec.md states the range of `[attractor] transient` and `window`, the one
-/// the parser holds (issue 32: it gave only the default): both ends taken, one past
+/// the parser holds (not only the default): both ends taken, one past
 /// either refused naming the key.
 #[test]
 fn the_attractor_counts_are_documented_with_their_range() {
@@ -29,7 +29,7 @@ fn the_attractor_counts_are_documented_with_their_range() {
     }
 }
 
-/// Issue 32: `m = k = 1e200, c = [1e200, 2e200]` is `m = k = 1, c = [1, 2]` scaled:
+/// `m = k = 1e200, c = [1e200, 2e200]` is `m = k = 1, c = [1, 2]` scaled:
 /// nu = 0.5 and 1 at both (it stored `nondim_nu = [0, 0]`: 2 sqrt(m k) overflowed).
 #[test]
 fn a_huge_physical_system_has_the_nondimensional_numbers_of_its_scaled_one() {
@@ -132,7 +132,7 @@ fn physical_spec_converts() {
     assert!((p.space.params_at(0).nu - 0.01).abs() < 1e-15);
     assert_eq!(p.damping_axis(), ("c", Some(0)));
     assert_eq!(p.n_boundaries(), 1);
-    // Its points' notes speak SI (issue 21): the settings carry the point's scales.
+    // Its points' notes speak SI: the settings carry the point's scales.
     let scales = p.space.physical_at(1).unwrap().scales();
     assert_eq!(p.settings_at(1).units, Some(scales));
     assert!(p.settings_at(1).time_words(2.0, 1).ends_with(" s"));
@@ -170,8 +170,8 @@ fn a_physical_atlas_takes_the_normal_force() {
 
 #[test]
 fn physical_default_disturbance_scales_with_the_system() {
-    // Issue 21: the default box [-2, 4] x [-3, 3] was taken as metres and m/s, so a
-    // brake's basin fraction came out 1.5e-8. Without [disturbance] it stays
+    // Were the default box [-2, 4] x [-3, 3] taken as metres and m/s, a brake's basin
+    // fraction would come out 1.5e-8. Without [disturbance] it stays
     // nondimensional at each point; a [disturbance] in SI is converted.
     let p = AtlasPlan::from_toml(PHYS, "p.toml").unwrap();
     assert!(p.disturbance_nondimensional);
