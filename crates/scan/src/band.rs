@@ -323,6 +323,37 @@ pub fn lasting_on(
 
 mod crisis;
 mod outside;
+/// The stick-slip band above the unstable cycle where it is trapped
+/// ([`Band::Trapped`]: an interval of the section mapped into itself with a
+/// margin): the certificate that a run on it squeals for good, for the runs that check the
+/// rules. Where the outside escapes, the band was already examined; where it is invariant
+/// it is examined here (128 returns and their refinement).
+pub(crate) fn trapped(
+    stepper: &squeal_core::Stepper,
+    cs: &CycleSettings,
+    found: SectionCycles,
+    outside: Option<Outside>,
+) -> Option<(f64, f64)> {
+    let SectionCycles::Unstable {
+        r, stable_above, ..
+    } = found
+    else {
+        return None;
+    };
+    let band = match outside? {
+        Outside::Escapes { band, .. } => band,
+        Outside::Invariant => {
+            let map = crate::section::ReturnMap::new(stepper, cs.t_return);
+            let top = stable_above.unwrap_or(2.0 * r);
+            band_above(&map, r, top, &mut crate::section::Work::default())
+        }
+    };
+    match band {
+        Band::Trapped { lo, hi } => Some((lo, hi)),
+        _ => None,
+    }
+}
+
 pub use crisis::{
     COARSE, Crisis, CrisisStatus, SharedReturns, Variant, crisis_in, crisis_nu, raise_top,
 };

@@ -226,38 +226,6 @@ fn search_map(
     })
 }
 
-/// The stick-slip band above the unstable cycle where it is trapped
-/// ([`crate::band::Band::Trapped`]: an interval of the section mapped into itself with a
-/// margin): the certificate that a run on it squeals for good, for the runs that check the
-/// rules. Where the outside escapes, the band was already examined; where it is invariant
-/// it is examined here (128 returns and their refinement).
-fn trapped_band(
-    stepper: &Stepper,
-    cs: &CycleSettings,
-    found: SectionCycles,
-    outside: Option<Outside>,
-) -> Option<(f64, f64)> {
-    use crate::band::{Band, band_above};
-    let SectionCycles::Unstable {
-        r, stable_above, ..
-    } = found
-    else {
-        return None;
-    };
-    let band = match outside? {
-        Outside::Escapes { band, .. } => band,
-        Outside::Invariant => {
-            let map = section::ReturnMap::new(stepper, cs.t_return);
-            let top = stable_above.unwrap_or(2.0 * r);
-            band_above(&map, r, top, &mut section::Work::default())
-        }
-    };
-    match band {
-        Band::Trapped { lo, hi } => Some((lo, hi)),
-        _ => None,
-    }
-}
-
 /// Everything one map needs: stepper, classifier with its trap, the located cycle.
 #[derive(Clone, Debug)]
 pub struct MapContext {
@@ -496,7 +464,7 @@ impl MapContext {
         // unless the census withdraws a group (then it is counted again).
         let band = |ctx: &MapContext| match (checks, ctx.section) {
             (Checks::LabelsOnly, _) | (_, None) => None,
-            (_, Some(found)) => trapped_band(&ctx.stepper, &cs, found, ctx.outside),
+            (_, Some(found)) => crate::band::trapped(&ctx.stepper, &cs, found, ctx.outside),
         };
         let (found, (rates, band)) = rayon::join(
             || {
@@ -504,7 +472,14 @@ impl MapContext {
                     .then(|| ctx.census_of(plan, cs.r_max / 1.2))
                     .flatten()
             },
-            || rayon::join(|| AuditRates::of_plan(&ctx, plan), || band(&ctx)),
+            || {
+                // A map prepared for labels only is never audited.
+                let rates = || match checks {
+                    Checks::LabelsOnly => AuditRates::default(),
+                    _ => AuditRates::of_plan(&ctx, plan),
+                };
+                rayon::join(rates, || band(&ctx))
+            },
         );
         ctx.audit_rates = rates;
         ctx.certificates.trapped_band = band;
