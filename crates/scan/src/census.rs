@@ -452,12 +452,16 @@ impl<L: Fn(State) -> Outcome + Sync> Taker<'_, L> {
     /// time of that crossing.
     fn turn_from(&self, ic: State) -> Option<(f64, ClosedTurn)> {
         let (stepper, half) = self.steppers;
-        let near = (
+        let (t, r) = first_crossing(stepper, ic, self.near())?;
+        Some((t, ClosedTurn::certify((stepper, half), r, self.near())?))
+    }
+
+    /// The fixed point's radius and certified region: where a run is at the fixed point.
+    fn near(&self) -> (f64, Option<&squeal_core::Region>) {
+        (
             self.classifiers.0.fp_radius,
             self.certificates.region.as_ref(),
-        );
-        let (t, r) = first_crossing(stepper, ic, near)?;
-        Some((t, ClosedTurn::certify((stepper, half), r, near)?))
+        )
     }
 
     /// The starts outside the cycle (or with no cycle): the ring's first, each with its own
@@ -522,12 +526,8 @@ impl<L: Fn(State) -> Outcome + Sync> Taker<'_, L> {
                 return Some(0.0);
             }
             let x_star = p.fixed_point().x;
-            let near = (
-                self.classifiers.0.fp_radius,
-                self.certificates.region.as_ref(),
-            );
             let inside = |r: f64| turn.keeps(State { x: x_star, v: r });
-            crossing_where(stepper, ic, near, ENTRY_CROSSINGS, inside).map(|(t, _)| t)
+            crossing_where(stepper, ic, self.near(), ENTRY_CROSSINGS, inside).map(|(t, _)| t)
         };
         // The outermost start's run, beside the others' entries into its turn (or their own
         // runs where they do not enter).
