@@ -71,52 +71,14 @@
 //!   map (nmaps) u64 index, when not swept or several keys are swept (each then an f64
 //!   auxiliary coordinate over map, listed by the root attribute `swept`); block u64 index
 //! basin map, shape (v0, x0), or (nu|lambda, v0, x0) for a sweep; chunked one block of
-//! rows per chunk, deflate:
-//! the columns of squeal_scan::cell::COLUMNS, each with long_name, units (not on enums),
-//! and for enums CF flag_values / flag_meanings:
-//!   labels       u8 enum {undecided=0, steady_slip=1, stick_slip=2, not_computed=255},
-//!                fill 255
-//!   reason       u8 enum {time_limit=0, near_fixed_point=1, inside_cycle=2,
-//!                outside_cycle=3, settled_stick_slip=4, diverged=5, solver_failure=6,
-//!                sticking_band=7, start_inside_cycle=8, start_outside_cycle=9,
-//!                stick_cycle=10, entered_region=11, start_in_region=12,
-//!                stuck_onto_cycle=13, stuck_then_settles=14,
-//!                below_settling_start=15, between_sticking_starts=16,
-//!                below_decaying_section=17, start_inside_decaying_turn=18,
-//!                entered_decaying_turn=19, lasting_oscillation=20, not_computed=255},
-//!                fill 255
-//!   t_decision, amplitude, omega, max_residual    f64, fill NaN, units "1"
-//!   quasi_static u8, evaluations u64, fallbacks, multi_root, unconverged u32, fill 0
-//!   audit        u8 enum {not_audited=0, agrees=1, disagrees=2, undecided=3}: the label of
-//!                the same run taken to settlement, on about 1 cell in audit_every
-//!                (spec classifier.audit_every, default 1024) of early-stopped scans
-//!   t_squeal     f64, fill NaN, units "1": time on stick-slip before the run settled
-//!                (end of its last stuck step; 0 never stuck, inf stick-slip, -1 not known;
-//!                squeal_core::classify::t_squeal)
+//! rows per chunk, deflate: the columns of squeal_scan::cell::COLUMNS, each with long_name,
+//! units (not on enums), and for enums CF flag_values / flag_meanings
 //! blocks_done    u8 (map|nu|lambda, block): 1 where the block is stored
-//! per map (map|nu|lambda), i64, -1 where not applicable (squeal_scan::checks::CHECK_FIELDS):
-//!   wrong_side_cells, wrong_side_beyond_pixel, audit_cells, audit_agrees,
-//!   audit_disagrees, audit_undecided, origin_disagrees,
-//!   landscape_contradictions (decided cells labelled against a landscape that states
-//!                one regime for every start)
-//! laws with true stick only, per map (map|xi|v_d):
-//!   landscape    u8 enum {unknown=0, stick_slip_only=1, bistable=2, steady_slip_only=3,
-//!                not_applicable=255}: the attractors stated before mapping
-//!                (squeal_scan::landscape)
-//!   fixed_point_damping, stick_cycle_period, stick_cycle_stuck   f64 (NaN: none), its
-//!                evidence (squeal_scan::landscape::LANDSCAPE_FIELDS)
-//! per map (map|nu|lambda), f64, basin stability (squeal_scan::basin::BASIN_FIELDS), for
-//! each regime R of steady_slip, stick_slip, undecided:
-//!   basin_stability_R              share of the computed cells labelled R
-//!   basin_stability_R_se           sqrt(p (1 - p) / N) (standard error of random samples)
-//!   basin_stability_R_2h, _4h      shares on the nested sub-grids of every 2nd / 4th point
-//!   basin_stability_R_change       p_h - p_2h, the grid error bar
-//! per map, final-state sensitivity (squeal_scan::sensitivity::SENSITIVITY_FIELDS, f64):
-//!   basin_entropy, boundary_basin_entropy, basin_entropy_box, basin_entropy_boxes,
-//!   boundary_boxes, uncertainty_exponent(_se), uncertainty_eps_lo/_hi,
-//!   uncertainty_samples, step_sensitivity(_se, _changed), sensitivity_domain_share,
-//!   sensitivity_runs; log2_test u8 enum {inconclusive=0, fractal=1, no_boundary=2};
-//!   uncertainty_changed (map, uncertainty_eps) u64 over the coordinate uncertainty_eps
+//! per map (map|nu|lambda): the checks, steady slip's stability, the landscape (laws with
+//!                true stick), basin stability, the final-state sensitivity. Every per-cell
+//!                and per-map dataset is stated once, by the tables that write it, and
+//!                printed from them by [`schema::text`] (`cargo run -p squeal-store
+//!                --example schema`); docs/hdf5.md is checked against that text
 //! cycle          group /cycle (one map) or /cycles/map_0000, ... (sweep), present when the
 //!                scan searched: attr record (the search as TOML text, exact), every
 //!                scalar of it flattened into attrs (r_section, bracket[2], period, omega,
@@ -149,6 +111,7 @@ mod lock;
 mod merge;
 mod output;
 mod read;
+pub mod schema;
 mod trajectory;
 
 use std::collections::BTreeMap;
