@@ -35,29 +35,27 @@
 //!   regime   u8 enum {undecided=0, steady_slip_only=1, bistable_quiet=2,
 //!            bistable_squeals=3, fixed_point_unstable=4, not_computed=255}; CF flag_values,
 //!            flag_meanings
-//!   cycle_*, stick_*, basin_fraction, basin_fraction_err   f64 (NaN: none), long_name, units
-//!   cycle_encloses_operating_point, warm_started           u8 (255: unknown)
-//!   returns, evaluations, failures                          u64
+//!   the point's columns (cycle_*, stick_*, basin_fraction(_err), warm_started, steady
+//!            slip's stability, counters): stated once, in their table, and printed from it
+//!            with type, fill, units and long name by crate::schema::atlas_text
+//!            (`cargo run -p squeal-store --example schema`)
 //!   <figure>_si    (physical specs) the same figure in SI units (m, m/s, s, Hz, m^2/s)
 //!   nu, lambda, tau, phi (physical specs: nondim_nu, ...) the nondimensional parameters
 //!   normal_force   (physical specs with g) the normal force m g at each point (N)
 //!   landscape      (law = "stribeck") u8 enum {unknown=0, stick_slip_only=1, bistable=2,
-//!                  steady_slip_only=3, not_computed=255}; CF flags; with
-//!                  fixed_point_damping, stick_cycle_period, stick_cycle_stuck  f64, its
-//!                  evidence (squeal_scan::landscape::LANDSCAPE_FIELDS); the stick-slip
-//!                  figure stick_quasi_static_share is stored as stick_stuck_share
+//!                  steady_slip_only=3, not_computed=255}; CF flags; with its evidence
+//!                  (atlas_text); the stick-slip figure stick_quasi_static_share is
+//!                  stored as stick_stuck_share
 //!   note           string: why a point is undecided, or the caveat of its label
 //!   points_done    u8: 1 where computed (shards)
 //! over the swept dims except the damping (nu or c):
 //!   fold_status, critical_status  u8 enum {found=0, below_range=1, above_range=2,
 //!                                 not_computed=255}
-//!   fold_nu, fold_nu_lo, fold_nu_hi, critical_nu, critical_nu_lo, critical_nu_hi   f64
-//!                 (bisected in lambda: fold_lambda, ...; law = "stribeck": fold_xi, ... or
-//!                 fold_v_d, ...)
+//!   the boundary's columns (fold_nu(_lo, _hi, _err), the transient lifetimes above the
+//!                 fold, critical_nu(_lo, _hi)), printed by atlas_text (bisected in
+//!                 lambda: fold_lambda, ...; law = "stribeck": fold_xi, ... or fold_v_d, ...)
 //!   fold_half_dt, critical_half_dt  u8 {moves=0, holds=1, not_checked=255}: the
 //!                 bracket's predicate again at dt/2 at both ends
-//!   fold_nu_err   f64: the fold's uncertainty (McMillan's laws: the crisis of the band,
-//!                 the fold is fold_nu -+ fold_nu_err at dt, dt/2 and the longer horizon)
 //!   fold_changes  u32: changes of regime the coarse scan found before bisecting (> 1:
 //!                 the regime flips along the parameter; the note lists it)
 //!   fold_c, ..., critical_c_hi    (physical specs) in N s/m

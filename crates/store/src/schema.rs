@@ -10,46 +10,18 @@
 
 use std::fmt::Write;
 
-use squeal_scan::column::{Kind, Num};
+use squeal_scan::column::{Column, Kind, Num};
 
 /// The per-cell and per-map datasets, one a line: name, type, fill, units and long name,
 /// and an enum's members.
 pub fn text() -> String {
     let mut out = String::new();
-    let flags = |f: &[(u8, &str)]| {
-        let members: Vec<String> = f.iter().map(|(v, n)| format!("{n}={v}")).collect();
-        format!(" {{{}}}", members.join(", "))
-    };
+    let flags = flag_words;
     let _ = writeln!(
         out,
         "per cell, shape (v0, x0), or (map|<swept key>, v0, x0) for a sweep:"
     );
-    for c in squeal_scan::cell::COLUMNS {
-        let kind = match c.kind {
-            Kind::Enum => "u8 enum",
-            Kind::U8 => "u8",
-            Kind::U32 => "u32",
-            Kind::U64 => "u64",
-            Kind::F64 => "f64",
-        };
-        let fill = match c.fill {
-            Num::U(u) => u.to_string(),
-            Num::F(f) => f.to_string(),
-        };
-        let units = match c.units {
-            "" => String::new(),
-            u => format!(", units \"{u}\""),
-        };
-        let members = match c.kind {
-            Kind::Enum => flags(c.flags),
-            _ => String::new(),
-        };
-        let _ = writeln!(
-            out,
-            "  {} {kind}, fill {fill}{units}: {}{members}",
-            c.name, c.long_name
-        );
-    }
+    column_lines(&mut out, squeal_scan::cell::COLUMNS);
     let _ = writeln!(out, "per map, i64 (-1: not applicable):");
     for (name, long) in squeal_scan::checks::CHECK_FIELDS {
         let _ = writeln!(out, "  {name}: {long}");
@@ -89,6 +61,61 @@ pub fn text() -> String {
         out,
         "  uncertainty_changed u64 (map, uncertainty_eps): starts whose fate moved at each eps"
     );
+    out
+}
+
+/// One line per column of `cols`: name, type, fill, units, long name and an enum's members.
+fn column_lines<R>(out: &mut String, cols: &[Column<R>]) {
+    for c in cols {
+        let kind = match c.kind {
+            Kind::Enum => "u8 enum",
+            Kind::U8 => "u8",
+            Kind::U32 => "u32",
+            Kind::U64 => "u64",
+            Kind::F64 => "f64",
+        };
+        let fill = match c.fill {
+            Num::U(u) => u.to_string(),
+            Num::F(f) => f.to_string(),
+        };
+        let units = match c.units {
+            "" => String::new(),
+            u => format!(", units \"{u}\""),
+        };
+        let members = match c.kind {
+            Kind::Enum => flag_words(c.flags),
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            out,
+            "  {} {kind}, fill {fill}{units}: {}{members}",
+            c.name, c.long_name
+        );
+    }
+}
+
+/// An enum's members, ` {name=value, ...}`.
+fn flag_words(f: &[(u8, &str)]) -> String {
+    let members: Vec<String> = f.iter().map(|(v, n)| format!("{n}={v}")).collect();
+    format!(" {{{}}}", members.join(", "))
+}
+
+/// The per-point and per-boundary datasets of an atlas file (`squeal-atlas/1`), printed
+/// from the tables that write them ([`squeal_scan::atlas::columns::COLUMNS`],
+/// [`squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS`],
+/// [`squeal_scan::atlas::columns::BOUNDARY_COLUMNS`]); the maps' datasets are the scan's
+/// ([`text`]) with the prefix `map_`.
+pub fn atlas_text() -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "over the swept dims:");
+    column_lines(&mut out, squeal_scan::atlas::columns::COLUMNS);
+    let _ = writeln!(out, "over the swept dims, laws with true stick only:");
+    column_lines(&mut out, squeal_scan::atlas::true_stick::LANDSCAPE_COLUMNS);
+    let _ = writeln!(
+        out,
+        "over the swept dims except the one bisected (the damping):"
+    );
+    column_lines(&mut out, squeal_scan::atlas::columns::BOUNDARY_COLUMNS);
     out
 }
 
