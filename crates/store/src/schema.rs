@@ -16,7 +16,6 @@ use squeal_scan::column::{Column, Kind, Num};
 /// and an enum's members.
 pub fn text() -> String {
     let mut out = String::new();
-    let flags = flag_words;
     let _ = writeln!(
         out,
         "per cell, shape (v0, x0), or (map|<swept key>, v0, x0) for a sweep:"
@@ -31,7 +30,7 @@ pub fn text() -> String {
         .map(|s| (*s as u8, s.name()))
         .collect();
     let (name, long) = squeal_scan::finish::STEADY_SLIP;
-    let _ = writeln!(out, "  {name} u8 enum: {long}{}", flags(&stability));
+    let _ = writeln!(out, "  {name} u8 enum: {long}{}", flag_words(&stability));
     let (name, long) = squeal_scan::finish::STEADY_SLIP_GROWTH;
     let _ = writeln!(out, "  {name} f64, units \"1\": {long} (_si in 1/s)");
     let _ = writeln!(out, "per map, laws with true stick only:");
@@ -39,7 +38,7 @@ pub fn text() -> String {
     let _ = writeln!(
         out,
         "  {name} u8 enum: {long}{}",
-        flags(&squeal_scan::landscape::flags())
+        flag_words(&squeal_scan::landscape::flags())
     );
     for (name, long, units, _) in squeal_scan::landscape::LANDSCAPE_FIELDS {
         let _ = writeln!(out, "  {name} f64, units \"{units}\": {long}");
@@ -56,7 +55,7 @@ pub fn text() -> String {
         .iter()
         .map(|t| (*t as u8, t.name()))
         .collect();
-    let _ = writeln!(out, "  log2_test u8 enum{}", flags(&log2));
+    let _ = writeln!(out, "  log2_test u8 enum{}", flag_words(&log2));
     let _ = writeln!(
         out,
         "  uncertainty_changed u64 (map, uncertainty_eps): starts whose fate moved at each eps"

@@ -1,10 +1,15 @@
 use super::*;
 use crate::MapContext;
 
+/// The plan of a spec's text (the fixtures below).
+fn plan(toml: &str) -> Plan {
+    Plan::from_toml(toml, "t.toml").unwrap()
+}
+
 /// The README's clamped disc brake at c = 300 N s/m: nu = c / 800 = 0.375, lambda = 0.21053,
 /// tau = 0.65789, phi = 0.91353, on a 3 x 3 grid over x0 in [-1, 2], x'0 in [-0.5, 0.5].
 fn brake() -> Plan {
-    Plan::from_toml(
+    plan(
         r#"version = 1
 [model]
 law = "mcmillan"
@@ -20,9 +25,7 @@ t_max = 2000.0
 [output]
 path = "t.h5"
 "#,
-        "t.toml",
     )
-    .unwrap()
 }
 
 /// At the brake's c = 300, `classify` and `scan` on 48d225a labelled these
@@ -57,7 +60,7 @@ fn brake_labels_match_their_runs() {
 
 /// Fig. 9's plan (the main job's map, its grid's box) on a 4 x 4 grid.
 fn fig9() -> Plan {
-    Plan::from_toml(
+    plan(
         r#"version = 1
 [model]
 law = "mcmillan"
@@ -74,9 +77,7 @@ locate = true
 [output]
 path = "t.h5"
 "#,
-        "t.toml",
     )
-    .unwrap()
 }
 
 /// Fig. 9: the closed turns decide every start but the outermost inside the cycle, and
